@@ -1,0 +1,67 @@
+"""The Typer application object and the error boundary of the ``jointplay`` command.
+
+Command modules register themselves with ``@app.command()`` on the :data:`app` defined here.
+:func:`run` turns every :class:`~jointplay.errors.JointplayError` into one line on stderr and
+a non-zero exit status; no traceback reaches the user unless ``JOINTPLAY_DEBUG=1``.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+
+import click
+import typer
+
+from jointplay.errors import JointplayError
+
+app = typer.Typer(
+    name="jointplay",
+    help="Planar linkages with tolerance stacks and clearance joints: kinematics, contact "
+    "dynamics, the Akhadkar et al. paper study and tolerance analysis.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+    rich_markup_mode="rich",
+)
+
+EXIT_ERROR = 2
+EXIT_INTERNAL = 3
+EXIT_INTERRUPTED = 130
+
+
+def fail(message: str) -> None:
+    """Print one error line to stderr (helper for commands that detect bad input themselves)."""
+    print(f"jointplay: error: {message}", file=sys.stderr)
+
+
+def run(argv: list[str] | None = None) -> int:
+    """Run the CLI with ``argv`` and return the exit status (0 on success)."""
+    try:
+        app(args=argv, prog_name="jointplay", standalone_mode=False)
+    except click.exceptions.Exit as exc:
+        return int(exc.exit_code)
+    except click.ClickException as exc:
+        exc.show()
+        return int(exc.exit_code)
+    except (click.exceptions.Abort, KeyboardInterrupt):
+        print("jointplay: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except JointplayError as exc:
+        fail(str(exc))
+        return EXIT_ERROR
+    except Exception as exc:
+        if os.environ.get("JOINTPLAY_DEBUG"):
+            raise
+        print(
+            f"jointplay: internal error: {type(exc).__name__}: {exc} "
+            "(rerun with JOINTPLAY_DEBUG=1 for a traceback, and please report it)",
+            file=sys.stderr,
+        )
+        return EXIT_INTERNAL
+    return 0
+
+
+def main() -> None:
+    """Console-script entry point."""
+    sys.exit(run(sys.argv[1:]))

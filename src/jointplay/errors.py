@@ -1,0 +1,28 @@
+"""Typed exceptions raised at jointplay's API boundary.
+
+Every error carries a message a user can act on: what is wrong and how to fix it.
+The CLI prints ``str(error)`` on one line and exits non-zero; compiled kernels never
+raise, they return a status that is turned into one of these here.
+"""
+
+from __future__ import annotations
+
+
+class JointplayError(Exception):
+    """Base class of every error jointplay raises on purpose."""
+
+
+class ConfigError(JointplayError, ValueError):
+    """A configuration value, file or unit is malformed or out of range."""
+
+
+class AssemblyError(JointplayError, ValueError):
+    """The mechanism cannot be assembled (or its crank cannot turn) at some input angle."""
+
+
+class IntegrationError(JointplayError, RuntimeError):
+    """The time integration failed (step size underflow, too many steps, non-finite state)."""
+
+
+class StandardsError(JointplayError, ValueError):
+    """A tolerance designation or size lies outside what ISO 286 / ISO 2768 define."""

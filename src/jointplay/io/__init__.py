@@ -1,0 +1,1 @@
+"""Input and output at the edges: configuration files, result files, output folders."""

@@ -1,0 +1,117 @@
+"""Quantities with units at the edges of jointplay (config files, CLI options, reports).
+
+Inside jointplay every number is SI (m, kg, s, rad, N, Pa). Strings such as ``"270.5 mm"``,
+``"200 rpm"``, ``"207 GPa"`` or ``"1e4 N/mm^1.5"`` are converted here, once, with
+`pint <https://pint.readthedocs.io>`_.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from typing import Any
+
+from jointplay.errors import ConfigError
+
+#: SI target unit of each physical kind that a configuration may contain.
+SI_UNITS: dict[str, str] = {
+    "length": "m",
+    "mass": "kg",
+    "angle": "rad",
+    "angular_velocity": "rad/s",
+    "angular_acceleration": "rad/s^2",
+    "time": "s",
+    "velocity": "m/s",
+    "force": "N",
+    "pressure": "Pa",
+    "density": "kg/m^3",
+    "inertia": "kg*m^2",
+    "acceleration": "m/s^2",
+    "damping": "N*s/m",
+    "torque": "N*m",
+}
+
+
+@functools.cache
+def _registry() -> Any:
+    import pint
+
+    registry = pint.UnitRegistry()
+    registry.define("rev = revolution")
+    return registry
+
+
+def parse_quantity(value: Any, unit: str, *, field: str, allow_bare: bool = False) -> float:
+    """Convert ``value`` to a float in the SI unit ``unit``.
+
+    Args:
+        value: a string with a unit (``"270.5 mm"``), a number (only with ``allow_bare``,
+            then taken to be in ``unit`` already), or a pint quantity.
+        unit: the SI unit to convert to, e.g. ``"m"``, ``"rad/s"``, ``"N/m^1.5"``.
+        field: the name of the field, used in error messages.
+        allow_bare: accept plain numbers as already being in ``unit``.
+
+    Raises:
+        ConfigError: the value has no unit, an unknown unit or the wrong dimension.
+    """
+    if isinstance(value, bool):
+        raise ConfigError(f"{field}: expected a quantity in {unit}, got {value!r}")
+    if isinstance(value, int | float):
+        if allow_bare or unit in ("", "1", "dimensionless"):
+            return _finite(float(value), field)
+        raise ConfigError(
+            f"{field}: {value!r} has no unit; write it with one, e.g. \"{value} {_example(unit)}\""
+        )
+    registry = _registry()
+    if isinstance(value, str):
+        text = value.strip()
+        if not text:
+            raise ConfigError(f"{field}: empty value; expected a quantity in {unit}")
+        try:
+            quantity = registry.Quantity(text)
+        except Exception as exc:  # pint raises several unrelated types
+            raise ConfigError(f"{field}: cannot read {value!r} as a quantity ({exc})") from None
+    else:
+        quantity = value
+    if not hasattr(quantity, "to"):
+        raise ConfigError(f"{field}: expected a quantity in {unit}, got {value!r}")
+    if quantity.dimensionless and unit not in ("", "1", "dimensionless") and not allow_bare:
+        if not registry.Quantity(1, unit).dimensionless:
+            raise ConfigError(
+                f"{field}: {value!r} has no unit; write it with one, e.g. "
+                f"\"{quantity.magnitude} {_example(unit)}\""
+            )
+    try:
+        magnitude = float(quantity.to(unit).magnitude)
+    except Exception:
+        raise ConfigError(
+            f"{field}: {value!r} has units of {quantity.units:~}, which cannot be converted to {unit}"
+        ) from None
+    return _finite(magnitude, field)
+
+
+def _finite(value: float, field: str) -> float:
+    if not math.isfinite(value):
+        raise ConfigError(f"{field}: value must be finite, got {value}")
+    return value
+
+
+def _example(unit: str) -> str:
+    return {"m": "mm", "rad/s": "rpm", "Pa": "GPa", "rad": "deg"}.get(unit, unit)
+
+
+def format_quantity(value_si: float, unit: str, *, digits: int = 6) -> str:
+    """Format an SI value in ``unit`` as a string that :func:`parse_quantity` reads back."""
+    registry = _registry()
+    magnitude = registry.Quantity(value_si, _si_of(unit)).to(unit).magnitude
+    return f"{float(magnitude):.{digits}g} {unit}"
+
+
+def _si_of(unit: str) -> Any:
+    return _registry().Quantity(1, unit).to_base_units().units
+
+
+def to_unit(value_si: float, unit: str) -> float:
+    """Convert an SI value to ``unit`` (e.g. metres to ``"mm"``, rad/s to ``"rpm"``)."""
+    registry = _registry()
+    return float(registry.Quantity(value_si, _si_of(unit)).to(unit).magnitude)
