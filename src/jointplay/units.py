@@ -36,7 +36,7 @@ SI_UNITS: dict[str, str] = {
 def _registry() -> Any:
     import pint
 
-    registry = pint.UnitRegistry()
+    registry: Any = pint.UnitRegistry()
     registry.define("rev = revolution")
     return registry
 
@@ -60,7 +60,7 @@ def parse_quantity(value: Any, unit: str, *, field: str, allow_bare: bool = Fals
         if allow_bare or unit in ("", "1", "dimensionless"):
             return _finite(float(value), field)
         raise ConfigError(
-            f"{field}: {value!r} has no unit; write it with one, e.g. \"{value} {_example(unit)}\""
+            f'{field}: {value!r} has no unit; write it with one, e.g. "{value} {_example(unit)}"'
         )
     registry = _registry()
     if isinstance(value, str):
@@ -75,12 +75,11 @@ def parse_quantity(value: Any, unit: str, *, field: str, allow_bare: bool = Fals
         quantity = value
     if not hasattr(quantity, "to"):
         raise ConfigError(f"{field}: expected a quantity in {unit}, got {value!r}")
-    if quantity.dimensionless and unit not in ("", "1", "dimensionless") and not allow_bare:
-        if not registry.Quantity(1, unit).dimensionless:
-            raise ConfigError(
-                f"{field}: {value!r} has no unit; write it with one, e.g. "
-                f"\"{quantity.magnitude} {_example(unit)}\""
-            )
+    if quantity.unitless and unit not in ("", "1", "dimensionless") and not allow_bare:
+        raise ConfigError(
+            f"{field}: {value!r} has no unit; write it with one, e.g. "
+            f'"{quantity.magnitude} {_example(unit)}"'
+        )
     try:
         magnitude = float(quantity.to(unit).magnitude)
     except Exception:

@@ -51,7 +51,9 @@ class Material:
         _positive(owner, "density", self.density)
         _positive(owner, "youngs_modulus", self.youngs_modulus)
         if not 0.0 <= self.poisson_ratio < 0.5:
-            raise ConfigError(f"{owner}: poisson_ratio must lie in [0, 0.5), got {self.poisson_ratio}")
+            raise ConfigError(
+                f"{owner}: poisson_ratio must lie in [0, 0.5), got {self.poisson_ratio}"
+            )
 
 
 #: Steel as in the paper's Table 1 (ρ = 7801 kg/m³, ν = 0.29, E = 2.07e5 N/mm²).
@@ -157,7 +159,9 @@ class Ground:
         try:
             return self.points[name]
         except KeyError:
-            raise ConfigError(f"ground has no point {name!r}; it has {sorted(self.points)}") from None
+            raise ConfigError(
+                f"ground has no point {name!r}; it has {sorted(self.points)}"
+            ) from None
 
 
 @dataclass(frozen=True)
@@ -255,7 +259,9 @@ class Driver:
     def __post_init__(self) -> None:
         _positive("Driver", "speed", self.speed)
         if self.direction not in (1, -1):
-            raise ConfigError(f"Driver: direction must be +1 (ccw) or -1 (cw), got {self.direction}")
+            raise ConfigError(
+                f"Driver: direction must be +1 (ccw) or -1 (cw), got {self.direction}"
+            )
 
     @property
     def angular_velocity(self) -> float:
@@ -331,12 +337,20 @@ class Mechanism:
         if len(set(joint_names)) != len(joint_names):
             raise ConfigError(f"Mechanism {self.name!r}: duplicate joint names in {joint_names}")
         for joint in self.joints:
-            for link_name, point_name in ((joint.link_a, joint.point_a), (joint.link_b, joint.point_b)):
-                self.body(link_name).point(point_name)  # raises a ConfigError naming what is missing
+            for link_name, point_name in (
+                (joint.link_a, joint.point_a),
+                (joint.link_b, joint.point_b),
+            ):
+                self.body(link_name).point(
+                    point_name
+                )  # raises a ConfigError naming what is missing
         if self.branch not in (1, -1):
             raise ConfigError(f"Mechanism {self.name!r}: branch must be +1 or -1")
         driver_joint = self.joint(self.driver.joint)
-        if not isinstance(driver_joint, RevoluteJoint) or {driver_joint.link_a, driver_joint.link_b} != {
+        if not isinstance(driver_joint, RevoluteJoint) or {
+            driver_joint.link_a,
+            driver_joint.link_b,
+        } != {
             GROUND,
             self.driver.link,
         }:
@@ -406,9 +420,11 @@ class Mechanism:
 def _point(owner: str, name: str, value: object) -> Point:
     try:
         x, y = value  # type: ignore[misc]
-        point = (float(x), float(y))
+        point = (float(x), float(y))  # type: ignore[has-type]
     except (TypeError, ValueError):
-        raise ConfigError(f"{owner}: {name} must be a pair of numbers (x, y), got {value!r}") from None
+        raise ConfigError(
+            f"{owner}: {name} must be a pair of numbers (x, y), got {value!r}"
+        ) from None
     if not all(math.isfinite(v) for v in point):
         raise ConfigError(f"{owner}: {name} must be finite, got {value!r}")
     return point

@@ -17,7 +17,7 @@ A (crank–rod), B (rod–slider pin), S (slider–guide). Branch +1 puts the sl
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
 from typing import Literal
 
@@ -28,8 +28,8 @@ from jointplay.model.mechanism import (
     Driver,
     Ground,
     JointFit,
-    Link,
     LengthTolerance,
+    Link,
     Material,
     Mechanism,
     Point,
@@ -86,7 +86,9 @@ class SliderCrankGeometry:
     def __post_init__(self) -> None:
         for name in ("crank", "rod"):
             if not getattr(self, name) > 0:
-                raise ConfigError(f"slider-crank: {name} length must be > 0, got {getattr(self, name)}")
+                raise ConfigError(
+                    f"slider-crank: {name} length must be > 0, got {getattr(self, name)}"
+                )
 
     length_names = ("crank", "rod", "offset")
 
@@ -200,7 +202,9 @@ def slider_crank(
     g = geometry
     slider_body = spec.bodies.get("slider", LinkBody(mass=None))
     if slider_body.mass is None:
-        raise ConfigError("slider-crank: give the slider's mass (bodies['slider'] = LinkBody(mass=...))")
+        raise ConfigError(
+            "slider-crank: give the slider's mass (bodies['slider'] = LinkBody(mass=...))"
+        )
     side = slider_body.width
     slider = Link(
         name="slider",
@@ -238,7 +242,7 @@ def slider_crank(
     )
 
 
-_BUILDERS = {"four-bar": four_bar, "slider-crank": slider_crank}
+_BUILDERS: dict[str, Callable[..., Mechanism]] = {"four-bar": four_bar, "slider-crank": slider_crank}
 
 
 def with_lengths(mechanism: Mechanism, **lengths: float) -> Mechanism:
@@ -264,7 +268,7 @@ def rebuild(mechanism: Mechanism, **changes: object) -> Mechanism:
     driver = mechanism.driver
     builder = _BUILDERS[spec.geometry.kind]
     return builder(
-        spec.geometry,  # type: ignore[arg-type]
+        spec.geometry,
         speed=driver.speed,
         bodies=spec.bodies,
         material=spec.material,
@@ -317,7 +321,9 @@ def _check_fit_names(fits: Mapping[str, JointFit], joints: tuple[object, ...]) -
     names = {j.name for j in joints}  # type: ignore[attr-defined]
     unknown = set(fits) - names
     if unknown:
-        raise ConfigError(f"fits given for unknown joint(s) {sorted(unknown)}; joints: {sorted(names)}")
+        raise ConfigError(
+            f"fits given for unknown joint(s) {sorted(unknown)}; joints: {sorted(names)}"
+        )
 
 
 __all__ = [

@@ -1,0 +1,102 @@
+"""Options and helpers shared by several commands."""
+
+from __future__ import annotations
+
+import math
+import shlex
+import sys
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+
+from jointplay import __version__
+from jointplay.errors import ConfigError
+from jointplay.io.config import load_mechanism
+from jointplay.model.mechanism import Mechanism
+from jointplay.units import parse_quantity
+
+PresetOption = Annotated[
+    str | None,
+    typer.Option(
+        "--preset", "-p", help="Named mechanism (see `jointplay presets`). Default: paper-fourbar."
+    ),
+]
+ConfigOption = Annotated[
+    Path | None,
+    typer.Option(
+        "--config", "-c", help="TOML mechanism file (see `jointplay show paper-fourbar`)."
+    ),
+]
+RpmOption = Annotated[
+    float | None, typer.Option("--rpm", help="Crank speed in rev/min (overrides the mechanism's).")
+]
+DirectionOption = Annotated[
+    str | None,
+    typer.Option("--direction", help="Crank direction: ccw or cw (overrides the mechanism's)."),
+]
+StartAngleOption = Annotated[
+    str | None,
+    typer.Option(
+        "--start-angle",
+        help="Crank angle at t = 0 with a unit, e.g. '30 deg' (CCW from the ground line).",
+    ),
+]
+GravityOption = Annotated[
+    str | None,
+    typer.Option(
+        "--gravity", help="'off', 'on' (9.80665 m/s² towards -y) or a magnitude like '9.81 m/s^2'."
+    ),
+]
+OutOption = Annotated[
+    Path, typer.Option("--out", "-o", help="Output folder (created; files replaced).")
+]
+
+
+def mechanism_from_options(
+    preset: str | None,
+    config: Path | None,
+    rpm: float | None = None,
+    direction: str | None = None,
+    start_angle: str | None = None,
+    gravity: str | None = None,
+) -> Mechanism:
+    """Load the mechanism and apply command-line overrides (validated, SI inside)."""
+    mechanism = load_mechanism(preset, config)
+    changes: dict[str, Any] = {}
+    if rpm is not None:
+        if not (math.isfinite(rpm) and rpm > 0):
+            raise ConfigError(
+                f"--rpm must be a positive number of revolutions per minute, got {rpm}"
+            )
+        changes["speed"] = rpm * math.pi / 30.0
+    if direction is not None:
+        if direction.lower() not in ("ccw", "cw"):
+            raise ConfigError(f"--direction must be ccw or cw, got {direction!r}")
+        changes["direction"] = 1 if direction.lower() == "ccw" else -1
+    if start_angle is not None:
+        changes["start_angle"] = parse_quantity(start_angle, "rad", field="--start-angle")
+    if changes:
+        mechanism = mechanism.with_driver(**changes)
+    if gravity is not None:
+        mechanism = mechanism.with_gravity(parse_gravity(gravity))
+    return mechanism
+
+
+def parse_gravity(text: str) -> tuple[float, float]:
+    value = text.strip().lower()
+    if value in ("off", "none", "0"):
+        return (0.0, 0.0)
+    if value == "on":
+        return (0.0, -9.80665)
+    return (0.0, -abs(parse_quantity(text, "m/s^2", field="--gravity")))
+
+
+def provenance(configuration: Any) -> dict[str, Any]:
+    """Version, full resolved configuration and command line, for result files."""
+    return {
+        "jointplay_version": __version__,
+        "python": sys.version.split()[0],
+        "command_line": " ".join(shlex.quote(a) for a in ["jointplay", *sys.argv[1:]]),
+        "configuration": configuration,
+    }

@@ -1,0 +1,108 @@
+"""Commands about the mechanism itself: presets, show, kinematics."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+import typer
+from rich.console import Console
+from rich.table import Table
+
+from jointplay.cli._app import app
+from jointplay.cli._common import (
+    ConfigOption,
+    DirectionOption,
+    GravityOption,
+    OutOption,
+    PresetOption,
+    RpmOption,
+    StartAngleOption,
+    mechanism_from_options,
+    provenance,
+)
+from jointplay.io.config import list_presets, preset_text
+from jointplay.io.output import output_dir, write_json
+
+console = Console()
+
+
+@app.command("presets")
+def presets_command() -> None:
+    """List the mechanisms that ship with jointplay."""
+    table = Table("preset", "description", box=None)
+    for preset in list_presets():
+        table.add_row(preset.name, preset.description)
+    console.print(table)
+
+
+@app.command("show")
+def show_command(
+    preset: Annotated[str, typer.Argument(help="Preset name (see `jointplay presets`).")],
+) -> None:
+    """Print a preset as TOML that you can copy, edit and pass with --config."""
+    print(preset_text(preset), end="")
+
+
+@app.command("kinematics")
+def kinematics_command(
+    out: OutOption,
+    preset: PresetOption = None,
+    config: ConfigOption = None,
+    rpm: RpmOption = None,
+    direction: DirectionOption = None,
+    start_angle: StartAngleOption = None,
+    gravity: GravityOption = None,
+    step: Annotated[
+        float, typer.Option("--step", help="Crank-angle step in degrees (must divide 360).")
+    ] = 1.0,
+    method: Annotated[
+        str,
+        typer.Option("--method", help="auto (closed form if available), closed-form or general."),
+    ] = "auto",
+    plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
+) -> None:
+    """Nominal kinematics and inverse dynamics (ideal joints) over one crank revolution.
+
+    Writes DIR/kinematics.csv (one row per crank step), DIR/summary.json and PNG plots.
+    """
+    from jointplay.study.nominal import nominal_analysis
+
+    mechanism = mechanism_from_options(preset, config, rpm, direction, start_angle, gravity)
+    result = nominal_analysis(mechanism, step_deg=step, method=method)
+    with output_dir(out) as folder:
+        result.table.to_csv(folder / "kinematics.csv", index=False, float_format="%.10g")
+        write_json(
+            folder / "summary.json",
+            {**result.summary, "provenance": provenance(result.summary["configuration"])},
+        )
+        if plots:
+            from jointplay.report.plots import kinematics_plots
+
+            kinematics_plots(result.table, folder, mechanism.name)
+    _print_summary(result.summary, out)
+
+
+def _print_summary(summary: dict, out: object) -> None:
+    columns = summary["columns"]
+    table = Table("quantity", "min", "max", "peak |value|", "at crank (deg)", box=None)
+    for name, stats in columns.items():
+        if name.startswith(("omega", "alpha", "F_", "torque", "theta")):
+            table.add_row(
+                name,
+                f"{stats['min']:.4g}",
+                f"{stats['max']:.4g}",
+                f"{stats['peak_abs']:.4g}",
+                f"{stats['peak_abs_at_crank_deg']:.0f}",
+            )
+    console.print(table)
+    if "grashof" in summary:
+        console.print(
+            f"Grashof class: {summary['grashof']['class']}; transmission angle "
+            f"{summary['transmission_angle_deg']['min']:.1f}°–{summary['transmission_angle_deg']['max']:.1f}°"
+            + (
+                f"; rocker swing {summary['rocker_swing_deg']:.2f}°"
+                if "rocker_swing_deg" in summary
+                else ""
+            )
+        )
+    console.print(f"results written to {out}")

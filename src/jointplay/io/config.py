@@ -1,0 +1,510 @@
+"""Mechanism configuration files (TOML) with units, and the named presets.
+
+A configuration describes one mechanism. Quantities are strings with units (``"270.5 mm"``,
+``"200 rpm"``, ``"207 GPa"``) converted to SI once, here. Unknown keys and missing units are
+errors that name the table and key. See the files in ``jointplay/data/presets`` (printed by
+``jointplay show PRESET``) for annotated examples of the three forms: ``template = "four-bar"``,
+``"slider-crank"`` and ``"general"``.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from jointplay.errors import ConfigError
+from jointplay.model.mechanism import (
+    GROUND,
+    STEEL,
+    Driver,
+    Ground,
+    JointFit,
+    LengthTolerance,
+    Link,
+    Material,
+    Mechanism,
+    PrismaticJoint,
+    RevoluteJoint,
+)
+from jointplay.model.templates import (
+    FourBarGeometry,
+    LinkBody,
+    SliderCrankGeometry,
+    four_bar,
+    slider_crank,
+)
+from jointplay.units import parse_quantity
+
+STANDARD_GRAVITY = 9.80665
+
+
+class _Table:
+    """A TOML table that hands out its keys and reports the ones nobody asked for."""
+
+    def __init__(self, data: Any, where: str) -> None:
+        if not isinstance(data, Mapping):
+            raise ConfigError(f"{where} must be a table, got {type(data).__name__}")
+        self.data = dict(data)
+        self.where = where
+        self.used: set[str] = set()
+
+    def has(self, key: str) -> bool:
+        return key in self.data
+
+    def raw(self, key: str, default: Any = ...) -> Any:
+        self.used.add(key)
+        if key not in self.data:
+            if default is ...:
+                raise ConfigError(f"{self.where}: missing required key {key!r}")
+            return default
+        return self.data[key]
+
+    def quantity(self, key: str, unit: str, default: Any = ...) -> Any:
+        value = self.raw(key, default)
+        if value is default and default is not ...:
+            return default
+        return parse_quantity(value, unit, field=f"{self.where}.{key}")
+
+    def number(self, key: str, default: Any = ...) -> Any:
+        value = self.raw(key, default)
+        if value is default and default is not ...:
+            return default
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            raise ConfigError(f"{self.where}.{key} must be a number, got {value!r}")
+        return float(value)
+
+    def text(self, key: str, default: Any = ...) -> Any:
+        value = self.raw(key, default)
+        if value is default and default is not ...:
+            return default
+        if not isinstance(value, str):
+            raise ConfigError(f"{self.where}.{key} must be a string, got {value!r}")
+        return value
+
+    def table(self, key: str) -> _Table:
+        return _Table(self.raw(key, {}), f"{self.where}.{key}" if self.where else key)
+
+    def point(self, key: str, value: Any = ...) -> tuple[float, float]:
+        value = self.raw(key) if value is ... else value
+        if not isinstance(value, list | tuple) or len(value) != 2:
+            raise ConfigError(f"{self.where}.{key} must be a pair [x, y] with units, got {value!r}")
+        return (
+            parse_quantity(value[0], "m", field=f"{self.where}.{key}[0]"),
+            parse_quantity(value[1], "m", field=f"{self.where}.{key}[1]"),
+        )
+
+    def finish(self) -> None:
+        unknown = sorted(set(self.data) - self.used)
+        if unknown:
+            known = sorted(self.used)
+            raise ConfigError(
+                f"{self.where or 'top level'}: unknown key(s) {unknown}"
+                + (f"; expected some of {known}" if known else "")
+            )
+
+
+@dataclass(frozen=True)
+class Preset:
+    """A named mechanism configuration shipped with jointplay."""
+
+    name: str
+    description: str
+    text: str
+
+
+def _preset_files() -> dict[str, Any]:
+    folder = resources.files("jointplay") / "data" / "presets"
+    return {
+        item.name.removesuffix(".toml"): item
+        for item in folder.iterdir()
+        if item.name.endswith(".toml")
+    }
+
+
+def list_presets() -> list[Preset]:
+    """All shipped presets, sorted by name."""
+    presets = []
+    for name, item in sorted(_preset_files().items()):
+        text = item.read_text(encoding="utf-8")
+        description = tomllib.loads(text).get("mechanism", {}).get("description", "")
+        presets.append(Preset(name, description, text))
+    return presets
+
+
+def preset_text(name: str) -> str:
+    """The TOML text of preset ``name`` (comments included)."""
+    files = _preset_files()
+    if name not in files:
+        raise ConfigError(f"unknown preset {name!r}; available: {', '.join(sorted(files))}")
+    return str(files[name].read_text(encoding="utf-8"))
+
+
+def load_preset(name: str) -> Mechanism:
+    """Build the mechanism of preset ``name``."""
+    return parse_config(tomllib.loads(preset_text(name)), source=f"preset {name!r}")
+
+
+def load_config(path: Path | str) -> Mechanism:
+    """Read a TOML configuration file and build its mechanism."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ConfigError(f"configuration file {str(path)!r} not found") from None
+    except OSError as exc:
+        raise ConfigError(f"cannot read configuration file {str(path)!r}: {exc.strerror}") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{path}: malformed TOML: {exc}") from None
+    return parse_config(data, source=str(path))
+
+
+def load_mechanism(preset: str | None = None, config: Path | str | None = None) -> Mechanism:
+    """The mechanism from a config file if given, else from a preset (default ``paper-fourbar``)."""
+    if config is not None:
+        if preset is not None:
+            raise ConfigError("give either a preset or a config file, not both")
+        return load_config(config)
+    return load_preset(preset or "paper-fourbar")
+
+
+def parse_config(data: Mapping[str, Any], *, source: str = "configuration") -> Mechanism:
+    """Build a mechanism from parsed TOML data (see the module docstring for the format)."""
+    try:
+        return _parse(_Table(data, ""))
+    except ConfigError as exc:
+        raise ConfigError(f"{source}: {exc}") from None
+
+
+def _parse(root: _Table) -> Mechanism:
+    head = root.table("mechanism")
+    name = head.text("name", "mechanism")
+    head.text("description", "")
+    template = head.text("template", "four-bar")
+    branch = int(head.number("branch", 1))
+    if branch not in (1, -1):
+        raise ConfigError(f"mechanism.branch must be 1 or -1, got {branch}")
+    gravity = _gravity(head)
+    head.finish()
+    material = _material(root.table("material")) if root.has("material") else STEEL
+    driver_table = root.table("driver")
+    speed = driver_table.quantity("speed", "rad/s")
+    direction_text = driver_table.text("direction", "ccw").lower()
+    if direction_text not in ("ccw", "cw"):
+        raise ConfigError(f"driver.direction must be 'ccw' or 'cw', got {direction_text!r}")
+    direction = 1 if direction_text == "ccw" else -1
+    start_angle = driver_table.quantity("start_angle", "rad", 0.0)
+    tolerances = _tolerances(root.table("tolerances")) if root.has("tolerances") else ()
+    if template in ("four-bar", "slider-crank"):
+        mechanism = _parse_template(
+            root,
+            template,
+            name,
+            material,
+            speed,
+            direction,
+            start_angle,
+            gravity,
+            branch,
+            tolerances,
+        )
+        driver_table.finish()
+    elif template == "general":
+        mechanism = _parse_general(
+            root, driver_table, name, material, speed, direction, start_angle, gravity, tolerances
+        )
+    else:
+        raise ConfigError(
+            f"mechanism.template must be 'four-bar', 'slider-crank' or 'general', got {template!r}"
+        )
+    root.finish()
+    return mechanism
+
+
+def _gravity(head: _Table) -> tuple[float, float]:
+    value = head.raw("gravity", "off")
+    if value in ("off", False, "none"):
+        return (0.0, 0.0)
+    if value in ("on", True):
+        return (0.0, -STANDARD_GRAVITY)
+    if isinstance(value, str):
+        g = parse_quantity(value, "m/s^2", field="mechanism.gravity")
+        return (0.0, -abs(g))
+    if isinstance(value, list) and len(value) == 2:
+        return (
+            parse_quantity(value[0], "m/s^2", field="mechanism.gravity[0]"),
+            parse_quantity(value[1], "m/s^2", field="mechanism.gravity[1]"),
+        )
+    raise ConfigError(
+        f"mechanism.gravity must be 'off', a magnitude like '9.81 m/s^2' (towards -y) or a "
+        f"vector [gx, gy] with units, got {value!r}"
+    )
+
+
+def _material(table: _Table) -> Material:
+    material = Material(
+        name=table.text("name", "material"),
+        density=table.quantity("density", "kg/m^3"),
+        youngs_modulus=table.quantity("youngs_modulus", "Pa"),
+        poisson_ratio=table.number("poisson_ratio"),
+    )
+    table.finish()
+    return material
+
+
+def _fit(table: _Table) -> JointFit:
+    fit = JointFit(
+        diameter=table.quantity("diameter", "m"),
+        fit=table.text("fit", None),
+        pin_length=table.quantity("pin_length", "m", None),
+        pin_mass=table.quantity("pin_mass", "kg", None),
+        clearance=table.quantity("clearance", "m", None),
+    )
+    table.finish()
+    return fit
+
+
+def _tolerances(table: _Table) -> tuple[LengthTolerance, ...]:
+    lengths = table.table("lengths")
+    result = []
+    for key in list(lengths.data):
+        entry = lengths.table(key)
+        result.append(
+            LengthTolerance(
+                length=key,
+                lower=entry.quantity("lower", "m"),
+                upper=entry.quantity("upper", "m"),
+                source=entry.text("source", ""),
+            )
+        )
+        entry.finish()
+    lengths.finish()
+    table.finish()
+    return tuple(result)
+
+
+def _parse_template(
+    root: _Table,
+    template: str,
+    name: str,
+    material: Material,
+    speed: float,
+    direction: int,
+    start_angle: float,
+    gravity: tuple[float, float],
+    branch: int,
+    tolerances: tuple[LengthTolerance, ...],
+) -> Mechanism:
+    geometry_table = root.table("geometry")
+    if template == "four-bar":
+        geometry: FourBarGeometry | SliderCrankGeometry = FourBarGeometry(
+            crank=geometry_table.quantity("crank", "m"),
+            coupler=geometry_table.quantity("coupler", "m"),
+            rocker=geometry_table.quantity("rocker", "m"),
+            ground=geometry_table.quantity("ground", "m"),
+        )
+        link_names = ("crank", "coupler", "rocker")
+    else:
+        geometry = SliderCrankGeometry(
+            crank=geometry_table.quantity("crank", "m"),
+            rod=geometry_table.quantity("rod", "m"),
+            offset=geometry_table.quantity("offset", "m", 0.0),
+        )
+        link_names = ("crank", "rod", "slider")
+    geometry_table.finish()
+    links_table = root.table("links")
+    bodies: dict[str, LinkBody] = {}
+    coupler_points: dict[str, tuple[float, float]] = {}
+    for key in list(links_table.data):
+        if key not in link_names:
+            raise ConfigError(f"links: unknown link {key!r}; a {template} has {list(link_names)}")
+        entry = links_table.table(key)
+        bodies[key] = LinkBody(
+            mass=entry.quantity("mass", "kg", None),
+            width=entry.quantity("width", "m", 0.022),
+            thickness=entry.quantity("thickness", "m", 0.010),
+            inertia=entry.quantity("inertia", "kg*m^2", None),
+        )
+        if entry.has("points"):
+            if key != link_names[1]:
+                raise ConfigError(
+                    f"links.{key}.points: extra points are supported on the {link_names[1]}"
+                )
+            points = entry.table("points")
+            for point_name in list(points.data):
+                coupler_points[point_name] = points.point(point_name)
+            points.finish()
+        entry.finish()
+    links_table.finish()
+    joints_table = root.table("joints")
+    fits = {key: _fit(joints_table.table(key)) for key in list(joints_table.data)}
+    joints_table.finish()
+    builder = four_bar if template == "four-bar" else slider_crank
+    return builder(
+        geometry,  # type: ignore[arg-type]
+        speed=speed,
+        bodies=bodies,
+        material=material,
+        direction=direction,  # type: ignore[arg-type]
+        start_angle=start_angle,
+        gravity=gravity,
+        branch=branch,  # type: ignore[arg-type]
+        coupler_points=coupler_points,
+        fits=fits,
+        tolerances=tolerances,
+        name=name,
+    )
+
+
+def _parse_general(
+    root: _Table,
+    driver_table: _Table,
+    name: str,
+    material: Material,
+    speed: float,
+    direction: int,
+    start_angle: float,
+    gravity: tuple[float, float],
+    tolerances: tuple[LengthTolerance, ...],
+) -> Mechanism:
+    ground_table = root.table("ground")
+    ground_points = ground_table.table("points")
+    ground = Ground({key: ground_points.point(key) for key in list(ground_points.data)})
+    ground_points.finish()
+    ground_table.finish()
+    links_table = root.table("links")
+    links = []
+    initial_angles = {}
+    for key in list(links_table.data):
+        entry = links_table.table(key)
+        points = entry.table("points")
+        link_points = {p: points.point(p) for p in list(points.data)}
+        points.finish()
+        links.append(
+            Link(
+                name=key,
+                points=link_points,
+                mass=entry.quantity("mass", "kg"),
+                com=entry.point("com"),
+                inertia=entry.quantity("inertia", "kg*m^2"),
+                material=material.name,
+            )
+        )
+        if entry.has("initial_angle"):
+            initial_angles[key] = entry.quantity("initial_angle", "rad")
+        entry.finish()
+    links_table.finish()
+    joint_list = root.raw("joint", [])
+    if not isinstance(joint_list, list):
+        raise ConfigError("joint must be an array of tables: write each joint as [[joint]]")
+    joints: list[RevoluteJoint | PrismaticJoint] = []
+    for number, raw in enumerate(joint_list, start=1):
+        entry = _Table(raw, f"joint[{number}]")
+        joint_name = entry.text("name")
+        kind = entry.text("type", "revolute")
+        between = entry.raw("between")
+        if not (
+            isinstance(between, list)
+            and len(between) == 2
+            and all(isinstance(v, str) for v in between)
+        ):
+            raise ConfigError(f"joint {joint_name!r}: between must be ['link.point', 'link.point']")
+        (link_a, point_a), (link_b, point_b) = (_split_ref(ref, joint_name) for ref in between)
+        if kind == "revolute":
+            fit = _fit(entry.table("fit")) if entry.has("fit") else None
+            joints.append(RevoluteJoint(joint_name, link_a, point_a, link_b, point_b, fit=fit))
+        elif kind == "prismatic":
+            joints.append(
+                PrismaticJoint(
+                    joint_name,
+                    link_a,
+                    point_a,
+                    link_b,
+                    point_b,
+                    axis_angle=entry.quantity("axis_angle", "rad", 0.0),
+                    relative_angle=entry.quantity("relative_angle", "rad", 0.0),
+                )
+            )
+        else:
+            raise ConfigError(
+                f"joint {joint_name!r}: type must be 'revolute' or 'prismatic', got {kind!r}"
+            )
+        entry.finish()
+    driver = Driver(
+        link=driver_table.text("link"),
+        joint=driver_table.text("joint"),
+        speed=speed,
+        direction=direction,  # type: ignore[arg-type]
+        start_angle=start_angle,
+    )
+    driver_table.finish()
+    return Mechanism(
+        name=name,
+        ground=ground,
+        links=tuple(links),
+        joints=tuple(joints),
+        driver=driver,
+        gravity=gravity,
+        materials={material.name: material},
+        tolerances=tolerances,
+        initial_angles=initial_angles,
+    )
+
+
+def _split_ref(ref: str, joint: str) -> tuple[str, str]:
+    if ref.count(".") != 1:
+        raise ConfigError(
+            f"joint {joint!r}: {ref!r} must read 'link.point' (e.g. 'crank.A' or '{GROUND}.O2')"
+        )
+    link, point = ref.split(".")
+    return link, point
+
+
+def mechanism_summary(mechanism: Mechanism) -> dict[str, Any]:
+    """A JSON-ready description of the resolved mechanism (SI), for provenance records."""
+    spec = mechanism.template
+    out: dict[str, Any] = {
+        "name": mechanism.name,
+        "template": getattr(getattr(spec, "geometry", None), "kind", "general"),
+        "branch": mechanism.branch,
+        "gravity_m_s2": list(mechanism.gravity),
+        "driver": {
+            "link": mechanism.driver.link,
+            "speed_rad_s": mechanism.driver.speed,
+            "speed_rpm": mechanism.driver.speed * 30.0 / math.pi,
+            "direction": "ccw" if mechanism.driver.direction == 1 else "cw",
+            "start_angle_deg": math.degrees(mechanism.driver.start_angle),
+        },
+        "links": {
+            link.name: {
+                "mass_kg": link.mass,
+                "inertia_kg_m2": link.inertia,
+                "com_m": list(link.com),
+                "points_m": {k: list(v) for k, v in link.points.items()},
+            }
+            for link in mechanism.links
+        },
+        "ground_points_m": {k: list(v) for k, v in mechanism.ground.points.items()},
+        "joints": {
+            joint.name: {
+                "type": joint.kind,
+                "between": [f"{joint.link_a}.{joint.point_a}", f"{joint.link_b}.{joint.point_b}"],
+                **(
+                    {"fit": {k: v for k, v in vars(joint.fit).items() if v is not None}}
+                    if isinstance(joint, RevoluteJoint) and joint.fit is not None
+                    else {}
+                ),
+            }
+            for joint in mechanism.joints
+        },
+        "tolerances_m": {t.length: [t.lower, t.upper] for t in mechanism.tolerances},
+    }
+    if spec is not None:
+        out["geometry_m"] = spec.geometry.lengths  # type: ignore[attr-defined]
+    return out

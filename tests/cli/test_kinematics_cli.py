@@ -1,0 +1,113 @@
+"""The kinematics, presets and show commands, and the CLI's error boundary."""
+
+from __future__ import annotations
+
+import json
+
+import pandas as pd
+import pytest
+
+from jointplay.cli import run
+
+FOURBAR_COLUMNS = [
+    "crank_deg", "theta3_deg", "theta4_deg", "omega3", "omega4", "alpha3", "alpha4",
+    "F_O2", "F_A", "F_B", "F_O4", "torque",
+]  # fmt: skip
+
+
+def test_kinematics_writes_documented_files(tmp_path) -> None:
+    out = tmp_path / "k"
+    assert run(["kinematics", "--preset", "paper-fourbar", "--rpm", "200", "--out", str(out)]) == 0
+    table = pd.read_csv(out / "kinematics.csv")
+    assert list(table.columns) == FOURBAR_COLUMNS
+    assert len(table) == 361
+    assert table["crank_deg"].tolist() == list(range(361))
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["grashof"]["class"] == "crank-rocker"
+    assert summary["rocker_swing_deg"] == pytest.approx(52.65, abs=0.01)
+    assert summary["columns"]["omega4"]["peak_abs"] == pytest.approx(table["omega4"].abs().max())
+    assert summary["provenance"]["jointplay_version"]
+    for name in (
+        "angular_velocity.png",
+        "angular_acceleration.png",
+        "joint_forces.png",
+        "torque.png",
+    ):
+        assert (out / name).stat().st_size > 1000
+
+
+def test_clockwise_crank_counts_down_and_mirrors_the_motion(tmp_path) -> None:
+    assert run(["kinematics", "--out", str(tmp_path / "ccw"), "--no-plots"]) == 0
+    assert (
+        run(["kinematics", "--direction", "cw", "--out", str(tmp_path / "cw"), "--no-plots"]) == 0
+    )
+    ccw = pd.read_csv(tmp_path / "ccw" / "kinematics.csv")
+    cw = pd.read_csv(tmp_path / "cw" / "kinematics.csv")
+    assert cw["crank_deg"].iloc[1] == -1
+    # Same positions at the same crank angle, opposite velocities, same accelerations.
+    matched = cw.iloc[::-1].reset_index(drop=True)
+    pd.testing.assert_series_equal(
+        matched["theta4_deg"], ccw["theta4_deg"], atol=1e-9, check_names=False
+    )
+    pd.testing.assert_series_equal(-matched["omega4"], ccw["omega4"], atol=1e-9, check_names=False)
+    pd.testing.assert_series_equal(matched["alpha4"], ccw["alpha4"], atol=1e-7, check_names=False)
+
+
+def test_slider_crank_columns(tmp_path) -> None:
+    assert (
+        run(["kinematics", "-p", "flores-slider-crank", "--out", str(tmp_path), "--no-plots"]) == 0
+    )
+    columns = pd.read_csv(tmp_path / "kinematics.csv").columns.tolist()
+    assert columns == [
+        "crank_deg", "theta3_deg", "omega3", "alpha3", "slider_x", "slider_v", "slider_a",
+        "F_O2", "F_A", "F_B", "F_S", "M_S", "torque",
+    ]  # fmt: skip
+
+
+def test_presets_and_show(capsys) -> None:
+    assert run(["presets"]) == 0
+    assert "paper-fourbar" in capsys.readouterr().out
+    assert run(["show", "paper-fourbar"]) == 0
+    assert 'crank = "108 mm"' in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--preset", "nope"], "unknown preset 'nope'"),
+        (["--rpm", "-5"], "--rpm must be a positive"),
+        (["--direction", "sideways"], "--direction must be ccw or cw"),
+        (["--start-angle", "30"], "has no unit"),
+        (["--step", "7"], "must divide 360"),
+    ],
+)
+def test_bad_input_gives_one_line_and_no_output(tmp_path, capsys, args, message) -> None:
+    out = tmp_path / "out"
+    assert run(["kinematics", "--out", str(out), *args]) == 2
+    err = capsys.readouterr().err
+    assert message in err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert not out.exists()
+    assert list(tmp_path.iterdir()) == []  # no staging folder left behind either
+
+
+@pytest.mark.parametrize(
+    ("content", "message"),
+    [
+        ("[mechanism\n", "malformed TOML"),
+        ('[mechanism]\n[driver]\nspeed = "1 rpm"\n[geometry]\ncrank = "0.1"\n', "has no unit"),
+        (
+            '[mechanism]\n[geometry]\ncrank = "108 mm"\ncoupler = "50 mm"\nrocker = "50 mm"\n'
+            'ground = "279.4 mm"\n[driver]\nspeed = "200 rpm"\n',
+            "cannot be assembled",
+        ),
+    ],
+)
+def test_bad_config_files(tmp_path, capsys, content, message) -> None:
+    config = tmp_path / "bad.toml"
+    config.write_text(content)
+    out = tmp_path / "out"
+    assert run(["kinematics", "--config", str(config), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1
+    assert not out.exists()
