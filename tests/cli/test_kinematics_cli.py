@@ -111,3 +111,9 @@ def test_bad_config_files(tmp_path, capsys, content, message) -> None:
     err = capsys.readouterr().err
     assert message in err and err.count("\n") == 1
     assert not out.exists()
+
+
+@pytest.mark.parametrize("args", [["kinematics", "--bogus"], ["fit"], ["show"]])
+def test_usage_errors_exit_2_without_traceback(capsys, args) -> None:
+    assert run(args) == 2
+    assert "Traceback" not in capsys.readouterr().err

@@ -10,8 +10,12 @@ from __future__ import annotations
 import os
 import sys
 
-import click
 import typer
+
+try:  # Typer >= 0.20 vendors its own copy of Click, whose exceptions it raises
+    from typer._click import exceptions as click_exceptions
+except ImportError:  # pragma: no cover - older Typer uses the click package
+    from click import exceptions as click_exceptions  # type: ignore[no-redef]
 
 from jointplay.errors import JointplayError
 
@@ -39,12 +43,12 @@ def run(argv: list[str] | None = None) -> int:
     """Run the CLI with ``argv`` and return the exit status (0 on success)."""
     try:
         app(args=argv, prog_name="jointplay", standalone_mode=False)
-    except click.exceptions.Exit as exc:
+    except typer.Exit as exc:
         return int(exc.exit_code)
-    except click.ClickException as exc:
+    except click_exceptions.ClickException as exc:
         exc.show()
         return int(exc.exit_code)
-    except (click.exceptions.Abort, KeyboardInterrupt):
+    except (typer.Abort, KeyboardInterrupt):
         print("jointplay: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
     except JointplayError as exc:
