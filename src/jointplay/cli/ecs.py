@@ -1,0 +1,603 @@
+"""``jointplay ecs``: the paper's Equivalent Contact Stiffness method (eqs. 9–13).
+
+Prints the conventions, the contact load of every joint, K, δ and D per joint and overall with
+their intermediate values (E*, R, a or b), the paper's published values (Tables 4 and 5) with
+the ratio ours/paper, the IMPACT and Restitution-Method parameters that follow, and optionally
+a crank-speed sweep with the hysteresis comparison. Human output is in N, mm, N/mm and N·s/mm
+(the paper's units); ``--json`` gives SI and paper units. See :mod:`jointplay.contact.ecs`.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Annotated, Any
+
+import numpy as np
+import pandas as pd
+import typer
+from rich.console import Console
+from rich.table import Table
+
+from jointplay.cli._app import app
+from jointplay.cli._common import ConfigOption, PresetOption, mechanism_from_options, provenance
+from jointplay.contact.ecs import (
+    ALPHA_LINKS,
+    CONTACT_TYPES,
+    EQ11_LOG_ARGUMENTS,
+    IFM_STIFFNESS_CONVENTIONS,
+    LENGTH_CONVENTIONS,
+    LOAD_SOURCES,
+    MODULUS_CONVENTIONS,
+    PAPER_PUBLISHED,
+    RADIUS_CONVENTIONS,
+    EcsConventions,
+    EcsEstimate,
+    EcsParameters,
+    EcsResult,
+    EcsSweep,
+    comparison_factors,
+    ecs_analysis,
+    ecs_parameters,
+    ecs_sweep,
+    spherical_load_lower_bound,
+)
+from jointplay.errors import ConfigError
+from jointplay.io.config import mechanism_summary
+from jointplay.io.output import output_dir, write_json
+from jointplay.model.mechanism import Mechanism
+from jointplay.units import parse_quantity
+
+console = Console(highlight=False, soft_wrap=True)
+#: Width of the tables when the output is not a terminal (files, pipes, tests), characters.
+PIPE_WIDTH = 150
+
+#: Default crank-speed sweep with --out, rev/min.
+DEFAULT_SWEEP = "50:500:50"
+#: Largest number of speeds a sweep may have.
+MAX_SWEEP_POINTS = 500
+#: 1 N/m = 1e-3 N/mm; 1 m = 1e3 mm.
+_MM = 1e-3
+
+
+def _number(text: str, option: str, requirement: str, ok: Any) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise ConfigError(f"{option} must be {requirement}, got {text!r}") from None
+    if not (math.isfinite(value) and ok(value)):
+        raise ConfigError(f"{option} must be {requirement}, got {text!r}")
+    return value
+
+
+def _choice(text: str, option: str, choices: Any) -> str:
+    value = text.strip().lower()
+    if value not in choices:
+        raise ConfigError(f"{option} must be one of {', '.join(choices)}, got {text!r}")
+    return value
+
+
+def _contacts(text: str) -> tuple[str, ...]:
+    value = _choice(text, "--contact", (*CONTACT_TYPES, "both"))
+    return CONTACT_TYPES if value == "both" else (value,)
+
+
+def parse_sweep(text: str) -> list[float]:
+    """Crank speeds from ``START:STOP:STEP`` (inclusive, rev/min) or a list ``100,200,300``.
+
+    Raises:
+        ConfigError: malformed text, a speed not positive, or more than
+            :data:`MAX_SWEEP_POINTS` speeds.
+    """
+    form = "START:STOP:STEP such as 50:500:50, or a list such as 100,200,300 (rpm > 0)"
+    try:
+        if ":" in text:
+            start, stop, step = (float(part) for part in text.split(":"))
+            if not (
+                math.isfinite(start + stop + step) and start > 0 and step > 0 and stop >= start
+            ):
+                raise ValueError
+            count = math.floor((stop - start) / step + 1e-9) + 1
+            if count > MAX_SWEEP_POINTS:
+                raise ConfigError(
+                    f"--sweep {text!r} has {count} speeds; at most {MAX_SWEEP_POINTS}"
+                )
+            speeds = [start + i * step for i in range(count)]
+        else:
+            speeds = [float(part) for part in text.split(",")]
+    except ValueError:
+        raise ConfigError(f"--sweep must read {form}, got {text!r}") from None
+    if not speeds or not all(math.isfinite(s) and s > 0 for s in speeds):
+        raise ConfigError(f"--sweep must read {form}, got {text!r}")
+    if len(speeds) > MAX_SWEEP_POINTS:
+        raise ConfigError(f"--sweep {text!r} has {len(speeds)} speeds; at most {MAX_SWEEP_POINTS}")
+    return speeds
+
+
+def _length(text: str) -> str | float:
+    value = text.strip().lower()
+    if value in LENGTH_CONVENTIONS:
+        return value
+    length = parse_quantity(text, "m", field="--length")
+    if not length > 0:
+        raise ConfigError(f"--length must be positive, got {text!r}")
+    return length
+
+
+@app.command("ecs")
+def ecs_command(
+    preset: PresetOption = None,
+    config: ConfigOption = None,
+    rpm: Annotated[
+        str | None,
+        typer.Option("--rpm", help="Crank speed in rev/min (default: the mechanism's, 200)."),
+    ] = None,
+    contact: Annotated[
+        str, typer.Option("--contact", help="spherical (eqs. 9–10), cylindrical (11–12) or both.")
+    ] = "both",
+    load: Annotated[
+        str,
+        typer.Option(
+            "--load",
+            help="eq13: max |α r m| (paper); reaction: max ideal-joint reaction force.",
+        ),
+    ] = "eq13",
+    damping_ratio: Annotated[
+        str, typer.Option("--damping-ratio", help="D/K in seconds (paper: 0.01, D = 0.01 K).")
+    ] = "0.01",
+    radius: Annotated[
+        str, typer.Option("--radius", help="Equivalent radius: conformal, pin or sum.")
+    ] = "conformal",
+    modulus: Annotated[
+        str, typer.Option("--modulus", help="E*: johnson, rigid-bearing or no-poisson.")
+    ] = "johnson",
+    length: Annotated[
+        str,
+        typer.Option(
+            "--length", help="l of eqs. 11–12: link-thickness, pin-length or a length ('12 mm')."
+        ),
+    ] = "link-thickness",
+    a0: Annotated[
+        str, typer.Option("--a0", help="a₀ of eq. 10 with a unit, e.g. '0.01 mm'.")
+    ] = "0 mm",
+    eq11_log: Annotated[
+        str, typer.Option("--eq11-log", help="Eq. 11 logarithm of: half-width (b) or length (l).")
+    ] = "half-width",
+    alpha_link: Annotated[
+        str, typer.Option("--alpha-link", help="Whose α enters eq. 13: max, pin or bearing.")
+    ] = "max",
+    ifm_stiffness: Annotated[
+        str,
+        typer.Option(
+            "--ifm-stiffness", help="K → IMPACT k: paper (N/mm read as N/mm^1.5), linear, matched."
+        ),
+    ] = "paper",
+    restitution: Annotated[
+        str,
+        typer.Option("--restitution", help="e of the compared damping models (LN, HC, ...)."),
+    ] = "0.8",
+    sweep: Annotated[
+        str | None,
+        typer.Option(
+            "--sweep",
+            help=f"Crank speeds START:STOP:STEP or a list, rpm (with --out: {DEFAULT_SWEEP}).",
+        ),
+    ] = None,
+    as_json: Annotated[
+        bool, typer.Option("--json", help="Print JSON (SI and paper units).")
+    ] = False,
+    out: Annotated[
+        Path | None,
+        typer.Option(
+            "--out", "-o", help="Write ecs.json, ecs_sweep.csv, ecs_sweep.png, ecs_damping.png."
+        ),
+    ] = None,
+) -> None:
+    """Equivalent Contact Stiffness (paper eqs. 9–13): K, δ and D of the clearance joints.
+
+    The load is the largest eq. 13 force |α r m| of the nominal cycle (or the largest ideal
+    reaction with --load reaction); Hertz theory turns it into K and δ, and D = ratio × K.
+    Every convention the paper leaves open is an option and is printed with the results.
+    """
+    if not console.is_terminal:
+        console.width = PIPE_WIDTH
+    contacts = _contacts(contact)
+    rpm_value = (
+        None
+        if rpm is None
+        else _number(rpm, "--rpm", "a positive number of rev/min", lambda v: v > 0)
+    )
+    ratio = _number(
+        damping_ratio,
+        "--damping-ratio",
+        "a finite number >= 0, in seconds (the paper's D = 0.01 K is 0.01)",
+        lambda v: v >= 0,
+    )
+    e = _number(restitution, "--restitution", "a number in (0, 1]", lambda v: 0 < v <= 1)
+    conventions = EcsConventions(
+        radius=_choice(radius, "--radius", RADIUS_CONVENTIONS),
+        modulus=_choice(modulus, "--modulus", MODULUS_CONVENTIONS),
+        initial_contact_radius=_a0(a0),
+        contact_length=_length(length),
+        eq11_log_argument=_choice(eq11_log, "--eq11-log", EQ11_LOG_ARGUMENTS),
+        alpha_link=_choice(alpha_link, "--alpha-link", ALPHA_LINKS),
+        load=_choice(load, "--load", LOAD_SOURCES),
+        damping_ratio=ratio,
+        ifm_stiffness=_choice(ifm_stiffness, "--ifm-stiffness", IFM_STIFFNESS_CONVENTIONS),
+    )
+    speeds = parse_sweep(sweep) if sweep is not None else None
+    if speeds is None and out is not None:
+        speeds = parse_sweep(DEFAULT_SWEEP)
+    mechanism = mechanism_from_options(preset, config, rpm_value)
+    result = ecs_analysis(mechanism, conventions)
+    swept = ecs_sweep(mechanism, speeds, conventions, restitution=e) if speeds is not None else None
+    document = _document(mechanism, result, contacts, e, swept)
+    if out is not None:
+        with output_dir(out) as folder:
+            write_json(
+                folder / "ecs.json",
+                {**document, "provenance": provenance(mechanism_summary(mechanism))},
+            )
+            if swept is not None:
+                _sweep_csv(swept).to_csv(
+                    folder / "ecs_sweep.csv", index=False, float_format="%.10g"
+                )
+                _sweep_plots(swept, contacts, folder)
+    if as_json:
+        print(json.dumps(_clean(document), indent=2, ensure_ascii=False, allow_nan=False))
+        return
+    _print_report(mechanism, result, contacts, e, swept)
+    if out is not None:
+        console.print(f"results written to {out}")
+
+
+def _sweep_csv(swept: EcsSweep) -> pd.DataFrame:
+    """The sweep in the paper's units, followed by the dimensional columns again in SI."""
+    si = swept.table
+    dimensional = [
+        c
+        for c in si.columns
+        if c.endswith(("_N_per_m", "_N_s_per_m")) or (c.startswith("delta_") and c.endswith("_m"))
+    ]
+    return swept.paper_units_table().join(si[dimensional])
+
+
+def _a0(text: str) -> float:
+    value = parse_quantity(text, "m", field="--a0")
+    if not value >= 0:
+        raise ConfigError(f"--a0 must be >= 0, got {text!r}")
+    return value
+
+
+# --- the JSON document ------------------------------------------------------------------------
+
+
+def _clean(value: Any) -> Any:
+    """NaN and inf become null; NumPy scalars become Python numbers."""
+    if isinstance(value, dict):
+        return {str(k): _clean(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_clean(v) for v in value]
+    if isinstance(value, np.integer):
+        return int(value)
+    if isinstance(value, float | np.floating):
+        return float(value) if math.isfinite(value) else None
+    return value
+
+
+def _parameters(
+    mechanism: Mechanism, result: EcsResult, contacts: tuple[str, ...]
+) -> dict[str, dict[str, EcsParameters | str]]:
+    """IMPACT/RM parameters per contact and source, or the reason they are unavailable."""
+    out: dict[str, dict[str, EcsParameters | str]] = {}
+    for c in contacts:
+        out[c] = {}
+        for source in ("computed", "paper"):
+            try:
+                out[c][source] = ecs_parameters(
+                    mechanism, c, source, result.conventions, result=result
+                )
+            except ConfigError as exc:
+                out[c][source] = str(exc)
+    return out
+
+
+def _ratio(ours: float, paper: float) -> float:
+    return ours / paper if paper else math.nan
+
+
+def _document(
+    mechanism: Mechanism,
+    result: EcsResult,
+    contacts: tuple[str, ...],
+    restitution: float,
+    swept: EcsSweep | None,
+) -> dict[str, Any]:
+    record = result.as_dict()
+    record["overall"] = {c: record["overall"][c] for c in contacts}
+    for joint in record["joints"]:
+        for other in CONTACT_TYPES:
+            if other not in contacts:
+                del joint[other]
+    paper: dict[str, Any] = {}
+    parameters: dict[str, Any] = {}
+    for c in contacts:
+        published = PAPER_PUBLISHED[c]
+        ours = result.estimate(c)
+        entry = published.as_dict()
+        entry["ours_over_paper"] = {
+            "stiffness": _ratio(ours.stiffness, published.stiffness),
+            "penetration": _ratio(ours.penetration, published.penetration),
+            "damping": _ratio(ours.damping, published.damping),
+        }
+        if c == "spherical":
+            entry["implied_load_lower_bound_N"] = spherical_load_lower_bound(
+                published.stiffness, published.penetration
+            )
+        paper[c] = entry
+        parameters[c] = {
+            source: p.as_dict() if isinstance(p, EcsParameters) else {"error": p}
+            for source, p in _parameters(mechanism, result, (c,))[c].items()
+        }
+    document: dict[str, Any] = {
+        "method": "Equivalent Contact Stiffness, Akhadkar et al. eqs. 9-13",
+        "contacts": list(contacts),
+        "ecs": record,
+        "paper": paper,
+        "simulator_parameters": parameters,
+        "hysteresis": {
+            **record.pop("hysteresis"),
+            "restitution": restitution,
+            "chi_models": comparison_factors(restitution),
+            "definition": "chi_ecs = (D/K) v0 / delta (see jointplay.contact.ecs)",
+        },
+    }
+    if swept is not None:
+        document["sweep"] = swept.table.to_dict(orient="records")
+    return document
+
+
+# --- human output -----------------------------------------------------------------------------
+
+
+def _g(value: float, digits: int = 4) -> str:
+    if not math.isfinite(value):
+        return "—"
+    return f"{value:.{digits}g}"
+
+
+def _print_report(
+    mechanism: Mechanism,
+    result: EcsResult,
+    contacts: tuple[str, ...],
+    restitution: float,
+    swept: EcsSweep | None,
+) -> None:
+    conv = result.conventions
+    console.print(
+        f"[bold]Equivalent Contact Stiffness[/bold] (Akhadkar et al. eqs. 9–13) — "
+        f"{result.mechanism} at {result.crank_speed_rpm:.6g} RPM"
+    )
+    table = Table("convention", "value", "meaning", box=None, title="Conventions")
+    record = conv.as_dict()
+    descriptions = record.pop("descriptions")
+    for name, value in record.items():
+        text = "estimated" if value is None else str(value)
+        if name == "initial_contact_radius" or (
+            name == "contact_length" and not isinstance(value, str)
+        ):
+            text = f"{float(value) / _MM:g} mm"
+        elif name == "damping_ratio":
+            text = f"{value:g} s"
+        table.add_row(name, text, descriptions.get(name, ""))
+    console.print(table)
+
+    loads = Table(
+        "joint", "α from", "|α|max (rad/s²)", "at crank (deg)", "r (mm)", "m (g)", "c (mm)",
+        "l (mm)", "F (N)", box=None, title=f"Contact load per joint ({conv.load})",
+    )  # fmt: skip
+    for entry in result.joints:
+        ld = entry.load
+        loads.add_row(
+            ld.joint + (" *" if ld.joint == result.overall_joint else ""),
+            ld.alpha_link or "—",
+            _g(ld.alpha_max),
+            f"{ld.crank_deg:.0f}",
+            _g(ld.pin_radius / _MM),
+            _g(ld.pin_mass * 1e3),
+            _g(ld.clearance / _MM),
+            _g(ld.length / _MM),
+            _g(ld.load),
+        )
+    console.print(loads)
+    console.print("* the joint with the largest load: its values are the mechanism's ECS values")
+
+    for c in contacts:
+        _print_contact(result, c)
+
+    params = Table(
+        "contact", "source", "IMPACT k", "e", "c_max (N·s/mm)", "d_max (mm)", "RM penalty (N/mm)",
+        box=None, title=f"Simulator parameters (IMPACT k: {conv.ifm_stiffness})",
+    )  # fmt: skip
+    for c, by_source in _parameters(mechanism, result, contacts).items():
+        for source, p in by_source.items():
+            if not isinstance(p, EcsParameters):
+                params.add_row(c, source, p, "", "", "", "")
+                continue
+            params.add_row(
+                c,
+                source,
+                f"{_g(p.stiffness * _MM**p.exponent, 6)} N/mm^{p.exponent:g}",
+                f"{p.exponent:g}",
+                _g(p.c_max * _MM),
+                _g(p.d_max / _MM),
+                _g(p.penalty * _MM, 6),
+            )
+    console.print(params)
+    if not math.isclose(result.crank_speed_rpm, 200.0, rel_tol=1e-6):
+        console.print("note: the paper's values are for 200 RPM")
+
+    chi_models = comparison_factors(restitution)
+    hyst = ", ".join(f"χ_ECS {c} = {_g(result.hysteresis_factor(c))}" for c in contacts)
+    console.print(
+        f"Hysteresis (χ_ECS = (D/K) v0/δ, v0 = {_g(result.impact_velocity / _MM)} mm/s "
+        f"{result.impact_velocity_source}): {hyst}; at e = {restitution:g}: "
+        + ", ".join(f"{name} {chi:.3g}" for name, chi in chi_models.items())
+    )
+    if swept is not None:
+        _print_sweep(swept, contacts)
+
+
+def _print_contact(result: EcsResult, contact: str) -> None:
+    spherical = contact == "spherical"
+    size = "a (mm)" if spherical else "b (mm)"
+    extra = () if spherical else ("l (mm)", "Σln(4dᵢ/b)")
+    eqs = "eqs. 9–10" if spherical else "eqs. 11–12"
+    table = Table(
+        "joint", "F (N)", "E* (N/mm²)", "R (mm)", size, *extra, "K (N/mm)", "δ (mm)",
+        "D (N·s/mm)", "status", box=None, title=f"{contact.capitalize()} contact ({eqs})",
+    )  # fmt: skip
+
+    def row(label: str, est: EcsEstimate) -> list[str]:
+        cells = [
+            label,
+            _g(est.load),
+            _g(est.modulus * _MM**2, 6),
+            _g(est.radius / _MM, 6),
+            _g(est.contact_size / _MM),
+        ]
+        if not spherical:
+            cells += [_g(est.length / _MM), _g(est.log_term)]
+        cells += [
+            _g(est.stiffness * _MM, 6),
+            _g(est.penetration / _MM),
+            _g(est.damping * _MM, 5),
+            est.status,
+        ]
+        return cells
+
+    for entry in result.joints:
+        table.add_row(*row(entry.load.joint, entry.estimate(contact)))
+    ours = result.estimate(contact)
+    table.add_row(*row(f"overall ({result.overall_joint})", ours))
+    published = PAPER_PUBLISHED[contact]
+    blanks = [""] * (4 + len(extra))
+    table.add_row(
+        f"paper {published.table}",
+        *blanks,
+        _g(published.stiffness_n_per_mm, 6),
+        _g(published.penetration_mm),
+        _g(published.damping_n_s_per_mm, 5),
+        "",
+    )
+    table.add_row(
+        "ours / paper",
+        *blanks,
+        _g(_ratio(ours.stiffness, published.stiffness)),
+        _g(_ratio(ours.penetration, published.penetration)),
+        _g(_ratio(ours.damping, published.damping)),
+        "",
+    )
+    console.print(table)
+    if spherical:
+        bound = spherical_load_lower_bound(published.stiffness, published.penetration)
+        console.print(
+            f"Table 5's K and δ need a load of at least (4/3) K δ = {bound:.4g} N under eqs. 9–10 "
+            f"with any E*, R and a₀ ≥ 0 (our load: {ours.load:.4g} N)."
+        )
+
+
+def _print_sweep(swept: EcsSweep, contacts: tuple[str, ...]) -> None:
+    data = swept.paper_units_table()
+    columns = ["rpm", "load_N"]
+    headers = ["rpm", "F (N)"]
+    for c in contacts:
+        short = "sph" if c == "spherical" else "cyl"
+        columns += [f"K_{c}_N_per_mm", f"delta_{c}_mm", f"D_{c}_N_s_per_mm", f"chi_ecs_{c}"]
+        headers += [f"K {short} (N/mm)", f"δ {short} (mm)", f"D {short} (N·s/mm)", f"χ_ECS {short}"]
+    table = Table(*headers, box=None, title="Crank-speed sweep (overall joint)")
+    for _, record in data.iterrows():
+        table.add_row(*(_g(float(record[col]), 5) for col in columns))
+    console.print(table)
+
+
+# --- plots ------------------------------------------------------------------------------------
+
+
+def _pyplot() -> Any:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _sweep_plots(swept: EcsSweep, contacts: tuple[str, ...], folder: Path) -> list[Path]:
+    """ecs_sweep.png (K, δ, D over speed) and ecs_damping.png (hysteresis comparison)."""
+    plt = _pyplot()
+    data = swept.paper_units_table()
+    rpm = data["rpm"]
+    fig, axes = plt.subplots(1, 3, figsize=(12, 4), dpi=110)
+    for ax, prefix, unit, label in zip(
+        axes,
+        ("K_{c}_N_per_mm", "delta_{c}_mm", "D_{c}_N_s_per_mm"),
+        ("N/mm", "mm", "N·s/mm"),
+        ("K", "δ", "D"),
+        strict=True,
+    ):
+        for c in contacts:
+            (line,) = ax.plot(rpm, data[prefix.format(c=c)], marker="o", label=f"ECS {c}")
+            published = PAPER_PUBLISHED[c]
+            value = {
+                "K": published.stiffness_n_per_mm,
+                "δ": published.penetration_mm,
+                "D": published.damping_n_s_per_mm,
+            }[label]
+            ax.plot(
+                [published.crank_speed_rpm],
+                [value],
+                "x",
+                color=line.get_color(),
+                markersize=9,
+                label=f"paper {c} ({published.table})",
+            )
+        ax.set_yscale("log")
+        ax.set_xlabel("crank speed (rpm)")
+        ax.set_ylabel(f"{label} ({unit})")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle(f"{swept.mechanism}: ECS over crank speed")
+    fig.tight_layout()
+    paths = [folder / "ecs_sweep.png"]
+    fig.savefig(paths[0])
+    plt.close(fig)
+
+    fig, (left, right) = plt.subplots(1, 2, figsize=(12, 4.5), dpi=110)
+    for c in contacts:
+        left.plot(rpm, data[f"chi_ecs_{c}"], marker="o", label=f"χ_ECS {c}")
+    models = comparison_factors(swept.restitution)
+    for name, chi in models.items():
+        left.plot(rpm, np.full(len(rpm), chi), "--", label=f"{name} χ(e={swept.restitution:g})")
+    left.set_yscale("log")
+    left.set_xlabel("crank speed (rpm)")
+    left.set_ylabel("hysteresis damping factor χ (–)")
+    left.set_title("χ_ECS = (D/K) v0/δ vs χ(e) of the Hunt–Crossley family")
+    left.grid(True, which="both", alpha=0.3)
+    left.legend(fontsize=7)
+    c = contacts[0]
+    right.plot(rpm, data[f"D_{c}_N_s_per_mm"], marker="o", label=f"ECS D {c}")
+    for name in models:
+        right.plot(rpm, data[f"c_eq_{name}_{c}_N_s_per_mm"], "--", label=f"{name} χKδ/v0")
+    right.set_yscale("log")
+    right.set_xlabel("crank speed (rpm)")
+    right.set_ylabel("damping coefficient (N·s/mm)")
+    right.set_title(f"equivalent damping at the ECS design point ({c})")
+    right.grid(True, which="both", alpha=0.3)
+    right.legend(fontsize=7)
+    fig.tight_layout()
+    paths.append(folder / "ecs_damping.png")
+    fig.savefig(paths[1])
+    plt.close(fig)
+    return paths
