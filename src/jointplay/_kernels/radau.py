@@ -1,0 +1,1071 @@
+"""Compiled variable-step Radau IIA (order 5) integrator for stiff, nonsmooth ODEs.
+
+A faithful Numba port of SciPy's ``scipy.integrate._ivp.radau`` (SciPy 1.17), which
+follows Hairer & Wanner [HW96]_, §IV.8: the three-stage Radau IIA collocation method
+(order 5); its simplified Newton iteration on the eigen-decomposed (one real, one
+complex) linear systems, started from the previous step's collocation polynomial; the
+third-order embedded error estimate, re-estimated with one more evaluation of ``f`` after
+a rejection; and the predictive (Gustafsson) step-size controller. Constants, tolerances
+and decisions are SciPy's, so that on the same problem and tolerances the kernel takes
+nearly the same steps as ``solve_ivp(method="Radau")`` with its default finite-difference
+Jacobian (the same steps, up to round-off, on smooth problems).
+
+Added for the contact simulator, and not in SciPy:
+
+* ``step_check(t_old, y_old, t_new, y_new, args) -> float`` is called on every step that
+  passed the error test. ``1.0`` accepts; ``θ`` in (0, 1) rejects the step and retries it
+  from ``t_old`` with step ``h·θ`` (to land a step on contact onset). A retry that would
+  be shorter than the minimum step (``10·spacing(t)``, as in SciPy), not shorter at all,
+  or the ``MAX_CHECK_REJECTIONS + 1``-th of one step is not made: the step is accepted.
+* ``after_step(t, y, args) -> bool`` is called on every accepted step and may modify ``y``
+  and the arrays in ``args`` in place (projection, contact memory). ``True`` declares a
+  discontinuity: the next Newton iteration starts from zero instead of the collocation
+  extrapolation, and the Jacobian is kept but marked stale (recomputed as soon as Newton
+  fails). ``f`` is always re-evaluated after ``after_step``.
+* Every accepted step is recorded; statuses replace exceptions (the kernel never raises);
+  ``max_steps`` bounds the number of accepted steps.
+
+Where it departs from SciPy (none of which changes a step on a smooth problem):
+
+* After a step, a non-finite state or ``f`` ends the integration with status −3 (SciPy
+  carries NaN on: a NaN error norm passes its error test). A non-finite ``f`` inside the
+  Newton iteration is, as in SciPy, a failed iteration (smaller step).
+* The error is re-estimated after a rejection only, as in SciPy (Hairer's RADAU5 also does
+  it on the first step).
+* ``rtol`` below ``100·eps`` is raised to it silently (SciPy warns); an empty interval
+  returns at once without evaluating ``f``.
+* Own LU and loop-ordered sums: the same pivots and arithmetic as SciPy/LAPACK, but not
+  the same round-off. No dense output is built: only the last collocation polynomial is
+  kept, for the Newton start, as SciPy does.
+
+Jacobian: SciPy's ``num_jac`` (dense branch) is ported whole: forward differences with
+step ``factor_j·max(|y_j|, atol_j)`` in the direction of ``f``, where the per-column
+``factor`` (initially ``sqrt(eps)``) is adapted from call to call so the difference stays
+well above its round-off (a column drowned in round-off is retried with a 10x step). As
+in SciPy, its ``n`` (up to ``2n``) evaluations of ``fun`` count in ``njev``, not ``nfev``.
+
+Linear algebra: LU factorisation with partial pivoting, one generic routine compiled for
+float64 and complex128 (pivots chosen as LAPACK's ``i?amax`` does: largest ``|re| + |im|``).
+
+Compilation: everything is ``njit(cache=True)``. The user's functions reach the driver as
+first-class function values (``numba.types.FunctionType``) rather than as dispatcher
+objects, because Numba keys a dispatcher-typed argument by the object's address: such a
+specialisation is never found again in the cache of a new process (and adds a cache file
+every time). :func:`radau_integrate` therefore compiles the driver for explicit
+signatures, one per type of ``args`` (see :func:`kernel_signatures`), and Numba converts
+each jitted user function to that type at the call (so :func:`radau_integrate` is called
+from Python, not from compiled code). Element-wise loops replace NumPy array expressions
+throughout: the same arithmetic, compiled faster.
+
+References:
+    .. [HW96] E. Hairer, G. Wanner, *Solving Ordinary Differential Equations II: Stiff and
+       Differential-Algebraic Problems*, 2nd ed., Springer, 1996, §IV.8.
+    .. [SciPy] P. Virtanen et al., "SciPy 1.0", *Nature Methods* 17, 261–272 (2020);
+       ``scipy/integrate/_ivp/radau.py`` and ``common.py``.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+from typing import Any
+
+import numba
+import numpy as np
+import numpy.typing as npt
+
+__all__ = [
+    "COUNTER_NAMES",
+    "STATUS_NON_FINITE",
+    "STATUS_STEP_TOO_SMALL",
+    "STATUS_SUCCESS",
+    "STATUS_TOO_MANY_STEPS",
+    "accept_every_step",
+    "kernel_signatures",
+    "lu_factor",
+    "lu_solve",
+    "no_after_step",
+    "radau_integrate",
+]
+
+# ---------------------------------------------------------------------------------------
+# Method constants, verbatim from SciPy's radau.py ([HW96] §IV.8).
+# ---------------------------------------------------------------------------------------
+S6 = 6.0**0.5
+
+#: Collocation nodes c_i of the three-stage Radau IIA method.
+C = np.array([(4.0 - S6) / 10.0, (4.0 + S6) / 10.0, 1.0])
+#: Weights of the embedded error estimate (applied to Z / h).
+E = np.array([-13.0 - 7.0 * S6, -13.0 + 7.0 * S6, -1.0]) / 3.0
+
+#: Eigenvalues of A⁻¹: one real, one complex-conjugate pair (A = T Λ T⁻¹).
+MU_REAL = 3.0 + 3.0 ** (2.0 / 3.0) - 3.0 ** (1.0 / 3.0)
+MU_COMPLEX = (3.0 + 0.5 * (3.0 ** (1.0 / 3.0) - 3.0 ** (2.0 / 3.0))) - 0.5j * (
+    3.0 ** (5.0 / 6.0) + 3.0 ** (7.0 / 6.0)
+)
+
+#: Transformation matrices of the eigen-decomposition.
+T = np.array(
+    [
+        [0.09443876248897524, -0.14125529502095421, 0.03002919410514742],
+        [0.25021312296533332, 0.20412935229379994, -0.38294211275726192],
+        [1.0, 1.0, 0.0],
+    ]
+)
+TI = np.array(
+    [
+        [4.17871859155190428, 0.32768282076106237, 0.52337644549944951],
+        [-4.17871859155190428, -0.32768282076106237, 0.47662355450055044],
+        [0.50287263494578682, -2.57192694985560522, 0.59603920482822492],
+    ]
+)
+TI_REAL = TI[0].copy()
+TI_COMPLEX = TI[1] + 1j * TI[2]
+
+#: Coefficients of the collocation polynomial (dense output / Newton start).
+P = np.array(
+    [
+        [13.0 / 3.0 + 7.0 * S6 / 3.0, -23.0 / 3.0 - 22.0 * S6 / 3.0, 10.0 / 3.0 + 5.0 * S6],
+        [13.0 / 3.0 - 7.0 * S6 / 3.0, -23.0 / 3.0 + 22.0 * S6 / 3.0, 10.0 / 3.0 - 5.0 * S6],
+        [1.0 / 3.0, -8.0 / 3.0, 10.0 / 3.0],
+    ]
+)
+
+NEWTON_MAXITER = 6  # Maximum number of Newton iterations.
+MIN_FACTOR = 0.2  # Minimum allowed decrease in a step size.
+MAX_FACTOR = 10.0  # Maximum allowed increase in a step size.
+
+EPS = float(np.finfo(np.float64).eps)
+
+# Finite-difference Jacobian constants, verbatim from SciPy's common.py.
+NUM_JAC_DIFF_REJECT = EPS**0.875
+NUM_JAC_DIFF_SMALL = EPS**0.75
+NUM_JAC_DIFF_BIG = EPS**0.25
+NUM_JAC_MIN_FACTOR = 1e3 * EPS
+NUM_JAC_FACTOR_INCREASE = 10.0
+NUM_JAC_FACTOR_DECREASE = 0.1
+
+#: Consecutive ``step_check`` rejections of one step after which the step is accepted.
+MAX_CHECK_REJECTIONS = 64
+
+STATUS_SUCCESS = 0
+STATUS_STEP_TOO_SMALL = -1
+STATUS_TOO_MANY_STEPS = -2
+STATUS_NON_FINITE = -3
+_STATUS_RUNNING = 1
+
+#: Meaning of the entries of the returned ``counters`` array.
+COUNTER_NAMES = (
+    "nfev",
+    "njev",
+    "nlu",
+    "n_steps",
+    "n_rejected_error",
+    "n_rejected_newton",
+    "n_rejected_check",
+)
+_NFEV, _NJEV, _NLU, _NSTEPS, _NREJ_ERROR, _NREJ_NEWTON, _NREJ_CHECK = range(7)
+
+_INITIAL_CAPACITY = 64
+
+# error_model="numpy": a division by zero gives inf/NaN (as in SciPy) instead of raising.
+_jit = numba.njit(cache=True, error_model="numpy")
+
+
+# ---------------------------------------------------------------------------------------
+# Scalar and vector helpers.
+# ---------------------------------------------------------------------------------------
+@_jit
+def _py_min(a, b):
+    """Python's ``min(a, b)``: ``a`` unless ``b < a`` (so ``min(1, nan) == 1``, as in SciPy)."""
+    return b if b < a else a
+
+
+@_jit
+def _py_max(a, b):
+    """Python's ``max(a, b)``: ``a`` unless ``b > a`` (so ``max(0.2, nan) == 0.2``)."""
+    return b if b > a else a
+
+
+@_jit
+def _all_finite(x):
+    """Whether every entry of the 1-D array ``x`` is finite."""
+    for j in range(x.shape[0]):  # noqa: SIM110 (an explicit loop compiles faster than all())
+        if not math.isfinite(x[j]):
+            return False
+    return True
+
+
+@_jit
+def _rms_norm(x, scale):
+    """SciPy's ``norm(x / scale)`` for a 1-D ``x``: RMS of ``x_j / scale_j``."""
+    n = x.shape[0]
+    s = 0.0
+    for j in range(n):
+        v = x[j] / scale[j]
+        s += v * v
+    return math.sqrt(s) / math.sqrt(n)
+
+
+@_jit
+def _rms_norm_stages(x, scale):
+    """SciPy's ``norm(x / scale)`` for ``x`` of shape (3, n), ``scale`` broadcast on rows."""
+    n = x.shape[1]
+    s = 0.0
+    for i in range(3):
+        for j in range(n):
+            v = x[i, j] / scale[j]
+            s += v * v
+    return math.sqrt(s) / math.sqrt(3 * n)
+
+
+@_jit
+def _tolerance_scale(y, atol, rtol):
+    """``atol + |y|·rtol``."""
+    n = y.shape[0]
+    scale = np.empty(n)
+    for j in range(n):
+        scale[j] = atol[j] + abs(y[j]) * rtol
+    return scale
+
+
+@_jit
+def _error_scale(y, y_new, atol, rtol):
+    """``atol + max(|y|, |y_new|)·rtol``."""
+    n = y.shape[0]
+    scale = np.empty(n)
+    for j in range(n):
+        scale[j] = atol[j] + max(abs(y[j]), abs(y_new[j])) * rtol
+    return scale
+
+
+@_jit
+def _plus(y, x):
+    """``y + x`` as a new C-contiguous array."""
+    n = y.shape[0]
+    out = np.empty(n)
+    for j in range(n):
+        out[j] = y[j] + x[j]
+    return out
+
+
+@_jit
+def _copy_vector(x):
+    """``x`` as a new C-contiguous float64 array (``fun`` may return any layout)."""
+    n = x.shape[0]
+    out = np.empty(n)
+    for j in range(n):
+        out[j] = x[j]
+    return out
+
+
+@_jit
+def _predict_factor(h_abs, h_abs_old, error_norm, error_norm_old):
+    """Step-size factor of the predictive controller ([HW96] §IV.8, (8.25); SciPy).
+
+    ``h_abs_old`` or ``error_norm_old`` equal to NaN stands for SciPy's ``None``
+    (one-step controller).
+    """
+    if math.isnan(error_norm_old) or math.isnan(h_abs_old) or error_norm == 0.0:
+        multiplier = 1.0
+    else:
+        multiplier = h_abs / h_abs_old * (error_norm_old / error_norm) ** 0.25
+    return _py_min(1.0, multiplier) * error_norm**-0.25
+
+
+# ---------------------------------------------------------------------------------------
+# Linear algebra (generic over float64 / complex128).
+# ---------------------------------------------------------------------------------------
+@_jit
+def lu_factor(a):
+    """LU factorisation with partial pivoting, ``P·A = L·U`` (as LAPACK ``?getrf``).
+
+    Args:
+        a: Square matrix, float64 or complex128, shape (n, n); not modified.
+
+    Returns:
+        ``(lu, piv)``: ``L`` (unit lower, below the diagonal) and ``U`` packed in one
+        matrix, and the row interchanges (row ``k`` was swapped with row ``piv[k]``).
+        A zero pivot is left in place (the matrix is singular): solving then gives
+        inf/NaN, which the integrator treats as a failed Newton iteration.
+    """
+    n = a.shape[0]
+    lu = a.copy()
+    piv = np.empty(n, dtype=np.int64)
+    for k in range(n):
+        p = k
+        amax = abs(lu[k, k].real) + abs(lu[k, k].imag)
+        for i in range(k + 1, n):
+            v = abs(lu[i, k].real) + abs(lu[i, k].imag)
+            if v > amax:
+                amax = v
+                p = i
+        piv[k] = p
+        if p != k:
+            for j in range(n):
+                tmp = lu[k, j]
+                lu[k, j] = lu[p, j]
+                lu[p, j] = tmp
+        pivot = lu[k, k]
+        if pivot != 0:
+            for i in range(k + 1, n):
+                lu[i, k] = lu[i, k] / pivot
+            for i in range(k + 1, n):
+                lik = lu[i, k]
+                if lik != 0:
+                    for j in range(k + 1, n):
+                        lu[i, j] -= lik * lu[k, j]
+    return lu, piv
+
+
+@_jit
+def lu_solve(lu, piv, b):
+    """Solve ``A x = b`` from ``lu_factor(A)``.
+
+    Args:
+        lu: Packed factors from :func:`lu_factor`, shape (n, n).
+        piv: Row interchanges from :func:`lu_factor`, shape (n,).
+        b: Right-hand side, shape (n,), same dtype as ``lu``; not modified.
+
+    Returns:
+        The solution ``x``, shape (n,).
+    """
+    n = lu.shape[0]
+    x = b.copy()
+    for k in range(n):
+        p = piv[k]
+        if p != k:
+            tmp = x[k]
+            x[k] = x[p]
+            x[p] = tmp
+    for i in range(n):
+        s = x[i]
+        for j in range(i):
+            s -= lu[i, j] * x[j]
+        x[i] = s
+    for i in range(n - 1, -1, -1):
+        s = x[i]
+        for j in range(i + 1, n):
+            s -= lu[i, j] * x[j]
+        x[i] = s / lu[i, i]
+    return x
+
+
+@_jit
+def _factor_newton_matrices(jac, h):
+    """LU factors of ``MU_REAL/h·I − J`` and ``MU_COMPLEX/h·I − J``."""
+    n = jac.shape[0]
+    a_real = np.empty((n, n))
+    a_complex = np.empty((n, n), dtype=np.complex128)
+    m_real = MU_REAL / h
+    m_complex = MU_COMPLEX / h
+    for i in range(n):
+        for j in range(n):
+            a_real[i, j] = -jac[i, j]
+            a_complex[i, j] = -jac[i, j]
+        a_real[i, i] = m_real - jac[i, i]
+        a_complex[i, i] = m_complex - jac[i, i]
+    lu_real, piv_real = lu_factor(a_real)
+    lu_complex, piv_complex = lu_factor(a_complex)
+    return lu_real, piv_real, lu_complex, piv_complex
+
+
+# ---------------------------------------------------------------------------------------
+# Pieces of the collocation step.
+# ---------------------------------------------------------------------------------------
+@_jit
+def _mat3_dot(m, z):
+    """``m @ z`` for a 3×3 ``m`` and a (3, n) ``z``."""
+    n = z.shape[1]
+    out = np.zeros((3, n))
+    for i in range(3):
+        for k in range(3):
+            mik = m[i, k]
+            for j in range(n):
+                out[i, j] += mik * z[k, j]
+    return out
+
+
+@_jit
+def _newton_increment(f_stages, w, h, scale, lu_real, piv_real, lu_complex, piv_complex):
+    """One simplified-Newton increment ``dW`` in the transformed variables, and its norm.
+
+    Args:
+        f_stages: ``F[i] = f(t + c_i h, y + Z[i])``, shape (3, n).
+        w: Current transformed stage increments ``W = TI @ Z``, shape (3, n).
+        h: Signed step.
+        scale: ``atol + rtol·|y|``, shape (n,).
+        lu_real: Packed LU of ``MU_REAL/h·I − J``.
+        piv_real: Its row interchanges.
+        lu_complex: Packed LU of ``MU_COMPLEX/h·I − J``.
+        piv_complex: Its row interchanges.
+
+    Returns:
+        ``(dW, ||dW / scale||_rms)``.
+    """
+    n = w.shape[1]
+    m_real = MU_REAL / h
+    m_complex = MU_COMPLEX / h
+    f_real = np.empty(n)
+    f_complex = np.empty(n, dtype=np.complex128)
+    for j in range(n):
+        fr = 0.0
+        fc = 0.0j
+        for i in range(3):
+            fr += f_stages[i, j] * TI_REAL[i]
+            fc += f_stages[i, j] * TI_COMPLEX[i]
+        f_real[j] = fr - m_real * w[0, j]
+        f_complex[j] = fc - m_complex * (w[1, j] + 1j * w[2, j])
+    dw_real = lu_solve(lu_real, piv_real, f_real)
+    dw_complex = lu_solve(lu_complex, piv_complex, f_complex)
+    dw = np.empty((3, n))
+    for j in range(n):
+        dw[0, j] = dw_real[j]
+        dw[1, j] = dw_complex[j].real
+        dw[2, j] = dw_complex[j].imag
+    return dw, _rms_norm_stages(dw, scale)
+
+
+@_jit
+def _error_estimate(z, f, h, lu_real, piv_real):
+    """Embedded error estimate ``(MU_REAL/h·I − J)⁻¹ (f + ZE)`` and ``ZE = Zᵀ E / h``."""
+    n = z.shape[1]
+    ze = np.empty(n)
+    rhs = np.empty(n)
+    for j in range(n):
+        ze[j] = (z[0, j] * E[0] + z[1, j] * E[1] + z[2, j] * E[2]) / h
+        rhs[j] = f[j] + ze[j]
+    return ze, lu_solve(lu_real, piv_real, rhs)
+
+
+@_jit
+def _extrapolate(q, t_old, y_old, t, y, h):
+    """Newton start ``Z0[i] = sol(t + c_i h) − y`` from the last step's collocation polynomial.
+
+    ``sol(τ) = y_old + Q·[x, x², x³]`` with ``x = (τ − t_old)/(t − t_old)`` and
+    ``Q = Zᵀ P`` of the previous step (SciPy's ``RadauDenseOutput``).
+    """
+    n = y.shape[0]
+    h_prev = t - t_old
+    z0 = np.empty((3, n))
+    for i in range(3):
+        x = (t + h * C[i] - t_old) / h_prev
+        x2 = x * x
+        x3 = x2 * x
+        for j in range(n):
+            z0[i, j] = (q[j, 0] * x + q[j, 1] * x2 + q[j, 2] * x3) + y_old[j] - y[j]
+    return z0
+
+
+@_jit
+def _interpolant_coefficients(z):
+    """``Q = Zᵀ P``, shape (n, 3)."""
+    n = z.shape[1]
+    q = np.empty((n, 3))
+    for j in range(n):
+        for k in range(3):
+            s = 0.0
+            for i in range(3):
+                s += z[i, j] * P[i, k]
+            q[j, k] = s
+    return q
+
+
+@_jit
+def _record(ts, ys, m, t, y):
+    """Store ``(t, y)`` as row ``m``, doubling the arrays first when they are full."""
+    cap = ts.shape[0]
+    n = ys.shape[1]
+    if m == cap:
+        ts2 = np.empty(2 * cap)
+        ys2 = np.empty((2 * cap, n))
+        for i in range(cap):
+            ts2[i] = ts[i]
+            for j in range(n):
+                ys2[i, j] = ys[i, j]
+        ts = ts2
+        ys = ys2
+    ts[m] = t
+    for j in range(n):
+        ys[m, j] = y[j]
+    return ts, ys
+
+
+# ---------------------------------------------------------------------------------------
+# Finite-difference Jacobian (SciPy's num_jac, dense branch).
+# ---------------------------------------------------------------------------------------
+@_jit
+def _column_difference(f, f_col, j, diff, max_diff, scale):
+    """Column ``j`` of ``f_new − f``, its largest entry and the scale of that entry."""
+    n = f.shape[0]
+    for i in range(n):
+        diff[i, j] = f_col[i] - f[i]
+    # np.argmax(np.abs(diff), axis=0): the first largest entry.
+    imax = 0
+    vmax = abs(diff[0, j])
+    for i in range(1, n):
+        v = abs(diff[i, j])
+        if v > vmax:
+            vmax = v
+            imax = i
+    max_diff[j] = vmax
+    scale[j] = max(abs(f[imax]), abs(f_col[imax]))
+
+
+@_jit
+def _num_jac(fun, args, t, y, f, threshold, factor):
+    """Forward-difference Jacobian ``∂f/∂y`` with adaptive steps (SciPy's ``num_jac``).
+
+    Args:
+        fun: Right-hand side ``fun(t, y, args)``.
+        args: Passed through to ``fun``.
+        t: Time.
+        y: State, shape (n,).
+        f: ``fun(t, y, args)``, shape (n,).
+        threshold: Floor of ``|y|`` in the step (``atol``), shape (n,).
+        factor: Relative steps, shape (n,); adapted in place for the next call.
+
+    Returns:
+        The Jacobian, shape (n, n).
+    """
+    n = y.shape[0]
+    y_scale = np.empty(n)
+    h = np.empty(n)
+    for j in range(n):
+        # Step in the direction the ODE goes, hoping it stays in the problem's domain.
+        f_sign = 1.0 if f[j] >= 0 else -1.0
+        y_scale[j] = f_sign * max(threshold[j], abs(y[j]))
+        h[j] = (y[j] + factor[j] * y_scale[j]) - y[j]
+        while h[j] == 0:  # Ends, as in SciPy, once the step is non-zero or NaN.
+            factor[j] *= 10.0
+            h[j] = (y[j] + factor[j] * y_scale[j]) - y[j]
+
+    diff = np.empty((n, n))
+    max_diff = np.empty(n)
+    scale = np.empty(n)
+    ytmp = y.copy()
+    for j in range(n):
+        ytmp[j] = y[j] + h[j]
+        f_col = fun(t, ytmp, args)
+        ytmp[j] = y[j]
+        _column_difference(f, f_col, j, diff, max_diff, scale)
+
+    # A column whose difference drowns in round-off is retried with a 10x larger step,
+    # and the retry is kept if its difference is larger relative to its scale.
+    diff_new = np.empty((n, n))
+    max_diff_new = np.empty(n)
+    scale_new = np.empty(n)
+    for j in range(n):
+        if not max_diff[j] < NUM_JAC_DIFF_REJECT * scale[j]:
+            continue
+        new_factor = NUM_JAC_FACTOR_INCREASE * factor[j]
+        h_new = (y[j] + new_factor * y_scale[j]) - y[j]
+        ytmp[j] = y[j] + h_new
+        f_col = fun(t, ytmp, args)
+        ytmp[j] = y[j]
+        _column_difference(f, f_col, j, diff_new, max_diff_new, scale_new)
+        if max_diff[j] * scale_new[j] < max_diff_new[j] * scale[j]:
+            factor[j] = new_factor
+            h[j] = h_new
+            for i in range(n):
+                diff[i, j] = diff_new[i, j]
+            scale[j] = scale_new[j]
+            max_diff[j] = max_diff_new[j]
+
+    jac = np.empty((n, n))
+    for j in range(n):
+        for i in range(n):
+            jac[i, j] = diff[i, j] / h[j]
+        if max_diff[j] < NUM_JAC_DIFF_SMALL * scale[j]:
+            factor[j] *= NUM_JAC_FACTOR_INCREASE
+        elif max_diff[j] > NUM_JAC_DIFF_BIG * scale[j]:
+            factor[j] *= NUM_JAC_FACTOR_DECREASE
+        factor[j] = max(factor[j], NUM_JAC_MIN_FACTOR)
+    return jac
+
+
+# ---------------------------------------------------------------------------------------
+# Initial step and collocation system.
+# ---------------------------------------------------------------------------------------
+@_jit
+def _select_initial_step(fun, args, t0, y0, t_bound, max_step, f0, direction, rtol, atol):
+    """SciPy's ``select_initial_step`` for an error estimator of order 3.
+
+    From Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.4.
+
+    Returns:
+        ``(h_abs, nfev)``.
+    """
+    order = 3
+    n = y0.shape[0]
+    interval_length = abs(t_bound - t0)
+    if interval_length == 0.0:
+        return 0.0, 0
+    scale = _tolerance_scale(y0, atol, rtol)
+    d0 = _rms_norm(y0, scale)
+    d1 = _rms_norm(f0, scale)
+    h0 = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
+    h0 = min(h0, interval_length)
+    y1 = np.empty(n)
+    for j in range(n):
+        y1[j] = y0[j] + h0 * direction * f0[j]
+    f1 = fun(t0 + h0 * direction, y1, args)
+    df = np.empty(n)
+    for j in range(n):
+        df[j] = f1[j] - f0[j]
+    d2 = _rms_norm(df, scale) / h0
+    if d1 <= 1e-15 and d2 <= 1e-15:
+        h1 = max(1e-6, h0 * 1e-3)
+    else:
+        h1 = (0.01 / max(d1, d2)) ** (1.0 / (order + 1))
+    return min(100.0 * h0, h1, interval_length, max_step), 1
+
+
+@_jit
+def _solve_collocation_system(
+    fun, args, t, y, h, z0, scale, tol, lu_real, piv_real, lu_complex, piv_complex
+):
+    """Simplified Newton iteration for the collocation system ([HW96] §IV.8; SciPy).
+
+    Args:
+        fun: Right-hand side ``fun(t, y, args)``.
+        args: Passed through to ``fun``.
+        t: Current time.
+        y: Current state, shape (n,).
+        h: Signed step.
+        z0: Initial guess of ``Z`` (stage values minus ``y``), shape (3, n).
+        scale: ``atol + rtol·|y|``, shape (n,).
+        tol: Newton tolerance (on the scaled RMS norm).
+        lu_real: Packed LU of ``MU_REAL/h·I − J``.
+        piv_real: Its row interchanges.
+        lu_complex: Packed LU of ``MU_COMPLEX/h·I − J``.
+        piv_complex: Its row interchanges.
+
+    Returns:
+        ``(converged, n_iter, Z, rate, nfev)``; ``rate`` is NaN while undefined.
+    """
+    n = y.shape[0]
+    w = _mat3_dot(TI, z0)
+    z = z0.copy()
+    f_stages = np.empty((3, n))
+    ytmp = np.empty(n)
+    dw_norm_old = 0.0
+    has_old = False  # SciPy's ``dW_norm_old is not None``.
+    rate = np.nan  # NaN stands for SciPy's ``rate = None``.
+    converged = False
+    finite = True
+    nfev = 0
+    k = 0
+    for k in range(NEWTON_MAXITER):
+        for i in range(3):
+            for j in range(n):
+                ytmp[j] = y[j] + z[i, j]
+            f_i = fun(t + h * C[i], ytmp, args)
+            nfev += 1
+            for j in range(n):
+                f_stages[i, j] = f_i[j]
+                finite = finite and math.isfinite(f_i[j])
+        if not finite:
+            break
+        dw, dw_norm = _newton_increment(
+            f_stages, w, h, scale, lu_real, piv_real, lu_complex, piv_complex
+        )
+        if has_old:
+            rate = dw_norm / dw_norm_old
+        if has_old and (rate >= 1 or rate ** (NEWTON_MAXITER - k) / (1 - rate) * dw_norm > tol):
+            break
+        for i in range(3):
+            for j in range(n):
+                w[i, j] += dw[i, j]
+        z = _mat3_dot(T, w)
+        if dw_norm == 0 or (has_old and rate / (1 - rate) * dw_norm < tol):
+            converged = True
+            break
+        dw_norm_old = dw_norm
+        has_old = True
+    return converged, k + 1, z, rate, nfev
+
+
+# ---------------------------------------------------------------------------------------
+# Default hooks.
+# ---------------------------------------------------------------------------------------
+@_jit
+def accept_every_step(t_old, y_old, t_new, y_new, args):
+    """``step_check`` that accepts every step (returns 1.0)."""
+    return 1.0
+
+
+@_jit
+def no_after_step(t, y, args):
+    """``after_step`` that changes nothing (returns False)."""
+    return False
+
+
+# ---------------------------------------------------------------------------------------
+# The driver.
+# ---------------------------------------------------------------------------------------
+def _radau_core(
+    fun, step_check, after_step, t0, y0, t_bound, args, rtol, atol, max_step, first_step, max_steps
+):
+    """The integrator itself; see :func:`radau_integrate` (same arguments and results).
+
+    Compiled by :func:`_specialised_core` for explicit signatures, in which ``fun``,
+    ``step_check`` and ``after_step`` are first-class function values. The control flow
+    follows SciPy's ``solve_ivp`` loop around ``Radau._step_impl``.
+    """
+    n = y0.shape[0]
+    counters = np.zeros(7, dtype=np.int64)
+    rtol = max(rtol, 100.0 * EPS)
+    direction = 1.0 if t_bound >= t0 else -1.0
+
+    ts = np.empty(_INITIAL_CAPACITY)
+    ys = np.empty((_INITIAL_CAPACITY, n))
+    t = t0
+    y = y0.copy()
+    ts, ys = _record(ts, ys, 0, t, y)
+    m = 1
+
+    if n == 0 or t0 == t_bound:
+        if n == 0 and t0 != t_bound:  # SciPy: an empty system jumps to t_bound.
+            ts, ys = _record(ts, ys, m, t_bound, y)
+            m += 1
+        return STATUS_SUCCESS, ts[:m].copy(), ys[:m].copy(), counters
+
+    f = _copy_vector(fun(t, y, args))
+    counters[_NFEV] += 1
+    if not (_all_finite(y) and _all_finite(f)):
+        return STATUS_NON_FINITE, ts[:m].copy(), ys[:m].copy(), counters
+
+    if first_step > 0:
+        h_abs_state = first_step
+    else:
+        h_abs_state, nfev_initial = _select_initial_step(
+            fun, args, t, y, t_bound, max_step, f, direction, rtol, atol
+        )
+        counters[_NFEV] += nfev_initial
+    h_abs_old_state = np.nan  # NaN stands for SciPy's None.
+    error_norm_old_state = np.nan
+    newton_tol = max(10.0 * EPS / rtol, min(0.03, rtol**0.5))
+
+    jac_factor = np.full(n, EPS**0.5)
+    jac = _num_jac(fun, args, t, y, f, atol, jac_factor)
+    counters[_NJEV] += 1
+    current_jac = True
+    lu_real = np.empty((n, n))
+    piv_real = np.zeros(n, dtype=np.int64)
+    lu_complex = np.empty((n, n), dtype=np.complex128)
+    piv_complex = np.zeros(n, dtype=np.int64)
+    lu_valid = False
+
+    # Collocation polynomial of the last step (SciPy's self.sol), for the Newton start.
+    has_sol = False
+    q = np.zeros((n, 3))
+    t_old = t
+    y_old = y
+
+    status = _STATUS_RUNNING
+    while status == _STATUS_RUNNING:
+        if counters[_NSTEPS] >= max_steps:
+            status = STATUS_TOO_MANY_STEPS
+            break
+
+        # ---- Radau._step_impl ----
+        min_step = 10.0 * abs(np.nextafter(t, direction * np.inf) - t)
+        if h_abs_state > max_step:
+            h_abs = max_step
+            h_abs_old = np.nan
+            error_norm_old = np.nan
+        elif h_abs_state < min_step:
+            h_abs = min_step
+            h_abs_old = np.nan
+            error_norm_old = np.nan
+        else:
+            h_abs = h_abs_state
+            h_abs_old = h_abs_old_state
+            error_norm_old = error_norm_old_state
+
+        rejected = False
+        step_accepted = False
+        n_check = 0
+        # Set in the loop below; given values here so that every variable has a type.
+        t_new = t
+        y_new = y
+        z = np.zeros((3, n))
+        n_iter = 0
+        rate = np.nan
+        error_norm = 0.0
+        safety = 0.0
+        while not step_accepted:
+            if h_abs < min_step:
+                status = STATUS_STEP_TOO_SMALL
+                break
+
+            h = h_abs * direction
+            t_new = t + h
+            if direction * (t_new - t_bound) > 0:
+                t_new = t_bound
+            h = t_new - t
+            h_abs = abs(h)
+
+            z0 = _extrapolate(q, t_old, y_old, t, y, h) if has_sol else np.zeros((3, n))
+
+            scale = _tolerance_scale(y, atol, rtol)
+
+            converged = False
+            while not converged:
+                if not lu_valid:
+                    lu_real, piv_real, lu_complex, piv_complex = _factor_newton_matrices(jac, h)
+                    counters[_NLU] += 2
+                    lu_valid = True
+
+                converged, n_iter, z, rate, nfev_newton = _solve_collocation_system(
+                    fun,
+                    args,
+                    t,
+                    y,
+                    h,
+                    z0,
+                    scale,
+                    newton_tol,
+                    lu_real,
+                    piv_real,
+                    lu_complex,
+                    piv_complex,
+                )
+                counters[_NFEV] += nfev_newton
+
+                if not converged:
+                    if current_jac:
+                        break
+                    jac = _num_jac(fun, args, t, y, f, atol, jac_factor)
+                    counters[_NJEV] += 1
+                    current_jac = True
+                    lu_valid = False
+
+            if not converged:
+                h_abs *= 0.5
+                lu_valid = False
+                counters[_NREJ_NEWTON] += 1
+                continue
+
+            y_new = _plus(y, z[2])
+            ze, error = _error_estimate(z, f, h, lu_real, piv_real)
+            scale = _error_scale(y, y_new, atol, rtol)
+            error_norm = _rms_norm(error, scale)
+            safety = 0.9 * (2 * NEWTON_MAXITER + 1) / (2 * NEWTON_MAXITER + n_iter)
+
+            if rejected and error_norm > 1:
+                f_err = fun(t, _plus(y, error), args)
+                counters[_NFEV] += 1
+                error = lu_solve(lu_real, piv_real, _plus(f_err, ze))
+                error_norm = _rms_norm(error, scale)
+
+            if error_norm > 1:
+                factor = _predict_factor(h_abs, h_abs_old, error_norm, error_norm_old)
+                h_abs *= _py_max(MIN_FACTOR, safety * factor)
+                lu_valid = False
+                rejected = True
+                counters[_NREJ_ERROR] += 1
+                continue
+
+            # Hook: locate an event (contact onset) by shortening the step.
+            theta = step_check(t, y, t_new, y_new, args)
+            h_try = h_abs * theta
+            if theta < 1.0 and min_step <= h_try < h_abs and n_check < MAX_CHECK_REJECTIONS:
+                h_abs = h_try
+                lu_valid = False
+                n_check += 1
+                counters[_NREJ_CHECK] += 1
+                continue
+            step_accepted = True
+
+        if status != _STATUS_RUNNING:
+            break
+
+        recompute_jac = n_iter > 2 and rate > 1e-3
+
+        factor = _predict_factor(h_abs, h_abs_old, error_norm, error_norm_old)
+        factor = _py_min(MAX_FACTOR, safety * factor)
+
+        if not recompute_jac and factor < 1.2:
+            factor = 1.0
+        else:
+            lu_valid = False
+
+        # Hook: projection / contact memory; then f at the (possibly modified) state.
+        changed = after_step(t_new, y_new, args)
+        f_new = _copy_vector(fun(t_new, y_new, args))
+        counters[_NFEV] += 1
+        if not (_all_finite(y_new) and _all_finite(f_new)):
+            status = STATUS_NON_FINITE
+            break
+
+        if recompute_jac:
+            jac = _num_jac(fun, args, t_new, y_new, f_new, atol, jac_factor)
+            counters[_NJEV] += 1
+            current_jac = True
+        else:
+            current_jac = False
+
+        # As SciPy: the "old" step size is the one proposed before this step.
+        h_abs_old_state = h_abs_state
+        error_norm_old_state = error_norm
+        h_abs_state = h_abs * factor
+
+        y_old = y
+        t_old = t
+        t = t_new
+        y = y_new
+        f = f_new
+        q = _interpolant_coefficients(z)
+        has_sol = not changed
+        counters[_NSTEPS] += 1
+
+        ts, ys = _record(ts, ys, m, t, y)
+        m += 1
+
+        if direction * (t - t_bound) >= 0:
+            status = STATUS_SUCCESS
+
+    return status, ts[:m].copy(), ys[:m].copy(), counters
+
+
+# ---------------------------------------------------------------------------------------
+# Entry point: one cached specialisation of the driver per type of ``args``.
+# ---------------------------------------------------------------------------------------
+_ARRAY = numba.types.float64[::1]
+_compile_lock = threading.Lock()
+_specialisations: dict[Any, Any] = {}
+
+
+def kernel_signatures(args_type: Any) -> dict[str, Any]:
+    """Numba signatures that the user's functions must compile to, for this ``args`` type.
+
+    Args:
+        args_type: ``numba.typeof(args)``.
+
+    Returns:
+        ``{"fun": ..., "step_check": ..., "after_step": ...}``. ``fun`` may return any
+        1-D float64 array (any layout); every ``y`` it is given is C-contiguous.
+    """
+    f8 = numba.types.float64
+    return {
+        "fun": numba.types.float64[:](f8, _ARRAY, args_type),
+        "step_check": f8(f8, _ARRAY, f8, _ARRAY, args_type),
+        "after_step": numba.types.boolean(f8, _ARRAY, args_type),
+    }
+
+
+def _core_signature(args_type: Any) -> tuple[Any, ...]:
+    """Argument types of :func:`_radau_core` for this ``args`` type."""
+    sigs = kernel_signatures(args_type)
+    f8 = numba.types.float64
+    function_type = numba.types.FunctionType
+    return (
+        function_type(sigs["fun"]),
+        function_type(sigs["step_check"]),
+        function_type(sigs["after_step"]),
+        f8,
+        _ARRAY,
+        f8,
+        args_type,
+        f8,
+        _ARRAY,
+        f8,
+        f8,
+        numba.types.int64,
+    )
+
+
+def _specialised_core(args_type: Any) -> Any:
+    """The driver compiled (or loaded from Numba's on-disk cache) for this type of ``args``.
+
+    One dispatcher per ``args`` type, each compiled only for its explicit signature, so
+    that Numba, unable to compile at call time, converts each jitted function passed in
+    to its first-class function type (compiling it for that signature if needed) instead
+    of specialising the driver on the function object, which could not be cached.
+    """
+    core = _specialisations.get(args_type)
+    if core is None:
+        with _compile_lock:
+            core = _specialisations.get(args_type)
+            if core is None:
+                core = numba.njit([_core_signature(args_type)], cache=True, error_model="numpy")(
+                    _radau_core
+                )
+                _specialisations[args_type] = core
+    return core
+
+
+def radau_integrate(
+    fun: Any,
+    step_check: Any,
+    after_step: Any,
+    t0: float,
+    y0: npt.NDArray[np.float64],
+    t_bound: float,
+    args: tuple[npt.NDArray[Any], ...],
+    rtol: float,
+    atol: npt.NDArray[np.float64],
+    max_step: float,
+    first_step: float,
+    max_steps: int,
+) -> tuple[int, npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.int64]]:
+    """Integrate ``y' = fun(t, y, args)`` from ``t0`` to ``t_bound`` with Radau IIA (order 5).
+
+    A port of ``solve_ivp(method="Radau")`` with the ``step_check``/``after_step`` hooks
+    described in the module docstring. The numerical work runs in one compiled,
+    disk-cached function; this entry point only coerces scalars and arrays to the
+    compiled types and picks the specialisation for ``numba.typeof(args)``. The
+    integration itself never raises: failures are returned as a status.
+
+    Args:
+        fun: Numba-jitted right-hand side ``fun(t, y, args) -> float64[:]`` (a new array).
+        step_check: Numba-jitted ``step_check(t_old, y_old, t_new, y_new, args) -> float``:
+            ``1.0`` accepts a step that passed the error test; ``θ`` in (0, 1) retries it
+            from ``t_old`` with ``h·θ`` (counted in ``n_rejected_check``).
+            :func:`accept_every_step` for none.
+        after_step: Numba-jitted ``after_step(t, y, args) -> bool``, called on each
+            accepted step; may modify ``y`` and ``args`` in place; ``True`` marks a
+            discontinuity (zero Newton start next, Jacobian marked stale).
+            :func:`no_after_step` for none.
+        t0: Initial time.
+        y0: Initial state, shape (n,); not modified.
+        t_bound: Final time (may be below ``t0`` to integrate backwards).
+        args: Tuple of NumPy arrays passed untouched to the three functions.
+        rtol: Relative tolerance (raised to ``100·eps`` if smaller, as SciPy does).
+        atol: Absolute tolerances, shape (n,), each ``>= 0``.
+        max_step: Largest step size (``np.inf`` for none).
+        first_step: First step size; ``0.0`` chooses it as SciPy's
+            ``select_initial_step`` does.
+        max_steps: Largest number of accepted steps.
+
+    Returns:
+        ``(status, t_out, y_out, counters)``: status ``0`` reached ``t_bound``, ``-1`` the
+        step size fell below ``10·spacing(t)``, ``-2`` more than ``max_steps`` steps were
+        needed, ``-3`` a non-finite value appeared in the state or in ``f``; ``t_out``
+        (m,) and ``y_out`` (m, n) hold the initial point and every accepted step (after
+        ``after_step``); ``counters`` (int64, 7) as named in ``COUNTER_NAMES``. ``nfev``
+        leaves out the evaluations inside finite-difference Jacobians, as SciPy does.
+
+    Raises:
+        TypeError: From Numba, when a function does not compile to the signature that
+            :func:`kernel_signatures` gives. :func:`jointplay.dynamics.integrate.integrate`
+            checks this first and says what to fix.
+    """
+    core = _specialised_core(numba.typeof(args))
+    status, t_out, y_out, counters = core(
+        fun,
+        step_check,
+        after_step,
+        float(t0),
+        np.array(y0, dtype=np.float64, order="C"),
+        float(t_bound),
+        args,
+        float(rtol),
+        np.array(atol, dtype=np.float64, order="C"),
+        float(max_step),
+        float(first_step),
+        int(max_steps),
+    )
+    return int(status), t_out, y_out, counters

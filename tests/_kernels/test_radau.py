@@ -1,0 +1,605 @@
+"""Tests of the compiled Radau IIA kernel.
+
+Three tiers, as elsewhere in jointplay:
+
+* building blocks: the LU routines against NumPy, the step-size controller against SciPy;
+* reference solutions: SciPy's ``solve_ivp(method="Radau")`` (the algorithm this kernel
+  ports, run with the *same* jitted right-hand side, so the two differ only in round-off
+  and in decisions that round-off tips) and exact or published solutions;
+* convergence: the global error against the tolerance, and the order of the method.
+
+There is no separate "uncompiled" run: SciPy's own Radau plays the plain reference.
+Every tolerance is a named constant with its reason. All right-hand sides take the same
+``args`` type, a 1-tuple of float64 arrays, so the driver compiles (or loads from the
+cache) once.
+"""
+
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+import numba
+import numpy as np
+import numpy.typing as npt
+import pytest
+from scipy.integrate import solve_ivp
+from scipy.integrate._ivp import radau as scipy_radau
+from scipy.integrate._ivp.radau import predict_factor as scipy_predict_factor
+
+from jointplay._kernels import radau as kernel
+
+# ---------------------------------------------------------------------------------------
+# Named tolerances.
+# ---------------------------------------------------------------------------------------
+#: Kernel vs SciPy on smooth problems, in units of the error tolerance
+#: ``atol + rtol·|y|``: the two run the same algorithm on the same f, so they differ by
+#: round-off amplified through the steps (measured ≤ 2e-5 units); 1e-2 leaves margin for
+#: a round-off-tipped step-size decision while staying far below the tolerance itself.
+SMOOTH_AGREEMENT_UNITS = 1e-2
+#: Kernel vs SciPy step and evaluation counts on smooth problems: identical when measured
+#: (decay 242, Van der Pol 919, Robertson 188 steps); ±10 % allows a tipped decision.
+SMOOTH_COUNT_RATIO = 1.10
+#: Global error against an exact or reference solution, in tolerance units. A
+#: variable-step method controls the *local* error; the global error of these runs was
+#: measured at ≤ 0.4 units (decay, Van der Pol, Robertson); 5 units is the usual margin.
+GLOBAL_ERROR_UNITS = 5.0
+#: Contact problem without event location: the damping term makes the force jump by
+#: ``c·|v|`` at contact onset, a discontinuity no step-size controller resolves; the
+#: error then depends on where a step happens to straddle the onset. Measured global
+#: errors at rtol 1e-6: kernel 37, SciPy 39 units; over rtol 1e-3…1e-8, up to ~900
+#: (either code). The bound checks both stay in that regime, not a tight accuracy.
+CONTACT_UNLOCATED_UNITS = 200.0
+#: Kernel vs SciPy step counts on the contact problem (148 vs 157 measured at rtol 1e-6):
+#: the jump at onset makes the rejection sequence round-off sensitive.
+CONTACT_COUNT_RATIO = 1.5
+#: Contact problem with onset landed on by ``step_check`` and flagged by ``after_step``:
+#: measured 2.5–24 units over rtol 1e-3…1e-8.
+CONTACT_LOCATED_UNITS = 50.0
+
+
+# ---------------------------------------------------------------------------------------
+# Problems. Every function takes args = (p,), p a float64 array.
+# ---------------------------------------------------------------------------------------
+@numba.njit(cache=True)
+def decay(t, y, args):
+    """Linear decay y_i' = −λ_i y_i, λ = p; exact solution y_i(0)·exp(−λ_i t)."""
+    return -args[0] * y
+
+
+@numba.njit(cache=True)
+def van_der_pol(t, y, args):
+    """Van der Pol oscillator y'' = μ(1 − y²)y' − y, μ = p[0] (stiff for μ = 1000)."""
+    mu = args[0][0]
+    return np.array([y[1], mu * (1.0 - y[0] * y[0]) * y[1] - y[0]])
+
+
+@numba.njit(cache=True)
+def robertson(t, y, args):
+    """Robertson's chemical kinetics (Hairer & Wanner II, §IV.1, (1.3))."""
+    return np.array(
+        [
+            -0.04 * y[0] + 1e4 * y[1] * y[2],
+            0.04 * y[0] - 1e4 * y[1] * y[2] - 3e7 * y[1] * y[1],
+            3e7 * y[1] * y[1],
+        ]
+    )
+
+
+@numba.njit(cache=True)
+def harmonic(t, y, args):
+    """Harmonic oscillator y'' = −y; exact solution (cos t, −sin t) from (1, 0)."""
+    return np.array([y[1], -y[0]])
+
+
+@numba.njit(cache=True)
+def mass_on_floor(t, y, args):
+    """A mass falling onto a stiff damped floor; y = (height x [m], velocity v [m/s]).
+
+    p = (m [kg], g [m/s²], k [N/m^1.5], c [N·s/m], δ_tol [m], in_contact flag). The
+    floor force is F = max(0, k·δ^1.5 + c·δ̇) for penetration δ = −x > 0 (a Hertz
+    spring with linear damping; Lankarani & Nikravesh, J. Mech. Des. 112, 1990, use the
+    Hertz term), and 0 otherwise.
+    """
+    p = args[0]
+    force = 0.0
+    if y[0] < 0.0:
+        force = max(0.0, p[2] * (-y[0]) ** 1.5 - p[3] * y[1])
+    return np.array([y[1], -p[1] + force / p[0]])
+
+
+@numba.njit(cache=True)
+def land_on_contact(t_old, y_old, t_new, y_new, args):
+    """Retry a step that enters the floor deeper than δ_tol, by linear interpolation."""
+    tol = args[0][4]
+    if y_old[0] > 0.0 and y_new[0] < -tol:
+        return y_old[0] / (y_old[0] - y_new[0])
+    return 1.0
+
+
+@numba.njit(cache=True)
+def flag_contact_change(t, y, args):
+    """Remember contact in p[5]; report a change (the force law switched)."""
+    p = args[0]
+    inside = 1.0 if y[0] < 0.0 else 0.0
+    changed = inside != p[5]
+    p[5] = inside
+    return changed
+
+
+@numba.njit(cache=True)
+def free_fall(t, y, args):
+    """Ballistic flight y = (height [m], velocity [m/s]); p = (g, e, δ_tol)."""
+    return np.array([y[1], -args[0][0]])
+
+
+@numba.njit(cache=True)
+def land_on_ground(t_old, y_old, t_new, y_new, args):
+    """Retry a step whose end is below the ground by more than δ_tol (linear estimate)."""
+    tol = args[0][2]
+    if y_old[0] > 0.0 and y_new[0] < -tol:
+        return y_old[0] / (y_old[0] - y_new[0])
+    return 1.0
+
+
+@numba.njit(cache=True)
+def bounce(t, y, args):
+    """On the ground and falling: reverse the velocity with restitution e = p[1]."""
+    if y[0] <= 0.0 and y[1] < 0.0:
+        y[0] = 0.0
+        y[1] = -args[0][1] * y[1]
+        return True
+    return False
+
+
+@numba.njit(cache=True)
+def cartesian_pendulum(t, y, args):
+    """Pendulum of length L = p[1] in Cartesian coordinates y = (x, z, ẋ, ż), gravity −z.
+
+    The rod force keeps ``|r| = L`` at acceleration level only,
+    λ/m = (|v|² − g z)/L², so the position drifts off the circle.
+    """
+    g = args[0][0]
+    length = args[0][1]
+    lam = (y[2] * y[2] + y[3] * y[3] - g * y[1]) / (length * length)
+    return np.array([y[2], y[3], -lam * y[0], -g - lam * y[1]])
+
+
+@numba.njit(cache=True)
+def project_on_circle(t, y, args):
+    """Project position onto |r| = L and velocity onto the tangent (in place)."""
+    length = args[0][1]
+    r = np.sqrt(y[0] * y[0] + y[1] * y[1])
+    y[0] *= length / r
+    y[1] *= length / r
+    radial = (y[0] * y[2] + y[1] * y[3]) / (length * length)
+    y[2] -= radial * y[0]
+    y[3] -= radial * y[1]
+    return False
+
+
+@numba.njit(cache=True)
+def square(t, y, args):
+    """y' = y², which blows up at t = 1/y(0)."""
+    return y * y
+
+
+@numba.njit(cache=True)
+def poison_state(t, y, args):
+    """after_step that writes NaN into the state once t > p[0]."""
+    if t > args[0][0]:
+        y[0] = np.nan
+    return False
+
+
+@numba.njit(cache=True)
+def nan_rhs(t, y, args):
+    """A right-hand side that is NaN everywhere."""
+    return np.full(y.shape[0], np.nan)
+
+
+@numba.njit(cache=True)
+def always_halve(t_old, y_old, t_new, y_new, args):
+    """step_check that never accepts: exercises the guard against endless retries."""
+    return 0.5
+
+
+@numba.njit(cache=True)
+def odd_theta(t_old, y_old, t_new, y_new, args):
+    """step_check returning NaN, 0 or a negative θ: all must mean "accept"."""
+    k = int(t_new * 1e3) % 3
+    return np.nan if k == 0 else (0.0 if k == 1 else -1.0)
+
+
+# ---------------------------------------------------------------------------------------
+# Helpers.
+# ---------------------------------------------------------------------------------------
+class Run(NamedTuple):
+    status: int
+    t: npt.NDArray[np.float64]
+    y: npt.NDArray[np.float64]
+    counts: dict[str, int]
+
+
+def run_kernel(
+    fun: Any,
+    t_span: tuple[float, float],
+    y0: Any,
+    p: Any,
+    *,
+    rtol: float,
+    atol: Any,
+    step_check: Any = kernel.accept_every_step,
+    after_step: Any = kernel.no_after_step,
+    max_step: float = np.inf,
+    first_step: float = 0.0,
+    max_steps: int = 100_000,
+) -> Run:
+    y0 = np.asarray(y0, dtype=np.float64)
+    status, t, y, counters = kernel.radau_integrate(
+        fun,
+        step_check,
+        after_step,
+        t_span[0],
+        y0,
+        t_span[1],
+        (np.asarray(p, dtype=np.float64),),
+        rtol,
+        np.broadcast_to(np.asarray(atol, dtype=np.float64), y0.shape),
+        max_step,
+        first_step,
+        max_steps,
+    )
+    return Run(status, t, y, dict(zip(kernel.COUNTER_NAMES, counters.tolist(), strict=True)))
+
+
+def run_scipy(
+    fun: Any, t_span: tuple[float, float], y0: Any, p: Any, *, method: str = "Radau", **options: Any
+) -> Any:
+    args = (np.asarray(p, dtype=np.float64),)
+    sol = solve_ivp(
+        lambda t, y: fun(t, np.ascontiguousarray(y), args),
+        t_span,
+        np.asarray(y0, dtype=np.float64),
+        method=method,
+        **options,
+    )
+    assert sol.status == 0, sol.message
+    return sol
+
+
+def tolerance_units(
+    y: npt.NDArray[np.float64], reference: npt.NDArray[np.float64], rtol: float, atol: Any
+) -> float:
+    """Largest ``|y − reference| / (atol + rtol·|reference|)``."""
+    return float(np.max(np.abs(y - reference) / (atol + rtol * np.abs(reference))))
+
+
+def assert_counts_close(
+    run: Run, sol: Any, ratio: float, *, steps_only: bool = False
+) -> tuple[int, int]:
+    steps, scipy_steps = run.counts["n_steps"], sol.t.shape[0] - 1
+    assert 1 / ratio <= steps / scipy_steps <= ratio, (steps, scipy_steps)
+    if not steps_only:
+        assert 1 / ratio <= run.counts["nfev"] / sol.nfev <= ratio, (run.counts, sol.nfev)
+        assert 1 / ratio <= run.counts["njev"] / sol.njev <= ratio, (run.counts, sol.njev)
+    return steps, scipy_steps
+
+
+# ---------------------------------------------------------------------------------------
+# Building blocks.
+# ---------------------------------------------------------------------------------------
+@pytest.mark.parametrize(
+    "name", ["C", "E", "MU_REAL", "MU_COMPLEX", "T", "TI", "P", "NEWTON_MAXITER", "MAX_FACTOR"]
+)
+def test_method_constants_are_scipys(name: str) -> None:
+    np.testing.assert_array_equal(getattr(kernel, name), getattr(scipy_radau, name))
+
+
+@pytest.mark.parametrize("n", [1, 2, 5, 17, 60])
+@pytest.mark.parametrize("dtype", [np.float64, np.complex128])
+def test_lu_solve_matches_numpy(n: int, dtype: type) -> None:
+    rng = np.random.default_rng(n)
+    a = rng.standard_normal((n, n))
+    b = rng.standard_normal(n)
+    if dtype is np.complex128:
+        a = a + 1j * rng.standard_normal((n, n))
+        b = b + 1j * rng.standard_normal(n)
+    if n > 1:
+        a[0, 0] = 0.0  # forces a row interchange
+    lu, piv = kernel.lu_factor(a)
+    x = kernel.lu_solve(lu, piv, b)
+    # Partial pivoting is backward stable: residual ~ eps·cond; these matrices have
+    # cond < 1e4, so 1e-10 relative is a loose, round-off-only bound.
+    np.testing.assert_allclose(x, np.linalg.solve(a, b), rtol=1e-10, atol=1e-12)
+
+
+def test_lu_of_singular_matrix_gives_non_finite_not_an_error() -> None:
+    lu, piv = kernel.lu_factor(np.array([[1.0, 2.0], [2.0, 4.0]]))
+    assert not np.all(np.isfinite(kernel.lu_solve(lu, piv, np.array([1.0, 1.0]))))
+
+
+@pytest.mark.parametrize(
+    ("h_abs", "h_abs_old", "error_norm", "error_norm_old"),
+    [(0.1, None, 0.5, None), (0.1, 0.05, 2.0, 0.3), (0.2, 0.1, 0.01, 0.9), (0.1, 0.1, 0.0, 0.5)],
+)
+def test_step_size_controller_matches_scipy(
+    h_abs: float, h_abs_old: float | None, error_norm: float, error_norm_old: float | None
+) -> None:
+    expected = scipy_predict_factor(h_abs, h_abs_old, np.float64(error_norm), error_norm_old)
+    got = kernel._predict_factor(
+        h_abs,
+        np.nan if h_abs_old is None else h_abs_old,
+        error_norm,
+        np.nan if error_norm_old is None else error_norm_old,
+    )
+    assert got == pytest.approx(expected, rel=1e-15)
+
+
+# ---------------------------------------------------------------------------------------
+# Reference solutions.
+# ---------------------------------------------------------------------------------------
+def test_exponential_decay_matches_exact_solution_and_scipy() -> None:
+    lam = np.array([1.0, 10.0, 100.0])
+    rtol, atol = 1e-6, 1e-9
+    run = run_kernel(decay, (0.0, 10.0), np.ones(3), lam, rtol=rtol, atol=atol)
+    sol = run_scipy(decay, (0.0, 10.0), np.ones(3), lam, rtol=rtol, atol=atol)
+    assert run.status == kernel.STATUS_SUCCESS
+    assert run.t[-1] == 10.0
+    exact = np.exp(-np.outer(run.t, lam))
+    assert tolerance_units(run.y, exact, rtol, atol) < GLOBAL_ERROR_UNITS
+    assert tolerance_units(run.y[-1], sol.y[:, -1], rtol, atol) < SMOOTH_AGREEMENT_UNITS
+    assert_counts_close(run, sol, SMOOTH_COUNT_RATIO)
+
+
+def test_stiff_van_der_pol_matches_scipy_and_reference() -> None:
+    mu = np.array([1000.0])
+    rtol, atol = 1e-6, 1e-6
+    y0 = [2.0, 0.0]
+    run = run_kernel(van_der_pol, (0.0, 3000.0), y0, mu, rtol=rtol, atol=atol)
+    sol = run_scipy(van_der_pol, (0.0, 3000.0), y0, mu, rtol=rtol, atol=atol)
+    # Reference: LSODA at rtol = atol = 1e-12 (agrees with SciPy's Radau at 1e-10 to
+    # 1e-9); an independent (BDF/Adams) method.
+    reference = run_scipy(
+        van_der_pol, (0.0, 3000.0), y0, mu, method="LSODA", rtol=1e-12, atol=1e-12
+    ).y[:, -1]
+    assert run.status == kernel.STATUS_SUCCESS
+    assert run.t.shape[0] > 64  # the recording arrays grew
+    assert tolerance_units(run.y[-1], sol.y[:, -1], rtol, atol) < SMOOTH_AGREEMENT_UNITS
+    assert tolerance_units(run.y[-1], reference, rtol, atol) < GLOBAL_ERROR_UNITS
+    assert_counts_close(run, sol, SMOOTH_COUNT_RATIO)
+
+
+def test_robertson_matches_scipy_and_published_values() -> None:
+    rtol, atol = 1e-6, np.array([1e-8, 1e-12, 1e-8])
+    y0 = [1.0, 0.0, 0.0]
+    run = run_kernel(robertson, (0.0, 40.0), y0, [0.0], rtol=rtol, atol=atol)
+    sol = run_scipy(robertson, (0.0, 40.0), y0, [0.0], rtol=rtol, atol=atol)
+    # y(40) from the IVP test set (Hairer & Wanner II, §IV.10; Mazzia & Magherini), 7
+    # significant digits as published: rounding (≤ 2e-7 relative) plus this run's global
+    # error (measured ≤ 2e-7 relative) stay well inside 2e-6.
+    published = np.array([0.7158271, 0.9185535e-5, 0.2841637])
+    assert run.status == kernel.STATUS_SUCCESS
+    np.testing.assert_allclose(run.y[-1], published, rtol=2e-6)
+    # Mass conservation y1 + y2 + y3 = 1: Runge–Kutta methods keep linear invariants,
+    # and so do the Newton increments up to the finite-difference Jacobian's error in
+    # (1, 1, 1)·J = 0; measured 2e-16.
+    np.testing.assert_allclose(run.y.sum(axis=1), 1.0, atol=1e-12)
+    assert tolerance_units(run.y[-1], sol.y[:, -1], rtol, atol) < SMOOTH_AGREEMENT_UNITS
+    assert_counts_close(run, sol, SMOOTH_COUNT_RATIO)
+
+
+def test_backward_integration_with_first_and_max_step_matches_scipy() -> None:
+    lam = np.array([1.0, 10.0])
+    options: dict[str, Any] = {"rtol": 1e-6, "atol": 1e-9, "max_step": 0.05, "first_step": 1e-3}
+    run = run_kernel(decay, (1.0, -1.0), np.ones(2), lam, **options)
+    sol = run_scipy(decay, (1.0, -1.0), np.ones(2), lam, **options)
+    assert run.status == kernel.STATUS_SUCCESS
+    assert run.t[1] == pytest.approx(1.0 - 1e-3, rel=1e-15)
+    assert np.all(np.diff(run.t) < 0) and np.all(-np.diff(run.t) <= 0.05 + 1e-15)
+    assert tolerance_units(run.y[-1], sol.y[:, -1], 1e-6, 1e-9) < SMOOTH_AGREEMENT_UNITS
+    assert_counts_close(run, sol, SMOOTH_COUNT_RATIO)
+
+
+@pytest.fixture(scope="module")
+def contact_reference() -> npt.NDArray[np.float64]:
+    """State at t = 0.5 s from DOP853 at rtol 1e-13 (explicit; fine for this stiffness)."""
+    return run_scipy(
+        mass_on_floor,
+        (0.0, 0.5),
+        [0.1, 0.0],
+        CONTACT_PARAMETERS,
+        method="DOP853",
+        rtol=1e-13,
+        atol=1e-15,
+    ).y[:, -1]
+
+
+#: 1 kg dropped from 0.1 m onto k = 1e7 N/m^1.5, c = 50 N·s/m; δ_tol = 1e-9 m.
+CONTACT_PARAMETERS = np.array([1.0, 9.81, 1e7, 50.0, 1e-9, 0.0])
+
+
+def test_contact_drop_matches_scipy(contact_reference: npt.NDArray[np.float64]) -> None:
+    rtol, atol = 1e-6, 1e-9
+    run = run_kernel(
+        mass_on_floor, (0.0, 0.5), [0.1, 0.0], CONTACT_PARAMETERS, rtol=rtol, atol=atol
+    )
+    sol = run_scipy(mass_on_floor, (0.0, 0.5), [0.1, 0.0], CONTACT_PARAMETERS, rtol=rtol, atol=atol)
+    assert run.status == kernel.STATUS_SUCCESS
+    # Identical up to the step that first reaches the floor (free fall is integrated
+    # exactly, so the error estimate there is pure round-off and tips the next decision).
+    before = run.t < 0.14
+    np.testing.assert_allclose(run.y[before], sol.y.T[: before.sum()], rtol=1e-12, atol=1e-15)
+    # Peak penetration and rebound: the physics agrees.
+    assert run.y[:, 0].min() == pytest.approx(sol.y[0].min(), rel=1e-2)
+    assert tolerance_units(run.y[-1], contact_reference, rtol, atol) < CONTACT_UNLOCATED_UNITS
+    assert tolerance_units(sol.y[:, -1], contact_reference, rtol, atol) < CONTACT_UNLOCATED_UNITS
+    assert_counts_close(run, sol, CONTACT_COUNT_RATIO)
+
+
+@pytest.mark.parametrize("rtol", [1e-4, 1e-6, 1e-8])
+def test_contact_onset_located_by_step_check(
+    rtol: float, contact_reference: npt.NDArray[np.float64]
+) -> None:
+    atol = rtol * 1e-3
+    p = CONTACT_PARAMETERS.copy()
+    p[4] = atol  # land within atol of the floor
+    run = run_kernel(
+        mass_on_floor,
+        (0.0, 0.5),
+        [0.1, 0.0],
+        p,
+        rtol=rtol,
+        atol=atol,
+        step_check=land_on_contact,
+        after_step=flag_contact_change,
+    )
+    assert run.status == kernel.STATUS_SUCCESS
+    assert run.counts["n_rejected_check"] >= 1
+    # A recorded step lands on the floor (|x| <= δ_tol) at the free-fall impact time.
+    on_floor = np.abs(run.y[:, 0]) <= atol
+    t_impact = np.sqrt(2 * 0.1 / 9.81)
+    assert np.any(on_floor & (np.abs(run.t - t_impact) < 1e-6))
+    assert tolerance_units(run.y[-1], contact_reference, rtol, atol) < CONTACT_LOCATED_UNITS
+
+
+# ---------------------------------------------------------------------------------------
+# Convergence.
+# ---------------------------------------------------------------------------------------
+def test_global_error_falls_with_tolerance() -> None:
+    """Error ∝ tol^(5/4): local error estimate O(h⁴) sets h ∝ tol^(1/4); global error O(h⁵)."""
+    mu = np.array([1.0])
+    reference = run_scipy(
+        van_der_pol, (0.0, 10.0), [2.0, 0.0], mu, method="DOP853", rtol=1e-13, atol=1e-13
+    ).y[:, -1]
+    tolerances = 10.0 ** -np.arange(3.0, 10.0)
+    errors = []
+    for tol in tolerances:
+        run = run_kernel(van_der_pol, (0.0, 10.0), [2.0, 0.0], mu, rtol=tol, atol=tol)
+        errors.append(np.max(np.abs(run.y[-1] - reference)))
+    slope = np.polyfit(np.log(tolerances), np.log(errors), 1)[0]
+    assert np.all(np.diff(np.log(errors)) < np.log(2.0))  # never grows by more than 2x
+    assert 1.0 <= slope <= 1.6, slope  # measured 1.31
+
+
+def test_fixed_step_order_is_five() -> None:
+    """With max_step = first_step = h and loose tolerances every step has size h."""
+    steps = np.array([2 * np.pi / n for n in (8, 16, 32)])
+    errors = []
+    for h in steps:
+        run = run_kernel(
+            harmonic,
+            (0.0, 2 * np.pi),
+            [1.0, 0.0],
+            [0.0],
+            rtol=1e-2,
+            atol=1e-2,
+            max_step=h,
+            first_step=h,
+        )
+        assert run.counts["n_rejected_error"] == 0
+        np.testing.assert_allclose(np.diff(run.t), h, rtol=1e-9)
+        errors.append(np.max(np.abs(run.y[-1] - [1.0, 0.0])))
+    order = np.polyfit(np.log(steps), np.log(errors), 1)[0]
+    assert order == pytest.approx(5.0, abs=0.3)  # Radau IIA, 3 stages: order 2s − 1 = 5
+
+
+# ---------------------------------------------------------------------------------------
+# Hooks.
+# ---------------------------------------------------------------------------------------
+def test_bouncing_ball_steps_land_on_each_impact() -> None:
+    g, e, h0, tol = 9.81, 0.8, 1.0, 1e-10
+    p = np.array([g, e, tol])
+    run = run_kernel(
+        free_fall,
+        (0.0, 2.0),
+        [h0, 0.0],
+        p,
+        rtol=1e-8,
+        atol=1e-10,
+        step_check=land_on_ground,
+        after_step=bounce,
+    )
+    assert run.status == kernel.STATUS_SUCCESS
+    assert run.counts["n_rejected_check"] > 0
+    # Impact k at t_k: t_1 = √(2h/g), then flights of 2·e^k·v_1/g with v_1 = √(2gh).
+    v1 = np.sqrt(2 * g * h0)
+    impacts = [np.sqrt(2 * h0 / g)]
+    while impacts[-1] + 2 * e ** len(impacts) * v1 / g < 2.0:
+        impacts.append(impacts[-1] + 2 * e ** len(impacts) * v1 / g)
+    bounced = np.flatnonzero((run.y[:, 0] == 0.0) & (run.y[:, 1] > 0.0))
+    assert len(bounced) == len(impacts)
+    # A landing overshoots by at most tol in height, i.e. tol/|v| in time; the flights
+    # themselves are exact (quadratic solution), so 1e-8 s is a loose bound.
+    np.testing.assert_allclose(run.t[bounced], impacts, atol=1e-8)
+    # Each rebound leaves with e times the impact speed.
+    np.testing.assert_allclose(
+        run.y[bounced, 1], e ** np.arange(1, len(impacts) + 1) * v1, rtol=1e-7
+    )
+
+
+def test_after_step_projection_keeps_pendulum_on_its_circle() -> None:
+    p = np.array([9.81, 0.5])
+    y0 = [0.5, 0.0, 0.0, 0.0]  # horizontal, at rest
+    options: dict[str, Any] = {"rtol": 1e-4, "atol": 1e-7}
+    free = run_kernel(cartesian_pendulum, (0.0, 10.0), y0, p, **options)
+    projected = run_kernel(
+        cartesian_pendulum, (0.0, 10.0), y0, p, after_step=project_on_circle, **options
+    )
+    assert free.status == projected.status == kernel.STATUS_SUCCESS
+    radius_free = np.hypot(free.y[:, 0], free.y[:, 1])
+    radius = np.hypot(projected.y[:, 0], projected.y[:, 1])
+    assert np.max(np.abs(radius_free - 0.5)) > 1e-6  # drift without the hook
+    np.testing.assert_allclose(radius, 0.5, rtol=4 * np.finfo(float).eps)
+    # Energy m(g z + |v|²/2) stays at its initial 0 within the tolerance scale.
+    energy = 9.81 * projected.y[:, 1] + 0.5 * (projected.y[:, 2] ** 2 + projected.y[:, 3] ** 2)
+    assert np.max(np.abs(energy)) < 1e-2
+
+
+def test_step_check_that_never_accepts_cannot_loop_forever() -> None:
+    run = run_kernel(
+        decay, (0.0, 1.0), [1.0], [1.0], rtol=1e-6, atol=1e-9, step_check=always_halve, max_steps=20
+    )
+    assert run.status == kernel.STATUS_TOO_MANY_STEPS
+    assert run.counts["n_steps"] == 20
+    assert 0 < run.counts["n_rejected_check"] <= kernel.MAX_CHECK_REJECTIONS * 20
+
+
+def test_step_check_nan_zero_or_negative_accepts() -> None:
+    run = run_kernel(decay, (0.0, 1.0), [1.0], [1.0], rtol=1e-6, atol=1e-9, step_check=odd_theta)
+    assert run.status == kernel.STATUS_SUCCESS
+    assert run.counts["n_rejected_check"] == 0
+
+
+# ---------------------------------------------------------------------------------------
+# Statuses: the kernel never raises.
+# ---------------------------------------------------------------------------------------
+def test_blow_up_gives_step_too_small() -> None:
+    run = run_kernel(square, (0.0, 2.0), [1.0], [0.0], rtol=1e-6, atol=1e-9)
+    assert run.status == kernel.STATUS_STEP_TOO_SMALL
+    assert run.t[-1] == pytest.approx(1.0, abs=1e-6)  # the blow-up time 1/y(0)
+
+
+def test_step_limit_gives_too_many_steps() -> None:
+    run = run_kernel(
+        van_der_pol, (0.0, 3000.0), [2.0, 0.0], [1000.0], rtol=1e-6, atol=1e-6, max_steps=10
+    )
+    assert run.status == kernel.STATUS_TOO_MANY_STEPS
+    assert run.counts["n_steps"] == 10 and run.t.shape[0] == 11
+
+
+def test_non_finite_right_hand_side_gives_non_finite() -> None:
+    run = run_kernel(nan_rhs, (0.0, 1.0), [1.0, 2.0], [0.0], rtol=1e-6, atol=1e-9)
+    assert run.status == kernel.STATUS_NON_FINITE
+    assert run.t.shape[0] == 1 and run.counts["nfev"] == 1
+
+
+def test_non_finite_state_from_after_step_gives_non_finite() -> None:
+    run = run_kernel(decay, (0.0, 1.0), [1.0], [0.5], rtol=1e-6, atol=1e-9, after_step=poison_state)
+    assert run.status == kernel.STATUS_NON_FINITE
+    assert np.all(np.isfinite(run.y)) and run.t[-1] <= 0.5
+
+
+def test_empty_interval_records_only_the_initial_point() -> None:
+    run = run_kernel(decay, (2.0, 2.0), [1.0], [1.0], rtol=1e-6, atol=1e-9)
+    assert run.status == kernel.STATUS_SUCCESS
+    assert run.t.tolist() == [2.0] and run.y.tolist() == [[1.0]]
