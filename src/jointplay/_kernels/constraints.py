@@ -8,6 +8,7 @@ Nikravesh, *Computer-Aided Analysis of Mechanical Systems* (1988), ch. 4–5:
 - prismatic (guide i, slider j): φ_j − φ_i − θ0 = 0 and n_i·d = 0 with
   d = r_j + A_j s_j − r_i − A_i s_i and n_i = A_i n'_i normal to the axis                  (2 rows)
 - driver on body k:  φ_k − φ_d(t) = 0                                                    (1 row)
+  (absent when the driver is off, body index < 0: the mechanism coasts)
 
 Velocity equations Φ_q q̇ = ν and acceleration equations Φ_q q̈ = γ use the right-hand sides
 computed here. Body index −1 is the ground (its point is global and fixed).
@@ -67,8 +68,9 @@ def point_global(q: np.ndarray, body: int, sx: float, sy: float) -> tuple[float,
 
 
 @njit(cache=True)
-def count_rows(active: np.ndarray) -> int:
-    return 2 * int(active.sum()) + 1
+def count_rows(active: np.ndarray, driver: np.ndarray) -> int:
+    """2 rows per active joint, plus 1 for the driver unless it is off (body index < 0)."""
+    return 2 * int(active.sum()) + (1 if driver[0] >= 0 else 0)
 
 
 @njit(cache=True)
@@ -81,7 +83,7 @@ def residual(
     driver: np.ndarray,
 ) -> np.ndarray:
     """Constraint violation Φ(q, t), m (joint rows) and rad (angle rows)."""
-    out = np.zeros(count_rows(active))
+    out = np.zeros(count_rows(active, driver))
     row = 0
     for j in range(joint_int.shape[0]):
         if active[j] == 0:
@@ -100,7 +102,8 @@ def residual(
             out[row + 1] = nx * (pbx - pax) + ny * (pby - pay)
         row += 2
     body = int(driver[0])
-    out[row] = q[3 * body + 2] - driver_motion(t, driver)[0]
+    if body >= 0:
+        out[row] = q[3 * body + 2] - driver_motion(t, driver)[0]
     return out
 
 
@@ -114,7 +117,7 @@ def jacobian(
 ) -> np.ndarray:
     """Constraint Jacobian Φ_q, shape (rows, 3 nb)."""
     n = q.shape[0]
-    out = np.zeros((count_rows(active), n))
+    out = np.zeros((count_rows(active, driver), n))
     row = 0
     for j in range(joint_int.shape[0]):
         if active[j] == 0:
@@ -154,15 +157,17 @@ def jacobian(
                 out[row + 1, 3 * b + 2] = nx * -sby + ny * sbx
         row += 2
     body = int(driver[0])
-    out[row, 3 * body + 2] = 1.0
+    if body >= 0:
+        out[row, 3 * body + 2] = 1.0
     return out
 
 
 @njit(cache=True)
 def velocity_rhs(t: float, active: np.ndarray, driver: np.ndarray) -> np.ndarray:
     """ν = −Φ_t: zero for joints, the prescribed crank speed for the driver row."""
-    out = np.zeros(count_rows(active))
-    out[-1] = driver_motion(t, driver)[1]
+    out = np.zeros(count_rows(active, driver))
+    if driver[0] >= 0:
+        out[-1] = driver_motion(t, driver)[1]
     return out
 
 
@@ -177,7 +182,7 @@ def acceleration_rhs(
     driver: np.ndarray,
 ) -> np.ndarray:
     """γ with Φ_q q̈ = γ (Nikravesh 1988, eq. 4.x): quadratic velocity terms and the driver's φ̈."""
-    out = np.zeros(count_rows(active))
+    out = np.zeros(count_rows(active, driver))
     row = 0
     for j in range(joint_int.shape[0]):
         if active[j] == 0:
@@ -219,5 +224,6 @@ def acceleration_rhs(
                 + ny * (sby * wb * wb - say * wa * wa)
             )
         row += 2
-    out[row] = driver_motion(t, driver)[2]
+    if driver[0] >= 0:
+        out[row] = driver_motion(t, driver)[2]
     return out

@@ -201,6 +201,7 @@ def _parse(root: _Table) -> Mechanism:
     direction = 1 if direction_text == "ccw" else -1
     start_angle = driver_table.quantity("start_angle", "rad", 0.0)
     tolerances = _tolerances(root.table("tolerances")) if root.has("tolerances") else ()
+    root.raw("simulation", None)  # read by simulation_settings(); not part of the mechanism
     if template in ("four-bar", "slider-crank"):
         mechanism = _parse_template(
             root,
@@ -464,6 +465,28 @@ def _split_ref(ref: str, joint: str) -> tuple[str, str]:
         )
     link, point = ref.split(".")
     return link, point
+
+
+#: Keys of the ``[simulation]`` table (the same names as the ``jointplay simulate`` options).
+SIMULATION_KEYS = (
+    "method", "ecs_source", "contact", "k", "exponent", "cmax", "depth", "restitution", "damping",
+    "stiffness_law", "fit_depth", "clearance", "joints", "friction", "friction_law", "start",
+    "ramp_time", "start_angle", "revolutions", "output_step", "rtol", "max_step", "format",
+)  # fmt: skip
+
+
+def simulation_settings(path: Path | str | None) -> dict[str, Any]:
+    """The ``[simulation]`` table of a configuration file (raw values; empty without one)."""
+    if path is None:
+        return {}
+    try:
+        data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
+    except (OSError, tomllib.TOMLDecodeError) as exc:
+        raise ConfigError(f"{path}: cannot read the [simulation] table: {exc}") from None
+    table = _Table(data.get("simulation", {}), "simulation")
+    values = {key: table.raw(key) for key in SIMULATION_KEYS if table.has(key)}
+    table.finish()
+    return values
 
 
 def mechanism_summary(mechanism: Mechanism) -> dict[str, Any]:

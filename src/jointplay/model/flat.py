@@ -67,8 +67,8 @@ class FlatModel:
 
     @property
     def n_constraints(self) -> int:
-        """Rows of the constraint vector: 2 per active joint plus 1 for the driver."""
-        return 2 * int(self.active.sum()) + 1
+        """Rows of the constraint vector: 2 per active joint plus 1 for the driver (if on)."""
+        return 2 * int(self.active.sum()) + (1 if self.driver[DRV_BODY] >= 0 else 0)
 
     def body_index(self, name: str) -> int:
         return -1 if name == GROUND else self.link_names.index(name)
@@ -102,8 +102,12 @@ def flatten(
     *,
     clearance_joints: Collection[str] = (),
     ramp_time: float = 0.0,
+    driven: bool = True,
 ) -> FlatModel:
-    """Convert ``mechanism`` to flat arrays; joints in ``clearance_joints`` are not constraints."""
+    """Convert ``mechanism`` to flat arrays; joints in ``clearance_joints`` are not constraints.
+
+    With ``driven=False`` the driver is off (body index −1): the crank turns freely.
+    """
     link_names = tuple(link.name for link in mechanism.links)
     com = {link.name: np.array(link.com) for link in mechanism.links}
     unknown = set(clearance_joints) - {j.name for j in mechanism.joints}

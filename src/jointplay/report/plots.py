@@ -95,3 +95,79 @@ def kinematics_plots(table: pd.DataFrame, folder: Path, title: str) -> list[Path
         )
     )
     return written
+
+
+def _tiled_nominal(nominal: pd.DataFrame, column: str, crank: Any) -> tuple[Any, Any]:
+    """The nominal periodic curve repeated over the crank-angle range of a simulation."""
+    import numpy as np
+
+    lo, hi = float(np.min(crank)), float(np.max(crank))
+    base = nominal["crank_deg"].to_numpy() - nominal["crank_deg"].iloc[0]
+    start = nominal["crank_deg"].iloc[0]
+    turns = range(int(np.floor((lo - start) / 360.0)), int(np.ceil((hi - start) / 360.0)) + 1)
+    x = np.concatenate([start + base + 360.0 * k for k in turns])
+    y = np.concatenate([nominal[column].to_numpy() for _ in turns])
+    keep = (x >= lo) & (x <= hi)
+    return x[keep], y[keep]
+
+
+def simulation_plots(steps: pd.DataFrame, nominal: pd.DataFrame, clearances: Sequence[Any], folder: Path, title: str) -> list[Path]:
+    """ω and α against crank angle with the nominal overlaid, contact forces, journal orbits."""
+    crank = steps["crank_deg"]
+    written = []
+    for prefix, name, quantity in (
+        ("omega", "angular_velocity.png", "angular velocity"),
+        ("alpha", "angular_acceleration.png", "angular acceleration"),
+    ):
+        columns = [c for c in steps.columns if c.startswith(prefix)]
+        overlays = [(f"{c} nominal", *_tiled_nominal(nominal, c, crank)) for c in columns if c in nominal]
+        written.append(
+            line_plot(
+                folder / name,
+                crank,
+                [(c, steps[c]) for c in columns],
+                xlabel="crank angle (deg)",
+                ylabel=f"{quantity} ({UNITS[prefix]})",
+                title=f"{title}: {quantity} with clearance (nominal dashed)",
+                overlays=overlays,
+            )
+        )
+    forces = [c for c in steps.columns if c.startswith("F_")]
+    written.append(
+        line_plot(
+            folder / "joint_forces.png",
+            crank,
+            [(c, steps[c]) for c in forces],
+            xlabel="crank angle (deg)",
+            ylabel="joint force (N)",
+            title=f"{title}: joint forces (contact force in clearance joints)",
+        )
+    )
+    if clearances:
+        written.append(orbit_plot(steps, clearances, folder / "journal_orbits.png", title))
+    return written
+
+
+def orbit_plot(steps: pd.DataFrame, clearances: Sequence[Any], path: Path, title: str) -> Path:
+    """Journal-centre orbit of each clearance joint inside its clearance circle (µm)."""
+    import numpy as np
+
+    plt = _pyplot()
+    count = len(clearances)
+    fig, axes = plt.subplots(1, count, figsize=(3.2 * count, 3.4), dpi=110, squeeze=False)
+    circle = np.linspace(0, 2 * np.pi, 361)
+    for ax, clearance in zip(axes[0], clearances, strict=True):
+        name = clearance.joint
+        c_um = clearance.clearance * 1e6
+        ax.plot(c_um * np.cos(circle), c_um * np.sin(circle), color="0.5", linewidth=0.8)
+        ax.plot(steps[f"ex_{name}"] * 1e6, steps[f"ey_{name}"] * 1e6, linewidth=0.6)
+        ax.set_aspect("equal")
+        ax.set_title(f"joint {name} (c = {c_um:g} µm)", fontsize=9)
+        ax.set_xlabel("e_x (µm)", fontsize=8)
+        ax.set_ylabel("e_y (µm)", fontsize=8)
+        ax.tick_params(labelsize=7)
+    fig.suptitle(f"{title}: journal-centre orbits", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+    return path

@@ -23,10 +23,11 @@ import numpy as np
 import pandas as pd
 
 from jointplay.dynamics.inverse import InverseDynamicsResult, inverse_dynamics
+from jointplay.io.columns import rotating_links, sliders
 from jointplay.io.config import mechanism_summary
 from jointplay.kinematics import fourbar, slidercrank
 from jointplay.kinematics.analysis import KinematicsResult, analyse, cycle_angles
-from jointplay.model.mechanism import GROUND, Mechanism, PrismaticJoint
+from jointplay.model.mechanism import Mechanism
 from jointplay.model.templates import FourBarGeometry, SliderCrankGeometry, TemplateSpec
 
 
@@ -38,11 +39,6 @@ class NominalResult:
     dynamics: InverseDynamicsResult
     table: pd.DataFrame
     summary: dict[str, Any]
-
-
-def sliders(mechanism: Mechanism) -> list[PrismaticJoint]:
-    """Prismatic joints whose guide is the ground (their slider's travel is tabulated)."""
-    return [j for j in mechanism.joints if isinstance(j, PrismaticJoint) and j.link_a == GROUND]
 
 
 def nominal_analysis(
@@ -58,14 +54,9 @@ def nominal_analysis(
 def kinematics_table(kin: KinematicsResult, dyn: InverseDynamicsResult) -> pd.DataFrame:
     """One row per analysed crank angle with the documented columns (see the module docstring)."""
     mechanism = kin.mechanism
-    slider_links = {j.link_b for j in sliders(mechanism)}
     columns: dict[str, np.ndarray] = {"crank_deg": np.degrees(kin.crank_angle)}
-    rotating = [
-        link.name
-        for link in mechanism.links
-        if link.name != mechanism.driver.link and link.name not in slider_links
-    ]
-    numbers = {name: mechanism.link_number(name) for name in rotating}
+    numbers = dict(rotating_links(mechanism))
+    rotating = list(numbers)
     for name in rotating:
         angle = np.unwrap(kin.q[:, 3 * kin.flat.body_index(name) + 2])
         angle += (

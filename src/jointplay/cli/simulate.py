@@ -1,0 +1,164 @@
+"""``jointplay simulate``: forward dynamics with clearance joints."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+from rich.console import Console
+from rich.table import Table
+
+from jointplay.cli._app import app
+from jointplay.cli._common import (
+    ConfigOption,
+    DirectionOption,
+    GravityOption,
+    OutOption,
+    PresetOption,
+    RpmOption,
+    StartAngleOption,
+    mechanism_from_options,
+    provenance,
+)
+from jointplay.errors import ConfigError
+from jointplay.io.config import mechanism_summary, simulation_settings
+from jointplay.io.output import output_dir, write_json
+from jointplay.units import parse_quantity
+
+console = Console(stderr=True)
+
+
+
+def _opt(help_text: str, *names: str) -> Any:
+    return typer.Option(*names, help=help_text)
+
+
+@app.command("simulate")
+def simulate_command(
+    out: OutOption,
+    preset: PresetOption = None,
+    config: ConfigOption = None,
+    rpm: RpmOption = None,
+    direction: DirectionOption = None,
+    start_angle: StartAngleOption = None,
+    gravity: GravityOption = None,
+    contact: Annotated[str | None, _opt("Contact law: impact (MSC ADAMS IMPACT, default), restitution, hertz, kelvin-voigt, hunt-crossley, lankarani-nikravesh, flores, gonthier, hu-guo, herbert-mcwhannell, lee-wang, zhiying-qishao.", "--contact")] = None,
+    k: Annotated[str | None, _opt("Contact stiffness with units, e.g. '1e4 N/mm^1.5' (the penalty for restitution).", "--k")] = None,
+    exponent: Annotated[float | None, _opt("Force exponent (default 1.5; 1 for restitution).", "--exponent")] = None,
+    cmax: Annotated[str | None, _opt("IMPACT maximum damping, e.g. '10 N*s/mm'.", "--cmax")] = None,
+    depth: Annotated[str | None, _opt("IMPACT penetration of full damping, e.g. '0.1 mm'.", "--depth")] = None,
+    restitution: Annotated[float | None, _opt("Coefficient of restitution (restitution and Hunt-Crossley-type laws; default 0.8).", "--restitution")] = None,
+    damping: Annotated[str | None, _opt("Kelvin-Voigt damping, e.g. '100 N*s/m'.", "--damping")] = None,
+    stiffness_law: Annotated[str | None, _opt("Derive stiffness and exponent from geometry: hertz, johnson, esdu-78035, pereira, liu, radzimovsky.", "--stiffness-law")] = None,
+    clearance: Annotated[str | None, _opt("Radial clearance of every clearance joint, e.g. '0.021 mm' (default: from the joints' fit data).", "--clearance")] = None,
+    joints: Annotated[str | None, _opt("Comma-separated clearance joints, e.g. O2,A,B,O4 (default: every joint with a clearance in its fit data).", "--joints")] = None,
+    friction: Annotated[float | None, _opt("Friction coefficient in the clearance joints (default 0: off).", "--friction")] = None,
+    friction_law: Annotated[str | None, _opt("Friction law: ambrosio (regularised Coulomb, default) or adams (STEP-based mu(v)).", "--friction-law")] = None,
+    start: Annotated[str | None, _opt("Start: rest (the paper's: links at rest, crank at full speed), steady (nominal motion) or ramp.", "--start")] = None,
+    ramp_time: Annotated[str | None, _opt("Duration of the speed ramp for --start ramp, e.g. '50 ms'.", "--ramp-time")] = None,
+    revolutions: Annotated[float | None, _opt("Simulated time in crank periods (default 1).", "--revolutions")] = None,
+    output_step: Annotated[str | None, _opt("Sampling interval of timeseries, e.g. '0.1 ms' (default: 0.5° of crank).", "--output-step")] = None,
+    rtol: Annotated[float | None, _opt("Relative error tolerance of the integrator (default 1e-6).", "--rtol")] = None,
+    max_step: Annotated[str | None, _opt("Largest integration step, e.g. '1 ms' (default: 1° of crank).", "--max-step")] = None,
+    fmt: Annotated[str | None, _opt("Time-series format: csv (default) or parquet.", "--format")] = None,
+    plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
+) -> None:
+    """Simulate the mechanism with radial clearance in its revolute joints.
+
+    Writes DIR/timeseries.csv (or .parquet), DIR/steps.* (every integrator step),
+    DIR/summary.json (peaks, nominal peaks, % increase, solver statistics, provenance) and
+    PNG plots. Options override the [simulation] table of a --config file.
+    """
+    from jointplay.dynamics.setup import FrictionSettings, clearance_joints, contact_from_strings
+    from jointplay.dynamics.simulate import SolverOptions, Start, simulate
+    from jointplay.io.results import simulation_summary, write_table
+
+    table = simulation_settings(config)
+    given = {
+        "contact": contact, "k": k, "exponent": exponent, "cmax": cmax, "depth": depth,
+        "restitution": restitution, "damping": damping, "stiffness_law": stiffness_law,
+        "clearance": clearance, "joints": joints, "friction": friction, "friction_law": friction_law,
+        "start": start, "ramp_time": ramp_time, "start_angle": start_angle, "revolutions": revolutions,
+        "output_step": output_step, "rtol": rtol, "max_step": max_step, "format": fmt,
+    }  # fmt: skip
+    values = {**table, **{key: value for key, value in given.items() if value is not None}}
+    mechanism = mechanism_from_options(preset, config, rpm, direction, values.get("start_angle"), gravity)
+    contact_settings = contact_from_strings(values)
+    friction_settings = FrictionSettings(
+        law=str(values.get("friction_law", "ambrosio")), coefficient=float(values.get("friction", 0.0))
+    )
+    if friction_settings.coefficient < 0:
+        raise ConfigError(f"--friction must be >= 0, got {friction_settings.coefficient}")
+    joint_names = _joint_list(values.get("joints"))
+    clearance_value = None if values.get("clearance") is None else parse_quantity(values["clearance"], "m", field="--clearance")
+    clear = clearance_joints(
+        mechanism, joint_names, contact=contact_settings, friction=friction_settings, clearance=clearance_value
+    )
+    mode = str(values.get("start", "rest"))
+    ramp = 0.0 if values.get("ramp_time") is None else parse_quantity(values["ramp_time"], "s", field="--ramp-time")
+    if mode == "ramp" and ramp == 0.0:
+        ramp = mechanism.driver.period / 4
+    solver = SolverOptions(
+        rtol=float(values.get("rtol", 1e-6)),
+        max_step=None if values.get("max_step") is None else parse_quantity(values["max_step"], "s", field="--max-step"),
+    )
+    step = None if values.get("output_step") is None else parse_quantity(values["output_step"], "s", field="--output-step")
+    fmt_value = str(values.get("format", "csv"))
+    if fmt_value not in ("csv", "parquet"):
+        raise ConfigError(f"--format must be csv or parquet, got {fmt_value!r}")
+    turns = float(values.get("revolutions", 1.0))
+    if not (math.isfinite(turns) and turns > 0):
+        raise ConfigError(f"--revolutions must be > 0, got {turns}")
+    with console.status(f"simulating {turns:g} revolution(s) of {mechanism.name} with clearance in {', '.join(c.joint for c in clear)}"):
+        result = simulate(
+            mechanism, clear, revolutions=turns, start=Start(mode, ramp), solver=solver, output_step=step  # type: ignore[arg-type]
+        )
+    record = provenance({"mechanism": mechanism_summary(mechanism), "simulation": _jsonable(values)})
+    with output_dir(out) as folder:
+        write_table(result.timeseries, folder, "timeseries", fmt_value)
+        write_table(result.steps, folder, "steps", fmt_value)
+        write_json(folder / "summary.json", simulation_summary(result, record))
+        if plots:
+            from jointplay.report.plots import simulation_plots
+
+            simulation_plots(result.steps, result.nominal, result.system.clearances, folder, mechanism.name)
+    _print(result, Path(out))
+
+
+def _joint_list(value: Any) -> list[str] | None:
+    if value is None:
+        return None
+    names = value if isinstance(value, list) else str(value).split(",")
+    names = [str(n).strip() for n in names if str(n).strip()]
+    if not names:
+        raise ConfigError("--joints is empty; give e.g. O2,A,B,O4")
+    return names
+
+
+def _jsonable(values: dict[str, Any]) -> dict[str, Any]:
+    return {k: (v if isinstance(v, int | float | str | list | type(None)) else str(v)) for k, v in values.items()}
+
+
+def _print(result: Any, out: Path) -> None:
+    table = Table("quantity", "peak |value|", "at t (s)", "crank (deg)", "nominal", "increase %", box=None)
+    for key, peak in result.peaks.items():
+        increase = result.increase_percent.get(key)
+        table.add_row(
+            key,
+            f"{peak['value']:.5g}",
+            f"{peak['t']:.4f}",
+            f"{peak['crank_deg']:.1f}",
+            f"{result.nominal_peaks.get(key, float('nan')):.5g}",
+            "" if increase is None else f"{increase:+.1f}",
+        )
+    stdout = Console()
+    stdout.print(table)
+    stats = result.solver_stats
+    stdout.print(
+        f"{stats['steps']} steps ({stats['rejected_steps']} rejected), {stats['rhs_evaluations']} evaluations, "
+        f"impacts {stats['impacts']}, max penetration {stats['max_penetration_m'] * 1e6:.3g} µm, "
+        f"energy residual {stats['energy_residual']:.2e}, {stats['wall_s']:.3f} s"
+    )
+    stdout.print(f"results written to {out}")

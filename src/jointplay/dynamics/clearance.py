@@ -1,0 +1,49 @@
+"""Clearance revolute joints: which joints rattle, by how much, and with which laws."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from jointplay.contact.friction import FrictionLaw
+from jointplay.contact.laws import ContactLaw
+from jointplay.errors import ConfigError
+
+
+@dataclass(frozen=True)
+class ClearanceJoint:
+    """A revolute joint modelled as a pin moving freely in its bearing until it hits the wall.
+
+    Attributes:
+        joint: name of a revolute joint of the mechanism (its ``link_a`` carries the bearing,
+            its ``link_b`` the journal).
+        clearance: radial clearance c = R_bearing − R_journal, m (> 0).
+        journal_radius: pin radius R_J, m (> 0); the bearing radius is R_J + c.
+        law: normal contact force law (an instance from :mod:`jointplay.contact.laws`).
+        friction: friction law, or ``None`` (frictionless, the default).
+    """
+
+    joint: str
+    clearance: float
+    journal_radius: float
+    law: ContactLaw
+    friction: FrictionLaw | None = None
+
+    def __post_init__(self) -> None:
+        where = f"clearance joint {self.joint!r}"
+        if not math.isfinite(self.clearance) or self.clearance < 0:
+            raise ConfigError(
+                f"{where}: radial clearance must be positive, got {self.clearance * 1e3:g} mm "
+                "(a negative value would be an interference fit, which jointplay does not model)"
+            )
+        if self.clearance == 0:
+            raise ConfigError(f"{where}: zero clearance — leave the joint ideal instead (omit it from --joints)")
+        if not (math.isfinite(self.journal_radius) and self.journal_radius > 0):
+            raise ConfigError(f"{where}: journal (pin) radius must be > 0 m, got {self.journal_radius}")
+        if not isinstance(self.law, ContactLaw):
+            raise ConfigError(f"{where}: law must be a ContactLaw instance, got {type(self.law).__name__}")
+
+    @property
+    def bearing_radius(self) -> float:
+        """R_B = R_J + c, m."""
+        return self.journal_radius + self.clearance

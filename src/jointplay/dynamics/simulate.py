@@ -1,0 +1,443 @@
+"""Forward dynamics of a mechanism with clearance joints: set-up, integration, results.
+
+:func:`simulate` packs the mechanism (:mod:`jointplay.dynamics.system`), chooses the initial
+state (:class:`Start`), integrates the compiled equations of motion
+(:mod:`jointplay._kernels.eom`) with the compiled Radau IIA integrator
+(:mod:`jointplay._kernels.radau`), and returns a frozen :class:`SimulationResult` with the
+integrator's own steps, a uniformly sampled time series, peaks, the nominal (ideal-joint)
+peaks and the solver statistics.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+
+from jointplay._kernels import eom
+from jointplay._kernels import constraints as ck
+from jointplay._kernels.radau import COUNTER_NAMES, radau_integrate
+from jointplay.dynamics.clearance import ClearanceJoint
+from jointplay.dynamics.system import System, build_system
+from jointplay.errors import ConfigError, IntegrationError
+from jointplay.io.columns import rotating_links, sliders
+from jointplay.kinematics.analysis import analyse
+from jointplay.model.flat import REVOLUTE
+from jointplay.model.mechanism import Mechanism
+
+FloatArray = NDArray[np.float64]
+StartMode = Literal["rest", "steady", "ramp"]
+
+_STATUS_MESSAGES = {
+    -1: "the step size fell below the smallest representable step",
+    -2: "the maximum number of steps was reached",
+    -3: "a non-finite value appeared in the state",
+}
+
+
+@dataclass(frozen=True)
+class Start:
+    """How the motion starts.
+
+    Attributes:
+        mode: ``"rest"`` — the paper's case: pins centred, every link at rest except the
+            crank, which turns at full speed from t = 0; ``"steady"`` — pins centred, all links
+            moving as in the nominal (ideal-joint) mechanism; ``"ramp"`` — everything at rest,
+            the crank speed rising smoothly (quintic STEP5) to full speed over ``ramp_time``.
+        ramp_time: duration of the speed ramp, s (``"ramp"`` only; > 0).
+        driven: ``False`` switches the motor off after the initial state is set: the mechanism
+            coasts (used to check conservation of energy and momentum).
+    """
+
+    mode: StartMode = "rest"
+    ramp_time: float = 0.0
+    driven: bool = True
+
+    def __post_init__(self) -> None:
+        if self.mode not in ("rest", "steady", "ramp"):
+            raise ConfigError(f"start mode must be rest, steady or ramp, got {self.mode!r}")
+        if self.mode == "ramp" and not self.ramp_time > 0:
+            raise ConfigError(f"a ramp start needs a ramp duration > 0 s, got {self.ramp_time}")
+        if self.mode != "ramp" and self.ramp_time != 0:
+            raise ConfigError("a ramp duration applies only to the 'ramp' start")
+
+
+@dataclass(frozen=True)
+class SolverOptions:
+    """Integration settings (Radau IIA order 5 with contact-onset control).
+
+    Attributes:
+        rtol: relative error tolerance.
+        atol_position: absolute tolerance on positions (m) and angles (rad).
+        atol_velocity: absolute tolerance on velocities (m/s, rad/s).
+        max_step: largest step, s (default: the time of 1° of crank rotation).
+        onset_tolerance: largest penetration accepted in the step where a contact begins, m
+            (default: 1 % of the smallest clearance).
+        max_steps: give up after this many accepted steps.
+    """
+
+    rtol: float = 1e-6
+    atol_position: float = 1e-10
+    atol_velocity: float = 1e-6
+    max_step: float | None = None
+    onset_tolerance: float | None = None
+    max_steps: int = 2_000_000
+
+    def __post_init__(self) -> None:
+        for name in ("rtol", "atol_position", "atol_velocity"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0):
+                raise ConfigError(f"solver option {name} must be > 0, got {value}")
+        if self.rtol >= 0.1:
+            raise ConfigError(f"solver option rtol must be well below 1 (e.g. 1e-6), got {self.rtol}")
+        if self.max_step is not None and not self.max_step > 0:
+            raise ConfigError(f"solver option max_step must be > 0 s, got {self.max_step}")
+
+    def tightened(self, factor: float = 10.0) -> SolverOptions:
+        """The same options with every error tolerance divided by ``factor``."""
+        return SolverOptions(
+            rtol=self.rtol / factor,
+            atol_position=self.atol_position / factor,
+            atol_velocity=self.atol_velocity / factor,
+            max_step=self.max_step,
+            onset_tolerance=None if self.onset_tolerance is None else self.onset_tolerance / factor,
+            max_steps=self.max_steps,
+        )
+
+
+#: Quantities whose largest absolute value is reported, with the column that holds them.
+PEAK_KEYS = ("omega", "alpha", "F_", "torque")
+
+
+@dataclass(frozen=True)
+class SimulationResult:
+    """Everything a simulation produced.
+
+    Attributes:
+        system: the packed mechanism (mechanism, clearance joints, kernel buffers).
+        start, solver: the settings used.
+        steps: one row per accepted integrator step (the columns of :attr:`timeseries`).
+        timeseries: rows every ``output_step`` seconds (Hermite interpolation of the state
+            between steps, forces re-evaluated from the interpolated state).
+        peaks: largest |value| per quantity over the integrator's steps, with time and crank
+            angle.
+        nominal_peaks: the same quantities for the nominal (ideal-joint) steady motion.
+        increase_percent: (peak − nominal peak) / nominal peak × 100.
+        solver_stats: method, steps, rejections, evaluations, impacts per joint, maximum
+            penetration, energy residual, constraint violation, wall time.
+    """
+
+    system: System
+    start: Start
+    solver: SolverOptions
+    t: FloatArray
+    y: FloatArray
+    steps: pd.DataFrame
+    timeseries: pd.DataFrame
+    peaks: dict[str, dict[str, float]]
+    nominal_peaks: dict[str, float]
+    increase_percent: dict[str, float | None]
+    solver_stats: dict[str, Any]
+    revolutions: float
+    nominal: pd.DataFrame = field(repr=False)
+
+    @property
+    def mechanism(self) -> Mechanism:
+        return self.system.mechanism
+
+    @property
+    def clearance_joints(self) -> tuple[str, ...]:
+        return tuple(c.joint for c in self.system.clearances)
+
+    def summary(self) -> dict[str, Any]:
+        """The stable ``summary.json`` content (without provenance)."""
+        return {
+            "peaks": self.peaks,
+            "nominal_peaks": self.nominal_peaks,
+            "increase_percent": self.increase_percent,
+            "solver": self.solver_stats,
+            "start": {"mode": self.start.mode, "ramp_time_s": self.start.ramp_time},
+            "revolutions": self.revolutions,
+            "clearance_joints": {
+                c.joint: {
+                    "clearance_m": c.clearance,
+                    "journal_radius_m": c.journal_radius,
+                    "law": c.law.name,
+                    "law_parameters": _law_fields(c.law),
+                    "friction": None if c.friction is None else {"law": c.friction.name, **_law_fields(c.friction)},
+                }
+                for c in self.system.clearances
+            },
+        }
+
+
+def _law_fields(law: object) -> dict[str, Any]:
+    return {k: v for k, v in vars(law).items() if not k.startswith("_")}
+
+
+def initial_state(system: System, start: Start) -> FloatArray:
+    """y0: nominal assembly with every pin centred in its bearing, velocities per ``start``."""
+    mechanism = system.mechanism
+    kin = analyse(mechanism, np.array([mechanism.driver.start_angle]))
+    q0 = kin.q[0].copy()
+    n = system.n_coordinates
+    crank = system.flat.body_index(mechanism.driver.link)
+    if start.mode == "steady":
+        qd0 = kin.qd[0].copy()
+    elif start.mode == "rest":
+        qd0 = np.zeros(n)
+        qd0[3 * crank : 3 * crank + 3] = kin.qd[0, 3 * crank : 3 * crank + 3]  # crank turning about its pivot
+    else:
+        qd0 = np.zeros(n)
+    flat = system.flat
+    # Remaining ideal constraints: project the velocities onto them (mass-weighted), which is
+    # what an impulsive start of the crank does to a mechanism with ideal joints.
+    phi_q = ck.jacobian(q0, flat.joint_int, flat.joint_f, flat.active, flat.driver)
+    if phi_q.shape[0]:
+        nu = ck.velocity_rhs(0.0, flat.active, flat.driver)
+        inv_mass = 1.0 / flat.mass_vector()
+        weighted = phi_q * inv_mass
+        qd0 -= inv_mass * (phi_q.T @ np.linalg.solve(weighted @ phi_q.T, phi_q @ qd0 - nu))
+    return np.concatenate([q0, qd0, np.zeros(2 + len(system.clearances))])
+
+
+def simulate(
+    mechanism: Mechanism,
+    clearances: Sequence[ClearanceJoint],
+    *,
+    revolutions: float = 1.0,
+    start: Start | None = None,
+    solver: SolverOptions | None = None,
+    output_step: float | None = None,
+    nominal_step_deg: float = 0.1,
+) -> SimulationResult:
+    """Simulate ``revolutions`` crank periods of ``mechanism`` with ``clearances``.
+
+    Args:
+        revolutions: simulated time in periods of the nominal crank speed (> 0).
+        start: initial state and driver ramp (default: from rest, the paper's case).
+        solver: integration settings.
+        output_step: sampling interval of :attr:`SimulationResult.timeseries`, s (default: the
+            time of 0.5° of crank rotation).
+        nominal_step_deg: crank-angle step of the nominal analysis that gives the nominal peaks.
+    """
+    start = start or Start()
+    solver = solver or SolverOptions()
+    if not (math.isfinite(revolutions) and revolutions > 0):
+        raise ConfigError(f"revolutions must be > 0, got {revolutions}")
+    period = mechanism.driver.period
+    system = build_system(
+        mechanism,
+        clearances,
+        ramp_time=start.ramp_time,
+        onset_tolerance=solver.onset_tolerance,
+        driven=start.driven,
+    )
+    y0 = initial_state(system, start)
+    n = system.n_coordinates
+    atol = np.concatenate(
+        [
+            np.full(n, solver.atol_position),
+            np.full(n, solver.atol_velocity),
+            np.full(2, 1e-6),  # energy quadratures, J
+            np.full(len(clearances), 1.0),  # impact-velocity memory: piecewise constant
+        ]
+    )
+    max_step = solver.max_step if solver.max_step is not None else period / 360.0
+    t_end = revolutions * period
+    wall = time.perf_counter()
+    status, t, y, counters = radau_integrate(
+        eom.rhs,
+        eom.step_check,
+        eom.after_step,
+        0.0,
+        y0,
+        t_end,
+        system.args,
+        solver.rtol,
+        atol,
+        max_step,
+        0.0,
+        solver.max_steps,
+    )
+    wall = time.perf_counter() - wall
+    if status != 0:
+        raise IntegrationError(
+            f"integration stopped at t = {t[-1]:.6g} s of {t_end:.6g} s: "
+            f"{_STATUS_MESSAGES.get(int(status), f'status {status}')}. Try a looser --rtol, a larger "
+            "--max-steps, or check that the contact stiffness and damping are physically sensible."
+        )
+    steps = _table(system, t, y)
+    output_step = output_step if output_step is not None else period / 720.0
+    if not output_step > 0:
+        raise ConfigError(f"output step must be > 0 s, got {output_step}")
+    samples = np.arange(0.0, t[-1] + 0.5 * output_step, output_step)
+    samples = samples[samples <= t[-1]]
+    timeseries = _table(system, samples, _interpolate(system, t, y, steps, samples))
+    nominal = _nominal_table(mechanism, nominal_step_deg)
+    peaks = _peaks(steps)
+    nominal_peaks = {key: float(np.max(np.abs(nominal[key]))) for key in peaks if key in nominal}
+    increase = {
+        key: (100.0 * (peaks[key]["value"] - nominal_peaks[key]) / nominal_peaks[key] if nominal_peaks.get(key) else None)
+        for key in peaks
+    }
+    stats = _solver_stats(system, t, y, steps, counters, wall)
+    return SimulationResult(
+        system=system,
+        start=start,
+        solver=solver,
+        t=t,
+        y=y,
+        steps=steps,
+        timeseries=timeseries,
+        peaks=peaks,
+        nominal_peaks=nominal_peaks,
+        increase_percent=increase,
+        solver_stats=stats,
+        revolutions=revolutions,
+        nominal=nominal,
+    )
+
+
+def _nominal_table(mechanism: Mechanism, step_deg: float) -> pd.DataFrame:
+    from jointplay.study.nominal import nominal_analysis  # the study layer builds on dynamics
+
+    return nominal_analysis(mechanism, step_deg=step_deg).table
+
+
+def _interpolate(system: System, t: FloatArray, y: FloatArray, steps: pd.DataFrame, samples: FloatArray) -> FloatArray:
+    """Cubic Hermite interpolation of q (with q̇) and q̇ (with q̈) between accepted steps."""
+    n = system.n_coordinates
+    qdd = steps.attrs["qdd"]
+    index = np.clip(np.searchsorted(t, samples, side="right") - 1, 0, len(t) - 2)
+    t0, t1 = t[index], t[index + 1]
+    h = (t1 - t0)[:, None]
+    s = ((samples - t0) / (t1 - t0))[:, None]
+    h00, h10, h01, h11 = 2 * s**3 - 3 * s**2 + 1, s**3 - 2 * s**2 + s, -2 * s**3 + 3 * s**2, s**3 - s**2
+    q0, q1 = y[index, :n], y[index + 1, :n]
+    v0, v1 = y[index, n : 2 * n], y[index + 1, n : 2 * n]
+    a0, a1 = qdd[index], qdd[index + 1]
+    out = y[index].copy()  # work and impact-velocity memory: value at the step's start
+    out[:, :n] = h00 * q0 + h10 * h * v0 + h01 * q1 + h11 * h * v1
+    out[:, n : 2 * n] = h00 * v0 + h10 * h * a0 + h01 * v1 + h11 * h * a1
+    w = (samples - t0) / (t1 - t0)
+    out[:, 2 * n : 2 * n + 2] = (1 - w)[:, None] * y[index, 2 * n : 2 * n + 2] + w[:, None] * y[index + 1, 2 * n : 2 * n + 2]
+    return np.ascontiguousarray(out)
+
+
+def _table(system: System, t: FloatArray, y: FloatArray) -> pd.DataFrame:
+    """The documented columns at times ``t`` with states ``y``."""
+    mechanism = system.mechanism
+    flat = system.flat
+    n = system.n_coordinates
+    qdd, torque, contacts, lam_pairs, violation = eom.diagnostics(
+        np.ascontiguousarray(t), np.ascontiguousarray(y), system.rpar, system.ipar
+    )
+    crank = flat.body_index(mechanism.driver.link)
+    columns: dict[str, Any] = {
+        "t": t,
+        "crank_deg": np.degrees(y[:, 3 * crank + 2]),
+    }
+    links = rotating_links(mechanism)
+    for name, number in links:
+        columns[f"theta{number}_deg"] = np.degrees(y[:, 3 * flat.body_index(name) + 2])
+    for name, number in links:
+        columns[f"omega{number}"] = y[:, n + 3 * flat.body_index(name) + 2]
+    for name, number in links:
+        columns[f"alpha{number}"] = qdd[:, 3 * flat.body_index(name) + 2]
+    for joint in sliders(mechanism):
+        k = flat.body_index(joint.link_b)
+        origin = np.array(mechanism.ground.point(joint.point_a))
+        axis = np.array([math.cos(joint.axis_angle), math.sin(joint.axis_angle)])
+        s = np.array(mechanism.link(joint.link_b).point(joint.point_b)) - np.array(mechanism.link(joint.link_b).com)
+        phi = y[:, 3 * k + 2]
+        rs = np.column_stack([np.cos(phi) * s[0] - np.sin(phi) * s[1], np.sin(phi) * s[0] + np.cos(phi) * s[1]])
+        w = y[:, n + 3 * k + 2][:, None]
+        perp = np.column_stack([-rs[:, 1], rs[:, 0]])
+        columns[f"{joint.link_b}_x"] = (y[:, 3 * k : 3 * k + 2] + rs - origin) @ axis
+        columns[f"{joint.link_b}_v"] = (y[:, n + 3 * k : n + 3 * k + 2] + w * perp) @ axis
+        acc = qdd[:, 3 * k : 3 * k + 2] + qdd[:, 3 * k + 2][:, None] * perp - w**2 * rs
+        columns[f"{joint.link_b}_a"] = acc @ axis
+    clear_index = {c.joint: i for i, c in enumerate(system.clearances)}
+    for j, name in enumerate(flat.joint_names):
+        if name in clear_index:
+            c = clear_index[name]
+            columns[f"F_{name}"] = np.hypot(contacts[:, c, 0], contacts[:, c, 1])
+        elif flat.joint_int[j, 0] == REVOLUTE:
+            columns[f"F_{name}"] = np.hypot(lam_pairs[:, j, 0], lam_pairs[:, j, 1])
+        else:
+            columns[f"F_{name}"] = np.abs(lam_pairs[:, j, 1])  # normal force of a prismatic joint
+    columns["torque"] = torque
+    for name, c in clear_index.items():
+        ex, ey = contacts[:, c, 5], contacts[:, c, 6]
+        columns[f"ex_{name}"] = ex
+        columns[f"ey_{name}"] = ey
+        columns[f"e_{name}"] = np.hypot(ex, ey)
+        columns[f"pen_{name}"] = contacts[:, c, 2]
+        columns[f"contact_{name}"] = (contacts[:, c, 2] > 0).astype(np.int8)
+        columns[f"Fn_{name}"] = contacts[:, c, 0]
+        columns[f"Ft_{name}"] = contacts[:, c, 1]
+    columns["constraint_violation"] = violation
+    table = pd.DataFrame(columns)
+    table.attrs["qdd"] = qdd
+    return table
+
+
+def _peaks(steps: pd.DataFrame) -> dict[str, dict[str, float]]:
+    peaks = {}
+    for column in steps.columns:
+        if column.startswith(("omega", "alpha", "F_")) or column == "torque":
+            values = steps[column].to_numpy()
+            i = int(np.argmax(np.abs(values)))
+            peaks[column] = {
+                "value": float(abs(values[i])),
+                "signed_value": float(values[i]),
+                "t": float(steps["t"].iloc[i]),
+                "crank_deg": float(steps["crank_deg"].iloc[i]),
+            }
+    return peaks
+
+
+def _solver_stats(
+    system: System, t: FloatArray, y: FloatArray, steps: pd.DataFrame, counters: NDArray[np.int64], wall: float
+) -> dict[str, Any]:
+    n = system.n_coordinates
+    flat = system.flat
+    mass = flat.mass_vector()
+    kinetic = 0.5 * np.sum(mass * y[:, n : 2 * n] ** 2, axis=1)
+    potential = -(y[:, :n] @ flat.gravity_forces())
+    balance = kinetic + potential - y[:, 2 * n] + y[:, 2 * n + 1]
+    residual = float(np.max(np.abs(balance - balance[0])))
+    scale = float(max(np.max(kinetic), np.max(np.abs(y[:, 2 * n])), 1e-300))
+    counter = dict(zip(COUNTER_NAMES, (int(v) for v in counters), strict=True))
+    impacts = {}
+    max_pen = {}
+    for c, clearance in enumerate(system.clearances):
+        memory = y[:, 2 * n + 2 + c]
+        impacts[clearance.joint] = int(np.sum((memory[1:] > 0) & (memory[:-1] <= 0)))
+        max_pen[clearance.joint] = float(max(0.0, steps[f"pen_{clearance.joint}"].max()))
+    return {
+        "method": "Radau IIA (order 5), compiled; contact-onset step control; constraint projection",
+        "steps": counter["n_steps"],
+        "rejected_steps": counter["n_rejected_error"] + counter["n_rejected_newton"] + counter["n_rejected_check"],
+        "rejected_by_error": counter["n_rejected_error"],
+        "rejected_by_newton": counter["n_rejected_newton"],
+        "rejected_for_contact_onset": counter["n_rejected_check"],
+        "rhs_evaluations": counter["nfev"],
+        "jacobian_evaluations": counter["njev"],
+        "lu_decompositions": counter["nlu"],
+        "impacts": impacts,
+        "max_penetration_m": max(max_pen.values(), default=0.0),
+        "max_penetration_per_joint_m": max_pen,
+        "energy_residual": residual / scale,
+        "energy_residual_J": residual,
+        "max_constraint_violation": float(system.stats()[eom.T_MAX_VIOLATION]),
+        "projections": int(system.stats()[eom.T_PROJECTIONS]),
+        "wall_s": wall,
+    }
