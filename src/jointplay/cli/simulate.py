@@ -30,7 +30,6 @@ from jointplay.units import parse_quantity
 console = Console(stderr=True)
 
 
-
 def _opt(help_text: str, *names: str) -> Any:
     return typer.Option(*names, help=help_text)
 
@@ -44,25 +43,100 @@ def simulate_command(
     direction: DirectionOption = None,
     start_angle: StartAngleOption = None,
     gravity: GravityOption = None,
-    contact: Annotated[str | None, _opt("Contact law: impact (MSC ADAMS IMPACT, default), restitution, hertz, kelvin-voigt, hunt-crossley, lankarani-nikravesh, flores, gonthier, hu-guo, herbert-mcwhannell, lee-wang, zhiying-qishao.", "--contact")] = None,
-    k: Annotated[str | None, _opt("Contact stiffness with units, e.g. '1e4 N/mm^1.5' (the penalty for restitution).", "--k")] = None,
-    exponent: Annotated[float | None, _opt("Force exponent (default 1.5; 1 for restitution).", "--exponent")] = None,
+    contact: Annotated[
+        str | None,
+        _opt(
+            "Contact law: impact (MSC ADAMS IMPACT, default), restitution, hertz, kelvin-voigt, hunt-crossley, lankarani-nikravesh, flores, gonthier, hu-guo, herbert-mcwhannell, lee-wang, zhiying-qishao.",
+            "--contact",
+        ),
+    ] = None,
+    k: Annotated[
+        str | None,
+        _opt(
+            "Contact stiffness with units, e.g. '1e4 N/mm^1.5' (the penalty for restitution).",
+            "--k",
+        ),
+    ] = None,
+    exponent: Annotated[
+        float | None, _opt("Force exponent (default 1.5; 1 for restitution).", "--exponent")
+    ] = None,
     cmax: Annotated[str | None, _opt("IMPACT maximum damping, e.g. '10 N*s/mm'.", "--cmax")] = None,
-    depth: Annotated[str | None, _opt("IMPACT penetration of full damping, e.g. '0.1 mm'.", "--depth")] = None,
-    restitution: Annotated[float | None, _opt("Coefficient of restitution (restitution and Hunt-Crossley-type laws; default 0.8).", "--restitution")] = None,
-    damping: Annotated[str | None, _opt("Kelvin-Voigt damping, e.g. '100 N*s/m'.", "--damping")] = None,
-    stiffness_law: Annotated[str | None, _opt("Derive stiffness and exponent from geometry: hertz, johnson, esdu-78035, pereira, liu, radzimovsky.", "--stiffness-law")] = None,
-    clearance: Annotated[str | None, _opt("Radial clearance of every clearance joint, e.g. '0.021 mm' (default: from the joints' fit data).", "--clearance")] = None,
-    joints: Annotated[str | None, _opt("Comma-separated clearance joints, e.g. O2,A,B,O4 (default: every joint with a clearance in its fit data).", "--joints")] = None,
-    friction: Annotated[float | None, _opt("Friction coefficient in the clearance joints (default 0: off).", "--friction")] = None,
-    friction_law: Annotated[str | None, _opt("Friction law: ambrosio (regularised Coulomb, default) or adams (STEP-based mu(v)).", "--friction-law")] = None,
-    start: Annotated[str | None, _opt("Start: rest (the paper's: links at rest, crank at full speed), steady (nominal motion) or ramp.", "--start")] = None,
-    ramp_time: Annotated[str | None, _opt("Duration of the speed ramp for --start ramp, e.g. '50 ms'.", "--ramp-time")] = None,
-    revolutions: Annotated[float | None, _opt("Simulated time in crank periods (default 1).", "--revolutions")] = None,
-    output_step: Annotated[str | None, _opt("Sampling interval of timeseries, e.g. '0.1 ms' (default: 0.5° of crank).", "--output-step")] = None,
-    rtol: Annotated[float | None, _opt("Relative error tolerance of the integrator (default 1e-6).", "--rtol")] = None,
-    max_step: Annotated[str | None, _opt("Largest integration step, e.g. '1 ms' (default: 1° of crank).", "--max-step")] = None,
-    fmt: Annotated[str | None, _opt("Time-series format: csv (default) or parquet.", "--format")] = None,
+    depth: Annotated[
+        str | None, _opt("IMPACT penetration of full damping, e.g. '0.1 mm'.", "--depth")
+    ] = None,
+    restitution: Annotated[
+        float | None,
+        _opt(
+            "Coefficient of restitution (restitution and Hunt-Crossley-type laws; default 0.8).",
+            "--restitution",
+        ),
+    ] = None,
+    damping: Annotated[
+        str | None, _opt("Kelvin-Voigt damping, e.g. '100 N*s/m'.", "--damping")
+    ] = None,
+    stiffness_law: Annotated[
+        str | None,
+        _opt(
+            "Derive stiffness and exponent from geometry: hertz, johnson, esdu-78035, pereira, liu, radzimovsky.",
+            "--stiffness-law",
+        ),
+    ] = None,
+    clearance: Annotated[
+        str | None,
+        _opt(
+            "Radial clearance of every clearance joint, e.g. '0.021 mm' (default: from the joints' fit data).",
+            "--clearance",
+        ),
+    ] = None,
+    joints: Annotated[
+        str | None,
+        _opt(
+            "Comma-separated clearance joints, e.g. O2,A,B,O4 (default: every joint with a clearance in its fit data).",
+            "--joints",
+        ),
+    ] = None,
+    friction: Annotated[
+        float | None,
+        _opt("Friction coefficient in the clearance joints (default 0: off).", "--friction"),
+    ] = None,
+    friction_law: Annotated[
+        str | None,
+        _opt(
+            "Friction law: ambrosio (regularised Coulomb, default) or adams (STEP-based mu(v)).",
+            "--friction-law",
+        ),
+    ] = None,
+    start: Annotated[
+        str | None,
+        _opt(
+            "Start: rest (the paper's: links at rest, crank at full speed), steady (nominal motion) or ramp.",
+            "--start",
+        ),
+    ] = None,
+    ramp_time: Annotated[
+        str | None,
+        _opt("Duration of the speed ramp for --start ramp, e.g. '50 ms'.", "--ramp-time"),
+    ] = None,
+    revolutions: Annotated[
+        float | None, _opt("Simulated time in crank periods (default 1).", "--revolutions")
+    ] = None,
+    output_step: Annotated[
+        str | None,
+        _opt(
+            "Sampling interval of timeseries, e.g. '0.1 ms' (default: 0.5° of crank).",
+            "--output-step",
+        ),
+    ] = None,
+    rtol: Annotated[
+        float | None, _opt("Relative error tolerance of the integrator (default 1e-6).", "--rtol")
+    ] = None,
+    max_step: Annotated[
+        str | None,
+        _opt("Largest integration step, e.g. '1 ms' (default: 1° of crank).", "--max-step"),
+    ] = None,
+    fmt: Annotated[
+        str | None, _opt("Time-series format: csv (default) or parquet.", "--format")
+    ] = None,
     plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
 ) -> None:
     """Simulate the mechanism with radial clearance in its revolute joints.
@@ -84,38 +158,68 @@ def simulate_command(
         "output_step": output_step, "rtol": rtol, "max_step": max_step, "format": fmt,
     }  # fmt: skip
     values = {**table, **{key: value for key, value in given.items() if value is not None}}
-    mechanism = mechanism_from_options(preset, config, rpm, direction, values.get("start_angle"), gravity)
+    mechanism = mechanism_from_options(
+        preset, config, rpm, direction, values.get("start_angle"), gravity
+    )
     contact_settings = contact_from_strings(values)
     friction_settings = FrictionSettings(
-        law=str(values.get("friction_law", "ambrosio")), coefficient=float(values.get("friction", 0.0))
+        law=str(values.get("friction_law", "ambrosio")),
+        coefficient=float(values.get("friction", 0.0)),
     )
     if friction_settings.coefficient < 0:
         raise ConfigError(f"--friction must be >= 0, got {friction_settings.coefficient}")
     joint_names = _joint_list(values.get("joints"))
-    clearance_value = None if values.get("clearance") is None else parse_quantity(values["clearance"], "m", field="--clearance")
+    clearance_value = (
+        None
+        if values.get("clearance") is None
+        else parse_quantity(values["clearance"], "m", field="--clearance")
+    )
     clear = clearance_joints(
-        mechanism, joint_names, contact=contact_settings, friction=friction_settings, clearance=clearance_value
+        mechanism,
+        joint_names,
+        contact=contact_settings,
+        friction=friction_settings,
+        clearance=clearance_value,
     )
     mode = str(values.get("start", "rest"))
-    ramp = 0.0 if values.get("ramp_time") is None else parse_quantity(values["ramp_time"], "s", field="--ramp-time")
+    ramp = (
+        0.0
+        if values.get("ramp_time") is None
+        else parse_quantity(values["ramp_time"], "s", field="--ramp-time")
+    )
     if mode == "ramp" and ramp == 0.0:
         ramp = mechanism.driver.period / 4
     solver = SolverOptions(
         rtol=float(values.get("rtol", 1e-6)),
-        max_step=None if values.get("max_step") is None else parse_quantity(values["max_step"], "s", field="--max-step"),
+        max_step=None
+        if values.get("max_step") is None
+        else parse_quantity(values["max_step"], "s", field="--max-step"),
     )
-    step = None if values.get("output_step") is None else parse_quantity(values["output_step"], "s", field="--output-step")
+    step = (
+        None
+        if values.get("output_step") is None
+        else parse_quantity(values["output_step"], "s", field="--output-step")
+    )
     fmt_value = str(values.get("format", "csv"))
     if fmt_value not in ("csv", "parquet"):
         raise ConfigError(f"--format must be csv or parquet, got {fmt_value!r}")
     turns = float(values.get("revolutions", 1.0))
     if not (math.isfinite(turns) and turns > 0):
         raise ConfigError(f"--revolutions must be > 0, got {turns}")
-    with console.status(f"simulating {turns:g} revolution(s) of {mechanism.name} with clearance in {', '.join(c.joint for c in clear)}"):
+    with console.status(
+        f"simulating {turns:g} revolution(s) of {mechanism.name} with clearance in {', '.join(c.joint for c in clear)}"
+    ):
         result = simulate(
-            mechanism, clear, revolutions=turns, start=Start(mode, ramp), solver=solver, output_step=step  # type: ignore[arg-type]
+            mechanism,
+            clear,
+            revolutions=turns,
+            start=Start(mode, ramp),
+            solver=solver,
+            output_step=step,  # type: ignore[arg-type]
         )
-    record = provenance({"mechanism": mechanism_summary(mechanism), "simulation": _jsonable(values)})
+    record = provenance(
+        {"mechanism": mechanism_summary(mechanism), "simulation": _jsonable(values)}
+    )
     with output_dir(out) as folder:
         write_table(result.timeseries, folder, "timeseries", fmt_value)
         write_table(result.steps, folder, "steps", fmt_value)
@@ -123,7 +227,9 @@ def simulate_command(
         if plots:
             from jointplay.report.plots import simulation_plots
 
-            simulation_plots(result.steps, result.nominal, result.system.clearances, folder, mechanism.name)
+            simulation_plots(
+                result.steps, result.nominal, result.system.clearances, folder, mechanism.name
+            )
     _print(result, Path(out))
 
 
@@ -138,11 +244,16 @@ def _joint_list(value: Any) -> list[str] | None:
 
 
 def _jsonable(values: dict[str, Any]) -> dict[str, Any]:
-    return {k: (v if isinstance(v, int | float | str | list | type(None)) else str(v)) for k, v in values.items()}
+    return {
+        k: (v if isinstance(v, int | float | str | list | type(None)) else str(v))
+        for k, v in values.items()
+    }
 
 
 def _print(result: Any, out: Path) -> None:
-    table = Table("quantity", "peak |value|", "at t (s)", "crank (deg)", "nominal", "increase %", box=None)
+    table = Table(
+        "quantity", "peak |value|", "at t (s)", "crank (deg)", "nominal", "increase %", box=None
+    )
     for key, peak in result.peaks.items():
         increase = result.increase_percent.get(key)
         table.add_row(

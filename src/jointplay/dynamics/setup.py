@@ -60,7 +60,9 @@ class ContactSettings:
 
     def __post_init__(self) -> None:
         if self.law not in CONTACT_LAWS:
-            raise ConfigError(f"unknown contact law {self.law!r}; known: {', '.join(sorted(CONTACT_LAWS))}")
+            raise ConfigError(
+                f"unknown contact law {self.law!r}; known: {', '.join(sorted(CONTACT_LAWS))}"
+            )
         if self.stiffness_law is not None and self.stiffness_law not in STIFFNESS_LAWS:
             raise ConfigError(
                 f"unknown stiffness law {self.stiffness_law!r}; known: {', '.join(sorted(STIFFNESS_LAWS))}"
@@ -85,12 +87,24 @@ class FrictionSettings:
         if self.law == "ambrosio":
             return get_friction("ambrosio", mu=self.coefficient)
         if self.law == "adams":
-            dynamic = self.dynamic_coefficient if self.dynamic_coefficient is not None else self.coefficient
-            return get_friction("adams", mu_static=self.coefficient, mu_dynamic=dynamic, v_static=1e-4, v_dynamic=1e-3)
+            dynamic = (
+                self.dynamic_coefficient
+                if self.dynamic_coefficient is not None
+                else self.coefficient
+            )
+            return get_friction(
+                "adams",
+                mu_static=self.coefficient,
+                mu_dynamic=dynamic,
+                v_static=1e-4,
+                v_dynamic=1e-3,
+            )
         raise ConfigError(f"unknown friction law {self.law!r}; use ambrosio or adams")
 
 
-def make_law(settings: ContactSettings, *, stiffness: float | None = None, exponent: float | None = None) -> ContactLaw:
+def make_law(
+    settings: ContactSettings, *, stiffness: float | None = None, exponent: float | None = None
+) -> ContactLaw:
     """The contact law of ``settings``; ``stiffness``/``exponent`` override (geometry fits)."""
     k = stiffness if stiffness is not None else settings.stiffness
     n = exponent if exponent is not None else settings.exponent
@@ -104,7 +118,9 @@ def make_law(settings: ContactSettings, *, stiffness: float | None = None, expon
             d_max=TABLE3_DEPTH if settings.depth is None else settings.depth,
         )
     if k is None:
-        raise ConfigError(f"contact law {name!r} needs a stiffness: give --k (or stiffness in [simulation])")
+        raise ConfigError(
+            f"contact law {name!r} needs a stiffness: give --k (or stiffness in [simulation])"
+        )
     if name == "restitution":
         return get_law(
             name,
@@ -116,7 +132,9 @@ def make_law(settings: ContactSettings, *, stiffness: float | None = None, expon
         return get_law(name, stiffness=k, exponent=1.5 if n is None else n)
     if name == "kelvin-voigt":
         if settings.damping is None:
-            raise ConfigError("contact law 'kelvin-voigt' needs a damping coefficient: give --damping")
+            raise ConfigError(
+                "contact law 'kelvin-voigt' needs a damping coefficient: give --damping"
+            )
         return get_law(name, stiffness=k, damping=settings.damping)
     if name in _HC_FAMILY:
         return get_law(
@@ -148,7 +166,9 @@ def clearance_joints(
     if joints is None:
         joints = [name for name, j in revolute.items() if j.fit is not None and j.fit.clearance]
         if not joints:
-            raise ConfigError(f"mechanism {mechanism.name!r} has no joint with a clearance; name them with --joints")
+            raise ConfigError(
+                f"mechanism {mechanism.name!r} has no joint with a clearance; name them with --joints"
+            )
     result = []
     for name in joints:
         if name not in revolute:
@@ -162,13 +182,22 @@ def clearance_joints(
         r = journal_radius if journal_radius is not None else (fit.diameter / 2 if fit else None)
         if r is None:
             r = 0.005
-        law = make_law(contact, **_stiffness_from_geometry(mechanism, contact, c, r, fit.pin_length if fit else None))
-        result.append(ClearanceJoint(name, clearance=c, journal_radius=r, law=law, friction=friction.build()))
+        law = make_law(
+            contact,
+            **_stiffness_from_geometry(mechanism, contact, c, r, fit.pin_length if fit else None),
+        )
+        result.append(
+            ClearanceJoint(name, clearance=c, journal_radius=r, law=law, friction=friction.build())
+        )
     return result
 
 
 def _stiffness_from_geometry(
-    mechanism: Mechanism, contact: ContactSettings, clearance: float, journal_radius: float, length: float | None
+    mechanism: Mechanism,
+    contact: ContactSettings,
+    clearance: float,
+    journal_radius: float,
+    length: float | None,
 ) -> dict[str, float]:
     if contact.stiffness_law is None:
         return {}
@@ -195,7 +224,9 @@ def parse_stiffness(text: Any, exponent: float, *, field: str = "--k") -> float:
     try:
         return parse_quantity(text, unit, field=field)
     except ConfigError as exc:
-        raise ConfigError(f"{exc} (with force exponent {exponent:g} the stiffness is in N/mm^{exponent:g} or {unit})") from None
+        raise ConfigError(
+            f"{exc} (with force exponent {exponent:g} the stiffness is in N/mm^{exponent:g} or {unit})"
+        ) from None
 
 
 def contact_from_strings(values: Mapping[str, Any]) -> ContactSettings:
@@ -214,12 +245,20 @@ def contact_from_strings(values: Mapping[str, Any]) -> ContactSettings:
         law=law,
         stiffness=None if stiffness is None else parse_stiffness(stiffness, exponent or default_n),
         exponent=exponent,
-        c_max=None if values.get("cmax") is None else parse_quantity(values["cmax"], "N*s/m", field="--cmax"),
-        depth=None if values.get("depth") is None else parse_quantity(values["depth"], "m", field="--depth"),
+        c_max=None
+        if values.get("cmax") is None
+        else parse_quantity(values["cmax"], "N*s/m", field="--cmax"),
+        depth=None
+        if values.get("depth") is None
+        else parse_quantity(values["depth"], "m", field="--depth"),
         restitution=None if values.get("restitution") is None else float(values["restitution"]),
-        damping=None if values.get("damping") is None else parse_quantity(values["damping"], "N*s/m", field="--damping"),
+        damping=None
+        if values.get("damping") is None
+        else parse_quantity(values["damping"], "N*s/m", field="--damping"),
         stiffness_law=values.get("stiffness_law"),
-        fit_depth=5e-6 if values.get("fit_depth") is None else parse_quantity(values["fit_depth"], "m", field="--fit-depth"),
+        fit_depth=5e-6
+        if values.get("fit_depth") is None
+        else parse_quantity(values["fit_depth"], "m", field="--fit-depth"),
     )
     # Validate the parameters early, with the law's own messages (a geometry-derived
     # stiffness is only known per joint, so a placeholder stands in for it here).

@@ -95,7 +95,9 @@ class SolverOptions:
             if not (math.isfinite(value) and value > 0):
                 raise ConfigError(f"solver option {name} must be > 0, got {value}")
         if self.rtol >= 0.1:
-            raise ConfigError(f"solver option rtol must be well below 1 (e.g. 1e-6), got {self.rtol}")
+            raise ConfigError(
+                f"solver option rtol must be well below 1 (e.g. 1e-6), got {self.rtol}"
+            )
         if self.max_step is not None and not self.max_step > 0:
             raise ConfigError(f"solver option max_step must be > 0 s, got {self.max_step}")
 
@@ -170,7 +172,9 @@ class SimulationResult:
                     "journal_radius_m": c.journal_radius,
                     "law": c.law.name,
                     "law_parameters": _law_fields(c.law),
-                    "friction": None if c.friction is None else {"law": c.friction.name, **_law_fields(c.friction)},
+                    "friction": None
+                    if c.friction is None
+                    else {"law": c.friction.name, **_law_fields(c.friction)},
                 }
                 for c in self.system.clearances
             },
@@ -192,7 +196,9 @@ def initial_state(system: System, start: Start) -> FloatArray:
         qd0 = kin.qd[0].copy()
     elif start.mode == "rest":
         qd0 = np.zeros(n)
-        qd0[3 * crank : 3 * crank + 3] = kin.qd[0, 3 * crank : 3 * crank + 3]  # crank turning about its pivot
+        qd0[3 * crank : 3 * crank + 3] = kin.qd[
+            0, 3 * crank : 3 * crank + 3
+        ]  # crank turning about its pivot
     else:
         qd0 = np.zeros(n)
     flat = system.flat
@@ -273,18 +279,22 @@ def simulate(
             f"{_STATUS_MESSAGES.get(int(status), f'status {status}')}. Try a looser --rtol, a larger "
             "--max-steps, or check that the contact stiffness and damping are physically sensible."
         )
-    steps = _table(system, t, y)
+    steps, qdd = _table(system, t, y)
     output_step = output_step if output_step is not None else period / 720.0
     if not output_step > 0:
         raise ConfigError(f"output step must be > 0 s, got {output_step}")
     samples = np.arange(0.0, t[-1] + 0.5 * output_step, output_step)
     samples = samples[samples <= t[-1]]
-    timeseries = _table(system, samples, _interpolate(system, t, y, steps, samples))
+    timeseries, _ = _table(system, samples, _interpolate(system, t, y, qdd, samples))
     nominal = _nominal_table(mechanism, nominal_step_deg)
     peaks = _peaks(steps)
     nominal_peaks = {key: float(np.max(np.abs(nominal[key]))) for key in peaks if key in nominal}
     increase = {
-        key: (100.0 * (peaks[key]["value"] - nominal_peaks[key]) / nominal_peaks[key] if nominal_peaks.get(key) else None)
+        key: (
+            100.0 * (peaks[key]["value"] - nominal_peaks[key]) / nominal_peaks[key]
+            if nominal_peaks.get(key)
+            else None
+        )
         for key in peaks
     }
     stats = _solver_stats(system, t, y, steps, counters, wall)
@@ -311,15 +321,21 @@ def _nominal_table(mechanism: Mechanism, step_deg: float) -> pd.DataFrame:
     return nominal_analysis(mechanism, step_deg=step_deg).table
 
 
-def _interpolate(system: System, t: FloatArray, y: FloatArray, steps: pd.DataFrame, samples: FloatArray) -> FloatArray:
+def _interpolate(
+    system: System, t: FloatArray, y: FloatArray, qdd: FloatArray, samples: FloatArray
+) -> FloatArray:
     """Cubic Hermite interpolation of q (with q̇) and q̇ (with q̈) between accepted steps."""
     n = system.n_coordinates
-    qdd = steps.attrs["qdd"]
     index = np.clip(np.searchsorted(t, samples, side="right") - 1, 0, len(t) - 2)
     t0, t1 = t[index], t[index + 1]
     h = (t1 - t0)[:, None]
     s = ((samples - t0) / (t1 - t0))[:, None]
-    h00, h10, h01, h11 = 2 * s**3 - 3 * s**2 + 1, s**3 - 2 * s**2 + s, -2 * s**3 + 3 * s**2, s**3 - s**2
+    h00, h10, h01, h11 = (
+        2 * s**3 - 3 * s**2 + 1,
+        s**3 - 2 * s**2 + s,
+        -2 * s**3 + 3 * s**2,
+        s**3 - s**2,
+    )
     q0, q1 = y[index, :n], y[index + 1, :n]
     v0, v1 = y[index, n : 2 * n], y[index + 1, n : 2 * n]
     a0, a1 = qdd[index], qdd[index + 1]
@@ -327,12 +343,14 @@ def _interpolate(system: System, t: FloatArray, y: FloatArray, steps: pd.DataFra
     out[:, :n] = h00 * q0 + h10 * h * v0 + h01 * q1 + h11 * h * v1
     out[:, n : 2 * n] = h00 * v0 + h10 * h * a0 + h01 * v1 + h11 * h * a1
     w = (samples - t0) / (t1 - t0)
-    out[:, 2 * n : 2 * n + 2] = (1 - w)[:, None] * y[index, 2 * n : 2 * n + 2] + w[:, None] * y[index + 1, 2 * n : 2 * n + 2]
+    out[:, 2 * n : 2 * n + 2] = (1 - w)[:, None] * y[index, 2 * n : 2 * n + 2] + w[:, None] * y[
+        index + 1, 2 * n : 2 * n + 2
+    ]
     return np.ascontiguousarray(out)
 
 
-def _table(system: System, t: FloatArray, y: FloatArray) -> pd.DataFrame:
-    """The documented columns at times ``t`` with states ``y``."""
+def _table(system: System, t: FloatArray, y: FloatArray) -> tuple[pd.DataFrame, FloatArray]:
+    """The documented columns at times ``t`` with states ``y``, and the accelerations q̈."""
     mechanism = system.mechanism
     flat = system.flat
     n = system.n_coordinates
@@ -355,9 +373,13 @@ def _table(system: System, t: FloatArray, y: FloatArray) -> pd.DataFrame:
         k = flat.body_index(joint.link_b)
         origin = np.array(mechanism.ground.point(joint.point_a))
         axis = np.array([math.cos(joint.axis_angle), math.sin(joint.axis_angle)])
-        s = np.array(mechanism.link(joint.link_b).point(joint.point_b)) - np.array(mechanism.link(joint.link_b).com)
+        s = np.array(mechanism.link(joint.link_b).point(joint.point_b)) - np.array(
+            mechanism.link(joint.link_b).com
+        )
         phi = y[:, 3 * k + 2]
-        rs = np.column_stack([np.cos(phi) * s[0] - np.sin(phi) * s[1], np.sin(phi) * s[0] + np.cos(phi) * s[1]])
+        rs = np.column_stack(
+            [np.cos(phi) * s[0] - np.sin(phi) * s[1], np.sin(phi) * s[0] + np.cos(phi) * s[1]]
+        )
         w = y[:, n + 3 * k + 2][:, None]
         perp = np.column_stack([-rs[:, 1], rs[:, 0]])
         columns[f"{joint.link_b}_x"] = (y[:, 3 * k : 3 * k + 2] + rs - origin) @ axis
@@ -384,9 +406,7 @@ def _table(system: System, t: FloatArray, y: FloatArray) -> pd.DataFrame:
         columns[f"Fn_{name}"] = contacts[:, c, 0]
         columns[f"Ft_{name}"] = contacts[:, c, 1]
     columns["constraint_violation"] = violation
-    table = pd.DataFrame(columns)
-    table.attrs["qdd"] = qdd
-    return table
+    return pd.DataFrame(columns), qdd
 
 
 def _peaks(steps: pd.DataFrame) -> dict[str, dict[str, float]]:
@@ -405,7 +425,12 @@ def _peaks(steps: pd.DataFrame) -> dict[str, dict[str, float]]:
 
 
 def _solver_stats(
-    system: System, t: FloatArray, y: FloatArray, steps: pd.DataFrame, counters: NDArray[np.int64], wall: float
+    system: System,
+    t: FloatArray,
+    y: FloatArray,
+    steps: pd.DataFrame,
+    counters: NDArray[np.int64],
+    wall: float,
 ) -> dict[str, Any]:
     n = system.n_coordinates
     flat = system.flat
@@ -425,7 +450,9 @@ def _solver_stats(
     return {
         "method": "Radau IIA (order 5), compiled; contact-onset step control; constraint projection",
         "steps": counter["n_steps"],
-        "rejected_steps": counter["n_rejected_error"] + counter["n_rejected_newton"] + counter["n_rejected_check"],
+        "rejected_steps": counter["n_rejected_error"]
+        + counter["n_rejected_newton"]
+        + counter["n_rejected_check"],
         "rejected_by_error": counter["n_rejected_error"],
         "rejected_by_newton": counter["n_rejected_newton"],
         "rejected_for_contact_onset": counter["n_rejected_check"],

@@ -155,7 +155,12 @@ def flatten(
         joint_f=joint_f,
         active=active,
         driver=np.array(
-            [index(driver.link), driver.start_angle, driver.angular_velocity, ramp_time],
+            [
+                index(driver.link) if driven else -1,
+                driver.start_angle,
+                driver.angular_velocity,
+                ramp_time,
+            ],
             dtype=float,
         ),
         gravity=np.array(mechanism.gravity, dtype=float),

@@ -1,0 +1,110 @@
+"""The simulate command: files and columns it promises, settings from TOML, bad input."""
+
+from __future__ import annotations
+
+import json
+
+import pandas as pd
+import pytest
+
+from jointplay.cli import run
+from jointplay.io.config import preset_text
+
+PAPER_ARGS = [
+    "simulate", "--preset", "paper-fourbar", "--contact", "impact", "--k", "1e4 N/mm^1.5",
+    "--exponent", "1.5", "--cmax", "10 N*s/mm", "--depth", "0.1 mm", "--clearance", "0.021 mm",
+    "--joints", "O2,A,B,O4", "--start", "rest", "--revolutions", "0.05",
+]  # fmt: skip
+COLUMNS = ["t", "crank_deg", "theta3_deg", "theta4_deg", "omega3", "omega4", "alpha3", "alpha4",
+           "F_O2", "F_A", "F_B", "F_O4", "torque"]  # fmt: skip
+
+
+def test_simulate_writes_the_documented_outputs(tmp_path) -> None:
+    out = tmp_path / "run"
+    assert run([*PAPER_ARGS, "--out", str(out)]) == 0
+    series = pd.read_csv(out / "timeseries.csv")
+    assert series.columns[: len(COLUMNS)].tolist() == COLUMNS
+    for joint in ("O2", "A", "B", "O4"):
+        assert {f"e_{joint}", f"pen_{joint}", f"contact_{joint}"} <= set(series.columns)
+    summary = json.loads((out / "summary.json").read_text())
+    keys = ["omega3", "omega4", "alpha3", "alpha4", "F_O2", "F_A", "F_B", "F_O4", "torque"]
+    assert list(summary["peaks"]) == keys
+    assert set(summary["peaks"]["omega3"]) >= {"value", "t", "crank_deg"}
+    assert list(summary["nominal_peaks"]) == keys and list(summary["increase_percent"]) == keys
+    assert set(summary["solver"]) >= {
+        "method", "steps", "rejected_steps", "rhs_evaluations", "impacts", "max_penetration_m", "energy_residual", "wall_s",
+    }  # fmt: skip
+    assert set(summary["solver"]["impacts"]) == {"O2", "A", "B", "O4"}
+    provenance = summary["provenance"]
+    assert provenance["jointplay_version"] and "simulate" in provenance["command_line"]
+    assert provenance["configuration"]["mechanism"]["geometry_m"]["crank"] == pytest.approx(0.108)
+    for name in (
+        "angular_velocity.png",
+        "angular_acceleration.png",
+        "joint_forces.png",
+        "journal_orbits.png",
+    ):
+        assert (out / name).stat().st_size > 1000
+
+
+def test_parquet_and_output_step(tmp_path) -> None:
+    out = tmp_path / "pq"
+    args = [
+        *PAPER_ARGS,
+        "--format",
+        "parquet",
+        "--output-step",
+        "1 ms",
+        "--no-plots",
+        "--out",
+        str(out),
+    ]
+    assert run(args) == 0
+    series = pd.read_parquet(out / "timeseries.parquet")
+    assert series["t"].diff().dropna().round(9).unique().tolist() == [0.001]
+
+
+def test_settings_from_a_toml_file(tmp_path) -> None:
+    config = tmp_path / "mine.toml"
+    config.write_text(
+        preset_text("paper-fourbar")
+        + '\n[simulation]\ncontact = "lankarani-nikravesh"\nk = "1e10 N/m^1.5"\nrestitution = 0.6\n'
+        'joints = ["A", "B"]\nrevolutions = 0.03\nstart = "steady"\n'
+    )
+    out = tmp_path / "toml"
+    assert run(["simulate", "--config", str(config), "--no-plots", "--out", str(out)]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert set(summary["clearance_joints"]) == {"A", "B"}
+    assert summary["clearance_joints"]["A"]["law"] == "lankarani-nikravesh"
+    assert summary["start"]["mode"] == "steady"
+    # command-line options override the file
+    out2 = tmp_path / "override"
+    assert (
+        run(
+            ["simulate", "--config", str(config), "--joints", "B", "--no-plots", "--out", str(out2)]
+        )
+        == 0
+    )
+    assert set(json.loads((out2 / "summary.json").read_text())["clearance_joints"]) == {"B"}
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--clearance", "-0.01 mm"], "must be positive"),
+        (["--contact", "rubber"], "unknown contact law 'rubber'"),
+        (["--joints", "O2,Q"], "no revolute joint 'Q'"),
+        (["--k", "1e4"], "has no unit"),
+        (["--k", "1e4 N/mm"], "cannot be converted"),
+        (["--start", "sideways"], "start mode"),
+        (["--revolutions", "0"], "revolutions"),
+        (["--format", "xlsx"], "--format"),
+        (["--friction", "-0.1"], "friction"),
+    ],
+)
+def test_bad_input(tmp_path, capsys, args, message) -> None:
+    out = tmp_path / "bad"
+    assert run([*PAPER_ARGS, *args, "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1 and "Traceback" not in err
+    assert not out.exists()

@@ -1,0 +1,205 @@
+"""Forward dynamics with clearance joints, checked against physics that is known exactly.
+
+Tolerances are named where they are used; the integrator runs at tolerances where its error
+is well below them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from jointplay.contact.laws import get_law
+from jointplay.dynamics.clearance import ClearanceJoint
+from jointplay.dynamics.simulate import SolverOptions, Start, simulate
+from jointplay.errors import ConfigError
+
+ALL = ("O2", "A", "B", "O4")
+TABLE3 = {"stiffness": 1e4 * 1000**1.5, "exponent": 1.5, "c_max": 1e4, "d_max": 1e-4}
+
+
+def clear(names, law, clearance=21e-6, radius=5e-3):
+    return [ClearanceJoint(name, clearance, radius, law) for name in names]
+
+
+def test_undamped_coasting_mechanism_conserves_energy(paper_fourbar) -> None:
+    """No driver, no damping, no friction: kinetic + elastic energy is constant (1e-6 relative).
+
+    The elastic energy of F = k δ^1.5 is k δ^2.5 / 2.5, computed here from the recorded
+    penetrations, independently of the work integral the simulator keeps.
+    """
+    k = 1e10
+    law = get_law("hertz", stiffness=k, exponent=1.5)
+    result = simulate(
+        paper_fourbar,
+        clear(ALL, law),
+        revolutions=1.0,
+        start=Start("steady", driven=False),
+        solver=SolverOptions(rtol=1e-8),
+    )
+    n = result.system.n_coordinates
+    kinetic = 0.5 * np.sum(result.system.flat.mass_vector() * result.y[:, n : 2 * n] ** 2, axis=1)
+    penetration = np.stack([result.steps[f"pen_{j}"].clip(lower=0).to_numpy() for j in ALL], axis=1)
+    energy = kinetic + np.sum(k * penetration**2.5 / 2.5, axis=1)
+    assert sum(result.solver_stats["impacts"].values()) > 100  # the pins really rattle
+    assert np.max(np.abs(energy - energy[0])) < 1e-6 * energy[0]
+    assert result.solver_stats["energy_residual"] < 1e-6
+
+
+def _momenta(result):
+    n = result.system.n_coordinates
+    y = result.y
+    mass = result.system.flat.mass_vector()
+    m, inertia = mass[0::3], mass[2::3]
+    x, yy = y[:, 0:n:3], y[:, 1:n:3]
+    vx, vy, w = y[:, n : 2 * n : 3], y[:, n + 1 : 2 * n : 3], y[:, n + 2 : 2 * n : 3]
+    linear = np.stack([np.sum(m * vx, axis=1), np.sum(m * vy, axis=1)], axis=1)
+    angular_about_o2 = np.sum(m * (x * vy - yy * vx) + inertia * w, axis=1)  # O2 is the origin
+    return linear, angular_about_o2
+
+
+def test_momentum_is_conserved_in_free_flight(paper_fourbar) -> None:
+    """Coasting, ground joints with 20 mm clearance (never touched in this window), damped
+    internal impacts at A and B: the total linear momentum and the angular momentum about O2
+    are constant to round-off and integration error (1e-7 relative)."""
+    law = get_law("lankarani-nikravesh", stiffness=1e10, restitution=0.5)
+    joints = [
+        ClearanceJoint("O2", 20e-3, 5e-3, law),
+        ClearanceJoint("A", 21e-6, 5e-3, law),
+        ClearanceJoint("B", 21e-6, 5e-3, law),
+        ClearanceJoint("O4", 20e-3, 5e-3, law),
+    ]
+    result = simulate(
+        paper_fourbar,
+        joints,
+        revolutions=0.04,
+        start=Start("steady", driven=False),
+        solver=SolverOptions(rtol=1e-8),
+    )
+    impacts = result.solver_stats["impacts"]
+    assert impacts["A"] + impacts["B"] > 3 and impacts["O2"] == impacts["O4"] == 0
+    linear, angular = _momenta(result)
+    assert np.max(np.abs(linear - linear[0])) < 1e-7 * np.max(np.abs(linear))
+    assert np.max(np.abs(angular - angular[0])) < 1e-7 * np.max(np.abs(angular))
+
+
+def test_zero_clearance_limit_approaches_the_ideal_mechanism(paper_fourbar) -> None:
+    """As c → 0 and k → ∞ the rocker speed and the joint forces converge to the ideal ones."""
+    rms_speed, mean_force = [], []
+    for c, k in ((1e-4, 1e10), (1e-5, 1e11), (1e-6, 1e12)):
+        law = get_law("lankarani-nikravesh", stiffness=k, restitution=0.3)
+        result = simulate(
+            paper_fourbar, clear(ALL, law, clearance=c), revolutions=1.0, start=Start("steady")
+        )
+        series, nominal = result.timeseries, result.nominal
+        angle = np.mod(series["crank_deg"], 360.0)
+        ideal = np.interp(angle, nominal["crank_deg"], nominal["omega4"])
+        rms_speed.append(float(np.sqrt(np.mean((series["omega4"] - ideal) ** 2))))
+        mean_force.append(
+            max(
+                float(
+                    np.mean(
+                        np.abs(
+                            series[f"F_{j}"]
+                            - np.interp(angle, nominal["crank_deg"], nominal[f"F_{j}"])
+                        )
+                    )
+                )
+                for j in ALL
+            )
+        )
+    assert rms_speed[0] > rms_speed[1] > rms_speed[2]
+    assert mean_force[0] > mean_force[1] > mean_force[2]
+    assert rms_speed[2] < 0.001 * 13.73  # < 0.1 % of the nominal peak rocker speed
+    assert mean_force[2] < 0.02 * 46.0  # < 2 % of the nominal peak joint force
+
+
+def test_tightening_tolerances_tenfold_changes_peaks_little(paper_fourbar) -> None:
+    """The issue's convergence check: conventional IFM from rest, rtol 1e-6 → 1e-7."""
+    joints = clear(ALL, get_law("impact", **TABLE3))
+    loose = simulate(paper_fourbar, joints, revolutions=1.0)
+    tight = simulate(paper_fourbar, joints, revolutions=1.0, solver=SolverOptions().tightened(10))
+    for key in ("omega3", "omega4"):
+        assert loose.peaks[key]["value"] == pytest.approx(tight.peaks[key]["value"], rel=0.005)
+    for key in ("F_O2", "F_A", "F_B", "F_O4"):
+        assert loose.peaks[key]["value"] == pytest.approx(tight.peaks[key]["value"], rel=0.02)
+
+
+def test_ideal_joints_reproduce_the_nominal_motion(paper_fourbar) -> None:
+    """With no clearance joint the simulation is the nominal kinematics and inverse dynamics."""
+    result = simulate(
+        paper_fourbar, [], revolutions=1.0, start=Start("steady"), solver=SolverOptions(rtol=1e-9)
+    )
+    series, nominal = result.timeseries, result.nominal
+    angle = np.mod(series["crank_deg"], 360.0)
+    for column, scale in (("omega4", 13.7), ("alpha4", 411.0), ("F_O2", 46.0), ("torque", 2.8)):
+        expected = np.interp(angle, nominal["crank_deg"], nominal[column])
+        # 0.1° tables interpolated linearly: error ~ f'' Δθ² / 8 ≈ 1e-4 of the peak
+        assert np.max(np.abs(series[column] - expected)) < 1e-3 * scale
+    assert result.solver_stats["max_constraint_violation"] < 1e-9
+
+
+def test_start_modes(paper_fourbar) -> None:
+    law = get_law("impact", **TABLE3)
+    omega = paper_fourbar.driver.angular_velocity
+    rest = simulate(paper_fourbar, clear(ALL, law), revolutions=0.02)
+    first = rest.steps.iloc[0]
+    assert first["omega3"] == first["omega4"] == 0.0
+    n = rest.system.n_coordinates
+    assert rest.y[0, n + 2] == pytest.approx(omega)  # the crank turns at full speed from t = 0
+    ramp = simulate(
+        paper_fourbar, clear(ALL, law), revolutions=0.2, start=Start("ramp", ramp_time=0.02)
+    )
+    crank_speed = ramp.y[:, n + 2]
+    assert crank_speed[0] == 0.0
+    after = ramp.t >= 0.02
+    np.testing.assert_allclose(crank_speed[after], omega, rtol=1e-9)
+    assert np.all(np.diff(crank_speed[~after]) >= -1e-9)  # a monotonic ramp
+    with pytest.raises(ConfigError, match="ramp duration"):
+        Start("ramp")
+
+
+def test_peaks_come_from_the_integrator_steps(paper_fourbar) -> None:
+    result = simulate(paper_fourbar, clear(ALL, get_law("impact", **TABLE3)), revolutions=0.1)
+    for key, peak in result.peaks.items():
+        assert peak["value"] == pytest.approx(result.steps[key].abs().max())
+        assert peak["value"] >= result.timeseries[key].abs().max() - 1e-9
+    summary = result.summary()
+    assert set(summary) >= {"peaks", "nominal_peaks", "increase_percent", "solver"}
+    assert set(summary["solver"]) >= {
+        "method", "steps", "rejected_steps", "rhs_evaluations", "impacts", "max_penetration_m", "energy_residual", "wall_s",
+    }  # fmt: skip
+
+
+def test_slider_crank_with_a_clearance_joint(slider_crank) -> None:
+    """Same engine, no four-bar special case: piston-pin clearance of Flores' slider-crank."""
+    law = get_law("lankarani-nikravesh", stiffness=6.6e10, restitution=0.9)
+    result = simulate(
+        slider_crank,
+        [ClearanceJoint("B", 0.5e-3, 9.5e-3, law)],
+        revolutions=1.0,
+        start=Start("steady"),
+    )
+    stats = result.solver_stats
+    assert stats["impacts"]["B"] >= 1
+    assert stats["energy_residual"] < 1e-5
+    assert stats["max_constraint_violation"] < 1e-6
+    x = result.steps["slider_x"]
+    assert x.min() > 0.12 - 0.05 - 1e-3 and x.max() < 0.12 + 0.05 + 1e-3
+    assert result.peaks["F_B"]["value"] > result.nominal_peaks["F_B"]
+
+
+def test_bad_clearance_input() -> None:
+    law = get_law("impact", **TABLE3)
+    with pytest.raises(ConfigError, match="must be positive"):
+        ClearanceJoint("A", -1e-6, 5e-3, law)
+    with pytest.raises(ConfigError, match="zero clearance"):
+        ClearanceJoint("A", 0.0, 5e-3, law)
+
+
+def test_unknown_and_prismatic_joints_are_rejected(paper_fourbar, slider_crank) -> None:
+    law = get_law("impact", **TABLE3)
+    with pytest.raises(ConfigError, match="unknown joint|no joint"):
+        simulate(paper_fourbar, [ClearanceJoint("Q", 1e-5, 5e-3, law)], revolutions=0.01)
+    with pytest.raises(ConfigError, match="revolute"):
+        simulate(slider_crank, [ClearanceJoint("S", 1e-5, 5e-3, law)], revolutions=0.01)
