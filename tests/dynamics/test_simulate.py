@@ -199,7 +199,7 @@ def test_bad_clearance_input() -> None:
 
 def test_unknown_and_prismatic_joints_are_rejected(paper_fourbar, slider_crank) -> None:
     law = get_law("impact", **TABLE3)
-    with pytest.raises(ConfigError, match="unknown joint|no joint"):
+    with pytest.raises(ConfigError, match=r"unknown joint|no joint"):
         simulate(paper_fourbar, [ClearanceJoint("Q", 1e-5, 5e-3, law)], revolutions=0.01)
     with pytest.raises(ConfigError, match="revolute"):
         simulate(slider_crank, [ClearanceJoint("S", 1e-5, 5e-3, law)], revolutions=0.01)

@@ -20,8 +20,8 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from jointplay._kernels import eom
 from jointplay._kernels import constraints as ck
+from jointplay._kernels import eom
 from jointplay._kernels.radau import COUNTER_NAMES, radau_integrate
 from jointplay.dynamics.clearance import ClearanceJoint
 from jointplay.dynamics.system import System, build_system
