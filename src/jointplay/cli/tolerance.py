@@ -1,0 +1,408 @@
+"""``jointplay tolerance``: how the tolerance stack and the joint clearances spread the responses."""
+
+from __future__ import annotations
+
+import math
+from enum import StrEnum
+from typing import Annotated, Any
+
+import typer
+from rich.console import Console
+from rich.table import Table
+
+from jointplay.cli._app import EXIT_INTERRUPTED, app
+from jointplay.cli._common import (
+    ConfigOption,
+    GravityOption,
+    OutOption,
+    PresetOption,
+    RpmOption,
+    parse_gravity,
+    provenance,
+)
+from jointplay.errors import ConfigError
+from jointplay.io.output import output_dir
+from jointplay.units import parse_quantity
+
+console = Console(highlight=False, soft_wrap=True)
+#: Width of tables when the output is not a terminal (files, pipes, tests).
+REPORT_WIDTH = 140
+
+
+class Method(StrEnum):
+    """Tolerance analysis methods."""
+
+    monte_carlo = "monte-carlo"
+    worst_case = "worst-case"
+    rss = "rss"
+
+
+class Responses(StrEnum):
+    """Response sets."""
+
+    kinematic = "kinematic"
+    dynamic = "dynamic"
+
+
+class Sampling(StrEnum):
+    """Monte Carlo sampling."""
+
+    random = "random"
+    lhs = "lhs"
+
+
+class StartMode(StrEnum):
+    """Start of the motion in dynamic studies."""
+
+    rest = "rest"
+    steady = "steady"
+
+
+class Distribution(StrEnum):
+    """Distribution of every toleranced quantity."""
+
+    uniform = "uniform"
+    normal = "normal"
+    triangular = "triangular"
+
+
+class CornerMode(StrEnum):
+    """Worst-case corners."""
+
+    auto = "auto"
+    all = "all"
+    sensitivity = "sensitivity"
+
+
+@app.command("tolerance")
+def tolerance_command(
+    out: OutOption,
+    preset: PresetOption = None,
+    config: ConfigOption = None,
+    method: Annotated[
+        Method, typer.Option("--method", help="monte-carlo, worst-case (corners) or rss.")
+    ] = Method.monte_carlo,
+    samples: Annotated[
+        int, typer.Option("--samples", "-n", help="Monte Carlo samples.", min=1)
+    ] = 1000,
+    seed: Annotated[
+        int, typer.Option("--seed", help="Seed: the same seed gives the same samples.", min=0)
+    ] = 0,
+    sampling: Annotated[
+        Sampling, typer.Option("--sampling", help="Monte Carlo: random or lhs (Latin hypercube).")
+    ] = Sampling.random,
+    responses: Annotated[
+        Responses,
+        typer.Option(
+            "--responses",
+            help="kinematic (ideal joints, toleranced lengths) or dynamic (clearance joints: "
+            "toleranced lengths and clearances).",
+        ),
+    ] = Responses.kinematic,
+    distribution: Annotated[
+        Distribution | None,
+        typer.Option(
+            "--distribution",
+            help="Distribution of every toleranced quantity (default: the configuration's, "
+            "normal with ±3σ at the limits).",
+        ),
+    ] = None,
+    clearances: Annotated[
+        bool,
+        typer.Option(
+            "--clearances/--no-clearances",
+            help="Dynamic: vary the joint clearances within their fits (off: the configured "
+            "clearance, fixed).",
+        ),
+    ] = True,
+    contact: Annotated[
+        str | None,
+        typer.Option(
+            "--contact",
+            help="Dynamic: contact law, as for `jointplay simulate` (default: impact, the "
+            "paper's IFM with the Table 3 parameters).",
+        ),
+    ] = None,
+    k: Annotated[
+        str | None,
+        typer.Option("--k", help="Contact stiffness with units, e.g. '1e4 N/mm^1.5'."),
+    ] = None,
+    exponent: Annotated[
+        float | None, typer.Option("--exponent", help="Force exponent (default 1.5).")
+    ] = None,
+    cmax: Annotated[
+        str | None, typer.Option("--cmax", help="IMPACT maximum damping, e.g. '10 N*s/mm'.")
+    ] = None,
+    depth: Annotated[
+        str | None,
+        typer.Option("--depth", help="IMPACT penetration of full damping, e.g. '0.1 mm'."),
+    ] = None,
+    restitution: Annotated[
+        float | None,
+        typer.Option("--restitution", help="Coefficient of restitution (default 0.8)."),
+    ] = None,
+    damping: Annotated[
+        str | None, typer.Option("--damping", help="Kelvin-Voigt damping, e.g. '100 N*s/m'.")
+    ] = None,
+    paper_method: Annotated[
+        str | None,
+        typer.Option(
+            "--paper-method",
+            help="Dynamic: one of the paper's six contact methods (ifm-conventional, "
+            "rm-conventional, ifm-ecs-cylindrical, rm-ecs-cylindrical, ifm-ecs-spherical, "
+            "rm-ecs-spherical) instead of the contact options; ECS parameters from the "
+            "nominal mechanism.",
+        ),
+    ] = None,
+    ecs_source: Annotated[
+        str | None,
+        typer.Option(
+            "--ecs-source",
+            help="ECS methods: computed (our estimate, default) or paper (Tables 4 and 5).",
+        ),
+    ] = None,
+    start: Annotated[
+        StartMode,
+        typer.Option("--start", help="Dynamic: from rest (the paper's) or nominal steady motion."),
+    ] = StartMode.rest,
+    revolutions: Annotated[
+        float, typer.Option("--revolutions", help="Dynamic: simulated crank revolutions.")
+    ] = 1.0,
+    rpm: RpmOption = None,
+    gravity: GravityOption = None,
+    corners: Annotated[
+        CornerMode,
+        typer.Option(
+            "--corners",
+            help="Worst case: all 2^k corners, the sensitivity-sign corners, or auto (all for "
+            "<= 10 inputs).",
+        ),
+    ] = CornerMode.auto,
+    fd_step: Annotated[
+        float,
+        typer.Option(
+            "--fd-step",
+            help="RSS and sensitivity corners: finite-difference step, fraction of each "
+            "half-width.",
+        ),
+    ] = 0.5,
+    spec_limit: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--spec-limit",
+            help="Limits of a response, RESPONSE=LO:HI with units, e.g. "
+            "'omega4_peak=:16 rad/s' (either side may be empty). Repeatable.",
+        ),
+    ] = None,
+    workers: Annotated[
+        int | None,
+        typer.Option("--workers", help="Local worker processes (default: one per CPU).", min=1),
+    ] = None,
+    dask_scheduler: Annotated[
+        str | None,
+        typer.Option(
+            "--dask-scheduler",
+            help="Run on the Dask distributed cluster at ADDRESS (e.g. tcp://host:8786).",
+        ),
+    ] = None,
+    plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
+    progress: Annotated[
+        bool, typer.Option("--progress/--no-progress", help="Show a progress bar.")
+    ] = True,
+) -> None:
+    """Tolerance study: spread of the responses, out-of-spec share and what matters most.
+
+    Writes DIR/samples.parquet (one row per evaluated point: inputs, responses, status),
+    DIR/summary.json (statistics and contributions per response, failures, method, seed,
+    provenance), PNG plots and DIR/report.html.
+    """
+    from jointplay.tolerance.execution import Backend
+    from jointplay.tolerance.spec import load_study_spec
+    from jointplay.tolerance.study import response_units, tolerance_study, write_study
+
+    mechanism, spec = load_study_spec(preset, config)
+    if rpm is not None:
+        if not (math.isfinite(rpm) and rpm > 0):
+            raise ConfigError(
+                f"--rpm must be a positive number of revolutions per minute, got {rpm}"
+            )
+        mechanism = mechanism.with_driver(speed=rpm * math.pi / 30.0)
+    if gravity is not None:
+        mechanism = mechanism.with_gravity(parse_gravity(gravity))
+    if distribution is not None:
+        spec = spec.with_distribution(distribution.value)
+    if responses is Responses.dynamic and not clearances:
+        spec = spec.only("length")
+    if not (math.isfinite(revolutions) and revolutions > 0):
+        raise ConfigError(f"--revolutions must be > 0, got {revolutions}")
+    contact_options = {
+        "contact": contact,
+        "k": k,
+        "exponent": exponent,
+        "cmax": cmax,
+        "depth": depth,
+        "restitution": restitution,
+        "damping": damping,
+    }
+    law = None
+    if responses is Responses.dynamic:
+        law = contact_law(contact_options, mechanism, paper_method, ecs_source)
+    elif any(v is not None for v in (*contact_options.values(), paper_method, ecs_source)):
+        raise ConfigError("contact options apply to --responses dynamic only")
+    if dask_scheduler is not None:
+        if workers is not None:
+            raise ConfigError("--workers applies to local processes; the Dask cluster has its own")
+        backend = Backend.dask(dask_scheduler)
+    else:
+        backend = Backend("processes", workers=workers)
+    units = response_units(mechanism, spec, responses.value, contact=law)
+    limits = parse_spec_limits(spec_limit or [], units)
+    study = tolerance_study(
+        mechanism,
+        spec,
+        method=method.value,
+        responses=responses.value,
+        samples=samples,
+        seed=seed,
+        sampling=sampling.value,
+        limits=limits,
+        contact=law,
+        start=start.value,
+        revolutions=revolutions,
+        corners=corners.value,
+        fd_step=fd_step,
+        backend=backend,
+        progress=progress,
+    )
+    summary = study.summary()
+    with output_dir(out) as folder:
+        write_study(study, folder, plots=plots, provenance=provenance(summary["configuration"]))
+    _print(study)
+    if study.interrupted:
+        counts = summary["counts"]
+        console.print(
+            f"[bold]interrupted[/bold]: {counts['ok'] + counts['failed']} of {counts['points']} "
+            f"points finished; partial results written to {out}"
+        )
+        raise typer.Exit(EXIT_INTERRUPTED)
+    console.print(f"results written to {out}")
+
+
+def contact_law(
+    options: dict[str, Any],
+    mechanism: Any,
+    paper_method: str | None = None,
+    ecs_source: str | None = None,
+) -> Any:
+    """The contact law of every clearance joint, read as ``jointplay simulate`` reads it.
+
+    ``options`` are the strings with units of --contact, --k, --exponent, --cmax, --depth,
+    --restitution and --damping (``None`` where not given; without any, the paper's
+    conventional IFM set of Table 3). ``paper_method`` picks one of the paper's six methods
+    instead (ECS parameters from the nominal mechanism).
+    """
+    from jointplay.dynamics.setup import contact_from_strings, make_law
+
+    given = [f"--{key}" for key, value in options.items() if value is not None]
+    if paper_method is not None:
+        if given:
+            raise ConfigError(
+                f"--paper-method sets the contact law and its parameters; drop {', '.join(given)} "
+                "or drop --paper-method"
+            )
+        from jointplay.study.methods import method_law
+
+        law, _ = method_law(paper_method, mechanism, ecs_source=ecs_source or "computed")
+        return law
+    if ecs_source is not None:
+        raise ConfigError("--ecs-source applies to the paper's ECS methods: give --paper-method")
+    return make_law(contact_from_strings({k: v for k, v in options.items() if v is not None}))
+
+
+def parse_spec_limits(texts: list[str], units: dict[str, str]) -> dict[str, Any]:
+    """``RESPONSE=LO:HI`` strings (quantities with units; one side may be empty) to SI limits."""
+    from jointplay.tolerance.methods import SpecLimits
+
+    limits: dict[str, SpecLimits] = {}
+    for text in texts:
+        name, sep, rest = text.partition("=")
+        name = name.strip()
+        if not sep or ":" not in rest:
+            raise ConfigError(
+                f"--spec-limit {text!r}: write RESPONSE=LO:HI with units, e.g. "
+                "'omega4_peak=:16 rad/s' or 'rocker_swing=52 deg:53.5 deg'"
+            )
+        if name not in units:
+            raise ConfigError(
+                f"--spec-limit: unknown response {name!r}; responses: {', '.join(units)}"
+            )
+        if name in limits:
+            raise ConfigError(f"--spec-limit: {name!r} given twice")
+        low_text, high_text = (part.strip() for part in rest.split(":", 1))
+        field = f"--spec-limit {name}"
+        limits[name] = SpecLimits(
+            parse_quantity(low_text, units[name], field=field) if low_text else None,
+            parse_quantity(high_text, units[name], field=field) if high_text else None,
+        )
+    return limits
+
+
+def _print(study: Any) -> None:
+    from jointplay.tolerance.study import display_scale, input_label
+
+    result = study.result
+    method = result.method
+    headers = ["response", "nominal"]
+    if method == "monte-carlo":
+        headers += ["mean", "std", "min", "max"]
+    elif method == "worst-case":
+        headers += ["low", "high"]
+    else:
+        headers += ["mean", "std", "± RSS"]
+    if study.ideal is not None:
+        headers.append("ideal joints")
+    has_limits = any(s.limits is not None for s in result.summaries.values())
+    if has_limits:
+        headers += ["out of spec %", "Cpk"]
+    headers.append("most influential")
+    table = Table(box=None)
+    for header in headers:
+        left = header in ("response", "most influential")
+        table.add_column(header, justify="left" if left else "right", no_wrap=left)
+    for name, item in result.summaries.items():
+        unit, scale = display_scale(item.unit)
+        row = [f"{name} ({unit})", _number(item.nominal, scale)]
+        if method == "monte-carlo":
+            row += [_number(v, scale) for v in (item.mean, item.std, item.minimum, item.maximum)]
+        elif method == "worst-case":
+            row += [_number(item.minimum, scale), _number(item.maximum, scale)]
+        else:
+            row += [_number(v, scale) for v in (item.mean, item.std, item.half_range)]
+        if study.ideal is not None:
+            row.append(_number(study.ideal.get(name), scale))
+        if has_limits:
+            row += [_number(item.out_of_spec_percent), _number(item.cpk)]
+        top = item.most_influential
+        row.append(f"{input_label(top)} {100 * item.contributions[top]:.0f} %" if top else "–")
+        table.add_row(*row)
+    wide = console if console.is_terminal else Console(highlight=False, width=REPORT_WIDTH)
+    wide.print(table)
+    for name, item in result.summaries.items():
+        if item.note:
+            console.print(f"note on {name}: {item.note}")
+    failures = result.failures
+    if failures:
+        console.print(
+            f"{len(failures)} point(s) failed (listed in summary.json and samples.parquet):"
+        )
+        for failure in failures[:5]:
+            inputs = ", ".join(f"{k} = {v:.6g}" for k, v in failure.inputs.items())
+            console.print(f"  #{failure.index} ({inputs}): {failure.error}")
+        if len(failures) > 5:
+            console.print(f"  … and {len(failures) - 5} more")
+
+
+def _number(value: float | None, scale: float = 1.0) -> str:
+    if value is None or not math.isfinite(value):
+        return "–"
+    return f"{value * scale:.5g}"

@@ -1,0 +1,843 @@
+"""Response models: what a tolerance study computes for each sample of the inputs.
+
+A response model is a small frozen object with ``input_names`` (the columns of its input
+matrix, SI), ``response_names``, ``units`` and one method, :meth:`evaluate`, that maps an
+(m, k) block of input samples to an :class:`Evaluation` — the (m, r) responses plus, per
+sample, whether it succeeded and why not. Failures are data, never exceptions: a sample whose
+linkage cannot be assembled or whose integration fails is marked and kept. Models hold plain
+data only, so they can be sent to worker processes and Dask workers.
+
+Models:
+
+* :class:`FourBarKinematics` — the ideal-joint kinematics of a four-bar template, vectorised
+  over (samples × crank angles) with the closed form of :mod:`jointplay.kinematics.fourbar`
+  written without trigonometric functions in the inner loop; peaks refined by parabolic
+  interpolation around the grid maximum. Responses: ``rocker_swing``, ``theta3_min``,
+  ``theta3_max``, ``theta4_min``, ``theta4_max`` (rad), ``omega3_peak``, ``omega4_peak``
+  (largest |ω|, rad/s), ``alpha3_peak``, ``alpha4_peak`` (rad/s²),
+  ``transmission_angle_min`` (the smallest of min(μ, π − μ) over the cycle, rad, exact),
+  ``path_deviation_<point>`` (largest distance between a coupler point and the same point of
+  the nominal linkage at the same crank angle, m).
+* :class:`GeneralKinematics` — any template mechanism (e.g. the slider-crank), one sample at a
+  time with :func:`jointplay.kinematics.analysis.analyse`: ``theta{k}_min``/``_max``,
+  ``omega{k}_peak``, ``alpha{k}_peak`` per rotating link, ``{slider}_stroke``,
+  ``{slider}_v_peak``, ``{slider}_a_peak`` per slider.
+* :class:`DynamicResponses` — the clearance-joint dynamics
+  (:func:`jointplay.dynamics.simulate.simulate`) once per sample: ``omega{k}_peak``,
+  ``alpha{k}_peak``, ``F_<joint>_peak`` (N), ``torque_peak`` (N·m), largest |value| over the
+  simulated time.
+* :class:`LinearModel` — a linear stack ``y = c + Σ aᵢ xᵢ`` whose worst case, RSS and
+  Monte Carlo answers are known in closed form (verification), with an analytic Jacobian.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any, Protocol, runtime_checkable
+
+import numpy as np
+from numpy.typing import NDArray
+
+from jointplay.errors import ConfigError, JointplayError
+from jointplay.kinematics import fourbar
+from jointplay.model.mechanism import Mechanism
+from jointplay.model.templates import FourBarGeometry, TemplateSpec, template_of
+
+__all__ = [
+    "DynamicResponses",
+    "Evaluation",
+    "FourBarKinematics",
+    "GeneralKinematics",
+    "LinearModel",
+    "ResponseModel",
+    "dynamic_model",
+    "kinematic_model",
+]
+
+FloatArray = NDArray[np.float64]
+BoolArray = NDArray[np.bool_]
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """Responses of a block of samples.
+
+    Attributes:
+        values: (m, r) responses, SI; NaN where a sample failed.
+        ok: (m,) True where the sample succeeded.
+        errors: m messages, ``""`` where the sample succeeded, else ``"ErrorType: message"``.
+    """
+
+    values: FloatArray
+    ok: BoolArray
+    errors: tuple[str, ...]
+
+    def __post_init__(self) -> None:
+        m = self.values.shape[0]
+        if self.ok.shape != (m,) or len(self.errors) != m:
+            raise ValueError("Evaluation: values, ok and errors must describe the same samples")
+
+    @classmethod
+    def concatenate(cls, parts: Sequence[Evaluation], n_responses: int) -> Evaluation:
+        """Join blocks in order."""
+        if not parts:
+            return cls(np.empty((0, n_responses)), np.zeros(0, dtype=bool), ())
+        return cls(
+            np.concatenate([p.values for p in parts], axis=0),
+            np.concatenate([p.ok for p in parts]),
+            tuple(e for p in parts for e in p.errors),
+        )
+
+
+@runtime_checkable
+class ResponseModel(Protocol):
+    """What the methods and the execution backends need from a model."""
+
+    @property
+    def input_names(self) -> tuple[str, ...]: ...
+
+    @property
+    def response_names(self) -> tuple[str, ...]: ...
+
+    @property
+    def units(self) -> Mapping[str, str]: ...
+
+    @property
+    def chunk_size(self) -> int:
+        """Samples per task sent to a worker (large for vectorised models)."""
+        ...
+
+    def evaluate(self, x: FloatArray) -> Evaluation:
+        """Responses of the (m, k) input block ``x`` (SI)."""
+        ...
+
+    def describe(self) -> dict[str, Any]:
+        """JSON-ready description of the model and its settings."""
+        ...
+
+
+def _error(exc: BaseException) -> str:
+    return f"{type(exc).__name__}: {exc}"
+
+
+def _check_inputs(x: FloatArray, k: int) -> FloatArray:
+    x = np.asarray(x, dtype=float)
+    if x.ndim != 2 or x.shape[1] != k:
+        raise ConfigError(f"input block must have shape (m, {k}), got {x.shape}")
+    return x
+
+
+# --- verification model ----------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class LinearModel:
+    """A linear stack ``y_j = intercept_j + Σ_i coefficients[j][i] x_i``.
+
+    Its worst-case half-range is Σ|aᵢ|hᵢ (arithmetic sum), its standard deviation
+    √(Σ aᵢ² σᵢ²) (root sum of squares) — the textbook answers the methods must reproduce.
+
+    Attributes:
+        input_names: names of the inputs x_i.
+        coefficients: (r, k) sensitivities a_ji.
+        intercept: (r,) constants (default 0).
+        response_names: names of the responses (default ``y``, ``y1``, ...).
+        unit: unit of every response (reports only).
+    """
+
+    input_names: tuple[str, ...]
+    coefficients: tuple[tuple[float, ...], ...]
+    intercept: tuple[float, ...] = ()
+    response_names: tuple[str, ...] = ()
+    unit: str = ""
+    chunk_size: int = 100_000
+
+    def __post_init__(self) -> None:
+        matrix = np.atleast_2d(np.asarray(self.coefficients, dtype=float))
+        r, k = matrix.shape
+        if k != len(self.input_names):
+            raise ConfigError(
+                f"LinearModel: coefficients have {k} columns for {len(self.input_names)} inputs"
+            )
+        object.__setattr__(self, "input_names", tuple(self.input_names))
+        object.__setattr__(self, "coefficients", tuple(tuple(map(float, row)) for row in matrix))
+        object.__setattr__(
+            self, "intercept", tuple(map(float, self.intercept)) if self.intercept else (0.0,) * r
+        )
+        if not self.response_names:
+            names = ("y",) if r == 1 else tuple(f"y{j + 1}" for j in range(r))
+            object.__setattr__(self, "response_names", names)
+        if len(self.response_names) != r or len(self.intercept) != r:
+            raise ConfigError("LinearModel: one intercept and one name per response row")
+
+    @property
+    def units(self) -> Mapping[str, str]:
+        return {name: self.unit for name in self.response_names}
+
+    @property
+    def matrix(self) -> FloatArray:
+        """(r, k) coefficients."""
+        return np.asarray(self.coefficients, dtype=float)
+
+    def evaluate(self, x: FloatArray) -> Evaluation:
+        """y = intercept + x Aᵀ for every row of ``x``."""
+        x = _check_inputs(x, len(self.input_names))
+        values = x @ self.matrix.T + np.asarray(self.intercept)
+        return Evaluation(values, np.ones(len(x), dtype=bool), ("",) * len(x))
+
+    def jacobian(self, x0: FloatArray) -> FloatArray:
+        """Analytic sensitivities ∂y_j/∂x_i, (r, k) (constant)."""
+        return self.matrix
+
+    def describe(self) -> dict[str, Any]:
+        return {
+            "model": "linear",
+            "coefficients": [list(row) for row in self.coefficients],
+            "intercept": list(self.intercept),
+        }
+
+
+# --- four-bar kinematics, vectorised -----------------------------------------------------------
+
+
+def _refine_peak(values: FloatArray, index: NDArray[np.intp]) -> FloatArray:
+    """Parabola through the grid extreme ``values[i, index[i]]`` and its periodic neighbours.
+
+    Returns the vertex value (for a maximum or a minimum alike; equal to the grid value where
+    the three points are collinear).
+    """
+    n = values.shape[1]
+    rows = np.arange(values.shape[0])
+    y0 = values[rows, index]
+    ym = values[rows, (index - 1) % n]
+    yp = values[rows, (index + 1) % n]
+    curvature = ym - 2.0 * y0 + yp
+    with np.errstate(divide="ignore", invalid="ignore"):
+        offset = np.where(curvature != 0.0, 0.5 * (ym - yp) / curvature, 0.0)
+    offset = np.clip(offset, -0.5, 0.5)
+    return np.asarray(y0 - 0.25 * (ym - yp) * offset, dtype=float)
+
+
+def _peak_abs(values: FloatArray) -> FloatArray:
+    magnitude = np.abs(values)
+    return _refine_peak(magnitude, np.argmax(magnitude, axis=1))
+
+
+@dataclass(frozen=True)
+class FourBarKinematics:
+    """Kinematic responses of a four-bar template with ideal joints (vectorised).
+
+    Attributes:
+        geometry: nominal link lengths, m.
+        input_names: toleranced lengths as ``length_<name>`` (others stay nominal).
+        angular_velocity: signed crank angular velocity, rad/s.
+        branch: assembly branch (+1/−1, see :mod:`jointplay.model.templates`).
+        start_angle: crank angle of the first grid point, rad.
+        coupler_points: points on the coupler in its frame (origin A, x-axis towards B), m,
+            whose path deviation is reported; default: the template's coupler points, or
+            the nominal coupler's mid-point ``mid`` if it has none.
+        n_angles: crank-angle grid points per revolution (360: 1° steps).
+        block: samples per vectorised block: bounds memory to ~30 arrays of
+            ``block × n_angles`` doubles; 32 × 360 doubles (92 kB) stay in cache and below the
+            allocator's mmap threshold, which matters when several processes run at once.
+        chunk_size: samples per task sent to a worker.
+    """
+
+    geometry: FourBarGeometry
+    input_names: tuple[str, ...]
+    angular_velocity: float
+    branch: int = 1
+    start_angle: float = 0.0
+    coupler_points: Mapping[str, tuple[float, float]] = field(default_factory=dict)
+    n_angles: int = 360
+    block: int = 32
+    chunk_size: int = 4096
+    _grid: dict[str, FloatArray] = field(default_factory=dict, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "input_names", tuple(self.input_names))
+        object.__setattr__(self, "coupler_points", dict(self.coupler_points))
+        lengths = self.geometry.length_names
+        for name in self.input_names:
+            if not (name.startswith("length_") and name.removeprefix("length_") in lengths):
+                raise ConfigError(
+                    f"four-bar kinematics: unknown input {name!r}; toleranced lengths are "
+                    f"named {['length_' + n for n in lengths]}"
+                )
+        if not (isinstance(self.n_angles, int) and self.n_angles >= 8):
+            raise ConfigError(f"four-bar kinematics: n_angles must be >= 8, got {self.n_angles}")
+        if self.branch not in (1, -1):
+            raise ConfigError(f"four-bar kinematics: branch must be +1 or -1, got {self.branch}")
+        fourbar.check_full_rotation(self.geometry)
+        if not self.coupler_points:
+            object.__setattr__(self, "coupler_points", {"mid": (self.geometry.coupler / 2, 0.0)})
+        theta2 = self.start_angle + 2.0 * np.pi * np.arange(self.n_angles) / self.n_angles
+        grid: dict[str, FloatArray] = {"c2": np.cos(theta2), "s2": np.sin(theta2)}
+        g = self.geometry
+        nominal = np.array([[g.crank, g.coupler, g.rocker, g.ground]])
+        _, state = self._state(nominal, grid["c2"], grid["s2"])
+        # Reference directions: the mean nominal coupler and rocker directions, so that the
+        # angles of a rocking link never wrap within its swing.
+        grid["ref3"] = np.array(math.atan2(state["s3"].mean(), state["c3"].mean()))
+        grid["ref4"] = np.array(math.atan2(state["s4"].mean(), state["c4"].mean()))
+        for name, (px, py) in self.coupler_points.items():
+            x, y = self._point(state, px, py)
+            grid[f"path_x_{name}"], grid[f"path_y_{name}"] = x[0], y[0]
+        object.__setattr__(self, "_grid", grid)
+
+    @classmethod
+    def from_mechanism(
+        cls, mechanism: Mechanism, input_names: Sequence[str], **options: Any
+    ) -> FourBarKinematics:
+        """The model of a four-bar template mechanism (its lengths, speed, branch, points)."""
+        spec = template_of(mechanism)
+        if not isinstance(spec.geometry, FourBarGeometry):
+            raise ConfigError(
+                f"mechanism {mechanism.name!r} is a {spec.geometry.kind}, not a four-bar"
+            )
+        options.setdefault("coupler_points", dict(spec.coupler_points))
+        return cls(
+            geometry=spec.geometry,
+            input_names=tuple(input_names),
+            angular_velocity=mechanism.driver.angular_velocity,
+            branch=mechanism.branch,
+            start_angle=mechanism.driver.start_angle,
+            **options,
+        )
+
+    @property
+    def response_names(self) -> tuple[str, ...]:
+        return (
+            "rocker_swing",
+            "theta3_min",
+            "theta3_max",
+            "theta4_min",
+            "theta4_max",
+            "omega3_peak",
+            "omega4_peak",
+            "alpha3_peak",
+            "alpha4_peak",
+            "transmission_angle_min",
+            *(f"path_deviation_{name}" for name in self.coupler_points),
+        )
+
+    @property
+    def units(self) -> Mapping[str, str]:
+        units = {name: "rad" for name in self.response_names}
+        units.update({"omega3_peak": "rad/s", "omega4_peak": "rad/s"})
+        units.update({"alpha3_peak": "rad/s^2", "alpha4_peak": "rad/s^2"})
+        units.update({f"path_deviation_{name}": "m" for name in self.coupler_points})
+        return units
+
+    def describe(self) -> dict[str, Any]:
+        return {
+            "model": "four-bar kinematics (closed form, ideal joints)",
+            "crank_angle_points": self.n_angles,
+            "peak_refinement": "parabolic interpolation around the grid extreme",
+            "angular_velocity_rad_s": self.angular_velocity,
+            "branch": self.branch,
+            "coupler_points_m": {k: list(v) for k, v in self.coupler_points.items()},
+            "transmission_angle": "min over the cycle of min(mu, pi - mu), exact (crank at 0 and 180 deg)",
+            "path_deviation": "largest distance to the nominal coupler point at the same crank angle",
+        }
+
+    def lengths(self, x: FloatArray) -> FloatArray:
+        """(m, 4) crank, coupler, rocker, ground lengths of the samples ``x``, m."""
+        g = self.geometry
+        out = np.tile([g.crank, g.coupler, g.rocker, g.ground], (len(x), 1)).astype(float)
+        for column, name in enumerate(self.input_names):
+            out[:, g.length_names.index(name.removeprefix("length_"))] = x[:, column]
+        return out
+
+    def evaluate(self, x: FloatArray) -> Evaluation:
+        """Responses of the samples ``x`` (m, k); unassemblable samples are marked failed."""
+        x = _check_inputs(x, len(self.input_names))
+        lengths = self.lengths(x)
+        ok = _turns_fully(lengths)
+        g = self.geometry
+        safe = np.where(ok[:, None], lengths, [g.crank, g.coupler, g.rocker, g.ground])
+        values = np.empty((len(x), len(self.response_names)))
+        for start in range(0, len(x), self.block):
+            values[start : start + self.block] = self._responses(safe[start : start + self.block])
+        finite = np.all(np.isfinite(values), axis=1)
+        errors = []
+        for i in range(len(x)):
+            if not ok[i]:
+                errors.append(_assembly_message(lengths[i]))
+            elif not finite[i]:
+                errors.append(
+                    "AssemblyError: the coupler and rocker become collinear (a change-point "
+                    "linkage): velocities are undefined there"
+                )
+            else:
+                errors.append("")
+        ok &= finite
+        values[~ok] = np.nan
+        return Evaluation(values, ok, tuple(errors))
+
+    def _state(
+        self, lengths: FloatArray, c2: FloatArray, s2: FloatArray
+    ) -> tuple[tuple[FloatArray, ...], dict[str, FloatArray]]:
+        """Direction cosines of coupler and rocker on the grid (Norton §4.5, no trig calls).
+
+        With f = |O4 − A|, e_f = (O4 − A)/f and cos β = (b² + f² − c²)/(2bf), the coupler
+        direction e3 is e_f turned by σβ (σ the branch) and the rocker direction
+        e4 = (A + b e3 − O4)/c — the same loop closure as :func:`fourbar.positions`.
+        """
+        a, b, c, d = (lengths[:, i : i + 1] for i in range(4))
+        ax, ay = a * c2, a * s2
+        vx, vy = d - ax, -ay
+        f2 = vx * vx + vy * vy
+        inv_f = 1.0 / np.sqrt(f2)
+        cos_b = (b * b - c * c + f2) * inv_f * (0.5 / b)
+        sin_b = np.sqrt(np.maximum(1.0 - cos_b * cos_b, 0.0)) * self.branch
+        vx *= inv_f
+        vy *= inv_f
+        c3 = vx * cos_b - vy * sin_b
+        s3 = vy * cos_b + vx * sin_b
+        c4 = (ax + b * c3 - d) / c
+        s4 = (ay + b * s3) / c
+        return (a, b, c, d), {"c3": c3, "s3": s3, "c4": c4, "s4": s4, "ax": ax, "ay": ay}
+
+    @staticmethod
+    def _point(
+        state: Mapping[str, FloatArray], px: float, py: float
+    ) -> tuple[FloatArray, FloatArray]:
+        c3, s3 = state["c3"], state["s3"]
+        return state["ax"] + px * c3 - py * s3, state["ay"] + px * s3 + py * c3
+
+    def _responses(self, lengths: FloatArray) -> FloatArray:
+        grid = self._grid
+        c2, s2 = grid["c2"], grid["s2"]
+        (a, b, c, _), state = self._state(lengths, c2, s2)
+        c3, s3, c4, s4 = state["c3"], state["s3"], state["c4"], state["s4"]
+        w2 = self.angular_velocity
+        # Velocities (Norton §6.7): dot the loop's derivative with e4 and e3.
+        inv_s34 = 1.0 / (s3 * c4 - c3 * s4)  # 1 / sin(θ3 − θ4)
+        omega3 = (a * w2 / b) * (s4 * c2 - c4 * s2) * inv_s34  # a ω2 sin(θ4−θ2) / (b sin(θ3−θ4))
+        omega4 = (a * w2 / c) * (s3 * c2 - c3 * s2) * inv_s34  # a ω2 sin(θ3−θ2) / (c sin(θ3−θ4))
+        # Accelerations (Norton §7.3), α2 = 0: the second derivative dotted with e4 and e3.
+        k = a * w2 * w2
+        cos34 = c3 * c4 + s3 * s4
+        w3sq, w4sq = omega3 * omega3, omega4 * omega4
+        alpha3 = -(k * (c2 * c4 + s2 * s4) + b * w3sq * cos34 - c * w4sq) * inv_s34 / b
+        alpha4 = -(k * (c2 * c3 + s2 * s3) + b * w3sq - c * w4sq * cos34) * inv_s34 / c
+        out = np.empty((len(lengths), len(self.response_names)))
+        theta3 = self._extremes(c3, s3, float(grid["ref3"]))
+        theta4 = self._extremes(c4, s4, float(grid["ref4"]))
+        out[:, 0] = theta4[1] - theta4[0]
+        out[:, 1], out[:, 2] = theta3
+        out[:, 3], out[:, 4] = theta4
+        out[:, 5] = _peak_abs(omega3)
+        out[:, 6] = _peak_abs(omega4)
+        out[:, 7] = _peak_abs(alpha3)
+        out[:, 8] = _peak_abs(alpha4)
+        out[:, 9] = _transmission_angle_min(lengths)
+        for column, (name, (px, py)) in enumerate(self.coupler_points.items(), start=10):
+            x, y = self._point(state, px, py)
+            dist2 = (x - grid[f"path_x_{name}"]) ** 2 + (y - grid[f"path_y_{name}"]) ** 2
+            distance = np.sqrt(dist2)
+            out[:, column] = _refine_peak(distance, np.argmax(dist2, axis=1))
+        return out
+
+    @staticmethod
+    def _extremes(cos: FloatArray, sin: FloatArray, ref: float) -> tuple[FloatArray, FloatArray]:
+        """Smallest and largest link angle (rad) over the grid, refined, unwrapped about ``ref``.
+
+        The angle relative to ``ref`` is φ = 2 atan(v/(1 + u)) with (u, v) the direction
+        turned by −ref; φ is monotonic in v/(1 + u), so only the extremes need an atan.
+        """
+        cr, sr = math.cos(ref), math.sin(ref)
+        u = cos * cr + sin * sr
+        v = sin * cr - cos * sr
+        with np.errstate(divide="ignore", invalid="ignore"):
+            half = v / (1.0 + u)
+        rows = np.arange(len(cos))
+        n = cos.shape[1]
+        result = []
+        for index in (np.argmin(half, axis=1), np.argmax(half, axis=1)):
+            neighbours = np.stack([(index - 1) % n, index, (index + 1) % n], axis=1)
+            phi = 2.0 * np.arctan2(v[rows[:, None], neighbours], 1.0 + u[rows[:, None], neighbours])
+            result.append(ref + _refine_peak(phi, np.ones(len(cos), dtype=np.intp)))
+        return result[0], result[1]
+
+
+def _turns_fully(lengths: FloatArray) -> BoolArray:
+    """The crank turns through 360°: |b − c| <= |d − a| and d + a <= b + c (all lengths > 0).
+
+    |O4 − A| ranges over [|d − a|, d + a]; the triangle A–B–O4 closes while it lies in
+    [|b − c|, b + c] (the condition of :func:`fourbar.infeasible_crank_ranges`).
+    """
+    a, b, c, d = lengths.T
+    positive = np.all(lengths > 0, axis=1)
+    with np.errstate(invalid="ignore"):
+        return np.asarray(
+            positive & (np.abs(b - c) <= np.abs(d - a)) & (d + a <= b + c), dtype=bool
+        )
+
+
+def _assembly_message(lengths: FloatArray) -> str:
+    try:
+        geometry = FourBarGeometry(
+            crank=float(lengths[0]),
+            coupler=float(lengths[1]),
+            rocker=float(lengths[2]),
+            ground=float(lengths[3]),
+        )
+        fourbar.check_full_rotation(geometry)
+    except JointplayError as exc:
+        return _error(exc)
+    return "AssemblyError: the crank cannot turn fully"
+
+
+def _transmission_angle_min(lengths: FloatArray) -> FloatArray:
+    """min over θ2 of min(μ, π − μ); |cos μ| is largest at θ2 = 0 or π (f = |d ∓ a|)."""
+    a, b, c, d = lengths.T
+    cos_0 = (b * b + c * c - (d - a) ** 2) / (2 * b * c)
+    cos_pi = (b * b + c * c - (d + a) ** 2) / (2 * b * c)
+    largest = np.minimum(np.maximum(np.abs(cos_0), np.abs(cos_pi)), 1.0)
+    return np.asarray(np.arccos(largest), dtype=float)
+
+
+# --- any template mechanism, one sample at a time -----------------------------------------------
+
+
+@dataclass(frozen=True)
+class GeneralKinematics:
+    """Kinematic responses of any template mechanism (per sample, general analysis).
+
+    Attributes:
+        mechanism: the nominal mechanism (a template: its lengths can change).
+        input_names: toleranced lengths as ``length_<name>``.
+        n_angles: crank-angle grid points per revolution.
+        chunk_size: samples per task sent to a worker.
+    """
+
+    mechanism: Mechanism
+    input_names: tuple[str, ...]
+    n_angles: int = 360
+    chunk_size: int = 64
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "input_names", tuple(self.input_names))
+        names = template_of(self.mechanism).geometry.length_names
+        for name in self.input_names:
+            if not (name.startswith("length_") and name.removeprefix("length_") in names):
+                raise ConfigError(
+                    f"kinematics of {self.mechanism.name!r}: unknown input {name!r}; toleranced "
+                    f"lengths are named {['length_' + n for n in names]}"
+                )
+
+    def _layout(self) -> tuple[list[tuple[str, int]], list[Any]]:
+        from jointplay.io.columns import rotating_links, sliders
+
+        return rotating_links(self.mechanism), sliders(self.mechanism)
+
+    @property
+    def response_names(self) -> tuple[str, ...]:
+        links, slides = self._layout()
+        names: list[str] = []
+        for _, number in links:
+            names += [f"theta{number}_min", f"theta{number}_max"]
+            names += [f"omega{number}_peak", f"alpha{number}_peak"]
+        for joint in slides:
+            names += [f"{joint.link_b}_stroke", f"{joint.link_b}_v_peak", f"{joint.link_b}_a_peak"]
+        return tuple(names)
+
+    @property
+    def units(self) -> Mapping[str, str]:
+        suffixes = {
+            "_min": "rad",
+            "_max": "rad",
+            "_stroke": "m",
+            "_v_peak": "m/s",
+            "_a_peak": "m/s^2",
+        }
+        units = {}
+        for name in self.response_names:
+            if name.startswith("omega"):
+                units[name] = "rad/s"
+            elif name.startswith("alpha"):
+                units[name] = "rad/s^2"
+            else:
+                units[name] = next(u for s, u in suffixes.items() if name.endswith(s))
+        return units
+
+    def describe(self) -> dict[str, Any]:
+        return {
+            "model": "kinematics (general analysis, ideal joints)",
+            "crank_angle_points": self.n_angles,
+            "peak_refinement": "parabolic interpolation around the grid extreme",
+        }
+
+    def evaluate(self, x: FloatArray) -> Evaluation:
+        from jointplay.kinematics.analysis import analyse
+        from jointplay.model.templates import with_lengths
+
+        x = _check_inputs(x, len(self.input_names))
+        links, slides = self._layout()
+        driver = self.mechanism.driver
+        angles = driver.start_angle + driver.direction * 2 * np.pi * np.arange(self.n_angles) / (
+            self.n_angles
+        )
+        values = np.full((len(x), len(self.response_names)), np.nan)
+        ok = np.zeros(len(x), dtype=bool)
+        errors = []
+        for i, row in enumerate(x):
+            lengths = {
+                n.removeprefix("length_"): float(v)
+                for n, v in zip(self.input_names, row, strict=True)
+            }
+            try:
+                kin = analyse(with_lengths(self.mechanism, **lengths), angles)
+            except (JointplayError, np.linalg.LinAlgError) as exc:
+                errors.append(_error(exc))
+                continue
+            out: list[FloatArray] = []
+            for name, _ in links:
+                phi = np.unwrap(kin.angle(name))[None, :]
+                out += [
+                    -_refine_peak(-phi, np.argmin(phi, axis=1)),
+                    _refine_peak(phi, np.argmax(phi, axis=1)),
+                    _peak_abs(kin.omega(name)[None, :]),
+                    _peak_abs(kin.alpha(name)[None, :]),
+                ]
+            for joint in slides:
+                axis = np.array([math.cos(joint.axis_angle), math.sin(joint.axis_angle)])
+                pos, vel, acc = kin.point(joint.link_b, joint.point_b)
+                s = (pos @ axis)[None, :]
+                stroke = _refine_peak(s, np.argmax(s, axis=1)) + _refine_peak(
+                    -s, np.argmin(s, axis=1)
+                )
+                out += [stroke, _peak_abs((vel @ axis)[None, :]), _peak_abs((acc @ axis)[None, :])]
+            values[i] = np.concatenate(out)
+            ok[i] = bool(np.all(np.isfinite(values[i])))
+            errors.append(
+                "" if ok[i] else "AssemblyError: non-finite kinematics (singular position)"
+            )
+        values[~ok] = np.nan
+        return Evaluation(values, ok, tuple(errors))
+
+
+def kinematic_model(mechanism: Mechanism, input_names: Sequence[str], **options: Any) -> Any:
+    """The kinematic response model of ``mechanism``: vectorised for four-bars, general otherwise."""
+    spec = mechanism.template
+    if not isinstance(spec, TemplateSpec):
+        raise ConfigError(
+            f"mechanism {mechanism.name!r} has no template: tolerance studies of link lengths "
+            "need a four-bar or slider-crank template (use --responses dynamic for clearances)"
+        )
+    if isinstance(spec.geometry, FourBarGeometry):
+        return FourBarKinematics.from_mechanism(mechanism, input_names, **options)
+    return GeneralKinematics(mechanism, tuple(input_names), **options)
+
+
+# --- clearance dynamics, one simulation per sample -----------------------------------------------
+
+
+@dataclass(frozen=True)
+class DynamicResponses:
+    """Peaks of the clearance-joint dynamics, one simulation per sample.
+
+    Attributes:
+        mechanism: the nominal mechanism.
+        input_names: ``length_<name>`` (template lengths) and ``clearance_<joint>`` inputs.
+        law: normal contact law of every clearance joint (a :class:`ContactLaw` instance).
+        journal_radius: pin radius per clearance joint, m.
+        fixed_clearances: radial clearance (m) of clearance joints that are not inputs.
+        start: start of motion (:class:`jointplay.dynamics.simulate.Start`).
+        revolutions: simulated crank revolutions.
+        solver: integration settings (:class:`jointplay.dynamics.simulate.SolverOptions`).
+        friction: friction law of every clearance joint, or ``None``.
+        chunk_size: samples per task sent to a worker.
+    """
+
+    mechanism: Mechanism
+    input_names: tuple[str, ...]
+    law: Any
+    journal_radius: Mapping[str, float]
+    fixed_clearances: Mapping[str, float] = field(default_factory=dict)
+    start: Any = None
+    revolutions: float = 1.0
+    solver: Any = None
+    friction: Any = None
+    chunk_size: int = 1
+
+    def __post_init__(self) -> None:
+        from jointplay.contact.laws import ContactLaw
+        from jointplay.dynamics.simulate import SolverOptions, Start
+
+        object.__setattr__(self, "input_names", tuple(self.input_names))
+        object.__setattr__(self, "journal_radius", dict(self.journal_radius))
+        object.__setattr__(self, "fixed_clearances", dict(self.fixed_clearances))
+        if self.start is None:
+            object.__setattr__(self, "start", Start("rest"))
+        if self.solver is None:
+            object.__setattr__(self, "solver", SolverOptions())
+        if not isinstance(self.law, ContactLaw):
+            raise ConfigError(
+                f"dynamic responses: law must be a ContactLaw instance, got {type(self.law).__name__}"
+            )
+        if not (math.isfinite(self.revolutions) and self.revolutions > 0):
+            raise ConfigError(f"dynamic responses: revolutions must be > 0, got {self.revolutions}")
+        lengths = (
+            template_of(self.mechanism).geometry.length_names
+            if isinstance(self.mechanism.template, TemplateSpec)
+            else ()
+        )
+        joints = {j.name for j in self.mechanism.revolute_joints}
+        for name in self.input_names:
+            if name.startswith("length_") and name.removeprefix("length_") in lengths:
+                continue
+            if name.startswith("clearance_") and name.removeprefix("clearance_") in joints:
+                if name.removeprefix("clearance_") not in self.journal_radius:
+                    raise ConfigError(f"dynamic responses: no journal radius for input {name!r}")
+                continue
+            raise ConfigError(
+                f"dynamic responses: unknown input {name!r}; inputs are length_<length> "
+                f"({list(lengths)}) and clearance_<joint> ({sorted(joints)})"
+            )
+        for joint in self.fixed_clearances:
+            if joint not in self.journal_radius:
+                raise ConfigError(f"dynamic responses: no journal radius for joint {joint!r}")
+
+    @property
+    def clearance_joints(self) -> tuple[str, ...]:
+        """Joints modelled with clearance, in the mechanism's joint order."""
+        chosen = {
+            n.removeprefix("clearance_") for n in self.input_names if n.startswith("clearance_")
+        }
+        chosen |= set(self.fixed_clearances)
+        return tuple(j.name for j in self.mechanism.joints if j.name in chosen)
+
+    @property
+    def peak_keys(self) -> tuple[str, ...]:
+        """Keys of :attr:`SimulationResult.peaks` reported, in column order."""
+        from jointplay.io.columns import rotating_links
+
+        numbers = [number for _, number in rotating_links(self.mechanism)]
+        return (
+            *(f"omega{k}" for k in numbers),
+            *(f"alpha{k}" for k in numbers),
+            *(f"F_{j.name}" for j in self.mechanism.joints),
+            "torque",
+        )
+
+    @property
+    def response_names(self) -> tuple[str, ...]:
+        return tuple(f"{key}_peak" for key in self.peak_keys)
+
+    @property
+    def units(self) -> Mapping[str, str]:
+        units = {}
+        for key in self.peak_keys:
+            prefix = key.rstrip("0123456789")
+            units[f"{key}_peak"] = {
+                "omega": "rad/s",
+                "alpha": "rad/s^2",
+                "torque": "N*m",
+            }.get(prefix, "N")
+        return units
+
+    def describe(self) -> dict[str, Any]:
+        def fields_of(obj: Any) -> dict[str, Any]:
+            return {k: v for k, v in vars(obj).items() if not k.startswith("_")}
+
+        return {
+            "model": "clearance-joint dynamics (jointplay.dynamics.simulate)",
+            "clearance_joints": list(self.clearance_joints),
+            "journal_radius_m": dict(self.journal_radius),
+            "fixed_clearances_m": dict(self.fixed_clearances),
+            "contact_law": {"name": self.law.name, **fields_of(self.law)},
+            "friction": None
+            if self.friction is None
+            else {"name": self.friction.name, **fields_of(self.friction)},
+            "start": self.start.mode,
+            "revolutions": self.revolutions,
+            "solver": fields_of(self.solver),
+            "peaks": "largest |value| over the integrator's steps",
+        }
+
+    def simulate_one(self, row: FloatArray) -> Any:
+        """The simulation of one sample (a :class:`SimulationResult`); raises on failure."""
+        from jointplay.dynamics.clearance import ClearanceJoint
+        from jointplay.dynamics.simulate import simulate
+        from jointplay.model.templates import with_lengths
+
+        lengths: dict[str, float] = {}
+        clearance = dict(self.fixed_clearances)
+        for name, value in zip(self.input_names, row, strict=True):
+            if name.startswith("length_"):
+                lengths[name.removeprefix("length_")] = float(value)
+            else:
+                clearance[name.removeprefix("clearance_")] = float(value)
+        mechanism = with_lengths(self.mechanism, **lengths) if lengths else self.mechanism
+        joints = [
+            ClearanceJoint(
+                joint,
+                clearance=clearance[joint],
+                journal_radius=self.journal_radius[joint],
+                law=self.law,
+                friction=self.friction,
+            )
+            for joint in self.clearance_joints
+        ]
+        return simulate(
+            mechanism,
+            joints,
+            revolutions=self.revolutions,
+            start=self.start,
+            solver=self.solver,
+            nominal_step_deg=1.0,
+        )
+
+    def evaluate(self, x: FloatArray) -> Evaluation:
+        """Simulate every sample; integration and assembly failures are marked, not raised."""
+        x = _check_inputs(x, len(self.input_names))
+        values = np.full((len(x), len(self.response_names)), np.nan)
+        ok = np.zeros(len(x), dtype=bool)
+        errors = []
+        keys = self.peak_keys
+        for i, row in enumerate(x):
+            try:
+                result = self.simulate_one(row)
+            except (JointplayError, np.linalg.LinAlgError) as exc:
+                errors.append(_error(exc))
+                continue
+            values[i] = [result.peaks[key]["value"] for key in keys]
+            ok[i] = True
+            errors.append("")
+        return Evaluation(values, ok, tuple(errors))
+
+
+def dynamic_model(
+    mechanism: Mechanism,
+    input_names: Sequence[str],
+    law: Any,
+    *,
+    journal_radius: Mapping[str, float] | None = None,
+    **options: Any,
+) -> DynamicResponses:
+    """The dynamic response model of ``mechanism``.
+
+    Clearance joints are those with a ``clearance_<joint>`` input plus the revolute joints
+    whose fit data give a fixed ``clearance``; pin radii default to half the fit diameter.
+    """
+    radius = {j.name: j.fit.diameter / 2.0 for j in mechanism.revolute_joints if j.fit is not None}
+    radius.update(journal_radius or {})
+    inputs = {n.removeprefix("clearance_") for n in input_names if n.startswith("clearance_")}
+    fixed = {
+        j.name: j.fit.clearance
+        for j in mechanism.revolute_joints
+        if j.fit is not None and j.fit.clearance and j.name not in inputs
+    }
+    return DynamicResponses(
+        mechanism,
+        tuple(input_names),
+        law,
+        journal_radius=radius,
+        fixed_clearances=fixed,
+        **options,
+    )

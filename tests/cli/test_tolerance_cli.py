@@ -1,0 +1,169 @@
+"""The ``jointplay tolerance`` command."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pandas as pd
+import pytest
+
+from jointplay.cli import run
+
+QUIET = ["--no-progress", "--no-plots", "--workers", "1"]
+LENGTHS = ("length_crank", "length_coupler", "length_rocker", "length_ground")
+
+
+def _summary(folder) -> dict:
+    return json.loads((folder / "summary.json").read_text())
+
+
+def test_monte_carlo_answers_with_files_and_a_table(tmp_path, capsys) -> None:
+    def args(out) -> list[str]:
+        return [
+            "tolerance", "--preset", "paper-fourbar", "--method", "monte-carlo",
+            "--samples", "300", "--seed", "12", "--out", str(out), *QUIET,
+            "--spec-limit", "rocker_swing=52.3 deg:53 deg",
+            "--spec-limit", "omega4_peak=:13.9 rad/s",
+        ]  # fmt: skip
+
+    out = tmp_path / "mc"
+    assert run(args(out)) == 0
+    printed = capsys.readouterr().out
+    assert "rocker_swing (deg)" in printed and "most influential" in printed
+    assert f"results written to {out}" in printed
+    summary = _summary(out)
+    assert summary["method"] == "monte-carlo" and summary["seed"] == 12
+    assert summary["provenance"]["command_line"].startswith("jointplay")
+    swing = summary["responses"]["rocker_swing"]
+    assert swing["spec_limits"]["lower"] == pytest.approx(math.radians(52.3))
+    assert swing["cp"] == pytest.approx(math.radians(0.7) / (6 * swing["std"]))
+    assert summary["responses"]["omega4_peak"]["spec_limits"] == {"lower": None, "upper": 13.9}
+    assert len(pd.read_parquet(out / "samples.parquet")) == 300
+    # Same seed, same numbers.
+    assert run(args(tmp_path / "again")) == 0
+    pd.testing.assert_frame_equal(
+        pd.read_parquet(out / "samples.parquet"),
+        pd.read_parquet(tmp_path / "again" / "samples.parquet"),
+    )
+
+
+@pytest.mark.parametrize("method", ["worst-case", "rss"])
+def test_worst_case_and_rss(tmp_path, method) -> None:
+    out = tmp_path / method
+    assert run(["tolerance", "--method", method, "--out", str(out), *QUIET]) == 0
+    summary = _summary(out)
+    assert summary["method"] == method
+    assert summary["most_influential"]["alpha4_peak"] == "length_crank"
+
+
+def test_config_with_extended_tolerances_and_distribution_override(tmp_path) -> None:
+    from jointplay.io.config import preset_text
+
+    text = preset_text("paper-fourbar").split("# Link-length tolerances")[0]
+    text += '[tolerances]\ngeneral = "m"\n\n[tolerances.lengths.crank]\nclass = "c"\ncpk = 1.33\n'
+    config = tmp_path / "mine.toml"
+    config.write_text(text)
+
+    def args(out) -> list[str]:
+        return ["tolerance", "--config", str(config), "--samples", "50", "--out", str(out), *QUIET]
+
+    out = tmp_path / "out"
+    assert run(args(out)) == 0
+    inputs = _summary(out)["inputs"]
+    assert inputs["length_crank"]["source"] == "ISO 2768-1 c"
+    assert inputs["length_crank"]["cpk"] == pytest.approx(1.33)
+    assert inputs["length_coupler"]["source"] == "ISO 2768-1 m"
+    assert run([*args(tmp_path / "tri"), "--distribution", "triangular"]) == 0
+    distributions = {v["distribution"] for v in _summary(tmp_path / "tri")["inputs"].values()}
+    assert distributions == {"triangular"}
+
+
+def test_dask_scheduler_option(tmp_path) -> None:
+    from distributed import LocalCluster
+
+    out = tmp_path / "dask"
+    with LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None
+    ) as cluster:
+        args = ["tolerance", "--samples", "100", "--seed", "2", "--out", str(out)]
+        args += ["--dask-scheduler", cluster.scheduler_address, "--no-progress", "--no-plots"]
+        assert run(args) == 0
+    summary = _summary(out)
+    assert summary["execution"]["backend"] == "dask"
+    local = tmp_path / "local"
+    assert run(["tolerance", "--samples", "100", "--seed", "2", "--out", str(local), *QUIET]) == 0
+    pd.testing.assert_frame_equal(
+        pd.read_parquet(out / "samples.parquet"), pd.read_parquet(local / "samples.parquet")
+    )
+
+
+def test_dynamic_responses_with_contact_options(tmp_path) -> None:
+    out = tmp_path / "dyn"
+    args = ["tolerance", "--responses", "dynamic", "--samples", "2", "--revolutions", "0.05"]
+    args += ["--contact", "impact", "--k", "1e4 N/mm^1.5", "--cmax", "10 N*s/mm"]
+    args += ["--depth", "0.1 mm", "--start", "rest", "--out", str(out), *QUIET]
+    assert run(args) == 0
+    summary = _summary(out)
+    assert summary["responses_kind"] == "dynamic"
+    law = summary["model"]["contact_law"]
+    assert law["stiffness"] == pytest.approx(1e4 * 1000**1.5)
+    assert law["c_max"] == pytest.approx(1e4) and law["d_max"] == pytest.approx(1e-4)
+    assert "ideal_joints" in summary["responses"]["F_B_peak"]
+    assert set(summary["inputs"]) >= {"clearance_O2", "clearance_O4"}
+
+
+def test_dynamic_worst_case_with_a_paper_method_and_fixed_clearances(tmp_path) -> None:
+    out = tmp_path / "ecs"
+    args = ["tolerance", "--responses", "dynamic", "--method", "worst-case", "--no-clearances"]
+    args += ["--paper-method", "ifm-ecs-spherical", "--ecs-source", "paper"]
+    args += ["--revolutions", "0.02", "--corners", "sensitivity", "--out", str(out), *QUIET]
+    assert run(args) == 0
+    summary = _summary(out)
+    # Lengths only; the joints keep the configured 0.021 mm clearance.
+    assert set(summary["inputs"]) == set(LENGTHS)
+    assert summary["model"]["fixed_clearances_m"] == pytest.approx(
+        {"O2": 2.1e-5, "A": 2.1e-5, "B": 2.1e-5, "O4": 2.1e-5}
+    )
+    # Table 5 (spherical ECS): K = 2500 N/mm, D = 25 N·s/mm.
+    law = summary["model"]["contact_law"]
+    assert law["name"] == "impact"
+    assert law["c_max"] == pytest.approx(25e3)
+    assert summary["settings"]["corners"] == "sensitivity"
+    evaluated = summary["settings"]["evaluated_corners"]
+    assert summary["counts"]["points"] == 1 + 2 * 4 + evaluated  # nominal, ±step per input
+    limits = {name: summary["inputs"][name]["limits"] for name in LENGTHS}
+    for response in summary["responses"].values():
+        for corner in (response["high_corner"], response["low_corner"]):
+            for name, value in corner.items():
+                assert value == pytest.approx(limits[name][0]) or value == pytest.approx(
+                    limits[name][1]
+                )
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["--spec-limit", "omega4_peak<5"], "RESPONSE=LO:HI"),
+        (["--spec-limit", "omega9_peak=:5 rad/s"], "unknown response 'omega9_peak'"),
+        (["--spec-limit", "omega4_peak=:5"], "has no unit"),
+        (["--spec-limit", "omega4_peak=:5 N"], "cannot be converted"),
+        (["--k", "1e4 N/mm^1.5"], "dynamic only"),
+        (["--responses", "dynamic", "--contact", "lankarani-nikravesh"], "needs a stiffness"),
+        (["--responses", "dynamic", "--contact", "bogus"], "unknown contact law"),
+        (
+            ["--responses", "dynamic", "--paper-method", "ifm-ecs-spherical", "--k", "1 N/m"],
+            "drop --k",
+        ),
+        (["--responses", "dynamic", "--ecs-source", "paper"], "give --paper-method"),
+        (["--dask-scheduler", "tcp://127.0.0.1:1", "--workers", "2"], "--workers applies"),
+        (["--preset", "nope"], "unknown preset"),
+    ],
+)
+def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys, extra, message) -> None:
+    args = ["tolerance", "--samples", "5", "--out", str(tmp_path / "x"), "--no-progress", *extra]
+    assert run(args) == 2
+    err = capsys.readouterr().err
+    assert message in err
+    assert err.count("\n") == 1
+    assert not (tmp_path / "x").exists()

@@ -1,0 +1,148 @@
+"""Execution backends: identical results in-process, on local processes and on Dask."""
+
+from __future__ import annotations
+
+import pickle
+from typing import ClassVar
+
+import numpy as np
+import pytest
+
+from jointplay.errors import ConfigError
+from jointplay.model.mechanism import Mechanism
+from jointplay.tolerance.execution import Backend, run
+from jointplay.tolerance.responses import Evaluation, FourBarKinematics, LinearModel
+from jointplay.tolerance.sampling import sample
+from jointplay.tolerance.spec import ToleranceSpec
+from jointplay.tolerance.study import tolerance_study
+
+
+@pytest.fixture(scope="module")
+def kinematics(paper_fourbar: Mechanism) -> tuple[FourBarKinematics, np.ndarray]:
+    spec = ToleranceSpec.from_mechanism(paper_fourbar).only("length")
+    model = FourBarKinematics.from_mechanism(paper_fourbar, spec.names)
+    return model, sample(spec, 3000, 5).values
+
+
+def _summary_without_execution(study) -> dict:
+    summary = study.summary()
+    summary.pop("execution")  # backend, workers and wall time differ by design
+    return summary
+
+
+def test_local_processes_give_the_serial_numbers(kinematics) -> None:
+    model, x = kinematics
+    serial = run(model, x, backend=Backend("serial", chunk_size=500))
+    parallel = run(model, x, backend=Backend("processes", workers=2, chunk_size=500))
+    assert parallel.backend == "processes" and parallel.workers == 2
+    np.testing.assert_array_equal(parallel.values, serial.values)
+    np.testing.assert_array_equal(parallel.status, serial.status)
+    assert parallel.errors == serial.errors
+    assert serial.n_ok == 3000 and not serial.interrupted
+
+
+def test_results_do_not_depend_on_the_chunk_size(kinematics) -> None:
+    model, x = kinematics
+    small = run(model, x[:300], backend=Backend("serial", chunk_size=7))
+    large = run(model, x[:300], backend=Backend("serial", chunk_size=1000))
+    np.testing.assert_array_equal(small.values, large.values)
+
+
+def test_a_single_chunk_stays_in_process(kinematics) -> None:
+    model, x = kinematics
+    result = run(model, x[:10], backend=Backend("processes", workers=2))
+    assert result.backend == "serial" and result.workers == 1
+
+
+def test_dask_cluster_gives_identical_samples_and_summaries(paper_fourbar: Mechanism) -> None:
+    from distributed import LocalCluster
+
+    spec = ToleranceSpec.from_mechanism(paper_fourbar)
+    reference = tolerance_study(
+        paper_fourbar, spec, samples=2000, seed=9, backend=Backend("serial", chunk_size=400)
+    )
+    # One worker process: the model really travels through the scheduler (pickled).
+    with LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster:
+        on_dask = tolerance_study(
+            paper_fourbar,
+            spec,
+            samples=2000,
+            seed=9,
+            backend=Backend.dask(cluster.scheduler_address, chunk_size=400),
+        )
+    assert on_dask.result.run.backend == "dask"
+    assert on_dask.to_dataframe().equals(reference.to_dataframe())
+    assert _summary_without_execution(on_dask) == _summary_without_execution(reference)
+
+
+class _InterruptedAfter:
+    """A model whose second block is 'interrupted' by the user (Ctrl-C)."""
+
+    input_names = ("x",)
+    response_names = ("y",)
+    units: ClassVar[dict[str, str]] = {"y": ""}
+    chunk_size = 10
+
+    def __init__(self) -> None:
+        self.calls = 0
+
+    def evaluate(self, x: np.ndarray) -> Evaluation:
+        self.calls += 1
+        if self.calls > 1:
+            raise KeyboardInterrupt
+        return Evaluation(x.copy(), np.ones(len(x), dtype=bool), ("",) * len(x))
+
+    def describe(self) -> dict:
+        return {}
+
+
+def test_ctrl_c_keeps_the_finished_samples() -> None:
+    result = run(_InterruptedAfter(), np.arange(35.0)[:, None], backend=Backend("serial"))
+    assert result.interrupted
+    np.testing.assert_array_equal(result.values[:10, 0], np.arange(10.0))
+    assert (result.status[:10] == 0).all() and (result.status[10:] == 2).all()
+    assert result.n_ok == 10 and result.n_not_run == 25 and result.n_failed == 0
+    assert result.errors[10].startswith("not run")
+
+
+def test_models_with_mechanisms_can_be_sent_to_workers(paper_fourbar: Mechanism) -> None:
+    from jointplay.contact.laws import get_law
+    from jointplay.tolerance.responses import dynamic_model
+
+    spec = ToleranceSpec.from_mechanism(paper_fourbar)
+    law = get_law("impact", stiffness=3.16e8, exponent=1.5, c_max=1e4, d_max=1e-4)
+    model = dynamic_model(paper_fourbar, spec.names, law)
+    copy = pickle.loads(pickle.dumps(model))
+    assert copy.mechanism == paper_fourbar
+    assert copy.clearance_joints == ("O2", "A", "B", "O4")
+    assert copy.response_names == model.response_names
+
+
+def test_progress_bar_runs(capsys) -> None:
+    model = LinearModel(("a",), ((2.0,),), chunk_size=5)
+    result = run(model, np.ones((12, 1)), backend=Backend("serial"), progress=True)
+    assert result.n_ok == 12
+    assert "12/12" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"kind": "threads"}, "backend must be one of"),
+        ({"workers": 0}, "positive integer"),
+        ({"chunk_size": 0}, "positive integer"),
+        ({"kind": "dask"}, "scheduler's address"),
+        ({"kind": "serial", "scheduler": "tcp://x:1"}, "dask backend only"),
+    ],
+)
+def test_backend_validation(kwargs: dict, message: str) -> None:
+    with pytest.raises(ConfigError, match=message):
+        Backend(**kwargs)
+
+
+def test_wrong_input_shape_is_refused() -> None:
+    model = LinearModel(("a", "b"), ((1.0, 1.0),))
+    with pytest.raises(ConfigError, match=r"shape \(n, 2\)"):
+        run(model, np.ones((3, 3)), backend=Backend("serial"))

@@ -1,0 +1,245 @@
+"""Worst case, RSS and Monte Carlo against a linear stack with known answers, and the four-bar."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from jointplay.errors import ConfigError
+from jointplay.model.mechanism import Mechanism
+from jointplay.tolerance.execution import Backend
+from jointplay.tolerance.methods import (
+    SpecLimits,
+    monte_carlo,
+    regression_contributions,
+    rss,
+    sobol_first_order,
+    worst_case,
+)
+from jointplay.tolerance.responses import FourBarKinematics, LinearModel
+from jointplay.tolerance.spec import (
+    LinkTolerance,
+    QuantityTolerance,
+    Tolerance,
+    ToleranceSpec,
+)
+
+SERIAL = Backend("serial")
+
+# y = 2 x1 − 3 x2 + 0.5 x3 + x4: a linear stack with known worst case and RSS.
+COEFFICIENTS = (2.0, -3.0, 0.5, 1.0)
+HALF_WIDTHS = (0.10, 0.20, 0.40, 0.05)
+NOMINALS = (10.0, 5.0, 1.0, -2.0)
+
+
+def _stack(distribution: str = "normal", k: int = 4) -> tuple[LinearModel, ToleranceSpec]:
+    names = tuple(f"x{i + 1}" for i in range(k))
+    inputs = tuple(
+        QuantityTolerance(
+            name,
+            NOMINALS[i % 4],
+            Tolerance(
+                (NOMINALS[i % 4] - HALF_WIDTHS[i % 4], NOMINALS[i % 4] + HALF_WIDTHS[i % 4]),
+                distribution,  # type: ignore[arg-type]
+            ),
+        )
+        for i, name in enumerate(names)
+    )
+    model = LinearModel(names, (tuple(COEFFICIENTS[i % 4] for i in range(k)),), (7.0,))
+    return model, ToleranceSpec(inputs)
+
+
+def _expected(k: int = 4) -> tuple[float, float, float]:
+    a = np.array([COEFFICIENTS[i % 4] for i in range(k)])
+    h = np.array([HALF_WIDTHS[i % 4] for i in range(k)])
+    nominal = 7.0 + float(a @ np.array([NOMINALS[i % 4] for i in range(k)]))
+    return nominal, float(np.abs(a) @ h), float(np.sqrt(np.sum((a * h) ** 2)))
+
+
+@pytest.mark.parametrize("corners", ["all", "sensitivity"])
+def test_worst_case_of_a_linear_stack_is_the_arithmetic_sum(corners: str) -> None:
+    model, spec = _stack()
+    result = worst_case(model, spec, corners=corners, backend=SERIAL)  # type: ignore[arg-type]
+    nominal, arithmetic, _ = _expected()
+    y = result.summaries["y"]
+    # Exact up to rounding of a few sums of doubles.
+    assert y.nominal == pytest.approx(nominal, rel=1e-14)
+    assert y.maximum - y.nominal == pytest.approx(arithmetic, rel=1e-12)
+    assert y.nominal - y.minimum == pytest.approx(arithmetic, rel=1e-12)
+    assert y.half_range == pytest.approx(arithmetic, rel=1e-12)
+    # The high corner has every input at the limit that raises y.
+    assert y.high_corner == pytest.approx({"x1": 10.1, "x2": 4.8, "x3": 1.4, "x4": -1.95})
+    assert y.low_corner == pytest.approx({"x1": 9.9, "x2": 5.2, "x3": 0.6, "x4": -2.05})
+    np.testing.assert_allclose(list(y.sensitivities.values()), COEFFICIENTS, rtol=1e-9)
+    shares = np.abs(COEFFICIENTS) * HALF_WIDTHS / arithmetic
+    np.testing.assert_allclose(list(y.contributions.values()), shares, rtol=1e-9)
+    assert result.settings["corners"] == corners
+    assert result.settings["evaluated_corners"] == (16 if corners == "all" else 2)
+
+
+def test_worst_case_switches_to_sensitivity_corners_beyond_ten_inputs() -> None:
+    model, spec = _stack(k=12)
+    result = worst_case(model, spec, backend=SERIAL)
+    _, arithmetic, _ = _expected(k=12)
+    assert result.settings["corners"] == "sensitivity"
+    assert result.summaries["y"].half_range == pytest.approx(arithmetic, rel=1e-12)
+
+
+@pytest.mark.parametrize("sensitivity", ["finite-difference", "analytic"])
+@pytest.mark.parametrize("distribution", ["uniform", "normal", "triangular"])
+def test_rss_of_a_linear_stack_is_the_root_sum_of_squares(
+    sensitivity: str, distribution: str
+) -> None:
+    model, spec = _stack(distribution)
+    result = rss(model, spec, sensitivity=sensitivity, backend=SERIAL)  # type: ignore[arg-type]
+    _, _, root_sum = _expected()
+    y = result.summaries["y"]
+    sigma = spec.std
+    assert y.half_range == pytest.approx(root_sum, rel=1e-12)
+    assert y.std == pytest.approx(
+        math.sqrt(np.sum((np.array(COEFFICIENTS) * sigma) ** 2)), rel=1e-12
+    )
+    if distribution == "normal":
+        assert y.std == pytest.approx(root_sum / 3, rel=1e-12)  # ±3σ at the limits
+    shares = (np.array(COEFFICIENTS) * sigma) ** 2 / y.std**2
+    np.testing.assert_allclose(list(y.contributions.values()), shares, rtol=1e-9)
+    assert y.note is None
+
+
+def test_analytic_sensitivities_need_a_jacobian(paper_fourbar: Mechanism) -> None:
+    spec = ToleranceSpec.from_mechanism(paper_fourbar).only("length")
+    model = FourBarKinematics.from_mechanism(paper_fourbar, spec.names)
+    with pytest.raises(ConfigError, match="no analytic Jacobian"):
+        rss(model, spec, sensitivity="analytic", backend=SERIAL)
+
+
+def test_monte_carlo_std_converges_to_rss_at_the_rate_one_over_root_n() -> None:
+    model, spec = _stack("uniform")
+    sigma = rss(model, spec, backend=SERIAL).summaries["y"].std
+    assert sigma is not None
+    sizes = [100, 1000, 10_000, 100_000]
+    errors = []
+    for n in sizes:
+        stds = [
+            monte_carlo(model, spec, n, seed, backend=SERIAL).summaries["y"].std
+            for seed in range(8)
+        ]
+        errors.append(float(np.sqrt(np.mean((np.array(stds) - sigma) ** 2))) / sigma)
+    slope = np.polyfit(np.log(sizes), np.log(errors), 1)[0]
+    # The sample standard deviation's error falls as N^(-1/2); ±0.15 allows for the spread
+    # of an 8-seed estimate of the error at each size.
+    assert slope == pytest.approx(-0.5, abs=0.15)
+    assert errors[-1] < 0.005
+
+
+def test_monte_carlo_contributions_and_capability() -> None:
+    model, spec = _stack("normal")
+    limits = {"y": SpecLimits(lower=-3.6, upper=-2.6)}
+    result = monte_carlo(model, spec, 20_000, 3, limits=limits, backend=SERIAL)
+    y = result.summaries["y"]
+    expected = (np.array(COEFFICIENTS) * spec.std) ** 2
+    expected /= expected.sum()
+    # SRC² of an exactly linear response: only the sample correlations between inputs
+    # (≈ 1/√n) disturb them.
+    np.testing.assert_allclose(list(y.contributions.values()), expected, atol=0.01)
+    assert y.r_squared == pytest.approx(1.0, abs=1e-12)
+    assert y.contribution_basis == "src"
+    sobol = y.sobol_first_order
+    assert sobol is not None
+    # The binning estimator has a bias and noise of a few 0.01 at n = 20 000.
+    np.testing.assert_allclose(list(sobol.values()), expected, atol=0.03)
+    assert y.most_influential == "x2"
+    mean, std = y.mean, y.std
+    assert mean is not None and std is not None
+    assert y.cp == pytest.approx(1.0 / (6 * std))
+    assert y.cpk == pytest.approx(min(-2.6 - mean, mean + 3.6) / (3 * std))
+    assert y.out_of_spec_percent is not None
+    counted = 100 * np.mean((result.run.values[:, 0] < -3.6) | (result.run.values[:, 0] > -2.6))
+    assert y.out_of_spec_percent == pytest.approx(counted)
+    assert set(y.percentiles or {}) == {"p0.135", "p2.5", "p50", "p97.5", "p99.865"}
+
+
+def test_regression_and_sobol_helpers_handle_degenerate_data() -> None:
+    x = np.zeros((50, 2))
+    y = np.ones(50)
+    assert regression_contributions(x, y, ["a", "b"]) == ({"a": 0.0, "b": 0.0}, None)
+    assert sobol_first_order(x, y, ["a", "b"]) == {"a": 0.0, "b": 0.0}
+
+
+def test_spec_limits_validation() -> None:
+    with pytest.raises(ConfigError, match="lower limit, an upper limit or both"):
+        SpecLimits()
+    with pytest.raises(ConfigError, match="below upper"):
+        SpecLimits(2.0, 1.0)
+    one_sided = SpecLimits(upper=1.0)
+    assert one_sided.capability(0.7, 0.1) == (None, pytest.approx(1.0))
+    assert one_sided.normal_fraction_outside(1.0, 0.5) == pytest.approx(0.5)
+
+
+def test_unknown_response_in_limits_is_refused() -> None:
+    model, spec = _stack()
+    with pytest.raises(ConfigError, match="unknown response"):
+        monte_carlo(model, spec, 10, 1, limits={"z": SpecLimits(upper=1.0)}, backend=SERIAL)
+
+
+def test_fourbar_monte_carlo_agrees_with_rss(paper_fourbar: Mechanism) -> None:
+    spec = ToleranceSpec.from_mechanism(paper_fourbar).only("length")
+    model = FourBarKinematics.from_mechanism(paper_fourbar, spec.names)
+    mc = monte_carlo(model, spec, 4000, 1, backend=SERIAL)
+    linear = rss(model, spec, backend=SERIAL)
+    for name in ("rocker_swing", "omega4_peak", "alpha4_peak", "transmission_angle_min"):
+        # 4000 samples estimate σ to ≈ 1.1 % (1σ); the responses are nearly linear over ±1 mm.
+        assert mc.summaries[name].std == pytest.approx(linear.summaries[name].std, rel=0.05)
+        assert mc.summaries[name].most_influential == linear.summaries[name].most_influential
+    # The paper's sensitivity claim: crank and ground lengths drive the rocker's acceleration.
+    assert linear.summaries["alpha4_peak"].most_influential == "length_crank"
+    # Path deviation is 0 at the nominal point, a kink: RSS says it does not apply, and Monte
+    # Carlo's linear regression explains nothing, so its shares come from Sobol indices.
+    assert linear.summaries["path_deviation_mid"].note is not None
+    deviation = mc.summaries["path_deviation_mid"]
+    assert deviation.r_squared is not None and deviation.r_squared < 0.1
+    assert deviation.contribution_basis == "sobol"
+    assert sum(deviation.contributions.values()) == pytest.approx(1.0)
+
+
+def test_fourbar_worst_case_reports_the_corner(paper_fourbar: Mechanism) -> None:
+    spec = ToleranceSpec.from_mechanism(paper_fourbar).only("length")
+    model = FourBarKinematics.from_mechanism(paper_fourbar, spec.names)
+    result = worst_case(model, spec, backend=SERIAL)
+    omega = result.summaries["omega4_peak"]
+    assert omega.high_corner is not None and omega.maximum is not None
+    assert omega.high_corner["length_crank"] == pytest.approx(0.1088)  # a longer crank
+    # Re-evaluating the reported corner reproduces the reported extreme.
+    corner = np.array([[omega.high_corner[n] for n in spec.names]])
+    again = model.evaluate(corner).values[0, model.response_names.index("omega4_peak")]
+    assert again == omega.maximum
+    assert len(result.x) == 1 + 2**4
+    assert result.roles[0] == "nominal"
+
+
+def test_failed_samples_are_counted_and_reported_with_their_inputs(
+    paper_fourbar: Mechanism,
+) -> None:
+    # A coupler of 270.5 ± 180 mm: below 116.9 mm (b + c < d + a) or above 441.9 mm
+    # (|b − c| > d − a) the crank cannot turn fully — about 10 % of the samples.
+    from jointplay.kinematics import fourbar
+    from jointplay.model.templates import FourBarGeometry
+
+    coupler = LinkTolerance.from_deviations("coupler", 0.2705, -0.18, 0.18, distribution="uniform")
+    spec = ToleranceSpec((coupler,))
+    model = FourBarKinematics.from_mechanism(paper_fourbar, spec.names)
+    result = monte_carlo(model, spec, 400, 2, backend=SERIAL)
+    failed = result.run.status == 1
+    assert 10 < failed.sum() < 80
+    assert len(result.failures) == int(failed.sum())
+    for failure, b in zip(result.failures, result.x[failed, 0], strict=True):
+        assert failure.inputs["length_coupler"] == b
+        assert failure.role == "sample"
+        assert failure.error.startswith("AssemblyError:")
+        assert b < 0.1169 or b > 0.4419
+        assert fourbar.infeasible_crank_ranges(FourBarGeometry(0.108, b, 0.2705, 0.2794))
+    assert result.summaries["omega4_peak"].n_ok == int((~failed).sum())
+    assert np.isnan(result.run.values[failed]).all()
+    assert np.isfinite(result.run.values[~failed]).all()
