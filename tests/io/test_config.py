@@ -8,7 +8,7 @@ import tomllib
 import numpy as np
 import pytest
 
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, JointplayError
 from jointplay.io.config import list_presets, load_config, load_preset, parse_config, preset_text
 from jointplay.kinematics.analysis import analyse
 from jointplay.units import parse_quantity
@@ -114,3 +114,17 @@ def test_malformed_and_missing_files(tmp_path) -> None:
         load_config(tmp_path / "missing.toml")
     with pytest.raises(ConfigError, match="unknown preset 'nope'; available"):
         load_preset("nope")
+
+
+def test_tolerance_table_with_a_general_class(tmp_path) -> None:
+    """[tolerances] general = "c" resolves through ISO 2768-1 for every command."""
+    text = preset_text("paper-fourbar")
+    text = text[: text.index("# Link-length tolerances")] + '[tolerances]\ngeneral = "c"\n'
+    path = tmp_path / "classes.toml"
+    path.write_text(text)
+    tolerances = {t.length: (t.lower, t.upper) for t in load_config(path).tolerances}
+    assert tolerances["crank"] == pytest.approx((-0.8e-3, 0.8e-3))
+    assert tolerances["coupler"] == pytest.approx((-1.2e-3, 1.2e-3))
+    path.write_text(text.replace('general = "c"', 'general = "z"'))
+    with pytest.raises(JointplayError, match="unknown ISO 2768-1 tolerance class 'z'"):
+        load_config(path)

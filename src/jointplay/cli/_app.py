@@ -42,7 +42,11 @@ def fail(message: str) -> None:
 def run(argv: list[str] | None = None) -> int:
     """Run the CLI with ``argv`` and return the exit status (0 on success)."""
     try:
-        app(args=argv, prog_name="jointplay", standalone_mode=False)
+        # Without standalone mode Typer returns (rather than raises) the code of typer.Exit
+        # and of an interrupted command.
+        status = app(args=argv, prog_name="jointplay", standalone_mode=False)
+        if isinstance(status, int) and not isinstance(status, bool):
+            return status
     except typer.Exit as exc:
         return int(exc.exit_code)
     except click_exceptions.ClickException as exc:

@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 import tomllib
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -165,6 +165,21 @@ def load_config(path: Path | str) -> Mechanism:
     return parse_config(data, source=str(path))
 
 
+def tolerance_table(
+    preset: str | None = None, config: Path | str | None = None
+) -> dict[str, Any] | None:
+    """The raw ``[tolerances]`` table of a config file or preset (``None`` without one)."""
+    if config is not None:
+        try:
+            data = tomllib.loads(Path(config).read_text(encoding="utf-8"))
+        except (OSError, tomllib.TOMLDecodeError) as exc:
+            raise ConfigError(f"{config}: cannot read the [tolerances] table: {exc}") from None
+    else:
+        data = tomllib.loads(preset_text(preset or "paper-fourbar"))
+    table = data.get("tolerances")
+    return dict(table) if isinstance(table, Mapping) else None
+
+
 def load_mechanism(preset: str | None = None, config: Path | str | None = None) -> Mechanism:
     """The mechanism from a config file if given, else from a preset (default ``paper-fourbar``)."""
     if config is not None:
@@ -200,7 +215,8 @@ def _parse(root: _Table) -> Mechanism:
         raise ConfigError(f"driver.direction must be 'ccw' or 'cw', got {direction_text!r}")
     direction = 1 if direction_text == "ccw" else -1
     start_angle = driver_table.quantity("start_angle", "rad", 0.0)
-    tolerances = _tolerances(root.table("tolerances")) if root.has("tolerances") else ()
+    raw_tolerances = root.raw("tolerances", None)
+    tolerances: tuple[LengthTolerance, ...] = ()
     root.raw("simulation", None)  # read by simulation_settings(); not part of the mechanism
     if template in ("four-bar", "slider-crank"):
         mechanism = _parse_template(
@@ -225,6 +241,13 @@ def _parse(root: _Table) -> Mechanism:
             f"mechanism.template must be 'four-bar', 'slider-crank' or 'general', got {template!r}"
         )
     root.finish()
+    if raw_tolerances is not None:
+        # The tolerance module owns the [tolerances] table (classes, fits, distributions).
+        from jointplay.tolerance.spec import mechanism_tolerances
+
+        if not isinstance(raw_tolerances, Mapping):
+            raise ConfigError("tolerances must be a table")
+        mechanism = replace(mechanism, tolerances=mechanism_tolerances(raw_tolerances, mechanism))
     return mechanism
 
 
@@ -269,25 +292,6 @@ def _fit(table: _Table) -> JointFit:
     )
     table.finish()
     return fit
-
-
-def _tolerances(table: _Table) -> tuple[LengthTolerance, ...]:
-    lengths = table.table("lengths")
-    result = []
-    for key in list(lengths.data):
-        entry = lengths.table(key)
-        result.append(
-            LengthTolerance(
-                length=key,
-                lower=entry.quantity("lower", "m"),
-                upper=entry.quantity("upper", "m"),
-                source=entry.text("source", ""),
-            )
-        )
-        entry.finish()
-    lengths.finish()
-    table.finish()
-    return tuple(result)
 
 
 def _parse_template(

@@ -14,13 +14,29 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
-from types import MappingProxyType
 from typing import Literal
 
 from jointplay.errors import ConfigError
 
 Point = tuple[float, float]
 GROUND = "ground"
+
+
+class FrozenMap(dict):  # type: ignore[type-arg]
+    """A read-only dict: the mappings inside frozen model objects (picklable, unlike
+    ``types.MappingProxyType``, so mechanisms can be sent to worker processes)."""
+
+    def _readonly(self, *args: object, **kwargs: object) -> None:
+        raise TypeError("this mapping belongs to a frozen model object and cannot be changed")
+
+    __setitem__ = __delitem__ = clear = pop = popitem = setdefault = update = _readonly  # type: ignore[assignment]
+    __ior__ = _readonly  # type: ignore[assignment]
+
+    def __reduce__(self) -> tuple[type, tuple[dict]]:  # type: ignore[type-arg]
+        return (FrozenMap, (dict(self),))
+
+    def __hash__(self) -> int:  # type: ignore[override]
+        return hash(tuple(sorted(self.items())))
 
 
 def _positive(owner: str, name: str, value: float, *, allow_zero: bool = False) -> None:
@@ -92,7 +108,7 @@ class Link:
         _positive(owner, "inertia", self.inertia)
         if len(self.points) == 0:
             raise ConfigError(f"{owner}: needs at least one named point")
-        object.__setattr__(self, "points", MappingProxyType(_check_points(owner, self.points)))
+        object.__setattr__(self, "points", FrozenMap(_check_points(owner, self.points)))
         object.__setattr__(self, "com", _point(owner, "com", self.com))
 
     @classmethod
@@ -151,7 +167,7 @@ class Ground:
     points: Mapping[str, Point]
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "points", MappingProxyType(_check_points("ground", self.points)))
+        object.__setattr__(self, "points", FrozenMap(_check_points("ground", self.points)))
 
     name = GROUND
 
@@ -325,8 +341,8 @@ class Mechanism:
     initial_angles: Mapping[str, float] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "materials", MappingProxyType(dict(self.materials)))
-        object.__setattr__(self, "initial_angles", MappingProxyType(dict(self.initial_angles)))
+        object.__setattr__(self, "materials", FrozenMap(dict(self.materials)))
+        object.__setattr__(self, "initial_angles", FrozenMap(dict(self.initial_angles)))
         object.__setattr__(self, "gravity", _point("Mechanism", "gravity", self.gravity))
         names = [link.name for link in self.links]
         if len(set(names)) != len(names):
