@@ -243,7 +243,9 @@ def ecs_command(
                 _sweep_csv(swept).to_csv(
                     folder / "ecs_sweep.csv", index=False, float_format="%.10g"
                 )
-                _sweep_plots(swept, contacts, folder)
+                from jointplay.report.plots import ecs_sweep_plots
+
+                ecs_sweep_plots(swept, contacts, folder)
     if as_json:
         print(json.dumps(_clean(document), indent=2, ensure_ascii=False, allow_nan=False))
         return
@@ -520,84 +522,3 @@ def _print_sweep(swept: EcsSweep, contacts: tuple[str, ...]) -> None:
     for _, record in data.iterrows():
         table.add_row(*(_g(float(record[col]), 5) for col in columns))
     console.print(table)
-
-
-# --- plots ------------------------------------------------------------------------------------
-
-
-def _pyplot() -> Any:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
-def _sweep_plots(swept: EcsSweep, contacts: tuple[str, ...], folder: Path) -> list[Path]:
-    """ecs_sweep.png (K, δ, D over speed) and ecs_damping.png (hysteresis comparison)."""
-    plt = _pyplot()
-    data = swept.paper_units_table()
-    rpm = data["rpm"]
-    fig, axes = plt.subplots(1, 3, figsize=(12, 4), dpi=110)
-    for ax, prefix, unit, label in zip(
-        axes,
-        ("K_{c}_N_per_mm", "delta_{c}_mm", "D_{c}_N_s_per_mm"),
-        ("N/mm", "mm", "N·s/mm"),
-        ("K", "δ", "D"),
-        strict=True,
-    ):
-        for c in contacts:
-            (line,) = ax.plot(rpm, data[prefix.format(c=c)], marker="o", label=f"ECS {c}")
-            published = PAPER_PUBLISHED[c]
-            value = {
-                "K": published.stiffness_n_per_mm,
-                "δ": published.penetration_mm,
-                "D": published.damping_n_s_per_mm,
-            }[label]
-            ax.plot(
-                [published.crank_speed_rpm],
-                [value],
-                "x",
-                color=line.get_color(),
-                markersize=9,
-                label=f"paper {c} ({published.table})",
-            )
-        ax.set_yscale("log")
-        ax.set_xlabel("crank speed (rpm)")
-        ax.set_ylabel(f"{label} ({unit})")
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=7)
-    fig.suptitle(f"{swept.mechanism}: ECS over crank speed")
-    fig.tight_layout()
-    paths = [folder / "ecs_sweep.png"]
-    fig.savefig(paths[0])
-    plt.close(fig)
-
-    fig, (left, right) = plt.subplots(1, 2, figsize=(12, 4.5), dpi=110)
-    for c in contacts:
-        left.plot(rpm, data[f"chi_ecs_{c}"], marker="o", label=f"χ_ECS {c}")
-    models = comparison_factors(swept.restitution)
-    for name, chi in models.items():
-        left.plot(rpm, np.full(len(rpm), chi), "--", label=f"{name} χ(e={swept.restitution:g})")
-    left.set_yscale("log")
-    left.set_xlabel("crank speed (rpm)")
-    left.set_ylabel("hysteresis damping factor χ (–)")
-    left.set_title("χ_ECS = (D/K) v0/δ vs χ(e) of the Hunt–Crossley family")
-    left.grid(True, which="both", alpha=0.3)
-    left.legend(fontsize=7)
-    c = contacts[0]
-    right.plot(rpm, data[f"D_{c}_N_s_per_mm"], marker="o", label=f"ECS D {c}")
-    for name in models:
-        right.plot(rpm, data[f"c_eq_{name}_{c}_N_s_per_mm"], "--", label=f"{name} χKδ/v0")
-    right.set_yscale("log")
-    right.set_xlabel("crank speed (rpm)")
-    right.set_ylabel("damping coefficient (N·s/mm)")
-    right.set_title(f"equivalent damping at the ECS design point ({c})")
-    right.grid(True, which="both", alpha=0.3)
-    right.legend(fontsize=7)
-    fig.tight_layout()
-    paths.append(folder / "ecs_damping.png")
-    fig.savefig(paths[1])
-    plt.close(fig)
-    return paths

@@ -43,6 +43,20 @@ def simulate_command(
     direction: DirectionOption = None,
     start_angle: StartAngleOption = None,
     gravity: GravityOption = None,
+    method: Annotated[
+        str | None,
+        _opt(
+            "One of the paper's six methods (Table 2): ifm-conventional, rm-conventional, ifm-ecs-cylindrical, rm-ecs-cylindrical, ifm-ecs-spherical, rm-ecs-spherical. Replaces the contact options.",
+            "--method",
+        ),
+    ] = None,
+    ecs_source: Annotated[
+        str | None,
+        _opt(
+            "Where the ECS methods take K, delta, D from: computed (our ECS estimate, default) or paper (Tables 4 and 5).",
+            "--ecs-source",
+        ),
+    ] = None,
     contact: Annotated[
         str | None,
         _opt(
@@ -154,14 +168,16 @@ def simulate_command(
         "contact": contact, "k": k, "exponent": exponent, "cmax": cmax, "depth": depth,
         "restitution": restitution, "damping": damping, "stiffness_law": stiffness_law,
         "clearance": clearance, "joints": joints, "friction": friction, "friction_law": friction_law,
-        "start": start, "ramp_time": ramp_time, "start_angle": start_angle, "revolutions": revolutions,
+        "method": method, "ecs_source": ecs_source, "start": start, "ramp_time": ramp_time,
+        "start_angle": start_angle, "revolutions": revolutions,
         "output_step": output_step, "rtol": rtol, "max_step": max_step, "format": fmt,
     }  # fmt: skip
     values = {**table, **{key: value for key, value in given.items() if value is not None}}
     mechanism = mechanism_from_options(
         preset, config, rpm, direction, values.get("start_angle"), gravity
     )
-    contact_settings = contact_from_strings(values)
+    law, method_record = _method_law(values, mechanism)
+    contact_settings = contact_from_strings(values) if law is None else None
     friction_settings = FrictionSettings(
         law=str(values.get("friction_law", "ambrosio")),
         coefficient=float(values.get("friction", 0.0)),
@@ -180,6 +196,7 @@ def simulate_command(
         contact=contact_settings,
         friction=friction_settings,
         clearance=clearance_value,
+        law=law,
     )
     mode = str(values.get("start", "rest"))
     ramp = (
@@ -218,7 +235,11 @@ def simulate_command(
             output_step=step,  # type: ignore[arg-type]
         )
     record = provenance(
-        {"mechanism": mechanism_summary(mechanism), "simulation": _jsonable(values)}
+        {
+            "mechanism": mechanism_summary(mechanism),
+            "simulation": _jsonable(values),
+            "method": method_record,
+        }
     )
     with output_dir(out) as folder:
         write_table(result.timeseries, folder, "timeseries", fmt_value)
@@ -231,6 +252,33 @@ def simulate_command(
                 result.steps, result.nominal, result.system.clearances, folder, mechanism.name
             )
     _print(result, Path(out))
+
+
+CONTACT_KEYS = ("contact", "k", "exponent", "cmax", "depth", "damping", "stiffness_law")
+
+
+def _method_law(values: dict[str, Any], mechanism: Any) -> tuple[Any, dict[str, Any] | None]:
+    """The contact law of ``--method`` (None without one) and its parameter record."""
+    from jointplay.study.methods import PAPER_RESTITUTION, method_law
+
+    name = values.get("method")
+    if name is None:
+        if values.get("ecs_source") is not None:
+            raise ConfigError("--ecs-source applies to the paper's ECS methods: give --method too")
+        return None, None
+    clash = [key for key in CONTACT_KEYS if values.get(key) is not None]
+    if clash:
+        options = ", ".join("--" + key.replace("_", "-") for key in clash)
+        raise ConfigError(
+            f"--method sets the contact law and its parameters; drop {options} or drop --method"
+        )
+    restitution = values.get("restitution")
+    return method_law(
+        str(name),
+        mechanism,
+        ecs_source=str(values.get("ecs_source", "computed")),
+        restitution=PAPER_RESTITUTION if restitution is None else float(restitution),
+    )
 
 
 def _joint_list(value: Any) -> list[str] | None:

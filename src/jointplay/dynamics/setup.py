@@ -154,11 +154,13 @@ def clearance_joints(
     friction: FrictionSettings | None = None,
     clearance: float | None = None,
     journal_radius: float | None = None,
+    law: ContactLaw | None = None,
 ) -> list[ClearanceJoint]:
     """Clearance joints for ``joints`` (default: every revolute joint with a clearance in its fit).
 
     The clearance and the journal radius come from each joint's fit data (diameter / 2) unless
-    given; a joint with neither gets a clear error.
+    given; a joint with neither gets a clear error. ``law`` (a ready contact-law object, e.g.
+    one of the paper's methods) takes the place of ``contact``.
     """
     contact = contact or ContactSettings()
     friction = friction or FrictionSettings()
@@ -182,12 +184,14 @@ def clearance_joints(
         r = journal_radius if journal_radius is not None else (fit.diameter / 2 if fit else None)
         if r is None:
             r = 0.005
-        law = make_law(
+        joint_law = law or make_law(
             contact,
             **_stiffness_from_geometry(mechanism, contact, c, r, fit.pin_length if fit else None),
         )
         result.append(
-            ClearanceJoint(name, clearance=c, journal_radius=r, law=law, friction=friction.build())
+            ClearanceJoint(
+                name, clearance=c, journal_radius=r, law=joint_law, friction=friction.build()
+            )
         )
     return result
 

@@ -10,7 +10,10 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pandas as pd
+
+from jointplay.contact.ecs import PAPER_PUBLISHED, EcsSweep, comparison_factors
 
 UNITS = {"omega": "rad/s", "alpha": "rad/s²", "F": "N", "torque": "N·m"}
 
@@ -99,8 +102,6 @@ def kinematics_plots(table: pd.DataFrame, folder: Path, title: str) -> list[Path
 
 def _tiled_nominal(nominal: pd.DataFrame, column: str, crank: Any) -> tuple[Any, Any]:
     """The nominal periodic curve repeated over the crank-angle range of a simulation."""
-    import numpy as np
-
     lo, hi = float(np.min(crank)), float(np.max(crank))
     base = nominal["crank_deg"].to_numpy() - nominal["crank_deg"].iloc[0]
     start = nominal["crank_deg"].iloc[0]
@@ -111,7 +112,9 @@ def _tiled_nominal(nominal: pd.DataFrame, column: str, crank: Any) -> tuple[Any,
     return x[keep], y[keep]
 
 
-def simulation_plots(steps: pd.DataFrame, nominal: pd.DataFrame, clearances: Sequence[Any], folder: Path, title: str) -> list[Path]:
+def simulation_plots(
+    steps: pd.DataFrame, nominal: pd.DataFrame, clearances: Sequence[Any], folder: Path, title: str
+) -> list[Path]:
     """ω and α against crank angle with the nominal overlaid, contact forces, journal orbits."""
     crank = steps["crank_deg"]
     written = []
@@ -120,7 +123,9 @@ def simulation_plots(steps: pd.DataFrame, nominal: pd.DataFrame, clearances: Seq
         ("alpha", "angular_acceleration.png", "angular acceleration"),
     ):
         columns = [c for c in steps.columns if c.startswith(prefix)]
-        overlays = [(f"{c} nominal", *_tiled_nominal(nominal, c, crank)) for c in columns if c in nominal]
+        overlays = [
+            (f"{c} nominal", *_tiled_nominal(nominal, c, crank)) for c in columns if c in nominal
+        ]
         written.append(
             line_plot(
                 folder / name,
@@ -150,8 +155,6 @@ def simulation_plots(steps: pd.DataFrame, nominal: pd.DataFrame, clearances: Seq
 
 def orbit_plot(steps: pd.DataFrame, clearances: Sequence[Any], path: Path, title: str) -> Path:
     """Journal-centre orbit of each clearance joint inside its clearance circle (µm)."""
-    import numpy as np
-
     plt = _pyplot()
     count = len(clearances)
     fig, axes = plt.subplots(1, count, figsize=(3.2 * count, 3.4), dpi=110, squeeze=False)
@@ -171,3 +174,72 @@ def orbit_plot(steps: pd.DataFrame, clearances: Sequence[Any], path: Path, title
     fig.savefig(path)
     plt.close(fig)
     return path
+
+
+def ecs_sweep_plots(swept: EcsSweep, contacts: tuple[str, ...], folder: Path) -> list[Path]:
+    """ecs_sweep.png (K, δ, D over speed) and ecs_damping.png (hysteresis comparison)."""
+    plt = _pyplot()
+    data = swept.paper_units_table()
+    rpm = data["rpm"]
+    fig, axes = plt.subplots(1, 3, figsize=(12, 4), dpi=110)
+    for ax, prefix, unit, label in zip(
+        axes,
+        ("K_{c}_N_per_mm", "delta_{c}_mm", "D_{c}_N_s_per_mm"),
+        ("N/mm", "mm", "N·s/mm"),
+        ("K", "δ", "D"),
+        strict=True,
+    ):
+        for c in contacts:
+            (line,) = ax.plot(rpm, data[prefix.format(c=c)], marker="o", label=f"ECS {c}")
+            published = PAPER_PUBLISHED[c]
+            value = {
+                "K": published.stiffness_n_per_mm,
+                "δ": published.penetration_mm,
+                "D": published.damping_n_s_per_mm,
+            }[label]
+            ax.plot(
+                [published.crank_speed_rpm],
+                [value],
+                "x",
+                color=line.get_color(),
+                markersize=9,
+                label=f"paper {c} ({published.table})",
+            )
+        ax.set_yscale("log")
+        ax.set_xlabel("crank speed (rpm)")
+        ax.set_ylabel(f"{label} ({unit})")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle(f"{swept.mechanism}: ECS over crank speed")
+    fig.tight_layout()
+    paths = [folder / "ecs_sweep.png"]
+    fig.savefig(paths[0])
+    plt.close(fig)
+
+    fig, (left, right) = plt.subplots(1, 2, figsize=(12, 4.5), dpi=110)
+    for c in contacts:
+        left.plot(rpm, data[f"chi_ecs_{c}"], marker="o", label=f"χ_ECS {c}")
+    models = comparison_factors(swept.restitution)
+    for name, chi in models.items():
+        left.plot(rpm, np.full(len(rpm), chi), "--", label=f"{name} χ(e={swept.restitution:g})")
+    left.set_yscale("log")
+    left.set_xlabel("crank speed (rpm)")
+    left.set_ylabel("hysteresis damping factor χ (–)")
+    left.set_title("χ_ECS = (D/K) v0/δ vs χ(e) of the Hunt–Crossley family")
+    left.grid(True, which="both", alpha=0.3)
+    left.legend(fontsize=7)
+    c = contacts[0]
+    right.plot(rpm, data[f"D_{c}_N_s_per_mm"], marker="o", label=f"ECS D {c}")
+    for name in models:
+        right.plot(rpm, data[f"c_eq_{name}_{c}_N_s_per_mm"], "--", label=f"{name} χKδ/v0")
+    right.set_yscale("log")
+    right.set_xlabel("crank speed (rpm)")
+    right.set_ylabel("damping coefficient (N·s/mm)")
+    right.set_title(f"equivalent damping at the ECS design point ({c})")
+    right.grid(True, which="both", alpha=0.3)
+    right.legend(fontsize=7)
+    fig.tight_layout()
+    paths.append(folder / "ecs_damping.png")
+    fig.savefig(paths[1])
+    plt.close(fig)
+    return paths

@@ -1,0 +1,464 @@
+"""The paper's study end to end: ECS, the six methods, nominal vs actual, sensitivities.
+
+Akhadkar, Deoghare & Vaidya simulate their crank-rocker (Table 1, read as in
+shared/reference/paper-notes.md) with radial clearance 0.021 mm in all four joints, started
+from rest, with six contact-modelling methods (Table 2), compare the "actual" mechanism
+(toleranced lengths + clearance) with the nominal one (basic lengths, ideal joints), and check
+the rocker speed against measurements (Table 7). :func:`run_paper_study` does all of that with
+jointplay and returns a frozen :class:`PaperStudy`; :mod:`jointplay.report.paper` turns it into
+the HTML report and ``results.json``.
+
+Simulations are independent tasks (:class:`SimTask`) run on local processes.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import time
+from collections.abc import Callable, Sequence
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from jointplay.contact.ecs import PAPER_PUBLISHED, EcsConventions, EcsSweep, ecs_analysis, ecs_sweep
+from jointplay.dynamics.setup import clearance_joints
+from jointplay.dynamics.simulate import SolverOptions, Start, simulate
+from jointplay.errors import JointplayError
+from jointplay.io.config import load_preset, mechanism_summary
+from jointplay.kinematics import fourbar
+from jointplay.model.mechanism import Mechanism
+from jointplay.model.templates import FourBarGeometry, template_of, with_lengths
+from jointplay.study.methods import METHODS, method_law
+from jointplay.study.nominal import nominal_analysis
+
+#: The paper's radial clearance in all four joints (the largest of Ø10 H8/g7), m.
+PAPER_CLEARANCE = 21e-6
+JOINTS = ("O2", "A", "B", "O4")
+LENGTHS = ("crank", "coupler", "rocker", "ground")
+PEAK_KEYS = ("omega3", "omega4", "alpha3", "alpha4", "F_O2", "F_A", "F_B", "F_O4", "torque")
+TRACE_COLUMNS = (
+    "t",
+    "crank_deg",
+    "omega3",
+    "omega4",
+    "alpha3",
+    "alpha4",
+    "F_O2",
+    "F_A",
+    "F_B",
+    "F_O4",
+    "torque",
+)
+
+
+@dataclass(frozen=True)
+class PaperStudyOptions:
+    """Settings of the paper study.
+
+    Attributes:
+        rpm: crank speed, rev/min (the paper's 200).
+        revolutions: simulated crank revolutions from rest for every method and case.
+        ecs_sources: parameter sources of the four ECS methods (``"paper"``: Tables 4–5;
+            ``"computed"``: our ECS estimate).
+        tolerance_method, tolerance_source: the method of the nominal-vs-actual study and the
+            sensitivities (the paper's preferred IFM with spherical-contact ECS parameters).
+        corners: simulate all 16 corners of the length tolerances (else only all-upper and
+            all-lower).
+        startup_deg: crank-angle window after the start in which start-up peaks are taken.
+        workers: processes for the simulations (1: in this process).
+        experiment_revolutions: revolutions of the steady runs compared with Table 7.
+    """
+
+    rpm: float = 200.0
+    revolutions: float = 1.0
+    ecs_sources: tuple[str, ...] = ("paper", "computed")
+    tolerance_method: str = "ifm-ecs-spherical"
+    tolerance_source: str = "paper"
+    corners: bool = True
+    startup_deg: float = 10.0
+    workers: int = 2
+    experiment_revolutions: int = 3
+
+
+@dataclass(frozen=True)
+class SimTask:
+    """One simulation of the study: a method, its parameter source and the link lengths."""
+
+    key: str
+    method: str
+    ecs_source: str
+    lengths: tuple[tuple[str, float], ...]
+    revolutions: float
+    rpm: float
+    startup_deg: float
+    keep_trace: bool = False
+
+
+@dataclass(frozen=True)
+class SimOutcome:
+    """What a task returns: the simulation summary, start-up peaks and (optionally) a trace."""
+
+    task: SimTask
+    summary: dict[str, Any] | None
+    startup_peaks: dict[str, float] | None
+    sampled_peaks: dict[str, float] | None
+    trace: pd.DataFrame | None
+    orbits: pd.DataFrame | None
+    error: str | None
+    wall_s: float
+
+    @property
+    def ok(self) -> bool:
+        return self.error is None
+
+    def peak(self, key: str) -> float:
+        return float(self.summary["peaks"][key]["value"]) if self.summary else math.nan
+
+
+def paper_mechanism(rpm: float = 200.0) -> Mechanism:
+    """The paper's crank-rocker at ``rpm``."""
+    return load_preset("paper-fourbar").with_driver(speed=rpm * math.pi / 30.0)
+
+
+def run_task(task: SimTask) -> SimOutcome:
+    """Run one :class:`SimTask` (module-level so that worker processes can pickle it)."""
+    wall = time.perf_counter()
+    try:
+        basic = paper_mechanism(task.rpm)
+        # Contact parameters belong to the joints, not to the link lengths: derive them once
+        # from the basic mechanism and keep them for every toleranced variant.
+        law, _ = method_law(task.method, basic, ecs_source=task.ecs_source)
+        mechanism = with_lengths(basic, **dict(task.lengths)) if task.lengths else basic
+        joints = clearance_joints(mechanism, list(JOINTS), clearance=PAPER_CLEARANCE, law=law)
+        result = simulate(
+            mechanism,
+            joints,
+            revolutions=task.revolutions,
+            start=Start("rest"),
+            solver=SolverOptions(),
+        )
+    except JointplayError as exc:
+        return SimOutcome(
+            task,
+            None,
+            None,
+            None,
+            None,
+            None,
+            f"{type(exc).__name__}: {exc}",
+            time.perf_counter() - wall,
+        )
+    steps = result.steps
+    start = steps["crank_deg"].iloc[0]
+    window = steps[steps["crank_deg"] - start <= task.startup_deg]
+    startup = {key: float(window[key].abs().max()) for key in PEAK_KEYS}
+    # The same peaks seen at a plotting resolution (every 0.5° of crank, as the time series):
+    # how much of a peak survives output sampling, as in a post-processor's curves.
+    sampled = {key: float(result.timeseries[key].abs().max()) for key in PEAK_KEYS}
+    trace = orbits = None
+    if task.keep_trace:
+        trace = decimate(steps[list(TRACE_COLUMNS)], 6000)
+        orbit_columns = [c for j in JOINTS for c in (f"ex_{j}", f"ey_{j}")]
+        orbits = decimate(steps[orbit_columns], 6000)
+    return SimOutcome(
+        task, result.summary(), startup, sampled, trace, orbits, None, time.perf_counter() - wall
+    )
+
+
+def decimate(table: pd.DataFrame, target: int) -> pd.DataFrame:
+    """At most about ``target`` rows, keeping every column's extreme in each bin (spikes survive)."""
+    if len(table) <= target:
+        return table.reset_index(drop=True)
+    values = table.to_numpy()
+    bins = max(1, target // (2 * values.shape[1]))
+    edges = np.linspace(0, len(table), bins + 1).astype(int)
+    keep = {0, len(table) - 1}
+    for lo, hi in itertools.pairwise(edges):
+        if hi <= lo:
+            continue
+        block = np.abs(values[lo:hi])
+        keep.update(lo + np.argmax(block, axis=0))
+        keep.update(lo + np.argmin(block, axis=0))
+        keep.add(lo)
+    return table.iloc[sorted(keep)].reset_index(drop=True)
+
+
+def run_tasks(
+    tasks: Sequence[SimTask], workers: int, progress: Callable[[SimOutcome], None] | None = None
+) -> dict[str, SimOutcome]:
+    """Run tasks on ``workers`` processes (in order of submission for one worker)."""
+    outcomes: dict[str, SimOutcome] = {}
+    if workers <= 1 or len(tasks) <= 1:
+        for task in tasks:
+            outcome = run_task(task)
+            outcomes[task.key] = outcome
+            if progress:
+                progress(outcome)
+        return outcomes
+    # Longest first, so the slow cylindrical runs do not end up last on one worker.
+    ordered = sorted(tasks, key=lambda t: "cylindrical" not in t.method)
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        futures = [pool.submit(run_task, task) for task in ordered]
+        for future in as_completed(futures):
+            outcome = future.result()
+            outcomes[outcome.task.key] = outcome
+            if progress:
+                progress(outcome)
+    return outcomes
+
+
+def _limits(mechanism: Mechanism) -> dict[str, tuple[float, float]]:
+    geometry = template_of(mechanism).geometry
+    basic = geometry.lengths
+    return {
+        t.length: (basic[t.length] + t.lower, basic[t.length] + t.upper)
+        for t in mechanism.tolerances
+    }
+
+
+def plan(options: PaperStudyOptions) -> list[SimTask]:
+    """Every simulation of the study."""
+    mechanism = paper_mechanism(options.rpm)
+    limits = _limits(mechanism)
+    tasks: list[SimTask] = []
+
+    def add(
+        key: str, method: str, source: str, lengths: dict[str, float], trace: bool = False
+    ) -> None:
+        tasks.append(
+            SimTask(
+                key,
+                method,
+                source,
+                tuple(sorted(lengths.items())),
+                options.revolutions,
+                options.rpm,
+                options.startup_deg,
+                trace,
+            )
+        )
+
+    for method in METHODS.values():
+        sources = options.ecs_sources if method.uses_ecs else ("-",)
+        for source in sources:
+            add(f"method/{method.name}/{source}", method.name, source, {}, trace=True)
+    corners = (
+        list(itertools.product((0, 1), repeat=len(LENGTHS)))
+        if options.corners
+        else [(1,) * len(LENGTHS), (0,) * len(LENGTHS)]
+    )
+    for corner in corners:
+        lengths = {name: limits[name][side] for name, side in zip(LENGTHS, corner, strict=True)}
+        label = "".join("+" if side else "-" for side in corner)
+        add(f"corner/{label}", options.tolerance_method, options.tolerance_source, lengths)
+    for name in LENGTHS:
+        add(
+            f"sensitivity/{name}",
+            options.tolerance_method,
+            options.tolerance_source,
+            {name: limits[name][1]},
+        )
+    for side, label in ((1, "upper"), (0, "lower")):
+        lengths = {name: limits[name][side] for name in LENGTHS}
+        add(f"cylindrical/{label}", "ifm-ecs-cylindrical", options.tolerance_source, lengths)
+    return tasks
+
+
+@dataclass(frozen=True)
+class PaperStudy:
+    """Everything the paper study computed (SI; figures are made from it by the report)."""
+
+    options: PaperStudyOptions
+    mechanism: Mechanism
+    nominal: pd.DataFrame
+    nominal_summary: dict[str, Any]
+    nominal_peaks: dict[str, float]
+    ecs: dict[str, Any]
+    ecs_sweep: EcsSweep
+    outcomes: dict[str, SimOutcome]
+    length_cases: pd.DataFrame
+    sensitivities: pd.DataFrame
+    experiment: dict[str, Any] | None
+    wall_s: float
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    def outcome(self, key: str) -> SimOutcome:
+        return self.outcomes[key]
+
+
+def _nominal_peaks(table: pd.DataFrame) -> dict[str, float]:
+    return {key: float(table[key].abs().max()) for key in PEAK_KEYS}
+
+
+def run_paper_study(
+    options: PaperStudyOptions | None = None,
+    *,
+    progress: Callable[[str, int, int], None] | None = None,
+    experiment: Callable[[Mechanism, PaperStudyOptions], dict[str, Any]] | None = None,
+) -> PaperStudy:
+    """Run the whole study; ``progress(label, done, total)`` is called after each piece."""
+    options = options or PaperStudyOptions()
+    wall = time.perf_counter()
+    mechanism = paper_mechanism(options.rpm)
+    tasks = plan(options)
+    total = len(tasks) + 3 + (1 if experiment else 0)
+    done = 0
+
+    def tick(label: str) -> None:
+        nonlocal done
+        done += 1
+        if progress:
+            progress(label, done, total)
+
+    nominal = nominal_analysis(mechanism, step_deg=0.1)
+    tick("nominal kinematics and inverse dynamics")
+    conventions = EcsConventions()
+    ecs = ecs_analysis(mechanism, conventions, nominal=nominal)
+    sweep = ecs_sweep(mechanism, list(range(50, 501, 50)), conventions)
+    tick("ECS contact parameters and crank-speed sweep")
+    # Compile (or load) the kernels once here, so worker processes find them in the cache.
+    warm = clearance_joints(
+        mechanism,
+        ["A"],
+        clearance=PAPER_CLEARANCE,
+        law=method_law("ifm-conventional", mechanism)[0],
+    )
+    simulate(mechanism, warm, revolutions=0.002)
+    outcomes = run_tasks(tasks, options.workers, lambda o: tick(o.task.key))
+    experiment_result = experiment(mechanism, options) if experiment else None
+    if experiment:
+        tick("comparison with the experiment (Table 7)")
+    length_cases = _length_cases(mechanism, outcomes, options)
+    sensitivities = _sensitivities(mechanism, outcomes, options)
+    tick("nominal vs actual and sensitivities")
+    return PaperStudy(
+        options=options,
+        mechanism=mechanism,
+        nominal=nominal.table,
+        nominal_summary=nominal.summary,
+        nominal_peaks=_nominal_peaks(nominal.table),
+        ecs={
+            "computed": ecs.as_dict(),
+            "published": {name: value.as_dict() for name, value in PAPER_PUBLISHED.items()},
+            "conventions": conventions.as_dict(),
+        },
+        ecs_sweep=sweep,
+        outcomes=outcomes,
+        length_cases=length_cases,
+        sensitivities=sensitivities,
+        experiment=experiment_result,
+        wall_s=time.perf_counter() - wall,
+        extra={"configuration": mechanism_summary(mechanism)},
+    )
+
+
+def _kinematic_peaks(mechanism: Mechanism, lengths: dict[str, float]) -> dict[str, float]:
+    variant = with_lengths(mechanism, **lengths) if lengths else mechanism
+    return _nominal_peaks(nominal_analysis(variant, step_deg=0.1).table)
+
+
+def _length_cases(
+    mechanism: Mechanism, outcomes: dict[str, SimOutcome], options: PaperStudyOptions
+) -> pd.DataFrame:
+    """Nominal vs actual: each length case with and without clearance, % change vs nominal."""
+    nominal = _kinematic_peaks(mechanism, {})
+    rows = []
+    for key, outcome in outcomes.items():
+        if not key.startswith(("corner/", "cylindrical/")):
+            continue
+        lengths = dict(outcome.task.lengths)
+        ideal = _kinematic_peaks(mechanism, lengths)
+        row: dict[str, Any] = {
+            "case": key,
+            "method": outcome.task.method,
+            "ecs_source": outcome.task.ecs_source,
+            **{f"{name}_mm": lengths[name] * 1e3 for name in LENGTHS},
+            "status": "ok" if outcome.ok else outcome.error,
+        }
+        for peak in PEAK_KEYS:
+            row[f"{peak}_ideal"] = ideal[peak]
+            row[f"{peak}_ideal_change_pct"] = 100 * (ideal[peak] / nominal[peak] - 1)
+            value = outcome.peak(peak) if outcome.ok else math.nan
+            row[peak] = value
+            row[f"{peak}_change_pct"] = 100 * (value / nominal[peak] - 1)
+        rows.append(row)
+    table = pd.DataFrame(rows)
+    if not table.empty:
+        table = table.sort_values("case").reset_index(drop=True)
+    return table
+
+
+def worst_corners(length_cases: pd.DataFrame, method: str) -> pd.DataFrame:
+    """For each output, the length corner with the largest peak (clearance runs of ``method``)."""
+    corners = length_cases[
+        length_cases["case"].str.startswith("corner/") & (length_cases["method"] == method)
+    ]
+    rows = []
+    for peak in PEAK_KEYS:
+        valid = corners.dropna(subset=[peak])
+        if valid.empty:
+            continue
+        best = valid.loc[valid[peak].idxmax()]
+        rows.append(
+            {
+                "output": peak,
+                "worst_corner": best["case"].removeprefix("corner/"),
+                "peak": best[peak],
+                "change_pct": best[f"{peak}_change_pct"],
+                "ideal_worst_corner": valid.loc[valid[f"{peak}_ideal"].idxmax()][
+                    "case"
+                ].removeprefix("corner/"),
+                "ideal_peak": valid[f"{peak}_ideal"].max(),
+            }
+        )
+    return pd.DataFrame(rows)
+
+
+def _sensitivities(
+    mechanism: Mechanism, outcomes: dict[str, SimOutcome], options: PaperStudyOptions
+) -> pd.DataFrame:
+    """% change of the rocker's peak angular acceleration when one length is at its upper limit.
+
+    Kinematic: ideal joints, steady motion (a smooth function of the lengths). Dynamic: with
+    clearance, from rest, the tolerance method — dominated by the start-up impacts.
+    """
+    limits = _limits(mechanism)
+    basic_lengths = template_of(mechanism).geometry.lengths
+    nominal_alpha = _kinematic_peaks(mechanism, {})["alpha4"]
+    reference = outcomes.get(f"method/{options.tolerance_method}/{options.tolerance_source}")
+    dynamic_base = reference.peak("alpha4") if reference and reference.ok else math.nan
+    rows = []
+    for name in LENGTHS:
+        upper = limits[name][1]
+        kinematic = _kinematic_peaks(mechanism, {name: upper})["alpha4"]
+        outcome = outcomes[f"sensitivity/{name}"]
+        dynamic = outcome.peak("alpha4") if outcome.ok else math.nan
+        rows.append(
+            {
+                "length": name,
+                "basic_mm": basic_lengths[name] * 1e3,
+                "deviation_mm": (upper - basic_lengths[name]) * 1e3,
+                "kinematic_alpha4": kinematic,
+                "kinematic_change_pct": 100 * (kinematic / nominal_alpha - 1),
+                "dynamic_alpha4": dynamic,
+                "dynamic_change_pct": 100 * (dynamic / dynamic_base - 1),
+            }
+        )
+    return pd.DataFrame(rows)
+
+
+def geometry_figures(mechanism: Mechanism) -> dict[str, Any]:
+    """Grashof class, rocker swing and transmission angles of the paper's mechanism."""
+    geometry = template_of(mechanism).geometry
+    assert isinstance(geometry, FourBarGeometry)
+    extended, folded = fourbar.rocker_limit_positions(geometry, mechanism.branch)
+    mu = np.degrees(fourbar.transmission_angle(geometry, np.radians(np.arange(0, 360, 0.1))))
+    return {
+        "grashof": fourbar.grashof(geometry).kind,
+        "rocker_swing_deg": math.degrees(abs(extended.rocker_angle - folded.rocker_angle)),
+        "transmission_angle_deg": [float(mu.min()), float(mu.max())],
+    }
