@@ -1,0 +1,330 @@
+"""``jointplay compare``: simulated rocker speed against measurements (Table 7, Figs. 17–20).
+
+Prints the per-point table (measured and simulated speeds and the paper's error % per method,
+in the measurement's unit), the statistics per method, the best-agreeing method, the
+discrepancy with the nominal kinematics and its labelled what-if (never applied), and — for
+the paper's Table 7 — how its printed error column follows from its printed speeds. See
+:mod:`jointplay.study.experiment` for the conventions and definitions.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Annotated, Any
+
+import numpy as np
+import typer
+from rich.console import Console
+from rich.table import Table
+
+from jointplay.cli._app import app
+from jointplay.cli._common import (
+    ConfigOption,
+    PresetOption,
+    RpmOption,
+    mechanism_from_options,
+    provenance,
+)
+from jointplay.errors import ConfigError
+from jointplay.io.config import mechanism_summary
+from jointplay.io.output import output_dir, write_json
+from jointplay.units import parse_quantity
+
+#: Width of the tables when the output is not a terminal (files, pipes, tests), characters.
+PIPE_WIDTH = 160
+
+
+def _opt(help_text: str, *names: str) -> Any:
+    return typer.Option(*names, help=help_text)
+
+
+@app.command("compare")
+def compare_command(
+    preset: PresetOption = None,
+    config: ConfigOption = None,
+    rpm: RpmOption = None,
+    measurements: Annotated[
+        Path | None,
+        _opt(
+            "CSV of crank angle (deg) and measured rocker speed; '#' lines are comments. "
+            "Default: the paper's Table 7 (shipped with jointplay).",
+            "--measurements",
+            "-m",
+        ),
+    ] = None,
+    angle_column: Annotated[
+        str, _opt("Column of crank angles, degrees.", "--angle-column")
+    ] = "crank_deg",
+    speed_column: Annotated[
+        str | None,
+        _opt(
+            "Column of measured speeds (default: the other column of a two-column file; "
+            "experiment_printed for Table 7).",
+            "--speed-column",
+        ),
+    ] = None,
+    unit: Annotated[
+        str,
+        _opt(
+            "Unit of the measured speeds: deg/s (default; Table 7's 'RPM' read as deg/s, see "
+            "paper-notes.md), rpm or rad/s.",
+            "--unit",
+        ),
+    ] = "deg/s",
+    crank_direction: Annotated[
+        str, _opt("The rig's crank direction: cw (default) or ccw.", "--crank-direction")
+    ] = "cw",
+    angle_direction: Annotated[
+        str,
+        _opt(
+            "Sense in which the file counts crank angles: cw (default) or ccw.", "--angle-direction"
+        ),
+    ] = "cw",
+    angle_origin: Annotated[
+        str,
+        _opt(
+            "Crank position of the file's 0, CCW from the ground line O2->O4, with a unit "
+            "(default '0 deg': crank pointing at the rocker pivot O4).",
+            "--angle-origin",
+        ),
+    ] = "0 deg",
+    speed_positive: Annotated[
+        str,
+        _opt(
+            "Rocker rotation that the file's positive speeds mean: ccw (default) or cw.",
+            "--speed-positive",
+        ),
+    ] = "ccw",
+    method: Annotated[
+        list[str] | None,
+        _opt(
+            "Simulation to compare (repeatable): nominal (ideal joints) or one of the paper's "
+            "methods ifm-conventional, rm-conventional, ifm-ecs-cylindrical, rm-ecs-cylindrical, "
+            "ifm-ecs-spherical, rm-ecs-spherical. Default: nominal and the four ECS methods.",
+            "--method",
+        ),
+    ] = None,
+    ecs_source: Annotated[
+        str,
+        _opt(
+            "ECS parameters: computed (our estimate, default) or paper (Tables 4 and 5).",
+            "--ecs-source",
+        ),
+    ] = "computed",
+    revolutions: Annotated[
+        float,
+        _opt(
+            "Simulated crank periods from the nominal steady motion; only the last full "
+            "revolution is compared (default 3, at least 1).",
+            "--revolutions",
+        ),
+    ] = 3.0,
+    low_speed: Annotated[
+        float,
+        _opt(
+            "Leave points whose |simulated| is below this fraction of the largest out of the "
+            "error-% statistics (default 0.1).",
+            "--low-speed",
+        ),
+    ] = 0.1,
+    as_json: Annotated[
+        bool, typer.Option("--json", help="Print the comparison as JSON instead of tables.")
+    ] = False,
+    out: Annotated[
+        Path | None,
+        typer.Option(
+            "--out",
+            "-o",
+            help="Write comparison.csv, comparison.json and overlay PNGs to this folder.",
+        ),
+    ] = None,
+) -> None:
+    """Compare the simulated steady-cycle rocker speed with measurements.
+
+    Error % = (measured − simulated) / simulated × 100, as the paper defines it (Table 7).
+    Nothing is rescaled: the discrepancy with the nominal kinematics is reported as a
+    labelled what-if (the crank speed that would explain it).
+    """
+    from jointplay.study import experiment as ex
+    from jointplay.study.methods import ECS_SOURCES, METHODS
+
+    conventions = ex.MeasurementConventions(
+        unit=_choice(unit, "--unit", tuple(ex.SPEED_UNITS)),
+        crank_direction=_choice(crank_direction, "--crank-direction", ex.DIRECTIONS),
+        angle_direction=_choice(angle_direction, "--angle-direction", ex.DIRECTIONS),
+        angle_origin=math.degrees(parse_quantity(angle_origin, "rad", field="--angle-origin")),
+        speed_sign=1 if _choice(speed_positive, "--speed-positive", ex.DIRECTIONS) == "ccw" else -1,
+    )
+    methods = list(dict.fromkeys(method or ex.DEFAULT_METHODS))
+    for name in methods:
+        if name != ex.NOMINAL and name not in METHODS:
+            raise ConfigError(
+                f"--method: unknown method {name!r}; use {ex.NOMINAL} or one of "
+                f"{', '.join(METHODS)}"
+            )
+    if ecs_source not in ECS_SOURCES:
+        raise ConfigError(f"--ecs-source must be computed or paper, got {ecs_source!r}")
+    if not (math.isfinite(revolutions) and revolutions >= 1):
+        raise ConfigError(
+            f"--revolutions must be >= 1 (the last full revolution is compared), got {revolutions}"
+        )
+    if not (math.isfinite(low_speed) and 0 <= low_speed < 1):
+        raise ConfigError(f"--low-speed must be a fraction in [0, 1), got {low_speed}")
+    data = _measurements(ex, measurements, angle_column, speed_column, conventions)
+    mechanism = ex.rig_mechanism(mechanism_from_options(preset, config, rpm), conventions)
+    status = Console(stderr=True)
+    nominal = ex.compare(data, ex.nominal_cycle(mechanism), low_speed_fraction=low_speed)
+    comparisons = []
+    for name in methods:
+        if name == ex.NOMINAL:
+            comparisons.append(nominal)
+            continue
+        with status.status(f"simulating {name}: {revolutions:g} revolution(s) of {mechanism.name}"):
+            cycle = ex.steady_cycle(mechanism, name, revolutions=revolutions, ecs_source=ecs_source)
+        comparisons.append(ex.compare(data, cycle, low_speed_fraction=low_speed))
+    result = ex.summarize_comparisons(data, comparisons, nominal)
+    document = {**result.as_dict(), "ecs_source": ecs_source}
+    if out is not None:
+        with output_dir(out) as folder:
+            result.points_table().to_csv(
+                folder / "comparison.csv", index=False, float_format="%.10g"
+            )
+            write_json(
+                folder / "comparison.json",
+                {
+                    **document,
+                    "provenance": provenance({"mechanism": mechanism_summary(mechanism)}),
+                },
+            )
+            ex.overlay_plots(
+                result,
+                folder,
+                title=f"{mechanism.name}: rocker speed, {data.source}",
+            )
+    if as_json:
+        print(json.dumps(_clean(document), indent=2, ensure_ascii=False, allow_nan=False))
+        return
+    _print(result, mechanism, out)
+
+
+def _clean(value: Any) -> Any:
+    """NaN and inf become null; NumPy scalars and arrays become Python numbers and lists."""
+    if isinstance(value, dict):
+        return {str(k): _clean(v) for k, v in value.items()}
+    if isinstance(value, list | tuple | np.ndarray):
+        return [_clean(v) for v in value]
+    if isinstance(value, np.bool_):
+        return bool(value)
+    if isinstance(value, np.integer):
+        return int(value)
+    if isinstance(value, float | np.floating):
+        return float(value) if math.isfinite(value) else None
+    return value
+
+
+def _choice(text: str, option: str, choices: tuple[str, ...]) -> str:
+    value = text.strip().lower()
+    if value not in choices:
+        raise ConfigError(f"{option} must be one of {', '.join(choices)}, got {text!r}")
+    return value
+
+
+def _measurements(
+    ex: Any,
+    path: Path | None,
+    angle_column: str,
+    speed_column: str | None,
+    conventions: Any,
+) -> Any:
+    if path is not None:
+        return ex.read_measurements(
+            path, angle_column=angle_column, speed_column=speed_column, conventions=conventions
+        )
+    columns = ex.PAPER_TABLE7_COLUMNS
+    if angle_column == columns["angle"] and speed_column in (None, columns["speed"]):
+        return ex.paper_table7(conventions)
+    with ex.paper_table7_path().open("r", encoding="utf-8") as stream:
+        return ex.read_measurements(
+            stream,
+            angle_column=angle_column,
+            speed_column=speed_column or columns["speed"],
+            conventions=conventions,
+        )
+
+
+def _number(value: float, digits: str = ".1f") -> str:
+    return "" if not math.isfinite(value) else format(value, digits)
+
+
+def _print(result: Any, mechanism: Any, out: Path | None) -> None:
+    console = Console(highlight=False, soft_wrap=True)
+    if not console.is_terminal:
+        console.width = PIPE_WIDTH
+    data = result.measurements
+    conventions = data.conventions
+    unit = conventions.unit
+    console.print(f"measurements: {data.source} (columns {data.angle_column}, {data.speed_column})")
+    console.print(f"conventions: {conventions.describe()}")
+    console.print(
+        f"mechanism: {mechanism.name}, crank {conventions.crank_direction} at "
+        f"{mechanism.driver.speed * 30 / math.pi:g} RPM; error % = (measured − simulated) / "
+        "simulated × 100 (the paper's definition)"
+    )
+    for c in result.comparisons:
+        console.print(f"  {c.description}")
+    points = Table(title=f"rocker speed ({unit}) and error % per point", box=None)
+    points.add_column("crank (deg)", justify="right")
+    points.add_column("measured", justify="right")
+    for c in result.comparisons:
+        points.add_column(c.method, justify="right")
+        points.add_column("err %", justify="right")
+    frames = [c.points for c in result.comparisons]
+    for i in range(len(data.crank_deg)):
+        row = [f"{data.crank_deg[i]:g}", f"{data.speed[i]:.4g}"]
+        for frame in frames:
+            flag = "*" if bool(frame["low_speed"].iloc[i]) else ""
+            row += [
+                f"{frame['simulated'].iloc[i]:.1f}",
+                _number(float(frame["error_percent"].iloc[i]), "+.2f") + flag,
+            ]
+        points.add_row(*row)
+    console.print(points)
+    flagged = [c for c in result.comparisons if c.points["low_speed"].any()]
+    if flagged:
+        console.print(
+            "  * |simulated| below the low-speed threshold: left out of the error-% statistics"
+        )
+    stats = Table(title="agreement per simulation", box=None)
+    for name in (
+        "method",
+        "RMS err %",
+        "max |err %|",
+        "at (deg)",
+        f"RMS diff ({unit})",
+        f"max |diff| ({unit})",
+        "RMS diff (rad/s)",
+        "points in %",
+        "what-if factor",
+    ):
+        stats.add_column(name, justify="left" if name == "method" else "right")
+    for row in result.table.itertuples():
+        stats.add_row(
+            str(row.method),
+            _number(row.rms_error_percent, ".2f"),
+            _number(row.max_abs_error_percent, ".2f"),
+            _number(row.max_error_at_deg, "g"),
+            _number(row.rms_difference_in_unit, ".1f"),
+            _number(row.max_abs_difference_in_unit, ".1f"),
+            _number(row.rms_difference_rad_s, ".3f"),
+            f"{row.n_percent_points}/{row.n_points}",
+            _number(row.speed_factor_what_if, ".3f"),
+        )
+    console.print(stats)
+    console.print(result.verdict())
+    console.print(f"discrepancy: {result.discrepancy.summary()}")
+    if result.printed_check is not None:
+        console.print(f"paper's printed errors: {result.printed_check.summary()}")
+    if out is not None:
+        console.print(f"results written to {out}")
