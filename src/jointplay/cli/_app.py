@@ -39,8 +39,13 @@ def fail(message: str) -> None:
     print(f"jointplay: error: {message}", file=sys.stderr)
 
 
+#: The arguments of the command being run (for the provenance records of result files).
+current_argv: list[str] = []
+
+
 def run(argv: list[str] | None = None) -> int:
     """Run the CLI with ``argv`` and return the exit status (0 on success)."""
+    current_argv[:] = list(sys.argv[1:] if argv is None else argv)
     try:
         # Without standalone mode Typer returns (rather than raises) the code of typer.Exit
         # and of an interrupted command.

@@ -11,6 +11,7 @@ from typing import Annotated, Any
 import typer
 
 from jointplay import __version__
+from jointplay.cli._app import current_argv
 from jointplay.errors import ConfigError
 from jointplay.io.config import load_mechanism
 from jointplay.model.mechanism import Mechanism
@@ -97,6 +98,6 @@ def provenance(configuration: Any) -> dict[str, Any]:
     return {
         "jointplay_version": __version__,
         "python": sys.version.split()[0],
-        "command_line": " ".join(shlex.quote(a) for a in ["jointplay", *sys.argv[1:]]),
+        "command_line": " ".join(shlex.quote(a) for a in ["jointplay", *current_argv]),
         "configuration": configuration,
     }

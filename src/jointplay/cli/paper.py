@@ -90,17 +90,8 @@ def paper_command(
         def report(label: str, done: int, total: int) -> None:
             progress.update(task, completed=done, total=total, description=label)
 
-        study = run_paper_study(options, progress=report, experiment=_experiment())
+        study = run_paper_study(options, progress=report)
     record = provenance({"options": {k: getattr(options, k) for k in options.__dataclass_fields__}})
     with output_dir(out) as folder:
         write_paper_report(study, folder, record)
     typer.echo(f"paper study written to {out}/report.html ({study.wall_s:.0f} s)")
-
-
-def _experiment():  # type: ignore[no-untyped-def]
-    """The Table 7 comparison step, if that module is available."""
-    try:
-        from jointplay.study.experiment import paper_study_comparison
-    except ImportError:
-        return None
-    return paper_study_comparison

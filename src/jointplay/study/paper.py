@@ -32,6 +32,12 @@ from jointplay.io.config import load_preset, mechanism_summary
 from jointplay.kinematics import fourbar
 from jointplay.model.mechanism import Mechanism
 from jointplay.model.templates import FourBarGeometry, template_of, with_lengths
+from jointplay.study.experiment import (
+    DEFAULT_METHODS,
+    MethodsComparison,
+    compare_methods,
+    paper_table7,
+)
 from jointplay.study.methods import METHODS, method_law
 from jointplay.study.nominal import nominal_analysis
 
@@ -282,7 +288,7 @@ class PaperStudy:
     outcomes: dict[str, SimOutcome]
     length_cases: pd.DataFrame
     sensitivities: pd.DataFrame
-    experiment: dict[str, Any] | None
+    experiment: MethodsComparison | None
     wall_s: float
     extra: dict[str, Any] = field(default_factory=dict)
 
@@ -298,7 +304,7 @@ def run_paper_study(
     options: PaperStudyOptions | None = None,
     *,
     progress: Callable[[str, int, int], None] | None = None,
-    experiment: Callable[[Mechanism, PaperStudyOptions], dict[str, Any]] | None = None,
+    experiment: bool = True,
 ) -> PaperStudy:
     """Run the whole study; ``progress(label, done, total)`` is called after each piece."""
     options = options or PaperStudyOptions()
@@ -329,8 +335,16 @@ def run_paper_study(
     )
     simulate(mechanism, warm, revolutions=0.002)
     outcomes = run_tasks(tasks, options.workers, lambda o: tick(o.task.key))
-    experiment_result = experiment(mechanism, options) if experiment else None
+    experiment_result = None
     if experiment:
+        experiment_result = compare_methods(
+            paper_table7(),
+            mechanism,
+            DEFAULT_METHODS,
+            revolutions=options.experiment_revolutions,
+            ecs_source=options.tolerance_source,
+            clearance=PAPER_CLEARANCE,
+        )
         tick("comparison with the experiment (Table 7)")
     length_cases = _length_cases(mechanism, outcomes, options)
     sensitivities = _sensitivities(mechanism, outcomes, options)
