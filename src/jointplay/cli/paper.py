@@ -49,6 +49,13 @@ def paper_command(
     workers: Annotated[
         int, typer.Option("--workers", help="Worker processes for the simulations.")
     ] = 2,
+    experiment_revolutions: Annotated[
+        int,
+        typer.Option(
+            "--experiment-revolutions",
+            help="Revolutions of the steady runs compared with Table 7 (the last one is used).",
+        ),
+    ] = 3,
 ) -> None:
     """Reproduce the paper's study (Akhadkar et al.) and write OUT/report.html and OUT/results.json.
 
@@ -64,6 +71,8 @@ def paper_command(
         raise ConfigError(f"--ecs-source must be both, paper or computed, got {ecs_source!r}")
     if not (revolutions > 0 and rpm > 0):
         raise ConfigError("--revolutions and --rpm must be > 0")
+    if experiment_revolutions < 1:
+        raise ConfigError(f"--experiment-revolutions must be >= 1, got {experiment_revolutions}")
     if workers < 1:
         raise ConfigError(f"--workers must be >= 1, got {workers}")
     options = PaperStudyOptions(
@@ -73,6 +82,7 @@ def paper_command(
         tolerance_source=sources[ecs_source][0],
         corners=corners,
         workers=workers,
+        experiment_revolutions=experiment_revolutions,
     )
     console = Console(stderr=True)
     with Progress(
