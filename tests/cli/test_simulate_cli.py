@@ -108,3 +108,56 @@ def test_bad_input(tmp_path, capsys, args, message) -> None:
     err = capsys.readouterr().err
     assert message in err and err.count("\n") == 1 and "Traceback" not in err
     assert not out.exists()
+
+
+LAW_OPTIONS = {
+    "impact": [],
+    "restitution": ["--k", "1e7 N/m", "--restitution", "0.8"],
+    "hertz": ["--k", "1e10 N/m^1.5"],
+    "kelvin-voigt": ["--k", "1e7 N/m", "--exponent", "1", "--damping", "200 N*s/m"],
+    "hunt-crossley": ["--k", "1e10 N/m^1.5"],
+    "lankarani-nikravesh": ["--k", "1e10 N/m^1.5"],
+    "flores": ["--k", "1e10 N/m^1.5"],
+    "gonthier": ["--k", "1e10 N/m^1.5"],
+    "hu-guo": ["--k", "1e10 N/m^1.5"],
+    "herbert-mcwhannell": ["--k", "1e10 N/m^1.5"],
+    "lee-wang": ["--k", "1e10 N/m^1.5"],
+    "zhiying-qishao": ["--k", "1e10 N/m^1.5"],
+}
+
+
+@pytest.mark.parametrize("law", list(LAW_OPTIONS))
+def test_every_law_runs_from_the_cli(tmp_path, law) -> None:
+    out = tmp_path / law
+    args = ["simulate", "--contact", law, *LAW_OPTIONS[law], "--revolutions", "0.01", "--no-plots"]
+    assert run([*args, "--out", str(out)]) == 0
+    assert json.loads((out / "summary.json").read_text())["clearance_joints"]["A"]["law"] == law
+
+
+@pytest.mark.parametrize(
+    "start",
+    [["--start", "rest"], ["--start", "steady"], ["--start", "ramp", "--ramp-time", "5 ms"]],
+)
+def test_every_start_mode_and_friction_runs(tmp_path, start) -> None:
+    out = tmp_path / "s"
+    args = ["simulate", *start, "--friction", "0.1", "--revolutions", "0.01", "--no-plots"]
+    assert run([*args, "--out", str(out)]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["clearance_joints"]["O2"]["friction"]["law"] == "ambrosio"
+    assert summary["solver"]["energy_residual"] < 1e-5
+
+
+def test_stiffness_from_geometry(tmp_path) -> None:
+    out = tmp_path / "geo"
+    args = [
+        "simulate",
+        "--contact",
+        "lankarani-nikravesh",
+        "--stiffness-law",
+        "pereira",
+        "--revolutions",
+        "0.01",
+    ]
+    assert run([*args, "--no-plots", "--out", str(out)]) == 0
+    law = json.loads((out / "summary.json").read_text())["clearance_joints"]["A"]["law_parameters"]
+    assert 1.2 < law["exponent"] < 1.4  # Pereira's n for a 21 µm clearance is ~1.3
