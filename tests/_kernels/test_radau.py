@@ -210,6 +210,50 @@ def odd_theta(t_old, y_old, t_new, y_new, args):
     return np.nan if k == 0 else (0.0 if k == 1 else -1.0)
 
 
+@numba.njit(cache=True)
+def two_masses(t, y, args):
+    """Two unit masses on a stiff spring chain, second-order form, with passive components.
+
+    y = (x1, x2, v1, v2, W, c2): positions, velocities, the work W dissipated by the
+    dampers (a quadrature: nothing depends on it) and the damping c2 of the second mass
+    (constant in the ODE: its rate is 0, as the contact memory of the simulator).
+    p = (k1 [N/m], c1 [N·s/m], k3 [N/m³]); the coupling spring is cubic (nonlinear).
+    """
+    k1, c1, k3 = args[0][0], args[0][1], args[0][2]
+    x1, x2, v1, v2, c2 = y[0], y[1], y[2], y[3], y[5]
+    coupling = k3 * (x2 - x1) ** 3
+    a1 = -k1 * x1 - c1 * v1 + coupling
+    a2 = -coupling - c2 * v2
+    return np.array([v1, v2, a1, a2, c1 * v1 * v1 + c2 * v2 * v2, 0.0])
+
+
+@numba.njit(cache=True)
+def two_masses_jacobian(t, y, f, args, out):
+    """The exact Jacobian of :func:`two_masses`."""
+    k1, c1, k3 = args[0][0], args[0][1], args[0][2]
+    x1, x2, v1, v2, c2 = y[0], y[1], y[2], y[3], y[5]
+    stiffness = 3.0 * k3 * (x2 - x1) ** 2
+    out[:, :] = 0.0
+    out[0, 2] = out[1, 3] = 1.0
+    out[2, 0], out[2, 1], out[2, 2] = -k1 - stiffness, stiffness, -c1
+    out[3, 0], out[3, 1], out[3, 3], out[3, 5] = stiffness, -stiffness, -c2, -v2
+    out[4, 2], out[4, 3], out[4, 5] = 2.0 * c1 * v1, 2.0 * c2 * v2, v2 * v2
+    return True
+
+
+@numba.njit(cache=True)
+def decline_jacobian(t, y, f, args, out):
+    """A ``jac`` that never provides one."""
+    return False
+
+
+@numba.njit(cache=True)
+def van_der_pol_with_idle_component(t, y, args):
+    """Van der Pol plus y2 with y2' = 0·y2: f hardly depends on y2 (NaN at y2 = inf)."""
+    mu = args[0][0]
+    return np.array([y[1], mu * (1.0 - y[0] * y[0]) * y[1] - y[0], 0.0 * y[2]])
+
+
 # ---------------------------------------------------------------------------------------
 # Helpers.
 # ---------------------------------------------------------------------------------------
@@ -233,6 +277,7 @@ def run_kernel(
     max_step: float = np.inf,
     first_step: float = 0.0,
     max_steps: int = 100_000,
+    **structure: Any,
 ) -> Run:
     y0 = np.asarray(y0, dtype=np.float64)
     status, t, y, counters = kernel.radau_integrate(
@@ -248,6 +293,7 @@ def run_kernel(
         max_step,
         first_step,
         max_steps,
+        **structure,
     )
     return Run(status, t, y, dict(zip(kernel.COUNTER_NAMES, counters.tolist(), strict=True)))
 
@@ -311,6 +357,31 @@ def test_lu_solve_matches_numpy(n: int, dtype: type) -> None:
     # Partial pivoting is backward stable: residual ~ eps·cond; these matrices have
     # cond < 1e4, so 1e-10 relative is a loose, round-off-only bound.
     np.testing.assert_allclose(x, np.linalg.solve(a, b), rtol=1e-10, atol=1e-12)
+
+
+@pytest.mark.parametrize("gamma", [kernel.MU_REAL, kernel.MU_COMPLEX])
+@pytest.mark.parametrize(
+    ("n_second", "n_active", "n"), [(0, 5, 5), (3, 6, 6), (3, 7, 9), (0, 4, 6)]
+)
+def test_reduced_newton_solve_equals_full_solve(
+    gamma: complex, n_second: int, n_active: int, n: int
+) -> None:
+    """The reduced factors solve the full system (γ/h·I − J) x = b for a Jacobian with the
+    declared structure: rows [0, m) = [0, I, 0], columns from n_active on zero."""
+    rng = np.random.default_rng(n + n_active)
+    h = 1e-3
+    jac = rng.standard_normal((n, n)) * 1e3
+    jac[:n_second] = 0.0
+    jac[:n_second, n_second : 2 * n_second] = np.eye(n_second)
+    jac[:, n_active:] = 0.0
+    b = rng.standard_normal(n) + (1j * rng.standard_normal(n) if np.iscomplexobj(gamma) else 0)
+    lu_real, piv_real, lu_complex, piv_complex = kernel._factor_newton_matrices(
+        jac, h, n_second, n_active
+    )
+    lu, piv = (lu_complex, piv_complex) if np.iscomplexobj(gamma) else (lu_real, piv_real)
+    x = kernel._newton_solve(lu, piv, jac, gamma / h, b, n_second, n_active)
+    # Round-off only: cond(γ/h·I − J) < 1e3 here, so 1e-10 relative is loose.
+    np.testing.assert_allclose(x, np.linalg.solve(gamma / h * np.eye(n) - jac, b), rtol=1e-10)
 
 
 def test_lu_of_singular_matrix_gives_non_finite_not_an_error() -> None:
@@ -553,6 +624,86 @@ def test_after_step_projection_keeps_pendulum_on_its_circle() -> None:
     # Energy m(g z + |v|²/2) stays at its initial 0 within the tolerance scale.
     energy = 9.81 * projected.y[:, 1] + 0.5 * (projected.y[:, 2] ** 2 + projected.y[:, 3] ** 2)
     assert np.max(np.abs(energy)) < 1e-2
+
+
+#: Stiff two-mass chain: k1 = 1e6 N/m, c1 = 50 N·s/m, k3 = 1e9 N/m³; c2 = 2 N·s/m.
+TWO_MASSES = np.array([1e6, 50.0, 1e9])
+TWO_MASSES_Y0 = [1e-3, -2e-3, 0.0, 1.0, 0.0, 2.0]
+
+
+@pytest.mark.parametrize("rtol", [1e-4, 1e-7])
+def test_second_order_and_passive_structure_give_the_same_solution(rtol: float) -> None:
+    """n_second and n_active change the linear algebra, not the method: the same steps up
+    to round-off-tipped decisions, and a fraction of the Jacobian's evaluations."""
+    atol = 1e-9
+    options: dict[str, Any] = {"rtol": rtol, "atol": atol}
+    full = run_kernel(two_masses, (0.0, 0.05), TWO_MASSES_Y0, TWO_MASSES, **options)
+    reduced = run_kernel(
+        two_masses, (0.0, 0.05), TWO_MASSES_Y0, TWO_MASSES, n_second=2, n_active=4, **options
+    )
+    sol = run_scipy(two_masses, (0.0, 0.05), TWO_MASSES_Y0, TWO_MASSES, **options)
+    assert full.status == reduced.status == kernel.STATUS_SUCCESS
+    assert tolerance_units(reduced.y[-1], full.y[-1], rtol, atol) < SMOOTH_AGREEMENT_UNITS
+    assert tolerance_units(reduced.y[-1], sol.y[:, -1], rtol, atol) < SMOOTH_AGREEMENT_UNITS
+    assert_counts_close(reduced, sol, SMOOTH_COUNT_RATIO, steps_only=True)
+    np.testing.assert_array_equal(reduced.y[:, 5], 2.0)  # the constant component stays put
+
+
+def test_jacobian_function_replaces_the_differences() -> None:
+    rtol, atol = 1e-7, 1e-9
+    structure: dict[str, Any] = {"n_second": 2, "n_active": 4}
+    differenced = run_kernel(
+        two_masses, (0.0, 0.05), TWO_MASSES_Y0, TWO_MASSES, rtol=rtol, atol=atol, **structure
+    )
+    exact = run_kernel(
+        two_masses, (0.0, 0.05), TWO_MASSES_Y0, TWO_MASSES, rtol=rtol, atol=atol,
+        jac=two_masses_jacobian, **structure,
+    )  # fmt: skip
+    declined = run_kernel(
+        two_masses, (0.0, 0.05), TWO_MASSES_Y0, TWO_MASSES, rtol=rtol, atol=atol,
+        jac=decline_jacobian, **structure,
+    )  # fmt: skip
+    assert exact.status == kernel.STATUS_SUCCESS
+    # The exact Jacobian changes the Newton iterates (not what they converge to).
+    assert tolerance_units(exact.y[-1], differenced.y[-1], rtol, atol) < SMOOTH_AGREEMENT_UNITS
+    # A jac that declines leaves the differences, bit for bit.
+    np.testing.assert_array_equal(declined.y, differenced.y)
+    assert declined.counts == differenced.counts
+
+
+def test_hold_after_failure_changes_nothing_without_rejections() -> None:
+    lam = np.array([1.0, 10.0, 100.0])
+    options: dict[str, Any] = {"rtol": 1e-6, "atol": 1e-9}
+    scipy_like = run_kernel(decay, (0.0, 10.0), np.ones(3), lam, **options)
+    held = run_kernel(decay, (0.0, 10.0), np.ones(3), lam, hold_after_failure=True, **options)
+    assert scipy_like.counts["n_rejected_error"] == scipy_like.counts["n_rejected_newton"] == 0
+    np.testing.assert_array_equal(held.y, scipy_like.y)
+
+
+def test_hold_after_failure_on_contact_keeps_the_accuracy(
+    contact_reference: npt.NDArray[np.float64],
+) -> None:
+    """RADAU5's growth limit after rejections: the same accuracy regime as SciPy's
+    controller on the unlocated contact drop."""
+    rtol, atol = 1e-6, 1e-9
+    held = run_kernel(
+        mass_on_floor, (0.0, 0.5), [0.1, 0.0], CONTACT_PARAMETERS, rtol=rtol, atol=atol,
+        hold_after_failure=True,
+    )  # fmt: skip
+    assert held.status == kernel.STATUS_SUCCESS
+    assert held.counts["n_rejected_error"] + held.counts["n_rejected_newton"] > 0
+    assert tolerance_units(held.y[-1], contact_reference, rtol, atol) < CONTACT_UNLOCATED_UNITS
+
+
+def test_difference_factor_of_an_idle_component_stays_finite() -> None:
+    """SciPy's factor of a column f does not depend on grows 10x per Jacobian without bound
+    (inf after ~316 Jacobians, then a NaN Jacobian); the kernel caps it."""
+    run = run_kernel(
+        van_der_pol_with_idle_component, (0.0, 6000.0), [2.0, 0.0, 1.0], [1000.0],
+        rtol=1e-8, atol=1e-6,
+    )  # fmt: skip
+    assert run.counts["njev"] > 400
+    assert run.status == kernel.STATUS_SUCCESS
 
 
 def test_step_check_that_never_accepts_cannot_loop_forever() -> None:

@@ -18,6 +18,14 @@ diagonal mass matrix M the accelerations follow from the Schur complement
 Position and velocity drift is removed after every accepted step by mass-weighted projection
 (Hairer, Lubich & Wanner, *Geometric Numerical Integration*, §IV.4).
 
+The integrator calls four functions, each compiled for one explicit signature (so the
+integrator's core is cached on disk): :func:`rhs` (ẏ; allocates nothing but ẏ itself, and
+needs no matrix when every joint is clear, the paper's case, since the driver is then the
+only constraint), :func:`jacobian_state` (∂ẏ/∂y in closed form in that case),
+:func:`step_check` (contact onset) and :func:`after_step` (contact memory, projection).
+The integrator is told that q̇ = d/dt q (``n_second``) and that W_motor, W_contact and v0
+do not feed back (``n_active``), see :func:`jointplay._kernels.radau.radau_integrate`.
+
 Clearance joint (Flores et al., *Kinematics and Dynamics of Multibody Systems with Imperfect
 Joints*, 2008; shared/reference/contact-models.md §5): bearing on body a, journal on body b,
 eccentricity e = r_J − r_B, penetration δ = |e| − c, normal n = e/|e|, δ̇ = ė·n,
@@ -32,8 +40,9 @@ from numba import njit, types
 
 from jointplay._kernels.constraints import (
     acceleration_rhs,
+    count_rows,
+    driver_motion,
     jacobian,
-    point_global,
     residual,
     velocity_rhs,
 )
@@ -58,12 +67,18 @@ rhs_signature = types.float64[::1](
 
 
 @njit(cache=True)
-def views(rpar: np.ndarray, ipar: np.ndarray):  # type: ignore[no-untyped-def]
-    """Unpack the model buffers into named views (no copies)."""
+def flat_views(rpar: np.ndarray, ipar: np.ndarray):
+    """Unpack the model buffers into named flat views (no copies, no reshapes).
+
+    The right-hand side's unpacking, called once per evaluation: tables stay flat, row-major
+    (joint j's integers at ``joint_int[3j : 3j + 3]``, its floats at ``joint_f[6j : 6j + 6]``,
+    clearance joint c's geometry at ``geom[N_GEOM c : N_GEOM (c + 1)]``, its law parameters at
+    ``law_p[plaw c : plaw (c + 1)]``); :func:`views` gives the same as 2-D tables.
+    """
     nb, nj, nc, plaw, pfric = ipar[I_NB], ipar[I_NJ], ipar[I_NC], ipar[I_PLAW], ipar[I_PFRIC]
     n = 3 * nb
     o = HEADER
-    joint_int = ipar[o : o + 3 * nj].reshape((nj, 3))
+    joint_int = ipar[o : o + 3 * nj]
     o += 3 * nj
     active = ipar[o : o + nj]
     o += nj
@@ -77,15 +92,15 @@ def views(rpar: np.ndarray, ipar: np.ndarray):  # type: ignore[no-untyped-def]
     r += n
     gravity = rpar[r : r + n]
     r += n
-    joint_f = rpar[r : r + 6 * nj].reshape((nj, 6))
+    joint_f = rpar[r : r + 6 * nj]
     r += 6 * nj
     driver = rpar[r : r + 4]
     r += 4
-    geom = rpar[r : r + N_GEOM * nc].reshape((nc, N_GEOM))
+    geom = rpar[r : r + N_GEOM * nc]
     r += N_GEOM * nc
-    law_p = rpar[r : r + plaw * nc].reshape((nc, plaw))
+    law_p = rpar[r : r + plaw * nc]
     r += plaw * nc
-    fric_p = rpar[r : r + pfric * nc].reshape((nc, pfric))
+    fric_p = rpar[r : r + pfric * nc]
     r += pfric * nc
     settings = rpar[r : r + N_SETTINGS]
     r += N_SETTINGS
@@ -97,115 +112,533 @@ def views(rpar: np.ndarray, ipar: np.ndarray):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def _velocity(q: np.ndarray, qd: np.ndarray, body: int, px: float, py: float) -> tuple[float, float]:
-    """Velocity of the global point (px, py) attached to ``body``."""
-    if body < 0:
-        return 0.0, 0.0
-    w = qd[3 * body + 2]
-    return qd[3 * body] - w * (py - q[3 * body + 1]), qd[3 * body + 1] + w * (px - q[3 * body])
+def views(rpar: np.ndarray, ipar: np.ndarray):
+    """Unpack the model buffers into named views (no copies), tables as 2-D arrays."""
+    (n, nc, joint_int, active, clear_joint, law_id, fric_id,
+     mass, gravity, joint_f, driver, geom, law_p, fric_p, settings, stats) = flat_views(rpar, ipar)  # fmt: skip
+    nj = active.shape[0]
+    return (
+        n, nc, joint_int.reshape((nj, 3)), active, clear_joint, law_id, fric_id,
+        mass, gravity, joint_f.reshape((nj, 6)), driver, geom.reshape((nc, N_GEOM)),
+        law_p.reshape((nc, ipar[I_PLAW])), fric_p.reshape((nc, ipar[I_PFRIC])), settings, stats,
+    )  # fmt: skip
 
 
 @njit(cache=True)
-def contact_kinematics(
-    q: np.ndarray, qd: np.ndarray, joint_int: np.ndarray, joint_f: np.ndarray, j: int, geom_row: np.ndarray
-) -> tuple[float, float, float, float, float, float, float]:
-    """(δ, δ̇, v_T, n_x, n_y, e_x, e_y) of clearance joint row ``j`` (§5 of contact-models.md)."""
-    a, b = joint_int[j, 1], joint_int[j, 2]
-    bx, by = point_global(q, a, joint_f[j, 0], joint_f[j, 1])
-    jx, jy = point_global(q, b, joint_f[j, 2], joint_f[j, 3])
+def _rotations(q: np.ndarray) -> np.ndarray:
+    """(cos φ_k, sin φ_k) of every body k, flat: one sine and cosine per body and call."""
+    nb = q.shape[0] // 3
+    rot = np.empty(2 * nb)
+    for k in range(nb):
+        rot[2 * k] = np.cos(q[3 * k + 2])
+        rot[2 * k + 1] = np.sin(q[3 * k + 2])
+    return rot
+
+
+@njit(cache=True)
+def _arm(
+    q: np.ndarray, rot: np.ndarray, body: int, sx: float, sy: float
+) -> tuple[float, float, float, float]:
+    """(x, y, r_x, r_y): global position of the local point (sx, sy) of ``body`` and its arm
+    r = A(φ) s from the centre of mass (the ground's points are global, arm 0)."""
+    if body < 0:
+        return sx, sy, 0.0, 0.0
+    c = rot[2 * body]
+    s = rot[2 * body + 1]
+    rx = c * sx - s * sy
+    ry = s * sx + c * sy
+    return q[3 * body] + rx, q[3 * body + 1] + ry, rx, ry
+
+
+@njit(cache=True)
+def _arm_of(q: np.ndarray, body: int, sx: float, sy: float) -> tuple[float, float, float, float]:
+    """:func:`_arm` computing the body's rotation itself (the right-hand side's variant:
+    measured faster there than sharing :func:`_rotations` between the joints)."""
+    if body < 0:
+        return sx, sy, 0.0, 0.0
+    c = np.cos(q[3 * body + 2])
+    s = np.sin(q[3 * body + 2])
+    rx = c * sx - s * sy
+    ry = s * sx + c * sy
+    return q[3 * body] + rx, q[3 * body + 1] + ry, rx, ry
+
+
+@njit(cache=True)
+def _penetration(
+    q: np.ndarray,
+    rot: np.ndarray,
+    joint_int: np.ndarray,
+    joint_f: np.ndarray,
+    j: int,
+    clearance: float,
+) -> float:
+    """δ = |e| − c of joint row ``j`` (flat tables, :func:`flat_views`)."""
+    bx, by, _, _ = _arm(q, rot, joint_int[3 * j + 1], joint_f[6 * j], joint_f[6 * j + 1])
+    jx, jy, _, _ = _arm(q, rot, joint_int[3 * j + 2], joint_f[6 * j + 2], joint_f[6 * j + 3])
+    return np.sqrt((jx - bx) ** 2 + (jy - by) ** 2) - clearance
+
+
+@njit(cache=True)
+def _contact_state(
+    q: np.ndarray, qd: np.ndarray, rot: np.ndarray, joint_int: np.ndarray, joint_f: np.ndarray,
+    j: int, geom: np.ndarray, c: int,
+):  # fmt: skip
+    """Kinematics of clearance joint ``c`` (row ``j``), §5 of contact-models.md.
+
+    Returns:
+        (δ, δ̇, v_T, |e|, e_x, e_y, n_x, n_y, ė·t, r_a, r_b, ω_a, ω_b) with the arms r of the
+        bearing's and the journal's centres from their bodies' centres of mass as (x, y)
+        pairs; n = (1, 0) for a centred pin (δ = −c: no force follows from it).
+    """
+    a, b = joint_int[3 * j + 1], joint_int[3 * j + 2]
+    bx, by, rax, ray = _arm(q, rot, a, joint_f[6 * j], joint_f[6 * j + 1])
+    jx, jy, rbx, rby = _arm(q, rot, b, joint_f[6 * j + 2], joint_f[6 * j + 3])
     ex, ey = jx - bx, jy - by
-    emag = np.sqrt(ex * ex + ey * ey)
-    if emag > 0.0:
-        nx, ny = ex / emag, ey / emag
-    else:  # centred pin: any direction; the penetration is −c, so no force follows from it
-        nx, ny = 1.0, 0.0
-    vbx, vby = _velocity(q, qd, a, bx, by)
-    vjx, vjy = _velocity(q, qd, b, jx, jy)
-    edx, edy = vjx - vbx, vjy - vby
+    length = np.sqrt(ex * ex + ey * ey)
+    nx, ny = (ex / length, ey / length) if length > 0.0 else (1.0, 0.0)
     wa = qd[3 * a + 2] if a >= 0 else 0.0
     wb = qd[3 * b + 2] if b >= 0 else 0.0
-    delta = emag - geom_row[G_CLEARANCE]
+    # ė = v(centre of b) − v(centre of a), v = v_com + ω ẑ × r
+    edx = -wb * rby + wa * ray
+    edy = wb * rbx - wa * rax
+    if b >= 0:
+        edx += qd[3 * b]
+        edy += qd[3 * b + 1]
+    if a >= 0:
+        edx -= qd[3 * a]
+        edy -= qd[3 * a + 1]
+    delta = length - geom[N_GEOM * c + G_CLEARANCE]
     delta_dot = edx * nx + edy * ny
-    v_t = -edx * ny + edy * nx + geom_row[G_R_JOURNAL] * wb - geom_row[G_R_BEARING] * wa
-    return delta, delta_dot, v_t, nx, ny, ex, ey
+    slide = -edx * ny + edy * nx
+    v_t = slide + geom[N_GEOM * c + G_R_JOURNAL] * wb - geom[N_GEOM * c + G_R_BEARING] * wa
+    return (
+        delta, delta_dot, v_t, length, ex, ey, nx, ny, slide,
+        (rax, ray), (rbx, rby), wa, wb,
+    )  # fmt: skip
 
 
 @njit(cache=True)
-def _apply(force: np.ndarray, q: np.ndarray, body: int, px: float, py: float, fx: float, fy: float) -> None:
+def _push(force: np.ndarray, body: int, rx: float, ry: float, fx: float, fy: float) -> None:
+    """Add the force (fx, fy) acting at arm (rx, ry) from the centre of mass of ``body``."""
     if body < 0:
         return
     force[3 * body] += fx
     force[3 * body + 1] += fy
-    force[3 * body + 2] += (px - q[3 * body]) * fy - (py - q[3 * body + 1]) * fx
+    force[3 * body + 2] += rx * fy - ry * fx
 
 
 @njit(cache=True)
-def evaluate(t: float, y: np.ndarray, rpar: np.ndarray, ipar: np.ndarray, contact_out: np.ndarray):  # type: ignore[no-untyped-def]
-    """q̈, motor torque, contact power and multipliers λ (ideal joints' rows, then the driver's).
+def add_contact_forces(
+    y: np.ndarray,
+    n: int,
+    joint_int: np.ndarray,
+    joint_f: np.ndarray,
+    clear_joint: np.ndarray,
+    geom: np.ndarray,
+    law_id: np.ndarray,
+    law_p: np.ndarray,
+    fric_id: np.ndarray,
+    fric_p: np.ndarray,
+    force: np.ndarray,
+    record: np.ndarray,
+) -> float:
+    """Add every clearance joint's contact force to the generalised forces ``force`` (3 nb).
 
-    Per clearance joint, (F_N, F_T, δ, δ̇, v_T, e_x, e_y) is written into ``contact_out``.
+    Per joint (module docstring): δ = |e| − c, δ̇ = ė·n, v_T = ė·t + R_J ω_b − R_B ω_a; when
+    δ > 0, F_N from the normal law, F_T from the friction law; −F_N n − F_T t acts on the
+    journal at Q_J = r_J + R_J n, its opposite on the bearing at Q_B = r_B + R_B n. Tables
+    are flat (:func:`flat_views`); nothing is allocated. (:func:`_contact_state` computes
+    the same kinematics for the Jacobian and the hooks; written out here, the right-hand
+    side was measured a third faster.)
+
+    Args:
+        record: flat (7 nc) receives (F_N, F_T, δ, δ̇, v_T, e_x, e_y) per joint; an empty
+            array records nothing.
+
+    Returns:
+        The power absorbed by the contacts, Σ (F_N δ̇ + F_T v_T), W.
     """
-    (n, nc, joint_int, active, clear_joint, law_id, fric_id,
-     mass, gravity, joint_f, driver, geom, law_p, fric_p, settings, stats) = views(rpar, ipar)  # fmt: skip
     q = y[:n]
     qd = y[n : 2 * n]
-    force = gravity.copy()
-    contact_power = 0.0
+    nc = clear_joint.shape[0]
+    plaw = law_p.shape[0] // max(nc, 1)
+    pfric = fric_p.shape[0] // max(nc, 1)
+    recording = record.shape[0] > 0
+    power = 0.0
     for c in range(nc):
         j = clear_joint[c]
-        delta, delta_dot, v_t, nx, ny, ex, ey = contact_kinematics(q, qd, joint_int, joint_f, j, geom[c])
+        a, b = joint_int[3 * j + 1], joint_int[3 * j + 2]
+        bx, by, rax, ray = _arm_of(q, a, joint_f[6 * j], joint_f[6 * j + 1])
+        jx, jy, rbx, rby = _arm_of(q, b, joint_f[6 * j + 2], joint_f[6 * j + 3])
+        ex, ey = jx - bx, jy - by
+        emag = np.sqrt(ex * ex + ey * ey)
+        delta = emag - geom[N_GEOM * c + G_CLEARANCE]
         f_n = 0.0
         f_t = 0.0
-        if delta > 0.0:
-            f_n = normal_force(law_id[c], law_p[c], delta, delta_dot, y[2 * n + 2 + c])
-            if fric_id[c] != FRICTION_NONE:
-                f_t = friction_force(fric_id[c], fric_p[c], v_t, f_n)
-            # force on the journal: −F_N n − F_T t with t = (−n_y, n_x)
-            fx = -f_n * nx + f_t * ny
-            fy = -f_n * ny - f_t * nx
-            a, b = joint_int[j, 1], joint_int[j, 2]
-            bx, by = point_global(q, a, joint_f[j, 0], joint_f[j, 1])
-            jx, jy = point_global(q, b, joint_f[j, 2], joint_f[j, 3])
-            r_j, r_b = geom[c, G_R_JOURNAL], geom[c, G_R_BEARING]
-            _apply(force, q, b, jx + r_j * nx, jy + r_j * ny, fx, fy)
-            _apply(force, q, a, bx + r_b * nx, by + r_b * ny, -fx, -fy)
-            contact_power += f_n * delta_dot + f_t * v_t
-        contact_out[c, 0] = f_n
-        contact_out[c, 1] = f_t
-        contact_out[c, 2] = delta
-        contact_out[c, 3] = delta_dot
-        contact_out[c, 4] = v_t
-        contact_out[c, 5] = ex
-        contact_out[c, 6] = ey
-    phi_q = jacobian(q, joint_int, joint_f, active, driver)
-    gamma = acceleration_rhs(q, qd, t, joint_int, joint_f, active, driver)
-    inv_mass = 1.0 / mass
-    if phi_q.shape[0] == 0:  # no ideal joint and no driver: every body moves freely
-        return inv_mass * force, 0.0, contact_power, np.zeros(0)
-    weighted = phi_q * inv_mass  # Φ_q M⁻¹ (rows scaled column-wise)
-    schur = weighted @ phi_q.T
-    lam = np.linalg.solve(schur, weighted @ force - gamma)
-    qdd = inv_mass * (force - phi_q.T @ lam)
-    torque = -lam[-1] if driver[0] >= 0 else 0.0
-    return qdd, torque, contact_power, lam
+        delta_dot = 0.0
+        v_t = 0.0
+        if delta > 0.0 or recording:
+            nx, ny = (ex / emag, ey / emag) if emag > 0.0 else (1.0, 0.0)
+            wa = qd[3 * a + 2] if a >= 0 else 0.0
+            wb = qd[3 * b + 2] if b >= 0 else 0.0
+            edx = -wb * rby + wa * ray
+            edy = wb * rbx - wa * rax
+            if b >= 0:
+                edx += qd[3 * b]
+                edy += qd[3 * b + 1]
+            if a >= 0:
+                edx -= qd[3 * a]
+                edy -= qd[3 * a + 1]
+            delta_dot = edx * nx + edy * ny
+            r_j = geom[N_GEOM * c + G_R_JOURNAL]
+            r_b = geom[N_GEOM * c + G_R_BEARING]
+            v_t = -edx * ny + edy * nx + r_j * wb - r_b * wa
+            if delta > 0.0:
+                v0 = y[2 * n + 2 + c]
+                f_n = normal_force(
+                    law_id[c], law_p[plaw * c : plaw * (c + 1)], delta, delta_dot, v0
+                )
+                if fric_id[c] != FRICTION_NONE:
+                    f_t = friction_force(fric_id[c], fric_p[pfric * c : pfric * (c + 1)], v_t, f_n)
+                fx = -f_n * nx + f_t * ny
+                fy = -f_n * ny - f_t * nx
+                _push(force, b, rbx + r_j * nx, rby + r_j * ny, fx, fy)
+                _push(force, a, rax + r_b * nx, ray + r_b * ny, -fx, -fy)
+                power += f_n * delta_dot + f_t * v_t
+        if recording:
+            for k, value in enumerate((f_n, f_t, delta, delta_dot, v_t, ex, ey)):
+                record[7 * c + k] = value
+    return power
+
+
+@njit(cache=True)
+def _cholesky_solve(a: np.ndarray, b: np.ndarray) -> None:
+    """Solve a x = b in place for a symmetric positive definite ``a`` (overwritten by its
+    Cholesky factor, b by x). A singular ``a`` gives inf/NaN, never an exception."""
+    m = a.shape[0]
+    for k in range(m):
+        d = a[k, k]
+        for p in range(k):
+            d -= a[k, p] * a[k, p]
+        d = np.sqrt(d)
+        a[k, k] = d
+        for i in range(k + 1, m):
+            s = a[i, k]
+            for p in range(k):
+                s -= a[i, p] * a[k, p]
+            a[i, k] = s / d
+    for i in range(m):
+        s = b[i]
+        for p in range(i):
+            s -= a[i, p] * b[p]
+        b[i] = s / a[i, i]
+    for i in range(m - 1, -1, -1):
+        s = b[i]
+        for p in range(i + 1, m):
+            s -= a[p, i] * b[p]
+        b[i] = s / a[i, i]
+
+
+@njit(cache=True)
+def constrained_accelerations(
+    t: float,
+    y: np.ndarray,
+    n: int,
+    joint_int: np.ndarray,
+    joint_f: np.ndarray,
+    active: np.ndarray,
+    driver: np.ndarray,
+    mass: np.ndarray,
+    acc: np.ndarray,
+    lam: np.ndarray,
+) -> float:
+    """Turn the generalised forces Q in ``acc`` into q̈ (in place); return the motor torque.
+
+    Schur complement of the augmented system: (Φ_q M⁻¹ Φ_qᵀ) λ = Φ_q M⁻¹ Q − γ,
+    q̈ = M⁻¹ (Q − Φ_qᵀ λ) (Nikravesh 1988, §6; M diagonal), torque = −λ_driver. When
+    every joint is clear and the crank is driven, Φ = φ_k − φ_d(t) is the only constraint:
+    λ = Q_φk − I_k φ̈_d, so q̈_φk = φ̈_d and q̈ = M⁻¹ Q elsewhere — no matrix at all.
+
+    Args:
+        acc: (3 nb) Q on entry, q̈ on return.
+        lam: (rows) receives λ, the ideal joints' rows then the driver's; an array with no
+            entries records nothing (the torque is returned either way).
+    """
+    crank = int(driver[0])
+    n_ideal = 0
+    for j in range(active.shape[0]):
+        n_ideal += active[j]
+    if n_ideal == 0:
+        torque = 0.0
+        if crank >= 0:
+            k = 3 * crank + 2
+            multiplier = acc[k] - mass[k] * driver_motion(t, driver)[2]
+            acc[k] -= multiplier
+            torque = -multiplier
+            if lam.shape[0] > 0:
+                lam[0] = multiplier
+        for i in range(n):
+            acc[i] /= mass[i]
+        return torque
+    q = y[:n]
+    qd = y[n : 2 * n]
+    nj = active.shape[0]
+    joints = joint_int.reshape((nj, 3))
+    joint_floats = joint_f.reshape((nj, 6))
+    phi_q = jacobian(q, joints, joint_floats, active, driver)
+    multipliers = acceleration_rhs(q, qd, t, joints, joint_floats, active, driver)
+    rows = phi_q.shape[0]
+    schur = np.zeros((rows, rows))
+    for r in range(rows):  # multipliers ← Φ_q M⁻¹ Q − γ ; schur ← Φ_q M⁻¹ Φ_qᵀ
+        s = -multipliers[r]
+        for i in range(n):
+            w = phi_q[r, i] / mass[i]
+            s += w * acc[i]
+            if w != 0.0:
+                for p in range(r + 1):
+                    schur[r, p] += w * phi_q[p, i]
+        multipliers[r] = s
+    _cholesky_solve(schur, multipliers)
+    for i in range(n):
+        s = acc[i]
+        for r in range(rows):
+            s -= phi_q[r, i] * multipliers[r]
+        acc[i] = s / mass[i]
+    for r in range(lam.shape[0]):
+        lam[r] = multipliers[r]
+    return -multipliers[rows - 1] if crank >= 0 else 0.0
+
+
+@njit(cache=True)
+def evaluate(t: float, y: np.ndarray, rpar: np.ndarray, ipar: np.ndarray, contact_out: np.ndarray):
+    """q̈, motor torque, contact power and multipliers λ (ideal joints' rows, then the driver's).
+
+    Per clearance joint, (F_N, F_T, δ, δ̇, v_T, e_x, e_y) is written into ``contact_out``
+    (nc, 7), a C-contiguous array.
+    """
+    (n, _, joint_int, active, clear_joint, law_id, fric_id,
+     mass, gravity, joint_f, driver, geom, law_p, fric_p, _, _) = flat_views(rpar, ipar)  # fmt: skip
+    acc = gravity.copy()
+    contact_power = add_contact_forces(
+        y, n, joint_int, joint_f, clear_joint, geom, law_id, law_p, fric_id, fric_p, acc,
+        contact_out.reshape(contact_out.size),
+    )  # fmt: skip
+    lam = np.zeros(count_rows(active, driver))
+    torque = constrained_accelerations(t, y, n, joint_int, joint_f, active, driver, mass, acc, lam)
+    return acc, torque, contact_power, lam
 
 
 @njit(rhs_signature, cache=True)
 def rhs(t: float, y: np.ndarray, args: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
-    """ẏ for the state layout of the module docstring."""
+    """ẏ for the state layout of the module docstring; allocates ẏ and nothing else when
+    every joint is clear (the paper's case)."""
     rpar, ipar = args
-    n = 3 * ipar[I_NB]
-    nc = ipar[I_NC]
-    scratch = np.empty((nc, 7))
-    qdd, torque, contact_power, _ = evaluate(t, y, rpar, ipar, scratch)
-    out = np.zeros(y.shape[0])
-    out[:n] = y[n : 2 * n]
-    out[n : 2 * n] = qdd
-    crank = int(rpar[2 * n + 6 * ipar[I_NJ]])  # driver[0]: the driven body (< 0: none)
-    if crank >= 0:
-        out[2 * n] = torque * y[n + 3 * crank + 2]
-    out[2 * n + 1] = contact_power
+    (n, _, joint_int, active, clear_joint, law_id, fric_id,
+     mass, gravity, joint_f, driver, geom, law_p, fric_p, _, _) = flat_views(rpar, ipar)  # fmt: skip
+    out = np.empty(y.shape[0])
+    acc = out[n : 2 * n]
+    for i in range(n):
+        out[i] = y[n + i]
+        acc[i] = gravity[i]
+    nothing = out[:0]
+    out[2 * n + 1] = add_contact_forces(
+        y, n, joint_int, joint_f, clear_joint, geom, law_id, law_p, fric_id, fric_p, acc, nothing
+    )
+    torque = constrained_accelerations(
+        t, y, n, joint_int, joint_f, active, driver, mass, acc, nothing
+    )
+    crank = int(driver[0])
+    out[2 * n] = torque * y[n + 3 * crank + 2] if crank >= 0 else 0.0
+    for i in range(2 * n + 2, y.shape[0]):
+        out[i] = 0.0
     return out
+
+
+jacobian_signature = types.boolean(
+    types.float64,
+    types.float64[::1],
+    types.float64[::1],
+    types.Tuple((types.float64[::1], types.int64[::1])),
+    types.float64[:, ::1],
+)
+
+#: Relative step of the one-dimensional differences of the contact and friction laws
+#: (√eps, as a forward difference wants), and the floor of the rates it scales, m/s.
+_LAW_STEP = 1.4901161193847656e-08
+_RATE_FLOOR = 1e-3
+
+
+@njit(cache=True)
+def _law_slopes(
+    law: int, law_row: np.ndarray, fric: int, fric_row: np.ndarray,
+    delta: float, delta_dot: float, v_t: float, v0: float, f_n: float,
+)-> tuple[float, float, float, float]:  # fmt: skip
+    """∂F_N/∂δ, ∂F_N/∂δ̇, ∂F_T/∂v_T, ∂F_T/∂F_N of the compiled laws at one contact state.
+
+    The laws are scalar functions of one or two variables, differenced forward with a
+    relative step √eps (the laws are piecewise smooth; a kink, such as F_N clipped at 0,
+    gets a one-sided slope, as the integrator's own difference quotient would). F_T is
+    linear in F_N for every friction law, so ∂F_T/∂F_N = F_T(v_T, 1).
+    """
+    h = max(_LAW_STEP * delta, 1e-300)  # δ > 0; never a zero step, even for a subnormal δ
+    slope_delta = (normal_force(law, law_row, delta + h, delta_dot, v0) - f_n) / h
+    h = _LAW_STEP * max(abs(delta_dot), _RATE_FLOOR)
+    slope_rate = (normal_force(law, law_row, delta, delta_dot + h, v0) - f_n) / h
+    if fric == FRICTION_NONE:
+        return slope_delta, slope_rate, 0.0, 0.0
+    per_newton = friction_force(fric, fric_row, v_t, 1.0)
+    h = _LAW_STEP * max(abs(v_t), _RATE_FLOOR)
+    slope_slip = (friction_force(fric, fric_row, v_t + h, f_n) - per_newton * f_n) / h
+    return slope_delta, slope_rate, slope_slip, per_newton
+
+
+@njit(jacobian_signature, cache=True)
+def jacobian_state(
+    t: float, y: np.ndarray, f: np.ndarray, args: tuple[np.ndarray, np.ndarray], out: np.ndarray
+) -> bool:
+    """∂ẏ/∂y in closed form when every joint is clear; ``False`` (nothing written) otherwise.
+
+    Every joint clear leaves the driver as the only constraint (or none): q̈ = M⁻¹ Q with
+    the crank's row replaced by φ̈_d(t) (see :func:`constrained_accelerations`), so
+    ∂q̈/∂(q, q̇) = M⁻¹ ∂Q_contact/∂(q, q̇) with that row zero. Per clearance joint in
+    contact, with u any coordinate or rate of its two bodies (module docstring for e, n, t):
+
+    - ∂e/∂x_b = I, ∂e/∂φ_b = ẑ×r_b, ∂ė/∂φ_b = −ω_b r_b, ∂ė/∂v_b = I, ∂ė/∂ω_b = ẑ×r_b (and
+      the negatives with r_a for the bearing's body a);
+    - ∂δ = n·∂e, ∂n = t (t·∂e)/|e|, ∂t = −n (t·∂e)/|e|;
+    - ∂δ̇ = n·∂ė + (ė·t)(t·∂e)/|e|, ∂v_T = t·∂ė − δ̇ (t·∂e)/|e| + R_J ∂ω_b − R_B ∂ω_a;
+    - ∂F_N = F_N,δ ∂δ + F_N,δ̇ ∂δ̇, ∂F_T = F_T,v ∂v_T + F_T,F ∂F_N (:func:`_law_slopes`);
+    - the force on the journal f = −F_N n − F_T t has
+      ∂f = −∂F_N n − ∂F_T t + (−F_N t + F_T n)(t·∂e)/|e|, and its moment about b's centre
+      p_b × f, p_b = r_b + R_J n, has ∂(p_b × f) = ∂p_b × f + p_b × ∂f (the opposite force
+      at p_a = r_a + R_B n on a).
+
+    The work rows follow from W_motor' = τ ω_k, τ = I_k φ̈_d − Q_k, and
+    W_contact' = Σ F_N δ̇ + F_T v_T. The impact-velocity columns are left zero: those
+    components are constant in the ODE, so the integrator never uses their columns (see
+    ``n_active`` in :func:`jointplay._kernels.radau.radau_integrate`).
+
+    Args:
+        f: ẏ at (t, y) (unused: part of the integrator's interface).
+        out: (n_state, n_state), overwritten.
+    """
+    rpar, ipar = args
+    (n, nc, joint_int, active, clear_joint, law_id, fric_id,
+     mass, gravity, joint_f, driver, geom, law_p, fric_p, _, _) = flat_views(rpar, ipar)  # fmt: skip
+    for j in range(active.shape[0]):
+        if active[j] != 0:
+            return False
+    q = y[:n]
+    qd = y[n : 2 * n]
+    out[:, :] = 0.0
+    for i in range(n):
+        out[i, n + i] = 1.0
+    plaw = law_p.shape[0] // max(nc, 1)
+    pfric = fric_p.shape[0] // max(nc, 1)
+    power_row = 2 * n + 1
+    rot = _rotations(q)
+    de = np.empty(2)
+    dv = np.empty(2)
+    for c in range(nc):
+        j = clear_joint[c]
+        a, b = joint_int[3 * j + 1], joint_int[3 * j + 2]
+        (delta, delta_dot, v_t, length, _, _, nx, ny, slide,
+         (rax, ray), (rbx, rby), wa, wb) = _contact_state(q, qd, rot, joint_int, joint_f, j, geom, c)  # fmt: skip
+        if not delta > 0.0:
+            continue
+        tx, ty = -ny, nx
+        r_j = geom[N_GEOM * c + G_R_JOURNAL]
+        r_b = geom[N_GEOM * c + G_R_BEARING]
+        law_row = law_p[plaw * c : plaw * (c + 1)]
+        fric_row = fric_p[pfric * c : pfric * (c + 1)]
+        v0 = y[2 * n + 2 + c]
+        f_n = normal_force(law_id[c], law_row, delta, delta_dot, v0)
+        f_t = 0.0
+        if fric_id[c] != FRICTION_NONE:
+            f_t = friction_force(fric_id[c], fric_row, v_t, f_n)
+        n_delta, n_rate, t_slip, t_normal = _law_slopes(
+            law_id[c], law_row, fric_id[c], fric_row, delta, delta_dot, v_t, v0, f_n
+        )
+        fx = -f_n * nx - f_t * tx
+        fy = -f_n * ny - f_t * ty
+        pbx, pby = rbx + r_j * nx, rby + r_j * ny  # arms of the contact points
+        pax, pay = rax + r_b * nx, ray + r_b * ny
+        for side in range(2):
+            body = b if side == 0 else a
+            if body < 0:
+                continue
+            sign = 1.0 if side == 0 else -1.0
+            rx, ry = (rbx, rby) if side == 0 else (rax, ray)
+            w = wb if side == 0 else wa
+            for k in range(6):  # x, y, φ, ẋ, ẏ, ω of this body
+                de[0] = de[1] = dv[0] = dv[1] = 0.0
+                dw_b = dw_a = 0.0
+                if k < 2:
+                    de[k] = sign
+                elif k == 2:
+                    de[0], de[1] = -sign * ry, sign * rx
+                    dv[0], dv[1] = -sign * w * rx, -sign * w * ry
+                elif k < 5:
+                    dv[k - 3] = sign
+                else:
+                    dv[0], dv[1] = -sign * ry, sign * rx
+                    dw_b, dw_a = (1.0, 0.0) if side == 0 else (0.0, 1.0)
+                tangential = (tx * de[0] + ty * de[1]) / length  # (t·∂e)/|e|
+                d_delta = nx * de[0] + ny * de[1]
+                d_rate = nx * dv[0] + ny * dv[1] + slide * tangential
+                d_slip = tx * dv[0] + ty * dv[1] - delta_dot * tangential + r_j * dw_b - r_b * dw_a
+                d_fn = n_delta * d_delta + n_rate * d_rate
+                d_ft = t_slip * d_slip + t_normal * d_fn
+                dfx = -d_fn * nx - d_ft * tx + (-f_n * tx + f_t * nx) * tangential
+                dfy = -d_fn * ny - d_ft * ty + (-f_n * ty + f_t * ny) * tangential
+                # ∂p = ∂r (φ of its own body only) + R ∂n, ∂n = t (t·∂e)/|e|
+                dpbx, dpby = r_j * tx * tangential, r_j * ty * tangential
+                dpax, dpay = r_b * tx * tangential, r_b * ty * tangential
+                if k == 2 and side == 0:
+                    dpbx -= rby
+                    dpby += rbx
+                elif k == 2:
+                    dpax -= ray
+                    dpay += rax
+                column = 3 * body + k if k < 3 else n + 3 * body + k - 3
+                if b >= 0:
+                    out[n + 3 * b, column] += dfx / mass[3 * b]
+                    out[n + 3 * b + 1, column] += dfy / mass[3 * b + 1]
+                    moment = dpbx * fy - dpby * fx + pbx * dfy - pby * dfx
+                    out[n + 3 * b + 2, column] += moment / mass[3 * b + 2]
+                if a >= 0:
+                    out[n + 3 * a, column] -= dfx / mass[3 * a]
+                    out[n + 3 * a + 1, column] -= dfy / mass[3 * a + 1]
+                    moment = dpax * fy - dpay * fx + pax * dfy - pay * dfx
+                    out[n + 3 * a + 2, column] -= moment / mass[3 * a + 2]
+                out[power_row, column] += (
+                    d_fn * delta_dot + f_n * d_rate + d_ft * v_t + f_t * d_slip
+                )
+    crank = int(driver[0])
+    if crank >= 0:
+        k = 3 * crank + 2
+        omega = qd[k]
+        force = gravity.copy()
+        add_contact_forces(
+            y,
+            n,
+            joint_int,
+            joint_f,
+            clear_joint,
+            geom,
+            law_id,
+            law_p,
+            fric_id,
+            fric_p,
+            force,
+            y[:0],
+        )
+        torque = mass[k] * driver_motion(t, driver)[2] - force[k]
+        for column in range(2 * n):  # τ = I_k φ̈_d − Q_k: ∂(τ ω_k) = −ω_k ∂Q_k + τ ∂ω_k
+            out[2 * n, column] = -omega * mass[k] * out[n + k, column]
+            out[n + k, column] = 0.0  # φ̈_k = φ̈_d(t) is prescribed
+        out[2 * n, n + k] += torque
+    return True
 
 
 step_check_signature = types.float64(
@@ -219,7 +652,11 @@ step_check_signature = types.float64(
 
 @njit(step_check_signature, cache=True)
 def step_check(
-    t_old: float, y_old: np.ndarray, t_new: float, y_new: np.ndarray, args: tuple[np.ndarray, np.ndarray]
+    t_old: float,
+    y_old: np.ndarray,
+    t_new: float,
+    y_new: np.ndarray,
+    args: tuple[np.ndarray, np.ndarray],
 ) -> float:
     """Contact-onset control: a step that enters contact deeper than the onset tolerance is
     retried, shortened by the secant estimate of the crossing (Flores & Ambrósio 2010).
@@ -228,16 +665,18 @@ def step_check(
     back out of the wall along a (locally straight) step without ending in contact.
     """
     rpar, ipar = args
-    (n, nc, joint_int, active, clear_joint, law_id, fric_id,
-     mass, gravity, joint_f, driver, geom, law_p, fric_p, settings, stats) = views(rpar, ipar)  # fmt: skip
+    (n, nc, joint_int, _, clear_joint, _, _, _, _, joint_f, _, geom, _, _, settings, _) = flat_views(rpar, ipar)  # fmt: skip
     tolerance = settings[S_ONSET_TOL]
     theta = 1.0
+    rot_old = _rotations(y_old[:n])
+    rot_new = _rotations(y_new[:n])
     for c in range(nc):
         j = clear_joint[c]
-        old = contact_kinematics(y_old[:n], y_old[n : 2 * n], joint_int, joint_f, j, geom[c])[0]
+        clearance = geom[N_GEOM * c + G_CLEARANCE]
+        old = _penetration(y_old[:n], rot_old, joint_int, joint_f, j, clearance)
         if old > 0.0:
             continue
-        new = contact_kinematics(y_new[:n], y_new[n : 2 * n], joint_int, joint_f, j, geom[c])[0]
+        new = _penetration(y_new[:n], rot_new, joint_int, joint_f, j, clearance)
         if new > tolerance:
             theta = min(theta, (0.5 * tolerance - old) / (new - old))
     return theta
@@ -252,14 +691,15 @@ after_step_signature = types.boolean(
 def after_step(t: float, y: np.ndarray, args: tuple[np.ndarray, np.ndarray]) -> bool:
     """Update each joint's contact-event memory v0 and project onto the ideal constraints."""
     rpar, ipar = args
-    (n, nc, joint_int, active, clear_joint, law_id, fric_id,
-     mass, gravity, joint_f, driver, geom, law_p, fric_p, settings, stats) = views(rpar, ipar)  # fmt: skip
+    (n, nc, joint_int, active, clear_joint, _, _,
+     mass, _, joint_f, driver, geom, _, _, settings, stats) = flat_views(rpar, ipar)  # fmt: skip
     changed = False
     q = y[:n]
     qd = y[n : 2 * n]
+    rot = _rotations(q)
     for c in range(nc):
         j = clear_joint[c]
-        delta, delta_dot, _, _, _, _, _ = contact_kinematics(q, qd, joint_int, joint_f, j, geom[c])
+        delta, delta_dot = _contact_state(q, qd, rot, joint_int, joint_f, j, geom, c)[:2]
         slot = 2 * n + 2 + c
         if delta > 0.0 and y[slot] <= 0.0:
             y[slot] = max(delta_dot, settings[S_V_MARK])  # a new contact event begins
@@ -267,7 +707,18 @@ def after_step(t: float, y: np.ndarray, args: tuple[np.ndarray, np.ndarray]) -> 
         elif delta <= 0.0 and y[slot] > 0.0:
             y[slot] = 0.0  # the event has ended
             changed = True
-    phi = residual(q, t, joint_int, joint_f, active, driver)
+    nj = active.shape[0]
+    crank = int(driver[0])
+    if active.sum() == 0:  # the driver alone: check |φ_k − φ_d(t)| without building Φ
+        if crank < 0:
+            return changed
+        violation = abs(q[3 * crank + 2] - driver_motion(t, driver)[0])
+        stats[T_MAX_VIOLATION] = max(stats[T_MAX_VIOLATION], violation)
+        if violation <= settings[S_PROJ_TOL]:
+            return changed
+    joints = joint_int.reshape((nj, 3))
+    joint_floats = joint_f.reshape((nj, 6))
+    phi = residual(q, t, joints, joint_floats, active, driver)
     if phi.shape[0] == 0:
         return changed
     violation = np.max(np.abs(phi))
@@ -275,13 +726,13 @@ def after_step(t: float, y: np.ndarray, args: tuple[np.ndarray, np.ndarray]) -> 
     if violation > settings[S_PROJ_TOL]:
         inv_mass = 1.0 / mass
         for _ in range(3):
-            phi_q = jacobian(q, joint_int, joint_f, active, driver)
+            phi_q = jacobian(q, joints, joint_floats, active, driver)
             weighted = phi_q * inv_mass
             q -= inv_mass * (phi_q.T @ np.linalg.solve(weighted @ phi_q.T, phi))
-            phi = residual(q, t, joint_int, joint_f, active, driver)
+            phi = residual(q, t, joints, joint_floats, active, driver)
             if np.max(np.abs(phi)) <= 1e-3 * settings[S_PROJ_TOL]:
                 break
-        phi_q = jacobian(q, joint_int, joint_f, active, driver)
+        phi_q = jacobian(q, joints, joint_floats, active, driver)
         weighted = phi_q * inv_mass
         drift = phi_q @ qd - velocity_rhs(t, active, driver)
         qd -= inv_mass * (phi_q.T @ np.linalg.solve(weighted @ phi_q.T, drift))
@@ -291,7 +742,7 @@ def after_step(t: float, y: np.ndarray, args: tuple[np.ndarray, np.ndarray]) -> 
 
 
 @njit(cache=True)
-def diagnostics(t: np.ndarray, y: np.ndarray, rpar: np.ndarray, ipar: np.ndarray):  # type: ignore[no-untyped-def]
+def diagnostics(t: np.ndarray, y: np.ndarray, rpar: np.ndarray, ipar: np.ndarray):
     """Per recorded state: q̈ (N, 3nb), torque (N,), contacts (N, nc, 7), ideal-joint reactions
     (N, nj, 2: force of the joint's link a on its link b, N; zero rows for clearance joints)
     and the constraint violation max |Φ| (N,)."""

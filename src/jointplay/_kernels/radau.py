@@ -37,6 +37,27 @@ Where it departs from SciPy (none of which changes a step on a smooth problem):
 * Own LU and loop-ordered sums: the same pivots and arithmetic as SciPy/LAPACK, but not
   the same round-off. No dense output is built: only the last collocation polynomial is
   kept, for the Newton start, as SciPy does.
+* A difference factor is capped at ``NUM_JAC_MAX_FACTOR`` (SciPy lets it grow without
+  bound on a column f hardly depends on, until the step is infinite and the Jacobian NaN).
+
+Options, each off by default (then the kernel is SciPy's algorithm, as above), for
+mechanical systems (:func:`radau_integrate` says how to switch them on):
+
+* **second-order structure** (``n_second``): when ``y = (x, v, …)`` with ``x' = v``, the
+  Newton systems ``(γ/h·I − J) d = b`` are solved on the ``v`` block and the other active
+  components only, after eliminating ``dx = h/γ (b_x + dv)`` ([HW96] §IV.8, the ``M1``
+  option of RADAU5): for a mechanism, 9×9 instead of 24×24 matrices;
+* **passive components** (``n_active``): trailing components that do not feed back (work
+  integrals) or are constant in the ODE (contact memory); their Jacobian columns are not
+  differenced and their Newton increments follow from the active ones;
+* **a Jacobian function** (``jac``), used whenever it returns one (``True``);
+* **RADAU5's growth limit** (``hold_after_failure``): after a step that was accepted only
+  after a failed error test or Newton iteration, the next step may not grow
+  (``IF (REJECT) HNEW = MIN(HNEW, H)`` in Hairer's radau5.f). SciPy lets it grow at once.
+
+In exact arithmetic the first two give the same iterates as the full algorithm; an exact
+Jacobian changes the simplified-Newton iterates, not the solution they converge to; the
+growth limit changes step-size decisions, and only after a rejection.
 
 Jacobian: SciPy's ``num_jac`` (dense branch) is ported whole: forward differences with
 step ``factor_j·max(|y_j|, atol_j)`` in the direction of ``f``, where the per-column
@@ -81,6 +102,7 @@ __all__ = [
     "STATUS_SUCCESS",
     "STATUS_TOO_MANY_STEPS",
     "accept_every_step",
+    "finite_differences",
     "kernel_signatures",
     "lu_factor",
     "lu_solve",
@@ -144,6 +166,12 @@ NUM_JAC_DIFF_BIG = EPS**0.25
 NUM_JAC_MIN_FACTOR = 1e3 * EPS
 NUM_JAC_FACTOR_INCREASE = 10.0
 NUM_JAC_FACTOR_DECREASE = 0.1
+#: Not in SciPy: the largest relative difference step. SciPy multiplies a column's factor by
+#: 10 at every Jacobian in which the column's difference is small, without bound, so a
+#: component on which f (nearly) does not depend gets an infinite step after ~300
+#: Jacobians and the Jacobian turns NaN (seen on a slider-crank: its slider angle is held
+#: by a constraint). A step as large as the component itself (or its atol) is the cap.
+NUM_JAC_MAX_FACTOR = 1.0
 
 #: Consecutive ``step_check`` rejections of one step after which the step is accepted.
 MAX_CHECK_REJECTIONS = 64
@@ -352,82 +380,174 @@ def lu_solve(lu, piv, b):
 
 
 @_jit
-def _factor_newton_matrices(jac, h):
-    """LU factors of ``MU_REAL/h·I − J`` and ``MU_COMPLEX/h·I − J``."""
-    n = jac.shape[0]
-    a_real = np.empty((n, n))
-    a_complex = np.empty((n, n), dtype=np.complex128)
+def _factor_newton_matrices(jac, h, n_second, n_active):
+    """LU factors of the Newton matrices ``MU_REAL/h·I − J`` and ``MU_COMPLEX/h·I − J``,
+    reduced to the components that :func:`_newton_solve` keeps.
+
+    For ``γ`` = ``MU_REAL`` or ``MU_COMPLEX``, the kept block ``K = [n_second, n_active)``
+    (velocities and other active components) of ``γ/h·I − J`` minus ``h/γ·J_Kx`` in the
+    columns of the velocities, ``x`` being the positions ``[0, n_second)`` ([HW96] §IV.8,
+    the ``M1`` option of RADAU5). With ``n_second = 0`` and ``n_active = n`` this is the
+    full matrix, as in SciPy.
+    """
+    m2 = n_second
+    nk = n_active - m2
+    a_real = np.empty((nk, nk))
+    a_complex = np.empty((nk, nk), dtype=np.complex128)
     m_real = MU_REAL / h
     m_complex = MU_COMPLEX / h
-    for i in range(n):
-        for j in range(n):
-            a_real[i, j] = -jac[i, j]
-            a_complex[i, j] = -jac[i, j]
-        a_real[i, i] = m_real - jac[i, i]
-        a_complex[i, i] = m_complex - jac[i, i]
+    for i in range(nk):
+        for j in range(nk):
+            a_real[i, j] = -jac[m2 + i, m2 + j]
+            a_complex[i, j] = -jac[m2 + i, m2 + j]
+        a_real[i, i] += m_real
+        a_complex[i, i] += m_complex
+        for j in range(m2):  # dx = h/γ (b_x + dv): the positions' columns fold into dv's
+            a_real[i, j] -= jac[m2 + i, j] / m_real
+            a_complex[i, j] -= jac[m2 + i, j] / m_complex
     lu_real, piv_real = lu_factor(a_real)
     lu_complex, piv_complex = lu_factor(a_complex)
     return lu_real, piv_real, lu_complex, piv_complex
+
+
+@_jit
+def _lu_solve_in_place(lu, piv, x):
+    """:func:`lu_solve` overwriting ``x`` (the right-hand side) with the solution."""
+    n = lu.shape[0]
+    for k in range(n):
+        p = piv[k]
+        if p != k:
+            tmp = x[k]
+            x[k] = x[p]
+            x[p] = tmp
+    for i in range(n):
+        s = x[i]
+        for j in range(i):
+            s -= lu[i, j] * x[j]
+        x[i] = s
+    for i in range(n - 1, -1, -1):
+        s = x[i]
+        for j in range(i + 1, n):
+            s -= lu[i, j] * x[j]
+        x[i] = s / lu[i, i]
+
+
+@_jit
+def _newton_solve_in_place(lu, piv, jac, mu_over_h, x, work, n_second, n_active):
+    """Solve ``(γ/h·I − J) x = b`` from the reduced factors of :func:`_factor_newton_matrices`.
+
+    The Jacobian is taken to have the structure that ``n_second`` and ``n_active`` declare
+    (see :func:`radau_integrate`): rows ``[0, m)`` (``m = n_second``) are ``[0, I, 0]``
+    (``x' = v``), and the columns from ``n_active`` on are zero. Then
+    ``dx = h/γ (b_x + dv)``; the kept block ``K = [m, n_active)`` solves
+    ``(γ/h·I − J_KK − h/γ·J_Kx E) d_K = b_K + h/γ·J_Kx b_x`` (``E`` picks dv out of d_K);
+    and each passive component ``p`` follows as ``h/γ (b_p + J_p,active x_active)``. In
+    exact arithmetic this is the solution of the full system.
+
+    Args:
+        lu: Packed LU of the reduced matrix for ``γ``.
+        piv: Its row interchanges.
+        jac: The Jacobian, shape (n, n) (only the rows from ``n_second`` on are read).
+        mu_over_h: ``γ/h`` (real or complex, the dtype of ``lu``).
+        x: ``b`` on entry, the solution on return, shape (n,), the dtype of ``lu``.
+        work: Scratch of shape (n_active − n_second,), the dtype of ``lu``.
+        n_second: Number of positions ``m``.
+        n_active: Number of active components.
+    """
+    n = x.shape[0]
+    m2 = n_second
+    nk = n_active - m2
+    h_over_mu = 1.0 / mu_over_h
+    for i in range(nk):
+        s = x[m2 + i]
+        for j in range(m2):
+            s += h_over_mu * jac[m2 + i, j] * x[j]
+        work[i] = s
+    _lu_solve_in_place(lu, piv, work)
+    for j in range(m2):
+        x[j] = h_over_mu * (x[j] + work[j])
+    for i in range(nk):
+        x[m2 + i] = work[i]
+    for p in range(n_active, n):
+        s = x[p]
+        for j in range(n_active):
+            s += jac[p, j] * x[j]
+        x[p] = h_over_mu * s
+
+
+@_jit
+def _newton_solve(lu, piv, jac, mu_over_h, b, n_second, n_active):
+    """:func:`_newton_solve_in_place` into a new array (``b`` is not modified)."""
+    x = b.copy()
+    work = np.empty(n_active - n_second, dtype=b.dtype)
+    _newton_solve_in_place(lu, piv, jac, mu_over_h, x, work, n_second, n_active)
+    return x
 
 
 # ---------------------------------------------------------------------------------------
 # Pieces of the collocation step.
 # ---------------------------------------------------------------------------------------
 @_jit
-def _mat3_dot(m, z):
-    """``m @ z`` for a 3×3 ``m`` and a (3, n) ``z``."""
+def _mat3_dot_into(m, z, out):
+    """``out[:] = m @ z`` for a 3×3 ``m`` and (3, n) ``z`` and ``out``."""
     n = z.shape[1]
-    out = np.zeros((3, n))
     for i in range(3):
+        for j in range(n):
+            out[i, j] = 0.0
         for k in range(3):
             mik = m[i, k]
             for j in range(n):
                 out[i, j] += mik * z[k, j]
-    return out
 
 
 @_jit
-def _newton_increment(f_stages, w, h, scale, lu_real, piv_real, lu_complex, piv_complex):
-    """One simplified-Newton increment ``dW`` in the transformed variables, and its norm.
+def _newton_increment(f_stages, w, h, scale, lu_real, piv_real, lu_complex, piv_complex, jac,
+                      n_second, n_active, dw, x_real, x_complex, work_real, work_complex):  # fmt: skip
+    """One simplified-Newton increment ``dW`` in the transformed variables; its norm.
 
     Args:
         f_stages: ``F[i] = f(t + c_i h, y + Z[i])``, shape (3, n).
         w: Current transformed stage increments ``W = TI @ Z``, shape (3, n).
         h: Signed step.
         scale: ``atol + rtol·|y|``, shape (n,).
-        lu_real: Packed LU of ``MU_REAL/h·I − J``.
+        lu_real: Packed LU of ``MU_REAL/h·I − J`` (reduced, :func:`_factor_newton_matrices`).
         piv_real: Its row interchanges.
-        lu_complex: Packed LU of ``MU_COMPLEX/h·I − J``.
+        lu_complex: Packed LU of ``MU_COMPLEX/h·I − J`` (reduced).
         piv_complex: Its row interchanges.
+        jac: The Jacobian the factors were made from.
+        n_second: Number of positions (see :func:`radau_integrate`).
+        n_active: Number of active components (see :func:`radau_integrate`).
+        dw: Receives ``dW``, shape (3, n).
+        x_real, x_complex, work_real, work_complex: Scratch, shapes (n,), (n,), (nk,),
+            (nk,) with ``nk = n_active − n_second``.
 
     Returns:
-        ``(dW, ||dW / scale||_rms)``.
+        ``||dW / scale||_rms``.
     """
     n = w.shape[1]
     m_real = MU_REAL / h
     m_complex = MU_COMPLEX / h
-    f_real = np.empty(n)
-    f_complex = np.empty(n, dtype=np.complex128)
     for j in range(n):
         fr = 0.0
         fc = 0.0j
         for i in range(3):
             fr += f_stages[i, j] * TI_REAL[i]
             fc += f_stages[i, j] * TI_COMPLEX[i]
-        f_real[j] = fr - m_real * w[0, j]
-        f_complex[j] = fc - m_complex * (w[1, j] + 1j * w[2, j])
-    dw_real = lu_solve(lu_real, piv_real, f_real)
-    dw_complex = lu_solve(lu_complex, piv_complex, f_complex)
-    dw = np.empty((3, n))
+        x_real[j] = fr - m_real * w[0, j]
+        x_complex[j] = fc - m_complex * (w[1, j] + 1j * w[2, j])
+    _newton_solve_in_place(lu_real, piv_real, jac, m_real, x_real, work_real, n_second, n_active)
+    _newton_solve_in_place(
+        lu_complex, piv_complex, jac, m_complex, x_complex, work_complex, n_second, n_active
+    )
     for j in range(n):
-        dw[0, j] = dw_real[j]
-        dw[1, j] = dw_complex[j].real
-        dw[2, j] = dw_complex[j].imag
-    return dw, _rms_norm_stages(dw, scale)
+        dw[0, j] = x_real[j]
+        dw[1, j] = x_complex[j].real
+        dw[2, j] = x_complex[j].imag
+    return _rms_norm_stages(dw, scale)
 
 
 @_jit
-def _error_estimate(z, f, h, lu_real, piv_real):
+def _error_estimate(z, f, h, lu_real, piv_real, jac, n_second, n_active):
     """Embedded error estimate ``(MU_REAL/h·I − J)⁻¹ (f + ZE)`` and ``ZE = Zᵀ E / h``."""
     n = z.shape[1]
     ze = np.empty(n)
@@ -435,7 +555,7 @@ def _error_estimate(z, f, h, lu_real, piv_real):
     for j in range(n):
         ze[j] = (z[0, j] * E[0] + z[1, j] * E[1] + z[2, j] * E[2]) / h
         rhs[j] = f[j] + ze[j]
-    return ze, lu_solve(lu_real, piv_real, rhs)
+    return ze, _newton_solve(lu_real, piv_real, jac, MU_REAL / h, rhs, n_second, n_active)
 
 
 @_jit
@@ -513,7 +633,7 @@ def _column_difference(f, f_col, j, diff, max_diff, scale):
 
 
 @_jit
-def _num_jac(fun, args, t, y, f, threshold, factor):
+def _num_jac(fun, args, t, y, f, threshold, factor, n_active):
     """Forward-difference Jacobian ``∂f/∂y`` with adaptive steps (SciPy's ``num_jac``).
 
     Args:
@@ -524,11 +644,14 @@ def _num_jac(fun, args, t, y, f, threshold, factor):
         f: ``fun(t, y, args)``, shape (n,).
         threshold: Floor of ``|y|`` in the step (``atol``), shape (n,).
         factor: Relative steps, shape (n,); adapted in place for the next call.
+        n_active: Only the columns ``[0, n_active)`` are differenced; the others are zero
+            (passive components, see :func:`radau_integrate`; ``n`` in SciPy).
 
     Returns:
         The Jacobian, shape (n, n).
     """
     n = y.shape[0]
+    na = n_active
     y_scale = np.empty(n)
     h = np.empty(n)
     for j in range(n):
@@ -544,7 +667,7 @@ def _num_jac(fun, args, t, y, f, threshold, factor):
     max_diff = np.empty(n)
     scale = np.empty(n)
     ytmp = y.copy()
-    for j in range(n):
+    for j in range(na):
         ytmp[j] = y[j] + h[j]
         f_col = fun(t, ytmp, args)
         ytmp[j] = y[j]
@@ -555,7 +678,7 @@ def _num_jac(fun, args, t, y, f, threshold, factor):
     diff_new = np.empty((n, n))
     max_diff_new = np.empty(n)
     scale_new = np.empty(n)
-    for j in range(n):
+    for j in range(na):
         if not max_diff[j] < NUM_JAC_DIFF_REJECT * scale[j]:
             continue
         new_factor = NUM_JAC_FACTOR_INCREASE * factor[j]
@@ -572,15 +695,15 @@ def _num_jac(fun, args, t, y, f, threshold, factor):
             scale[j] = scale_new[j]
             max_diff[j] = max_diff_new[j]
 
-    jac = np.empty((n, n))
-    for j in range(n):
+    jac = np.zeros((n, n))
+    for j in range(na):
         for i in range(n):
             jac[i, j] = diff[i, j] / h[j]
         if max_diff[j] < NUM_JAC_DIFF_SMALL * scale[j]:
             factor[j] *= NUM_JAC_FACTOR_INCREASE
         elif max_diff[j] > NUM_JAC_DIFF_BIG * scale[j]:
             factor[j] *= NUM_JAC_FACTOR_DECREASE
-        factor[j] = max(factor[j], NUM_JAC_MIN_FACTOR)
+        factor[j] = min(max(factor[j], NUM_JAC_MIN_FACTOR), NUM_JAC_MAX_FACTOR)
     return jac
 
 
@@ -623,7 +746,22 @@ def _select_initial_step(fun, args, t0, y0, t_bound, max_step, f0, direction, rt
 
 @_jit
 def _solve_collocation_system(
-    fun, args, t, y, h, z0, scale, tol, lu_real, piv_real, lu_complex, piv_complex
+    fun,
+    args,
+    t,
+    y,
+    h,
+    z0,
+    scale,
+    tol,
+    lu_real,
+    piv_real,
+    lu_complex,
+    piv_complex,
+    jac,
+    n_second,
+    n_active,
+    workspace,
 ):
     """Simplified Newton iteration for the collocation system ([HW96] §IV.8; SciPy).
 
@@ -636,19 +774,25 @@ def _solve_collocation_system(
         z0: Initial guess of ``Z`` (stage values minus ``y``), shape (3, n).
         scale: ``atol + rtol·|y|``, shape (n,).
         tol: Newton tolerance (on the scaled RMS norm).
-        lu_real: Packed LU of ``MU_REAL/h·I − J``.
+        lu_real: Packed LU of ``MU_REAL/h·I − J`` (reduced, :func:`_factor_newton_matrices`).
         piv_real: Its row interchanges.
-        lu_complex: Packed LU of ``MU_COMPLEX/h·I − J``.
+        lu_complex: Packed LU of ``MU_COMPLEX/h·I − J`` (reduced).
         piv_complex: Its row interchanges.
+        jac: The Jacobian the factors were made from.
+        n_second: Number of positions (see :func:`radau_integrate`).
+        n_active: Number of active components (see :func:`radau_integrate`).
+        workspace: Scratch arrays from :func:`_newton_workspace`, reused from call to call.
 
     Returns:
-        ``(converged, n_iter, Z, rate, nfev)``; ``rate`` is NaN while undefined.
+        ``(converged, n_iter, Z, rate, nfev)``; ``rate`` is NaN while undefined. ``Z`` is
+        one of the ``workspace`` arrays: valid until the next call.
     """
     n = y.shape[0]
-    w = _mat3_dot(TI, z0)
-    z = z0.copy()
-    f_stages = np.empty((3, n))
-    ytmp = np.empty(n)
+    w, z, f_stages, ytmp, dw, x_real, x_complex, work_real, work_complex = workspace
+    _mat3_dot_into(TI, z0, w)
+    for i in range(3):
+        for j in range(n):
+            z[i, j] = z0[i, j]
     dw_norm_old = 0.0
     has_old = False  # SciPy's ``dW_norm_old is not None``.
     rate = np.nan  # NaN stands for SciPy's ``rate = None``.
@@ -667,9 +811,10 @@ def _solve_collocation_system(
                 finite = finite and math.isfinite(f_i[j])
         if not finite:
             break
-        dw, dw_norm = _newton_increment(
-            f_stages, w, h, scale, lu_real, piv_real, lu_complex, piv_complex
-        )
+        dw_norm = _newton_increment(
+            f_stages, w, h, scale, lu_real, piv_real, lu_complex, piv_complex, jac,
+            n_second, n_active, dw, x_real, x_complex, work_real, work_complex,
+        )  # fmt: skip
         if has_old:
             rate = dw_norm / dw_norm_old
         if has_old and (rate >= 1 or rate ** (NEWTON_MAXITER - k) / (1 - rate) * dw_norm > tol):
@@ -677,13 +822,31 @@ def _solve_collocation_system(
         for i in range(3):
             for j in range(n):
                 w[i, j] += dw[i, j]
-        z = _mat3_dot(T, w)
+        _mat3_dot_into(T, w, z)
         if dw_norm == 0 or (has_old and rate / (1 - rate) * dw_norm < tol):
             converged = True
             break
         dw_norm_old = dw_norm
         has_old = True
     return converged, k + 1, z, rate, nfev
+
+
+@_jit
+def _newton_workspace(n, n_second, n_active):
+    """Scratch arrays of :func:`_solve_collocation_system`: W, Z, F, a stage state, dW,
+    and the right-hand sides and reduced vectors of the real and complex solves."""
+    nk = n_active - n_second
+    return (
+        np.empty((3, n)),
+        np.empty((3, n)),
+        np.empty((3, n)),
+        np.empty(n),
+        np.empty((3, n)),
+        np.empty(n),
+        np.empty(n, dtype=np.complex128),
+        np.empty(nk),
+        np.empty(nk, dtype=np.complex128),
+    )
 
 
 # ---------------------------------------------------------------------------------------
@@ -701,11 +864,42 @@ def no_after_step(t, y, args):
     return False
 
 
+@_jit
+def finite_differences(t, y, f, args, out):
+    """``jac`` that provides no Jacobian (returns False): the kernel differences ``fun``."""
+    return False
+
+
+@_jit
+def _jacobian(fun, jac, args, t, y, f, threshold, factor, n_active):
+    """The user's Jacobian where ``jac`` gives one, SciPy's ``num_jac`` otherwise."""
+    n = y.shape[0]
+    out = np.empty((n, n))
+    if jac(t, y, f, args, out):
+        return out
+    return _num_jac(fun, args, t, y, f, threshold, factor, n_active)
+
+
 # ---------------------------------------------------------------------------------------
 # The driver.
 # ---------------------------------------------------------------------------------------
 def _radau_core(
-    fun, step_check, after_step, t0, y0, t_bound, args, rtol, atol, max_step, first_step, max_steps
+    fun,
+    step_check,
+    after_step,
+    jac_fun,
+    t0,
+    y0,
+    t_bound,
+    args,
+    rtol,
+    atol,
+    max_step,
+    first_step,
+    max_steps,
+    n_second,
+    n_active,
+    hold_after_failure,
 ):
     """The integrator itself; see :func:`radau_integrate` (same arguments and results).
 
@@ -748,7 +942,7 @@ def _radau_core(
     newton_tol = max(10.0 * EPS / rtol, min(0.03, rtol**0.5))
 
     jac_factor = np.full(n, EPS**0.5)
-    jac = _num_jac(fun, args, t, y, f, atol, jac_factor)
+    jac = _jacobian(fun, jac_fun, args, t, y, f, atol, jac_factor, n_active)
     counters[_NJEV] += 1
     current_jac = True
     lu_real = np.empty((n, n))
@@ -756,6 +950,8 @@ def _radau_core(
     lu_complex = np.empty((n, n), dtype=np.complex128)
     piv_complex = np.zeros(n, dtype=np.int64)
     lu_valid = False
+
+    workspace = _newton_workspace(n, n_second, n_active)
 
     # Collocation polynomial of the last step (SciPy's self.sol), for the Newton start.
     has_sol = False
@@ -784,7 +980,9 @@ def _radau_core(
             h_abs_old = h_abs_old_state
             error_norm_old = error_norm_old_state
 
+        newton_scale = _tolerance_scale(y, atol, rtol)  # SciPy: per attempt, the same y
         rejected = False
+        failed = False  # RADAU5's REJECT: the error test or the Newton iteration failed
         step_accepted = False
         n_check = 0
         # Set in the loop below; given values here so that every variable has a type.
@@ -809,12 +1007,12 @@ def _radau_core(
 
             z0 = _extrapolate(q, t_old, y_old, t, y, h) if has_sol else np.zeros((3, n))
 
-            scale = _tolerance_scale(y, atol, rtol)
-
             converged = False
             while not converged:
                 if not lu_valid:
-                    lu_real, piv_real, lu_complex, piv_complex = _factor_newton_matrices(jac, h)
+                    lu_real, piv_real, lu_complex, piv_complex = _factor_newton_matrices(
+                        jac, h, n_second, n_active
+                    )
                     counters[_NLU] += 2
                     lu_valid = True
 
@@ -825,19 +1023,23 @@ def _radau_core(
                     y,
                     h,
                     z0,
-                    scale,
+                    newton_scale,
                     newton_tol,
                     lu_real,
                     piv_real,
                     lu_complex,
                     piv_complex,
+                    jac,
+                    n_second,
+                    n_active,
+                    workspace,
                 )
                 counters[_NFEV] += nfev_newton
 
                 if not converged:
                     if current_jac:
                         break
-                    jac = _num_jac(fun, args, t, y, f, atol, jac_factor)
+                    jac = _jacobian(fun, jac_fun, args, t, y, f, atol, jac_factor, n_active)
                     counters[_NJEV] += 1
                     current_jac = True
                     lu_valid = False
@@ -845,11 +1047,12 @@ def _radau_core(
             if not converged:
                 h_abs *= 0.5
                 lu_valid = False
+                failed = True
                 counters[_NREJ_NEWTON] += 1
                 continue
 
             y_new = _plus(y, z[2])
-            ze, error = _error_estimate(z, f, h, lu_real, piv_real)
+            ze, error = _error_estimate(z, f, h, lu_real, piv_real, jac, n_second, n_active)
             scale = _error_scale(y, y_new, atol, rtol)
             error_norm = _rms_norm(error, scale)
             safety = 0.9 * (2 * NEWTON_MAXITER + 1) / (2 * NEWTON_MAXITER + n_iter)
@@ -857,7 +1060,9 @@ def _radau_core(
             if rejected and error_norm > 1:
                 f_err = fun(t, _plus(y, error), args)
                 counters[_NFEV] += 1
-                error = lu_solve(lu_real, piv_real, _plus(f_err, ze))
+                error = _newton_solve(
+                    lu_real, piv_real, jac, MU_REAL / h, _plus(f_err, ze), n_second, n_active
+                )
                 error_norm = _rms_norm(error, scale)
 
             if error_norm > 1:
@@ -865,6 +1070,7 @@ def _radau_core(
                 h_abs *= _py_max(MIN_FACTOR, safety * factor)
                 lu_valid = False
                 rejected = True
+                failed = True
                 counters[_NREJ_ERROR] += 1
                 continue
 
@@ -886,6 +1092,8 @@ def _radau_core(
 
         factor = _predict_factor(h_abs, h_abs_old, error_norm, error_norm_old)
         factor = _py_min(MAX_FACTOR, safety * factor)
+        if hold_after_failure and failed:
+            factor = _py_min(factor, 1.0)  # RADAU5: IF (REJECT) HNEW = MIN(HNEW, H)
 
         if not recompute_jac and factor < 1.2:
             factor = 1.0
@@ -901,7 +1109,7 @@ def _radau_core(
             break
 
         if recompute_jac:
-            jac = _num_jac(fun, args, t_new, y_new, f_new, atol, jac_factor)
+            jac = _jacobian(fun, jac_fun, args, t_new, y_new, f_new, atol, jac_factor, n_active)
             counters[_NJEV] += 1
             current_jac = True
         else:
@@ -945,14 +1153,16 @@ def kernel_signatures(args_type: Any) -> dict[str, Any]:
         args_type: ``numba.typeof(args)``.
 
     Returns:
-        ``{"fun": ..., "step_check": ..., "after_step": ...}``. ``fun`` may return any
-        1-D float64 array (any layout); every ``y`` it is given is C-contiguous.
+        ``{"fun": ..., "step_check": ..., "after_step": ..., "jac": ...}``. ``fun`` may
+        return any 1-D float64 array (any layout); every ``y`` it is given is C-contiguous;
+        ``jac`` writes into a C-contiguous (n, n) array.
     """
     f8 = numba.types.float64
     return {
         "fun": numba.types.float64[:](f8, _ARRAY, args_type),
         "step_check": f8(f8, _ARRAY, f8, _ARRAY, args_type),
         "after_step": numba.types.boolean(f8, _ARRAY, args_type),
+        "jac": numba.types.boolean(f8, _ARRAY, _ARRAY, args_type, numba.types.float64[:, ::1]),
     }
 
 
@@ -965,6 +1175,7 @@ def _core_signature(args_type: Any) -> tuple[Any, ...]:
         function_type(sigs["fun"]),
         function_type(sigs["step_check"]),
         function_type(sigs["after_step"]),
+        function_type(sigs["jac"]),
         f8,
         _ARRAY,
         f8,
@@ -974,6 +1185,9 @@ def _core_signature(args_type: Any) -> tuple[Any, ...]:
         f8,
         f8,
         numba.types.int64,
+        numba.types.int64,
+        numba.types.int64,
+        numba.types.boolean,
     )
 
 
@@ -1010,6 +1224,10 @@ def radau_integrate(
     max_step: float,
     first_step: float,
     max_steps: int,
+    n_second: int = 0,
+    n_active: int | None = None,
+    hold_after_failure: bool = False,
+    jac: Any = None,
 ) -> tuple[int, npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.int64]]:
     """Integrate ``y' = fun(t, y, args)`` from ``t0`` to ``t_bound`` with Radau IIA (order 5).
 
@@ -1039,6 +1257,27 @@ def radau_integrate(
         first_step: First step size; ``0.0`` chooses it as SciPy's
             ``select_initial_step`` does.
         max_steps: Largest number of accepted steps.
+        n_second: Declares a second-order structure: ``fun(t, y)[:m] == y[m:2m]`` exactly
+            for ``m = n_second`` (positions, then their velocities). The Jacobian's first
+            ``m`` rows are then known (``[0, I, 0]``) and the Newton systems are solved on
+            the ``n_active − m`` other active components only ([HW96] §IV.8, RADAU5's
+            ``M1``): ``dx = h/γ (b_x + dv)``. ``0`` (default): none, as SciPy.
+        n_active: Components ``[n_active, n)`` are passive: either ``fun`` does not depend
+            on them (quadratures such as work integrals), or they are constant in the ODE
+            (``fun`` returns 0 for them; memory that only ``after_step`` changes). Their
+            Jacobian columns are neither computed nor used (in both cases the Newton
+            increments and the error estimate do not depend on them), and their Newton
+            increments follow from the active ones. ``None`` (default): ``n``, as SciPy.
+        hold_after_failure: After a step that was accepted only once its error test or
+            its Newton iteration had failed, do not let the next step grow, as Hairer's
+            RADAU5 does (``IF (REJECT) HNEW = MIN(HNEW, H)``). SciPy lets it grow at once,
+            which on a right-hand side that is only piecewise smooth (contact forces
+            clipped at zero) makes the controller retry, again and again, a step at which
+            Newton just failed. ``False`` (default): SciPy's controller.
+        jac: Numba-jitted ``jac(t, y, f, args, out) -> bool`` writing ``∂fun/∂y`` at
+            ``(t, y)`` (``f = fun(t, y, args)``) into ``out`` (n, n) and returning
+            ``True``, or returning ``False`` to let the kernel difference ``fun`` as SciPy
+            does. ``None`` (default): always difference. Counted in ``njev`` either way.
 
     Returns:
         ``(status, t_out, y_out, counters)``: status ``0`` reached ``t_bound``, ``-1`` the
@@ -1052,12 +1291,21 @@ def radau_integrate(
         TypeError: From Numba, when a function does not compile to the signature that
             :func:`kernel_signatures` gives. :func:`jointplay.dynamics.integrate.integrate`
             checks this first and says what to fix.
+        ValueError: ``n_second`` and ``n_active`` do not satisfy
+            ``0 <= 2·n_second <= n_active <= n``.
     """
     core = _specialised_core(numba.typeof(args))
+    n = np.shape(y0)[0]
+    n_active = n if n_active is None else int(n_active)
+    if not 0 <= 2 * n_second <= n_active <= n:
+        raise ValueError(
+            f"need 0 <= 2·n_second <= n_active <= n = {n}, got {n_second} and {n_active}"
+        )
     status, t_out, y_out, counters = core(
         fun,
         step_check,
         after_step,
+        finite_differences if jac is None else jac,
         float(t0),
         np.array(y0, dtype=np.float64, order="C"),
         float(t_bound),
@@ -1067,5 +1315,8 @@ def radau_integrate(
         float(max_step),
         float(first_step),
         int(max_steps),
+        int(n_second),
+        n_active,
+        bool(hold_after_failure),
     )
     return int(status), t_out, y_out, counters

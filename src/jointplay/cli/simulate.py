@@ -230,9 +230,9 @@ def simulate_command(
             mechanism,
             clear,
             revolutions=turns,
-            start=Start(mode, ramp),
+            start=Start(mode, ramp),  # type: ignore[arg-type]  # validated by Start
             solver=solver,
-            output_step=step,  # type: ignore[arg-type]
+            output_step=step,
         )
     record = provenance(
         {

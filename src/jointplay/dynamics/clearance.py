@@ -37,11 +37,17 @@ class ClearanceJoint:
                 "(a negative value would be an interference fit, which jointplay does not model)"
             )
         if self.clearance == 0:
-            raise ConfigError(f"{where}: zero clearance — leave the joint ideal instead (omit it from --joints)")
+            raise ConfigError(
+                f"{where}: zero clearance — leave the joint ideal instead (omit it from --joints)"
+            )
         if not (math.isfinite(self.journal_radius) and self.journal_radius > 0):
-            raise ConfigError(f"{where}: journal (pin) radius must be > 0 m, got {self.journal_radius}")
+            raise ConfigError(
+                f"{where}: journal (pin) radius must be > 0 m, got {self.journal_radius}"
+            )
         if not isinstance(self.law, ContactLaw):
-            raise ConfigError(f"{where}: law must be a ContactLaw instance, got {type(self.law).__name__}")
+            raise ConfigError(
+                f"{where}: law must be a ContactLaw instance, got {type(self.law).__name__}"
+            )
 
     @property
     def bearing_radius(self) -> float:

@@ -271,6 +271,10 @@ def simulate(
         max_step,
         0.0,
         solver.max_steps,
+        n_second=n,  # q̇ = d/dt q: Newton systems on the n accelerations only
+        n_active=2 * n,  # work integrals and impact-velocity memory do not feed back
+        hold_after_failure=True,  # RADAU5's step control after Newton failures at contacts
+        jac=eom.jacobian_state,  # closed form when every joint is clear, else differences
     )
     wall = time.perf_counter() - wall
     if status != 0:

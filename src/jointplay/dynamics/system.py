@@ -84,7 +84,9 @@ def build_system(
         raise ConfigError(f"a joint is listed twice among the clearance joints: {names}")
     for clearance in clearances:
         if not isinstance(mechanism.joint(clearance.joint), RevoluteJoint):
-            raise ConfigError(f"joint {clearance.joint!r} is not a revolute joint; only revolute joints take clearance")
+            raise ConfigError(
+                f"joint {clearance.joint!r} is not a revolute joint; only revolute joints take clearance"
+            )
     flat = flatten(mechanism, clearance_joints=names, ramp_time=ramp_time, driven=driven)
     rows = [flat.joint_index(name) for name in names]
     nc = len(clearances)
@@ -120,7 +122,14 @@ def build_system(
         PARAMS_WIDTH,
     )
     ipar = np.concatenate(
-        [header, flat.joint_int.ravel(), flat.active, np.array(rows, dtype=np.int64), law_id, fric_id]
+        [
+            header,
+            flat.joint_int.ravel(),
+            flat.active,
+            np.array(rows, dtype=np.int64),
+            law_id,
+            fric_id,
+        ]
     ).astype(np.int64)
     rpar = np.concatenate(
         [
@@ -135,4 +144,6 @@ def build_system(
             np.zeros(eom.N_STATS),
         ]
     )
-    return System(mechanism, flat, tuple(clearances), np.ascontiguousarray(rpar), np.ascontiguousarray(ipar))
+    return System(
+        mechanism, flat, tuple(clearances), np.ascontiguousarray(rpar), np.ascontiguousarray(ipar)
+    )

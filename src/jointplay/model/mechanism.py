@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
-from typing import Literal
+from typing import Any, Literal
 
 from jointplay.errors import ConfigError
 
@@ -22,7 +22,7 @@ Point = tuple[float, float]
 GROUND = "ground"
 
 
-class FrozenMap(dict):  # type: ignore[type-arg]
+class FrozenMap(dict[str, Any]):
     """A read-only dict: the mappings inside frozen model objects (picklable, unlike
     ``types.MappingProxyType``, so mechanisms can be sent to worker processes)."""
 
@@ -32,7 +32,7 @@ class FrozenMap(dict):  # type: ignore[type-arg]
     __setitem__ = __delitem__ = clear = pop = popitem = setdefault = update = _readonly  # type: ignore[assignment]
     __ior__ = _readonly  # type: ignore[assignment]
 
-    def __reduce__(self) -> tuple[type, tuple[dict]]:  # type: ignore[type-arg]
+    def __reduce__(self) -> tuple[type, tuple[dict[str, Any]]]:
         return (FrozenMap, (dict(self),))
 
     def __hash__(self) -> int:  # type: ignore[override]

@@ -242,7 +242,10 @@ def slider_crank(
     )
 
 
-_BUILDERS: dict[str, Callable[..., Mechanism]] = {"four-bar": four_bar, "slider-crank": slider_crank}
+_BUILDERS: dict[str, Callable[..., Mechanism]] = {
+    "four-bar": four_bar,
+    "slider-crank": slider_crank,
+}
 
 
 def with_lengths(mechanism: Mechanism, **lengths: float) -> Mechanism:

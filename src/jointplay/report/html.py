@@ -66,7 +66,7 @@ class HtmlReport:
 
     def table(
         self,
-        rows: pd.DataFrame | Sequence[Sequence[Any]],
+        rows: pd.DataFrame | Sequence[Any],
         headers: Sequence[str] | None = None,
         caption: str | None = None,
         text_columns: Sequence[int] = (0,),
@@ -76,7 +76,7 @@ class HtmlReport:
             headers = [str(c) for c in rows.columns]
             body = rows.itertuples(index=False, name=None)
         else:
-            body = iter(rows)
+            body = iter(list(rows))
         out = ["<table>"]
         if caption:
             out.append(f"<caption>{html.escape(caption)}</caption>")
@@ -84,7 +84,9 @@ class HtmlReport:
             out.append(
                 "<tr>"
                 + "".join(
-                    f'<th class="text">{html.escape(h)}</th>' if i in text_columns else f"<th>{html.escape(h)}</th>"
+                    f'<th class="text">{html.escape(h)}</th>'
+                    if i in text_columns
+                    else f"<th>{html.escape(h)}</th>"
                     for i, h in enumerate(headers)
                 )
                 + "</tr>"
@@ -109,7 +111,7 @@ class HtmlReport:
     def render(self) -> str:
         body = "\n".join(self.parts)
         return (
-            "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"/>"
+            '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8"/>'
             f"<title>{html.escape(self.title)}</title><style>{_STYLE}</style></head>"
             f"<body><h1>{html.escape(self.title)}</h1>\n{body}\n</body></html>\n"
         )

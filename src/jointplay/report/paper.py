@@ -209,7 +209,7 @@ def _ecs_section(page: HtmlReport, study: PaperStudy, figures: Path) -> None:
     page.table(
         [(k, str(v)) for k, v in conventions.items()], ["convention", "value"], text_columns=(0, 1)
     )
-    rows = []
+    rows: list[tuple[Any, ...]] = []
     for data in computed["joints"]:
         for contact in ("spherical", "cylindrical"):
             if contact not in data:
@@ -341,10 +341,10 @@ def _methods_section(page: HtmlReport, study: PaperStudy, figures: Path) -> None
             f"{title.capitalize()} of the six methods (paper's ECS values solid, ours thin) with the nominal curve dashed.",
         )
     key = f"method/{study.options.tolerance_method}/{study.options.tolerance_source}"
-    outcome = study.outcomes.get(key)
-    if outcome is not None and outcome.orbits is not None:
+    reference = study.outcomes.get(key)
+    if reference is not None and reference.orbits is not None:
         page.figure(
-            _orbit_figure(outcome.orbits, figures / "orbits.png", key),
+            _orbit_figure(reference.orbits, figures / "orbits.png", key),
             f"Journal-centre orbits inside the 21 µm clearance circles, {key}.",
         )
 
@@ -412,7 +412,7 @@ def _experiment_section(page: HtmlReport, study: PaperStudy, figures: Path) -> N
     wide = points.pivot_table(
         index="crank_deg", columns="method", values=["simulated", "error_percent"]
     )
-    wide.columns = [f"{method} {value}" for value, method in wide.columns]
+    wide.columns = [f"{pair[1]} {pair[0]}" for pair in wide.columns]
     measured = points.drop_duplicates("crank_deg").set_index("crank_deg")["measured"]
     table = wide.assign(measured=measured).reset_index()
     table = table[

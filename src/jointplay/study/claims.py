@@ -214,16 +214,16 @@ def paper_claims(study: PaperStudy) -> list[Claim]:
             _peak(study, sph, "F_A", "sampled"),
         )
     )
-    sens = study.sensitivities.set_index("length")
+    sens = {row["length"]: row for row in study.sensitivities.to_dict(orient="records")}
     for length, paper_value in (("crank", 2.7), ("ground", 1.3)):
         claims.append(
             Claim(
                 "Sensitivity",
                 f"change of the rocker's peak angular acceleration due to the {length} length deviation",
                 paper_value,
-                float(abs(sens.loc[length, "kinematic_change_pct"])),
+                abs(float(sens[length]["kinematic_change_pct"])),
                 "%",
-                f"kinematic: {length} at its upper limit, ideal joints (with clearance from rest: {sens.loc[length, 'dynamic_change_pct']:+.2g} %)",
+                f"kinematic: {length} at its upper limit, ideal joints (with clearance from rest: {float(sens[length]['dynamic_change_pct']):+.2g} %)",
                 "the paper does not say how it measured this; the start-up impacts dominate the clearance peak, so we report the smooth kinematic effect",
             )
         )
@@ -259,7 +259,7 @@ def _experiment_claims(study: PaperStudy) -> list[Claim]:
     """Table 7: the paper's simulation and errors against ours (deg/s, the table's unit)."""
     comparison = study.experiment
     assert comparison is not None
-    stats = comparison.table.set_index("method")
+    stats = {row["method"]: row for row in comparison.table.to_dict(orient="records")}
     method = "ifm-ecs-spherical"
     disc = comparison.discrepancy
     nominal_points = comparison.comparison("nominal").points
@@ -279,9 +279,7 @@ def _experiment_claims(study: PaperStudy) -> list[Claim]:
             "Experiment (Table 7)",
             "largest |error| between simulation and experiment",
             15.26,
-            float(stats.loc[method, "max_abs_error_percent"])
-            if method in stats.index
-            else math.nan,
+            float(stats[method]["max_abs_error_percent"]) if method in stats else math.nan,
             "%",
             f"{method} ({study.options.tolerance_source}), steady cycle, error = (measured - simulated)/simulated",
             "the measured speeds lie ~14-19 % above the kinematics of Table 1 at 200 RPM; the paper's own simulation shares that offset",
@@ -290,7 +288,7 @@ def _experiment_claims(study: PaperStudy) -> list[Claim]:
             "Experiment (Table 7)",
             "RMS error between simulation and experiment",
             math.nan,
-            float(stats.loc[method, "rms_error_percent"]) if method in stats.index else math.nan,
+            float(stats[method]["rms_error_percent"]) if method in stats else math.nan,
             "%",
             f"{method}; {comparison.verdict()}",
             "the paper says IFM with spherical ECS agrees best; our steady cycles of the four methods differ by less than a point",

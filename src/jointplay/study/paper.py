@@ -416,16 +416,16 @@ def worst_corners(length_cases: pd.DataFrame, method: str) -> pd.DataFrame:
         valid = corners.dropna(subset=[peak])
         if valid.empty:
             continue
-        best = valid.loc[valid[peak].idxmax()]
+        best = valid.iloc[int(np.argmax(valid[peak].to_numpy()))]
         rows.append(
             {
                 "output": peak,
                 "worst_corner": best["case"].removeprefix("corner/"),
                 "peak": best[peak],
                 "change_pct": best[f"{peak}_change_pct"],
-                "ideal_worst_corner": valid.loc[valid[f"{peak}_ideal"].idxmax()][
-                    "case"
-                ].removeprefix("corner/"),
+                "ideal_worst_corner": str(
+                    valid["case"].iloc[int(np.argmax(valid[f"{peak}_ideal"].to_numpy()))]
+                ).removeprefix("corner/"),
                 "ideal_peak": valid[f"{peak}_ideal"].max(),
             }
         )
