@@ -178,6 +178,24 @@ def _penetration(
     return np.sqrt((jx - bx) ** 2 + (jy - by) ** 2) - clearance
 
 
+@njit(cache=True, inline="always")
+def _eccentricity_rate(
+    qd: np.ndarray, a: int, b: int, rax: float, ray: float, rbx: float, rby: float
+) -> tuple[float, float]:
+    """ė = v(journal centre on b) − v(bearing centre on a), v = v_com + ω ẑ × r (r: arm)."""
+    wa = qd[3 * a + 2] if a >= 0 else 0.0
+    wb = qd[3 * b + 2] if b >= 0 else 0.0
+    edx = -wb * rby + wa * ray
+    edy = wb * rbx - wa * rax
+    if b >= 0:
+        edx += qd[3 * b]
+        edy += qd[3 * b + 1]
+    if a >= 0:
+        edx -= qd[3 * a]
+        edy -= qd[3 * a + 1]
+    return edx, edy
+
+
 @njit(cache=True)
 def _contact_state(
     q: np.ndarray, qd: np.ndarray, rot: np.ndarray, joint_int: np.ndarray, joint_f: np.ndarray,
@@ -198,15 +216,7 @@ def _contact_state(
     nx, ny = (ex / length, ey / length) if length > 0.0 else (1.0, 0.0)
     wa = qd[3 * a + 2] if a >= 0 else 0.0
     wb = qd[3 * b + 2] if b >= 0 else 0.0
-    # ė = v(centre of b) − v(centre of a), v = v_com + ω ẑ × r
-    edx = -wb * rby + wa * ray
-    edy = wb * rbx - wa * rax
-    if b >= 0:
-        edx += qd[3 * b]
-        edy += qd[3 * b + 1]
-    if a >= 0:
-        edx -= qd[3 * a]
-        edy -= qd[3 * a + 1]
+    edx, edy = _eccentricity_rate(qd, a, b, rax, ray, rbx, rby)
     delta = length - geom[N_GEOM * c + G_CLEARANCE]
     delta_dot = edx * nx + edy * ny
     slide = -edx * ny + edy * nx
@@ -281,14 +291,7 @@ def add_contact_forces(
             nx, ny = (ex / emag, ey / emag) if emag > 0.0 else (1.0, 0.0)
             wa = qd[3 * a + 2] if a >= 0 else 0.0
             wb = qd[3 * b + 2] if b >= 0 else 0.0
-            edx = -wb * rby + wa * ray
-            edy = wb * rbx - wa * rax
-            if b >= 0:
-                edx += qd[3 * b]
-                edy += qd[3 * b + 1]
-            if a >= 0:
-                edx -= qd[3 * a]
-                edy -= qd[3 * a + 1]
+            edx, edy = _eccentricity_rate(qd, a, b, rax, ray, rbx, rby)
             delta_dot = edx * nx + edy * ny
             r_j = geom[N_GEOM * c + G_R_JOURNAL]
             r_b = geom[N_GEOM * c + G_R_BEARING]
