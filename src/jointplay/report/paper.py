@@ -332,8 +332,12 @@ def _methods_section(page: HtmlReport, study: PaperStudy, figures: Path) -> None
     for quantity, title in (
         ("omega3", "coupler angular velocity"),
         ("omega4", "rocker angular velocity"),
+        ("alpha3", "coupler angular acceleration"),
         ("alpha4", "rocker angular acceleration"),
+        ("F_O2", "crank–ground joint force"),
         ("F_A", "crank–coupler joint force"),
+        ("F_B", "coupler–rocker joint force"),
+        ("F_O4", "rocker–ground joint force"),
     ):
         path = _method_grid(study, quantity, figures / f"methods_{quantity}.png", title)
         page.figure(
