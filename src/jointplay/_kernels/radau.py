@@ -347,19 +347,9 @@ def lu_factor(a):
 
 
 @_jit
-def lu_solve(lu, piv, b):
-    """Solve ``A x = b`` from ``lu_factor(A)``.
-
-    Args:
-        lu: Packed factors from :func:`lu_factor`, shape (n, n).
-        piv: Row interchanges from :func:`lu_factor`, shape (n,).
-        b: Right-hand side, shape (n,), same dtype as ``lu``; not modified.
-
-    Returns:
-        The solution ``x``, shape (n,).
-    """
+def _lu_solve_in_place(lu, piv, x):
+    """:func:`lu_solve` overwriting ``x`` (the right-hand side) with the solution."""
     n = lu.shape[0]
-    x = b.copy()
     for k in range(n):
         p = piv[k]
         if p != k:
@@ -376,6 +366,22 @@ def lu_solve(lu, piv, b):
         for j in range(i + 1, n):
             s -= lu[i, j] * x[j]
         x[i] = s / lu[i, i]
+
+
+@_jit
+def lu_solve(lu, piv, b):
+    """Solve ``A x = b`` from ``lu_factor(A)``.
+
+    Args:
+        lu: Packed factors from :func:`lu_factor`, shape (n, n).
+        piv: Row interchanges from :func:`lu_factor`, shape (n,).
+        b: Right-hand side, shape (n,), same dtype as ``lu``; not modified.
+
+    Returns:
+        The solution ``x``, shape (n,).
+    """
+    x = b.copy()
+    _lu_solve_in_place(lu, piv, x)
     return x
 
 
@@ -408,28 +414,6 @@ def _factor_newton_matrices(jac, h, n_second, n_active):
     lu_real, piv_real = lu_factor(a_real)
     lu_complex, piv_complex = lu_factor(a_complex)
     return lu_real, piv_real, lu_complex, piv_complex
-
-
-@_jit
-def _lu_solve_in_place(lu, piv, x):
-    """:func:`lu_solve` overwriting ``x`` (the right-hand side) with the solution."""
-    n = lu.shape[0]
-    for k in range(n):
-        p = piv[k]
-        if p != k:
-            tmp = x[k]
-            x[k] = x[p]
-            x[p] = tmp
-    for i in range(n):
-        s = x[i]
-        for j in range(i):
-            s -= lu[i, j] * x[j]
-        x[i] = s
-    for i in range(n - 1, -1, -1):
-        s = x[i]
-        for j in range(i + 1, n):
-            s -= lu[i, j] * x[j]
-        x[i] = s / lu[i, i]
 
 
 @_jit
