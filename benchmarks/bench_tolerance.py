@@ -17,9 +17,9 @@ import platform
 import time
 
 from jointplay.io.config import load_preset
+from jointplay.tolerance.analysis import tolerance_study
 from jointplay.tolerance.execution import Backend
 from jointplay.tolerance.spec import ToleranceSpec
-from jointplay.tolerance.study import tolerance_study
 
 KINEMATIC_TARGET_S = 10.0
 DYNAMIC_TARGET_S = 120.0

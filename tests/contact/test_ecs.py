@@ -37,9 +37,9 @@ from jointplay.contact.ecs import (
 )
 from jointplay.contact.laws import ImpactLaw, RestitutionLaw
 from jointplay.contact.stiffness import HertzStiffness
+from jointplay.dynamics.nominal import nominal_analysis
 from jointplay.errors import ConfigError
 from jointplay.model.mechanism import STEEL, JointFit, Material, Mechanism
-from jointplay.study.nominal import nominal_analysis
 
 #: Rounding of the hand-written intermediate numbers (6 significant figures).
 HAND = 1e-5

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from jointplay.dynamics.nominal import nominal_analysis
 from jointplay.errors import ConfigError
 from jointplay.io.output import write_json
 from jointplay.model.mechanism import Mechanism
@@ -35,7 +36,6 @@ from jointplay.study.experiment import (
     speed_factor,
     steady_cycle,
 )
-from jointplay.study.nominal import nominal_analysis
 
 #: A unit conversion multiplies by the unit's rad/s factor and divides on the way back; both
 #: are correctly rounded, so a round trip is off by at most one unit in the last place

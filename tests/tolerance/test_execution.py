@@ -10,11 +10,11 @@ import pytest
 
 from jointplay.errors import ConfigError
 from jointplay.model.mechanism import Mechanism
+from jointplay.tolerance.analysis import tolerance_study
 from jointplay.tolerance.execution import Backend, run
 from jointplay.tolerance.responses import Evaluation, FourBarKinematics, LinearModel
 from jointplay.tolerance.sampling import sample
 from jointplay.tolerance.spec import ToleranceSpec
-from jointplay.tolerance.study import tolerance_study
 
 
 @pytest.fixture(scope="module")

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 import shlex
 import sys
+from collections.abc import Iterable
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -101,3 +102,13 @@ def provenance(configuration: Any) -> dict[str, Any]:
         "command_line": " ".join(shlex.quote(a) for a in ["jointplay", *current_argv]),
         "configuration": configuration,
     }
+
+
+def choice(text: str, option: str, choices: Iterable[str]) -> str:
+    """``text`` lower-cased and stripped, if it is one of ``choices``; else a ConfigError
+    naming ``option`` and the allowed values. The one choice parser of the command line."""
+    allowed = tuple(choices)
+    value = text.strip().lower()
+    if value not in allowed:
+        raise ConfigError(f"{option} must be one of {', '.join(allowed)}, got {text!r}")
+    return value

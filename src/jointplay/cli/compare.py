@@ -9,12 +9,10 @@ the paper's Table 7 — how its printed error column follows from its printed sp
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 from typing import Annotated, Any
 
-import numpy as np
 import typer
 from rich.console import Console
 from rich.table import Table
@@ -24,12 +22,13 @@ from jointplay.cli._common import (
     ConfigOption,
     PresetOption,
     RpmOption,
+    choice,
     mechanism_from_options,
     provenance,
 )
 from jointplay.errors import ConfigError
-from jointplay.io.config import mechanism_summary
-from jointplay.io.output import output_dir, write_json
+from jointplay.io.output import json_text, output_dir, write_json
+from jointplay.model.summary import mechanism_summary
 from jointplay.units import parse_quantity
 
 #: Width of the tables when the output is not a terminal (files, pipes, tests), characters.
@@ -151,11 +150,11 @@ def compare_command(
     from jointplay.study.methods import ECS_SOURCES, METHODS
 
     conventions = ex.MeasurementConventions(
-        unit=_choice(unit, "--unit", tuple(ex.SPEED_UNITS)),
-        crank_direction=_choice(crank_direction, "--crank-direction", ex.DIRECTIONS),
-        angle_direction=_choice(angle_direction, "--angle-direction", ex.DIRECTIONS),
+        unit=choice(unit, "--unit", tuple(ex.SPEED_UNITS)),
+        crank_direction=choice(crank_direction, "--crank-direction", ex.DIRECTIONS),
+        angle_direction=choice(angle_direction, "--angle-direction", ex.DIRECTIONS),
         angle_origin=math.degrees(parse_quantity(angle_origin, "rad", field="--angle-origin")),
-        speed_sign=1 if _choice(speed_positive, "--speed-positive", ex.DIRECTIONS) == "ccw" else -1,
+        speed_sign=1 if choice(speed_positive, "--speed-positive", ex.DIRECTIONS) == "ccw" else -1,
     )
     methods = list(dict.fromkeys(method or ex.DEFAULT_METHODS))
     for name in methods:
@@ -204,31 +203,9 @@ def compare_command(
                 title=f"{mechanism.name}: rocker speed, {data.source}",
             )
     if as_json:
-        print(json.dumps(_clean(document), indent=2, ensure_ascii=False, allow_nan=False))
+        print(json_text(document))
         return
     _print(result, mechanism, out)
-
-
-def _clean(value: Any) -> Any:
-    """NaN and inf become null; NumPy scalars and arrays become Python numbers and lists."""
-    if isinstance(value, dict):
-        return {str(k): _clean(v) for k, v in value.items()}
-    if isinstance(value, list | tuple | np.ndarray):
-        return [_clean(v) for v in value]
-    if isinstance(value, np.bool_):
-        return bool(value)
-    if isinstance(value, np.integer):
-        return int(value)
-    if isinstance(value, float | np.floating):
-        return float(value) if math.isfinite(value) else None
-    return value
-
-
-def _choice(text: str, option: str, choices: tuple[str, ...]) -> str:
-    value = text.strip().lower()
-    if value not in choices:
-        raise ConfigError(f"{option} must be one of {', '.join(choices)}, got {text!r}")
-    return value
 
 
 def _measurements(

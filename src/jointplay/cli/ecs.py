@@ -9,19 +9,23 @@ a crank-speed sweep with the hysteresis comparison. Human output is in N, mm, N/
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 from typing import Annotated, Any
 
-import numpy as np
 import pandas as pd
 import typer
 from rich.console import Console
 from rich.table import Table
 
 from jointplay.cli._app import app
-from jointplay.cli._common import ConfigOption, PresetOption, mechanism_from_options, provenance
+from jointplay.cli._common import (
+    ConfigOption,
+    PresetOption,
+    choice,
+    mechanism_from_options,
+    provenance,
+)
 from jointplay.contact.ecs import (
     ALPHA_LINKS,
     CONTACT_TYPES,
@@ -44,9 +48,9 @@ from jointplay.contact.ecs import (
     spherical_load_lower_bound,
 )
 from jointplay.errors import ConfigError
-from jointplay.io.config import mechanism_summary
-from jointplay.io.output import output_dir, write_json
+from jointplay.io.output import json_text, output_dir, write_json
 from jointplay.model.mechanism import Mechanism
+from jointplay.model.summary import mechanism_summary
 from jointplay.units import parse_quantity
 
 console = Console(highlight=False, soft_wrap=True)
@@ -71,15 +75,8 @@ def _number(text: str, option: str, requirement: str, ok: Any) -> float:
     return value
 
 
-def _choice(text: str, option: str, choices: Any) -> str:
-    value = text.strip().lower()
-    if value not in choices:
-        raise ConfigError(f"{option} must be one of {', '.join(choices)}, got {text!r}")
-    return value
-
-
 def _contacts(text: str) -> tuple[str, ...]:
-    value = _choice(text, "--contact", (*CONTACT_TYPES, "both"))
+    value = choice(text, "--contact", (*CONTACT_TYPES, "both"))
     return CONTACT_TYPES if value == "both" else (value,)
 
 
@@ -216,15 +213,15 @@ def ecs_command(
     )
     e = _number(restitution, "--restitution", "a number in (0, 1]", lambda v: 0 < v <= 1)
     conventions = EcsConventions(
-        radius=_choice(radius, "--radius", RADIUS_CONVENTIONS),
-        modulus=_choice(modulus, "--modulus", MODULUS_CONVENTIONS),
+        radius=choice(radius, "--radius", RADIUS_CONVENTIONS),
+        modulus=choice(modulus, "--modulus", MODULUS_CONVENTIONS),
         initial_contact_radius=_a0(a0),
         contact_length=_length(length),
-        eq11_log_argument=_choice(eq11_log, "--eq11-log", EQ11_LOG_ARGUMENTS),
-        alpha_link=_choice(alpha_link, "--alpha-link", ALPHA_LINKS),
-        load=_choice(load, "--load", LOAD_SOURCES),
+        eq11_log_argument=choice(eq11_log, "--eq11-log", EQ11_LOG_ARGUMENTS),
+        alpha_link=choice(alpha_link, "--alpha-link", ALPHA_LINKS),
+        load=choice(load, "--load", LOAD_SOURCES),
         damping_ratio=ratio,
-        ifm_stiffness=_choice(ifm_stiffness, "--ifm-stiffness", IFM_STIFFNESS_CONVENTIONS),
+        ifm_stiffness=choice(ifm_stiffness, "--ifm-stiffness", IFM_STIFFNESS_CONVENTIONS),
     )
     speeds = parse_sweep(sweep) if sweep is not None else None
     if speeds is None and out is not None:
@@ -247,7 +244,7 @@ def ecs_command(
 
                 ecs_sweep_plots(swept, contacts, folder)
     if as_json:
-        print(json.dumps(_clean(document), indent=2, ensure_ascii=False, allow_nan=False))
+        print(json_text(document))
         return
     _print_report(mechanism, result, contacts, e, swept)
     if out is not None:
@@ -273,19 +270,6 @@ def _a0(text: str) -> float:
 
 
 # --- the JSON document ------------------------------------------------------------------------
-
-
-def _clean(value: Any) -> Any:
-    """NaN and inf become null; NumPy scalars become Python numbers."""
-    if isinstance(value, dict):
-        return {str(k): _clean(v) for k, v in value.items()}
-    if isinstance(value, list | tuple):
-        return [_clean(v) for v in value]
-    if isinstance(value, np.integer):
-        return int(value)
-    if isinstance(value, float | np.floating):
-        return float(value) if math.isfinite(value) else None
-    return value
 
 
 def _parameters(

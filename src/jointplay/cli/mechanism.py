@@ -65,7 +65,7 @@ def kinematics_command(
 
     Writes DIR/kinematics.csv (one row per crank step), DIR/summary.json and PNG plots.
     """
-    from jointplay.study.nominal import nominal_analysis
+    from jointplay.dynamics.nominal import nominal_analysis
 
     mechanism = mechanism_from_options(preset, config, rpm, direction, start_angle, gravity)
     result = nominal_analysis(mechanism, step_deg=step, method=method)

@@ -23,8 +23,9 @@ from jointplay.cli._common import (
     provenance,
 )
 from jointplay.errors import ConfigError
-from jointplay.io.config import mechanism_summary, simulation_settings
+from jointplay.io.config import simulation_settings
 from jointplay.io.output import output_dir, write_json
+from jointplay.model.summary import mechanism_summary
 from jointplay.units import parse_quantity
 
 console = Console(stderr=True)

@@ -216,9 +216,9 @@ def tolerance_command(
     DIR/summary.json (statistics and contributions per response, failures, method, seed,
     provenance), PNG plots and DIR/report.html.
     """
+    from jointplay.tolerance.analysis import response_units, tolerance_study, write_study
     from jointplay.tolerance.execution import Backend
     from jointplay.tolerance.spec import load_study_spec
-    from jointplay.tolerance.study import response_units, tolerance_study, write_study
 
     mechanism, spec = load_study_spec(preset, config)
     if rpm is not None:
@@ -348,7 +348,7 @@ def parse_spec_limits(texts: list[str], units: dict[str, str]) -> dict[str, Any]
 
 
 def _print(study: Any) -> None:
-    from jointplay.tolerance.study import display_scale, input_label
+    from jointplay.tolerance.analysis import display_scale, input_label
 
     result = study.result
     method = result.method

@@ -162,7 +162,7 @@ from jointplay.errors import ConfigError
 from jointplay.model.mechanism import GROUND, STEEL, Material, Mechanism, RevoluteJoint
 
 if TYPE_CHECKING:
-    from jointplay.study.nominal import NominalResult
+    from jointplay.dynamics.nominal import NominalResult
 
 FloatArray = npt.NDArray[np.float64]
 ContactType = Literal["spherical", "cylindrical"]
@@ -949,7 +949,7 @@ def ecs_analysis(
         mechanism: the nominal mechanism; every revolute joint with a
             :class:`~jointplay.model.mechanism.JointFit` gets an estimate.
         conventions: the open choices (defaults: :class:`EcsConventions`).
-        nominal: a precomputed :func:`~jointplay.study.nominal.nominal_analysis` of
+        nominal: a precomputed :func:`~jointplay.dynamics.nominal.nominal_analysis` of
             ``mechanism`` (computed here if ``None``).
         step_deg: crank-angle step of the nominal cycle, deg (1° as the paper's analysis).
 
@@ -960,7 +960,7 @@ def ecs_analysis(
         ConfigError: no revolute joint with fit data, a fit lacking what the conventions need,
             or an invalid convention.
     """
-    from jointplay.study.nominal import nominal_analysis
+    from jointplay.dynamics.nominal import nominal_analysis
 
     conventions = conventions or EcsConventions()
     joints = [j for j in mechanism.revolute_joints if j.fit is not None]

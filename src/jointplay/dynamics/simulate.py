@@ -26,8 +26,8 @@ from jointplay._kernels.radau import COUNTER_NAMES, radau_integrate
 from jointplay.dynamics.clearance import ClearanceJoint
 from jointplay.dynamics.system import System, build_system
 from jointplay.errors import ConfigError, IntegrationError
-from jointplay.io.columns import rotating_links, sliders
 from jointplay.kinematics.analysis import analyse
+from jointplay.model.columns import rotating_links, sliders
 from jointplay.model.flat import REVOLUTE
 from jointplay.model.mechanism import Mechanism
 
@@ -320,7 +320,7 @@ def simulate(
 
 
 def _nominal_table(mechanism: Mechanism, step_deg: float) -> pd.DataFrame:
-    from jointplay.study.nominal import nominal_analysis  # the study layer builds on dynamics
+    from jointplay.dynamics.nominal import nominal_analysis  # the study layer builds on dynamics
 
     return nominal_analysis(mechanism, step_deg=step_deg).table
 

@@ -45,13 +45,21 @@ def output_dir(target: Path | str) -> Iterator[Path]:
         shutil.rmtree(staging, ignore_errors=True)
 
 
-def _jsonable(value: Any) -> Any:
+def jsonable(value: Any) -> Any:
+    """``value`` as plain JSON data: NumPy scalars and arrays become Python numbers and lists,
+    tuples become lists, paths strings, and NaN or inf become ``None`` (JSON null).
+
+    The one JSON sanitiser of the package: every JSON file and ``--json`` document goes
+    through it.
+    """
     if isinstance(value, dict):
-        return {str(k): _jsonable(v) for k, v in value.items()}
+        return {str(k): jsonable(v) for k, v in value.items()}
     if isinstance(value, list | tuple):
-        return [_jsonable(v) for v in value]
+        return [jsonable(v) for v in value]
     if isinstance(value, np.ndarray):
-        return [_jsonable(v) for v in value.tolist()]
+        return [jsonable(v) for v in value.tolist()]
+    if isinstance(value, bool | np.bool_):
+        return bool(value)
     if isinstance(value, np.integer):
         return int(value)
     if isinstance(value, float | np.floating):
@@ -62,6 +70,11 @@ def _jsonable(value: Any) -> Any:
     return value
 
 
+def json_text(data: Any) -> str:
+    """``data`` as indented JSON text (through :func:`jsonable`, so never NaN or inf)."""
+    return json.dumps(jsonable(data), indent=2, ensure_ascii=False, allow_nan=False)
+
+
 def write_json(path: Path, data: Any) -> None:
     """Write ``data`` as indented JSON (NumPy scalars converted, NaN/inf written as null)."""
-    path.write_text(json.dumps(_jsonable(data), indent=2, allow_nan=False) + "\n")
+    path.write_text(json_text(data) + "\n", encoding="utf-8")

@@ -16,7 +16,8 @@ import pandas as pd
 from jointplay import __version__
 from jointplay.io.output import write_json
 from jointplay.report.html import HtmlReport
-from jointplay.report.plots import _pyplot, ecs_sweep_plots
+from jointplay.report._mpl import pyplot
+from jointplay.report.plots import ecs_sweep_plots
 from jointplay.study.claims import paper_claims
 from jointplay.study.methods import METHODS
 from jointplay.study.paper import JOINTS, PEAK_KEYS, PaperStudy, geometry_figures, worst_corners
@@ -486,7 +487,7 @@ def _solver_section(page: HtmlReport, study: PaperStudy, provenance: dict[str, A
 
 
 def _mechanism_figure(study: PaperStudy, path: Path) -> Path:
-    plt = _pyplot()
+    plt = pyplot()
     geometry = study.extra["configuration"]["geometry_m"]
     a, c, d = (geometry[k] * 1e3 for k in ("crank", "rocker", "ground"))
     table = study.nominal
@@ -511,7 +512,7 @@ def _mechanism_figure(study: PaperStudy, path: Path) -> Path:
 
 
 def _nominal_figure(study: PaperStudy, path: Path) -> Path:
-    plt = _pyplot()
+    plt = pyplot()
     table = study.nominal
     fig, axes = plt.subplots(1, 3, figsize=(13, 3.8), dpi=110)
     x = table["crank_deg"]
@@ -533,7 +534,7 @@ def _nominal_figure(study: PaperStudy, path: Path) -> Path:
 
 
 def _method_grid(study: PaperStudy, quantity: str, path: Path, title: str) -> Path:
-    plt = _pyplot()
+    plt = pyplot()
     fig, axes = plt.subplots(2, 3, figsize=(14, 7), dpi=100, sharex=True)
     nominal = study.nominal
     for ax, method in zip(axes.ravel(), METHODS.values(), strict=True):
@@ -565,7 +566,7 @@ def _method_grid(study: PaperStudy, quantity: str, path: Path, title: str) -> Pa
 
 
 def _orbit_figure(orbits: pd.DataFrame, path: Path, title: str) -> Path:
-    plt = _pyplot()
+    plt = pyplot()
     fig, axes = plt.subplots(1, len(JOINTS), figsize=(3.3 * len(JOINTS), 3.4), dpi=110)
     circle = np.linspace(0, 2 * np.pi, 361)
     for ax, joint in zip(axes, JOINTS, strict=True):

@@ -14,17 +14,9 @@ import numpy as np
 import pandas as pd
 
 from jointplay.contact.ecs import PAPER_PUBLISHED, EcsSweep, comparison_factors
+from jointplay.report._mpl import pyplot
 
 UNITS = {"omega": "rad/s", "alpha": "rad/s²", "F": "N", "torque": "N·m"}
-
-
-def _pyplot() -> Any:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
 
 
 def line_plot(
@@ -38,7 +30,7 @@ def line_plot(
     overlays: Sequence[tuple[str, Any, Any]] = (),
 ) -> Path:
     """Plot ``series`` (label, y) against ``x`` and dashed ``overlays`` (label, x, y)."""
-    plt = _pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(8, 4.5), dpi=110)
     for label, y in series:
         ax.plot(x, y, label=label, linewidth=1.2)
@@ -155,7 +147,7 @@ def simulation_plots(
 
 def orbit_plot(steps: pd.DataFrame, clearances: Sequence[Any], path: Path, title: str) -> Path:
     """Journal-centre orbit of each clearance joint inside its clearance circle (µm)."""
-    plt = _pyplot()
+    plt = pyplot()
     count = len(clearances)
     fig, axes = plt.subplots(1, count, figsize=(3.2 * count, 3.4), dpi=110, squeeze=False)
     circle = np.linspace(0, 2 * np.pi, 361)
@@ -178,7 +170,7 @@ def orbit_plot(steps: pd.DataFrame, clearances: Sequence[Any], path: Path, title
 
 def ecs_sweep_plots(swept: EcsSweep, contacts: tuple[str, ...], folder: Path) -> list[Path]:
     """ecs_sweep.png (K, δ, D over speed) and ecs_damping.png (hysteresis comparison)."""
-    plt = _pyplot()
+    plt = pyplot()
     data = swept.paper_units_table()
     rpm = data["rpm"]
     fig, axes = plt.subplots(1, 3, figsize=(12, 4), dpi=110)

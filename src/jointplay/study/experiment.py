@@ -89,8 +89,8 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from jointplay.errors import ConfigError
-from jointplay.io.columns import rotating_links
 from jointplay.kinematics.analysis import analyse, cycle_angles
+from jointplay.model.columns import rotating_links
 from jointplay.model.mechanism import Mechanism
 
 if TYPE_CHECKING:

@@ -25,12 +25,14 @@ import numpy as np
 import pandas as pd
 
 from jointplay.contact.ecs import PAPER_PUBLISHED, EcsConventions, EcsSweep, ecs_analysis, ecs_sweep
+from jointplay.dynamics.nominal import nominal_analysis
 from jointplay.dynamics.setup import clearance_joints
 from jointplay.dynamics.simulate import SolverOptions, Start, simulate
 from jointplay.errors import JointplayError
-from jointplay.io.config import load_preset, mechanism_summary
+from jointplay.io.config import load_preset
 from jointplay.kinematics import fourbar
 from jointplay.model.mechanism import Mechanism
+from jointplay.model.summary import mechanism_summary
 from jointplay.model.templates import FourBarGeometry, template_of, with_lengths
 from jointplay.study.experiment import (
     DEFAULT_METHODS,
@@ -39,7 +41,6 @@ from jointplay.study.experiment import (
     paper_table7,
 )
 from jointplay.study.methods import METHODS, method_law
-from jointplay.study.nominal import nominal_analysis
 
 #: The paper's radial clearance in all four joints (the largest of Ø10 H8/g7), m.
 PAPER_CLEARANCE = 21e-6

@@ -531,7 +531,7 @@ class GeneralKinematics:
                 )
 
     def _layout(self) -> tuple[list[tuple[str, int]], list[Any]]:
-        from jointplay.io.columns import rotating_links, sliders
+        from jointplay.model.columns import rotating_links, sliders
 
         return rotating_links(self.mechanism), sliders(self.mechanism)
 
@@ -715,7 +715,7 @@ class DynamicResponses:
     @property
     def peak_keys(self) -> tuple[str, ...]:
         """Keys of :attr:`SimulationResult.peaks` reported, in column order."""
-        from jointplay.io.columns import rotating_links
+        from jointplay.model.columns import rotating_links
 
         numbers = [number for _, number in rotating_links(self.mechanism)]
         return (

@@ -138,7 +138,7 @@ class ToleranceStudyResult:
 
     def summary(self) -> dict[str, Any]:
         """The ``summary.json`` content without provenance (SI)."""
-        from jointplay.io.config import mechanism_summary
+        from jointplay.model.summary import mechanism_summary
 
         r = self.result
         responses = {}
@@ -338,7 +338,7 @@ def response_units(
 
 def _ideal_peaks(mechanism: Mechanism, keys: tuple[str, ...]) -> dict[str, float]:
     """Largest |value| of each quantity for the nominal mechanism with ideal joints (0.1° steps)."""
-    from jointplay.study.nominal import nominal_analysis
+    from jointplay.dynamics.nominal import nominal_analysis
 
     table = nominal_analysis(mechanism, step_deg=0.1).table
     return {f"{key}_peak": float(table[key].abs().max()) for key in keys if key in table}

@@ -12,11 +12,11 @@ import pytest
 from jointplay.kinematics import fourbar
 from jointplay.model.mechanism import Mechanism
 from jointplay.model.templates import FourBarGeometry, with_lengths
+from jointplay.tolerance.analysis import tolerance_study, write_study
 from jointplay.tolerance.execution import Backend
 from jointplay.tolerance.methods import SpecLimits
 from jointplay.tolerance.responses import FourBarKinematics
 from jointplay.tolerance.spec import LinkTolerance, ToleranceSpec
-from jointplay.tolerance.study import tolerance_study, write_study
 
 SERIAL = Backend("serial")
 LENGTHS = ("length_crank", "length_coupler", "length_rocker", "length_ground")

@@ -23,11 +23,11 @@ import numpy as np
 import pandas as pd
 
 from jointplay.dynamics.inverse import InverseDynamicsResult, inverse_dynamics
-from jointplay.io.columns import rotating_links, sliders
-from jointplay.io.config import mechanism_summary
 from jointplay.kinematics import fourbar, slidercrank
 from jointplay.kinematics.analysis import KinematicsResult, analyse, cycle_angles
+from jointplay.model.columns import rotating_links, sliders
 from jointplay.model.mechanism import Mechanism
+from jointplay.model.summary import mechanism_summary
 from jointplay.model.templates import FourBarGeometry, SliderCrankGeometry, TemplateSpec
 
 
