@@ -218,7 +218,7 @@ def tolerance_command(
     """
     from jointplay.tolerance.analysis import response_units, tolerance_study, write_study
     from jointplay.tolerance.execution import Backend
-    from jointplay.tolerance.spec import load_study_spec
+    from jointplay.io.tolerances import load_study_spec
 
     mechanism, spec = load_study_spec(preset, config)
     if rpm is not None:

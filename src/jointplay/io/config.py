@@ -241,8 +241,9 @@ def _parse(root: _Table) -> Mechanism:
         )
     root.finish()
     if raw_tolerances is not None:
-        # The tolerance module owns the [tolerances] table (classes, fits, distributions).
-        from jointplay.tolerance.spec import mechanism_tolerances
+        # io.tolerances reads the [tolerances] table (classes, fits, distributions); imported
+        # here because it builds on this module (and on NumPy, which the other tables need not).
+        from jointplay.io.tolerances import mechanism_tolerances
 
         if not isinstance(raw_tolerances, Mapping):
             raise ConfigError("tolerances must be a table")
