@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import functools
 import math
+import re
 from typing import Any
 
 from jointplay.errors import ConfigError
@@ -30,6 +31,16 @@ SI_UNITS: dict[str, str] = {
     "damping": "N*s/m",
     "torque": "N*m",
 }
+
+
+#: Lengths written as ``"<number> <unit>"`` with a decimal multiple of the metre are read
+#: without pint (whose import takes ~0.5 s, most of ``jointplay fit``'s start-up): the
+#: factor is exact powers of ten applied as pint applies them (magnitude × factor), so the
+#: result is the same float. Everything else goes through pint.
+_DECIMAL_LENGTHS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "μm": 1e-6}
+_SIMPLE_QUANTITY = re.compile(
+    r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*(m|cm|mm|um|µm|μm)\s*"
+)
 
 
 @functools.cache
@@ -62,6 +73,10 @@ def parse_quantity(value: Any, unit: str, *, field: str, allow_bare: bool = Fals
         raise ConfigError(
             f'{field}: {value!r} has no unit; write it with one, e.g. "{value} {_example(unit)}"'
         )
+    if isinstance(value, str) and unit == "m":
+        simple = _SIMPLE_QUANTITY.fullmatch(value)
+        if simple:
+            return _finite(float(simple[1]) * _DECIMAL_LENGTHS[simple[2]], field)
     registry = _registry()
     if isinstance(value, str):
         text = value.strip()

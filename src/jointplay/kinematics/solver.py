@@ -23,6 +23,9 @@ FloatArray = NDArray[np.float64]
 #: Newton–Raphson stops when max |Φ| falls below this (m for joint rows, rad for angle rows).
 POSITION_TOLERANCE = 1e-13
 
+#: Largest change of any link angle in one Newton–Raphson iteration, rad.
+MAX_ANGLE_STEP = 0.25
+
 
 def driver_at(flat: FlatModel, crank_angle: float, crank_speed: float | None = None) -> FloatArray:
     """Driver parameters that put the crank at ``crank_angle`` at t = 0 (constant speed)."""
@@ -54,11 +57,18 @@ def newton_raphson(
             return q
         jac = ck.jacobian(q, ji, jf, active, driver)
         step, *_ = np.linalg.lstsq(jac, -phi, rcond=None)
-        # Damp large steps so a poor guess cannot jump to a far-away solution.
+        # Damp large steps so a poor guess cannot jump to a far-away solution (the other
+        # assembly branch): no link turns by more than MAX_ANGLE_STEP per iteration, and a
+        # step that does not reduce the loop-closure error is halved (backtracking).
         largest = float(np.max(np.abs(step[2::3]))) if step.size else 0.0
-        if largest > 0.5:
-            step *= 0.5 / largest
-        q += step
+        if largest > MAX_ANGLE_STEP:
+            step *= MAX_ANGLE_STEP / largest
+        for _ in range(30):
+            trial = q + step
+            if float(np.max(np.abs(ck.residual(trial, t, ji, jf, active, driver)))) < norm:
+                break
+            step *= 0.5
+        q = trial
     raise AssemblyError(
         f"the mechanism cannot be assembled at crank angle {np.degrees(driver[DRV_PHI0]):.2f}° "
         f"(Newton–Raphson left a loop-closure error of {norm:.3g})"
