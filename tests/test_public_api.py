@@ -39,3 +39,9 @@ def test_importing_the_package_loads_no_heavy_library() -> None:
         [sys.executable, "-c", code], capture_output=True, text=True, check=True
     ).stdout.strip()
     assert loaded == ""
+
+
+def test_all_lists_exactly_the_lazy_names_and_the_errors() -> None:
+    errors = {"AssemblyError", "ConfigError", "IntegrationError", "JointplayError"}
+    expected = {*jointplay._LAZY, *errors, "StandardsError", "__version__"}
+    assert set(jointplay.__all__) == expected
