@@ -10,9 +10,9 @@ data only, so they can be sent to worker processes and Dask workers.
 Models:
 
 * :class:`FourBarKinematics` — the ideal-joint kinematics of a four-bar template, vectorised
-  over (samples × crank angles) with the closed form of :mod:`jointplay.kinematics.fourbar`
-  written without trigonometric functions in the inner loop; peaks refined by parabolic
-  interpolation around the grid maximum. Responses: ``rocker_swing``, ``theta3_min``,
+  over (samples × crank angles) with :mod:`jointplay.kinematics.batch` (the closed form of
+  :mod:`jointplay.kinematics.fourbar` without trigonometric functions in the inner loop);
+  peaks refined by parabolic interpolation around the grid maximum. Responses: ``rocker_swing``, ``theta3_min``,
   ``theta3_max``, ``theta4_min``, ``theta4_max`` (rad), ``omega3_peak``, ``omega4_peak``
   (largest |ω|, rad/s), ``alpha3_peak``, ``alpha4_peak`` (rad/s²),
   ``transmission_angle_min`` (the smallest of min(μ, π − μ) over the cycle, rad, exact),
@@ -41,7 +41,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from jointplay.errors import ConfigError, JointplayError
-from jointplay.kinematics import fourbar
+from jointplay.kinematics import batch, fourbar
 from jointplay.model.mechanism import Mechanism
 from jointplay.model.templates import FourBarGeometry, TemplateSpec, template_of
 
@@ -277,13 +277,13 @@ class FourBarKinematics:
         grid: dict[str, FloatArray] = {"c2": np.cos(theta2), "s2": np.sin(theta2)}
         g = self.geometry
         nominal = np.array([[g.crank, g.coupler, g.rocker, g.ground]])
-        _, state = self._state(nominal, grid["c2"], grid["s2"])
+        state = batch.positions(nominal, grid["c2"], grid["s2"], self.branch)
         # Reference directions: the mean nominal coupler and rocker directions, so that the
         # angles of a rocking link never wrap within its swing.
-        grid["ref3"] = np.array(math.atan2(state["s3"].mean(), state["c3"].mean()))
-        grid["ref4"] = np.array(math.atan2(state["s4"].mean(), state["c4"].mean()))
+        grid["ref3"] = np.array(math.atan2(state.s3.mean(), state.c3.mean()))
+        grid["ref4"] = np.array(math.atan2(state.s4.mean(), state.c4.mean()))
         for name, (px, py) in self.coupler_points.items():
-            x, y = self._point(state, px, py)
+            x, y = batch.coupler_point(state, px, py)
             grid[f"path_x_{name}"], grid[f"path_y_{name}"] = x[0], y[0]
         object.__setattr__(self, "_grid", grid)
 
@@ -355,7 +355,7 @@ class FourBarKinematics:
         """Responses of the samples ``x`` (m, k); unassemblable samples are marked failed."""
         x = _check_inputs(x, len(self.input_names))
         lengths = self.lengths(x)
-        ok = _turns_fully(lengths)
+        ok = batch.turns_fully(lengths)
         g = self.geometry
         safe = np.where(ok[:, None], lengths, [g.crank, g.coupler, g.rocker, g.ground])
         values = np.empty((len(x), len(self.response_names)))
@@ -377,56 +377,16 @@ class FourBarKinematics:
         values[~ok] = np.nan
         return Evaluation(values, ok, tuple(errors))
 
-    def _state(
-        self, lengths: FloatArray, c2: FloatArray, s2: FloatArray
-    ) -> tuple[tuple[FloatArray, ...], dict[str, FloatArray]]:
-        """Direction cosines of coupler and rocker on the grid (Norton §4.5, no trig calls).
-
-        With f = |O4 − A|, e_f = (O4 − A)/f and cos β = (b² + f² − c²)/(2bf), the coupler
-        direction e3 is e_f turned by σβ (σ the branch) and the rocker direction
-        e4 = (A + b e3 − O4)/c — the same loop closure as :func:`fourbar.positions`.
-        """
-        a, b, c, d = (lengths[:, i : i + 1] for i in range(4))
-        ax, ay = a * c2, a * s2
-        vx, vy = d - ax, -ay
-        f2 = vx * vx + vy * vy
-        inv_f = 1.0 / np.sqrt(f2)
-        cos_b = (b * b - c * c + f2) * inv_f * (0.5 / b)
-        sin_b = np.sqrt(np.maximum(1.0 - cos_b * cos_b, 0.0)) * self.branch
-        vx *= inv_f
-        vy *= inv_f
-        c3 = vx * cos_b - vy * sin_b
-        s3 = vy * cos_b + vx * sin_b
-        c4 = (ax + b * c3 - d) / c
-        s4 = (ay + b * s3) / c
-        return (a, b, c, d), {"c3": c3, "s3": s3, "c4": c4, "s4": s4, "ax": ax, "ay": ay}
-
-    @staticmethod
-    def _point(
-        state: Mapping[str, FloatArray], px: float, py: float
-    ) -> tuple[FloatArray, FloatArray]:
-        c3, s3 = state["c3"], state["s3"]
-        return state["ax"] + px * c3 - py * s3, state["ay"] + px * s3 + py * c3
-
     def _responses(self, lengths: FloatArray) -> FloatArray:
         grid = self._grid
         c2, s2 = grid["c2"], grid["s2"]
-        (a, b, c, _), state = self._state(lengths, c2, s2)
-        c3, s3, c4, s4 = state["c3"], state["s3"], state["c4"], state["s4"]
         w2 = self.angular_velocity
-        # Velocities (Norton §6.7): dot the loop's derivative with e4 and e3.
-        inv_s34 = 1.0 / (s3 * c4 - c3 * s4)  # 1 / sin(θ3 − θ4)
-        omega3 = (a * w2 / b) * (s4 * c2 - c4 * s2) * inv_s34  # a ω2 sin(θ4−θ2) / (b sin(θ3−θ4))
-        omega4 = (a * w2 / c) * (s3 * c2 - c3 * s2) * inv_s34  # a ω2 sin(θ3−θ2) / (c sin(θ3−θ4))
-        # Accelerations (Norton §7.3), α2 = 0: the second derivative dotted with e4 and e3.
-        k = a * w2 * w2
-        cos34 = c3 * c4 + s3 * s4
-        w3sq, w4sq = omega3 * omega3, omega4 * omega4
-        alpha3 = -(k * (c2 * c4 + s2 * s4) + b * w3sq * cos34 - c * w4sq) * inv_s34 / b
-        alpha4 = -(k * (c2 * c3 + s2 * s3) + b * w3sq - c * w4sq * cos34) * inv_s34 / c
+        state = batch.positions(lengths, c2, s2, self.branch)
+        omega3, omega4 = batch.velocities(lengths, state, c2, s2, w2)
+        alpha3, alpha4 = batch.accelerations(lengths, state, c2, s2, w2, omega3, omega4)
         out = np.empty((len(lengths), len(self.response_names)))
-        theta3 = self._extremes(c3, s3, float(grid["ref3"]))
-        theta4 = self._extremes(c4, s4, float(grid["ref4"]))
+        theta3 = self._extremes(state.c3, state.s3, float(grid["ref3"]))
+        theta4 = self._extremes(state.c4, state.s4, float(grid["ref4"]))
         out[:, 0] = theta4[1] - theta4[0]
         out[:, 1], out[:, 2] = theta3
         out[:, 3], out[:, 4] = theta4
@@ -434,9 +394,9 @@ class FourBarKinematics:
         out[:, 6] = _peak_abs(omega4)
         out[:, 7] = _peak_abs(alpha3)
         out[:, 8] = _peak_abs(alpha4)
-        out[:, 9] = _transmission_angle_min(lengths)
+        out[:, 9] = batch.transmission_angle_min(lengths)
         for column, (name, (px, py)) in enumerate(self.coupler_points.items(), start=10):
-            x, y = self._point(state, px, py)
+            x, y = batch.coupler_point(state, px, py)
             dist2 = (x - grid[f"path_x_{name}"]) ** 2 + (y - grid[f"path_y_{name}"]) ** 2
             distance = np.sqrt(dist2)
             out[:, column] = _refine_peak(distance, np.argmax(dist2, axis=1))
@@ -464,20 +424,6 @@ class FourBarKinematics:
         return result[0], result[1]
 
 
-def _turns_fully(lengths: FloatArray) -> BoolArray:
-    """The crank turns through 360°: |b − c| <= |d − a| and d + a <= b + c (all lengths > 0).
-
-    |O4 − A| ranges over [|d − a|, d + a]; the triangle A–B–O4 closes while it lies in
-    [|b − c|, b + c] (the condition of :func:`fourbar.infeasible_crank_ranges`).
-    """
-    a, b, c, d = lengths.T
-    positive = np.all(lengths > 0, axis=1)
-    with np.errstate(invalid="ignore"):
-        return np.asarray(
-            positive & (np.abs(b - c) <= np.abs(d - a)) & (d + a <= b + c), dtype=bool
-        )
-
-
 def _assembly_message(lengths: FloatArray) -> str:
     try:
         geometry = FourBarGeometry(
@@ -490,15 +436,6 @@ def _assembly_message(lengths: FloatArray) -> str:
     except JointplayError as exc:
         return _error(exc)
     return "AssemblyError: the crank cannot turn fully"
-
-
-def _transmission_angle_min(lengths: FloatArray) -> FloatArray:
-    """min over θ2 of min(μ, π − μ); |cos μ| is largest at θ2 = 0 or π (f = |d ∓ a|)."""
-    a, b, c, d = lengths.T
-    cos_0 = (b * b + c * c - (d - a) ** 2) / (2 * b * c)
-    cos_pi = (b * b + c * c - (d + a) ** 2) / (2 * b * c)
-    largest = np.minimum(np.maximum(np.abs(cos_0), np.abs(cos_pi)), 1.0)
-    return np.asarray(np.arccos(largest), dtype=float)
 
 
 # --- any template mechanism, one sample at a time -----------------------------------------------
