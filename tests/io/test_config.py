@@ -8,9 +8,11 @@ import tomllib
 import numpy as np
 import pytest
 
+from jointplay._kernels import constraints as ck
 from jointplay.errors import ConfigError, JointplayError
 from jointplay.io.config import list_presets, load_config, load_preset, parse_config, preset_text
 from jointplay.kinematics.analysis import analyse
+from jointplay.kinematics.solver import driver_at
 from jointplay.units import parse_quantity
 
 
@@ -56,10 +58,19 @@ def test_paper_preset_holds_table_1(paper_fourbar) -> None:
     assert sum(t.upper for t in paper_fourbar.tolerances) == pytest.approx(4.4e-3)  # "±4.4 mm"
 
 
-def test_every_preset_loads_and_runs() -> None:
-    for preset in list_presets():
-        mechanism = load_preset(preset.name)
-        analyse(mechanism, np.radians([0.0, 90.0]))
+@pytest.mark.parametrize("name", [preset.name for preset in list_presets()])
+def test_every_preset_loads_and_assembles(name: str) -> None:
+    mechanism = load_preset(name)
+    assert mechanism.name == name
+    angles = np.radians([0.0, 90.0])
+    result = analyse(mechanism, angles)
+    flat = result.flat
+    for i, angle in enumerate(angles):
+        # Every joint closes at the solved positions (round-off on ~0.1-1 m lengths).
+        driver = driver_at(flat, float(result.crank_angle[i]))
+        residual = ck.residual(result.q[i], 0.0, flat.joint_int, flat.joint_f, flat.active, driver)
+        assert np.max(np.abs(residual)) < 1e-12, (name, math.degrees(angle))
+    assert np.all(np.isfinite(result.qd)) and np.all(np.isfinite(result.qdd))
 
 
 def test_general_description_equals_the_template(paper_fourbar) -> None:
@@ -128,3 +139,13 @@ def test_tolerance_table_with_a_general_class(tmp_path) -> None:
     path.write_text(text.replace('general = "c"', 'general = "z"'))
     with pytest.raises(JointplayError, match="unknown ISO 2768-1 tolerance class 'z'"):
         load_config(path)
+
+
+@pytest.mark.parametrize(
+    "text", ["10 mm", "10mm", "270.5 mm", "0.021 mm", "21 um", "21 µm", "2.5e-3 mm", "1 m", "3 cm"]
+)
+def test_decimal_lengths_read_without_pint_equal_pints_reading(text: str) -> None:
+    from jointplay.units import _registry
+
+    expected = float(_registry().Quantity(text).to("m").magnitude)
+    assert parse_quantity(text, "m", field="x") == expected  # the same float, bit for bit
