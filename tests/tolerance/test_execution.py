@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import operator
 import pickle
 from typing import ClassVar
 
@@ -11,7 +12,7 @@ import pytest
 from jointplay.errors import ConfigError
 from jointplay.model.mechanism import Mechanism
 from jointplay.tolerance.analysis import tolerance_study
-from jointplay.tolerance.execution import Backend, run
+from jointplay.tolerance.execution import Backend, run, run_tasks
 from jointplay.tolerance.responses import Evaluation, FourBarKinematics, LinearModel
 from jointplay.tolerance.sampling import sample
 from jointplay.tolerance.spec import ToleranceSpec
@@ -146,3 +147,49 @@ def test_wrong_input_shape_is_refused() -> None:
     model = LinearModel(("a", "b"), ((1.0, 1.0),))
     with pytest.raises(ConfigError, match=r"shape \(n, 2\)"):
         run(model, np.ones((3, 3)), backend=Backend("serial"))
+
+
+@pytest.mark.parametrize("backend", [Backend("serial"), Backend("processes", workers=2)])
+def test_run_tasks_keeps_item_order_and_records_failures(backend: Backend) -> None:
+    done: list[int] = []
+    result = run_tasks(
+        operator.truediv,
+        [1.0, 0.0, 4.0, 16.0],
+        backend,
+        shared=8.0,
+        on_done=lambda index, value: done.append(index),
+    )
+    assert result.results == (8.0, None, 2.0, 0.5)
+    assert result.status.tolist() == [0, 1, 0, 0]
+    assert result.errors[1].startswith("ZeroDivisionError:")
+    assert result.errors[0] == ""
+    assert sorted(done) == [0, 2, 3] and not result.interrupted
+    assert result.backend == backend.kind
+
+
+def test_a_block_that_raises_marks_its_samples_failed() -> None:
+    broken = run(_Raising(), np.ones((5, 1)), backend=Backend("serial"))
+    assert broken.status.tolist() == [0, 0, 1, 1, 0]
+    assert broken.errors[2] == broken.errors[3] == "RuntimeError: block 2"
+    assert np.isnan(broken.values[2:4]).all() and not broken.interrupted
+
+
+class _Raising:
+    """A model whose second block raises (a bug, say): its samples are failures, not a crash."""
+
+    input_names = ("x",)
+    response_names = ("y",)
+    units: ClassVar[dict[str, str]] = {"y": ""}
+    chunk_size = 2
+
+    def __init__(self) -> None:
+        self.calls = 0
+
+    def evaluate(self, x: np.ndarray) -> Evaluation:
+        self.calls += 1
+        if self.calls == 2:
+            raise RuntimeError(f"block {self.calls}")
+        return Evaluation(x.copy(), np.ones(len(x), dtype=bool), ("",) * len(x))
+
+    def describe(self) -> dict:
+        return {}

@@ -1,27 +1,40 @@
-"""Running a response model over many samples: in-process, on local processes, or on Dask.
+"""Independent tasks in-process, on local processes or on Dask: one backend for every study.
 
-The samples are cut into chunks of ``model.chunk_size`` rows (fixed by n and the chunk size
-alone, never by the backend), every chunk is evaluated by ``model.evaluate`` somewhere, and
-the blocks are put back in sample order. The same model and samples therefore give
-bit-identical results on every backend (on the same kind of machine).
+Two entry points:
+
+* :func:`run_tasks` — the generic runner::
+
+      run_tasks(function, items, backend=None, *, shared=None, sizes=None, progress=False,
+                description="tasks", on_done=None) -> TaskRun
+
+  calls ``function(shared, item)`` for every item and returns, in item order, each result or
+  the failure (``"ErrorType: message"``) with a status per item (:data:`STATUS`). The
+  tolerance methods use it through :func:`run`; the paper study runs its simulations with it.
+* :func:`run` — a response model over an (n, k) matrix of samples: the samples are cut into
+  blocks of ``model.chunk_size`` rows (fixed by n and the chunk size alone, never by the
+  backend), each block is one task, and the blocks are put back in sample order. The same
+  model and samples therefore give bit-identical results on every backend (on the same kind
+  of machine).
 
 Backends (:class:`Backend`):
 
 * ``"serial"`` — in the calling process;
 * ``"processes"`` (default) — a :class:`concurrent.futures.ProcessPoolExecutor` with the
-  ``spawn`` start method (safe with threads, the same on every OS); the model is sent to each
-  worker once, at start-up. A run with a single chunk stays in-process;
+  ``spawn`` start method (safe with threads, the same on every OS); the shared object (e.g.
+  the model) is sent to each worker once, at start-up. A run with a single task stays
+  in-process;
 * ``"dask"`` — a Dask distributed cluster at ``scheduler`` (``distributed.Client(address)``),
-  the way to scale beyond one machine; the model is scattered to the workers once. Workers
-  need jointplay installed.
+  the way to scale beyond one machine; the shared object is scattered to the workers once.
+  Workers need jointplay installed.
 
-For the process and Dask backends a model must be picklable by reference: a custom model
-class has to live in an importable module (not in ``__main__`` of a notebook); use the
-serial backend otherwise.
+For the process and Dask backends the function must be a module-level function and the
+shared object and items picklable by reference: a custom model class has to live in an
+importable module (not in ``__main__`` of a notebook); use the serial backend otherwise.
 
-A rich progress bar (on stderr) shows samples done, rate and time left. Ctrl-C stops the run
-gracefully: pending chunks are cancelled, finished samples are kept and the others are
-marked ``not run`` (status 2); :attr:`RunResult.interrupted` says it happened.
+A rich progress bar (on stderr) shows the work done, rate and time left. Ctrl-C stops the run
+gracefully: pending tasks are cancelled, finished ones are kept and the others are marked
+``not run`` (status 2); :attr:`TaskRun.interrupted` and :attr:`RunResult.interrupted` say it
+happened.
 """
 
 from __future__ import annotations
@@ -33,20 +46,22 @@ import os
 import signal
 import time
 import types
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Any, Generic, Literal, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
 
 from jointplay.errors import ConfigError
-from jointplay.tolerance.responses import Evaluation
+from jointplay.tolerance.responses import Evaluation, ResponseModel
 
-__all__ = ["BACKENDS", "STATUS", "Backend", "RunResult", "run"]
+__all__ = ["BACKENDS", "STATUS", "Backend", "RunResult", "TaskRun", "run", "run_tasks"]
 
 FloatArray = NDArray[np.float64]
+T = TypeVar("T")
+R = TypeVar("R")
 BackendKind = Literal["serial", "processes", "dask"]
 
 #: The execution backends.
@@ -146,126 +161,182 @@ class RunResult:
 
 # --- worker-side functions (module level: pickled by reference) --------------------------------
 
-_WORKER_MODEL: Any = None
+_WORKER_SHARED: Any = None
 
 
-def _init_worker(model: Any) -> None:
-    """Process-pool initializer: keep the model; leave Ctrl-C to the parent."""
-    global _WORKER_MODEL
+def _init_worker(shared: Any) -> None:
+    """Process-pool initializer: keep the shared object; leave Ctrl-C to the parent."""
+    global _WORKER_SHARED
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _WORKER_MODEL = model
+    _WORKER_SHARED = shared
 
 
-def _evaluate_in_worker(start: int, x: FloatArray) -> tuple[int, Evaluation]:
-    return start, _WORKER_MODEL.evaluate(x)
+def _attempt(function: Callable[[Any, Any], Any], shared: Any, item: Any) -> tuple[bool, Any]:
+    """``(True, function(shared, item))``, or ``(False, "ErrorType: message")`` if it raised."""
+    try:
+        return True, function(shared, item)
+    except Exception as exc:  # failure is data: the caller counts it, the run goes on
+        return False, f"{type(exc).__name__}: {exc}"
 
 
-def _evaluate_on_dask(model: Any, start: int, x: FloatArray) -> tuple[int, Evaluation]:
-    return start, model.evaluate(x)
+def _attempt_in_worker(
+    function: Callable[[Any, Any], Any], index: int, item: Any
+) -> tuple[int, tuple[bool, Any]]:
+    return index, _attempt(function, _WORKER_SHARED, item)
 
 
-# --- the driver ----------------------------------------------------------------------------------
+def _attempt_on_dask(
+    function: Callable[[Any, Any], Any], shared: Any, index: int, item: Any
+) -> tuple[int, tuple[bool, Any]]:
+    return index, _attempt(function, shared, item)
 
 
-def run(
-    model: Any,
-    x: FloatArray,
-    *,
+def _evaluate_block(model: ResponseModel, x: FloatArray) -> Evaluation:
+    """The task of :func:`run`: one block of samples through the model."""
+    return model.evaluate(x)
+
+
+# --- the generic runner --------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class TaskRun(Generic[R]):
+    """Results of :func:`run_tasks`, in the order of the items.
+
+    Attributes:
+        results: the function's result per item; ``None`` where it failed or did not run.
+        status: (n,) int8 codes of :data:`STATUS` (0 ok, 1 failed, 2 not run).
+        errors: n messages: ``""`` where the item succeeded, ``"ErrorType: message"`` where
+            the function raised, ``"not run (interrupted)"`` where Ctrl-C came first.
+        interrupted: the run was stopped (Ctrl-C) before every item finished.
+        backend: backend kind actually used (``"serial"`` for single-task local runs).
+        workers: number of workers used.
+        wall_time: elapsed time, s.
+    """
+
+    results: tuple[R | None, ...]
+    status: NDArray[np.int8]
+    errors: tuple[str, ...]
+    interrupted: bool
+    backend: str
+    workers: int
+    wall_time: float
+
+
+def run_tasks(
+    function: Callable[[Any, T], R],
+    items: Sequence[T],
     backend: Backend | None = None,
+    *,
+    shared: Any = None,
+    sizes: Sequence[int] | None = None,
     progress: bool = False,
-    description: str = "samples",
-) -> RunResult:
-    """Evaluate ``model`` on every row of ``x`` (n, k) with ``backend``.
+    description: str = "tasks",
+    on_done: Callable[[int, R], None] | None = None,
+) -> TaskRun[R]:
+    """Call ``function(shared, item)`` for every item on ``backend``; failures are data.
+
+    The tasks are independent: each gets ``shared`` (sent to every worker once: the process
+    pool's initializer, Dask's broadcast ``scatter``) and its own item. A task that raises an
+    :class:`Exception` is marked failed with its message and the run goes on. Ctrl-C stops
+    the run: pending tasks are cancelled, finished ones kept, the others marked ``not run``.
+    Where a task runs never changes what it computes, so a deterministic function gives the
+    same results on every backend.
 
     Args:
-        model: a response model (see :class:`jointplay.tolerance.responses.ResponseModel`).
-        x: input samples, SI, columns in ``model.input_names`` order.
-        backend: where to run (default: local processes).
+        function: a module-level function (pickled by reference for the process and Dask
+            backends) taking ``(shared, item)``.
+        items: the tasks' arguments (picklable for the process and Dask backends). Submitted
+            in this order: put the longest first to balance the workers.
+        backend: where to run (default: local processes; one item, or one worker, runs in
+            this process).
+        shared: read-only data every task needs (e.g. a response model); ``None`` if none.
+        sizes: work per item for the progress bar (e.g. samples per block; default 1 each).
         progress: show a progress bar on stderr.
         description: label of the progress bar.
+        on_done: called in this process as ``on_done(index, result)`` for every item that
+            succeeds, in the order they finish.
 
     Returns:
-        The responses in sample order, with status and error message per sample.
+        A :class:`TaskRun` with the results, status and error of every item.
     """
     backend = backend or Backend()
-    x = np.ascontiguousarray(np.asarray(x, dtype=float))
-    n_responses = len(model.response_names)
-    if x.ndim != 2 or x.shape[1] != len(model.input_names):
-        raise ConfigError(f"samples must have shape (n, {len(model.input_names)}), got {x.shape}")
-    n = len(x)
-    chunk = int(backend.chunk_size or model.chunk_size)
-    starts = list(range(0, n, chunk))
-    values = np.full((n, n_responses), np.nan)
+    items = list(items)
+    n = len(items)
+    weights = [1] * n if sizes is None else [int(size) for size in sizes]
+    if len(weights) != n:
+        raise ConfigError(f"sizes: one per item, got {len(weights)} for {n} items")
+    results: list[R | None] = [None] * n
     status = np.full(n, NOT_RUN, dtype=np.int8)
     errors = ["not run (interrupted)"] * n
 
-    def store(start: int, block: Evaluation) -> None:
-        stop = start + len(block.ok)
-        values[start:stop] = block.values
-        status[start:stop] = np.where(block.ok, OK, FAILED)
-        errors[start:stop] = block.errors
+    def store(index: int, outcome: tuple[bool, Any]) -> None:
+        succeeded, value = outcome
+        if succeeded:
+            results[index], status[index], errors[index] = value, OK, ""
+            if on_done is not None:
+                on_done(index, value)
+        else:
+            status[index], errors[index] = FAILED, str(value)
 
     kind = backend.kind
     workers = 1
     if kind == "processes":
-        workers = min(backend.workers or os.cpu_count() or 1, len(starts))
+        workers = min(backend.workers or os.cpu_count() or 1, n)
         if workers <= 1:
             kind, workers = "serial", 1
     wall = time.perf_counter()
     interrupted = False
-    with _progress_bar(progress, n, description) as advance:
+    with _progress_bar(progress, sum(weights), description) as advance:
         try:
             if kind == "serial":
-                for start in starts:
-                    store(start, model.evaluate(x[start : start + chunk]))
-                    advance(min(chunk, n - start))
+                for index, item in enumerate(items):
+                    store(index, _attempt(function, shared, item))
+                    advance(weights[index])
             elif kind == "processes":
-                _run_processes(model, x, starts, chunk, workers, store, advance)
+                _run_processes(function, items, shared, workers, store, weights, advance)
             else:
                 workers = _run_dask(
-                    model, x, starts, chunk, backend.scheduler or "", store, advance
+                    function, items, shared, backend.scheduler or "", store, weights, advance
                 )
         except KeyboardInterrupt:
-            interrupted = True
-    if interrupted and not np.any(status == NOT_RUN):
-        interrupted = False  # everything had finished when the interrupt came
-    return RunResult(
-        values=values,
+            interrupted = bool(np.any(status == NOT_RUN))  # False: all had finished already
+    return TaskRun(
+        results=tuple(results),
         status=status,
         errors=tuple(errors),
         interrupted=interrupted,
         backend=kind,
         workers=workers,
-        chunk_size=chunk,
         wall_time=time.perf_counter() - wall,
     )
 
 
 def _run_processes(
-    model: Any,
-    x: FloatArray,
-    starts: list[int],
-    chunk: int,
+    function: Callable[[Any, Any], Any],
+    items: list[Any],
+    shared: Any,
     workers: int,
-    store: Callable[[int, Evaluation], None],
+    store: Callable[[int, tuple[bool, Any]], None],
+    weights: list[int],
     advance: Callable[[int], None],
 ) -> None:
     executor = cf.ProcessPoolExecutor(
         max_workers=workers,
         mp_context=multiprocessing.get_context("spawn"),
         initializer=_init_worker,
-        initargs=(model,),
+        initargs=(shared,),
     )
-    futures: list[cf.Future[tuple[int, Evaluation]]] = []
+    futures: list[cf.Future[tuple[int, tuple[bool, Any]]]] = []
     try:
         futures = [
-            executor.submit(_evaluate_in_worker, start, x[start : start + chunk])
-            for start in starts
+            executor.submit(_attempt_in_worker, function, index, item)
+            for index, item in enumerate(items)
         ]
         for future in cf.as_completed(futures):
-            start, block = future.result()
-            store(start, block)
-            advance(len(block.ok))
+            index, outcome = future.result()
+            store(index, outcome)
+            advance(weights[index])
     except BaseException:
         for future in futures:
             future.cancel()
@@ -286,12 +357,12 @@ def _stop_workers(executor: cf.ProcessPoolExecutor) -> None:
 
 
 def _run_dask(
-    model: Any,
-    x: FloatArray,
-    starts: list[int],
-    chunk: int,
+    function: Callable[[Any, Any], Any],
+    items: list[Any],
+    shared: Any,
     address: str,
-    store: Callable[[int, Evaluation], None],
+    store: Callable[[int, tuple[bool, Any]], None],
+    weights: list[int],
     advance: Callable[[int], None],
 ) -> int:
     try:
@@ -305,15 +376,15 @@ def _run_dask(
     futures: list[Any] = []
     try:
         workers = max(1, len(client.scheduler_info(n_workers=-1).get("workers", {})))
-        shared = client.scatter(model, broadcast=True)
+        scattered = client.scatter(shared, broadcast=True)
         futures = [
-            client.submit(_evaluate_on_dask, shared, start, x[start : start + chunk], pure=False)
-            for start in starts
+            client.submit(_attempt_on_dask, function, scattered, index, item, pure=False)
+            for index, item in enumerate(items)
         ]
         for future in as_completed(futures, loop=client.loop):
-            start, block = future.result()
-            store(start, block)
-            advance(len(block.ok))
+            index, outcome = future.result()
+            store(index, outcome)
+            advance(weights[index])
         return workers
     except BaseException:
         if futures:
@@ -321,6 +392,76 @@ def _run_dask(
         raise
     finally:
         client.close()
+
+
+# --- response models over samples ----------------------------------------------------------------
+
+
+def run(
+    model: ResponseModel,
+    x: FloatArray,
+    *,
+    backend: Backend | None = None,
+    progress: bool = False,
+    description: str = "samples",
+) -> RunResult:
+    """Evaluate ``model`` on every row of ``x`` (n, k) with ``backend``.
+
+    The rows are cut into blocks of ``backend.chunk_size`` (default ``model.chunk_size``)
+    rows, one :func:`run_tasks` task per block with the model as the shared object. A block
+    whose evaluation raises marks all its samples failed with that message.
+
+    Args:
+        model: a response model (see :class:`jointplay.tolerance.responses.ResponseModel`).
+        x: input samples, SI, columns in ``model.input_names`` order.
+        backend: where to run (default: local processes).
+        progress: show a progress bar on stderr.
+        description: label of the progress bar.
+
+    Returns:
+        The responses in sample order, with status and error message per sample.
+    """
+    backend = backend or Backend()
+    x = np.ascontiguousarray(np.asarray(x, dtype=float))
+    if x.ndim != 2 or x.shape[1] != len(model.input_names):
+        raise ConfigError(f"samples must have shape (n, {len(model.input_names)}), got {x.shape}")
+    n = len(x)
+    chunk = int(backend.chunk_size or model.chunk_size)
+    starts = list(range(0, n, chunk))
+    blocks = [x[start : start + chunk] for start in starts]
+    tasks = run_tasks(
+        _evaluate_block,
+        blocks,
+        backend,
+        shared=model,
+        sizes=[len(block) for block in blocks],
+        progress=progress,
+        description=description,
+    )
+    values = np.full((n, len(model.response_names)), np.nan)
+    status = np.full(n, NOT_RUN, dtype=np.int8)
+    errors = ["not run (interrupted)"] * n
+    for start, block, code, error, evaluation in zip(
+        starts, blocks, tasks.status, tasks.errors, tasks.results, strict=True
+    ):
+        stop = start + len(block)
+        if evaluation is not None:
+            values[start:stop] = evaluation.values
+            status[start:stop] = np.where(evaluation.ok, OK, FAILED)
+            errors[start:stop] = evaluation.errors
+        elif code == FAILED:
+            status[start:stop] = FAILED
+            errors[start:stop] = [error] * len(block)
+    return RunResult(
+        values=values,
+        status=status,
+        errors=tuple(errors),
+        interrupted=tasks.interrupted,
+        backend=tasks.backend,
+        workers=tasks.workers,
+        chunk_size=chunk,
+        wall_time=tasks.wall_time,
+    )
 
 
 @contextmanager
