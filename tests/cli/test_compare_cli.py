@@ -11,7 +11,8 @@ import pytest
 
 from jointplay.cli import run
 from jointplay.io.config import load_preset
-from jointplay.study.experiment import MeasurementConventions, nominal_cycle, rig_mechanism
+from jointplay.io.measurements import MeasurementConventions
+from jointplay.study.comparison import nominal_cycle, rig_mechanism
 
 #: The cheapest clearance method (penalty RM, ~0.1 s per revolution).
 CHEAP = ["--method", "nominal", "--method", "rm-ecs-spherical", "--revolutions", "1"]

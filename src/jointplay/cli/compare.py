@@ -4,14 +4,18 @@ Prints the per-point table (measured and simulated speeds and the paper's error 
 in the measurement's unit), the statistics per method, the best-agreeing method, the
 discrepancy with the nominal kinematics and its labelled what-if (never applied), and — for
 the paper's Table 7 — how its printed error column follows from its printed speeds. See
-:mod:`jointplay.study.experiment` for the conventions and definitions.
+:mod:`jointplay.io.measurements` for the conventions and
+:mod:`jointplay.study.comparison` for the definitions.
+
+The module imports only Typer and Rich at the top; the study, NumPy and pandas are imported
+when the command runs, so that ``jointplay --help`` stays fast.
 """
 
 from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 from rich.console import Console
@@ -27,9 +31,12 @@ from jointplay.cli._common import (
     provenance,
 )
 from jointplay.errors import ConfigError
-from jointplay.io.output import json_text, output_dir, write_json
-from jointplay.model.summary import mechanism_summary
 from jointplay.units import parse_quantity
+
+if TYPE_CHECKING:
+    from jointplay.io.measurements import MeasurementConventions, Measurements
+    from jointplay.model.mechanism import Mechanism
+    from jointplay.study.comparison import MethodsComparison
 
 #: Width of the tables when the output is not a terminal (files, pipes, tests), characters.
 PIPE_WIDTH = 160
@@ -146,21 +153,25 @@ def compare_command(
     Nothing is rescaled: the discrepancy with the nominal kinematics is reported as a
     labelled what-if (the crank speed that would explain it).
     """
-    from jointplay.study import experiment as ex
+    from jointplay.io.measurements import DIRECTIONS, SPEED_UNITS, MeasurementConventions
+    from jointplay.io.output import json_text, output_dir, write_json
+    from jointplay.model.summary import mechanism_summary
+    from jointplay.report.overlays import overlay_plots
+    from jointplay.study import comparison as cmp
     from jointplay.study.methods import ECS_SOURCES, METHODS
 
-    conventions = ex.MeasurementConventions(
-        unit=choice(unit, "--unit", tuple(ex.SPEED_UNITS)),
-        crank_direction=choice(crank_direction, "--crank-direction", ex.DIRECTIONS),
-        angle_direction=choice(angle_direction, "--angle-direction", ex.DIRECTIONS),
+    conventions = MeasurementConventions(
+        unit=choice(unit, "--unit", tuple(SPEED_UNITS)),
+        crank_direction=choice(crank_direction, "--crank-direction", DIRECTIONS),
+        angle_direction=choice(angle_direction, "--angle-direction", DIRECTIONS),
         angle_origin=math.degrees(parse_quantity(angle_origin, "rad", field="--angle-origin")),
-        speed_sign=1 if choice(speed_positive, "--speed-positive", ex.DIRECTIONS) == "ccw" else -1,
+        speed_sign=1 if choice(speed_positive, "--speed-positive", DIRECTIONS) == "ccw" else -1,
     )
-    methods = list(dict.fromkeys(method or ex.DEFAULT_METHODS))
+    methods = list(dict.fromkeys(method or cmp.DEFAULT_METHODS))
     for name in methods:
-        if name != ex.NOMINAL and name not in METHODS:
+        if name != cmp.NOMINAL and name not in METHODS:
             raise ConfigError(
-                f"--method: unknown method {name!r}; use {ex.NOMINAL} or one of "
+                f"--method: unknown method {name!r}; use {cmp.NOMINAL} or one of "
                 f"{', '.join(METHODS)}"
             )
     if ecs_source not in ECS_SOURCES:
@@ -171,19 +182,21 @@ def compare_command(
         )
     if not (math.isfinite(low_speed) and 0 <= low_speed < 1):
         raise ConfigError(f"--low-speed must be a fraction in [0, 1), got {low_speed}")
-    data = _measurements(ex, measurements, angle_column, speed_column, conventions)
-    mechanism = ex.rig_mechanism(mechanism_from_options(preset, config, rpm), conventions)
+    data = _measurements(measurements, angle_column, speed_column, conventions)
+    mechanism = cmp.rig_mechanism(mechanism_from_options(preset, config, rpm), conventions)
     status = Console(stderr=True)
-    nominal = ex.compare(data, ex.nominal_cycle(mechanism), low_speed_fraction=low_speed)
+    nominal = cmp.compare(data, cmp.nominal_cycle(mechanism), low_speed_fraction=low_speed)
     comparisons = []
     for name in methods:
-        if name == ex.NOMINAL:
+        if name == cmp.NOMINAL:
             comparisons.append(nominal)
             continue
         with status.status(f"simulating {name}: {revolutions:g} revolution(s) of {mechanism.name}"):
-            cycle = ex.steady_cycle(mechanism, name, revolutions=revolutions, ecs_source=ecs_source)
-        comparisons.append(ex.compare(data, cycle, low_speed_fraction=low_speed))
-    result = ex.summarize_comparisons(data, comparisons, nominal)
+            cycle = cmp.steady_cycle(
+                mechanism, name, revolutions=revolutions, ecs_source=ecs_source
+            )
+        comparisons.append(cmp.compare(data, cycle, low_speed_fraction=low_speed))
+    result = cmp.summarize_comparisons(data, comparisons, nominal)
     document = {**result.as_dict(), "ecs_source": ecs_source}
     if out is not None:
         with output_dir(out) as folder:
@@ -197,7 +210,7 @@ def compare_command(
                     "provenance": provenance({"mechanism": mechanism_summary(mechanism)}),
                 },
             )
-            ex.overlay_plots(
+            overlay_plots(
                 result,
                 folder,
                 title=f"{mechanism.name}: rocker speed, {data.source}",
@@ -209,21 +222,28 @@ def compare_command(
 
 
 def _measurements(
-    ex: Any,
     path: Path | None,
     angle_column: str,
     speed_column: str | None,
-    conventions: Any,
-) -> Any:
+    conventions: MeasurementConventions,
+) -> Measurements:
+    """The measurements of ``path``, or of the shipped Table 7 when no file is given."""
+    from jointplay.io.measurements import (
+        PAPER_TABLE7_COLUMNS,
+        paper_table7,
+        paper_table7_path,
+        read_measurements,
+    )
+
     if path is not None:
-        return ex.read_measurements(
+        return read_measurements(
             path, angle_column=angle_column, speed_column=speed_column, conventions=conventions
         )
-    columns = ex.PAPER_TABLE7_COLUMNS
+    columns = PAPER_TABLE7_COLUMNS
     if angle_column == columns["angle"] and speed_column in (None, columns["speed"]):
-        return ex.paper_table7(conventions)
-    with ex.paper_table7_path().open("r", encoding="utf-8") as stream:
-        return ex.read_measurements(
+        return paper_table7(conventions)
+    with paper_table7_path().open("r", encoding="utf-8") as stream:
+        return read_measurements(
             stream,
             angle_column=angle_column,
             speed_column=speed_column or columns["speed"],
@@ -231,11 +251,12 @@ def _measurements(
         )
 
 
-def _number(value: float, digits: str = ".1f") -> str:
+def _format_number(value: float, digits: str = ".1f") -> str:
+    """``value`` formatted with ``digits``; an empty cell for NaN and infinities."""
     return "" if not math.isfinite(value) else format(value, digits)
 
 
-def _print(result: Any, mechanism: Any, out: Path | None) -> None:
+def _print(result: MethodsComparison, mechanism: Mechanism, out: Path | None) -> None:
     console = Console(highlight=False, soft_wrap=True)
     if not console.is_terminal:
         console.width = PIPE_WIDTH
@@ -264,7 +285,7 @@ def _print(result: Any, mechanism: Any, out: Path | None) -> None:
             flag = "*" if bool(frame["low_speed"].iloc[i]) else ""
             row += [
                 f"{frame['simulated'].iloc[i]:.1f}",
-                _number(float(frame["error_percent"].iloc[i]), "+.2f") + flag,
+                _format_number(float(frame["error_percent"].iloc[i]), "+.2f") + flag,
             ]
         points.add_row(*row)
     console.print(points)
@@ -286,17 +307,17 @@ def _print(result: Any, mechanism: Any, out: Path | None) -> None:
         "what-if factor",
     ):
         stats.add_column(name, justify="left" if name == "method" else "right")
-    for row in result.table.itertuples():
+    for record in result.table.to_dict(orient="records"):
         stats.add_row(
-            str(row.method),
-            _number(row.rms_error_percent, ".2f"),
-            _number(row.max_abs_error_percent, ".2f"),
-            _number(row.max_error_at_deg, "g"),
-            _number(row.rms_difference_in_unit, ".1f"),
-            _number(row.max_abs_difference_in_unit, ".1f"),
-            _number(row.rms_difference_rad_s, ".3f"),
-            f"{row.n_percent_points}/{row.n_points}",
-            _number(row.speed_factor_what_if, ".3f"),
+            str(record["method"]),
+            _format_number(record["rms_error_percent"], ".2f"),
+            _format_number(record["max_abs_error_percent"], ".2f"),
+            _format_number(record["max_error_at_deg"], "g"),
+            _format_number(record["rms_difference_in_unit"], ".1f"),
+            _format_number(record["max_abs_difference_in_unit"], ".1f"),
+            _format_number(record["rms_difference_rad_s"], ".3f"),
+            f"{record['n_percent_points']}/{record['n_points']}",
+            _format_number(record["speed_factor_what_if"], ".3f"),
         )
     console.print(stats)
     console.print(result.verdict())

@@ -1,4 +1,9 @@
-"""``jointplay paper``: the paper's study end to end — the README's main job."""
+"""``jointplay paper``: the paper's study end to end — the README's main job.
+
+The module imports only Typer and Rich at the top; the study and the report (NumPy, pandas,
+SciPy, Numba, matplotlib) are imported when the command runs, so that ``jointplay --help``
+stays fast.
+"""
 
 from __future__ import annotations
 
@@ -18,7 +23,6 @@ from rich.progress import (
 from jointplay.cli._app import app
 from jointplay.cli._common import OutOption, provenance
 from jointplay.errors import ConfigError
-from jointplay.io.output import output_dir
 
 
 @app.command("paper")
@@ -63,6 +67,7 @@ def paper_command(
     (tolerance corners), sensitivities, the comparison with the measured rocker speed (Table 7),
     and every quantitative claim of the paper beside jointplay's value.
     """
+    from jointplay.io.output import output_dir
     from jointplay.report.paper import write_paper_report
     from jointplay.study.paper import PaperStudyOptions, run_paper_study
 

@@ -15,8 +15,9 @@ import pandas as pd
 
 from jointplay import __version__
 from jointplay.io.output import write_json
-from jointplay.report.html import HtmlReport
 from jointplay.report._mpl import pyplot
+from jointplay.report.html import HtmlReport
+from jointplay.report.overlays import overlay_plots
 from jointplay.report.plots import ecs_sweep_plots
 from jointplay.study.claims import paper_claims
 from jointplay.study.methods import METHODS
@@ -386,8 +387,6 @@ def _tolerance_section(page: HtmlReport, study: PaperStudy) -> None:
 
 
 def _experiment_section(page: HtmlReport, study: PaperStudy, figures: Path) -> None:
-    from jointplay.study.experiment import overlay_plots
-
     page.heading("Comparison with the experiment (paper Table 7)", anchor="experiment")
     comparison = study.experiment
     if comparison is None:

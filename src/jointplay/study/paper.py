@@ -30,16 +30,12 @@ from jointplay.dynamics.setup import clearance_joints
 from jointplay.dynamics.simulate import SolverOptions, Start, simulate
 from jointplay.errors import JointplayError
 from jointplay.io.config import load_preset
+from jointplay.io.measurements import paper_table7
 from jointplay.kinematics import fourbar
 from jointplay.model.mechanism import Mechanism
 from jointplay.model.summary import mechanism_summary
 from jointplay.model.templates import FourBarGeometry, template_of, with_lengths
-from jointplay.study.experiment import (
-    DEFAULT_METHODS,
-    MethodsComparison,
-    compare_methods,
-    paper_table7,
-)
+from jointplay.study.comparison import DEFAULT_METHODS, MethodsComparison, compare_methods
 from jointplay.study.methods import METHODS, method_law
 
 #: The paper's radial clearance in all four joints (the largest of Ø10 H8/g7), m.
