@@ -26,6 +26,7 @@ from scipy.integrate import solve_ivp
 from scipy.integrate._ivp import radau as scipy_radau
 from scipy.integrate._ivp.radau import predict_factor as scipy_predict_factor
 
+from jointplay._kernels import common, linalg
 from jointplay._kernels import radau as kernel
 
 # ---------------------------------------------------------------------------------------
@@ -295,7 +296,7 @@ def run_kernel(
         max_steps,
         **structure,
     )
-    return Run(status, t, y, dict(zip(kernel.COUNTER_NAMES, counters.tolist(), strict=True)))
+    return Run(status, t, y, dict(zip(common.COUNTER_NAMES, counters.tolist(), strict=True)))
 
 
 def run_scipy(
@@ -352,8 +353,8 @@ def test_lu_solve_matches_numpy(n: int, dtype: type) -> None:
         b = b + 1j * rng.standard_normal(n)
     if n > 1:
         a[0, 0] = 0.0  # forces a row interchange
-    lu, piv = kernel.lu_factor(a)
-    x = kernel.lu_solve(lu, piv, b)
+    lu, piv = linalg.lu_factor(a)
+    x = linalg.lu_solve(lu, piv, b)
     # Partial pivoting is backward stable: residual ~ eps·cond; these matrices have
     # cond < 1e4, so 1e-10 relative is a loose, round-off-only bound.
     np.testing.assert_allclose(x, np.linalg.solve(a, b), rtol=1e-10, atol=1e-12)
@@ -385,8 +386,8 @@ def test_reduced_newton_solve_equals_full_solve(
 
 
 def test_lu_of_singular_matrix_gives_non_finite_not_an_error() -> None:
-    lu, piv = kernel.lu_factor(np.array([[1.0, 2.0], [2.0, 4.0]]))
-    assert not np.all(np.isfinite(kernel.lu_solve(lu, piv, np.array([1.0, 1.0]))))
+    lu, piv = linalg.lu_factor(np.array([[1.0, 2.0], [2.0, 4.0]]))
+    assert not np.all(np.isfinite(linalg.lu_solve(lu, piv, np.array([1.0, 1.0]))))
 
 
 @pytest.mark.parametrize(
@@ -397,7 +398,7 @@ def test_step_size_controller_matches_scipy(
     h_abs: float, h_abs_old: float | None, error_norm: float, error_norm_old: float | None
 ) -> None:
     expected = scipy_predict_factor(h_abs, h_abs_old, np.float64(error_norm), error_norm_old)
-    got = kernel._predict_factor(
+    got = common.predict_factor(
         h_abs,
         np.nan if h_abs_old is None else h_abs_old,
         error_norm,
@@ -414,7 +415,7 @@ def test_exponential_decay_matches_exact_solution_and_scipy() -> None:
     rtol, atol = 1e-6, 1e-9
     run = run_kernel(decay, (0.0, 10.0), np.ones(3), lam, rtol=rtol, atol=atol)
     sol = run_scipy(decay, (0.0, 10.0), np.ones(3), lam, rtol=rtol, atol=atol)
-    assert run.status == kernel.STATUS_SUCCESS
+    assert run.status == common.STATUS_SUCCESS
     assert run.t[-1] == 10.0
     exact = np.exp(-np.outer(run.t, lam))
     assert tolerance_units(run.y, exact, rtol, atol) < GLOBAL_ERROR_UNITS
@@ -433,7 +434,7 @@ def test_stiff_van_der_pol_matches_scipy_and_reference() -> None:
     reference = run_scipy(
         van_der_pol, (0.0, 3000.0), y0, mu, method="LSODA", rtol=1e-12, atol=1e-12
     ).y[:, -1]
-    assert run.status == kernel.STATUS_SUCCESS
+    assert run.status == common.STATUS_SUCCESS
     assert run.t.shape[0] > 64  # the recording arrays grew
     assert tolerance_units(run.y[-1], sol.y[:, -1], rtol, atol) < SMOOTH_AGREEMENT_UNITS
     assert tolerance_units(run.y[-1], reference, rtol, atol) < GLOBAL_ERROR_UNITS
@@ -449,7 +450,7 @@ def test_robertson_matches_scipy_and_published_values() -> None:
     # significant digits as published: rounding (≤ 2e-7 relative) plus this run's global
     # error (measured ≤ 2e-7 relative) stay well inside 2e-6.
     published = np.array([0.7158271, 0.9185535e-5, 0.2841637])
-    assert run.status == kernel.STATUS_SUCCESS
+    assert run.status == common.STATUS_SUCCESS
     np.testing.assert_allclose(run.y[-1], published, rtol=2e-6)
     # Mass conservation y1 + y2 + y3 = 1: Runge–Kutta methods keep linear invariants,
     # and so do the Newton increments up to the finite-difference Jacobian's error in
@@ -464,7 +465,7 @@ def test_backward_integration_with_first_and_max_step_matches_scipy() -> None:
     options: dict[str, Any] = {"rtol": 1e-6, "atol": 1e-9, "max_step": 0.05, "first_step": 1e-3}
     run = run_kernel(decay, (1.0, -1.0), np.ones(2), lam, **options)
     sol = run_scipy(decay, (1.0, -1.0), np.ones(2), lam, **options)
-    assert run.status == kernel.STATUS_SUCCESS
+    assert run.status == common.STATUS_SUCCESS
     assert run.t[1] == pytest.approx(1.0 - 1e-3, rel=1e-15)
     assert np.all(np.diff(run.t) < 0) and np.all(-np.diff(run.t) <= 0.05 + 1e-15)
     assert tolerance_units(run.y[-1], sol.y[:, -1], 1e-6, 1e-9) < SMOOTH_AGREEMENT_UNITS
@@ -495,7 +496,7 @@ def test_contact_drop_matches_scipy(contact_reference: npt.NDArray[np.float64]) 
         mass_on_floor, (0.0, 0.5), [0.1, 0.0], CONTACT_PARAMETERS, rtol=rtol, atol=atol
     )
     sol = run_scipy(mass_on_floor, (0.0, 0.5), [0.1, 0.0], CONTACT_PARAMETERS, rtol=rtol, atol=atol)
-    assert run.status == kernel.STATUS_SUCCESS
+    assert run.status == common.STATUS_SUCCESS
     # Identical up to the step that first reaches the floor (free fall is integrated
     # exactly, so the error estimate there is pure round-off and tips the next decision).
     before = run.t < 0.14
@@ -524,7 +525,7 @@ def test_contact_onset_located_by_step_check(
         step_check=land_on_contact,
         after_step=flag_contact_change,
     )
-    assert run.status == kernel.STATUS_SUCCESS
+    assert run.status == common.STATUS_SUCCESS
     assert run.counts["n_rejected_check"] >= 1
     # A recorded step lands on the floor (|x| <= δ_tol) at the free-fall impact time.
     on_floor = np.abs(run.y[:, 0]) <= atol
@@ -590,7 +591,7 @@ def test_bouncing_ball_steps_land_on_each_impact() -> None:
         step_check=land_on_ground,
         after_step=bounce,
     )
-    assert run.status == kernel.STATUS_SUCCESS
+    assert run.status == common.STATUS_SUCCESS
     assert run.counts["n_rejected_check"] > 0
     # Impact k at t_k: t_1 = √(2h/g), then flights of 2·e^k·v_1/g with v_1 = √(2gh).
     v1 = np.sqrt(2 * g * h0)
@@ -616,7 +617,7 @@ def test_after_step_projection_keeps_pendulum_on_its_circle() -> None:
     projected = run_kernel(
         cartesian_pendulum, (0.0, 10.0), y0, p, after_step=project_on_circle, **options
     )
-    assert free.status == projected.status == kernel.STATUS_SUCCESS
+    assert free.status == projected.status == common.STATUS_SUCCESS
     radius_free = np.hypot(free.y[:, 0], free.y[:, 1])
     radius = np.hypot(projected.y[:, 0], projected.y[:, 1])
     assert np.max(np.abs(radius_free - 0.5)) > 1e-6  # drift without the hook
@@ -642,7 +643,7 @@ def test_second_order_and_passive_structure_give_the_same_solution(rtol: float) 
         two_masses, (0.0, 0.05), TWO_MASSES_Y0, TWO_MASSES, n_second=2, n_active=4, **options
     )
     sol = run_scipy(two_masses, (0.0, 0.05), TWO_MASSES_Y0, TWO_MASSES, **options)
-    assert full.status == reduced.status == kernel.STATUS_SUCCESS
+    assert full.status == reduced.status == common.STATUS_SUCCESS
     assert tolerance_units(reduced.y[-1], full.y[-1], rtol, atol) < SMOOTH_AGREEMENT_UNITS
     assert tolerance_units(reduced.y[-1], sol.y[:, -1], rtol, atol) < SMOOTH_AGREEMENT_UNITS
     assert_counts_close(reduced, sol, SMOOTH_COUNT_RATIO, steps_only=True)
@@ -663,7 +664,7 @@ def test_jacobian_function_replaces_the_differences() -> None:
         two_masses, (0.0, 0.05), TWO_MASSES_Y0, TWO_MASSES, rtol=rtol, atol=atol,
         jac=decline_jacobian, **structure,
     )  # fmt: skip
-    assert exact.status == kernel.STATUS_SUCCESS
+    assert exact.status == common.STATUS_SUCCESS
     # The exact Jacobian changes the Newton iterates (not what they converge to).
     assert tolerance_units(exact.y[-1], differenced.y[-1], rtol, atol) < SMOOTH_AGREEMENT_UNITS
     # A jac that declines leaves the differences, bit for bit.
@@ -690,7 +691,7 @@ def test_hold_after_failure_on_contact_keeps_the_accuracy(
         mass_on_floor, (0.0, 0.5), [0.1, 0.0], CONTACT_PARAMETERS, rtol=rtol, atol=atol,
         hold_after_failure=True,
     )  # fmt: skip
-    assert held.status == kernel.STATUS_SUCCESS
+    assert held.status == common.STATUS_SUCCESS
     assert held.counts["n_rejected_error"] + held.counts["n_rejected_newton"] > 0
     assert tolerance_units(held.y[-1], contact_reference, rtol, atol) < CONTACT_UNLOCATED_UNITS
 
@@ -703,21 +704,21 @@ def test_difference_factor_of_an_idle_component_stays_finite() -> None:
         rtol=1e-8, atol=1e-6,
     )  # fmt: skip
     assert run.counts["njev"] > 400
-    assert run.status == kernel.STATUS_SUCCESS
+    assert run.status == common.STATUS_SUCCESS
 
 
 def test_step_check_that_never_accepts_cannot_loop_forever() -> None:
     run = run_kernel(
         decay, (0.0, 1.0), [1.0], [1.0], rtol=1e-6, atol=1e-9, step_check=always_halve, max_steps=20
     )
-    assert run.status == kernel.STATUS_TOO_MANY_STEPS
+    assert run.status == common.STATUS_TOO_MANY_STEPS
     assert run.counts["n_steps"] == 20
     assert 0 < run.counts["n_rejected_check"] <= kernel.MAX_CHECK_REJECTIONS * 20
 
 
 def test_step_check_nan_zero_or_negative_accepts() -> None:
     run = run_kernel(decay, (0.0, 1.0), [1.0], [1.0], rtol=1e-6, atol=1e-9, step_check=odd_theta)
-    assert run.status == kernel.STATUS_SUCCESS
+    assert run.status == common.STATUS_SUCCESS
     assert run.counts["n_rejected_check"] == 0
 
 
@@ -726,7 +727,7 @@ def test_step_check_nan_zero_or_negative_accepts() -> None:
 # ---------------------------------------------------------------------------------------
 def test_blow_up_gives_step_too_small() -> None:
     run = run_kernel(square, (0.0, 2.0), [1.0], [0.0], rtol=1e-6, atol=1e-9)
-    assert run.status == kernel.STATUS_STEP_TOO_SMALL
+    assert run.status == common.STATUS_STEP_TOO_SMALL
     assert run.t[-1] == pytest.approx(1.0, abs=1e-6)  # the blow-up time 1/y(0)
 
 
@@ -734,23 +735,23 @@ def test_step_limit_gives_too_many_steps() -> None:
     run = run_kernel(
         van_der_pol, (0.0, 3000.0), [2.0, 0.0], [1000.0], rtol=1e-6, atol=1e-6, max_steps=10
     )
-    assert run.status == kernel.STATUS_TOO_MANY_STEPS
+    assert run.status == common.STATUS_TOO_MANY_STEPS
     assert run.counts["n_steps"] == 10 and run.t.shape[0] == 11
 
 
 def test_non_finite_right_hand_side_gives_non_finite() -> None:
     run = run_kernel(nan_rhs, (0.0, 1.0), [1.0, 2.0], [0.0], rtol=1e-6, atol=1e-9)
-    assert run.status == kernel.STATUS_NON_FINITE
+    assert run.status == common.STATUS_NON_FINITE
     assert run.t.shape[0] == 1 and run.counts["nfev"] == 1
 
 
 def test_non_finite_state_from_after_step_gives_non_finite() -> None:
     run = run_kernel(decay, (0.0, 1.0), [1.0], [0.5], rtol=1e-6, atol=1e-9, after_step=poison_state)
-    assert run.status == kernel.STATUS_NON_FINITE
+    assert run.status == common.STATUS_NON_FINITE
     assert np.all(np.isfinite(run.y)) and run.t[-1] <= 0.5
 
 
 def test_empty_interval_records_only_the_initial_point() -> None:
     run = run_kernel(decay, (2.0, 2.0), [1.0], [1.0], rtol=1e-6, atol=1e-9)
-    assert run.status == kernel.STATUS_SUCCESS
+    assert run.status == common.STATUS_SUCCESS
     assert run.t.tolist() == [2.0] and run.y.tolist() == [[1.0]]

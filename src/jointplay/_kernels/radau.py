@@ -65,8 +65,11 @@ step ``factor_j·max(|y_j|, atol_j)`` in the direction of ``f``, where the per-c
 well above its round-off (a column drowned in round-off is retried with a 10x step). As
 in SciPy, its ``n`` (up to ``2n``) evaluations of ``fun`` count in ``njev``, not ``nfev``.
 
-Linear algebra: LU factorisation with partial pivoting, one generic routine compiled for
-float64 and complex128 (pivots chosen as LAPACK's ``i?amax`` does: largest ``|re| + |im|``).
+Layout, as SciPy's: this module holds the method (its constants, the Newton iteration on
+the collocation system, the error estimate, the driver); :mod:`jointplay._kernels.common`
+the step-size helpers (status codes, counter names, error norm, step factor, initial step,
+finite-difference Jacobian); :mod:`jointplay._kernels.linalg` the LU factorisation with
+partial pivoting, one generic routine compiled for float64 and complex128.
 
 Compilation: everything is ``njit(cache=True)``. The user's functions reach the driver as
 first-class function values (``numba.types.FunctionType``) rather than as dispatcher
@@ -95,17 +98,39 @@ import numba
 import numpy as np
 import numpy.typing as npt
 
+from jointplay._kernels.common import (
+    EPS,
+    NFEV,
+    NJEV,
+    NLU,
+    NREJ_CHECK,
+    NREJ_ERROR,
+    NREJ_NEWTON,
+    NSTEPS,
+    STATUS_NON_FINITE,
+    STATUS_RUNNING,
+    STATUS_STEP_TOO_SMALL,
+    STATUS_SUCCESS,
+    STATUS_TOO_MANY_STEPS,
+    all_finite,
+    copy_vector,
+    error_scale,
+    jit,
+    num_jac,
+    plus,
+    predict_factor,
+    py_max,
+    py_min,
+    rms_norm,
+    select_initial_step,
+    tolerance_scale,
+)
+from jointplay._kernels.linalg import lu_factor, lu_solve_in_place
+
 __all__ = [
-    "COUNTER_NAMES",
-    "STATUS_NON_FINITE",
-    "STATUS_STEP_TOO_SMALL",
-    "STATUS_SUCCESS",
-    "STATUS_TOO_MANY_STEPS",
     "accept_every_step",
     "finite_differences",
     "kernel_signatures",
-    "lu_factor",
-    "lu_solve",
     "no_after_step",
     "radau_integrate",
 ]
@@ -157,85 +182,16 @@ NEWTON_MAXITER = 6  # Maximum number of Newton iterations.
 MIN_FACTOR = 0.2  # Minimum allowed decrease in a step size.
 MAX_FACTOR = 10.0  # Maximum allowed increase in a step size.
 
-EPS = float(np.finfo(np.float64).eps)
-
-# Finite-difference Jacobian constants, verbatim from SciPy's common.py.
-NUM_JAC_DIFF_REJECT = EPS**0.875
-NUM_JAC_DIFF_SMALL = EPS**0.75
-NUM_JAC_DIFF_BIG = EPS**0.25
-NUM_JAC_MIN_FACTOR = 1e3 * EPS
-NUM_JAC_FACTOR_INCREASE = 10.0
-NUM_JAC_FACTOR_DECREASE = 0.1
-#: Not in SciPy: the largest relative difference step. SciPy multiplies a column's factor by
-#: 10 at every Jacobian in which the column's difference is small, without bound, so a
-#: component on which f (nearly) does not depend gets an infinite step after ~300
-#: Jacobians and the Jacobian turns NaN (seen on a slider-crank: its slider angle is held
-#: by a constraint). A step as large as the component itself (or its atol) is the cap.
-NUM_JAC_MAX_FACTOR = 1.0
-
 #: Consecutive ``step_check`` rejections of one step after which the step is accepted.
 MAX_CHECK_REJECTIONS = 64
 
-STATUS_SUCCESS = 0
-STATUS_STEP_TOO_SMALL = -1
-STATUS_TOO_MANY_STEPS = -2
-STATUS_NON_FINITE = -3
-_STATUS_RUNNING = 1
-
-#: Meaning of the entries of the returned ``counters`` array.
-COUNTER_NAMES = (
-    "nfev",
-    "njev",
-    "nlu",
-    "n_steps",
-    "n_rejected_error",
-    "n_rejected_newton",
-    "n_rejected_check",
-)
-_NFEV, _NJEV, _NLU, _NSTEPS, _NREJ_ERROR, _NREJ_NEWTON, _NREJ_CHECK = range(7)
-
 _INITIAL_CAPACITY = 64
 
-# error_model="numpy": a division by zero gives inf/NaN (as in SciPy) instead of raising.
-_jit = numba.njit(cache=True, error_model="numpy")
-
 
 # ---------------------------------------------------------------------------------------
-# Scalar and vector helpers.
+# Stage norm.
 # ---------------------------------------------------------------------------------------
-@_jit
-def _py_min(a, b):
-    """Python's ``min(a, b)``: ``a`` unless ``b < a`` (so ``min(1, nan) == 1``, as in SciPy)."""
-    return b if b < a else a
-
-
-@_jit
-def _py_max(a, b):
-    """Python's ``max(a, b)``: ``a`` unless ``b > a`` (so ``max(0.2, nan) == 0.2``)."""
-    return b if b > a else a
-
-
-@_jit
-def _all_finite(x):
-    """Whether every entry of the 1-D array ``x`` is finite."""
-    for j in range(x.shape[0]):  # noqa: SIM110 (an explicit loop compiles faster than all())
-        if not math.isfinite(x[j]):
-            return False
-    return True
-
-
-@_jit
-def _rms_norm(x, scale):
-    """SciPy's ``norm(x / scale)`` for a 1-D ``x``: RMS of ``x_j / scale_j``."""
-    n = x.shape[0]
-    s = 0.0
-    for j in range(n):
-        v = x[j] / scale[j]
-        s += v * v
-    return math.sqrt(s) / math.sqrt(n)
-
-
-@_jit
+@jit
 def _rms_norm_stages(x, scale):
     """SciPy's ``norm(x / scale)`` for ``x`` of shape (3, n), ``scale`` broadcast on rows."""
     n = x.shape[1]
@@ -247,145 +203,10 @@ def _rms_norm_stages(x, scale):
     return math.sqrt(s) / math.sqrt(3 * n)
 
 
-@_jit
-def _tolerance_scale(y, atol, rtol):
-    """``atol + |y|·rtol``."""
-    n = y.shape[0]
-    scale = np.empty(n)
-    for j in range(n):
-        scale[j] = atol[j] + abs(y[j]) * rtol
-    return scale
-
-
-@_jit
-def _error_scale(y, y_new, atol, rtol):
-    """``atol + max(|y|, |y_new|)·rtol``."""
-    n = y.shape[0]
-    scale = np.empty(n)
-    for j in range(n):
-        scale[j] = atol[j] + max(abs(y[j]), abs(y_new[j])) * rtol
-    return scale
-
-
-@_jit
-def _plus(y, x):
-    """``y + x`` as a new C-contiguous array."""
-    n = y.shape[0]
-    out = np.empty(n)
-    for j in range(n):
-        out[j] = y[j] + x[j]
-    return out
-
-
-@_jit
-def _copy_vector(x):
-    """``x`` as a new C-contiguous float64 array (``fun`` may return any layout)."""
-    n = x.shape[0]
-    out = np.empty(n)
-    for j in range(n):
-        out[j] = x[j]
-    return out
-
-
-@_jit
-def _predict_factor(h_abs, h_abs_old, error_norm, error_norm_old):
-    """Step-size factor of the predictive controller ([HW96] §IV.8, (8.25); SciPy).
-
-    ``h_abs_old`` or ``error_norm_old`` equal to NaN stands for SciPy's ``None``
-    (one-step controller).
-    """
-    if math.isnan(error_norm_old) or math.isnan(h_abs_old) or error_norm == 0.0:
-        multiplier = 1.0
-    else:
-        multiplier = h_abs / h_abs_old * (error_norm_old / error_norm) ** 0.25
-    return _py_min(1.0, multiplier) * error_norm**-0.25
-
-
 # ---------------------------------------------------------------------------------------
-# Linear algebra (generic over float64 / complex128).
+# Newton matrices (reduced to the active, non-position components).
 # ---------------------------------------------------------------------------------------
-@_jit
-def lu_factor(a):
-    """LU factorisation with partial pivoting, ``P·A = L·U`` (as LAPACK ``?getrf``).
-
-    Args:
-        a: Square matrix, float64 or complex128, shape (n, n); not modified.
-
-    Returns:
-        ``(lu, piv)``: ``L`` (unit lower, below the diagonal) and ``U`` packed in one
-        matrix, and the row interchanges (row ``k`` was swapped with row ``piv[k]``).
-        A zero pivot is left in place (the matrix is singular): solving then gives
-        inf/NaN, which the integrator treats as a failed Newton iteration.
-    """
-    n = a.shape[0]
-    lu = a.copy()
-    piv = np.empty(n, dtype=np.int64)
-    for k in range(n):
-        p = k
-        amax = abs(lu[k, k].real) + abs(lu[k, k].imag)
-        for i in range(k + 1, n):
-            v = abs(lu[i, k].real) + abs(lu[i, k].imag)
-            if v > amax:
-                amax = v
-                p = i
-        piv[k] = p
-        if p != k:
-            for j in range(n):
-                tmp = lu[k, j]
-                lu[k, j] = lu[p, j]
-                lu[p, j] = tmp
-        pivot = lu[k, k]
-        if pivot != 0:
-            for i in range(k + 1, n):
-                lu[i, k] = lu[i, k] / pivot
-            for i in range(k + 1, n):
-                lik = lu[i, k]
-                if lik != 0:
-                    for j in range(k + 1, n):
-                        lu[i, j] -= lik * lu[k, j]
-    return lu, piv
-
-
-@_jit
-def _lu_solve_in_place(lu, piv, x):
-    """:func:`lu_solve` overwriting ``x`` (the right-hand side) with the solution."""
-    n = lu.shape[0]
-    for k in range(n):
-        p = piv[k]
-        if p != k:
-            tmp = x[k]
-            x[k] = x[p]
-            x[p] = tmp
-    for i in range(n):
-        s = x[i]
-        for j in range(i):
-            s -= lu[i, j] * x[j]
-        x[i] = s
-    for i in range(n - 1, -1, -1):
-        s = x[i]
-        for j in range(i + 1, n):
-            s -= lu[i, j] * x[j]
-        x[i] = s / lu[i, i]
-
-
-@_jit
-def lu_solve(lu, piv, b):
-    """Solve ``A x = b`` from ``lu_factor(A)``.
-
-    Args:
-        lu: Packed factors from :func:`lu_factor`, shape (n, n).
-        piv: Row interchanges from :func:`lu_factor`, shape (n,).
-        b: Right-hand side, shape (n,), same dtype as ``lu``; not modified.
-
-    Returns:
-        The solution ``x``, shape (n,).
-    """
-    x = b.copy()
-    _lu_solve_in_place(lu, piv, x)
-    return x
-
-
-@_jit
+@jit
 def _factor_newton_matrices(jac, h, n_second, n_active):
     """LU factors of the Newton matrices ``MU_REAL/h·I − J`` and ``MU_COMPLEX/h·I − J``,
     reduced to the components that :func:`_newton_solve` keeps.
@@ -416,7 +237,7 @@ def _factor_newton_matrices(jac, h, n_second, n_active):
     return lu_real, piv_real, lu_complex, piv_complex
 
 
-@_jit
+@jit
 def _newton_solve_in_place(lu, piv, jac, mu_over_h, x, work, n_second, n_active):
     """Solve ``(γ/h·I − J) x = b`` from the reduced factors of :func:`_factor_newton_matrices`.
 
@@ -447,7 +268,7 @@ def _newton_solve_in_place(lu, piv, jac, mu_over_h, x, work, n_second, n_active)
         for j in range(m2):
             s += h_over_mu * jac[m2 + i, j] * x[j]
         work[i] = s
-    _lu_solve_in_place(lu, piv, work)
+    lu_solve_in_place(lu, piv, work)
     for j in range(m2):
         x[j] = h_over_mu * (x[j] + work[j])
     for i in range(nk):
@@ -459,7 +280,7 @@ def _newton_solve_in_place(lu, piv, jac, mu_over_h, x, work, n_second, n_active)
         x[p] = h_over_mu * s
 
 
-@_jit
+@jit
 def _newton_solve(lu, piv, jac, mu_over_h, b, n_second, n_active):
     """:func:`_newton_solve_in_place` into a new array (``b`` is not modified)."""
     x = b.copy()
@@ -471,7 +292,7 @@ def _newton_solve(lu, piv, jac, mu_over_h, b, n_second, n_active):
 # ---------------------------------------------------------------------------------------
 # Pieces of the collocation step.
 # ---------------------------------------------------------------------------------------
-@_jit
+@jit
 def _mat3_dot_into(m, z, out):
     """``out[:] = m @ z`` for a 3×3 ``m`` and (3, n) ``z`` and ``out``."""
     n = z.shape[1]
@@ -484,7 +305,7 @@ def _mat3_dot_into(m, z, out):
                 out[i, j] += mik * z[k, j]
 
 
-@_jit
+@jit
 def _newton_increment(f_stages, w, h, scale, lu_real, piv_real, lu_complex, piv_complex, jac,
                       n_second, n_active, dw, x_real, x_complex, work_real, work_complex):  # fmt: skip
     """One simplified-Newton increment ``dW`` in the transformed variables; its norm.
@@ -530,7 +351,7 @@ def _newton_increment(f_stages, w, h, scale, lu_real, piv_real, lu_complex, piv_
     return _rms_norm_stages(dw, scale)
 
 
-@_jit
+@jit
 def _error_estimate(z, f, h, lu_real, piv_real, jac, n_second, n_active):
     """Embedded error estimate ``(MU_REAL/h·I − J)⁻¹ (f + ZE)`` and ``ZE = Zᵀ E / h``."""
     n = z.shape[1]
@@ -542,7 +363,7 @@ def _error_estimate(z, f, h, lu_real, piv_real, jac, n_second, n_active):
     return ze, _newton_solve(lu_real, piv_real, jac, MU_REAL / h, rhs, n_second, n_active)
 
 
-@_jit
+@jit
 def _extrapolate(q, t_old, y_old, t, y, h):
     """Newton start ``Z0[i] = sol(t + c_i h) − y`` from the last step's collocation polynomial.
 
@@ -561,7 +382,7 @@ def _extrapolate(q, t_old, y_old, t, y, h):
     return z0
 
 
-@_jit
+@jit
 def _interpolant_coefficients(z):
     """``Q = Zᵀ P``, shape (n, 3)."""
     n = z.shape[1]
@@ -575,7 +396,7 @@ def _interpolant_coefficients(z):
     return q
 
 
-@_jit
+@jit
 def _record(ts, ys, m, t, y):
     """Store ``(t, y)`` as row ``m``, doubling the arrays first when they are full."""
     cap = ts.shape[0]
@@ -596,139 +417,9 @@ def _record(ts, ys, m, t, y):
 
 
 # ---------------------------------------------------------------------------------------
-# Finite-difference Jacobian (SciPy's num_jac, dense branch).
+# Collocation system.
 # ---------------------------------------------------------------------------------------
-@_jit
-def _column_difference(f, f_col, j, diff, max_diff, scale):
-    """Column ``j`` of ``f_new − f``, its largest entry and the scale of that entry."""
-    n = f.shape[0]
-    for i in range(n):
-        diff[i, j] = f_col[i] - f[i]
-    # np.argmax(np.abs(diff), axis=0): the first largest entry.
-    imax = 0
-    vmax = abs(diff[0, j])
-    for i in range(1, n):
-        v = abs(diff[i, j])
-        if v > vmax:
-            vmax = v
-            imax = i
-    max_diff[j] = vmax
-    scale[j] = max(abs(f[imax]), abs(f_col[imax]))
-
-
-@_jit
-def _num_jac(fun, args, t, y, f, threshold, factor, n_active):
-    """Forward-difference Jacobian ``∂f/∂y`` with adaptive steps (SciPy's ``num_jac``).
-
-    Args:
-        fun: Right-hand side ``fun(t, y, args)``.
-        args: Passed through to ``fun``.
-        t: Time.
-        y: State, shape (n,).
-        f: ``fun(t, y, args)``, shape (n,).
-        threshold: Floor of ``|y|`` in the step (``atol``), shape (n,).
-        factor: Relative steps, shape (n,); adapted in place for the next call.
-        n_active: Only the columns ``[0, n_active)`` are differenced; the others are zero
-            (passive components, see :func:`radau_integrate`; ``n`` in SciPy).
-
-    Returns:
-        The Jacobian, shape (n, n).
-    """
-    n = y.shape[0]
-    na = n_active
-    y_scale = np.empty(n)
-    h = np.empty(n)
-    for j in range(n):
-        # Step in the direction the ODE goes, hoping it stays in the problem's domain.
-        f_sign = 1.0 if f[j] >= 0 else -1.0
-        y_scale[j] = f_sign * max(threshold[j], abs(y[j]))
-        h[j] = (y[j] + factor[j] * y_scale[j]) - y[j]
-        while h[j] == 0:  # Ends, as in SciPy, once the step is non-zero or NaN.
-            factor[j] *= 10.0
-            h[j] = (y[j] + factor[j] * y_scale[j]) - y[j]
-
-    diff = np.empty((n, n))
-    max_diff = np.empty(n)
-    scale = np.empty(n)
-    ytmp = y.copy()
-    for j in range(na):
-        ytmp[j] = y[j] + h[j]
-        f_col = fun(t, ytmp, args)
-        ytmp[j] = y[j]
-        _column_difference(f, f_col, j, diff, max_diff, scale)
-
-    # A column whose difference drowns in round-off is retried with a 10x larger step,
-    # and the retry is kept if its difference is larger relative to its scale.
-    diff_new = np.empty((n, n))
-    max_diff_new = np.empty(n)
-    scale_new = np.empty(n)
-    for j in range(na):
-        if not max_diff[j] < NUM_JAC_DIFF_REJECT * scale[j]:
-            continue
-        new_factor = NUM_JAC_FACTOR_INCREASE * factor[j]
-        h_new = (y[j] + new_factor * y_scale[j]) - y[j]
-        ytmp[j] = y[j] + h_new
-        f_col = fun(t, ytmp, args)
-        ytmp[j] = y[j]
-        _column_difference(f, f_col, j, diff_new, max_diff_new, scale_new)
-        if max_diff[j] * scale_new[j] < max_diff_new[j] * scale[j]:
-            factor[j] = new_factor
-            h[j] = h_new
-            for i in range(n):
-                diff[i, j] = diff_new[i, j]
-            scale[j] = scale_new[j]
-            max_diff[j] = max_diff_new[j]
-
-    jac = np.zeros((n, n))
-    for j in range(na):
-        for i in range(n):
-            jac[i, j] = diff[i, j] / h[j]
-        if max_diff[j] < NUM_JAC_DIFF_SMALL * scale[j]:
-            factor[j] *= NUM_JAC_FACTOR_INCREASE
-        elif max_diff[j] > NUM_JAC_DIFF_BIG * scale[j]:
-            factor[j] *= NUM_JAC_FACTOR_DECREASE
-        factor[j] = min(max(factor[j], NUM_JAC_MIN_FACTOR), NUM_JAC_MAX_FACTOR)
-    return jac
-
-
-# ---------------------------------------------------------------------------------------
-# Initial step and collocation system.
-# ---------------------------------------------------------------------------------------
-@_jit
-def _select_initial_step(fun, args, t0, y0, t_bound, max_step, f0, direction, rtol, atol):
-    """SciPy's ``select_initial_step`` for an error estimator of order 3.
-
-    From Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.4.
-
-    Returns:
-        ``(h_abs, nfev)``.
-    """
-    order = 3
-    n = y0.shape[0]
-    interval_length = abs(t_bound - t0)
-    if interval_length == 0.0:
-        return 0.0, 0
-    scale = _tolerance_scale(y0, atol, rtol)
-    d0 = _rms_norm(y0, scale)
-    d1 = _rms_norm(f0, scale)
-    h0 = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
-    h0 = min(h0, interval_length)
-    y1 = np.empty(n)
-    for j in range(n):
-        y1[j] = y0[j] + h0 * direction * f0[j]
-    f1 = fun(t0 + h0 * direction, y1, args)
-    df = np.empty(n)
-    for j in range(n):
-        df[j] = f1[j] - f0[j]
-    d2 = _rms_norm(df, scale) / h0
-    if d1 <= 1e-15 and d2 <= 1e-15:
-        h1 = max(1e-6, h0 * 1e-3)
-    else:
-        h1 = (0.01 / max(d1, d2)) ** (1.0 / (order + 1))
-    return min(100.0 * h0, h1, interval_length, max_step), 1
-
-
-@_jit
+@jit
 def _solve_collocation_system(
     fun,
     args,
@@ -815,7 +506,7 @@ def _solve_collocation_system(
     return converged, k + 1, z, rate, nfev
 
 
-@_jit
+@jit
 def _newton_workspace(n, n_second, n_active):
     """Scratch arrays of :func:`_solve_collocation_system`: W, Z, F, a stage state, dW,
     and the right-hand sides and reduced vectors of the real and complex solves."""
@@ -836,32 +527,32 @@ def _newton_workspace(n, n_second, n_active):
 # ---------------------------------------------------------------------------------------
 # Default hooks.
 # ---------------------------------------------------------------------------------------
-@_jit
+@jit
 def accept_every_step(t_old, y_old, t_new, y_new, args):
     """``step_check`` that accepts every step (returns 1.0)."""
     return 1.0
 
 
-@_jit
+@jit
 def no_after_step(t, y, args):
     """``after_step`` that changes nothing (returns False)."""
     return False
 
 
-@_jit
+@jit
 def finite_differences(t, y, f, args, out):
     """``jac`` that provides no Jacobian (returns False): the kernel differences ``fun``."""
     return False
 
 
-@_jit
+@jit
 def _jacobian(fun, jac, args, t, y, f, threshold, factor, n_active):
     """The user's Jacobian where ``jac`` gives one, SciPy's ``num_jac`` otherwise."""
     n = y.shape[0]
     out = np.empty((n, n))
     if jac(t, y, f, args, out):
         return out
-    return _num_jac(fun, args, t, y, f, threshold, factor, n_active)
+    return num_jac(fun, args, t, y, f, threshold, factor, n_active)
 
 
 # ---------------------------------------------------------------------------------------
@@ -909,25 +600,25 @@ def _radau_core(
             m += 1
         return STATUS_SUCCESS, ts[:m].copy(), ys[:m].copy(), counters
 
-    f = _copy_vector(fun(t, y, args))
-    counters[_NFEV] += 1
-    if not (_all_finite(y) and _all_finite(f)):
+    f = copy_vector(fun(t, y, args))
+    counters[NFEV] += 1
+    if not (all_finite(y) and all_finite(f)):
         return STATUS_NON_FINITE, ts[:m].copy(), ys[:m].copy(), counters
 
     if first_step > 0:
         h_abs_state = first_step
     else:
-        h_abs_state, nfev_initial = _select_initial_step(
+        h_abs_state, nfev_initial = select_initial_step(
             fun, args, t, y, t_bound, max_step, f, direction, rtol, atol
         )
-        counters[_NFEV] += nfev_initial
+        counters[NFEV] += nfev_initial
     h_abs_old_state = np.nan  # NaN stands for SciPy's None.
     error_norm_old_state = np.nan
     newton_tol = max(10.0 * EPS / rtol, min(0.03, rtol**0.5))
 
     jac_factor = np.full(n, EPS**0.5)
     jac = _jacobian(fun, jac_fun, args, t, y, f, atol, jac_factor, n_active)
-    counters[_NJEV] += 1
+    counters[NJEV] += 1
     current_jac = True
     lu_real = np.empty((n, n))
     piv_real = np.zeros(n, dtype=np.int64)
@@ -943,9 +634,9 @@ def _radau_core(
     t_old = t
     y_old = y
 
-    status = _STATUS_RUNNING
-    while status == _STATUS_RUNNING:
-        if counters[_NSTEPS] >= max_steps:
+    status = STATUS_RUNNING
+    while status == STATUS_RUNNING:
+        if counters[NSTEPS] >= max_steps:
             status = STATUS_TOO_MANY_STEPS
             break
 
@@ -964,7 +655,7 @@ def _radau_core(
             h_abs_old = h_abs_old_state
             error_norm_old = error_norm_old_state
 
-        newton_scale = _tolerance_scale(y, atol, rtol)  # SciPy: per attempt, the same y
+        newton_scale = tolerance_scale(y, atol, rtol)  # SciPy: per attempt, the same y
         rejected = False
         failed = False  # RADAU5's REJECT: the error test or the Newton iteration failed
         step_accepted = False
@@ -997,7 +688,7 @@ def _radau_core(
                     lu_real, piv_real, lu_complex, piv_complex = _factor_newton_matrices(
                         jac, h, n_second, n_active
                     )
-                    counters[_NLU] += 2
+                    counters[NLU] += 2
                     lu_valid = True
 
                 converged, n_iter, z, rate, nfev_newton = _solve_collocation_system(
@@ -1018,13 +709,13 @@ def _radau_core(
                     n_active,
                     workspace,
                 )
-                counters[_NFEV] += nfev_newton
+                counters[NFEV] += nfev_newton
 
                 if not converged:
                     if current_jac:
                         break
                     jac = _jacobian(fun, jac_fun, args, t, y, f, atol, jac_factor, n_active)
-                    counters[_NJEV] += 1
+                    counters[NJEV] += 1
                     current_jac = True
                     lu_valid = False
 
@@ -1032,30 +723,30 @@ def _radau_core(
                 h_abs *= 0.5
                 lu_valid = False
                 failed = True
-                counters[_NREJ_NEWTON] += 1
+                counters[NREJ_NEWTON] += 1
                 continue
 
-            y_new = _plus(y, z[2])
+            y_new = plus(y, z[2])
             ze, error = _error_estimate(z, f, h, lu_real, piv_real, jac, n_second, n_active)
-            scale = _error_scale(y, y_new, atol, rtol)
-            error_norm = _rms_norm(error, scale)
+            scale = error_scale(y, y_new, atol, rtol)
+            error_norm = rms_norm(error, scale)
             safety = 0.9 * (2 * NEWTON_MAXITER + 1) / (2 * NEWTON_MAXITER + n_iter)
 
             if rejected and error_norm > 1:
-                f_err = fun(t, _plus(y, error), args)
-                counters[_NFEV] += 1
+                f_err = fun(t, plus(y, error), args)
+                counters[NFEV] += 1
                 error = _newton_solve(
-                    lu_real, piv_real, jac, MU_REAL / h, _plus(f_err, ze), n_second, n_active
+                    lu_real, piv_real, jac, MU_REAL / h, plus(f_err, ze), n_second, n_active
                 )
-                error_norm = _rms_norm(error, scale)
+                error_norm = rms_norm(error, scale)
 
             if error_norm > 1:
-                factor = _predict_factor(h_abs, h_abs_old, error_norm, error_norm_old)
-                h_abs *= _py_max(MIN_FACTOR, safety * factor)
+                factor = predict_factor(h_abs, h_abs_old, error_norm, error_norm_old)
+                h_abs *= py_max(MIN_FACTOR, safety * factor)
                 lu_valid = False
                 rejected = True
                 failed = True
-                counters[_NREJ_ERROR] += 1
+                counters[NREJ_ERROR] += 1
                 continue
 
             # Hook: locate an event (contact onset) by shortening the step.
@@ -1065,19 +756,19 @@ def _radau_core(
                 h_abs = h_try
                 lu_valid = False
                 n_check += 1
-                counters[_NREJ_CHECK] += 1
+                counters[NREJ_CHECK] += 1
                 continue
             step_accepted = True
 
-        if status != _STATUS_RUNNING:
+        if status != STATUS_RUNNING:
             break
 
         recompute_jac = n_iter > 2 and rate > 1e-3
 
-        factor = _predict_factor(h_abs, h_abs_old, error_norm, error_norm_old)
-        factor = _py_min(MAX_FACTOR, safety * factor)
+        factor = predict_factor(h_abs, h_abs_old, error_norm, error_norm_old)
+        factor = py_min(MAX_FACTOR, safety * factor)
         if hold_after_failure and failed:
-            factor = _py_min(factor, 1.0)  # RADAU5: IF (REJECT) HNEW = MIN(HNEW, H)
+            factor = py_min(factor, 1.0)  # RADAU5: IF (REJECT) HNEW = MIN(HNEW, H)
 
         if not recompute_jac and factor < 1.2:
             factor = 1.0
@@ -1086,15 +777,15 @@ def _radau_core(
 
         # Hook: projection / contact memory; then f at the (possibly modified) state.
         changed = after_step(t_new, y_new, args)
-        f_new = _copy_vector(fun(t_new, y_new, args))
-        counters[_NFEV] += 1
-        if not (_all_finite(y_new) and _all_finite(f_new)):
+        f_new = copy_vector(fun(t_new, y_new, args))
+        counters[NFEV] += 1
+        if not (all_finite(y_new) and all_finite(f_new)):
             status = STATUS_NON_FINITE
             break
 
         if recompute_jac:
             jac = _jacobian(fun, jac_fun, args, t_new, y_new, f_new, atol, jac_factor, n_active)
-            counters[_NJEV] += 1
+            counters[NJEV] += 1
             current_jac = True
         else:
             current_jac = False
@@ -1111,7 +802,7 @@ def _radau_core(
         f = f_new
         q = _interpolant_coefficients(z)
         has_sol = not changed
-        counters[_NSTEPS] += 1
+        counters[NSTEPS] += 1
 
         ts, ys = _record(ts, ys, m, t, y)
         m += 1

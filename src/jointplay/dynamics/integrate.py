@@ -38,6 +38,7 @@ import numpy as np
 import numpy.typing as npt
 from numba.core.dispatcher import Dispatcher
 
+from jointplay._kernels import common as _common
 from jointplay._kernels import radau as _radau
 from jointplay.errors import ConfigError, IntegrationError
 
@@ -53,10 +54,10 @@ _SMALLEST_RTOL = 100.0 * _EPS
 class IntegrationStatus(enum.IntEnum):
     """How an integration ended (the kernel's status codes)."""
 
-    SUCCESS = _radau.STATUS_SUCCESS
-    STEP_TOO_SMALL = _radau.STATUS_STEP_TOO_SMALL
-    TOO_MANY_STEPS = _radau.STATUS_TOO_MANY_STEPS
-    NON_FINITE = _radau.STATUS_NON_FINITE
+    SUCCESS = _common.STATUS_SUCCESS
+    STEP_TOO_SMALL = _common.STATUS_STEP_TOO_SMALL
+    TOO_MANY_STEPS = _common.STATUS_TOO_MANY_STEPS
+    NON_FINITE = _common.STATUS_NON_FINITE
 
     @property
     def summary(self) -> str:
@@ -216,7 +217,7 @@ def integrate(
         raise IntegrationError(message)
     t.flags.writeable = False
     y.flags.writeable = False
-    counts = dict(zip(_radau.COUNTER_NAMES, (int(c) for c in counters), strict=True))
+    counts = dict(zip(_common.COUNTER_NAMES, (int(c) for c in counters), strict=True))
     return IntegrationResult(
         t=t,
         y=y,

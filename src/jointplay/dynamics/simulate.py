@@ -22,7 +22,8 @@ from numpy.typing import NDArray
 
 from jointplay._kernels import constraints as ck
 from jointplay._kernels import eom
-from jointplay._kernels.radau import COUNTER_NAMES, radau_integrate
+from jointplay._kernels.common import COUNTER_NAMES
+from jointplay._kernels.radau import radau_integrate
 from jointplay.dynamics.clearance import ClearanceJoint
 from jointplay.dynamics.system import System, build_system
 from jointplay.errors import ConfigError, IntegrationError

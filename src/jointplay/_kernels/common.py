@@ -1,0 +1,302 @@
+"""Step-size helpers shared by the compiled integrators, as SciPy's ``_ivp/common.py``.
+
+The pieces of :mod:`jointplay._kernels.radau` that are not the Radau IIA method itself:
+the status codes and counter names an integration returns, the RMS error norm and the
+tolerance scales, the predictive step-size factor ([HW96]_ §IV.8, (8.25)), the initial step
+selection (Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.4) and the forward-difference
+Jacobian (SciPy's ``num_jac``, dense branch), each ported from SciPy 1.17 with its constants.
+Everything is ``njit(cache=True, error_model="numpy")`` (:data:`jit`): a division by zero
+gives inf/NaN, as in SciPy, instead of raising.
+
+References:
+    .. [HW96] E. Hairer, G. Wanner, *Solving Ordinary Differential Equations II: Stiff and
+       Differential-Algebraic Problems*, 2nd ed., Springer, 1996, §IV.8.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+__all__ = [
+    "COUNTER_NAMES",
+    "EPS",
+    "STATUS_NON_FINITE",
+    "STATUS_STEP_TOO_SMALL",
+    "STATUS_SUCCESS",
+    "STATUS_TOO_MANY_STEPS",
+    "all_finite",
+    "copy_vector",
+    "error_scale",
+    "jit",
+    "num_jac",
+    "plus",
+    "predict_factor",
+    "py_max",
+    "py_min",
+    "rms_norm",
+    "select_initial_step",
+    "tolerance_scale",
+]
+
+EPS = float(np.finfo(np.float64).eps)
+
+# Finite-difference Jacobian constants, verbatim from SciPy's common.py.
+NUM_JAC_DIFF_REJECT = EPS**0.875
+NUM_JAC_DIFF_SMALL = EPS**0.75
+NUM_JAC_DIFF_BIG = EPS**0.25
+NUM_JAC_MIN_FACTOR = 1e3 * EPS
+NUM_JAC_FACTOR_INCREASE = 10.0
+NUM_JAC_FACTOR_DECREASE = 0.1
+#: Not in SciPy: the largest relative difference step. SciPy multiplies a column's factor by
+#: 10 at every Jacobian in which the column's difference is small, without bound, so a
+#: component on which f (nearly) does not depend gets an infinite step after ~300
+#: Jacobians and the Jacobian turns NaN (seen on a slider-crank: its slider angle is held
+#: by a constraint). A step as large as the component itself (or its atol) is the cap.
+NUM_JAC_MAX_FACTOR = 1.0
+
+#: Statuses an integration ends with (``STATUS_RUNNING`` while it goes on).
+STATUS_SUCCESS = 0
+STATUS_STEP_TOO_SMALL = -1
+STATUS_TOO_MANY_STEPS = -2
+STATUS_NON_FINITE = -3
+STATUS_RUNNING = 1
+
+#: Meaning of the entries of the returned ``counters`` array.
+COUNTER_NAMES = (
+    "nfev",
+    "njev",
+    "nlu",
+    "n_steps",
+    "n_rejected_error",
+    "n_rejected_newton",
+    "n_rejected_check",
+)
+NFEV, NJEV, NLU, NSTEPS, NREJ_ERROR, NREJ_NEWTON, NREJ_CHECK = range(7)
+
+# error_model="numpy": a division by zero gives inf/NaN (as in SciPy) instead of raising.
+jit = numba.njit(cache=True, error_model="numpy")
+
+
+# ---------------------------------------------------------------------------------------
+# Scalar and vector helpers.
+# ---------------------------------------------------------------------------------------
+@jit
+def py_min(a, b):
+    """Python's ``min(a, b)``: ``a`` unless ``b < a`` (so ``min(1, nan) == 1``, as in SciPy)."""
+    return b if b < a else a
+
+
+@jit
+def py_max(a, b):
+    """Python's ``max(a, b)``: ``a`` unless ``b > a`` (so ``max(0.2, nan) == 0.2``)."""
+    return b if b > a else a
+
+
+@jit
+def all_finite(x):
+    """Whether every entry of the 1-D array ``x`` is finite."""
+    for j in range(x.shape[0]):  # noqa: SIM110 (an explicit loop compiles faster than all())
+        if not math.isfinite(x[j]):
+            return False
+    return True
+
+
+@jit
+def rms_norm(x, scale):
+    """SciPy's ``norm(x / scale)`` for a 1-D ``x``: RMS of ``x_j / scale_j``."""
+    n = x.shape[0]
+    s = 0.0
+    for j in range(n):
+        v = x[j] / scale[j]
+        s += v * v
+    return math.sqrt(s) / math.sqrt(n)
+
+
+@jit
+def tolerance_scale(y, atol, rtol):
+    """``atol + |y|·rtol``."""
+    n = y.shape[0]
+    scale = np.empty(n)
+    for j in range(n):
+        scale[j] = atol[j] + abs(y[j]) * rtol
+    return scale
+
+
+@jit
+def error_scale(y, y_new, atol, rtol):
+    """``atol + max(|y|, |y_new|)·rtol``."""
+    n = y.shape[0]
+    scale = np.empty(n)
+    for j in range(n):
+        scale[j] = atol[j] + max(abs(y[j]), abs(y_new[j])) * rtol
+    return scale
+
+
+@jit
+def plus(y, x):
+    """``y + x`` as a new C-contiguous array."""
+    n = y.shape[0]
+    out = np.empty(n)
+    for j in range(n):
+        out[j] = y[j] + x[j]
+    return out
+
+
+@jit
+def copy_vector(x):
+    """``x`` as a new C-contiguous float64 array (``fun`` may return any layout)."""
+    n = x.shape[0]
+    out = np.empty(n)
+    for j in range(n):
+        out[j] = x[j]
+    return out
+
+
+@jit
+def predict_factor(h_abs, h_abs_old, error_norm, error_norm_old):
+    """Step-size factor of the predictive controller ([HW96] §IV.8, (8.25); SciPy).
+
+    ``h_abs_old`` or ``error_norm_old`` equal to NaN stands for SciPy's ``None``
+    (one-step controller).
+    """
+    if math.isnan(error_norm_old) or math.isnan(h_abs_old) or error_norm == 0.0:
+        multiplier = 1.0
+    else:
+        multiplier = h_abs / h_abs_old * (error_norm_old / error_norm) ** 0.25
+    return py_min(1.0, multiplier) * error_norm**-0.25
+
+
+# ---------------------------------------------------------------------------------------
+# Finite-difference Jacobian (SciPy's num_jac, dense branch).
+# ---------------------------------------------------------------------------------------
+@jit
+def _column_difference(f, f_col, j, diff, max_diff, scale):
+    """Column ``j`` of ``f_new − f``, its largest entry and the scale of that entry."""
+    n = f.shape[0]
+    for i in range(n):
+        diff[i, j] = f_col[i] - f[i]
+    # np.argmax(np.abs(diff), axis=0): the first largest entry.
+    imax = 0
+    vmax = abs(diff[0, j])
+    for i in range(1, n):
+        v = abs(diff[i, j])
+        if v > vmax:
+            vmax = v
+            imax = i
+    max_diff[j] = vmax
+    scale[j] = max(abs(f[imax]), abs(f_col[imax]))
+
+
+@jit
+def num_jac(fun, args, t, y, f, threshold, factor, n_active):
+    """Forward-difference Jacobian ``∂f/∂y`` with adaptive steps (SciPy's ``num_jac``).
+
+    Args:
+        fun: Right-hand side ``fun(t, y, args)``.
+        args: Passed through to ``fun``.
+        t: Time.
+        y: State, shape (n,).
+        f: ``fun(t, y, args)``, shape (n,).
+        threshold: Floor of ``|y|`` in the step (``atol``), shape (n,).
+        factor: Relative steps, shape (n,); adapted in place for the next call.
+        n_active: Only the columns ``[0, n_active)`` are differenced; the others are zero
+            (passive components, see :func:`radau_integrate`; ``n`` in SciPy).
+
+    Returns:
+        The Jacobian, shape (n, n).
+    """
+    n = y.shape[0]
+    na = n_active
+    y_scale = np.empty(n)
+    h = np.empty(n)
+    for j in range(n):
+        # Step in the direction the ODE goes, hoping it stays in the problem's domain.
+        f_sign = 1.0 if f[j] >= 0 else -1.0
+        y_scale[j] = f_sign * max(threshold[j], abs(y[j]))
+        h[j] = (y[j] + factor[j] * y_scale[j]) - y[j]
+        while h[j] == 0:  # Ends, as in SciPy, once the step is non-zero or NaN.
+            factor[j] *= 10.0
+            h[j] = (y[j] + factor[j] * y_scale[j]) - y[j]
+
+    diff = np.empty((n, n))
+    max_diff = np.empty(n)
+    scale = np.empty(n)
+    ytmp = y.copy()
+    for j in range(na):
+        ytmp[j] = y[j] + h[j]
+        f_col = fun(t, ytmp, args)
+        ytmp[j] = y[j]
+        _column_difference(f, f_col, j, diff, max_diff, scale)
+
+    # A column whose difference drowns in round-off is retried with a 10x larger step,
+    # and the retry is kept if its difference is larger relative to its scale.
+    diff_new = np.empty((n, n))
+    max_diff_new = np.empty(n)
+    scale_new = np.empty(n)
+    for j in range(na):
+        if not max_diff[j] < NUM_JAC_DIFF_REJECT * scale[j]:
+            continue
+        new_factor = NUM_JAC_FACTOR_INCREASE * factor[j]
+        h_new = (y[j] + new_factor * y_scale[j]) - y[j]
+        ytmp[j] = y[j] + h_new
+        f_col = fun(t, ytmp, args)
+        ytmp[j] = y[j]
+        _column_difference(f, f_col, j, diff_new, max_diff_new, scale_new)
+        if max_diff[j] * scale_new[j] < max_diff_new[j] * scale[j]:
+            factor[j] = new_factor
+            h[j] = h_new
+            for i in range(n):
+                diff[i, j] = diff_new[i, j]
+            scale[j] = scale_new[j]
+            max_diff[j] = max_diff_new[j]
+
+    jac = np.zeros((n, n))
+    for j in range(na):
+        for i in range(n):
+            jac[i, j] = diff[i, j] / h[j]
+        if max_diff[j] < NUM_JAC_DIFF_SMALL * scale[j]:
+            factor[j] *= NUM_JAC_FACTOR_INCREASE
+        elif max_diff[j] > NUM_JAC_DIFF_BIG * scale[j]:
+            factor[j] *= NUM_JAC_FACTOR_DECREASE
+        factor[j] = min(max(factor[j], NUM_JAC_MIN_FACTOR), NUM_JAC_MAX_FACTOR)
+    return jac
+
+
+# ---------------------------------------------------------------------------------------
+# Initial step.
+# ---------------------------------------------------------------------------------------
+@jit
+def select_initial_step(fun, args, t0, y0, t_bound, max_step, f0, direction, rtol, atol):
+    """SciPy's ``select_initial_step`` for an error estimator of order 3.
+
+    From Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.4.
+
+    Returns:
+        ``(h_abs, nfev)``.
+    """
+    order = 3
+    n = y0.shape[0]
+    interval_length = abs(t_bound - t0)
+    if interval_length == 0.0:
+        return 0.0, 0
+    scale = tolerance_scale(y0, atol, rtol)
+    d0 = rms_norm(y0, scale)
+    d1 = rms_norm(f0, scale)
+    h0 = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
+    h0 = min(h0, interval_length)
+    y1 = np.empty(n)
+    for j in range(n):
+        y1[j] = y0[j] + h0 * direction * f0[j]
+    f1 = fun(t0 + h0 * direction, y1, args)
+    df = np.empty(n)
+    for j in range(n):
+        df[j] = f1[j] - f0[j]
+    d2 = rms_norm(df, scale) / h0
+    if d1 <= 1e-15 and d2 <= 1e-15:
+        h1 = max(1e-6, h0 * 1e-3)
+    else:
+        h1 = (0.01 / max(d1, d2)) ** (1.0 / (order + 1))
+    return min(100.0 * h0, h1, interval_length, max_step), 1
