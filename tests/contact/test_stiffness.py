@@ -12,6 +12,7 @@ import math
 import numpy as np
 import pytest
 
+from jointplay.contact import ecs, hertz
 from jointplay.contact.stiffness import (
     STIFFNESS_LAWS,
     Esdu78035Stiffness,
@@ -191,6 +192,17 @@ def test_from_materials() -> None:
     assert law.effective_modulus == pytest.approx(
         STEEL.youngs_modulus / (2 * (1 - STEEL.poisson_ratio**2)), rel=1e-14
     )
+
+
+def test_hertz_law_and_ecs_share_the_hertz_formulas() -> None:
+    """E*, R and (4/3) E* √R come from jointplay.contact.hertz for both users: equal bitwise."""
+    law = HertzStiffness.from_materials(
+        bearing_radius=5.021e-3, pin_radius=5e-3, length=LENGTH, bearing=STEEL, pin=STEEL
+    )
+    modulus = ecs.effective_modulus(STEEL, STEEL, "johnson")
+    radius = ecs.equivalent_radius(5e-3, 5.021e-3, "conformal")
+    assert (law.effective_modulus, law.conformal_radius) == (modulus, radius)
+    assert law.stiffness == hertz.point_contact_stiffness(radius, modulus)
 
 
 def test_registry_and_validation() -> None:

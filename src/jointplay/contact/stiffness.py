@@ -11,7 +11,8 @@ instance.
 
 Notation (contact-models.md §3): clearance ``ΔR = R_i − R_j``, conformal radius
 ``R = R_i R_j / ΔR``, effective modulus ``1/E* = (1 − ν_i²)/E_i + (1 − ν_j²)/E_j``, load per
-unit length ``f = F/L``.
+unit length ``f = F/L``. The Hertz formulas (E*, R, the point-contact stiffness) are those of
+:mod:`jointplay.contact.hertz`.
 
 The implicit laws (Johnson, Radzimovsky, ESDU-78035 give δ as a function of F) all have the
 form ``δ = A x (c − ln x)`` with ``x = f/B``. On ``0 < x < e^(c−1)``, where δ increases with
@@ -34,6 +35,7 @@ import numpy as np
 import numpy.typing as npt
 from scipy.special import lambertw
 
+from jointplay.contact import hertz
 from jointplay.contact.laws import FloatArray, _resolve, _Validated
 from jointplay.errors import ConfigError
 
@@ -138,15 +140,17 @@ class PinInHoleStiffness(_Validated, ABC):
     @property
     def conformal_radius(self) -> float:
         """Equivalent radius of the internal contact R = R_i R_j / ΔR, m (§3.1)."""
-        return self.bearing_radius * self.pin_radius / self.clearance
+        return hertz.conformal_radius(self.pin_radius, self.bearing_radius)
 
     @property
     def effective_modulus(self) -> float:
         """E* from ``1/E* = (1 − ν_i²)/E_i + (1 − ν_j²)/E_j``, Pa (§3.1)."""
-        compliance = (1.0 - self.bearing_poisson_ratio**2) / self.bearing_youngs_modulus + (
-            1.0 - self.pin_poisson_ratio**2
-        ) / self.pin_youngs_modulus
-        return 1.0 / compliance
+        return hertz.effective_modulus(
+            self.bearing_youngs_modulus,
+            self.bearing_poisson_ratio,
+            self.pin_youngs_modulus,
+            self.pin_poisson_ratio,
+        )
 
     @property
     def max_penetration(self) -> float:
@@ -220,7 +224,7 @@ class HertzStiffness(PinInHoleStiffness):
     @property
     def stiffness(self) -> float:
         """K = (4/3) E* √R, N/m^1.5."""
-        return 4.0 / 3.0 * self.effective_modulus * math.sqrt(self.conformal_radius)
+        return hertz.point_contact_stiffness(self.conformal_radius, self.effective_modulus)
 
     @property
     def exponent(self) -> float:
