@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import pytest
 
-from jointplay.contact.ecs import PAPER_PUBLISHED
 from jointplay.contact.laws import ImpactLaw, RestitutionLaw
 from jointplay.dynamics.setup import clearance_joints
 from jointplay.dynamics.simulate import simulate
 from jointplay.errors import ConfigError
 from jointplay.study.methods import METHODS, PAPER_RESTITUTION, method_law
+from jointplay.study.published import PAPER_PUBLISHED
 
 
 def test_conventional_ifm_is_table_3(paper_fourbar) -> None:

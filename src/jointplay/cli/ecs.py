@@ -4,16 +4,19 @@ Prints the conventions, the contact load of every joint, K, δ and D per joint a
 their intermediate values (E*, R, a or b), the paper's published values (Tables 4 and 5) with
 the ratio ours/paper, the IMPACT and Restitution-Method parameters that follow, and optionally
 a crank-speed sweep with the hysteresis comparison. Human output is in N, mm, N/mm and N·s/mm
-(the paper's units); ``--json`` gives SI and paper units. See :mod:`jointplay.contact.ecs`.
+(the paper's units); ``--json`` gives SI and paper units. See :mod:`jointplay.study.ecs` and
+docs/ecs.md.
+
+The heavy modules (NumPy, pandas, the nominal analysis) are imported inside the functions, so
+``jointplay --help`` does not load them through this module.
 """
 
 from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
-import pandas as pd
 import typer
 from rich.console import Console
 from rich.table import Table
@@ -26,32 +29,15 @@ from jointplay.cli._common import (
     mechanism_from_options,
     provenance,
 )
-from jointplay.contact.ecs import (
-    ALPHA_LINKS,
-    CONTACT_TYPES,
-    EQ11_LOG_ARGUMENTS,
-    IFM_STIFFNESS_CONVENTIONS,
-    LENGTH_CONVENTIONS,
-    LOAD_SOURCES,
-    MODULUS_CONVENTIONS,
-    PAPER_PUBLISHED,
-    RADIUS_CONVENTIONS,
-    EcsConventions,
-    EcsEstimate,
-    EcsParameters,
-    EcsResult,
-    EcsSweep,
-    comparison_factors,
-    ecs_analysis,
-    ecs_parameters,
-    ecs_sweep,
-    spherical_load_lower_bound,
-)
 from jointplay.errors import ConfigError
-from jointplay.io.output import json_text, output_dir, write_json
-from jointplay.model.mechanism import Mechanism
-from jointplay.model.summary import mechanism_summary
 from jointplay.units import parse_quantity
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+    from jointplay.contact.ecs import EcsEstimate
+    from jointplay.model.mechanism import Mechanism
+    from jointplay.study.ecs import EcsParameters, EcsResult, EcsSweep
 
 console = Console(highlight=False, soft_wrap=True)
 #: Width of the tables when the output is not a terminal (files, pipes, tests), characters.
@@ -65,7 +51,8 @@ MAX_SWEEP_POINTS = 500
 _MM = 1e-3
 
 
-def _number(text: str, option: str, requirement: str, ok: Any) -> float:
+def _parse_number(text: str, option: str, requirement: str, ok: Any) -> float:
+    """``text`` as a float that is finite and satisfies ``ok``, else a ConfigError."""
     try:
         value = float(text)
     except ValueError:
@@ -76,6 +63,8 @@ def _number(text: str, option: str, requirement: str, ok: Any) -> float:
 
 
 def _contacts(text: str) -> tuple[str, ...]:
+    from jointplay.contact.ecs import CONTACT_TYPES
+
     value = choice(text, "--contact", (*CONTACT_TYPES, "both"))
     return CONTACT_TYPES if value == "both" else (value,)
 
@@ -113,6 +102,8 @@ def parse_sweep(text: str) -> list[float]:
 
 
 def _length(text: str) -> str | float:
+    from jointplay.contact.ecs import LENGTH_CONVENTIONS
+
     value = text.strip().lower()
     if value in LENGTH_CONVENTIONS:
         return value
@@ -197,21 +188,34 @@ def ecs_command(
     reaction with --load reaction); Hertz theory turns it into K and δ, and D = ratio × K.
     Every convention the paper leaves open is an option and is printed with the results.
     """
+    from jointplay.contact.ecs import (
+        ALPHA_LINKS,
+        EQ11_LOG_ARGUMENTS,
+        IFM_STIFFNESS_CONVENTIONS,
+        LOAD_SOURCES,
+        MODULUS_CONVENTIONS,
+        RADIUS_CONVENTIONS,
+        EcsConventions,
+    )
+    from jointplay.io.output import json_text, output_dir, write_json
+    from jointplay.model.summary import mechanism_summary
+    from jointplay.study.ecs import ecs_analysis, ecs_sweep
+
     if not console.is_terminal:
         console.width = PIPE_WIDTH
     contacts = _contacts(contact)
     rpm_value = (
         None
         if rpm is None
-        else _number(rpm, "--rpm", "a positive number of rev/min", lambda v: v > 0)
+        else _parse_number(rpm, "--rpm", "a positive number of rev/min", lambda v: v > 0)
     )
-    ratio = _number(
+    ratio = _parse_number(
         damping_ratio,
         "--damping-ratio",
         "a finite number >= 0, in seconds (the paper's D = 0.01 K is 0.01)",
         lambda v: v >= 0,
     )
-    e = _number(restitution, "--restitution", "a number in (0, 1]", lambda v: 0 < v <= 1)
+    e = _parse_number(restitution, "--restitution", "a number in (0, 1]", lambda v: 0 < v <= 1)
     conventions = EcsConventions(
         radius=choice(radius, "--radius", RADIUS_CONVENTIONS),
         modulus=choice(modulus, "--modulus", MODULUS_CONVENTIONS),
@@ -276,6 +280,8 @@ def _parameters(
     mechanism: Mechanism, result: EcsResult, contacts: tuple[str, ...]
 ) -> dict[str, dict[str, EcsParameters | str]]:
     """IMPACT/RM parameters per contact and source, or the reason they are unavailable."""
+    from jointplay.study.ecs import ecs_parameters
+
     out: dict[str, dict[str, EcsParameters | str]] = {}
     for c in contacts:
         out[c] = {}
@@ -300,6 +306,10 @@ def _document(
     restitution: float,
     swept: EcsSweep | None,
 ) -> dict[str, Any]:
+    from jointplay.contact.ecs import CONTACT_TYPES, comparison_factors, spherical_load_lower_bound
+    from jointplay.study.ecs import EcsParameters
+    from jointplay.study.published import PAPER_PUBLISHED
+
     record = result.as_dict()
     record["overall"] = {c: record["overall"][c] for c in contacts}
     for joint in record["joints"]:
@@ -336,7 +346,7 @@ def _document(
             **record.pop("hysteresis"),
             "restitution": restitution,
             "chi_models": comparison_factors(restitution),
-            "definition": "chi_ecs = (D/K) v0 / delta (see jointplay.contact.ecs)",
+            "definition": "chi_ecs = (D/K) v0 / delta (see docs/ecs.md)",
         },
     }
     if swept is not None:
@@ -360,6 +370,9 @@ def _print_report(
     restitution: float,
     swept: EcsSweep | None,
 ) -> None:
+    from jointplay.contact.ecs import comparison_factors
+    from jointplay.study.ecs import EcsParameters
+
     conv = result.conventions
     console.print(
         f"[bold]Equivalent Contact Stiffness[/bold] (Akhadkar et al. eqs. 9–13) — "
@@ -436,6 +449,9 @@ def _print_report(
 
 
 def _print_contact(result: EcsResult, contact: str) -> None:
+    from jointplay.contact.ecs import spherical_load_lower_bound
+    from jointplay.study.published import PAPER_PUBLISHED
+
     spherical = contact == "spherical"
     size = "a (mm)" if spherical else "b (mm)"
     extra = () if spherical else ("l (mm)", "Σln(4dᵢ/b)")

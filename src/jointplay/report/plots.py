@@ -8,13 +8,16 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
 
-from jointplay.contact.ecs import PAPER_PUBLISHED, EcsSweep, comparison_factors
 from jointplay.report._mpl import pyplot
+from jointplay.study.published import PAPER_PUBLISHED
+
+if TYPE_CHECKING:
+    from jointplay.study.ecs import EcsSweep
 
 UNITS = {"omega": "rad/s", "alpha": "rad/s²", "F": "N", "torque": "N·m"}
 
@@ -211,9 +214,9 @@ def ecs_sweep_plots(swept: EcsSweep, contacts: tuple[str, ...], folder: Path) ->
     fig, (left, right) = plt.subplots(1, 2, figsize=(12, 4.5), dpi=110)
     for c in contacts:
         left.plot(rpm, data[f"chi_ecs_{c}"], marker="o", label=f"χ_ECS {c}")
-    models = comparison_factors(swept.restitution)
-    for name, chi in models.items():
-        left.plot(rpm, np.full(len(rpm), chi), "--", label=f"{name} χ(e={swept.restitution:g})")
+    models = swept.chi_models
+    for name in models:
+        left.plot(rpm, data[f"chi_{name}"], "--", label=f"{name} χ(e={swept.restitution:g})")
     left.set_yscale("log")
     left.set_xlabel("crank speed (rpm)")
     left.set_ylabel("hysteresis damping factor χ (–)")

@@ -12,8 +12,8 @@ import math
 from dataclasses import asdict, dataclass
 from typing import Any
 
-from jointplay.contact.ecs import PAPER_PUBLISHED
 from jointplay.study.paper import PaperStudy, geometry_figures
+from jointplay.study.published import PAPER_PUBLISHED
 
 
 @dataclass(frozen=True)

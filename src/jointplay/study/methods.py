@@ -13,11 +13,12 @@ name                        contact law and parameters
 ``rm-ecs-spherical``        RM with penalty p = ECS spherical K, ε = 0.8
 ==========================  =====================================================================
 
-ECS parameters come from :func:`jointplay.contact.ecs.ecs_parameters` with ``source="computed"``
-(our ECS estimate for the mechanism at its crank speed) or ``"paper"`` (the published Tables 4
-and 5). In IMPACT the ECS δ is the full-damping depth d and D is c_max; the ECS K, a linear
-stiffness quoted in N/mm, is read as N/mm^1.5 as the paper's ADAMS runs did (documented in
-:mod:`jointplay.contact.ecs`). ε = 0.8 is steel on steel as the paper cites.
+Table 3 is :data:`jointplay.study.published.TABLE3_IMPACT`. ECS parameters come from
+:func:`jointplay.study.ecs.ecs_parameters` with ``source="computed"`` (our ECS estimate for the
+mechanism at its crank speed) or ``"paper"`` (the published Tables 4 and 5). In IMPACT the ECS
+δ is the full-damping depth d and D is c_max; the ECS K, a linear stiffness quoted in N/mm, is
+read as N/mm^1.5 as the paper's ADAMS runs did (docs/ecs.md, "The IFM unit leap"). ε = 0.8 is
+steel on steel as the paper cites.
 """
 
 from __future__ import annotations
@@ -25,11 +26,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from jointplay.contact.ecs import EcsConventions, ecs_parameters
-from jointplay.contact.laws import ContactLaw, ImpactLaw, RestitutionLaw
-from jointplay.dynamics.setup import TABLE3_C_MAX, TABLE3_DEPTH, TABLE3_EXPONENT, TABLE3_STIFFNESS
+from jointplay.contact.ecs import EcsConventions
+from jointplay.contact.laws import ContactLaw, RestitutionLaw
 from jointplay.errors import ConfigError
 from jointplay.model.mechanism import Mechanism
+from jointplay.study.ecs import ecs_parameters
+from jointplay.study.published import TABLE3_IMPACT
 
 #: The paper's coefficient of restitution for steel on steel.
 PAPER_RESTITUTION = 0.8
@@ -98,12 +100,7 @@ def method_law(
             "Table 3" if method.family == "IFM" else "Table 3 stiffness as RM penalty"
         )
         if method.family == "IFM":
-            law = ImpactLaw(
-                stiffness=TABLE3_STIFFNESS,
-                exponent=TABLE3_EXPONENT,
-                c_max=TABLE3_C_MAX,
-                d_max=TABLE3_DEPTH,
-            )
+            law = TABLE3_IMPACT
         else:
             law = RestitutionLaw(
                 penalty=RM_CONVENTIONAL_PENALTY, restitution=restitution, exponent=1.0

@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from jointplay.contact.ecs import PAPER_PUBLISHED, EcsConventions, EcsSweep, ecs_analysis, ecs_sweep
+from jointplay.contact.ecs import EcsConventions
 from jointplay.dynamics.nominal import nominal_analysis
 from jointplay.dynamics.setup import clearance_joints
 from jointplay.dynamics.simulate import SolverOptions, Start, simulate
@@ -36,7 +36,9 @@ from jointplay.model.mechanism import Mechanism
 from jointplay.model.summary import mechanism_summary
 from jointplay.model.templates import FourBarGeometry, template_of, with_lengths
 from jointplay.study.comparison import DEFAULT_METHODS, MethodsComparison, compare_methods
+from jointplay.study.ecs import EcsSweep, ecs_analysis, ecs_sweep
 from jointplay.study.methods import METHODS, method_law
+from jointplay.study.published import PAPER_PUBLISHED
 
 #: The paper's radial clearance in all four joints (the largest of Ø10 H8/g7), m.
 PAPER_CLEARANCE = 21e-6
