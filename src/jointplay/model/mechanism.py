@@ -55,12 +55,18 @@ class Material:
         density: kg/m³.
         youngs_modulus: Young's modulus E in Pa.
         poisson_ratio: Poisson's ratio ν, in [0, 0.5).
+        yield_strength: tensile yield strength Y in Pa (``None``: unknown).
+        allowable_contact_pressure: largest Hertz contact pressure the designer accepts, Pa
+            (``None``: the onset of yield, :data:`YIELD_ONSET_FACTOR` × Y; see
+            :attr:`contact_pressure_limit`).
     """
 
     name: str
     density: float
     youngs_modulus: float
     poisson_ratio: float
+    yield_strength: float | None = None
+    allowable_contact_pressure: float | None = None
 
     def __post_init__(self) -> None:
         owner = f"Material {self.name!r}"
@@ -70,10 +76,35 @@ class Material:
             raise ConfigError(
                 f"{owner}: poisson_ratio must lie in [0, 0.5), got {self.poisson_ratio}"
             )
+        if self.yield_strength is not None:
+            _positive(owner, "yield_strength", self.yield_strength)
+        if self.allowable_contact_pressure is not None:
+            _positive(owner, "allowable_contact_pressure", self.allowable_contact_pressure)
+
+    @property
+    def contact_pressure_limit(self) -> float | None:
+        """The allowable Hertz contact pressure p0, Pa: the given value, else the onset of
+        yield under line contact, p0 = 1.79 Y (von Mises; Johnson, *Contact Mechanics*,
+        1985, §4.2), else ``None``."""
+        if self.allowable_contact_pressure is not None:
+            return self.allowable_contact_pressure
+        if self.yield_strength is not None:
+            return YIELD_ONSET_FACTOR * self.yield_strength
+        return None
 
 
-#: Steel as in the paper's Table 1 (ρ = 7801 kg/m³, ν = 0.29, E = 2.07e5 N/mm²).
-STEEL = Material("steel", density=7801.0, youngs_modulus=207e9, poisson_ratio=0.29)
+#: Hertz line contact of elastic cylinders first yields (von Mises) below the surface when
+#: the peak pressure reaches p0 = 1.79 Y (Johnson, *Contact Mechanics*, 1985, §4.2(b)).
+YIELD_ONSET_FACTOR = 1.79
+
+#: Steel as in the paper's Table 1 (ρ = 7801 kg/m³, ν = 0.29, E = 2.07e5 N/mm²). The paper
+#: names no grade; the yield strength is the minimum of ASTM A36 structural steel, 250 MPa
+#: (a conservative default: the allowable contact pressure is then 1.79 × 250 = 448 MPa;
+#: hardened pins allow several times more; set ``yield_strength`` or
+#: ``allowable_contact_pressure`` in the ``[material]`` table).
+STEEL = Material(
+    "steel", density=7801.0, youngs_modulus=207e9, poisson_ratio=0.29, yield_strength=250e6
+)
 
 
 @dataclass(frozen=True)
@@ -403,6 +434,29 @@ class Mechanism:
         raise ConfigError(
             f"Mechanism {self.name!r} has no joint {name!r}; joints: {[j.name for j in self.joints]}"
         )
+
+    def material_of(self, body: str) -> Material:
+        """The material of a link (the ground, or a link without one: the mechanism's first
+        material, else :data:`STEEL`)."""
+        if body != GROUND:
+            name = self.link(body).material
+            if name is not None and name in self.materials:
+                return self.materials[name]
+        return next(iter(self.materials.values()), STEEL)
+
+    def bearing_width(self, joint_name: str) -> float | None:
+        """The length of the contact line in a pin joint, m: the thinner of its moving links
+        (the bore the pin bears on), else the pin's engaged length, else ``None``."""
+        joint = self.joint(joint_name)
+        thicknesses = [
+            thickness
+            for name in (joint.link_a, joint.link_b)
+            if name != GROUND and (thickness := self.link(name).thickness) is not None
+        ]
+        if thicknesses:
+            return min(thicknesses)
+        fit = joint.fit if isinstance(joint, RevoluteJoint) else None
+        return fit.pin_length if fit is not None else None
 
     @property
     def revolute_joints(self) -> tuple[RevoluteJoint, ...]:

@@ -1,0 +1,290 @@
+"""Plausibility diagnostics: plain warnings when a simulated result is not physical.
+
+Every simulation is checked, and each finding is a :class:`Diagnostic` — level, code, joint,
+value, limit and a sentence — that the summary lists, the console prints (one line each) and
+reports show in a callout. The checks, their codes and limits:
+
+=====================================  ==========================================================
+code                                   fires when
+=====================================  ==========================================================
+``penetration-exceeds-clearance``      a pin sinks deeper into its bearing than the radial
+                                       clearance: the contact stiffness is far too low for the
+                                       load, and the "clearance joint" is a soft spring
+``contact-pressure-exceeds-allowable``  the peak Hertz pressure of the line contact (force over
+                                       the joint's bearing width) exceeds the material's
+                                       allowable pressure
+``contact-pressure-unchecked``         (info) the material has no yield strength or allowable
+                                       pressure, so the pressure could not be checked
+``force-far-above-ideal``              (info) a joint force peaks above
+                                       :data:`IDEAL_FORCE_FACTOR` times the ideal-joint force
+``start-transient-dominates``          the largest peak is a start-up artefact: it lies in the
+                                       first revolution and exceeds the later revolutions' peaks
+                                       by more than :data:`TRANSIENT_RATIO`, or only one
+                                       revolution was simulated from a non-steady start and the
+                                       peak lies in its first :data:`START_WINDOW_DEG`
+``not-periodic``                       (info) the once-per-revolution Poincaré section does not
+                                       repeat (see :mod:`jointplay.dynamics.cycles`)
+``not-settled``                        the per-revolution peaks still drift: the first analysed
+                                       revolution's peak differs from the last's by more than
+                                       :data:`SETTLED_CHANGE`
+``energy-drift``                       the energy balance (kinetic + potential − motor work +
+                                       contact work) drifts by more than
+                                       :data:`ENERGY_TOLERANCE` of the largest energy: the
+                                       integration is not accurate enough
+=====================================  ==========================================================
+
+The contact pressure is Hertz's for two parallel cylinders in internal (conformal) contact:
+line load f = F / L, equivalent radius R = R_J R_B / (R_B − R_J), half-width
+b = √(4 f R / (π E*)) and peak pressure p₀ = 2 f / (π b) = √(f E* / (π R)) (Johnson,
+*Contact Mechanics*, 1985, eqs. 4.43–4.45; shared/reference/contact-models.md §3.2).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import asdict, dataclass
+from typing import Any, Literal
+
+from jointplay.contact.hertz import conformal_radius, effective_modulus, line_contact_half_width
+from jointplay.model.mechanism import Material
+
+Level = Literal["info", "warning"]
+
+#: A joint force this many times the ideal-joint peak is reported (information).
+IDEAL_FORCE_FACTOR = 10.0
+#: The first revolution's peak beyond this ratio to the later ones' is a start-up artefact.
+TRANSIENT_RATIO = 1.5
+#: With a single revolution from a non-steady start, a peak this early is a start-up artefact.
+START_WINDOW_DEG = 30.0
+#: Relative change of per-revolution peaks (first analysed vs last) that means "not settled".
+SETTLED_CHANGE = 0.05
+#: Largest acceptable drift of the energy balance, relative to the largest energy.
+ENERGY_TOLERANCE = 1e-3
+
+
+@dataclass(frozen=True)
+class Diagnostic:
+    """One finding about a simulated result.
+
+    Attributes:
+        level: ``"warning"`` (the result is not physical or not what it seems) or ``"info"``.
+        code: stable identifier (see the module docstring).
+        joint: the joint concerned, or ``None`` for the whole mechanism.
+        value: the offending value (the unit is in the message).
+        limit: the limit it was compared with (same unit).
+        message: one sentence saying what is wrong and what to do.
+    """
+
+    level: Level
+    code: str
+    joint: str | None
+    value: float
+    limit: float
+    message: str
+
+    def as_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+    def line(self) -> str:
+        """One console line."""
+        where = f" [{self.joint}]" if self.joint else ""
+        return f"{self.level}: {self.code}{where}: {self.message}"
+
+
+def line_contact_pressure(
+    force: float,
+    width: float,
+    journal_radius: float,
+    clearance: float,
+    bearing: Material,
+    pin: Material,
+) -> float:
+    """Peak Hertz pressure p₀ of a pin loaded against its bearing, Pa.
+
+    Args:
+        force: normal contact force, N (>= 0).
+        width: length of the contact line (the bearing width), m.
+        journal_radius: pin radius R_J, m.
+        clearance: radial clearance R_B − R_J, m (> 0).
+        bearing, pin: the two materials.
+    """
+    if force <= 0.0:
+        return 0.0
+    modulus = effective_modulus(
+        bearing.youngs_modulus, bearing.poisson_ratio, pin.youngs_modulus, pin.poisson_ratio
+    )
+    radius = conformal_radius(journal_radius, journal_radius + clearance)
+    line_load = force / width
+    half_width = line_contact_half_width(line_load, radius, modulus)
+    return 2.0 * line_load / (math.pi * half_width)  # Johnson (1985) eq. 4.45
+
+
+def check_penetration(joint: str, penetration: float, clearance: float) -> Diagnostic | None:
+    """``penetration-exceeds-clearance`` when the deepest penetration exceeds the clearance."""
+    if penetration <= clearance:
+        return None
+    return Diagnostic(
+        "warning",
+        "penetration-exceeds-clearance",
+        joint,
+        penetration,
+        clearance,
+        f"the pin penetrates its bearing by {penetration * 1e6:.3g} µm, more than the "
+        f"{clearance * 1e6:.3g} µm radial clearance: the contact stiffness is far too low "
+        "for the load; use a stiffness from the joint's geometry (e.g. --stiffness-law)",
+    )
+
+
+def check_pressure(
+    joint: str, pressure: float, material: Material, force: float
+) -> Diagnostic | None:
+    """``contact-pressure-exceeds-allowable`` (or ``-unchecked`` without a limit)."""
+    limit = material.contact_pressure_limit
+    if limit is None:
+        return Diagnostic(
+            "info",
+            "contact-pressure-unchecked",
+            joint,
+            pressure,
+            math.nan,
+            f"peak contact pressure {pressure / 1e6:.4g} MPa not checked: material "
+            f"{material.name!r} has no yield_strength or allowable_contact_pressure",
+        )
+    if pressure <= limit:
+        return None
+    return Diagnostic(
+        "warning",
+        "contact-pressure-exceeds-allowable",
+        joint,
+        pressure,
+        limit,
+        f"peak Hertz contact pressure {pressure / 1e6:.4g} MPa (at {force:.4g} N) exceeds the "
+        f"allowable {limit / 1e6:.4g} MPa of {material.name!r}: the surfaces would yield",
+    )
+
+
+def check_force_against_ideal(joint: str, peak: float, ideal: float) -> Diagnostic | None:
+    """``force-far-above-ideal`` when a joint's peak force is far above the ideal joint's."""
+    if not ideal > 0.0 or peak <= IDEAL_FORCE_FACTOR * ideal:
+        return None
+    return Diagnostic(
+        "info",
+        "force-far-above-ideal",
+        joint,
+        peak,
+        IDEAL_FORCE_FACTOR * ideal,
+        f"the force peaks at {peak:.4g} N, {peak / ideal:.3g} times the ideal joint's "
+        f"{ideal:.4g} N: impacts in the clearance dominate",
+    )
+
+
+def check_start_transient(
+    quantity: str,
+    per_revolution: Sequence[float],
+    *,
+    steady_start: bool,
+    first_peak_crank_deg: float | None = None,
+) -> Diagnostic | None:
+    """``start-transient-dominates`` for a quantity whose peak is a start-up artefact.
+
+    Args:
+        quantity: the column (e.g. ``"F_A"``).
+        per_revolution: its peak in every simulated revolution, the start-up included.
+        steady_start: the motion started from the steady (ideal-joint) state.
+        first_peak_crank_deg: with a single revolution, the crank angle turned since the
+            start when its peak occurred, deg.
+    """
+    if len(per_revolution) >= 2:
+        first, later = per_revolution[0], max(per_revolution[1:])
+        if later > 0.0 and first > TRANSIENT_RATIO * later:
+            return Diagnostic(
+                "warning",
+                "start-transient-dominates",
+                None,
+                first,
+                TRANSIENT_RATIO * later,
+                f"{quantity} peaks at {first:.4g} in the first revolution, "
+                f"{first / later:.3g} times its later peaks ({later:.4g}): a start-up "
+                "artefact; read the steady-running statistics (--settle)",
+            )
+        return None
+    if (
+        not steady_start
+        and first_peak_crank_deg is not None
+        and first_peak_crank_deg < START_WINDOW_DEG
+    ):
+        return Diagnostic(
+            "warning",
+            "start-transient-dominates",
+            None,
+            first_peak_crank_deg,
+            START_WINDOW_DEG,
+            f"{quantity} peaks {first_peak_crank_deg:.3g}° after the start of a single "
+            "revolution: likely a start-up artefact; simulate more revolutions with --settle",
+        )
+    return None
+
+
+def check_settled(quantity: str, per_revolution: Sequence[float]) -> Diagnostic | None:
+    """``not-settled`` when a quantity's per-revolution peak still drifts."""
+    if len(per_revolution) < 2:
+        return None
+    first, last = per_revolution[0], per_revolution[-1]
+    change = abs(last - first) / max(abs(first), abs(last), 1e-300)
+    if change <= SETTLED_CHANGE:
+        return None
+    return Diagnostic(
+        "warning",
+        "not-settled",
+        None,
+        change,
+        SETTLED_CHANGE,
+        f"{quantity}'s peak changes by {change:.1%} from the first analysed revolution to "
+        "the last: the motion has not settled; raise --settle",
+    )
+
+
+def check_periodic(verdict: str, period: int | None, revolutions: int) -> Diagnostic | None:
+    """``not-periodic`` (information) when the Poincaré section does not repeat."""
+    if period is not None or verdict != "not periodic":
+        return None
+    return Diagnostic(
+        "info",
+        "not-periodic",
+        None,
+        float(revolutions),
+        math.nan,
+        f"the once-per-revolution Poincaré section does not repeat over {revolutions} "
+        "revolutions: the pins rattle differently every revolution; read peaks as ranges "
+        "across revolutions",
+    )
+
+
+def check_energy(residual: float) -> Diagnostic | None:
+    """``energy-drift`` when the energy balance drifts (relative to the largest energy)."""
+    if not residual > ENERGY_TOLERANCE:
+        return None
+    return Diagnostic(
+        "warning",
+        "energy-drift",
+        None,
+        residual,
+        ENERGY_TOLERANCE,
+        f"the energy balance drifts by {residual:.2e} of the largest energy: the "
+        "integration is not accurate enough; tighten --rtol",
+    )
+
+
+def collect(findings: Sequence[Diagnostic | None]) -> list[Diagnostic]:
+    """The findings that are not ``None``, one per (code, joint), warnings first."""
+    seen: dict[tuple[str, str | None], Diagnostic] = {}
+    for finding in findings:
+        if finding is not None and (finding.code, finding.joint) not in seen:
+            seen[(finding.code, finding.joint)] = finding
+    return sorted(seen.values(), key=lambda d: (d.level != "warning", d.code, d.joint or ""))
+
+
+def as_records(diagnostics: Sequence[Diagnostic]) -> list[Mapping[str, Any]]:
+    """JSON-ready records ``{"level", "code", "joint", "value", "limit", "message"}``."""
+    return [d.as_dict() for d in diagnostics]

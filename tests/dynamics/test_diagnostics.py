@@ -1,0 +1,92 @@
+"""Plausibility diagnostics: each code fires on a case built for it and stays silent otherwise."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from jointplay.dynamics import diagnostics as dg
+from jointplay.model.mechanism import STEEL, Material
+
+
+def test_line_contact_pressure_equals_hertz_closed_form() -> None:
+    # Johnson (1985) eq. 4.45: p0 = sqrt(f E* / (pi R)) with R = R_J R_B / (R_B - R_J).
+    force, width, radius, clearance = 75.0, 0.01, 5e-3, 21e-6
+    e_star = 1 / (2 * (1 - STEEL.poisson_ratio**2) / STEEL.youngs_modulus)
+    big_r = radius * (radius + clearance) / clearance
+    expected = math.sqrt(force / width * e_star / (math.pi * big_r))
+    pressure = dg.line_contact_pressure(force, width, radius, clearance, STEEL, STEEL)
+    assert pressure == pytest.approx(expected, rel=1e-12)
+    assert pressure == pytest.approx(15.0e6, rel=0.01)  # ~15 MPa: a steady 75 N is harmless
+
+
+def test_penetration_beyond_clearance_warns() -> None:
+    assert dg.check_penetration("A", 20e-6, 21e-6) is None
+    found = dg.check_penetration("A", 168e-6, 21e-6)
+    assert found is not None and found.code == "penetration-exceeds-clearance"
+    assert (found.level, found.joint, found.value, found.limit) == ("warning", "A", 168e-6, 21e-6)
+
+
+def test_pressure_beyond_the_allowable_warns_and_unknown_strength_is_said() -> None:
+    assert STEEL.contact_pressure_limit == pytest.approx(1.79 * 250e6)
+    assert dg.check_pressure("B", 15e6, STEEL, 75.0) is None
+    found = dg.check_pressure("B", 4.2e9, STEEL, 5.8e6)
+    assert found is not None and found.code == "contact-pressure-exceeds-allowable"
+    assert found.limit == pytest.approx(447.5e6)
+    unknown = Material("resin", density=1200.0, youngs_modulus=3e9, poisson_ratio=0.35)
+    info = dg.check_pressure("B", 1e6, unknown, 1.0)
+    assert info is not None and (info.level, info.code) == ("info", "contact-pressure-unchecked")
+    given = Material("x", 7800.0, 207e9, 0.3, allowable_contact_pressure=1.5e9)
+    assert dg.check_pressure("B", 1.0e9, given, 1.0) is None
+
+
+def test_force_far_above_ideal_is_information() -> None:
+    assert dg.check_force_against_ideal("O2", 400.0, 46.0) is None
+    found = dg.check_force_against_ideal("O2", 5400.0, 46.0)
+    assert found is not None and (found.level, found.code) == ("info", "force-far-above-ideal")
+
+
+def test_start_transient() -> None:
+    assert dg.check_start_transient("F_A", [80.0, 75.0, 76.0], steady_start=False) is None
+    found = dg.check_start_transient("F_A", [5000.0, 75.0, 76.0], steady_start=False)
+    assert found is not None and found.code == "start-transient-dominates"
+    single = dg.check_start_transient("F_A", [5000.0], steady_start=False, first_peak_crank_deg=2.0)
+    assert single is not None and single.code == "start-transient-dominates"
+    assert (
+        dg.check_start_transient("F_A", [75.0], steady_start=True, first_peak_crank_deg=2.0) is None
+    )
+    assert (
+        dg.check_start_transient("F_A", [75.0], steady_start=False, first_peak_crank_deg=200.0)
+        is None
+    )
+
+
+def test_not_settled_and_not_periodic_and_energy() -> None:
+    assert dg.check_settled("F_A", [75.0, 75.5, 75.2]) is None
+    drifting = dg.check_settled("F_A", [120.0, 100.0, 90.0])
+    assert drifting is not None and drifting.code == "not-settled"
+    assert dg.check_periodic("periodic (period 1)", 1, 20) is None
+    assert dg.check_periodic("undetermined", None, 2) is None
+    found = dg.check_periodic("not periodic", None, 20)
+    assert found is not None and (found.level, found.code) == ("info", "not-periodic")
+    assert dg.check_energy(1e-6) is None
+    drift = dg.check_energy(0.02)
+    assert drift is not None and drift.code == "energy-drift"
+
+
+def test_collect_keeps_one_per_code_and_joint_warnings_first() -> None:
+    items = [
+        dg.check_periodic("not periodic", None, 5),
+        dg.check_penetration("A", 1e-4, 2e-5),
+        dg.check_penetration("A", 2e-4, 2e-5),
+        None,
+        dg.check_energy(0.1),
+    ]
+    found = dg.collect(items)
+    assert [(d.code, d.joint) for d in found] == [
+        ("energy-drift", None),
+        ("penetration-exceeds-clearance", "A"),
+        ("not-periodic", None),
+    ]
+    assert set(dg.as_records(found)[0]) == {"level", "code", "joint", "value", "limit", "message"}
