@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -38,7 +40,7 @@ def test_never_below_a_step_or_a_sample(n: int, windows: int) -> None:
     samples = np.linspace(0.0, 2.0, 721)  # a sampled output, as --sample-deg gives
     t = np.unique(np.concatenate([steps, samples]))
     edges = np.linspace(0.0, 2.0, windows + 1)
-    peaks = locate_peaks(t, _signal(t), _signal, list(zip(edges[:-1], edges[1:], strict=True)))
+    peaks = locate_peaks(t, _signal(t), _signal, list(itertools.pairwise(edges)))
     for name in ("bump", "sine"):
         for w in range(windows):
             inside = (t >= edges[w]) & (t <= edges[w + 1])
