@@ -12,7 +12,8 @@ import pytest
 from jointplay.kinematics import fourbar
 from jointplay.model.mechanism import Mechanism
 from jointplay.model.templates import FourBarGeometry, with_lengths
-from jointplay.tolerance.analysis import tolerance_study, write_study
+from jointplay.report.tolerance import write_study
+from jointplay.tolerance.analysis import tolerance_study
 from jointplay.tolerance.execution import Backend
 from jointplay.tolerance.methods import SpecLimits
 from jointplay.tolerance.responses import FourBarKinematics

@@ -11,12 +11,14 @@ from jointplay.errors import ConfigError
 from jointplay.model.mechanism import Mechanism
 from jointplay.tolerance.execution import Backend
 from jointplay.tolerance.methods import (
+    TOLERANCE_METHODS,
+    MonteCarlo,
+    Rss,
     SpecLimits,
-    monte_carlo,
+    WorstCase,
+    get_method,
     regression_contributions,
-    rss,
     sobol_first_order,
-    worst_case,
 )
 from jointplay.tolerance.responses import FourBarKinematics, LinearModel
 from jointplay.tolerance.spec import (
@@ -61,7 +63,7 @@ def _expected(k: int = 4) -> tuple[float, float, float]:
 @pytest.mark.parametrize("corners", ["all", "sensitivity"])
 def test_worst_case_of_a_linear_stack_is_the_arithmetic_sum(corners: str) -> None:
     model, spec = _stack()
-    result = worst_case(model, spec, corners=corners, backend=SERIAL)  # type: ignore[arg-type]
+    result = WorstCase(corners=corners).run(model, spec, backend=SERIAL)  # type: ignore[arg-type]
     nominal, arithmetic, _ = _expected()
     y = result.summaries["y"]
     # Exact up to rounding of a few sums of doubles.
@@ -81,7 +83,7 @@ def test_worst_case_of_a_linear_stack_is_the_arithmetic_sum(corners: str) -> Non
 
 def test_worst_case_switches_to_sensitivity_corners_beyond_ten_inputs() -> None:
     model, spec = _stack(k=12)
-    result = worst_case(model, spec, backend=SERIAL)
+    result = WorstCase().run(model, spec, backend=SERIAL)
     _, arithmetic, _ = _expected(k=12)
     assert result.settings["corners"] == "sensitivity"
     assert result.summaries["y"].half_range == pytest.approx(arithmetic, rel=1e-12)
@@ -93,7 +95,7 @@ def test_rss_of_a_linear_stack_is_the_root_sum_of_squares(
     sensitivity: str, distribution: str
 ) -> None:
     model, spec = _stack(distribution)
-    result = rss(model, spec, sensitivity=sensitivity, backend=SERIAL)  # type: ignore[arg-type]
+    result = Rss(sensitivity=sensitivity).run(model, spec, backend=SERIAL)  # type: ignore[arg-type]
     _, _, root_sum = _expected()
     y = result.summaries["y"]
     sigma = spec.std
@@ -112,18 +114,18 @@ def test_analytic_sensitivities_need_a_jacobian(paper_fourbar: Mechanism) -> Non
     spec = ToleranceSpec.from_mechanism(paper_fourbar).only("length")
     model = FourBarKinematics.from_mechanism(paper_fourbar, spec.names)
     with pytest.raises(ConfigError, match="no analytic Jacobian"):
-        rss(model, spec, sensitivity="analytic", backend=SERIAL)
+        Rss(sensitivity="analytic").run(model, spec, backend=SERIAL)
 
 
 def test_monte_carlo_std_converges_to_rss_at_the_rate_one_over_root_n() -> None:
     model, spec = _stack("uniform")
-    sigma = rss(model, spec, backend=SERIAL).summaries["y"].std
+    sigma = Rss().run(model, spec, backend=SERIAL).summaries["y"].std
     assert sigma is not None
     sizes = [100, 1000, 10_000, 100_000]
     errors = []
     for n in sizes:
         stds = [
-            monte_carlo(model, spec, n, seed, backend=SERIAL).summaries["y"].std
+            MonteCarlo(n, seed).run(model, spec, backend=SERIAL).summaries["y"].std
             for seed in range(8)
         ]
         errors.append(float(np.sqrt(np.mean((np.array(stds) - sigma) ** 2))) / sigma)
@@ -137,7 +139,7 @@ def test_monte_carlo_std_converges_to_rss_at_the_rate_one_over_root_n() -> None:
 def test_monte_carlo_contributions_and_capability() -> None:
     model, spec = _stack("normal")
     limits = {"y": SpecLimits(lower=-3.6, upper=-2.6)}
-    result = monte_carlo(model, spec, 20_000, 3, limits=limits, backend=SERIAL)
+    result = MonteCarlo(20_000, 3).run(model, spec, limits=limits, backend=SERIAL)
     y = result.summaries["y"]
     expected = (np.array(COEFFICIENTS) * spec.std) ** 2
     expected /= expected.sum()
@@ -181,14 +183,14 @@ def test_spec_limits_validation() -> None:
 def test_unknown_response_in_limits_is_refused() -> None:
     model, spec = _stack()
     with pytest.raises(ConfigError, match="unknown response"):
-        monte_carlo(model, spec, 10, 1, limits={"z": SpecLimits(upper=1.0)}, backend=SERIAL)
+        MonteCarlo(10, 1).run(model, spec, limits={"z": SpecLimits(upper=1.0)}, backend=SERIAL)
 
 
 def test_fourbar_monte_carlo_agrees_with_rss(paper_fourbar: Mechanism) -> None:
     spec = ToleranceSpec.from_mechanism(paper_fourbar).only("length")
     model = FourBarKinematics.from_mechanism(paper_fourbar, spec.names)
-    mc = monte_carlo(model, spec, 4000, 1, backend=SERIAL)
-    linear = rss(model, spec, backend=SERIAL)
+    mc = MonteCarlo(4000, 1).run(model, spec, backend=SERIAL)
+    linear = Rss().run(model, spec, backend=SERIAL)
     for name in ("rocker_swing", "omega4_peak", "alpha4_peak", "transmission_angle_min"):
         # 4000 samples estimate σ to ≈ 1.1 % (1σ); the responses are nearly linear over ±1 mm.
         assert mc.summaries[name].std == pytest.approx(linear.summaries[name].std, rel=0.05)
@@ -207,7 +209,7 @@ def test_fourbar_monte_carlo_agrees_with_rss(paper_fourbar: Mechanism) -> None:
 def test_fourbar_worst_case_reports_the_corner(paper_fourbar: Mechanism) -> None:
     spec = ToleranceSpec.from_mechanism(paper_fourbar).only("length")
     model = FourBarKinematics.from_mechanism(paper_fourbar, spec.names)
-    result = worst_case(model, spec, backend=SERIAL)
+    result = WorstCase().run(model, spec, backend=SERIAL)
     omega = result.summaries["omega4_peak"]
     assert omega.high_corner is not None and omega.maximum is not None
     assert omega.high_corner["length_crank"] == pytest.approx(0.1088)  # a longer crank
@@ -230,7 +232,7 @@ def test_failed_samples_are_counted_and_reported_with_their_inputs(
     coupler = LinkTolerance.from_deviations("coupler", 0.2705, -0.18, 0.18, distribution="uniform")
     spec = ToleranceSpec((coupler,))
     model = FourBarKinematics.from_mechanism(paper_fourbar, spec.names)
-    result = monte_carlo(model, spec, 400, 2, backend=SERIAL)
+    result = MonteCarlo(400, 2).run(model, spec, backend=SERIAL)
     failed = result.run.status == 1
     assert 10 < failed.sum() < 80
     assert len(result.failures) == int(failed.sum())
@@ -243,3 +245,29 @@ def test_failed_samples_are_counted_and_reported_with_their_inputs(
     assert result.summaries["omega4_peak"].n_ok == int((~failed).sum())
     assert np.isnan(result.run.values[failed]).all()
     assert np.isfinite(result.run.values[~failed]).all()
+
+
+def test_methods_are_registered_objects_taken_by_name_or_instance() -> None:
+    assert set(TOLERANCE_METHODS) == {"worst-case", "rss", "monte-carlo"}
+    assert get_method("monte-carlo", samples=200, seed=3) == MonteCarlo(samples=200, seed=3)
+    assert get_method("Worst_Case") == WorstCase()
+    chosen = Rss(fd_step=0.25)
+    assert get_method(chosen) is chosen
+    assert get_method(chosen, fd_step=0.1) == Rss(fd_step=0.1)
+    for name, kind in TOLERANCE_METHODS.items():
+        assert kind.name == name
+
+
+@pytest.mark.parametrize(
+    ("call", "message"),
+    [
+        (lambda: get_method("taguchi"), "unknown tolerance method 'taguchi'"),
+        (lambda: get_method("rss", samples=10), r"Rss: unknown option\(s\) \['samples'\]"),
+        (lambda: MonteCarlo(samples=0), "positive integer"),
+        (lambda: Rss(fd_step=2.0), "finite-difference step"),
+        (lambda: WorstCase(corners="some"), "corners must be"),  # type: ignore[arg-type]
+    ],
+)
+def test_method_options_are_validated_at_construction(call, message: str) -> None:
+    with pytest.raises(ConfigError, match=message):
+        call()

@@ -1,14 +1,17 @@
-"""``jointplay tolerance``: how the tolerance stack and the joint clearances spread the responses."""
+"""``jointplay tolerance``: how the tolerance stack and the joint clearances spread the responses.
+
+Import-light: NumPy, SciPy, pandas, Numba and Dask load when the command runs, not when the
+CLI starts (``jointplay --help``).
+"""
 
 from __future__ import annotations
 
 import math
 from enum import StrEnum
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 from rich.console import Console
-from rich.table import Table
 
 from jointplay.cli._app import EXIT_INTERRUPTED, app
 from jointplay.cli._common import (
@@ -21,8 +24,13 @@ from jointplay.cli._common import (
     provenance,
 )
 from jointplay.errors import ConfigError
-from jointplay.io.output import output_dir
 from jointplay.units import parse_quantity
+
+if TYPE_CHECKING:
+    from jointplay.contact.laws import ContactLaw
+    from jointplay.model.mechanism import Mechanism
+    from jointplay.tolerance.analysis import ToleranceStudyResult
+    from jointplay.tolerance.methods import SpecLimits
 
 console = Console(highlight=False, soft_wrap=True)
 #: Width of tables when the output is not a terminal (files, pipes, tests).
@@ -216,9 +224,12 @@ def tolerance_command(
     DIR/summary.json (statistics and contributions per response, failures, method, seed,
     provenance), PNG plots and DIR/report.html.
     """
-    from jointplay.tolerance.analysis import response_units, tolerance_study, write_study
-    from jointplay.tolerance.execution import Backend
+    from jointplay.io.output import output_dir
     from jointplay.io.tolerances import load_study_spec
+    from jointplay.report.tolerance import write_study
+    from jointplay.tolerance.analysis import response_units, tolerance_study
+    from jointplay.tolerance.execution import Backend
+    from jointplay.tolerance.methods import MonteCarlo, Rss, ToleranceMethod, WorstCase
 
     mechanism, spec = load_study_spec(preset, config)
     if rpm is not None:
@@ -257,20 +268,22 @@ def tolerance_command(
         backend = Backend("processes", workers=workers)
     units = response_units(mechanism, spec, responses.value, contact=law)
     limits = parse_spec_limits(spec_limit or [], units)
+    analysis: ToleranceMethod
+    if method is Method.monte_carlo:
+        analysis = MonteCarlo(samples=samples, seed=seed, sampling=sampling.value)
+    elif method is Method.rss:
+        analysis = Rss(fd_step=fd_step)
+    else:
+        analysis = WorstCase(corners=corners.value, fd_step=fd_step)
     study = tolerance_study(
         mechanism,
         spec,
-        method=method.value,
+        method=analysis,
         responses=responses.value,
-        samples=samples,
-        seed=seed,
-        sampling=sampling.value,
         limits=limits,
         contact=law,
         start=start.value,
         revolutions=revolutions,
-        corners=corners.value,
-        fd_step=fd_step,
         backend=backend,
         progress=progress,
     )
@@ -290,10 +303,10 @@ def tolerance_command(
 
 def contact_law(
     options: dict[str, Any],
-    mechanism: Any,
+    mechanism: Mechanism,
     paper_method: str | None = None,
     ecs_source: str | None = None,
-) -> Any:
+) -> ContactLaw:
     """The contact law of every clearance joint, read as ``jointplay simulate`` reads it.
 
     ``options`` are the strings with units of --contact, --k, --exponent, --cmax, --depth,
@@ -319,7 +332,7 @@ def contact_law(
     return make_law(contact_from_strings({k: v for k, v in options.items() if v is not None}))
 
 
-def parse_spec_limits(texts: list[str], units: dict[str, str]) -> dict[str, Any]:
+def parse_spec_limits(texts: list[str], units: dict[str, str]) -> dict[str, SpecLimits]:
     """``RESPONSE=LO:HI`` strings (quantities with units; one side may be empty) to SI limits."""
     from jointplay.tolerance.methods import SpecLimits
 
@@ -347,8 +360,10 @@ def parse_spec_limits(texts: list[str], units: dict[str, str]) -> dict[str, Any]
     return limits
 
 
-def _print(study: Any) -> None:
-    from jointplay.tolerance.analysis import display_scale, input_label
+def _print(study: ToleranceStudyResult) -> None:
+    from rich.table import Table
+
+    from jointplay.report.tolerance import display_scale, format_value, input_label
 
     result = study.result
     method = result.method
@@ -371,17 +386,19 @@ def _print(study: Any) -> None:
         table.add_column(header, justify="left" if left else "right", no_wrap=left)
     for name, item in result.summaries.items():
         unit, scale = display_scale(item.unit)
-        row = [f"{name} ({unit})", _number(item.nominal, scale)]
+        row = [f"{name} ({unit})", format_value(item.nominal, scale)]
         if method == "monte-carlo":
-            row += [_number(v, scale) for v in (item.mean, item.std, item.minimum, item.maximum)]
+            row += [
+                format_value(v, scale) for v in (item.mean, item.std, item.minimum, item.maximum)
+            ]
         elif method == "worst-case":
-            row += [_number(item.minimum, scale), _number(item.maximum, scale)]
+            row += [format_value(item.minimum, scale), format_value(item.maximum, scale)]
         else:
-            row += [_number(v, scale) for v in (item.mean, item.std, item.half_range)]
+            row += [format_value(v, scale) for v in (item.mean, item.std, item.half_range)]
         if study.ideal is not None:
-            row.append(_number(study.ideal.get(name), scale))
+            row.append(format_value(study.ideal.get(name), scale))
         if has_limits:
-            row += [_number(item.out_of_spec_percent), _number(item.cpk)]
+            row += [format_value(item.out_of_spec_percent), format_value(item.cpk)]
         top = item.most_influential
         row.append(f"{input_label(top)} {100 * item.contributions[top]:.0f} %" if top else "–")
         table.add_row(*row)
@@ -400,9 +417,3 @@ def _print(study: Any) -> None:
             console.print(f"  #{failure.index} ({inputs}): {failure.error}")
         if len(failures) > 5:
             console.print(f"  … and {len(failures) - 5} more")
-
-
-def _number(value: float | None, scale: float = 1.0) -> str:
-    if value is None or not math.isfinite(value):
-        return "–"
-    return f"{value * scale:.5g}"

@@ -1,22 +1,25 @@
 """Tolerance analysis methods: worst case, RSS and Monte Carlo, with statistics per response.
 
-Each method builds a matrix of input points, evaluates the response model on it through
-:func:`jointplay.tolerance.execution.run` (any backend) and summarises every response in a
-frozen :class:`ResponseSummary`; :class:`MethodResult` keeps the points, the responses, the
-status of each point and the failures (with their inputs).
+Each method is a small frozen object holding its options, registered by name in
+:data:`TOLERANCE_METHODS` (APIs take a name or an instance: :func:`get_method`), with one
+method, ``run(model, spec, *, limits, backend, progress)``. It builds a matrix of input
+points, evaluates the response model on it through :func:`jointplay.tolerance.execution.run`
+(any backend) and summarises every response in a frozen :class:`ResponseSummary`;
+:class:`MethodResult` keeps the points, the responses, the status of each point and the
+failures (with their inputs).
 
-* **Worst case** (:func:`worst_case`): all 2^k corners of the limits for k ≤ 10 inputs
+* **Worst case** (:class:`WorstCase`): all 2^k corners of the limits for k ≤ 10 inputs
   (exact extremes of responses that are monotonic in each input), reporting the corner of the
   lowest and highest response; per-input effects are the main effects of that two-level full
   factorial design. Otherwise (or on request) the *sensitivity-sign* corners: finite-difference
   sensitivities at the centre give, per response, the corner with every input at the limit
   that raises (or lowers) it. For a linear stack ``y = Σ aᵢxᵢ`` both give
   ``y_nominal ± Σ|aᵢ|hᵢ`` — the arithmetic sum.
-* **RSS** (:func:`rss`): sensitivities aᵢ = ∂y/∂xᵢ by central finite differences (or the
+* **RSS** (:class:`Rss`): sensitivities aᵢ = ∂y/∂xᵢ by central finite differences (or the
   model's analytic ``jacobian``) at the input means; ``σ_y = √(Σ aᵢ²σᵢ²)`` with σᵢ the input
   distributions' standard deviations, and the classical statistical stack
   ``√(Σ (aᵢhᵢ)²)`` with hᵢ the half-widths of the limits.
-* **Monte Carlo** (:func:`monte_carlo`): seeded samples (:mod:`jointplay.tolerance.sampling`);
+* **Monte Carlo** (:class:`MonteCarlo`): seeded samples (:mod:`jointplay.tolerance.sampling`);
   statistics of the successful samples; variance contributions from standardised regression
   coefficients (SRCᵢ = bᵢσᵢ/σ_y, squared and normalised; R² says how linear the response is)
   and first-order Sobol indices estimated by binning (Var E[y|xᵢ] / Var y, Saltelli et al.,
@@ -32,9 +35,10 @@ from __future__ import annotations
 
 import itertools
 import math
+import types
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
-from typing import Any, Literal
+from dataclasses import dataclass, field, fields, replace
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -42,27 +46,28 @@ from scipy import special
 
 from jointplay.errors import ConfigError
 from jointplay.tolerance.execution import OK, Backend, RunResult, run
-from jointplay.tolerance.sampling import SamplingMethod, sample
+from jointplay.tolerance.responses import DifferentiableModel, ResponseModel
+from jointplay.tolerance.sampling import SamplingMethod, check_settings, sample
 from jointplay.tolerance.spec import ToleranceSpec
 
 __all__ = [
-    "METHODS",
+    "TOLERANCE_METHODS",
     "Failure",
     "MethodResult",
+    "MonteCarlo",
     "ResponseSummary",
+    "Rss",
     "SpecLimits",
-    "monte_carlo",
+    "ToleranceMethod",
+    "WorstCase",
+    "get_method",
     "regression_contributions",
-    "rss",
     "sobol_first_order",
-    "worst_case",
 ]
 
 FloatArray = NDArray[np.float64]
 Corners = Literal["auto", "all", "sensitivity"]
-
-#: Method names as the CLI and summaries write them.
-METHODS: tuple[str, ...] = ("monte-carlo", "worst-case", "rss")
+Sensitivity = Literal["finite-difference", "analytic"]
 
 #: Largest number of inputs for which the worst case evaluates every corner by default.
 MAX_ALL_CORNER_INPUTS = 10
@@ -309,7 +314,7 @@ def _failures(
 
 
 def _evaluate(
-    model: Any,
+    model: ResponseModel,
     spec: ToleranceSpec,
     x: FloatArray,
     backend: Backend | None,
@@ -409,81 +414,107 @@ def _capability(
 # --- Monte Carlo ---------------------------------------------------------------------------------
 
 
-def monte_carlo(
-    model: Any,
-    spec: ToleranceSpec,
-    n: int,
-    seed: int,
-    *,
-    sampling: SamplingMethod = "random",
-    limits: Mapping[str, SpecLimits] | None = None,
-    backend: Backend | None = None,
-    progress: bool = False,
-) -> MethodResult:
-    """Monte Carlo: ``n`` seeded samples of ``spec`` evaluated by ``model``.
+@dataclass(frozen=True)
+class MonteCarlo:
+    """Monte Carlo: seeded samples of the specification evaluated by the model.
 
-    The nominal point is evaluated first (in-process); the samples then run on ``backend``.
-    Failed samples are excluded from the statistics and listed in ``failures``; an
-    interrupted run summarises the samples that finished.
+    Attributes:
+        samples: number of samples n (>= 1).
+        seed: non-negative integer seed: the same specification, samples, seed and sampling
+            give the same samples on every backend (:mod:`jointplay.tolerance.sampling`).
+        sampling: ``"random"`` (independent draws) or ``"lhs"`` (Latin hypercube).
     """
-    limits = _limits_for(limits, model.response_names)
-    samples = sample(spec, n, seed, method=sampling)
-    nominal_run = _evaluate(model, spec, spec.nominal[None, :], Backend("serial"), False, "")
-    nominal = _nominal_or_raise(nominal_run, 0, "nominal")
-    result = _evaluate(model, spec, samples.values, backend, progress, "Monte Carlo samples")
-    roles = ("sample",) * n
-    ok = result.status == OK
-    x_ok = samples.values[ok]
-    sobol = _sobol_matrix(x_ok, result.values[ok])
-    summaries = {}
-    for j, name in enumerate(model.response_names):
-        y = result.values[ok, j]
-        lim = limits.get(name)
-        if len(y) == 0:
+
+    name: ClassVar[str] = "monte-carlo"
+
+    samples: int = 1000
+    seed: int = 0
+    sampling: SamplingMethod = "random"
+
+    def __post_init__(self) -> None:
+        check_settings(self.samples, self.seed, self.sampling)
+
+    def run(
+        self,
+        model: ResponseModel,
+        spec: ToleranceSpec,
+        *,
+        limits: Mapping[str, SpecLimits] | None = None,
+        backend: Backend | None = None,
+        progress: bool = False,
+    ) -> MethodResult:
+        """Evaluate the samples and summarise every response.
+
+        The nominal point is evaluated first (in-process); the samples then run on
+        ``backend``. Failed samples are excluded from the statistics and listed in
+        ``failures``; an interrupted run summarises the samples that finished.
+
+        Args:
+            model: the response model; its inputs must be ``spec``'s.
+            spec: the toleranced inputs.
+            limits: specification limits per response name (SI).
+            backend: where the points run (default: local processes).
+            progress: show a progress bar on stderr.
+        """
+        n, seed, sampling = self.samples, self.seed, self.sampling
+        limits = _limits_for(limits, model.response_names)
+        samples = sample(spec, n, seed, method=sampling)
+        nominal_run = _evaluate(model, spec, spec.nominal[None, :], Backend("serial"), False, "")
+        nominal = _nominal_or_raise(nominal_run, 0, "nominal")
+        result = _evaluate(model, spec, samples.values, backend, progress, "Monte Carlo samples")
+        roles = ("sample",) * n
+        ok = result.status == OK
+        x_ok = samples.values[ok]
+        sobol = _sobol_matrix(x_ok, result.values[ok])
+        summaries = {}
+        for j, name in enumerate(model.response_names):
+            y = result.values[ok, j]
+            lim = limits.get(name)
+            if len(y) == 0:
+                summaries[name] = ResponseSummary(
+                    name, model.units[name], float(nominal[j]), 0, limits=lim
+                )
+                continue
+            mean = float(y.mean())
+            std = float(y.std(ddof=1)) if len(y) > 1 else 0.0
+            contributions, r_squared = regression_contributions(x_ok, y, spec.names)
+            first_order = dict(zip(spec.names, map(float, sobol[j]), strict=True))
+            basis = "src"
+            if r_squared is not None and r_squared < MIN_LINEAR_R_SQUARED:
+                contributions, basis = _shares(sobol[j], spec.names), "sobol"
+            cp, cpk = _capability(lim, mean, std)
             summaries[name] = ResponseSummary(
-                name, model.units[name], float(nominal[j]), 0, limits=lim
+                name=name,
+                unit=model.units[name],
+                nominal=float(nominal[j]),
+                n_ok=len(y),
+                mean=mean,
+                std=std,
+                minimum=float(y.min()),
+                maximum=float(y.max()),
+                percentiles={f"p{p:g}": float(np.percentile(y, p)) for p in PERCENTILES},
+                contributions=contributions,
+                contribution_basis=basis,
+                r_squared=r_squared,
+                sobol_first_order=first_order,
+                limits=lim,
+                out_of_spec_percent=None if lim is None else 100.0 * float(lim.outside(y).mean()),
+                cp=cp,
+                cpk=cpk,
             )
-            continue
-        mean = float(y.mean())
-        std = float(y.std(ddof=1)) if len(y) > 1 else 0.0
-        contributions, r_squared = regression_contributions(x_ok, y, spec.names)
-        first_order = dict(zip(spec.names, map(float, sobol[j]), strict=True))
-        basis = "src"
-        if r_squared is not None and r_squared < MIN_LINEAR_R_SQUARED:
-            contributions, basis = _shares(sobol[j], spec.names), "sobol"
-        cp, cpk = _capability(lim, mean, std)
-        summaries[name] = ResponseSummary(
-            name=name,
-            unit=model.units[name],
-            nominal=float(nominal[j]),
-            n_ok=len(y),
-            mean=mean,
-            std=std,
-            minimum=float(y.min()),
-            maximum=float(y.max()),
-            percentiles={f"p{p:g}": float(np.percentile(y, p)) for p in PERCENTILES},
-            contributions=contributions,
-            contribution_basis=basis,
-            r_squared=r_squared,
-            sobol_first_order=first_order,
-            limits=lim,
-            out_of_spec_percent=None if lim is None else 100.0 * float(lim.outside(y).mean()),
-            cp=cp,
-            cpk=cpk,
+        return MethodResult(
+            method="monte-carlo",
+            input_names=spec.names,
+            response_names=tuple(model.response_names),
+            units=dict(model.units),
+            x=samples.values,
+            roles=roles,
+            run=result,
+            nominal=nominal,
+            summaries=summaries,
+            failures=_failures(samples.values, roles, result, spec.names),
+            settings={"samples": n, "seed": int(seed), "sampling": sampling},
         )
-    return MethodResult(
-        method="monte-carlo",
-        input_names=spec.names,
-        response_names=tuple(model.response_names),
-        units=dict(model.units),
-        x=samples.values,
-        roles=roles,
-        run=result,
-        nominal=nominal,
-        summaries=summaries,
-        failures=_failures(samples.values, roles, result, spec.names),
-        settings={"samples": n, "seed": int(seed), "sampling": sampling},
-    )
 
 
 # --- sensitivities and RSS -----------------------------------------------------------------------
@@ -542,224 +573,277 @@ def _check_step(fd_step: float) -> None:
         )
 
 
-def rss(
-    model: Any,
-    spec: ToleranceSpec,
-    *,
-    fd_step: float = 0.5,
-    sensitivity: Literal["finite-difference", "analytic"] = "finite-difference",
-    limits: Mapping[str, SpecLimits] | None = None,
-    backend: Backend | None = None,
-    progress: bool = False,
-) -> MethodResult:
+@dataclass(frozen=True)
+class Rss:
     """Root-sum-square stack from sensitivities at the input means.
 
-    Args:
-        fd_step: central-difference step as a fraction of each input's half-width (the
-            default 0.5 takes the secant over the central half of the band, robust against
-            the small numerical noise of simulated responses).
+    Attributes:
+        fd_step: central-difference step as a fraction of each input's half-width, in (0, 1]
+            (the default 0.5 takes the secant over the central half of the band, robust
+            against the small numerical noise of simulated responses).
         sensitivity: ``"finite-difference"`` or ``"analytic"`` (the model's ``jacobian``).
-
-    A finite-difference point that fails makes that input's sensitivity NaN (and the
-    response's σ NaN); the point is listed in ``failures``.
-
-    Raises:
-        ConfigError: analytic sensitivities requested from a model without a Jacobian, or the
-            nominal or centre point cannot be evaluated.
     """
-    _check_step(fd_step)
-    if sensitivity not in ("finite-difference", "analytic"):
-        raise ConfigError(f"sensitivity must be finite-difference or analytic, got {sensitivity!r}")
-    if sensitivity == "analytic" and not hasattr(model, "jacobian"):
-        raise ConfigError(
-            f"{type(model).__name__} has no analytic Jacobian; use finite-difference sensitivities"
+
+    name: ClassVar[str] = "rss"
+
+    fd_step: float = 0.5
+    sensitivity: Sensitivity = "finite-difference"
+
+    def __post_init__(self) -> None:
+        _check_step(self.fd_step)
+        if self.sensitivity not in ("finite-difference", "analytic"):
+            raise ConfigError(
+                f"Rss: sensitivity must be finite-difference or analytic, got {self.sensitivity!r}"
+            )
+
+    def run(
+        self,
+        model: ResponseModel,
+        spec: ToleranceSpec,
+        *,
+        limits: Mapping[str, SpecLimits] | None = None,
+        backend: Backend | None = None,
+        progress: bool = False,
+    ) -> MethodResult:
+        """Linearise every response at the input means and stack the input spreads.
+
+        A finite-difference point that fails makes that input's sensitivity NaN (and the
+        response's σ NaN); the point is listed in ``failures``.
+
+        Args:
+            model: the response model; its inputs must be ``spec``'s.
+            spec: the toleranced inputs.
+            limits: specification limits per response name (SI).
+            backend: where the points run (default: local processes).
+            progress: show a progress bar on stderr.
+
+        Raises:
+            ConfigError: analytic sensitivities requested from a model without a Jacobian,
+                or the nominal or centre point cannot be evaluated.
+        """
+        fd_step, sensitivity = self.fd_step, self.sensitivity
+        if sensitivity == "analytic" and not isinstance(model, DifferentiableModel):
+            raise ConfigError(
+                f"{type(model).__name__} has no analytic Jacobian; use finite-difference sensitivities"
+            )
+        limits = _limits_for(limits, model.response_names)
+        centre = spec.mean
+        half = (spec.upper - spec.lower) / 2.0
+        steps = fd_step * half
+        points = [spec.nominal[None, :], centre[None, :]]
+        roles = ["nominal", "centre"]
+        if sensitivity == "finite-difference":
+            points.append(_fd_points(centre, steps))
+            roles += ["fd"] * (2 * len(centre))
+        x = np.concatenate(points, axis=0)
+        result = _evaluate(model, spec, x, backend, progress, "RSS points")
+        nominal = _nominal_or_raise(result, 0, "nominal")
+        at_centre = _nominal_or_raise(result, 1, "centre (input means)")
+        nonlinearity = np.zeros(len(model.response_names))
+        if isinstance(model, DifferentiableModel) and sensitivity == "analytic":
+            gradient = np.asarray(model.jacobian(centre), dtype=float)
+        else:
+            fd_ok = result.status[2:] == OK
+            gradient = _fd_gradient(result.values[2:], steps, fd_ok)
+            nonlinearity = _nonlinearity(result.values[2:], at_centre, fd_ok)
+        sigma = spec.std
+        summaries = {}
+        for j, name in enumerate(model.response_names):
+            a = gradient[j]
+            std = float(np.sqrt(np.sum((a * sigma) ** 2)))
+            lim = limits.get(name)
+            cp, cpk = _capability(lim, float(at_centre[j]), std)
+            summaries[name] = ResponseSummary(
+                name=name,
+                unit=model.units[name],
+                nominal=float(nominal[j]),
+                n_ok=int(np.sum(result.status == OK)),
+                mean=float(at_centre[j]),
+                std=std,
+                half_range=float(np.sqrt(np.sum((a * half) ** 2))),
+                sensitivities={n: float(v) for n, v in zip(spec.names, a, strict=True)},
+                contributions=_shares((a * sigma) ** 2, spec.names),
+                contribution_basis="sensitivities",
+                limits=lim,
+                out_of_spec_percent=None
+                if lim is None
+                else 100.0 * lim.normal_fraction_outside(float(at_centre[j]), std),
+                cp=cp,
+                cpk=cpk,
+                note=None
+                if nonlinearity[j] <= NONLINEARITY_LIMIT
+                else (
+                    "kinked or strongly nonlinear at the input means (curvature/slope ratio "
+                    f"{nonlinearity[j]:.3g} over the finite-difference step): RSS does not describe "
+                    "this response; use Monte Carlo"
+                ),
+            )
+        return MethodResult(
+            method="rss",
+            input_names=spec.names,
+            response_names=tuple(model.response_names),
+            units=dict(model.units),
+            x=x,
+            roles=tuple(roles),
+            run=result,
+            nominal=nominal,
+            summaries=summaries,
+            failures=_failures(x, roles, result, spec.names),
+            settings={
+                "sensitivity": sensitivity,
+                "fd_step": fd_step,
+                "linearised_at": "input means",
+            },
         )
-    limits = _limits_for(limits, model.response_names)
-    centre = spec.mean
-    half = (spec.upper - spec.lower) / 2.0
-    steps = fd_step * half
-    points = [spec.nominal[None, :], centre[None, :]]
-    roles = ["nominal", "centre"]
-    if sensitivity == "finite-difference":
-        points.append(_fd_points(centre, steps))
-        roles += ["fd"] * (2 * len(centre))
-    x = np.concatenate(points, axis=0)
-    result = _evaluate(model, spec, x, backend, progress, "RSS points")
-    nominal = _nominal_or_raise(result, 0, "nominal")
-    at_centre = _nominal_or_raise(result, 1, "centre (input means)")
-    nonlinearity = np.zeros(len(model.response_names))
-    if sensitivity == "analytic":
-        gradient = np.asarray(model.jacobian(centre), dtype=float)
-    else:
-        fd_ok = result.status[2:] == OK
-        gradient = _fd_gradient(result.values[2:], steps, fd_ok)
-        nonlinearity = _nonlinearity(result.values[2:], at_centre, fd_ok)
-    sigma = spec.std
-    summaries = {}
-    for j, name in enumerate(model.response_names):
-        a = gradient[j]
-        std = float(np.sqrt(np.sum((a * sigma) ** 2)))
-        lim = limits.get(name)
-        cp, cpk = _capability(lim, float(at_centre[j]), std)
-        summaries[name] = ResponseSummary(
-            name=name,
-            unit=model.units[name],
-            nominal=float(nominal[j]),
-            n_ok=int(np.sum(result.status == OK)),
-            mean=float(at_centre[j]),
-            std=std,
-            half_range=float(np.sqrt(np.sum((a * half) ** 2))),
-            sensitivities={n: float(v) for n, v in zip(spec.names, a, strict=True)},
-            contributions=_shares((a * sigma) ** 2, spec.names),
-            contribution_basis="sensitivities",
-            limits=lim,
-            out_of_spec_percent=None
-            if lim is None
-            else 100.0 * lim.normal_fraction_outside(float(at_centre[j]), std),
-            cp=cp,
-            cpk=cpk,
-            note=None
-            if nonlinearity[j] <= NONLINEARITY_LIMIT
-            else (
-                "kinked or strongly nonlinear at the input means (curvature/slope ratio "
-                f"{nonlinearity[j]:.3g} over the finite-difference step): RSS does not describe "
-                "this response; use Monte Carlo"
-            ),
-        )
-    return MethodResult(
-        method="rss",
-        input_names=spec.names,
-        response_names=tuple(model.response_names),
-        units=dict(model.units),
-        x=x,
-        roles=tuple(roles),
-        run=result,
-        nominal=nominal,
-        summaries=summaries,
-        failures=_failures(x, roles, result, spec.names),
-        settings={"sensitivity": sensitivity, "fd_step": fd_step, "linearised_at": "input means"},
-    )
 
 
 # --- worst case ----------------------------------------------------------------------------------
 
 
-def worst_case(
-    model: Any,
-    spec: ToleranceSpec,
-    *,
-    corners: Corners = "auto",
-    fd_step: float = 0.5,
-    limits: Mapping[str, SpecLimits] | None = None,
-    backend: Backend | None = None,
-    progress: bool = False,
-) -> MethodResult:
+@dataclass(frozen=True)
+class WorstCase:
     """Extremes of every response over the corners of the input limits.
 
-    Args:
+    Attributes:
         corners: ``"all"`` (2^k corners), ``"sensitivity"`` (the corners the signs of the
             finite-difference sensitivities at the centre point to) or ``"auto"`` (all for
             k ≤ 10 inputs).
-        fd_step: finite-difference step for ``"sensitivity"`` (fraction of the half-width).
+        fd_step: finite-difference step for ``"sensitivity"``, a fraction of each half-width
+            in (0, 1].
     """
-    if corners not in ("auto", "all", "sensitivity"):
-        raise ConfigError(f"corners must be auto, all or sensitivity, got {corners!r}")
-    limits = _limits_for(limits, model.response_names)
-    k = len(spec)
-    mode = (
-        corners if corners != "auto" else ("all" if k <= MAX_ALL_CORNER_INPUTS else "sensitivity")
-    )
-    if mode == "all" and k > 20:
-        raise ConfigError(f"2^{k} corners are too many; use corners='sensitivity'")
-    lower, upper = spec.lower, spec.upper
-    if mode == "all":
-        levels = np.array(list(itertools.product((0, 1), repeat=k)), dtype=bool)
-        corner_x = np.where(levels, upper, lower)
-        x = np.concatenate([spec.nominal[None, :], corner_x], axis=0)
-        roles = ("nominal",) + ("corner",) * len(corner_x)
-        result = _evaluate(model, spec, x, backend, progress, "worst-case corners")
-        nominal = _nominal_or_raise(result, 0, "nominal")
-        values, ok = result.values[1:], result.status[1:] == OK
-        effects = np.zeros((len(model.response_names), k))
-        for i in range(k):
-            hi, lo = ok & levels[:, i], ok & ~levels[:, i]
-            if hi.any() and lo.any():
-                effects[:, i] = values[hi].mean(axis=0) - values[lo].mean(axis=0)
-        width = upper - lower
-        slopes = np.divide(effects, width, out=np.zeros_like(effects), where=width > 0)
-        candidates = np.arange(len(corner_x))
-        weights = np.abs(effects)
-    else:
-        _check_step(fd_step)
-        centre = spec.centre
-        steps = fd_step * (upper - lower) / 2.0
-        first = np.concatenate([spec.nominal[None, :], _fd_points(centre, steps)], axis=0)
-        first_run = _evaluate(model, spec, first, backend, progress, "sensitivities")
-        nominal = _nominal_or_raise(first_run, 0, "nominal")
-        slopes = _fd_gradient(first_run.values[1:], steps, first_run.status[1:] == OK)
-        if np.any(np.isnan(slopes)):
+
+    name: ClassVar[str] = "worst-case"
+
+    corners: Corners = "auto"
+    fd_step: float = 0.5
+
+    def __post_init__(self) -> None:
+        if self.corners not in ("auto", "all", "sensitivity"):
             raise ConfigError(
-                "worst case: some finite-difference points failed, so the sensitivity signs are "
-                "unknown; use corners='all'"
+                f"WorstCase: corners must be auto, all or sensitivity, got {self.corners!r}"
             )
-        corner_rows = []
-        for a in slopes:
-            corner_rows.append(np.where(a > 0, upper, np.where(a < 0, lower, centre)))
-            corner_rows.append(np.where(a > 0, lower, np.where(a < 0, upper, centre)))
-        corner_x = np.unique(np.array(corner_rows), axis=0)
-        second = _evaluate(model, spec, corner_x, backend, progress, "worst-case corners")
-        x = np.concatenate([first, corner_x], axis=0)
-        roles = ("nominal",) + ("fd",) * (len(first) - 1) + ("corner",) * len(corner_x)
-        result = _merge(first_run, second)
-        values, ok = second.values, second.status == OK
-        candidates = np.arange(len(corner_x))
-        weights = np.abs(slopes) * (upper - lower) / 2.0
-    summaries = {}
-    for j, name in enumerate(model.response_names):
-        lim = limits.get(name)
-        good = candidates[ok]
-        if len(good) == 0:
-            summaries[name] = ResponseSummary(
-                name, model.units[name], float(nominal[j]), 0, limits=lim
-            )
-            continue
-        column = values[good, j]
-        low_i, high_i = good[int(np.argmin(column))], good[int(np.argmax(column))]
-        summaries[name] = ResponseSummary(
-            name=name,
-            unit=model.units[name],
-            nominal=float(nominal[j]),
-            n_ok=len(good),
-            minimum=float(values[low_i, j]),
-            maximum=float(values[high_i, j]),
-            half_range=float((values[high_i, j] - values[low_i, j]) / 2.0),
-            low_corner=dict(zip(spec.names, map(float, corner_x[low_i]), strict=True)),
-            high_corner=dict(zip(spec.names, map(float, corner_x[high_i]), strict=True)),
-            sensitivities={n: float(v) for n, v in zip(spec.names, slopes[j], strict=True)},
-            contributions=_shares(weights[j], spec.names),
-            contribution_basis="main effects" if mode == "all" else "sensitivities",
-            limits=lim,
-            out_of_spec_percent=None
-            if lim is None
-            else 100.0 * float(lim.outside(values[good, j]).mean()),
+        _check_step(self.fd_step)
+
+    def run(
+        self,
+        model: ResponseModel,
+        spec: ToleranceSpec,
+        *,
+        limits: Mapping[str, SpecLimits] | None = None,
+        backend: Backend | None = None,
+        progress: bool = False,
+    ) -> MethodResult:
+        """Evaluate the corners and report the lowest and highest response of each.
+
+        Args:
+            model: the response model; its inputs must be ``spec``'s.
+            spec: the toleranced inputs.
+            limits: specification limits per response name (SI).
+            backend: where the points run (default: local processes).
+            progress: show a progress bar on stderr.
+
+        Raises:
+            ConfigError: too many inputs for all corners, or failed points leave the
+                sensitivity signs unknown.
+        """
+        corners, fd_step = self.corners, self.fd_step
+        limits = _limits_for(limits, model.response_names)
+        k = len(spec)
+        mode = (
+            corners
+            if corners != "auto"
+            else ("all" if k <= MAX_ALL_CORNER_INPUTS else "sensitivity")
         )
-    return MethodResult(
-        method="worst-case",
-        input_names=spec.names,
-        response_names=tuple(model.response_names),
-        units=dict(model.units),
-        x=x,
-        roles=roles,
-        run=result,
-        nominal=nominal,
-        summaries=summaries,
-        failures=_failures(x, roles, result, spec.names),
-        settings={
-            "corners": mode,
-            "evaluated_corners": len(corner_x),
-            **({"fd_step": fd_step} if mode == "sensitivity" else {}),
-        },
-    )
+        if mode == "all" and k > 20:
+            raise ConfigError(f"2^{k} corners are too many; use corners='sensitivity'")
+        lower, upper = spec.lower, spec.upper
+        if mode == "all":
+            levels = np.array(list(itertools.product((0, 1), repeat=k)), dtype=bool)
+            corner_x = np.where(levels, upper, lower)
+            x = np.concatenate([spec.nominal[None, :], corner_x], axis=0)
+            roles = ("nominal",) + ("corner",) * len(corner_x)
+            result = _evaluate(model, spec, x, backend, progress, "worst-case corners")
+            nominal = _nominal_or_raise(result, 0, "nominal")
+            values, ok = result.values[1:], result.status[1:] == OK
+            effects = np.zeros((len(model.response_names), k))
+            for i in range(k):
+                hi, lo = ok & levels[:, i], ok & ~levels[:, i]
+                if hi.any() and lo.any():
+                    effects[:, i] = values[hi].mean(axis=0) - values[lo].mean(axis=0)
+            width = upper - lower
+            slopes = np.divide(effects, width, out=np.zeros_like(effects), where=width > 0)
+            candidates = np.arange(len(corner_x))
+            weights = np.abs(effects)
+        else:
+            centre = spec.centre
+            steps = fd_step * (upper - lower) / 2.0
+            first = np.concatenate([spec.nominal[None, :], _fd_points(centre, steps)], axis=0)
+            first_run = _evaluate(model, spec, first, backend, progress, "sensitivities")
+            nominal = _nominal_or_raise(first_run, 0, "nominal")
+            slopes = _fd_gradient(first_run.values[1:], steps, first_run.status[1:] == OK)
+            if np.any(np.isnan(slopes)):
+                raise ConfigError(
+                    "worst case: some finite-difference points failed, so the sensitivity signs are "
+                    "unknown; use corners='all'"
+                )
+            corner_rows = []
+            for a in slopes:
+                corner_rows.append(np.where(a > 0, upper, np.where(a < 0, lower, centre)))
+                corner_rows.append(np.where(a > 0, lower, np.where(a < 0, upper, centre)))
+            corner_x = np.unique(np.array(corner_rows), axis=0)
+            second = _evaluate(model, spec, corner_x, backend, progress, "worst-case corners")
+            x = np.concatenate([first, corner_x], axis=0)
+            roles = ("nominal",) + ("fd",) * (len(first) - 1) + ("corner",) * len(corner_x)
+            result = _merge(first_run, second)
+            values, ok = second.values, second.status == OK
+            candidates = np.arange(len(corner_x))
+            weights = np.abs(slopes) * (upper - lower) / 2.0
+        summaries = {}
+        for j, name in enumerate(model.response_names):
+            lim = limits.get(name)
+            good = candidates[ok]
+            if len(good) == 0:
+                summaries[name] = ResponseSummary(
+                    name, model.units[name], float(nominal[j]), 0, limits=lim
+                )
+                continue
+            column = values[good, j]
+            low_i, high_i = good[int(np.argmin(column))], good[int(np.argmax(column))]
+            summaries[name] = ResponseSummary(
+                name=name,
+                unit=model.units[name],
+                nominal=float(nominal[j]),
+                n_ok=len(good),
+                minimum=float(values[low_i, j]),
+                maximum=float(values[high_i, j]),
+                half_range=float((values[high_i, j] - values[low_i, j]) / 2.0),
+                low_corner=dict(zip(spec.names, map(float, corner_x[low_i]), strict=True)),
+                high_corner=dict(zip(spec.names, map(float, corner_x[high_i]), strict=True)),
+                sensitivities={n: float(v) for n, v in zip(spec.names, slopes[j], strict=True)},
+                contributions=_shares(weights[j], spec.names),
+                contribution_basis="main effects" if mode == "all" else "sensitivities",
+                limits=lim,
+                out_of_spec_percent=None
+                if lim is None
+                else 100.0 * float(lim.outside(values[good, j]).mean()),
+            )
+        return MethodResult(
+            method="worst-case",
+            input_names=spec.names,
+            response_names=tuple(model.response_names),
+            units=dict(model.units),
+            x=x,
+            roles=roles,
+            run=result,
+            nominal=nominal,
+            summaries=summaries,
+            failures=_failures(x, roles, result, spec.names),
+            settings={
+                "corners": mode,
+                "evaluated_corners": len(corner_x),
+                **({"fd_step": fd_step} if mode == "sensitivity" else {}),
+            },
+        )
 
 
 def _merge(first: RunResult, second: RunResult) -> RunResult:
@@ -773,3 +857,50 @@ def _merge(first: RunResult, second: RunResult) -> RunResult:
         chunk_size=second.chunk_size,
         wall_time=first.wall_time + second.wall_time,
     )
+
+
+#: Any tolerance analysis method.
+ToleranceMethod = WorstCase | Rss | MonteCarlo
+
+#: The tolerance analysis methods by name (as the CLI and summaries write them).
+TOLERANCE_METHODS: Mapping[str, type[ToleranceMethod]] = types.MappingProxyType(
+    {"worst-case": WorstCase, "rss": Rss, "monte-carlo": MonteCarlo}
+)
+
+
+def get_method(method: str | ToleranceMethod, /, **options: Any) -> ToleranceMethod:
+    """A tolerance method from a registry name plus options, or an instance.
+
+    Names are case-insensitive; ``_`` and spaces count as ``-``. Options are the method's
+    fields (``samples``, ``seed``, ``sampling``; ``fd_step``, ``sensitivity``; ``corners``,
+    ``fd_step``). Given an instance and options, returns a copy with those options replaced.
+
+    Examples:
+        >>> get_method("monte-carlo", samples=200, seed=3)
+        MonteCarlo(samples=200, seed=3, sampling='random')
+
+    Raises:
+        ConfigError: unknown name (the message lists the known ones), unknown option (the
+            message lists the method's) or an invalid value.
+    """
+    if isinstance(method, str):
+        key = method.strip().lower().replace("_", "-").replace(" ", "-")
+        if key not in TOLERANCE_METHODS:
+            raise ConfigError(
+                f"unknown tolerance method {method!r}; known: {', '.join(TOLERANCE_METHODS)}"
+            )
+        kind: type[ToleranceMethod] = TOLERANCE_METHODS[key]
+    elif isinstance(method, WorstCase | Rss | MonteCarlo):
+        kind = type(method)
+    else:
+        raise ConfigError(
+            f"a tolerance method is a name ({', '.join(TOLERANCE_METHODS)}) or a WorstCase, "
+            f"Rss or MonteCarlo instance, got {type(method).__name__}"
+        )
+    known = [f.name for f in fields(kind)]
+    unknown = sorted(set(options) - set(known))
+    if unknown:
+        raise ConfigError(f"{kind.__name__}: unknown option(s) {unknown}; its options are {known}")
+    if isinstance(method, str):
+        return kind(**options)
+    return replace(method, **options) if options else method

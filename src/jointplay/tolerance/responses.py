@@ -35,7 +35,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Protocol, runtime_checkable
+from typing import TYPE_CHECKING, Any, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import NDArray
@@ -45,7 +45,14 @@ from jointplay.kinematics import batch, fourbar
 from jointplay.model.mechanism import Mechanism
 from jointplay.model.templates import FourBarGeometry, TemplateSpec, template_of
 
+if TYPE_CHECKING:  # the dynamics import Numba: loaded only by dynamic studies
+    from jointplay.contact.friction import FrictionLaw
+    from jointplay.contact.laws import ContactLaw
+    from jointplay.dynamics.simulate import SimulationResult, SolverOptions, Start
+    from jointplay.model.mechanism import PrismaticJoint
+
 __all__ = [
+    "DifferentiableModel",
     "DynamicResponses",
     "Evaluation",
     "FourBarKinematics",
@@ -93,7 +100,11 @@ class Evaluation:
 
 @runtime_checkable
 class ResponseModel(Protocol):
-    """What the methods and the execution backends need from a model."""
+    """What the methods and the execution backends need from a model.
+
+    Any object with these members is a model (no base class needed); it must be picklable by
+    reference to run on the process and Dask backends.
+    """
 
     @property
     def input_names(self) -> tuple[str, ...]: ...
@@ -115,6 +126,15 @@ class ResponseModel(Protocol):
 
     def describe(self) -> dict[str, Any]:
         """JSON-ready description of the model and its settings."""
+        ...
+
+
+@runtime_checkable
+class DifferentiableModel(ResponseModel, Protocol):
+    """A response model with analytic sensitivities (for ``Rss(sensitivity="analytic")``)."""
+
+    def jacobian(self, x0: FloatArray) -> FloatArray:
+        """(r, k) sensitivities ∂y_j/∂x_i at the input point ``x0`` (SI)."""
         ...
 
 
@@ -467,7 +487,7 @@ class GeneralKinematics:
                     f"lengths are named {['length_' + n for n in names]}"
                 )
 
-    def _layout(self) -> tuple[list[tuple[str, int]], list[Any]]:
+    def _layout(self) -> tuple[list[tuple[str, int]], list[PrismaticJoint]]:
         from jointplay.model.columns import rotating_links, sliders
 
         return rotating_links(self.mechanism), sliders(self.mechanism)
@@ -558,7 +578,9 @@ class GeneralKinematics:
         return Evaluation(values, ok, tuple(errors))
 
 
-def kinematic_model(mechanism: Mechanism, input_names: Sequence[str], **options: Any) -> Any:
+def kinematic_model(
+    mechanism: Mechanism, input_names: Sequence[str], **options: Any
+) -> FourBarKinematics | GeneralKinematics:
     """The kinematic response model of ``mechanism``: vectorised for four-bars, general otherwise."""
     spec = mechanism.template
     if not isinstance(spec, TemplateSpec):
@@ -572,6 +594,18 @@ def kinematic_model(mechanism: Mechanism, input_names: Sequence[str], **options:
 
 
 # --- clearance dynamics, one simulation per sample -----------------------------------------------
+
+
+def _start_from_rest() -> Start:
+    from jointplay.dynamics.simulate import Start
+
+    return Start("rest")
+
+
+def _default_solver() -> SolverOptions:
+    from jointplay.dynamics.simulate import SolverOptions
+
+    return SolverOptions()
 
 
 @dataclass(frozen=True)
@@ -593,26 +627,21 @@ class DynamicResponses:
 
     mechanism: Mechanism
     input_names: tuple[str, ...]
-    law: Any
+    law: ContactLaw
     journal_radius: Mapping[str, float]
     fixed_clearances: Mapping[str, float] = field(default_factory=dict)
-    start: Any = None
+    start: Start = field(default_factory=_start_from_rest)
     revolutions: float = 1.0
-    solver: Any = None
-    friction: Any = None
+    solver: SolverOptions = field(default_factory=_default_solver)
+    friction: FrictionLaw | None = None
     chunk_size: int = 1
 
     def __post_init__(self) -> None:
         from jointplay.contact.laws import ContactLaw
-        from jointplay.dynamics.simulate import SolverOptions, Start
 
         object.__setattr__(self, "input_names", tuple(self.input_names))
         object.__setattr__(self, "journal_radius", dict(self.journal_radius))
         object.__setattr__(self, "fixed_clearances", dict(self.fixed_clearances))
-        if self.start is None:
-            object.__setattr__(self, "start", Start("rest"))
-        if self.solver is None:
-            object.__setattr__(self, "solver", SolverOptions())
         if not isinstance(self.law, ContactLaw):
             raise ConfigError(
                 f"dynamic responses: law must be a ContactLaw instance, got {type(self.law).__name__}"
@@ -697,7 +726,7 @@ class DynamicResponses:
             "peaks": "largest |value| over the integrator's steps",
         }
 
-    def simulate_one(self, row: FloatArray) -> Any:
+    def simulate_one(self, row: FloatArray) -> SimulationResult:
         """The simulation of one sample (a :class:`SimulationResult`); raises on failure."""
         from jointplay.dynamics.clearance import ClearanceJoint
         from jointplay.dynamics.simulate import simulate
@@ -752,7 +781,7 @@ class DynamicResponses:
 def dynamic_model(
     mechanism: Mechanism,
     input_names: Sequence[str],
-    law: Any,
+    law: ContactLaw,
     *,
     journal_radius: Mapping[str, float] | None = None,
     **options: Any,

@@ -28,7 +28,7 @@ from numpy.typing import NDArray
 from jointplay.errors import ConfigError
 from jointplay.tolerance.spec import ToleranceSpec
 
-__all__ = ["SAMPLING_METHODS", "Samples", "sample", "uniforms"]
+__all__ = ["SAMPLING_METHODS", "Samples", "check_settings", "sample", "uniforms"]
 
 FloatArray = NDArray[np.float64]
 SamplingMethod = Literal["random", "lhs"]
@@ -61,7 +61,8 @@ class Samples:
         return int(self.values.shape[0])
 
 
-def _check(n: int, seed: int, method: str) -> None:
+def check_settings(n: int, seed: int, method: str) -> None:
+    """Raise :class:`ConfigError` unless n >= 1, seed >= 0 (integers) and ``method`` is known."""
     if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
         raise ConfigError(f"number of samples must be a positive integer, got {n!r}")
     if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
@@ -82,7 +83,7 @@ def uniforms(
     names: tuple[str, ...] | list[str], n: int, seed: int, method: SamplingMethod = "random"
 ) -> FloatArray:
     """(n, k) probabilities strictly inside (0, 1), one column per input name."""
-    _check(n, seed, method)
+    check_settings(n, seed, method)
     out = np.empty((n, len(names)))
     for column, name in enumerate(names):
         rng = stream(seed, name)

@@ -1,0 +1,279 @@
+"""Files, plots and the HTML report of a tolerance study.
+
+:func:`write_study` writes a :class:`~jointplay.tolerance.analysis.ToleranceStudyResult` into
+a folder:
+
+* ``samples.parquet`` — one row per evaluated point: ``sample``, ``role``, the inputs (SI),
+  the responses (SI, NaN where the point failed), ``status`` (ok / failed / not run) and
+  ``error``;
+* ``summary.json`` — method, seed, inputs, statistics and contributions per response,
+  failures with their inputs, settings, execution record and provenance (SI);
+* ``tornado.png`` (contributions per response), and for Monte Carlo ``histograms.png``
+  (with nominal, mean, ideal-joint value and spec limits marked) and ``scatter.png`` (the most
+  influential input against each response);
+* ``report.html`` — a self-contained page (:class:`~jointplay.report.html.HtmlReport`) with
+  the tables and the plots embedded.
+
+Reports show lengths in mm, clearances in µm and angles in degrees; files stay SI.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from jointplay.io.output import write_json
+from jointplay.report._mpl import pyplot
+from jointplay.report.html import HtmlReport
+from jointplay.tolerance.analysis import ToleranceStudyResult
+
+__all__ = ["display_scale", "format_value", "input_label", "study_plots", "write_study"]
+
+#: Failures listed in the HTML report (samples.parquet and summary.json have more).
+MAX_REPORTED_FAILURES = 100
+
+
+def display_scale(unit: str, kind: str = "") -> tuple[str, float]:
+    """(label, factor) that turns an SI value into report units: mm, µm (clearances), deg."""
+    if unit == "m":
+        return ("µm", 1e6) if kind == "clearance" else ("mm", 1e3)
+    if unit == "rad":
+        return "deg", 180.0 / math.pi
+    return unit.replace("^2", "²").replace("*", "·"), 1.0
+
+
+def format_value(value: float | None, scale: float = 1.0) -> str:
+    """``value × scale`` with 5 significant digits; ``–`` for a missing or non-finite value."""
+    if value is None:
+        return "–"
+    scaled = float(value) * scale
+    return f"{scaled:.5g}" if math.isfinite(scaled) else "–"
+
+
+def input_label(name: str) -> str:
+    """Short label of an input for plots and tables: ``crank`` for ``length_crank``."""
+    return name.replace("length_", "").replace("clearance_", "clearance ").replace("_", " ")
+
+
+def write_study(
+    study: ToleranceStudyResult,
+    folder: Path,
+    *,
+    plots: bool = True,
+    provenance: Mapping[str, Any] | None = None,
+) -> list[Path]:
+    """Write ``samples.parquet``, ``summary.json``, the PNG plots and ``report.html``.
+
+    Args:
+        study: the finished (or interrupted) study.
+        folder: an existing folder.
+        plots: draw the PNG plots (and embed them in the report).
+        provenance: recorded under ``provenance`` in ``summary.json`` (versions, command).
+
+    Returns:
+        The files written.
+    """
+    folder = Path(folder)
+    written = [folder / "samples.parquet", folder / "summary.json"]
+    study.to_dataframe().to_parquet(written[0], index=False)
+    summary = study.summary()
+    if provenance is not None:
+        summary["provenance"] = dict(provenance)
+    write_json(written[1], summary)
+    images: dict[str, bytes] = {}
+    if plots:
+        images = study_plots(study)
+        for name, data in images.items():
+            path = folder / name
+            path.write_bytes(data)
+            written.append(path)
+    written.append(_report(study, summary, images).write(folder / "report.html"))
+    return written
+
+
+def _input_scale(study: ToleranceStudyResult, name: str) -> tuple[str, float]:
+    item = study.spec[name]
+    return display_scale(item.unit, item.kind)
+
+
+def _grid(plt: Any, count: int, *, left: float = 0.07) -> tuple[Any, list[Any]]:
+    columns = min(3, max(1, count))
+    rows = math.ceil(count / columns)
+    height = 3.0 * rows + 0.6
+    fig, axes = plt.subplots(rows, columns, figsize=(4.8 * columns, height), dpi=100, squeeze=False)
+    # Fixed margins: tight_layout doubles the drawing time of these many-panel figures.
+    fig.subplots_adjust(
+        left=left / columns * 3 if columns < 3 else left,
+        right=0.98,
+        bottom=0.55 / height,
+        top=1.0 - 0.9 / height,
+        hspace=0.65,
+        wspace=0.25 + 2.5 * left,
+    )
+    flat = list(axes.ravel())
+    for ax in flat[count:]:
+        ax.set_visible(False)
+    return fig, flat[:count]
+
+
+def _png(plt: Any, fig: Any) -> bytes:
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png")
+    plt.close(fig)
+    return buffer.getvalue()
+
+
+def study_plots(study: ToleranceStudyResult) -> dict[str, bytes]:
+    """The study's PNG images by file name: tornado, and for Monte Carlo histograms and scatter."""
+    plt = pyplot()
+    r = study.result
+    names = list(r.response_names)
+    images = {}
+    fig, axes = _grid(plt, len(names), left=0.1)
+    what = "share of the worst-case stack" if r.method == "worst-case" else "share of variance"
+    for ax, name in zip(axes, names, strict=True):
+        shares = r.summaries[name].contributions
+        order = sorted(shares, key=lambda k: shares[k])
+        ax.barh([input_label(k) for k in order], [100.0 * shares[k] for k in order], color="C0")
+        ax.set_xlim(0, 100)
+        ax.set_title(name, fontsize=9)
+        ax.set_xlabel(f"{what} (%)", fontsize=8)
+        ax.tick_params(labelsize=7)
+        ax.grid(True, axis="x", alpha=0.3)
+    fig.suptitle(f"{study.mechanism.name}: contributions ({r.method})", fontsize=10)
+    images["tornado.png"] = _png(plt, fig)
+    if r.method != "monte-carlo":
+        return images
+    ok = r.run.status == 0
+    fig, axes = _grid(plt, len(names))
+    for j, (ax, name) in enumerate(zip(axes, names, strict=True)):
+        unit, scale = display_scale(r.units[name])
+        values = r.run.values[ok, j] * scale
+        summary = r.summaries[name]
+        if len(values):
+            ax.hist(values, bins=min(60, max(10, int(math.sqrt(len(values))))), color="0.75")
+        ax.axvline(summary.nominal * scale, color="k", linewidth=1.2, label="nominal")
+        if summary.mean is not None:
+            ax.axvline(summary.mean * scale, color="C0", linestyle="--", linewidth=1, label="mean")
+        if study.ideal is not None and name in study.ideal:
+            ax.axvline(
+                study.ideal[name] * scale,
+                color="C2",
+                linestyle="-.",
+                linewidth=1,
+                label="ideal joints",
+            )
+        if summary.limits is not None:
+            for value in (summary.limits.lower, summary.limits.upper):
+                if value is not None:
+                    ax.axvline(
+                        value * scale, color="C3", linestyle=":", linewidth=1.5, label="spec limit"
+                    )
+        ax.set_title(name, fontsize=9)
+        ax.set_xlabel(unit, fontsize=8)
+        ax.tick_params(labelsize=7)
+        handles, labels = ax.get_legend_handles_labels()
+        unique = dict(zip(labels, handles, strict=True))
+        ax.legend(unique.values(), unique.keys(), fontsize=6)
+    fig.suptitle(f"{study.mechanism.name}: Monte Carlo, {int(ok.sum())} samples", fontsize=10)
+    images["histograms.png"] = _png(plt, fig)
+    fig, axes = _grid(plt, len(names))
+    shown = np.flatnonzero(ok)[:5000]
+    for j, (ax, name) in enumerate(zip(axes, names, strict=True)):
+        summary = r.summaries[name]
+        driver = summary.most_influential or r.input_names[0]
+        i = r.input_names.index(driver)
+        x_unit, x_scale = _input_scale(study, driver)
+        y_unit, y_scale = display_scale(r.units[name])
+        ax.scatter(r.x[shown, i] * x_scale, r.run.values[shown, j] * y_scale, s=3, alpha=0.4)
+        nominal_x = study.spec.nominal[i] * x_scale
+        ax.plot([nominal_x], [summary.nominal * y_scale], "k+", markersize=10, label="nominal")
+        share = 100.0 * summary.contributions.get(driver, 0.0)
+        ax.set_title(f"{name} ({share:.0f} % from {input_label(driver)})", fontsize=9)
+        ax.set_xlabel(f"{input_label(driver)} ({x_unit})", fontsize=8)
+        ax.set_ylabel(y_unit, fontsize=8)
+        ax.tick_params(labelsize=7)
+    fig.suptitle(f"{study.mechanism.name}: most influential input per response", fontsize=10)
+    images["scatter.png"] = _png(plt, fig)
+    return images
+
+
+def _report(
+    study: ToleranceStudyResult, summary: Mapping[str, Any], images: Mapping[str, bytes]
+) -> HtmlReport:
+    r = study.result
+    counts = summary["counts"]
+    page = HtmlReport(f"Tolerance study of {study.mechanism.name}")
+    settings = ", ".join(f"{k} = {v}" for k, v in r.settings.items())
+    page.paragraph(
+        f"Method {r.method}, {study.responses} responses; settings: {settings}. "
+        f"Points: {counts['points']}, ok {counts['ok']}, failed {counts['failed']}, "
+        f"not run {counts['not_run']}{' (interrupted)' if r.interrupted else ''}."
+    )
+    page.heading("Inputs")
+    rows = []
+    for item in study.spec.inputs:
+        unit, scale = display_scale(item.unit, item.kind)
+        t = item.tolerance
+        rows.append(
+            [
+                item.name,
+                unit,
+                *(format_value(v, scale) for v in (item.nominal, t.lower, t.upper)),
+                t.distribution,
+                format_value(t.mean, scale),
+                format_value(t.std, scale),
+                item.source,
+            ]
+        )
+    headers = ["input", "unit", "nominal", "lower", "upper", "distribution", "mean", "std"]
+    page.table(rows, [*headers, "source"], text_columns=(0, 1, 5, 8))
+    page.heading("Responses")
+    columns = ["nominal", "mean", "std", "minimum", "maximum", "half_range"]
+    extra = ["out_of_spec_percent", "cp", "cpk"]
+    headers = ["response", "unit", *(c.replace("_", " ") for c in columns)]
+    if study.ideal is not None:
+        headers.append("ideal joints")
+    headers += [*(c.replace("_", " ") for c in extra), "most influential"]
+    rows = []
+    for name, response in r.summaries.items():
+        unit, scale = display_scale(response.unit)
+        cells = [format_value(getattr(response, c), scale) for c in columns]
+        if study.ideal is not None:
+            cells.append(format_value(study.ideal.get(name), scale))
+        cells += [format_value(getattr(response, c)) for c in extra]
+        top = response.most_influential
+        influence = (
+            f"{input_label(top)} ({100 * response.contributions[top]:.0f} %)" if top else "–"
+        )
+        rows.append([name, unit, *cells, influence])
+    page.table(rows, headers, text_columns=(0, 1, len(headers) - 1))
+    failures = r.failures
+    page.heading(f"Failures ({len(failures)})")
+    if failures:
+        rows = [
+            [
+                str(f.index),
+                f.role,
+                *(format_value(f.inputs[n], _input_scale(study, n)[1]) for n in r.input_names),
+                f.error,
+            ]
+            for f in failures[:MAX_REPORTED_FAILURES]
+        ]
+        headers = ["sample", "role", *r.input_names, "error"]
+        page.table(rows, headers, text_columns=(1, len(headers) - 1))
+        if len(failures) > MAX_REPORTED_FAILURES:
+            page.paragraph(
+                f"… and {len(failures) - MAX_REPORTED_FAILURES} more (see samples.parquet)."
+            )
+    else:
+        page.paragraph("None.")
+    for name, data in images.items():
+        page.heading(name.removesuffix(".png"))
+        page.figure(data, name)
+    return page
