@@ -277,6 +277,8 @@ def _material(table: _Table) -> Material:
         density=table.quantity("density", "kg/m^3"),
         youngs_modulus=table.quantity("youngs_modulus", "Pa"),
         poisson_ratio=table.number("poisson_ratio"),
+        yield_strength=table.quantity("yield_strength", "Pa", None),
+        allowable_contact_pressure=table.quantity("allowable_contact_pressure", "Pa", None),
     )
     table.finish()
     return material
