@@ -56,12 +56,13 @@ def heavy_modules_loaded(arguments: list[str]) -> list[str]:
         "import sys\n"
         "from jointplay.cli import run\n"
         f"run({arguments!r})\n"
-        f"print(','.join(m for m in {HEAVY!r} if m in sys.modules))\n"
+        f"print('HEAVY:' + ','.join(m for m in {HEAVY!r} if m in sys.modules))\n"
     )
     output = subprocess.run(
         [sys.executable, "-c", code], check=True, capture_output=True, text=True
     ).stdout
-    return [name for name in output.strip().splitlines()[-1].split(",") if name]
+    line = output.strip().splitlines()[-1].removeprefix("HEAVY:")
+    return [name for name in line.split(",") if name]
 
 
 def main() -> None:
