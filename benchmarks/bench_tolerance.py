@@ -19,6 +19,7 @@ import time
 from jointplay.io.config import load_preset
 from jointplay.tolerance.analysis import tolerance_study
 from jointplay.tolerance.execution import Backend
+from jointplay.tolerance.methods import MonteCarlo
 from jointplay.tolerance.spec import ToleranceSpec
 
 KINEMATIC_TARGET_S = 10.0
@@ -51,11 +52,11 @@ def main() -> None:
         f"{platform.processor() or platform.machine()}, {os.cpu_count()} CPUs, Python {platform.python_version()}"
     )
 
-    _time("warm-up (kinematic)", samples=1000, seed=0, backend=Backend("serial"))
+    _time("warm-up (kinematic)", method=MonteCarlo(1000, seed=0), backend=Backend("serial"))
     n = args.kinematic_samples
     for backend in (Backend("processes", workers=args.workers), Backend("serial")):
         elapsed = _time(
-            f"kinematic Monte Carlo, {backend.kind}", samples=n, seed=1, backend=backend
+            f"kinematic Monte Carlo, {backend.kind}", method=MonteCarlo(n, seed=1), backend=backend
         )
         verdict = "meets" if elapsed <= KINEMATIC_TARGET_S * n / 100_000 else "MISSES"
         print(f"  {verdict} the target of {KINEMATIC_TARGET_S:g} s per 100 000 samples")
@@ -65,16 +66,14 @@ def main() -> None:
     dynamic = {"responses": "dynamic", "start": "rest", "revolutions": 1.0}
     _time(
         "warm-up (dynamic, compiles in this process)",
-        samples=2,
-        seed=0,
+        method=MonteCarlo(2, seed=0),
         backend=Backend("serial"),
         **dynamic,
     )
     n = args.dynamic_samples
     elapsed = _time(
         "dynamic Monte Carlo (4 clearance joints, IFM Table 3, from rest, 1 revolution)",
-        samples=n,
-        seed=1,
+        method=MonteCarlo(n, seed=1),
         backend=Backend("processes", workers=args.workers),
         **dynamic,
     )

@@ -727,7 +727,14 @@ class DynamicResponses:
         }
 
     def simulate_one(self, row: FloatArray) -> SimulationResult:
-        """The simulation of one sample (a :class:`SimulationResult`); raises on failure."""
+        """The simulation of one sample; a failed integration is returned, not raised.
+
+        Its :attr:`~jointplay.dynamics.simulate.SimulationResult.status` and ``message`` say
+        how it ended (``simulate(..., throw=False)``); nominal peaks are not computed.
+
+        Raises:
+            JointplayError: the sample's mechanism cannot be assembled or set up.
+        """
         from jointplay.dynamics.clearance import ClearanceJoint
         from jointplay.dynamics.simulate import simulate
         from jointplay.model.templates import with_lengths
@@ -756,7 +763,7 @@ class DynamicResponses:
             revolutions=self.revolutions,
             start=self.start,
             solver=self.solver,
-            nominal_step_deg=1.0,
+            throw=False,
         )
 
     def evaluate(self, x: FloatArray) -> Evaluation:
@@ -771,6 +778,9 @@ class DynamicResponses:
                 result = self.simulate_one(row)
             except (JointplayError, np.linalg.LinAlgError) as exc:
                 errors.append(_error(exc))
+                continue
+            if not result.success:
+                errors.append(f"IntegrationError: {result.message}")
                 continue
             values[i] = [result.peaks[key]["value"] for key in keys]
             ok[i] = True

@@ -1,0 +1,52 @@
+"""Rendering of a tolerance study: report units, number format, the HTML page."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from jointplay.model.mechanism import Mechanism
+from jointplay.report.tolerance import display_scale, format_value, input_label, write_study
+from jointplay.tolerance.analysis import tolerance_study
+from jointplay.tolerance.execution import Backend
+
+
+@pytest.mark.parametrize(
+    ("unit", "kind", "expected"),
+    [
+        ("m", "length", ("mm", 1e3)),
+        ("m", "clearance", ("µm", 1e6)),
+        ("rad", "", ("deg", 180.0 / math.pi)),
+        ("rad/s^2", "", ("rad/s²", 1.0)),
+        ("N*m", "", ("N·m", 1.0)),
+    ],
+)
+def test_display_scale_gives_report_units(unit: str, kind: str, expected: tuple) -> None:
+    label, factor = display_scale(unit, kind)
+    assert label == expected[0]
+    assert factor == pytest.approx(expected[1], rel=1e-15)
+
+
+def test_format_value_scales_to_five_digits_and_marks_missing_values() -> None:
+    assert format_value(0.2705123456, 1e3) == "270.51"
+    assert format_value(None) == "–"
+    assert format_value(math.nan) == "–"
+    assert format_value(math.inf, 2.0) == "–"
+
+
+def test_input_label_is_short() -> None:
+    assert input_label("length_crank") == "crank"
+    assert input_label("clearance_O2") == "clearance O2"
+
+
+def test_report_page_is_one_html_report_with_the_tables(paper_fourbar: Mechanism, tmp_path) -> None:
+    study = tolerance_study(paper_fourbar, method="rss", backend=Backend("serial"))
+    write_study(study, tmp_path, plots=False)
+    page = (tmp_path / "report.html").read_text(encoding="utf-8")
+    assert page.startswith("<!DOCTYPE html>")
+    assert f"<h1>Tolerance study of {paper_fourbar.name}</h1>" in page
+    for heading in ("Inputs", "Responses", "Failures (0)"):
+        assert f"<h2>{heading}</h2>" in page
+    assert page.count("<table>") == 2
+    assert "<td>270.5</td>" in page  # the nominal coupler, mm
