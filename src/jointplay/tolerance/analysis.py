@@ -43,7 +43,6 @@ if TYPE_CHECKING:  # the dynamics import Numba: loaded only by dynamic studies
     from jointplay.dynamics.simulate import SolverOptions, Start
 
 __all__ = [
-    "PAPER_IFM",
     "RESPONSE_KINDS",
     "ToleranceStudyResult",
     "build_model",
@@ -55,15 +54,6 @@ ResponseKind = Literal["kinematic", "dynamic"]
 
 #: Response kinds of :func:`tolerance_study`.
 RESPONSE_KINDS: tuple[str, ...] = ("kinematic", "dynamic")
-
-#: The paper's conventional IFM parameters (Table 3) in SI: k = 1e4 N/mm^1.5,
-#: e = 1.5, c_max = 10 N·s/mm, d = 0.1 mm.
-PAPER_IFM: Mapping[str, float] = {
-    "stiffness": 1e4 * 1000.0**1.5,
-    "exponent": 1.5,
-    "c_max": 1e4,
-    "d_max": 1e-4,
-}
 
 #: How many failures summary.json lists in full (samples.parquet has every one).
 MAX_LISTED_FAILURES = 1000
@@ -191,7 +181,7 @@ def tolerance_study(
         responses: ``"kinematic"`` (ideal joints) or ``"dynamic"`` (clearance joints).
         limits: specification limits per response name (SI).
         contact: dynamic: a contact law instance or name (default: the paper's conventional
-            IFM, :data:`PAPER_IFM`).
+            IFM, :data:`jointplay.dynamics.setup.DEFAULT_IMPACT`).
         friction: dynamic: a friction law, or ``None``.
         start: dynamic: ``"rest"`` (the paper's), ``"steady"`` or a
             :class:`~jointplay.dynamics.simulate.Start`.
@@ -254,6 +244,7 @@ def build_model(
     if responses != "dynamic":
         raise ConfigError(f"responses must be kinematic or dynamic, got {responses!r}")
     from jointplay.contact.laws import get_law
+    from jointplay.dynamics.setup import DEFAULT_IMPACT
     from jointplay.dynamics.simulate import Start
 
     spec = spec.only("length", "clearance")
@@ -261,7 +252,7 @@ def build_model(
         raise ConfigError(
             f"mechanism {mechanism.name!r} has no length or clearance tolerances to study"
         )
-    law = get_law("impact", **PAPER_IFM) if contact is None else get_law(contact)
+    law = DEFAULT_IMPACT if contact is None else get_law(contact)
     radius = {
         item.joint: item.journal_radius for item in spec.inputs if isinstance(item, JointTolerance)
     }
