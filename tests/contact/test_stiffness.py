@@ -1,8 +1,9 @@
 """Pin-in-hole stiffness laws: the numeric anchors of contact-models.md §3.7 and properties.
 
-Anchor material: steel–steel, E = 207 GPa, ν = 0.3 ⇒ E* = 113.7 GPa. The anchors' "Ø10 H8/g7"
-rows use a bearing radius of 10 mm (R = R_i R_j / ΔR = 4.75 m for ΔR = 21 µm), so that is what
-they are checked with here; the Hertz anchors depend on it, Liu and Pereira only on ΔR.
+Anchor material: steel–steel, E = 207 GPa, ν = 0.3 ⇒ E* = 113.7 GPa. The "Ø10 H8/g7" rows are
+the real Ø10 joint: pin radius R_j = 5 mm, bearing radius R_i = R_j + ΔR (R = R_i R_j / ΔR =
+1.195 m for ΔR = 21 µm), as corrected in §3.7 (an earlier version computed them for a 10 mm
+bore radius, a Ø20 joint). The Hertz anchors depend on the radius; Liu and Pereira only on ΔR.
 """
 
 from __future__ import annotations
@@ -30,14 +31,14 @@ from jointplay.model.mechanism import STEEL
 E_STEEL = 207e9  # Pa
 NU_STEEL = 0.3
 LENGTH = 10e-3  # m
-BORE = 10e-3  # m, bearing radius of the anchors
+PIN = 5e-3  # m, pin radius of the Ø10 joint
 
 
-def joint(name: str, clearance: float, bearing_radius: float = BORE) -> PinInHoleStiffness:
+def joint(name: str, clearance: float, pin_radius: float = PIN) -> PinInHoleStiffness:
     return get_stiffness_law(
         name,
-        bearing_radius=bearing_radius,
-        pin_radius=bearing_radius - clearance,
+        bearing_radius=pin_radius + clearance,
+        pin_radius=pin_radius,
         length=LENGTH,
         bearing_youngs_modulus=E_STEEL,
         bearing_poisson_ratio=NU_STEEL,
@@ -51,17 +52,19 @@ def test_effective_modulus_of_steel_on_steel() -> None:
 
 
 @pytest.mark.parametrize(
-    ("clearance", "radius", "stiffness"),
+    ("clearance", "pin_radius", "radius", "stiffness"),
     [
-        (0.5e-3, 0.19, 6.61e10),  # Flores slider-crank: R_i = 10 mm, R_j = 9.5 mm
-        (21e-6, 4.75, 3.31e11),  # H8/g7 c_max
-        (11.75e-6, 8.50, 4.42e11),  # H8/g7 c_mean
-        (2.5e-6, 40.0, 9.59e11),  # H8/g7 c_min
+        (0.5e-3, 9.5e-3, 0.19, 6.61e10),  # Flores slider-crank: R_i = 10 mm, R_j = 9.5 mm
+        (21e-6, PIN, 1.195, 1.66e11),  # Ø10 H8/g7 c_max
+        (11.75e-6, PIN, 2.13, 2.22e11),  # Ø10 H8/g7 c_mean
+        (2.5e-6, PIN, 10.0, 4.80e11),  # Ø10 H8/g7 c_min
     ],
 )
-def test_hertz_anchors(clearance: float, radius: float, stiffness: float) -> None:
-    """§3.7 table, three significant digits."""
-    law = joint("hertz", clearance)
+def test_hertz_anchors(
+    clearance: float, pin_radius: float, radius: float, stiffness: float
+) -> None:
+    """§3.7 table (corrected), three significant digits."""
+    law = joint("hertz", clearance, pin_radius)
     assert isinstance(law, HertzStiffness)
     assert law.conformal_radius == pytest.approx(radius, rel=5e-3)
     assert law.stiffness == pytest.approx(stiffness, rel=5e-3)
@@ -93,10 +96,10 @@ def test_pereira_branches_meet() -> None:
 
 @pytest.mark.parametrize(
     ("name", "force_1um", "force_5um"),
-    [("liu", 269, 2770), ("hertz", 331, 3696), ("pereira", 789, 6409)],
+    [("liu", 269, 2770), ("hertz", 166, 1854), ("pereira", 789, 6409)],
 )
 def test_force_anchors(name: str, force_1um: float, force_5um: float) -> None:
-    """§3.7: forces at δ = 1 µm and 5 µm, c = 21 µm, L = 10 mm, to the digits given."""
+    """§3.7 (corrected): forces at δ = 1 µm and 5 µm, c = 21 µm, L = 10 mm, Ø10 joint."""
     forces = joint(name, 21e-6).elastic_force([1e-6, 5e-6])
     assert forces[0] == pytest.approx(force_1um, abs=0.5)
     assert forces[1] == pytest.approx(force_5um, abs=0.5 if force_5um < 3000 else 1.0)
