@@ -24,8 +24,8 @@ import numpy as np
 import pytest
 
 from jointplay.cli import run
-
-pytestmark = pytest.mark.slow
+from jointplay.study.paper import SimTask, run_simulations
+from jointplay.tolerance.execution import Backend
 
 #: The paper's mechanism as read in paper-notes.md (Table 1): link lengths, m; crank speed.
 CRANK, COUPLER, ROCKER, GROUND = 0.108, 0.2705, 0.2705, 0.2794
@@ -142,6 +142,7 @@ def claim(results: dict[str, Any], section: str, words: str) -> dict[str, Any]:
     return matches[0]
 
 
+@pytest.mark.slow
 def test_report_lists_every_claim_and_stands_alone(study: tuple[dict[str, Any], Path]) -> None:
     results, out = study
     for section, words in LISTED_CLAIMS:
@@ -155,6 +156,7 @@ def test_report_lists_every_claim_and_stands_alone(study: tuple[dict[str, Any], 
     assert 'src="figures/' not in html
 
 
+@pytest.mark.slow
 def test_nominal_peaks_match_an_independent_closed_form(results: dict[str, Any]) -> None:
     theta2 = np.radians(GRID_DEG)
     nominal = results["nominal_peaks"]
@@ -176,6 +178,7 @@ def test_nominal_peaks_match_an_independent_closed_form(results: dict[str, Any])
     assert start["paper"] == 15.49
 
 
+@pytest.mark.slow
 def test_geometry_matches_the_law_of_cosines(results: dict[str, Any]) -> None:
     # limit positions: crank and coupler stretched out (r3 + r2) and folded (r3 - r2)
     def rocker_at(reach: float) -> float:
@@ -201,6 +204,7 @@ def test_geometry_matches_the_law_of_cosines(results: dict[str, Any]) -> None:
     assert (swing_claim["paper"], swing_claim["ours"]) == (52.6, pytest.approx(swing, rel=1e-12))
 
 
+@pytest.mark.slow
 def test_published_ecs_values_are_reported_verbatim(results: dict[str, Any]) -> None:
     # Tables 4 and 5 as printed (N/mm, mm, N·s/mm)
     printed = {
@@ -242,6 +246,7 @@ def test_published_ecs_values_are_reported_verbatim(results: dict[str, Any]) -> 
     )
 
 
+@pytest.mark.slow
 def test_six_methods_from_rest_overshoot_the_nominal(results: dict[str, Any]) -> None:
     nominal = results["nominal_peaks"]
     simulations = results["simulations"]
@@ -270,6 +275,7 @@ def test_six_methods_from_rest_overshoot_the_nominal(results: dict[str, Any]) ->
     )
 
 
+@pytest.mark.slow
 def test_kinematic_sensitivities_match_the_closed_form(results: dict[str, Any]) -> None:
     theta2 = np.radians(GRID_DEG)
     basic = float(np.max(np.abs(rocker_acceleration(theta2))))
@@ -292,6 +298,7 @@ def test_kinematic_sensitivities_match_the_closed_form(results: dict[str, Any]) 
     assert claim(results, "Sensitivity", "ground length")["paper"] == 1.3
 
 
+@pytest.mark.slow
 def test_table7_against_an_independent_reading(results: dict[str, Any]) -> None:
     """Table 7 read as paper-notes.md says: deg/s, crank clockwise, angles clockwise from O2→O4.
 
@@ -342,3 +349,37 @@ def test_table7_against_an_independent_reading(results: dict[str, Any]) -> None:
     largest = claim(results, "Experiment (Table 7)", "largest |error|")
     assert largest["paper"] == 15.26  # as printed (30°)
     assert largest["ours"] == methods["ifm-ecs-spherical"]["max_abs_error_percent"]
+
+
+# --- the execution backend ----------------------------------------------------------------------
+
+
+def tiny_task(key: str, method: str, source: str = "-") -> SimTask:
+    """2° of crank from rest: enough for contacts, a fraction of a second."""
+    return SimTask(key, method, source, (), 2 / 360, 200.0, 10.0)
+
+
+@pytest.mark.slow
+def test_simulations_are_the_same_on_every_local_backend() -> None:
+    tasks = [
+        tiny_task("a", "ifm-conventional"),
+        tiny_task("b", "rm-ecs-spherical", "paper"),
+        tiny_task("bad", "no-such-method"),
+    ]
+    seen: list[str] = []
+    serial = run_simulations(tasks, Backend("serial"), lambda o: seen.append(o.task.key))
+    processes = run_simulations(tasks, Backend("processes", workers=2))
+    assert list(serial) == list(processes) == ["a", "b", "bad"]  # the order of the plan
+    assert sorted(seen) == ["a", "b", "bad"]  # progress for every task, failed ones too
+    for key in ("a", "b"):
+        assert serial[key].ok and processes[key].ok
+        assert serial[key].summary["peaks"] == processes[key].summary["peaks"]  # type: ignore[index]
+    # failure is data: the unknown method is reported, the others still ran
+    assert "no-such-method" in (serial["bad"].error or "")
+    assert processes["bad"].error == serial["bad"].error
+
+
+def test_paper_command_refuses_workers_with_a_dask_cluster(tmp_path: Path) -> None:
+    args = ["paper", "--out", str(tmp_path / "x"), "--workers", "2"]
+    assert run([*args, "--dask-scheduler", "tcp://127.0.0.1:1"]) == 2
+    assert not (tmp_path / "x").exists()

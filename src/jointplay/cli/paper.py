@@ -51,8 +51,17 @@ def paper_command(
         ),
     ] = True,
     workers: Annotated[
-        int, typer.Option("--workers", help="Worker processes for the simulations.")
-    ] = 2,
+        int | None,
+        typer.Option("--workers", help="Local worker processes for the simulations (default 2)."),
+    ] = None,
+    dask_scheduler: Annotated[
+        str | None,
+        typer.Option(
+            "--dask-scheduler",
+            help="Run the simulations on the Dask distributed cluster at ADDRESS "
+            "(e.g. tcp://host:8786).",
+        ),
+    ] = None,
     experiment_revolutions: Annotated[
         int,
         typer.Option(
@@ -78,16 +87,19 @@ def paper_command(
         raise ConfigError("--revolutions and --rpm must be > 0")
     if experiment_revolutions < 1:
         raise ConfigError(f"--experiment-revolutions must be >= 1, got {experiment_revolutions}")
-    if workers < 1:
+    if workers is not None and workers < 1:
         raise ConfigError(f"--workers must be >= 1, got {workers}")
+    if dask_scheduler is not None and workers is not None:
+        raise ConfigError("--workers applies to local processes; the Dask cluster has its own")
     options = PaperStudyOptions(
         rpm=rpm,
         revolutions=revolutions,
         ecs_sources=sources[ecs_source],
         tolerance_source=sources[ecs_source][0],
         corners=corners,
-        workers=workers,
+        workers=2 if workers is None else workers,
         experiment_revolutions=experiment_revolutions,
+        scheduler=dask_scheduler,
     )
     console = Console(stderr=True)
     with Progress(

@@ -8,7 +8,9 @@ the rocker speed against measurements (Table 7). :func:`run_paper_study` does al
 jointplay and returns a frozen :class:`PaperStudy`; :mod:`jointplay.report.paper` turns it into
 the HTML report and ``results.json``.
 
-Simulations are independent tasks (:class:`SimTask`) run on local processes.
+Simulations are independent tasks (:class:`SimTask`) run through the one execution backend of
+jointplay (:func:`jointplay.tolerance.execution.run_tasks`): in this process, on local
+processes or on a Dask cluster.
 """
 
 from __future__ import annotations
@@ -17,7 +19,6 @@ import itertools
 import math
 import time
 from collections.abc import Callable, Sequence
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -39,6 +40,7 @@ from jointplay.study.comparison import DEFAULT_METHODS, MethodsComparison, compa
 from jointplay.study.ecs import EcsSweep, ecs_analysis, ecs_sweep
 from jointplay.study.methods import METHODS, method_law
 from jointplay.study.published import PAPER_PUBLISHED
+from jointplay.tolerance.execution import Backend, run_tasks
 
 #: The paper's radial clearance in all four joints (the largest of Ø10 H8/g7), m.
 PAPER_CLEARANCE = 21e-6
@@ -74,8 +76,10 @@ class PaperStudyOptions:
         corners: simulate all 16 corners of the length tolerances (else only all-upper and
             all-lower).
         startup_deg: crank-angle window after the start in which start-up peaks are taken.
-        workers: processes for the simulations (1: in this process).
+        workers: local processes for the simulations (1: in this process).
         experiment_revolutions: revolutions of the steady runs compared with Table 7.
+        scheduler: address of a Dask scheduler (e.g. ``"tcp://host:8786"``) to run the
+            simulations on that cluster instead of local processes (``workers`` is then unused).
     """
 
     rpm: float = 200.0
@@ -87,6 +91,14 @@ class PaperStudyOptions:
     startup_deg: float = 10.0
     workers: int = 2
     experiment_revolutions: int = 3
+    scheduler: str | None = None
+
+    @property
+    def backend(self) -> Backend:
+        """Where the simulations run: the Dask cluster at ``scheduler``, else local processes."""
+        if self.scheduler:
+            return Backend.dask(self.scheduler)
+        return Backend("processes", workers=self.workers)
 
 
 @dataclass(frozen=True)
@@ -129,8 +141,12 @@ def paper_mechanism(rpm: float = 200.0) -> Mechanism:
     return load_preset("paper-fourbar").with_driver(speed=rpm * math.pi / 30.0)
 
 
-def run_task(task: SimTask) -> SimOutcome:
-    """Run one :class:`SimTask` (module-level so that worker processes can pickle it)."""
+def simulate_task(shared: None, task: SimTask) -> SimOutcome:
+    """Run one :class:`SimTask` (a task of :func:`~jointplay.tolerance.execution.run_tasks`).
+
+    Module-level, so that worker processes and Dask workers find it by reference; ``shared``
+    is unused (every task carries its own settings).
+    """
     wall = time.perf_counter()
     try:
         basic = paper_mechanism(task.rpm)
@@ -192,28 +208,39 @@ def decimate(table: pd.DataFrame, target: int) -> pd.DataFrame:
     return table.iloc[sorted(keep)].reset_index(drop=True)
 
 
-def run_tasks(
-    tasks: Sequence[SimTask], workers: int, progress: Callable[[SimOutcome], None] | None = None
+def run_simulations(
+    tasks: Sequence[SimTask],
+    backend: Backend,
+    progress: Callable[[SimOutcome], None] | None = None,
 ) -> dict[str, SimOutcome]:
-    """Run tasks on ``workers`` processes (in order of submission for one worker)."""
-    outcomes: dict[str, SimOutcome] = {}
-    if workers <= 1 or len(tasks) <= 1:
-        for task in tasks:
-            outcome = run_task(task)
-            outcomes[task.key] = outcome
-            if progress:
-                progress(outcome)
-        return outcomes
+    """Run ``tasks`` on ``backend``; the outcomes keyed by task, in the order of ``tasks``.
+
+    A task whose simulation fails gives an outcome with its ``error``; so does one that raises
+    anything else (the execution backend records it). ``progress`` is called with each outcome
+    as it arrives.
+
+    Raises:
+        KeyboardInterrupt: the run was interrupted (Ctrl-C); finished simulations are dropped.
+    """
     # Longest first, so the slow cylindrical runs do not end up last on one worker.
     ordered = sorted(tasks, key=lambda t: "cylindrical" not in t.method)
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = [pool.submit(run_task, task) for task in ordered]
-        for future in as_completed(futures):
-            outcome = future.result()
-            outcomes[outcome.task.key] = outcome
-            if progress:
-                progress(outcome)
-    return outcomes
+
+    def done(_index: int, outcome: SimOutcome) -> None:
+        if progress:
+            progress(outcome)
+
+    run = run_tasks(
+        simulate_task, ordered, backend, description="paper study simulations", on_done=done
+    )
+    if run.interrupted:
+        raise KeyboardInterrupt
+    outcomes: dict[str, SimOutcome] = {}
+    for task, result, error in zip(ordered, run.results, run.errors, strict=True):
+        if result is None:  # raised outside the simulation's own error handling
+            result = SimOutcome(task, None, None, None, None, None, error, math.nan)
+            done(0, result)
+        outcomes[task.key] = result
+    return {task.key: outcomes[task.key] for task in tasks}
 
 
 def _limits(mechanism: Mechanism) -> dict[str, tuple[float, float]]:
@@ -333,7 +360,7 @@ def run_paper_study(
         law=method_law("ifm-conventional", mechanism)[0],
     )
     simulate(mechanism, warm, revolutions=0.002)
-    outcomes = run_tasks(tasks, options.workers, lambda o: tick(o.task.key))
+    outcomes = run_simulations(tasks, options.backend, lambda o: tick(o.task.key))
     experiment_result = None
     if experiment:
         experiment_result = compare_methods(
