@@ -126,10 +126,10 @@ def _assert_rhs_equal(system: System, rtol: float | None, seed: int) -> int:
     touching = 0
     for i, y in enumerate(_random_states(system, seed)):
         t = 1e-3 * i
-        got = eom.rhs(t, y, system.args)
+        got = eom.rhs(t, y, system.kernel_args())
         expected = reference.rhs(t, y)
         contacts = np.empty((len(system.clearances), 7))
-        eom.evaluate(t, y, system.rpar, system.ipar, contacts)
+        eom.evaluate(t, y, system.model, contacts)
         touching += bool(np.any(contacts[:, 2] > 0.0))
         assert got.shape == y.shape
         assert np.all(got[2 * n + 2 :] == 0.0)  # the impact-velocity memory is constant
@@ -186,7 +186,7 @@ def test_free_pins_give_the_ideal_driver_torque_only(paper_fourbar: Mechanism) -
     system = _system(paper_fourbar, FOURBAR_JOINTS, _laws()["impact"], None)
     y = initial_state(system, Start("steady"))
     n = system.n_coordinates
-    ydot = eom.rhs(0.0, y, system.args)
+    ydot = eom.rhs(0.0, y, system.kernel_args())
     np.testing.assert_array_equal(ydot[:n], y[n : 2 * n])
     np.testing.assert_array_equal(ydot[n : 2 * n], 0.0)
     assert ydot[2 * n] == 0.0 and ydot[2 * n + 1] == 0.0
@@ -203,7 +203,10 @@ def _central_differences(
         up, down = y.copy(), y.copy()
         up[j] += h
         down[j] -= h
-        columns.append((eom.rhs(t, up, system.args) - eom.rhs(t, down, system.args)) / (2 * h))
+        columns.append(
+            (eom.rhs(t, up, system.kernel_args()) - eom.rhs(t, down, system.kernel_args()))
+            / (2 * h)
+        )
     return np.array(columns).T
 
 
@@ -218,7 +221,9 @@ def test_closed_form_jacobian_equals_differences(
     for i, y in enumerate(_random_states(system, seed=4)):
         t = 1e-3 * i
         jac = np.full((size, size), np.nan)
-        assert eom.jacobian_state(t, y, eom.rhs(t, y, system.args), system.args, jac)
+        assert eom.jacobian_state(
+            t, y, eom.rhs(t, y, system.kernel_args()), system.kernel_args(), jac
+        )
         expected = _central_differences(system, t, y)
         scale = np.maximum(np.max(np.abs(expected), axis=0), 1e-300)
         np.testing.assert_array_less(np.abs(jac[:, : 2 * n] - expected) / scale, JACOBIAN_RTOL)
@@ -233,7 +238,9 @@ def test_closed_form_jacobian_of_a_coasting_mechanism(fourbar_with_gravity: Mech
     n = system.n_coordinates
     for y in _random_states(system, seed=6)[:3]:
         jac = np.zeros((system.n_state, system.n_state))
-        assert eom.jacobian_state(0.0, y, eom.rhs(0.0, y, system.args), system.args, jac)
+        assert eom.jacobian_state(
+            0.0, y, eom.rhs(0.0, y, system.kernel_args()), system.kernel_args(), jac
+        )
         expected = _central_differences(system, 0.0, y)
         scale = np.maximum(np.max(np.abs(expected), axis=0), 1e-300)
         np.testing.assert_array_less(np.abs(jac[:, : 2 * n] - expected) / scale, JACOBIAN_RTOL)
@@ -246,4 +253,6 @@ def test_closed_form_jacobian_declines_when_ideal_joints_remain(
     system = _system(fourbar_with_gravity, ("A",), _laws()["impact"], None)
     y = _random_states(system, seed=5)[0]
     jac = np.zeros((system.n_state, system.n_state))
-    assert not eom.jacobian_state(0.0, y, eom.rhs(0.0, y, system.args), system.args, jac)
+    assert not eom.jacobian_state(
+        0.0, y, eom.rhs(0.0, y, system.kernel_args()), system.kernel_args(), jac
+    )

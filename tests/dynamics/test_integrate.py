@@ -120,7 +120,7 @@ def test_hooks_are_called_and_may_update_args() -> None:
 
 
 # ---------------------------------------------------------------------------------------
-# Failures become IntegrationError, or data with raise_on_failure=False.
+# Failures become IntegrationError, or data with throw=False.
 # ---------------------------------------------------------------------------------------
 def test_step_too_small_names_time_and_remedies() -> None:
     with pytest.raises(IntegrationError, match=r"step size fell below.*at t = 1\.0000") as info:
@@ -140,7 +140,7 @@ def test_non_finite_initial_derivative_is_reported() -> None:
 
 
 def test_failure_as_data_without_raising() -> None:
-    result = integrate(square, (0.0, 2.0), [1.0], args=P, raise_on_failure=False)
+    result = integrate(square, (0.0, 2.0), [1.0], args=P, throw=False)
     assert not result.success
     assert result.status is IntegrationStatus.STEP_TOO_SMALL
     assert result.status == -1 and "step size fell below" in result.message

@@ -11,8 +11,9 @@ import pytest
 
 from jointplay.contact.laws import get_law
 from jointplay.dynamics.clearance import ClearanceJoint
+from jointplay.dynamics.integrate import IntegrationStatus
 from jointplay.dynamics.simulate import SolverOptions, Start, simulate
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, IntegrationError
 
 ALL = ("O2", "A", "B", "O4")
 TABLE3 = {"stiffness": 1e4 * 1000**1.5, "exponent": 1.5, "c_max": 1e4, "d_max": 1e-4}
@@ -89,7 +90,11 @@ def test_zero_clearance_limit_approaches_the_ideal_mechanism(paper_fourbar) -> N
     for c, k in ((1e-4, 1e10), (1e-5, 1e11), (1e-6, 1e12)):
         law = get_law("lankarani-nikravesh", stiffness=k, restitution=0.3)
         result = simulate(
-            paper_fourbar, clear(ALL, law, clearance=c), revolutions=1.0, start=Start("steady")
+            paper_fourbar,
+            clear(ALL, law, clearance=c),
+            revolutions=1.0,
+            start=Start("steady"),
+            nominal=True,
         )
         series, nominal = result.timeseries, result.nominal
         angle = np.mod(series["crank_deg"], 360.0)
@@ -128,7 +133,12 @@ def test_tightening_tolerances_tenfold_changes_peaks_little(paper_fourbar) -> No
 def test_ideal_joints_reproduce_the_nominal_motion(paper_fourbar) -> None:
     """With no clearance joint the simulation is the nominal kinematics and inverse dynamics."""
     result = simulate(
-        paper_fourbar, [], revolutions=1.0, start=Start("steady"), solver=SolverOptions(rtol=1e-9)
+        paper_fourbar,
+        [],
+        revolutions=1.0,
+        start=Start("steady"),
+        solver=SolverOptions(rtol=1e-9),
+        nominal=True,
     )
     series, nominal = result.timeseries, result.nominal
     angle = np.mod(series["crank_deg"], 360.0)
@@ -179,6 +189,7 @@ def test_slider_crank_with_a_clearance_joint(slider_crank) -> None:
         [ClearanceJoint("B", 0.5e-3, 9.5e-3, law)],
         revolutions=1.0,
         start=Start("steady"),
+        nominal=True,
     )
     stats = result.solver_stats
     assert stats["impacts"]["B"] >= 1
@@ -203,3 +214,46 @@ def test_unknown_and_prismatic_joints_are_rejected(paper_fourbar, slider_crank) 
         simulate(paper_fourbar, [ClearanceJoint("Q", 1e-5, 5e-3, law)], revolutions=0.01)
     with pytest.raises(ConfigError, match="revolute"):
         simulate(slider_crank, [ClearanceJoint("S", 1e-5, 5e-3, law)], revolutions=0.01)
+
+
+def test_nominal_peaks_only_when_asked(paper_fourbar) -> None:
+    """The nominal analysis runs only with ``nominal=True``; the simulation is the same."""
+    joints = clear(ALL, get_law("impact", **TABLE3))
+    plain = simulate(paper_fourbar, joints, revolutions=0.05)
+    assert plain.nominal is None and plain.nominal_peaks == {} and plain.increase_percent == {}
+    asked = simulate(paper_fourbar, joints, revolutions=0.05, nominal=True)
+    assert asked.nominal is not None and set(asked.nominal_peaks) <= set(asked.peaks)
+    assert set(asked.increase_percent) == set(asked.peaks)
+    np.testing.assert_array_equal(plain.y, asked.y)
+    assert plain.peaks == asked.peaks
+
+
+def test_failure_raises_with_its_cause_by_default(paper_fourbar) -> None:
+    """Too few steps allowed: IntegrationError names the cause and an option that exists."""
+    joints = clear(ALL, get_law("impact", **TABLE3))
+    with pytest.raises(IntegrationError, match="more than max_steps") as info:
+        simulate(paper_fourbar, joints, revolutions=0.1, solver=SolverOptions(max_steps=5))
+    assert "SolverOptions.max_steps = 5" in str(info.value)
+    assert "--max-steps" not in str(info.value)
+
+
+def test_failure_as_data_with_throw_false(paper_fourbar) -> None:
+    """``throw=False``: the status, the message and the steps up to where it stopped."""
+    joints = clear(ALL, get_law("impact", **TABLE3))
+    result = simulate(
+        paper_fourbar, joints, revolutions=0.1, solver=SolverOptions(max_steps=5), throw=False
+    )
+    assert not result.success
+    assert result.status is IntegrationStatus.TOO_MANY_STEPS
+    assert (
+        "more than max_steps" in result.message
+        and "Raise SolverOptions.max_steps" in result.message
+    )
+    assert result.t.shape == (6,) and result.t[-1] < 0.1 * paper_fourbar.driver.period
+    assert len(result.steps) == 6 and result.solver_stats["steps"] == 5
+    for key, peak in result.peaks.items():  # peaks over the steps made
+        assert peak["value"] == pytest.approx(result.steps[key].abs().max())
+    assert result.timeseries["t"].iloc[-1] <= result.t[-1]
+    complete = simulate(paper_fourbar, joints, revolutions=0.1)
+    assert complete.success and complete.status is IntegrationStatus.SUCCESS
+    np.testing.assert_array_equal(result.y, complete.y[:6])  # the same first steps

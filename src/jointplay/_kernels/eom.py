@@ -1,7 +1,11 @@
 """Compiled equations of motion of a mechanism with ideal and clearance revolute joints.
 
-The model arrives as two flat buffers, as in Hairer's RADAU5 (``rpar``/``ipar``), packed by
-:mod:`jointplay.dynamics.system`; :func:`views` unpacks them. State vector::
+The model is an :class:`EomModel`: a named tuple (which Numba compiles as a tuple with named
+fields) of flat arrays that :mod:`jointplay.dynamics.system` builds once, read-only, and that
+nothing writes. The integrator's hooks take ``args = (rpar, ipar, workspace)``: the model
+packed into two read-only buffers (:func:`pack`; each kernel opens them with :func:`unpack`,
+by name) and a workspace new for every integration, where :func:`after_step` keeps its
+statistics (``W_*``). State vector::
 
     y = [q (3 nb), q̇ (3 nb), W_motor, W_contact, v0 (n_clear)]
 
@@ -35,8 +39,10 @@ at Q_J = r_J + R_J n; its opposite acts on the bearing at Q_B = r_B + R_B n.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
-from numba import njit, types
+from numba import njit, typeof, types
 
 from jointplay._kernels.constraints import (
     acceleration_rhs,
@@ -48,80 +54,151 @@ from jointplay._kernels.constraints import (
 )
 from jointplay._kernels.contact import FRICTION_NONE, friction_force, normal_force
 
-# ipar header (counts); the arrays follow in the order of :func:`views`.
-I_NB, I_NJ, I_NC, I_PLAW, I_PFRIC = 0, 1, 2, 3, 4
-HEADER = 8
-# settings block in rpar
+# settings block of :attr:`EomModel.settings`
 S_ONSET_TOL, S_PROJ_TOL, S_V_MARK = 0, 1, 2
 N_SETTINGS = 4
-# stats block in rpar (written by after_step)
-T_MAX_VIOLATION, T_PROJECTIONS = 0, 1
-N_STATS = 4
-# clearance geometry columns
+# clearance geometry columns of :attr:`EomModel.geom`
 G_R_BEARING, G_R_JOURNAL, G_CLEARANCE = 0, 1, 2
 N_GEOM = 3
 
-rhs_signature = types.float64[::1](
-    types.float64, types.float64[::1], types.Tuple((types.float64[::1], types.int64[::1]))
-)
 
+class EomModel(NamedTuple):
+    """The mechanism as the compiled equations of motion read it: flat arrays, SI units.
 
-@njit(cache=True)
-def flat_views(rpar: np.ndarray, ipar: np.ndarray):
-    """Unpack the model buffers into named flat views (no copies, no reshapes).
+    Tables are flat and row-major (joint j's integers at ``joint_int[3j : 3j + 3]``, its
+    floats at ``joint_f[6j : 6j + 6]``, clearance joint c's geometry at
+    ``geom[N_GEOM c : N_GEOM (c + 1)]``, its law parameters at ``law_p[w c : w (c + 1)]``
+    with ``w = law_p.size // nc``), so that the right-hand side slices nothing per call.
+    Built, read-only, by :func:`jointplay.dynamics.system.build_system`; never written.
 
-    The right-hand side's unpacking, called once per evaluation: tables stay flat, row-major
-    (joint j's integers at ``joint_int[3j : 3j + 3]``, its floats at ``joint_f[6j : 6j + 6]``,
-    clearance joint c's geometry at ``geom[N_GEOM c : N_GEOM (c + 1)]``, its law parameters at
-    ``law_p[plaw c : plaw (c + 1)]``); :func:`views` gives the same as 2-D tables.
+    Attributes:
+        mass: (3 nb) diagonal of the mass matrix, m, m, J per body: kg, kg, kg·m².
+        gravity: (3 nb) generalised gravity forces: N, N, 0 N·m per body.
+        joint_int: (3 nj) int64 per joint: kind, body a, body b (−1 = ground).
+        joint_f: (6 nj) per joint: s_a (x, y), s_b (x, y) from the centres of mass in the
+            body frames (ground: global), m; prismatic axis angle and relative angle, rad.
+        active: (nj) int64: 1 where the joint is an ideal constraint, 0 where it is clear.
+        driver: (4) driven body (−1: none), φ at t = 0 (rad), signed ω (rad/s), ramp time (s).
+        clear_joint: (nc) int64: joint row of each clearance joint.
+        geom: (N_GEOM nc) per clearance joint: bearing radius, journal radius, radial
+            clearance (columns ``G_R_BEARING``, ``G_R_JOURNAL``, ``G_CLEARANCE``), m.
+        law_id: (nc) int64: normal-force law (:mod:`jointplay._kernels.contact` ids).
+        law_p: (w nc) its parameters, SI.
+        fric_id: (nc) int64: friction law (``FRICTION_NONE``: frictionless).
+        fric_p: (w nc) its parameters, SI.
+        settings: (N_SETTINGS) onset tolerance (m), projection tolerance (m or rad) and the
+            entry rate marking a contact event entered at a rate <= 0 (m/s), at ``S_*``.
     """
-    nb, nj, nc, plaw, pfric = ipar[I_NB], ipar[I_NJ], ipar[I_NC], ipar[I_PLAW], ipar[I_PFRIC]
-    n = 3 * nb
-    o = HEADER
-    joint_int = ipar[o : o + 3 * nj]
-    o += 3 * nj
-    active = ipar[o : o + nj]
-    o += nj
-    clear_joint = ipar[o : o + nc]
-    o += nc
-    law_id = ipar[o : o + nc]
-    o += nc
-    fric_id = ipar[o : o + nc]
-    r = 0
-    mass = rpar[r : r + n]
-    r += n
-    gravity = rpar[r : r + n]
-    r += n
-    joint_f = rpar[r : r + 6 * nj]
-    r += 6 * nj
-    driver = rpar[r : r + 4]
-    r += 4
-    geom = rpar[r : r + N_GEOM * nc]
-    r += N_GEOM * nc
-    law_p = rpar[r : r + plaw * nc]
-    r += plaw * nc
-    fric_p = rpar[r : r + pfric * nc]
-    r += pfric * nc
-    settings = rpar[r : r + N_SETTINGS]
-    r += N_SETTINGS
-    stats = rpar[r : r + N_STATS]
-    return (
-        n, nc, joint_int, active, clear_joint, law_id, fric_id,
-        mass, gravity, joint_f, driver, geom, law_p, fric_p, settings, stats,
-    )  # fmt: skip
+
+    mass: np.ndarray
+    gravity: np.ndarray
+    joint_int: np.ndarray
+    joint_f: np.ndarray
+    active: np.ndarray
+    driver: np.ndarray
+    clear_joint: np.ndarray
+    geom: np.ndarray
+    law_id: np.ndarray
+    law_p: np.ndarray
+    fric_id: np.ndarray
+    fric_p: np.ndarray
+    settings: np.ndarray
+
+
+#: The workspace of one integration (:func:`new_workspace`), written by :func:`after_step`:
+#: the largest constraint violation max |Φ| seen after a step (m or rad) and the number of
+#: projections onto the ideal constraints.
+W_MAX_VIOLATION, W_PROJECTIONS = 0, 1
+N_WORK = 2
+
+#: :class:`EomModel`'s fields by dtype, in the order they are packed.
+_FLOAT_FIELDS = ("mass", "gravity", "joint_f", "driver", "geom", "law_p", "fric_p", "settings")
+_INT_FIELDS = ("joint_int", "active", "clear_joint", "law_id", "fric_id")
+#: Position of each field's length in the ``ipar`` header (the header is
+#: ``EomModel._fields``' lengths, in that order).
+_L = {name: i for i, name in enumerate(EomModel._fields)}
+L_MASS, L_GRAVITY, L_JOINT_INT, L_JOINT_F, L_ACTIVE, L_DRIVER = (
+    _L["mass"], _L["gravity"], _L["joint_int"], _L["joint_f"], _L["active"], _L["driver"],
+)  # fmt: skip
+L_CLEAR_JOINT, L_GEOM, L_LAW_ID, L_LAW_P, L_FRIC_ID, L_FRIC_P, L_SETTINGS = (
+    _L["clear_joint"], _L["geom"], _L["law_id"], _L["law_p"], _L["fric_id"], _L["fric_p"],
+    _L["settings"],
+)  # fmt: skip
+HEADER = len(EomModel._fields)
+
+
+def new_workspace() -> np.ndarray:
+    """An empty workspace for one integration: ``N_WORK`` zeros (see ``W_*``)."""
+    return np.zeros(N_WORK)
+
+
+def pack(model: EomModel) -> tuple[np.ndarray, np.ndarray]:
+    """``model`` as the two read-only buffers the compiled kernels take (:func:`unpack`).
+
+    A first-class function call costs in proportion to the number of arrays it is given, so
+    the integrator passes the model as two arrays, ``rpar`` (the float fields) and ``ipar``
+    (the field lengths, then the integer fields), rather than as 13.
+    """
+    lengths = np.array([len(getattr(model, name)) for name in EomModel._fields], dtype=np.int64)
+    ipar = np.concatenate([lengths, *(getattr(model, name) for name in _INT_FIELDS)])
+    rpar = np.concatenate([getattr(model, name) for name in _FLOAT_FIELDS])
+    return _readonly(rpar.astype(np.float64)), _readonly(ipar.astype(np.int64))
+
+
+def _readonly(array: np.ndarray) -> np.ndarray:
+    array.flags.writeable = False
+    return array
 
 
 @njit(cache=True)
-def views(rpar: np.ndarray, ipar: np.ndarray):
-    """Unpack the model buffers into named views (no copies), tables as 2-D arrays."""
-    (n, nc, joint_int, active, clear_joint, law_id, fric_id,
-     mass, gravity, joint_f, driver, geom, law_p, fric_p, settings, stats) = flat_views(rpar, ipar)  # fmt: skip
-    nj = active.shape[0]
-    return (
-        n, nc, joint_int.reshape((nj, 3)), active, clear_joint, law_id, fric_id,
-        mass, gravity, joint_f.reshape((nj, 6)), driver, geom.reshape((nc, N_GEOM)),
-        law_p.reshape((nc, ipar[I_PLAW])), fric_p.reshape((nc, ipar[I_PFRIC])), settings, stats,
+def unpack(rpar: np.ndarray, ipar: np.ndarray) -> EomModel:
+    """The :class:`EomModel` packed by :func:`pack`, as views (no copies)."""
+    o = HEADER
+    joint_int = ipar[o : o + ipar[L_JOINT_INT]]
+    o += ipar[L_JOINT_INT]
+    active = ipar[o : o + ipar[L_ACTIVE]]
+    o += ipar[L_ACTIVE]
+    clear_joint = ipar[o : o + ipar[L_CLEAR_JOINT]]
+    o += ipar[L_CLEAR_JOINT]
+    law_id = ipar[o : o + ipar[L_LAW_ID]]
+    o += ipar[L_LAW_ID]
+    fric_id = ipar[o : o + ipar[L_FRIC_ID]]
+    r = 0
+    mass = rpar[r : r + ipar[L_MASS]]
+    r += ipar[L_MASS]
+    gravity = rpar[r : r + ipar[L_GRAVITY]]
+    r += ipar[L_GRAVITY]
+    joint_f = rpar[r : r + ipar[L_JOINT_F]]
+    r += ipar[L_JOINT_F]
+    driver = rpar[r : r + ipar[L_DRIVER]]
+    r += ipar[L_DRIVER]
+    geom = rpar[r : r + ipar[L_GEOM]]
+    r += ipar[L_GEOM]
+    law_p = rpar[r : r + ipar[L_LAW_P]]
+    r += ipar[L_LAW_P]
+    fric_p = rpar[r : r + ipar[L_FRIC_P]]
+    r += ipar[L_FRIC_P]
+    settings = rpar[r : r + ipar[L_SETTINGS]]
+    return EomModel(
+        mass=mass, gravity=gravity, joint_int=joint_int, joint_f=joint_f, active=active,
+        driver=driver, clear_joint=clear_joint, geom=geom, law_id=law_id, law_p=law_p,
+        fric_id=fric_id, fric_p=fric_p, settings=settings,
     )  # fmt: skip
+
+
+#: Numba type of the kernels' ``args``: ``(rpar, ipar, workspace)``, the first two
+#: read-only (:func:`pack`), the workspace writable (:func:`new_workspace`).
+ARGS_TYPE = typeof(
+    (
+        _readonly(np.zeros(1)),
+        _readonly(np.zeros(1, dtype=np.int64)),
+        new_workspace(),
+    )
+)
+#: ``args`` as the kernels' annotations spell it.
+EomArgs = tuple[np.ndarray, np.ndarray, np.ndarray]
+
+rhs_signature = types.float64[::1](types.float64, types.float64[::1], ARGS_TYPE)
 
 
 @njit(cache=True)
@@ -172,7 +249,7 @@ def _penetration(
     j: int,
     clearance: float,
 ) -> float:
-    """δ = |e| − c of joint row ``j`` (flat tables, :func:`flat_views`)."""
+    """δ = |e| − c of joint row ``j`` (flat tables, :class:`EomModel`)."""
     bx, by, _, _ = _arm(q, rot, joint_int[3 * j + 1], joint_f[6 * j], joint_f[6 * j + 1])
     jx, jy, _, _ = _arm(q, rot, joint_int[3 * j + 2], joint_f[6 * j + 2], joint_f[6 * j + 3])
     return np.sqrt((jx - bx) ** 2 + (jy - by) ** 2) - clearance
@@ -239,25 +316,14 @@ def _push(force: np.ndarray, body: int, rx: float, ry: float, fx: float, fy: flo
 
 @njit(cache=True)
 def add_contact_forces(
-    y: np.ndarray,
-    n: int,
-    joint_int: np.ndarray,
-    joint_f: np.ndarray,
-    clear_joint: np.ndarray,
-    geom: np.ndarray,
-    law_id: np.ndarray,
-    law_p: np.ndarray,
-    fric_id: np.ndarray,
-    fric_p: np.ndarray,
-    force: np.ndarray,
-    record: np.ndarray,
+    y: np.ndarray, model: EomModel, force: np.ndarray, record: np.ndarray
 ) -> float:
     """Add every clearance joint's contact force to the generalised forces ``force`` (3 nb).
 
     Per joint (module docstring): δ = |e| − c, δ̇ = ė·n, v_T = ė·t + R_J ω_b − R_B ω_a; when
     δ > 0, F_N from the normal law, F_T from the friction law; −F_N n − F_T t acts on the
     journal at Q_J = r_J + R_J n, its opposite on the bearing at Q_B = r_B + R_B n. Tables
-    are flat (:func:`flat_views`); nothing is allocated. (:func:`_contact_state` computes
+    are flat (:class:`EomModel`); nothing is allocated. (:func:`_contact_state` computes
     the same kinematics for the Jacobian and the hooks; written out here, the right-hand
     side was measured a third faster.)
 
@@ -268,6 +334,10 @@ def add_contact_forces(
     Returns:
         The power absorbed by the contacts, Σ (F_N δ̇ + F_T v_T), W.
     """
+    joint_int, joint_f, geom = model.joint_int, model.joint_f, model.geom
+    clear_joint, law_id, law_p = model.clear_joint, model.law_id, model.law_p
+    fric_id, fric_p = model.fric_id, model.fric_p
+    n = model.mass.shape[0]
     q = y[:n]
     qd = y[n : 2 * n]
     nc = clear_joint.shape[0]
@@ -344,16 +414,7 @@ def _cholesky_solve(a: np.ndarray, b: np.ndarray) -> None:
 
 @njit(cache=True)
 def constrained_accelerations(
-    t: float,
-    y: np.ndarray,
-    n: int,
-    joint_int: np.ndarray,
-    joint_f: np.ndarray,
-    active: np.ndarray,
-    driver: np.ndarray,
-    mass: np.ndarray,
-    acc: np.ndarray,
-    lam: np.ndarray,
+    t: float, y: np.ndarray, model: EomModel, acc: np.ndarray, lam: np.ndarray
 ) -> float:
     """Turn the generalised forces Q in ``acc`` into q̈ (in place); return the motor torque.
 
@@ -367,6 +428,9 @@ def constrained_accelerations(
         lam: (rows) receives λ, the ideal joints' rows then the driver's; an array with no
             entries records nothing (the torque is returned either way).
     """
+    joint_int, joint_f, active = model.joint_int, model.joint_f, model.active
+    driver, mass = model.driver, model.mass
+    n = mass.shape[0]
     crank = int(driver[0])
     n_ideal = 0
     for j in range(active.shape[0]):
@@ -413,43 +477,34 @@ def constrained_accelerations(
 
 
 @njit(cache=True)
-def evaluate(t: float, y: np.ndarray, rpar: np.ndarray, ipar: np.ndarray, contact_out: np.ndarray):
+def evaluate(t: float, y: np.ndarray, model: EomModel, contact_out: np.ndarray):
     """q̈, motor torque, contact power and multipliers λ (ideal joints' rows, then the driver's).
 
     Per clearance joint, (F_N, F_T, δ, δ̇, v_T, e_x, e_y) is written into ``contact_out``
     (nc, 7), a C-contiguous array.
     """
-    (n, _, joint_int, active, clear_joint, law_id, fric_id,
-     mass, gravity, joint_f, driver, geom, law_p, fric_p, _, _) = flat_views(rpar, ipar)  # fmt: skip
-    acc = gravity.copy()
-    contact_power = add_contact_forces(
-        y, n, joint_int, joint_f, clear_joint, geom, law_id, law_p, fric_id, fric_p, acc,
-        contact_out.reshape(contact_out.size),
-    )  # fmt: skip
-    lam = np.zeros(count_rows(active, driver))
-    torque = constrained_accelerations(t, y, n, joint_int, joint_f, active, driver, mass, acc, lam)
+    acc = model.gravity.copy()
+    contact_power = add_contact_forces(y, model, acc, contact_out.reshape(contact_out.size))
+    lam = np.zeros(count_rows(model.active, model.driver))
+    torque = constrained_accelerations(t, y, model, acc, lam)
     return acc, torque, contact_power, lam
 
 
 @njit(rhs_signature, cache=True)
-def rhs(t: float, y: np.ndarray, args: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
+def rhs(t: float, y: np.ndarray, args: EomArgs) -> np.ndarray:
     """ẏ for the state layout of the module docstring; allocates ẏ and nothing else when
     every joint is clear (the paper's case)."""
-    rpar, ipar = args
-    (n, _, joint_int, active, clear_joint, law_id, fric_id,
-     mass, gravity, joint_f, driver, geom, law_p, fric_p, _, _) = flat_views(rpar, ipar)  # fmt: skip
+    model = unpack(args[0], args[1])
+    gravity, driver = model.gravity, model.driver
+    n = gravity.shape[0]
     out = np.empty(y.shape[0])
     acc = out[n : 2 * n]
     for i in range(n):
         out[i] = y[n + i]
         acc[i] = gravity[i]
     nothing = out[:0]
-    out[2 * n + 1] = add_contact_forces(
-        y, n, joint_int, joint_f, clear_joint, geom, law_id, law_p, fric_id, fric_p, acc, nothing
-    )
-    torque = constrained_accelerations(
-        t, y, n, joint_int, joint_f, active, driver, mass, acc, nothing
-    )
+    out[2 * n + 1] = add_contact_forces(y, model, acc, nothing)
+    torque = constrained_accelerations(t, y, model, acc, nothing)
     crank = int(driver[0])
     out[2 * n] = torque * y[n + 3 * crank + 2] if crank >= 0 else 0.0
     for i in range(2 * n + 2, y.shape[0]):
@@ -461,7 +516,7 @@ jacobian_signature = types.boolean(
     types.float64,
     types.float64[::1],
     types.float64[::1],
-    types.Tuple((types.float64[::1], types.int64[::1])),
+    ARGS_TYPE,
     types.float64[:, ::1],
 )
 
@@ -496,9 +551,7 @@ def _law_slopes(
 
 
 @njit(jacobian_signature, cache=True)
-def jacobian_state(
-    t: float, y: np.ndarray, f: np.ndarray, args: tuple[np.ndarray, np.ndarray], out: np.ndarray
-) -> bool:
+def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: np.ndarray) -> bool:
     """∂ẏ/∂y in closed form when every joint is clear; ``False`` (nothing written) otherwise.
 
     Every joint clear leaves the driver as the only constraint (or none): q̈ = M⁻¹ Q with
@@ -525,9 +578,13 @@ def jacobian_state(
         f: ẏ at (t, y) (unused: part of the integrator's interface).
         out: (n_state, n_state), overwritten.
     """
-    rpar, ipar = args
-    (n, nc, joint_int, active, clear_joint, law_id, fric_id,
-     mass, gravity, joint_f, driver, geom, law_p, fric_p, _, _) = flat_views(rpar, ipar)  # fmt: skip
+    model = unpack(args[0], args[1])
+    joint_int, active, clear_joint = model.joint_int, model.active, model.clear_joint
+    law_id, fric_id, mass, gravity = model.law_id, model.fric_id, model.mass, model.gravity
+    joint_f, driver, geom = model.joint_f, model.driver, model.geom
+    law_p, fric_p = model.law_p, model.fric_p
+    n = mass.shape[0]
+    nc = clear_joint.shape[0]
     for j in range(active.shape[0]):
         if active[j] != 0:
             return False
@@ -622,20 +679,7 @@ def jacobian_state(
         k = 3 * crank + 2
         omega = qd[k]
         force = gravity.copy()
-        add_contact_forces(
-            y,
-            n,
-            joint_int,
-            joint_f,
-            clear_joint,
-            geom,
-            law_id,
-            law_p,
-            fric_id,
-            fric_p,
-            force,
-            y[:0],
-        )
+        add_contact_forces(y, model, force, y[:0])
         torque = mass[k] * driver_motion(t, driver)[2] - force[k]
         for column in range(2 * n):  # τ = I_k φ̈_d − Q_k: ∂(τ ω_k) = −ω_k ∂Q_k + τ ∂ω_k
             out[2 * n, column] = -omega * mass[k] * out[n + k, column]
@@ -649,7 +693,7 @@ step_check_signature = types.float64(
     types.float64[::1],
     types.float64,
     types.float64[::1],
-    types.Tuple((types.float64[::1], types.int64[::1])),
+    ARGS_TYPE,
 )
 
 
@@ -659,7 +703,7 @@ def step_check(
     y_old: np.ndarray,
     t_new: float,
     y_new: np.ndarray,
-    args: tuple[np.ndarray, np.ndarray],
+    args: EomArgs,
 ) -> float:
     """Contact-onset control: a step that enters contact deeper than the onset tolerance is
     retried, shortened by the secant estimate of the crossing (Flores & Ambrósio 2010).
@@ -667,9 +711,13 @@ def step_check(
     Endpoint checks suffice: the free region |e| <= c is convex, so a pin cannot pass into and
     back out of the wall along a (locally straight) step without ending in contact.
     """
-    rpar, ipar = args
-    (n, nc, joint_int, _, clear_joint, _, _, _, _, joint_f, _, geom, _, _, settings, _) = flat_views(rpar, ipar)  # fmt: skip
-    tolerance = settings[S_ONSET_TOL]
+    model = unpack(args[0], args[1])
+    joint_int, joint_f, clear_joint, geom = (
+        model.joint_int, model.joint_f, model.clear_joint, model.geom,
+    )  # fmt: skip
+    n = model.mass.shape[0]
+    nc = clear_joint.shape[0]
+    tolerance = model.settings[S_ONSET_TOL]
     theta = 1.0
     rot_old = _rotations(y_old[:n])
     rot_new = _rotations(y_new[:n])
@@ -685,17 +733,20 @@ def step_check(
     return theta
 
 
-after_step_signature = types.boolean(
-    types.float64, types.float64[::1], types.Tuple((types.float64[::1], types.int64[::1]))
-)
+after_step_signature = types.boolean(types.float64, types.float64[::1], ARGS_TYPE)
 
 
 @njit(after_step_signature, cache=True)
-def after_step(t: float, y: np.ndarray, args: tuple[np.ndarray, np.ndarray]) -> bool:
-    """Update each joint's contact-event memory v0 and project onto the ideal constraints."""
-    rpar, ipar = args
-    (n, nc, joint_int, active, clear_joint, _, _,
-     mass, _, joint_f, driver, geom, _, _, settings, stats) = flat_views(rpar, ipar)  # fmt: skip
+def after_step(t: float, y: np.ndarray, args: EomArgs) -> bool:
+    """Update each joint's contact-event memory v0 and project onto the ideal constraints;
+    record the largest violation and the projections in the workspace (``args[1]``)."""
+    rpar, ipar, work = args
+    model = unpack(rpar, ipar)
+    joint_int, active, clear_joint = model.joint_int, model.active, model.clear_joint
+    mass, joint_f, driver, geom = model.mass, model.joint_f, model.driver, model.geom
+    settings = model.settings
+    n = mass.shape[0]
+    nc = clear_joint.shape[0]
     changed = False
     q = y[:n]
     qd = y[n : 2 * n]
@@ -716,7 +767,7 @@ def after_step(t: float, y: np.ndarray, args: tuple[np.ndarray, np.ndarray]) -> 
         if crank < 0:
             return changed
         violation = abs(q[3 * crank + 2] - driver_motion(t, driver)[0])
-        stats[T_MAX_VIOLATION] = max(stats[T_MAX_VIOLATION], violation)
+        work[W_MAX_VIOLATION] = max(work[W_MAX_VIOLATION], violation)
         if violation <= settings[S_PROJ_TOL]:
             return changed
     joints = joint_int.reshape((nj, 3))
@@ -725,7 +776,7 @@ def after_step(t: float, y: np.ndarray, args: tuple[np.ndarray, np.ndarray]) -> 
     if phi.shape[0] == 0:
         return changed
     violation = np.max(np.abs(phi))
-    stats[T_MAX_VIOLATION] = max(stats[T_MAX_VIOLATION], violation)
+    work[W_MAX_VIOLATION] = max(work[W_MAX_VIOLATION], violation)
     if violation > settings[S_PROJ_TOL]:
         inv_mass = 1.0 / mass
         for _ in range(3):
@@ -739,21 +790,23 @@ def after_step(t: float, y: np.ndarray, args: tuple[np.ndarray, np.ndarray]) -> 
         weighted = phi_q * inv_mass
         drift = phi_q @ qd - velocity_rhs(t, active, driver)
         qd -= inv_mass * (phi_q.T @ np.linalg.solve(weighted @ phi_q.T, drift))
-        stats[T_PROJECTIONS] += 1.0
+        work[W_PROJECTIONS] += 1.0
         changed = True
     return changed
 
 
 @njit(cache=True)
-def diagnostics(t: np.ndarray, y: np.ndarray, rpar: np.ndarray, ipar: np.ndarray):
+def diagnostics(t: np.ndarray, y: np.ndarray, model: EomModel):
     """Per recorded state: q̈ (N, 3nb), torque (N,), contacts (N, nc, 7), ideal-joint reactions
     (N, nj, 2: force of the joint's link a on its link b, N; zero rows for clearance joints)
     and the constraint violation max |Φ| (N,)."""
-    n = 3 * ipar[I_NB]
-    nc = ipar[I_NC]
+    n = model.mass.shape[0]
+    nc = model.clear_joint.shape[0]
     count = t.shape[0]
-    (_, _, joint_int, active, _, _, _, _, _, joint_f, driver, _, _, _, _, _) = views(rpar, ipar)
-    nj = joint_int.shape[0]
+    active, driver = model.active, model.driver
+    nj = active.shape[0]
+    joint_int = model.joint_int.reshape((nj, 3))
+    joint_f = model.joint_f.reshape((nj, 6))
     qdd = np.empty((count, n))
     torque = np.empty(count)
     contacts = np.empty((count, nc, 7))
@@ -761,7 +814,7 @@ def diagnostics(t: np.ndarray, y: np.ndarray, rpar: np.ndarray, ipar: np.ndarray
     violation = np.empty(count)
     for i in range(count):
         yi = np.ascontiguousarray(y[i])
-        qdd[i], torque[i], _, lam = evaluate(t[i], yi, rpar, ipar, contacts[i])
+        qdd[i], torque[i], _, lam = evaluate(t[i], yi, model, contacts[i])
         row = 0
         for j in range(nj):
             if active[j] == 1:

@@ -234,6 +234,7 @@ def simulate_command(
             start=Start(mode, ramp),  # type: ignore[arg-type]  # validated by Start
             solver=solver,
             output_step=step,
+            nominal=True,
         )
     record = provenance(
         {

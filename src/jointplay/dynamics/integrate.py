@@ -2,11 +2,12 @@
 
 :func:`integrate` checks its inputs (raising :class:`~jointplay.errors.ConfigError` that
 names the argument and the fix), runs :func:`jointplay._kernels.radau.radau_integrate`,
-and returns a frozen :class:`IntegrationResult`. A failed integration raises
-:class:`~jointplay.errors.IntegrationError` with a message saying what to change, or,
-with ``raise_on_failure=False``, comes back as a result whose :attr:`~IntegrationResult.status`
-says what went wrong (so that a Monte Carlo study can count failures instead of dropping
-them).
+and returns a frozen :class:`IntegrationResult`. Failure is data, as in diffrax: the
+result carries its :class:`IntegrationStatus` (each member says what it means) and a
+message saying what to change; with ``throw=True`` (the default) a failure raises
+:class:`~jointplay.errors.IntegrationError` with that message instead, with ``throw=False``
+it comes back as a partial result (so that a Monte Carlo study can count failures instead
+of dropping them).
 
 The method is SciPy's ``solve_ivp(method="Radau")`` (Radau IIA of order 5; Hairer &
 Wanner, *Solving ODEs II*, §IV.8) compiled with Numba, plus two hooks for contact
@@ -52,7 +53,12 @@ _SMALLEST_RTOL = 100.0 * _EPS
 
 
 class IntegrationStatus(enum.IntEnum):
-    """How an integration ended (the kernel's status codes)."""
+    """How an integration ended: the kernel's status codes, each with what it means.
+
+    ``IntegrationStatus.X.summary`` is the one statement of what status ``X`` means; the
+    messages of :func:`integrate` and :func:`jointplay.dynamics.simulate.simulate` start
+    from it and add where it happened and what to change.
+    """
 
     SUCCESS = _common.STATUS_SUCCESS
     STEP_TOO_SMALL = _common.STATUS_STEP_TOO_SMALL
@@ -141,7 +147,7 @@ def integrate(
     t_span: tuple[float, float],
     y0: npt.ArrayLike,
     *,
-    args: tuple[npt.NDArray[Any], ...] = (),
+    args: tuple[Any, ...] = (),
     rtol: float = 1e-3,
     atol: float | npt.ArrayLike = 1e-6,
     max_step: float = math.inf,
@@ -149,7 +155,11 @@ def integrate(
     max_steps: int = 100_000,
     step_check: Any = None,
     after_step: Any = None,
-    raise_on_failure: bool = True,
+    n_second: int = 0,
+    n_active: int | None = None,
+    hold_after_failure: bool = False,
+    jac: Any = None,
+    throw: bool = True,
 ) -> IntegrationResult:
     """Integrate ``y' = fun(t, y, args)`` over ``t_span`` with compiled Radau IIA (order 5).
 
@@ -158,8 +168,9 @@ def integrate(
             new array of the shape of ``y``.
         t_span: ``(t0, t_bound)``; ``t_bound < t0`` integrates backwards.
         y0: Initial state, shape (n,), finite.
-        args: Tuple of NumPy arrays handed untouched to ``fun`` and the hooks (which may
-            modify them in place, e.g. for contact memory).
+        args: Tuple of NumPy arrays, or of (named) tuples of them, handed untouched to
+            ``fun`` and the hooks (which may modify the arrays in place, e.g. for contact
+            memory or statistics).
         rtol: Relative tolerance, in ``[100·eps, 1)``.
         atol: Absolute tolerance, a scalar or one per state component, ``>= 0``.
         max_step: Largest step size, ``> 0`` (``inf`` for no limit).
@@ -174,15 +185,27 @@ def integrate(
             each accepted step; it may modify ``y`` in place (projection onto
             constraints) and the arrays in ``args``, and returns ``True`` when the state
             or the right-hand side changed discontinuously.
-        raise_on_failure: Raise :class:`~jointplay.errors.IntegrationError` when the
-            integration fails (default); with ``False``, return the partial result.
+        n_second: Second-order structure: ``fun(t, y)[:m] == y[m:2m]`` for
+            ``m = n_second`` (positions, then their velocities); the Newton systems are
+            then solved on the other active components only. ``0``: none.
+        n_active: Components from ``n_active`` on are passive (``fun`` does not depend on
+            them, or they are constant in the ODE); ``None``: all are active. Needs
+            ``0 <= 2·n_second <= n_active <= n``.
+        hold_after_failure: After a step accepted only once its error test or Newton
+            iteration had failed, do not let the next step grow (Hairer's RADAU5); ``False``:
+            SciPy's controller.
+        jac: Optional Numba-jitted ``jac(t, y, f, args, out) -> bool`` writing ``∂fun/∂y``
+            into ``out`` (n, n) and returning ``True``, or returning ``False`` to have the
+            kernel difference ``fun``. ``None``: always difference.
+        throw: Raise :class:`~jointplay.errors.IntegrationError` when the integration
+            fails (default); with ``False``, return the partial result with its status.
 
     Returns:
         The recorded steps, the status and the counters.
 
     Raises:
         ConfigError: An argument is malformed or out of range (the message names it).
-        IntegrationError: The integration failed and ``raise_on_failure`` is true.
+        IntegrationError: The integration failed and ``throw`` is true.
     """
     t0, t_bound = _check_span(t_span)
     y0_array = _check_state(y0)
@@ -193,9 +216,10 @@ def integrate(
     max_step = _check_max_step(max_step)
     first = _check_first_step(first_step, t0, t_bound)
     max_steps = _check_max_steps(max_steps)
+    n_active = _check_structure(n_second, n_active, n)
     step_check = _radau.accept_every_step if step_check is None else step_check
     after_step = _radau.no_after_step if after_step is None else after_step
-    _check_functions(fun, step_check, after_step, t0, y0_array, args)
+    _check_functions(fun, step_check, after_step, jac, t0, y0_array, args)
 
     status_code, t, y, counters = _radau.radau_integrate(
         fun,
@@ -210,10 +234,14 @@ def integrate(
         max_step,
         first,
         max_steps,
+        n_second=n_second,
+        n_active=n_active,
+        hold_after_failure=hold_after_failure,
+        jac=jac,
     )
     status = IntegrationStatus(status_code)
     message = _message(status, t, t0, t_bound, rtol, max_steps, initial=bool(counters[0] == 1))
-    if raise_on_failure and status is not IntegrationStatus.SUCCESS:
+    if throw and status is not IntegrationStatus.SUCCESS:
         raise IntegrationError(message)
     t.flags.writeable = False
     y.flags.writeable = False
@@ -303,16 +331,36 @@ def _check_state(y0: npt.ArrayLike) -> npt.NDArray[np.float64]:
     return y
 
 
-def _check_args(args: tuple[npt.NDArray[Any], ...]) -> tuple[npt.NDArray[Any], ...]:
+def _check_args(args: tuple[Any, ...]) -> tuple[Any, ...]:
     if not isinstance(args, tuple):
         raise ConfigError(f"args must be a tuple of NumPy arrays, got {type(args).__name__}")
-    for i, a in enumerate(args):
-        if not isinstance(a, np.ndarray):
-            raise ConfigError(
-                f"args[{i}] must be a NumPy array, got {type(a).__name__}; wrap scalars as"
-                " np.array([value])"
-            )
+    _check_arrays(args, "args")
     return args
+
+
+def _check_arrays(items: tuple[Any, ...], where: str) -> None:
+    """Every leaf of the (nested) tuple ``items`` is a NumPy array."""
+    for i, a in enumerate(items):
+        if isinstance(a, tuple):
+            _check_arrays(a, f"{where}[{i}]")
+        elif not isinstance(a, np.ndarray):
+            raise ConfigError(
+                f"{where}[{i}] must be a NumPy array (or a tuple of them), got"
+                f" {type(a).__name__}; wrap scalars as np.array([value])"
+            )
+
+
+def _check_structure(n_second: int, n_active: int | None, n: int) -> int:
+    active = n if n_active is None else n_active
+    for name, value in (("n_second", n_second), ("n_active", active)):
+        if isinstance(value, bool) or not isinstance(value, int | np.integer):
+            raise ConfigError(f"{name} must be an integer, got {type(value).__name__}")
+    if not 0 <= 2 * n_second <= active <= n:
+        raise ConfigError(
+            f"need 0 <= 2·n_second <= n_active <= n = {n} (the state's size), got n_second ="
+            f" {n_second} and n_active = {active}"
+        )
+    return int(active)
 
 
 def _check_rtol(rtol: float) -> float:
@@ -365,23 +413,30 @@ def _check_functions(
     fun: Any,
     step_check: Any,
     after_step: Any,
+    jac: Any,
     t0: float,
     y0: npt.NDArray[np.float64],
-    args: tuple[npt.NDArray[Any], ...],
+    args: tuple[Any, ...],
 ) -> None:
-    """Check that the three functions compile to the kernel's signatures, and fun's shape."""
+    """Check that the functions compile to the kernel's signatures, and fun's shape."""
     signatures = _radau.kernel_signatures(numba.typeof(args))
     forms = {
         "fun": "fun(t: float, y: float64[:], args) -> float64[:]",
         "step_check": "step_check(t_old, y_old, t_new, y_new, args) -> float",
         "after_step": "after_step(t, y, args) -> bool",
+        "jac": "jac(t, y, f, args, out: float64[:, ::1]) -> bool",
     }
-    for name, function in (("fun", fun), ("step_check", step_check), ("after_step", after_step)):
+    functions = {"fun": fun, "step_check": step_check, "after_step": after_step}
+    if jac is not None:
+        functions["jac"] = jac
+    for name, function in functions.items():
         if not isinstance(function, Dispatcher):
             raise ConfigError(
                 f"{name} must be a Numba-jitted function (decorate it with @numba.njit),"
                 f" got {type(function).__name__}"
             )
+        if tuple(signatures[name].args) in function.signatures:
+            continue  # compiled already (an explicit signature disables compiling more)
         try:
             function.compile(signatures[name])
         except Exception as exc:  # Numba raises several error types while typing.

@@ -1,11 +1,11 @@
 """Forward dynamics of a mechanism with clearance joints: set-up, integration, results.
 
-:func:`simulate` packs the mechanism (:mod:`jointplay.dynamics.system`), chooses the initial
-state (:class:`Start`), integrates the compiled equations of motion
-(:mod:`jointplay._kernels.eom`) with the compiled Radau IIA integrator
-(:mod:`jointplay._kernels.radau`), and returns a frozen :class:`SimulationResult` with the
-integrator's own steps, a uniformly sampled time series, peaks, the nominal (ideal-joint)
-peaks and the solver statistics.
+:func:`simulate` packs the mechanism (:mod:`jointplay.dynamics.system`, the bridge to the
+kernels), chooses the initial state (:class:`Start`), integrates the compiled equations of
+motion (:mod:`jointplay._kernels.eom`) with :func:`jointplay.dynamics.integrate.integrate`
+(compiled Radau IIA), and returns a frozen :class:`SimulationResult`: the integrator's own
+steps, a uniformly sampled time series (both built when first read), peaks, the solver
+statistics, the status and its message, and, when asked, the nominal (ideal-joint) peaks.
 """
 
 from __future__ import annotations
@@ -14,6 +14,7 @@ import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any, Literal
 
 import numpy as np
@@ -22,9 +23,9 @@ from numpy.typing import NDArray
 
 from jointplay._kernels import constraints as ck
 from jointplay._kernels import eom
-from jointplay._kernels.common import COUNTER_NAMES
-from jointplay._kernels.radau import radau_integrate
 from jointplay.dynamics.clearance import ClearanceJoint
+from jointplay.dynamics.integrate import IntegrationResult, IntegrationStatus, integrate
+from jointplay.dynamics.nominal import nominal_analysis
 from jointplay.dynamics.system import System, build_system
 from jointplay.errors import ConfigError, IntegrationError
 from jointplay.kinematics.analysis import analyse
@@ -34,12 +35,6 @@ from jointplay.model.mechanism import Mechanism
 
 FloatArray = NDArray[np.float64]
 StartMode = Literal["rest", "steady", "ramp"]
-
-_STATUS_MESSAGES = {
-    -1: "the step size fell below the smallest representable step",
-    -2: "the maximum number of steps was reached",
-    -3: "a non-finite value appeared in the state",
-}
 
 
 @dataclass(frozen=True)
@@ -114,26 +109,35 @@ class SolverOptions:
         )
 
 
-#: Quantities whose largest absolute value is reported, with the column that holds them.
+#: Quantities whose largest absolute value is reported: the columns that start so.
 PEAK_KEYS = ("omega", "alpha", "F_", "torque")
 
 
 @dataclass(frozen=True)
 class SimulationResult:
-    """Everything a simulation produced.
+    """Everything a simulation produced (failure included, as data).
+
+    The arrays are read-only; :attr:`steps` and :attr:`timeseries` are built when first
+    read, once.
 
     Attributes:
-        system: the packed mechanism (mechanism, clearance joints, kernel buffers).
+        system: the packed mechanism (mechanism, clearance joints, kernel model).
         start, solver: the settings used.
-        steps: one row per accepted integrator step (the columns of :attr:`timeseries`).
-        timeseries: rows every ``output_step`` seconds (Hermite interpolation of the state
-            between steps, forces re-evaluated from the interpolated state).
+        t: times of the initial point and of every accepted step, s, shape (m,).
+        y: states at those times (layout of :mod:`jointplay._kernels.eom`), shape (m, n).
+        status: how the integration ended; anything but ``SUCCESS`` is a failure, and then
+            ``t``, ``y``, the peaks and the statistics cover the steps up to where it stopped.
+        message: what happened, and for a failure what to change.
         peaks: largest |value| per quantity over the integrator's steps, with time and crank
             angle.
-        nominal_peaks: the same quantities for the nominal (ideal-joint) steady motion.
-        increase_percent: (peak − nominal peak) / nominal peak × 100.
+        nominal_peaks: the same quantities for the nominal (ideal-joint) steady motion
+            (empty unless ``simulate(..., nominal=True)``).
+        increase_percent: (peak − nominal peak) / nominal peak × 100 (empty likewise).
         solver_stats: method, steps, rejections, evaluations, impacts per joint, maximum
             penetration, energy residual, constraint violation, wall time.
+        revolutions: the simulated time asked for, in crank periods.
+        output_step: sampling interval of :attr:`timeseries`, s.
+        nominal: the nominal analysis table, or ``None`` unless asked for.
     """
 
     system: System
@@ -141,14 +145,22 @@ class SimulationResult:
     solver: SolverOptions
     t: FloatArray
     y: FloatArray
-    steps: pd.DataFrame
-    timeseries: pd.DataFrame
+    status: IntegrationStatus
+    message: str
     peaks: dict[str, dict[str, float]]
     nominal_peaks: dict[str, float]
     increase_percent: dict[str, float | None]
     solver_stats: dict[str, Any]
     revolutions: float
-    nominal: pd.DataFrame = field(repr=False)
+    output_step: float
+    nominal: pd.DataFrame | None = field(default=None, repr=False)
+    _step_columns: dict[str, FloatArray] = field(default_factory=dict, repr=False)
+    _step_accelerations: FloatArray = field(default_factory=lambda: np.empty((0, 0)), repr=False)
+
+    @property
+    def success(self) -> bool:
+        """Whether the integration reached the end of the simulated time."""
+        return self.status is IntegrationStatus.SUCCESS
 
     @property
     def mechanism(self) -> Mechanism:
@@ -157,6 +169,25 @@ class SimulationResult:
     @property
     def clearance_joints(self) -> tuple[str, ...]:
         return tuple(c.joint for c in self.system.clearances)
+
+    @cached_property
+    def steps(self) -> pd.DataFrame:
+        """One row per accepted integrator step (the columns of :attr:`timeseries`)."""
+        return pd.DataFrame(self._step_columns)
+
+    @cached_property
+    def timeseries(self) -> pd.DataFrame:
+        """Rows every :attr:`output_step` seconds: Hermite interpolation of the state between
+        steps, forces re-evaluated from the interpolated state."""
+        t, y = self.t, self.y
+        samples = np.arange(0.0, t[-1] + 0.5 * self.output_step, self.output_step)
+        samples = samples[samples <= t[-1]]
+        if t.shape[0] < 2:  # stopped at the initial state: nothing to interpolate
+            states = np.ascontiguousarray(y[: samples.shape[0]])
+        else:
+            states = _interpolate(self.system, t, y, self._step_accelerations, samples)
+        columns, _ = _columns(self.system, samples, states)
+        return pd.DataFrame(columns)
 
     def summary(self) -> dict[str, Any]:
         """The stable ``summary.json`` content (without provenance)."""
@@ -222,7 +253,9 @@ def simulate(
     start: Start | None = None,
     solver: SolverOptions | None = None,
     output_step: float | None = None,
+    nominal: bool = False,
     nominal_step_deg: float = 0.1,
+    throw: bool = True,
 ) -> SimulationResult:
     """Simulate ``revolutions`` crank periods of ``mechanism`` with ``clearances``.
 
@@ -232,13 +265,26 @@ def simulate(
         solver: integration settings.
         output_step: sampling interval of :attr:`SimulationResult.timeseries`, s (default: the
             time of 0.5° of crank rotation).
-        nominal_step_deg: crank-angle step of the nominal analysis that gives the nominal peaks.
+        nominal: also run the nominal (ideal-joint) analysis, for
+            :attr:`SimulationResult.nominal`, ``nominal_peaks`` and ``increase_percent``
+            (default: no, they stay empty).
+        nominal_step_deg: crank-angle step of that nominal analysis, degrees.
+        throw: raise :class:`~jointplay.errors.IntegrationError` when the integration fails
+            (default); with ``False``, return the partial result, whose ``status`` and
+            ``message`` say what happened (for studies that count failures).
+
+    Raises:
+        ConfigError: a setting is out of range.
+        IntegrationError: the integration failed and ``throw`` is true.
     """
     start = start or Start()
     solver = solver or SolverOptions()
     if not (math.isfinite(revolutions) and revolutions > 0):
         raise ConfigError(f"revolutions must be > 0, got {revolutions}")
     period = mechanism.driver.period
+    output_step = output_step if output_step is not None else period / 720.0
+    if not output_step > 0:
+        raise ConfigError(f"output step must be > 0 s, got {output_step}")
     system = build_system(
         mechanism,
         clearances,
@@ -256,74 +302,94 @@ def simulate(
             np.full(len(clearances), 1.0),  # impact-velocity memory: piecewise constant
         ]
     )
-    max_step = solver.max_step if solver.max_step is not None else period / 360.0
     t_end = revolutions * period
+    args = system.kernel_args()
     wall = time.perf_counter()
-    status, t, y, counters = radau_integrate(
+    run = integrate(
         eom.rhs,
-        eom.step_check,
-        eom.after_step,
-        0.0,
+        (0.0, t_end),
         y0,
-        t_end,
-        system.args,
-        solver.rtol,
-        atol,
-        max_step,
-        0.0,
-        solver.max_steps,
+        args=args,
+        rtol=solver.rtol,
+        atol=atol,
+        max_step=solver.max_step if solver.max_step is not None else period / 360.0,
+        max_steps=solver.max_steps,
+        step_check=eom.step_check,
+        after_step=eom.after_step,
         n_second=n,  # q̇ = d/dt q: Newton systems on the n accelerations only
         n_active=2 * n,  # work integrals and impact-velocity memory do not feed back
         hold_after_failure=True,  # RADAU5's step control after Newton failures at contacts
         jac=eom.jacobian_state,  # closed form when every joint is clear, else differences
+        throw=False,
     )
     wall = time.perf_counter() - wall
-    if status != 0:
-        raise IntegrationError(
-            f"integration stopped at t = {t[-1]:.6g} s of {t_end:.6g} s: "
-            f"{_STATUS_MESSAGES.get(int(status), f'status {status}')}. Try a looser --rtol, a larger "
-            "--max-steps, or check that the contact stiffness and damping are physically sensible."
-        )
-    steps, qdd = _table(system, t, y)
-    output_step = output_step if output_step is not None else period / 720.0
-    if not output_step > 0:
-        raise ConfigError(f"output step must be > 0 s, got {output_step}")
-    samples = np.arange(0.0, t[-1] + 0.5 * output_step, output_step)
-    samples = samples[samples <= t[-1]]
-    timeseries, _ = _table(system, samples, _interpolate(system, t, y, qdd, samples))
-    nominal = _nominal_table(mechanism, nominal_step_deg)
-    peaks = _peaks(steps)
-    nominal_peaks = {key: float(np.max(np.abs(nominal[key]))) for key in peaks if key in nominal}
-    increase = {
-        key: (
-            100.0 * (peaks[key]["value"] - nominal_peaks[key]) / nominal_peaks[key]
-            if nominal_peaks.get(key)
-            else None
-        )
-        for key in peaks
-    }
-    stats = _solver_stats(system, t, y, steps, counters, wall)
+    message = _message(run, t_end, solver)
+    if throw and not run.success:
+        raise IntegrationError(message)
+    columns, qdd = _columns(system, run.t, run.y)
+    peaks = _peaks(columns)
+    table = nominal_analysis(mechanism, step_deg=nominal_step_deg).table if nominal else None
+    nominal_peaks = (
+        {}
+        if table is None
+        else {key: float(np.max(np.abs(table[key]))) for key in peaks if key in table}
+    )
+    increase = (
+        {}
+        if table is None
+        else {
+            key: (
+                100.0 * (peaks[key]["value"] - nominal_peaks[key]) / nominal_peaks[key]
+                if nominal_peaks.get(key)
+                else None
+            )
+            for key in peaks
+        }
+    )
     return SimulationResult(
         system=system,
         start=start,
         solver=solver,
-        t=t,
-        y=y,
-        steps=steps,
-        timeseries=timeseries,
+        t=run.t,
+        y=run.y,
+        status=run.status,
+        message=message,
         peaks=peaks,
         nominal_peaks=nominal_peaks,
         increase_percent=increase,
-        solver_stats=stats,
+        solver_stats=_solver_stats(system, run, columns, args[2], wall),
         revolutions=revolutions,
-        nominal=nominal,
+        output_step=output_step,
+        nominal=table,
+        _step_columns=columns,
+        _step_accelerations=qdd,
     )
 
 
-def _nominal_table(mechanism: Mechanism, step_deg: float) -> pd.DataFrame:
-    from jointplay.dynamics.nominal import nominal_analysis  # the study layer builds on dynamics
-
-    return nominal_analysis(mechanism, step_deg=step_deg).table
+def _message(run: IntegrationResult, t_end: float, solver: SolverOptions) -> str:
+    """What the integration did, in the terms of :func:`simulate`'s options."""
+    t_last = float(run.t[-1])
+    status = run.status
+    if status is IntegrationStatus.SUCCESS:
+        return f"{status.summary} (t = {t_end:.6g} s) in {run.n_steps} steps"
+    where = f"simulation stopped at t = {t_last:.6g} s of {t_end:.6g} s: {status.summary}"
+    if status is IntegrationStatus.TOO_MANY_STEPS:
+        return (
+            f"{where} (SolverOptions.max_steps = {solver.max_steps}). Raise"
+            " SolverOptions.max_steps or simulate fewer revolutions; if the steps became tiny,"
+            " look for chattering contact (a stiffer contact law, more damping, or a larger"
+            " SolverOptions.onset_tolerance)."
+        )
+    if status is IntegrationStatus.STEP_TOO_SMALL:
+        return (
+            f"{where}. Loosen SolverOptions.rtol (--rtol on the command line), atol_position"
+            " or atol_velocity, and check that the contact stiffness and damping are"
+            " physically sensible."
+        )
+    return (
+        f"{where}. Check that the contact law's stiffness, exponent and damping are physically"
+        " sensible (a value far out of range overflows) and that the mechanism assembles."
+    )
 
 
 def _interpolate(
@@ -354,16 +420,18 @@ def _interpolate(
     return np.ascontiguousarray(out)
 
 
-def _table(system: System, t: FloatArray, y: FloatArray) -> tuple[pd.DataFrame, FloatArray]:
+def _columns(
+    system: System, t: FloatArray, y: FloatArray
+) -> tuple[dict[str, FloatArray], FloatArray]:
     """The documented columns at times ``t`` with states ``y``, and the accelerations q̈."""
     mechanism = system.mechanism
     flat = system.flat
     n = system.n_coordinates
     qdd, torque, contacts, lam_pairs, violation = eom.diagnostics(
-        np.ascontiguousarray(t), np.ascontiguousarray(y), system.rpar, system.ipar
+        np.ascontiguousarray(t), np.ascontiguousarray(y), system.model
     )
     crank = flat.body_index(mechanism.driver.link)
-    columns: dict[str, Any] = {
+    columns: dict[str, FloatArray] = {
         "t": t,
         "crank_deg": np.degrees(y[:, 3 * crank + 2]),
     }
@@ -411,65 +479,61 @@ def _table(system: System, t: FloatArray, y: FloatArray) -> tuple[pd.DataFrame, 
         columns[f"Fn_{name}"] = contacts[:, c, 0]
         columns[f"Ft_{name}"] = contacts[:, c, 1]
     columns["constraint_violation"] = violation
-    return pd.DataFrame(columns), qdd
+    return columns, qdd
 
 
-def _peaks(steps: pd.DataFrame) -> dict[str, dict[str, float]]:
+def _peaks(columns: dict[str, FloatArray]) -> dict[str, dict[str, float]]:
     peaks = {}
-    for column in steps.columns:
-        if column.startswith(("omega", "alpha", "F_")) or column == "torque":
-            values = steps[column].to_numpy()
+    for column, values in columns.items():
+        if column.startswith(PEAK_KEYS):
             i = int(np.argmax(np.abs(values)))
             peaks[column] = {
                 "value": float(abs(values[i])),
                 "signed_value": float(values[i]),
-                "t": float(steps["t"].iloc[i]),
-                "crank_deg": float(steps["crank_deg"].iloc[i]),
+                "t": float(columns["t"][i]),
+                "crank_deg": float(columns["crank_deg"][i]),
             }
     return peaks
 
 
 def _solver_stats(
     system: System,
-    t: FloatArray,
-    y: FloatArray,
-    steps: pd.DataFrame,
-    counters: NDArray[np.int64],
+    run: IntegrationResult,
+    columns: dict[str, FloatArray],
+    work: FloatArray,
     wall: float,
 ) -> dict[str, Any]:
     n = system.n_coordinates
     flat = system.flat
+    y = run.y
     mass = flat.mass_vector()
     kinetic = 0.5 * np.sum(mass * y[:, n : 2 * n] ** 2, axis=1)
     potential = -(y[:, :n] @ flat.gravity_forces())
     balance = kinetic + potential - y[:, 2 * n] + y[:, 2 * n + 1]
     residual = float(np.max(np.abs(balance - balance[0])))
     scale = float(max(np.max(kinetic), np.max(np.abs(y[:, 2 * n])), 1e-300))
-    counter = dict(zip(COUNTER_NAMES, (int(v) for v in counters), strict=True))
     impacts = {}
     max_pen = {}
     for c, clearance in enumerate(system.clearances):
         memory = y[:, 2 * n + 2 + c]
         impacts[clearance.joint] = int(np.sum((memory[1:] > 0) & (memory[:-1] <= 0)))
-        max_pen[clearance.joint] = float(max(0.0, steps[f"pen_{clearance.joint}"].max()))
+        max_pen[clearance.joint] = float(max(0.0, np.max(columns[f"pen_{clearance.joint}"])))
     return {
         "method": "Radau IIA (order 5), compiled; contact-onset step control; constraint projection",
-        "steps": counter["n_steps"],
-        "rejected_steps": counter["n_rejected_error"]
-        + counter["n_rejected_newton"]
-        + counter["n_rejected_check"],
-        "rejected_by_error": counter["n_rejected_error"],
-        "rejected_by_newton": counter["n_rejected_newton"],
-        "rejected_for_contact_onset": counter["n_rejected_check"],
-        "rhs_evaluations": counter["nfev"],
-        "jacobian_evaluations": counter["njev"],
-        "lu_decompositions": counter["nlu"],
+        "steps": run.n_steps,
+        "rejected_steps": run.n_rejected,
+        "rejected_by_error": run.n_rejected_error,
+        "rejected_by_newton": run.n_rejected_newton,
+        "rejected_for_contact_onset": run.n_rejected_check,
+        "rhs_evaluations": run.nfev,
+        "jacobian_evaluations": run.njev,
+        "lu_decompositions": run.nlu,
         "impacts": impacts,
         "max_penetration_m": max(max_pen.values(), default=0.0),
         "max_penetration_per_joint_m": max_pen,
         "energy_residual": residual / scale,
         "energy_residual_J": residual,
-        "max_constraint_violation": float(system.stats()[eom.T_MAX_VIOLATION]),
-        "projections": int(system.stats()[eom.T_PROJECTIONS]),
+        "max_constraint_violation": float(work[eom.W_MAX_VIOLATION]),
+        "projections": int(work[eom.W_PROJECTIONS]),
         "wall_s": wall,
     }

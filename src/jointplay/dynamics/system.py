@@ -1,8 +1,13 @@
-"""Packing a mechanism with clearance joints into the flat buffers of the compiled kernels.
+"""The bridge from the object model to the compiled equations of motion.
 
-This is the seam between the readable model (mechanism, clearance joints, laws) and
-:mod:`jointplay._kernels.eom`: one function builds ``rpar``/``ipar`` and the layout of the
-state vector; the kernel module's :func:`~jointplay._kernels.eom.views` unpacks them.
+The one place that turns a mechanism, its clearance joints and the solver's contact
+settings into the data the kernels of :mod:`jointplay._kernels.eom` read: an
+:class:`~jointplay._kernels.eom.EomModel`, a named tuple of flat, read-only arrays (the
+mechanism from :func:`~jointplay.model.flat.flatten`, each clearance joint's geometry, and
+each contact and friction law's ``law_id`` and ``params()``). A :class:`System` holds it and
+never changes; what an integration writes (its statistics) goes to a workspace new for each
+run (:meth:`System.kernel_args`), so one System can be integrated any number of times, from
+any number of threads.
 """
 
 from __future__ import annotations
@@ -11,7 +16,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from jointplay._kernels import eom
 from jointplay._kernels.contact import FRICTION_NONE
@@ -21,26 +26,26 @@ from jointplay.model.flat import FlatModel, flatten
 from jointplay.model.mechanism import Mechanism, RevoluteJoint
 
 FloatArray = NDArray[np.float64]
-#: Width of a row of contact-law and friction parameters in ``rpar``.
+#: Width of a row of contact-law and friction parameters in :attr:`EomModel.law_p` and
+#: :attr:`EomModel.fric_p`.
 PARAMS_WIDTH = 8
 
 
 @dataclass(frozen=True)
 class System:
-    """A mechanism ready for the compiled equations of motion.
+    """A mechanism ready for the compiled equations of motion; immutable.
 
     Attributes:
         mechanism: the mechanism (template and joint data).
         flat: its flat model with clearance joints removed from the constraints.
         clearances: the clearance joints, in kernel order.
-        rpar, ipar: the kernel buffers.
+        model: what the kernels read, with read-only arrays.
     """
 
     mechanism: Mechanism
     flat: FlatModel
     clearances: tuple[ClearanceJoint, ...]
-    rpar: FloatArray
-    ipar: NDArray[np.int64]
+    model: eom.EomModel
 
     @property
     def n_coordinates(self) -> int:
@@ -51,13 +56,18 @@ class System:
         """q, q̇, motor work, contact work, one impact-velocity slot per clearance joint."""
         return 2 * self.n_coordinates + 2 + len(self.clearances)
 
-    @property
-    def args(self) -> tuple[FloatArray, NDArray[np.int64]]:
-        return self.rpar, self.ipar
+    def kernel_args(self) -> eom.EomArgs:
+        """The kernels' ``args`` for one integration: the model packed for the integrator's
+        hooks (:func:`~jointplay._kernels.eom.pack`) and a new workspace."""
+        rpar, ipar = eom.pack(self.model)
+        return rpar, ipar, eom.new_workspace()
 
-    def stats(self) -> FloatArray:
-        """The kernel's statistics block (max constraint violation, projections)."""
-        return self.rpar[-eom.N_STATS :]
+
+def _frozen(values: ArrayLike, dtype: type) -> NDArray[np.generic]:
+    """A C-contiguous read-only copy of ``values``."""
+    array: NDArray[np.generic] = np.array(values, dtype=dtype, order="C")
+    array.flags.writeable = False
+    return array
 
 
 def build_system(
@@ -88,7 +98,6 @@ def build_system(
                 f"joint {clearance.joint!r} is not a revolute joint; only revolute joints take clearance"
             )
     flat = flatten(mechanism, clearance_joints=names, ramp_time=ramp_time, driven=driven)
-    rows = [flat.joint_index(name) for name in names]
     nc = len(clearances)
     law_p = np.zeros((nc, PARAMS_WIDTH))
     fric_p = np.zeros((nc, PARAMS_WIDTH))
@@ -112,38 +121,19 @@ def build_system(
     settings[eom.S_ONSET_TOL] = onset_tolerance
     settings[eom.S_PROJ_TOL] = projection_tolerance
     settings[eom.S_V_MARK] = 1e-12  # marks an active contact event whose entry rate was <= 0
-    nj = flat.joint_int.shape[0]
-    header = np.zeros(eom.HEADER, dtype=np.int64)
-    header[[eom.I_NB, eom.I_NJ, eom.I_NC, eom.I_PLAW, eom.I_PFRIC]] = (
-        flat.n_bodies,
-        nj,
-        nc,
-        PARAMS_WIDTH,
-        PARAMS_WIDTH,
+    model = eom.EomModel(
+        mass=_frozen(flat.mass_vector(), np.float64),
+        gravity=_frozen(flat.gravity_forces(), np.float64),
+        joint_int=_frozen(flat.joint_int.ravel(), np.int64),
+        joint_f=_frozen(flat.joint_f.ravel(), np.float64),
+        active=_frozen(flat.active, np.int64),
+        driver=_frozen(flat.driver, np.float64),
+        clear_joint=_frozen([flat.joint_index(name) for name in names], np.int64),
+        geom=_frozen(geom.ravel(), np.float64),
+        law_id=_frozen(law_id, np.int64),
+        law_p=_frozen(law_p.ravel(), np.float64),
+        fric_id=_frozen(fric_id, np.int64),
+        fric_p=_frozen(fric_p.ravel(), np.float64),
+        settings=_frozen(settings, np.float64),
     )
-    ipar = np.concatenate(
-        [
-            header,
-            flat.joint_int.ravel(),
-            flat.active,
-            np.array(rows, dtype=np.int64),
-            law_id,
-            fric_id,
-        ]
-    ).astype(np.int64)
-    rpar = np.concatenate(
-        [
-            flat.mass_vector(),
-            flat.gravity_forces(),
-            flat.joint_f.ravel(),
-            flat.driver,
-            geom.ravel(),
-            law_p.ravel(),
-            fric_p.ravel(),
-            settings,
-            np.zeros(eom.N_STATS),
-        ]
-    )
-    return System(
-        mechanism, flat, tuple(clearances), np.ascontiguousarray(rpar), np.ascontiguousarray(ipar)
-    )
+    return System(mechanism, flat, tuple(clearances), model)

@@ -1,8 +1,10 @@
-"""The bridge between the readable mechanism model and the compiled kernels.
+"""A mechanism as flat arrays: the geometry that the compiled constraint kernels read.
 
 :func:`flatten` turns a :class:`~jointplay.model.mechanism.Mechanism` into flat NumPy arrays
-(:class:`FlatModel`) that the Numba kernels in :mod:`jointplay._kernels` read. This module is
-the only place that knows both representations.
+(:class:`FlatModel`): the kinematics solves its constraints
+(:mod:`jointplay._kernels.constraints`) on them, and the dynamics' one bridge to the compiled
+equations of motion, :mod:`jointplay.dynamics.system`, builds its kernel model from them (with
+the clearance joints and their contact laws, which this layer does not know).
 
 Generalised coordinates: for every moving link k (in the mechanism's order) the position of its
 centre of mass and the angle of its frame, ``q[3k:3k+3] = (x_cm, y_cm, φ)``. Joint points are
