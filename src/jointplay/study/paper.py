@@ -161,6 +161,7 @@ def simulate_task(shared: None, task: SimTask) -> SimOutcome:
             revolutions=task.revolutions,
             start=Start("rest"),
             solver=SolverOptions(),
+            nominal=True,  # the summary's increase_percent feeds the report
         )
     except JointplayError as exc:
         return SimOutcome(
