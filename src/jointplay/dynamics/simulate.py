@@ -153,9 +153,11 @@ class SimulationResult:
     solver_stats: dict[str, Any]
     revolutions: float
     output_step: float
-    nominal: pd.DataFrame | None = field(default=None, repr=False)
-    _step_columns: dict[str, FloatArray] = field(default_factory=dict, repr=False)
-    _step_accelerations: FloatArray = field(default_factory=lambda: np.empty((0, 0)), repr=False)
+    nominal: pd.DataFrame | None = field(repr=False)
+    #: The columns of :attr:`steps` and the accelerations q̈ at the steps (for the
+    #: interpolation of :attr:`timeseries`), kept to build the tables when first read.
+    _step_columns: dict[str, FloatArray] = field(repr=False)
+    _step_accelerations: FloatArray = field(repr=False)
 
     @property
     def success(self) -> bool:
