@@ -256,3 +256,20 @@ def test_closed_form_jacobian_declines_when_ideal_joints_remain(
     assert not eom.jacobian_state(
         0.0, y, eom.rhs(0.0, y, system.kernel_args()), system.kernel_args(), jac
     )
+
+
+def test_a_system_is_immutable_and_each_run_has_its_own_workspace(
+    fourbar_with_gravity: Mechanism,
+) -> None:
+    """The kernels' model is read-only; what after_step records goes to a new workspace."""
+    system = _system(fourbar_with_gravity, ("A",), _laws()["impact"], None)
+    assert all(not array.flags.writeable for array in system.model)
+    assert not system.flat.joint_f.flags.writeable and not system.flat.driver.flags.writeable
+    first, second = system.kernel_args(), system.kernel_args()
+    assert not first[0].flags.writeable and not first[1].flags.writeable
+    assert first[2] is not second[2]
+    y = _random_states(system, seed=7)[0]  # off the constraints: after_step projects
+    assert eom.after_step(0.0, y, first)
+    assert first[2][eom.W_PROJECTIONS] == 1.0 and first[2][eom.W_MAX_VIOLATION] > 0.0
+    np.testing.assert_array_equal(second[2], 0.0)
+    np.testing.assert_array_equal(system.kernel_args()[2], 0.0)

@@ -176,6 +176,11 @@ def _python_rhs(t: float, y: Any, args: Any) -> Any:
         ({"first_step": 2.0}, r"first_step must lie in \(0, \|t_bound - t0\|\]"),
         ({"max_steps": 0}, "max_steps must be >= 1"),
         ({"max_steps": 10.0}, "max_steps must be an integer"),
+        ({"n_second": 1}, r"need 0 <= 2·n_second <= n_active <= n = 1"),
+        ({"n_active": 2}, r"need 0 <= 2·n_second <= n_active <= n = 1"),
+        ({"n_second": 0.5}, "n_second must be an integer"),
+        ({"jac": _python_rhs}, "jac must be a Numba-jitted function"),
+        ({"jac": decay}, "jac does not compile"),
     ],
 )
 def test_invalid_input_raises_config_error(kwargs: dict[str, Any], match: str) -> None:

@@ -13,7 +13,7 @@ any number of threads.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -37,7 +37,8 @@ class System:
 
     Attributes:
         mechanism: the mechanism (template and joint data).
-        flat: its flat model with clearance joints removed from the constraints.
+        flat: its flat model with clearance joints removed from the constraints (arrays
+            read-only).
         clearances: the clearance joints, in kernel order.
         model: what the kernels read, with read-only arrays.
     """
@@ -98,6 +99,10 @@ def build_system(
                 f"joint {clearance.joint!r} is not a revolute joint; only revolute joints take clearance"
             )
     flat = flatten(mechanism, clearance_joints=names, ramp_time=ramp_time, driven=driven)
+    for item in fields(flat):
+        value = getattr(flat, item.name)
+        if isinstance(value, np.ndarray):
+            value.flags.writeable = False
     nc = len(clearances)
     law_p = np.zeros((nc, PARAMS_WIDTH))
     fric_p = np.zeros((nc, PARAMS_WIDTH))
