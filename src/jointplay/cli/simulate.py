@@ -251,7 +251,11 @@ def simulate_command(
             from jointplay.report.plots import simulation_plots
 
             simulation_plots(
-                result.steps, result.nominal, result.system.clearances, folder, mechanism.name
+                result.steps,
+                result.nominal,  # type: ignore[arg-type]  # a table: simulate(nominal=True)
+                result.system.clearances,
+                folder,
+                mechanism.name,
             )
     _print(result, Path(out))
 
