@@ -273,3 +273,14 @@ def test_a_system_is_immutable_and_each_run_has_its_own_workspace(
     assert first[2][eom.W_PROJECTIONS] == 1.0 and first[2][eom.W_MAX_VIOLATION] > 0.0
     np.testing.assert_array_equal(second[2], 0.0)
     np.testing.assert_array_equal(system.kernel_args()[2], 0.0)
+
+
+def test_packed_model_unpacks_to_the_same_named_fields(fourbar_with_gravity: Mechanism) -> None:
+    """pack/unpack are inverses: every field comes back by name, bit for bit."""
+    friction = _frictions()["ambrosio"]
+    system = _system(fourbar_with_gravity, FOURBAR_JOINTS, _laws()["impact"], friction)
+    rpar, ipar, _ = system.kernel_args()
+    unpacked = eom.unpack(rpar, ipar)
+    for name in eom.EomModel._fields:
+        np.testing.assert_array_equal(getattr(unpacked, name), getattr(system.model, name))
+        assert getattr(unpacked, name).dtype == getattr(system.model, name).dtype, name
