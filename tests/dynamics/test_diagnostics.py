@@ -64,8 +64,11 @@ def test_start_transient() -> None:
 
 def test_not_settled_and_not_periodic_and_energy() -> None:
     assert dg.check_settled("F_A", [75.0, 75.5, 75.2]) is None
+    assert dg.check_settled("F_A", [75.0, 60.0, 90.0, 70.0]) is None  # scatter, no trend
     drifting = dg.check_settled("F_A", [120.0, 100.0, 90.0])
     assert drifting is not None and drifting.code == "not-settled"
+    assert drifting.value == pytest.approx(20.0 / 95.0)
+    assert dg.check_settled("F_A", [120.0, 100.0]) is None  # too few to tell
     assert dg.check_periodic("periodic (period 1)", 1, 20) is None
     assert dg.check_periodic("undetermined", None, 2) is None
     found = dg.check_periodic("not periodic", None, 20)

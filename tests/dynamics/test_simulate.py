@@ -169,11 +169,18 @@ def test_start_modes(paper_fourbar) -> None:
         Start("ramp")
 
 
-def test_peaks_come_from_the_integrator_steps(paper_fourbar) -> None:
+def test_peaks_are_located_between_the_integrator_steps(paper_fourbar) -> None:
+    """Peaks come from the continuous solution (issue: answers a designer can trust), so they
+    are never below a step or a sample of it, and they lie at the step maximum or between
+    the steps next to it."""
     result = simulate(paper_fourbar, clear(ALL, get_law("impact", **TABLE3)), revolutions=0.1)
+    t = result.steps["t"].to_numpy()
     for key, peak in result.peaks.items():
-        assert peak["value"] == pytest.approx(result.steps[key].abs().max())
-        assert peak["value"] >= result.timeseries[key].abs().max() - 1e-9
+        steps = result.steps[key].abs().to_numpy()
+        assert peak["value"] >= steps.max()
+        assert peak["value"] >= result.timeseries[key].abs().max()
+        i = int(np.searchsorted(t, peak["t"]))
+        assert steps[max(i - 1, 0)] <= peak["value"] and t[0] <= peak["t"] <= t[-1]
     summary = result.summary()
     assert set(summary) >= {"peaks", "nominal_peaks", "increase_percent", "solver"}
     assert set(summary["solver"]) >= {

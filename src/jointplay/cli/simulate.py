@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import sys
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -124,7 +125,7 @@ def simulate_command(
     start: Annotated[
         str | None,
         _opt(
-            "Start: rest (the paper's: links at rest, crank at full speed), steady (nominal motion) or ramp.",
+            "Start: rest (the paper's: links at rest, the crank turning about its pivot at full speed), impulsive (rest velocities projected onto the driver: the crank first spins about its centre of mass), steady (the nominal motion) or ramp (speed ramp from rest).",
             "--start",
         ),
     ] = None,
@@ -133,7 +134,25 @@ def simulate_command(
         _opt("Duration of the speed ramp for --start ramp, e.g. '50 ms'.", "--ramp-time"),
     ] = None,
     revolutions: Annotated[
-        float | None, _opt("Simulated time in crank periods (default 1).", "--revolutions")
+        float | None,
+        _opt(
+            "Analysed time in crank periods, after the --settle revolutions (default 1).",
+            "--revolutions",
+        ),
+    ] = None,
+    settle: Annotated[
+        int | None,
+        _opt(
+            "Start-up revolutions simulated first and left out of peaks and statistics (default 0).",
+            "--settle",
+        ),
+    ] = None,
+    sample_deg: Annotated[
+        float | None,
+        _opt(
+            "Also report peaks of the solution sampled every X degrees of crank, labelled as sampled.",
+            "--sample-deg",
+        ),
     ] = None,
     output_step: Annotated[
         str | None,
@@ -154,11 +173,12 @@ def simulate_command(
     ] = None,
     plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
 ) -> None:
-    """Simulate the mechanism with radial clearance in its revolute joints.
+    r"""Simulate the mechanism with radial clearance in its revolute joints.
 
     Writes DIR/timeseries.csv (or .parquet), DIR/steps.* (every integrator step),
-    DIR/summary.json (peaks, nominal peaks, % increase, solver statistics, provenance) and
-    PNG plots. Options override the [simulation] table of a --config file.
+    DIR/summary.json (peaks located on the continuous solution, nominal peaks, % increase,
+    per-revolution statistics, periodicity, diagnostics, solver statistics, provenance) and
+    PNG plots. Options override the \[simulation] table of a --config file.
     """
     from jointplay.dynamics.setup import FrictionSettings, clearance_joints, contact_from_strings
     from jointplay.dynamics.simulate import SolverOptions, Start, simulate
@@ -170,7 +190,8 @@ def simulate_command(
         "restitution": restitution, "damping": damping, "stiffness_law": stiffness_law,
         "clearance": clearance, "joints": joints, "friction": friction, "friction_law": friction_law,
         "method": method, "ecs_source": ecs_source, "start": start, "ramp_time": ramp_time,
-        "start_angle": start_angle, "revolutions": revolutions,
+        "start_angle": start_angle, "revolutions": revolutions, "settle": settle,
+        "sample_deg": sample_deg,
         "output_step": output_step, "rtol": rtol, "max_step": max_step, "format": fmt,
     }  # fmt: skip
     values = {**table, **{key: value for key, value in given.items() if value is not None}}
@@ -224,18 +245,29 @@ def simulate_command(
     turns = float(values.get("revolutions", 1.0))
     if not (math.isfinite(turns) and turns > 0):
         raise ConfigError(f"--revolutions must be > 0, got {turns}")
+    settle_turns = values.get("settle", 0)
+    if isinstance(settle_turns, bool) or not isinstance(settle_turns, int) or settle_turns < 0:
+        raise ConfigError(
+            f"--settle must be a whole number of revolutions >= 0, got {settle_turns!r}"
+        )
+    sample = values.get("sample_deg")
+    if sample is not None and not (math.isfinite(float(sample)) and 0 < float(sample) <= 360):
+        raise ConfigError(f"--sample-deg must lie in (0, 360] degrees, got {sample}")
     with console.status(
-        f"simulating {turns:g} revolution(s) of {mechanism.name} with clearance in {', '.join(c.joint for c in clear)}"
+        f"simulating {settle_turns + turns:g} revolution(s) of {mechanism.name} with clearance in {', '.join(c.joint for c in clear)}"
     ):
         result = simulate(
             mechanism,
             clear,
             revolutions=turns,
+            settle=settle_turns,
             start=Start(mode, ramp),  # type: ignore[arg-type]  # validated by Start
             solver=solver,
             output_step=step,
+            sample_deg=None if sample is None else float(sample),
             nominal=True,
         )
+        running = result.running
     record = provenance(
         {
             "mechanism": mechanism_summary(mechanism),
@@ -249,6 +281,7 @@ def simulate_command(
         write_json(folder / "summary.json", simulation_summary(result, record))
         if plots:
             from jointplay.report.plots import simulation_plots
+            from jointplay.report.running import per_revolution_plot, poincare_plot
 
             simulation_plots(
                 result.steps,
@@ -256,6 +289,22 @@ def simulate_command(
                 result.system.clearances,
                 folder,
                 mechanism.name,
+            )
+            periodicity = running.periodicity
+            if periodicity.points.shape[0] > 1:
+                poincare_plot(
+                    periodicity.points,
+                    periodicity.coordinates,
+                    [c.joint for c in clear],
+                    periodicity.verdict,
+                    folder / "poincare.png",
+                    title=mechanism.name,
+                )
+            per_revolution_plot(
+                running.per_revolution,
+                1,
+                folder / "peaks_per_revolution.png",
+                title=mechanism.name,
             )
     _print(result, Path(out))
 
@@ -305,21 +354,39 @@ def _jsonable(values: dict[str, Any]) -> dict[str, Any]:
 
 
 def _print(result: Any, out: Path) -> None:
+    running = result.running
+    stats = running.statistics
     table = Table(
-        "quantity", "peak |value|", "at t (s)", "crank (deg)", "nominal", "increase %", box=None
+        "quantity",
+        "peak |value|",
+        "revolution",
+        "crank (deg)",
+        "per-revolution min–max",
+        "nominal",
+        "increase %",
+        box=None,
     )
     for key, peak in result.peaks.items():
         increase = result.increase_percent.get(key)
         table.add_row(
             key,
             f"{peak['value']:.5g}",
-            f"{peak['t']:.4f}",
+            str(peak["revolution"]),
             f"{peak['crank_deg']:.1f}",
+            f"{stats[key]['min']:.4g}–{stats[key]['max']:.4g}",
             f"{result.nominal_peaks.get(key, float('nan')):.5g}",
             "" if increase is None else f"{increase:+.1f}",
         )
-    stdout = Console()
+    stdout = Console(soft_wrap=True)
+    if not stdout.is_terminal:  # a file or a pipe: the whole table, not 80 columns
+        stdout.width = 132
+    stdout.print(
+        f"peaks over revolutions {running.settle + 1}–{len(running.windows)}, located on the "
+        "continuous solution; periodicity: " + running.periodicity.verdict
+    )
     stdout.print(table)
+    for finding in result.diagnostics:  # one line each, on stderr
+        print(f"jointplay: {finding.line()}", file=sys.stderr)
     stats = result.solver_stats
     stdout.print(
         f"{stats['steps']} steps ({stats['rejected_steps']} rejected), {stats['rhs_evaluations']} evaluations, "

@@ -15,8 +15,11 @@ functions that characterise the running motion:
 Section points are normalised by the caller so that one threshold fits every coordinate
 (eccentricities by the clearance, rates by clearance × crank speed, link speeds by the crank
 speed): the default :data:`PERIODICITY_THRESHOLD` of 1e-2 then means "repeats within 1 % of
-the clearance", far above the integration error (atol 1e-10 m against a 21 µm clearance is
-5e-6) and far below the size of a rattle.
+the clearance", far above the integration error of the positions (atol 1e-10 m against a
+21 µm clearance is 5e-6) and far below the size of a rattle. A coordinate whose integration
+tolerance is coarser than that (a rate at low speed in a small clearance: atol 1e-6 m/s
+against c·ω = 1.6e-5 m/s at 30 rpm and 5 µm) gets a threshold of ten times its tolerance
+instead (:func:`thresholds`), so the verdict never hinges on the integrator's noise.
 """
 
 from __future__ import annotations
@@ -35,6 +38,15 @@ PERIODICITY_THRESHOLD = 1e-2
 
 #: Longest period looked for, in revolutions.
 MAX_PERIOD = 8
+
+#: A coordinate's threshold is at least this many times its normalised integration tolerance.
+TOLERANCE_MARGIN = 10.0
+
+
+def thresholds(tolerances: FloatArray, base: float = PERIODICITY_THRESHOLD) -> FloatArray:
+    """Per-coordinate thresholds: ``base``, or :data:`TOLERANCE_MARGIN` × the coordinate's
+    normalised integration tolerance where that is larger."""
+    return np.maximum(base, TOLERANCE_MARGIN * np.asarray(tolerances, dtype=float))
 
 
 def revolution_statistics(per_revolution: Mapping[str, Sequence[float]]) -> dict[str, Any]:
@@ -65,7 +77,8 @@ class Periodicity:
         successive_distance: max-norm distance between successive points (n − 1 values).
         period: the smallest k (revolutions) such that every point repeats k revolutions
             later within ``threshold``; ``None`` if no k up to ``max_period`` does.
-        threshold: the normalised distance below which two points are the same.
+        threshold: per coordinate, the normalised distance below which two points are the
+            same.
         max_period: the longest period looked for.
         coordinates: names of the section coordinates (columns of ``points``).
     """
@@ -73,7 +86,7 @@ class Periodicity:
     points: FloatArray
     successive_distance: FloatArray
     period: int | None
-    threshold: float
+    threshold: FloatArray
     max_period: int
     coordinates: tuple[str, ...]
 
@@ -92,11 +105,17 @@ class Periodicity:
         return {
             "verdict": self.verdict,
             "period_revolutions": self.period,
-            "threshold": self.threshold,
+            "threshold": (
+                {n: float(v) for n, v in zip(self.coordinates, self.threshold, strict=True)}
+                if self.coordinates
+                else [float(v) for v in self.threshold]
+            ),
             "threshold_meaning": (
-                "max-norm distance between normalised section points: eccentricities / "
-                "clearance, eccentricity rates / (clearance x crank speed), link angular "
-                "velocities / crank speed"
+                "largest spread of each normalised section coordinate among the points k "
+                "revolutions apart that still counts as the same point: "
+                f"{PERIODICITY_THRESHOLD:g}, or {TOLERANCE_MARGIN:g} x the coordinate's "
+                "integration tolerance where larger (eccentricities / clearance, eccentricity "
+                "rates / (clearance x crank speed), link angular velocities / crank speed)"
             ),
             "max_period_searched": self.max_period,
             "successive_distance": [float(d) for d in self.successive_distance],
@@ -109,7 +128,7 @@ def periodicity(
     points: FloatArray,
     coordinates: Sequence[str] = (),
     *,
-    threshold: float = PERIODICITY_THRESHOLD,
+    threshold: float | FloatArray = PERIODICITY_THRESHOLD,
     max_period: int = MAX_PERIOD,
 ) -> Periodicity:
     """Decide whether a once-per-revolution section repeats.
@@ -122,11 +141,13 @@ def periodicity(
     Args:
         points: section points, one row per revolution, normalised (see module docstring).
         coordinates: names of the columns.
-        threshold: normalised distance below which two points are the same.
+        threshold: normalised distance below which two points are the same: one for every
+            coordinate, or one per coordinate (see :func:`thresholds`).
         max_period: longest period (revolutions) looked for.
     """
     points = np.atleast_2d(np.asarray(points, dtype=float))
     n = points.shape[0]
+    limit = np.broadcast_to(np.asarray(threshold, dtype=float), points.shape[1:]).copy()
     successive = np.max(np.abs(np.diff(points, axis=0)), axis=1) if n > 1 else np.zeros(0)
     period = None
     for k in range(1, max_period + 1):
@@ -135,17 +156,14 @@ def periodicity(
         # Every residue class (the points k revolutions apart) must stay within the
         # threshold as a whole, not only from one point to the next, so a slow drift of the
         # section is not mistaken for a period.
-        spread = max(
-            float(np.max(np.ptp(points[r::k], axis=0))) for r in range(k) if points[r::k].shape[0]
-        )
-        if spread < threshold:
+        if all(np.all(np.ptp(points[r::k], axis=0) < limit) for r in range(k)):
             period = k
             break
     return Periodicity(
         points=points,
         successive_distance=successive,
         period=period,
-        threshold=threshold,
+        threshold=limit,
         max_period=max_period,
         coordinates=tuple(coordinates),
     )

@@ -4,8 +4,12 @@
 kernels), chooses the initial state (:class:`Start`), integrates the compiled equations of
 motion (:mod:`jointplay._kernels.eom`) with :func:`jointplay.dynamics.integrate.integrate`
 (compiled Radau IIA), and returns a frozen :class:`SimulationResult`: the integrator's own
-steps, a uniformly sampled time series (both built when first read), peaks, the solver
+steps, a uniformly sampled time series (both built when first read), the solver
 statistics, the status and its message, and, when asked, the nominal (ideal-joint) peaks.
+What the mechanism does as it runs — peaks located on the continuous solution, per-revolution
+statistics after ``settle`` start-up revolutions, periodicity and plausibility diagnostics —
+is :attr:`SimulationResult.running` (:mod:`jointplay.dynamics.running`), computed when first
+read.
 """
 
 from __future__ import annotations
@@ -24,8 +28,10 @@ from numpy.typing import NDArray
 from jointplay._kernels import constraints as ck
 from jointplay._kernels import eom
 from jointplay.dynamics.clearance import ClearanceJoint
+from jointplay.dynamics.diagnostics import Diagnostic
 from jointplay.dynamics.integrate import IntegrationResult, IntegrationStatus, integrate
 from jointplay.dynamics.nominal import nominal_analysis
+from jointplay.dynamics.running import PEAK_KEYS, RunningBehaviour, characterise
 from jointplay.dynamics.system import System, build_system
 from jointplay.errors import ConfigError, IntegrationError
 from jointplay.kinematics.analysis import analyse
@@ -34,7 +40,19 @@ from jointplay.model.flat import REVOLUTE
 from jointplay.model.mechanism import Mechanism
 
 FloatArray = NDArray[np.float64]
-StartMode = Literal["rest", "steady", "ramp"]
+StartMode = Literal["rest", "impulsive", "steady", "ramp"]
+
+#: The start modes and their initial states (pins centred in their bearings in every mode).
+START_MODES = {
+    "rest": "every link at rest except the crank, which turns about its pivot at full speed "
+    "(the paper's case)",
+    "impulsive": "the outcome of an impulsive start from rest: zero velocities projected, "
+    "mass-weighted, onto the driver constraint (and the ideal joints), so the crank at first "
+    "spins about its centre of mass",
+    "steady": "every link moving as in the nominal (ideal-joint) mechanism",
+    "ramp": "everything at rest, the crank speed rising smoothly (quintic STEP5) to full "
+    "speed over ramp_time",
+}
 
 
 @dataclass(frozen=True)
@@ -43,9 +61,13 @@ class Start:
 
     Attributes:
         mode: ``"rest"`` — the paper's case: pins centred, every link at rest except the
-            crank, which turns at full speed from t = 0; ``"steady"`` — pins centred, all links
-            moving as in the nominal (ideal-joint) mechanism; ``"ramp"`` — everything at rest,
-            the crank speed rising smoothly (quintic STEP5) to full speed over ``ramp_time``.
+            crank, which turns about its pivot at full speed from t = 0; ``"impulsive"`` —
+            zero velocities projected (mass-weighted) onto the driver constraint and the
+            ideal joints, the consistent outcome of an impulsive start, in which the crank at
+            first spins about its centre of mass; ``"steady"`` — all links moving as in the
+            nominal (ideal-joint) mechanism; ``"ramp"`` — everything at rest, the crank speed
+            rising smoothly (quintic STEP5) to full speed over ``ramp_time``. Pins start
+            centred in their bearings in every mode. (:data:`START_MODES` says the same.)
         ramp_time: duration of the speed ramp, s (``"ramp"`` only; > 0).
         driven: ``False`` switches the motor off after the initial state is set: the mechanism
             coasts (used to check conservation of energy and momentum).
@@ -56,8 +78,10 @@ class Start:
     driven: bool = True
 
     def __post_init__(self) -> None:
-        if self.mode not in ("rest", "steady", "ramp"):
-            raise ConfigError(f"start mode must be rest, steady or ramp, got {self.mode!r}")
+        if self.mode not in START_MODES:
+            raise ConfigError(
+                f"start mode must be one of {', '.join(START_MODES)}, got {self.mode!r}"
+            )
         if self.mode == "ramp" and not self.ramp_time > 0:
             raise ConfigError(f"a ramp start needs a ramp duration > 0 s, got {self.ramp_time}")
         if self.mode != "ramp" and self.ramp_time != 0:
@@ -109,10 +133,6 @@ class SolverOptions:
         )
 
 
-#: Quantities whose largest absolute value is reported: the columns that start so.
-PEAK_KEYS = ("omega", "alpha", "F_", "torque")
-
-
 @dataclass(frozen=True)
 class SimulationResult:
     """Everything a simulation produced (failure included, as data).
@@ -128,14 +148,13 @@ class SimulationResult:
         status: how the integration ended; anything but ``SUCCESS`` is a failure, and then
             ``t``, ``y``, the peaks and the statistics cover the steps up to where it stopped.
         message: what happened, and for a failure what to change.
-        peaks: largest |value| per quantity over the integrator's steps, with time and crank
-            angle.
-        nominal_peaks: the same quantities for the nominal (ideal-joint) steady motion
-            (empty unless ``simulate(..., nominal=True)``).
-        increase_percent: (peak − nominal peak) / nominal peak × 100 (empty likewise).
+        nominal_peaks: largest |value| of each quantity in the nominal (ideal-joint) steady
+            motion (empty unless ``simulate(..., nominal=True)``).
         solver_stats: method, steps, rejections, evaluations, impacts per joint, maximum
             penetration, energy residual, constraint violation, wall time.
-        revolutions: the simulated time asked for, in crank periods.
+        revolutions: the analysed time asked for, in crank periods (after ``settle``).
+        settle: start-up revolutions simulated first and left out of the statistics.
+        sample_deg: sampling interval of the sampled peaks, deg of crank (``None``: none).
         output_step: sampling interval of :attr:`timeseries`, s.
         nominal: the nominal analysis table, or ``None`` unless asked for.
     """
@@ -147,11 +166,11 @@ class SimulationResult:
     y: FloatArray
     status: IntegrationStatus
     message: str
-    peaks: dict[str, dict[str, float]]
     nominal_peaks: dict[str, float]
-    increase_percent: dict[str, float | None]
     solver_stats: dict[str, Any]
     revolutions: float
+    settle: int
+    sample_deg: float | None
     output_step: float
     nominal: pd.DataFrame | None = field(repr=False)
     #: The columns of :attr:`steps` and the accelerations q̈ at the steps (for the
@@ -171,6 +190,60 @@ class SimulationResult:
     @property
     def clearance_joints(self) -> tuple[str, ...]:
         return tuple(c.joint for c in self.system.clearances)
+
+    @cached_property
+    def running(self) -> RunningBehaviour:
+        """Exact peaks, per-revolution statistics, periodicity and diagnostics (built when
+        first read; see :mod:`jointplay.dynamics.running`)."""
+        if self.t.shape[0] < 2:
+            raise IntegrationError(
+                f"the simulation stopped at its initial state ({self.message}); nothing ran"
+            )
+        stats = self.solver_stats
+        return characterise(
+            mechanism=self.mechanism,
+            clearances=self.system.clearances,
+            t=self.t,
+            step_columns=self._step_columns,
+            evaluate=self._evaluate,
+            settle=self.settle,
+            steady_start=self.start.mode == "steady",
+            driven=self.start.driven,
+            sample_deg=self.sample_deg,
+            nominal_peaks=self.nominal_peaks,
+            energy_residual=stats["energy_residual"],
+            max_penetration=stats["max_penetration_per_joint_m"],
+            tolerances=(self.solver.atol_position, self.solver.atol_velocity),
+        )
+
+    @property
+    def peaks(self) -> dict[str, dict[str, float]]:
+        r"""Largest \|value\| of each quantity over the analysed revolutions, located on the
+        continuous solution, with its time, crank angle and revolution."""
+        return self.running.peaks
+
+    @property
+    def increase_percent(self) -> dict[str, float | None]:
+        """(peak − nominal peak) / nominal peak × 100 (empty without the nominal peaks)."""
+        if not self.nominal_peaks:
+            return {}
+        return {
+            key: 100.0 * (peak["value"] - self.nominal_peaks[key]) / self.nominal_peaks[key]
+            if self.nominal_peaks.get(key)
+            else None
+            for key, peak in self.peaks.items()
+        }
+
+    @property
+    def diagnostics(self) -> tuple[Diagnostic, ...]:
+        """The plausibility findings (warnings first)."""
+        return self.running.diagnostics
+
+    def _evaluate(self, times: FloatArray) -> dict[str, FloatArray]:
+        """Every documented column at ``times`` on the continuous solution."""
+        states = _interpolate(self.system, self.t, self.y, self._step_accelerations, times)
+        columns, _ = _columns(self.system, times, states)
+        return columns
 
     @cached_property
     def steps(self) -> pd.DataFrame:
@@ -193,13 +266,27 @@ class SimulationResult:
 
     def summary(self) -> dict[str, Any]:
         """The stable ``summary.json`` content (without provenance)."""
+        running = self.running
         return {
+            "status": self.status.name.lower(),
+            "message": self.message,
             "peaks": self.peaks,
+            "peaks_over": (
+                f"revolutions {running.settle + 1} to {len(running.windows)} (after "
+                f"{running.settle} start-up revolution(s))"
+            ),
+            "peaks_located": running.summary()["cycles"]["peaks_located"],
             "nominal_peaks": self.nominal_peaks,
             "increase_percent": self.increase_percent,
+            **running.summary(),
             "solver": self.solver_stats,
-            "start": {"mode": self.start.mode, "ramp_time_s": self.start.ramp_time},
+            "start": {
+                "mode": self.start.mode,
+                "meaning": START_MODES[self.start.mode],
+                "ramp_time_s": self.start.ramp_time,
+            },
             "revolutions": self.revolutions,
+            "settle_revolutions": self.settle,
             "clearance_joints": {
                 c.joint: {
                     "clearance_m": c.clearance,
@@ -233,11 +320,11 @@ def initial_state(system: System, start: Start) -> FloatArray:
         qd0[3 * crank : 3 * crank + 3] = kin.qd[
             0, 3 * crank : 3 * crank + 3
         ]  # crank turning about its pivot
-    else:
+    else:  # impulsive (the projection below does it) and ramp (the driver starts at rest)
         qd0 = np.zeros(n)
     flat = system.flat
-    # Remaining ideal constraints: project the velocities onto them (mass-weighted), which is
-    # what an impulsive start of the crank does to a mechanism with ideal joints.
+    # The ideal constraints (and the driver): project the velocities onto them, mass-weighted
+    # — the velocity change an impulsive start gives (q̇ ← q̇ − M⁻¹Φqᵀ(ΦqM⁻¹Φqᵀ)⁻¹(Φq q̇ − ν)).
     phi_q = ck.jacobian(q0, flat.joint_int, flat.joint_f, flat.active, flat.driver)
     if phi_q.shape[0]:
         nu = ck.velocity_rhs(0.0, flat.active, flat.driver)
@@ -252,21 +339,27 @@ def simulate(
     clearances: Sequence[ClearanceJoint],
     *,
     revolutions: float = 1.0,
+    settle: int = 0,
     start: Start | None = None,
     solver: SolverOptions | None = None,
     output_step: float | None = None,
+    sample_deg: float | None = None,
     nominal: bool = False,
     nominal_step_deg: float = 0.1,
     throw: bool = True,
 ) -> SimulationResult:
-    """Simulate ``revolutions`` crank periods of ``mechanism`` with ``clearances``.
+    """Simulate ``settle + revolutions`` crank periods of ``mechanism`` with ``clearances``.
 
     Args:
-        revolutions: simulated time in periods of the nominal crank speed (> 0).
+        revolutions: analysed time in periods of the nominal crank speed (> 0).
+        settle: start-up revolutions simulated first and left out of the peaks and the
+            statistics (>= 0; default 0).
         start: initial state and driver ramp (default: from rest, the paper's case).
         solver: integration settings.
         output_step: sampling interval of :attr:`SimulationResult.timeseries`, s (default: the
             time of 0.5° of crank rotation).
+        sample_deg: also report the peaks of the solution sampled every ``sample_deg``
+            degrees of crank, labelled as sampled (default: none).
         nominal: also run the nominal (ideal-joint) analysis, for
             :attr:`SimulationResult.nominal`, ``nominal_peaks`` and ``increase_percent``
             (default: no, they stay empty).
@@ -283,6 +376,10 @@ def simulate(
     solver = solver or SolverOptions()
     if not (math.isfinite(revolutions) and revolutions > 0):
         raise ConfigError(f"revolutions must be > 0, got {revolutions}")
+    if isinstance(settle, bool) or not isinstance(settle, int | np.integer) or settle < 0:
+        raise ConfigError(f"settle must be a whole number of revolutions >= 0, got {settle!r}")
+    if sample_deg is not None and not (math.isfinite(sample_deg) and 0 < sample_deg <= 360):
+        raise ConfigError(f"sample_deg must lie in (0, 360] degrees, got {sample_deg}")
     period = mechanism.driver.period
     output_step = output_step if output_step is not None else period / 720.0
     if not output_step > 0:
@@ -304,7 +401,7 @@ def simulate(
             np.full(len(clearances), 1.0),  # impact-velocity memory: piecewise constant
         ]
     )
-    t_end = revolutions * period
+    t_end = (int(settle) + revolutions) * period
     args = system.kernel_args()
     wall = time.perf_counter()
     run = integrate(
@@ -329,23 +426,14 @@ def simulate(
     if throw and not run.success:
         raise IntegrationError(message)
     columns, qdd = _columns(system, run.t, run.y)
-    peaks = _peaks(columns)
     table = nominal_analysis(mechanism, step_deg=nominal_step_deg).table if nominal else None
     nominal_peaks = (
         {}
         if table is None
-        else {key: float(np.max(np.abs(table[key]))) for key in peaks if key in table}
-    )
-    increase = (
-        {}
-        if table is None
         else {
-            key: (
-                100.0 * (peaks[key]["value"] - nominal_peaks[key]) / nominal_peaks[key]
-                if nominal_peaks.get(key)
-                else None
-            )
-            for key in peaks
+            key: float(np.max(np.abs(table[key])))
+            for key in columns
+            if key.startswith(PEAK_KEYS) and key in table
         }
     )
     return SimulationResult(
@@ -356,11 +444,11 @@ def simulate(
         y=run.y,
         status=run.status,
         message=message,
-        peaks=peaks,
         nominal_peaks=nominal_peaks,
-        increase_percent=increase,
         solver_stats=_solver_stats(system, run, columns, args[2], wall),
         revolutions=revolutions,
+        settle=int(settle),
+        sample_deg=sample_deg,
         output_step=output_step,
         nominal=table,
         _step_columns=columns,
@@ -475,6 +563,9 @@ def _columns(
         ex, ey = contacts[:, c, 5], contacts[:, c, 6]
         columns[f"ex_{name}"] = ex
         columns[f"ey_{name}"] = ey
+        rate = _eccentricity_rate(flat, flat.joint_index(name), y, n)
+        columns[f"dex_{name}"] = rate[:, 0]
+        columns[f"dey_{name}"] = rate[:, 1]
         columns[f"e_{name}"] = np.hypot(ex, ey)
         columns[f"pen_{name}"] = contacts[:, c, 2]
         columns[f"contact_{name}"] = (contacts[:, c, 2] > 0).astype(np.int8)
@@ -484,18 +575,22 @@ def _columns(
     return columns, qdd
 
 
-def _peaks(columns: dict[str, FloatArray]) -> dict[str, dict[str, float]]:
-    peaks = {}
-    for column, values in columns.items():
-        if column.startswith(PEAK_KEYS):
-            i = int(np.argmax(np.abs(values)))
-            peaks[column] = {
-                "value": float(abs(values[i])),
-                "signed_value": float(values[i]),
-                "t": float(columns["t"][i]),
-                "crank_deg": float(columns["crank_deg"][i]),
-            }
-    return peaks
+def _eccentricity_rate(flat: Any, row: int, y: FloatArray, n: int) -> FloatArray:
+    """ė = v_pin − v_bearing of a clearance joint (m/s), from the states ``y``: the velocity
+    of each joint point is v_com + ω × (R(φ) s), s the point in its link's frame."""
+
+    def point_velocity(body: int, arm: FloatArray) -> FloatArray:
+        if body < 0:
+            return np.zeros((y.shape[0], 2))
+        phi, omega = y[:, 3 * body + 2], y[:, n + 3 * body + 2]
+        rx = np.cos(phi) * arm[0] - np.sin(phi) * arm[1]
+        ry = np.sin(phi) * arm[0] + np.cos(phi) * arm[1]
+        return y[:, n + 3 * body : n + 3 * body + 2] + np.column_stack([-omega * ry, omega * rx])
+
+    bearing, pin = int(flat.joint_int[row, 1]), int(flat.joint_int[row, 2])
+    return point_velocity(pin, flat.joint_f[row, 2:4]) - point_velocity(
+        bearing, flat.joint_f[row, 0:2]
+    )
 
 
 def _solver_stats(
