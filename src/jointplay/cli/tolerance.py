@@ -62,8 +62,9 @@ class Sampling(StrEnum):
 class StartMode(StrEnum):
     """Start of the motion in dynamic studies."""
 
-    rest = "rest"
     steady = "steady"
+    rest = "rest"
+    impulsive = "impulsive"
 
 
 class Distribution(StrEnum):
@@ -171,10 +172,21 @@ def tolerance_command(
     ] = None,
     start: Annotated[
         StartMode,
-        typer.Option("--start", help="Dynamic: from rest (the paper's) or nominal steady motion."),
-    ] = StartMode.rest,
+        typer.Option(
+            "--start",
+            help="Dynamic: steady (the nominal motion: the mechanism as it runs, default), rest (the paper's start-up: links at rest, crank at full speed) or impulsive.",
+        ),
+    ] = StartMode.steady,
+    settle: Annotated[
+        int,
+        typer.Option(
+            "--settle",
+            help="Dynamic: start-up revolutions left out of the responses (default 2; --start rest --settle 0 gives the start-up peaks the paper reports).",
+        ),
+    ] = 2,
     revolutions: Annotated[
-        float, typer.Option("--revolutions", help="Dynamic: simulated crank revolutions.")
+        float,
+        typer.Option("--revolutions", help="Dynamic: analysed crank revolutions after --settle."),
     ] = 1.0,
     rpm: RpmOption = None,
     gravity: GravityOption = None,
@@ -246,6 +258,8 @@ def tolerance_command(
         spec = spec.only("length")
     if not (math.isfinite(revolutions) and revolutions > 0):
         raise ConfigError(f"--revolutions must be > 0, got {revolutions}")
+    if settle < 0:
+        raise ConfigError(f"--settle must be a whole number of revolutions >= 0, got {settle}")
     contact_options = {
         "contact": contact,
         "k": k,
@@ -283,6 +297,7 @@ def tolerance_command(
         limits=limits,
         contact=law,
         start=start.value,
+        settle=settle,
         revolutions=revolutions,
         backend=backend,
         progress=progress,

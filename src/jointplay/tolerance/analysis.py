@@ -30,6 +30,7 @@ from jointplay.tolerance.methods import (
     get_method,
 )
 from jointplay.tolerance.responses import (
+    DEFAULT_SETTLE,
     DynamicResponses,
     ResponseModel,
     dynamic_model,
@@ -162,7 +163,8 @@ def tolerance_study(
     limits: Mapping[str, SpecLimits] | None = None,
     contact: str | ContactLaw | None = None,
     friction: FrictionLaw | None = None,
-    start: str | Start = "rest",
+    start: str | Start = "steady",
+    settle: int = DEFAULT_SETTLE,
     revolutions: float = 1.0,
     solver: SolverOptions | None = None,
     backend: Backend | None = None,
@@ -183,9 +185,12 @@ def tolerance_study(
         contact: dynamic: a contact law instance or name (default: the paper's conventional
             IFM, :data:`jointplay.dynamics.setup.DEFAULT_IMPACT`).
         friction: dynamic: a friction law, or ``None``.
-        start: dynamic: ``"rest"`` (the paper's), ``"steady"`` or a
+        start: dynamic: ``"steady"`` (default: the mechanism as it runs), ``"rest"`` (the
+            paper's start-up), ``"impulsive"``, ``"ramp"`` or a
             :class:`~jointplay.dynamics.simulate.Start`.
-        revolutions: dynamic: simulated crank revolutions.
+        settle: dynamic: start-up revolutions left out of the responses (default 2; 0 with
+            ``start="rest"`` gives the start-up peaks, as the paper reports them).
+        revolutions: dynamic: analysed crank revolutions after them.
         solver: dynamic: :class:`~jointplay.dynamics.simulate.SolverOptions`.
         backend: where the points run (default: local processes).
         progress: show a progress bar on stderr.
@@ -208,6 +213,7 @@ def tolerance_study(
             contact=contact,
             friction=friction,
             start=start,
+            settle=settle,
             revolutions=revolutions,
             solver=solver,
         )
@@ -224,7 +230,8 @@ def build_model(
     *,
     contact: str | ContactLaw | None = None,
     friction: FrictionLaw | None = None,
-    start: str | Start = "rest",
+    start: str | Start = "steady",
+    settle: int = DEFAULT_SETTLE,
     revolutions: float = 1.0,
     solver: SolverOptions | None = None,
 ) -> tuple[ResponseModel, ToleranceSpec]:
@@ -262,6 +269,7 @@ def build_model(
         law,
         journal_radius=radius,
         start=Start(start) if isinstance(start, str) else start,  # type: ignore[arg-type]
+        settle=settle,
         revolutions=revolutions,
         friction=friction,
         **({} if solver is None else {"solver": solver}),
