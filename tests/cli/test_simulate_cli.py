@@ -161,3 +161,33 @@ def test_stiffness_from_geometry(tmp_path) -> None:
     assert run([*args, "--no-plots", "--out", str(out)]) == 0
     law = json.loads((out / "summary.json").read_text())["clearance_joints"]["A"]["law_parameters"]
     assert 1.2 < law["exponent"] < 1.4  # Pereira's n for a 21 µm clearance is ~1.3
+
+
+def test_default_is_the_running_mechanism_and_diagnostics_reach_the_user(tmp_path, capsys) -> None:
+    """Without --start the answer is steady running after two start-up revolutions; the
+    soft conventional contact sinks deeper than the clearance and says so, one line each."""
+    out = tmp_path / "steady"
+    args = ["simulate", "--preset", "paper-fourbar", "--joints", "A,B", "--sample-deg", "1"]
+    assert run([*args, "--revolutions", "2", "--no-plots", "--out", str(out)]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["start"]["mode"] == "steady" and summary["settle_revolutions"] == 2
+    assert summary["cycles"]["first_analysed_revolution"] == 3
+    assert len(summary["cycles"]["per_revolution"]["F_A"]) == 2
+    assert summary["peaks"]["F_A"]["revolution"] in (3, 4)
+    assert summary["sampled_peaks"]["every_deg"] == 1
+    assert summary["periodicity"]["verdict"]
+    codes = {(d["code"], d["joint"]) for d in summary["diagnostics"]}
+    assert ("penetration-exceeds-clearance", "A") in codes
+    err = capsys.readouterr().err.splitlines()
+    lines = [line for line in err if "penetration-exceeds-clearance" in line]
+    assert len(lines) == 2 and all(line.startswith("jointplay: warning:") for line in lines)
+
+
+def test_start_up_on_request_and_the_settle_option(tmp_path) -> None:
+    out = tmp_path / "rest"
+    assert run([*PAPER_ARGS, "--no-plots", "--out", str(out)]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["start"]["mode"] == "rest" and summary["settle_revolutions"] == 0
+    assert summary["peaks"]["F_A"]["value"] > 1000  # the start-up impact the paper reports
+    assert run([*PAPER_ARGS, "--settle", "-1", "--out", str(tmp_path / "bad")]) == 2
+    assert not (tmp_path / "bad").exists()

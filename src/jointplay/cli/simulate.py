@@ -125,7 +125,7 @@ def simulate_command(
     start: Annotated[
         str | None,
         _opt(
-            "Start: rest (the paper's: links at rest, the crank turning about its pivot at full speed), impulsive (rest velocities projected onto the driver: the crank first spins about its centre of mass), steady (the nominal motion) or ramp (speed ramp from rest).",
+            "Start: steady (the nominal motion, default: the mechanism as it runs), rest (the paper's start-up: links at rest, the crank turning about its pivot at full speed), impulsive (rest velocities projected onto the driver: the crank first spins about its centre of mass) or ramp (speed ramp from rest).",
             "--start",
         ),
     ] = None,
@@ -143,7 +143,7 @@ def simulate_command(
     settle: Annotated[
         int | None,
         _opt(
-            "Start-up revolutions simulated first and left out of peaks and statistics (default 0).",
+            "Start-up revolutions simulated first and left out of peaks and statistics (default: 2 with the steady start; 0 with rest, impulsive and ramp, whose start-up is what they show).",
             "--settle",
         ),
     ] = None,
@@ -180,6 +180,7 @@ def simulate_command(
     per-revolution statistics, periodicity, diagnostics, solver statistics, provenance) and
     PNG plots. Options override the \[simulation] table of a --config file.
     """
+    from jointplay.dynamics.cycles import DEFAULT_SETTLE
     from jointplay.dynamics.setup import FrictionSettings, clearance_joints, contact_from_strings
     from jointplay.dynamics.simulate import SolverOptions, Start, simulate
     from jointplay.io.results import simulation_summary, write_table
@@ -220,7 +221,7 @@ def simulate_command(
         clearance=clearance_value,
         law=law,
     )
-    mode = str(values.get("start", "rest"))
+    mode = str(values.get("start", "steady"))
     ramp = (
         0.0
         if values.get("ramp_time") is None
@@ -245,7 +246,7 @@ def simulate_command(
     turns = float(values.get("revolutions", 1.0))
     if not (math.isfinite(turns) and turns > 0):
         raise ConfigError(f"--revolutions must be > 0, got {turns}")
-    settle_turns = values.get("settle", 0)
+    settle_turns = values.get("settle", DEFAULT_SETTLE if mode == "steady" else 0)
     if isinstance(settle_turns, bool) or not isinstance(settle_turns, int) or settle_turns < 0:
         raise ConfigError(
             f"--settle must be a whole number of revolutions >= 0, got {settle_turns!r}"

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 import pandas as pd
 
+from jointplay.dynamics.cycles import DEFAULT_SETTLE
 from jointplay.errors import ConfigError
 from jointplay.model.mechanism import Mechanism
 from jointplay.tolerance.execution import STATUS, Backend
@@ -30,7 +31,6 @@ from jointplay.tolerance.methods import (
     get_method,
 )
 from jointplay.tolerance.responses import (
-    DEFAULT_SETTLE,
     DynamicResponses,
     ResponseModel,
     dynamic_model,

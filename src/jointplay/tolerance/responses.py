@@ -40,6 +40,7 @@ from typing import TYPE_CHECKING, Any, Protocol, runtime_checkable
 import numpy as np
 from numpy.typing import NDArray
 
+from jointplay.dynamics.cycles import DEFAULT_SETTLE
 from jointplay.errors import ConfigError, JointplayError
 from jointplay.kinematics import batch, fourbar
 from jointplay.model.mechanism import Mechanism
@@ -594,11 +595,6 @@ def kinematic_model(
 
 
 # --- clearance dynamics, one simulation per sample -----------------------------------------------
-
-#: Start-up revolutions left out of dynamic responses by default: from a steady start with
-#: centred pins the contact transient dies out within about two revolutions on the paper's
-#: four-bar (per-revolution peaks of the conventional set are flat from the third on).
-DEFAULT_SETTLE = 2
 
 
 def _steady_start() -> Start:
