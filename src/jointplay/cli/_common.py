@@ -7,16 +7,17 @@ import shlex
 import sys
 from collections.abc import Iterable
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
 from jointplay import __version__
 from jointplay.cli._app import current_argv
 from jointplay.errors import ConfigError
-from jointplay.io.config import load_mechanism
-from jointplay.model.mechanism import Mechanism
 from jointplay.units import parse_quantity
+
+if TYPE_CHECKING:
+    from jointplay.model.mechanism import Mechanism
 
 PresetOption = Annotated[
     str | None,
@@ -64,6 +65,8 @@ def mechanism_from_options(
     gravity: str | None = None,
 ) -> Mechanism:
     """Load the mechanism and apply command-line overrides (validated, SI inside)."""
+    from jointplay.io.config import load_mechanism
+
     mechanism = load_mechanism(preset, config)
     changes: dict[str, Any] = {}
     if rpm is not None:

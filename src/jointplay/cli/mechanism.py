@@ -20,8 +20,6 @@ from jointplay.cli._common import (
     mechanism_from_options,
     provenance,
 )
-from jointplay.io.config import list_presets, preset_text
-from jointplay.io.output import output_dir, write_json
 
 console = Console()
 
@@ -29,6 +27,8 @@ console = Console()
 @app.command("presets")
 def presets_command() -> None:
     """List the mechanisms that ship with jointplay."""
+    from jointplay.io.config import list_presets
+
     table = Table("preset", "description", box=None)
     for preset in list_presets():
         table.add_row(preset.name, preset.description)
@@ -40,6 +40,8 @@ def show_command(
     preset: Annotated[str, typer.Argument(help="Preset name (see `jointplay presets`).")],
 ) -> None:
     """Print a preset as TOML that you can copy, edit and pass with --config."""
+    from jointplay.io.config import preset_text
+
     print(preset_text(preset), end="")
 
 
@@ -66,6 +68,7 @@ def kinematics_command(
     Writes DIR/kinematics.csv (one row per crank step), DIR/summary.json and PNG plots.
     """
     from jointplay.dynamics.nominal import nominal_analysis
+    from jointplay.io.output import output_dir, write_json
 
     mechanism = mechanism_from_options(preset, config, rpm, direction, start_angle, gravity)
     result = nominal_analysis(mechanism, step_deg=step, method=method)

@@ -24,9 +24,6 @@ from jointplay.cli._common import (
     provenance,
 )
 from jointplay.errors import ConfigError
-from jointplay.io.config import simulation_settings
-from jointplay.io.output import output_dir, write_json
-from jointplay.model.summary import mechanism_summary
 from jointplay.units import parse_quantity
 
 console = Console(stderr=True)
@@ -183,7 +180,10 @@ def simulate_command(
     from jointplay.dynamics.cycles import DEFAULT_SETTLE
     from jointplay.dynamics.setup import FrictionSettings, clearance_joints, contact_from_strings
     from jointplay.dynamics.simulate import SolverOptions, Start, simulate
+    from jointplay.io.config import simulation_settings
+    from jointplay.io.output import output_dir, write_json
     from jointplay.io.results import simulation_summary, write_table
+    from jointplay.model.summary import mechanism_summary
 
     table = simulation_settings(config)
     given = {
