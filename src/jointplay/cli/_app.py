@@ -8,7 +8,11 @@ a non-zero exit status; no traceback reaches the user unless ``JOINTPLAY_DEBUG=1
 from __future__ import annotations
 
 import os
+import signal
 import sys
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
 
 import typer
 
@@ -65,32 +69,78 @@ def fail(message: str) -> None:
 current_argv: list[str] = []
 
 
+def _raise_interrupt(signum: int, frame: object) -> None:
+    """SIGTERM handler: stop like Ctrl-C, so that every ``finally`` block runs."""
+    raise KeyboardInterrupt(f"signal {signum}")
+
+
+@contextmanager
+def _sigterm_as_interrupt() -> Iterator[None]:
+    """While the command runs, SIGTERM raises KeyboardInterrupt (main thread only)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGTERM, _raise_interrupt)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def _one_line(text: str) -> str:
+    return " ".join(str(text).split())
+
+
 def run(argv: list[str] | None = None) -> int:
-    """Run the CLI with ``argv`` and return the exit status (0 on success)."""
+    """Run the CLI with ``argv`` and return the exit status.
+
+    The exit statuses are a contract (README, "Exit codes"): 0 success; 2 bad input or
+    environment (unwritable output, unreachable cluster); 3 a bug (with a pointer to
+    report it); 130 interrupted (SIGINT or SIGTERM), with one line saying what was kept.
+    Every failure is one line on stderr.
+    """
     current_argv[:] = list(sys.argv[1:] if argv is None else argv)
     try:
-        # Without standalone mode Typer returns (rather than raises) the code of typer.Exit
-        # and of an interrupted command.
-        status = app(args=argv, prog_name="jointplay", standalone_mode=False)
+        with _sigterm_as_interrupt():
+            # Without standalone mode Typer returns (rather than raises) the code of
+            # typer.Exit and of an interrupted command.
+            status = app(args=argv, prog_name="jointplay", standalone_mode=False)
         if isinstance(status, int) and not isinstance(status, bool):
             return status
     except typer.Exit as exc:
         return int(exc.exit_code)
+    except click_exceptions.UsageError as exc:
+        where = exc.ctx.command_path if exc.ctx is not None else "jointplay"
+        fail(f"{_one_line(exc.format_message())} (see '{where} --help')")
+        return EXIT_ERROR
     except click_exceptions.ClickException as exc:
-        exc.show()
-        return int(exc.exit_code)
+        fail(_one_line(exc.format_message()))
+        return EXIT_ERROR if exc.exit_code in (1, 2) else int(exc.exit_code)
     except (typer.Abort, KeyboardInterrupt):
-        print("jointplay: interrupted", file=sys.stderr)
+        print(
+            "jointplay: interrupted; nothing was written (the output folder is as it was)",
+            file=sys.stderr,
+        )
         return EXIT_INTERRUPTED
     except JointplayError as exc:
-        fail(str(exc))
+        fail(_one_line(str(exc)))
+        return EXIT_ERROR
+    except MemoryError:
+        fail("out of memory; ask for less output (a coarser --output-step, fewer samples)")
+        return EXIT_ERROR
+    except OSError as exc:
+        if os.environ.get("JOINTPLAY_DEBUG"):
+            raise
+        name = f" {exc.filename!r}" if exc.filename else ""
+        fail(f"{exc.strerror or type(exc).__name__}{name}")
         return EXIT_ERROR
     except Exception as exc:
         if os.environ.get("JOINTPLAY_DEBUG"):
             raise
         print(
-            f"jointplay: internal error: {type(exc).__name__}: {exc} "
-            "(rerun with JOINTPLAY_DEBUG=1 for a traceback, and please report it)",
+            f"jointplay: internal error (a bug): {type(exc).__name__}: {_one_line(str(exc))}; "
+            "please report it to the jointplay maintainers with the command line and the "
+            "traceback that JOINTPLAY_DEBUG=1 prints",
             file=sys.stderr,
         )
         return EXIT_INTERNAL

@@ -6,6 +6,7 @@ import math
 import shlex
 import sys
 from collections.abc import Iterable
+from contextlib import AbstractContextManager, nullcontext
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
@@ -52,8 +53,33 @@ GravityOption = Annotated[
     ),
 ]
 OutOption = Annotated[
-    Path, typer.Option("--out", "-o", help="Output folder (created; files replaced).")
+    Path,
+    typer.Option(
+        "--out",
+        "-o",
+        help="Output folder: replaced as a whole when the run succeeds, left as it was when "
+        "it fails or is interrupted. A non-empty folder that jointplay did not write needs "
+        "--force.",
+    ),
 ]
+ForceOption = Annotated[
+    bool,
+    typer.Option(
+        "--force", help="Replace --out even if it is a non-empty folder jointplay did not write."
+    ),
+]
+
+
+def maybe_output_dir(out: Path | None, force: bool = False) -> AbstractContextManager[Path | None]:
+    """:func:`jointplay.io.output.output_dir` for ``out``, or ``None`` without one.
+
+    Enter it before computing, so that an unusable ``--out`` is reported first.
+    """
+    if out is None:
+        return nullcontext(None)
+    from jointplay.io.output import output_dir
+
+    return output_dir(out, force=force)
 
 
 def mechanism_from_options(

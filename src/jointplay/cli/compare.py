@@ -24,9 +24,11 @@ from rich.table import Table
 from jointplay.cli._app import app
 from jointplay.cli._common import (
     ConfigOption,
+    ForceOption,
     PresetOption,
     RpmOption,
     choice,
+    maybe_output_dir,
     mechanism_from_options,
     provenance,
 )
@@ -146,6 +148,7 @@ def compare_command(
             help="Write comparison.csv, comparison.json and overlay PNGs to this folder.",
         ),
     ] = None,
+    force: ForceOption = False,
 ) -> None:
     """Compare the simulated steady-cycle rocker speed with measurements.
 
@@ -154,52 +157,54 @@ def compare_command(
     labelled what-if (the crank speed that would explain it).
     """
     from jointplay.io.measurements import DIRECTIONS, SPEED_UNITS, MeasurementConventions
-    from jointplay.io.output import json_text, output_dir, write_json
+    from jointplay.io.output import json_text, write_json
     from jointplay.model.summary import mechanism_summary
     from jointplay.report.overlays import overlay_plots
     from jointplay.study import comparison as cmp
     from jointplay.study.methods import ECS_SOURCES, METHODS
 
-    conventions = MeasurementConventions(
-        unit=choice(unit, "--unit", tuple(SPEED_UNITS)),
-        crank_direction=choice(crank_direction, "--crank-direction", DIRECTIONS),
-        angle_direction=choice(angle_direction, "--angle-direction", DIRECTIONS),
-        angle_origin=math.degrees(parse_quantity(angle_origin, "rad", field="--angle-origin")),
-        speed_sign=1 if choice(speed_positive, "--speed-positive", DIRECTIONS) == "ccw" else -1,
-    )
-    methods = list(dict.fromkeys(method or cmp.DEFAULT_METHODS))
-    for name in methods:
-        if name != cmp.NOMINAL and name not in METHODS:
-            raise ConfigError(
-                f"--method: unknown method {name!r}; use {cmp.NOMINAL} or one of "
-                f"{', '.join(METHODS)}"
-            )
-    if ecs_source not in ECS_SOURCES:
-        raise ConfigError(f"--ecs-source must be computed or paper, got {ecs_source!r}")
-    if not (math.isfinite(revolutions) and revolutions >= 1):
-        raise ConfigError(
-            f"--revolutions must be >= 1 (the last full revolution is compared), got {revolutions}"
+    with maybe_output_dir(out, force) as folder:
+        conventions = MeasurementConventions(
+            unit=choice(unit, "--unit", tuple(SPEED_UNITS)),
+            crank_direction=choice(crank_direction, "--crank-direction", DIRECTIONS),
+            angle_direction=choice(angle_direction, "--angle-direction", DIRECTIONS),
+            angle_origin=math.degrees(parse_quantity(angle_origin, "rad", field="--angle-origin")),
+            speed_sign=1 if choice(speed_positive, "--speed-positive", DIRECTIONS) == "ccw" else -1,
         )
-    if not (math.isfinite(low_speed) and 0 <= low_speed < 1):
-        raise ConfigError(f"--low-speed must be a fraction in [0, 1), got {low_speed}")
-    data = _measurements(measurements, angle_column, speed_column, conventions)
-    mechanism = cmp.rig_mechanism(mechanism_from_options(preset, config, rpm), conventions)
-    status = Console(stderr=True)
-    nominal = cmp.compare(data, cmp.nominal_cycle(mechanism), low_speed_fraction=low_speed)
-    comparisons = []
-    for name in methods:
-        if name == cmp.NOMINAL:
-            comparisons.append(nominal)
-            continue
-        with status.status(f"simulating {name}: {revolutions:g} revolution(s) of {mechanism.name}"):
-            cycle = cmp.steady_cycle(
-                mechanism, name, revolutions=revolutions, ecs_source=ecs_source
+        methods = list(dict.fromkeys(method or cmp.DEFAULT_METHODS))
+        for name in methods:
+            if name != cmp.NOMINAL and name not in METHODS:
+                raise ConfigError(
+                    f"--method: unknown method {name!r}; use {cmp.NOMINAL} or one of "
+                    f"{', '.join(METHODS)}"
+                )
+        if ecs_source not in ECS_SOURCES:
+            raise ConfigError(f"--ecs-source must be computed or paper, got {ecs_source!r}")
+        if not (math.isfinite(revolutions) and revolutions >= 1):
+            raise ConfigError(
+                f"--revolutions must be >= 1 (the last full revolution is compared), got {revolutions}"
             )
-        comparisons.append(cmp.compare(data, cycle, low_speed_fraction=low_speed))
-    result = cmp.summarize_comparisons(data, comparisons, nominal)
-    document = {**result.as_dict(), "ecs_source": ecs_source}
-    if out is not None:
-        with output_dir(out) as folder:
+        if not (math.isfinite(low_speed) and 0 <= low_speed < 1):
+            raise ConfigError(f"--low-speed must be a fraction in [0, 1), got {low_speed}")
+        data = _measurements(measurements, angle_column, speed_column, conventions)
+        mechanism = cmp.rig_mechanism(mechanism_from_options(preset, config, rpm), conventions)
+        status = Console(stderr=True)
+        nominal = cmp.compare(data, cmp.nominal_cycle(mechanism), low_speed_fraction=low_speed)
+        comparisons = []
+        for name in methods:
+            if name == cmp.NOMINAL:
+                comparisons.append(nominal)
+                continue
+            with status.status(
+                f"simulating {name}: {revolutions:g} revolution(s) of {mechanism.name}"
+            ):
+                cycle = cmp.steady_cycle(
+                    mechanism, name, revolutions=revolutions, ecs_source=ecs_source
+                )
+            comparisons.append(cmp.compare(data, cycle, low_speed_fraction=low_speed))
+        result = cmp.summarize_comparisons(data, comparisons, nominal)
+        document = {**result.as_dict(), "ecs_source": ecs_source}
+        if folder is not None:
             result.points_table().to_csv(
                 folder / "comparison.csv", index=False, float_format="%.10g"
             )

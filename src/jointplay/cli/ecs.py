@@ -24,8 +24,10 @@ from rich.table import Table
 from jointplay.cli._app import app
 from jointplay.cli._common import (
     ConfigOption,
+    ForceOption,
     PresetOption,
     choice,
+    maybe_output_dir,
     mechanism_from_options,
     provenance,
 )
@@ -181,6 +183,7 @@ def ecs_command(
             "--out", "-o", help="Write ecs.json, ecs_sweep.csv, ecs_sweep.png, ecs_damping.png."
         ),
     ] = None,
+    force: ForceOption = False,
 ) -> None:
     """Equivalent Contact Stiffness (paper eqs. 9–13): K, δ and D of the clearance joints.
 
@@ -197,45 +200,47 @@ def ecs_command(
         RADIUS_CONVENTIONS,
         EcsConventions,
     )
-    from jointplay.io.output import json_text, output_dir, write_json
+    from jointplay.io.output import json_text, write_json
     from jointplay.model.summary import mechanism_summary
     from jointplay.study.ecs import ecs_analysis, ecs_sweep
 
     if not console.is_terminal:
         console.width = PIPE_WIDTH
-    contacts = _contacts(contact)
-    rpm_value = (
-        None
-        if rpm is None
-        else _parse_number(rpm, "--rpm", "a positive number of rev/min", lambda v: v > 0)
-    )
-    ratio = _parse_number(
-        damping_ratio,
-        "--damping-ratio",
-        "a finite number >= 0, in seconds (the paper's D = 0.01 K is 0.01)",
-        lambda v: v >= 0,
-    )
-    e = _parse_number(restitution, "--restitution", "a number in (0, 1]", lambda v: 0 < v <= 1)
-    conventions = EcsConventions(
-        radius=choice(radius, "--radius", RADIUS_CONVENTIONS),
-        modulus=choice(modulus, "--modulus", MODULUS_CONVENTIONS),
-        initial_contact_radius=_a0(a0),
-        contact_length=_length(length),
-        eq11_log_argument=choice(eq11_log, "--eq11-log", EQ11_LOG_ARGUMENTS),
-        alpha_link=choice(alpha_link, "--alpha-link", ALPHA_LINKS),
-        load=choice(load, "--load", LOAD_SOURCES),
-        damping_ratio=ratio,
-        ifm_stiffness=choice(ifm_stiffness, "--ifm-stiffness", IFM_STIFFNESS_CONVENTIONS),
-    )
-    speeds = parse_sweep(sweep) if sweep is not None else None
-    if speeds is None and out is not None:
-        speeds = parse_sweep(DEFAULT_SWEEP)
-    mechanism = mechanism_from_options(preset, config, rpm_value)
-    result = ecs_analysis(mechanism, conventions)
-    swept = ecs_sweep(mechanism, speeds, conventions, restitution=e) if speeds is not None else None
-    document = _document(mechanism, result, contacts, e, swept)
-    if out is not None:
-        with output_dir(out) as folder:
+    with maybe_output_dir(out, force) as folder:
+        contacts = _contacts(contact)
+        rpm_value = (
+            None
+            if rpm is None
+            else _parse_number(rpm, "--rpm", "a positive number of rev/min", lambda v: v > 0)
+        )
+        ratio = _parse_number(
+            damping_ratio,
+            "--damping-ratio",
+            "a finite number >= 0, in seconds (the paper's D = 0.01 K is 0.01)",
+            lambda v: v >= 0,
+        )
+        e = _parse_number(restitution, "--restitution", "a number in (0, 1]", lambda v: 0 < v <= 1)
+        conventions = EcsConventions(
+            radius=choice(radius, "--radius", RADIUS_CONVENTIONS),
+            modulus=choice(modulus, "--modulus", MODULUS_CONVENTIONS),
+            initial_contact_radius=_a0(a0),
+            contact_length=_length(length),
+            eq11_log_argument=choice(eq11_log, "--eq11-log", EQ11_LOG_ARGUMENTS),
+            alpha_link=choice(alpha_link, "--alpha-link", ALPHA_LINKS),
+            load=choice(load, "--load", LOAD_SOURCES),
+            damping_ratio=ratio,
+            ifm_stiffness=choice(ifm_stiffness, "--ifm-stiffness", IFM_STIFFNESS_CONVENTIONS),
+        )
+        speeds = parse_sweep(sweep) if sweep is not None else None
+        if speeds is None and out is not None:
+            speeds = parse_sweep(DEFAULT_SWEEP)
+        mechanism = mechanism_from_options(preset, config, rpm_value)
+        result = ecs_analysis(mechanism, conventions)
+        swept = (
+            ecs_sweep(mechanism, speeds, conventions, restitution=e) if speeds is not None else None
+        )
+        document = _document(mechanism, result, contacts, e, swept)
+        if folder is not None:
             write_json(
                 folder / "ecs.json",
                 {**document, "provenance": provenance(mechanism_summary(mechanism))},

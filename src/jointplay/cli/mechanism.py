@@ -12,6 +12,7 @@ from jointplay.cli._app import app
 from jointplay.cli._common import (
     ConfigOption,
     DirectionOption,
+    ForceOption,
     GravityOption,
     OutOption,
     PresetOption,
@@ -48,6 +49,7 @@ def show_command(
 @app.command("kinematics")
 def kinematics_command(
     out: OutOption,
+    force: ForceOption = False,
     preset: PresetOption = None,
     config: ConfigOption = None,
     rpm: RpmOption = None,
@@ -70,9 +72,9 @@ def kinematics_command(
     from jointplay.dynamics.nominal import nominal_analysis
     from jointplay.io.output import output_dir, write_json
 
-    mechanism = mechanism_from_options(preset, config, rpm, direction, start_angle, gravity)
-    result = nominal_analysis(mechanism, step_deg=step, method=method)
-    with output_dir(out) as folder:
+    with output_dir(out, force=force) as folder:
+        mechanism = mechanism_from_options(preset, config, rpm, direction, start_angle, gravity)
+        result = nominal_analysis(mechanism, step_deg=step, method=method)
         result.table.to_csv(folder / "kinematics.csv", index=False, float_format="%.10g")
         write_json(
             folder / "summary.json",

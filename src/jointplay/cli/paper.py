@@ -21,13 +21,14 @@ from rich.progress import (
 )
 
 from jointplay.cli._app import app
-from jointplay.cli._common import OutOption, provenance
+from jointplay.cli._common import ForceOption, OutOption, provenance
 from jointplay.errors import ConfigError
 
 
 @app.command("paper")
 def paper_command(
     out: OutOption,
+    force: ForceOption = False,
     rpm: Annotated[
         float, typer.Option("--rpm", help="Crank speed, rev/min (the paper's 200).")
     ] = 200.0,
@@ -80,45 +81,49 @@ def paper_command(
     from jointplay.report.paper import write_paper_report
     from jointplay.study.paper import PaperStudyOptions, run_paper_study
 
-    sources = {"both": ("paper", "computed"), "paper": ("paper",), "computed": ("computed",)}
-    if ecs_source not in sources:
-        raise ConfigError(f"--ecs-source must be both, paper or computed, got {ecs_source!r}")
-    if not (revolutions > 0 and rpm > 0):
-        raise ConfigError("--revolutions and --rpm must be > 0")
-    if experiment_revolutions < 1:
-        raise ConfigError(f"--experiment-revolutions must be >= 1, got {experiment_revolutions}")
-    if workers is not None and workers < 1:
-        raise ConfigError(f"--workers must be >= 1, got {workers}")
-    if dask_scheduler is not None and workers is not None:
-        raise ConfigError("--workers applies to local processes; the Dask cluster has its own")
-    options = PaperStudyOptions(
-        rpm=rpm,
-        revolutions=revolutions,
-        ecs_sources=sources[ecs_source],
-        tolerance_source=sources[ecs_source][0],
-        corners=corners,
-        workers=2 if workers is None else workers,
-        experiment_revolutions=experiment_revolutions,
-        scheduler=dask_scheduler,
-    )
-    console = Console(stderr=True)
-    with Progress(
-        TextColumn("[bold]paper study"),
-        BarColumn(),
-        MofNCompleteColumn(),
-        TimeElapsedColumn(),
-        TimeRemainingColumn(),
-        TextColumn("{task.description}"),
-        console=console,
-        transient=False,
-    ) as progress:
-        task = progress.add_task("starting", total=None)
+    with output_dir(out, force=force) as folder:
+        sources = {"both": ("paper", "computed"), "paper": ("paper",), "computed": ("computed",)}
+        if ecs_source not in sources:
+            raise ConfigError(f"--ecs-source must be both, paper or computed, got {ecs_source!r}")
+        if not (revolutions > 0 and rpm > 0):
+            raise ConfigError("--revolutions and --rpm must be > 0")
+        if experiment_revolutions < 1:
+            raise ConfigError(
+                f"--experiment-revolutions must be >= 1, got {experiment_revolutions}"
+            )
+        if workers is not None and workers < 1:
+            raise ConfigError(f"--workers must be >= 1, got {workers}")
+        if dask_scheduler is not None and workers is not None:
+            raise ConfigError("--workers applies to local processes; the Dask cluster has its own")
+        options = PaperStudyOptions(
+            rpm=rpm,
+            revolutions=revolutions,
+            ecs_sources=sources[ecs_source],
+            tolerance_source=sources[ecs_source][0],
+            corners=corners,
+            workers=2 if workers is None else workers,
+            experiment_revolutions=experiment_revolutions,
+            scheduler=dask_scheduler,
+        )
+        console = Console(stderr=True)
+        with Progress(
+            TextColumn("[bold]paper study"),
+            BarColumn(),
+            MofNCompleteColumn(),
+            TimeElapsedColumn(),
+            TimeRemainingColumn(),
+            TextColumn("{task.description}"),
+            console=console,
+            transient=False,
+        ) as progress:
+            task = progress.add_task("starting", total=None)
 
-        def report(label: str, done: int, total: int) -> None:
-            progress.update(task, completed=done, total=total, description=label)
+            def report(label: str, done: int, total: int) -> None:
+                progress.update(task, completed=done, total=total, description=label)
 
-        study = run_paper_study(options, progress=report)
-    record = provenance({"options": {k: getattr(options, k) for k in options.__dataclass_fields__}})
-    with output_dir(out) as folder:
+            study = run_paper_study(options, progress=report)
+        record = provenance(
+            {"options": {k: getattr(options, k) for k in options.__dataclass_fields__}}
+        )
         write_paper_report(study, folder, record)
     typer.echo(f"paper study written to {out}/report.html ({study.wall_s:.0f} s)")

@@ -15,6 +15,7 @@ from jointplay.cli._app import app
 from jointplay.cli._common import (
     ConfigOption,
     DirectionOption,
+    ForceOption,
     GravityOption,
     OutOption,
     PresetOption,
@@ -36,6 +37,7 @@ def _opt(help_text: str, *names: str) -> Any:
 @app.command("simulate")
 def simulate_command(
     out: OutOption,
+    force: ForceOption = False,
     preset: PresetOption = None,
     config: ConfigOption = None,
     rpm: RpmOption = None,
@@ -185,98 +187,98 @@ def simulate_command(
     from jointplay.io.results import simulation_summary, write_table
     from jointplay.model.summary import mechanism_summary
 
-    table = simulation_settings(config)
-    given = {
-        "contact": contact, "k": k, "exponent": exponent, "cmax": cmax, "depth": depth,
-        "restitution": restitution, "damping": damping, "stiffness_law": stiffness_law,
-        "clearance": clearance, "joints": joints, "friction": friction, "friction_law": friction_law,
-        "method": method, "ecs_source": ecs_source, "start": start, "ramp_time": ramp_time,
-        "start_angle": start_angle, "revolutions": revolutions, "settle": settle,
-        "sample_deg": sample_deg,
-        "output_step": output_step, "rtol": rtol, "max_step": max_step, "format": fmt,
-    }  # fmt: skip
-    values = {**table, **{key: value for key, value in given.items() if value is not None}}
-    mechanism = mechanism_from_options(
-        preset, config, rpm, direction, values.get("start_angle"), gravity
-    )
-    law, method_record = _method_law(values, mechanism)
-    contact_settings = contact_from_strings(values) if law is None else None
-    friction_settings = FrictionSettings(
-        law=str(values.get("friction_law", "ambrosio")),
-        coefficient=float(values.get("friction", 0.0)),
-    )
-    if friction_settings.coefficient < 0:
-        raise ConfigError(f"--friction must be >= 0, got {friction_settings.coefficient}")
-    joint_names = _joint_list(values.get("joints"))
-    clearance_value = (
-        None
-        if values.get("clearance") is None
-        else parse_quantity(values["clearance"], "m", field="--clearance")
-    )
-    clear = clearance_joints(
-        mechanism,
-        joint_names,
-        contact=contact_settings,
-        friction=friction_settings,
-        clearance=clearance_value,
-        law=law,
-    )
-    mode = str(values.get("start", "steady"))
-    ramp = (
-        0.0
-        if values.get("ramp_time") is None
-        else parse_quantity(values["ramp_time"], "s", field="--ramp-time")
-    )
-    if mode == "ramp" and ramp == 0.0:
-        ramp = mechanism.driver.period / 4
-    solver = SolverOptions(
-        rtol=float(values.get("rtol", 1e-6)),
-        max_step=None
-        if values.get("max_step") is None
-        else parse_quantity(values["max_step"], "s", field="--max-step"),
-    )
-    step = (
-        None
-        if values.get("output_step") is None
-        else parse_quantity(values["output_step"], "s", field="--output-step")
-    )
-    fmt_value = str(values.get("format", "csv"))
-    if fmt_value not in ("csv", "parquet"):
-        raise ConfigError(f"--format must be csv or parquet, got {fmt_value!r}")
-    turns = float(values.get("revolutions", 1.0))
-    if not (math.isfinite(turns) and turns > 0):
-        raise ConfigError(f"--revolutions must be > 0, got {turns}")
-    settle_turns = values.get("settle", DEFAULT_SETTLE if mode == "steady" else 0)
-    if isinstance(settle_turns, bool) or not isinstance(settle_turns, int) or settle_turns < 0:
-        raise ConfigError(
-            f"--settle must be a whole number of revolutions >= 0, got {settle_turns!r}"
+    with output_dir(out, force=force) as folder:
+        table = simulation_settings(config)
+        given = {
+            "contact": contact, "k": k, "exponent": exponent, "cmax": cmax, "depth": depth,
+            "restitution": restitution, "damping": damping, "stiffness_law": stiffness_law,
+            "clearance": clearance, "joints": joints, "friction": friction, "friction_law": friction_law,
+            "method": method, "ecs_source": ecs_source, "start": start, "ramp_time": ramp_time,
+            "start_angle": start_angle, "revolutions": revolutions, "settle": settle,
+            "sample_deg": sample_deg,
+            "output_step": output_step, "rtol": rtol, "max_step": max_step, "format": fmt,
+        }  # fmt: skip
+        values = {**table, **{key: value for key, value in given.items() if value is not None}}
+        mechanism = mechanism_from_options(
+            preset, config, rpm, direction, values.get("start_angle"), gravity
         )
-    sample = values.get("sample_deg")
-    if sample is not None and not (math.isfinite(float(sample)) and 0 < float(sample) <= 360):
-        raise ConfigError(f"--sample-deg must lie in (0, 360] degrees, got {sample}")
-    with console.status(
-        f"simulating {settle_turns + turns:g} revolution(s) of {mechanism.name} with clearance in {', '.join(c.joint for c in clear)}"
-    ):
-        result = simulate(
+        law, method_record = _method_law(values, mechanism)
+        contact_settings = contact_from_strings(values) if law is None else None
+        friction_settings = FrictionSettings(
+            law=str(values.get("friction_law", "ambrosio")),
+            coefficient=float(values.get("friction", 0.0)),
+        )
+        if friction_settings.coefficient < 0:
+            raise ConfigError(f"--friction must be >= 0, got {friction_settings.coefficient}")
+        joint_names = _joint_list(values.get("joints"))
+        clearance_value = (
+            None
+            if values.get("clearance") is None
+            else parse_quantity(values["clearance"], "m", field="--clearance")
+        )
+        clear = clearance_joints(
             mechanism,
-            clear,
-            revolutions=turns,
-            settle=settle_turns,
-            start=Start(mode, ramp),  # type: ignore[arg-type]  # validated by Start
-            solver=solver,
-            output_step=step,
-            sample_deg=None if sample is None else float(sample),
-            nominal=True,
+            joint_names,
+            contact=contact_settings,
+            friction=friction_settings,
+            clearance=clearance_value,
+            law=law,
         )
-        running = result.running
-    record = provenance(
-        {
-            "mechanism": mechanism_summary(mechanism),
-            "simulation": _jsonable(values),
-            "method": method_record,
-        }
-    )
-    with output_dir(out) as folder:
+        mode = str(values.get("start", "steady"))
+        ramp = (
+            0.0
+            if values.get("ramp_time") is None
+            else parse_quantity(values["ramp_time"], "s", field="--ramp-time")
+        )
+        if mode == "ramp" and ramp == 0.0:
+            ramp = mechanism.driver.period / 4
+        solver = SolverOptions(
+            rtol=float(values.get("rtol", 1e-6)),
+            max_step=None
+            if values.get("max_step") is None
+            else parse_quantity(values["max_step"], "s", field="--max-step"),
+        )
+        step = (
+            None
+            if values.get("output_step") is None
+            else parse_quantity(values["output_step"], "s", field="--output-step")
+        )
+        fmt_value = str(values.get("format", "csv"))
+        if fmt_value not in ("csv", "parquet"):
+            raise ConfigError(f"--format must be csv or parquet, got {fmt_value!r}")
+        turns = float(values.get("revolutions", 1.0))
+        if not (math.isfinite(turns) and turns > 0):
+            raise ConfigError(f"--revolutions must be > 0, got {turns}")
+        settle_turns = values.get("settle", DEFAULT_SETTLE if mode == "steady" else 0)
+        if isinstance(settle_turns, bool) or not isinstance(settle_turns, int) or settle_turns < 0:
+            raise ConfigError(
+                f"--settle must be a whole number of revolutions >= 0, got {settle_turns!r}"
+            )
+        sample = values.get("sample_deg")
+        if sample is not None and not (math.isfinite(float(sample)) and 0 < float(sample) <= 360):
+            raise ConfigError(f"--sample-deg must lie in (0, 360] degrees, got {sample}")
+        with console.status(
+            f"simulating {settle_turns + turns:g} revolution(s) of {mechanism.name} with clearance in {', '.join(c.joint for c in clear)}"
+        ):
+            result = simulate(
+                mechanism,
+                clear,
+                revolutions=turns,
+                settle=settle_turns,
+                start=Start(mode, ramp),  # type: ignore[arg-type]  # validated by Start
+                solver=solver,
+                output_step=step,
+                sample_deg=None if sample is None else float(sample),
+                nominal=True,
+            )
+            running = result.running
+        record = provenance(
+            {
+                "mechanism": mechanism_summary(mechanism),
+                "simulation": _jsonable(values),
+                "method": method_record,
+            }
+        )
         write_table(result.timeseries, folder, "timeseries", fmt_value)
         write_table(result.steps, folder, "steps", fmt_value)
         write_json(folder / "summary.json", simulation_summary(result, record))

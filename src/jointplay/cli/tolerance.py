@@ -16,6 +16,7 @@ from rich.console import Console
 from jointplay.cli._app import EXIT_INTERRUPTED, app
 from jointplay.cli._common import (
     ConfigOption,
+    ForceOption,
     GravityOption,
     OutOption,
     PresetOption,
@@ -86,6 +87,7 @@ class CornerMode(StrEnum):
 @app.command("tolerance")
 def tolerance_command(
     out: OutOption,
+    force: ForceOption = False,
     preset: PresetOption = None,
     config: ConfigOption = None,
     method: Annotated[
@@ -243,67 +245,69 @@ def tolerance_command(
     from jointplay.tolerance.execution import Backend
     from jointplay.tolerance.methods import MonteCarlo, Rss, ToleranceMethod, WorstCase
 
-    mechanism, spec = load_study_spec(preset, config)
-    if rpm is not None:
-        if not (math.isfinite(rpm) and rpm > 0):
-            raise ConfigError(
-                f"--rpm must be a positive number of revolutions per minute, got {rpm}"
-            )
-        mechanism = mechanism.with_driver(speed=rpm * math.pi / 30.0)
-    if gravity is not None:
-        mechanism = mechanism.with_gravity(parse_gravity(gravity))
-    if distribution is not None:
-        spec = spec.with_distribution(distribution.value)
-    if responses is Responses.dynamic and not clearances:
-        spec = spec.only("length")
-    if not (math.isfinite(revolutions) and revolutions > 0):
-        raise ConfigError(f"--revolutions must be > 0, got {revolutions}")
-    if settle < 0:
-        raise ConfigError(f"--settle must be a whole number of revolutions >= 0, got {settle}")
-    contact_options = {
-        "contact": contact,
-        "k": k,
-        "exponent": exponent,
-        "cmax": cmax,
-        "depth": depth,
-        "restitution": restitution,
-        "damping": damping,
-    }
-    law = None
-    if responses is Responses.dynamic:
-        law = contact_law(contact_options, mechanism, paper_method, ecs_source)
-    elif any(v is not None for v in (*contact_options.values(), paper_method, ecs_source)):
-        raise ConfigError("contact options apply to --responses dynamic only")
-    if dask_scheduler is not None:
-        if workers is not None:
-            raise ConfigError("--workers applies to local processes; the Dask cluster has its own")
-        backend = Backend.dask(dask_scheduler)
-    else:
-        backend = Backend("processes", workers=workers)
-    units = response_units(mechanism, spec, responses.value, contact=law)
-    limits = parse_spec_limits(spec_limit or [], units)
-    analysis: ToleranceMethod
-    if method is Method.monte_carlo:
-        analysis = MonteCarlo(samples=samples, seed=seed, sampling=sampling.value)
-    elif method is Method.rss:
-        analysis = Rss(fd_step=fd_step)
-    else:
-        analysis = WorstCase(corners=corners.value, fd_step=fd_step)
-    study = tolerance_study(
-        mechanism,
-        spec,
-        method=analysis,
-        responses=responses.value,
-        limits=limits,
-        contact=law,
-        start=start.value,
-        settle=settle,
-        revolutions=revolutions,
-        backend=backend,
-        progress=progress,
-    )
-    summary = study.summary()
-    with output_dir(out) as folder:
+    with output_dir(out, force=force) as folder:
+        mechanism, spec = load_study_spec(preset, config)
+        if rpm is not None:
+            if not (math.isfinite(rpm) and rpm > 0):
+                raise ConfigError(
+                    f"--rpm must be a positive number of revolutions per minute, got {rpm}"
+                )
+            mechanism = mechanism.with_driver(speed=rpm * math.pi / 30.0)
+        if gravity is not None:
+            mechanism = mechanism.with_gravity(parse_gravity(gravity))
+        if distribution is not None:
+            spec = spec.with_distribution(distribution.value)
+        if responses is Responses.dynamic and not clearances:
+            spec = spec.only("length")
+        if not (math.isfinite(revolutions) and revolutions > 0):
+            raise ConfigError(f"--revolutions must be > 0, got {revolutions}")
+        if settle < 0:
+            raise ConfigError(f"--settle must be a whole number of revolutions >= 0, got {settle}")
+        contact_options = {
+            "contact": contact,
+            "k": k,
+            "exponent": exponent,
+            "cmax": cmax,
+            "depth": depth,
+            "restitution": restitution,
+            "damping": damping,
+        }
+        law = None
+        if responses is Responses.dynamic:
+            law = contact_law(contact_options, mechanism, paper_method, ecs_source)
+        elif any(v is not None for v in (*contact_options.values(), paper_method, ecs_source)):
+            raise ConfigError("contact options apply to --responses dynamic only")
+        if dask_scheduler is not None:
+            if workers is not None:
+                raise ConfigError(
+                    "--workers applies to local processes; the Dask cluster has its own"
+                )
+            backend = Backend.dask(dask_scheduler)
+        else:
+            backend = Backend("processes", workers=workers)
+        units = response_units(mechanism, spec, responses.value, contact=law)
+        limits = parse_spec_limits(spec_limit or [], units)
+        analysis: ToleranceMethod
+        if method is Method.monte_carlo:
+            analysis = MonteCarlo(samples=samples, seed=seed, sampling=sampling.value)
+        elif method is Method.rss:
+            analysis = Rss(fd_step=fd_step)
+        else:
+            analysis = WorstCase(corners=corners.value, fd_step=fd_step)
+        study = tolerance_study(
+            mechanism,
+            spec,
+            method=analysis,
+            responses=responses.value,
+            limits=limits,
+            contact=law,
+            start=start.value,
+            settle=settle,
+            revolutions=revolutions,
+            backend=backend,
+            progress=progress,
+        )
+        summary = study.summary()
         write_study(study, folder, plots=plots, provenance=provenance(summary["configuration"]))
     _print(study)
     if study.interrupted:

@@ -1,16 +1,22 @@
 """Writing a command's results all-or-nothing.
 
-A command writes into a fresh temporary folder beside the target; only when everything has
-been written are the files moved into the target folder. A failure leaves the target as it
-was, so no partial result is ever left behind.
+A command prepares its output folder before it computes anything (:func:`output_dir`): a
+fresh temporary folder beside the target, so that an unwritable ``--out`` is reported at
+once. Everything is written there; only when the command succeeds does the temporary folder
+replace the target, by renames (old → trash, staging → target, trash removed). A failed or
+interrupted run leaves the target as it was: the previous complete result, or nothing. Every
+result folder carries a marker file (:data:`MARKER`); an existing non-empty folder without
+one is not a jointplay result and is refused unless ``force``.
 """
 
 from __future__ import annotations
 
 import json
 import math
+import os
 import shutil
 import tempfile
+import uuid
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -20,29 +26,89 @@ import numpy as np
 
 from jointplay.errors import ConfigError
 
+#: Name of the marker file that every result folder written by jointplay carries.
+MARKER = ".jointplay-result.json"
+
+
+def _check_target(target: Path | str, force: bool) -> Path:
+    """``target`` as a path that may be replaced, or a ConfigError saying why not."""
+    text = str(target)
+    if text.strip() in ("", "."):
+        raise ConfigError(f"--out {text!r} names the current folder; give a folder to write into")
+    path = Path(text)
+    try:
+        resolved = path.resolve()
+        here = Path.cwd().resolve()
+    except (OSError, RuntimeError) as exc:
+        raise ConfigError(f"--out {text!r} cannot be resolved: {exc}") from None
+    if resolved == here or resolved in here.parents or resolved.parent == resolved:
+        raise ConfigError(
+            f"--out {text!r} is the current folder or one above it; give a folder to write into"
+        )
+    if path.is_symlink() or (path.exists() and not path.is_dir()):
+        raise ConfigError(f"--out {text!r} exists and is not a folder")
+    if path.is_dir() and not force:
+        try:
+            entries = [entry.name for entry in path.iterdir()]
+        except OSError as exc:
+            raise ConfigError(f"--out {text!r} cannot be read: {exc.strerror}") from None
+        if entries and MARKER not in entries:
+            raise ConfigError(
+                f"--out {text!r} is a non-empty folder that jointplay did not write; "
+                "give a new folder, or --force to replace it"
+            )
+    return path
+
 
 @contextmanager
-def output_dir(target: Path | str) -> Iterator[Path]:
-    """Yield a temporary folder; on normal exit move its contents into ``target``."""
-    target = Path(target)
-    if target.exists() and not target.is_dir():
-        raise ConfigError(f"output folder {str(target)!r} exists and is not a folder")
-    parent = target.absolute().parent
+def output_dir(target: Path | str, *, force: bool = False) -> Iterator[Path]:
+    """Yield a fresh temporary folder beside ``target``; on normal exit it replaces ``target``.
+
+    Enter it before computing: the checks (a usable ``target``, a writable parent) come
+    first, so bad output paths are reported before any work. On an exception (including
+    KeyboardInterrupt) the temporary folder is removed and ``target`` is left as it was.
+
+    Args:
+        target: the output folder (``--out``).
+        force: replace an existing non-empty folder even if jointplay did not write it.
+
+    Raises:
+        ConfigError: ``target`` cannot be used or its parent is not writable.
+    """
+    path = _check_target(target, force)
+    parent = path.absolute().parent
     try:
         parent.mkdir(parents=True, exist_ok=True)
+        staging = Path(tempfile.mkdtemp(prefix=f".{path.name}.partial-", dir=parent))
     except OSError as exc:
-        raise ConfigError(f"cannot create output folder {str(target)!r}: {exc.strerror}") from None
-    staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.partial-", dir=parent))
+        reason = exc.strerror or type(exc).__name__
+        raise ConfigError(f"cannot write the output folder {str(target)!r}: {reason}") from None
     try:
         yield staging
-        target.mkdir(exist_ok=True)
-        for item in staging.iterdir():
-            destination = target / item.name
-            if destination.is_dir():
-                shutil.rmtree(destination)
-            item.replace(destination)
+        (staging / MARKER).write_text(
+            json.dumps({"written_by": "jointplay"}) + "\n", encoding="utf-8"
+        )
+        _publish(staging, path)
     finally:
         shutil.rmtree(staging, ignore_errors=True)
+
+
+def _publish(staging: Path, target: Path) -> None:
+    """Put ``staging`` in the place of ``target`` by renames (all or nothing)."""
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(staging, 0o777 & ~umask)
+    if not target.exists():
+        staging.rename(target)
+        return
+    trash = target.absolute().parent / f".{target.name}.old-{uuid.uuid4().hex[:8]}"
+    target.rename(trash)
+    try:
+        staging.rename(target)
+    except BaseException:
+        trash.rename(target)
+        raise
+    shutil.rmtree(trash, ignore_errors=True)
 
 
 def jsonable(value: Any) -> Any:
