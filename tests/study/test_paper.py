@@ -276,6 +276,25 @@ def test_six_methods_from_rest_overshoot_the_nominal(results: dict[str, Any]) ->
 
 
 @pytest.mark.slow
+def test_running_steadily_is_reported_beside_the_start_up(results: dict[str, Any]) -> None:
+    """Each method also runs steadily after two start-up revolutions: the rocker speed then
+    peaks within 3 % of the ideal joints' (the start-up: 7-94 % above), and every joint force
+    below its start-up impact."""
+    document = results["start_up_vs_running"]
+    assert "from rest" in document["why"] and "settle" in document["why"]
+    assert len(document["methods"]) == 6
+    for label, values in document["methods"].items():
+        omega4 = values["omega4"]
+        assert omega4["nominal"] < omega4["running"] < 1.03 * omega4["nominal"], label
+        for joint in ("O2", "A", "B", "O4"):
+            force = values[f"F_{joint}"]
+            assert force["running"] < force["from_rest"], (label, joint)
+        run_ = results["simulations"][f"steady/{label}"]
+        assert (run_["start"], run_["settle_revolutions"]) == ("steady", 2)
+        assert isinstance(run_["diagnostics"], list)
+
+
+@pytest.mark.slow
 def test_kinematic_sensitivities_match_the_closed_form(results: dict[str, Any]) -> None:
     theta2 = np.radians(GRID_DEG)
     basic = float(np.max(np.abs(rocker_acceleration(theta2))))
