@@ -202,7 +202,7 @@ def test_hertz_law_and_ecs_share_the_hertz_formulas() -> None:
     law = HertzStiffness.from_materials(
         bearing_radius=5.021e-3, pin_radius=5e-3, length=LENGTH, bearing=STEEL, pin=STEEL
     )
-    modulus = ecs.effective_modulus(STEEL, STEEL, "johnson")
+    modulus = ecs.modulus_by_convention(STEEL, STEEL, "johnson")
     radius = ecs.equivalent_radius(5e-3, 5.021e-3, "conformal")
     assert (law.effective_modulus, law.conformal_radius) == (modulus, radius)
     assert law.stiffness == hertz.point_contact_stiffness(radius, modulus)

@@ -110,7 +110,7 @@ def _check_choice(owner: str, name: str, value: str, choices: Mapping[str, str])
     return value
 
 
-def effective_modulus(bearing: Material, pin: Material, convention: str = "johnson") -> float:
+def modulus_by_convention(bearing: Material, pin: Material, convention: str = "johnson") -> float:
     """Effective (combined) Young's modulus E* of the bearing and the pin, Pa.
 
     Args:
@@ -123,7 +123,7 @@ def effective_modulus(bearing: Material, pin: Material, convention: str = "johns
     Raises:
         ConfigError: unknown convention.
     """
-    _check_choice("effective_modulus", "convention", convention, MODULUS_CONVENTIONS)
+    _check_choice("modulus_by_convention", "convention", convention, MODULUS_CONVENTIONS)
     if convention == "johnson":
         return hertz.effective_modulus(
             bearing.youngs_modulus, bearing.poisson_ratio, pin.youngs_modulus, pin.poisson_ratio
@@ -555,7 +555,7 @@ def estimate_joint(load: JointLoad, conventions: EcsConventions) -> EcsJoint:
         ConfigError: the radius convention cannot be applied (e.g. conformal without
             clearance).
     """
-    modulus = effective_modulus(load.bearing_material, load.pin_material, conventions.modulus)
+    modulus = modulus_by_convention(load.bearing_material, load.pin_material, conventions.modulus)
     radius = equivalent_radius(load.pin_radius, load.bearing_radius, conventions.radius)
     a, k_sph, d_sph = spherical_contact(
         load.load, radius, modulus, conventions.initial_contact_radius

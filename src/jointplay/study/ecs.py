@@ -39,7 +39,7 @@ from jointplay.contact.laws import FloatArray, ImpactLaw, RestitutionLaw
 from jointplay.contact.restitution import effective_restitution
 from jointplay.dynamics.nominal import NominalResult, nominal_analysis
 from jointplay.errors import ConfigError
-from jointplay.model.mechanism import GROUND, STEEL, Material, Mechanism, RevoluteJoint
+from jointplay.model.mechanism import GROUND, Mechanism, RevoluteJoint
 from jointplay.study.published import PAPER_PUBLISHED
 
 # --- one crank speed --------------------------------------------------------------------------
@@ -141,33 +141,19 @@ class EcsResult:
         }
 
 
-def _material(mechanism: Mechanism, body: str) -> Material:
-    if body != GROUND:
-        name = mechanism.link(body).material
-        if name is not None and name in mechanism.materials:
-            return mechanism.materials[name]
-    return next(iter(mechanism.materials.values()), STEEL)
-
-
 def _contact_length(mechanism: Mechanism, joint: RevoluteJoint, convention: str | float) -> float:
     if not isinstance(convention, str):
         return float(convention)
     assert joint.fit is not None
     if convention == "link-thickness":
-        thicknesses = [
-            t
-            for name in (joint.link_a, joint.link_b)
-            if name != GROUND and (t := mechanism.link(name).thickness) is not None
-        ]
-        if thicknesses:
-            return min(thicknesses)
-        if joint.fit.pin_length is not None:
-            return joint.fit.pin_length
-        raise ConfigError(
-            f"joint {joint.name!r}: neither link has a thickness and the fit has no pin_length; "
-            "give the links a thickness, or use contact_length='pin-length' with a pin_length, "
-            "or a length in m"
-        )
+        width = mechanism.bearing_width(joint.name)
+        if width is None:
+            raise ConfigError(
+                f"joint {joint.name!r}: neither link has a thickness and the fit has no "
+                "pin_length; give the links a thickness, or use contact_length='pin-length' "
+                "with a pin_length, or a length in m"
+            )
+        return width
     if joint.fit.pin_length is None:
         raise ConfigError(
             f"joint {joint.name!r}: contact_length='pin-length' needs JointFit.pin_length; set "
@@ -229,8 +215,8 @@ def _joint_load(
         clearance=clearance,
         pin_mass=fit.pin_mass if fit.pin_mass is not None else math.nan,
         length=_contact_length(mechanism, joint, conventions.contact_length),
-        bearing_material=_material(mechanism, joint.link_a),
-        pin_material=_material(mechanism, joint.link_b),
+        bearing_material=mechanism.material_of(joint.link_a),
+        pin_material=mechanism.material_of(joint.link_b),
     )
 
 
