@@ -267,6 +267,7 @@ class SimulationResult:
     def summary(self) -> dict[str, Any]:
         """The stable ``summary.json`` content (without provenance)."""
         running = self.running
+        behaviour = running.summary()
         return {
             "status": self.status.name.lower(),
             "message": self.message,
@@ -275,10 +276,10 @@ class SimulationResult:
                 f"revolutions {running.settle + 1} to {len(running.windows)} (after "
                 f"{running.settle} start-up revolution(s))"
             ),
-            "peaks_located": running.summary()["cycles"]["peaks_located"],
+            "peaks_located": behaviour["cycles"]["peaks_located"],
             "nominal_peaks": self.nominal_peaks,
             "increase_percent": self.increase_percent,
-            **running.summary(),
+            **behaviour,
             "solver": self.solver_stats,
             "start": {
                 "mode": self.start.mode,
