@@ -1,0 +1,307 @@
+"""``jointplay design``: the cheapest fit and length class that meet the requirements.
+
+Import-light: NumPy, pandas, Numba and the study load when the command runs.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated, Any
+
+import typer
+from rich.console import Console
+
+from jointplay.cli._app import EXIT_INTERRUPTED, app
+from jointplay.cli._common import (
+    ConfigOption,
+    GravityOption,
+    OutOption,
+    PresetOption,
+    RpmOption,
+    choice,
+    mechanism_from_options,
+    provenance,
+)
+from jointplay.errors import ConfigError
+from jointplay.units import parse_quantity
+
+if TYPE_CHECKING:
+    from jointplay.study.design import DesignResult
+
+console = Console(highlight=False, soft_wrap=True)
+
+DEFAULT_FITS = "H7/h6,H7/g6,H8/f7,H8/g7,H9/d9,H11/c11"
+
+
+def read_table(path: Path | None) -> dict[str, Any]:
+    """The TOML file of ``--table`` (``[wear]`` and ``[cost]`` tables), or ``{}``."""
+    if path is None:
+        return {}
+    import tomllib
+
+    try:
+        with open(path, "rb") as handle:
+            data = tomllib.load(handle)
+    except OSError as exc:
+        raise ConfigError(f"--table {path}: cannot read it ({exc.strerror})") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"--table {path}: not valid TOML ({exc})") from None
+    unknown = sorted(set(data) - {"wear", "cost"})
+    if unknown:
+        raise ConfigError(f"--table {path}: unknown table(s) {unknown}; expected [wear] and [cost]")
+    return data
+
+
+def wear_settings(table: dict[str, Any], coefficient: float | None, hardness: str | None) -> Any:
+    """Archard settings from a ``[wear]`` table and the command-line overrides."""
+    from jointplay.dynamics.wear import WearSettings
+
+    wear = dict(table.get("wear", {}))
+    unknown = sorted(set(wear) - {"coefficient", "hardness", "joints"})
+    if unknown:
+        raise ConfigError(
+            f"[wear]: unknown key(s) {unknown}; expected coefficient, hardness, joints"
+        )
+    options: dict[str, Any] = {}
+    if "coefficient" in wear:
+        options["coefficient"] = float(wear["coefficient"])
+    if "hardness" in wear:
+        options["hardness"] = parse_quantity(
+            wear["hardness"], "Pa", field="[wear] hardness", allow_bare=True
+        )
+    joints: dict[str, dict[str, float]] = {}
+    for joint, values in dict(wear.get("joints", {})).items():
+        entry: dict[str, float] = {}
+        for key, value in dict(values).items():
+            if key == "hardness":
+                entry[key] = parse_quantity(
+                    value, "Pa", field=f"[wear.joints.{joint}] hardness", allow_bare=True
+                )
+            elif key == "coefficient":
+                entry[key] = float(value)
+            else:
+                raise ConfigError(
+                    f"[wear.joints.{joint}]: unknown key {key!r}; expected coefficient or hardness"
+                )
+        joints[joint] = entry
+    options["joints"] = joints
+    if coefficient is not None:
+        options["coefficient"] = coefficient
+    if hardness is not None:
+        options["hardness"] = parse_quantity(hardness, "Pa", field="--hardness")
+    return WearSettings(**options)
+
+
+def parse_clearance_limit(text: str | None) -> tuple[float | None, float | None]:
+    """``--clearance-limit``: ``"80 um"`` (absolute radial clearance) or ``"+20 um"`` (the
+    fit's largest radial clearance plus an allowance) → (limit, allowance), m."""
+    if text is None:
+        return None, None
+    value = text.strip()
+    if value.startswith("+"):
+        return None, parse_quantity(value[1:].strip(), "m", field="--clearance-limit")
+    return parse_quantity(value, "m", field="--clearance-limit"), None
+
+
+def parse_joint_fits(texts: list[str]) -> dict[str, str]:
+    """``--fit JOINT=FIT`` options."""
+    out: dict[str, str] = {}
+    for text in texts:
+        joint, sep, fit = text.partition("=")
+        if not sep or not joint.strip() or not fit.strip():
+            raise ConfigError(f"--fit {text!r}: expected JOINT=FIT, e.g. 'O2=H7/g6'")
+        out[joint.strip()] = fit.strip()
+    return out
+
+
+@app.command("design")
+def design_command(
+    out: OutOption,
+    require: Annotated[
+        list[str],
+        typer.Option(
+            "--require",
+            "-r",
+            help="A requirement: RESPONSE <=|<|>=|> VALUE [UNIT] [@CONFIDENCE], e.g. "
+            "'rocker_speed_error <= 1 %' or 'joint_force <= 150 N @99.73'. Repeatable.",
+        ),
+    ],
+    preset: PresetOption = None,
+    config: ConfigOption = None,
+    fits: Annotated[
+        str,
+        typer.Option("--fits", help="Candidate ISO 286 fits for every pin joint, comma-separated."),
+    ] = DEFAULT_FITS,
+    fit: Annotated[
+        list[str] | None,
+        typer.Option("--fit", help="Fix one joint's fit, JOINT=FIT (e.g. O2=H7/g6). Repeatable."),
+    ] = None,
+    classes: Annotated[
+        str, typer.Option("--classes", help="Candidate ISO 2768-1 classes, comma-separated.")
+    ] = "f,m,c,v",
+    confidence: Annotated[
+        float,
+        typer.Option("--confidence", help="Share of samples that must meet a requirement, %."),
+    ] = 99.73,
+    samples: Annotated[
+        int, typer.Option("--samples", "-n", help="Samples per scheme.", min=1)
+    ] = 200,
+    seed: Annotated[
+        int, typer.Option("--seed", help="Seed (the same for every scheme).", min=0)
+    ] = 0,
+    responses: Annotated[
+        str,
+        typer.Option(
+            "--responses", help="auto (kinematic when every requirement is), kinematic or dynamic."
+        ),
+    ] = "auto",
+    clearance_limit: Annotated[
+        str | None,
+        typer.Option(
+            "--clearance-limit",
+            help="Radial clearance that ends a joint's life: '80 um', or '+20 um' = the fit's "
+            "largest radial clearance plus 20 µm (needed by a 'life' requirement).",
+        ),
+    ] = None,
+    table: Annotated[
+        Path | None,
+        typer.Option(
+            "--table",
+            help="TOML file with [wear] (coefficient, hardness, joints.<J>) "
+            "and [cost] (model, a, b, k, reference, it, iso2768) tables.",
+        ),
+    ] = None,
+    wear_coefficient: Annotated[
+        float | None, typer.Option("--wear-coefficient", help="Archard k of every joint.")
+    ] = None,
+    hardness: Annotated[
+        str | None, typer.Option("--hardness", help="Hardness of the softer surface, e.g. '2 GPa'.")
+    ] = None,
+    settle: Annotated[
+        int, typer.Option("--settle", help="Start-up revolutions left out.", min=0)
+    ] = 2,
+    revolutions: Annotated[
+        float, typer.Option("--revolutions", help="Analysed revolutions.")
+    ] = 1.0,
+    rpm: RpmOption = None,
+    gravity: GravityOption = None,
+    workers: Annotated[
+        int | None,
+        typer.Option("--workers", help="Local worker processes (default: one per CPU).", min=1),
+    ] = None,
+    dask_scheduler: Annotated[
+        str | None, typer.Option("--dask-scheduler", help="Run on the Dask cluster at ADDRESS.")
+    ] = None,
+    plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
+    progress: Annotated[
+        bool, typer.Option("--progress/--no-progress", help="Progress bar.")
+    ] = True,
+) -> None:
+    """Design study: every fit × length class through the dynamics; the cheapest that meets
+    the requirements, its yield and relative cost.
+
+    Writes DIR/design.parquet and DIR/design.csv (one row per scheme), DIR/samples.parquet,
+    DIR/summary.json, PNG plots and DIR/report.html.
+    """
+    from jointplay.io.output import output_dir
+    from jointplay.report.design import write_design
+    from jointplay.study.design import design_study, design_units
+    from jointplay.tolerance.cost import CostModel
+    from jointplay.tolerance.execution import Backend
+
+    mechanism = mechanism_from_options(preset, config, rpm=rpm, gravity=gravity)
+    kind = choice(responses, "--responses", ("auto", "kinematic", "dynamic"))
+    if not (math.isfinite(confidence) and 0 < confidence < 100):
+        raise ConfigError(f"--confidence must lie between 0 and 100 %, got {confidence}")
+    fit_list = [f.strip() for f in fits.split(",") if f.strip()]
+    fixed = parse_joint_fits(fit or [])
+    candidates: list[Any] = (
+        [{**dict.fromkeys(_fit_joints(mechanism), f), **fixed} for f in fit_list]
+        if fixed
+        else fit_list
+    )
+    class_list = [c.strip() for c in classes.split(",") if c.strip()]
+    limit, allowance = parse_clearance_limit(clearance_limit)
+    data = read_table(table)
+    cost = CostModel.from_table(data.get("cost", {}))
+    wear = wear_settings(data, wear_coefficient, hardness)
+    if dask_scheduler is not None:
+        if workers is not None:
+            raise ConfigError("--workers applies to local processes; the Dask cluster has its own")
+        backend = Backend.dask(dask_scheduler)
+    else:
+        backend = Backend("processes", workers=workers)
+    result = design_study(
+        mechanism,
+        candidates,
+        class_list,
+        require,
+        samples=samples,
+        seed=seed,
+        confidence=confidence / 100.0,
+        responses=kind,  # type: ignore[arg-type]
+        cost=cost,
+        clearance_limit=limit,
+        clearance_allowance=allowance,
+        wear=wear,
+        settle=settle,
+        revolutions=revolutions,
+        backend=backend,
+        progress=progress,
+    )
+    units = design_units(mechanism, result.responses)  # type: ignore[arg-type]
+    summary = result.summary()
+    with output_dir(out) as folder:
+        write_design(result, folder, units, plots=plots, provenance=provenance(summary["settings"]))
+    _print(result, units)
+    if result.interrupted:
+        console.print(
+            f"[bold]interrupted[/bold]: {len(result.table)} scheme(s) finished; partial results "
+            f"written to {out}"
+        )
+        raise typer.Exit(EXIT_INTERRUPTED)
+    console.print(f"results written to {out}")
+
+
+def _fit_joints(mechanism: Any) -> list[str]:
+    return [j.name for j in mechanism.revolute_joints if j.fit is not None]
+
+
+def _print(result: DesignResult, units: dict[str, str]) -> None:
+    from rich.table import Table
+
+    from jointplay.report.design import display
+
+    table = result.table
+    grid = Table(box=None)
+    headers = ["scheme", "cost", "yield %", "DPM"]
+    required = list(dict.fromkeys(r.response for r in result.requirements))
+    for name in required:
+        unit, _ = display(units.get(name, ""))
+        headers.append(f"{name} @{100 * result.confidence:g}% ({unit})")
+    headers.append("meets all")
+    for header in headers:
+        grid.add_column(header, justify="left" if header == "scheme" else "right")
+    if len(table):
+        for _, row in table.sort_values("cost").iterrows():
+            cells = [
+                str(row["scheme"]),
+                f"{row['cost']:.3g}",
+                f"{row['yield']:.2f}",
+                f"{row['dpm']:,.0f}",
+            ]
+            for name in required:
+                _, scale = display(units.get(name, ""))
+                cells.append(f"{row[f'{name}_at_confidence'] * scale:.4g}")
+            cells.append("yes" if row["feasible"] else "no")
+            grid.add_row(*cells)
+    console.print(grid)
+    row = result.best_row
+    if row is not None:
+        line = f"choose {result.best}: relative cost {row['cost']:.3g}, yield {row['yield']:.2f} %"
+        if "life_at_confidence" in row and math.isfinite(row["life_at_confidence"]):
+            line += f", life {row['life_at_confidence'] / 3600.0:,.0f} h at {100 * result.confidence:g} %"
+        console.print(line)
+    elif result.binding is not None:
+        console.print(f"no scheme meets every requirement; binding: {result.binding}")

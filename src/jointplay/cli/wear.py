@@ -1,0 +1,144 @@
+"""``jointplay wear``: joint wear over the life, coupled to the dynamics.
+
+Import-light: NumPy and the dynamics load when the command runs.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.console import Console
+
+from jointplay.cli._app import app
+from jointplay.cli._common import (
+    ConfigOption,
+    GravityOption,
+    OutOption,
+    PresetOption,
+    RpmOption,
+    mechanism_from_options,
+    provenance,
+)
+from jointplay.errors import ConfigError
+
+console = Console(highlight=False, soft_wrap=True)
+
+
+@app.command("wear")
+def wear_command(
+    out: OutOption,
+    hours: Annotated[float, typer.Option("--hours", help="Operating hours to simulate.")],
+    clearance_limit: Annotated[
+        str,
+        typer.Option(
+            "--clearance-limit",
+            help="Radial clearance that ends a joint's life: '80 um', or '+20 um' = the fit's "
+            "largest radial clearance plus 20 µm.",
+        ),
+    ],
+    preset: PresetOption = None,
+    config: ConfigOption = None,
+    update_hours: Annotated[
+        float | None,
+        typer.Option("--update-hours", help="Hours between re-simulations (default hours/10)."),
+    ] = None,
+    fit: Annotated[
+        str | None,
+        typer.Option("--fit", help="Give every pin joint this ISO 286 fit at its mean clearance."),
+    ] = None,
+    table: Annotated[
+        Path | None,
+        typer.Option(
+            "--table", help="TOML file with a [wear] table (coefficient, hardness, joints.<J>)."
+        ),
+    ] = None,
+    wear_coefficient: Annotated[
+        float | None, typer.Option("--wear-coefficient", help="Archard k of every joint.")
+    ] = None,
+    hardness: Annotated[
+        str | None, typer.Option("--hardness", help="Hardness of the softer surface, e.g. '2 GPa'.")
+    ] = None,
+    settle: Annotated[
+        int, typer.Option("--settle", help="Start-up revolutions left out.", min=0)
+    ] = 2,
+    rpm: RpmOption = None,
+    gravity: GravityOption = None,
+    plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
+) -> None:
+    """Wear life: Archard wear of every clearance joint over the steady cycle, re-simulated at
+    the worn clearance every --update-hours; the clearance, peak force and rocker-speed error
+    over the life, the worn profile of each bearing, and the hours until the limit.
+
+    Writes DIR/wear.csv, DIR/profiles.csv, DIR/summary.json, PNG plots and DIR/report.html.
+    """
+    from jointplay.cli.design import parse_clearance_limit, read_table, wear_settings
+    from jointplay.dynamics.clearance import ClearanceJoint
+    from jointplay.dynamics.setup import DEFAULT_IMPACT
+    from jointplay.dynamics.wear import wear_life
+    from jointplay.io.output import output_dir
+    from jointplay.report.design import write_wear
+    from jointplay.tolerance import iso286
+
+    mechanism = mechanism_from_options(preset, config, rpm=rpm, gravity=gravity)
+    if not (math.isfinite(hours) and hours > 0):
+        raise ConfigError(f"--hours must be > 0, got {hours}")
+    step = hours / 10.0 if update_hours is None else update_hours
+    if not (math.isfinite(step) and step > 0):
+        raise ConfigError(f"--update-hours must be > 0, got {update_hours}")
+    limit, allowance = parse_clearance_limit(clearance_limit)
+    settings = wear_settings(read_table(table), wear_coefficient, hardness)
+    joints = []
+    limits: dict[str, float] = {}
+    for joint in mechanism.revolute_joints:
+        if joint.fit is None:
+            continue
+        designation = fit or joint.fit.fit
+        if fit is not None or joint.fit.clearance is None:
+            if designation is None:
+                continue
+            clearance = iso286.fit(designation, joint.fit.diameter).radial_clearance_mean
+        else:
+            clearance = joint.fit.clearance
+        if allowance is not None:
+            if designation is None:
+                raise ConfigError(
+                    f"joint {joint.name!r} has no fit: give --clearance-limit as a clearance"
+                )
+            limits[joint.name] = (
+                iso286.fit(designation, joint.fit.diameter).radial_clearance_max + allowance
+            )
+        else:
+            limits[joint.name] = float(limit)  # type: ignore[arg-type]
+        joints.append(
+            ClearanceJoint(
+                joint.name,
+                clearance=clearance,
+                journal_radius=joint.fit.diameter / 2.0,
+                law=DEFAULT_IMPACT,
+            )
+        )
+    if not joints:
+        raise ConfigError("no clearance joints: give joints a fit and a diameter, or --fit")
+    history = wear_life(
+        mechanism,
+        joints,
+        hours=hours,
+        update_hours=step,
+        clearance_limit=limits,
+        settings=settings,
+        settle=settle,
+        on_update=lambda done, total: console.print(f"  {done:g} of {total:g} h", style="dim"),
+    )
+    with output_dir(out) as folder:
+        write_wear(history, folder, plots=plots, provenance=provenance(history.summary()))
+    for name, life in history.life.items():
+        how = " (extrapolated)" if history.life_extrapolated[name] else ""
+        console.print(
+            f"{name}: clearance {history.clearance[name][0] * 1e6:.1f} → "
+            f"{history.clearance[name][-1] * 1e6:.1f} µm, limit {history.limit[name] * 1e6:.1f} "
+            f"µm, life {life:,.1f} h{how}"
+        )
+    console.print(f"mechanism life: {history.mechanism_life:,.1f} h; results written to {out}")
