@@ -113,7 +113,10 @@ KINEMATIC_STEP = 1e-7
 #: Relative forward-difference step on the clearance model: well above the integrator's
 #: relative error (1e-6) so that the differences measure the parameter, not the solver.
 DYNAMIC_STEP = 1e-2
-#: Speed units that a response file may use, per SI unit (the rest go through pint).
+#: On the clearance model the Jacobian is also taken with steps of 1 and 3 times
+#: :data:`DYNAMIC_STEP`; a parameter whose two columns differ by more than this fraction has a
+#: rough response (impact sequences that change with it) and gets an identifiability warning.
+ROUGHNESS_LIMIT = 0.3
 _ANGULAR_SPEED = "rad/s"
 
 
@@ -919,6 +922,8 @@ def calibrate(
     correlation[~np.isfinite(correlation)] = np.nan
     np.fill_diagonal(correlation, [1.0 if math.isfinite(s) else math.nan for s in stderr])
     warnings = _warnings(params, estimates, correlation, condition, weakest, dof, solution)
+    if dynamic:
+        warnings += _roughness(residuals, x, raw, params, lower, upper)
     before, err_b, _ = _statistics(measured, sims_before, weights)
     after, err_a, low_a = _statistics(measured, sims_after, weights)
     points = _points(datasets, measured, sims_before, sims_after, err_b, err_a, low_a)
@@ -994,6 +999,39 @@ def _warnings(
                     f"{params[i].name} and {params[j].name} are correlated (r = {r:+.4f}): "
                     "the data determine them only in combination"
                 )
+    return out
+
+
+def _roughness(
+    residuals: Any,
+    x: FloatArray,
+    f0: FloatArray,
+    params: Sequence[Parameter],
+    lower: FloatArray,
+    upper: FloatArray,
+) -> list[str]:
+    """Warnings for parameters whose forward differences at 1× and 3× the step disagree."""
+    out = []
+    for i, p in enumerate(params):
+        columns = []
+        for factor in (1.0, 3.0):
+            h = factor * DYNAMIC_STEP * max(1.0, abs(float(x[i])))
+            if x[i] + h > upper[i]:
+                h = -h
+            shifted = x.copy()
+            shifted[i] += h
+            columns.append((residuals(shifted) - f0) / h)
+        size = max(float(np.linalg.norm(columns[0])), float(np.linalg.norm(columns[1])))
+        if size == 0:
+            continue
+        change = float(np.linalg.norm(columns[0] - columns[1])) / size
+        if change > ROUGHNESS_LIMIT:
+            out.append(
+                f"not identifiable: the clearance model's response to {p.name} is rough here "
+                f"(finite differences with steps of {100 * DYNAMIC_STEP:g} % and "
+                f"{300 * DYNAMIC_STEP:g} % differ by {100 * change:.0f} %): the fit may have "
+                "stopped in a local minimum and its interval is not reliable"
+            )
     return out
 
 
