@@ -297,11 +297,14 @@ def _print(result: DesignResult, units: dict[str, str]) -> None:
             cells.append("yes" if row["feasible"] else "no")
             grid.add_row(*cells)
     console.print(grid)
-    row = result.best_row
-    if row is not None:
-        line = f"choose {result.best}: relative cost {row['cost']:.3g}, yield {row['yield']:.2f} %"
-        if "life_at_confidence" in row and math.isfinite(row["life_at_confidence"]):
-            line += f", life {row['life_at_confidence'] / 3600.0:,.0f} h at {100 * result.confidence:g} %"
+    best = result.best_row
+    if best is not None:
+        line = (
+            f"choose {result.best}: relative cost {best['cost']:.3g}, yield {best['yield']:.2f} %"
+        )
+        life = best.get("life_at_confidence")
+        if life is not None and math.isfinite(life):
+            line += f", life {life / 3600.0:,.0f} h at {100 * result.confidence:g} %"
         console.print(line)
     elif result.binding is not None:
         console.print(f"no scheme meets every requirement; binding: {result.binding}")
