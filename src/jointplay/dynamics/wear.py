@@ -55,6 +55,7 @@ __all__ = [
     "life_hours",
     "profile_volume",
     "speed_error",
+    "wear_from_series",
     "wear_life",
 ]
 
@@ -265,6 +266,81 @@ def _spread(
     return out
 
 
+def wear_from_series(
+    t: FloatArray,
+    force: FloatArray,
+    slip: FloatArray,
+    bearing_angle: FloatArray,
+    journal_angle: FloatArray,
+    *,
+    joint: str,
+    journal_radius: float,
+    clearance: float,
+    width: float,
+    coefficient: float,
+    hardness: float,
+    modulus: float,
+    revolutions: float = 1.0,
+    bins: int = PROFILE_BINS,
+) -> JointWear:
+    """Archard wear of one joint from time series of its contact (trapezoidal rule).
+
+    Args:
+        t: times, s (increasing).
+        force: normal contact force F_N ≥ 0, N.
+        slip: relative sliding speed at the contact point v_T, m/s.
+        bearing_angle, journal_angle: direction of the contact normal in the bearing's and
+            the journal's body frame, rad.
+        joint: joint name.
+        journal_radius: R_J, m; clearance: c = R_B − R_J, m; width: bearing width w, m.
+        coefficient, hardness: Archard k and H (Pa).
+        modulus: effective modulus E* of the pair, Pa (the Hertz contact arc).
+        revolutions: crank revolutions the series covers (results are per revolution).
+        bins: angular bins of the profiles.
+    """
+    t = np.asarray(t, dtype=float)
+    force = np.clip(np.asarray(force, dtype=float), 0.0, None)
+    speed = np.abs(np.asarray(slip, dtype=float))
+    dt = np.diff(t)
+    r_j, r_b = journal_radius, journal_radius + clearance
+    sliding_rate = np.where(force > 0.0, speed, 0.0)
+    power = force * speed  # F_N |v_T|, N·m/s
+    sliding = float(np.sum(0.5 * (sliding_rate[1:] + sliding_rate[:-1]) * dt)) / revolutions
+    increments = 0.5 * (power[1:] + power[:-1]) * dt  # N·m per step interval
+    work = float(increments.sum()) / revolutions
+    volumes = coefficient * increments / hardness / revolutions
+    f_mid = 0.5 * (force[1:] + force[:-1])
+    radius = conformal_radius(r_j, r_b) if r_b > r_j else 1e3
+    half_width = np.sqrt(4.0 * (f_mid / width) * radius / (math.pi * modulus))
+
+    def midpoint(angle: FloatArray) -> FloatArray:
+        angle = np.asarray(angle, dtype=float)
+        return np.mod(np.angle(np.exp(1j * angle[:-1]) + np.exp(1j * angle[1:])), 2 * math.pi)
+
+    active = volumes > 0.0
+    vol = volumes[active]
+    bearing_vol = _spread(midpoint(bearing_angle)[active], vol, half_width[active] / r_b, bins)
+    journal_vol = _spread(midpoint(journal_angle)[active], vol, half_width[active] / r_j, bins)
+    arc = 2.0 * math.pi / bins
+    bearing_profile = bearing_vol / (arc * r_b * width)
+    journal_profile = journal_vol / (arc * r_j * width)
+    return JointWear(
+        joint=joint,
+        clearance=clearance,
+        journal_radius=r_j,
+        width=float(width),
+        coefficient=coefficient,
+        hardness=hardness,
+        sliding=sliding,
+        work=work,
+        volume_bearing=float(vol.sum()),
+        volume_journal=float(vol.sum()),
+        bearing_profile=bearing_profile,
+        journal_profile=journal_profile,
+        growth_per_revolution=float(bearing_profile.max() + journal_profile.max()),
+    )
+
+
 def cycle_wear(
     result: SimulationResult,
     settings: WearSettings | None = None,
@@ -292,7 +368,6 @@ def cycle_wear(
     keep = t_all >= t_end - revs * period - 1e-12
     steps = {name: steps_frame[name].to_numpy()[keep] for name in steps_frame.columns}
     t = steps["t"]
-    dt = np.diff(t)
     rpm = mechanism.driver.speed * 30.0 / math.pi
     joints: dict[str, JointWear] = {}
     for clearance in result.system.clearances:
@@ -309,64 +384,34 @@ def cycle_wear(
         r_b = r_j + clearance.clearance
         ex, ey = steps[f"ex_{name}"], steps[f"ey_{name}"]
         dex, dey = steps[f"dex_{name}"], steps[f"dey_{name}"]
-        force = np.clip(steps[f"Fn_{name}"], 0.0, None)
         norm = np.hypot(ex, ey)
         safe = np.where(norm > 0, norm, 1.0)
         nx, ny = np.where(norm > 0, ex / safe, 1.0), np.where(norm > 0, ey / safe, 0.0)
         omega_a = _body_speed(steps, mechanism, joint.link_a)
         omega_b = _body_speed(steps, mechanism, joint.link_b)
-        v_t = dex * (-ny) + dey * nx + r_j * omega_b - r_b * omega_a
-        speed = np.abs(v_t)
-        contact = force > 0.0
-        sliding_rate = np.where(contact, speed, 0.0)
-        power = force * speed  # F_N |v_T|, N·m/s
-        sliding = float(np.sum(0.5 * (sliding_rate[1:] + sliding_rate[:-1]) * dt)) / revs
-        increments = 0.5 * (power[1:] + power[:-1]) * dt  # N·m per step interval
-        work = float(increments.sum()) / revs
-        volumes = k * increments / hardness / revs
-        psi = np.arctan2(ny, nx)
-        mid = np.angle(np.exp(1j * psi[:-1]) + np.exp(1j * psi[1:]))
-        f_mid = 0.5 * (force[1:] + force[:-1])
         material_a = mechanism.material_of(joint.link_a)
         material_b = mechanism.material_of(joint.link_b)
-        modulus = effective_modulus(
-            material_a.youngs_modulus,
-            material_a.poisson_ratio,
-            material_b.youngs_modulus,
-            material_b.poisson_ratio,
-        )
-        radius = conformal_radius(r_j, r_b) if r_b > r_j else 1e3
-        half_width = np.sqrt(4.0 * (f_mid / width) * radius / (math.pi * modulus))
-        active = volumes > 0.0
-        angle_a = _body_angle(steps, mechanism, joint.link_a)
-        angle_b = _body_angle(steps, mechanism, joint.link_b)
-        phi_a = np.angle(np.exp(1j * angle_a[:-1]) + np.exp(1j * angle_a[1:]))
-        phi_b = np.angle(np.exp(1j * angle_b[:-1]) + np.exp(1j * angle_b[1:]))
-        bins = settings.bins
-        vol = volumes[active]
-        bearing_vol = _spread(
-            np.mod(mid[active] - phi_a[active], 2 * math.pi), vol, half_width[active] / r_b, bins
-        )
-        journal_vol = _spread(
-            np.mod(mid[active] - phi_b[active], 2 * math.pi), vol, half_width[active] / r_j, bins
-        )
-        arc = 2.0 * math.pi / bins
-        bearing_profile = bearing_vol / (arc * r_b * width)
-        journal_profile = journal_vol / (arc * r_j * width)
-        joints[name] = JointWear(
+        psi = np.arctan2(ny, nx)
+        joints[name] = wear_from_series(
+            t,
+            np.clip(steps[f"Fn_{name}"], 0.0, None),
+            dex * (-ny) + dey * nx + r_j * omega_b - r_b * omega_a,
+            psi - _body_angle(steps, mechanism, joint.link_a),
+            psi - _body_angle(steps, mechanism, joint.link_b),
             joint=name,
-            clearance=clearance.clearance,
             journal_radius=r_j,
+            clearance=clearance.clearance,
             width=float(width),
             coefficient=k,
             hardness=hardness,
-            sliding=sliding,
-            work=work,
-            volume_bearing=float(vol.sum()),
-            volume_journal=float(vol.sum()),
-            bearing_profile=bearing_profile,
-            journal_profile=journal_profile,
-            growth_per_revolution=float(bearing_profile.max() + journal_profile.max()),
+            modulus=effective_modulus(
+                material_a.youngs_modulus,
+                material_a.poisson_ratio,
+                material_b.youngs_modulus,
+                material_b.poisson_ratio,
+            ),
+            revolutions=revs,
+            bins=settings.bins,
         )
     return CycleWear(rpm, joints)
 
