@@ -132,7 +132,10 @@ def parse_requirement(text: str, units: Mapping[str, str]) -> Requirement:
             ) from None
         limit = magnitude / 100.0 if percent else magnitude
     else:
-        limit = parse_quantity(value, unit, field=field, allow_bare=True)
+        try:
+            limit = float(value)  # a bare number: SI
+        except ValueError:
+            limit = parse_quantity(value, unit, field=field)
     confidence = None
     if match["confidence"] is not None:
         try:

@@ -1,0 +1,61 @@
+"""The requirement grammar and its one-line errors."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from jointplay.errors import ConfigError
+from jointplay.study.requirements import parse_requirement
+
+UNITS = {"rocker_speed_error": "1", "joint_force": "N", "life": "s", "wear_rate": "m/s"}
+
+
+@pytest.mark.parametrize(
+    ("text", "response", "op", "limit", "confidence"),
+    [
+        ("rocker_speed_error <= 1 %", "rocker_speed_error", "<=", 0.01, None),
+        ("rocker_speed_error<0.02", "rocker_speed_error", "<", 0.02, None),
+        ("joint_force <= 150 N", "joint_force", "<=", 150.0, None),
+        ("joint_force<=0.15 kN@99.73", "joint_force", "<=", 150.0, 0.9973),
+        ("joint_force <= 150 N @ 95 %", "joint_force", "<=", 150.0, 0.95),
+        ("life >= 2000 h", "life", ">=", 7.2e6, None),
+        ("life > 1 day", "life", ">", 86400.0, None),
+        ("wear_rate <= 3.6 um/h", "wear_rate", "<=", 1e-9, None),
+        ("joint_force <= 150", "joint_force", "<=", 150.0, None),
+    ],
+)
+def test_grammar(text: str, response: str, op: str, limit: float, confidence: float | None) -> None:
+    r = parse_requirement(text, UNITS)
+    assert (r.response, r.comparison, r.text) == (response, op, text.strip())
+    assert r.limit == pytest.approx(limit, rel=1e-12)
+    assert r.confidence == (None if confidence is None else pytest.approx(confidence))
+
+
+def test_met_per_sample_and_nan_never_meets() -> None:
+    r = parse_requirement("joint_force <= 150 N", UNITS)
+    assert r.met(np.array([149.0, 150.0, 151.0, np.nan])).tolist() == [True, True, False, False]
+    assert parse_requirement("life > 1 s", UNITS).met(np.array([1.0, 2.0])).tolist() == [
+        False,
+        True,
+    ]
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        ("joint_force = 150 N", "expected RESPONSE <=|<|>=|> VALUE"),
+        ("joint_force 150 N", "expected RESPONSE"),
+        ("", "expected RESPONSE"),
+        ("<= 150 N", "expected RESPONSE"),
+        ("force <= 150 N", "unknown response 'force'; expected one of"),
+        ("joint_force <= 150 mm", "cannot be converted to N"),
+        ("joint_force <= 150 N @abc", "expected a confidence in % after '@'"),
+        ("joint_force <= 150 N @100", "between 0 and 100"),
+        ("rocker_speed_error <= 1 mm", "dimensionless; expected a number"),
+    ],
+)
+def test_malformed_requirements_are_one_line_errors(text: str, expected: str) -> None:
+    with pytest.raises(ConfigError, match=expected) as info:
+        parse_requirement(text, UNITS)
+    assert "\n" not in str(info.value)
