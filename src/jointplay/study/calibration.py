@@ -376,7 +376,7 @@ def default_parameters(
         elif name == "k":
             k0 = contact.stiffness if contact.stiffness is not None else _default_stiffness(contact)
             value = k0 if start is None else start
-            exponent = _exponent(contact)
+            exponent = stiffness_exponent(contact)
             out.append(
                 Parameter(name, value, k0 / 1e3, k0 * 1e3, _stiffness_unit(exponent), k0, True)
             )
@@ -406,7 +406,8 @@ def default_parameters(
     return out
 
 
-def _exponent(contact: ContactSettings) -> float:
+def stiffness_exponent(contact: ContactSettings) -> float:
+    """The force exponent of ``contact``'s law (default 1.5; 1 for ``restitution``)."""
     if contact.exponent is not None:
         return contact.exponent
     if contact.law == "restitution":
