@@ -1,0 +1,128 @@
+"""Archard wear: by hand, volume conservation of the profiles, life, and the coupled loop."""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+
+from jointplay.dynamics.clearance import ClearanceJoint
+from jointplay.dynamics.setup import DEFAULT_IMPACT
+from jointplay.dynamics.simulate import Start, simulate
+from jointplay.dynamics.wear import (
+    WearSettings,
+    archard_volume,
+    cycle_wear,
+    life_hours,
+    profile_volume,
+    wear_from_series,
+    wear_life,
+)
+from jointplay.errors import ConfigError
+
+#: Sums of a few thousand positive terms: relative rounding well under 1e-12.
+SUM_RTOL = 1e-12
+STEEL_MODULUS = 113.7e9  # E* of steel on steel, Pa (reference notes §3.7)
+
+
+def _constant_case(bins: int = 720):
+    """F = 40 N at a fixed angle, sliding at 0.25 m/s for 2 s: s = 0.5 m."""
+    t = np.linspace(0.0, 2.0, 2001)
+    force = np.full_like(t, 40.0)
+    slip = np.full_like(t, -0.25)  # the sign of v_T does not matter
+    angle = np.full_like(t, math.radians(100.0))
+    return wear_from_series(
+        t, force, slip, angle, angle - 0.5,
+        joint="A", journal_radius=5e-3, clearance=20e-6, width=10e-3,
+        coefficient=1e-4, hardness=2e9, modulus=STEEL_MODULUS, bins=bins,
+    )  # fmt: skip
+
+
+def test_archard_by_hand() -> None:
+    # V = k F s / H = 1e-4 * 40 N * 0.5 m / 2e9 Pa = 1e-12 m³
+    assert archard_volume(40.0, 0.5, 1e-4, 2e9) == pytest.approx(1e-12, rel=1e-15)
+    wear = _constant_case()
+    assert wear.sliding == pytest.approx(0.5, rel=SUM_RTOL)
+    assert wear.work == pytest.approx(40.0 * 0.5, rel=SUM_RTOL)
+    assert wear.volume_bearing == pytest.approx(1e-12, rel=SUM_RTOL)
+    # the wear sits around the contact angle (100° on the bearing, 100° - 0.5 rad on the pin)
+    peak = (np.argmax(wear.bearing_profile) + 0.5) * 360.0 / len(wear.bearing_profile)
+    assert peak == pytest.approx(100.0, abs=0.5)
+
+
+@pytest.mark.parametrize("bins", [36, 360, 720])
+def test_depth_integrated_over_the_bearing_is_the_worn_volume(bins: int) -> None:
+    wear = _constant_case(bins)
+    assert profile_volume(wear.bearing_profile, wear.bearing_radius, wear.width) == pytest.approx(
+        wear.volume_bearing, rel=SUM_RTOL
+    )
+    assert profile_volume(wear.journal_profile, wear.journal_radius, wear.width) == pytest.approx(
+        wear.volume_journal, rel=SUM_RTOL
+    )
+
+
+def test_no_force_no_wear() -> None:
+    t = np.linspace(0, 1, 11)
+    wear = wear_from_series(
+        t, np.zeros(11), np.ones(11), np.zeros(11), np.zeros(11), joint="O2",
+        journal_radius=5e-3, clearance=1e-5, width=1e-2, coefficient=1e-4, hardness=1e9,
+        modulus=STEEL_MODULUS,
+    )  # fmt: skip
+    assert wear.volume_bearing == 0.0 and wear.growth_per_revolution == 0.0
+
+
+def test_life_of_a_constant_wear_rate_is_limit_over_rate() -> None:
+    # from 10 µm to 40 µm at 3 µm/h: 10 h
+    assert life_hours(10e-6, 40e-6, 3e-6) == pytest.approx(10.0, rel=1e-12)
+    assert life_hours(50e-6, 40e-6, 3e-6) == 0.0
+    assert life_hours(10e-6, 40e-6, 0.0) == math.inf
+
+
+def test_settings_validate_and_override_per_joint() -> None:
+    settings = WearSettings(joints={"A": {"coefficient": 1e-6}})
+    assert settings.of("A")[0] == 1e-6 and settings.of("B") == (
+        settings.coefficient,
+        settings.hardness,
+    )
+    with pytest.raises(ConfigError, match="coefficient must be finite and > 0"):
+        WearSettings(coefficient=0.0)
+    with pytest.raises(ConfigError, match="unknown field 'k'"):
+        WearSettings(joints={"A": {"k": 1.0}})
+
+
+def _joints(mechanism, clearance: float = 21e-6) -> list[ClearanceJoint]:
+    return [
+        ClearanceJoint(j.name, clearance=clearance, journal_radius=5e-3, law=DEFAULT_IMPACT)
+        for j in mechanism.revolute_joints
+    ]
+
+
+def test_cycle_wear_of_the_paper_mechanism(paper_fourbar) -> None:
+    result = simulate(paper_fourbar, _joints(paper_fourbar), settle=2, start=Start("steady"))
+    wear = cycle_wear(result)
+    assert wear.rpm == pytest.approx(200.0)
+    for joint in wear.joints.values():
+        assert joint.sliding > 0 and joint.volume_bearing > 0
+        assert profile_volume(
+            joint.bearing_profile, joint.bearing_radius, joint.width
+        ) == pytest.approx(joint.volume_bearing, rel=SUM_RTOL)
+        # Archard over the whole cycle: V = (k/H) ∫ F_N |v_T| dt
+        assert joint.volume_bearing == pytest.approx(
+            joint.coefficient * joint.work / joint.hardness, rel=SUM_RTOL
+        )
+
+
+def test_coupled_wear_opens_the_joints_and_gives_a_life(paper_fourbar) -> None:
+    history = wear_life(
+        paper_fourbar, _joints(paper_fourbar), hours=4.0, update_hours=2.0,
+        clearance_limit=60e-6,
+    )  # fmt: skip
+    assert history.hours == (0.0, 2.0, 4.0)
+    for name, values in history.clearance.items():
+        assert values[0] == pytest.approx(21e-6)
+        assert all(b > a for a, b in itertools.pairwise(values))
+        assert history.life[name] > 0
+    assert history.mechanism_life == min(history.life.values())
+    assert "effective radial clearance" in history.assumption
