@@ -16,6 +16,7 @@ References:
 from __future__ import annotations
 
 import math
+import signal
 
 import numba
 import numpy as np
@@ -23,6 +24,7 @@ import numpy as np
 __all__ = [
     "COUNTER_NAMES",
     "EPS",
+    "STATUS_INTERRUPTED",
     "STATUS_NON_FINITE",
     "STATUS_STEP_TOO_SMALL",
     "STATUS_SUCCESS",
@@ -30,6 +32,7 @@ __all__ = [
     "all_finite",
     "copy_vector",
     "error_scale",
+    "interrupt_pending",
     "jit",
     "num_jac",
     "plus",
@@ -62,6 +65,8 @@ STATUS_SUCCESS = 0
 STATUS_STEP_TOO_SMALL = -1
 STATUS_TOO_MANY_STEPS = -2
 STATUS_NON_FINITE = -3
+#: A SIGINT or SIGTERM arrived during the integration (see :func:`interrupt_pending`).
+STATUS_INTERRUPTED = -4
 STATUS_RUNNING = 1
 
 #: Meaning of the entries of the returned ``counters`` array.
@@ -102,6 +107,27 @@ def all_finite(x):
         if not math.isfinite(x[j]):
             return False
     return True
+
+
+#: The signals that stop an integration (SIGINT, SIGTERM), as the bytes Python's C-level
+#: signal handler writes to its wakeup file descriptor.
+INTERRUPT_SIGNALS = (int(signal.SIGINT), int(signal.SIGTERM))
+_SIGINT, _SIGTERM = INTERRUPT_SIGNALS
+
+
+@jit
+def interrupt_pending(flags):
+    """Whether ``flags`` (uint8, the signal numbers received so far, then zeros) holds
+    SIGINT or SIGTERM. ``flags`` is memory that Python's C-level signal handler writes
+    (see :func:`jointplay.dynamics.integrate.integrate`); read between steps, it lets a
+    compiled integration stop on Ctrl-C with a status instead of raising."""
+    for j in range(flags.shape[0]):
+        code = flags[j]
+        if code == 0:
+            return False
+        if code == _SIGINT or code == _SIGTERM:  # noqa: SIM109 (compiled: no tuple)
+            return True
+    return False
 
 
 @jit

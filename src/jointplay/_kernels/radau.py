@@ -107,6 +107,7 @@ from jointplay._kernels.common import (
     NREJ_ERROR,
     NREJ_NEWTON,
     NSTEPS,
+    STATUS_INTERRUPTED,
     STATUS_NON_FINITE,
     STATUS_RUNNING,
     STATUS_STEP_TOO_SMALL,
@@ -115,6 +116,7 @@ from jointplay._kernels.common import (
     all_finite,
     copy_vector,
     error_scale,
+    interrupt_pending,
     jit,
     num_jac,
     plus,
@@ -575,6 +577,7 @@ def _radau_core(
     n_second,
     n_active,
     hold_after_failure,
+    interrupt,
 ):
     """The integrator itself; see :func:`radau_integrate` (same arguments and results).
 
@@ -638,6 +641,9 @@ def _radau_core(
     while status == STATUS_RUNNING:
         if counters[NSTEPS] >= max_steps:
             status = STATUS_TOO_MANY_STEPS
+            break
+        if interrupt_pending(interrupt):  # Ctrl-C or SIGTERM: stop with a status, not raise
+            status = STATUS_INTERRUPTED
             break
 
         # ---- Radau._step_impl ----
@@ -818,6 +824,7 @@ def _radau_core(
 # ---------------------------------------------------------------------------------------
 _ARRAY = numba.types.float64[::1]
 _compile_lock = threading.Lock()
+_NO_INTERRUPT = np.zeros(1, dtype=np.uint8)  # flags that never hold a signal
 _specialisations: dict[Any, Any] = {}
 
 
@@ -863,6 +870,7 @@ def _core_signature(args_type: Any) -> tuple[Any, ...]:
         numba.types.int64,
         numba.types.int64,
         numba.types.boolean,
+        numba.types.uint8[::1],
     )
 
 
@@ -903,6 +911,7 @@ def radau_integrate(
     n_active: int | None = None,
     hold_after_failure: bool = False,
     jac: Any = None,
+    interrupt: npt.NDArray[np.uint8] | None = None,
 ) -> tuple[int, npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.int64]]:
     """Integrate ``y' = fun(t, y, args)`` from ``t0`` to ``t_bound`` with Radau IIA (order 5).
 
@@ -953,11 +962,15 @@ def radau_integrate(
             ``(t, y)`` (``f = fun(t, y, args)``) into ``out`` (n, n) and returning
             ``True``, or returning ``False`` to let the kernel difference ``fun`` as SciPy
             does. ``None`` (default): always difference. Counted in ``njev`` either way.
+        interrupt: uint8 C-contiguous flags read before every step (see
+            :func:`jointplay._kernels.common.interrupt_pending`): once they hold SIGINT or
+            SIGTERM the integration stops with status ``-4``. ``None`` (default): never.
 
     Returns:
         ``(status, t_out, y_out, counters)``: status ``0`` reached ``t_bound``, ``-1`` the
         step size fell below ``10·spacing(t)``, ``-2`` more than ``max_steps`` steps were
-        needed, ``-3`` a non-finite value appeared in the state or in ``f``; ``t_out``
+        needed, ``-3`` a non-finite value appeared in the state or in ``f``, ``-4`` an
+        interrupt arrived; ``t_out``
         (m,) and ``y_out`` (m, n) hold the initial point and every accepted step (after
         ``after_step``); ``counters`` (int64, 7) as named in ``COUNTER_NAMES``. ``nfev``
         leaves out the evaluations inside finite-difference Jacobians, as SciPy does.
@@ -993,5 +1006,6 @@ def radau_integrate(
         int(n_second),
         n_active,
         bool(hold_after_failure),
+        _NO_INTERRUPT if interrupt is None else interrupt,
     )
     return int(status), t_out, y_out, counters

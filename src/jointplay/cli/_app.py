@@ -60,6 +60,18 @@ EXIT_INTERNAL = 3
 EXIT_INTERRUPTED = 130
 
 
+#: The line printed when a run is interrupted before it could write anything.
+NOTHING_KEPT = "jointplay: interrupted; nothing was written (the output folder is as it was)"
+
+
+class Interrupted(Exception):
+    """Raised by a command that was interrupted but kept partial results.
+
+    Its message is the one line saying what was kept; :func:`run` prints it and returns
+    :data:`EXIT_INTERRUPTED`.
+    """
+
+
 def fail(message: str) -> None:
     """Print one error line to stderr (helper for commands that detect bad input themselves)."""
     print(f"jointplay: error: {message}", file=sys.stderr)
@@ -106,6 +118,8 @@ def run(argv: list[str] | None = None) -> int:
             # typer.Exit and of an interrupted command.
             status = app(args=argv, prog_name="jointplay", standalone_mode=False)
         if isinstance(status, int) and not isinstance(status, bool):
+            if status == EXIT_INTERRUPTED:  # Typer turns KeyboardInterrupt into this code
+                print(NOTHING_KEPT, file=sys.stderr)
             return status
     except typer.Exit as exc:
         return int(exc.exit_code)
@@ -116,11 +130,11 @@ def run(argv: list[str] | None = None) -> int:
     except click_exceptions.ClickException as exc:
         fail(_one_line(exc.format_message()))
         return EXIT_ERROR if exc.exit_code in (1, 2) else int(exc.exit_code)
+    except Interrupted as exc:
+        print(f"jointplay: interrupted; {_one_line(str(exc))}", file=sys.stderr)
+        return EXIT_INTERRUPTED
     except (typer.Abort, KeyboardInterrupt):
-        print(
-            "jointplay: interrupted; nothing was written (the output folder is as it was)",
-            file=sys.stderr,
-        )
+        print(NOTHING_KEPT, file=sys.stderr)
         return EXIT_INTERRUPTED
     except JointplayError as exc:
         fail(_one_line(str(exc)))

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 from rich.console import Console
 
-from jointplay.cli._app import EXIT_INTERRUPTED, app
+from jointplay.cli._app import Interrupted, app
 from jointplay.cli._common import (
     ConfigOption,
     ForceOption,
@@ -312,11 +312,10 @@ def tolerance_command(
     _print(study)
     if study.interrupted:
         counts = summary["counts"]
-        console.print(
-            f"[bold]interrupted[/bold]: {counts['ok'] + counts['failed']} of {counts['points']} "
-            f"points finished; partial results written to {out}"
+        raise Interrupted(
+            f"{counts['ok'] + counts['failed']} of {counts['points']} points finished; "
+            f"their results were written to {out}"
         )
-        raise typer.Exit(EXIT_INTERRUPTED)
     console.print(f"results written to {out}")
 
 

@@ -30,7 +30,13 @@ from __future__ import annotations
 
 import enum
 import math
-from collections.abc import Sequence
+import mmap
+import os
+import signal
+import tempfile
+import threading
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -64,6 +70,7 @@ class IntegrationStatus(enum.IntEnum):
     STEP_TOO_SMALL = _common.STATUS_STEP_TOO_SMALL
     TOO_MANY_STEPS = _common.STATUS_TOO_MANY_STEPS
     NON_FINITE = _common.STATUS_NON_FINITE
+    INTERRUPTED = _common.STATUS_INTERRUPTED
 
     @property
     def summary(self) -> str:
@@ -76,6 +83,7 @@ _SUMMARIES = {
     IntegrationStatus.STEP_TOO_SMALL: "the step size fell below the smallest step",
     IntegrationStatus.TOO_MANY_STEPS: "the integration needed more than max_steps steps",
     IntegrationStatus.NON_FINITE: "a non-finite value (inf or NaN) appeared",
+    IntegrationStatus.INTERRUPTED: "the integration was interrupted (SIGINT or SIGTERM)",
 }
 
 
@@ -221,25 +229,29 @@ def integrate(
     after_step = _radau.no_after_step if after_step is None else after_step
     _check_functions(fun, step_check, after_step, jac, t0, y0_array, args)
 
-    status_code, t, y, counters = _radau.radau_integrate(
-        fun,
-        step_check,
-        after_step,
-        t0,
-        y0_array,
-        t_bound,
-        args,
-        rtol,
-        atol_array,
-        max_step,
-        first,
-        max_steps,
-        n_second=n_second,
-        n_active=n_active,
-        hold_after_failure=hold_after_failure,
-        jac=jac,
-    )
+    with _interrupts_watched() as flags:
+        status_code, t, y, counters = _radau.radau_integrate(
+            fun,
+            step_check,
+            after_step,
+            t0,
+            y0_array,
+            t_bound,
+            args,
+            rtol,
+            atol_array,
+            max_step,
+            first,
+            max_steps,
+            n_second=n_second,
+            n_active=n_active,
+            hold_after_failure=hold_after_failure,
+            jac=jac,
+            interrupt=flags,
+        )
     status = IntegrationStatus(status_code)
+    if status is IntegrationStatus.INTERRUPTED:
+        raise KeyboardInterrupt(status.summary)
     message = _message(status, t, t0, t_bound, rtol, max_steps, initial=bool(counters[0] == 1))
     if throw and status is not IntegrationStatus.SUCCESS:
         raise IntegrationError(message)
@@ -303,6 +315,79 @@ def _message(
         " Check fun for a division by zero, a negative base under a fractional power or an"
         " overflow at that state, and check what after_step writes into y."
     )
+
+
+# ---------------------------------------------------------------------------------------
+# Interrupts: the compiled loop reads flags that the C-level signal handler writes.
+# ---------------------------------------------------------------------------------------
+class _InterruptFlags:
+    """One page of shared memory behind a file descriptor, seen as a uint8 array.
+
+    Python's C-level signal handler writes the number of each signal it catches to the
+    wakeup descriptor (:func:`signal.set_wakeup_fd`). Pointed at this descriptor, those
+    bytes land in memory that the compiled integrator reads between steps, so Ctrl-C and
+    SIGTERM stop it with a status instead of raising through Numba.
+    """
+
+    def __init__(self) -> None:
+        size = mmap.PAGESIZE
+        if hasattr(os, "memfd_create"):
+            self.fd = os.memfd_create("jointplay-interrupt", os.MFD_CLOEXEC)
+        else:  # pragma: no cover - not Linux
+            self._file = tempfile.TemporaryFile()  # noqa: SIM115 (kept open for good)
+            self.fd = self._file.fileno()
+        os.ftruncate(self.fd, size)
+        os.set_blocking(self.fd, False)
+        self._map = mmap.mmap(self.fd, size)
+        self.array = np.frombuffer(self._map, dtype=np.uint8)
+
+    def reset(self) -> None:
+        os.lseek(self.fd, 0, os.SEEK_SET)
+        self._map[:] = bytes(len(self._map))
+
+
+_flags: _InterruptFlags | None = None
+
+
+@contextmanager
+def _interrupts_watched() -> Iterator[npt.NDArray[np.uint8] | None]:
+    """Flags for the kernel while SIGINT and SIGTERM are watched (``None``: not watched).
+
+    Only in the main thread, and only for signals that have a Python handler (a worker
+    process that ignores SIGINT keeps ignoring it). While watched, a signal is only noted;
+    when the integration returns the context raises KeyboardInterrupt, so that callers see
+    an interrupt exactly as in plain Python code.
+    """
+    global _flags
+    if threading.current_thread() is not threading.main_thread():
+        yield None
+        return
+    watched = [s for s in (signal.SIGINT, signal.SIGTERM) if callable(signal.getsignal(s))]
+    if not watched:
+        yield None
+        return
+    try:
+        if _flags is None:
+            _flags = _InterruptFlags()
+        _flags.reset()
+    except (OSError, ValueError):  # pragma: no cover - no shared memory: no watching
+        yield None
+        return
+    noted: list[int] = []
+    previous = {s: signal.signal(s, lambda number, frame: noted.append(number)) for s in watched}
+    try:
+        old_fd = signal.set_wakeup_fd(_flags.fd, warn_on_full_buffer=False)
+    except ValueError:  # pragma: no cover
+        old_fd = None
+    try:
+        yield _flags.array
+    finally:
+        if old_fd is not None:
+            signal.set_wakeup_fd(old_fd)
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+    if noted:
+        raise KeyboardInterrupt(f"signal {noted[0]}")
 
 
 # ---------------------------------------------------------------------------------------
