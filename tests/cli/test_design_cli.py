@@ -1,0 +1,64 @@
+"""The ``jointplay design`` and ``jointplay wear`` commands."""
+
+from __future__ import annotations
+
+import json
+
+import pandas as pd
+import pytest
+
+from jointplay.cli import run
+
+QUIET = ["--no-progress", "--no-plots", "--workers", "1"]
+
+
+def test_design_writes_one_row_per_scheme_and_names_the_choice(tmp_path, capsys) -> None:
+    out = tmp_path / "design"
+    code = run(
+        ["design", "--preset", "paper-fourbar", "--fits", "H7/g6,H11/c11", "--classes", "f,v",
+         "--require", "omega4_peak <= 100 rad/s", "--samples", "4", "--out", str(out), *QUIET]
+    )  # fmt: skip
+    assert code == 0
+    printed = capsys.readouterr().out
+    assert "choose H11/c11 / v" in printed
+    table = pd.read_parquet(out / "design.parquet")
+    assert len(table) == 4 and set(pd.read_csv(out / "design.csv")["scheme"]) == set(
+        table["scheme"]
+    )
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["best"] == "H11/c11 / v"
+    assert summary["provenance"]["command_line"].startswith("jointplay design")
+    assert (out / "report.html").exists() and (out / "samples.parquet").exists()
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--require", "omega4_peak == 3"], "expected RESPONSE <=|<|>=|> VALUE"),
+        (["--require", "omega4_peak <= 3 rad/s", "--fit", "O2"], "expected JOINT=FIT"),
+        (["--require", "omega4_peak <= 3 rad/s", "--confidence", "100"], "--confidence"),
+    ],
+)
+def test_design_errors_are_one_line(tmp_path, capsys, args: list[str], message: str) -> None:
+    code = run(["design", "--preset", "paper-fourbar", "--out", str(tmp_path / "x"), *args, *QUIET])
+    assert code == 2
+    err = capsys.readouterr().err
+    assert message in err
+
+
+def test_wear_writes_the_history_and_the_life(tmp_path, capsys) -> None:
+    out = tmp_path / "wear"
+    code = run(
+        ["wear", "--preset", "paper-fourbar", "--hours", "2", "--update-hours", "1",
+         "--clearance-limit", "+20 um", "--fit", "H7/g6", "--wear-coefficient", "1e-5",
+         "--no-plots", "--out", str(out)]
+    )  # fmt: skip
+    assert code == 0
+    printed = capsys.readouterr().out
+    assert "mechanism life:" in printed
+    history = pd.read_csv(out / "wear.csv")
+    assert history["hours"].tolist() == [0.0, 1.0, 2.0]
+    summary = json.loads((out / "summary.json").read_text())
+    assert set(summary["life_hours"]) == {"O2", "A", "B", "O4"}
+    assert summary["clearance_limit_m"]["A"] == pytest.approx(29e-6 / 2 + 20e-6)
+    assert len(pd.read_csv(out / "profiles.csv")) == 720
