@@ -52,8 +52,13 @@ Identifiability warnings
     near-singular (condition number above :data:`CONDITION_LIMIT`; its smallest singular
     direction names the parameters that trade off), when a parameter has no effect (a zero
     Jacobian column), when its 95 % interval is wider than its bounds, or when it ends on a
-    bound (where the linearised interval is meaningless). Strong correlations (|r| >
-    :data:`CORRELATION_LIMIT`) are reported too.
+    bound (where the linearised interval is meaningless). On the clearance model a parameter
+    whose forward differences at 1× and 3× the step disagree by more than
+    :data:`ROUGHNESS_LIMIT` is flagged too: its response is rough (the impact sequence
+    changes with it), so a local fit and its interval cannot be trusted. An interval that
+    reaches beyond a bound (e.g. a stiffness interval that includes zero) is reported as
+    poorly determined, and strong correlations (|r| > :data:`CORRELATION_LIMIT`) as
+    parameters determined only in combination.
 
 Errors as the paper defines them
     error % = (measured − simulated) / simulated × 100 (Table 7), with points whose |simulated|
@@ -984,6 +989,12 @@ def _warnings(
             out.append(
                 f"not identifiable: the 95 % interval of {p.name} ({width:.4g} {p.unit} wide) "
                 f"is wider than its bounds ({p.upper - p.lower:.4g} {p.unit})"
+            )
+        elif e.ci95[0] < p.lower or e.ci95[1] > p.upper:
+            out.append(
+                f"poorly determined: the 95 % interval of {p.name} ({e.ci95[0]:.4g} .. "
+                f"{e.ci95[1]:.4g} {p.unit}) reaches beyond its bounds ({p.lower:.4g} .. "
+                f"{p.upper:.4g})"
             )
         span = p.upper - p.lower
         if span > 0 and min(e.value - p.lower, p.upper - e.value) <= 1e-6 * span:
