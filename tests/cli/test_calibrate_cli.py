@@ -137,6 +137,7 @@ def test_unidentifiable_lengths_warn(capsys: pytest.CaptureFixture[str]) -> None
         (["--quantity", "omega9"], "cannot compare 'omega9'"),
         (["--quantity", "speed"], "cannot fit 'speed'"),
         (["--initial", "phase=2"], "has no unit"),
+        (["--initial", "k=1e4N/mm^1.5"], "--initial names k, which is not fitted"),
         (["--unit", "furlong"], "--unit must be one of"),
     ],
 )

@@ -206,10 +206,14 @@ def calibrate_command(
 ) -> None:
     """Fit crank speed, phase, link lengths or contact parameters to measurements.
 
-    Least squares (scipy.optimize.least_squares) with bounds from physics and the tolerances;
-    standard errors from the Jacobian at the optimum, cov = s^2 (J^T J)^-1 with
-    s^2 = RSS/(m - p); 95 % intervals with Student-t. Warns when the data cannot determine a
-    parameter. Error % = (measured - simulated) / simulated x 100, as the paper defines it.
+    Least squares (scipy.optimize.least_squares) within bounds from physics and tolerances.
+
+    Standard errors from the Jacobian at the optimum: cov = s^2 (J^T J)^-1, s^2 = RSS/(m - p).
+
+    95 % intervals with Student-t; warns when the data cannot determine a parameter.
+
+    Error % = (measured - simulated) / simulated x 100, as the paper defines it.
+    See docs/calibration.md.
     """
     from jointplay.cli._common import mechanism_from_options
     from jointplay.dynamics.setup import contact_from_strings
@@ -271,6 +275,16 @@ def calibrate_command(
         settle=settle,
     )
     starts = _initial_values(_pairs(initial, "--initial"), contact_settings)
+    unused = [
+        name
+        for name in starts
+        if name not in names and not (name.startswith("crank-speed") and "crank-speed" in names)
+    ]
+    if unused:
+        raise ConfigError(
+            f"--initial names {', '.join(unused)}, which is not fitted; add it to --fit or "
+            "--fit-more"
+        )
     config_data = source_config(preset, config) if out is not None else None
     status = Console(stderr=True)
 
