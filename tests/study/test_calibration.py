@@ -211,3 +211,42 @@ def test_rough_clearance_response_is_flagged(mechanism, template):
     assert estimate.ci95[0] <= 3 * K0 <= estimate.ci95[1] or any(
         "rough" in w for w in result.warnings
     )
+
+
+def test_a_parameter_without_effect_has_no_finite_error():
+    """The linear algebra alone: a zero Jacobian column (no effect) and two equal columns
+    (an exact trade-off) give infinite standard errors and an infinite condition number."""
+    from jointplay.study.calibration import _uncertainty
+
+    rng = np.random.default_rng(3)
+    jac = rng.standard_normal((20, 3))
+    residuals = rng.standard_normal(20)
+    scales = np.ones(3)
+    _, stderr, _, condition, dof, _ = _uncertainty(jac, residuals, scales)
+    assert np.all(np.isfinite(stderr)) and condition < 10 and dof == 17
+    no_effect = jac.copy()
+    no_effect[:, 2] = 0.0
+    _, stderr, _, condition, _, _ = _uncertainty(no_effect, residuals, scales)
+    assert math.isinf(stderr[2]) and np.all(np.isfinite(stderr[:2]))
+    assert math.isinf(condition)
+    trade_off = jac.copy()
+    trade_off[:, 1] = 2.0 * trade_off[:, 0]
+    _, stderr, _, condition, _, weakest = _uncertainty(trade_off, residuals, scales)
+    assert math.isinf(stderr[0]) and math.isinf(stderr[1]) and math.isfinite(stderr[2])
+    assert condition > 1e12
+    assert abs(weakest[2]) < 1e-6  # the weak direction involves the first two only
+
+
+def test_mixed_responses_are_weighted_alike(mechanism, template):
+    """Rocker speed (rad/s) and acceleration (rad/s²) fitted jointly: each data set is divided
+    by the RMS of its measurements, so neither unit dominates."""
+    speed = replace(template, label="speed")
+    accel = replace(template, label="accel", quantity="alpha4", unit="rad/s^2")
+    truth = {"crank-speed": 225 * RPM}
+    speed = synthetic_dataset(mechanism, speed, truth, noise=0.0)
+    accel = synthetic_dataset(mechanism, accel, truth, noise=0.0)
+    result = calibrate(mechanism, [speed, accel], ["crank-speed"])
+    names = [p.name for p in result.parameters]
+    assert names == ["crank-speed@speed", "crank-speed@accel"]
+    for name in names:
+        assert result.estimate(name).value == pytest.approx(225 * RPM, rel=1e-6)
