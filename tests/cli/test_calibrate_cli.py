@@ -85,7 +85,7 @@ def test_out_writes_results_and_a_config_that_loads(tmp_path: Path) -> None:
     mechanism = load_config(out / "calibrated.toml")
     fitted = document["parameters"]
     assert mechanism.driver.speed == pytest.approx(fitted["crank-speed"]["value"], rel=1e-9)
-    geometry = mechanism.template.geometry  # type: ignore[union-attr]
+    geometry = mechanism.template.geometry  # type: ignore[attr-defined]
     assert geometry.rocker == pytest.approx(fitted["rocker-length"]["value"], rel=1e-9)
     assert "phase" in (out / "calibrated.toml").read_text()  # in the header, as a comment
 

@@ -34,7 +34,7 @@ def test_fitted_values_are_read_back(tmp_path: Path) -> None:
     path.write_text(dumps_toml(data, "calibrated"), encoding="utf-8")
     mechanism = load_config(path)
     assert mechanism.driver.speed == pytest.approx(values["crank-speed"], rel=1e-9)
-    assert mechanism.template.geometry.coupler == pytest.approx(0.2713, rel=1e-12)  # type: ignore[union-attr]
+    assert mechanism.template.geometry.coupler == pytest.approx(0.2713, rel=1e-12)  # type: ignore[attr-defined]
     clearances = [j.fit.clearance for j in mechanism.revolute_joints if j.fit]
     assert clearances == pytest.approx([1.5e-5] * 4, rel=1e-12)
     table = simulation_settings(path)
