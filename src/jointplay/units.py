@@ -43,6 +43,12 @@ _SIMPLE_QUANTITY = re.compile(
 )
 
 
+#: A number raised to a power ("10**10**10", "2^64"): pint would evaluate it exactly, which
+#: can take for ever. Units may carry powers ("N/mm^1.5"); numbers are written out ("1e10").
+_NUMBER_POWER = re.compile(r"[\d.)]\s*(\*\*|\^)")
+_MAX_QUANTITY_CHARS = 200
+
+
 @functools.cache
 def _registry() -> Any:
     import pint
@@ -76,12 +82,22 @@ def parse_quantity(value: Any, unit: str, *, field: str, allow_bare: bool = Fals
     if isinstance(value, str) and unit == "m":
         simple = _SIMPLE_QUANTITY.fullmatch(value)
         if simple:
-            return _finite(float(simple[1]) * _DECIMAL_LENGTHS[simple[2]], field)
+            return _finite(float(simple[1]) * _DECIMAL_LENGTHS[simple[2]], field, value)
     registry = _registry()
     if isinstance(value, str):
         text = value.strip()
         if not text:
             raise ConfigError(f"{field}: empty value; expected a quantity in {unit}")
+        if len(text) > _MAX_QUANTITY_CHARS:
+            raise ConfigError(
+                f"{field}: {text[:40]!r}... is too long for a quantity (at most "
+                f"{_MAX_QUANTITY_CHARS} characters); expected e.g. '1.5 {_example(unit)}'"
+            )
+        if _NUMBER_POWER.search(text):
+            raise ConfigError(
+                f"{field}: cannot read {value!r}: write numbers out (e.g. '1e10'), powers go "
+                f"on units only (e.g. 'N/mm^1.5')"
+            )
         try:
             quantity = registry.Quantity(text)
         except Exception as exc:  # pint raises several unrelated types
@@ -101,12 +117,13 @@ def parse_quantity(value: Any, unit: str, *, field: str, allow_bare: bool = Fals
         raise ConfigError(
             f"{field}: {value!r} has units of {quantity.units:~}, which cannot be converted to {unit}"
         ) from None
-    return _finite(magnitude, field)
+    return _finite(magnitude, field, value)
 
 
-def _finite(value: float, field: str) -> float:
+def _finite(value: float, field: str, given: Any = None) -> float:
     if not math.isfinite(value):
-        raise ConfigError(f"{field}: value must be finite, got {value}")
+        shown = f"{given!r} is {value} in SI" if given is not None else f"got {value}"
+        raise ConfigError(f"{field}: value must be finite, {shown}")
     return value
 
 

@@ -11,6 +11,7 @@ from rich.console import Console
 from rich.table import Table
 
 from jointplay.cli._app import app
+from jointplay.errors import ConfigError
 from jointplay.tolerance import iso286, iso2768
 from jointplay.units import parse_quantity
 
@@ -58,7 +59,7 @@ def fit_command(
 
     One class (K7, g6): its upper and lower limit deviations.
     """
-    size_m = parse_quantity(size, "m", field="--size")
+    size_m = _size(size)
     if "/" in designation:
         result = iso286.fit(designation, size_m)
         if as_json:
@@ -97,7 +98,7 @@ def general_tolerance_command(
 
     --size is the nominal size; with --feature angular, the length of the shorter side.
     """
-    size_m = parse_quantity(size, "m", field="--size")
+    size_m = _size(size)
     if feature is Feature.angular:
         result = iso2768.angular_tolerance(tolerance_class, size_m)
     elif feature is Feature.broken_edge:
@@ -121,6 +122,17 @@ def general_tolerance_command(
         f"{what[result.feature]} {_plain(result.nominal_size_mm)} mm ({result.size_range}): "
         f"{result.text}"
     )
+
+
+def _size(text: str) -> float:
+    """``--size`` in metres: positive, and not below the tables' 1e-9 mm resolution."""
+    size_m = parse_quantity(text, "m", field="--size")
+    if not round(size_m * 1e3, 9) > 0:
+        raise ConfigError(
+            f"--size must be a positive size of at least 1e-9 mm, got {text!r} "
+            f"(= {size_m * 1e3:.3g} mm)"
+        )
+    return size_m
 
 
 def _print_json(data: dict[str, Any]) -> None:

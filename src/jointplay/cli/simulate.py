@@ -206,10 +206,8 @@ def simulate_command(
         contact_settings = contact_from_strings(values) if law is None else None
         friction_settings = FrictionSettings(
             law=str(values.get("friction_law", "ambrosio")),
-            coefficient=float(values.get("friction", 0.0)),
+            coefficient=_number(values, "friction", 0.0),
         )
-        if friction_settings.coefficient < 0:
-            raise ConfigError(f"--friction must be >= 0, got {friction_settings.coefficient}")
         joint_names = _joint_list(values.get("joints"))
         clearance_value = (
             None
@@ -233,7 +231,7 @@ def simulate_command(
         if mode == "ramp" and ramp == 0.0:
             ramp = mechanism.driver.period / 4
         solver = SolverOptions(
-            rtol=float(values.get("rtol", 1e-6)),
+            rtol=_number(values, "rtol", 1e-6),
             max_step=None
             if values.get("max_step") is None
             else parse_quantity(values["max_step"], "s", field="--max-step"),
@@ -246,7 +244,7 @@ def simulate_command(
         fmt_value = str(values.get("format", "csv"))
         if fmt_value not in ("csv", "parquet"):
             raise ConfigError(f"--format must be csv or parquet, got {fmt_value!r}")
-        turns = float(values.get("revolutions", 1.0))
+        turns = _number(values, "revolutions", 1.0)
         if not (math.isfinite(turns) and turns > 0):
             raise ConfigError(f"--revolutions must be > 0, got {turns}")
         settle_turns = values.get("settle", DEFAULT_SETTLE if mode == "steady" else 0)
@@ -254,7 +252,7 @@ def simulate_command(
             raise ConfigError(
                 f"--settle must be a whole number of revolutions >= 0, got {settle_turns!r}"
             )
-        sample = values.get("sample_deg")
+        sample = None if values.get("sample_deg") is None else _number(values, "sample_deg", 0.0)
         if sample is not None and not (math.isfinite(float(sample)) and 0 < float(sample) <= 360):
             raise ConfigError(f"--sample-deg must lie in (0, 360] degrees, got {sample}")
         with console.status(
@@ -335,8 +333,21 @@ def _method_law(values: dict[str, Any], mechanism: Any) -> tuple[Any, dict[str, 
         str(name),
         mechanism,
         ecs_source=str(values.get("ecs_source", "computed")),
-        restitution=PAPER_RESTITUTION if restitution is None else float(restitution),
+        restitution=PAPER_RESTITUTION
+        if restitution is None
+        else _number(values, "restitution", 0.0),
     )
+
+
+def _number(values: dict[str, Any], key: str, default: float) -> float:
+    """``values[key]`` (a CLI option or a ``[simulation]`` entry) as a finite float."""
+    value = values.get(key, default)
+    option = "--" + key.replace("_", "-")
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise ConfigError(f"{option} must be a number, got {value!r}")
+    if not math.isfinite(value):
+        raise ConfigError(f"{option} must be a finite number, got {value!r}")
+    return float(value)
 
 
 def _joint_list(value: Any) -> list[str] | None:

@@ -31,6 +31,17 @@ class ClearanceJoint:
 
     def __post_init__(self) -> None:
         where = f"clearance joint {self.joint!r}"
+        if not isinstance(self.joint, str) or not self.joint:
+            raise ConfigError(f"ClearanceJoint.joint must be a joint name, got {self.joint!r}")
+        for field in ("clearance", "journal_radius"):
+            value = getattr(self, field)
+            if isinstance(value, bool) or not isinstance(value, int | float):
+                raise ConfigError(
+                    f"{where}: {field} must be a number in metres, got {value!r}; convert "
+                    "text with units first, e.g. jointplay.units.parse_quantity('21 um', 'm', "
+                    f"field='{field}')"
+                )
+            object.__setattr__(self, field, float(value))
         if not math.isfinite(self.clearance) or self.clearance < 0:
             raise ConfigError(
                 f"{where}: radial clearance must be positive, got {self.clearance * 1e3:g} mm "
@@ -44,9 +55,20 @@ class ClearanceJoint:
             raise ConfigError(
                 f"{where}: journal (pin) radius must be > 0 m, got {self.journal_radius}"
             )
+        if self.clearance >= self.journal_radius:
+            raise ConfigError(
+                f"{where}: a radial clearance of {self.clearance * 1e3:g} mm is not smaller than "
+                f"the pin radius {self.journal_radius * 1e3:g} mm: impossible geometry for a "
+                "revolute joint (radial clearances are µm, e.g. '0.021 mm')"
+            )
         if not isinstance(self.law, ContactLaw):
             raise ConfigError(
                 f"{where}: law must be a ContactLaw instance, got {type(self.law).__name__}"
+            )
+        if self.friction is not None and not isinstance(self.friction, FrictionLaw):
+            raise ConfigError(
+                f"{where}: friction must be a FrictionLaw instance or None, got "
+                f"{type(self.friction).__name__}"
             )
 
     @property

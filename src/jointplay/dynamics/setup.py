@@ -29,6 +29,49 @@ DEFAULT_IMPACT = ImpactLaw(stiffness=1e4 * 1000**1.5, exponent=1.5, c_max=1e4, d
 
 _HC_FAMILY = {name for name, cls in CONTACT_LAWS.items() if hasattr(cls, "chi_of")}
 
+#: The command-line option of each ContactSettings parameter.
+_OPTIONS = {
+    "stiffness": "--k",
+    "exponent": "--exponent",
+    "c_max": "--cmax",
+    "depth": "--depth",
+    "restitution": "--restitution",
+    "damping": "--damping",
+}
+#: The parameters each contact law uses (any other one given is an error, not ignored).
+_USES = {
+    "impact": ("stiffness", "exponent", "c_max", "depth"),
+    "restitution": ("stiffness", "exponent", "restitution"),
+    "hertz": ("stiffness", "exponent"),
+    "kelvin-voigt": ("stiffness", "exponent", "damping"),  # exponent: 1 only (linear)
+    **{name: ("stiffness", "exponent", "restitution") for name in _HC_FAMILY},
+}
+
+
+def law_exponent(law: str, exponent: float | None = None) -> float:
+    """The force exponent of contact law ``law``: ``exponent`` if given, else the law's
+    default (1 for the linear laws ``restitution`` and ``kelvin-voigt``, else 1.5). It fixes
+    the unit of the stiffness: N/m^exponent."""
+    if exponent is not None:
+        return exponent
+    return 1.0 if law in ("restitution", "kelvin-voigt") else 1.5
+
+
+def _real(value: Any, option: str) -> float:
+    """``value`` as a finite float, or a ConfigError naming ``option``."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        try:
+            if not isinstance(value, str):
+                raise ValueError
+            number = float(value)
+        except ValueError:
+            raise ConfigError(f"{option} must be a number, got {value!r}") from None
+    else:
+        number = float(value)
+    if not math.isfinite(number):
+        raise ConfigError(f"{option} must be a finite number, got {value!r}")
+    return number
+
 
 @dataclass(frozen=True)
 class ContactSettings:
@@ -68,6 +111,31 @@ class ContactSettings:
             raise ConfigError(
                 f"unknown stiffness law {self.stiffness_law!r}; known: {', '.join(sorted(STIFFNESS_LAWS))}"
             )
+        for field in _OPTIONS:
+            value = getattr(self, field)
+            if value is not None:
+                _real(value, f"{_OPTIONS[field]} ({field})")
+        uses = _USES.get(self.law, tuple(_OPTIONS))
+        stray = [
+            field for field in _OPTIONS if getattr(self, field) is not None and field not in uses
+        ]
+        if stray:
+            given = ", ".join(_OPTIONS[field] for field in stray)
+            used = ", ".join(_OPTIONS[field] for field in uses)
+            raise ConfigError(
+                f"{given} do(es) not apply to the contact law {self.law!r}, which takes {used}; "
+                "drop it or choose a law that uses it (--contact)"
+            )
+        if self.law == "kelvin-voigt" and self.exponent not in (None, 1.0):
+            raise ConfigError(
+                f"--exponent {self.exponent:g} does not apply to the contact law 'kelvin-voigt', "
+                "which is linear (F = K δ + D δ̇, stiffness in N/m): drop --exponent"
+            )
+        if self.stiffness_law is not None and self.law == "kelvin-voigt":
+            raise ConfigError(
+                "--stiffness-law fits a power law with its own exponent; the contact law "
+                "'kelvin-voigt' is linear: drop --stiffness-law or choose another --contact"
+            )
 
 
 @dataclass(frozen=True)
@@ -77,6 +145,20 @@ class FrictionSettings:
     law: str = "ambrosio"
     coefficient: float = 0.0
     dynamic_coefficient: float | None = None
+
+    def __post_init__(self) -> None:
+        if self.law not in ("ambrosio", "adams"):
+            raise ConfigError(f"--friction-law must be ambrosio or adams, got {self.law!r}")
+        mu = _real(self.coefficient, "--friction")
+        if mu < 0:
+            raise ConfigError(f"--friction must be >= 0 (0: no friction), got {self.coefficient!r}")
+        object.__setattr__(self, "coefficient", mu)
+        if self.dynamic_coefficient is not None:
+            dynamic = _real(self.dynamic_coefficient, "dynamic friction coefficient")
+            if dynamic < 0:
+                raise ConfigError(
+                    f"the dynamic friction coefficient must be >= 0, got {self.dynamic_coefficient!r}"
+                )
 
     @property
     def enabled(self) -> bool:
@@ -226,11 +308,12 @@ def _stiffness_from_geometry(
 def parse_stiffness(text: Any, exponent: float, *, field: str = "--k") -> float:
     """A stiffness with units for force exponent ``exponent``: ``"1e4 N/mm^1.5"`` → N/m^1.5."""
     unit = "N/m" if exponent == 1 else f"N/m^{exponent:g}"
+    written = "N/mm" if exponent == 1 else f"N/mm^{exponent:g}"
     try:
         return parse_quantity(text, unit, field=field)
     except ConfigError as exc:
         raise ConfigError(
-            f"{exc} (with force exponent {exponent:g} the stiffness is in N/mm^{exponent:g} or {unit})"
+            f"{exc} (with force exponent {exponent:g} the stiffness is in {written} or {unit})"
         ) from None
 
 
@@ -239,16 +322,20 @@ def contact_from_strings(values: Mapping[str, Any]) -> ContactSettings:
 
     Keys: contact, k, exponent, cmax, depth, restitution, damping, stiffness_law, fit_depth.
     """
-    law = str(values.get("contact") or "impact")
+    law = values.get("contact") or "impact"
+    if not isinstance(law, str):
+        raise ConfigError(f"--contact must be the name of a contact law, got {law!r}")
     exponent = values.get("exponent")
-    exponent = None if exponent is None else float(exponent)
-    if exponent is not None and not (math.isfinite(exponent) and exponent > 0):
+    exponent = None if exponent is None else _real(exponent, "--exponent")
+    if exponent is not None and not exponent > 0:
         raise ConfigError(f"--exponent must be > 0, got {exponent}")
-    default_n = 1.0 if law == "restitution" else 1.5
     stiffness = values.get("k")
+    restitution = values.get("restitution")
     settings = ContactSettings(
         law=law,
-        stiffness=None if stiffness is None else parse_stiffness(stiffness, exponent or default_n),
+        stiffness=None
+        if stiffness is None
+        else parse_stiffness(stiffness, law_exponent(law, exponent)),
         exponent=exponent,
         c_max=None
         if values.get("cmax") is None
@@ -256,7 +343,7 @@ def contact_from_strings(values: Mapping[str, Any]) -> ContactSettings:
         depth=None
         if values.get("depth") is None
         else parse_quantity(values["depth"], "m", field="--depth"),
-        restitution=None if values.get("restitution") is None else float(values["restitution"]),
+        restitution=None if restitution is None else _real(restitution, "--restitution"),
         damping=None
         if values.get("damping") is None
         else parse_quantity(values["damping"], "N*s/m", field="--damping"),

@@ -78,10 +78,11 @@ class Start:
     driven: bool = True
 
     def __post_init__(self) -> None:
-        if self.mode not in START_MODES:
+        if not isinstance(self.mode, str) or self.mode not in START_MODES:
             raise ConfigError(
                 f"start mode must be one of {', '.join(START_MODES)}, got {self.mode!r}"
             )
+        _real(self.ramp_time, "Start.ramp_time")
         if self.mode == "ramp" and not self.ramp_time > 0:
             raise ConfigError(f"a ramp start needs a ramp duration > 0 s, got {self.ramp_time}")
         if self.mode != "ramp" and self.ramp_time != 0:
@@ -110,6 +111,13 @@ class SolverOptions:
     max_steps: int = 2_000_000
 
     def __post_init__(self) -> None:
+        for name in ("rtol", "atol_position", "atol_velocity", "max_step", "onset_tolerance"):
+            if getattr(self, name) is not None:
+                _real(getattr(self, name), f"solver option {name}")
+        if isinstance(self.max_steps, bool) or not isinstance(self.max_steps, int | np.integer):
+            raise ConfigError(f"solver option max_steps must be an integer, got {self.max_steps!r}")
+        if self.max_steps < 1:
+            raise ConfigError(f"solver option max_steps must be >= 1, got {self.max_steps}")
         for name in ("rtol", "atol_position", "atol_velocity"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
@@ -335,6 +343,84 @@ def initial_state(system: System, start: Start) -> FloatArray:
     return np.concatenate([q0, qd0, np.zeros(2 + len(system.clearances))])
 
 
+#: The most rows a time series (or a sampled-peak table) may have: a guard against an output
+#: step so fine that the tables would not fit in memory (1e7 rows of ~60 columns: ~5 GB).
+MAX_OUTPUT_ROWS = 10_000_000
+
+
+def _real(value: Any, name: str) -> float:
+    """``value`` as a float, or a ConfigError naming ``name`` (a type check: no range)."""
+    if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
+        raise ConfigError(f"{name} must be a number, got {value!r}")
+    return float(value)
+
+
+def _check_arguments(
+    mechanism: Any,
+    clearances: Any,
+    start: Any,
+    solver: Any,
+    revolutions: Any,
+    output_step: Any,
+    sample_deg: Any,
+) -> None:
+    """Type checks of :func:`simulate`'s arguments, each naming the argument and the fix."""
+    if not isinstance(mechanism, Mechanism):
+        raise ConfigError(
+            f"mechanism must be a Mechanism (e.g. load_preset('paper-fourbar')), got "
+            f"{type(mechanism).__name__}"
+        )
+    if isinstance(clearances, str | bytes) or not isinstance(clearances, Sequence):
+        raise ConfigError(
+            f"clearances must be a list of ClearanceJoint (see clearance_joints()), got "
+            f"{type(clearances).__name__}"
+        )
+    for item in clearances:
+        if not isinstance(item, ClearanceJoint):
+            raise ConfigError(
+                f"clearances must hold ClearanceJoint objects, got {type(item).__name__}"
+            )
+    if start is not None and not isinstance(start, Start):
+        raise ConfigError(
+            f"start must be a Start, e.g. Start({start!r}) for a mode name, got "
+            f"{type(start).__name__}"
+            if isinstance(start, str)
+            else f"start must be a Start or None, got {type(start).__name__}"
+        )
+    if solver is not None and not isinstance(solver, SolverOptions):
+        raise ConfigError(
+            f"solver must be a SolverOptions (e.g. SolverOptions(rtol=1e-6)), got "
+            f"{type(solver).__name__}"
+        )
+    _real(revolutions, "revolutions")
+    if output_step is not None:
+        _real(output_step, "output_step")
+    if sample_deg is not None:
+        _real(sample_deg, "sample_deg")
+
+
+def _check_output_size(
+    period: float, turns: float, output_step: float, sample_deg: float | None
+) -> None:
+    """Refuse, before allocating, a time series or sampled table of more than
+    :data:`MAX_OUTPUT_ROWS` rows."""
+    rows = turns * period / output_step
+    if rows > MAX_OUTPUT_ROWS:
+        finest = turns * period / MAX_OUTPUT_ROWS
+        raise ConfigError(
+            f"an output step of {output_step:.3g} s over {turns:g} revolution(s) of "
+            f"{period:.3g} s gives {rows:.3g} rows of time series (at most "
+            f"{MAX_OUTPUT_ROWS:.0e}); give an output step of at least {finest:.3g} s "
+            "(--output-step) or fewer revolutions"
+        )
+    if sample_deg is not None and turns * 360.0 / sample_deg > MAX_OUTPUT_ROWS:
+        raise ConfigError(
+            f"sample_deg = {sample_deg:g} over {turns:g} revolution(s) gives more than "
+            f"{MAX_OUTPUT_ROWS:.0e} samples; give at least {turns * 360.0 / MAX_OUTPUT_ROWS:.3g}"
+            " degrees (--sample-deg)"
+        )
+
+
 def simulate(
     mechanism: Mechanism,
     clearances: Sequence[ClearanceJoint],
@@ -373,6 +459,7 @@ def simulate(
         ConfigError: a setting is out of range.
         IntegrationError: the integration failed and ``throw`` is true.
     """
+    _check_arguments(mechanism, clearances, start, solver, revolutions, output_step, sample_deg)
     start = start or Start()
     solver = solver or SolverOptions()
     if not (math.isfinite(revolutions) and revolutions > 0):
@@ -385,6 +472,7 @@ def simulate(
     output_step = output_step if output_step is not None else period / 720.0
     if not output_step > 0:
         raise ConfigError(f"output step must be > 0 s, got {output_step}")
+    _check_output_size(period, int(settle) + revolutions, output_step, sample_deg)
     system = build_system(
         mechanism,
         clearances,

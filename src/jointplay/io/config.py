@@ -9,6 +9,9 @@ errors that name the table and key. See the files in ``jointplay/data/presets`` 
 
 from __future__ import annotations
 
+import math
+import os
+import stat
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
@@ -42,6 +45,20 @@ from jointplay.units import parse_quantity
 STANDARD_GRAVITY = 9.80665
 
 
+#: The largest length a mechanism file may give, m: beyond it the geometry is a typo.
+MAX_LENGTH = 1000.0
+
+
+def _plausible(value: float, unit: str, field: str, given: Any) -> float:
+    """``value``, unless it is a length beyond :data:`MAX_LENGTH` (blamed on the geometry)."""
+    if unit == "m" and abs(value) > MAX_LENGTH:
+        raise ConfigError(
+            f"{field} = {given!r} is not a plausible length for a linkage (at most "
+            f"{MAX_LENGTH:g} m); check the geometry"
+        )
+    return value
+
+
 class _Table:
     """A TOML table that hands out its keys and reports the ones nobody asked for."""
 
@@ -67,7 +84,12 @@ class _Table:
         value = self.raw(key, default)
         if value is default and default is not ...:
             return default
-        return parse_quantity(value, unit, field=f"{self.where}.{key}")
+        return _plausible(
+            parse_quantity(value, unit, field=f"{self.where}.{key}"),
+            unit,
+            f"{self.where}.{key}",
+            value,
+        )
 
     def number(self, key: str, default: Any = ...) -> Any:
         value = self.raw(key, default)
@@ -75,6 +97,8 @@ class _Table:
             return default
         if isinstance(value, bool) or not isinstance(value, int | float):
             raise ConfigError(f"{self.where}.{key} must be a number, got {value!r}")
+        if not math.isfinite(value):
+            raise ConfigError(f"{self.where}.{key} must be a finite number, got {value!r}")
         return float(value)
 
     def text(self, key: str, default: Any = ...) -> Any:
@@ -93,8 +117,18 @@ class _Table:
         if not isinstance(value, list | tuple) or len(value) != 2:
             raise ConfigError(f"{self.where}.{key} must be a pair [x, y] with units, got {value!r}")
         return (
-            parse_quantity(value[0], "m", field=f"{self.where}.{key}[0]"),
-            parse_quantity(value[1], "m", field=f"{self.where}.{key}[1]"),
+            _plausible(
+                parse_quantity(value[0], "m", field=f"{self.where}.{key}[0]"),
+                "m",
+                f"{self.where}.{key}[0]",
+                value[0],
+            ),
+            _plausible(
+                parse_quantity(value[1], "m", field=f"{self.where}.{key}[1]"),
+                "m",
+                f"{self.where}.{key}[1]",
+                value[1],
+            ),
         )
 
     def finish(self) -> None:
@@ -148,20 +182,62 @@ def load_preset(name: str) -> Mechanism:
     return parse_config(tomllib.loads(preset_text(name)), source=f"preset {name!r}")
 
 
+#: The largest configuration file read, bytes (a guard against reading a huge file by mistake).
+MAX_CONFIG_BYTES = 16 * 2**20
+
+
+def read_text_file(path: Any, what: str = "configuration file") -> str:
+    """The UTF-8 text of the regular file ``path``, or a ConfigError saying what is wrong.
+
+    The one reader of user-given text files: refuses what is not a path, a missing file, a
+    folder, a FIFO or device (which could block for ever), a file over
+    :data:`MAX_CONFIG_BYTES` and text that is not UTF-8.
+    """
+    if isinstance(path, bool) or not isinstance(path, str | os.PathLike):
+        raise ConfigError(f"the {what} must be a file path, got {type(path).__name__}")
+    name = os.fspath(path)
+    if isinstance(name, bytes) or not name.strip():
+        raise ConfigError(f"the {what} must be a file path, got {name!r}")
+    try:
+        info = os.stat(name)
+    except FileNotFoundError:
+        raise ConfigError(f"{what} {name!r} not found") from None
+    except OSError as exc:
+        raise ConfigError(f"cannot read {what} {name!r}: {exc.strerror}") from None
+    if not stat.S_ISREG(info.st_mode):
+        kind = "a folder" if stat.S_ISDIR(info.st_mode) else "not a regular file"
+        raise ConfigError(f"{what} {name!r} is {kind}; give a file")
+    if info.st_size > MAX_CONFIG_BYTES:
+        raise ConfigError(
+            f"{what} {name!r} is {info.st_size / 2**20:.0f} MiB; a {what} is at most "
+            f"{MAX_CONFIG_BYTES / 2**20:.0f} MiB"
+        )
+    try:
+        with open(name, "rb") as handle:
+            raw = handle.read(MAX_CONFIG_BYTES + 1)
+    except OSError as exc:
+        raise ConfigError(f"cannot read {what} {name!r}: {exc.strerror}") from None
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ConfigError(
+            f"{what} {name!r} is not UTF-8 text (byte 0x{raw[exc.start]:02x} at offset "
+            f"{exc.start}); save it as UTF-8"
+        ) from None
+
+
+def _read_toml(path: Any) -> dict[str, Any]:
+    text = read_text_file(path)
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{os.fspath(path)}: malformed TOML: {exc}") from None
+
+
 def load_config(path: Path | str) -> Mechanism:
     """Read a TOML configuration file and build its mechanism."""
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ConfigError(f"configuration file {str(path)!r} not found") from None
-    except OSError as exc:
-        raise ConfigError(f"cannot read configuration file {str(path)!r}: {exc.strerror}") from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"{path}: malformed TOML: {exc}") from None
-    return parse_config(data, source=str(path))
+    data = _read_toml(path)
+    return parse_config(data, source=os.fspath(path))
 
 
 def tolerance_table(
@@ -169,10 +245,7 @@ def tolerance_table(
 ) -> dict[str, Any] | None:
     """The raw ``[tolerances]`` table of a config file or preset (``None`` without one)."""
     if config is not None:
-        try:
-            data = tomllib.loads(Path(config).read_text(encoding="utf-8"))
-        except (OSError, tomllib.TOMLDecodeError) as exc:
-            raise ConfigError(f"{config}: cannot read the [tolerances] table: {exc}") from None
+        data = _read_toml(config)
     else:
         data = tomllib.loads(preset_text(preset or "paper-fourbar"))
     table = data.get("tolerances")
@@ -201,9 +274,10 @@ def _parse(root: _Table) -> Mechanism:
     name = head.text("name", "mechanism")
     head.text("description", "")
     template = head.text("template", "four-bar")
-    branch = int(head.number("branch", 1))
-    if branch not in (1, -1):
-        raise ConfigError(f"mechanism.branch must be 1 or -1, got {branch}")
+    branch_value = head.number("branch", 1)
+    if branch_value not in (1.0, -1.0):
+        raise ConfigError(f"mechanism.branch must be 1 or -1, got {head.raw('branch', 1)!r}")
+    branch = int(branch_value)
     gravity = _gravity(head)
     head.finish()
     material = _material(root.table("material")) if root.has("material") else STEEL
@@ -485,11 +559,31 @@ def simulation_settings(path: Path | str | None) -> dict[str, Any]:
     """The ``[simulation]`` table of a configuration file (raw values; empty without one)."""
     if path is None:
         return {}
-    try:
-        data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
-    except (OSError, tomllib.TOMLDecodeError) as exc:
-        raise ConfigError(f"{path}: cannot read the [simulation] table: {exc}") from None
+    data = _read_toml(path)
     table = _Table(data.get("simulation", {}), "simulation")
     values = {key: table.raw(key) for key in SIMULATION_KEYS if table.has(key)}
     table.finish()
+    for key, value in values.items():
+        where = f"{os.fspath(path)}: simulation.{key}"
+        if key in _SIMULATION_NUMBERS:
+            if isinstance(value, bool) or not isinstance(value, int | float):
+                raise ConfigError(f"{where} must be a number, got {value!r}")
+            if not math.isfinite(value):
+                raise ConfigError(f"{where} must be a finite number, got {value!r}")
+        elif key == "joints":
+            if not (
+                isinstance(value, str)
+                or (isinstance(value, list) and all(isinstance(v, str) for v in value))
+            ):
+                raise ConfigError(
+                    f"{where} must be a list of joint names or a string like 'O2,A', got {value!r}"
+                )
+        elif isinstance(value, bool) or not isinstance(value, str | int | float):
+            raise ConfigError(
+                f"{where} must be a string (with a unit where it has one), got {value!r}"
+            )
     return values
+
+
+#: Keys of the ``[simulation]`` table that are plain numbers (the others are strings).
+_SIMULATION_NUMBERS = ("exponent", "restitution", "friction", "revolutions", "rtol")

@@ -49,6 +49,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from jointplay.errors import ConfigError
+from jointplay.io.config import read_text_file
 
 FloatArray = NDArray[np.float64]
 
@@ -183,6 +184,12 @@ class MeasurementConventions:
 # --- reading measurements ---------------------------------------------------------------------
 
 
+#: The largest crank angle a measurement may give, degrees (unwrapped: 100 revolutions).
+MAX_ANGLE_DEG = 36_000.0
+#: The largest magnitude of a measured speed or published value, in the file's unit.
+MAX_MAGNITUDE = 1e9
+
+
 def frozen_array(values: ArrayLike) -> FloatArray:
     """A read-only float copy of ``values`` (for the arrays of frozen results)."""
     array = np.array(values, dtype=float)
@@ -229,9 +236,26 @@ class Measurements:
                 )
             if not np.all(np.isfinite(array)):
                 raise ConfigError(f"Measurements: {name} has non-finite values")
+            limit = MAX_ANGLE_DEG if name == "crank_deg" else MAX_MAGNITUDE
+            if array.size and np.max(np.abs(array)) > limit:
+                worst = float(array[np.argmax(np.abs(array))])
+                raise ConfigError(
+                    f"Measurements: {name} has {worst:g}, beyond the plausible ±{limit:g}"
+                    + (
+                        " degrees (unwrapped angles of at most 100 revolutions)"
+                        if name == "crank_deg"
+                        else ""
+                    )
+                )
             object.__setattr__(self, name, array)
         if self.crank_deg.size == 0:
             raise ConfigError("Measurements: no data points")
+        values, counts = np.unique(self.crank_deg, return_counts=True)
+        if np.any(counts > 1):
+            raise ConfigError(
+                f"Measurements: crank angle {float(values[np.argmax(counts > 1)]):g} deg appears "
+                f"{int(counts.max())} times; give one measurement per angle (average repeats)"
+            )
 
     @property
     def crank_deg_model(self) -> FloatArray:
@@ -320,10 +344,7 @@ def _read_rows(
     """Header and (line number, fields) of the data rows; ``#`` lines and blank lines skipped."""
     try:
         if isinstance(source, str | Path):
-            path = Path(source)
-            if not path.is_file():
-                raise ConfigError(f"measurement file {str(path)!r} not found (or not a file)")
-            text = path.read_text(encoding="utf-8-sig")
+            text = read_text_file(source, "measurement file").removeprefix("\ufeff")
         else:
             text = source.read()
     except (OSError, UnicodeDecodeError) as exc:

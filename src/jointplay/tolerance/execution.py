@@ -43,6 +43,7 @@ import concurrent.futures as cf
 import math
 import multiprocessing
 import os
+import re
 import signal
 import time
 import types
@@ -70,6 +71,13 @@ BACKENDS: tuple[str, ...] = ("serial", "processes", "dask")
 #: Sample status codes and their names (the ``status`` column of ``samples.parquet``).
 STATUS: Mapping[int, str] = types.MappingProxyType({0: "ok", 1: "failed", 2: "not run"})
 OK, FAILED, NOT_RUN = 0, 1, 2
+
+
+#: A Dask scheduler address: optional protocol, host name or [IPv6] address, optional port
+#: and path (``inproc://`` addresses carry one).
+_SCHEDULER_ADDRESS = re.compile(
+    r"(?:(?:tcp|tls|inproc|ucx|ws|wss)://)?(?:[A-Za-z0-9_.\-]+|\[[0-9A-Fa-f:.]+\])(?::\d{1,5})?(?:/[A-Za-z0-9_.\-/]*)?"
+)
 
 
 @dataclass(frozen=True)
@@ -103,6 +111,13 @@ class Backend:
             raise ConfigError(f"chunk size must be a positive integer, got {self.chunk_size!r}")
         if self.kind == "dask" and not self.scheduler:
             raise ConfigError("the dask backend needs the scheduler's address")
+        if self.kind == "dask" and (
+            not isinstance(self.scheduler, str) or not _SCHEDULER_ADDRESS.fullmatch(self.scheduler)
+        ):
+            raise ConfigError(
+                f"--dask-scheduler {self.scheduler!r} is not a scheduler address; write "
+                "PROTOCOL://HOST:PORT, e.g. tcp://10.0.0.5:8786 (or HOST:PORT)"
+            )
         if self.kind != "dask" and self.scheduler:
             raise ConfigError("a scheduler address applies to the dask backend only")
 
