@@ -168,7 +168,7 @@ def compare_command(
             unit=choice(unit, "--unit", tuple(SPEED_UNITS)),
             crank_direction=choice(crank_direction, "--crank-direction", DIRECTIONS),
             angle_direction=choice(angle_direction, "--angle-direction", DIRECTIONS),
-            angle_origin=math.degrees(parse_quantity(angle_origin, "rad", field="--angle-origin")),
+            angle_origin=_angle_origin(angle_origin),
             speed_sign=1 if choice(speed_positive, "--speed-positive", DIRECTIONS) == "ccw" else -1,
         )
         methods = list(dict.fromkeys(method or cmp.DEFAULT_METHODS))
@@ -224,6 +224,14 @@ def compare_command(
         print(json_text(document))
         return
     _print(result, mechanism, out)
+
+
+def _angle_origin(text: str) -> float:
+    """``--angle-origin`` in degrees, within one turn either way."""
+    degrees = math.degrees(parse_quantity(text, "rad", field="--angle-origin"))
+    if not abs(degrees) <= 360.0:
+        raise ConfigError(f"--angle-origin must lie within ±360 deg, got {text!r}")
+    return degrees
 
 
 def _measurements(

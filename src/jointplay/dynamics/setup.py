@@ -329,6 +329,11 @@ def contact_from_strings(values: Mapping[str, Any]) -> ContactSettings:
     exponent = None if exponent is None else _real(exponent, "--exponent")
     if exponent is not None and not exponent > 0:
         raise ConfigError(f"--exponent must be > 0, got {exponent}")
+    if law == "kelvin-voigt" and exponent not in (None, 1.0):
+        raise ConfigError(
+            f"--exponent {exponent:g} does not apply to the contact law 'kelvin-voigt', which "
+            "is linear (F = K δ + D δ̇, stiffness in N/m): drop --exponent"
+        )
     stiffness = values.get("k")
     restitution = values.get("restitution")
     settings = ContactSettings(

@@ -113,10 +113,11 @@ class MeasurementConventions:
             isinstance(origin, bool)
             or not isinstance(origin, int | float)
             or not math.isfinite(origin)
+            or abs(origin) > MAX_ANGLE_DEG
         ):
             raise ConfigError(
-                f"MeasurementConventions: angle_origin must be a finite number of degrees, "
-                f"got {origin!r}"
+                f"MeasurementConventions: angle_origin must be a finite number of degrees "
+                f"within ±{MAX_ANGLE_DEG:g}, got {origin!r}"
             )
         object.__setattr__(self, "angle_origin", float(origin))
         if isinstance(self.speed_sign, bool) or self.speed_sign not in (1, -1):

@@ -1,0 +1,343 @@
+"""Bad input, command by command: exit status 2, one line naming the culprit, --out untouched.
+
+Each case is what a user could type. The contract (README, "Exit codes"): bad input or an
+unusable environment gives exit status 2 and one line on stderr that names the option, field
+or file at fault; no traceback, no exit 3; the output folder is left exactly as it was and no
+temporary folder is left beside it.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+from jointplay.cli import run
+from jointplay.io.output import MARKER
+
+PAPER = """
+[mechanism]
+name = "bad"
+branch = {branch}
+[geometry]
+crank = "{crank}"
+coupler = "270.5 mm"
+rocker = "270.5 mm"
+ground = "279.4 mm"
+[driver]
+speed = "200 rpm"
+[joints.A]
+diameter = "10 mm"
+fit = "H8/g7"
+clearance = "0.021 mm"
+[tolerances]
+general = "c"
+"""
+
+
+def _config(
+    folder: Path, name: str, *, branch: str = "1", crank: str = "108 mm", extra: str = ""
+) -> str:
+    path = folder / name
+    path.write_text(PAPER.format(branch=branch, crank=crank) + extra, encoding="utf-8")
+    return str(path)
+
+
+@pytest.fixture
+def files(tmp_path: Path) -> dict[str, str]:
+    """Input files for the cases, by name."""
+    made = {
+        "branch_nan": _config(tmp_path, "branch_nan.toml", branch="nan"),
+        "branch_inf": _config(tmp_path, "branch_inf.toml", branch="inf"),
+        "branch_half": _config(tmp_path, "branch_half.toml", branch="1.5"),
+        "huge_crank": _config(tmp_path, "huge.toml", crank="1e30 mm"),
+        "rtol_abc": _config(tmp_path, "rtol.toml", extra='[simulation]\nrtol = "abc"\n'),
+        "revolutions_abc": _config(
+            tmp_path, "revs.toml", extra='[simulation]\nrevolutions = "abc"\n'
+        ),
+        "friction_abc": _config(tmp_path, "fric.toml", extra='[simulation]\nfriction = "abc"\n'),
+        "simulation_list": _config(tmp_path, "list.toml", extra="[simulation]\nk = [1, 2]\n"),
+    }
+    latin1 = tmp_path / "latin1.toml"
+    latin1.write_bytes(
+        PAPER.format(branch="1", crank="108 mm").replace("bad", "b\xe9").encode("latin-1")
+    )
+    made["latin1"] = str(latin1)
+    malformed = tmp_path / "malformed.toml"
+    malformed.write_text("[mechanism\nname = ", encoding="utf-8")
+    made["malformed"] = str(malformed)
+    fifo = tmp_path / "fifo.toml"
+    os.mkfifo(fifo)
+    made["fifo"] = str(fifo)
+    made["folder"] = str(tmp_path)
+    for name, rows in {
+        "huge_speed": "0,1e308\n90,-1e308\n",
+        "huge_angle": "1e300,10\n90,12\n",
+        "duplicate_angle": "90,10\n90,12\n180,11\n",
+        "text_speed": "0,fast\n90,12\n",
+    }.items():
+        path = tmp_path / f"{name}.csv"
+        path.write_text("crank_deg,speed\n" + rows, encoding="utf-8")
+        made[name] = str(path)
+    return made
+
+
+# (command line, culprit in the message); "{name}" is replaced by files[name].
+CASES: dict[str, tuple[list[str], str]] = {
+    # simulate: numbers
+    "simulate friction nan": (["simulate", "--friction", "nan"], "--friction"),
+    "simulate friction negative": (["simulate", "--friction", "-0.1"], "--friction"),
+    "simulate restitution with impact": (["simulate", "--restitution", "1.5"], "impact"),
+    "simulate restitution nan": (["simulate", "--restitution", "nan"], "--restitution"),
+    "simulate restitution out of range": (
+        ["simulate", "--contact", "hunt-crossley", "--k", "1e4 N/mm^1.5", "--restitution", "1.5"],
+        "restitution",
+    ),
+    "simulate cmax with hertz": (
+        ["simulate", "--contact", "hertz", "--k", "1e4 N/mm^1.5", "--cmax", "10 N*s/mm"],
+        "--cmax",
+    ),
+    "simulate damping with hertz": (
+        ["simulate", "--contact", "hertz", "--k", "1e4 N/mm^1.5", "--damping", "100 N*s/m"],
+        "--damping",
+    ),
+    "simulate kelvin-voigt stiffness N/mm^1.5": (
+        ["simulate", "--contact", "kelvin-voigt", "--k", "1e4 N/mm^1.5", "--damping", "1 N*s/m"],
+        "--k",
+    ),
+    "simulate kelvin-voigt exponent": (
+        [
+            "simulate",
+            "--contact",
+            "kelvin-voigt",
+            "--k",
+            "1e7 N/m",
+            "--exponent",
+            "1.5",
+            "--damping",
+            "1 N*s/m",
+        ],
+        "--exponent",
+    ),
+    "simulate kelvin-voigt without damping": (
+        ["simulate", "--contact", "kelvin-voigt", "--k", "1e7 N/m"],
+        "damping",
+    ),
+    "simulate stiffness without unit": (["simulate", "--k", "1e4"], "--k"),
+    "simulate stiffness wrong unit": (["simulate", "--k", "1e4 N"], "--k"),
+    "simulate exponent zero": (["simulate", "--exponent", "0"], "--exponent"),
+    "simulate unknown law": (["simulate", "--contact", "glue"], "glue"),
+    "simulate law needs stiffness": (["simulate", "--contact", "hertz"], "stiffness"),
+    "simulate clearance 1 m": (["simulate", "--clearance", "1 m"], "clearance"),
+    "simulate clearance negative": (["simulate", "--clearance", "-1 um"], "clearance"),
+    "simulate clearance text": (["simulate", "--clearance", "wide"], "--clearance"),
+    "simulate clearance power": (["simulate", "--clearance", "10**10**10 mm"], "--clearance"),
+    "simulate output step 1 ns": (["simulate", "--output-step", "1 ns"], "--output-step"),
+    "simulate output step zero": (["simulate", "--output-step", "0 s"], "output step"),
+    "simulate sample-deg tiny": (["simulate", "--sample-deg", "1e-9"], "--sample-deg"),
+    "simulate sample-deg zero": (["simulate", "--sample-deg", "0"], "--sample-deg"),
+    "simulate rtol nan": (["simulate", "--rtol", "nan"], "rtol"),
+    "simulate rtol large": (["simulate", "--rtol", "0.5"], "rtol"),
+    "simulate revolutions zero": (["simulate", "--revolutions", "0"], "--revolutions"),
+    "simulate revolutions inf": (["simulate", "--revolutions", "inf"], "--revolutions"),
+    "simulate revolutions text": (["simulate", "--revolutions", "abc"], "--revolutions"),
+    "simulate settle negative": (["simulate", "--settle", "-1"], "--settle"),
+    "simulate max step zero": (["simulate", "--max-step", "0 s"], "max_step"),
+    "simulate joints empty": (["simulate", "--joints", " , "], "--joints"),
+    "simulate joints unknown": (["simulate", "--joints", "Q7"], "Q7"),
+    "simulate start unknown": (["simulate", "--start", "sideways"], "sideways"),
+    "simulate ramp time without ramp": (["simulate", "--ramp-time", "10 ms"], "ramp"),
+    "simulate method unknown": (["simulate", "--method", "magic"], "magic"),
+    "simulate method with k": (
+        ["simulate", "--method", "ifm-conventional", "--k", "1e4 N/mm^1.5"],
+        "--method",
+    ),
+    "simulate ecs-source without method": (["simulate", "--ecs-source", "paper"], "--ecs-source"),
+    "simulate friction law unknown": (
+        ["simulate", "--friction", "0.1", "--friction-law", "sticky"],
+        "--friction-law",
+    ),
+    "simulate format unknown": (["simulate", "--format", "xls"], "--format"),
+    "simulate rpm nan": (["simulate", "--rpm", "nan"], "--rpm"),
+    "simulate rpm negative": (["simulate", "--rpm", "-5"], "--rpm"),
+    "simulate direction": (["simulate", "--direction", "up"], "--direction"),
+    "simulate start angle length": (["simulate", "--start-angle", "1 m"], "--start-angle"),
+    "simulate gravity length": (["simulate", "--gravity", "9.81 m"], "--gravity"),
+    "simulate unknown option": (["simulate", "--bogus", "1"], "--bogus"),
+    "simulate unknown preset": (["simulate", "--preset", "tribar"], "tribar"),
+    "simulate preset and config": (
+        ["simulate", "-p", "paper-fourbar", "-c", "{branch_nan}"],
+        "either",
+    ),
+    # configuration files
+    "config missing": (["simulate", "--config", "/nonexistent/x.toml"], "not found"),
+    "config fifo": (["simulate", "--config", "{fifo}"], "regular file"),
+    "config folder": (["simulate", "--config", "{folder}"], "folder"),
+    "config not utf-8": (["simulate", "--config", "{latin1}"], "UTF-8"),
+    "config malformed": (["simulate", "--config", "{malformed}"], "malformed TOML"),
+    "config branch nan": (["kinematics", "--config", "{branch_nan}"], "branch"),
+    "config branch inf": (["kinematics", "--config", "{branch_inf}"], "branch"),
+    "config branch 1.5": (["kinematics", "--config", "{branch_half}"], "branch"),
+    "config absurd length": (["kinematics", "--config", "{huge_crank}"], "geometry.crank"),
+    "config absurd length tolerance": (["tolerance", "--config", "{huge_crank}"], "geometry"),
+    "config rtol text": (["simulate", "--config", "{rtol_abc}"], "simulation.rtol"),
+    "config revolutions text": (["simulate", "--config", "{revolutions_abc}"], "revolutions"),
+    "config friction text": (["simulate", "--config", "{friction_abc}"], "friction"),
+    "config stiffness list": (["simulate", "--config", "{simulation_list}"], "simulation.k"),
+    # kinematics
+    "kinematics step nan": (["kinematics", "--step", "nan"], "step"),
+    "kinematics step not dividing 360": (["kinematics", "--step", "0.7"], "step"),
+    "kinematics method": (["kinematics", "--method", "guess"], "guess"),
+    # tolerance
+    "tolerance samples zero": (["tolerance", "--samples", "0"], "--samples"),
+    "tolerance revolutions zero": (
+        ["tolerance", "--responses", "dynamic", "--revolutions", "0"],
+        "--revolutions",
+    ),
+    "tolerance contact for kinematic": (["tolerance", "--contact", "hertz"], "dynamic"),
+    "tolerance restitution with impact": (
+        ["tolerance", "--responses", "dynamic", "--restitution", "1.5"],
+        "impact",
+    ),
+    "tolerance malformed dask address": (
+        ["tolerance", "--dask-scheduler", "not a url::"],
+        "--dask-scheduler",
+    ),
+    "tolerance workers and dask": (
+        ["tolerance", "--workers", "2", "--dask-scheduler", "tcp://127.0.0.1:8786"],
+        "--workers",
+    ),
+    "tolerance spec limit": (["tolerance", "--spec-limit", "omega4_peak"], "omega4_peak"),
+    "tolerance method": (["tolerance", "--method", "guess"], "--method"),
+    # compare
+    "compare speeds 1e308": (["compare", "-m", "{huge_speed}", "--method", "nominal"], "speed"),
+    "compare angle 1e300": (["compare", "-m", "{huge_angle}", "--method", "nominal"], "crank_deg"),
+    "compare duplicate angles": (
+        ["compare", "-m", "{duplicate_angle}", "--method", "nominal"],
+        "90",
+    ),
+    "compare text speed": (["compare", "-m", "{text_speed}", "--method", "nominal"], "fast"),
+    "compare measurements fifo": (["compare", "-m", "{fifo}"], "regular file"),
+    "compare low speed": (["compare", "--low-speed", "2"], "--low-speed"),
+    "compare revolutions": (["compare", "--revolutions", "0.5"], "--revolutions"),
+    "compare unit": (["compare", "--unit", "furlongs"], "--unit"),
+    "compare angle origin": (["compare", "--angle-origin", "1e308 deg"], "--angle-origin"),
+    "compare method": (["compare", "--method", "magic"], "magic"),
+    # ecs
+    "ecs restitution": (["ecs", "--restitution", "1.5"], "--restitution"),
+    "ecs rpm text": (["ecs", "--rpm", "fast"], "--rpm"),
+    "ecs sweep": (["ecs", "--sweep", "1:0:5"], "--sweep"),
+    "ecs damping ratio": (["ecs", "--damping-ratio", "nan"], "--damping-ratio"),
+    # paper
+    "paper rpm zero": (["paper", "--rpm", "0"], "--rpm"),
+    "paper revolutions nan": (["paper", "--revolutions", "nan"], "--revolutions"),
+    "paper ecs source": (["paper", "--ecs-source", "guess"], "--ecs-source"),
+    # fit and general-tolerance (no --out)
+    "fit size 1e-300 mm": (["fit", "H8/g7", "--size", "1e-300 mm"], "1e-300"),
+    "fit size negative": (["fit", "H8/g7", "--size", "-5 mm"], "--size"),
+    "fit size bare": (["fit", "H8/g7", "--size", "10"], "--size"),
+    "fit designation": (["fit", "Q8/z0", "--size", "10 mm"], "Q8"),
+    "general-tolerance class": (["general-tolerance", "x", "--size", "10 mm"], "x"),
+    "general-tolerance size huge": (["general-tolerance", "c", "--size", "1e30 mm"], "1e+30"),
+    "show unknown preset": (["show", "tribar"], "tribar"),
+}
+
+NO_OUT = ("fit", "general-tolerance", "show", "presets")
+
+
+@pytest.fixture
+def previous(tmp_path: Path) -> Path:
+    """An earlier complete result in --out, which a failed run must leave as it was."""
+    out = tmp_path / "results" / "run"
+    out.mkdir(parents=True)
+    (out / MARKER).write_text("{}\n", encoding="utf-8")
+    (out / "summary.json").write_text('{"earlier": true}\n', encoding="utf-8")
+    return out
+
+
+def _snapshot(folder: Path) -> dict[str, bytes]:
+    return {p.name: p.read_bytes() for p in sorted(folder.iterdir())}
+
+
+def test_the_suite_is_large_enough() -> None:
+    assert len(CASES) >= 60
+
+
+@pytest.mark.parametrize("case", CASES, ids=list(CASES))
+def test_bad_input_is_one_line_exit_2_and_leaves_out_alone(
+    case: str, files: dict[str, str], previous: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    arguments, culprit = CASES[case]
+    argv = [a.format(**files) if "{" in a else a for a in arguments]
+    if argv[0] not in NO_OUT:
+        argv += ["--out", str(previous)]
+    before = _snapshot(previous)
+    status = run(argv)
+    err = capsys.readouterr().err
+    lines = err.strip().splitlines()
+    assert status == 2, err
+    assert len(lines) == 1, err
+    assert lines[0].startswith("jointplay: error: "), err
+    assert culprit in lines[0], err
+    assert "Traceback" not in err
+    assert _snapshot(previous) == before
+    leftovers = [p.name for p in previous.parent.iterdir() if p.name != previous.name]
+    assert leftovers == []
+
+
+# --- the output folder itself --------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("out", "culprit"),
+    [("", "--out"), (".", "--out"), ("/proc/jointplay-x", "output folder")],
+    ids=["empty", "dot", "proc"],
+)
+def test_unusable_out_is_refused_before_computing(
+    out: str, culprit: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    status = run(["kinematics", "--no-plots", "--out", out])
+    err = capsys.readouterr().err
+    assert status == 2, err
+    assert len(err.strip().splitlines()) == 1 and culprit in err
+
+
+def test_read_only_parent_is_refused(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    if os.geteuid() == 0:
+        pytest.skip("root writes into read-only folders")
+    locked = tmp_path / "locked"
+    locked.mkdir()
+    locked.chmod(0o500)
+    try:
+        assert run(["kinematics", "--out", str(locked / "out")]) == 2
+        assert "output folder" in capsys.readouterr().err
+    finally:
+        locked.chmod(0o700)
+
+
+def test_foreign_folder_needs_force(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / "mine"
+    out.mkdir()
+    (out / "thesis.tex").write_text("precious", encoding="utf-8")
+    assert run(["kinematics", "--no-plots", "--out", str(out)]) == 2
+    assert "--force" in capsys.readouterr().err
+    assert (out / "thesis.tex").read_text(encoding="utf-8") == "precious"
+    assert run(["kinematics", "--no-plots", "--force", "--out", str(out)]) == 0
+    assert not (out / "thesis.tex").exists()
+    assert (out / MARKER).is_file()
+
+
+def test_out_that_is_a_file_is_refused(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    target = tmp_path / "file"
+    target.write_text("x", encoding="utf-8")
+    assert run(["kinematics", "--out", str(target)]) == 2
+    assert "not a folder" in capsys.readouterr().err
+    assert target.read_text(encoding="utf-8") == "x"
+
+
+def test_usage_errors_take_one_line(capsys: pytest.CaptureFixture[str]) -> None:
+    assert run(["simulate", "--revolutions"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1
+    assert "--revolutions" in err and "--help" in err
