@@ -5,7 +5,8 @@ left out, one analysed revolution, Archard wear per sample) in <= 5 minutes on t
 
 Run ``python benchmarks/bench_design.py`` (``--samples``, ``--workers``). A small warm-up
 design (serial) loads the imports and the compiled kernels first; the timed run includes
-starting the worker processes.
+starting the worker processes. The worker processes' CPU time is printed too: on a machine
+shared with other jobs the wall time overstates what two idle cores need.
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ from __future__ import annotations
 import argparse
 import os
 import platform
+import resource
 import time
 
 from jointplay.io.config import load_preset
@@ -34,6 +36,7 @@ def main() -> None:
     design_study(
         mechanism, FITS[:1], CLASSES[:1], REQUIREMENTS, samples=2, backend=Backend("serial")
     )
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
     result = design_study(
         mechanism,
@@ -44,6 +47,8 @@ def main() -> None:
         backend=Backend("processes", workers=args.workers),
     )
     elapsed = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     n = len(FITS) * len(CLASSES) * args.samples
     failed = int(result.table["failed"].sum())
     print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} CPU(s)")
@@ -51,6 +56,10 @@ def main() -> None:
         f"design: {len(FITS)} fits x {len(CLASSES)} classes x {args.samples} samples = {n} "
         f"dynamic simulations in {elapsed:.1f} s ({n / elapsed:.1f}/s, {failed} failed); "
         f"target {TARGET_S:.0f} s: {'met' if elapsed <= TARGET_S else 'MISSED'}"
+    )
+    print(
+        f"worker CPU time {cpu:.0f} s ({cpu / n * 1e3:.0f} ms per sample): on two idle cores "
+        f"about {cpu / 2:.0f} s; a wall time far above that means the cores were shared"
     )
     print(f"best: {result.best}; binding: {result.binding}")
 
