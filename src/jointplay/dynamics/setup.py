@@ -57,11 +57,12 @@ def law_exponent(law: str, exponent: float | None = None) -> float:
     return 1.0 if law in ("restitution", "kelvin-voigt") else 1.5
 
 
-def _real(value: Any, option: str) -> float:
-    """``value`` as a finite float, or a ConfigError naming ``option``."""
+def _real(value: Any, option: str, *, text: bool = False) -> float:
+    """``value`` as a finite float, or a ConfigError naming ``option``; ``text``: a string
+    holding a plain number is read too (settings that come as strings)."""
     if isinstance(value, bool) or not isinstance(value, int | float):
         try:
-            if not isinstance(value, str):
+            if not (text and isinstance(value, str)):
                 raise ValueError
             number = float(value)
         except ValueError:
@@ -326,7 +327,7 @@ def contact_from_strings(values: Mapping[str, Any]) -> ContactSettings:
     if not isinstance(law, str):
         raise ConfigError(f"--contact must be the name of a contact law, got {law!r}")
     exponent = values.get("exponent")
-    exponent = None if exponent is None else _real(exponent, "--exponent")
+    exponent = None if exponent is None else _real(exponent, "--exponent", text=True)
     if exponent is not None and not exponent > 0:
         raise ConfigError(f"--exponent must be > 0, got {exponent}")
     if law == "kelvin-voigt" and exponent not in (None, 1.0):
@@ -348,7 +349,7 @@ def contact_from_strings(values: Mapping[str, Any]) -> ContactSettings:
         depth=None
         if values.get("depth") is None
         else parse_quantity(values["depth"], "m", field="--depth"),
-        restitution=None if restitution is None else _real(restitution, "--restitution"),
+        restitution=None if restitution is None else _real(restitution, "--restitution", text=True),
         damping=None
         if values.get("damping") is None
         else parse_quantity(values["damping"], "N*s/m", field="--damping"),
