@@ -105,6 +105,7 @@ def paper_command(
             experiment_revolutions=experiment_revolutions,
             scheduler=dask_scheduler,
         )
+        options.backend  # noqa: B018 (checks --dask-scheduler before any work)
         console = Console(stderr=True)
         with Progress(
             TextColumn("[bold]paper study"),
