@@ -15,6 +15,7 @@ import json
 import math
 import os
 import shutil
+import signal
 import tempfile
 import uuid
 from collections.abc import Iterator
@@ -88,9 +89,25 @@ def output_dir(target: Path | str, *, force: bool = False) -> Iterator[Path]:
         (staging / MARKER).write_text(
             json.dumps({"written_by": "jointplay"}) + "\n", encoding="utf-8"
         )
-        _publish(staging, path)
+        with _signals_held():
+            _publish(staging, path)
     finally:
-        shutil.rmtree(staging, ignore_errors=True)
+        with _signals_held():
+            shutil.rmtree(staging, ignore_errors=True)
+
+
+@contextmanager
+def _signals_held() -> Iterator[None]:
+    """Hold SIGINT and SIGTERM back (delivered on exit), so that the renames and the clean-up
+    are never cut in half."""
+    if not hasattr(signal, "pthread_sigmask"):  # pragma: no cover - not POSIX
+        yield
+        return
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
 
 
 def _publish(staging: Path, target: Path) -> None:
