@@ -26,7 +26,7 @@ coupler = "270.5 mm"
 rocker = "270.5 mm"
 ground = "279.4 mm"
 [driver]
-speed = "200 rpm"
+speed = "{speed}"
 [joints.A]
 diameter = "10 mm"
 fit = "H8/g7"
@@ -37,10 +37,17 @@ general = "c"
 
 
 def _config(
-    folder: Path, name: str, *, branch: str = "1", crank: str = "108 mm", extra: str = ""
+    folder: Path,
+    name: str,
+    *,
+    branch: str = "1",
+    crank: str = "108 mm",
+    speed: str = "200 rpm",
+    extra: str = "",
 ) -> str:
     path = folder / name
-    path.write_text(PAPER.format(branch=branch, crank=crank) + extra, encoding="utf-8")
+    text = PAPER.format(branch=branch, crank=crank, speed=speed)
+    path.write_text(text + extra, encoding="utf-8")
     return str(path)
 
 
@@ -58,10 +65,13 @@ def files(tmp_path: Path) -> dict[str, str]:
         ),
         "friction_abc": _config(tmp_path, "fric.toml", extra='[simulation]\nfriction = "abc"\n'),
         "simulation_list": _config(tmp_path, "list.toml", extra="[simulation]\nk = [1, 2]\n"),
+        "huge_speed_config": _config(tmp_path, "fast.toml", speed="1e300 rpm"),
     }
     latin1 = tmp_path / "latin1.toml"
     latin1.write_bytes(
-        PAPER.format(branch="1", crank="108 mm").replace("bad", "b\xe9").encode("latin-1")
+        PAPER.format(branch="1", crank="108 mm", speed="200 rpm")
+        .replace("bad", "b\xe9")
+        .encode("latin-1")
     )
     made["latin1"] = str(latin1)
     malformed = tmp_path / "malformed.toml"
@@ -189,6 +199,11 @@ CASES: dict[str, tuple[list[str], str]] = {
     "kinematics step nan": (["kinematics", "--step", "nan"], "step"),
     "kinematics step not dividing 360": (["kinematics", "--step", "0.7"], "step"),
     "kinematics method": (["kinematics", "--method", "guess"], "guess"),
+    "kinematics step tiny": (["kinematics", "--step", "1e-9"], "--step"),
+    "kinematics rpm 1e300": (["kinematics", "--rpm", "1e300"], "--rpm"),
+    "simulate rpm 1e300": (["simulate", "--rpm", "1e300"], "--rpm"),
+    "tolerance rpm inf": (["tolerance", "--rpm", "inf"], "--rpm"),
+    "config absurd speed": (["kinematics", "--config", "{huge_speed_config}"], "driver.speed"),
     # tolerance
     "tolerance samples zero": (["tolerance", "--samples", "0"], "--samples"),
     "tolerance revolutions zero": (

@@ -140,7 +140,7 @@ def run(argv: list[str] | None = None) -> int:
         fail(_one_line(str(exc)))
         return EXIT_ERROR
     except MemoryError:
-        fail("out of memory; ask for less output (a coarser --output-step, fewer samples)")
+        fail("out of memory; ask for less (fewer samples or revolutions, a coarser step)")
         return EXIT_ERROR
     except OSError as exc:
         if os.environ.get("JOINTPLAY_DEBUG"):

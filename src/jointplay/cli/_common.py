@@ -96,11 +96,7 @@ def mechanism_from_options(
     mechanism = load_mechanism(preset, config)
     changes: dict[str, Any] = {}
     if rpm is not None:
-        if not (math.isfinite(rpm) and rpm > 0):
-            raise ConfigError(
-                f"--rpm must be a positive number of revolutions per minute, got {rpm}"
-            )
-        changes["speed"] = rpm * math.pi / 30.0
+        changes["speed"] = crank_speed(rpm)
     if direction is not None:
         if direction.lower() not in ("ccw", "cw"):
             raise ConfigError(f"--direction must be ccw or cw, got {direction!r}")
@@ -112,6 +108,20 @@ def mechanism_from_options(
     if gravity is not None:
         mechanism = mechanism.with_gravity(parse_gravity(gravity))
     return mechanism
+
+
+#: The fastest crank speed the command line accepts, rev/min (beyond it: a typo).
+MAX_RPM = 1e6
+
+
+def crank_speed(rpm: float) -> float:
+    """``--rpm`` in rad/s: a positive number of rev/min up to :data:`MAX_RPM`."""
+    if not (math.isfinite(rpm) and 0 < rpm <= MAX_RPM):
+        raise ConfigError(
+            f"--rpm must be a positive number of revolutions per minute up to {MAX_RPM:g}, "
+            f"got {rpm}"
+        )
+    return rpm * math.pi / 30.0
 
 
 def parse_gravity(text: str) -> tuple[float, float]:

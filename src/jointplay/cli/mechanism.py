@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from typing import Annotated
 
 import typer
@@ -21,6 +22,7 @@ from jointplay.cli._common import (
     mechanism_from_options,
     provenance,
 )
+from jointplay.errors import ConfigError
 
 console = Console()
 
@@ -44,6 +46,10 @@ def show_command(
     from jointplay.io.config import preset_text
 
     print(preset_text(preset), end="")
+
+
+#: The most rows ``jointplay kinematics`` writes (one per crank step).
+MAX_ROWS = 1_000_000
 
 
 @app.command("kinematics")
@@ -74,6 +80,13 @@ def kinematics_command(
 
     with output_dir(out, force=force) as folder:
         mechanism = mechanism_from_options(preset, config, rpm, direction, start_angle, gravity)
+        if not (math.isfinite(step) and step > 0):
+            raise ConfigError(f"--step must be a positive number of degrees, got {step}")
+        if 360.0 / step > MAX_ROWS:
+            raise ConfigError(
+                f"--step {step:g} gives {360.0 / step:.3g} rows (at most {MAX_ROWS:.0e}); "
+                f"give at least {360.0 / MAX_ROWS:g} degrees"
+            )
         result = nominal_analysis(mechanism, step_deg=step, method=method)
         result.table.to_csv(folder / "kinematics.csv", index=False, float_format="%.10g")
         write_json(

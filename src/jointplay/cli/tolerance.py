@@ -21,6 +21,7 @@ from jointplay.cli._common import (
     OutOption,
     PresetOption,
     RpmOption,
+    crank_speed,
     parse_gravity,
     provenance,
 )
@@ -248,11 +249,7 @@ def tolerance_command(
     with output_dir(out, force=force) as folder:
         mechanism, spec = load_study_spec(preset, config)
         if rpm is not None:
-            if not (math.isfinite(rpm) and rpm > 0):
-                raise ConfigError(
-                    f"--rpm must be a positive number of revolutions per minute, got {rpm}"
-                )
-            mechanism = mechanism.with_driver(speed=rpm * math.pi / 30.0)
+            mechanism = mechanism.with_driver(speed=crank_speed(rpm))
         if gravity is not None:
             mechanism = mechanism.with_gravity(parse_gravity(gravity))
         if distribution is not None:

@@ -47,10 +47,17 @@ STANDARD_GRAVITY = 9.80665
 
 #: The largest length a mechanism file may give, m: beyond it the geometry is a typo.
 MAX_LENGTH = 1000.0
+#: The largest speed a mechanism file may give, rad/s (about 1e6 rev/min).
+MAX_SPEED = 1e5
 
 
 def _plausible(value: float, unit: str, field: str, given: Any) -> float:
     """``value``, unless it is a length beyond :data:`MAX_LENGTH` (blamed on the geometry)."""
+    if unit == "rad/s" and abs(value) > MAX_SPEED:
+        raise ConfigError(
+            f"{field} = {given!r} is not a plausible crank speed (at most {MAX_SPEED:g} rad/s, "
+            "about 1e6 rpm)"
+        )
     if unit == "m" and abs(value) > MAX_LENGTH:
         raise ConfigError(
             f"{field} = {given!r} is not a plausible length for a linkage (at most "
