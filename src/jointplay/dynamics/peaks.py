@@ -106,22 +106,33 @@ def locate_peaks(
                 )
                 if hi > lo:
                     tasks.append((name, w, lo, hi))
+    fractions = np.linspace(0.0, 1.0, grid)
     for _ in range(zooms + 1):
         if not tasks:
             break
-        points = np.concatenate([np.linspace(lo, hi, grid) for _, _, lo, hi in tasks])
-        order = np.argsort(points, kind="stable")
-        evaluated = evaluate(points[order])
-        inverse = np.empty_like(order)
-        inverse[order] = np.arange(order.size)
+        lo = np.array([task[2] for task in tasks])
+        hi = np.array([task[3] for task in tasks])
+        times = lo[:, None] + (hi - lo)[:, None] * fractions  # (tasks, grid)
+        flat = times.ravel()
+        order = np.argsort(flat, kind="stable")
+        evaluated = evaluate(flat[order])
+        found = np.empty_like(times)
+        for name in names:  # each task reads its own quantity
+            rows = np.array([task[0] == name for task in tasks])
+            if rows.any():
+                column = np.empty(flat.size)
+                column[order] = np.asarray(evaluated[name])
+                found[rows] = column.reshape(times.shape)[rows]
+        j = np.argmax(np.abs(found), axis=1)
+        value = found[np.arange(len(tasks)), j]
+        at = times[np.arange(len(tasks)), j]
+        spacing = (hi - lo) / (grid - 1)
+        new_lo, new_hi = np.maximum(lo, at - spacing), np.minimum(hi, at + spacing)
         next_tasks = []
-        for k, (name, w, lo, hi) in enumerate(tasks):
-            section = np.asarray(evaluated[name])[inverse[k * grid : (k + 1) * grid]]
-            j = int(np.argmax(np.abs(section)))
-            times = np.linspace(lo, hi, grid)
-            if abs(section[j]) > best[(name, w)][0]:
-                best[(name, w)] = (abs(float(section[j])), float(section[j]), float(times[j]))
-            spacing = (hi - lo) / (grid - 1)
-            next_tasks.append((name, w, max(lo, times[j] - spacing), min(hi, times[j] + spacing)))
-        tasks = [task for task in next_tasks if task[3] > task[2]]
+        for k, (name, w, _, _) in enumerate(tasks):
+            if abs(value[k]) > best[(name, w)][0]:
+                best[(name, w)] = (abs(float(value[k])), float(value[k]), float(at[k]))
+            if new_hi[k] > new_lo[k]:
+                next_tasks.append((name, w, float(new_lo[k]), float(new_hi[k])))
+        tasks = next_tasks
     return {name: [LocatedPeak(*best[(name, w)]) for w in range(len(windows))] for name in names}
