@@ -110,9 +110,9 @@ def locate_peaks(
     for _ in range(zooms + 1):
         if not tasks:
             break
-        lo = np.array([task[2] for task in tasks])
-        hi = np.array([task[3] for task in tasks])
-        times = lo[:, None] + (hi - lo)[:, None] * fractions  # (tasks, grid)
+        lows = np.array([task[2] for task in tasks])
+        highs = np.array([task[3] for task in tasks])
+        times = lows[:, None] + (highs - lows)[:, None] * fractions  # (tasks, grid)
         flat = times.ravel()
         order = np.argsort(flat, kind="stable")
         evaluated = evaluate(flat[order])
@@ -126,8 +126,8 @@ def locate_peaks(
         j = np.argmax(np.abs(found), axis=1)
         value = found[np.arange(len(tasks)), j]
         at = times[np.arange(len(tasks)), j]
-        spacing = (hi - lo) / (grid - 1)
-        new_lo, new_hi = np.maximum(lo, at - spacing), np.minimum(hi, at + spacing)
+        spacing = (highs - lows) / (grid - 1)
+        new_lo, new_hi = np.maximum(lows, at - spacing), np.minimum(highs, at + spacing)
         next_tasks = []
         for k, (name, w, _, _) in enumerate(tasks):
             if abs(value[k]) > best[(name, w)][0]:

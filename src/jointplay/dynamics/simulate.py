@@ -213,7 +213,7 @@ class SimulationResult:
             clearances=self.system.clearances,
             t=self.t,
             step_columns=self._step_columns,
-            evaluate=self._evaluate,
+            evaluate=self.evaluate,
             settle=self.settle,
             steady_start=self.start.mode == "steady",
             driven=self.start.driven,
@@ -247,7 +247,7 @@ class SimulationResult:
         """The plausibility findings (warnings first)."""
         return self.running.diagnostics
 
-    def _evaluate(self, times: FloatArray) -> dict[str, FloatArray]:
+    def evaluate(self, times: FloatArray) -> dict[str, FloatArray]:
         """Every documented column at ``times`` on the continuous solution."""
         states = _interpolate(self.system, self.t, self.y, self._step_accelerations, times)
         columns, _ = _columns(self.system, times, states)
@@ -473,6 +473,14 @@ def simulate(
     if not output_step > 0:
         raise ConfigError(f"output step must be > 0 s, got {output_step}")
     _check_output_size(period, int(settle) + revolutions, output_step, sample_deg)
+    if solver.max_step is not None:
+        fewest = (int(settle) + revolutions) * period / solver.max_step
+        if fewest > solver.max_steps:
+            raise ConfigError(
+                f"a max step of {solver.max_step:.3g} s needs at least {fewest:.3g} steps for "
+                f"{int(settle) + revolutions:g} revolution(s), more than max_steps = "
+                f"{solver.max_steps}; give a larger max step (--max-step) or fewer revolutions"
+            )
     system = build_system(
         mechanism,
         clearances,

@@ -465,7 +465,7 @@ def speed_error(result: SimulationResult, reference: OutputSpeedReference) -> fl
     t_end = float(result.t[-1])
     t0 = t_end - result.revolutions * period
     grid = np.linspace(t0, t_end, max(2, round(result.revolutions * 1440)) + 1)
-    values = result._evaluate(grid)
+    values = result.evaluate(grid)
     steps = result.steps
     mask = steps["t"].to_numpy() >= t0
     column = f"omega{reference.link_number}"

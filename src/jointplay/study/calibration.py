@@ -566,7 +566,7 @@ def _steady_response(
     fraction = np.mod(driver.direction * (theta_deg - start), 360.0) / 360.0
     times = (settings.settle + fraction) * driver.period
     times = np.minimum(times, float(result.t[-1]))
-    columns = result._evaluate(np.ascontiguousarray(times, dtype=float))
+    columns = result.evaluate(np.ascontiguousarray(times, dtype=float))
     if quantity not in columns:
         raise ConfigError(
             f"the clearance model has no response {quantity!r}; it has "
