@@ -79,7 +79,7 @@ def test_options_check_their_types(build) -> None:  # type: ignore[no-untyped-de
     ("keywords", "culprit"),
     [
         ({"clearance": "21 um"}, "clearance must be a number in metres"),
-        ({"clearance": 1.0}, "impossible geometry"),
+        ({"clearance": 1e-300}, "1 nm"),
         ({"journal_radius": None}, "journal_radius"),
         ({"friction": "ambrosio"}, "FrictionLaw"),
     ],
@@ -109,6 +109,13 @@ def test_options_that_a_law_does_not_use_are_errors(settings, culprit) -> None: 
     with pytest.raises(ConfigError, match=culprit) as caught:
         ContactSettings(**settings)
     assert repr(settings["law"]) in str(caught.value)
+
+
+def test_a_clearance_larger_than_the_links_is_impossible() -> None:
+    from jointplay.dynamics.setup import clearance_joints
+
+    with pytest.raises(ConfigError, match="impossible geometry"):
+        clearance_joints(load_preset("paper-fourbar"), ["A"], clearance=1.0)
 
 
 def test_kelvin_voigt_stiffness_is_in_newtons_per_metre() -> None:

@@ -268,6 +268,7 @@ def clearance_joints(
         r = journal_radius if journal_radius is not None else (fit.diameter / 2 if fit else None)
         if r is None:
             r = 0.005
+        _check_fits(mechanism, name, c, r)
         joint_law = law or make_law(
             contact,
             **_stiffness_from_geometry(mechanism, contact, c, r, fit.pin_length if fit else None),
@@ -278,6 +279,26 @@ def clearance_joints(
             )
         )
     return result
+
+
+def _check_fits(mechanism: Mechanism, joint: str, clearance: float, radius: float) -> None:
+    """A bearing of diameter 2 (radius + clearance) must fit on the shortest link."""
+    sizes = [
+        max(math.dist(p, q) for p in link.points.values() for q in link.points.values())
+        for link in mechanism.links
+        if len(link.points) > 1
+    ]
+    if not sizes:
+        return
+    shortest = min(sizes)
+    bearing = 2.0 * (radius + clearance)
+    if bearing >= shortest:
+        raise ConfigError(
+            f"clearance joint {joint!r}: a radial clearance of {clearance * 1e3:g} mm makes a "
+            f"bearing {bearing * 1e3:g} mm across, larger than the shortest link "
+            f"({shortest * 1e3:g} mm): impossible geometry (radial clearances are µm, e.g. "
+            "'0.021 mm')"
+        )
 
 
 def _stiffness_from_geometry(
