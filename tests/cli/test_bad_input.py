@@ -356,3 +356,9 @@ def test_usage_errors_take_one_line(capsys: pytest.CaptureFixture[str]) -> None:
     err = capsys.readouterr().err
     assert len(err.strip().splitlines()) == 1
     assert "--revolutions" in err and "--help" in err
+
+
+def test_no_arguments_shows_the_help(capsys: pytest.CaptureFixture[str]) -> None:
+    assert run([]) == 0
+    captured = capsys.readouterr()
+    assert "Usage" in captured.out and captured.err == ""

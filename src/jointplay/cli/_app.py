@@ -124,6 +124,8 @@ def run(argv: list[str] | None = None) -> int:
     except typer.Exit as exc:
         return int(exc.exit_code)
     except click_exceptions.UsageError as exc:
+        if type(exc).__name__ == "NoArgsIsHelpError":  # the help was shown: nothing failed
+            return 0
         where = exc.ctx.command_path if exc.ctx is not None else "jointplay"
         fail(f"{_one_line(exc.format_message())} (see '{where} --help')")
         return EXIT_ERROR
