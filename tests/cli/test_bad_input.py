@@ -66,6 +66,11 @@ def files(tmp_path: Path) -> dict[str, str]:
         "friction_abc": _config(tmp_path, "fric.toml", extra='[simulation]\nfriction = "abc"\n'),
         "simulation_list": _config(tmp_path, "list.toml", extra="[simulation]\nk = [1, 2]\n"),
         "huge_speed_config": _config(tmp_path, "fast.toml", speed="1e300 rpm"),
+        "huge_deviation": _config(
+            tmp_path,
+            "deviation.toml",
+            extra='[tolerances.lengths.crank]\nlower = "-1e30 mm"\nupper = "1e30 mm"\n',
+        ),
     }
     latin1 = tmp_path / "latin1.toml"
     latin1.write_bytes(
@@ -203,6 +208,7 @@ CASES: dict[str, tuple[list[str], str]] = {
     "kinematics rpm 1e300": (["kinematics", "--rpm", "1e300"], "--rpm"),
     "simulate rpm 1e300": (["simulate", "--rpm", "1e300"], "--rpm"),
     "tolerance rpm inf": (["tolerance", "--rpm", "inf"], "--rpm"),
+    "config absurd deviation": (["tolerance", "--config", "{huge_deviation}"], "crank"),
     "config absurd speed": (["kinematics", "--config", "{huge_speed_config}"], "driver.speed"),
     # tolerance
     "tolerance samples zero": (["tolerance", "--samples", "0"], "--samples"),

@@ -11,6 +11,7 @@ import os
 import signal
 import sys
 import threading
+import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
 
@@ -99,6 +100,24 @@ def _sigterm_as_interrupt() -> Iterator[None]:
         signal.signal(signal.SIGTERM, previous)
 
 
+@contextmanager
+def _one_line_warnings() -> Iterator[None]:
+    """Python warnings (NumPy's overflow notes, ...) as one ``jointplay: warning:`` line each,
+    without the source line; which warnings show is left to the warning filters."""
+    previous = warnings.showwarning
+
+    def show(message: Warning | str, category: type[Warning], *args: object, **kw: object) -> None:
+        print(
+            f"jointplay: warning: {category.__name__}: {_one_line(str(message))}", file=sys.stderr
+        )
+
+    warnings.showwarning = show
+    try:
+        yield
+    finally:
+        warnings.showwarning = previous
+
+
 def _one_line(text: str) -> str:
     return " ".join(str(text).split())
 
@@ -113,7 +132,7 @@ def run(argv: list[str] | None = None) -> int:
     """
     current_argv[:] = list(sys.argv[1:] if argv is None else argv)
     try:
-        with _sigterm_as_interrupt():
+        with _sigterm_as_interrupt(), _one_line_warnings():
             # Without standalone mode Typer returns (rather than raises) the code of
             # typer.Exit and of an interrupted command.
             status = app(args=argv, prog_name="jointplay", standalone_mode=False)

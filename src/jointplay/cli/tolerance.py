@@ -248,6 +248,7 @@ def tolerance_command(
 
     with output_dir(out, force=force) as folder:
         mechanism, spec = load_study_spec(preset, config)
+        _check_lengths(spec)
         if rpm is not None:
             mechanism = mechanism.with_driver(speed=crank_speed(rpm))
         if gravity is not None:
@@ -314,6 +315,22 @@ def tolerance_command(
             f"their results were written to {out}"
         )
     console.print(f"results written to {out}")
+
+
+def _check_lengths(spec: Any) -> None:
+    """Toleranced lengths must stay positive and plausible over their whole range."""
+    from jointplay.io.config import MAX_LENGTH
+
+    for item in spec.inputs:
+        if getattr(item, "kind", None) != "length":
+            continue
+        low, high = item.tolerance.lower, item.tolerance.upper
+        if not (low > 0 and high <= MAX_LENGTH):
+            raise ConfigError(
+                f"tolerances.lengths.{item.length}: the limits {low * 1e3:g} to {high * 1e3:g} mm "
+                f"of a {item.nominal * 1e3:g} mm length are impossible geometry (a length stays "
+                f"positive and below {MAX_LENGTH:g} m); check the deviations"
+            )
 
 
 def contact_law(
