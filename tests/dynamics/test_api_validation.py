@@ -162,3 +162,21 @@ def test_without_an_interrupt_the_result_is_unchanged() -> None:
     run = integrate(_decay, (0.0, 1.0), [1.0], args=(np.zeros(1),), rtol=1e-8)
     assert run.status is IntegrationStatus.SUCCESS
     assert run.y[-1, 0] == pytest.approx(math.exp(-1.0), rel=1e-7)
+
+
+def _stops_at_two(shared: object, item: int) -> int:
+    if item == 2:  # what Numba raises when Ctrl-C lands in compiled code
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as exc:
+            raise SystemError("CPUDispatcher(f) returned a result with an exception set") from exc
+    return item * 10
+
+
+def test_an_interrupt_inside_compiled_code_stops_a_serial_run() -> None:
+    from jointplay.tolerance.execution import Backend, run_tasks
+
+    run = run_tasks(_stops_at_two, [0, 1, 2, 3], Backend("serial"))
+    assert run.interrupted
+    assert run.results[:2] == (0, 10)
+    assert list(run.status) == [0, 0, 2, 2]  # ok, ok, not run, not run
