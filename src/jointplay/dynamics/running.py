@@ -207,8 +207,9 @@ def characterise(
     statistics = revolution_statistics(
         {name: values[settle:] for name, values in per_revolution.items()}
     )
+    last = (windows[-1][1] - windows[-1][0]) / period  # 1, or less when it is partial
     section_times = np.array([windows[w][0] for w in analysed] + [windows[-1][1]])
-    if windows[-1][1] - windows[-1][0] < 0.999 * period:  # a partial last revolution
+    if last < 0.999:  # the section is taken at whole revolutions only
         section_times = section_times[:-1]
     section = _section(evaluate, section_times, clearances, mechanism, tolerances)
     sampled = (
@@ -232,9 +233,7 @@ def characterise(
     )
     return RunningBehaviour(
         settle=settle,
-        revolutions=len(windows) - settle
-        if windows[-1][1] - windows[-1][0] >= 0.999 * period
-        else len(windows) - settle - 1 + (windows[-1][1] - windows[-1][0]) / period,
+        revolutions=len(windows) - settle - 1 + (1.0 if last >= 0.999 else last),
         windows=windows,
         peaks=peaks,
         start_up_peaks=start_up,
