@@ -124,7 +124,7 @@ class ContactSettings:
             given = ", ".join(_OPTIONS[field] for field in stray)
             used = ", ".join(_OPTIONS[field] for field in uses)
             raise ConfigError(
-                f"{given} do(es) not apply to the contact law {self.law!r}, which takes {used}; "
+                f"{given} {'does' if len(stray) == 1 else 'do'} not apply to the contact law {self.law!r}, which takes {used}; "
                 "drop it or choose a law that uses it (--contact)"
             )
         if self.law == "kelvin-voigt" and self.exponent not in (None, 1.0):
