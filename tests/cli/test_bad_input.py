@@ -324,6 +324,32 @@ def test_unusable_out_is_refused_before_computing(
     assert len(err.strip().splitlines()) == 1 and culprit in err
 
 
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["simulate", "--revolutions", "0.01"],
+        ["tolerance", "--samples", "10"],
+        ["design", "--fits", "H8/g7", "--classes", "c", "--require", "rocker_swing <= 60 deg"],
+        ["wear", "--hours", "1", "--clearance-limit", "+20 um"],
+        ["calibrate", "--column", "experiment_printed"],
+        ["compare"],
+        ["ecs"],
+    ],
+    ids=lambda command: command[0],
+)
+def test_every_command_checks_its_out_before_computing(
+    command: list[str], tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A foreign non-empty folder is refused up front (a long study must not run first)."""
+    out = tmp_path / "mine"
+    out.mkdir()
+    (out / "notes.txt").write_text("precious", encoding="utf-8")
+    assert run([*command, "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "--force" in err and len(err.strip().splitlines()) == 1, err
+    assert (out / "notes.txt").read_text(encoding="utf-8") == "precious"
+
+
 def test_read_only_parent_is_refused(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     if os.geteuid() == 0:
         pytest.skip("root writes into read-only folders")

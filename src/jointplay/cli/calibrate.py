@@ -22,7 +22,14 @@ from rich.console import Console
 from rich.table import Table
 
 from jointplay.cli._app import app
-from jointplay.cli._common import ConfigOption, PresetOption, RpmOption, choice, provenance
+from jointplay.cli._common import (
+    ConfigOption,
+    ForceOption,
+    PresetOption,
+    RpmOption,
+    choice,
+    provenance,
+)
 from jointplay.errors import ConfigError
 from jointplay.units import parse_quantity
 
@@ -203,6 +210,7 @@ def calibrate_command(
         ),
     ] = None,
     plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
+    force: ForceOption = False,
 ) -> None:
     """Fit crank speed, phase, link lengths or contact parameters to measurements.
 
@@ -304,7 +312,7 @@ def calibrate_command(
     if out is not None:
         from jointplay.report.calibration import write_calibration
 
-        with output_dir(out) as folder:
+        with output_dir(out, force=force) as folder:
             result = run()
             write_calibration(
                 result,

@@ -12,9 +12,10 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 from rich.console import Console
 
-from jointplay.cli._app import EXIT_INTERRUPTED, app
+from jointplay.cli._app import Interrupted, app
 from jointplay.cli._common import (
     ConfigOption,
+    ForceOption,
     GravityOption,
     OutOption,
     PresetOption,
@@ -197,6 +198,7 @@ def design_command(
     progress: Annotated[
         bool, typer.Option("--progress/--no-progress", help="Progress bar.")
     ] = True,
+    force: ForceOption = False,
 ) -> None:
     """Design study: every fit × length class through the dynamics; the cheapest that meets
     the requirements, its yield and relative cost.
@@ -232,35 +234,33 @@ def design_command(
         backend = Backend.dask(dask_scheduler)
     else:
         backend = Backend("processes", workers=workers)
-    result = design_study(
-        mechanism,
-        candidates,
-        class_list,
-        require,
-        samples=samples,
-        seed=seed,
-        confidence=confidence / 100.0,
-        responses=kind,  # type: ignore[arg-type]
-        cost=cost,
-        clearance_limit=limit,
-        clearance_allowance=allowance,
-        wear=wear,
-        settle=settle,
-        revolutions=revolutions,
-        backend=backend,
-        progress=progress,
-    )
-    units = design_units(mechanism, result.responses)  # type: ignore[arg-type]
-    summary = result.summary()
-    with output_dir(out) as folder:
+    with output_dir(out, force=force) as folder:  # checked before the study runs
+        result = design_study(
+            mechanism,
+            candidates,
+            class_list,
+            require,
+            samples=samples,
+            seed=seed,
+            confidence=confidence / 100.0,
+            responses=kind,  # type: ignore[arg-type]
+            cost=cost,
+            clearance_limit=limit,
+            clearance_allowance=allowance,
+            wear=wear,
+            settle=settle,
+            revolutions=revolutions,
+            backend=backend,
+            progress=progress,
+        )
+        units = design_units(mechanism, result.responses)  # type: ignore[arg-type]
+        summary = result.summary()
         write_design(result, folder, units, plots=plots, provenance=provenance(summary["settings"]))
     _print(result, units)
     if result.interrupted:
-        console.print(
-            f"[bold]interrupted[/bold]: {len(result.table)} scheme(s) finished; partial results "
-            f"written to {out}"
+        raise Interrupted(
+            f"{len(result.table)} scheme(s) finished; their results were written to {out}"
         )
-        raise typer.Exit(EXIT_INTERRUPTED)
     console.print(f"results written to {out}")
 
 

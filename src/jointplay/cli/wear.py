@@ -15,6 +15,7 @@ from rich.console import Console
 from jointplay.cli._app import app
 from jointplay.cli._common import (
     ConfigOption,
+    ForceOption,
     GravityOption,
     OutOption,
     PresetOption,
@@ -67,6 +68,7 @@ def wear_command(
     rpm: RpmOption = None,
     gravity: GravityOption = None,
     plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
+    force: ForceOption = False,
 ) -> None:
     """Wear life: Archard wear of every clearance joint over the steady cycle, re-simulated at
     the worn clearance every --update-hours; the clearance, peak force and rocker-speed error
@@ -122,17 +124,17 @@ def wear_command(
         )
     if not joints:
         raise ConfigError("no clearance joints: give joints a fit and a diameter, or --fit")
-    history = wear_life(
-        mechanism,
-        joints,
-        hours=hours,
-        update_hours=step,
-        clearance_limit=limits,
-        settings=settings,
-        settle=settle,
-        on_update=lambda done, total: console.print(f"  {done:g} of {total:g} h", style="dim"),
-    )
-    with output_dir(out) as folder:
+    with output_dir(out, force=force) as folder:  # checked before the wear runs
+        history = wear_life(
+            mechanism,
+            joints,
+            hours=hours,
+            update_hours=step,
+            clearance_limit=limits,
+            settings=settings,
+            settle=settle,
+            on_update=lambda done, total: console.print(f"  {done:g} of {total:g} h", style="dim"),
+        )
         write_wear(history, folder, plots=plots, provenance=provenance(history.summary()))
     for name, life in history.life.items():
         how = " (extrapolated)" if history.life_extrapolated[name] else ""
