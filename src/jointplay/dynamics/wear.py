@@ -247,6 +247,8 @@ def _spread(
     weight of half-angle ``half_angles`` about ``angles``; each amount is conserved exactly
     (its weights are normalised; an arc narrower than a bin falls in the nearest bin)."""
     out = np.zeros(bins)
+    touching = amounts > 0.0  # out of contact nothing wears
+    angles, amounts, half_angles = angles[touching], amounts[touching], half_angles[touching]
     if len(angles) == 0:
         return out
     width = 2.0 * math.pi / bins
@@ -256,14 +258,15 @@ def _spread(
     offsets = np.arange(-reach, reach + 1)
     index = (nearest[:, None] + offsets[None, :]) % bins
     centres = (nearest[:, None] + offsets[None, :] + 0.5) * width
-    diff = np.angle(np.exp(1j * (centres - angles[:, None])))
+    diff = np.mod(centres - angles[:, None] + math.pi, 2.0 * math.pi) - math.pi  # in [-π, π)
     weight = np.sqrt(np.clip(1.0 - (diff / half[:, None]) ** 2, 0.0, None))
     total = weight.sum(axis=1, keepdims=True)
     empty = total[:, 0] <= 0.0
     weight[empty, reach] = 1.0
     total[empty] = 1.0
-    np.add.at(out, index.ravel(), ((weight / total) * amounts[:, None]).ravel())
-    return out
+    return np.bincount(
+        index.ravel(), weights=((weight / total) * amounts[:, None]).ravel(), minlength=bins
+    )
 
 
 def wear_from_series(
