@@ -26,3 +26,16 @@ class IntegrationError(JointplayError, RuntimeError):
 
 class StandardsError(JointplayError, ValueError):
     """A tolerance designation or size lies outside what ISO 286 / ISO 2768 define."""
+
+
+def caused_by_interrupt(exc: BaseException) -> bool:
+    """Whether a KeyboardInterrupt is among the causes of ``exc``: Numba reports a Ctrl-C
+    that arrived in compiled code as a SystemError whose cause is the KeyboardInterrupt."""
+    seen: set[int] = set()
+    current: BaseException | None = exc
+    while current is not None and id(current) not in seen:
+        if isinstance(current, KeyboardInterrupt):
+            return True
+        seen.add(id(current))
+        current = current.__cause__ or current.__context__
+    return False

@@ -22,7 +22,7 @@ try:  # Typer >= 0.20 vendors its own copy of Click, whose exceptions it raises
 except ImportError:  # pragma: no cover - older Typer uses the click package
     from click import exceptions as click_exceptions  # type: ignore[no-redef]
 
-from jointplay.errors import JointplayError
+from jointplay.errors import JointplayError, caused_by_interrupt
 
 app = typer.Typer(
     name="jointplay",
@@ -118,19 +118,6 @@ def _one_line_warnings() -> Iterator[None]:
         warnings.showwarning = previous
 
 
-def _caused_by_interrupt(exc: BaseException) -> bool:
-    """Whether ``exc`` came from a KeyboardInterrupt: Numba reports a Ctrl-C that arrived in
-    compiled code as a SystemError whose cause is the KeyboardInterrupt."""
-    seen: set[int] = set()
-    current: BaseException | None = exc
-    while current is not None and id(current) not in seen:
-        if isinstance(current, KeyboardInterrupt):
-            return True
-        seen.add(id(current))
-        current = current.__cause__ or current.__context__
-    return False
-
-
 def _one_line(text: str) -> str:
     return " ".join(str(text).split())
 
@@ -183,7 +170,7 @@ def run(argv: list[str] | None = None) -> int:
         fail(f"{exc.strerror or type(exc).__name__}{name}")
         return EXIT_ERROR
     except Exception as exc:
-        if _caused_by_interrupt(exc):  # Ctrl-C inside compiled code (Numba's SystemError)
+        if caused_by_interrupt(exc):  # Ctrl-C inside compiled code (Numba's SystemError)
             print(NOTHING_KEPT, file=sys.stderr)
             return EXIT_INTERRUPTED
         if os.environ.get("JOINTPLAY_DEBUG"):

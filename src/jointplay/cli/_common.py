@@ -62,6 +62,32 @@ OutOption = Annotated[
         "--force.",
     ),
 ]
+# Measurement conventions (compare, calibrate): how a file's angles and values are read.
+CrankDirectionOption = Annotated[
+    str, typer.Option("--crank-direction", help="The rig's crank direction: cw (default) or ccw.")
+]
+AngleDirectionOption = Annotated[
+    str,
+    typer.Option(
+        "--angle-direction",
+        help="Sense in which the file counts crank angles: cw (default) or ccw.",
+    ),
+]
+AngleOriginOption = Annotated[
+    str,
+    typer.Option(
+        "--angle-origin",
+        help="Crank position of the file's 0, CCW from the ground line O2->O4, with a unit "
+        "(default '0 deg': crank pointing at the rocker pivot O4).",
+    ),
+]
+SpeedPositiveOption = Annotated[
+    str,
+    typer.Option(
+        "--speed-positive",
+        help="Rotation that the file's positive values mean: ccw (default) or cw.",
+    ),
+]
 ForceOption = Annotated[
     bool,
     typer.Option(

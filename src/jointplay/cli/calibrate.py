@@ -23,10 +23,14 @@ from rich.table import Table
 
 from jointplay.cli._app import app
 from jointplay.cli._common import (
+    AngleDirectionOption,
+    AngleOriginOption,
     ConfigOption,
+    CrankDirectionOption,
     ForceOption,
     PresetOption,
     RpmOption,
+    SpeedPositiveOption,
     choice,
     provenance,
 )
@@ -111,31 +115,10 @@ def calibrate_command(
             "--unit",
         ),
     ] = None,
-    crank_direction: Annotated[
-        str, _opt("The rig's crank direction: cw (default) or ccw.", "--crank-direction")
-    ] = "cw",
-    angle_direction: Annotated[
-        str,
-        _opt(
-            "Sense in which the file counts crank angles: cw (default) or ccw.", "--angle-direction"
-        ),
-    ] = "cw",
-    angle_origin: Annotated[
-        str,
-        _opt(
-            "Crank position of the file's 0, CCW from the ground line O2->O4, with a unit "
-            "(default '0 deg').",
-            "--angle-origin",
-        ),
-    ] = "0 deg",
-    speed_positive: Annotated[
-        str,
-        _opt(
-            "Rotation that the file's positive values mean (signed responses): ccw (default) "
-            "or cw.",
-            "--speed-positive",
-        ),
-    ] = "ccw",
+    crank_direction: CrankDirectionOption = "cw",
+    angle_direction: AngleDirectionOption = "cw",
+    angle_origin: AngleOriginOption = "0 deg",
+    speed_positive: SpeedPositiveOption = "ccw",
     rpm_of: Annotated[
         list[str] | None,
         _opt(

@@ -264,9 +264,10 @@ def _spread(
     empty = total[:, 0] <= 0.0
     weight[empty, reach] = 1.0
     total[empty] = 1.0
-    return np.bincount(
+    spread: FloatArray = np.bincount(
         index.ravel(), weights=((weight / total) * amounts[:, None]).ravel(), minlength=bins
-    )
+    ).astype(np.float64)
+    return spread
 
 
 def wear_from_series(

@@ -55,7 +55,7 @@ from typing import Any, Generic, Literal, TypeVar
 import numpy as np
 from numpy.typing import NDArray
 
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, caused_by_interrupt
 from jointplay.tolerance.responses import Evaluation, ResponseModel
 
 __all__ = ["BACKENDS", "STATUS", "Backend", "RunResult", "TaskRun", "run", "run_tasks"]
@@ -191,21 +191,9 @@ def _attempt(function: Callable[[Any, Any], Any], shared: Any, item: Any) -> tup
     try:
         return True, function(shared, item)
     except Exception as exc:  # failure is data: the caller counts it, the run goes on
-        if _interrupted(exc):  # Ctrl-C inside compiled code arrives as Numba's SystemError
+        if caused_by_interrupt(exc):  # Ctrl-C inside compiled code arrives as Numba's SystemError
             raise KeyboardInterrupt from exc
         return False, f"{type(exc).__name__}: {exc}"
-
-
-def _interrupted(exc: BaseException) -> bool:
-    """Whether a KeyboardInterrupt is among the causes of ``exc``."""
-    seen: set[int] = set()
-    current: BaseException | None = exc
-    while current is not None and id(current) not in seen:
-        if isinstance(current, KeyboardInterrupt):
-            return True
-        seen.add(id(current))
-        current = current.__cause__ or current.__context__
-    return False
 
 
 def _attempt_in_worker(
