@@ -62,3 +62,42 @@ def test_wear_writes_the_history_and_the_life(tmp_path, capsys) -> None:
     assert set(summary["life_hours"]) == {"O2", "A", "B", "O4"}
     assert summary["clearance_limit_m"]["A"] == pytest.approx(29e-6 / 2 + 20e-6)
     assert len(pd.read_csv(out / "profiles.csv")) == 720
+
+
+def test_wear_and_cost_tables_sit_in_the_mechanism_config(tmp_path, capsys) -> None:
+    """[wear] per joint and [cost] in the --config file reach the studies; --table replaces
+    a table of the config."""
+    from jointplay.io.config import load_config, preset_text
+
+    plain = tmp_path / "plain.toml"
+    plain.write_text(preset_text("paper-fourbar"), encoding="utf-8")
+    worn = tmp_path / "worn.toml"
+    worn.write_text(
+        preset_text("paper-fourbar")
+        + "\n[wear]\ncoefficient = 1e-5\n[wear.joints.A]\ncoefficient = 1e-3\n"
+        + '\n[cost]\nmodel = "exponential"\n',
+        encoding="utf-8",
+    )
+    assert load_config(worn).name == load_config(plain).name  # the mechanism is the same
+    from jointplay.cli.design import read_table
+    from jointplay.tolerance.cost import CostModel
+
+    tables = read_table(None, worn)
+    assert CostModel.from_table(tables["cost"]).model == "exponential"
+    assert tables["wear"]["joints"]["A"]["coefficient"] == 1e-3
+
+    def lives(config, *extra: str) -> dict[str, float]:
+        out = tmp_path / f"wear-{config.stem}-{len(extra)}"
+        args = ["wear", "--config", str(config), "--hours", "1", "--update-hours", "1",
+                "--clearance-limit", "+20 um", "--fit", "H7/g6", "--no-plots", "--out", str(out)]  # fmt: skip
+        assert run([*args, *extra]) == 0
+        return json.loads((out / "summary.json").read_text())["life_hours"]
+
+    base = lives(plain, "--wear-coefficient", "1e-5")
+    tabled = lives(worn)
+    assert tabled["A"] < base["A"] / 10  # k 100 times larger in A: worn through within the hour
+    assert min(tabled, key=tabled.__getitem__) == "A"
+    override = tmp_path / "table.toml"
+    override.write_text("[wear]\ncoefficient = 1e-5\n", encoding="utf-8")
+    assert lives(worn, "--table", str(override)) == pytest.approx(base, rel=1e-12)
+    capsys.readouterr()

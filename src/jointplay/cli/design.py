@@ -35,10 +35,14 @@ console = Console(highlight=False, soft_wrap=True)
 DEFAULT_FITS = "H7/h6,H7/g6,H8/f7,H8/g7,H9/d9,H11/c11"
 
 
-def read_table(path: Path | None) -> dict[str, Any]:
-    """The TOML file of ``--table`` (``[wear]`` and ``[cost]`` tables), or ``{}``."""
+def read_table(path: Path | None, config: Path | None = None) -> dict[str, Any]:
+    """The ``[wear]`` and ``[cost]`` tables: those of the mechanism's configuration file
+    (``--config``), each table replaced by the one of ``--table`` where that file has it."""
+    from jointplay.io.config import design_tables
+
+    tables = design_tables(config)
     if path is None:
-        return {}
+        return tables
     import tomllib
 
     try:
@@ -51,7 +55,7 @@ def read_table(path: Path | None) -> dict[str, Any]:
     unknown = sorted(set(data) - {"wear", "cost"})
     if unknown:
         raise ConfigError(f"--table {path}: unknown table(s) {unknown}; expected [wear] and [cost]")
-    return data
+    return {**tables, **data}
 
 
 def wear_settings(table: dict[str, Any], coefficient: float | None, hardness: str | None) -> Any:
@@ -169,8 +173,9 @@ def design_command(
         Path | None,
         typer.Option(
             "--table",
-            help="TOML file with [wear] (coefficient, hardness, joints.<J>) "
-            "and [cost] (model, a, b, k, reference, it, iso2768) tables.",
+            help="TOML file with [wear] (coefficient, hardness, joints.<J>) and [cost] (model, "
+            "a, b, k, reference, it, iso2768) tables; the same tables may sit in the --config "
+            "file, and a table here replaces the config's.",
         ),
     ] = None,
     wear_coefficient: Annotated[
@@ -225,7 +230,7 @@ def design_command(
     )
     class_list = [c.strip() for c in classes.split(",") if c.strip()]
     limit, allowance = parse_clearance_limit(clearance_limit)
-    data = read_table(table)
+    data = read_table(table, config)
     cost = CostModel.from_table(data.get("cost", {}))
     wear = wear_settings(data, wear_coefficient, hardness)
     if dask_scheduler is not None:

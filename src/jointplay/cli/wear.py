@@ -53,7 +53,9 @@ def wear_command(
     table: Annotated[
         Path | None,
         typer.Option(
-            "--table", help="TOML file with a [wear] table (coefficient, hardness, joints.<J>)."
+            "--table",
+            help="TOML file with a [wear] table (coefficient, hardness, joints.<J>); the same "
+            "table may sit in the --config file, and this one replaces it.",
         ),
     ] = None,
     wear_coefficient: Annotated[
@@ -91,7 +93,7 @@ def wear_command(
     if not (math.isfinite(step) and step > 0):
         raise ConfigError(f"--update-hours must be > 0, got {update_hours}")
     limit, allowance = parse_clearance_limit(clearance_limit)
-    settings = wear_settings(read_table(table), wear_coefficient, hardness)
+    settings = wear_settings(read_table(table, config), wear_coefficient, hardness)
     joints = []
     limits: dict[str, float] = {}
     for joint in mechanism.revolute_joints:

@@ -298,6 +298,8 @@ def _parse(root: _Table) -> Mechanism:
     raw_tolerances = root.raw("tolerances", None)
     tolerances: tuple[LengthTolerance, ...] = ()
     root.raw("simulation", None)  # read by simulation_settings(); not part of the mechanism
+    for table_name in DESIGN_TABLES:  # read by design_tables(); not part of the mechanism
+        root.raw(table_name, None)
     if template in ("four-bar", "slider-crank"):
         mechanism = _parse_template(
             root,
@@ -560,6 +562,23 @@ SIMULATION_KEYS = (
     "stiffness_law", "fit_depth", "clearance", "joints", "friction", "friction_law", "start",
     "ramp_time", "start_angle", "revolutions", "output_step", "rtol", "max_step", "format",
 )  # fmt: skip
+
+
+#: Tables of a configuration file that the design and wear studies read (Archard data per
+#: joint, the cost–tolerance model); their keys are checked by those studies' readers.
+DESIGN_TABLES = ("wear", "cost")
+
+
+def design_tables(path: Path | str | None) -> dict[str, Any]:
+    """The ``[wear]`` and ``[cost]`` tables of a configuration file (raw; empty without)."""
+    if path is None:
+        return {}
+    data = _read_toml(path)
+    tables = {name: data[name] for name in DESIGN_TABLES if name in data}
+    for name, table in tables.items():
+        if not isinstance(table, dict):
+            raise ConfigError(f"{os.fspath(path)}: [{name}] must be a table, got {table!r}")
+    return tables
 
 
 def simulation_settings(path: Path | str | None) -> dict[str, Any]:
