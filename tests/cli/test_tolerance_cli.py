@@ -148,7 +148,7 @@ def test_dynamic_worst_case_with_a_paper_method_and_fixed_clearances(tmp_path) -
         (["--spec-limit", "omega9_peak=:5 rad/s"], "unknown response 'omega9_peak'"),
         (["--spec-limit", "omega4_peak=:5"], "has no unit"),
         (["--spec-limit", "omega4_peak=:5 N"], "cannot be converted"),
-        (["--k", "1e4 N/mm^1.5"], "dynamic only"),
+        (["--k", "1e4 N/mm^1.5"], "dynamic or running only"),
         (["--responses", "dynamic", "--contact", "lankarani-nikravesh"], "needs a stiffness"),
         (["--responses", "dynamic", "--contact", "bogus"], "unknown contact law"),
         (
@@ -167,3 +167,15 @@ def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys, extra, message) -> N
     assert message in err
     assert err.count("\n") == 1
     assert not (tmp_path / "x").exists()
+
+
+def test_running_responses_from_the_command_line(tmp_path) -> None:
+    out = tmp_path / "running"
+    args = ["tolerance", "--responses", "running", "--samples", "2",
+            "--spec-limit", "contact_pressure=:400 MPa", "--out", str(out), *QUIET]  # fmt: skip
+    assert run(args) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert {"rocker_speed_error", "joint_force", "contact_pressure", "wear_rate"} <= set(
+        summary["responses"]
+    )
+    assert summary["responses"]["contact_pressure"]["out_of_spec_percent"] == 0.0

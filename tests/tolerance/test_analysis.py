@@ -215,3 +215,28 @@ def test_dynamic_studies_default_to_the_running_mechanism(paper_fourbar: Mechani
     for joint in ("O2", "A", "B", "O4"):
         peak = study.summaries[f"F_{joint}_peak"].nominal
         assert ideal[f"F_{joint}_peak"] < peak < 1.2 * ideal[f"F_{joint}_peak"]
+
+
+def test_running_responses_add_speed_error_force_pressure_and_wear(
+    paper_fourbar: Mechanism,
+) -> None:
+    """responses="running": the dynamic peaks and the design study's running responses, so a
+    tolerance study knows contact pressure and wear rate too."""
+    study = tolerance_study(paper_fourbar, responses="running", samples=2, seed=3, backend=SERIAL)
+    names = set(study.summaries)
+    assert {
+        "F_A_peak",
+        "rocker_speed_error",
+        "joint_force",
+        "contact_pressure",
+        "wear_rate",
+    } <= names
+    assert {f"wear_rate_{j}" for j in ("O2", "A", "B", "O4")} <= names
+    summary = study.summaries
+    # The largest joint force is the largest of the per-joint peaks, sample by sample.
+    frame = study.to_dataframe()
+    peaks = frame[[f"F_{j}_peak" for j in ("O2", "A", "B", "O4")]].max(axis=1)
+    assert (frame["joint_force"] == peaks).all()
+    assert (frame["wear_rate"] > 0).all() and (frame["contact_pressure"] > 0).all()
+    assert 0 < summary["rocker_speed_error"].nominal < 0.05  # a few % on the running mechanism
+    assert study.ideal is not None and "F_A_peak" in study.ideal

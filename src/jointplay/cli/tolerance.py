@@ -52,6 +52,7 @@ class Responses(StrEnum):
 
     kinematic = "kinematic"
     dynamic = "dynamic"
+    running = "running"
 
 
 class Sampling(StrEnum):
@@ -107,8 +108,9 @@ def tolerance_command(
         Responses,
         typer.Option(
             "--responses",
-            help="kinematic (ideal joints, toleranced lengths) or dynamic (clearance joints: "
-            "toleranced lengths and clearances).",
+            help="kinematic (ideal joints, toleranced lengths), dynamic (clearance joints: "
+            "toleranced lengths and clearances; peaks) or running (dynamic plus "
+            "rocker_speed_error, joint_force, contact_pressure and Archard wear_rate).",
         ),
     ] = Responses.kinematic,
     distribution: Annotated[
@@ -255,7 +257,8 @@ def tolerance_command(
             mechanism = mechanism.with_gravity(parse_gravity(gravity))
         if distribution is not None:
             spec = spec.with_distribution(distribution.value)
-        if responses is Responses.dynamic and not clearances:
+        dynamic = responses is not Responses.kinematic
+        if dynamic and not clearances:
             spec = spec.only("length")
         if not (math.isfinite(revolutions) and revolutions > 0):
             raise ConfigError(f"--revolutions must be > 0, got {revolutions}")
@@ -271,10 +274,10 @@ def tolerance_command(
             "damping": damping,
         }
         law = None
-        if responses is Responses.dynamic:
+        if dynamic:
             law = contact_law(contact_options, mechanism, paper_method, ecs_source)
         elif any(v is not None for v in (*contact_options.values(), paper_method, ecs_source)):
-            raise ConfigError("contact options apply to --responses dynamic only")
+            raise ConfigError("contact options apply to --responses dynamic or running only")
         if dask_scheduler is not None:
             if workers is not None:
                 raise ConfigError(

@@ -8,7 +8,7 @@ pin joints, or one per named joint — and an ISO 2768-1 class for the link leng
    fit's limits), distributed as in the tolerance study (:mod:`jointplay.tolerance.spec`),
    with the same seed for every scheme (common random numbers: schemes differ by their
    tolerances, not by their luck);
-2. each sample through the steady running dynamics (:class:`DesignResponses`: steady start,
+2. each sample through the steady running dynamics (:class:`~jointplay.tolerance.responses.RunningResponses`: steady start,
    ``settle`` start-up revolutions left out) — or through the ideal-joint kinematics when
    every requirement is kinematic;
 3. per scheme: every response's mean, std and value at the confidence level; the share of
@@ -48,16 +48,16 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from jointplay.dynamics.cycles import DEFAULT_SETTLE
-from jointplay.errors import ConfigError, JointplayError
+from jointplay.errors import ConfigError
 from jointplay.model.mechanism import Mechanism, RevoluteJoint
 from jointplay.study.requirements import Requirement, parse_requirement
 from jointplay.tolerance import iso286, iso2768
 from jointplay.tolerance.cost import CostModel, fit_cost, length_class_cost
 from jointplay.tolerance.execution import NOT_RUN, OK, STATUS, Backend, run
 from jointplay.tolerance.responses import (
-    DynamicResponses,
-    Evaluation,
+    RUNNING_RESPONSES,
     ResponseModel,
+    RunningResponses,
     dynamic_model,
     kinematic_model,
 )
@@ -74,12 +74,11 @@ from jointplay.tolerance.spec import (
 
 if TYPE_CHECKING:
     from jointplay.contact.laws import ContactLaw
-    from jointplay.dynamics.wear import OutputSpeedReference, WearSettings
+    from jointplay.dynamics.wear import WearSettings
 
 __all__ = [
     "DEFAULT_CONFIDENCE",
     "DERIVED_RESPONSES",
-    "DesignResponses",
     "DesignResult",
     "Scheme",
     "design_study",
@@ -92,14 +91,9 @@ FloatArray = NDArray[np.float64]
 #: Default confidence level: ±3σ of a normal response, 99.73 %.
 DEFAULT_CONFIDENCE = 0.9973
 
-#: Responses the design study adds to the tolerance study's dynamic peaks, with SI units.
-DERIVED_RESPONSES: Mapping[str, str] = {
-    "rocker_speed_error": "1",
-    "joint_force": "N",
-    "contact_pressure": "Pa",
-    "wear_rate": "m/s",
-    "life": "s",
-}
+#: Responses the design study adds to the tolerance study's dynamic peaks, with SI units: the
+#: running responses and the life (computed per scheme from the wear rate).
+DERIVED_RESPONSES: Mapping[str, str] = {**RUNNING_RESPONSES, "life": "s"}
 
 
 @dataclass(frozen=True)
@@ -212,109 +206,6 @@ def schemes(
 
 
 # --- the response model ----------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class DesignResponses:
-    """The dynamic response model of the design study: the tolerance study's peaks plus the
-    speed error, the largest joint force and contact pressure, and the Archard wear rate
-    (per joint and the fastest).
-
-    Attributes:
-        base: the tolerance study's dynamic model (inputs, contact law, start, settle).
-        reference: the nominal ideal-joint output speed.
-        wear: Archard parameters.
-        chunk_size: samples per task.
-    """
-
-    base: DynamicResponses
-    reference: OutputSpeedReference
-    wear: WearSettings
-    chunk_size: int = 1
-
-    @property
-    def input_names(self) -> tuple[str, ...]:
-        return self.base.input_names
-
-    @property
-    def joints(self) -> tuple[str, ...]:
-        return self.base.clearance_joints
-
-    @property
-    def response_names(self) -> tuple[str, ...]:
-        return (
-            *self.base.response_names,
-            "rocker_speed_error",
-            "joint_force",
-            "contact_pressure",
-            "wear_rate",
-            *(f"wear_rate_{j}" for j in self.joints),
-        )
-
-    @property
-    def units(self) -> Mapping[str, str]:
-        units = dict(self.base.units)
-        units.update({k: v for k, v in DERIVED_RESPONSES.items() if k != "life"})
-        units.update({f"wear_rate_{j}": "m/s" for j in self.joints})
-        return units
-
-    def describe(self) -> dict[str, Any]:
-        return {
-            **self.base.describe(),
-            "wear": {
-                "coefficient": self.wear.coefficient,
-                "hardness_Pa": self.wear.hardness,
-                "joints": dict(self.wear.joints),
-            },
-        }
-
-    def evaluate(self, x: FloatArray) -> Evaluation:
-        from jointplay.dynamics.diagnostics import line_contact_pressure
-        from jointplay.dynamics.wear import cycle_wear, speed_error
-
-        mechanism = self.base.mechanism
-        names = self.response_names
-        values = np.full((len(x), len(names)), np.nan)
-        ok = np.zeros(len(x), dtype=bool)
-        errors: list[str] = []
-        for i, row in enumerate(np.asarray(x, dtype=float)):
-            try:
-                result = self.base.simulate_one(row)
-                if not result.success:
-                    errors.append(f"IntegrationError: {result.message}")
-                    continue
-                peaks = [result.peaks[key]["value"] for key in self.base.peak_keys]
-                wear = cycle_wear(result, self.wear)
-                rates = [wear.joints[j].per_hour(wear.rpm) / 3600.0 for j in self.joints]
-                forces = [float(result.peaks[f"F_{j}"]["value"]) for j in self.joints]
-                pressures = []
-                for clearance in result.system.clearances:
-                    joint = mechanism.joint(clearance.joint)
-                    width = mechanism.bearing_width(clearance.joint) or 0.0
-                    pressures.append(
-                        line_contact_pressure(
-                            float(result.peaks[f"F_{clearance.joint}"]["value"]),
-                            width,
-                            clearance.journal_radius,
-                            max(clearance.clearance, 1e-9),
-                            mechanism.material_of(joint.link_a),
-                            mechanism.material_of(joint.link_b),
-                        )
-                    )
-                values[i] = [
-                    *peaks,
-                    speed_error(result, self.reference),
-                    max(forces),
-                    max(pressures),
-                    max(rates),
-                    *rates,
-                ]
-            except (JointplayError, np.linalg.LinAlgError) as exc:
-                errors.append(f"{type(exc).__name__}: {exc}")
-                continue
-            ok[i] = True
-            errors.append("")
-        return Evaluation(values, ok, tuple(errors))
 
 
 def design_units(
@@ -515,7 +406,7 @@ def design_study(
             settle=settle,
             revolutions=revolutions,
         )
-        model = DesignResponses(base, OutputSpeedReference.of(mechanism), wear or WearSettings())
+        model = RunningResponses(base, OutputSpeedReference.of(mechanism), wear or WearSettings())
         order = list(range(len(candidates)))
     blocks = [sample(specs[i], samples, seed).values for i in order]
     outcome = run(model, np.vstack(blocks), backend=backend, progress=progress)

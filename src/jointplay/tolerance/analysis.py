@@ -33,6 +33,7 @@ from jointplay.tolerance.methods import (
 from jointplay.tolerance.responses import (
     DynamicResponses,
     ResponseModel,
+    RunningResponses,
     dynamic_model,
     kinematic_model,
 )
@@ -51,7 +52,7 @@ __all__ = [
     "tolerance_study",
 ]
 
-ResponseKind = Literal["kinematic", "dynamic"]
+ResponseKind = Literal["kinematic", "dynamic", "running"]
 
 #: Response kinds of :func:`tolerance_study`.
 RESPONSE_KINDS: tuple[str, ...] = ("kinematic", "dynamic")
@@ -66,7 +67,7 @@ class ToleranceStudyResult:
 
     Attributes:
         mechanism: the nominal mechanism.
-        responses: ``"kinematic"``, ``"dynamic"`` or ``"custom"``.
+        responses: ``"kinematic"``, ``"dynamic"``, ``"running"`` or ``"custom"``.
         spec: the toleranced inputs actually varied.
         model: description of the response model and its settings.
         result: the method's points, responses, summaries and failures.
@@ -180,7 +181,9 @@ def tolerance_study(
             studies use its length inputs, dynamic studies lengths and clearances.
         method: ``"monte-carlo"``, ``"worst-case"``, ``"rss"`` or a method instance
             (:class:`~jointplay.tolerance.methods.MonteCarlo`, ``WorstCase``, ``Rss``).
-        responses: ``"kinematic"`` (ideal joints) or ``"dynamic"`` (clearance joints).
+        responses: ``"kinematic"`` (ideal joints), ``"dynamic"`` (clearance joints: peaks)
+            or ``"running"`` (the dynamic peaks plus rocker-speed error, largest joint force
+            and contact pressure, Archard wear rates).
         limits: specification limits per response name (SI).
         contact: dynamic: a contact law instance or name (default: the paper's conventional
             IFM, :data:`jointplay.dynamics.setup.DEFAULT_IMPACT`).
@@ -217,8 +220,9 @@ def tolerance_study(
             revolutions=revolutions,
             solver=solver,
         )
-        if isinstance(model, DynamicResponses):
-            ideal = _ideal_peaks(mechanism, model.peak_keys)
+        dynamic = model.base if isinstance(model, RunningResponses) else model
+        if isinstance(dynamic, DynamicResponses):
+            ideal = _ideal_peaks(mechanism, dynamic.peak_keys)
     outcome = analysis.run(model, spec, limits=limits, backend=backend, progress=progress)
     return ToleranceStudyResult(mechanism, kind, spec, model.describe(), outcome, ideal)
 
@@ -237,8 +241,11 @@ def build_model(
 ) -> tuple[ResponseModel, ToleranceSpec]:
     """The response model of a study and the part of ``spec`` it varies.
 
-    Kinematic studies vary the length inputs; dynamic studies lengths and clearances (see
-    :func:`tolerance_study` for the arguments).
+    Kinematic studies vary the length inputs; dynamic and running studies lengths and
+    clearances (see :func:`tolerance_study` for the arguments). ``"running"`` adds to the
+    dynamic peaks the rocker-speed error, the largest joint force and contact pressure and the
+    Archard wear rates (:class:`~jointplay.tolerance.responses.RunningResponses`, default steel
+    wear data).
     """
     if responses == "kinematic":
         spec = spec.only("length")
@@ -248,8 +255,8 @@ def build_model(
                 "[tolerances.lengths.<name>] tables (or a general class) to its configuration"
             )
         return kinematic_model(mechanism, spec.names), spec
-    if responses != "dynamic":
-        raise ConfigError(f"responses must be kinematic or dynamic, got {responses!r}")
+    if responses not in ("dynamic", "running"):
+        raise ConfigError(f"responses must be kinematic, dynamic or running, got {responses!r}")
     from jointplay.contact.laws import get_law
     from jointplay.dynamics.setup import DEFAULT_IMPACT
     from jointplay.dynamics.simulate import Start
@@ -279,6 +286,10 @@ def build_model(
             "a dynamic study needs clearance joints: give joints an ISO 286 fit "
             "([joints.<name>] fit and diameter) or a clearance"
         )
+    if responses == "running":
+        from jointplay.dynamics.wear import OutputSpeedReference, WearSettings
+
+        return RunningResponses(model, OutputSpeedReference.of(mechanism), WearSettings()), spec
     return model, spec
 
 

@@ -50,9 +50,11 @@ if TYPE_CHECKING:  # the dynamics import Numba: loaded only by dynamic studies
     from jointplay.contact.friction import FrictionLaw
     from jointplay.contact.laws import ContactLaw
     from jointplay.dynamics.simulate import SimulationResult, SolverOptions, Start
+    from jointplay.dynamics.wear import OutputSpeedReference, WearSettings
     from jointplay.model.mechanism import PrismaticJoint
 
 __all__ = [
+    "RUNNING_RESPONSES",
     "DifferentiableModel",
     "DynamicResponses",
     "Evaluation",
@@ -60,6 +62,7 @@ __all__ = [
     "GeneralKinematics",
     "LinearModel",
     "ResponseModel",
+    "RunningResponses",
     "dynamic_model",
     "kinematic_model",
 ]
@@ -797,6 +800,119 @@ class DynamicResponses:
                 errors.append(f"IntegrationError: {result.message}")
                 continue
             values[i] = [result.peaks[key]["value"] for key in keys]
+            ok[i] = True
+            errors.append("")
+        return Evaluation(values, ok, tuple(errors))
+
+
+#: Responses :class:`RunningResponses` adds to the dynamic peaks, with SI units.
+RUNNING_RESPONSES: Mapping[str, str] = {
+    "rocker_speed_error": "1",
+    "joint_force": "N",
+    "contact_pressure": "Pa",
+    "wear_rate": "m/s",
+}
+
+
+@dataclass(frozen=True)
+class RunningResponses:
+    """The mechanism as it runs: the dynamic peaks (:class:`DynamicResponses`) plus the
+    rocker-speed error against the ideal linkage, the largest joint force, the largest Hertz
+    contact pressure and the Archard wear rate of the radial clearance (the fastest and per
+    joint). Used by ``tolerance_study(responses="running")`` and the design study.
+
+    Attributes:
+        base: the tolerance study's dynamic model (inputs, contact law, start, settle).
+        reference: the nominal ideal-joint output speed.
+        wear: Archard parameters.
+        chunk_size: samples per task.
+    """
+
+    base: DynamicResponses
+    reference: OutputSpeedReference
+    wear: WearSettings
+    chunk_size: int = 1
+
+    @property
+    def input_names(self) -> tuple[str, ...]:
+        return self.base.input_names
+
+    @property
+    def joints(self) -> tuple[str, ...]:
+        return self.base.clearance_joints
+
+    @property
+    def response_names(self) -> tuple[str, ...]:
+        return (
+            *self.base.response_names,
+            "rocker_speed_error",
+            "joint_force",
+            "contact_pressure",
+            "wear_rate",
+            *(f"wear_rate_{j}" for j in self.joints),
+        )
+
+    @property
+    def units(self) -> Mapping[str, str]:
+        units = dict(self.base.units)
+        units.update(RUNNING_RESPONSES)
+        units.update({f"wear_rate_{j}": "m/s" for j in self.joints})
+        return units
+
+    def describe(self) -> dict[str, Any]:
+        return {
+            **self.base.describe(),
+            "wear": {
+                "coefficient": self.wear.coefficient,
+                "hardness_Pa": self.wear.hardness,
+                "joints": dict(self.wear.joints),
+            },
+        }
+
+    def evaluate(self, x: FloatArray) -> Evaluation:
+        from jointplay.dynamics.diagnostics import line_contact_pressure
+        from jointplay.dynamics.wear import cycle_wear, speed_error
+
+        mechanism = self.base.mechanism
+        names = self.response_names
+        values = np.full((len(x), len(names)), np.nan)
+        ok = np.zeros(len(x), dtype=bool)
+        errors: list[str] = []
+        for i, row in enumerate(np.asarray(x, dtype=float)):
+            try:
+                result = self.base.simulate_one(row)
+                if not result.success:
+                    errors.append(f"IntegrationError: {result.message}")
+                    continue
+                peaks = [result.peaks[key]["value"] for key in self.base.peak_keys]
+                wear = cycle_wear(result, self.wear)
+                rates = [wear.joints[j].per_hour(wear.rpm) / 3600.0 for j in self.joints]
+                forces = [float(result.peaks[f"F_{j}"]["value"]) for j in self.joints]
+                pressures = []
+                for clearance in result.system.clearances:
+                    joint = mechanism.joint(clearance.joint)
+                    width = mechanism.bearing_width(clearance.joint) or 0.0
+                    pressures.append(
+                        line_contact_pressure(
+                            float(result.peaks[f"F_{clearance.joint}"]["value"]),
+                            width,
+                            clearance.journal_radius,
+                            max(clearance.clearance, 1e-9),
+                            mechanism.material_of(joint.link_a),
+                            mechanism.material_of(joint.link_b),
+                        )
+                    )
+                values[i] = [
+                    *peaks,
+                    speed_error(result, self.reference),
+                    max(forces),
+                    max(pressures),
+                    max(rates),
+                    *rates,
+                ]
+            except (JointplayError, np.linalg.LinAlgError) as exc:
+                errors.append(f"{type(exc).__name__}: {exc}")
+                continue
             ok[i] = True
             errors.append("")
         return Evaluation(values, ok, tuple(errors))
