@@ -361,7 +361,9 @@ def design_study(
             for r in requirements
         )
         responses = "kinematic" if kinematic else "dynamic"
-    units = kinematic_units if responses == "kinematic" else dynamic_units
+    # A dynamic study gives the ideal-joint kinematic responses of each sample's lengths too,
+    # so requirements may mix them (the dynamic peaks keep their own names).
+    units = kinematic_units if responses == "kinematic" else {**kinematic_units, **dynamic_units}
     parsed = tuple(
         r if isinstance(r, Requirement) else parse_requirement(r, units) for r in requirements
     )
@@ -406,7 +408,13 @@ def design_study(
             settle=settle,
             revolutions=revolutions,
         )
-        model = RunningResponses(base, OutputSpeedReference.of(mechanism), wear or WearSettings())
+        lengths = [n for n in names if n.startswith("length_")]
+        model = RunningResponses(
+            base,
+            OutputSpeedReference.of(mechanism),
+            wear or WearSettings(),
+            kinematic=kinematic_model(mechanism, lengths) if lengths else None,
+        )
         order = list(range(len(candidates)))
     blocks = [sample(specs[i], samples, seed).values for i in order]
     outcome = run(model, np.vstack(blocks), backend=backend, progress=progress)

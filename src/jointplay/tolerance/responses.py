@@ -825,13 +825,26 @@ class RunningResponses:
         base: the tolerance study's dynamic model (inputs, contact law, start, settle).
         reference: the nominal ideal-joint output speed.
         wear: Archard parameters.
+        kinematic: optionally, the ideal-joint kinematic model of the same length inputs:
+            its responses that the dynamics do not give (``rocker_swing``,
+            ``transmission_angle_min``, …) are added for each sample's lengths, so
+            requirements may mix kinematic and dynamic responses.
         chunk_size: samples per task.
     """
 
     base: DynamicResponses
     reference: OutputSpeedReference
     wear: WearSettings
+    kinematic: ResponseModel | None = None
     chunk_size: int = 1
+
+    @property
+    def kinematic_names(self) -> tuple[str, ...]:
+        """The kinematic responses added (those the dynamics do not give themselves)."""
+        if self.kinematic is None:
+            return ()
+        dynamic = set(self.base.response_names)
+        return tuple(n for n in self.kinematic.response_names if n not in dynamic)
 
     @property
     def input_names(self) -> tuple[str, ...]:
@@ -850,6 +863,7 @@ class RunningResponses:
             "contact_pressure",
             "wear_rate",
             *(f"wear_rate_{j}" for j in self.joints),
+            *self.kinematic_names,
         )
 
     @property
@@ -857,6 +871,8 @@ class RunningResponses:
         units = dict(self.base.units)
         units.update(RUNNING_RESPONSES)
         units.update({f"wear_rate_{j}": "m/s" for j in self.joints})
+        if self.kinematic is not None:
+            units.update({n: self.kinematic.units[n] for n in self.kinematic_names})
         return units
 
     def describe(self) -> dict[str, Any]:
@@ -902,7 +918,7 @@ class RunningResponses:
                             mechanism.material_of(joint.link_b),
                         )
                     )
-                values[i] = [
+                values[i, : len(names) - len(self.kinematic_names)] = [
                     *peaks,
                     speed_error(result, self.reference),
                     max(forces),
@@ -915,6 +931,17 @@ class RunningResponses:
                 continue
             ok[i] = True
             errors.append("")
+        if self.kinematic_names and self.kinematic is not None:
+            # The ideal-joint responses of each sample's lengths, in one vectorised call.
+            columns = [self.input_names.index(n) for n in self.kinematic.input_names]
+            kinematic = self.kinematic.evaluate(np.asarray(x, dtype=float)[:, columns])
+            chosen = [self.kinematic.response_names.index(n) for n in self.kinematic_names]
+            values[:, len(names) - len(chosen) :] = kinematic.values[:, chosen]
+            errors = [
+                error or ("" if kinematic.ok[i] else kinematic.errors[i])
+                for i, error in enumerate(errors)
+            ]
+            ok &= kinematic.ok
         return Evaluation(values, ok, tuple(errors))
 
 
