@@ -409,11 +409,12 @@ def design_study(
             revolutions=revolutions,
         )
         lengths = [n for n in names if n.startswith("length_")]
+        mixed = any(r.response not in dynamic_units for r in parsed)  # a kinematic one too
         model = RunningResponses(
             base,
             OutputSpeedReference.of(mechanism),
             wear or WearSettings(),
-            kinematic=kinematic_model(mechanism, lengths) if lengths else None,
+            kinematic=kinematic_model(mechanism, lengths) if lengths and mixed else None,
         )
         order = list(range(len(candidates)))
     blocks = [sample(specs[i], samples, seed).values for i in order]
