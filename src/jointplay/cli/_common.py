@@ -88,6 +88,16 @@ SpeedPositiveOption = Annotated[
         help="Rotation that the file's positive values mean: ccw (default) or cw.",
     ),
 ]
+# Archard wear and the running start-up (design, wear).
+WearCoefficientOption = Annotated[
+    float | None, typer.Option("--wear-coefficient", help="Archard k of every joint.")
+]
+HardnessOption = Annotated[
+    str | None, typer.Option("--hardness", help="Hardness of the softer surface, e.g. '2 GPa'.")
+]
+SettleOption = Annotated[
+    int, typer.Option("--settle", help="Start-up revolutions left out.", min=0)
+]
 ForceOption = Annotated[
     bool,
     typer.Option(

@@ -17,9 +17,12 @@ from jointplay.cli._common import (
     ConfigOption,
     ForceOption,
     GravityOption,
+    HardnessOption,
     OutOption,
     PresetOption,
     RpmOption,
+    SettleOption,
+    WearCoefficientOption,
     choice,
     mechanism_from_options,
     provenance,
@@ -178,15 +181,9 @@ def design_command(
             "file, and a table here replaces the config's.",
         ),
     ] = None,
-    wear_coefficient: Annotated[
-        float | None, typer.Option("--wear-coefficient", help="Archard k of every joint.")
-    ] = None,
-    hardness: Annotated[
-        str | None, typer.Option("--hardness", help="Hardness of the softer surface, e.g. '2 GPa'.")
-    ] = None,
-    settle: Annotated[
-        int, typer.Option("--settle", help="Start-up revolutions left out.", min=0)
-    ] = 2,
+    wear_coefficient: WearCoefficientOption = None,
+    hardness: HardnessOption = None,
+    settle: SettleOption = 2,
     revolutions: Annotated[
         float, typer.Option("--revolutions", help="Analysed revolutions.")
     ] = 1.0,

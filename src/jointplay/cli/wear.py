@@ -17,9 +17,12 @@ from jointplay.cli._common import (
     ConfigOption,
     ForceOption,
     GravityOption,
+    HardnessOption,
     OutOption,
     PresetOption,
     RpmOption,
+    SettleOption,
+    WearCoefficientOption,
     mechanism_from_options,
     provenance,
 )
@@ -58,15 +61,9 @@ def wear_command(
             "table may sit in the --config file, and this one replaces it.",
         ),
     ] = None,
-    wear_coefficient: Annotated[
-        float | None, typer.Option("--wear-coefficient", help="Archard k of every joint.")
-    ] = None,
-    hardness: Annotated[
-        str | None, typer.Option("--hardness", help="Hardness of the softer surface, e.g. '2 GPa'.")
-    ] = None,
-    settle: Annotated[
-        int, typer.Option("--settle", help="Start-up revolutions left out.", min=0)
-    ] = 2,
+    wear_coefficient: WearCoefficientOption = None,
+    hardness: HardnessOption = None,
+    settle: SettleOption = 2,
     rpm: RpmOption = None,
     gravity: GravityOption = None,
     plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
