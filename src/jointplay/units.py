@@ -58,7 +58,9 @@ def _registry() -> Any:
     return registry
 
 
-def parse_quantity(value: Any, unit: str, *, field: str, allow_bare: bool = False) -> float:
+def parse_quantity(
+    value: Any, unit: str, *, field: str, allow_bare: bool = False, example: str | None = None
+) -> float:
     """Convert ``value`` to a float in the SI unit ``unit``.
 
     Args:
@@ -67,6 +69,8 @@ def parse_quantity(value: Any, unit: str, *, field: str, allow_bare: bool = Fals
         unit: the SI unit to convert to, e.g. ``"m"``, ``"rad/s"``, ``"N/m^1.5"``.
         field: the name of the field, used in error messages.
         allow_bare: accept plain numbers as already being in ``unit``.
+        example: the unit a message about a bare number suggests (default: a usual one for
+            ``unit``, e.g. ``"rpm"`` for ``"rad/s"``).
 
     Raises:
         ConfigError: the value has no unit, an unknown unit or the wrong dimension.
@@ -77,7 +81,8 @@ def parse_quantity(value: Any, unit: str, *, field: str, allow_bare: bool = Fals
         if allow_bare or unit in ("", "1", "dimensionless"):
             return _finite(float(value), field)
         raise ConfigError(
-            f'{field}: {value!r} has no unit; write it with one, e.g. "{value} {_example(unit)}"'
+            f'{field}: {value!r} has no unit; write it with one, e.g. "{value} '
+            f'{example or _example(unit)}"'
         )
     if isinstance(value, str) and unit == "m":
         simple = _SIMPLE_QUANTITY.fullmatch(value)
@@ -109,7 +114,7 @@ def parse_quantity(value: Any, unit: str, *, field: str, allow_bare: bool = Fals
     if quantity.unitless and unit not in ("", "1", "dimensionless") and not allow_bare:
         raise ConfigError(
             f"{field}: {value!r} has no unit; write it with one, e.g. "
-            f'"{quantity.magnitude} {_example(unit)}"'
+            f'"{quantity.magnitude} {example or _example(unit)}"'
         )
     try:
         magnitude = float(quantity.to(unit).magnitude)
@@ -128,7 +133,7 @@ def _finite(value: float, field: str, given: Any = None) -> float:
 
 
 def _example(unit: str) -> str:
-    return {"m": "mm", "rad/s": "rpm", "Pa": "GPa", "rad": "deg"}.get(unit, unit)
+    return {"m": "mm", "rad/s": "rpm", "Pa": "GPa", "rad": "deg", "s": "s"}.get(unit, unit)
 
 
 def format_quantity(value_si: float, unit: str, *, digits: int = 6) -> str:

@@ -49,7 +49,7 @@ def test_design_errors_are_one_line(tmp_path, capsys, args: list[str], message: 
 def test_wear_writes_the_history_and_the_life(tmp_path, capsys) -> None:
     out = tmp_path / "wear"
     code = run(
-        ["wear", "--preset", "paper-fourbar", "--hours", "2", "--update-hours", "1",
+        ["wear", "--preset", "paper-fourbar", "--hours", "2 h", "--update-hours", "1 h",
          "--clearance-limit", "+20 um", "--fit", "H7/g6", "--wear-coefficient", "1e-5",
          "--no-plots", "--out", str(out)]
     )  # fmt: skip
@@ -88,7 +88,7 @@ def test_wear_and_cost_tables_sit_in_the_mechanism_config(tmp_path, capsys) -> N
 
     def lives(config, *extra: str) -> dict[str, float]:
         out = tmp_path / f"wear-{config.stem}-{len(extra)}"
-        args = ["wear", "--config", str(config), "--hours", "1", "--update-hours", "1",
+        args = ["wear", "--config", str(config), "--hours", "1 h", "--update-hours", "60 min",
                 "--clearance-limit", "+20 um", "--fit", "H7/g6", "--no-plots", "--out", str(out)]  # fmt: skip
         assert run([*args, *extra]) == 0
         return json.loads((out / "summary.json").read_text())["life_hours"]

@@ -66,7 +66,16 @@ def test_json_output_si_and_paper_units(capsys: pytest.CaptureFixture[str]) -> N
 def test_json_options_rpm_load_ratio_sweep(capsys: pytest.CaptureFixture[str]) -> None:
     data = _json(
         capsys,
-        ["--rpm", "100", "--load", "reaction", "--damping-ratio", "0.02", "--sweep", "100,200"],
+        [
+            "--rpm",
+            "100 rpm",
+            "--load",
+            "reaction",
+            "--damping-ratio",
+            "0.02 s",
+            "--sweep",
+            "100,200 rpm",
+        ],
     )
     assert data["ecs"]["crank_speed_rpm"] == pytest.approx(100.0)
     assert data["ecs"]["overall_joint"] == "O2"
@@ -79,7 +88,7 @@ def test_json_options_rpm_load_ratio_sweep(capsys: pytest.CaptureFixture[str]) -
 
 def test_out_writes_json_csv_and_plots(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / "ecs"
-    assert run(["ecs", "--sweep", "100:300:100", "--out", str(out)]) == 0
+    assert run(["ecs", "--sweep", "100:300:100 rpm", "--out", str(out)]) == 0
     assert "results written to" in capsys.readouterr().out
     document = json.loads((out / "ecs.json").read_text())
     assert document["provenance"]["jointplay_version"]
@@ -95,15 +104,19 @@ def test_out_writes_json_csv_and_plots(tmp_path: Path, capsys: pytest.CaptureFix
     ("argv", "message"),
     [
         (["--contact", "elliptical"], "--contact"),
-        (["--rpm", "-5"], "--rpm"),
-        (["--rpm", "0"], "--rpm"),
+        (["--rpm", "-5 rpm"], "--rpm"),
+        (["--rpm", "200"], "--rpm: '200' has no unit"),
+        (["--rpm", "0 rpm"], "--rpm"),
         (["--rpm", "fast"], "--rpm"),
-        (["--damping-ratio", "-0.01"], "--damping-ratio"),
+        (["--damping-ratio", "-0.01 s"], "--damping-ratio"),
+        (["--damping-ratio", "0.01"], "--damping-ratio: '0.01' has no unit"),
         (["--damping-ratio", "1%"], "--damping-ratio"),
         (["--load", "torque"], "--load"),
         (["--radius", "convex"], "--radius"),
         (["--length", "12"], "--length"),
-        (["--sweep", "500:50:50"], "--sweep"),
+        (["--sweep", "500:50:50 rpm"], "--sweep"),
+        (["--sweep", "50:500:50"], "--sweep: '50:500:50' has no unit"),
+        (["--sweep", "50:500:50 mm"], "not a unit of crank speed"),
         (["--restitution", "1.5"], "--restitution"),
     ],
 )

@@ -17,7 +17,9 @@ FOURBAR_COLUMNS = [
 
 def test_kinematics_writes_documented_files(tmp_path) -> None:
     out = tmp_path / "k"
-    assert run(["kinematics", "--preset", "paper-fourbar", "--rpm", "200", "--out", str(out)]) == 0
+    assert (
+        run(["kinematics", "--preset", "paper-fourbar", "--rpm", "200 rpm", "--out", str(out)]) == 0
+    )
     table = pd.read_csv(out / "kinematics.csv")
     assert list(table.columns) == FOURBAR_COLUMNS
     assert len(table) == 361
@@ -75,10 +77,12 @@ def test_presets_and_show(capsys) -> None:
     ("args", "message"),
     [
         (["--preset", "nope"], "unknown preset 'nope'"),
-        (["--rpm", "-5"], "--rpm must be a positive"),
+        (["--rpm", "-5 rpm"], "--rpm must be a positive"),
+        (["--rpm", "200"], "--rpm: '200' has no unit; write it with one, e.g. \"200 rpm\""),
         (["--direction", "sideways"], "--direction must be ccw or cw"),
         (["--start-angle", "30"], "has no unit"),
-        (["--step", "7"], "must divide 360"),
+        (["--step", "7 deg"], "must divide 360"),
+        (["--step", "1"], "--step: '1' has no unit"),
     ],
 )
 def test_bad_input_gives_one_line_and_no_output(tmp_path, capsys, args, message) -> None:

@@ -8,12 +8,14 @@ a non-zero exit status; no traceback reaches the user unless ``JOINTPLAY_DEBUG=1
 from __future__ import annotations
 
 import os
+import re
 import signal
 import sys
 import threading
 import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
+from typing import Any
 
 import typer
 
@@ -23,6 +25,35 @@ except ImportError:  # pragma: no cover - older Typer uses the click package
     from click import exceptions as click_exceptions  # type: ignore[no-redef]
 
 from jointplay.errors import JointplayError, caused_by_interrupt
+
+
+def _flags_show_no_metavar() -> None:
+    """Flags (``--json``, ``--force``, ``--plots/--no-plots``, ``--help``) take no value, so
+    the help shows no ``<bool>`` beside them, as Click's own help and rich-click do.
+
+    Typer's Rich help (0.2x) prints a flag's type in the metavar column; plain Click help
+    does not (``Option.get_help_record`` skips flags). The column is drawn from
+    ``TyperOption.display_type_rich``, which here returns ``None`` for a flag or a counter.
+    Older Typer releases have no such method and show no metavar for flags: nothing to do.
+    """
+    try:
+        from typer.core import TyperOption
+    except ImportError:  # pragma: no cover - Typer without its own option class
+        return
+    shown = getattr(TyperOption, "display_type_rich", None)
+    if shown is None or getattr(shown, "_flags_hidden", False):
+        return
+
+    def display_type_rich(self: Any, ctx: Any) -> str | None:
+        if getattr(self, "is_flag", False) or getattr(self, "count", False):
+            return None
+        return shown(self, ctx)  # type: ignore[no-any-return]
+
+    display_type_rich._flags_hidden = True  # type: ignore[attr-defined]
+    TyperOption.display_type_rich = display_type_rich  # type: ignore[method-assign]
+
+
+_flags_show_no_metavar()
 
 app = typer.Typer(
     name="jointplay",
@@ -122,6 +153,59 @@ def _one_line(text: str) -> str:
     return " ".join(str(text).split())
 
 
+#: Words that a user may write after a flag, meaning "on" or "off".
+_FLAG_WORDS = ("true", "false", "yes", "no", "on", "off", "1", "0")
+
+
+def _command_names() -> set[str]:
+    """The names of the registered commands."""
+    return {
+        command.name or (command.callback.__name__ if command.callback else "")
+        for command in app.registered_commands
+    }
+
+
+def _flags_of(ctx: Any) -> dict[str, tuple[str, ...]]:
+    """Every flag spelling of the command being parsed (and its parents) → all its spellings."""
+    flags: dict[str, tuple[str, ...]] = {}
+    while ctx is not None:
+        for param in getattr(ctx.command, "params", []):
+            if getattr(param, "is_flag", False):
+                spellings = (*param.opts, *param.secondary_opts)
+                flags.update(dict.fromkeys(spellings, spellings))
+        ctx = ctx.parent
+    return flags
+
+
+def _flag_value_hint(argv: list[str], message: str, ctx: Any) -> str:
+    """A hint when a flag was given a value (``--json true``, ``--plots=false``), else "".
+
+    Flags follow Click's convention: they take no value; the flag alone turns the feature
+    on, and leaving it out (or its ``--no-`` partner, where it has one) turns it off. Click
+    reports the stray word as an extra argument or says the option takes no value; the
+    hint says what to write instead.
+    """
+    if "extra argument" not in message and "does not take a value" not in message:
+        return ""
+    flags = _flags_of(ctx)
+    named = re.search(r"Option '(--[\w-]+)' does not take a value", message)
+    if named and named[1] not in flags:  # Click names it from the group's context
+        flags[named[1]] = (named[1],)
+    for previous, word in zip(["", *argv], argv, strict=False):
+        name, equals, value = word.partition("=")
+        if equals and name in flags and value.lower() in _FLAG_WORDS:
+            flag = name
+        elif previous in flags and word.lower() in _FLAG_WORDS:
+            flag = previous
+        else:
+            continue
+        spellings = flags[flag]
+        if len(spellings) > 1:
+            return f"; flags take no value: write {' or '.join(spellings)}"
+        return f"; flags take no value: write {flag} alone, or leave it out"
+    return ""
+
+
 def run(argv: list[str] | None = None) -> int:
     """Run the CLI with ``argv`` and return the exit status.
 
@@ -146,7 +230,13 @@ def run(argv: list[str] | None = None) -> int:
         if type(exc).__name__ == "NoArgsIsHelpError":  # the help was shown: nothing failed
             return 0
         where = exc.ctx.command_path if exc.ctx is not None else "jointplay"
-        fail(f"{_one_line(exc.format_message())} (see '{where} --help')")
+        if where == "jointplay" and current_argv and current_argv[0] in _command_names():
+            where = f"jointplay {current_argv[0]}"
+        message = _one_line(exc.format_message())
+        hint = _flag_value_hint(current_argv, message, exc.ctx)
+        if hint:
+            message = message.rstrip(".") + hint
+        fail(f"{message} (see '{where} --help')")
         return EXIT_ERROR
     except click_exceptions.ClickException as exc:
         fail(_one_line(exc.format_message()))

@@ -33,7 +33,12 @@ ConfigOption = Annotated[
     ),
 ]
 RpmOption = Annotated[
-    float | None, typer.Option("--rpm", help="Crank speed in rev/min (overrides the mechanism's).")
+    str | None,
+    typer.Option(
+        "--rpm",
+        help="Crank speed with a unit, e.g. '200 rpm' or '20.9 rad/s' (overrides the "
+        "mechanism's; a bare number is refused).",
+    ),
 ]
 DirectionOption = Annotated[
     str | None,
@@ -121,7 +126,7 @@ def maybe_output_dir(out: Path | None, force: bool = False) -> AbstractContextMa
 def mechanism_from_options(
     preset: str | None,
     config: Path | None,
-    rpm: float | None = None,
+    rpm: str | None = None,
     direction: str | None = None,
     start_angle: str | None = None,
     gravity: str | None = None,
@@ -150,14 +155,44 @@ def mechanism_from_options(
 MAX_RPM = 1e6
 
 
-def crank_speed(rpm: float) -> float:
-    """``--rpm`` in rad/s: a positive number of rev/min up to :data:`MAX_RPM`."""
-    if not (math.isfinite(rpm) and 0 < rpm <= MAX_RPM):
+def quantity_option(
+    text: str, unit: str, option: str, *, example: str, positive: bool = False
+) -> float:
+    """A quantity option (``--hours "600 h"``, ``--step "1 deg"``) in the SI unit ``unit``.
+
+    The one parser of quantity options: the value must carry a unit (README, "Units and
+    conventions"); a bare number is refused with a message that shows the form, e.g.
+    ``--hours: '600' has no unit; write it with one, e.g. "600 h"``.
+
+    Args:
+        text: the option's value.
+        unit: the SI unit to convert to (``"s"``, ``"rad"``, ``"rad/s"``, ...).
+        option: the option's name, for messages.
+        example: the unit shown in the message's example (``"h"``, ``"deg"``, ``"rpm"``).
+        positive: refuse zero and negative values.
+
+    Raises:
+        ConfigError: no unit, an unknown unit, the wrong dimension, or not positive.
+    """
+    value = parse_quantity(text, unit, field=option, example=example)
+    if positive and not value > 0:
+        raise ConfigError(f"{option} must be positive, got {text!r}")
+    return value
+
+
+def crank_speed(rpm: str) -> float:
+    """``--rpm`` in rad/s: a crank speed with a unit (``"200 rpm"``, ``"20.9 rad/s"``),
+    positive and at most :data:`MAX_RPM` rev/min.
+
+    Raises:
+        ConfigError: a bare number, another dimension, or a speed out of range.
+    """
+    speed = quantity_option(rpm, "rad/s", "--rpm", example="rpm")
+    if not 0 < speed <= MAX_RPM * math.pi / 30.0:
         raise ConfigError(
-            f"--rpm must be a positive number of revolutions per minute up to {MAX_RPM:g}, "
-            f"got {rpm}"
+            f"--rpm must be a positive crank speed up to {MAX_RPM:g} rpm, got {rpm!r}"
         )
-    return rpm * math.pi / 30.0
+    return speed
 
 
 def parse_gravity(text: str) -> tuple[float, float]:

@@ -41,7 +41,7 @@ DEFAULT_FITS = "H7/h6,H7/g6,H8/f7,H8/g7,H9/d9,H11/c11"
 def read_table(path: Path | None, config: Path | None = None) -> dict[str, Any]:
     """The ``[wear]`` and ``[cost]`` tables: those of the mechanism's configuration file
     (``--config``), each table replaced by the one of ``--table`` where that file has it."""
-    from jointplay.io.config import design_tables
+    from jointplay.io.config import design_table_keys, design_tables
 
     tables = design_tables(config)
     if path is None:
@@ -55,43 +55,31 @@ def read_table(path: Path | None, config: Path | None = None) -> dict[str, Any]:
         raise ConfigError(f"--table {path}: cannot read it ({exc.strerror})") from None
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"--table {path}: not valid TOML ({exc})") from None
-    unknown = sorted(set(data) - {"wear", "cost"})
-    if unknown:
-        raise ConfigError(f"--table {path}: unknown table(s) {unknown}; expected [wear] and [cost]")
-    return {**tables, **data}
+    return {**tables, **design_table_keys(data, f"--table {path}")}
 
 
 def wear_settings(table: dict[str, Any], coefficient: float | None, hardness: str | None) -> Any:
     """Archard settings from a ``[wear]`` table and the command-line overrides."""
     from jointplay.dynamics.wear import WearSettings
+    from jointplay.io.config import design_table_keys
 
-    wear = dict(table.get("wear", {}))
-    unknown = sorted(set(wear) - {"coefficient", "hardness", "joints"})
-    if unknown:
-        raise ConfigError(
-            f"[wear]: unknown key(s) {unknown}; expected coefficient, hardness, joints"
-        )
+    wear = design_table_keys({"wear": table.get("wear", {})}, "wear table")["wear"]
     options: dict[str, Any] = {}
     if "coefficient" in wear:
-        options["coefficient"] = float(wear["coefficient"])
+        options["coefficient"] = _coefficient(wear["coefficient"], "[wear] coefficient")
     if "hardness" in wear:
         options["hardness"] = parse_quantity(
-            wear["hardness"], "Pa", field="[wear] hardness", allow_bare=True
+            wear["hardness"], "Pa", field="[wear] hardness", example="GPa"
         )
     joints: dict[str, dict[str, float]] = {}
     for joint, values in dict(wear.get("joints", {})).items():
         entry: dict[str, float] = {}
         for key, value in dict(values).items():
+            where = f"[wear.joints.{joint}] {key}"
             if key == "hardness":
-                entry[key] = parse_quantity(
-                    value, "Pa", field=f"[wear.joints.{joint}] hardness", allow_bare=True
-                )
-            elif key == "coefficient":
-                entry[key] = float(value)
+                entry[key] = parse_quantity(value, "Pa", field=where, example="GPa")
             else:
-                raise ConfigError(
-                    f"[wear.joints.{joint}]: unknown key {key!r}; expected coefficient or hardness"
-                )
+                entry[key] = _coefficient(value, where)
         joints[joint] = entry
     options["joints"] = joints
     if coefficient is not None:
@@ -99,6 +87,13 @@ def wear_settings(table: dict[str, Any], coefficient: float | None, hardness: st
     if hardness is not None:
         options["hardness"] = parse_quantity(hardness, "Pa", field="--hardness")
     return WearSettings(**options)
+
+
+def _coefficient(value: Any, where: str) -> float:
+    """An Archard wear coefficient (a dimensionless number) from a ``[wear]`` table."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise ConfigError(f"{where} must be a number (Archard's k is dimensionless), got {value!r}")
+    return float(value)
 
 
 def parse_clearance_limit(text: str | None) -> tuple[float | None, float | None]:

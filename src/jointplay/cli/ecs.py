@@ -26,10 +26,12 @@ from jointplay.cli._common import (
     ConfigOption,
     ForceOption,
     PresetOption,
+    RpmOption,
     choice,
     maybe_output_dir,
     mechanism_from_options,
     provenance,
+    quantity_option,
 )
 from jointplay.errors import ConfigError
 from jointplay.units import parse_quantity
@@ -45,8 +47,8 @@ console = Console(highlight=False, soft_wrap=True)
 #: Width of the tables when the output is not a terminal (files, pipes, tests), characters.
 PIPE_WIDTH = 150
 
-#: Default crank-speed sweep with --out, rev/min.
-DEFAULT_SWEEP = "50:500:50"
+#: Default crank-speed sweep with --out.
+DEFAULT_SWEEP = "50:500:50 rpm"
 #: Largest number of speeds a sweep may have.
 MAX_SWEEP_POINTS = 500
 #: 1 N/m = 1e-3 N/mm; 1 m = 1e3 mm.
@@ -72,16 +74,32 @@ def _contacts(text: str) -> tuple[str, ...]:
 
 
 def parse_sweep(text: str) -> list[float]:
-    """Crank speeds from ``START:STOP:STEP`` (inclusive, rev/min) or a list ``100,200,300``.
+    """Crank speeds in rev/min from ``"START:STOP:STEP UNIT"`` (inclusive) or a list
+    ``"100,200,300 UNIT"``; the unit (``rpm``, ``rad/s``, ...) is written once, at the end.
 
     Raises:
-        ConfigError: malformed text, a speed not positive, or more than
-            :data:`MAX_SWEEP_POINTS` speeds.
+        ConfigError: malformed text, no unit (a bare list is refused, as every quantity
+            without a unit), a speed not positive, or more than :data:`MAX_SWEEP_POINTS`
+            speeds.
     """
-    form = "START:STOP:STEP such as 50:500:50, or a list such as 100,200,300 (rpm > 0)"
+    form = (
+        "START:STOP:STEP UNIT such as '50:500:50 rpm', or a list such as '100,200,300 rpm' "
+        "(speeds > 0)"
+    )
+    numbers, unit = _split_unit(text)
+    if not unit:
+        raise ConfigError(f"--sweep: {text!r} has no unit; write it with one, e.g. '{numbers} rpm'")
     try:
-        if ":" in text:
-            start, stop, step = (float(part) for part in text.split(":"))
+        per_unit = parse_quantity(f"1 {unit}", "rad/s", field="--sweep")
+    except ConfigError:
+        raise ConfigError(
+            f"--sweep: {unit!r} is not a unit of crank speed (e.g. rpm, rad/s), got {text!r}"
+        ) from None
+    # rev/min per unit, to 12 digits: 1 rpm is 1.0 rpm, not 2π/60 · 30/π = 1.0000000000000002
+    rpm_per_unit = float(f"{per_unit * 30.0 / math.pi:.12g}")
+    try:
+        if ":" in numbers:
+            start, stop, step = (float(part) for part in numbers.split(":"))
             if not (
                 math.isfinite(start + stop + step) and start > 0 and step > 0 and stop >= start
             ):
@@ -91,16 +109,29 @@ def parse_sweep(text: str) -> list[float]:
                 raise ConfigError(
                     f"--sweep {text!r} has {count} speeds; at most {MAX_SWEEP_POINTS}"
                 )
-            speeds = [start + i * step for i in range(count)]
+            values = [start + i * step for i in range(count)]
         else:
-            speeds = [float(part) for part in text.split(",")]
+            values = [float(part) for part in numbers.split(",")]
     except ValueError:
         raise ConfigError(f"--sweep must read {form}, got {text!r}") from None
+    speeds = [value * rpm_per_unit for value in values]
     if not speeds or not all(math.isfinite(s) and s > 0 for s in speeds):
         raise ConfigError(f"--sweep must read {form}, got {text!r}")
     if len(speeds) > MAX_SWEEP_POINTS:
         raise ConfigError(f"--sweep {text!r} has {len(speeds)} speeds; at most {MAX_SWEEP_POINTS}")
     return speeds
+
+
+def _split_unit(text: str) -> tuple[str, str]:
+    """``"50:500:50 rpm"`` → ``("50:500:50", "rpm")``: the numbers, and the unit that
+    follows them (from the first letter on; empty without one)."""
+    value = text.strip()
+    for index, char in enumerate(value):
+        if char.isalpha() and char not in "eE":
+            return value[:index].strip(), value[index:].strip()
+        if char in "eE" and not (index and value[index - 1].isdigit()):
+            return value[:index].strip(), value[index:].strip()
+    return value, ""
 
 
 def _length(text: str) -> str | float:
@@ -119,10 +150,7 @@ def _length(text: str) -> str | float:
 def ecs_command(
     preset: PresetOption = None,
     config: ConfigOption = None,
-    rpm: Annotated[
-        str | None,
-        typer.Option("--rpm", help="Crank speed in rev/min (default: the mechanism's, 200)."),
-    ] = None,
+    rpm: RpmOption = None,
     contact: Annotated[
         str, typer.Option("--contact", help="spherical (eqs. 9–10), cylindrical (11–12) or both.")
     ] = "both",
@@ -134,8 +162,11 @@ def ecs_command(
         ),
     ] = "eq13",
     damping_ratio: Annotated[
-        str, typer.Option("--damping-ratio", help="D/K in seconds (paper: 0.01, D = 0.01 K).")
-    ] = "0.01",
+        str,
+        typer.Option(
+            "--damping-ratio", help="D/K, a time, e.g. '0.01 s' (the paper's D = 0.01 K)."
+        ),
+    ] = "0.01 s",
     radius: Annotated[
         str, typer.Option("--radius", help="Equivalent radius: conformal, pin or sum.")
     ] = "conformal",
@@ -171,7 +202,8 @@ def ecs_command(
         str | None,
         typer.Option(
             "--sweep",
-            help=f"Crank speeds START:STOP:STEP or a list, rpm (with --out: {DEFAULT_SWEEP}).",
+            help="Crank speeds START:STOP:STEP or a list, the unit once at the end, e.g. "
+            f"'100,200,300 rpm' (with --out: '{DEFAULT_SWEEP}').",
         ),
     ] = None,
     as_json: Annotated[
@@ -208,17 +240,12 @@ def ecs_command(
         console.width = PIPE_WIDTH
     with maybe_output_dir(out, force) as folder:
         contacts = _contacts(contact)
-        rpm_value = (
-            None
-            if rpm is None
-            else _parse_number(rpm, "--rpm", "a positive number of rev/min", lambda v: v > 0)
-        )
-        ratio = _parse_number(
-            damping_ratio,
-            "--damping-ratio",
-            "a finite number >= 0, in seconds (the paper's D = 0.01 K is 0.01)",
-            lambda v: v >= 0,
-        )
+        ratio = quantity_option(damping_ratio, "s", "--damping-ratio", example="s")
+        if not ratio >= 0:
+            raise ConfigError(
+                f"--damping-ratio must be >= 0 (the paper's D = 0.01 K is '0.01 s'), got "
+                f"{damping_ratio!r}"
+            )
         e = _parse_number(restitution, "--restitution", "a number in (0, 1]", lambda v: 0 < v <= 1)
         conventions = EcsConventions(
             radius=choice(radius, "--radius", RADIUS_CONVENTIONS),
@@ -234,7 +261,7 @@ def ecs_command(
         speeds = parse_sweep(sweep) if sweep is not None else None
         if speeds is None and out is not None:
             speeds = parse_sweep(DEFAULT_SWEEP)
-        mechanism = mechanism_from_options(preset, config, rpm_value)
+        mechanism = mechanism_from_options(preset, config, rpm)
         result = ecs_analysis(mechanism, conventions)
         swept = (
             ecs_sweep(mechanism, speeds, conventions, restitution=e) if speeds is not None else None

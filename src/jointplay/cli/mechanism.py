@@ -21,6 +21,7 @@ from jointplay.cli._common import (
     StartAngleOption,
     mechanism_from_options,
     provenance,
+    quantity_option,
 )
 from jointplay.errors import ConfigError
 
@@ -63,8 +64,11 @@ def kinematics_command(
     start_angle: StartAngleOption = None,
     gravity: GravityOption = None,
     step: Annotated[
-        float, typer.Option("--step", help="Crank-angle step in degrees (must divide 360).")
-    ] = 1.0,
+        str,
+        typer.Option(
+            "--step", help="Crank-angle step with a unit, e.g. '1 deg' (must divide a turn)."
+        ),
+    ] = "1 deg",
     method: Annotated[
         str,
         typer.Option("--method", help="auto (closed form if available), closed-form or general."),
@@ -80,14 +84,13 @@ def kinematics_command(
 
     with output_dir(out, force=force) as folder:
         mechanism = mechanism_from_options(preset, config, rpm, direction, start_angle, gravity)
-        if not (math.isfinite(step) and step > 0):
-            raise ConfigError(f"--step must be a positive number of degrees, got {step}")
-        if 360.0 / step > MAX_ROWS:
+        step_deg = math.degrees(quantity_option(step, "rad", "--step", example="deg", positive=True))
+        if 360.0 / step_deg > MAX_ROWS:
             raise ConfigError(
-                f"--step {step:g} gives {360.0 / step:.3g} rows (at most {MAX_ROWS:.0e}); "
-                f"give at least {360.0 / MAX_ROWS:g} degrees"
+                f"--step {step!r} gives {360.0 / step_deg:.3g} rows (at most {MAX_ROWS:.0e}); "
+                f"give at least '{360.0 / MAX_ROWS:g} deg'"
             )
-        result = nominal_analysis(mechanism, step_deg=step, method=method)
+        result = nominal_analysis(mechanism, step_deg=step_deg, method=method)
         result.table.to_csv(folder / "kinematics.csv", index=False, float_format="%.10g")
         write_json(
             folder / "summary.json",

@@ -23,6 +23,7 @@ from jointplay.cli._common import (
     StartAngleOption,
     mechanism_from_options,
     provenance,
+    quantity_option,
 )
 from jointplay.errors import ConfigError
 from jointplay.units import parse_quantity
@@ -147,9 +148,10 @@ def simulate_command(
         ),
     ] = None,
     sample_deg: Annotated[
-        float | None,
+        str | None,
         _opt(
-            "Also report peaks of the solution sampled every X degrees of crank, labelled as sampled.",
+            "Also report peaks of the solution sampled every so much crank angle, with a unit, "
+            "e.g. '5 deg' (labelled as sampled).",
             "--sample-deg",
         ),
     ] = None,
@@ -252,9 +254,7 @@ def simulate_command(
             raise ConfigError(
                 f"--settle must be a whole number of revolutions >= 0, got {settle_turns!r}"
             )
-        sample = None if values.get("sample_deg") is None else _number(values, "sample_deg", 0.0)
-        if sample is not None and not (math.isfinite(float(sample)) and 0 < float(sample) <= 360):
-            raise ConfigError(f"--sample-deg must lie in (0, 360] degrees, got {sample}")
+        sample = _sample_step(values.get("sample_deg"))
         with console.status(
             f"simulating {settle_turns + turns:g} revolution(s) of {mechanism.name} with clearance in {', '.join(c.joint for c in clear)}"
         ):
@@ -266,7 +266,7 @@ def simulate_command(
                 start=Start(mode, ramp),  # type: ignore[arg-type]  # validated by Start
                 solver=solver,
                 output_step=step,
-                sample_deg=None if sample is None else float(sample),
+                sample_deg=sample,
                 nominal=True,
             )
             running = result.running
@@ -348,6 +348,20 @@ def _number(values: dict[str, Any], key: str, default: float) -> float:
     if not math.isfinite(value):
         raise ConfigError(f"{option} must be a finite number, got {value!r}")
     return float(value)
+
+
+def _sample_step(value: Any) -> float | None:
+    """``--sample-deg`` (or ``[simulation] sample_deg``) in degrees, within (0, 360]."""
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, str):
+        raise ConfigError(
+            f"--sample-deg must be a crank angle with a unit, e.g. '5 deg', got {value!r}"
+        )
+    step = math.degrees(quantity_option(value, "rad", "--sample-deg", example="deg"))
+    if not 0 < step <= 360:
+        raise ConfigError(f"--sample-deg must lie in (0, 360] degrees, got {value!r}")
+    return step
 
 
 def _joint_list(value: Any) -> list[str] | None:

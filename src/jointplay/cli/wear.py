@@ -5,7 +5,6 @@ Import-light: NumPy and the dynamics load when the command runs.
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 from typing import Annotated
 
@@ -25,6 +24,7 @@ from jointplay.cli._common import (
     WearCoefficientOption,
     mechanism_from_options,
     provenance,
+    quantity_option,
 )
 from jointplay.errors import ConfigError
 
@@ -34,7 +34,9 @@ console = Console(highlight=False, soft_wrap=True)
 @app.command("wear")
 def wear_command(
     out: OutOption,
-    hours: Annotated[float, typer.Option("--hours", help="Operating hours to simulate.")],
+    hours: Annotated[
+        str, typer.Option("--hours", help="Operating time to simulate, e.g. '600 h'.")
+    ],
     clearance_limit: Annotated[
         str,
         typer.Option(
@@ -46,8 +48,11 @@ def wear_command(
     preset: PresetOption = None,
     config: ConfigOption = None,
     update_hours: Annotated[
-        float | None,
-        typer.Option("--update-hours", help="Hours between re-simulations (default hours/10)."),
+        str | None,
+        typer.Option(
+            "--update-hours",
+            help="Operating time between re-simulations, e.g. '50 h' (default: --hours / 10).",
+        ),
     ] = None,
     fit: Annotated[
         str | None,
@@ -84,11 +89,13 @@ def wear_command(
     from jointplay.tolerance import iso286
 
     mechanism = mechanism_from_options(preset, config, rpm=rpm, gravity=gravity)
-    if not (math.isfinite(hours) and hours > 0):
-        raise ConfigError(f"--hours must be > 0, got {hours}")
-    step = hours / 10.0 if update_hours is None else update_hours
-    if not (math.isfinite(step) and step > 0):
-        raise ConfigError(f"--update-hours must be > 0, got {update_hours}")
+    life_hours = quantity_option(hours, "s", "--hours", example="h", positive=True) / 3600.0
+    step = (
+        life_hours / 10.0
+        if update_hours is None
+        else quantity_option(update_hours, "s", "--update-hours", example="h", positive=True)
+        / 3600.0
+    )
     limit, allowance = parse_clearance_limit(clearance_limit)
     settings = wear_settings(read_table(table, config), wear_coefficient, hardness)
     joints = []
@@ -127,7 +134,7 @@ def wear_command(
         history = wear_life(
             mechanism,
             joints,
-            hours=hours,
+            hours=life_hours,
             update_hours=step,
             clearance_limit=limits,
             settings=settings,

@@ -5,15 +5,21 @@ A configuration describes one mechanism. Quantities are strings with units (``"2
 errors that name the table and key. See the files in ``jointplay/data/presets`` (printed by
 ``jointplay show PRESET``) for annotated examples of the three forms: ``template = "four-bar"``,
 ``"slider-crank"`` and ``"general"``.
+
+Keys may be written as the command-line options are (``stiffness-law``) or with underscores
+(``stiffness_law``), in every table; a table that has both spellings of one key is refused.
+An unknown key is refused with the table's allowed keys and the closest one ("did you
+mean"). Names that are data, not keys (links, joints, points), are taken as written.
 """
 
 from __future__ import annotations
 
+import difflib
 import math
 import os
 import stat
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, replace
 from importlib import resources
 from pathlib import Path
@@ -66,8 +72,61 @@ def _plausible(value: float, unit: str, field: str, given: Any) -> float:
     return value
 
 
+def option_key(key: str) -> str:
+    """A configuration key in its canonical spelling: ``stiffness-law`` → ``stiffness_law``."""
+    return key.replace("-", "_")
+
+
+def unknown_keys_message(where: str, unknown: Iterable[str], allowed: Iterable[str]) -> str:
+    """One line naming the unknown keys of table ``where``, the closest allowed key of each
+    ("did you mean"), and every allowed key."""
+    choices = sorted(set(allowed))
+    named = []
+    for key in unknown:
+        close = difflib.get_close_matches(option_key(key), choices, n=1, cutoff=0.6)
+        named.append(f"{key!r}" + (f" (did you mean {close[0]!r}?)" if close else ""))
+    allowed_text = ", ".join(choices) if choices else "none"
+    return (
+        f"{where or 'top level'}: unknown key{'s' if len(named) > 1 else ''} "
+        f"{', '.join(named)}; allowed keys: {allowed_text} (each also with '-' for '_')"
+    )
+
+
+def option_keys(table: Mapping[str, Any], allowed: Iterable[str], where: str) -> dict[str, Any]:
+    """``table`` with its keys in the canonical spelling (:func:`option_key`), checked.
+
+    For tables whose keys are settings (``[simulation]``, ``[wear]``, ``[cost]``, the
+    entries of ``[tolerances]``), not names.
+
+    Raises:
+        ConfigError: a key given in both spellings, or a key that is not ``allowed`` (the
+            message lists the allowed keys and suggests the closest).
+    """
+    if not isinstance(table, Mapping):
+        raise ConfigError(f"{where} must be a table, got {type(table).__name__}")
+    permitted = {option_key(k) for k in allowed}
+    out: dict[str, Any] = {}
+    written: dict[str, str] = {}
+    for key, value in table.items():
+        canonical = option_key(str(key))
+        if canonical in out:
+            raise ConfigError(
+                f"{where}: {written[canonical]!r} and {key!r} are the same key; give it once"
+            )
+        out[canonical], written[canonical] = value, str(key)
+    unknown = [written[k] for k in out if k not in permitted]
+    if unknown:
+        raise ConfigError(unknown_keys_message(where, unknown, permitted))
+    return out
+
+
 class _Table:
-    """A TOML table that hands out its keys and reports the ones nobody asked for."""
+    """A TOML table that hands out its keys and reports the ones nobody asked for.
+
+    A key may be written with ``-`` for ``_`` (the option spelling); the parser asks in
+    the canonical spelling. Every key asked for (present or not) is an allowed key of the
+    table, listed when an unknown key is refused.
+    """
 
     def __init__(self, data: Any, where: str) -> None:
         if not isinstance(data, Mapping):
@@ -75,17 +134,30 @@ class _Table:
         self.data = dict(data)
         self.where = where
         self.used: set[str] = set()
+        self.allowed: set[str] = set()
+
+    def _key(self, key: str) -> str | None:
+        """The key as written in the file (``key`` or its option spelling), or None."""
+        self.allowed.add(key)
+        spellings = [k for k in dict.fromkeys((key, key.replace("_", "-"))) if k in self.data]
+        if len(spellings) > 1:
+            raise ConfigError(
+                f"{self.where or 'top level'}: {spellings[0]!r} and {spellings[1]!r} are the "
+                "same key; give it once"
+            )
+        return spellings[0] if spellings else None
 
     def has(self, key: str) -> bool:
-        return key in self.data
+        return self._key(key) is not None
 
     def raw(self, key: str, default: Any = ...) -> Any:
-        self.used.add(key)
-        if key not in self.data:
+        written = self._key(key)
+        if written is None:
             if default is ...:
                 raise ConfigError(f"{self.where}: missing required key {key!r}")
             return default
-        return self.data[key]
+        self.used.add(written)
+        return self.data[written]
 
     def quantity(self, key: str, unit: str, default: Any = ...) -> Any:
         value = self.raw(key, default)
@@ -119,6 +191,17 @@ class _Table:
     def table(self, key: str) -> _Table:
         return _Table(self.raw(key, {}), f"{self.where}.{key}" if self.where else key)
 
+    def names(self) -> list[str]:
+        """The keys of a table of *names* (links, joints, points), taken as written."""
+        self.used.update(self.data)
+        return list(self.data)
+
+    def name_table(self, name: str) -> _Table:
+        """The sub-table of the name ``name`` (one of :meth:`names`), as written."""
+        self.used.add(name)
+        where = f"{self.where}.{name}" if self.where else name
+        return _Table(self.data[name], where)
+
     def point(self, key: str, value: Any = ...) -> tuple[float, float]:
         value = self.raw(key) if value is ... else value
         if not isinstance(value, list | tuple) or len(value) != 2:
@@ -141,11 +224,7 @@ class _Table:
     def finish(self) -> None:
         unknown = sorted(set(self.data) - self.used)
         if unknown:
-            known = sorted(self.used)
-            raise ConfigError(
-                f"{self.where or 'top level'}: unknown key(s) {unknown}"
-                + (f"; expected some of {known}" if known else "")
-            )
+            raise ConfigError(unknown_keys_message(self.where, unknown, self.allowed))
 
 
 @dataclass(frozen=True)
@@ -411,10 +490,10 @@ def _parse_template(
     links_table = root.table("links")
     bodies: dict[str, LinkBody] = {}
     coupler_points: dict[str, tuple[float, float]] = {}
-    for key in list(links_table.data):
+    for key in links_table.names():
         if key not in link_names:
             raise ConfigError(f"links: unknown link {key!r}; a {template} has {list(link_names)}")
-        entry = links_table.table(key)
+        entry = links_table.name_table(key)
         bodies[key] = LinkBody(
             mass=entry.quantity("mass", "kg", None),
             width=entry.quantity("width", "m", 0.022),
@@ -427,13 +506,13 @@ def _parse_template(
                     f"links.{key}.points: extra points are supported on the {link_names[1]}"
                 )
             points = entry.table("points")
-            for point_name in list(points.data):
-                coupler_points[point_name] = points.point(point_name)
+            for point_name in points.names():
+                coupler_points[point_name] = points.point(point_name, points.data[point_name])
             points.finish()
         entry.finish()
     links_table.finish()
     joints_table = root.table("joints")
-    fits = {key: _fit(joints_table.table(key)) for key in list(joints_table.data)}
+    fits = {key: _fit(joints_table.name_table(key)) for key in joints_table.names()}
     joints_table.finish()
     builder = four_bar if template == "four-bar" else slider_crank
     return builder(
@@ -465,16 +544,16 @@ def _parse_general(
 ) -> Mechanism:
     ground_table = root.table("ground")
     ground_points = ground_table.table("points")
-    ground = Ground({key: ground_points.point(key) for key in list(ground_points.data)})
+    ground = Ground({k: ground_points.point(k, ground_points.data[k]) for k in ground_points.names()})
     ground_points.finish()
     ground_table.finish()
     links_table = root.table("links")
     links = []
     initial_angles = {}
-    for key in list(links_table.data):
-        entry = links_table.table(key)
+    for key in links_table.names():
+        entry = links_table.name_table(key)
         points = entry.table("points")
-        link_points = {p: points.point(p) for p in list(points.data)}
+        link_points = {p: points.point(p, points.data[p]) for p in points.names()}
         points.finish()
         links.append(
             Link(
@@ -560,17 +639,56 @@ def _split_ref(ref: str, joint: str) -> tuple[str, str]:
 SIMULATION_KEYS = (
     "method", "ecs_source", "contact", "k", "exponent", "cmax", "depth", "restitution", "damping",
     "stiffness_law", "fit_depth", "clearance", "joints", "friction", "friction_law", "start",
-    "ramp_time", "start_angle", "revolutions", "output_step", "rtol", "max_step", "format",
+    "ramp_time", "start_angle", "revolutions", "settle", "sample_deg", "output_step", "rtol",
+    "max_step", "format",
 )  # fmt: skip
 
 
 #: Tables of a configuration file that the design and wear studies read (Archard data per
-#: joint, the cost–tolerance model); their keys are checked by those studies' readers.
+#: joint, the cost–tolerance model).
 DESIGN_TABLES = ("wear", "cost")
+#: Keys of ``[wear]``, of its ``[wear.joints.<J>]`` tables and of ``[cost]``
+#: (:meth:`jointplay.tolerance.cost.CostModel.from_table`; ``it`` and ``iso2768`` are tables
+#: of grade and class names).
+WEAR_KEYS = ("coefficient", "hardness", "joints")
+WEAR_JOINT_KEYS = ("coefficient", "hardness")
+COST_KEYS = ("model", "a", "b", "k", "reference", "it", "iso2768")
+
+
+def design_table_keys(tables: Mapping[str, Any], source: str) -> dict[str, Any]:
+    """``[wear]`` and ``[cost]`` tables with their keys in the canonical spelling, checked
+    (:func:`option_keys`); joint names, IT grades and class letters are taken as written.
+
+    Args:
+        tables: ``{"wear": {...}, "cost": {...}}`` (either may be missing).
+        source: where they come from (a file name), for messages.
+    """
+    out: dict[str, Any] = {}
+    for name, table in tables.items():
+        where = f"{source}: [{name}]"
+        if name == "wear":
+            wear = option_keys(table, WEAR_KEYS, where)
+            if "joints" in wear:
+                joints = wear["joints"]
+                if not isinstance(joints, Mapping):
+                    raise ConfigError(f"{where} joints must be a table of joint tables")
+                wear["joints"] = {
+                    joint: option_keys(entry, WEAR_JOINT_KEYS, f"{source}: [wear.joints.{joint}]")
+                    for joint, entry in joints.items()
+                }
+            out[name] = wear
+        elif name == "cost":
+            out[name] = option_keys(table, COST_KEYS, where)
+        else:
+            raise ConfigError(
+                f"{source}: unknown table [{name}]; expected {', '.join(DESIGN_TABLES)}"
+            )
+    return out
 
 
 def design_tables(path: Path | str | None) -> dict[str, Any]:
-    """The ``[wear]`` and ``[cost]`` tables of a configuration file (raw; empty without)."""
+    """The ``[wear]`` and ``[cost]`` tables of a configuration file (keys checked and in
+    their canonical spelling, values raw; empty without)."""
     if path is None:
         return {}
     data = _read_toml(path)
@@ -578,7 +696,7 @@ def design_tables(path: Path | str | None) -> dict[str, Any]:
     for name, table in tables.items():
         if not isinstance(table, dict):
             raise ConfigError(f"{os.fspath(path)}: [{name}] must be a table, got {table!r}")
-    return tables
+    return design_table_keys(tables, os.fspath(path))
 
 
 def simulation_settings(path: Path | str | None) -> dict[str, Any]:
@@ -586,12 +704,17 @@ def simulation_settings(path: Path | str | None) -> dict[str, Any]:
     if path is None:
         return {}
     data = _read_toml(path)
-    table = _Table(data.get("simulation", {}), "simulation")
+    table = _Table(data.get("simulation", {}), f"{os.fspath(path)}: [simulation]")
     values = {key: table.raw(key) for key in SIMULATION_KEYS if table.has(key)}
     table.finish()
     for key, value in values.items():
         where = f"{os.fspath(path)}: simulation.{key}"
-        if key in _SIMULATION_NUMBERS:
+        if key == "settle":
+            if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+                raise ConfigError(
+                    f"{where} must be a whole number of revolutions >= 0, got {value!r}"
+                )
+        elif key in _SIMULATION_NUMBERS:
             if isinstance(value, bool) or not isinstance(value, int | float):
                 raise ConfigError(f"{where} must be a number, got {value!r}")
             if not math.isfinite(value):

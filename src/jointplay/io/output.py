@@ -128,9 +128,29 @@ def _publish(staging: Path, target: Path) -> None:
     shutil.rmtree(trash, ignore_errors=True)
 
 
+#: Significant digits of every number in a JSON document. Twelve keep far more than any
+#: computed quantity means (the integrator's tolerance is 1e-6 relative, measurements carry
+#: 3–4 digits) while a value such as 200 rpm → rad/s → rpm, computed as
+#: 199.99999999999997, is written as 200.0. Doubles carry 15–17 digits; the last 3–5 are
+#: round-off from unit conversions and sums.
+JSON_DIGITS = 12
+
+
+def round_significant(value: float, digits: int = JSON_DIGITS) -> float:
+    """``value`` rounded to ``digits`` significant digits (finite values; others unchanged).
+
+    Exact for every value that has at most ``digits`` significant digits (0.1, 200.0, 1e-6
+    stay what they are), and idempotent.
+    """
+    if value == 0.0 or not math.isfinite(value):
+        return value
+    return float(f"{value:.{digits}g}")
+
+
 def jsonable(value: Any) -> Any:
     """``value`` as plain JSON data: NumPy scalars and arrays become Python numbers and lists,
-    tuples become lists, paths strings, and NaN or inf become ``None`` (JSON null).
+    tuples become lists, paths strings, NaN or inf become ``None`` (JSON null), and floats
+    are rounded to :data:`JSON_DIGITS` significant digits (:func:`round_significant`).
 
     The one JSON sanitiser of the package: every JSON file and ``--json`` document goes
     through it.
@@ -147,7 +167,7 @@ def jsonable(value: Any) -> Any:
         return int(value)
     if isinstance(value, float | np.floating):
         value = float(value)
-        return value if math.isfinite(value) else None
+        return round_significant(value) if math.isfinite(value) else None
     if isinstance(value, Path):
         return str(value)
     return value

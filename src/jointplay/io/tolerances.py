@@ -11,14 +11,14 @@ The specification objects, their distributions and validation live in
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Mapping
 from dataclasses import replace
 from functools import partial
 from pathlib import Path
 from typing import Any, TypeVar
 
 from jointplay.errors import ConfigError, JointplayError
-from jointplay.io.config import load_mechanism, tolerance_table
+from jointplay.io.config import load_mechanism, option_keys, tolerance_table
 from jointplay.model.mechanism import LengthTolerance, Mechanism, RevoluteJoint
 from jointplay.tolerance.spec import (
     DEFAULT_DISTRIBUTION,
@@ -46,7 +46,8 @@ _JOINT_KEYS = ("fit", "diameter", "clearance_min", "clearance_max", *_SHARED_KEY
 def parse_tolerance_table(table: Mapping[str, Any] | None, mechanism: Mechanism) -> ToleranceSpec:
     """Build the specification from a configuration's parsed ``[tolerances]`` table.
 
-    Keys (quantities are strings with units, as everywhere in configuration files)::
+    Keys (quantities are strings with units, as everywhere in configuration files; a key
+    may also be written with ``-`` for ``_``, e.g. ``clearance-min``)::
 
         [tolerances]
         general = "c"              # ISO 2768-1 class for every length without its own entry
@@ -83,8 +84,7 @@ def parse_tolerance_table(table: Mapping[str, Any] | None, mechanism: Mechanism)
         ConfigError: unknown keys, missing units, contradictory entries; the message names
             the table and key.
     """
-    raw = _mapping(table or {}, "tolerances")
-    _reject_unknown(raw, _TOP_KEYS, "tolerances")
+    raw = option_keys(table or {}, _TOP_KEYS, "tolerances")
     default = _distribution(raw.get("distribution", DEFAULT_DISTRIBUTION), "tolerances")
     general = raw.get("general")
     if general is not None and not isinstance(general, str):
@@ -141,7 +141,7 @@ def parse_tolerance_table(table: Mapping[str, Any] | None, mechanism: Mechanism)
 def _length_entry(
     entry: Mapping[str, Any], where: str, name: str, nominal: float, default: Distribution
 ) -> LinkTolerance:
-    _reject_unknown(entry, _LENGTH_KEYS, where)
+    entry = option_keys(entry, _LENGTH_KEYS, where)
     distribution, shift, cpk, source = _shared(entry, where, default)
     if "class" in entry:
         if "lower" in entry or "upper" in entry:
@@ -182,7 +182,7 @@ def _length_entry(
 def _joint_entry(
     entry: Mapping[str, Any], where: str, joint: RevoluteJoint, default: Distribution
 ) -> JointTolerance:
-    _reject_unknown(entry, _JOINT_KEYS, where)
+    entry = option_keys(entry, _JOINT_KEYS, where)
     distribution, shift, cpk, source = _shared(entry, where, default)
     fit_data = joint.fit
     diameter = (
@@ -257,12 +257,6 @@ def _mapping(value: Any, where: str) -> Mapping[str, Any]:
     if not isinstance(value, Mapping):
         raise ConfigError(f"{where} must be a table, got {type(value).__name__}")
     return value
-
-
-def _reject_unknown(entry: Mapping[str, Any], known: Sequence[str], where: str) -> None:
-    unknown = sorted(set(entry) - set(known))
-    if unknown:
-        raise ConfigError(f"{where}: unknown key(s) {unknown}; expected some of {list(known)}")
 
 
 def _with_context(build: Callable[[], _T], where: str) -> _T:
