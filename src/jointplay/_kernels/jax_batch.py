@@ -1,0 +1,275 @@
+"""The batch kernel on JAX (GPU, or JAX's CPU backend): many samples of one mechanism at once.
+
+:func:`run_batch` has the signature and semantics of the batch-kernel contract shared with
+the Numba backend (:mod:`jointplay._kernels.batch`): every lane (sample) has its own packed
+model row ``rpar`` and initial state ``y0``, all lanes share the integer structure ``ipar``;
+each lane is integrated from t = 0 to its ``t_end`` without dense output, and the result is
+its peaks over [t_settle, t_end] (QUANTITY ORDER: ω_b, α_b, F_j, torque), its steady-cycle
+statistics (mean and RMS of ω_b, largest penetration of each clearance joint), its status
+and counters. The equations of motion are :mod:`jointplay._kernels.jax.eom`, the integrators
+(explicit Dormand–Prince 5(4), implicit Radau IIA 5; step control and the PEAK RULE) are
+:mod:`jointplay._kernels.jax.integrate`.
+
+Execution: float64 throughout (``jax_enable_x64`` switched on only while a batch is traced
+and run); the lanes are cut into chunks of a fixed size (at most ``chunk_size``, default
+:data:`DEFAULT_CHUNK` = 200 000: the throughput of one batched loop falls beyond that) and the
+last chunk is padded with copies of the first lane, so that one compilation serves every
+chunk; batches smaller than a chunk are padded to the next :func:`padded_size` bucket, so
+that nearby batch sizes share a compilation too. Compiled programs are kept in JAX's
+persistent compilation cache, in ``$JOINTPLAY_JAX_CACHE`` (``off`` disables it) or else
+``jointplay/jax`` under the user's cache folder (``$XDG_CACHE_HOME`` or ``~/.cache``), unless
+the program has set a cache folder of its own.
+
+JAX is imported by this module only, and only when a batch is run (``import jointplay``
+never imports it); without JAX, :func:`run_batch` raises a
+:class:`~jointplay.errors.ConfigError` saying how to install it (``jointplay[gpu]``).
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from jointplay.errors import ConfigError
+
+__all__ = [
+    "DEFAULT_CHUNK",
+    "BatchKernelOutput",
+    "cache_dir",
+    "padded_size",
+    "run_batch",
+]
+
+#: Default (and largest useful) number of lanes per compiled chunk.
+DEFAULT_CHUNK = 200_000
+#: The environment variable naming the persistent compilation cache folder (``off``: none).
+CACHE_ENV = "JOINTPLAY_JAX_CACHE"
+METHODS = ("explicit", "implicit")
+
+
+class BatchKernelOutput(NamedTuple):
+    """What a batch kernel returns, one row per lane (the batch contract).
+
+    Attributes:
+        peaks: (n, P) largest |value| over [t_settle, t_end] of ω_b (rad/s), α_b (rad/s²),
+            F_j (N), torque (N·m), in that order.
+        stats: (n, M) mean of ω_b, RMS of ω_b (rad/s) and the largest penetration of each
+            clearance joint (m; negative: never touched), over the same window.
+        status: (n,) ``jointplay._kernels.common.STATUS_*`` (0: success).
+        t_reached: (n,) last accepted time, s.
+        n_steps, n_rejected, n_rhs: (n,) accepted steps, rejected attempts, evaluations of ẏ.
+    """
+
+    peaks: np.ndarray
+    stats: np.ndarray
+    status: np.ndarray
+    t_reached: np.ndarray
+    n_steps: np.ndarray
+    n_rejected: np.ndarray
+    n_rhs: np.ndarray
+
+
+def _import_jax() -> Any:
+    try:
+        import jax
+    except ImportError as exc:  # the optional extra is not installed
+        raise ConfigError(
+            "the GPU batch backend needs JAX: pip install 'jointplay[gpu]' (or pip install "
+            "'jax[cuda12]' for NVIDIA GPUs); its CPU backend runs without a GPU"
+        ) from exc
+    return jax
+
+
+def cache_dir() -> Path | None:
+    """The persistent compilation cache folder (module docstring), ``None`` when disabled."""
+    value = os.environ.get(CACHE_ENV)
+    if value is not None:
+        return None if value.strip().lower() in ("", "off", "0", "none") else Path(value)
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "jointplay" / "jax"
+
+
+_configured = False
+
+
+def _configure(jax: Any) -> None:
+    """Switch on the persistent compilation cache once, unless the program chose its own."""
+    global _configured
+    if _configured:
+        return
+    _configured = True
+    folder = cache_dir()
+    if folder is None or jax.config.jax_compilation_cache_dir:
+        return
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError:
+        return  # an unwritable cache folder only costs compilation time
+    jax.config.update("jax_compilation_cache_dir", str(folder))
+    jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
+    jax.config.update("jax_persistent_cache_min_entry_size_bytes", 0)
+
+
+def padded_size(n: int, chunk_size: int) -> int:
+    """Lanes per compiled chunk for a batch of ``n``: ``chunk_size`` when the batch fills at
+    least one chunk; otherwise ``n`` rounded up to a power of two (below 1024) or to a
+    multiple of 1024, so that nearby batch sizes share one compilation."""
+    if n >= chunk_size:
+        return chunk_size
+    if n <= 1024:
+        return min(chunk_size, max(1, 1 << (n - 1).bit_length()))
+    return min(chunk_size, -(-n // 1024) * 1024)
+
+
+_compiled: dict[Any, Callable[..., Any]] = {}
+#: Compiled executables by (layout, method, lanes per chunk, R, S), for this process.
+_executables: dict[Any, Any] = {}
+
+
+def _batch_function(layout: Any, method: str) -> Callable[..., Any]:
+    """The jitted, vmapped integrator for one layout and method (built once)."""
+    key = (layout, method)
+    if key not in _compiled:
+        import jax
+
+        from jointplay._kernels.jax.eom import JaxModel
+        from jointplay._kernels.jax.integrate import lane_runner
+
+        lane = lane_runner(JaxModel(layout), method)
+        batched = jax.vmap(lane, in_axes=(0, 0, 0, 0, 0, None, None, None))
+        _compiled[key] = jax.jit(batched)
+    return _compiled[key]
+
+
+def _check(
+    ipar: np.ndarray, rpar: np.ndarray, y0: np.ndarray, t_settle: np.ndarray,
+    t_end: np.ndarray, max_step: np.ndarray, rtol: float, atol: np.ndarray, max_steps: int,
+    method: str,
+) -> None:  # fmt: skip
+    n = rpar.shape[0]
+    if method not in METHODS:
+        raise ConfigError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    if rpar.ndim != 2 or y0.ndim != 2 or y0.shape[0] != n:
+        raise ConfigError(
+            f"rpar and y0 must be (lanes, R) and (lanes, S) arrays with the same number of "
+            f"lanes, got shapes {rpar.shape} and {y0.shape}"
+        )
+    for name, values in (("t_settle", t_settle), ("t_end", t_end), ("max_step", max_step)):
+        if values.shape != (n,):
+            raise ConfigError(f"{name} must have one entry per lane ({n}), got shape {values.shape}")
+        if not np.all(np.isfinite(values)):
+            raise ConfigError(f"{name} must be finite in every lane")
+    if not (np.all(t_end > 0) and np.all(t_settle >= 0) and np.all(t_settle <= t_end)):
+        raise ConfigError("every lane needs 0 <= t_settle <= t_end and t_end > 0 s")
+    if not np.all(max_step > 0):
+        raise ConfigError("max_step must be > 0 s in every lane")
+    if atol.shape != (y0.shape[1],) or not np.all(atol > 0):
+        raise ConfigError(f"atol must hold one positive entry per state component ({y0.shape[1]})")
+    if not (0 < rtol < 0.1):
+        raise ConfigError(f"rtol must lie in (0, 0.1), got {rtol}")
+    if max_steps < 1:
+        raise ConfigError(f"max_steps must be >= 1, got {max_steps}")
+
+
+def run_batch(
+    ipar: np.ndarray,
+    rpar: np.ndarray,
+    y0: np.ndarray,
+    t_settle: np.ndarray,
+    t_end: np.ndarray,
+    max_step: np.ndarray,
+    rtol: float,
+    atol: np.ndarray,
+    max_steps: int,
+    method: str,
+    *,
+    chunk_size: int | None = None,
+    timings: dict[str, float] | None = None,
+) -> BatchKernelOutput:
+    """Integrate every lane on JAX's default device (the batch contract; module docstring).
+
+    Args:
+        ipar: (I,) int64, the integer structure shared by every lane (:func:`eom.pack`).
+        rpar: (n, R) float64, each lane's packed model.
+        y0: (n, S) float64, each lane's initial state at t = 0.
+        t_settle, t_end: (n,) start and end of each lane's analysed window, s.
+        max_step: (n,) largest step of each lane, s.
+        rtol: relative tolerance; atol: (S,) absolute tolerances (only the first
+            2·n_coordinates enter the error norm).
+        max_steps: accepted steps after which a lane stops unfinished.
+        method: ``"explicit"`` (Dormand–Prince 5(4)) or ``"implicit"`` (Radau IIA 5).
+        chunk_size: lanes per compiled chunk (default :data:`DEFAULT_CHUNK`).
+        timings: if given, receives ``compile_s`` (tracing and compiling, or loading from the
+            persistent cache; 0 when this process had compiled it already) and ``run_s``.
+
+    Returns:
+        A :class:`BatchKernelOutput` of NumPy arrays, one row per lane.
+
+    Raises:
+        ConfigError: JAX is missing, an input is malformed, or the mechanism uses a law the
+            JAX port does not know.
+    """
+    jax = _import_jax()
+    from jointplay._kernels.jax.eom import read_layout
+
+    rpar = np.ascontiguousarray(np.atleast_2d(rpar), dtype=np.float64)
+    y0 = np.ascontiguousarray(np.atleast_2d(y0), dtype=np.float64)
+    t_settle = np.asarray(t_settle, dtype=np.float64).reshape(-1)
+    t_end = np.asarray(t_end, dtype=np.float64).reshape(-1)
+    max_step = np.asarray(max_step, dtype=np.float64).reshape(-1)
+    atol = np.asarray(atol, dtype=np.float64).reshape(-1)
+    chunk_size = DEFAULT_CHUNK if chunk_size is None else int(chunk_size)
+    if chunk_size < 1:
+        raise ConfigError(f"chunk_size must be >= 1, got {chunk_size}")
+    _check(ipar, rpar, y0, t_settle, t_end, max_step, rtol, atol, max_steps, method)
+    layout = read_layout(ipar, rpar)
+    if y0.shape[1] != layout.n_state:
+        raise ConfigError(f"y0 rows must have {layout.n_state} entries, got {y0.shape[1]}")
+    n = rpar.shape[0]
+    size = padded_size(n, chunk_size)
+    _configure(jax)
+    compile_s = 0.0
+    run_s = 0.0
+    parts: list[dict[str, np.ndarray]] = []
+    with jax.enable_x64(True):
+        function = _batch_function(layout, method)
+        key = (layout, method, size, rpar.shape[1], y0.shape[1])
+        compiled = _executables.get(key)
+        for start in range(0, n, size):
+            stop = min(start + size, n)
+            lanes = np.arange(start, start + size)
+            lanes[lanes >= stop] = start  # pad with copies of the chunk's first lane
+            args = (
+                rpar[lanes], y0[lanes], t_settle[lanes], t_end[lanes], max_step[lanes],
+                np.float64(rtol), atol, np.int64(max_steps),
+            )  # fmt: skip
+            if compiled is None:
+                clock = time.perf_counter()
+                compiled = function.lower(*args).compile()
+                compile_s += time.perf_counter() - clock
+                _executables[key] = compiled
+            clock = time.perf_counter()
+            out = jax.device_get(compiled(*args))
+            run_s += time.perf_counter() - clock
+            parts.append({key: np.asarray(value)[: stop - start] for key, value in out.items()})
+    if timings is not None:
+        timings["compile_s"] = compile_s
+        timings["run_s"] = run_s
+
+    def joined(key: str, dtype: Any) -> np.ndarray:
+        return np.ascontiguousarray(np.concatenate([part[key] for part in parts]), dtype=dtype)
+
+    return BatchKernelOutput(
+        peaks=joined("peaks", np.float64),
+        stats=joined("stats", np.float64),
+        status=joined("status", np.int64),
+        t_reached=joined("t_reached", np.float64),
+        n_steps=joined("n_steps", np.int64),
+        n_rejected=joined("n_rejected", np.int64),
+        n_rhs=joined("n_rhs", np.int64),
+    )
