@@ -49,6 +49,9 @@ DISPLACEMENT_SHARE = 0.10
 #: Bounds of the settings (beyond them a typo, or a file nobody can open).
 MAX_FRAMES = 2000
 MAX_FPS = 100
+#: A GIF stores each frame's time in hundredths of a second, and browsers play frames of
+#: less than 0.02 s at 0.1 s: a GIF runs at 50 fps at most.
+MAX_GIF_FPS = 50
 MAX_FIGURE_INCHES = 30.0
 DPI_RANGE = (20, 400)
 
@@ -140,11 +143,11 @@ def _whole(value: Any, name: str, low: int, high: int) -> int:
 
 def _check_magnification(value: Any) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
-        raise ConfigError(f"magnification must be a number, got {value!r}")
+        raise ConfigError(f"the magnification (--magnification) must be a number, got {value!r}")
     if not (math.isfinite(value) and value > 0):
         raise ConfigError(
-            f"magnification must be a finite number > 0 (e.g. 500), got {value!r}; leave it "
-            "out to have one chosen"
+            f"the magnification (--magnification) must be a finite number > 0 (e.g. 500), "
+            f"got {value!r}; leave it out to have one chosen"
         )
     return float(value)
 
@@ -172,6 +175,31 @@ def animation_writer(path: Path | str) -> str:
                 "install it (e.g. 'apt install ffmpeg' or 'conda install ffmpeg') or write "
                 "a .gif instead"
             )
+    return name
+
+
+def check_animation_settings(
+    path: Path | str,
+    *,
+    magnification: float | None = None,
+    fps: int = 20,
+    frames: int = 72,
+    figure_size: tuple[float, float] = (6.0, 4.0),
+    dpi: int = 80,
+) -> str:
+    """Check the settings of :func:`write_animation` before any work; return the writer's
+    name (``"pillow"`` or ``"ffmpeg"``).
+
+    Raises:
+        ConfigError: naming the setting at fault and the range it must lie in.
+    """
+    name = animation_writer(path)
+    if magnification is not None:
+        _check_magnification(magnification)
+    _whole(fps, "frames per second (--fps)", 1, MAX_GIF_FPS if name == "pillow" else MAX_FPS)
+    _whole(frames, "the number of frames (--frames)", 2, MAX_FRAMES)
+    _figure_size(figure_size)
+    _whole(dpi, "dpi", *DPI_RANGE)
     return name
 
 
@@ -203,11 +231,13 @@ def crank_length(mechanism: Mechanism) -> float:
     return max((math.dist(p, q) for p in points for q in points), default=0.0)
 
 
-def _frame_times(result: SimulationResult, frames: int, revolution: int | None) -> tuple:
+def _frame_times(
+    result: SimulationResult, frames: int, revolution: int | None
+) -> tuple[FloatArray, int | None]:
     """The frame times and the revolution they cover."""
     period = result.mechanism.driver.period
     t_last = float(result.t[-1])
-    complete = int(math.floor(t_last / period * (1.0 + 1e-9)))
+    complete = math.floor(t_last / period * (1.0 + 1e-9))
     if revolution is None:
         if complete < 1:  # less than one revolution simulated: span what there is
             return np.linspace(0.0, t_last, frames), None
@@ -231,10 +261,6 @@ def _positions(result: SimulationResult, times: FloatArray) -> FloatArray:
     accepted steps (the interpolation of :meth:`SimulationResult.evaluate`), (F, n)."""
     t, y = result.t, result.y
     n = result.system.n_coordinates
-    if t.shape[0] < 2:
-        raise ConfigError(
-            f"the simulation stopped at its initial state ({result.message}); nothing to animate"
-        )
     index = np.clip(np.searchsorted(t, times, side="right") - 1, 0, len(t) - 2)
     t0, t1 = t[index], t[index + 1]
     h = (t1 - t0)[:, None]
@@ -267,7 +293,7 @@ def mechanism_frames(
     Raises:
         ConfigError: a setting is out of range or the revolution was not simulated.
     """
-    frames = _whole(frames, "frames", 2, MAX_FRAMES)
+    frames = _whole(frames, "the number of frames (--frames)", 2, MAX_FRAMES)
     if revolution is not None:
         revolution = _whole(revolution, "revolution", 1, 10**9)
     if result.t.shape[0] < 2:
@@ -361,7 +387,6 @@ class MechanismAnimation:
         ax.tick_params(labelsize=7)
         ax.set_xlabel("x (mm)", fontsize=8)
         ax.set_ylabel("y (mm)", fontsize=8)
-        ax.grid(True, alpha=0.2, linewidth=0.5)
 
         # Which points each link has in joints (in joint order), and which links are sliders.
         self._link_points: dict[str, list[str]] = {}
@@ -388,7 +413,9 @@ class MechanismAnimation:
 
         clearance_joints = {b.joint for b in frames.bearings}
         ideal = [
-            j for j in mechanism.joints if isinstance(j, RevoluteJoint) and j.name not in clearance_joints
+            j
+            for j in mechanism.joints
+            if isinstance(j, RevoluteJoint) and j.name not in clearance_joints
         ]
         self._ideal = ideal
         (self._ideal_pins,) = ax.plot(
@@ -413,6 +440,10 @@ class MechanismAnimation:
         if frames.bearings:
             factor = f"{magnification:g}"
             note = f"pin displacement in its bearing × {factor}, clearance circles × {factor}"
+            if any(
+                np.max(np.hypot(*b.eccentricity.T)) > b.clearance for b in frames.bearings
+            ):  # e = c + penetration in contact
+                note += "\na pin beyond its circle presses into the bearing wall (penetration)"
         else:
             note = "ideal joints: no pin displacement"
         span = (
@@ -581,7 +612,9 @@ def write_animation(
         magnification: the factor M on the pin displacements and clearance circles (> 0;
             default :func:`default_magnification` of the largest clearance). Stated in
             every frame.
-        fps: frames per second (1 to :data:`MAX_FPS`).
+        fps: frames per second (1 to :data:`MAX_FPS`; for a GIF, up to
+            :data:`MAX_GIF_FPS`, and each frame lasts a whole number of hundredths of a
+            second: 12 fps plays at 12.5).
         frames: number of frames over the revolution (2 to :data:`MAX_FRAMES`).
         revolution: the revolution to animate, counted from 1 over the simulated time,
             start-up revolutions included (default: the last complete one, the steady cycle).
@@ -598,12 +631,17 @@ def write_animation(
             asked for without ffmpeg.
     """
     path = Path(path)
-    writer_name = animation_writer(path)
-    fps = _whole(fps, "fps", 1, MAX_FPS)
+    writer_name = check_animation_settings(
+        path,
+        magnification=magnification,
+        fps=fps,
+        frames=frames,
+        figure_size=figure_size,
+        dpi=dpi,
+    )
     if magnification is not None:
-        magnification = _check_magnification(magnification)
+        magnification = float(magnification)
     size = _figure_size(figure_size)
-    dpi = _whole(dpi, "dpi", *DPI_RANGE)
     geometry = mechanism_frames(result, frames=frames, revolution=revolution)
     if magnification is None:
         magnification = (
@@ -652,7 +690,7 @@ def _write_gif(drawing: MechanismAnimation, path: Path, fps: int) -> None:
         format="GIF",
         save_all=True,
         append_images=rest,
-        duration=round(1000 / fps),
+        duration=10 * round(100 / fps),  # ms, a whole number of hundredths of a second
         loop=0,
     )
 
@@ -674,9 +712,7 @@ def _figure_size(value: Any) -> tuple[float, float]:
     try:
         width, height = (float(v) for v in value)
     except (TypeError, ValueError):
-        raise ConfigError(
-            f"figure_size must be (width, height) in inches, got {value!r}"
-        ) from None
+        raise ConfigError(f"figure_size must be (width, height) in inches, got {value!r}") from None
     if not all(math.isfinite(v) and 0 < v <= MAX_FIGURE_INCHES for v in (width, height)):
         raise ConfigError(
             f"figure_size must be two sizes in inches between 0 and {MAX_FIGURE_INCHES:g}, "

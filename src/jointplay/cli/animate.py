@@ -1,0 +1,302 @@
+"""``jointplay animate``: the mechanism over its steady cycle, each pin's play magnified."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+
+from jointplay.cli._app import app
+from jointplay.cli._common import (
+    ConfigOption,
+    DirectionOption,
+    GravityOption,
+    PresetOption,
+    RpmOption,
+    StartAngleOption,
+    mechanism_from_options,
+)
+from jointplay.errors import ConfigError
+
+
+def _opt(help_text: str, *names: str, **kwargs: Any) -> Any:
+    return typer.Option(*names, help=help_text, **kwargs)
+
+
+@app.command("animate")
+def animate_command(
+    out: Annotated[
+        Path,
+        _opt(
+            "The animation file: FILE.gif (Pillow) or FILE.mp4 (needs ffmpeg). Written only "
+            "when the run succeeds; an existing file needs --force.",
+            "--out",
+            "-o",
+        ),
+    ],
+    force: Annotated[bool, _opt("Replace --out if it exists.", "--force")] = False,
+    preset: PresetOption = None,
+    config: ConfigOption = None,
+    rpm: RpmOption = None,
+    direction: DirectionOption = None,
+    start_angle: StartAngleOption = None,
+    gravity: GravityOption = None,
+    method: Annotated[
+        str | None,
+        _opt(
+            "One of the paper's six methods (e.g. ifm-ecs-spherical; see `jointplay simulate "
+            "--help`). Replaces the contact options.",
+            "--method",
+        ),
+    ] = None,
+    ecs_source: Annotated[
+        str | None,
+        _opt("ECS values of --method: computed (default) or paper.", "--ecs-source"),
+    ] = None,
+    contact: Annotated[
+        str | None, _opt("Contact law (as simulate; default impact).", "--contact")
+    ] = None,
+    k: Annotated[
+        str | None, _opt("Contact stiffness with units, e.g. '1e4 N/mm^1.5'.", "--k")
+    ] = None,
+    exponent: Annotated[float | None, _opt("Force exponent.", "--exponent")] = None,
+    cmax: Annotated[str | None, _opt("IMPACT maximum damping, e.g. '10 N*s/mm'.", "--cmax")] = None,
+    depth: Annotated[
+        str | None, _opt("IMPACT penetration of full damping, e.g. '0.1 mm'.", "--depth")
+    ] = None,
+    restitution: Annotated[
+        float | None, _opt("Coefficient of restitution.", "--restitution")
+    ] = None,
+    damping: Annotated[
+        str | None, _opt("Kelvin-Voigt damping, e.g. '100 N*s/m'.", "--damping")
+    ] = None,
+    stiffness_law: Annotated[
+        str | None,
+        _opt("Derive stiffness and exponent from geometry (as simulate).", "--stiffness-law"),
+    ] = None,
+    clearance: Annotated[
+        str | None,
+        _opt(
+            "Radial clearance of every clearance joint, e.g. '0.021 mm' (default: the fit data).",
+            "--clearance",
+        ),
+    ] = None,
+    joints: Annotated[
+        str | None,
+        _opt(
+            "Comma-separated clearance joints, e.g. O2,A,B,O4, or 'none' for ideal joints "
+            "(default: every joint with a clearance in its fit data).",
+            "--joints",
+        ),
+    ] = None,
+    friction: Annotated[
+        float | None, _opt("Friction coefficient in the clearance joints.", "--friction")
+    ] = None,
+    friction_law: Annotated[
+        str | None, _opt("Friction law: ambrosio or adams.", "--friction-law")
+    ] = None,
+    start: Annotated[
+        str | None,
+        _opt("Start: steady (default), rest, impulsive or ramp (as simulate).", "--start"),
+    ] = None,
+    ramp_time: Annotated[
+        str | None, _opt("Duration of the speed ramp of --start ramp, e.g. '50 ms'.", "--ramp-time")
+    ] = None,
+    settle: Annotated[
+        int | None,
+        _opt(
+            "Revolutions simulated before the animated one (default 2, whatever the start: "
+            "the animation shows the steady cycle; 0 shows the start-up).",
+            "--settle",
+        ),
+    ] = None,
+    rtol: Annotated[
+        float | None, _opt("Relative error tolerance of the integrator (1e-6).", "--rtol")
+    ] = None,
+    magnification: Annotated[
+        float | None,
+        _opt(
+            "Factor on the pin displacements and clearance circles (default: the largest "
+            "clearance circle a tenth of the crank, rounded to 1, 2 or 5 x 10^k).",
+            "--magnification",
+        ),
+    ] = None,
+    fps: Annotated[int, _opt("Frames per second.", "--fps")] = 20,
+    frames: Annotated[int, _opt("Frames over the revolution.", "--frames")] = 72,
+) -> None:
+    r"""Animate the mechanism over its steady cycle with each pin's play magnified.
+
+    Simulates --settle start-up revolutions and one more, and draws that last revolution:
+    links to scale, each clearance joint's clearance circle and pin centre magnified by one
+    stated factor. Writes --out (.gif, or .mp4 with ffmpeg installed). Simulation options
+    are those of `jointplay simulate` and override the \[simulation] table of a --config
+    file.
+    """
+    from jointplay.report.animation import check_animation_settings
+
+    _check_target(out, force)
+    check_animation_settings(out, magnification=magnification, fps=fps, frames=frames)
+    with _output_file(out) as partial:
+        given = {
+            "contact": contact, "k": k, "exponent": exponent, "cmax": cmax, "depth": depth,
+            "restitution": restitution, "damping": damping, "stiffness_law": stiffness_law,
+            "clearance": clearance, "joints": joints, "friction": friction,
+            "friction_law": friction_law, "method": method, "ecs_source": ecs_source,
+            "start": start, "ramp_time": ramp_time, "start_angle": start_angle,
+            "settle": settle, "rtol": rtol,
+        }  # fmt: skip
+        result = _simulate(preset, config, rpm, direction, gravity, given)
+        from rich.console import Console
+
+        from jointplay.report.animation import write_animation
+
+        with Console(stderr=True).status(f"drawing {frames} frames"):
+            info = write_animation(
+                result,
+                partial,
+                magnification=magnification,
+                fps=fps,
+                frames=frames,
+            )
+    _print(info, out, result)
+
+
+def _simulate(
+    preset: str | None,
+    config: Path | None,
+    rpm: Any,
+    direction: str | None,
+    gravity: str | None,
+    given: dict[str, Any],
+) -> Any:
+    """Simulate the settle revolutions and the animated one, with the options of simulate."""
+    from rich.console import Console
+
+    from jointplay.cli.simulate import _joint_list, _method_law, _number
+    from jointplay.dynamics.cycles import DEFAULT_SETTLE
+    from jointplay.dynamics.setup import FrictionSettings, clearance_joints, contact_from_strings
+    from jointplay.dynamics.simulate import SolverOptions, Start, simulate
+    from jointplay.io.config import simulation_settings
+    from jointplay.units import parse_quantity
+
+    values = {
+        **simulation_settings(config),
+        **{key: value for key, value in given.items() if value is not None},
+    }
+    mechanism = mechanism_from_options(
+        preset, config, rpm, direction, values.get("start_angle"), gravity
+    )
+    ideal = isinstance(values.get("joints"), str) and values["joints"].strip().lower() == "none"
+    law, _ = _method_law(values, mechanism)
+    clear = (
+        []
+        if ideal
+        else clearance_joints(
+            mechanism,
+            _joint_list(values.get("joints")),
+            contact=contact_from_strings(values) if law is None else None,
+            friction=FrictionSettings(
+                law=str(values.get("friction_law", "ambrosio")),
+                coefficient=_number(values, "friction", 0.0),
+            ),
+            clearance=None
+            if values.get("clearance") is None
+            else parse_quantity(values["clearance"], "m", field="--clearance"),
+            law=law,
+        )
+    )
+    mode = str(values.get("start", "steady"))
+    ramp = (
+        0.0
+        if values.get("ramp_time") is None
+        else parse_quantity(values["ramp_time"], "s", field="--ramp-time")
+    )
+    if mode == "ramp" and ramp == 0.0:
+        ramp = mechanism.driver.period / 4
+    settle = values.get("settle", DEFAULT_SETTLE)
+    if isinstance(settle, bool) or not isinstance(settle, int) or settle < 0:
+        raise ConfigError(f"--settle must be a whole number of revolutions >= 0, got {settle!r}")
+    where = ", ".join(c.joint for c in clear) or "no joint (ideal joints)"
+    with Console(stderr=True).status(
+        f"simulating {settle + 1} revolution(s) of {mechanism.name} with clearance in {where}"
+    ):
+        return simulate(
+            mechanism,
+            clear,
+            revolutions=1.0,
+            settle=settle,
+            start=Start(mode, ramp),  # type: ignore[arg-type]  # validated by Start
+            solver=SolverOptions(rtol=_number(values, "rtol", 1e-6)),
+        )
+
+
+def _check_target(target: Path, force: bool) -> None:
+    """``--out`` names a file that may be written: not a folder, and an existing file only
+    with ``--force``."""
+    text = str(target)
+    if target.is_dir():
+        raise ConfigError(
+            f"--out {text!r} is a folder; give the animation file, e.g. "
+            f"{os.path.join(text, 'mechanism.gif')!r}"
+        )
+    if (target.exists() or target.is_symlink()) and not force:
+        raise ConfigError(f"--out {text!r} exists; give another file, or --force to replace it")
+
+
+@contextmanager
+def _output_file(target: Path) -> Iterator[Path]:
+    """Yield a fresh temporary file beside ``target`` (same suffix); on normal exit it
+    replaces ``target`` by a rename, on an exception it is removed and ``target`` is left
+    as it was. Enter it before computing: an unwritable folder is reported first.
+    """
+    text = str(target)
+    parent = target.absolute().parent
+    try:
+        parent.mkdir(parents=True, exist_ok=True)
+        handle, name = tempfile.mkstemp(
+            prefix=f".{target.stem}.partial-", suffix=target.suffix, dir=parent
+        )
+        os.close(handle)
+    except OSError as exc:
+        reason = exc.strerror or type(exc).__name__
+        raise ConfigError(f"cannot write the animation file {text!r}: {reason}") from None
+    partial = Path(name)
+    try:
+        yield partial
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(partial, 0o666 & ~umask)  # mkstemp makes it private (0600)
+        os.replace(partial, target)
+    finally:
+        partial.unlink(missing_ok=True)
+
+
+def _print(info: Any, out: Path, result: Any) -> None:
+    """What was written, on stdout: frames, magnification, size, the largest displacements."""
+    size = info.size_bytes
+    shown = f"{size / 1e6:.2f} MB" if size >= 1e6 else f"{size / 1e3:.0f} kB"
+    seconds = info.frames / info.fps
+    revolution = (
+        f"revolution {info.revolution}" if info.revolution is not None else "the simulated time"
+    )
+    print(
+        f"wrote {out}: {info.frames} frames at {info.fps} fps ({seconds:.3g} s) over "
+        f"{revolution} of {result.mechanism.name}, pin displacement x {info.magnification:g}, "
+        f"{shown}"
+    )
+    if info.largest_displacement:
+        clearances = {c.joint: c.clearance for c in result.system.clearances}
+        print(
+            "largest pin displacement (clearance): "
+            + ", ".join(
+                f"{joint} {e * 1e6:.3g} µm ({clearances[joint] * 1e6:.3g} µm)"
+                for joint, e in info.largest_displacement.items()
+            )
+        )
+    else:
+        print("ideal joints: no pin displacement")
