@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import html
+import json
 import math
 
 import pytest
@@ -46,7 +48,29 @@ def test_report_page_is_one_html_report_with_the_tables(paper_fourbar: Mechanism
     page = (tmp_path / "report.html").read_text(encoding="utf-8")
     assert page.startswith("<!DOCTYPE html>")
     assert f"<h1>Tolerance study of {paper_fourbar.name}</h1>" in page
-    for heading in ("Inputs", "Responses", "Failures (0)"):
-        assert f"<h2>{heading}</h2>" in page
-    assert page.count("<table>") == 2
+    for anchor, heading in (("inputs", "Inputs"), ("responses", "Responses")):
+        assert f'<h2 id="{anchor}">{heading}</h2>' in page
+    assert '<h2 id="failures">Failures (0)</h2>' in page
+    assert page.count("<table>") == 3  # inputs, responses, their definitions
     assert "<td>270.5</td>" in page  # the nominal coupler, mm
+    assert "<th>standard deviation</th>" in page  # headers in words
+    # every response is defined where it is reported, in the page and in summary.json
+    summary = json.loads((tmp_path / "summary.json").read_text(encoding="utf-8"))
+    definitions = summary["response_definitions"]
+    assert list(definitions) == list(study.result.response_names)
+    assert all(definitions.values())
+    assert "coupler point 'mid'" in definitions["path_deviation_mid"]
+    assert html.escape(definitions["path_deviation_mid"]) in page
+    assert "sampling_distributions" not in summary  # RSS samples nothing
+
+
+def test_monte_carlo_report_says_how_inputs_were_sampled(
+    paper_fourbar: Mechanism, tmp_path
+) -> None:
+    study = tolerance_study(paper_fourbar, samples=50, seed=1, backend=Backend("serial"))
+    write_study(study, tmp_path, plots=False)
+    summary = json.loads((tmp_path / "summary.json").read_text(encoding="utf-8"))
+    assert summary["settings"]["truncated_at_limits"] is True
+    assert "truncated at their specification limits" in summary["sampling_distributions"]
+    page = (tmp_path / "report.html").read_text(encoding="utf-8")
+    assert "truncated at their specification limits" in page

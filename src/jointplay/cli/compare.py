@@ -101,7 +101,8 @@ def compare_command(
     ecs_source: Annotated[
         str,
         _opt(
-            "ECS parameters: computed (our estimate, default) or paper (Tables 4 and 5).",
+            "ECS parameters: computed (our estimate, default) or paper (Tables 4 and 5); the "
+            "console, comparison.json and the plots say which was used.",
             "--ecs-source",
         ),
     ] = "computed",
@@ -187,7 +188,7 @@ def compare_command(
                 )
             comparisons.append(cmp.compare(data, cycle, low_speed_fraction=low_speed))
         result = cmp.summarize_comparisons(data, comparisons, nominal)
-        document = {**result.as_dict(), "ecs_source": ecs_source}
+        document = result.as_dict()
         if folder is not None:
             result.points_table().to_csv(
                 folder / "comparison.csv", index=False, float_format="%.10g"
@@ -202,7 +203,7 @@ def compare_command(
             overlay_plots(
                 result,
                 folder,
-                title=f"{mechanism.name}: rocker speed, {data.source}",
+                title=f"{mechanism.name}: rocker speed, {data.source}\n{result.ecs_source_line()}",
             )
     if as_json:
         print(json_text(document))
@@ -267,6 +268,7 @@ def _print(result: MethodsComparison, mechanism: Mechanism, out: Path | None) ->
         f"{mechanism.driver.speed * 30 / math.pi:g} RPM; error % = (measured − simulated) / "
         "simulated × 100 (the paper's definition)"
     )
+    console.print(result.ecs_source_line())
     for c in result.comparisons:
         console.print(f"  {c.description}")
     points = Table(title=f"rocker speed ({unit}) and error % per point", box=None)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import sys
 from typing import Annotated
 
 import typer
@@ -78,29 +79,41 @@ def kinematics_command(
     """Nominal kinematics and inverse dynamics (ideal joints) over one crank revolution.
 
     Writes DIR/kinematics.csv (one row per crank step), DIR/summary.json and PNG plots.
+    A four-bar whose transmission angle leaves 40°–140° (the design guideline, Norton,
+    Design of Machinery §3.3) gets a warning, in the summary's diagnostics and on stderr.
     """
+    from jointplay.dynamics.diagnostics import check_transmission_angle
     from jointplay.dynamics.nominal import nominal_analysis
     from jointplay.io.output import output_dir, write_json
 
     with output_dir(out, force=force) as folder:
         mechanism = mechanism_from_options(preset, config, rpm, direction, start_angle, gravity)
-        step_deg = math.degrees(quantity_option(step, "rad", "--step", example="deg", positive=True))
+        step_deg = math.degrees(
+            quantity_option(step, "rad", "--step", example="deg", positive=True)
+        )
         if 360.0 / step_deg > MAX_ROWS:
             raise ConfigError(
                 f"--step {step!r} gives {360.0 / step_deg:.3g} rows (at most {MAX_ROWS:.0e}); "
                 f"give at least '{360.0 / MAX_ROWS:g} deg'"
             )
         result = nominal_analysis(mechanism, step_deg=step_deg, method=method)
+        findings = [d for d in [check_transmission_angle(mechanism)] if d is not None]
         result.table.to_csv(folder / "kinematics.csv", index=False, float_format="%.10g")
         write_json(
             folder / "summary.json",
-            {**result.summary, "provenance": provenance(result.summary["configuration"])},
+            {
+                **result.summary,
+                "diagnostics": [finding.as_dict() for finding in findings],
+                "provenance": provenance(result.summary["configuration"]),
+            },
         )
         if plots:
             from jointplay.report.plots import kinematics_plots
 
             kinematics_plots(result.table, folder, mechanism.name)
     _print_summary(result.summary, out)
+    for finding in findings:  # one line each, on stderr, as simulate's diagnostics
+        print(f"jointplay: {finding.line()}", file=sys.stderr)
 
 
 def _print_summary(summary: dict, out: object) -> None:

@@ -277,9 +277,12 @@ def simulate_command(
                 "method": method_record,
             }
         )
+        findings = _diagnostics(result, mechanism)
         write_table(result.timeseries, folder, "timeseries", fmt_value)
         write_table(result.steps, folder, "steps", fmt_value)
-        write_json(folder / "summary.json", simulation_summary(result, record))
+        summary = simulation_summary(result, record)
+        summary["diagnostics"] = [finding.as_dict() for finding in findings]
+        write_json(folder / "summary.json", summary)
         if plots:
             from jointplay.report.plots import simulation_plots
             from jointplay.report.running import per_revolution_plot, poincare_plot
@@ -307,7 +310,74 @@ def simulate_command(
                 folder / "peaks_per_revolution.png",
                 title=mechanism.name,
             )
-    _print(result, Path(out))
+    _print(result, findings, Path(out))
+
+
+def _diagnostics(result: Any, mechanism: Any) -> list[Any]:
+    """The simulation's diagnostics and the mechanism's own (its transmission angle), once
+    each, warnings first."""
+    from jointplay.dynamics import diagnostics as dg
+
+    return dg.collect([*result.diagnostics, dg.check_transmission_angle(mechanism)])
+
+
+#: Slider columns of a slider-crank's results and how the console table names them.
+SLIDER_COLUMNS = {"slider_x": "slider_x", "slider_v": "slider_v", "slider_a": "slider_a"}
+
+
+def _slider_rows(result: Any) -> list[tuple[str, ...]]:
+    """Console rows of the slider (slider-crank only): its peaks over the analysed
+    revolutions, found among the integrator's accepted steps (marked ``*``).
+
+    ``slider_x`` is the position (m from the crank pivot along the slider axis), so its row
+    gives the stroke: the per-revolution range of the position, nominal beside it.
+    """
+    steps, nominal = result.steps, result.nominal
+    if "slider_x" not in steps.columns:
+        return []
+    running = result.running
+    t = steps["t"].to_numpy()
+    rows = []
+    windows = list(enumerate(running.windows, start=1))[running.settle :]
+    for column in SLIDER_COLUMNS:
+        values = steps[column].to_numpy()
+        per_revolution = []
+        for number, (start, end) in windows:
+            inside = (t >= start) & (t <= end)
+            if not inside.any():
+                continue
+            chunk = values[inside]
+            if column == "slider_x":
+                per_revolution.append((float(chunk.max() - chunk.min()), number, start))
+            else:
+                k = int(abs(chunk).argmax())
+                crank = float(steps["crank_deg"].to_numpy()[inside][k])
+                per_revolution.append((float(abs(chunk[k])), number, crank))
+        if not per_revolution:
+            continue
+        peak, number, crank = max(per_revolution)
+        low = min(v for v, _, _ in per_revolution)
+        high = max(v for v, _, _ in per_revolution)
+        ideal = nominal[column].to_numpy() if nominal is not None else None
+        if ideal is None:
+            reference = float("nan")
+        elif column == "slider_x":
+            reference = float(ideal.max() - ideal.min())
+        else:
+            reference = float(abs(ideal).max())
+        increase = 100.0 * (peak / reference - 1.0) if reference > 0 else float("nan")
+        rows.append(
+            (
+                "slider stroke (m)*" if column == "slider_x" else f"{column}*",
+                f"{peak:.5g}",
+                str(number),
+                "" if column == "slider_x" else f"{crank:.1f}",
+                f"{low:.4g}–{high:.4g}",
+                f"{reference:.5g}",
+                "" if increase != increase else f"{increase:+.1f}",
+            )
+        )
+    return rows
 
 
 CONTACT_KEYS = ("contact", "k", "exponent", "cmax", "depth", "damping", "stiffness_law")
@@ -381,7 +451,7 @@ def _jsonable(values: dict[str, Any]) -> dict[str, Any]:
     }
 
 
-def _print(result: Any, out: Path) -> None:
+def _print(result: Any, findings: list[Any], out: Path) -> None:
     running = result.running
     stats = running.statistics
     table = Table(
@@ -405,6 +475,9 @@ def _print(result: Any, out: Path) -> None:
             f"{result.nominal_peaks.get(key, float('nan')):.5g}",
             "" if increase is None else f"{increase:+.1f}",
         )
+    slider = _slider_rows(result)
+    for row in slider:
+        table.add_row(*row)
     stdout = Console(soft_wrap=True)
     if not stdout.is_terminal:  # a file or a pipe: the whole table, not 80 columns
         stdout.width = 132
@@ -413,7 +486,13 @@ def _print(result: Any, out: Path) -> None:
         "continuous solution; periodicity: " + running.periodicity.verdict
     )
     stdout.print(table)
-    for finding in result.diagnostics:  # one line each, on stderr
+    if slider:
+        stdout.print(
+            "* the slider (position m, velocity m/s, acceleration m/s²): peaks among the "
+            "integrator's accepted steps, not interpolated; the stroke is the range of the "
+            "position in a revolution"
+        )
+    for finding in findings:  # one line each, on stderr
         print(f"jointplay: {finding.line()}", file=sys.stderr)
     stats = result.solver_stats
     stdout.print(

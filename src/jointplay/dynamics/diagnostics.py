@@ -28,6 +28,10 @@ code                                   fires when
 ``not-settled``                        the start-up has not died out: the first analysed
                                        revolution's peak lies outside the range of the later
                                        ones by more than :data:`SETTLED_CHANGE` of their mean
+``transmission-angle-low``             the four-bar's transmission angle leaves 40°–140° (the
+                                       design guideline, :data:`~jointplay.kinematics.fourbar.MIN_TRANSMISSION_ANGLE_DEG`):
+                                       the coupler pushes the rocker along its length, joint
+                                       forces grow and clearance matters more
 ``energy-drift``                       the energy balance (kinetic + potential − motor work +
                                        contact work) drifts by more than
                                        :data:`ENERGY_TOLERANCE` of the largest energy: the
@@ -48,7 +52,9 @@ from dataclasses import asdict, dataclass
 from typing import Any, Literal
 
 from jointplay.contact.hertz import conformal_radius, effective_modulus, line_contact_half_width
-from jointplay.model.mechanism import Material
+from jointplay.kinematics import fourbar
+from jointplay.model.mechanism import Material, Mechanism
+from jointplay.model.templates import FourBarGeometry, TemplateSpec
 
 Level = Literal["info", "warning"]
 
@@ -285,6 +291,35 @@ def check_energy(residual: float) -> Diagnostic | None:
         ENERGY_TOLERANCE,
         f"the energy balance drifts by {residual:.2e} of the largest energy: the "
         "integration is not accurate enough; tighten --rtol",
+    )
+
+
+def check_transmission_angle(mechanism: Mechanism) -> Diagnostic | None:
+    """``transmission-angle-low`` when a four-bar's transmission angle μ leaves the design
+    range 40°–140° over the crank turn (Norton, *Design of Machinery*, §3.3; see
+    :data:`jointplay.kinematics.fourbar.MIN_TRANSMISSION_ANGLE_DEG`).
+
+    Value and limit are in degrees: the worst of μ_min and 180° − μ_max, and 40°. Other
+    mechanisms (slider-crank, general) are not checked.
+    """
+    spec = mechanism.template
+    if not (isinstance(spec, TemplateSpec) and isinstance(spec.geometry, FourBarGeometry)):
+        return None
+    limit = fourbar.MIN_TRANSMISSION_ANGLE_DEG
+    worst = math.degrees(fourbar.transmission_angle_deviation(spec.geometry))
+    if worst >= limit:
+        return None
+    low, high = (math.degrees(v) for v in fourbar.transmission_angle_range(spec.geometry))
+    return Diagnostic(
+        "warning",
+        "transmission-angle-low",
+        None,
+        worst,
+        limit,
+        f"the transmission angle runs {low:.1f}°–{high:.1f}°, outside the 40°–140° design "
+        f"guideline (Norton, Design of Machinery, §3.3): at {worst:.1f}° the coupler pushes "
+        "the rocker mostly along its length, so joint forces grow and clearance and friction "
+        "matter more; change the link lengths to widen it",
     )
 
 

@@ -321,9 +321,30 @@ def _read_toml(path: Any) -> dict[str, Any]:
 
 
 def load_config(path: Path | str) -> Mechanism:
-    """Read a TOML configuration file and build its mechanism."""
+    """Read a TOML configuration file and build its mechanism.
+
+    The mechanism is named by the file's ``[mechanism] name``. A file that keeps a preset's
+    name (a copy from ``jointplay show``) but describes another mechanism — edited lengths,
+    masses, joints, tolerances — is named ``"<preset> (edited: <file name>)"``, so that titles
+    and reports never pass an edited mechanism off as the preset; an unedited copy keeps the
+    preset's name. Give an edited file its own ``name`` to choose the title.
+    """
     data = _read_toml(path)
-    return parse_config(data, source=os.fspath(path))
+    return _edited_name(parse_config(data, source=os.fspath(path)), path)
+
+
+def _edited_name(mechanism: Mechanism, path: Path | str) -> Mechanism:
+    """``mechanism`` renamed ``"<preset> (edited: <file>)"`` when it bears a preset's name but
+    differs from that preset (see :func:`load_config`)."""
+    if mechanism.name not in _preset_files():
+        return mechanism
+    try:
+        preset = load_preset(mechanism.name)
+    except ConfigError:  # pragma: no cover - a shipped preset always loads
+        return mechanism
+    if preset == mechanism:
+        return mechanism
+    return replace(mechanism, name=f"{mechanism.name} (edited: {Path(path).name})")
 
 
 def tolerance_table(
@@ -544,7 +565,9 @@ def _parse_general(
 ) -> Mechanism:
     ground_table = root.table("ground")
     ground_points = ground_table.table("points")
-    ground = Ground({k: ground_points.point(k, ground_points.data[k]) for k in ground_points.names()})
+    ground = Ground(
+        {k: ground_points.point(k, ground_points.data[k]) for k in ground_points.names()}
+    )
     ground_points.finish()
     ground_table.finish()
     links_table = root.table("links")

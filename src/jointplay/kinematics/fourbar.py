@@ -204,6 +204,34 @@ def transmission_angle(geometry: FourBarGeometry, theta2: ArrayLike) -> FloatArr
     return np.arccos(np.clip((b * b + c * c - f2) / (2 * b * c), -1.0, 1.0))
 
 
+#: The usual design guideline for the transmission angle μ: keep it within 40°–140°, i.e. its
+#: deviation from 90° below 50°, for smooth running and good force transmission (R. L.
+#: Norton, *Design of Machinery*, 5th ed., McGraw-Hill 2012, §3.3 "Limiting Conditions":
+#: "keep the minimum transmission angle above about 40 degrees"; the extremes of μ of a
+#: four-bar lie where the crank is collinear with the ground link, Norton §4.10). Below it
+#: the coupler pushes the output link mostly along the link, not across it: forces in the
+#: joints grow and the motion becomes sensitive to clearance and friction.
+MIN_TRANSMISSION_ANGLE_DEG = 40.0
+
+
+def transmission_angle_range(geometry: FourBarGeometry) -> tuple[float, float]:
+    """Smallest and largest transmission angle μ over a full crank turn, rad (exact).
+
+    μ grows with the diagonal f = |O4 − A| (cos μ = (b² + c² − f²)/(2bc)), and f runs from
+    |d − a| (crank along the ground line, θ2 = 0) to d + a (θ2 = π): the extremes are μ at
+    θ2 = 0 and θ2 = π, no grid needed.
+    """
+    ends = transmission_angle(geometry, np.array([0.0, math.pi]))
+    return float(ends.min()), float(ends.max())
+
+
+def transmission_angle_deviation(geometry: FourBarGeometry) -> float:
+    """The worst transmission angle of a crank turn, rad: min over θ2 of min(μ, π − μ)
+    (the angle the guideline :data:`MIN_TRANSMISSION_ANGLE_DEG` bounds from below)."""
+    low, high = transmission_angle_range(geometry)
+    return min(low, math.pi - high)
+
+
 @dataclass(frozen=True)
 class LimitPosition:
     """A rocker limit position (crank and coupler collinear): angles in rad."""

@@ -7,7 +7,10 @@ a folder:
   the responses (SI, NaN where the point failed), ``status`` (ok / failed / not run) and
   ``error``;
 * ``summary.json`` — method, seed, inputs, statistics and contributions per response,
-  failures with their inputs, settings, execution record and provenance (SI);
+  failures with their inputs, settings, execution record and provenance (SI), the
+  definition of every response (``response_definitions``) and, for Monte Carlo, how the
+  inputs were sampled (``sampling_distributions``: normal inputs truncated at their limits
+  by default);
 * ``tornado.png`` (contributions per response), and for Monte Carlo ``histograms.png``
   (with nominal, mean, ideal-joint value and spec limits marked) and ``scatter.png`` (the most
   influential input against each response);
@@ -31,8 +34,16 @@ from jointplay.io.output import write_json
 from jointplay.report._mpl import pyplot
 from jointplay.report.html import HtmlReport
 from jointplay.tolerance.analysis import ToleranceStudyResult
+from jointplay.tolerance.definitions import response_definitions
 
-__all__ = ["display_scale", "format_value", "input_label", "study_plots", "write_study"]
+__all__ = [
+    "display_scale",
+    "format_value",
+    "input_label",
+    "sampling_note",
+    "study_plots",
+    "write_study",
+]
 
 #: Failures listed in the HTML report (samples.parquet and summary.json have more).
 MAX_REPORTED_FAILURES = 100
@@ -82,6 +93,10 @@ def write_study(
     written = [folder / "samples.parquet", folder / "summary.json"]
     study.to_dataframe().to_parquet(written[0], index=False)
     summary = study.summary()
+    summary["response_definitions"] = response_definitions(study.result.response_names)
+    note = sampling_note(study)
+    if note:
+        summary["sampling_distributions"] = note
     if provenance is not None:
         summary["provenance"] = dict(provenance)
     write_json(written[1], summary)
@@ -203,70 +218,131 @@ def study_plots(study: ToleranceStudyResult) -> dict[str, bytes]:
     return images
 
 
+def _scaled(value: float | None, scale: float = 1.0) -> float | None:
+    """``value × scale`` for a report table (the table writes numbers in the report's one
+    format); None (an em dash) for a missing or non-finite value."""
+    if value is None or not math.isfinite(float(value)):
+        return None
+    return float(value) * scale
+
+
+#: Method settings in words, for the report.
+_SETTING_WORDS = {
+    "samples": "samples",
+    "seed": "seed",
+    "sampling": "sampling",
+    "truncated_at_limits": "normal inputs truncated at their limits",
+    "corners": "corners",
+    "fd_step": "finite-difference step (fraction of each half-width)",
+    "sensitivity": "sensitivities",
+}
+
+
+def sampling_note(study: ToleranceStudyResult) -> str:
+    """How the inputs were sampled (Monte Carlo), in one sentence; "" for other methods."""
+    from jointplay.tolerance.methods import distribution_note
+
+    r = study.result
+    if r.method != "monte-carlo":
+        return ""
+    truncate = bool(r.settings.get("truncated_at_limits", False))
+    return distribution_note(study.spec, truncate)
+
+
 def _report(
     study: ToleranceStudyResult, summary: Mapping[str, Any], images: Mapping[str, bytes]
 ) -> HtmlReport:
+    from jointplay.tolerance.definitions import response_definition
+
     r = study.result
     counts = summary["counts"]
     page = HtmlReport(f"Tolerance study of {study.mechanism.name}")
-    settings = ", ".join(f"{k} = {v}" for k, v in r.settings.items())
+    settings = "; ".join(f"{_SETTING_WORDS.get(k, k)}: {v}" for k, v in r.settings.items())
     page.paragraph(
-        f"Method {r.method}, {study.responses} responses; settings: {settings}. "
+        f"Method {r.method}, {study.responses} responses. Settings: {settings}. "
         f"Points: {counts['points']}, ok {counts['ok']}, failed {counts['failed']}, "
         f"not run {counts['not_run']}{' (interrupted)' if r.interrupted else ''}."
     )
-    page.heading("Inputs")
+    note = sampling_note(study)
+    if note:
+        page.paragraph(f"Sampling: {note}.", css="note")
+    page.heading("Inputs", anchor="inputs")
     rows = []
     for item in study.spec.inputs:
         unit, scale = display_scale(item.unit, item.kind)
         t = item.tolerance
         rows.append(
             [
-                item.name,
+                input_label(item.name),
                 unit,
-                *(format_value(v, scale) for v in (item.nominal, t.lower, t.upper)),
+                *(_scaled(v, scale) for v in (item.nominal, t.lower, t.upper)),
                 t.distribution,
-                format_value(t.mean, scale),
-                format_value(t.std, scale),
+                _scaled(t.mean, scale),
+                _scaled(t.std, scale),
                 item.source,
             ]
         )
-    headers = ["input", "unit", "nominal", "lower", "upper", "distribution", "mean", "std"]
-    page.table(rows, [*headers, "source"], text_columns=(0, 1, 5, 8))
-    page.heading("Responses")
+    headers = [
+        "input",
+        "unit",
+        "nominal",
+        "lower limit",
+        "upper limit",
+        "distribution",
+        "mean",
+        "standard deviation",
+        "source",
+    ]
+    page.table(rows, headers, text_columns=(0, 1, 5, 8))
+    page.heading("Responses", anchor="responses")
     columns = ["nominal", "mean", "std", "minimum", "maximum", "half_range"]
-    extra = ["out_of_spec_percent", "cp", "cpk"]
-    headers = ["response", "unit", *(c.replace("_", " ") for c in columns)]
+    words = {"std": "standard deviation", "half_range": "half range"}
+    extra = {"out_of_spec_percent": "out of spec (%)", "cp": "Cp", "cpk": "Cpk"}
+    headers = ["response", "unit", *(words.get(c, c) for c in columns)]
     if study.ideal is not None:
         headers.append("ideal joints")
-    headers += [*(c.replace("_", " ") for c in extra), "most influential"]
+    headers += [*extra.values(), "most influential input (share)"]
     rows = []
     for name, response in r.summaries.items():
         unit, scale = display_scale(response.unit)
-        cells = [format_value(getattr(response, c), scale) for c in columns]
+        cells = [_scaled(getattr(response, c), scale) for c in columns]
         if study.ideal is not None:
-            cells.append(format_value(study.ideal.get(name), scale))
-        cells += [format_value(getattr(response, c)) for c in extra]
+            cells.append(_scaled(study.ideal.get(name), scale))
+        cells += [_scaled(getattr(response, c)) for c in extra]
         top = response.most_influential
         influence = (
-            f"{input_label(top)} ({100 * response.contributions[top]:.0f} %)" if top else "–"
+            f"{input_label(top)} ({100 * response.contributions[top]:.0f} %)" if top else "—"
         )
         rows.append([name, unit, *cells, influence])
     page.table(rows, headers, text_columns=(0, 1, len(headers) - 1))
+    page.heading("What each response means", level=3, anchor="definitions")
+    page.table(
+        [
+            [name, display_scale(r.units[name])[0], response_definition(name)]
+            for name in r.summaries
+        ],
+        ["response", "unit", "definition"],
+        text_columns=(0, 1, 2),
+    )
     failures = r.failures
-    page.heading(f"Failures ({len(failures)})")
+    page.heading(f"Failures ({len(failures)})", anchor="failures")
     if failures:
         rows = [
             [
                 str(f.index),
                 f.role,
-                *(format_value(f.inputs[n], _input_scale(study, n)[1]) for n in r.input_names),
+                *(_scaled(f.inputs[n], _input_scale(study, n)[1]) for n in r.input_names),
                 f.error,
             ]
             for f in failures[:MAX_REPORTED_FAILURES]
         ]
-        headers = ["sample", "role", *r.input_names, "error"]
-        page.table(rows, headers, text_columns=(1, len(headers) - 1))
+        headers = [
+            "sample",
+            "role",
+            *(f"{input_label(n)} ({_input_scale(study, n)[0]})" for n in r.input_names),
+            "error",
+        ]
+        page.table(rows, headers, text_columns=(0, 1, len(headers) - 1))
         if len(failures) > MAX_REPORTED_FAILURES:
             page.paragraph(
                 f"… and {len(failures) - MAX_REPORTED_FAILURES} more (see samples.parquet)."
@@ -274,6 +350,15 @@ def _report(
     else:
         page.paragraph("None.")
     for name, data in images.items():
-        page.heading(name.removesuffix(".png"))
+        title = _FIGURE_TITLES.get(name, name.removesuffix(".png"))
+        page.heading(title, anchor=name.removesuffix(".png"))
         page.figure(data, name)
     return page
+
+
+#: Report headings of the study's figures.
+_FIGURE_TITLES = {
+    "tornado.png": "Contributions of the inputs",
+    "histograms.png": "Distributions of the responses",
+    "scatter.png": "Each response against its most influential input",
+}

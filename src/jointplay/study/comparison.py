@@ -82,6 +82,13 @@ DEFAULT_METHODS = (
 LOW_SPEED_FRACTION = 0.10
 
 
+#: What each ECS source means, in words (console, JSON and plot captions say which was used).
+ECS_SOURCE_TEXT = {
+    "computed": "computed (our estimate of the paper's eqs. 9–13, docs/ecs.md)",
+    "paper": "the paper's published values (its Tables 4 and 5)",
+}
+
+
 # --- the simulated steady cycle ---------------------------------------------------------------
 
 
@@ -121,6 +128,13 @@ class SteadyCycle:
     def crank_rpm(self) -> float:
         """The crank speed, rev/min."""
         return self.mechanism.driver.speed * 30.0 / math.pi
+
+    @property
+    def ecs_source(self) -> str | None:
+        """Where an ECS method took K, δ and D from (``"computed"`` or ``"paper"``); None
+        for the nominal cycle and the conventional methods, which use no ECS."""
+        source = self.record.get("ecs_source")
+        return None if source is None else str(source)
 
     def at(self, crank_deg: ArrayLike) -> FloatArray:
         """The quantity (rad/s, CCW positive) at crank angles (deg CCW from the ground line).
@@ -220,7 +234,7 @@ def steady_cycle(
         return nominal_cycle(mechanism, quantity=quantity)
     from jointplay.dynamics.setup import clearance_joints
     from jointplay.dynamics.simulate import Start, simulate
-    from jointplay.study.methods import METHODS, method_law
+    from jointplay.study.methods import METHODS, get_method, method_law
 
     if method not in METHODS:
         raise ConfigError(
@@ -232,6 +246,9 @@ def steady_cycle(
         )
     _link_of(mechanism, quantity)
     law, record = method_law(method, mechanism, ecs_source=ecs_source)
+    uses_ecs = get_method(method).uses_ecs
+    if uses_ecs:
+        record = {**record, "ecs_source": ecs_source}
     clear = clearance_joints(mechanism, joints, clearance=clearance, law=law)
     result = simulate(
         mechanism, clear, revolutions=revolutions, start=Start("steady"), solver=solver
@@ -264,6 +281,7 @@ def steady_cycle(
     description = (
         f"{method}: last of {revolutions:g} revolution(s) from the nominal steady motion "
         f"(t = {t_start:.4g}–{t_end:.4g} s), clearance in {', '.join(c.joint for c in clear)}"
+        + (f"; ECS parameters {ECS_SOURCE_TEXT[ecs_source]}" if uses_ecs else "")
     )
     return SteadyCycle(
         method=method,
@@ -411,6 +429,7 @@ class ExperimentComparison:
             "conventions": self.conventions.as_dict(),
             "unit": unit,
             "crank_rpm": self.crank_rpm,
+            "ecs_source": self.cycle.ecs_source,
             "error_definition": "(measured - simulated) / simulated * 100 (paper, Table 7)",
             "statistics": self.statistics.as_dict(self.conventions.unit_factor),
             "what_if": {
@@ -734,6 +753,22 @@ class MethodsComparison:
     discrepancy: Discrepancy
     printed_check: PrintedErrorCheck | None
 
+    @property
+    def ecs_source(self) -> str | None:
+        """Where the compared ECS methods took K, δ and D from: ``"computed"``, ``"paper"``,
+        ``"mixed"`` (comparisons gathered from runs with both), or None (no ECS method)."""
+        sources = {c.cycle.ecs_source for c in self.comparisons} - {None}
+        if not sources:
+            return None
+        return sources.pop() if len(sources) == 1 else "mixed"
+
+    def ecs_source_line(self) -> str:
+        """One line saying which ECS parameters the comparison used (console, captions)."""
+        source = self.ecs_source
+        if source is None:
+            return "ECS parameters: not used (no ECS method compared)"
+        return f"ECS parameters: {ECS_SOURCE_TEXT.get(source, source)}"
+
     def comparison(self, method: str) -> ExperimentComparison:
         for item in self.comparisons:
             if item.method == method:
@@ -779,6 +814,8 @@ class MethodsComparison:
             "conventions": conventions.as_dict(),
             "unit": conventions.unit,
             "error_definition": "(measured - simulated) / simulated * 100 (paper, Table 7)",
+            "ecs_source": self.ecs_source,
+            "ecs_source_meaning": self.ecs_source_line(),
             "best": {
                 "by_rms_error_percent": self.best,
                 "by_rms_difference": self.best_by_difference,

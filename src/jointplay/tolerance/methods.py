@@ -26,6 +26,18 @@ failures (with their inputs).
   *Global Sensitivity Analysis: The Primer*, 2008, §1.2.7); the contributions are the SRC
   shares while R² ≥ 0.7 and the normalised Sobol indices otherwise.
 
+**Sampling distributions** (:mod:`jointplay.tolerance.spec`; h is the half-width of the
+limits, m their centre): ``normal`` (the default: mean m + shift, σ = h/3 so that ±3σ span
+the limits, or σ = (h − |shift|)/(3 Cpk) given a Cpk), ``uniform`` on the limits,
+``triangular`` with its mode at m + shift. A normal process puts 0.27 % of its parts
+outside ±3σ; such a part fails inspection and is not assembled, so by default the Monte
+Carlo draws every normal input from the normal **truncated at its specification limits**
+(:func:`truncated_at_limits`; scipy's ``truncnorm``): no sample lies outside the limits, and
+σ of the truncated ±3σ normal is 0.9866 h/3. ``MonteCarlo(truncate=False)`` draws from the
+untruncated normal (truncated only at the physical bounds, e.g. a clearance ≥ 0), as if
+out-of-tolerance parts were assembled. Uniform and triangular inputs never leave their
+limits. The result's ``settings`` say which was used.
+
 Specification limits on a response give the percentage out of spec (Monte Carlo: counted;
 RSS: from the normal approximation), Cp = (USL − LSL)/(6σ) and
 Cpk = min(USL − μ, μ − LSL)/(3σ) (one-sided when one limit is given).
@@ -60,9 +72,11 @@ __all__ = [
     "SpecLimits",
     "ToleranceMethod",
     "WorstCase",
+    "distribution_note",
     "get_method",
     "regression_contributions",
     "sobol_first_order",
+    "truncated_at_limits",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -414,6 +428,51 @@ def _capability(
 # --- Monte Carlo ---------------------------------------------------------------------------------
 
 
+def truncated_at_limits(spec: ToleranceSpec) -> ToleranceSpec:
+    """``spec`` with every normal input truncated at its specification limits.
+
+    The truncation bounds are the limits intersected with the input's physical bounds; the
+    process mean and σ are kept (the truncated distribution's own mean and standard
+    deviation follow from them: :attr:`jointplay.tolerance.spec.Tolerance.mean`, ``.std``).
+    Uniform and triangular inputs are returned as they are: they never leave the limits.
+
+    Raises:
+        ConfigError: a normal input whose process mean (centre + shift) lies outside its
+            limits, which a truncation at the limits would pile onto one limit; sample it
+            untruncated (``truncate=False``) or bring the shift inside the limits.
+    """
+    inputs = []
+    for item in spec.inputs:
+        tolerance = item.tolerance
+        if tolerance.distribution != "normal":
+            inputs.append(item)
+            continue
+        low = max(tolerance.bounds[0], tolerance.lower)
+        high = min(tolerance.bounds[1], tolerance.upper)
+        if not low <= tolerance.mode <= high:
+            raise ConfigError(
+                f"{item.name}: the process mean {tolerance.mode:g} lies outside the limits "
+                f"[{tolerance.lower:g}, {tolerance.upper:g}], so the normal cannot be "
+                "truncated at them; bring the shift inside the limits or sample untruncated"
+            )
+        inputs.append(replace(item, tolerance=replace(tolerance, bounds=(low, high))))
+    return replace(spec, inputs=tuple(inputs))
+
+
+def distribution_note(spec: ToleranceSpec, truncate: bool) -> str:
+    """One sentence on how the inputs of ``spec`` were sampled (for reports and JSON)."""
+    kinds = sorted({item.tolerance.distribution for item in spec.inputs})
+    text = f"inputs sampled from {', '.join(kinds)} distributions over their limits"
+    if "normal" in kinds:
+        text += (
+            "; normal inputs truncated at their specification limits (no sample outside them)"
+            if truncate
+            else "; normal inputs untruncated (±3σ at the limits: about 0.27 % of the samples "
+            "of each lie outside them)"
+        )
+    return text
+
+
 @dataclass(frozen=True)
 class MonteCarlo:
     """Monte Carlo: seeded samples of the specification evaluated by the model.
@@ -423,6 +482,8 @@ class MonteCarlo:
         seed: non-negative integer seed: the same specification, samples, seed and sampling
             give the same samples on every backend (:mod:`jointplay.tolerance.sampling`).
         sampling: ``"random"`` (independent draws) or ``"lhs"`` (Latin hypercube).
+        truncate: draw normal inputs from the normal truncated at their specification limits
+            (default; :func:`truncated_at_limits`), else from the untruncated normal.
     """
 
     name: ClassVar[str] = "monte-carlo"
@@ -430,9 +491,12 @@ class MonteCarlo:
     samples: int = 1000
     seed: int = 0
     sampling: SamplingMethod = "random"
+    truncate: bool = True
 
     def __post_init__(self) -> None:
         check_settings(self.samples, self.seed, self.sampling)
+        if not isinstance(self.truncate, bool):
+            raise ConfigError(f"MonteCarlo: truncate must be True or False, got {self.truncate!r}")
 
     def run(
         self,
@@ -458,7 +522,8 @@ class MonteCarlo:
         """
         n, seed, sampling = self.samples, self.seed, self.sampling
         limits = _limits_for(limits, model.response_names)
-        samples = sample(spec, n, seed, method=sampling)
+        drawn = truncated_at_limits(spec) if self.truncate else spec
+        samples = sample(drawn, n, seed, method=sampling)
         nominal_run = _evaluate(model, spec, spec.nominal[None, :], Backend("serial"), False, "")
         nominal = _nominal_or_raise(nominal_run, 0, "nominal")
         result = _evaluate(model, spec, samples.values, backend, progress, "Monte Carlo samples")
@@ -513,7 +578,12 @@ class MonteCarlo:
             nominal=nominal,
             summaries=summaries,
             failures=_failures(samples.values, roles, result, spec.names),
-            settings={"samples": n, "seed": int(seed), "sampling": sampling},
+            settings={
+                "samples": n,
+                "seed": int(seed),
+                "sampling": sampling,
+                "truncated_at_limits": bool(self.truncate),
+            },
         )
 
 
