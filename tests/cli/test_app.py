@@ -6,6 +6,8 @@ its cause: the quick commands must not import the numerical stack at all.
 
 from __future__ import annotations
 
+import math
+import re
 import subprocess
 import sys
 
@@ -53,3 +55,71 @@ def test_quick_commands_do_not_import_the_numerical_stack(arguments: list[str]) 
     status, _, loaded = done.stdout.strip().splitlines()[-1].partition(" ")
     assert status == "0", done.stderr
     assert loaded == "", f"{' '.join(arguments)} imported {loaded}"
+
+
+@pytest.mark.parametrize("arguments", [["--help"], ["fit", "--help"], ["kinematics", "--help"]])
+def test_flags_show_no_metavar(arguments: list[str], capsys: pytest.CaptureFixture[str]) -> None:
+    """Flags take no value, so their help line shows none (Click's own convention)."""
+    assert run(arguments) == 0
+    text = capsys.readouterr().out
+    assert "<bool>" not in text
+    assert "--help" in text
+    assert "<str>" in text or arguments == ["--help"]  # options with values keep theirs
+
+
+@pytest.mark.parametrize(
+    ("arguments", "hint"),
+    [
+        (["fit", "H8/g7", "--size", "10mm", "--json", "true"], "write --json alone"),
+        (["fit", "H8/g7", "--size", "10mm", "--json=true"], "write --json alone"),
+        (["kinematics", "--plots", "false", "-o", "x"], "write --plots or --no-plots"),
+    ],
+)
+def test_a_flag_given_a_value_is_refused_with_a_hint(
+    arguments: list[str], hint: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert run(arguments) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "flags take no value" in err and hint in err
+    assert f"see 'jointplay {arguments[0]} --help'" in err
+
+
+def test_an_extra_argument_that_follows_no_flag_gets_no_flag_hint(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    assert run(["fit", "H8/g7", "--size", "10mm", "2"]) == 2
+    assert "flags take no value" not in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    ("text", "unit", "expected"),
+    [
+        ("200 rpm", "rad/s", 200 * math.pi / 30),
+        ("20.9 rad/s", "rad/s", 20.9),
+        ("600 h", "s", 600 * 3600.0),
+        ("1 deg", "rad", math.pi / 180),
+    ],
+)
+def test_quantity_options_convert_to_si(text: str, unit: str, expected: float) -> None:
+    from jointplay.cli._common import quantity_option
+
+    assert quantity_option(text, unit, "--x", example="u") == pytest.approx(expected, rel=1e-15)
+
+
+def test_quantity_options_refuse_bare_numbers_and_show_the_form() -> None:
+    from jointplay.cli._common import crank_speed, quantity_option
+    from jointplay.errors import ConfigError
+
+    with pytest.raises(
+        ConfigError,
+        match=re.escape("--hours: '600' has no unit; write it with one, e.g. \"600 h\""),
+    ):
+        quantity_option("600", "s", "--hours", example="h")
+    with pytest.raises(
+        ConfigError,
+        match=re.escape("--rpm: '200' has no unit; write it with one, e.g. \"200 rpm\""),
+    ):
+        crank_speed("200")
+    with pytest.raises(ConfigError, match="--step must be positive"):
+        quantity_option("-1 deg", "rad", "--step", example="deg", positive=True)
+    assert crank_speed("200 rpm") == pytest.approx(200 * math.pi / 30, rel=1e-15)

@@ -113,3 +113,26 @@ def test_malformed_file_is_one_line_and_exit_2(
     assert err == (
         f"jointplay: error: {path}: line 3, column 'speed' has 'twelve', not a finite number"
     )
+
+
+@pytest.mark.parametrize(
+    ("source", "words"),
+    [("computed", "computed (our estimate"), ("paper", "the paper's published values")],
+)
+def test_every_output_says_which_ecs_source_it_used(
+    source: str, words: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The console, comparison.json (whole and per method) and the plot title name the ECS
+    parameters; the nominal and a conventional method use none."""
+    out = tmp_path / "cmp"
+    assert run(["compare", *CHEAP, "--ecs-source", source, "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert f"ECS parameters: {words}" in printed
+    document = json.loads((out / "comparison.json").read_text())
+    assert document["ecs_source"] == source
+    assert words in document["ecs_source_meaning"]
+    per_method = {c["method"]: c["ecs_source"] for c in document["comparisons"]}
+    assert per_method == {"nominal": None, "rm-ecs-spherical": source}
+    assert words in document["comparisons"][1]["description"]
+    assert run(["compare", "--method", "nominal", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["ecs_source"] is None

@@ -191,3 +191,20 @@ def test_start_up_on_request_and_the_settle_option(tmp_path) -> None:
     assert summary["peaks"]["F_A"]["value"] > 1000  # the start-up impact the paper reports
     assert run([*PAPER_ARGS, "--settle", "-1", "--out", str(tmp_path / "bad")]) == 2
     assert not (tmp_path / "bad").exists()
+
+
+def test_the_slider_crank_console_table_shows_the_slider(tmp_path, capsys) -> None:
+    """The slider's stroke, velocity and acceleration peaks are in the console table, and
+    they agree with the time series written beside it."""
+    out = tmp_path / "slider"
+    args = ["simulate", "--preset", "flores-slider-crank", "--settle", "1", "--revolutions", "1"]
+    assert run([*args, "--no-plots", "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    rows = {line.split()[0]: line.split() for line in printed.splitlines() if line.strip()}
+    assert {"slider_v*", "slider_a*"} <= set(rows)
+    assert "slider stroke (m)*" in printed
+    steps = pd.read_csv(out / "steps.csv")
+    turned = (steps["crank_deg"] - steps["crank_deg"].iloc[0]).abs()
+    analysed = steps[turned >= 360.0 - 1e-9]  # after the one start-up revolution
+    assert float(rows["slider_v*"][1]) == pytest.approx(analysed["slider_v"].abs().max(), rel=1e-4)
+    assert float(rows["slider_a*"][1]) == pytest.approx(analysed["slider_a"].abs().max(), rel=1e-4)

@@ -93,3 +93,27 @@ def test_collect_keeps_one_per_code_and_joint_warnings_first() -> None:
         ("not-periodic", None),
     ]
     assert set(dg.as_records(found)[0]) == {"level", "code", "joint", "value", "limit", "message"}
+
+
+def test_transmission_angle_below_the_guideline_is_a_warning(paper_fourbar) -> None:
+    """The paper's crank-rocker runs 36.9°–91.5° (below 40°); a well-proportioned one does not
+    warn, nor does a slider-crank. The value is min over a 0.01° grid of min(μ, 180° − μ)."""
+    import numpy as np
+
+    from jointplay.kinematics.fourbar import MIN_TRANSMISSION_ANGLE_DEG, transmission_angle
+    from jointplay.model.templates import FourBarGeometry, four_bar
+
+    finding = dg.check_transmission_angle(paper_fourbar)
+    assert finding is not None and finding.level == "warning"
+    assert finding.code == "transmission-angle-low" and finding.limit == 40.0
+    geometry = paper_fourbar.template.geometry
+    mu = np.degrees(transmission_angle(geometry, np.radians(np.arange(0.0, 360.0, 0.01))))
+    assert finding.value == pytest.approx(np.minimum(mu, 180.0 - mu).min(), abs=1e-6)
+    assert 36.8 < finding.value < MIN_TRANSMISSION_ANGLE_DEG
+    assert "Norton" in finding.message and "36.9°–91.5°" in finding.message
+    wide = four_bar(FourBarGeometry(0.03, 0.1, 0.1, 0.1), speed=10.0)  # μ from 41.0° to 81.1°
+    assert dg.check_transmission_angle(wide) is None
+
+
+def test_transmission_angle_is_not_checked_on_a_slider_crank(slider_crank) -> None:
+    assert dg.check_transmission_angle(slider_crank) is None

@@ -149,3 +149,116 @@ def test_decimal_lengths_read_without_pint_equal_pints_reading(text: str) -> Non
 
     expected = float(_registry().Quantity(text).to("m").magnitude)
     assert parse_quantity(text, "m", field="x") == expected  # the same float, bit for bit
+
+
+# --- keys: the option spelling, allowed keys, "did you mean" -------------------------------------
+
+
+def _with_simulation(tmp_path, lines: str, name: str = "c.toml"):
+    from jointplay.io.config import preset_text
+
+    path = tmp_path / name
+    path.write_text(preset_text("paper-fourbar") + "\n[simulation]\n" + lines, encoding="utf-8")
+    return path
+
+
+def test_simulation_keys_accept_the_option_spelling(tmp_path) -> None:
+    from jointplay.io.config import simulation_settings
+
+    path = _with_simulation(
+        tmp_path, 'stiffness-law = "hertz"\nfriction-law = "adams"\nsample-deg = "5 deg"\n'
+    )
+    assert simulation_settings(path) == {
+        "stiffness_law": "hertz",
+        "friction_law": "adams",
+        "sample_deg": "5 deg",
+    }
+
+
+def test_a_wrong_simulation_key_lists_every_allowed_key_and_the_closest(tmp_path) -> None:
+    from jointplay.io.config import SIMULATION_KEYS, simulation_settings
+
+    path = _with_simulation(tmp_path, 'contact = "impact"\nstifness_law = "hertz"\n')
+    with pytest.raises(ConfigError) as info:
+        simulation_settings(path)
+    message = str(info.value)
+    assert "unknown key 'stifness_law' (did you mean 'stiffness_law'?)" in message
+    allowed = message.split("allowed keys: ")[1].split(" (each")[0].split(", ")
+    assert allowed == sorted(SIMULATION_KEYS)  # all of them, not only the ones used
+
+
+def test_both_spellings_of_one_key_are_refused(tmp_path) -> None:
+    from jointplay.io.config import simulation_settings
+
+    path = _with_simulation(tmp_path, 'friction_law = "adams"\nfriction-law = "ambrosio"\n')
+    with pytest.raises(ConfigError, match="'friction_law' and 'friction-law' are the same key"):
+        simulation_settings(path)
+
+
+def test_mechanism_tables_accept_the_option_spelling_but_not_names(tmp_path) -> None:
+    """A setting key may use '-'; names (links, joints) are data and stay as written."""
+    from jointplay.io.config import load_config, preset_text
+
+    text = preset_text("paper-fourbar").replace("poisson_ratio", "poisson-ratio")
+    assert "poisson-ratio" in text
+    path = tmp_path / "dashed.toml"
+    path.write_text(text, encoding="utf-8")
+    assert load_config(path) == load_preset("paper-fourbar")
+    wrong = tmp_path / "wrong.toml"
+    wrong.write_text(
+        text.replace('pin_mass = "0.02 kg"', 'pin-mas = "0.02 kg"', 1), encoding="utf-8"
+    )
+    with pytest.raises(ConfigError) as info:
+        load_config(wrong)
+    message = str(info.value)
+    assert "joints.O2: unknown key 'pin-mas' (did you mean 'pin_mass'?)" in message
+    assert "allowed keys: clearance, diameter, fit, pin_length, pin_mass" in message
+
+
+def test_tolerance_and_design_tables_accept_the_option_spelling() -> None:
+    from jointplay.io.config import COST_KEYS, design_table_keys
+    from jointplay.io.tolerances import parse_tolerance_table
+    from jointplay.tolerance.cost import CostModel
+
+    mechanism = load_preset("paper-fourbar")
+    spec = parse_tolerance_table(
+        {"joints": {"A": {"clearance-min": "5 um", "clearance-max": "30 um"}}}, mechanism
+    )
+    assert spec["clearance_A"].tolerance.limits == pytest.approx((5e-6, 30e-6))
+    tables = design_table_keys(
+        {"wear": {"coefficient": 1e-6, "joints": {"A": {"hardness": "2 GPa"}}}, "cost": {"a": 2}},
+        "t.toml",
+    )
+    assert tables["wear"]["joints"]["A"] == {"hardness": "2 GPa"}
+    with pytest.raises(ConfigError, match=r"\[wear\]: unknown key 'coeficient' \(did you mean"):
+        design_table_keys({"wear": {"coeficient": 1e-6}}, "t.toml")
+    # COST_KEYS are exactly what the cost model reads: each accepted, another refused.
+    for key in COST_KEYS:
+        value = {"model": "exponential", "reference": "0.1 mm", "it": {}, "iso2768": {}}.get(
+            key, 1.0
+        )
+        CostModel.from_table({key: value})
+    with pytest.raises(ConfigError):
+        CostModel.from_table({"colour": 1})
+
+
+def test_an_edited_copy_of_a_preset_is_named_as_such(tmp_path) -> None:
+    """Titles use the file's name: an edited copy that keeps the preset's name says so; an
+    unedited copy keeps the preset's name; a renamed file keeps its own."""
+    from jointplay.io.config import load_config, preset_text
+
+    text = preset_text("paper-fourbar")
+    same = tmp_path / "copy.toml"
+    same.write_text(text, encoding="utf-8")
+    assert load_config(same).name == "paper-fourbar"
+    edited = tmp_path / "my.toml"
+    edited.write_text(text.replace('crank = "108 mm"', 'crank = "100 mm"'), encoding="utf-8")
+    assert load_config(edited).name == "paper-fourbar (edited: my.toml)"
+    renamed = tmp_path / "renamed.toml"
+    renamed.write_text(
+        text.replace('crank = "108 mm"', 'crank = "100 mm"').replace(
+            'name = "paper-fourbar"', 'name = "rig B"'
+        ),
+        encoding="utf-8",
+    )
+    assert load_config(renamed).name == "rig B"

@@ -97,3 +97,36 @@ def test_a_failed_rename_restores_the_previous_result(
     monkeypatch.undo()
     assert (target / "summary.json").read_text(encoding="utf-8") == "first"
     assert _leftovers(tmp_path, "out") == []
+
+
+# --- JSON numbers: rounded to what they mean --------------------------------------------------
+
+
+def test_json_numbers_are_rounded_to_twelve_significant_digits() -> None:
+    """Round-off of unit conversions disappears; every meaningful digit stays."""
+    import math
+
+    import numpy as np
+
+    from jointplay.io.output import JSON_DIGITS, json_text, jsonable, round_significant
+    from jointplay.units import parse_quantity
+
+    rpm = parse_quantity("200 rpm", "rad/s", field="x") * 30 / math.pi
+    assert rpm == 199.99999999999997  # the noise the sanitiser removes
+    assert jsonable(math.degrees(math.radians(30))) == 30.0
+    assert JSON_DIGITS == 12
+    assert jsonable({"rpm": rpm, "sum": 0.1 + 0.2}) == {"rpm": 200.0, "sum": 0.3}
+    assert '"rpm": 200.0' in json_text({"rpm": np.float64(rpm)})
+    third = jsonable(1.0 / 3.0)
+    assert third == 0.333333333333 and abs(third - 1.0 / 3.0) < 5e-13
+    for exact in (0.1, 21e-6, 1.5e-300, -2.5e12, 12345678901.5, 0.0):
+        assert jsonable(exact) == exact  # 12 digits or fewer: unchanged
+    assert jsonable(7) == 7 and jsonable(True) is True  # integers and booleans as they are
+    assert jsonable(math.nan) is None and jsonable(-math.inf) is None
+    rng = np.random.default_rng(0)
+    values = rng.normal(size=1000) * 10.0 ** rng.integers(-300, 300, size=1000)
+    once = [round_significant(float(v)) for v in values]
+    assert once == [round_significant(v) for v in once]  # idempotent
+    assert all(
+        abs(a - float(v)) <= 5e-12 * abs(float(v)) for a, v in zip(once, values, strict=True)
+    )

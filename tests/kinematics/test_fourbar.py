@@ -163,3 +163,25 @@ def test_paper_mechanism_figures(paper_fourbar) -> None:
         assert value == pytest.approx(
             math.degrees(math.acos((b * b + c * c - f * f) / (2 * b * c))), rel=1e-12
         )
+
+
+@pytest.mark.parametrize(
+    "lengths", [(0.108, 0.2705, 0.2705, 0.2794), (0.05, 0.20, 0.15, 0.18), (0.03, 0.1, 0.1, 0.1)]
+)
+def test_transmission_angle_range_is_the_extremes_over_a_dense_grid(lengths) -> None:
+    """The closed-form extremes (crank along the ground line) against 0.01° sampling."""
+    from jointplay.kinematics.fourbar import (
+        transmission_angle,
+        transmission_angle_deviation,
+        transmission_angle_range,
+    )
+
+    geometry = FourBarGeometry(*lengths)
+    mu = transmission_angle(geometry, np.radians(np.arange(0.0, 360.0, 0.01)))
+    low, high = transmission_angle_range(geometry)
+    # 0.01° grid: the extremes are flat there, so the grid comes within 1e-8 rad of them.
+    assert low == pytest.approx(mu.min(), abs=1e-8) and low <= mu.min()
+    assert high == pytest.approx(mu.max(), abs=1e-8) and high >= mu.max()
+    assert transmission_angle_deviation(geometry) == pytest.approx(
+        np.minimum(mu, np.pi - mu).min(), abs=1e-8
+    )

@@ -110,3 +110,34 @@ def test_requirements_may_mix_kinematic_and_dynamic_responses(paper_fourbar) -> 
     # ISO 2768 c moves the swing by ~0.2 degrees at most (issue 5: 52.65 ± 0.16 deg)
     assert row["rocker_swing_mean"] == pytest.approx(nominal_swing, abs=math.radians(1.0))
     assert row["joint_force_mean"] > 0 and row["ok"] == 2
+
+
+@pytest.mark.parametrize("truncate", [True, False])
+def test_samples_stay_inside_the_class_limits_unless_asked(paper_fourbar, truncate) -> None:
+    """Normal lengths are truncated at the ISO 2768-1 limits by default (the settings and the
+    summary say so); untruncated, about 0.27 % of them fall outside."""
+    from jointplay.tolerance import iso2768
+
+    result = design_study(
+        paper_fourbar, ["H8/g7"], ["v"], ["omega4_peak <= 100 rad/s"],
+        samples=4000, backend=SERIAL, truncate=truncate,
+    )  # fmt: skip
+    assert result.settings["truncated_at_limits"] is truncate
+    summary = result.summary()
+    assert summary["response_definitions"] == {
+        "omega4_peak": "largest |angular velocity| of the rocker (link 4)"
+    }
+    outside = 0
+    for name in ("crank", "coupler", "rocker", "ground"):
+        nominal = getattr(paper_fourbar.template.geometry, name)
+        deviation = iso2768.general_tolerance("v", nominal)
+        x = result.samples[f"length_{name}"].to_numpy()
+        outside += int(((x < nominal - deviation) | (x > nominal + deviation)).sum())
+    if truncate:
+        assert outside == 0
+        assert (
+            "truncated at their specification limits"
+            in summary["settings"]["sampling_distributions"]
+        )
+    else:  # 4 inputs × 4000 samples × 0.27 %: about 43
+        assert 15 < outside < 80

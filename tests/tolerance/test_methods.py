@@ -271,3 +271,78 @@ def test_methods_are_registered_objects_taken_by_name_or_instance() -> None:
 def test_method_options_are_validated_at_construction(call, message: str) -> None:
     with pytest.raises(ConfigError, match=message):
         call()
+
+
+# --- normal inputs truncated at their limits (the default of the Monte Carlo) --------------------
+
+
+def _phi(z: float) -> float:
+    """Standard normal density."""
+    return math.exp(-0.5 * z * z) / math.sqrt(2.0 * math.pi)
+
+
+def _cdf(z: float) -> float:
+    """Standard normal distribution function."""
+    return 0.5 * (1.0 + math.erf(z / math.sqrt(2.0)))
+
+
+def _truncated_moments(mode: float, sigma: float, low: float, high: float) -> tuple[float, float]:
+    """Mean and standard deviation of a normal(mode, sigma) truncated to [low, high], from
+    the closed form (Johnson, Kotz & Balakrishnan, *Continuous Univariate Distributions*
+    vol. 1, 2nd ed., §10.1, eqs. 13.134–13.135), independent of scipy."""
+    a, b = (low - mode) / sigma, (high - mode) / sigma
+    z = _cdf(b) - _cdf(a)
+    mean = mode + sigma * (_phi(a) - _phi(b)) / z
+    variance = sigma**2 * (1.0 + (a * _phi(a) - b * _phi(b)) / z - ((_phi(a) - _phi(b)) / z) ** 2)
+    return mean, math.sqrt(variance)
+
+
+def _one_input(shift: float = 0.0) -> tuple[LinearModel, ToleranceSpec]:
+    spec = ToleranceSpec(
+        (QuantityTolerance("x", 10.0, Tolerance((9.9, 10.1), "normal", shift=shift)),)
+    )
+    return LinearModel(("x",), ((1.0,),)), spec
+
+
+@pytest.mark.parametrize("shift", [0.0, 0.04])
+def test_monte_carlo_truncates_normal_inputs_at_their_limits(shift: float) -> None:
+    """No sample outside the limits, and the samples' mean and σ are those of the truncated
+    normal (closed form), not of the untruncated one."""
+    model, spec = _one_input(shift)
+    n = 20_000
+    result = MonteCarlo(samples=n, seed=3).run(model, spec, backend=SERIAL)
+    x = result.x[:, 0]
+    assert result.settings["truncated_at_limits"] is True
+    assert x.min() >= 9.9 and x.max() <= 10.1
+    mean, std = _truncated_moments(10.0 + shift, 0.1 / 3.0, 9.9, 10.1)
+    # Sampling error: 4 standard errors of the mean and of the standard deviation.
+    assert x.mean() == pytest.approx(mean, abs=4 * std / math.sqrt(n))
+    assert x.std(ddof=1) == pytest.approx(std, abs=4 * std / math.sqrt(2 * n))
+    if shift == 0.0:  # ±3σ truncation narrows σ by the factor 0.9866 the docs quote
+        assert std / (0.1 / 3.0) == pytest.approx(0.9866, abs=5e-5)
+        assert x.std(ddof=1) < 0.1 / 3.0
+
+
+def test_monte_carlo_without_truncation_keeps_the_tails() -> None:
+    """truncate=False draws the plain normal: about 0.27 % of the samples beyond ±3σ."""
+    model, spec = _one_input()
+    n = 20_000
+    result = MonteCarlo(samples=n, seed=3, truncate=False).run(model, spec, backend=SERIAL)
+    x = result.x[:, 0]
+    outside = int(np.sum((x < 9.9) | (x > 10.1)))
+    expected = n * 2.0 * (1.0 - _cdf(3.0))  # 54
+    assert result.settings["truncated_at_limits"] is False
+    assert abs(outside - expected) < 4 * math.sqrt(expected)
+    assert x.std(ddof=1) == pytest.approx(0.1 / 3.0, rel=4 / math.sqrt(2 * n))
+
+
+def test_truncation_keeps_uniform_inputs_and_refuses_a_mean_outside_the_limits() -> None:
+    from jointplay.tolerance.methods import truncated_at_limits
+
+    uniform = ToleranceSpec((QuantityTolerance("u", 1.0, Tolerance((0.9, 1.1), "uniform")),))
+    assert truncated_at_limits(uniform) == uniform
+    _, shifted = _one_input(shift=0.2)  # mean 10.2, limits 9.9–10.1
+    with pytest.raises(ConfigError, match=r"process mean 10\.2 lies outside the limits"):
+        truncated_at_limits(shifted)
+    with pytest.raises(ConfigError, match="truncate must be True or False"):
+        MonteCarlo(truncate="yes")  # type: ignore[arg-type]

@@ -153,6 +153,15 @@ def design_command(
     seed: Annotated[
         int, typer.Option("--seed", help="Seed (the same for every scheme).", min=0)
     ] = 0,
+    truncate: Annotated[
+        bool,
+        typer.Option(
+            "--truncate/--no-truncate",
+            help="Draw each normal input (σ = a sixth of its tolerance band) from the normal "
+            "truncated at its limits, as parts outside them are rejected (default); "
+            "--no-truncate keeps the 0.27 % of samples beyond ±3σ.",
+        ),
+    ] = True,
     responses: Annotated[
         str,
         typer.Option(
@@ -200,6 +209,9 @@ def design_command(
     """Design study: every fit × length class through the dynamics; the cheapest that meets
     the requirements, its yield and relative cost.
 
+    Link lengths and radial clearances are sampled from normal distributions centred in
+    their limits, ±3σ at the limits, truncated at the limits (see --truncate).
+
     Writes DIR/design.parquet and DIR/design.csv (one row per scheme), DIR/samples.parquet,
     DIR/summary.json, PNG plots and DIR/report.html.
     """
@@ -239,6 +251,7 @@ def design_command(
             require,
             samples=samples,
             seed=seed,
+            truncate=truncate,
             confidence=confidence / 100.0,
             responses=kind,  # type: ignore[arg-type]
             cost=cost,

@@ -114,26 +114,54 @@ def design_section(
     report: HtmlReport, result: DesignResult, units: Mapping[str, str], images: Mapping[str, bytes]
 ) -> None:
     """The design study's section of an HTML report."""
+    from jointplay.tolerance.definitions import response_definition
+
     summary = result.summary()
     report.heading("Design: fit and length class", anchor="design")
     report.paragraph(summary["verdict"])
+    settings = result.settings
     report.bullets(
         [f"requirement: {r.text}" for r in result.requirements]
         + [
             f"confidence level: {100 * result.confidence:g} %",
-            f"responses: {result.responses}; samples per scheme: {result.settings.get('samples')}",
+            f"responses: {result.responses}; samples per scheme: {settings.get('samples')}",
         ]
     )
+    sampling = settings.get("sampling_distributions")
+    if sampling:
+        report.paragraph(f"Sampling: {sampling}.", css="note")
     if result.interrupted:
         report.paragraph("Interrupted: only the finished schemes are listed.", css="warn")
     table = result.table
     if len(table):
-        columns = ["scheme", "cost", "yield", "dpm", "feasible", "failed"]
-        shown = table[columns].copy()
-        for r in dict.fromkeys(q.response for q in result.requirements):
+        columns = {
+            "scheme": "scheme (fit, length class)",
+            "cost": "relative cost",
+            "yield": "yield (%)",
+            "dpm": "defects per million",
+            "feasible": "meets every requirement",
+            "failed": "failed samples",
+        }
+        shown = table[list(columns)].rename(columns=columns)
+        shown[columns["feasible"]] = table["feasible"].map({True: "yes", False: "no"})
+        for r in result.reported_responses:
             unit, scale = display(units.get(r, ""))
-            shown[f"{r} at conf. ({unit})"] = table[f"{r}_at_confidence"] * scale
-        report.table(shown.sort_values("cost"), caption="schemes by cost")
+            label = f"{r} at {100 * result.confidence:g} % ({unit})"
+            shown[label] = table[f"{r}_at_confidence"] * scale
+        report.table(
+            shown.sort_values(columns["cost"]),
+            caption="Schemes by cost",
+            text_columns=(0, 4),
+        )
+        report.heading("What each response means", level=3, anchor="design-definitions")
+        report.table(
+            [
+                [name, display(units.get(name, ""))[0], response_definition(name)]
+                for name in result.reported_responses
+            ],
+            ["response", "unit", "definition"],
+            text_columns=(0, 1, 2),
+        )
     for name, data in images.items():
         report.figure(data, name.removesuffix(".png").replace("_", " "))
 
@@ -223,13 +251,14 @@ def wear_section(report: HtmlReport, history: WearHistory, images: Mapping[str, 
         rows,
         headers=[
             "joint",
-            "c0 (µm)",
-            "c end (µm)",
-            "limit (µm)",
-            "growth (µm/h)",
+            "radial clearance at the start (µm)",
+            "radial clearance at the end (µm)",
+            "clearance limit (µm)",
+            "clearance growth (µm/h)",
             "life (h)",
             "life from",
         ],
+        text_columns=(0, 6),
     )
     for name, data in images.items():
         report.figure(data, name.removesuffix(".png").replace("_", " "))

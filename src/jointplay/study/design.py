@@ -53,7 +53,9 @@ from jointplay.model.mechanism import Mechanism, RevoluteJoint
 from jointplay.study.requirements import Requirement, parse_requirement
 from jointplay.tolerance import iso286, iso2768
 from jointplay.tolerance.cost import CostModel, fit_cost, length_class_cost
+from jointplay.tolerance.definitions import response_definitions
 from jointplay.tolerance.execution import NOT_RUN, OK, STATUS, Backend, run
+from jointplay.tolerance.methods import distribution_note, truncated_at_limits
 from jointplay.tolerance.responses import (
     RUNNING_RESPONSES,
     ResponseModel,
@@ -298,8 +300,15 @@ class DesignResult:
             "binding": self.binding,
             "interrupted": self.interrupted,
             "settings": dict(self.settings),
+            "response_definitions": response_definitions(self.reported_responses),
             "schemes": records,
         }
+
+    @property
+    def reported_responses(self) -> tuple[str, ...]:
+        """The responses the scheme table reports: those the requirements name, in order."""
+        names = [r.response for r in self.requirements]
+        return tuple(dict.fromkeys(names))
 
 
 def design_study(
@@ -320,6 +329,7 @@ def design_study(
     settle: int = DEFAULT_SETTLE,
     revolutions: float = 1.0,
     distribution: str = DEFAULT_DISTRIBUTION,
+    truncate: bool = True,
     backend: Backend | None = None,
     progress: bool = False,
 ) -> DesignResult:
@@ -343,6 +353,9 @@ def design_study(
         contact: dynamic: contact law (default the conventional IFM set).
         settle, revolutions: dynamic: start-up revolutions left out, analysed revolutions.
         distribution: distribution of every toleranced input.
+        truncate: draw normal inputs from the normal truncated at their limits (default:
+            out-of-tolerance parts are rejected at inspection;
+            :func:`jointplay.tolerance.methods.truncated_at_limits`), else untruncated.
         backend: where the samples run (default local processes).
         progress: show a progress bar.
 
@@ -417,7 +430,8 @@ def design_study(
             kinematic=kinematic_model(mechanism, lengths) if lengths and mixed else None,
         )
         order = list(range(len(candidates)))
-    blocks = [sample(specs[i], samples, seed).values for i in order]
+    drawn = [truncated_at_limits(specs[i]) if truncate else specs[i] for i in order]
+    blocks = [sample(spec, samples, seed).values for spec in drawn]
     outcome = run(model, np.vstack(blocks), backend=backend, progress=progress)
     response_names = tuple(model.response_names)
 
@@ -497,6 +511,8 @@ def design_study(
         "samples": samples,
         "seed": seed,
         "distribution": distribution,
+        "truncated_at_limits": bool(truncate),
+        "sampling_distributions": distribution_note(drawn[0], truncate) if drawn else "",
         "responses": responses,
         "cost_model": cost.describe(),
         "clearance_limit_m": clearance_limit,
