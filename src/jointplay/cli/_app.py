@@ -47,7 +47,7 @@ def _flags_show_no_metavar() -> None:
     def display_type_rich(self: Any, ctx: Any) -> str | None:
         if getattr(self, "is_flag", False) or getattr(self, "count", False):
             return None
-        return shown(self, ctx)  # type: ignore[no-any-return]
+        return shown(self, ctx)
 
     display_type_rich._flags_hidden = True  # type: ignore[attr-defined]
     TyperOption.display_type_rich = display_type_rich  # type: ignore[method-assign]

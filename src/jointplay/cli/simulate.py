@@ -337,7 +337,7 @@ def _slider_rows(result: Any) -> list[tuple[str, ...]]:
         return []
     running = result.running
     t = steps["t"].to_numpy()
-    rows = []
+    rows: list[tuple[str, ...]] = []
     windows = list(enumerate(running.windows, start=1))[running.settle :]
     for column in SLIDER_COLUMNS:
         values = steps[column].to_numpy()
