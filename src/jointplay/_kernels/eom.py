@@ -490,14 +490,60 @@ def evaluate(t: float, y: np.ndarray, model: EomModel, contact_out: np.ndarray):
     return acc, torque, contact_power, lam
 
 
-@njit(rhs_signature, cache=True)
-def rhs(t: float, y: np.ndarray, args: EomArgs) -> np.ndarray:
-    """ẏ for the state layout of the module docstring; allocates ẏ and nothing else when
-    every joint is clear (the paper's case)."""
-    model = unpack(args[0], args[1])
+#: Joint kinds of ``joint_int`` column 0 (as :mod:`jointplay.model.flat` numbers them).
+_REVOLUTE, _PRISMATIC = 0, 1
+
+
+@njit(cache=True)
+def quantities(
+    t: float, y: np.ndarray, model: EomModel, out: np.ndarray, penetration: np.ndarray
+) -> np.ndarray:
+    """The batch engine's quantities at one state, in QUANTITY ORDER; returns q̈.
+
+    ``out`` (P = 2 nb + nj + 1) receives ω_b (rad/s) and α_b (rad/s²) of every body, the
+    magnitude of the force transmitted by every joint (N: |F_N n + F_T t| for a clearance
+    joint; |λ| of its two rows for an ideal revolute joint, |λ| of its normal row for a
+    prismatic joint — as :func:`jointplay.dynamics.simulate._columns` reports them) and the
+    motor torque −λ_driver (N·m). ``penetration`` (nc) receives δ = |e| − c of every clearance
+    joint (m; negative while free). The same arithmetic as :func:`evaluate`.
+    """
+    n = model.mass.shape[0]
+    nb = n // 3
+    nc = model.clear_joint.shape[0]
+    active, joint_int = model.active, model.joint_int
+    nj = active.shape[0]
+    contacts = np.empty(7 * nc)
+    acc = model.gravity.copy()
+    add_contact_forces(y, model, acc, contacts)
+    lam = np.zeros(count_rows(active, model.driver))
+    torque = constrained_accelerations(t, y, model, acc, lam)
+    for b in range(nb):
+        out[b] = y[n + 3 * b + 2]
+        out[nb + b] = acc[3 * b + 2]
+    row = 0
+    for j in range(nj):
+        if active[j] == 1:
+            if joint_int[3 * j] == _REVOLUTE:
+                out[2 * nb + j] = np.hypot(lam[row], lam[row + 1])
+            else:
+                out[2 * nb + j] = abs(lam[row + 1])
+            row += 2
+        else:
+            for c in range(nc):
+                if model.clear_joint[c] == j:
+                    out[2 * nb + j] = np.hypot(contacts[7 * c], contacts[7 * c + 1])
+    out[2 * nb + nj] = torque
+    for c in range(nc):
+        penetration[c] = contacts[7 * c + 2]
+    return acc
+
+
+@njit(cache=True)
+def rhs_into(t: float, y: np.ndarray, model: EomModel, out: np.ndarray) -> None:
+    """:func:`rhs` writing ẏ into ``out`` (the batch engine's form: no allocation, the model
+    already unpacked); the same arithmetic."""
     gravity, driver = model.gravity, model.driver
     n = gravity.shape[0]
-    out = np.empty(y.shape[0])
     acc = out[n : 2 * n]
     for i in range(n):
         out[i] = y[n + i]
@@ -509,7 +555,16 @@ def rhs(t: float, y: np.ndarray, args: EomArgs) -> np.ndarray:
     out[2 * n] = torque * y[n + 3 * crank + 2] if crank >= 0 else 0.0
     for i in range(2 * n + 2, y.shape[0]):
         out[i] = 0.0
+
+
+@njit(rhs_signature, cache=True)
+def rhs(t: float, y: np.ndarray, args: EomArgs) -> np.ndarray:
+    """ẏ for the state layout of the module docstring; allocates ẏ and nothing else when
+    every joint is clear (the paper's case)."""
+    out = np.empty(y.shape[0])
+    rhs_into(t, y, unpack(args[0], args[1]), out)
     return out
+
 
 
 jacobian_signature = types.boolean(
