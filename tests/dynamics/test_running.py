@@ -149,7 +149,11 @@ def test_a_converged_peak_moves_less_than_a_thousandth_when_tightened(paper_four
 
 def test_no_warning_on_a_stiff_steel_joint_running_steadily(stiff_steady) -> None:
     levels = {(d.level, d.code) for d in stiff_steady.diagnostics}
-    assert not [code for level, code in levels if level == "warning"], levels
+    # The paper's four-bar's own transmission angle (36.9° at worst) is below the 40°
+    # guideline: a warning about its geometry, not about the joint.
+    assert ("warning", "transmission-angle-low") in levels
+    warnings = [code for level, code in levels if level == "warning"]
+    assert warnings == ["transmission-angle-low"], levels
     stats = stiff_steady.solver_stats
     assert max(stats["max_penetration_per_joint_m"].values()) < 21e-6
 

@@ -370,6 +370,7 @@ def _diagnose(
         dg.check_periodic(result_periodicity.verdict, result_periodicity.period, analysed)
     )
     findings.append(dg.check_energy(energy_residual))
+    findings.append(dg.check_transmission_angle(mechanism))
     return dg.collect(findings)
 
 
