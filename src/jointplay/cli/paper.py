@@ -7,6 +7,8 @@ stays fast.
 
 from __future__ import annotations
 
+import math
+import time
 from typing import Annotated
 
 import typer
@@ -17,11 +19,10 @@ from rich.progress import (
     Progress,
     TextColumn,
     TimeElapsedColumn,
-    TimeRemainingColumn,
 )
 
 from jointplay.cli._app import app
-from jointplay.cli._common import ForceOption, OutOption, provenance
+from jointplay.cli._common import ForceOption, OutOption, crank_speed, provenance
 from jointplay.errors import ConfigError
 
 
@@ -30,8 +31,13 @@ def paper_command(
     out: OutOption,
     force: ForceOption = False,
     rpm: Annotated[
-        float, typer.Option("--rpm", help="Crank speed, rev/min (the paper's 200).")
-    ] = 200.0,
+        str,
+        typer.Option(
+            "--rpm",
+            help="Crank speed with a unit, e.g. '200 rpm' (the paper's) or '20.9 rad/s'; "
+            "a bare number is refused.",
+        ),
+    ] = "200 rpm",
     revolutions: Annotated[
         float,
         typer.Option(
@@ -70,6 +76,21 @@ def paper_command(
             help="Revolutions of the steady runs compared with Table 7 (the last one is used).",
         ),
     ] = 3,
+    figure_format: Annotated[
+        str,
+        typer.Option(
+            "--figure-format",
+            help="png (embedded in report.html), or svg or pdf: each figure also written "
+            "in that format for print, linked from the report.",
+        ),
+    ] = "png",
+    animation: Annotated[
+        bool,
+        typer.Option(
+            "--animation/--no-animation",
+            help="Embed an animation of the running mechanism (pins' play magnified).",
+        ),
+    ] = True,
 ) -> None:
     """Reproduce the paper's study (Akhadkar et al.) and write OUT/report.html and OUT/results.json.
 
@@ -77,7 +98,9 @@ def paper_command(
     (tolerance corners), sensitivities, the comparison with the measured rocker speed (Table 7),
     and every quantitative claim of the paper beside jointplay's value.
     """
+    started = time.perf_counter()
     from jointplay.io.output import output_dir
+    from jointplay.report.figures import check_format
     from jointplay.report.paper import write_paper_report
     from jointplay.study.paper import PaperStudyOptions, run_paper_study
 
@@ -85,8 +108,9 @@ def paper_command(
         sources = {"both": ("paper", "computed"), "paper": ("paper",), "computed": ("computed",)}
         if ecs_source not in sources:
             raise ConfigError(f"--ecs-source must be both, paper or computed, got {ecs_source!r}")
-        if not (revolutions > 0 and rpm > 0):
-            raise ConfigError("--revolutions and --rpm must be > 0")
+        speed = crank_speed(rpm)
+        if not revolutions > 0:
+            raise ConfigError(f"--revolutions must be > 0, got {revolutions}")
         if experiment_revolutions < 1:
             raise ConfigError(
                 f"--experiment-revolutions must be >= 1, got {experiment_revolutions}"
@@ -95,8 +119,9 @@ def paper_command(
             raise ConfigError(f"--workers must be >= 1, got {workers}")
         if dask_scheduler is not None and workers is not None:
             raise ConfigError("--workers applies to local processes; the Dask cluster has its own")
+        check_format(figure_format)
         options = PaperStudyOptions(
-            rpm=rpm,
+            rpm=speed * 30.0 / math.pi,
             revolutions=revolutions,
             ecs_sources=sources[ecs_source],
             tolerance_source=sources[ecs_source][0],
@@ -109,22 +134,34 @@ def paper_command(
         console = Console(stderr=True)
         with Progress(
             TextColumn("[bold]paper study"),
-            BarColumn(),
+            BarColumn(bar_width=24),
             MofNCompleteColumn(),
             TimeElapsedColumn(),
-            TimeRemainingColumn(),
             TextColumn("{task.description}"),
             console=console,
             transient=False,
         ) as progress:
             task = progress.add_task("starting", total=None)
+            steps = {"total": 0}
 
             def report(label: str, done: int, total: int) -> None:
-                progress.update(task, completed=done, total=total, description=label)
+                # one step more than the study's: writing the report
+                steps["total"] = total + 1
+                progress.update(task, completed=done, total=total + 1, description=label)
 
-            study = run_paper_study(options, progress=report)
-        record = provenance(
-            {"options": {k: getattr(options, k) for k in options.__dataclass_fields__}}
-        )
-        write_paper_report(study, folder, record)
-    typer.echo(f"paper study written to {out}/report.html ({study.wall_s:.0f} s)")
+            study = run_paper_study(options, progress=report, animation=animation)
+            record = provenance(
+                {"options": {k: getattr(options, k) for k in options.__dataclass_fields__}}
+            )
+            progress.update(
+                task, description="writing the report: figures, tables and the animation"
+            )
+            writing = time.perf_counter()
+            write_paper_report(study, folder, record, figure_format=figure_format)
+            report_s = time.perf_counter() - writing
+            progress.update(task, completed=steps["total"], description="done")
+    total_s = time.perf_counter() - started
+    typer.echo(
+        f"paper study written to {out}/report.html in {total_s:.0f} s "
+        f"(simulations and analyses {study.wall_s:.0f} s, report {report_s:.0f} s)"
+    )

@@ -1,65 +1,112 @@
-"""A small builder for self-contained HTML reports (figures embedded as base64 PNG)."""
+"""A small builder for self-contained HTML reports (figures embedded as base64 data).
+
+The page reads at 1400 px without scrolling sideways: the body is at most 1100 px wide, every
+table sits in its own box that scrolls on its own if it must (``overflow-x: auto``), long
+words in cells wrap, and images shrink to the column. Headings with an anchor are listed in a
+table of contents at the top. Numbers in tables are written by the one number format of
+:mod:`jointplay.report.format`.
+"""
 
 from __future__ import annotations
 
 import base64
 import html
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
 import pandas as pd
+
+from jointplay.report.format import number
 
 _STYLE = """
 body { font-family: -apple-system, Segoe UI, Helvetica, Arial, sans-serif; margin: 2em auto;
        max-width: 1100px; color: #222; line-height: 1.45; padding: 0 1em; }
 h1 { border-bottom: 2px solid #444; padding-bottom: .2em; }
 h2 { margin-top: 2em; border-bottom: 1px solid #bbb; }
-table { border-collapse: collapse; margin: .8em 0 1.4em; font-size: 0.88em; }
+h3 { margin-top: 1.6em; }
+nav.toc { background: #f7f7f7; border: 1px solid #ddd; padding: .4em 1.2em; font-size: .92em; }
+nav.toc ol { margin: .3em 0; padding-left: 1.4em; } nav.toc ol ol { font-size: .95em; }
+.scroll { max-width: 100%; overflow-x: auto; margin: .8em 0 1.4em; }
+table { border-collapse: collapse; font-size: 0.88em; }
 th, td { border: 1px solid #ccc; padding: .25em .6em; text-align: right; vertical-align: top; }
-th { background: #f0f0f0; }
+td { white-space: nowrap; }
+th { background: #f0f0f0; font-weight: 600; }
 td.text, th.text { text-align: left; }
+td.text { white-space: normal; overflow-wrap: anywhere; }
+tr.group td { background: #eef3f8; text-align: left; white-space: normal; }
 caption { caption-side: top; text-align: left; font-weight: bold; padding-bottom: .3em; }
+.tablenote { font-size: 0.85em; color: #555; margin: -1em 0 1.4em; }
 figure { margin: 1em 0 2em; }
 figcaption { font-size: 0.88em; color: #555; }
-img { max-width: 100%; }
+img, video { max-width: 100%; height: auto; }
 .note { background: #fff8e0; border-left: 4px solid #e0b000; padding: .5em 1em; }
+.summary { background: #eef6ee; border-left: 4px solid #3a8a3a; padding: .3em 1em; }
 .small { font-size: 0.85em; color: #555; }
 code, pre { background: #f5f5f5; }
 pre { padding: .6em; overflow-x: auto; font-size: 0.82em; }
+.cols { display: flex; flex-wrap: wrap; gap: 0 2em; align-items: flex-start; }
+.cols > div { max-width: 100%; }
+details { margin: 1em 0; } details > summary { cursor: pointer; font-weight: 600; color: #225; }
+dl.defs dt { font-weight: 600; } dl.defs dd { margin: 0 0 .4em 1.4em; }
 """
 
 
 def _fmt(value: Any) -> str:
-    if isinstance(value, float):
-        if value != value:  # NaN
-            return "—"
-        magnitude = abs(value)
-        if magnitude != 0 and (magnitude >= 1e6 or magnitude < 1e-3):
-            return f"{value:.4g}"
-        return f"{value:.4g}" if magnitude < 100 else f"{value:,.1f}"
-    if value is None:
-        return "—"
-    return str(value)
+    """A table cell: numbers in the report's one format, text unchanged."""
+    return number(value)
+
+
+def _image_mime(data: bytes) -> str:
+    if data.startswith(b"GIF8"):
+        return "image/gif"
+    if data.lstrip().startswith((b"<?xml", b"<svg")):
+        return "image/svg+xml"
+    if data.startswith(b"\xff\xd8"):
+        return "image/jpeg"
+    return "image/png"
 
 
 class HtmlReport:
-    """Collects headings, text, tables and figures and renders one self-contained page."""
+    """Collects headings, text, tables and figures and renders one self-contained page.
 
-    def __init__(self, title: str) -> None:
+    Args:
+        title: the page title (``<h1>`` and ``<title>``).
+        toc: list the anchored headings (``heading(..., anchor=...)``) in a table of contents
+            under the title (only drawn when there are at least two).
+    """
+
+    def __init__(self, title: str, *, toc: bool = True) -> None:
         self.title = title
+        self.toc = toc
         self.parts: list[str] = []
+        self._headings: list[tuple[int, str, str]] = []
 
     def heading(self, text: str, level: int = 2, anchor: str | None = None) -> None:
         ident = f' id="{html.escape(anchor)}"' if anchor else ""
+        if anchor:
+            self._headings.append((level, anchor, text))
         self.parts.append(f"<h{level}{ident}>{html.escape(text)}</h{level}>")
 
     def paragraph(self, text: str, css: str | None = None) -> None:
         klass = f' class="{css}"' if css else ""
         self.parts.append(f"<p{klass}>{html.escape(text)}</p>")
 
-    def bullets(self, items: Iterable[str]) -> None:
-        self.parts.append("<ul>" + "".join(f"<li>{html.escape(i)}</li>" for i in items) + "</ul>")
+    def bullets(self, items: Iterable[str], css: str | None = None) -> None:
+        klass = f' class="{css}"' if css else ""
+        self.parts.append(
+            f"<ul{klass}>" + "".join(f"<li>{html.escape(i)}</li>" for i in items) + "</ul>"
+        )
+
+    def definitions(self, items: Mapping[str, str] | Iterable[tuple[str, str]]) -> None:
+        """A definition list: each term (e.g. a response) with what it means."""
+        pairs = items.items() if isinstance(items, Mapping) else items
+        self.parts.append(
+            '<dl class="defs">'
+            + "".join(f"<dt>{html.escape(t)}</dt><dd>{html.escape(d)}</dd>" for t, d in pairs)
+            + "</dl>"
+        )
 
     def preformatted(self, text: str) -> None:
         self.parts.append(f"<pre>{html.escape(text)}</pre>")
@@ -70,16 +117,44 @@ class HtmlReport:
         headers: Sequence[str] | None = None,
         caption: str | None = None,
         text_columns: Sequence[int] = (0,),
+        *,
+        note: str | None = None,
+        groups: Sequence[tuple[int, str] | tuple[int, str, str]] = (),
+        widths: Sequence[str | None] = (),
     ) -> None:
-        """A table; ``text_columns`` are left-aligned (the others hold numbers)."""
+        """A table in its own horizontally scrolling box.
+
+        Args:
+            rows: a DataFrame (its columns are the headers unless ``headers`` is given) or
+                a sequence of row tuples.
+            headers: column headers, in words with units.
+            caption: the table's title.
+            text_columns: left-aligned columns (the others hold numbers, written by
+                :func:`jointplay.report.format.number`).
+            note: a sentence under the table (e.g. what its responses mean).
+            groups: ``(row index, title)`` or ``(row index, title, detail)``: a full-width
+                group row before that row, its title in bold and the detail (e.g. what the
+                group's rows share) after it.
+            widths: CSS widths of the first columns (e.g. ``"25%"``; ``None``: automatic).
+        """
         if isinstance(rows, pd.DataFrame):
-            headers = [str(c) for c in rows.columns]
-            body = rows.itertuples(index=False, name=None)
+            headers = list(headers) if headers is not None else [str(c) for c in rows.columns]
+            body = list(rows.itertuples(index=False, name=None))
         else:
-            body = iter(list(rows))
-        out = ["<table>"]
+            body = list(rows)
+        width = len(headers) if headers else max((len(r) for r in body), default=1)
+        starts = {g[0]: (g[1], g[2] if len(g) > 2 else "") for g in groups}
+        out = ['<div class="scroll"><table>']
         if caption:
             out.append(f"<caption>{html.escape(caption)}</caption>")
+        if widths:
+            out.append(
+                "<colgroup>"
+                + "".join(
+                    f'<col style="width:{html.escape(w)}"/>' if w else "<col/>" for w in widths
+                )
+                + "</colgroup>"
+            )
         if headers:
             out.append(
                 "<tr>"
@@ -91,29 +166,115 @@ class HtmlReport:
                 )
                 + "</tr>"
             )
-        for row in body:
+        for index, row in enumerate(body):
+            if index in starts:
+                title, detail = starts[index]
+                more = f" <span>{html.escape(detail)}</span>" if detail else ""
+                out.append(
+                    f'<tr class="group"><td colspan="{width}"><strong>{html.escape(title)}'
+                    f"</strong>{more}</td></tr>"
+                )
             cells = []
             for i, value in enumerate(row):
                 css = ' class="text"' if i in text_columns else ""
                 cells.append(f"<td{css}>{html.escape(_fmt(value))}</td>")
             out.append("<tr>" + "".join(cells) + "</tr>")
-        out.append("</table>")
+        out.append("</table></div>")
+        if note:
+            out.append(f'<p class="tablenote">{html.escape(note)}</p>')
         self.parts.append("".join(out))
 
-    def figure(self, image: Path | bytes, caption: str = "") -> None:
+    def figure(
+        self,
+        image: Path | bytes,
+        caption: str = "",
+        *,
+        vector: Path | None = None,
+        link_base: Path | None = None,
+    ) -> None:
+        """An embedded image (PNG, GIF, SVG or JPEG: the type is read from the data).
+
+        Args:
+            image: the image file or its bytes.
+            caption: what the figure shows, in words.
+            vector: an SVG or PDF copy of the figure for publication: linked under the
+                caption (relative to ``link_base``, the folder of the page).
+            link_base: the folder the page is written to (for ``vector``'s link).
+        """
         data = image.read_bytes() if isinstance(image, Path) else image
+        mime = _image_mime(data)
+        encoded = base64.b64encode(data).decode("ascii")
+        link = ""
+        if vector is not None:
+            href = vector.relative_to(link_base).as_posix() if link_base else vector.name
+            kind = vector.suffix.lstrip(".").upper()
+            link = f' <a href="{html.escape(href)}">{kind} version for print</a>'
+        self.parts.append(
+            f'<figure><img alt="{html.escape(caption)}" src="data:{mime};base64,{encoded}"/>'
+            f"<figcaption>{html.escape(caption)}{link}</figcaption></figure>"
+        )
+
+    def video(self, data: bytes, caption: str = "", *, mime: str = "video/mp4") -> None:
+        """An embedded video that loops (e.g. an MP4 animation)."""
         encoded = base64.b64encode(data).decode("ascii")
         self.parts.append(
-            f'<figure><img alt="{html.escape(caption)}" src="data:image/png;base64,{encoded}"/>'
-            f"<figcaption>{html.escape(caption)}</figcaption></figure>"
+            f'<figure><video controls autoplay loop muted playsinline src="data:{mime};base64,'
+            f'{encoded}"></video><figcaption>{html.escape(caption)}</figcaption></figure>'
         )
+
+    @contextmanager
+    def details(self, summary: str) -> Iterator[None]:
+        """What is added inside the ``with`` block is folded under ``summary`` (closed until
+        the reader opens it): for material a reader may skip."""
+        self.parts.append(f"<details><summary>{html.escape(summary)}</summary>")
+        try:
+            yield
+        finally:
+            self.parts.append("</details>")
+
+    @contextmanager
+    def side_by_side(self) -> Iterator[None]:
+        """What is added inside the ``with`` block is laid out in a row that wraps (e.g. two
+        narrow tables beside each other)."""
+        self.parts.append('<div class="cols">')
+        try:
+            yield
+        finally:
+            self.parts.append("</div>")
+
+    def raw(self, fragment: str) -> None:
+        """Trusted HTML written by jointplay itself (never user text)."""
+        self.parts.append(fragment)
+
+    def _contents(self) -> str:
+        if not self.toc or len(self._headings) < 2:
+            return ""
+        out = ['<nav class="toc"><strong>Contents</strong><ol>']
+        open_sub = False
+        for level, anchor, text in self._headings:
+            link = f'<a href="#{html.escape(anchor)}">{html.escape(text)}</a>'
+            if level <= 2:
+                if open_sub:
+                    out.append("</ol></li>")
+                    open_sub = False
+                elif len(out) > 1:
+                    out.append("</li>")
+                out.append(f"<li>{link}")
+            else:
+                if not open_sub:
+                    out.append("<ol>")
+                    open_sub = True
+                out.append(f"<li>{link}</li>")
+        out.append("</ol></li></ol></nav>" if open_sub else "</li></ol></nav>")
+        return "".join(out)
 
     def render(self) -> str:
         body = "\n".join(self.parts)
         return (
             '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8"/>'
+            '<meta name="viewport" content="width=device-width, initial-scale=1"/>'
             f"<title>{html.escape(self.title)}</title><style>{_STYLE}</style></head>"
-            f"<body><h1>{html.escape(self.title)}</h1>\n{body}\n</body></html>\n"
+            f"<body><h1>{html.escape(self.title)}</h1>\n{self._contents()}\n{body}\n</body></html>\n"
         )
 
     def write(self, path: Path) -> Path:

@@ -8,6 +8,8 @@ from pathlib import Path
 import numpy as np
 
 from jointplay.report._mpl import pyplot
+from jointplay.report.figures import SERIES_COLOURS, check_format, save
+from jointplay.report.plots import symbol
 
 #: Quantity groups of the per-revolution figure, with their axis labels.
 GROUPS = (
@@ -26,6 +28,7 @@ def poincare_plot(
     path: Path,
     *,
     title: str = "",
+    figure_format: str = "png",
 ) -> Path:
     """The once-per-revolution section of each pin's eccentricity, in units of the clearance.
 
@@ -35,8 +38,10 @@ def poincare_plot(
         joints: the clearance joints.
         verdict: the periodicity verdict, shown in the title.
         path: the PNG to write.
+        figure_format: ``"png"``, or ``"svg"``/``"pdf"`` written beside the PNG.
     """
     plt = pyplot()
+    check_format(figure_format)
     count = max(len(joints), 1)
     fig, axes = plt.subplots(1, count, figsize=(3.2 * count, 3.4), squeeze=False)
     circle = np.linspace(0.0, 2.0 * np.pi, 200)
@@ -53,9 +58,7 @@ def poincare_plot(
         ax.tick_params(labelsize=8)
     fig.suptitle(f"{title} Poincaré section once per revolution: {verdict}".strip(), fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save(fig, path, figure_format, dpi=110)[0]
 
 
 def per_revolution_plot(
@@ -64,6 +67,7 @@ def per_revolution_plot(
     path: Path,
     *,
     title: str = "",
+    figure_format: str = "png",
 ) -> Path:
     """Each quantity's peak in every analysed revolution, grouped by kind.
 
@@ -72,8 +76,10 @@ def per_revolution_plot(
         first_revolution: the number of the first analysed revolution (1 = the first
             simulated one).
         path: the PNG to write.
+        figure_format: ``"png"``, or ``"svg"``/``"pdf"`` written beside the PNG.
     """
     plt = pyplot()
+    check_format(figure_format)
     groups = [
         (prefix, label, [q for q in per_revolution if q.startswith(prefix)])
         for prefix, label in GROUPS
@@ -83,10 +89,11 @@ def per_revolution_plot(
         len(groups), 1, figsize=(7.0, 2.2 * len(groups)), sharex=True, squeeze=False
     )
     for ax, (_, label, names) in zip(axes[:, 0], groups, strict=True):
-        for name in names:
+        for k, name in enumerate(names):
             values = np.asarray(per_revolution[name], dtype=float)
             numbers = first_revolution + np.arange(values.size)
-            ax.plot(numbers, values, marker="o", ms=3, lw=1, label=name)
+            ax.plot(numbers, values, marker="o", ms=3, lw=1, label=symbol(name),
+                    color=SERIES_COLOURS[k % len(SERIES_COLOURS)])  # fmt: skip
         ax.set_ylabel(label, fontsize=8)
         ax.legend(fontsize=7, ncol=4, loc="upper right")
         ax.tick_params(labelsize=8)
@@ -94,6 +101,4 @@ def per_revolution_plot(
     axes[-1, 0].set_xlabel("crank revolution")
     fig.suptitle(f"{title} peaks per revolution".strip(), fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save(fig, path, figure_format, dpi=110)[0]

@@ -35,7 +35,7 @@ from jointplay.contact.ecs import EcsConventions
 from jointplay.dynamics.cycles import DEFAULT_SETTLE
 from jointplay.dynamics.nominal import nominal_analysis
 from jointplay.dynamics.setup import clearance_joints
-from jointplay.dynamics.simulate import SolverOptions, Start, simulate
+from jointplay.dynamics.simulate import SimulationResult, SolverOptions, Start, simulate
 from jointplay.errors import JointplayError
 from jointplay.io.config import load_preset
 from jointplay.io.measurements import paper_table7
@@ -68,6 +68,10 @@ TRACE_COLUMNS = (
     "F_O4",
     "torque",
 )
+#: Crank angle after the start shown as the start-up in the report's figures, deg.
+STARTUP_PLOT_DEG = 30.0
+#: Rows a kept trace is thinned to (each column's extremes kept; see :func:`decimate`).
+TRACE_ROWS = 6000
 
 
 @dataclass(frozen=True)
@@ -124,6 +128,11 @@ class SimTask:
     start: str = "rest"
     settle: int = 0
 
+    @property
+    def label(self) -> str:
+        """What this simulation is, in words (for progress lines and tables)."""
+        return task_label(self.key, self.method, self.ecs_source)
+
 
 @dataclass(frozen=True)
 class SimOutcome:
@@ -144,6 +153,45 @@ class SimOutcome:
 
     def peak(self, key: str) -> float:
         return float(self.summary["peaks"][key]["value"]) if self.summary else math.nan
+
+
+def method_words(method: str, ecs_source: str = "-") -> str:
+    """A method of Table 2 and its parameter source in words: "IFM with spherical ECS
+    (paper's values)", "RM, conventional parameters"."""
+    spec = METHODS.get(method)
+    if spec is None:
+        return method
+    if not spec.uses_ecs:
+        return f"{spec.family}, conventional parameters"
+    source = {"paper": "paper's values", "computed": "our computed values"}.get(
+        ecs_source, ecs_source
+    )
+    return f"{spec.family} with {spec.parameters} ECS ({source})"
+
+
+def corner_words(signs: str) -> str:
+    """A length corner such as ``+-+-`` in words (crank, coupler, rocker, ground order)."""
+    return ", ".join(
+        f"{name} {'upper' if sign == '+' else 'lower'}"
+        for name, sign in zip(LENGTHS, signs, strict=True)
+    )
+
+
+def task_label(key: str, method: str, ecs_source: str) -> str:
+    """The simulation of ``key`` in words: what runs, from which start, with which lengths."""
+    kind, _, rest = key.partition("/")
+    words = method_words(method, ecs_source)
+    if kind == "method":
+        return f"{words}, from rest, basic lengths"
+    if kind == "steady":
+        return f"{words}, steady start ({DEFAULT_SETTLE} revolutions to settle, then one analysed)"
+    if kind == "corner":
+        return f"{words}, from rest, lengths at the corner {corner_words(rest)}"
+    if kind == "sensitivity":
+        return f"{words}, from rest, the {rest} at its upper limit"
+    if kind == "cylindrical":
+        return f"{words}, from rest, every length at its {rest} limit"
+    return f"{words} ({key})"
 
 
 def paper_mechanism(rpm: float = 200.0) -> Mechanism:
@@ -186,17 +234,29 @@ def simulate_task(shared: None, task: SimTask) -> SimOutcome:
             time.perf_counter() - wall,
         )
     steps = result.steps
-    start = steps["crank_deg"].iloc[0]
-    window = steps[steps["crank_deg"] - start <= task.startup_deg]
+    turned = steps["crank_deg"] - steps["crank_deg"].iloc[0]
+    window = steps[turned <= task.startup_deg]
     startup = {key: float(window[key].abs().max()) for key in PEAK_KEYS}
     # The same peaks seen at a plotting resolution (every 0.5° of crank, as the time series):
     # how much of a peak survives output sampling, as in a post-processor's curves.
     sampled = {key: float(result.timeseries[key].abs().max()) for key in PEAK_KEYS}
     trace = orbits = None
     if task.keep_trace:
-        trace = decimate(steps[list(TRACE_COLUMNS)], 6000)
         orbit_columns = [c for j in JOINTS for c in (f"ex_{j}", f"ey_{j}")]
-        orbits = decimate(steps[orbit_columns], 6000)
+        if task.settle:  # the analysed revolutions only: the start-up is left to settle
+            steps = steps[turned >= 360.0 * task.settle]
+            trace = decimate(steps[list(TRACE_COLUMNS)], TRACE_ROWS)
+            orbits = decimate(steps[orbit_columns], TRACE_ROWS)
+        else:  # the start-up window at full detail, the rest of the run beside it
+            early = (turned <= STARTUP_PLOT_DEG).to_numpy()
+            trace = pd.concat(
+                [
+                    decimate(steps.loc[early, list(TRACE_COLUMNS)], TRACE_ROWS),
+                    decimate(steps.loc[~early, list(TRACE_COLUMNS)], TRACE_ROWS),
+                ],
+                ignore_index=True,
+            )
+            orbits = decimate(steps[orbit_columns], TRACE_ROWS)
     return SimOutcome(
         task, result.summary(), startup, sampled, trace, orbits, None, time.perf_counter() - wall
     )
@@ -220,6 +280,12 @@ def decimate(table: pd.DataFrame, target: int) -> pd.DataFrame:
     return table.iloc[sorted(keep)].reset_index(drop=True)
 
 
+def execution_order(tasks: Sequence[SimTask]) -> list[SimTask]:
+    """The order the simulations are handed to the workers: longest first, so that the slow
+    cylindrical runs do not end up last on one worker."""
+    return sorted(tasks, key=lambda t: "cylindrical" not in t.method)
+
+
 def run_simulations(
     tasks: Sequence[SimTask],
     backend: Backend,
@@ -234,8 +300,7 @@ def run_simulations(
     Raises:
         KeyboardInterrupt: the run was interrupted (Ctrl-C); finished simulations are dropped.
     """
-    # Longest first, so the slow cylindrical runs do not end up last on one worker.
-    ordered = sorted(tasks, key=lambda t: "cylindrical" not in t.method)
+    ordered = execution_order(tasks)
 
     def done(_index: int, outcome: SimOutcome) -> None:
         if progress:
@@ -300,6 +365,7 @@ def plan(options: PaperStudyOptions) -> list[SimTask]:
                 1.0,
                 options.rpm,
                 options.startup_deg,
+                keep_trace=True,
                 start="steady",
                 settle=DEFAULT_SETTLE,
             )
@@ -343,6 +409,9 @@ class PaperStudy:
     experiment: MethodsComparison | None
     wall_s: float
     extra: dict[str, Any] = field(default_factory=dict)
+    #: The running mechanism of the tolerance method (steady start, settled), simulated in
+    #: this process for the report's animation (``None``: not asked for, or it failed).
+    running_example: SimulationResult | None = None
 
     def outcome(self, key: str) -> SimOutcome:
         return self.outcomes[key]
@@ -357,27 +426,36 @@ def run_paper_study(
     *,
     progress: Callable[[str, int, int], None] | None = None,
     experiment: bool = True,
+    animation: bool = False,
 ) -> PaperStudy:
-    """Run the whole study; ``progress(label, done, total)`` is called after each piece."""
+    """Run the whole study.
+
+    ``progress(label, done, total)`` is called when each piece starts, with ``label`` naming
+    in words what runs now (for the simulations: the ones the workers are running) and
+    ``done`` the pieces finished; a last call with ``done == total`` says the study is done.
+    ``animation``: also simulate the running mechanism of the tolerance method in this
+    process (:attr:`PaperStudy.running_example`), for the report's animation.
+    """
     options = options or PaperStudyOptions()
     wall = time.perf_counter()
     mechanism = paper_mechanism(options.rpm)
     tasks = plan(options)
-    total = len(tasks) + 3 + (1 if experiment else 0)
+    total = len(tasks) + 4 + (1 if experiment else 0) + (1 if animation else 0)
     done = 0
 
-    def tick(label: str) -> None:
+    def now(label: str, finished: int = 0) -> None:
         nonlocal done
-        done += 1
+        done += finished
         if progress:
             progress(label, done, total)
 
+    now("nominal kinematics and inverse dynamics (ideal joints)")
     nominal = nominal_analysis(mechanism, step_deg=0.1)
-    tick("nominal kinematics and inverse dynamics")
+    now("ECS contact parameters (eqs. 9-13) and their crank-speed sweep", 1)
     conventions = EcsConventions()
     ecs = ecs_analysis(mechanism, conventions, nominal=nominal)
     sweep = ecs_sweep(mechanism, list(range(50, 501, 50)), conventions)
-    tick("ECS contact parameters and crank-speed sweep")
+    now("compiling the simulation kernels (the first run only; cached afterwards)", 1)
     # Compile (or load) the kernels once here, so worker processes find them in the cache.
     warm = clearance_joints(
         mechanism,
@@ -386,10 +464,29 @@ def run_paper_study(
         law=method_law("ifm-conventional", mechanism)[0],
     )
     simulate(mechanism, warm, revolutions=0.002)
-    outcomes = run_simulations(tasks, options.backend, lambda o: tick(o.task.key))
+    ordered = execution_order(tasks)
+    finished: set[str] = set()
+    at_once = options.workers if options.scheduler is None else 1
+
+    def running(finished_now: int) -> None:
+        pending = [t for t in ordered if t.key not in finished]
+        if not pending:
+            now("simulations done", finished_now)
+            return
+        more = min(at_once, len(pending)) - 1
+        also = f" (and {more} more at once)" if more > 0 else ""
+        now(f"simulating {pending[0].label}{also}", finished_now)
+
+    def arrived(outcome: SimOutcome) -> None:
+        finished.add(outcome.task.key)
+        running(1)
+
+    running(1)
+    outcomes = run_simulations(tasks, options.backend, arrived)
     experiment_result = None
     explained: dict[str, Any] | None = None
     if experiment:
+        now("comparing the steady rocker speed with the measurements (Table 7)")
         experiment_result = compare_methods(
             paper_table7(),
             mechanism,
@@ -400,10 +497,18 @@ def run_paper_study(
         )
         # Which crank speed (and phase) makes the nominal model match each column.
         explained = explain_table7(mechanism)
-        tick("comparison with the experiment (Table 7)")
+    now("nominal vs actual mechanism and the sensitivities", 1 if experiment else 0)
     length_cases = _length_cases(mechanism, outcomes, options)
     sensitivities = _sensitivities(mechanism, outcomes, options)
-    tick("nominal vs actual and sensitivities")
+    example = None
+    if animation:
+        now(
+            f"simulating {method_words(options.tolerance_method, options.tolerance_source)}, "
+            "running steadily, for the animation",
+            1,
+        )
+        example = running_example(mechanism, options)
+    now("study done", 1)
     return PaperStudy(
         options=options,
         mechanism=mechanism,
@@ -422,7 +527,25 @@ def run_paper_study(
         experiment=experiment_result,
         wall_s=time.perf_counter() - wall,
         extra={"configuration": mechanism_summary(mechanism), "table7_explained": explained},
+        running_example=example,
     )
+
+
+def running_example(mechanism: Mechanism, options: PaperStudyOptions) -> SimulationResult | None:
+    """The tolerance method's mechanism running steadily: started on the nominal motion,
+    :data:`~jointplay.dynamics.cycles.DEFAULT_SETTLE` revolutions to settle, one more
+    simulated (``None`` if the simulation fails: the report then goes without it)."""
+    try:
+        law, _ = method_law(
+            options.tolerance_method, mechanism, ecs_source=options.tolerance_source
+        )
+        joints = clearance_joints(mechanism, list(JOINTS), clearance=PAPER_CLEARANCE, law=law)
+        result = simulate(
+            mechanism, joints, revolutions=1.0, settle=DEFAULT_SETTLE, start=Start("steady")
+        )
+    except JointplayError:
+        return None
+    return result if result.success else None
 
 
 def _kinematic_peaks(mechanism: Mechanism, lengths: dict[str, float]) -> dict[str, float]:
