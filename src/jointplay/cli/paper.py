@@ -119,7 +119,7 @@ def paper_command(
             raise ConfigError(f"--workers must be >= 1, got {workers}")
         if dask_scheduler is not None and workers is not None:
             raise ConfigError("--workers applies to local processes; the Dask cluster has its own")
-        check_format(figure_format)
+        check_format(figure_format, "--figure-format")
         options = PaperStudyOptions(
             rpm=speed * 30.0 / math.pi,
             revolutions=revolutions,

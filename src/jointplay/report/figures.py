@@ -52,15 +52,19 @@ NOMINAL = {"color": "black", "linestyle": "--", "linewidth": 1.0}
 THIN_BINS = 1000
 
 
-def check_format(figure_format: str) -> str:
+def check_format(figure_format: str, field: str = "figure format") -> str:
     """``figure_format`` if it is one of :data:`FIGURE_FORMATS`.
+
+    Args:
+        figure_format: the format asked for.
+        field: its name in the message (e.g. the option ``--figure-format``).
 
     Raises:
         ConfigError: another format.
     """
     if figure_format not in FIGURE_FORMATS:
         raise ConfigError(
-            f"figure format must be one of {', '.join(FIGURE_FORMATS)}, got {figure_format!r}"
+            f"{field} must be one of {', '.join(FIGURE_FORMATS)}, got {figure_format!r}"
         )
     return figure_format
 

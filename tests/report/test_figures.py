@@ -1,0 +1,83 @@
+"""What every figure shares: thinning that keeps every extreme, the palette, the file formats."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from jointplay.errors import ConfigError
+from jointplay.report.figures import (
+    METHOD_COLOURS,
+    check_format,
+    save,
+    thin,
+    tick_label,
+)
+from jointplay.study.methods import METHODS
+
+
+def test_thin_keeps_every_extreme_and_the_order() -> None:
+    rng = np.random.default_rng(3)
+    x = np.sort(rng.uniform(0.0, 360.0, 200_000))
+    y = np.sin(np.radians(x)) + 0.01 * rng.standard_normal(x.size)
+    spikes = rng.choice(x.size, 25, replace=False)
+    y[spikes] += rng.choice([-50.0, 50.0], 25)  # start-up impacts: one sample wide
+    tx, ty = thin(x, y, bins=500)
+    assert tx.size <= 3 * 500 + 1
+    assert np.all(np.diff(tx) >= 0)  # still a line: the order kept
+    assert ty.max() == y.max() and ty.min() == y.min()
+    assert set(spikes) <= set(np.flatnonzero(np.isin(x, tx)))  # every spike survives
+    # every column of the x range keeps its own smallest and largest value
+    columns = np.minimum(((x - x[0]) / (x[-1] - x[0]) * 500).astype(int), 499)
+    kept = np.minimum(((tx - x[0]) / (x[-1] - x[0]) * 500).astype(int), 499)
+    for c in rng.choice(500, 40, replace=False):
+        assert ty[kept == c].max() == y[columns == c].max()
+        assert ty[kept == c].min() == y[columns == c].min()
+
+
+def test_thin_leaves_short_lines_alone_and_ignores_nans() -> None:
+    x = np.arange(10.0)
+    assert np.array_equal(thin(x, x**2)[1], x**2)
+    long_x = np.arange(10_000.0)
+    y = np.cos(long_x / 100)
+    y[::7] = np.nan
+    _, ty = thin(long_x, y, bins=100)
+    assert np.nanmax(ty) == np.nanmax(y) and np.nanmin(ty) == np.nanmin(y)
+
+
+def test_every_method_has_its_own_colour() -> None:
+    assert set(METHOD_COLOURS) == set(METHODS)
+    assert len(set(METHOD_COLOURS.values())) == len(METHODS)
+
+
+def test_formats_png_always_and_a_print_copy_on_request(tmp_path) -> None:
+    from jointplay.report._mpl import pyplot
+
+    plt = pyplot()
+    for fmt, expected in (
+        ("png", ["f.png"]),
+        ("svg", ["f.png", "f.svg"]),
+        ("pdf", ["f.png", "f.pdf"]),
+    ):
+        fig, ax = plt.subplots(figsize=(2, 1))
+        ax.plot([0, 1], [0, 1])
+        written = save(fig, tmp_path / "f.png", fmt)
+        assert [p.name for p in written] == expected
+        assert all(p.stat().st_size > 0 for p in written)
+    with pytest.raises(ConfigError, match="png, svg, pdf"):
+        check_format("bmp")
+
+
+@pytest.mark.parametrize(
+    ("value", "label"),
+    [
+        (0.0, "0"),
+        (-3000.0, "-3,000"),
+        (0.25, "0.25"),
+        (2.5e8, "2.5×10⁸"),
+        (-6e4, "-60,000"),
+        (1e-4, "1×10⁻⁴"),
+    ],
+)
+def test_tick_labels_carry_their_magnitude(value: float, label: str) -> None:
+    assert tick_label(value) == label
