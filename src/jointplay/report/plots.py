@@ -26,6 +26,7 @@ from jointplay.report.figures import (
     save,
     style,
     thin,
+    tick_formatter,
 )
 from jointplay.study.published import PAPER_PUBLISHED
 
@@ -88,6 +89,7 @@ def line_plot(
             )
         ax.set_xlabel(xlabel)
         ax.set_ylabel(ylabel)
+        ax.yaxis.set_major_formatter(tick_formatter())
         ax.set_title(title)
         if series or overlays:
             ax.legend(loc="best")
@@ -322,6 +324,7 @@ def _time_figure(
                         label=f"{words} nominal",
                     )
             ax.set_xlabel("crank angle (deg)")
+            ax.yaxis.set_major_formatter(tick_formatter())
             if label:
                 ax.set_title(label, fontsize=9)
         axes[0, 0].set_ylabel(ylabel)
