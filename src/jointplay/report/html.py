@@ -46,8 +46,9 @@ img, video { max-width: 100%; height: auto; }
 .small { font-size: 0.85em; color: #555; }
 code, pre { background: #f5f5f5; }
 pre { padding: .6em; overflow-x: auto; font-size: 0.82em; }
-.cols { display: flex; flex-wrap: wrap; gap: 0 2em; align-items: flex-start; }
-.cols > div { max-width: 100%; }
+.cols { display: flex; flex-wrap: wrap; gap: 0 1.2em; align-items: flex-start; }
+.cols table { font-size: 0.8em; }
+.cols > div { max-width: 100%; min-width: 0; }
 details { margin: 1em 0; } details > summary { cursor: pointer; font-weight: 600; color: #225; }
 dl.defs dt { font-weight: 600; } dl.defs dd { margin: 0 0 .4em 1.4em; }
 """
@@ -144,7 +145,7 @@ class HtmlReport:
             body = list(rows)
         width = len(headers) if headers else max((len(r) for r in body), default=1)
         starts = {g[0]: (g[1], g[2] if len(g) > 2 else "") for g in groups}
-        out = ['<div class="scroll"><table>']
+        out = ['<div class="tablebox"><div class="scroll"><table>']
         if caption:
             out.append(f"<caption>{html.escape(caption)}</caption>")
         if widths:
@@ -182,6 +183,7 @@ class HtmlReport:
         out.append("</table></div>")
         if note:
             out.append(f'<p class="tablenote">{html.escape(note)}</p>')
+        out.append("</div>")
         self.parts.append("".join(out))
 
     def figure(
