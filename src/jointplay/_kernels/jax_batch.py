@@ -161,7 +161,9 @@ def _check(
         )
     for name, values in (("t_settle", t_settle), ("t_end", t_end), ("max_step", max_step)):
         if values.shape != (n,):
-            raise ConfigError(f"{name} must have one entry per lane ({n}), got shape {values.shape}")
+            raise ConfigError(
+                f"{name} must have one entry per lane ({n}), got shape {values.shape}"
+            )
         if not np.all(np.isfinite(values)):
             raise ConfigError(f"{name} must be finite in every lane")
     if not (np.all(t_end > 0) and np.all(t_settle >= 0) and np.all(t_settle <= t_end)):

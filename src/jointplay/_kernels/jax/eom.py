@@ -58,7 +58,8 @@ FRICTION_LAWS = {
     kc.FRICTION_ADAMS: "adams",
 }
 
-REVOLUTE = 0
+#: Joint kinds of joint_int column 0 (jointplay.model.flat).
+REVOLUTE, PRISMATIC = 0, 1
 
 
 @dataclass(frozen=True)
@@ -211,7 +212,9 @@ def normal_force(law: int, p: Any, delta: Scalar, delta_dot: Scalar, v0: Scalar)
         v_ref = jnp.where(v0 > 0.0, v0, delta_dot)
         v_floor = p[kc.HC_V_FLOOR]
         v_eff = jnp.where(v_ref > v_floor, v_ref, v_floor)
-        force = p[kc.HC_STIFFNESS] * d ** p[kc.HC_EXPONENT] * (1.0 + p[kc.HC_CHI] * delta_dot / v_eff)
+        force = (
+            p[kc.HC_STIFFNESS] * d ** p[kc.HC_EXPONENT] * (1.0 + p[kc.HC_CHI] * delta_dot / v_eff)
+        )
     else:  # read_layout refuses unknown ids
         raise ConfigError(f"normal-force law id {law} is not ported to JAX")
     return jnp.where(inside & (force > 0.0), force, 0.0)
@@ -395,7 +398,9 @@ class JaxModel:
         for c in range(self.layout.nc):
             k = self._contact(q, qd, p, c)
             v0 = y[2 * n + 2 + c]
-            f_n = normal_force(self.layout.law_id[c], self._law_row(p, c), k["delta"], k["delta_dot"], v0)
+            f_n = normal_force(
+                self.layout.law_id[c], self._law_row(p, c), k["delta"], k["delta_dot"], v0
+            )
             f_t = friction_force(self.layout.fric_id[c], self._fric_row(p, c), k["v_t"], f_n)
             nx, ny = k["nx"], k["ny"]
             fx = -f_n * nx + f_t * ny
@@ -407,7 +412,9 @@ class JaxModel:
         return power, record
 
     @staticmethod
-    def _push(force: list[Scalar], body: int, rx: Scalar, ry: Scalar, fx: Scalar, fy: Scalar) -> None:
+    def _push(
+        force: list[Scalar], body: int, rx: Scalar, ry: Scalar, fx: Scalar, fy: Scalar
+    ) -> None:
         if body < 0:
             return
         force[3 * body] = force[3 * body] + fx
@@ -650,7 +657,9 @@ class JaxModel:
             delta, memory = k["delta"], y[slot]
             start = (delta > 0.0) & (memory <= 0.0)
             end = (delta <= 0.0) & (memory > 0.0)
-            value = jnp.where(start, jnp.maximum(k["delta_dot"], v_mark), jnp.where(end, 0.0, memory))
+            value = jnp.where(
+                start, jnp.maximum(k["delta_dot"], v_mark), jnp.where(end, 0.0, memory)
+            )
             y = y.at[slot].set(value)
         if self.layout.n_rows == 0:
             return y

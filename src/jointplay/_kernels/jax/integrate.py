@@ -12,48 +12,46 @@ largest penetrations live in the loop carry.
 **Step control (the batch contract, shared with the Numba backend).**
 
 - t0 = 0; first step ``max_step/10``; h ≤ ``max_step``; steps land exactly on ``t_settle``
-  and ``t_end``; a fresh step is raised to ``min_step = 10·spacing(t)`` and a retried step
-  shorter than it stops the lane (``STATUS_STEP_TOO_SMALL``); ``max_steps`` accepted steps
-  without reaching ``t_end`` stop it with ``STATUS_TOO_MANY_STEPS``; a non-finite state or ẏ
-  after a step with ``STATUS_NON_FINITE``.
+  and ``t_end``; ``min_step = 10·spacing(t)``; ``max_steps`` accepted steps without reaching
+  ``t_end`` stop the lane with ``STATUS_TOO_MANY_STEPS``, a non-finite state or ẏ after a step
+  with ``STATUS_NON_FINITE``.
 - Error norm: RMS over the first 2·n_coordinates components of err_i / (atol_i +
   rtol·max(|y_i|, |y_new,i|)) (the work integrals and the impact memory v0 excluded).
-- Explicit: DOPRI5 of Hairer, Nørsett & Wanner (*Solving ODEs I*, §II.5, Table 5.2; their
-  ``dopri5.f``), FSAL; new step ``h·clamp(0.9·err^(−1/5), 0.2, 10)`` (10 when err = 0),
-  at most h for the step accepted after an error rejection in the same step.
-- Implicit: Radau IIA 5 as :mod:`jointplay._kernels.radau` (SciPy's algorithm: simplified
-  Newton on the eigen-transformed real and complex systems, at most 6 iterations, the
-  embedded error estimate re-estimated after a rejection, the predictive controller with
-  safety 0.9·13/(12 + iterations), growth at most 10, none after a failure (RADAU5's
-  ``hold_after_failure``), the step halved when Newton fails). Different from the Numba
-  kernel: the Jacobian is ``jax.jacfwd`` of the right-hand side (all S columns), recomputed
-  and factorised at every attempt (two S×S LU factorisations, one real and one complex, per
-  lane), and Newton starts from zero, not from the last step's collocation polynomial.
+- Explicit: DOPRI5 of Hairer, Nørsett & Wanner (*Solving ODEs I*, §II.5, Table 5.2), FSAL,
+  exactly as :func:`jointplay._kernels.batch._explicit_lane`: a step attempt below
+  ``min_step`` stops the lane (``STATUS_STEP_TOO_SMALL``); a rejected step is retried with
+  ``h·max(0.2, 0.9·err^(−1/5))``; an accepted one proposes ``h·clamp(0.9·err^(−1/5), 0.2,
+  10)`` (10 when err = 0), at most h when the step had an error rejection.
+- Implicit: Radau IIA 5 as :mod:`jointplay._kernels.radau` (SciPy's algorithm: a fresh step is
+  clamped to [min_step, max_step] and a retried one below min_step stops the lane; simplified
+  Newton on the eigen-transformed real and complex systems, at most 6 iterations, the step
+  halved when it fails; the embedded error estimate, re-estimated after a rejection; the
+  predictive controller with safety 0.9·13/(12 + iterations), growth at most 10, none after
+  a failure (RADAU5's ``hold_after_failure``)). Unlike the Numba kernel, the Jacobian is
+  ``jax.jacfwd`` of the right-hand side (all S columns), recomputed and factorised at every
+  attempt (one real and one complex S×S LU per lane), and Newton starts from zero rather than
+  from the last step's collocation polynomial.
 - Contact onset: on a step that passed the error test, θ = ``step_check``; θ < 1 with
-  min_step ≤ θh < h retries the step with θh, at most 64 times per step (then the step is
-  accepted). After an accepted step, ``after_step`` (v0, projection), then ẏ is evaluated at
-  the resulting state (the next step's first stage).
+  min_step ≤ θh < h retries the step with θh (a rejection that does not limit growth), at
+  most 64 times per step (then the step is accepted). After an accepted step, ``after_step``
+  (v0, projection), then ẏ at the resulting state (the next step's first stage).
 
-**Peaks and statistics over [t_settle, t_end]** (PEAK RULE; the Numba backend computes the
-same numbers). Quantities are those of :meth:`~jointplay._kernels.jax.eom.JaxModel.outputs`.
-
-1. At every accepted step end t_new ≥ t_settle (and at t = 0 when t_settle ≤ 0): every
-   quantity at the state after ``after_step``.
-2. Inside every accepted step that starts at t ≥ t_settle (steps land on t_settle, so no step
-   straddles it): every quantity at θ = 1/4, 1/2, 3/4 of the step, at the state of the
-   method's dense output (DOPRI5: Hairer's 4th-order continuous extension ``CONTD5``;
-   Radau: the collocation polynomial), with v0 of the step's start; and ω of every body
-   (a state component, cheap) at θ = k/16, k = 1..15, on the same dense output.
-3. Peaks: the largest |value| of all of these. Largest penetration δ of each clearance joint:
-   the largest of its values at the points of 1 and 2.
-4. Mean and RMS of ω of every body: trapezoidal rule over the accepted steps in the window
-   (states after ``after_step``), divided by t_end − t_settle (by the window covered when a
-   lane stops early; the value at t_settle for an empty window).
+**Peaks and statistics over [t_settle, t_end]**: the PEAK RULE of
+:mod:`jointplay._kernels.batch` (its constants ``REFINE_MARGIN``, ``REFINE_POINTS`` and, for
+the explicit method, the dense output ``DENSE`` are imported from there, so both backends
+apply one rule). The window opens at t_settle (a step lands there; at t = 0 when t_settle is
+0) with the quantities there; each later accepted step adds its end point (state after
+``after_step``) to the running peaks, the trapezoidal sums of ω and ω² and the largest
+penetrations, and, when a triggering quantity's end values come within ``REFINE_MARGIN`` of
+its running peak, evaluates every quantity at ``REFINE_POINTS`` of the step on the method's
+dense output (explicit: SciPy's DOPRI5 interpolant; implicit: the collocation polynomial)
+and raises each peak to the clipped parabolic vertex through its largest sample. A lane that
+does not succeed returns NaN peaks and statistics.
 
 Counters: ``n_rhs`` counts the integrator's evaluations of ẏ (1 at t = 0, 6 per explicit
-attempt, 1 after each accepted step; for Radau, 3 per Newton iteration and 1 per error
-re-estimate, the Jacobian's forward passes not included); the evaluations of rule 2 are not
-counted.
+attempt, 1 after an accepted step whose state ``after_step`` changed; for Radau, 3 per Newton
+iteration, 1 per error estimate after a rejection and 1 per accepted step, the Jacobian's
+forward passes not counted); the evaluations of the peak rule are not counted.
 """
 
 from __future__ import annotations
@@ -67,6 +65,7 @@ import jax.scipy.linalg as jsl
 import numpy as np
 from jax import lax
 
+from jointplay._kernels.batch import DENSE, REFINE_MARGIN, REFINE_POINTS
 from jointplay._kernels.common import (
     STATUS_NON_FINITE,
     STATUS_RUNNING,
@@ -74,14 +73,10 @@ from jointplay._kernels.common import (
     STATUS_SUCCESS,
     STATUS_TOO_MANY_STEPS,
 )
-from jointplay._kernels.jax.eom import JaxModel
+from jointplay._kernels.jax.eom import PRISMATIC, JaxModel
 
 #: Consecutive contact-onset retries of one step after which it is accepted (radau's).
 MAX_CHECK_REJECTIONS = 64
-#: Fractions of an accepted step where every quantity is evaluated (PEAK RULE 2).
-REFINE_THETAS = (0.25, 0.5, 0.75)
-#: Fractions where ω is read off the dense output (PEAK RULE 2).
-OMEGA_THETAS = tuple(k / 16.0 for k in range(1, 16))
 
 # ---- Dormand–Prince 5(4), Hairer's dopri5.f ---------------------------------------------
 DP_C = (0.0, 1 / 5, 3 / 10, 4 / 5, 8 / 9, 1.0, 1.0)
@@ -96,17 +91,6 @@ DP_A = (
 )
 #: Error coefficients e_i = b_i − b̂_i (k2 has none).
 DP_E = (71 / 57600, 0.0, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525, -1 / 40)
-#: Dense-output coefficients of CONTD5 (Hairer's d1..d7; d2 = 0).
-DP_D = (
-    -12715105075 / 11282082432,
-    0.0,
-    87487479700 / 32700410799,
-    -10690763975 / 1880347072,
-    701980252875 / 199316789632,
-    -1453857185 / 822651844,
-    69997945 / 29380423,
-)
-
 _DP_MATRIX = np.array([list(row) + [0.0] * (7 - len(row)) for row in DP_A])
 
 # ---- Radau IIA 5, SciPy's radau.py ----------------------------------------------------------
@@ -162,6 +146,22 @@ def _all_finite(x: Any) -> Any:
     return jnp.all(jnp.isfinite(x))
 
 
+def _triggers(model: JaxModel) -> np.ndarray:
+    """Which quantities may trigger a refinement (PEAK RULE; batch._triggers): all but ω and α
+    of the driven body and of bodies held to the ground by an ideal prismatic joint."""
+    layout = model.layout
+    nb = layout.nb
+    mask = np.ones(layout.n_peaks, dtype=bool)
+    for b in range(nb):
+        held = any(
+            layout.active[j] and kind == PRISMATIC and a < 0 and bb == b
+            for j, (kind, a, bb) in enumerate(layout.joints)
+        )
+        if b == layout.crank or held:
+            mask[b] = mask[nb + b] = False
+    return mask
+
+
 class _LaneIntegrator:
     """The parts of one lane's integration that both methods share (module docstring)."""
 
@@ -173,42 +173,53 @@ class _LaneIntegrator:
         self.nb = layout.nb
         self.nc = layout.nc
         self.S = layout.n_state
+        self.P = layout.n_peaks
+        self.triggers = _triggers(model)
 
     # ---- peaks and statistics ------------------------------------------------------------
-    def _omega(self, y: Any) -> Any:
-        n = self.n
-        return jnp.stack([y[n + 3 * b + 2] for b in range(self.nb)])
-
-    def _record_points(
+    def _window(
         self, c: Lane, p: Any, t: Any, h: Any, t_new: Any, y_acc: Any,
         dense: Callable[[Any], Any], t_settle: Any,
-    ) -> tuple[Any, Any, Any, Any, Any]:  # fmt: skip
-        """ẏ at the step's end and the peaks, penetrations and trapezoidal sums after an
-        accepted step (PEAK RULE)."""
-        model = self.model
-        end_in = t_new >= t_settle
-        inside = t >= t_settle
-        # The step's end (after after_step) and its interior points, in one batched call.
-        thetas = jnp.asarray(REFINE_THETAS)
-        times = jnp.concatenate([t + thetas * h, t_new[None]])
+    ) -> dict[str, Any]:  # fmt: skip
+        """ẏ, the quantities and the penetrations at the end of an accepted step (state
+        ``y_acc``, after ``after_step``), and the running peaks, sums and penetrations after
+        it (PEAK RULE); ``c["q"]`` holds the quantities at its start. The end point and the
+        interior points are evaluated in one batched call."""
+        thetas = jnp.asarray(REFINE_POINTS)
         states = jnp.concatenate([jax.vmap(dense)(thetas), y_acc[None]])
-        ydots, vals, pens = jax.vmap(model.outputs, in_axes=(0, 0, None))(times, states, p)
-        vals = jnp.abs(vals)
-        peaks = jnp.where(end_in, jnp.maximum(c["peaks"], vals[-1]), c["peaks"])
-        pen = jnp.where(end_in, jnp.maximum(c["pen"], pens[-1]), c["pen"])
-        refined = jnp.max(vals[:-1], axis=0)
-        refined_pen = jnp.max(pens[:-1], axis=0) if self.nc else pens[0]
-        omegas = jax.vmap(lambda theta: self._omega(dense(theta)))(jnp.asarray(OMEGA_THETAS))
-        refined = refined.at[: self.nb].set(
-            jnp.maximum(refined[: self.nb], jnp.max(jnp.abs(omegas), axis=0))
-        )
-        peaks = jnp.where(inside, jnp.maximum(peaks, refined), peaks)
-        pen = jnp.where(inside, jnp.maximum(pen, refined_pen), pen)
-        w0 = self._omega(c["y"])
-        w1 = self._omega(y_acc)
-        s1 = jnp.where(inside, c["s1"] + 0.5 * (w0 + w1) * h, c["s1"])
-        s2 = jnp.where(inside, c["s2"] + 0.5 * (w0 * w0 + w1 * w1) * h, c["s2"])
-        return ydots[-1], peaks, pen, s1, s2
+        times = jnp.concatenate([t + thetas * h, t_new[None]])
+        ydots, qs, pens = jax.vmap(self.model.outputs, in_axes=(0, 0, None))(times, states, p)
+        q_b, pen_b, q_mid = qs[-1], pens[-1], qs[:-1]
+        q_a = c["q"]
+        inside = t >= t_settle  # the window was open at the step's start
+        opening = ~inside & (t_new >= t_settle)  # the step lands on t_settle
+        w_a, w_b = q_a[: self.nb], q_b[: self.nb]
+        s1 = c["s1"] + 0.5 * h * (w_a + w_b)
+        s2 = c["s2"] + 0.5 * h * (w_a * w_a + w_b * w_b)
+        pen = jnp.maximum(c["pen"], pen_b)
+        peaks = jnp.maximum(c["peaks"], jnp.abs(q_b))
+        high = jnp.maximum(jnp.abs(q_a), jnp.abs(q_b))
+        wants = jnp.any(self.triggers & (peaks > 0.0) & (high >= (1.0 - REFINE_MARGIN) * peaks))
+        samples = jnp.abs(jnp.concatenate([q_a[None], q_mid, q_b[None]]))  # (points, P)
+        last = samples.shape[0] - 1
+        m = jnp.argmax(samples, axis=0)  # the first largest, as the Numba loop
+        best = jnp.take_along_axis(samples, m[None], axis=0)[0]
+        low = jnp.take_along_axis(samples, jnp.clip(m - 1, 0, last)[None], axis=0)[0]
+        up = jnp.take_along_axis(samples, jnp.clip(m + 1, 0, last)[None], axis=0)[0]
+        curvature = low - 2.0 * best + up
+        vertex = (m > 0) & (m < last) & (curvature < 0.0)
+        offset = jnp.clip(0.5 * (low - up) / jnp.where(vertex, curvature, -1.0), -0.5, 0.5)
+        best = jnp.where(vertex, best - 0.25 * (low - up) * offset, best)
+        peaks = jnp.where(wants, jnp.maximum(peaks, best), peaks)
+        zeros = jnp.zeros_like(c["s1"])
+        return {
+            "f": ydots[-1],
+            "q": q_b,
+            "peaks": jnp.where(inside, peaks, jnp.where(opening, jnp.abs(q_b), c["peaks"])),
+            "pen": jnp.where(inside, pen, jnp.where(opening, pen_b, c["pen"])),
+            "s1": jnp.where(inside, s1, zeros),
+            "s2": jnp.where(inside, s2, zeros),
+        }
 
     # ---- one lane ---------------------------------------------------------------------------
     def __call__(
@@ -217,13 +228,13 @@ class _LaneIntegrator:
     ) -> dict[str, Any]:  # fmt: skip
         model = self.model
         zero = jnp.zeros_like(t_end)
-        f0, vals0, pen0 = model.outputs(zero, y0, p)
-        start_in = t_settle <= 0.0
+        f0, q0, pen0 = model.outputs(zero, y0, p)
         finite = _all_finite(y0) & _all_finite(f0)
         carry: Lane = {
             "t": zero,
             "y": y0,
             "f": f0,
+            "q": q0,
             "h": max_step / 10.0,
             "h_prop": max_step / 10.0,
             "retry": jnp.array(False),
@@ -233,14 +244,18 @@ class _LaneIntegrator:
             "n_steps": jnp.array(0, dtype=jnp.int64),
             "n_rejected": jnp.array(0, dtype=jnp.int64),
             "n_rhs": jnp.array(1, dtype=jnp.int64),
-            "peaks": jnp.where(start_in, jnp.abs(vals0), 0.0),
-            "pen": jnp.where(start_in, pen0, -jnp.inf),
+            "peaks": jnp.abs(q0),  # the window opens at t = 0 when t_settle is 0
+            "pen": pen0,
             "s1": jnp.zeros(self.nb, dtype=y0.dtype),
             "s2": jnp.zeros(self.nb, dtype=y0.dtype),
             "h_old": jnp.full_like(t_end, jnp.nan),
             "err_old": jnp.full_like(t_end, jnp.nan),
         }
-        if self.method == "implicit":
+        if self.method == "implicit":  # the last step's collocation polynomial
+            carry["poly"] = jnp.zeros((self.S, 3), dtype=y0.dtype)
+            carry["y_prev"] = y0
+            carry["t_prev"] = zero
+            carry["has_poly"] = jnp.array(False)
             rtol = jnp.maximum(rtol, 100.0 * EPS)
         settings = (p, t_settle, t_end, max_step, rtol, atol, max_steps)
         attempt = self._dopri_attempt if self.method == "explicit" else self._radau_attempt
@@ -249,15 +264,13 @@ class _LaneIntegrator:
             return self._step(c, settings, attempt)
 
         c = lax.while_loop(lambda c: c["status"] == STATUS_RUNNING, body, carry)
-        span = c["t"] - t_settle
-        covered = span > 0.0
-        safe = jnp.where(covered, span, 1.0)
-        omega_end = self._omega(c["y"])
-        mean = jnp.where(covered, c["s1"] / safe, omega_end)
-        rms = jnp.where(covered, jnp.sqrt(c["s2"] / safe), jnp.abs(omega_end))
+        span = t_end - t_settle
+        mean = c["s1"] / span
+        rms = jnp.sqrt(jnp.maximum(c["s2"] / span, 0.0))
+        ok = c["status"] == STATUS_SUCCESS
         return {
-            "peaks": c["peaks"],
-            "stats": jnp.concatenate([mean, rms, c["pen"]]),
+            "peaks": jnp.where(ok, c["peaks"], jnp.nan),
+            "stats": jnp.where(ok, jnp.concatenate([mean, rms, c["pen"]]), jnp.nan),
             "status": c["status"],
             "t_reached": c["t"],
             "n_steps": c["n_steps"],
@@ -272,9 +285,14 @@ class _LaneIntegrator:
         t, y = c["t"], c["y"]
         min_step = 10.0 * (jnp.nextafter(t, jnp.inf) - t)
         fresh = ~c["retry"]
-        clamped = fresh & ((c["h"] > max_step) | (c["h"] < min_step))
-        h = jnp.where(fresh, jnp.clip(c["h"], min_step, max_step), c["h"])
-        too_small = c["retry"] & (h < min_step)
+        if self.method == "explicit":  # the Numba batch kernel's rule
+            h = jnp.where(fresh, jnp.minimum(c["h"], max_step), c["h"])
+            too_small = h < min_step
+            clamped = jnp.array(False)
+        else:  # the Radau kernel's rule
+            clamped = fresh & ((c["h"] > max_step) | (c["h"] < min_step))
+            h = jnp.where(fresh, jnp.clip(c["h"], min_step, max_step), c["h"])
+            too_small = c["retry"] & (h < min_step)
         target = jnp.where(t < t_settle, t_settle, t_end)
         t_new = jnp.minimum(t + h, target)
         h = t_new - t
@@ -296,60 +314,68 @@ class _LaneIntegrator:
 
         # Accepted step: contact memory and projection, then ẏ and the quantities there.
         y_acc = model.after_step(t_new, y_new, p)
-        f_new, peaks, pen, s1, s2 = self._record_points(
-            c, p, t, h, t_new, y_acc, res["dense"], t_settle
-        )
+        changed = jnp.any(y_acc != y_new)
+        window = self._window(c, p, t, h, t_new, y_acc, res["dense"], t_settle)
+        f_new, q_b = window["f"], window["q"]
         finite = _all_finite(y_acc) & _all_finite(f_new)
         n_steps = c["n_steps"] + 1
-        done = t_new >= t_end
         status_acc = jnp.where(
             ~finite,
             STATUS_NON_FINITE,
             jnp.where(
-                done,
+                t_new >= t_end,
                 STATUS_SUCCESS,
                 jnp.where(n_steps >= max_steps, STATUS_TOO_MANY_STEPS, STATUS_RUNNING),
             ),
         )
         if self.method == "explicit":
-            grow = jnp.where(err > 0.0, 0.9 * jnp.where(err > 0.0, err, 1.0) ** -0.2, 10.0)
-            factor_acc = jnp.clip(grow, 0.2, 10.0)
+            grow = 0.9 * jnp.where(err > 0.0, err, 1.0) ** -0.2
+            factor_acc = jnp.where(err > 0.0, jnp.clip(grow, 0.2, 10.0), 10.0)
             factor_acc = jnp.where(c["failed"], jnp.minimum(factor_acc, 1.0), factor_acc)
-            factor_rej = jnp.clip(grow, 0.2, 10.0)
+            factor_rej = jnp.maximum(0.2, grow)
+            rhs_after = jnp.where(changed, 1, 0)
         else:
             predicted = _predict_factor(h, h_old, err, err_old)
             factor_acc = jnp.minimum(10.0, res["safety"] * predicted)
             factor_acc = jnp.where(c["failed"], jnp.minimum(factor_acc, 1.0), factor_acc)
             factor_rej = jnp.where(converged, jnp.maximum(0.2, res["safety"] * predicted), 0.5)
+            rhs_after = 1
 
         def pick(accepted: Any, checked: Any, rejected: Any, stopped: Any) -> Any:
             return jnp.where(
-                accept, accepted, jnp.where(check_retry, checked, jnp.where(too_small, stopped, rejected))
+                accept,
+                accepted,
+                jnp.where(check_retry, checked, jnp.where(too_small, stopped, rejected)),
             )
 
-        keep = c
         out: Lane = {
-            "t": pick(t_new, t, t, t),
+            "t": jnp.where(accept, t_new, t),
             "y": jnp.where(accept, y_acc, y),
             "f": jnp.where(accept, f_new, c["f"]),
+            "q": jnp.where(accept, q_b, c["q"]),
             "h": pick(h * factor_acc, h_try, h * factor_rej, h),
-            "h_prop": jnp.where(accept, h * factor_acc, keep["h_prop"]),
+            "h_prop": jnp.where(accept, h * factor_acc, c["h_prop"]),
             "retry": pick(False, True, True, True),
-            "failed": pick(False, keep["failed"], True, keep["failed"]),
-            "n_check": pick(0, keep["n_check"] + 1, keep["n_check"], keep["n_check"]),
+            "failed": pick(False, c["failed"], True, c["failed"]),
+            "n_check": pick(0, c["n_check"] + 1, c["n_check"], c["n_check"]),
             "status": pick(status_acc, STATUS_RUNNING, STATUS_RUNNING, STATUS_STEP_TOO_SMALL),
-            "n_steps": jnp.where(accept, n_steps, keep["n_steps"]),
-            "n_rejected": keep["n_rejected"] + jnp.where(check_retry | error_reject, 1, 0),
-            "n_rhs": keep["n_rhs"] + res["n_rhs"] + jnp.where(accept, 1, 0),
-            "peaks": jnp.where(accept, peaks, keep["peaks"]),
-            "pen": jnp.where(accept, pen, keep["pen"]),
-            "s1": jnp.where(accept, s1, keep["s1"]),
-            "s2": jnp.where(accept, s2, keep["s2"]),
+            "n_steps": jnp.where(accept, n_steps, c["n_steps"]),
+            "n_rejected": c["n_rejected"] + jnp.where(check_retry | error_reject, 1, 0),
+            "n_rhs": c["n_rhs"]
+            + jnp.where(too_small, 0, res["n_rhs"])
+            + jnp.where(accept, rhs_after, 0),
             # Radau's predictive controller: the proposal this step started from and its
             # error (NaN for this step only when its first attempt was clamped).
             "h_old": jnp.where(accept, c["h_prop"], h_old),
             "err_old": jnp.where(accept, err, err_old),
         }
+        for key in ("peaks", "pen", "s1", "s2"):
+            out[key] = jnp.where(accept, window[key], c[key])
+        if self.method == "implicit":
+            out["poly"] = jnp.where(accept, res["poly"], c["poly"])
+            out["y_prev"] = jnp.where(accept, y, c["y_prev"])
+            out["t_prev"] = jnp.where(accept, t, c["t_prev"])
+            out["has_poly"] = jnp.where(accept, ~changed, c["has_poly"])
         for key in ("status", "n_check", "n_steps", "n_rejected", "n_rhs"):
             out[key] = out[key].astype(jnp.int64)
         out["retry"] = out["retry"].astype(bool)
@@ -357,7 +383,9 @@ class _LaneIntegrator:
         return out
 
     # ---- Dormand–Prince 5(4) --------------------------------------------------------------
-    def _dopri_attempt(self, c: Lane, p: Any, t: Any, y: Any, h: Any, rtol: Any, atol: Any) -> dict[str, Any]:
+    def _dopri_attempt(
+        self, c: Lane, p: Any, t: Any, y: Any, h: Any, rtol: Any, atol: Any
+    ) -> dict[str, Any]:
         rhs = self.model.rhs
         a = jnp.asarray(_DP_MATRIX)
         cs = jnp.asarray(DP_C)
@@ -368,25 +396,28 @@ class _LaneIntegrator:
         k = jnp.zeros((7, self.S), dtype=y.dtype).at[0].set(c["f"])
         k = lax.fori_loop(1, 7, stage, k)
         y_new = y + h * (a[6] @ k)  # the 7th stage's state (DP_A[6] are the weights b_i)
-        k7 = k[6]  # f(t + h, y_new): the FSAL stage
         err_vec = h * (jnp.asarray(DP_E) @ k)
         m = 2 * self.n
         scale = atol[:m] + rtol * jnp.maximum(jnp.abs(y[:m]), jnp.abs(y_new[:m]))
         err = _rms(err_vec[:m], scale)
-        r1 = y
-        r2 = y_new - y
-        r3 = h * k[0] - r2
-        r4 = r2 - h * k7 - r3
-        r5 = h * (jnp.asarray(DP_D) @ k)
+        dense_matrix = jnp.asarray(DENSE)  # (7, 4): SciPy's RK45 interpolant
 
         def dense(theta: Any) -> Any:
-            s = 1.0 - theta
-            return r1 + theta * (r2 + s * (r3 + theta * (r4 + s * r5)))
+            powers = jnp.stack([theta, theta**2, theta**3, theta**4])
+            return y + h * ((dense_matrix @ powers) @ k)
 
-        return {"y_new": y_new, "err": err, "converged": jnp.array(True), "dense": dense, "n_rhs": 6}
+        return {
+            "y_new": y_new,
+            "err": err,
+            "converged": jnp.array(True),
+            "dense": dense,
+            "n_rhs": 6,
+        }
 
     # ---- Radau IIA 5 ------------------------------------------------------------------------
-    def _radau_attempt(self, c: Lane, p: Any, t: Any, y: Any, h: Any, rtol: Any, atol: Any) -> dict[str, Any]:
+    def _radau_attempt(
+        self, c: Lane, p: Any, t: Any, y: Any, h: Any, rtol: Any, atol: Any
+    ) -> dict[str, Any]:
         rhs = self.model.rhs
         S = self.S
         m = 2 * self.n
@@ -414,7 +445,9 @@ class _LaneIntegrator:
             dw = jnp.stack([dw_real, dw_complex.real, dw_complex.imag])
             dw_norm = _rms(dw.reshape(-1), jnp.tile(newton_scale, 3))
             has_old = ~jnp.isnan(s["dw_norm_old"])
-            rate = jnp.where(has_old, dw_norm / jnp.where(has_old, s["dw_norm_old"], 1.0), s["rate"])
+            rate = jnp.where(
+                has_old, dw_norm / jnp.where(has_old, s["dw_norm_old"], 1.0), s["rate"]
+            )
             k = s["k"]
             safe_rate = jnp.where(rate < 1.0, rate, 0.5)
             diverging = has_old & (
@@ -425,7 +458,8 @@ class _LaneIntegrator:
             w_new = w + dw
             z_new = tmat @ w_new
             converged = ~stop_bad & (
-                (dw_norm == 0.0) | (has_old & (safe_rate / (1.0 - safe_rate) * dw_norm < newton_tol))
+                (dw_norm == 0.0)
+                | (has_old & (safe_rate / (1.0 - safe_rate) * dw_norm < newton_tol))
             )
             return {
                 "k": k + 1,
@@ -437,10 +471,16 @@ class _LaneIntegrator:
                 "stopped": stop_bad | converged,
             }
 
+        # Newton starts from the last step's collocation polynomial (SciPy; radau._extrapolate)
+        # unless after_step changed the state.
+        x = (t + ch - c["t_prev"]) / jnp.where(c["has_poly"], t - c["t_prev"], 1.0)
+        powers = jnp.stack([x, x * x, x * x * x])  # (3 powers, 3 stages)
+        z0 = (c["poly"] @ powers).T + c["y_prev"] - y
+        z0 = jnp.where(c["has_poly"], z0, 0.0)
         start = {
             "k": jnp.array(0, dtype=jnp.int64),
-            "w": jnp.zeros((3, S), dtype=y.dtype),
-            "z": jnp.zeros((3, S), dtype=y.dtype),
+            "w": jnp.asarray(RADAU_TI) @ z0,
+            "z": z0,
             "dw_norm_old": jnp.full_like(h, jnp.nan),
             "rate": jnp.full_like(h, jnp.nan),
             "converged": jnp.array(False),
@@ -453,9 +493,9 @@ class _LaneIntegrator:
         ze = z.T @ jnp.asarray(RADAU_E) / h
         error = jsl.lu_solve(lu_real, f + ze)
         scale = atol[:m] + rtol * jnp.maximum(jnp.abs(y[:m]), jnp.abs(y_new[:m]))
-        err = _rms(error[:m], scale)
+        err = err_first = _rms(error[:m], scale)
         # After a rejection, SciPy re-estimates a large error with one more evaluation.
-        again = c["retry"] & (err > 1.0)
+        again = c["failed"] & (err_first > 1.0)
         f_err = rhs(t, y + error, p)
         error2 = jsl.lu_solve(lu_real, f_err + ze)
         err = jnp.where(again, _rms(error2[:m], scale), err)
@@ -470,8 +510,9 @@ class _LaneIntegrator:
             "err": err,
             "converged": s["converged"],
             "dense": dense,
-            "n_rhs": 3 * n_iter + 1,
+            "n_rhs": 3 * n_iter + jnp.where(c["failed"] & (err_first > 1.0), 1, 0),
             "safety": safety,
+            "poly": q,
         }
 
 
@@ -480,7 +521,9 @@ def _predict_factor(h: Any, h_old: Any, err: Any, err_old: Any) -> Any:
     plain = jnp.isnan(err_old) | jnp.isnan(h_old) | (err == 0.0)
     safe_err = jnp.where(err == 0.0, 1.0, err)
     multiplier = jnp.where(
-        plain, 1.0, h / jnp.where(plain, 1.0, h_old) * (jnp.where(plain, 1.0, err_old) / safe_err) ** 0.25
+        plain,
+        1.0,
+        h / jnp.where(plain, 1.0, h_old) * (jnp.where(plain, 1.0, err_old) / safe_err) ** 0.25,
     )
     return jnp.where(err == 0.0, jnp.inf, jnp.minimum(1.0, multiplier) * safe_err**-0.25)
 
