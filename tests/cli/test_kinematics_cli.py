@@ -121,3 +121,18 @@ def test_bad_config_files(tmp_path, capsys, content, message) -> None:
 def test_usage_errors_exit_2_without_traceback(capsys, args) -> None:
     assert run(args) == 2
     assert "Traceback" not in capsys.readouterr().err
+
+
+def test_figure_format_writes_a_vector_copy_of_every_figure(tmp_path) -> None:
+    out = tmp_path / "k"
+    assert run(["kinematics", "--out", str(out), "--figure-format", "pdf"]) == 0
+    pngs = sorted(p.stem for p in out.glob("*.png"))
+    assert pngs and sorted(p.stem for p in out.glob("*.pdf")) == pngs
+    assert all((out / f"{stem}.pdf").read_bytes().startswith(b"%PDF") for stem in pngs)
+
+
+def test_an_unknown_figure_format_is_refused_before_anything_is_written(tmp_path, capsys) -> None:
+    out = tmp_path / "k"
+    assert run(["kinematics", "--out", str(out), "--figure-format", "jpg"]) == 2
+    assert "--figure-format must be one of png, svg, pdf" in capsys.readouterr().err
+    assert not out.exists()

@@ -103,6 +103,15 @@ HardnessOption = Annotated[
 SettleOption = Annotated[
     int, typer.Option("--settle", help="Start-up revolutions left out.", min=0)
 ]
+#: Figure formats of ``--figure-format`` (PNG is always written; the others beside it).
+FIGURE_FORMATS = ("png", "svg", "pdf")
+FigureFormatOption = Annotated[
+    str,
+    typer.Option(
+        "--figure-format",
+        help="png; or svg or pdf: every figure is also written in that format, for print.",
+    ),
+]
 ForceOption = Annotated[
     bool,
     typer.Option(
@@ -222,3 +231,8 @@ def choice(text: str, option: str, choices: Iterable[str]) -> str:
     if value not in allowed:
         raise ConfigError(f"{option} must be one of {', '.join(allowed)}, got {text!r}")
     return value
+
+
+def check_figure_format(text: str) -> str:
+    """The ``--figure-format`` value, checked (before any computation)."""
+    return choice(text, "--figure-format", FIGURE_FORMATS)

@@ -27,10 +27,12 @@ from jointplay.cli._common import (
     AngleOriginOption,
     ConfigOption,
     CrankDirectionOption,
+    FigureFormatOption,
     ForceOption,
     PresetOption,
     RpmOption,
     SpeedPositiveOption,
+    check_figure_format,
     choice,
     maybe_output_dir,
     mechanism_from_options,
@@ -134,6 +136,7 @@ def compare_command(
         ),
     ] = None,
     force: ForceOption = False,
+    figure_format: FigureFormatOption = "png",
 ) -> None:
     """Compare the simulated steady-cycle rocker speed with measurements.
 
@@ -148,6 +151,7 @@ def compare_command(
     from jointplay.study import comparison as cmp
     from jointplay.study.methods import ECS_SOURCES, METHODS
 
+    figure_format = check_figure_format(figure_format)
     with maybe_output_dir(out, force) as folder:
         conventions = MeasurementConventions(
             unit=choice(unit, "--unit", tuple(SPEED_UNITS)),
@@ -204,6 +208,7 @@ def compare_command(
                 result,
                 folder,
                 title=f"{mechanism.name}: rocker speed, {data.source}\n{result.ecs_source_line()}",
+                figure_format=figure_format,
             )
     if as_json:
         print(json_text(document))

@@ -24,9 +24,11 @@ from rich.table import Table
 from jointplay.cli._app import app
 from jointplay.cli._common import (
     ConfigOption,
+    FigureFormatOption,
     ForceOption,
     PresetOption,
     RpmOption,
+    check_figure_format,
     choice,
     maybe_output_dir,
     mechanism_from_options,
@@ -216,6 +218,7 @@ def ecs_command(
         ),
     ] = None,
     force: ForceOption = False,
+    figure_format: FigureFormatOption = "png",
 ) -> None:
     """Equivalent Contact Stiffness (paper eqs. 9–13): K, δ and D of the clearance joints.
 
@@ -238,6 +241,7 @@ def ecs_command(
 
     if not console.is_terminal:
         console.width = PIPE_WIDTH
+    figure_format = check_figure_format(figure_format)
     with maybe_output_dir(out, force) as folder:
         contacts = _contacts(contact)
         ratio = quantity_option(damping_ratio, "s", "--damping-ratio", example="s")
@@ -278,7 +282,7 @@ def ecs_command(
                 )
                 from jointplay.report.plots import ecs_sweep_plots
 
-                ecs_sweep_plots(swept, contacts, folder)
+                ecs_sweep_plots(swept, contacts, folder, figure_format=figure_format)
     if as_json:
         print(json_text(document))
         return

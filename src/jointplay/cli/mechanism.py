@@ -14,12 +14,14 @@ from jointplay.cli._app import app
 from jointplay.cli._common import (
     ConfigOption,
     DirectionOption,
+    FigureFormatOption,
     ForceOption,
     GravityOption,
     OutOption,
     PresetOption,
     RpmOption,
     StartAngleOption,
+    check_figure_format,
     mechanism_from_options,
     provenance,
     quantity_option,
@@ -75,6 +77,7 @@ def kinematics_command(
         typer.Option("--method", help="auto (closed form if available), closed-form or general."),
     ] = "auto",
     plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
+    figure_format: FigureFormatOption = "png",
 ) -> None:
     """Nominal kinematics and inverse dynamics (ideal joints) over one crank revolution.
 
@@ -86,6 +89,7 @@ def kinematics_command(
     from jointplay.dynamics.nominal import nominal_analysis
     from jointplay.io.output import output_dir, write_json
 
+    figure_format = check_figure_format(figure_format)
     with output_dir(out, force=force) as folder:
         mechanism = mechanism_from_options(preset, config, rpm, direction, start_angle, gravity)
         step_deg = math.degrees(
@@ -110,7 +114,7 @@ def kinematics_command(
         if plots:
             from jointplay.report.plots import kinematics_plots
 
-            kinematics_plots(result.table, folder, mechanism.name)
+            kinematics_plots(result.table, folder, mechanism.name, figure_format=figure_format)
     _print_summary(result.summary, out)
     for finding in findings:  # one line each, on stderr, as simulate's diagnostics
         print(f"jointplay: {finding.line()}", file=sys.stderr)

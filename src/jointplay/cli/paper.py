@@ -22,7 +22,14 @@ from rich.progress import (
 )
 
 from jointplay.cli._app import app
-from jointplay.cli._common import ForceOption, OutOption, crank_speed, provenance
+from jointplay.cli._common import (
+    FigureFormatOption,
+    ForceOption,
+    OutOption,
+    check_figure_format,
+    crank_speed,
+    provenance,
+)
 from jointplay.errors import ConfigError
 
 
@@ -76,14 +83,7 @@ def paper_command(
             help="Revolutions of the steady runs compared with Table 7 (the last one is used).",
         ),
     ] = 3,
-    figure_format: Annotated[
-        str,
-        typer.Option(
-            "--figure-format",
-            help="png (embedded in report.html), or svg or pdf: each figure also written "
-            "in that format for print, linked from the report.",
-        ),
-    ] = "png",
+    figure_format: FigureFormatOption = "png",
     animation: Annotated[
         bool,
         typer.Option(
@@ -100,7 +100,6 @@ def paper_command(
     """
     started = time.perf_counter()
     from jointplay.io.output import output_dir
-    from jointplay.report.figures import check_format
     from jointplay.report.paper import write_paper_report
     from jointplay.study.paper import PaperStudyOptions, run_paper_study
 
@@ -119,7 +118,7 @@ def paper_command(
             raise ConfigError(f"--workers must be >= 1, got {workers}")
         if dask_scheduler is not None and workers is not None:
             raise ConfigError("--workers applies to local processes; the Dask cluster has its own")
-        check_format(figure_format, "--figure-format")
+        check_figure_format(figure_format)
         options = PaperStudyOptions(
             rpm=speed * 30.0 / math.pi,
             revolutions=revolutions,

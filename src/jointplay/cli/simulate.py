@@ -15,12 +15,14 @@ from jointplay.cli._app import app
 from jointplay.cli._common import (
     ConfigOption,
     DirectionOption,
+    FigureFormatOption,
     ForceOption,
     GravityOption,
     OutOption,
     PresetOption,
     RpmOption,
     StartAngleOption,
+    check_figure_format,
     mechanism_from_options,
     provenance,
     quantity_option,
@@ -173,6 +175,7 @@ def simulate_command(
         str | None, _opt("Time-series format: csv (default) or parquet.", "--format")
     ] = None,
     plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
+    figure_format: FigureFormatOption = "png",
 ) -> None:
     r"""Simulate the mechanism with radial clearance in its revolute joints.
 
@@ -189,6 +192,7 @@ def simulate_command(
     from jointplay.io.results import simulation_summary, write_table
     from jointplay.model.summary import mechanism_summary
 
+    figure_format = check_figure_format(figure_format)
     with output_dir(out, force=force) as folder:
         table = simulation_settings(config)
         given = {
@@ -284,16 +288,10 @@ def simulate_command(
         summary["diagnostics"] = [finding.as_dict() for finding in findings]
         write_json(folder / "summary.json", summary)
         if plots:
-            from jointplay.report.plots import simulation_plots
+            from jointplay.report.plots import simulation_figures
             from jointplay.report.running import per_revolution_plot, poincare_plot
 
-            simulation_plots(
-                result.steps,
-                result.nominal,  # type: ignore[arg-type]  # a table: simulate(nominal=True)
-                result.system.clearances,
-                folder,
-                mechanism.name,
-            )
+            simulation_figures(result, folder, mechanism.name, figure_format=figure_format)
             periodicity = running.periodicity
             if periodicity.points.shape[0] > 1:
                 poincare_plot(
@@ -303,12 +301,14 @@ def simulate_command(
                     periodicity.verdict,
                     folder / "poincare.png",
                     title=mechanism.name,
+                    figure_format=figure_format,
                 )
             per_revolution_plot(
                 running.per_revolution,
                 1,
                 folder / "peaks_per_revolution.png",
                 title=mechanism.name,
+                figure_format=figure_format,
             )
     _print(result, findings, Path(out))
 
