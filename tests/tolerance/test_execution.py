@@ -31,15 +31,38 @@ def _summary_without_execution(study) -> dict:
     return summary
 
 
-def test_local_processes_give_the_serial_numbers(kinematics) -> None:
-    model, x = kinematics
-    serial = run(model, x, backend=Backend("serial", chunk_size=500))
-    parallel = run(model, x, backend=Backend("processes", workers=2, chunk_size=500))
+def test_local_processes_give_the_serial_numbers() -> None:
+    model = LinearModel(("a", "b"), ((1.0, 2.0), (3.0, -1.0)), chunk_size=500)
+    x = np.random.default_rng(5).normal(size=(3000, 2))
+    serial = run(model, x, backend=Backend("serial"))
+    parallel = run(model, x, backend=Backend("processes", workers=2))
     assert parallel.backend == "processes" and parallel.workers == 2
     np.testing.assert_array_equal(parallel.values, serial.values)
     np.testing.assert_array_equal(parallel.status, serial.status)
     assert parallel.errors == serial.errors
     assert serial.n_ok == 3000 and not serial.interrupted
+
+
+def test_cheap_kinematics_stay_in_process_with_the_same_numbers(kinematics) -> None:
+    """Starting workers (~3 s each here) would cost more than 3000 vectorised samples
+    (~0.1 s): the process backend keeps them in this process; the numbers are the same."""
+    model, x = kinematics
+    serial = run(model, x, backend=Backend("serial", chunk_size=500))
+    asked = run(model, x, backend=Backend("processes", workers=2, chunk_size=500))
+    assert asked.backend == "local" and asked.workers == 1
+    np.testing.assert_array_equal(asked.values, serial.values)
+
+
+def test_workers_are_started_only_when_the_work_pays_for_them(kinematics) -> None:
+    from jointplay.tolerance.execution import WORKER_START_S, _placed
+
+    model, _ = kinematics
+    per_worker = int(WORKER_START_S / model.seconds_per_sample) + 1  # samples paying for one
+    for n, expected in [(3000, ("local", None)), (3 * per_worker, ("processes", 3))]:
+        _, backend = _placed(model, Backend("processes", workers=8), n)
+        assert (backend.kind, backend.workers) == expected
+    _, backend = _placed(model, Backend("processes", workers=2), 100 * per_worker)
+    assert (backend.kind, backend.workers) == ("processes", 2)
 
 
 def test_results_do_not_depend_on_the_chunk_size(kinematics) -> None:
@@ -52,7 +75,7 @@ def test_results_do_not_depend_on_the_chunk_size(kinematics) -> None:
 def test_a_single_chunk_stays_in_process(kinematics) -> None:
     model, x = kinematics
     result = run(model, x[:10], backend=Backend("processes", workers=2))
-    assert result.backend == "serial" and result.workers == 1
+    assert result.backend == "local" and result.workers == 1
 
 
 def test_dask_cluster_gives_identical_samples_and_summaries(paper_fourbar: Mechanism) -> None:

@@ -66,6 +66,7 @@ on the chunk it runs in, or on the thread that runs it.
 from __future__ import annotations
 
 import math
+import signal
 from typing import NamedTuple
 
 import numba
@@ -91,6 +92,8 @@ __all__ = [
     "BatchKernelOutput",
     "layout",
     "run_batch",
+    "run_chunk",
+    "worker_init",
 ]
 
 #: Integration methods of :func:`run_batch`.
@@ -291,7 +294,6 @@ def _explicit_lane(
     n_active = 2 * n
     size = y0.shape[0]
     work = np.zeros(eom.N_WORK)
-    args = (rpar, ipar, work)
     mask = _triggers(model)
     n_q = peaks.shape[0]
     qa = np.empty(n_q)
@@ -387,7 +389,7 @@ def _explicit_lane(
                 had_rejection = True
                 counts[K_REJECTED] += 1
                 continue
-            theta = eom.step_check(t, y, t_new, y_new, args)
+            theta = eom.onset_check(t, y, t_new, y_new, model)
             h_try = h * theta
             if theta < 1.0 and min_step <= h_try < h and n_check < MAX_CHECK_REJECTIONS:
                 h = h_try
@@ -400,7 +402,7 @@ def _explicit_lane(
         factor = MAX_FACTOR if err == 0.0 else min(MAX_FACTOR, max(MIN_FACTOR, SAFETY * err**-0.2))
         if had_rejection:
             factor = min(factor, 1.0)
-        changed = eom.after_step(t_new, y_new, args)
+        changed = eom.contact_memory_and_projection(t_new, y_new, model, work)
         if changed:
             eom.rhs_into(t_new, y_new, model, f)
             counts[K_RHS] += 1
@@ -579,6 +581,22 @@ def _implicit_lanes(
             _trajectory_reduce(
                 ipar, rpar[lane], ts, ys, t_settle[lane], t_end[lane], peaks[lane], stats[lane]
             )
+
+
+def worker_init() -> None:
+    """Initializer of a worker process of the batch engine: Ctrl-C is left to the parent."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def run_chunk(
+    shared: tuple[npt.NDArray[np.int64], float, npt.NDArray[np.float64], int, str],
+    chunk: tuple[npt.NDArray[np.float64], ...],
+) -> BatchKernelOutput:
+    """A worker's task: ``chunk = (rpar, y0, t_settle, t_end, max_step)`` through the serial
+    kernel, ``shared = (ipar, rtol, atol, max_steps, method)``. It lives here so that a worker
+    imports only the kernels (not pandas nor the rest of jointplay)."""
+    ipar, rtol, atol, max_steps, method = shared
+    return run_batch(ipar, *chunk, rtol, atol, max_steps, method, parallel=False)
 
 
 def _readonly(array: npt.NDArray[np.generic]) -> npt.NDArray[np.generic]:

@@ -27,6 +27,7 @@ from jointplay.cli._common import (
     mechanism_from_options,
     provenance,
 )
+from jointplay.cli.tolerance import BackendOption, backend_from_options
 from jointplay.errors import ConfigError
 from jointplay.units import parse_quantity
 
@@ -193,6 +194,7 @@ def design_command(
     ] = 1.0,
     rpm: RpmOption = None,
     gravity: GravityOption = None,
+    backend: BackendOption = "processes",
     workers: Annotated[
         int | None,
         typer.Option("--workers", help="Local worker processes (default: one per CPU).", min=1),
@@ -219,7 +221,6 @@ def design_command(
     from jointplay.report.design import write_design
     from jointplay.study.design import design_study, design_units
     from jointplay.tolerance.cost import CostModel
-    from jointplay.tolerance.execution import Backend
 
     mechanism = mechanism_from_options(preset, config, rpm=rpm, gravity=gravity)
     kind = choice(responses, "--responses", ("auto", "kinematic", "dynamic"))
@@ -237,12 +238,12 @@ def design_command(
     data = read_table(table, config)
     cost = CostModel.from_table(data.get("cost", {}))
     wear = wear_settings(data, wear_coefficient, hardness)
-    if dask_scheduler is not None:
-        if workers is not None:
-            raise ConfigError("--workers applies to local processes; the Dask cluster has its own")
-        backend = Backend.dask(dask_scheduler)
-    else:
-        backend = Backend("processes", workers=workers)
+    where = backend_from_options(backend, workers, dask_scheduler)
+    if where.kind == "gpu":
+        raise ConfigError(
+            "--backend gpu: the design study runs the single engine (its running responses "
+            "need each sample's trajectory); use local, processes or dask"
+        )
     with output_dir(out, force=force) as folder:  # checked before the study runs
         result = design_study(
             mechanism,
@@ -260,7 +261,7 @@ def design_command(
             wear=wear,
             settle=settle,
             revolutions=revolutions,
-            backend=backend,
+            backend=where,
             progress=progress,
         )
         units = design_units(mechanism, result.responses)  # type: ignore[arg-type]

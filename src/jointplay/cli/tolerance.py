@@ -32,6 +32,7 @@ if TYPE_CHECKING:
     from jointplay.contact.laws import ContactLaw
     from jointplay.model.mechanism import Mechanism
     from jointplay.tolerance.analysis import ToleranceStudyResult
+    from jointplay.tolerance.execution import Backend
     from jointplay.tolerance.methods import SpecLimits
 
 console = Console(highlight=False, soft_wrap=True)
@@ -76,6 +77,45 @@ class Distribution(StrEnum):
     uniform = "uniform"
     normal = "normal"
     triangular = "triangular"
+
+
+#: ``--backend``: where the samples run (shared with ``jointplay design``).
+BackendOption = Annotated[
+    str,
+    typer.Option(
+        "--backend",
+        help="Where the samples run: local (this process; the dynamics on threads over the "
+        "cores), processes (worker processes, default), dask (the cluster of "
+        "--dask-scheduler) or gpu (the dynamics on JAX: pip install 'jointplay[gpu]').",
+    ),
+]
+BACKEND_NAMES = ("local", "processes", "dask", "gpu", "serial")
+
+
+def backend_from_options(kind: str, workers: int | None, dask_scheduler: str | None) -> Backend:
+    """The execution backend of ``--backend``, ``--workers`` and ``--dask-scheduler``.
+
+    ``--dask-scheduler`` alone means ``--backend dask``; ``serial`` is another name of
+    ``local``; ``--workers`` applies to local processes only.
+    """
+    from jointplay.tolerance.execution import Backend
+
+    kind = kind.strip().lower()
+    if kind not in BACKEND_NAMES:
+        raise ConfigError(f"--backend must be local, processes, dask or gpu, got {kind!r}")
+    if dask_scheduler is not None and kind == "processes":
+        kind = "dask"
+    if kind == "dask":
+        if dask_scheduler is None:
+            raise ConfigError("--backend dask needs the scheduler's address: give --dask-scheduler")
+        if workers is not None:
+            raise ConfigError("--workers applies to local processes; the Dask cluster has its own")
+        return Backend.dask(dask_scheduler)
+    if dask_scheduler is not None:
+        raise ConfigError(f"--dask-scheduler applies to --backend dask, not {kind}")
+    if workers is not None and kind != "processes":
+        raise ConfigError(f"--workers applies to --backend processes, not {kind}")
+    return Backend(kind, workers=workers)  # type: ignore[arg-type]
 
 
 class CornerMode(StrEnum):
@@ -219,6 +259,7 @@ def tolerance_command(
             "'omega4_peak=:16 rad/s' (either side may be empty). Repeatable.",
         ),
     ] = None,
+    backend: BackendOption = "processes",
     workers: Annotated[
         int | None,
         typer.Option("--workers", help="Local worker processes (default: one per CPU).", min=1),
@@ -245,7 +286,6 @@ def tolerance_command(
     from jointplay.io.tolerances import load_study_spec
     from jointplay.report.tolerance import write_study
     from jointplay.tolerance.analysis import response_units, tolerance_study
-    from jointplay.tolerance.execution import Backend
     from jointplay.tolerance.methods import MonteCarlo, Rss, ToleranceMethod, WorstCase
 
     with output_dir(out, force=force) as folder:
@@ -278,14 +318,9 @@ def tolerance_command(
             law = contact_law(contact_options, mechanism, paper_method, ecs_source)
         elif any(v is not None for v in (*contact_options.values(), paper_method, ecs_source)):
             raise ConfigError("contact options apply to --responses dynamic or running only")
-        if dask_scheduler is not None:
-            if workers is not None:
-                raise ConfigError(
-                    "--workers applies to local processes; the Dask cluster has its own"
-                )
-            backend = Backend.dask(dask_scheduler)
-        else:
-            backend = Backend("processes", workers=workers)
+        where = backend_from_options(backend, workers, dask_scheduler)
+        if where.kind == "gpu" and not dynamic:
+            raise ConfigError("--backend gpu runs the dynamics: use it with --responses dynamic")
         units = response_units(mechanism, spec, responses.value, contact=law)
         limits = parse_spec_limits(spec_limit or [], units)
         analysis: ToleranceMethod
@@ -305,7 +340,7 @@ def tolerance_command(
             start=start.value,
             settle=settle,
             revolutions=revolutions,
-            backend=backend,
+            backend=where,
             progress=progress,
         )
         summary = study.summary()

@@ -35,12 +35,12 @@ gives those for one sample.
 
 from __future__ import annotations
 
+import atexit
 import concurrent.futures as cf
 import dataclasses
 import math
 import multiprocessing
 import os
-import signal
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
@@ -1016,23 +1016,34 @@ def _chunks(n: int, size: int) -> list[NDArray[np.intp]]:
     return [np.arange(i, min(i + size, n)) for i in range(0, n, size)]
 
 
-_WORKER: dict[str, Any] = {}
+_POOL: dict[str, Any] = {}
 
 
-def _init_worker(shared: tuple[Any, ...]) -> None:
-    """Process-pool initializer: the shared inputs, one Numba thread, Ctrl-C to the parent."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _WORKER["shared"] = shared
+def _pool(workers: int) -> cf.ProcessPoolExecutor:
+    """The worker processes of this process's batches, started once and kept (so the start-up
+    and the loading of the compiled kernels are paid once per worker, not per batch)."""
+    executor = _POOL.get("executor")
+    if executor is None or _POOL.get("workers") != workers:
+        _close_pool()
+        executor = cf.ProcessPoolExecutor(
+            max_workers=workers,
+            mp_context=multiprocessing.get_context("spawn"),
+            initializer=kb.worker_init,
+        )
+        _POOL.update(executor=executor, workers=workers)
+        atexit.register(_close_pool)
+    return executor  # type: ignore[no-any-return]
 
 
-def _run_chunk(shared: tuple[Any, ...], chunk: tuple[FloatArray, ...]) -> kb.BatchKernelOutput:
-    """One chunk of lanes through the serial compiled kernel (a worker's task)."""
-    ipar, rtol, atol, max_steps, method = shared
-    return kb.run_batch(ipar, *chunk, rtol, atol, max_steps, method, parallel=False)
-
-
-def _run_chunk_in_worker(chunk: tuple[FloatArray, ...]) -> kb.BatchKernelOutput:
-    return _run_chunk(_WORKER["shared"], chunk)
+def _close_pool(terminate: bool = False) -> None:
+    executor = _POOL.pop("executor", None)
+    _POOL.pop("workers", None)
+    if executor is None:
+        return
+    if terminate:
+        for process in list(getattr(executor, "_processes", {}).values()):
+            process.terminate()
+    executor.shutdown(wait=True, cancel_futures=True)
 
 
 def _gpu_kernel() -> Callable[..., Any]:
@@ -1082,7 +1093,7 @@ def _dispatch(
         import numba
 
         threads = numba.get_num_threads()
-        chunk = chunk_size or max(4096, 0)
+        chunk = chunk_size or 4096
     elif backend == "gpu":
         chunk = chunk_size or GPU_CHUNK
     else:
@@ -1101,7 +1112,7 @@ def _dispatch(
                 for k, chunk_items in enumerate(items()):
                     out = kb.run_batch(
                         problem.ipar, *chunk_items, problem.rtol, problem.atol,
-                        problem.max_steps, method, parallel=backend == "local", interrupt=flags,
+                        problem.max_steps, method, parallel=threads > 1, interrupt=flags,
                     )  # fmt: skip
                     outputs[k] = out
                     advance(len(parts[k]))
@@ -1120,17 +1131,11 @@ def _dispatch(
                 )  # fmt: skip
                 advance(len(parts[k]))
         elif backend == "processes":
-            threads = min(threads, len(parts))
-            executor = cf.ProcessPoolExecutor(
-                max_workers=threads,
-                mp_context=multiprocessing.get_context("spawn"),
-                initializer=_init_worker,
-                initargs=(shared,),
-            )
+            executor = _pool(threads)
             futures: dict[cf.Future[kb.BatchKernelOutput], int] = {}
             try:
                 futures = {
-                    executor.submit(_run_chunk_in_worker, item): k for k, item in enumerate(items())
+                    executor.submit(kb.run_chunk, shared, item): k for k, item in enumerate(items())
                 }
                 for future in cf.as_completed(futures):
                     k = futures[future]
@@ -1139,11 +1144,8 @@ def _dispatch(
             except BaseException:
                 for future in futures:
                     future.cancel()
-                for process in list(getattr(executor, "_processes", {}).values()):
-                    process.terminate()
+                _close_pool(terminate=True)
                 raise
-            finally:
-                executor.shutdown(wait=True, cancel_futures=True)
         else:
             threads = _run_dask(shared, list(items()), scheduler, outputs, parts, advance)
     done = [o for o in outputs if o is not None]
@@ -1176,7 +1178,7 @@ def _run_dask(
         workers = max(1, len(client.scheduler_info(n_workers=-1).get("workers", {})))
         scattered = client.scatter(shared, broadcast=True)
         futures = {
-            client.submit(_run_chunk, scattered, item, pure=False): k
+            client.submit(kb.run_chunk, scattered, item, pure=False): k
             for k, item in enumerate(items)
         }
         for future in as_completed(list(futures), loop=client.loop):

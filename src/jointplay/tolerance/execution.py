@@ -18,18 +18,23 @@ Two entry points:
 
 Backends (:class:`Backend`):
 
-* ``"serial"`` — in the calling process;
+* ``"local"`` (``"serial"`` is the same) — in the calling process; a batch-engine model
+  (:class:`~jointplay.tolerance.responses.DynamicResponses`) runs each block's samples on
+  threads over the cores there;
 * ``"processes"`` (default) — a :class:`concurrent.futures.ProcessPoolExecutor` with the
   ``spawn`` start method (safe with threads, the same on every OS); the shared object (e.g.
-  the model) is sent to each worker once, at start-up. A run with a single task stays
-  in-process;
+  the model) is sent to each worker once, at start-up, and each worker runs compiled code on
+  one thread. A run with a single task stays in-process, and so does one whose model says its
+  samples are too cheap to pay for starting workers (``seconds_per_sample``, see :func:`run`);
+* ``"gpu"`` — in the calling process, a batch-engine model's blocks on JAX (the optional
+  ``jointplay[gpu]`` extra), in blocks of up to 200 000 samples;
 * ``"dask"`` — a Dask distributed cluster at ``scheduler`` (``distributed.Client(address)``),
   the way to scale beyond one machine; the shared object is scattered to the workers once.
   Workers need jointplay installed.
 
 For the process and Dask backends the function must be a module-level function and the
 shared object and items picklable by reference: a custom model class has to live in an
-importable module (not in ``__main__`` of a notebook); use the serial backend otherwise.
+importable module (not in ``__main__`` of a notebook); use the local backend otherwise.
 
 A rich progress bar (on stderr) shows the work done, rate and time left. Ctrl-C stops the run
 gracefully: pending tasks are cancelled, finished ones are kept and the others are marked
@@ -40,6 +45,7 @@ happened.
 from __future__ import annotations
 
 import concurrent.futures as cf
+import dataclasses
 import math
 import multiprocessing
 import os
@@ -63,10 +69,15 @@ __all__ = ["BACKENDS", "STATUS", "Backend", "RunResult", "TaskRun", "run", "run_
 FloatArray = NDArray[np.float64]
 T = TypeVar("T")
 R = TypeVar("R")
-BackendKind = Literal["serial", "processes", "dask"]
+BackendKind = Literal["local", "serial", "processes", "dask", "gpu"]
 
-#: The execution backends.
-BACKENDS: tuple[str, ...] = ("serial", "processes", "dask")
+#: The execution backends (``"serial"`` is accepted as another name of ``"local"``).
+BACKENDS: tuple[str, ...] = ("local", "processes", "dask", "gpu")
+#: What starting one worker process costs here (import, loading compiled code), s: a run
+#: starts only as many workers as its estimated work pays for.
+WORKER_START_S = 3.0
+#: Samples per block of a batch-engine model on the GPU backend.
+GPU_BLOCK = 200_000
 
 #: Sample status codes and their names (the ``status`` column of ``samples.parquet``).
 STATUS: Mapping[int, str] = types.MappingProxyType({0: "ok", 1: "failed", 2: "not run"})
@@ -85,7 +96,7 @@ class Backend:
     """Where the samples run.
 
     Attributes:
-        kind: ``"serial"``, ``"processes"`` or ``"dask"``.
+        kind: ``"local"`` (or ``"serial"``), ``"processes"``, ``"dask"`` or ``"gpu"``.
         workers: local worker processes (default: the number of CPUs); ignored by the others.
         scheduler: address of the Dask scheduler, e.g. ``"tcp://10.0.0.5:8786"`` (dask only).
         chunk_size: samples per task (default: the model's ``chunk_size``).
@@ -97,6 +108,8 @@ class Backend:
     chunk_size: int | None = None
 
     def __post_init__(self) -> None:
+        if self.kind == "serial":
+            object.__setattr__(self, "kind", "local")
         if self.kind not in BACKENDS:
             raise ConfigError(f"backend must be one of {', '.join(BACKENDS)}, got {self.kind!r}")
         if self.workers is not None and (
@@ -136,7 +149,7 @@ class RunResult:
         status: (n,) int8 codes of :data:`STATUS` (0 ok, 1 failed, 2 not run).
         errors: n messages (``""`` where the sample succeeded).
         interrupted: the run was stopped (Ctrl-C) before every sample finished.
-        backend: backend kind actually used (``"serial"`` for single-chunk local runs).
+        backend: backend kind actually used (``"local"`` for runs kept in this process).
         workers: number of workers used.
         chunk_size: samples per task.
         wall_time: elapsed time, s.
@@ -180,10 +193,17 @@ _WORKER_SHARED: Any = None
 
 
 def _init_worker(shared: Any) -> None:
-    """Process-pool initializer: keep the shared object; leave Ctrl-C to the parent."""
+    """Process-pool initializer: keep the shared object; leave Ctrl-C to the parent; one
+    compiled thread per worker (the workers are the parallelism)."""
     global _WORKER_SHARED
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     _WORKER_SHARED = shared
+    try:
+        import numba
+
+        numba.set_num_threads(1)
+    except (ImportError, ValueError):  # pragma: no cover - numba is a dependency
+        pass
 
 
 def _attempt(function: Callable[[Any, Any], Any], shared: Any, item: Any) -> tuple[bool, Any]:
@@ -226,7 +246,7 @@ class TaskRun(Generic[R]):
         errors: n messages: ``""`` where the item succeeded, ``"ErrorType: message"`` where
             the function raised, ``"not run (interrupted)"`` where Ctrl-C came first.
         interrupted: the run was stopped (Ctrl-C) before every item finished.
-        backend: backend kind actually used (``"serial"`` for single-task local runs).
+        backend: backend kind actually used (``"local"`` for runs kept in this process).
         workers: number of workers used.
         wall_time: elapsed time, s.
     """
@@ -296,17 +316,17 @@ def run_tasks(
         else:
             status[index], errors[index] = FAILED, str(value)
 
-    kind = backend.kind
+    kind = "local" if backend.kind == "gpu" else backend.kind
     workers = 1
     if kind == "processes":
         workers = min(backend.workers or os.cpu_count() or 1, n)
         if workers <= 1:
-            kind, workers = "serial", 1
+            kind, workers = "local", 1
     wall = time.perf_counter()
     interrupted = False
     with _progress_bar(progress, sum(weights), description) as advance:
         try:
-            if kind == "serial":
+            if kind == "local":
                 for index, item in enumerate(items):
                     store(index, _attempt(function, shared, item))
                     advance(weights[index])
@@ -443,6 +463,7 @@ def run(
     if x.ndim != 2 or x.shape[1] != len(model.input_names):
         raise ConfigError(f"samples must have shape (n, {len(model.input_names)}), got {x.shape}")
     n = len(x)
+    model, backend = _placed(model, backend, n)
     chunk = int(backend.chunk_size or model.chunk_size)
     starts = list(range(0, n, chunk))
     blocks = [x[start : start + chunk] for start in starts]
@@ -469,16 +490,68 @@ def run(
         elif code == FAILED:
             status[start:stop] = FAILED
             errors[start:stop] = [error] * len(block)
+    engine = getattr(model, "engine", None)  # a batch model spreads its blocks itself
     return RunResult(
         values=values,
         status=status,
         errors=tuple(errors),
         interrupted=tasks.interrupted,
-        backend=tasks.backend,
-        workers=tasks.workers,
+        backend=tasks.backend if engine is None else str(engine),
+        workers=tasks.workers
+        if engine != "processes"
+        else int(getattr(model, "workers", None) or os.cpu_count() or 1),
         chunk_size=chunk,
         wall_time=tasks.wall_time,
     )
+
+
+def _placed(model: ResponseModel, backend: Backend, n: int) -> tuple[ResponseModel, Backend]:
+    """The model and backend a run of ``n`` samples really uses.
+
+    A batch-engine model (one with an ``engine`` field,
+    :class:`~jointplay.tolerance.responses.DynamicResponses`) runs its blocks from this process
+    and spreads each block's lanes itself: on threads here (``"local"``), on this process's
+    pool of workers, kept from block to block so that each worker starts and loads the
+    compiled kernels once (``"processes"``), on the Dask cluster or on the GPU; its blocks
+    are large (:data:`GPU_BLOCK` on the GPU, 128 samples per worker on processes).
+
+    On the process backend, a model that states its cost (``seconds_per_sample``) gets only
+    as many workers as the work pays for — one per :data:`WORKER_START_S` of estimated
+    serial time — and none (this process) below two, so more workers never make a cheap
+    (e.g. vectorised kinematic) study slower.
+    """
+    kind = backend.kind
+    engine = getattr(model, "engine", None)
+    if kind == "gpu" and engine is None:
+        raise ConfigError(
+            "the gpu backend runs the batch engine only: use it with --responses dynamic"
+        )
+    workers = backend.workers
+    cost = getattr(model, "seconds_per_sample", None)
+    if kind == "processes" and cost is not None:
+        requested = workers or os.cpu_count() or 1
+        affordable = int(n * float(cost) / WORKER_START_S)
+        if min(requested, affordable) < 2:
+            kind, workers = "local", None
+        elif affordable < requested:
+            workers = affordable
+    if engine is None:
+        return model, dataclasses.replace(backend, kind=kind, workers=workers)
+    model = dataclasses.replace(
+        model,  # type: ignore[type-var]
+        engine=kind,
+        workers=workers if kind == "processes" else None,
+        scheduler=backend.scheduler if kind == "dask" else None,
+    )
+    if backend.chunk_size:
+        block = backend.chunk_size
+    elif kind == "gpu":
+        block = GPU_BLOCK
+    elif kind in ("processes", "dask"):
+        block = max(model.chunk_size, 128 * (workers or os.cpu_count() or 1))
+    else:
+        block = model.chunk_size
+    return model, Backend("local", chunk_size=block)
 
 
 @contextmanager

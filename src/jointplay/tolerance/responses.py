@@ -22,10 +22,10 @@ Models:
   time with :func:`jointplay.kinematics.analysis.analyse`: ``theta{k}_min``/``_max``,
   ``omega{k}_peak``, ``alpha{k}_peak`` per rotating link, ``{slider}_stroke``,
   ``{slider}_v_peak``, ``{slider}_a_peak`` per slider.
-* :class:`DynamicResponses` — the clearance-joint dynamics
-  (:func:`jointplay.dynamics.simulate.simulate`) once per sample: ``omega{k}_peak``,
-  ``alpha{k}_peak``, ``F_<joint>_peak`` (N), ``torque_peak`` (N·m), largest |value| over the
-  simulated time.
+* :class:`DynamicResponses` — the clearance-joint dynamics of every sample of a block at once
+  with the batch engine (:func:`jointplay.dynamics.batch.simulate_batch`: compiled lanes, no
+  trajectories): ``omega{k}_peak``, ``alpha{k}_peak``, ``F_<joint>_peak`` (N),
+  ``torque_peak`` (N·m), largest |value| over the analysed revolutions.
 * :class:`LinearModel` — a linear stack ``y = c + Σ aᵢ xᵢ`` whose worst case, RSS and
   Monte Carlo answers are known in closed form (verification), with an analytic Jacobian.
 """
@@ -279,6 +279,10 @@ class FourBarKinematics:
     block: int = 32
     chunk_size: int = 4096
     _grid: dict[str, FloatArray] = field(default_factory=dict, repr=False, compare=False)
+
+    #: Cost of one sample on one core, s (100 000 samples in ~2.7 s): the process backend
+    #: starts workers only when they pay for themselves (:func:`~jointplay.tolerance.execution.run`).
+    seconds_per_sample = 3e-5
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "input_names", tuple(self.input_names))
@@ -628,7 +632,18 @@ class DynamicResponses:
         revolutions: analysed crank revolutions after them.
         solver: integration settings (:class:`jointplay.dynamics.simulate.SolverOptions`).
         friction: friction law of every clearance joint, or ``None``.
-        chunk_size: samples per task sent to a worker.
+        method: integration method of the batch engine: ``"explicit"`` (Dormand–Prince
+            5(4)), ``"implicit"`` (Radau IIA) or ``"auto"`` (chosen from the nominal contact
+            laws, the same for every block: :func:`jointplay.dynamics.batch.choose_method`).
+        engine: where the lanes of a block run (the backend of
+            :func:`jointplay.dynamics.batch.simulate_batch`): ``"local"`` (threads over the
+            cores of this process), ``"processes"`` (this process's pool of worker processes,
+            kept from block to block), ``"dask"`` or ``"gpu"`` (JAX). The execution backend
+            sets it, with ``workers`` and ``scheduler``
+            (:func:`jointplay.tolerance.execution.run`).
+        workers: worker processes of the ``"processes"`` engine (default one per CPU).
+        scheduler: the Dask scheduler's address (``"dask"`` engine).
+        chunk_size: samples per block.
     """
 
     mechanism: Mechanism
@@ -641,10 +656,28 @@ class DynamicResponses:
     revolutions: float = 1.0
     solver: SolverOptions = field(default_factory=_default_solver)
     friction: FrictionLaw | None = None
-    chunk_size: int = 1
+    method: str = "auto"
+    engine: str = "local"
+    workers: int | None = None
+    scheduler: str | None = None
+    chunk_size: int = 64
+
+    #: Rough cost of one sample on one core (the conventional four-bar, one revolution), s:
+    #: the execution backend starts worker processes only when they pay for themselves.
+    seconds_per_sample = 0.015
 
     def __post_init__(self) -> None:
         from jointplay.contact.laws import ContactLaw
+
+        if self.method not in ("auto", "explicit", "implicit"):
+            raise ConfigError(
+                f"dynamic responses: method must be auto, explicit or implicit, got {self.method!r}"
+            )
+        if self.engine not in ("local", "processes", "dask", "gpu"):
+            raise ConfigError(
+                f"dynamic responses: engine must be local, processes, dask or gpu, got "
+                f"{self.engine!r}"
+            )
 
         object.__setattr__(self, "input_names", tuple(self.input_names))
         object.__setattr__(self, "journal_radius", dict(self.journal_radius))
@@ -723,8 +756,11 @@ class DynamicResponses:
         def fields_of(obj: Any) -> dict[str, Any]:
             return {k: v for k, v in vars(obj).items() if not k.startswith("_")}
 
+        choice = self.method_choice()
         return {
-            "model": "clearance-joint dynamics (jointplay.dynamics.simulate)",
+            "model": "clearance-joint dynamics (batch engine, jointplay.dynamics.batch)",
+            "method": choice.method,
+            "method_reason": choice.reason,
             "clearance_joints": list(self.clearance_joints),
             "journal_radius_m": dict(self.journal_radius),
             "fixed_clearances_m": dict(self.fixed_clearances),
@@ -738,9 +774,59 @@ class DynamicResponses:
             "solver": fields_of(self.solver),
             "peaks": (
                 f"largest |value| over the {self.revolutions:g} revolution(s) after "
-                f"{self.settle} start-up revolution(s), located on the continuous solution"
+                f"{self.settle} start-up revolution(s), searched between the integrator's "
+                "steps near every running peak (jointplay._kernels.batch)"
             ),
         }
+
+    def method_choice(self) -> Any:
+        """The batch engine's method for this model (the nominal contact laws decide, so
+        every block of samples uses the same one)."""
+        from jointplay.dynamics.batch import MethodChoice, choose_method
+
+        if self.method != "auto":
+            return MethodChoice(self.method, f"{self.method}, as asked", math.nan, math.nan)
+        return choose_method(self.mechanism, self._nominal_joints(None), solver=self.solver)
+
+    def _nominal_joints(self, x: FloatArray | None) -> list[Any]:
+        """The clearance joints with the fixed clearances, the input ones at their first
+        sample in ``x`` (any valid value: the samples replace it), else 1 % of the radius."""
+        from jointplay.dynamics.clearance import ClearanceJoint
+
+        joints = []
+        for joint in self.clearance_joints:
+            name = f"clearance_{joint}"
+            if joint in self.fixed_clearances:
+                value = self.fixed_clearances[joint]
+            elif x is not None and len(x) and name in self.input_names:
+                column = x[:, self.input_names.index(name)]
+                valid = column[np.isfinite(column) & (column > 0)]
+                value = float(valid[0]) if valid.size else 0.01 * self.journal_radius[joint]
+            else:
+                value = 0.01 * self.journal_radius[joint]
+            joints.append(
+                ClearanceJoint(
+                    joint,
+                    clearance=value,
+                    journal_radius=self.journal_radius[joint],
+                    law=self.law,
+                    friction=self.friction,
+                )
+            )
+        return joints
+
+    def batch_samples(self, x: FloatArray) -> Any:
+        """The :class:`~jointplay.dynamics.batch.BatchSamples` of the input block ``x``."""
+        from jointplay.dynamics.batch import BatchSamples
+
+        lengths = {}
+        clearances = {}
+        for k, name in enumerate(self.input_names):
+            if name.startswith("length_"):
+                lengths[name.removeprefix("length_")] = x[:, k]
+            else:
+                clearances[name.removeprefix("clearance_")] = x[:, k]
+        return BatchSamples(lengths=lengths, clearances=clearances, size=len(x))
 
     def simulate_one(self, row: FloatArray) -> SimulationResult:
         """The simulation of one sample; a failed integration is returned, not raised.
@@ -784,25 +870,29 @@ class DynamicResponses:
         )
 
     def evaluate(self, x: FloatArray) -> Evaluation:
-        """Simulate every sample; integration and assembly failures are marked, not raised."""
+        """Simulate every sample of the block at once with the batch engine
+        (:func:`jointplay.dynamics.batch.simulate_batch`); integration and assembly failures
+        are marked, not raised. The results of a sample do not depend on the block."""
+        from jointplay.dynamics.batch import simulate_batch
+
         x = _check_inputs(x, len(self.input_names))
-        values = np.full((len(x), len(self.response_names)), np.nan)
-        ok = np.zeros(len(x), dtype=bool)
-        errors = []
-        keys = self.peak_keys
-        for i, row in enumerate(x):
-            try:
-                result = self.simulate_one(row)
-            except (JointplayError, np.linalg.LinAlgError) as exc:
-                errors.append(_error(exc))
-                continue
-            if not result.success:
-                errors.append(f"IntegrationError: {result.message}")
-                continue
-            values[i] = [result.peaks[key]["value"] for key in keys]
-            ok[i] = True
-            errors.append("")
-        return Evaluation(values, ok, tuple(errors))
+        if len(x) == 0:
+            return Evaluation(np.empty((0, len(self.response_names))), np.zeros(0, bool), ())
+        result = simulate_batch(
+            self.mechanism,
+            self._nominal_joints(x),
+            self.batch_samples(x),
+            revolutions=self.revolutions,
+            settle=self.settle,
+            start=self.start,
+            solver=self.solver,
+            method=self.method_choice().method,
+            backend=self.engine,
+            workers=self.workers,
+            scheduler=self.scheduler,
+        )
+        values = result.peaks[list(self.peak_keys)].to_numpy(dtype=float)
+        return Evaluation(values, np.asarray(result.ok, dtype=bool), tuple(result.errors))
 
 
 #: Responses :class:`RunningResponses` adds to the dynamic peaks, with SI units.
@@ -837,6 +927,9 @@ class RunningResponses:
     wear: WearSettings
     kinematic: ResponseModel | None = None
     chunk_size: int = 1
+
+    #: Cost of one sample on one core (one single-engine simulation), s.
+    seconds_per_sample = 0.05
 
     @property
     def kinematic_names(self) -> tuple[str, ...]:

@@ -1,0 +1,178 @@
+"""The compiled batch kernel against the single engine, lane by lane.
+
+Reference: :func:`jointplay.dynamics.simulate.simulate` (compiled Radau IIA, peaks located on
+its continuous solution by zooming). Tolerances, each with its reason:
+
+- explicit vs single engine: 1e-5 relative on ω and 1e-3 on α, forces and torque — two
+  different integrators at rtol = 1e-6 (issue 14's acceptance bounds);
+- implicit vs single engine: the same Radau steps, so only the peak search differs (five
+  samples and a parabola per refined step against a converged zoom): 1e-6 on ω, 2e-4 on
+  the others.
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+import numpy as np
+import pytest
+
+from jointplay._kernels import batch as kb
+from jointplay._kernels import common as kc
+from jointplay._kernels import eom
+from jointplay.dynamics.clearance import ClearanceJoint
+from jointplay.dynamics.setup import DEFAULT_IMPACT
+from jointplay.dynamics.simulate import Start, initial_state, simulate
+from jointplay.dynamics.system import build_system
+from jointplay.model.mechanism import Mechanism
+from jointplay.model.templates import with_lengths
+
+JOINTS = ("O2", "A", "B", "O4")
+KEYS = ("omega3", "omega4", "alpha3", "alpha4", "F_O2", "F_A", "F_B", "F_O4", "torque")
+#: QUANTITY ORDER columns of KEYS for the paper's four-bar (3 bodies, 4 joints).
+COLUMNS = (1, 2, 4, 5, 6, 7, 8, 9, 10)
+
+
+def _lane(mechanism: Mechanism, clearance: float):
+    joints = [ClearanceJoint(j, clearance, 0.005, DEFAULT_IMPACT) for j in JOINTS]
+    system = build_system(mechanism, joints)
+    rpar, ipar = eom.pack(system.model)
+    y0 = initial_state(system, Start("steady"))
+    n = system.n_coordinates
+    atol = np.concatenate([np.full(n, 1e-10), np.full(n, 1e-6), np.full(2, 1e-6), np.ones(4)])
+    return joints, rpar, ipar, y0, atol
+
+
+@pytest.fixture(scope="module")
+def lanes(paper_fourbar: Mechanism):
+    """Three samples: the nominal four-bar and two with other lengths and clearances."""
+    cases = [
+        (paper_fourbar, 11.75e-6),
+        (with_lengths(paper_fourbar, crank=0.1085, coupler=0.2702), 14e-6),
+        (with_lengths(paper_fourbar, rocker=0.2711, ground=0.2789), 9e-6),
+    ]
+    built = [_lane(m, c) for m, c in cases]
+    period = paper_fourbar.driver.period
+    rpar = np.stack([b[1] for b in built])
+    y0 = np.stack([b[3] for b in built])
+    args = (built[0][2], rpar, y0, 0.0, period, period / 360.0, 1e-6, built[0][4], 200_000)
+    references = [
+        simulate(m, b[0], revolutions=1, settle=0, start=Start("steady"))
+        for (m, _), b in zip(cases, built, strict=True)
+    ]
+    return args, references
+
+
+def _relative(value: float, reference: float) -> float:
+    return abs(value - reference) / abs(reference)
+
+
+def test_explicit_lanes_agree_with_the_single_engine(lanes) -> None:
+    args, references = lanes
+    out = kb.run_batch(*args, "explicit")
+    assert (out.status == kc.STATUS_SUCCESS).all()
+    for lane, reference in enumerate(references):
+        for key, column in zip(KEYS, COLUMNS, strict=True):
+            bound = 1e-5 if key.startswith("omega") else 1e-3
+            got = out.peaks[lane, column]
+            assert _relative(got, reference.peaks[key]["value"]) < bound, (lane, key)
+
+
+def test_implicit_lanes_take_the_single_engines_steps(lanes) -> None:
+    args, references = lanes
+    out = kb.run_batch(*args, "implicit")
+    for lane, reference in enumerate(references):
+        assert out.n_steps[lane] == reference.solver_stats["steps"]
+        for key, column in zip(KEYS, COLUMNS, strict=True):
+            bound = 1e-6 if key.startswith("omega") else 2e-4
+            got = out.peaks[lane, column]
+            assert _relative(got, reference.peaks[key]["value"]) < bound, (lane, key)
+
+
+def test_statistics_agree_with_the_single_engines_solution(lanes) -> None:
+    """Mean and RMS of ω from the single engine's dense time series (trapezoids on 0.5°
+    samples: 1e-4 of the RMS), the deepest penetration from its steps (1e-3)."""
+    args, references = lanes
+    out = kb.run_batch(*args, "explicit")
+    for lane, reference in enumerate(references):
+        series = reference.timeseries
+        t = series["t"].to_numpy()
+        for k, key in enumerate(("omega3", "omega4")):
+            w = series[key].to_numpy()
+            span = t[-1] - t[0]
+            mean = np.trapezoid(w, t) / span
+            rms = math.sqrt(np.trapezoid(w * w, t) / span)
+            body = k + 1
+            assert abs(out.stats[lane, body] - mean) < 1e-4 * rms
+            assert _relative(out.stats[lane, 3 + body], rms) < 1e-4
+        for c, joint in enumerate(JOINTS):
+            deepest = reference.solver_stats["max_penetration_per_joint_m"][joint]
+            assert _relative(out.stats[lane, 6 + c], deepest) < 1e-3
+
+
+def test_lanes_do_not_depend_on_their_neighbours_or_threads(lanes) -> None:
+    args, _ = lanes
+    together = kb.run_batch(*args, "explicit", parallel=True)
+    ipar, rpar, y0, *rest = args
+    for lane in range(len(rpar)):
+        alone = kb.run_batch(ipar, rpar[lane : lane + 1], y0[lane : lane + 1], *rest, "explicit",
+                             parallel=False)  # fmt: skip
+        for name in kb.BatchKernelOutput._fields:
+            np.testing.assert_array_equal(getattr(alone, name)[0], getattr(together, name)[lane])
+
+
+def test_a_failing_lane_does_not_stop_the_others(lanes) -> None:
+    (ipar, rpar, y0, *rest), _ = lanes
+    broken = rpar.copy()
+    law = broken[1].copy()
+    model = eom.unpack(law, ipar)
+    offset = int(np.flatnonzero(np.isin(law, model.law_p))[0])  # first law parameter: k
+    broken[1, offset] = 1e308  # an absurd stiffness: the force overflows
+    out = kb.run_batch(ipar, broken, y0, *rest, "explicit")
+    assert out.status.tolist() == [kc.STATUS_SUCCESS, kc.STATUS_NON_FINITE, kc.STATUS_SUCCESS]
+    assert np.isnan(out.peaks[1]).all() and np.isfinite(out.peaks[[0, 2]]).all()
+    few = kb.run_batch(ipar, rpar, y0, *rest[:-1], 50, "explicit")
+    assert (few.status == kc.STATUS_TOO_MANY_STEPS).all() and (few.n_steps == 50).all()
+
+
+def test_dopri5_tableau_satisfies_the_order_conditions() -> None:
+    """Order 5 of the propagated weights, order 4 of the embedded ones (b − E), row sums
+    equal to the nodes — independent of the code that uses them (exact fractions)."""
+    c = [0, Fraction(1, 5), Fraction(3, 10), Fraction(4, 5), Fraction(8, 9), 1, 1]
+    a = [
+        [],
+        [Fraction(1, 5)],
+        [Fraction(3, 40), Fraction(9, 40)],
+        [Fraction(44, 45), Fraction(-56, 15), Fraction(32, 9)],
+        [Fraction(19372, 6561), Fraction(-25360, 2187), Fraction(64448, 6561),
+         Fraction(-212, 729)],
+        [Fraction(9017, 3168), Fraction(-355, 33), Fraction(46732, 5247), Fraction(49, 176),
+         Fraction(-5103, 18656)],
+    ]  # fmt: skip
+    b = [Fraction(35, 384), 0, Fraction(500, 1113), Fraction(125, 192), Fraction(-2187, 6784),
+         Fraction(11, 84), 0]  # fmt: skip
+    e = [Fraction(71, 57600), 0, Fraction(-71, 16695), Fraction(71, 1920),
+         Fraction(-17253, 339200), Fraction(22, 525), Fraction(-1, 40)]  # fmt: skip
+    for row, node in zip(a[1:], c[1:6], strict=True):
+        assert sum(row) == node
+    floats = [kb.B1, 0.0, kb.B3, kb.B4, kb.B5, kb.B6, 0.0]
+    assert floats == [float(v) for v in b]
+    assert [kb.E1, 0.0, kb.E3, kb.E4, kb.E5, kb.E6, kb.E7] == [float(v) for v in e]
+    hat = [bi - ei for bi, ei in zip(b, e, strict=True)]
+    for weights, order in ((b, 5), (hat, 4)):
+        for p in range(1, order + 1):
+            assert sum(w * ci ** (p - 1) for w, ci in zip(weights, c, strict=True)) == Fraction(
+                1, p
+            )
+    # the dense output reproduces the step's end: Σ_m P[j, m] = b_j
+    np.testing.assert_allclose(kb.DENSE.sum(axis=1), [float(v) for v in b], atol=1e-15)
+
+
+def test_the_parabolic_refinement_finds_a_parabolas_vertex() -> None:
+    """Samples of 5 − (θ − 0.4)² at θ = 0, 1/8, …, 1: the vertex 5 is found exactly."""
+    theta = np.concatenate([[0.0], kb.REFINE_POINTS, [1.0]])
+    samples = (5.0 - (theta - 0.4) ** 2)[:, None]
+    peaks = np.array([0.0])
+    kb._refine_peaks(samples, peaks)
+    assert peaks[0] == pytest.approx(5.0, rel=1e-15)
