@@ -81,3 +81,15 @@ def test_formats_png_always_and_a_print_copy_on_request(tmp_path) -> None:
 )
 def test_tick_labels_carry_their_magnitude(value: float, label: str) -> None:
     assert tick_label(value) == label
+
+
+def test_encode_gives_the_png_and_the_print_copy_by_file_name() -> None:
+    from jointplay.report._mpl import pyplot
+    from jointplay.report.figures import encode
+
+    fig = pyplot().figure()
+    files = encode(fig, "demo", "pdf")
+    assert list(files) == ["demo.png", "demo.pdf"]
+    assert files["demo.png"].startswith(b"\x89PNG") and files["demo.pdf"].startswith(b"%PDF")
+    with pytest.raises(ConfigError, match="png, svg, pdf"):
+        encode(pyplot().figure(), "demo", "jpg")

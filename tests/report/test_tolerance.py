@@ -74,3 +74,16 @@ def test_monte_carlo_report_says_how_inputs_were_sampled(
     assert "truncated at their specification limits" in summary["sampling_distributions"]
     page = (tmp_path / "report.html").read_text(encoding="utf-8")
     assert "truncated at their specification limits" in page
+
+
+def test_figure_format_writes_print_copies_beside_the_embedded_pngs(
+    paper_fourbar: Mechanism, tmp_path
+) -> None:
+    study = tolerance_study(paper_fourbar, samples=50, seed=1, backend=Backend("serial"))
+    written = write_study(study, tmp_path, figure_format="svg")
+    pngs = sorted(p.stem for p in written if p.suffix == ".png")
+    assert pngs == ["histograms", "scatter", "tornado"]
+    assert sorted(p.stem for p in written if p.suffix == ".svg") == pngs
+    assert all((tmp_path / f"{stem}.svg").read_text().lstrip().startswith("<?xml") for stem in pngs)
+    page = (tmp_path / "report.html").read_text(encoding="utf-8")
+    assert page.count("<img") == len(pngs)  # the report embeds the PNGs only

@@ -14,6 +14,7 @@ from rich.console import Console
 from jointplay.cli._app import app
 from jointplay.cli._common import (
     ConfigOption,
+    FigureFormatOption,
     ForceOption,
     GravityOption,
     HardnessOption,
@@ -22,6 +23,7 @@ from jointplay.cli._common import (
     RpmOption,
     SettleOption,
     WearCoefficientOption,
+    check_figure_format,
     mechanism_from_options,
     provenance,
     quantity_option,
@@ -73,6 +75,7 @@ def wear_command(
     gravity: GravityOption = None,
     plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
     force: ForceOption = False,
+    figure_format: FigureFormatOption = "png",
 ) -> None:
     """Wear life: Archard wear of every clearance joint over the steady cycle, re-simulated at
     the worn clearance every --update-hours; the clearance, peak force and rocker-speed error
@@ -88,6 +91,7 @@ def wear_command(
     from jointplay.report.design import write_wear
     from jointplay.tolerance import iso286
 
+    figure_format = check_figure_format(figure_format)
     mechanism = mechanism_from_options(preset, config, rpm=rpm, gravity=gravity)
     life_hours = quantity_option(hours, "s", "--hours", example="h", positive=True) / 3600.0
     step = (
@@ -141,7 +145,13 @@ def wear_command(
             settle=settle,
             on_update=lambda done, total: console.print(f"  {done:g} of {total:g} h", style="dim"),
         )
-        write_wear(history, folder, plots=plots, provenance=provenance(history.summary()))
+        write_wear(
+            history,
+            folder,
+            plots=plots,
+            provenance=provenance(history.summary()),
+            figure_format=figure_format,
+        )
     for name, life in history.life.items():
         how = " (extrapolated)" if history.life_extrapolated[name] else ""
         console.print(

@@ -10,7 +10,6 @@ life; the worn profile of each bearing and journal, polar) and ``report.html``.
 
 from __future__ import annotations
 
-import io
 import math
 from collections.abc import Mapping
 from pathlib import Path
@@ -22,6 +21,7 @@ import pandas as pd
 from jointplay.dynamics.wear import WearHistory
 from jointplay.io.output import write_json
 from jointplay.report._mpl import pyplot
+from jointplay.report.figures import encode
 from jointplay.report.html import HtmlReport
 from jointplay.study.design import DesignResult
 
@@ -50,14 +50,13 @@ def display(unit: str) -> tuple[str, float]:
     return _DISPLAY.get(unit, (unit, 1.0))
 
 
-def _png(fig: Any) -> bytes:
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi=110, bbox_inches="tight")
-    pyplot().close(fig)
-    return buffer.getvalue()
+def _encode(fig: Any, stem: str, figure_format: str) -> dict[str, bytes]:
+    return encode(fig, stem, figure_format, dpi=110, bbox_inches="tight")
 
 
-def design_plots(result: DesignResult, units: Mapping[str, str]) -> dict[str, bytes]:
+def design_plots(
+    result: DesignResult, units: Mapping[str, str], figure_format: str = "png"
+) -> dict[str, bytes]:
     """PNG plots of a design study by file name."""
     plt = pyplot()
     table = result.table
@@ -76,7 +75,7 @@ def design_plots(result: DesignResult, units: Mapping[str, str]) -> dict[str, by
     ax.set_ylabel("yield (all requirements), %")
     ax.set_title(f"{result.mechanism.name}: cost against yield")
     ax.legend(fontsize=7)
-    images["design_pareto.png"] = _png(fig)
+    images.update(_encode(fig, "design_pareto", figure_format))
     responses = list(dict.fromkeys(r.response for r in result.requirements))
     for name in responses:
         if f"{name}_mean" not in table:
@@ -106,7 +105,7 @@ def design_plots(result: DesignResult, units: Mapping[str, str]) -> dict[str, by
         ax.set_xticks(x, table["scheme"], rotation=60, ha="right", fontsize=7)
         ax.set_ylabel(f"{name} ({unit})")
         ax.legend(fontsize=7)
-        images[f"design_{name}.png"] = _png(fig)
+        images.update(_encode(fig, f"design_{name}", figure_format))
     return images
 
 
@@ -163,7 +162,8 @@ def design_section(
             text_columns=(0, 1, 2),
         )
     for name, data in images.items():
-        report.figure(data, name.removesuffix(".png").replace("_", " "))
+        if name.endswith(".png"):  # the others are print copies beside the report
+            report.figure(data, name.removesuffix(".png").replace("_", " "))
 
 
 def write_design(
@@ -173,6 +173,7 @@ def write_design(
     *,
     plots: bool = True,
     provenance: Mapping[str, Any] | None = None,
+    figure_format: str = "png",
 ) -> list[Path]:
     """Write the design study's files into ``folder`` (existing); returns them."""
     folder = Path(folder)
@@ -186,7 +187,7 @@ def write_design(
         summary["provenance"] = dict(provenance)
     written.append(folder / "summary.json")
     write_json(written[-1], summary)
-    images = design_plots(result, units) if plots else {}
+    images = design_plots(result, units, figure_format) if plots else {}
     for name, data in images.items():
         (folder / name).write_bytes(data)
         written.append(folder / name)
@@ -196,7 +197,7 @@ def write_design(
     return written
 
 
-def wear_plots(history: WearHistory) -> dict[str, bytes]:
+def wear_plots(history: WearHistory, figure_format: str = "png") -> dict[str, bytes]:
     """PNG plots of a wear life by file name."""
     plt = pyplot()
     images: dict[str, bytes] = {}
@@ -213,7 +214,7 @@ def wear_plots(history: WearHistory) -> dict[str, bytes]:
     axes[2].set_xlabel("operating hours")
     axes[0].legend(fontsize=7)
     axes[0].set_title(f"wear over the life at {history.rpm:g} RPM (dotted: limits)")
-    images["wear_history.png"] = _png(fig)
+    images.update(_encode(fig, "wear_history", figure_format))
     names = list(history.bearing_profile)
     fig, axes = plt.subplots(
         1, len(names), figsize=(3.2 * len(names), 3.6), subplot_kw={"projection": "polar"}
@@ -226,7 +227,7 @@ def wear_plots(history: WearHistory) -> dict[str, bytes]:
         ax.set_title(f"{name}: worn depth (µm)", fontsize=8)
         ax.tick_params(labelsize=6)
     np.atleast_1d(axes)[0].legend(fontsize=6, loc="lower left")
-    images["wear_profiles.png"] = _png(fig)
+    images.update(_encode(fig, "wear_profiles", figure_format))
     return images
 
 
@@ -261,7 +262,8 @@ def wear_section(report: HtmlReport, history: WearHistory, images: Mapping[str, 
         text_columns=(0, 6),
     )
     for name, data in images.items():
-        report.figure(data, name.removesuffix(".png").replace("_", " "))
+        if name.endswith(".png"):  # the others are print copies beside the report
+            report.figure(data, name.removesuffix(".png").replace("_", " "))
 
 
 def write_wear(
@@ -270,6 +272,7 @@ def write_wear(
     *,
     plots: bool = True,
     provenance: Mapping[str, Any] | None = None,
+    figure_format: str = "png",
 ) -> list[Path]:
     """Write the wear life's files into ``folder`` (existing); returns them."""
     folder = Path(folder)
@@ -285,7 +288,7 @@ def write_wear(
     if provenance is not None:
         summary["provenance"] = dict(provenance)
     write_json(written[2], summary)
-    images = wear_plots(history) if plots else {}
+    images = wear_plots(history, figure_format) if plots else {}
     for name, data in images.items():
         (folder / name).write_bytes(data)
         written.append(folder / name)

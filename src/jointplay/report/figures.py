@@ -95,6 +95,28 @@ def save(fig: Any, path: Path, figure_format: str = "png", *, dpi: int = 100) ->
     return written
 
 
+def encode(fig: Any, stem: str, figure_format: str = "png", **savefig: Any) -> dict[str, bytes]:
+    """``fig`` as file contents by file name: ``stem.png`` and, unless ``figure_format`` is
+    ``"png"``, ``stem.svg`` or ``stem.pdf`` too (for print); close it.
+
+    For the reports that embed their images from memory; ``savefig`` goes to
+    :meth:`matplotlib.figure.Figure.savefig` (dpi, bbox_inches).
+    """
+    import io
+
+    from jointplay.report._mpl import pyplot
+
+    check_format(figure_format)
+    formats = ("png",) if figure_format == "png" else ("png", figure_format)
+    files = {}
+    for suffix in formats:
+        buffer = io.BytesIO()
+        fig.savefig(buffer, format=suffix, **savefig)
+        files[f"{stem}.{suffix}"] = buffer.getvalue()
+    pyplot().close(fig)
+    return files
+
+
 def thin(x: Any, y: Any, bins: int = THIN_BINS) -> tuple[np.ndarray, np.ndarray]:
     """The points of the line (x, y) the eye can tell apart: in each of ``bins`` equal
     columns of the x range, the first, smallest and largest point, in their order.

@@ -22,7 +22,6 @@ Reports show lengths in mm, clearances in µm and angles in degrees; files stay 
 
 from __future__ import annotations
 
-import io
 import math
 from collections.abc import Mapping
 from pathlib import Path
@@ -32,6 +31,7 @@ import numpy as np
 
 from jointplay.io.output import write_json
 from jointplay.report._mpl import pyplot
+from jointplay.report.figures import encode
 from jointplay.report.html import HtmlReport
 from jointplay.tolerance.analysis import ToleranceStudyResult
 from jointplay.tolerance.definitions import response_definitions
@@ -77,6 +77,7 @@ def write_study(
     *,
     plots: bool = True,
     provenance: Mapping[str, Any] | None = None,
+    figure_format: str = "png",
 ) -> list[Path]:
     """Write ``samples.parquet``, ``summary.json``, the PNG plots and ``report.html``.
 
@@ -85,6 +86,7 @@ def write_study(
         folder: an existing folder.
         plots: draw the PNG plots (and embed them in the report).
         provenance: recorded under ``provenance`` in ``summary.json`` (versions, command).
+        figure_format: ``"png"``, or ``"svg"``/``"pdf"`` written beside each PNG.
 
     Returns:
         The files written.
@@ -102,7 +104,7 @@ def write_study(
     write_json(written[1], summary)
     images: dict[str, bytes] = {}
     if plots:
-        images = study_plots(study)
+        images = study_plots(study, figure_format)
         for name, data in images.items():
             path = folder / name
             path.write_bytes(data)
@@ -136,15 +138,9 @@ def _grid(plt: Any, count: int, *, left: float = 0.07) -> tuple[Any, list[Any]]:
     return fig, flat[:count]
 
 
-def _png(plt: Any, fig: Any) -> bytes:
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format="png")
-    plt.close(fig)
-    return buffer.getvalue()
-
-
-def study_plots(study: ToleranceStudyResult) -> dict[str, bytes]:
-    """The study's PNG images by file name: tornado, and for Monte Carlo histograms and scatter."""
+def study_plots(study: ToleranceStudyResult, figure_format: str = "png") -> dict[str, bytes]:
+    """The study's images by file name: tornado, and for Monte Carlo histograms and scatter;
+    PNG, and also ``figure_format`` (svg, pdf) for print."""
     plt = pyplot()
     r = study.result
     names = list(r.response_names)
@@ -161,7 +157,7 @@ def study_plots(study: ToleranceStudyResult) -> dict[str, bytes]:
         ax.tick_params(labelsize=7)
         ax.grid(True, axis="x", alpha=0.3)
     fig.suptitle(f"{study.mechanism.name}: contributions ({r.method})", fontsize=10)
-    images["tornado.png"] = _png(plt, fig)
+    images.update(encode(fig, "tornado", figure_format))
     if r.method != "monte-carlo":
         return images
     ok = r.run.status == 0
@@ -196,7 +192,7 @@ def study_plots(study: ToleranceStudyResult) -> dict[str, bytes]:
         unique = dict(zip(labels, handles, strict=True))
         ax.legend(unique.values(), unique.keys(), fontsize=6)
     fig.suptitle(f"{study.mechanism.name}: Monte Carlo, {int(ok.sum())} samples", fontsize=10)
-    images["histograms.png"] = _png(plt, fig)
+    images.update(encode(fig, "histograms", figure_format))
     fig, axes = _grid(plt, len(names))
     shown = np.flatnonzero(ok)[:5000]
     for j, (ax, name) in enumerate(zip(axes, names, strict=True)):
@@ -214,7 +210,7 @@ def study_plots(study: ToleranceStudyResult) -> dict[str, bytes]:
         ax.set_ylabel(y_unit, fontsize=8)
         ax.tick_params(labelsize=7)
     fig.suptitle(f"{study.mechanism.name}: most influential input per response", fontsize=10)
-    images["scatter.png"] = _png(plt, fig)
+    images.update(encode(fig, "scatter", figure_format))
     return images
 
 
@@ -350,6 +346,8 @@ def _report(
     else:
         page.paragraph("None.")
     for name, data in images.items():
+        if not name.endswith(".png"):
+            continue  # print copies: files beside the report
         title = _FIGURE_TITLES.get(name, name.removesuffix(".png"))
         page.heading(title, anchor=name.removesuffix(".png"))
         page.figure(data, name)
