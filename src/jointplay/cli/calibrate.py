@@ -27,10 +27,12 @@ from jointplay.cli._common import (
     AngleOriginOption,
     ConfigOption,
     CrankDirectionOption,
+    FigureFormatOption,
     ForceOption,
     PresetOption,
     RpmOption,
     SpeedPositiveOption,
+    check_figure_format,
     choice,
     provenance,
 )
@@ -194,6 +196,7 @@ def calibrate_command(
     ] = None,
     plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
     force: ForceOption = False,
+    figure_format: FigureFormatOption = "png",
 ) -> None:
     """Fit crank speed, phase, link lengths or contact parameters to measurements.
 
@@ -206,6 +209,7 @@ def calibrate_command(
     Error % = (measured - simulated) / simulated x 100, as the paper defines it.
     See docs/calibration.md.
     """
+    figure_format = check_figure_format(figure_format)
     from jointplay.cli._common import mechanism_from_options
     from jointplay.dynamics.setup import contact_from_strings
     from jointplay.io.config import simulation_settings
@@ -308,6 +312,7 @@ def calibrate_command(
                 contact_law=contact_settings.law,
                 extra={"provenance": provenance({"mechanism": mechanism_summary(mechanism)})},
                 plots=plots,
+                figure_format=figure_format,
             )
     else:
         result = run()

@@ -18,6 +18,7 @@ from typing import Any
 from jointplay.io.config_writer import calibrated_config, write_config
 from jointplay.io.output import write_json
 from jointplay.report._mpl import pyplot
+from jointplay.report.figures import save
 from jointplay.study.calibration import CalibrationResult, Dataset
 
 
@@ -31,8 +32,11 @@ def _axis_labels(dataset: Dataset) -> tuple[str, str]:
     return x, f"{dataset.quantity} ({dataset.unit})"
 
 
-def calibration_plots(result: CalibrationResult, folder: Path) -> list[Path]:
-    """``overlay_{label}.png`` and ``residuals_{label}.png`` per data set."""
+def calibration_plots(
+    result: CalibrationResult, folder: Path, figure_format: str = "png"
+) -> list[Path]:
+    """``overlay_{label}.png`` and ``residuals_{label}.png`` per data set (and their SVG or
+    PDF copies when ``figure_format`` asks for one)."""
     plt = pyplot()
     written = []
     fitted = ", ".join(p.name for p in result.parameters)
@@ -56,10 +60,7 @@ def calibration_plots(result: CalibrationResult, folder: Path) -> list[Path]:
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=8)
         fig.tight_layout()
-        path = folder / f"overlay_{_slug(label)}.png"
-        fig.savefig(path, dpi=120)
-        plt.close(fig)
-        written.append(path)
+        written += save(fig, folder / f"overlay_{_slug(label)}.png", figure_format, dpi=120)
 
         fig, ax = plt.subplots(figsize=(7.5, 3.5))
         for column, style, name in (
@@ -75,10 +76,7 @@ def calibration_plots(result: CalibrationResult, folder: Path) -> list[Path]:
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=8)
         fig.tight_layout()
-        path = folder / f"residuals_{_slug(label)}.png"
-        fig.savefig(path, dpi=120)
-        plt.close(fig)
-        written.append(path)
+        written += save(fig, folder / f"residuals_{_slug(label)}.png", figure_format, dpi=120)
     return written
 
 
@@ -121,6 +119,7 @@ def write_calibration(
     contact_law: str | None = None,
     extra: Mapping[str, Any] | None = None,
     plots: bool = True,
+    figure_format: str = "png",
 ) -> list[Path]:
     """Write the calibration's files into ``folder`` (which exists).
 
@@ -149,5 +148,5 @@ def write_calibration(
         write_config(path, data, config_header(result, config_source))
         written.append(path)
     if plots:
-        written += calibration_plots(result, folder)
+        written += calibration_plots(result, folder, figure_format)
     return written
