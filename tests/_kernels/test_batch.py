@@ -158,7 +158,7 @@ def test_dopri5_tableau_satisfies_the_order_conditions() -> None:
         assert sum(row) == node
     floats = [kb.B1, 0.0, kb.B3, kb.B4, kb.B5, kb.B6, 0.0]
     assert floats == [float(v) for v in b]
-    assert [kb.E1, 0.0, kb.E3, kb.E4, kb.E5, kb.E6, kb.E7] == [float(v) for v in e]
+    assert [float(v) for v in e] == [kb.E1, 0.0, kb.E3, kb.E4, kb.E5, kb.E6, kb.E7]
     hat = [bi - ei for bi, ei in zip(b, e, strict=True)]
     for weights, order in ((b, 5), (hat, 4)):
         for p in range(1, order + 1):

@@ -240,3 +240,20 @@ def test_running_responses_add_speed_error_force_pressure_and_wear(
     assert (frame["wear_rate"] > 0).all() and (frame["contact_pressure"] > 0).all()
     assert 0 < summary["rocker_speed_error"].nominal < 0.05  # a few % on the running mechanism
     assert study.ideal is not None and "F_A_peak" in study.ideal
+
+
+def test_dynamic_study_gives_the_same_samples_and_bits_on_every_cpu_backend(
+    paper_fourbar: Mechanism,
+) -> None:
+    """Sampling happens before dispatch and the batch engine's lanes are independent: the
+    same seed gives the same samples and the same responses in this process (threads) and on
+    worker processes, in any block size."""
+    options = {"responses": "dynamic", "samples": 6, "seed": 8, "settle": 0, "revolutions": 0.2}
+    local = tolerance_study(paper_fourbar, backend=Backend("local"), **options)
+    spread = tolerance_study(
+        paper_fourbar, backend=Backend("processes", workers=2, chunk_size=4), **options
+    )
+    assert spread.result.run.backend == "processes" and spread.result.run.workers == 2
+    np.testing.assert_array_equal(local.result.x, spread.result.x)
+    np.testing.assert_array_equal(local.result.run.values, spread.result.run.values)
+    assert local.model["method"] == "explicit" and "Dormand" in local.model["method_reason"]

@@ -48,21 +48,28 @@ def test_cheap_kinematics_stay_in_process_with_the_same_numbers(kinematics) -> N
     (~0.1 s): the process backend keeps them in this process; the numbers are the same."""
     model, x = kinematics
     serial = run(model, x, backend=Backend("serial", chunk_size=500))
-    asked = run(model, x, backend=Backend("processes", workers=2, chunk_size=500))
-    assert asked.backend == "local" and asked.workers == 1
-    np.testing.assert_array_equal(asked.values, serial.values)
+    default = run(model, x, backend=Backend("processes", chunk_size=500))
+    assert default.backend == "local" and default.workers == 1
+    np.testing.assert_array_equal(default.values, serial.values)
 
 
-def test_workers_are_started_only_when_the_work_pays_for_them(kinematics) -> None:
-    from jointplay.tolerance.execution import WORKER_START_S, _placed
+def test_default_workers_are_started_only_when_the_work_pays_for_them(
+    kinematics, monkeypatch
+) -> None:
+    from jointplay.tolerance import execution
 
+    monkeypatch.setattr(execution.os, "cpu_count", lambda: 8)
     model, _ = kinematics
-    per_worker = int(WORKER_START_S / model.seconds_per_sample) + 1  # samples paying for one
-    for n, expected in [(3000, ("local", None)), (3 * per_worker, ("processes", 3))]:
-        _, backend = _placed(model, Backend("processes", workers=8), n)
+    per_worker = int(execution.WORKER_START_S / model.seconds_per_sample) + 1
+    for n, expected in [
+        (3000, ("local", None)),
+        (3 * per_worker, ("processes", 3)),
+        (100 * per_worker, ("processes", None)),  # all 8
+    ]:
+        _, backend = execution._placed(model, Backend("processes"), n)
         assert (backend.kind, backend.workers) == expected
-    _, backend = _placed(model, Backend("processes", workers=2), 100 * per_worker)
-    assert (backend.kind, backend.workers) == ("processes", 2)
+    _, backend = execution._placed(model, Backend("processes", workers=2), 3000)
+    assert (backend.kind, backend.workers) == ("processes", 2)  # asked for: started
 
 
 def test_results_do_not_depend_on_the_chunk_size(kinematics) -> None:

@@ -515,10 +515,11 @@ def _placed(model: ResponseModel, backend: Backend, n: int) -> tuple[ResponseMod
     compiled kernels once (``"processes"``), on the Dask cluster or on the GPU; its blocks
     are large (:data:`GPU_BLOCK` on the GPU, 128 samples per worker on processes).
 
-    On the process backend, a model that states its cost (``seconds_per_sample``) gets only
-    as many workers as the work pays for — one per :data:`WORKER_START_S` of estimated
-    serial time — and none (this process) below two, so more workers never make a cheap
-    (e.g. vectorised kinematic) study slower.
+    On the process backend with the default number of workers, a model that states its cost
+    (``seconds_per_sample``) gets only as many workers as the work pays for — one per
+    :data:`WORKER_START_S` of estimated serial time — and none (this process) below two, so
+    more cores never make a cheap (e.g. vectorised kinematic) study slower. Workers asked
+    for explicitly are started.
     """
     kind = backend.kind
     engine = getattr(model, "engine", None)
@@ -528,11 +529,11 @@ def _placed(model: ResponseModel, backend: Backend, n: int) -> tuple[ResponseMod
         )
     workers = backend.workers
     cost = getattr(model, "seconds_per_sample", None)
-    if kind == "processes" and cost is not None:
-        requested = workers or os.cpu_count() or 1
+    if kind == "processes" and cost is not None and workers is None:
+        requested = os.cpu_count() or 1
         affordable = int(n * float(cost) / WORKER_START_S)
         if min(requested, affordable) < 2:
-            kind, workers = "local", None
+            kind = "local"
         elif affordable < requested:
             workers = affordable
     if engine is None:

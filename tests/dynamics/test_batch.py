@@ -1,0 +1,215 @@
+"""The batch engine's Python face: the vectorised builder, the backends, failures as data.
+
+References: the per-sample build (:func:`build_system` + :func:`initial_state`, exact to
+round-off: 1e-14 relative), the single engine per sample (issue 14's bounds: 1e-5 on ω, 1e-3
+on α, forces and torque), and the engine itself on another backend or chunking (bitwise).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from jointplay.dynamics.batch import (
+    BatchSamples,
+    build_batch,
+    choose_method,
+    simulate_batch,
+)
+from jointplay.dynamics.clearance import ClearanceJoint
+from jointplay.dynamics.setup import DEFAULT_IMPACT
+from jointplay.dynamics.simulate import SolverOptions, Start, simulate
+from jointplay.errors import ConfigError
+from jointplay.model.mechanism import Mechanism
+from jointplay.model.templates import with_lengths
+
+JOINTS = ("O2", "A", "B", "O4")
+
+
+def _joints(clearance: float = 11.75e-6, law=DEFAULT_IMPACT) -> list[ClearanceJoint]:
+    return [ClearanceJoint(j, clearance, 0.005, law) for j in JOINTS]
+
+
+def _random_samples(n: int, seed: int) -> BatchSamples:
+    rng = np.random.default_rng(seed)
+    nominal = {"crank": 0.108, "coupler": 0.2705, "rocker": 0.2705, "ground": 0.2794}
+    return BatchSamples(
+        lengths={k: v * (1 + 2e-3 * rng.standard_normal(n)) for k, v in nominal.items()},
+        clearances={j: rng.uniform(6e-6, 20e-6, n) for j in JOINTS},
+        law={"c_max": rng.uniform(5e3, 2e4, n), "stiffness": rng.uniform(2e8, 4e8, n)},
+        angular_velocity=rng.uniform(18.0, 24.0, n),
+    )
+
+
+def _relative_difference(a: np.ndarray, b: np.ndarray) -> float:
+    scale = np.maximum(np.abs(b), 1e-300)
+    return float(np.max(np.where(a == b, 0.0, np.abs(a - b) / scale)))
+
+
+@pytest.mark.parametrize("start", ["steady", "rest", "impulsive"])
+def test_vectorised_build_equals_the_per_sample_build(paper_fourbar: Mechanism, start) -> None:
+    samples = _random_samples(40, seed=3)
+    fast = build_batch(paper_fourbar, _joints(), samples, start=Start(start), settle=1)
+    slow = build_batch(
+        paper_fourbar, _joints(), samples, start=Start(start), settle=1, vectorised=False
+    )
+    assert fast.vectorised and not slow.vectorised
+    assert fast.ok.all() and slow.ok.all()
+    assert _relative_difference(fast.rpar, slow.rpar) < 1e-14
+    assert _relative_difference(fast.y0, slow.y0) < 1e-14
+    np.testing.assert_array_equal(fast.ipar, slow.ipar)
+    for name in ("t_settle", "t_end", "max_step"):
+        assert _relative_difference(getattr(fast, name), getattr(slow, name)) < 1e-14
+
+
+def test_vectorised_build_of_a_slider_crank(slider_crank: Mechanism) -> None:
+    rng = np.random.default_rng(4)
+    spec = slider_crank.template
+    n = 25
+    samples = BatchSamples(
+        lengths={
+            "crank": spec.geometry.crank * (1 + 1e-3 * rng.standard_normal(n)),  # type: ignore[union-attr]
+            "rod": spec.geometry.rod * (1 + 1e-3 * rng.standard_normal(n)),  # type: ignore[union-attr]
+        },
+        clearances={"B": rng.uniform(5e-6, 2e-5, n)},
+    )
+    joints = [ClearanceJoint("B", 1e-5, 0.005, DEFAULT_IMPACT)]
+    fast = build_batch(slider_crank, joints, samples)
+    slow = build_batch(slider_crank, joints, samples, vectorised=False)
+    assert fast.ok.all()
+    assert _relative_difference(fast.rpar, slow.rpar) < 1e-14
+    assert _relative_difference(fast.y0, slow.y0) < 1e-13
+
+
+def test_unbuildable_samples_fail_with_the_per_sample_message(paper_fourbar: Mechanism) -> None:
+    samples = BatchSamples(
+        lengths={"crank": np.array([0.108, 0.3, 0.108])},
+        clearances={"A": np.array([1e-5, 1e-5, -1e-6])},
+    )
+    fast = build_batch(paper_fourbar, _joints(), samples)
+    slow = build_batch(paper_fourbar, _joints(), samples, vectorised=False)
+    assert fast.ok.tolist() == slow.ok.tolist() == [True, False, False]
+    assert fast.errors == slow.errors
+    assert fast.errors[1].startswith("AssemblyError") and "turn fully" in fast.errors[1]
+    assert fast.errors[2].startswith("ConfigError") and "clearance" in fast.errors[2]
+
+
+def test_batch_agrees_with_the_single_engine_per_sample(paper_fourbar: Mechanism) -> None:
+    samples = _random_samples(3, seed=11)
+    result = simulate_batch(paper_fourbar, _joints(), samples, backend="local")
+    assert result.method == "explicit" and result.ok.all()
+    for i in range(len(samples)):
+        mechanism = with_lengths(
+            paper_fourbar, **{k: float(v[i]) for k, v in samples.lengths.items()}
+        )
+        mechanism = mechanism.with_driver(speed=float(samples.angular_velocity[i]))  # type: ignore[index]
+        law = DEFAULT_IMPACT.__class__(
+            stiffness=float(samples.law["stiffness"][i]),
+            exponent=DEFAULT_IMPACT.exponent,
+            c_max=float(samples.law["c_max"][i]),
+            d_max=DEFAULT_IMPACT.d_max,
+        )
+        joints = [ClearanceJoint(j, float(samples.clearances[j][i]), 0.005, law) for j in JOINTS]
+        reference = simulate(mechanism, joints, start=Start("steady"))
+        for key in result.peaks.columns:
+            bound = 1e-5 if key.startswith("omega") else 1e-3
+            got = result.peaks.loc[i, key]
+            assert abs(got / reference.peaks[key]["value"] - 1) < bound, (i, key)
+
+
+@pytest.fixture(scope="module")
+def reference(paper_fourbar: Mechanism):
+    samples = _random_samples(9, seed=5)
+    return samples, simulate_batch(paper_fourbar, _joints(), samples, backend="local")
+
+
+def _same(a, b) -> None:
+    np.testing.assert_array_equal(a.peaks.to_numpy(), b.peaks.to_numpy())
+    np.testing.assert_array_equal(a.statistics.to_numpy(), b.statistics.to_numpy())
+    np.testing.assert_array_equal(a.counters.to_numpy(), b.counters.to_numpy())
+    assert a.errors == b.errors
+
+
+@pytest.mark.parametrize("chunk_size", [1, 7, 9])
+def test_chunking_does_not_change_results(paper_fourbar: Mechanism, reference, chunk_size) -> None:
+    samples, expected = reference
+    result = simulate_batch(paper_fourbar, _joints(), samples, chunk_size=chunk_size)
+    _same(result, expected)
+
+
+def test_worker_processes_give_the_same_bits(paper_fourbar: Mechanism, reference) -> None:
+    samples, expected = reference
+    result = simulate_batch(
+        paper_fourbar, _joints(), samples, backend="processes", workers=2, chunk_size=4
+    )
+    assert result.backend == "processes" and result.workers == 2
+    _same(result, expected)
+
+
+@pytest.mark.slow  # JAX compiles the batch for ~10 s
+def test_the_gpu_backend_agrees_with_the_cpu(paper_fourbar: Mechanism, reference) -> None:
+    pytest.importorskip("jax")
+    samples, expected = reference
+    result = simulate_batch(paper_fourbar, _joints(), samples, backend="gpu", method="explicit")
+    assert result.ok.all()
+    for key in expected.peaks.columns:
+        bound = 1e-5 if key.startswith("omega") else 1e-3
+        np.testing.assert_allclose(result.peaks[key], expected.peaks[key], rtol=bound)
+
+
+def test_the_gpu_backend_without_jax_says_what_to_install(
+    paper_fourbar: Mechanism, monkeypatch
+) -> None:
+    import sys
+
+    import jointplay._kernels
+
+    monkeypatch.setitem(sys.modules, "jointplay._kernels.jax_batch", None)  # import fails
+    monkeypatch.delattr(jointplay._kernels, "jax_batch", raising=False)
+    with pytest.raises(ConfigError, match=r"jointplay\[gpu\]"):
+        simulate_batch(paper_fourbar, _joints(), BatchSamples(size=1), backend="gpu")
+
+
+def test_failed_samples_keep_their_inputs_and_do_not_stop_the_others(
+    paper_fourbar: Mechanism,
+) -> None:
+    samples = BatchSamples(
+        law={"stiffness": np.array([3e8, 1e300, 3e8])},  # the middle one overflows
+        lengths={"crank": np.array([0.108, 0.108, 0.3])},  # the last cannot turn
+    )
+    result = simulate_batch(paper_fourbar, _joints(), samples)
+    assert result.ok.tolist() == [True, False, False]
+    failures = result.failures
+    assert failures.index.tolist() == [1, 2]
+    assert failures.loc[1, "law_stiffness"] == 1e300
+    assert failures.loc[1, "error"].startswith("IntegrationError: simulation stopped at")
+    assert failures.loc[2, "error"].startswith("AssemblyError")
+    assert np.isnan(result.peaks.loc[1:]).all(axis=None)
+    few = simulate_batch(
+        paper_fourbar, _joints(), BatchSamples(size=2), solver=SolverOptions(max_steps=400)
+    )
+    assert not few.ok.any() and "max_steps = 400" in few.errors[0]
+    frame = few.to_frame()
+    assert frame["status"].tolist() == ["too_many_steps"] * 2
+
+
+def test_method_choice_follows_the_stiffness(paper_fourbar: Mechanism) -> None:
+    from jointplay.study.methods import method_law
+
+    assert choose_method(paper_fourbar, _joints()).method == "explicit"
+    for name in ("ifm-ecs-cylindrical", "ifm-ecs-spherical", "rm-ecs-cylindrical"):
+        law, _ = method_law(name, paper_fourbar)
+        choice = choose_method(paper_fourbar, _joints(law=law))
+        assert choice.method == "implicit", name
+        assert "stiff" in choice.reason
+
+
+def test_bad_arguments_name_the_fix(paper_fourbar: Mechanism) -> None:
+    with pytest.raises(ConfigError, match="backend must be one of"):
+        simulate_batch(paper_fourbar, _joints(), BatchSamples(size=1), backend="threads")
+    with pytest.raises(ConfigError, match="no parameter 'k'"):
+        build_batch(paper_fourbar, _joints(), BatchSamples(law={"k": [1.0]}))
+    with pytest.raises(ConfigError, match="not a clearance joint"):
+        build_batch(paper_fourbar, _joints()[:2], BatchSamples(clearances={"B": [1e-5]}))
+    with pytest.raises(ConfigError, match="one value per sample"):
+        BatchSamples(lengths={"crank": [0.1, 0.1]}, clearances={"A": [1e-5]})
