@@ -37,6 +37,8 @@ def test_design_writes_one_row_per_scheme_and_names_the_choice(tmp_path, capsys)
         (["--require", "omega4_peak == 3"], "expected RESPONSE <=|<|>=|> VALUE"),
         (["--require", "omega4_peak <= 3 rad/s", "--fit", "O2"], "expected JOINT=FIT"),
         (["--require", "omega4_peak <= 3 rad/s", "--confidence", "100"], "--confidence"),
+        (["--require", "omega4_peak <= 3 rad/s", "--backend", "gpu"], "single engine"),
+        (["--require", "omega4_peak <= 3 rad/s", "--backend", "threads"], "--backend must be"),
     ],
 )
 def test_design_errors_are_one_line(tmp_path, capsys, args: list[str], message: str) -> None:

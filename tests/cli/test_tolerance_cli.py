@@ -113,6 +113,18 @@ def test_dynamic_responses_with_contact_options(tmp_path) -> None:
     assert set(summary["inputs"]) >= {"clearance_O2", "clearance_O4"}
 
 
+def test_dynamic_study_on_the_local_backend_names_its_method(tmp_path) -> None:
+    out = tmp_path / "local"
+    args = ["tolerance", "--responses", "dynamic", "--samples", "3", "--settle", "0"]
+    args += ["--revolutions", "0.1", "--backend", "local", "--out", str(out)]
+    assert run([*args, "--no-progress", "--no-plots"]) == 0
+    summary = _summary(out)
+    assert summary["execution"]["backend"] == "local"
+    assert summary["model"]["method"] == "explicit"
+    assert "Dormand-Prince" in summary["model"]["method_reason"]
+    assert summary["counts"]["ok"] == 3
+
+
 def test_dynamic_worst_case_with_a_paper_method_and_fixed_clearances(tmp_path) -> None:
     out = tmp_path / "ecs"
     args = ["tolerance", "--responses", "dynamic", "--method", "worst-case", "--no-clearances"]
@@ -157,6 +169,10 @@ def test_dynamic_worst_case_with_a_paper_method_and_fixed_clearances(tmp_path) -
         ),
         (["--responses", "dynamic", "--ecs-source", "paper"], "give --paper-method"),
         (["--dask-scheduler", "tcp://127.0.0.1:1", "--workers", "2"], "--workers applies"),
+        (["--backend", "threads"], "--backend must be local, processes, dask or gpu"),
+        (["--backend", "dask"], "give --dask-scheduler"),
+        (["--backend", "local", "--workers", "2"], "--workers applies to --backend processes"),
+        (["--backend", "gpu"], "use it with --responses dynamic"),
         (["--preset", "nope"], "unknown preset"),
     ],
 )
