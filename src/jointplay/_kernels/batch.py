@@ -67,7 +67,7 @@ from __future__ import annotations
 
 import math
 import signal
-from typing import NamedTuple
+from typing import Any, NamedTuple, TypeVar
 
 import numba
 import numpy as np
@@ -596,10 +596,16 @@ def run_chunk(
     kernel, ``shared = (ipar, rtol, atol, max_steps, method)``. It lives here so that a worker
     imports only the kernels (not pandas nor the rest of jointplay)."""
     ipar, rtol, atol, max_steps, method = shared
-    return run_batch(ipar, *chunk, rtol, atol, max_steps, method, parallel=False)
+    rpar, y0, t_settle, t_end, max_step = chunk
+    return run_batch(
+        ipar, rpar, y0, t_settle, t_end, max_step, rtol, atol, max_steps, method, parallel=False
+    )
 
 
-def _readonly(array: npt.NDArray[np.generic]) -> npt.NDArray[np.generic]:
+_Scalar = TypeVar("_Scalar", bound=np.generic)
+
+
+def _readonly(array: npt.NDArray[_Scalar]) -> npt.NDArray[_Scalar]:
     array = np.ascontiguousarray(array)
     if array.flags.writeable:
         array = array.copy()
@@ -650,10 +656,10 @@ def run_batch(
     rpar_a = _readonly(np.atleast_2d(np.asarray(rpar, dtype=np.float64)))
     y0_a = np.ascontiguousarray(np.atleast_2d(np.asarray(y0, dtype=np.float64)))
     lanes = y0_a.shape[0]
-    vectors = [
+    settle_a, end_a, step_a = (
         np.ascontiguousarray(np.broadcast_to(np.asarray(v, dtype=np.float64), (lanes,)))
         for v in (t_settle, t_end, max_step)
-    ]
+    )
     atol_a = np.ascontiguousarray(np.asarray(atol, dtype=np.float64))
     nb, nj, nc, size = layout(ipar_a)
     if y0_a.shape[1] != size or atol_a.shape != (size,) or rpar_a.shape[0] != lanes:
@@ -669,14 +675,16 @@ def run_batch(
     flags = _NO_INTERRUPT if interrupt is None else interrupt
     if lanes:
         if method == "explicit":
-            kernel = _explicit_parallel if parallel else _explicit_serial
+            kernel: Any = _explicit_parallel if parallel else _explicit_serial
             kernel(
-                ipar_a, rpar_a, y0_a, *vectors, float(rtol), atol_a, int(max_steps), flags,
+                ipar_a, rpar_a, y0_a, settle_a, end_a, step_a, float(rtol), atol_a,
+                int(max_steps), flags,
                 peaks, stats, status, t_reached, counts,
             )  # fmt: skip
         else:
             _implicit_lanes(
-                ipar_a, rpar_a, y0_a, *vectors, float(rtol), atol_a, int(max_steps), flags,
+                ipar_a, rpar_a, y0_a, settle_a, end_a, step_a, float(rtol), atol_a,
+                int(max_steps), flags,
                 (peaks, stats, status, t_reached, counts),
             )  # fmt: skip
     failed = status != STATUS_SUCCESS

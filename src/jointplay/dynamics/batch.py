@@ -86,6 +86,8 @@ __all__ = [
 ]
 
 FloatArray = NDArray[np.float64]
+#: One chunk of lanes: rpar, y0, t_settle, t_end, max_step.
+Chunk = tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]
 BatchBackend = Literal["local", "processes", "dask", "gpu"]
 BatchMethod = Literal["auto", "explicit", "implicit"]
 
@@ -306,7 +308,8 @@ def build_batch(
             f"mechanism {mechanism.name!r} has no template: its lengths cannot vary per sample"
         )
     if template:
-        known = mechanism.template.geometry.length_names  # type: ignore[union-attr]
+        assert isinstance(mechanism.template, TemplateSpec)
+        known = mechanism.template.geometry.length_names
         for name in samples.lengths:
             if name not in known:
                 raise ConfigError(
@@ -535,10 +538,11 @@ def _build_vectorised(
         ok[i] = False
         try:
             _sample_mechanism(system0, samples, int(i))
-            geometry = dataclasses.replace(
-                spec.geometry, **{k: float(v[i]) for k, v in vars(g).items()}
-            )
-            (fourbar if kind == "four-bar" else slidercrank).check_full_rotation(geometry)  # type: ignore[arg-type]
+            values: dict[str, Any] = {k: float(v[i]) for k, v in vars(g).items()}
+            if isinstance(spec.geometry, FourBarGeometry):
+                fourbar.check_full_rotation(dataclasses.replace(spec.geometry, **values))
+            else:
+                slidercrank.check_full_rotation(dataclasses.replace(spec.geometry, **values))
             errors[i] = "AssemblyError: the crank cannot turn fully"
         except JointplayError as exc:
             errors[i] = f"{type(exc).__name__}: {exc}"
@@ -572,7 +576,7 @@ def _build_vectorised(
         m = (
             np.full(n, body.mass)
             if body.mass is not None
-            else spec.material.density * length * body.width * body.thickness  # type: ignore[operator]
+            else spec.material.density * length * body.width * float(body.thickness or 0.0)
         )
         mass[:, k] = m
         inertia[:, k] = (
@@ -611,22 +615,22 @@ def _build_vectorised(
     nc = len(system0.clearances)
     geom = np.zeros((n, nc, eom.N_GEOM))
     law_p = np.zeros((n, nc, PARAMS_WIDTH))
-    for c, joint in enumerate(system0.clearances):
+    for c, clear in enumerate(system0.clearances):
         clearance = (
-            np.array(samples.clearances[joint.joint], dtype=float)
-            if joint.joint in samples.clearances
-            else np.full(n, joint.clearance)
+            np.array(samples.clearances[clear.joint], dtype=float)
+            if clear.joint in samples.clearances
+            else np.full(n, clear.clearance)
         )
-        geom[:, c, eom.G_R_BEARING] = joint.journal_radius + clearance
-        geom[:, c, eom.G_R_JOURNAL] = joint.journal_radius
+        geom[:, c, eom.G_R_BEARING] = clear.journal_radius + clearance
+        geom[:, c, eom.G_R_JOURNAL] = clear.journal_radius
         geom[:, c, eom.G_CLEARANCE] = clearance
-        law_p[:, c], law_ok, law_errors = _law_columns(joint.law, samples.law, n)
+        law_p[:, c], law_ok, law_errors = _law_columns(clear.law, samples.law, n)
         for i in np.flatnonzero(~law_ok & ok):
             ok[i], errors[i] = False, law_errors[i]
-        if joint.joint in samples.clearances:
+        if clear.joint in samples.clearances:
             for i in np.flatnonzero(ok):
                 try:
-                    dataclasses.replace(joint, clearance=float(clearance[i]))
+                    dataclasses.replace(clear, clearance=float(clearance[i]))
                 except JointplayError as exc:
                     ok[i], errors[i] = False, f"{type(exc).__name__}: {exc}"
     settings = np.tile(system0.model.settings, (n, 1))
@@ -653,7 +657,8 @@ def _build_vectorised(
 
 
 def _four(row: FloatArray) -> FourBarGeometry:
-    return FourBarGeometry(*(float(v) for v in row))
+    crank, coupler, rocker, ground = (float(v) for v in row)
+    return FourBarGeometry(crank=crank, coupler=coupler, rocker=rocker, ground=ground)
 
 
 def _turns_fully(lengths: FloatArray) -> NDArray[np.bool_]:
@@ -1032,7 +1037,7 @@ def _pool(workers: int) -> cf.ProcessPoolExecutor:
         )
         _POOL.update(executor=executor, workers=workers)
         atexit.register(_close_pool)
-    return executor  # type: ignore[no-any-return]
+    return executor
 
 
 def _close_pool(terminate: bool = False) -> None:
@@ -1054,7 +1059,8 @@ def _gpu_kernel() -> Callable[..., Any]:
             f"the gpu backend needs JAX: install jointplay[gpu] (pip install 'jointplay[gpu]'); "
             f"{exc}"
         ) from None
-    return jax_batch.run_batch  # type: ignore[no-any-return]
+    kernel: Callable[..., Any] = jax_batch.run_batch
+    return kernel
 
 
 @contextmanager
@@ -1102,17 +1108,21 @@ def _dispatch(
     parts = _chunks(n, chunk)
     outputs: list[kb.BatchKernelOutput | None] = [None] * len(parts)
 
-    def items() -> Iterator[tuple[FloatArray, ...]]:
+    def items() -> Iterator[Chunk]:
         for part in parts:
-            yield tuple(np.ascontiguousarray(c[lanes[part]]) for c in columns)
+            rpar, y0, t_settle, t_end, max_step = (
+                np.ascontiguousarray(c[lanes[part]]) for c in columns
+            )
+            yield rpar, y0, t_settle, t_end, max_step
 
     with _progress(progress, n) as advance:
         if backend == "local" or (backend == "processes" and threads == 1):
             with _interrupts_watched() as flags:
-                for k, chunk_items in enumerate(items()):
+                for k, (rpar, y0, t_settle, t_end, max_step) in enumerate(items()):
                     out = kb.run_batch(
-                        problem.ipar, *chunk_items, problem.rtol, problem.atol,
-                        problem.max_steps, method, parallel=threads > 1, interrupt=flags,
+                        problem.ipar, rpar, y0, t_settle, t_end, max_step, problem.rtol,
+                        problem.atol, problem.max_steps, method, parallel=threads > 1,
+                        interrupt=flags,
                     )  # fmt: skip
                     outputs[k] = out
                     advance(len(parts[k]))
