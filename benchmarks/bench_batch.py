@@ -29,8 +29,8 @@ import numpy as np
 
 from jointplay.dynamics.batch import BatchSamples, simulate_batch
 from jointplay.dynamics.clearance import ClearanceJoint
-from jointplay.dynamics.simulate import SolverOptions
 from jointplay.dynamics.setup import DEFAULT_IMPACT
+from jointplay.dynamics.simulate import SolverOptions
 from jointplay.io.config import load_preset
 from jointplay.study.methods import method_law
 
