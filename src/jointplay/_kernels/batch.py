@@ -94,6 +94,7 @@ __all__ = [
     "run_batch",
     "run_chunk",
     "worker_init",
+    "worker_ready",
 ]
 
 #: Integration methods of :func:`run_batch`.
@@ -586,6 +587,12 @@ def _implicit_lanes(
 def worker_init() -> None:
     """Initializer of a worker process of the batch engine: Ctrl-C is left to the parent."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def worker_ready() -> bool:
+    """A no-op task: sent to a new worker so that it starts and imports the kernels while the
+    parent prepares the batch."""
+    return True
 
 
 def run_chunk(

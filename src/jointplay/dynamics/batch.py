@@ -83,6 +83,7 @@ __all__ = [
     "build_batch",
     "choose_method",
     "simulate_batch",
+    "start_workers",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -1038,6 +1039,15 @@ def _pool(workers: int) -> cf.ProcessPoolExecutor:
         _POOL.update(executor=executor, workers=workers)
         atexit.register(_close_pool)
     return executor
+
+
+def start_workers(workers: int | None = None) -> None:
+    """Start the worker processes of the ``"processes"`` backend now (one per CPU by default),
+    so that their start-up overlaps whatever this process does before its batch."""
+    count = workers or os.cpu_count() or 1
+    executor = _pool(count)
+    for _ in range(count):
+        executor.submit(kb.worker_ready)
 
 
 def _close_pool(terminate: bool = False) -> None:

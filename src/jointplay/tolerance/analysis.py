@@ -21,7 +21,7 @@ import pandas as pd
 from jointplay.dynamics.cycles import DEFAULT_SETTLE
 from jointplay.errors import ConfigError
 from jointplay.model.mechanism import Mechanism
-from jointplay.tolerance.execution import STATUS, Backend
+from jointplay.tolerance.execution import STATUS, Backend, prepare
 from jointplay.tolerance.methods import (
     Failure,
     MethodResult,
@@ -222,6 +222,8 @@ def tolerance_study(
         )
         dynamic = model.base if isinstance(model, RunningResponses) else model
         if isinstance(dynamic, DynamicResponses):
+            # the batch engine's workers start while the nominal analysis runs here
+            prepare(model, backend, int(getattr(analysis, "samples", 0) or 0))
             ideal = _ideal_peaks(mechanism, dynamic.peak_keys)
     outcome = analysis.run(model, spec, limits=limits, backend=backend, progress=progress)
     return ToleranceStudyResult(mechanism, kind, spec, model.describe(), outcome, ideal)

@@ -64,7 +64,16 @@ from numpy.typing import NDArray
 from jointplay.errors import ConfigError, caused_by_interrupt
 from jointplay.tolerance.responses import Evaluation, ResponseModel
 
-__all__ = ["BACKENDS", "STATUS", "Backend", "RunResult", "TaskRun", "run", "run_tasks"]
+__all__ = [
+    "BACKENDS",
+    "STATUS",
+    "Backend",
+    "RunResult",
+    "TaskRun",
+    "prepare",
+    "run",
+    "run_tasks",
+]
 
 FloatArray = NDArray[np.float64]
 T = TypeVar("T")
@@ -503,6 +512,17 @@ def run(
         chunk_size=chunk,
         wall_time=tasks.wall_time,
     )
+
+
+def prepare(model: ResponseModel, backend: Backend | None, n: int) -> None:
+    """Start what a run of ``n`` samples of ``model`` on ``backend`` will need, ahead of it:
+    the batch engine's worker processes (their start-up then overlaps the caller's own
+    preparations). Nothing for other models or backends."""
+    model, backend = _placed(model, backend or Backend(), n)
+    if getattr(model, "engine", None) == "processes":
+        from jointplay.dynamics.batch import start_workers
+
+        start_workers(getattr(model, "workers", None))
 
 
 def _placed(model: ResponseModel, backend: Backend, n: int) -> tuple[ResponseModel, Backend]:
