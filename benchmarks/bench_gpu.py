@@ -161,6 +161,33 @@ def check(inputs: dict[str, Any], method: str, lanes: int) -> dict[str, Any]:
     return report
 
 
+def compare(path: Path, name: str, inputs: dict[str, Any], method: str) -> dict[str, Any]:
+    """This device's results for 4 lanes against those stored in ``path`` (written there, with
+    the device that made them, when the file or the set is missing)."""
+    import jax
+
+    from jointplay._kernels.jax_batch import run_batch
+
+    out = run_batch(*tiled(inputs, 4), method)
+    stored = dict(np.load(path)) if path.exists() else {}
+    if f"{name}_peaks" not in stored:
+        stored[f"{name}_peaks"] = out.peaks
+        stored[f"{name}_stats"] = out.stats
+        stored[f"{name}_steps"] = out.n_steps
+        stored["device"] = np.array(str(jax.devices()[0]))
+        np.savez(path, **stored)
+        return {"written": str(path)}
+    rel = np.abs(out.peaks - stored[f"{name}_peaks"]) / np.maximum(np.abs(out.peaks), 1e-300)
+    stats = np.abs(out.stats - stored[f"{name}_stats"]) / np.maximum(np.abs(out.stats), 1e-300)
+    return {
+        "against": str(stored["device"]),
+        "peaks_max_rel": float(np.nanmax(rel)),
+        "stats_max_rel": float(np.nanmax(stats)),
+        "same_steps": bool(np.all(out.n_steps == stored[f"{name}_steps"])),
+        "steps": out.n_steps.tolist(),
+    }
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, required=True, help="JSON file to write")
@@ -173,6 +200,9 @@ def main() -> None:
     parser.add_argument("--distinct", type=int, default=64, help="distinct samples, tiled")
     parser.add_argument("--chunk", type=int, default=None, help="lanes per chunk")
     parser.add_argument("--check", action="store_true", help="compare a few lanes first")
+    parser.add_argument("--reference", type=Path, default=None,
+                        help="npz of a few lanes' results on another device: write it if "
+                        "missing, else compare with it")  # fmt: skip
     parser.add_argument("--time-limit", type=float, default=float("inf"),
                         help="skip sizes once this many seconds have been spent")  # fmt: skip
     args = parser.parse_args()
@@ -203,6 +233,9 @@ def main() -> None:
         law = "conventional" if name == "conventional" else "spherical"
         method = "explicit" if name == "conventional" else args.ecs_method
         inputs = build_inputs(law, args.distinct, seed=1)
+        if args.reference is not None:
+            results.setdefault("reference", {})[name] = compare(args.reference, name, inputs, method)
+            print(name, "reference:", json.dumps(results["reference"][name]), flush=True)
         if args.check:
             results.setdefault("checks", {})[name] = check(inputs, method, 4)
             print(name, "check:", json.dumps(results["checks"][name]), flush=True)

@@ -138,11 +138,9 @@ def _batch_function(layout: Any, method: str) -> Callable[..., Any]:
         import jax
 
         from jointplay._kernels.jax.eom import JaxModel
-        from jointplay._kernels.jax.integrate import lane_runner
+        from jointplay._kernels.jax.integrate import batch_runner
 
-        lane = lane_runner(JaxModel(layout), method)
-        batched = jax.vmap(lane, in_axes=(0, 0, 0, 0, 0, None, None, None))
-        _compiled[key] = jax.jit(batched)
+        _compiled[key] = jax.jit(batch_runner(JaxModel(layout), method))
     return _compiled[key]
 
 

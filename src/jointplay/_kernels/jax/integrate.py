@@ -178,18 +178,11 @@ class _LaneIntegrator:
 
     # ---- peaks and statistics ------------------------------------------------------------
     def _window(
-        self, c: Lane, p: Any, t: Any, h: Any, t_new: Any, y_acc: Any,
-        dense: Callable[[Any], Any], t_settle: Any,
-    ) -> dict[str, Any]:  # fmt: skip
-        """ẏ, the quantities and the penetrations at the end of an accepted step (state
-        ``y_acc``, after ``after_step``), and the running peaks, sums and penetrations after
-        it (PEAK RULE); ``c["q"]`` holds the quantities at its start. The end point and the
-        interior points are evaluated in one batched call."""
-        thetas = jnp.asarray(REFINE_POINTS)
-        states = jnp.concatenate([jax.vmap(dense)(thetas), y_acc[None]])
-        times = jnp.concatenate([t + thetas * h, t_new[None]])
-        ydots, qs, pens = jax.vmap(self.model.outputs, in_axes=(0, 0, None))(times, states, p)
-        q_b, pen_b, q_mid = qs[-1], pens[-1], qs[:-1]
+        self, c: Lane, t: Any, h: Any, t_new: Any, q_b: Any, pen_b: Any, t_settle: Any
+    ) -> dict[str, Any]:
+        """The running peaks, sums and penetrations after an accepted step whose end has the
+        quantities ``q_b`` and penetrations ``pen_b`` (``c["q"]``: those at its start), and
+        whether the step is to be refined (PEAK RULE; :meth:`refine` does it)."""
         q_a = c["q"]
         inside = t >= t_settle  # the window was open at the step's start
         opening = ~inside & (t_new >= t_settle)  # the step lands on t_settle
@@ -200,7 +193,33 @@ class _LaneIntegrator:
         peaks = jnp.maximum(c["peaks"], jnp.abs(q_b))
         high = jnp.maximum(jnp.abs(q_a), jnp.abs(q_b))
         wants = jnp.any(self.triggers & (peaks > 0.0) & (high >= (1.0 - REFINE_MARGIN) * peaks))
-        samples = jnp.abs(jnp.concatenate([q_a[None], q_mid, q_b[None]]))  # (points, P)
+        zeros = jnp.zeros_like(c["s1"])
+        return {
+            "peaks": jnp.where(inside, peaks, jnp.where(opening, jnp.abs(q_b), c["peaks"])),
+            "pen": jnp.where(inside, pen, jnp.where(opening, pen_b, c["pen"])),
+            "s1": jnp.where(inside, s1, zeros),
+            "s2": jnp.where(inside, s2, zeros),
+            "wants": inside & wants,
+        }
+
+    def dense(self, data: dict[str, Any], theta: Any) -> Any:
+        """The state at θ of the step described by ``data`` (the method's dense output)."""
+        y, h = data["y"], data["h"]
+        if self.method == "explicit":  # SciPy's RK45 interpolant (batch.DENSE)
+            powers = jnp.stack([theta, theta**2, theta**3, theta**4])
+            return y + h * ((jnp.asarray(DENSE) @ powers) @ data["k"])
+        return y + data["poly"] @ jnp.stack([theta, theta**2, theta**3])  # collocation
+
+    def refine(self, data: dict[str, Any], p: Any, peaks: Any) -> Any:
+        """``peaks`` raised by the refinement of one accepted step (PEAK RULE): every quantity
+        at ``REFINE_POINTS`` of the dense output, and per quantity the clipped parabolic vertex
+        through the largest of the samples |Q| at θ = 0, REFINE_POINTS, 1 and its neighbours
+        (:func:`jointplay._kernels.batch._refine_peaks`)."""
+        thetas = jnp.asarray(REFINE_POINTS)
+        states = jax.vmap(lambda theta: self.dense(data, theta))(thetas)
+        times = data["t"] + thetas * data["h"]
+        _, q_mid, _ = jax.vmap(self.model.outputs, in_axes=(0, 0, None))(times, states, p)
+        samples = jnp.abs(jnp.concatenate([data["q_a"][None], q_mid, data["q_b"][None]]))
         last = samples.shape[0] - 1
         m = jnp.argmax(samples, axis=0)  # the first largest, as the Numba loop
         best = jnp.take_along_axis(samples, m[None], axis=0)[0]
@@ -210,25 +229,13 @@ class _LaneIntegrator:
         vertex = (m > 0) & (m < last) & (curvature < 0.0)
         offset = jnp.clip(0.5 * (low - up) / jnp.where(vertex, curvature, -1.0), -0.5, 0.5)
         best = jnp.where(vertex, best - 0.25 * (low - up) * offset, best)
-        peaks = jnp.where(wants, jnp.maximum(peaks, best), peaks)
-        zeros = jnp.zeros_like(c["s1"])
-        return {
-            "f": ydots[-1],
-            "q": q_b,
-            "peaks": jnp.where(inside, peaks, jnp.where(opening, jnp.abs(q_b), c["peaks"])),
-            "pen": jnp.where(inside, pen, jnp.where(opening, pen_b, c["pen"])),
-            "s1": jnp.where(inside, s1, zeros),
-            "s2": jnp.where(inside, s2, zeros),
-        }
+        return jnp.maximum(peaks, best)
 
     # ---- one lane ---------------------------------------------------------------------------
-    def __call__(
-        self, p: Any, y0: Any, t_settle: Any, t_end: Any, max_step: Any, rtol: Any, atol: Any,
-        max_steps: Any,
-    ) -> dict[str, Any]:  # fmt: skip
-        model = self.model
+    def init(self, p: Any, y0: Any, t_end: Any, max_step: Any) -> Lane:
+        """The loop carry of one lane at t = 0 (the window opens there when t_settle is 0)."""
         zero = jnp.zeros_like(t_end)
-        f0, q0, pen0 = model.outputs(zero, y0, p)
+        f0, q0, pen0 = self.model.outputs(zero, y0, p)
         finite = _all_finite(y0) & _all_finite(f0)
         carry: Lane = {
             "t": zero,
@@ -244,7 +251,7 @@ class _LaneIntegrator:
             "n_steps": jnp.array(0, dtype=jnp.int64),
             "n_rejected": jnp.array(0, dtype=jnp.int64),
             "n_rhs": jnp.array(1, dtype=jnp.int64),
-            "peaks": jnp.abs(q0),  # the window opens at t = 0 when t_settle is 0
+            "peaks": jnp.abs(q0),
             "pen": pen0,
             "s1": jnp.zeros(self.nb, dtype=y0.dtype),
             "s2": jnp.zeros(self.nb, dtype=y0.dtype),
@@ -256,14 +263,10 @@ class _LaneIntegrator:
             carry["y_prev"] = y0
             carry["t_prev"] = zero
             carry["has_poly"] = jnp.array(False)
-            rtol = jnp.maximum(rtol, 100.0 * EPS)
-        settings = (p, t_settle, t_end, max_step, rtol, atol, max_steps)
-        attempt = self._dopri_attempt if self.method == "explicit" else self._radau_attempt
+        return carry
 
-        def body(c: Lane) -> Lane:
-            return self._step(c, settings, attempt)
-
-        c = lax.while_loop(lambda c: c["status"] == STATUS_RUNNING, body, carry)
+    def finish(self, c: Lane, t_settle: Any, t_end: Any) -> dict[str, Any]:
+        """One lane's results from its final carry (NaN peaks and statistics on failure)."""
         span = t_end - t_settle
         mean = c["s1"] / span
         rms = jnp.sqrt(jnp.maximum(c["s2"] / span, 0.0))
@@ -277,6 +280,17 @@ class _LaneIntegrator:
             "n_rejected": c["n_rejected"],
             "n_rhs": c["n_rhs"],
         }
+
+    def step(
+        self, c: Lane, p: Any, t_settle: Any, t_end: Any, max_step: Any, rtol: Any, atol: Any,
+        max_steps: Any,
+    ) -> tuple[Lane, dict[str, Any]]:  # fmt: skip
+        """One step attempt of one lane with its decision; the new carry, and what
+        :meth:`refine` needs (with ``need``: this lane's accepted step is to be refined)."""
+        if self.method == "implicit":
+            rtol = jnp.maximum(rtol, 100.0 * EPS)
+        attempt = self._dopri_attempt if self.method == "explicit" else self._radau_attempt
+        return self._step(c, (p, t_settle, t_end, max_step, rtol, atol, max_steps), attempt)
 
     def _step(self, c: Lane, settings: tuple[Any, ...], attempt: Callable[..., Any]) -> Lane:
         """One step attempt with its decision (accept, reject, retry shorter, stop)."""
@@ -315,9 +329,9 @@ class _LaneIntegrator:
         # Accepted step: contact memory and projection, then ẏ and the quantities there.
         y_acc = model.after_step(t_new, y_new, p)
         changed = jnp.any(y_acc != y_new)
-        window = self._window(c, p, t, h, t_new, y_acc, res["dense"], t_settle)
-        f_new, q_b = window["f"], window["q"]
+        f_new, q_b, pen_b = model.outputs(t_new, y_acc, p)
         finite = _all_finite(y_acc) & _all_finite(f_new)
+        window = self._window(c, t, h, t_new, q_b, pen_b, t_settle)
         n_steps = c["n_steps"] + 1
         status_acc = jnp.where(
             ~finite,
@@ -380,7 +394,11 @@ class _LaneIntegrator:
             out[key] = out[key].astype(jnp.int64)
         out["retry"] = out["retry"].astype(bool)
         out["failed"] = out["failed"].astype(bool)
-        return out
+        request = {
+            **res["dense"], "t": t, "h": h, "q_a": c["q"], "q_b": q_b,
+            "need": accept & window["wants"],
+        }  # fmt: skip
+        return out, request
 
     # ---- Dormand–Prince 5(4) --------------------------------------------------------------
     def _dopri_attempt(
@@ -400,17 +418,11 @@ class _LaneIntegrator:
         m = 2 * self.n
         scale = atol[:m] + rtol * jnp.maximum(jnp.abs(y[:m]), jnp.abs(y_new[:m]))
         err = _rms(err_vec[:m], scale)
-        dense_matrix = jnp.asarray(DENSE)  # (7, 4): SciPy's RK45 interpolant
-
-        def dense(theta: Any) -> Any:
-            powers = jnp.stack([theta, theta**2, theta**3, theta**4])
-            return y + h * ((dense_matrix @ powers) @ k)
-
         return {
             "y_new": y_new,
             "err": err,
             "converged": jnp.array(True),
-            "dense": dense,
+            "dense": {"y": y, "k": k},
             "n_rhs": 6,
         }
 
@@ -502,14 +514,11 @@ class _LaneIntegrator:
         safety = 0.9 * (2 * NEWTON_MAXITER + 1) / (2 * NEWTON_MAXITER + n_iter)
         q = z.T @ jnp.asarray(RADAU_P)  # (S, 3) collocation polynomial
 
-        def dense(theta: Any) -> Any:
-            return y + q @ jnp.stack([theta, theta**2, theta**3])
-
         return {
             "y_new": y_new,
             "err": err,
             "converged": s["converged"],
-            "dense": dense,
+            "dense": {"y": y, "poly": q},
             "n_rhs": 3 * n_iter + jnp.where(c["failed"] & (err_first > 1.0), 1, 0),
             "safety": safety,
             "poly": q,
@@ -528,8 +537,64 @@ def _predict_factor(h: Any, h_old: Any, err: Any, err_old: Any) -> Any:
     return jnp.where(err == 0.0, jnp.inf, jnp.minimum(1.0, multiplier) * safe_err**-0.25)
 
 
-def lane_runner(model: JaxModel, method: str) -> Callable[..., dict[str, Any]]:
-    """The function integrating one lane with ``method`` ("explicit" or "implicit")."""
+#: Lanes refined together, as a fraction of the batch: the accepted steps to be refined are
+#: gathered, this many at a time, so an iteration where few lanes refine costs little.
+REFINE_SHARE = 4
+
+
+def _refine_some(
+    integrator: _LaneIntegrator, need: Any, request: dict[str, Any], rpar: Any, peaks: Any
+) -> Any:
+    """``peaks`` (lanes, P) after :meth:`_LaneIntegrator.refine` of the lanes in ``need``,
+    gathered ``lanes // REFINE_SHARE`` at a time (none: no work)."""
+    lanes = need.shape[0]
+    size = max(1, -(-lanes // REFINE_SHARE))
+    data = {k: v for k, v in request.items() if k != "need"}
+
+    def body(state: tuple[Any, Any]) -> tuple[Any, Any]:
+        remaining, peaks = state
+        index = jnp.nonzero(remaining, size=size, fill_value=lanes)[0]
+        safe = jnp.minimum(index, lanes - 1)
+        sub = jax.tree_util.tree_map(lambda x: x[safe], data)
+        raised = jax.vmap(integrator.refine)(sub, rpar[safe], peaks[safe])
+        peaks = peaks.at[index].set(raised, mode="drop")
+        return remaining.at[index].set(False, mode="drop"), peaks
+
+    return lax.while_loop(lambda state: jnp.any(state[0]), body, (need, peaks))[1]
+
+
+def batch_runner(model: JaxModel, method: str) -> Callable[..., dict[str, Any]]:
+    """The function integrating a batch of lanes with ``method`` ("explicit" or "implicit"):
+    ``run(rpar (n, R), y0 (n, S), t_settle (n), t_end (n), max_step (n), rtol, atol (S),
+    max_steps)`` → per-lane results (peaks, stats, status, t_reached, n_steps, n_rejected,
+    n_rhs). One ``lax.while_loop`` runs until every lane has stopped; each iteration is one
+    step attempt of every running lane (``jax.vmap`` of :meth:`_LaneIntegrator.step`; a
+    stopped lane is frozen), then the refinement of the lanes that need it."""
     if method not in ("explicit", "implicit"):
         raise ValueError(f"method must be 'explicit' or 'implicit', got {method!r}")
-    return _LaneIntegrator(model, method)
+    integrator = _LaneIntegrator(model, method)
+
+    def run(
+        rpar: Any, y0: Any, t_settle: Any, t_end: Any, max_step: Any, rtol: Any, atol: Any,
+        max_steps: Any,
+    ) -> dict[str, Any]:  # fmt: skip
+        carry = jax.vmap(integrator.init)(rpar, y0, t_end, max_step)
+        step = jax.vmap(integrator.step, in_axes=(0, 0, 0, 0, 0, None, None, None))
+
+        def body(c: Lane) -> Lane:
+            running = c["status"] == STATUS_RUNNING
+            new, request = step(c, rpar, t_settle, t_end, max_step, rtol, atol, max_steps)
+            new["peaks"] = _refine_some(
+                integrator, request["need"] & running, request, rpar, new["peaks"]
+            )
+
+            def freeze(fresh: Any, old: Any) -> Any:
+                mask = running.reshape(running.shape + (1,) * (fresh.ndim - 1))
+                return jnp.where(mask, fresh, old)
+
+            return jax.tree_util.tree_map(freeze, new, c)
+
+        carry = lax.while_loop(lambda c: jnp.any(c["status"] == STATUS_RUNNING), body, carry)
+        return jax.vmap(integrator.finish)(carry, t_settle, t_end)
+
+    return run
