@@ -57,7 +57,7 @@ from jointplay._kernels import common as kc
 from jointplay._kernels import constraints as ck
 from jointplay._kernels import eom
 from jointplay._kernels.contact import normal_force
-from jointplay.dynamics.clearance import ClearanceJoint
+from jointplay.dynamics.clearance import MIN_CLEARANCE, ClearanceJoint
 from jointplay.dynamics.integrate import IntegrationStatus, _interrupts_watched
 from jointplay.dynamics.simulate import SolverOptions, Start, initial_state
 from jointplay.dynamics.system import PARAMS_WIDTH, System, build_system
@@ -628,8 +628,10 @@ def _build_vectorised(
         law_p[:, c], law_ok, law_errors = _law_columns(clear.law, samples.law, n)
         for i in np.flatnonzero(~law_ok & ok):
             ok[i], errors[i] = False, law_errors[i]
-        if clear.joint in samples.clearances:
-            for i in np.flatnonzero(ok):
+        if clear.joint in samples.clearances:  # ClearanceJoint's checks, for the bad ones
+            with np.errstate(invalid="ignore"):
+                suspect = ~(np.isfinite(clearance) & (clearance >= MIN_CLEARANCE))
+            for i in np.flatnonzero(ok & suspect):
                 try:
                     dataclasses.replace(clear, clearance=float(clearance[i]))
                 except JointplayError as exc:
@@ -762,9 +764,8 @@ def _project(
     if rows == 0:
         return
     if int(active.sum()) == 0:  # Φ_q = e_k: the crank's rate becomes ν
-        k = 3 * int(driver[0, 0]) + 2
-        for i in range(n):
-            qd0[i, k] = ck.velocity_rhs(0.0, active, driver[i])[0]
+        k = 3 * int(driver[0, 0]) + 2  # ν = φ̇_d(0): ω, or 0 at the start of a ramp
+        qd0[:, k] = np.where(driver[:, 3] > 0.0, 0.0, driver[:, DRV_OMEGA])
         return
     for i in range(n):
         phi_q = ck.jacobian(q0[i], joint_int, joint_f[i], active, driver[i])
@@ -780,7 +781,7 @@ def _project(
 DOPRI5_STABILITY = 3.3
 #: The explicit method is chosen when its stability limit allows steps of at least this
 #: fraction of the largest (accuracy) step; below it the contact is stiff at that step.
-STIFFNESS_RATIO = 1.0 / 20.0
+STIFFNESS_RATIO = 1.0 / 10.0
 
 
 @dataclass(frozen=True)
