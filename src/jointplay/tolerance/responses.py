@@ -790,7 +790,8 @@ class DynamicResponses:
 
     def _nominal_joints(self, x: FloatArray | None) -> list[Any]:
         """The clearance joints with the fixed clearances, the input ones at their first
-        sample in ``x`` (any valid value: the samples replace it), else 1 % of the radius."""
+        sample in ``x`` (any valid value: the samples replace it), else at their fit's
+        nominal clearance (what :meth:`method_choice` linearises the contact law at)."""
         from jointplay.dynamics.clearance import ClearanceJoint
 
         joints = []
@@ -802,8 +803,13 @@ class DynamicResponses:
                 column = x[:, self.input_names.index(name)]
                 valid = column[np.isfinite(column) & (column > 0)]
                 value = float(valid[0]) if valid.size else 0.01 * self.journal_radius[joint]
-            else:
-                value = 0.01 * self.journal_radius[joint]
+            else:  # the fit's nominal clearance, else 1 % of the pin radius
+                fit = getattr(self.mechanism.joint(joint), "fit", None)
+                value = (
+                    float(fit.clearance)
+                    if fit is not None and fit.clearance
+                    else 0.01 * self.journal_radius[joint]
+                )
             joints.append(
                 ClearanceJoint(
                     joint,
