@@ -167,7 +167,12 @@ def study_plots(study: ToleranceStudyResult, figure_format: str = "png") -> dict
         values = r.run.values[ok, j] * scale
         summary = r.summaries[name]
         if len(values):
-            ax.hist(values, bins=min(60, max(10, int(math.sqrt(len(values))))), color="0.75")
+            ax.hist(
+                values,
+                bins=min(60, max(10, int(math.sqrt(len(values))))),
+                color="0.75",
+                histtype="stepfilled",  # one patch, not one per bin: fast to draw
+            )
         ax.axvline(summary.nominal * scale, color="k", linewidth=1.2, label="nominal")
         if summary.mean is not None:
             ax.axvline(summary.mean * scale, color="C0", linestyle="--", linewidth=1, label="mean")
