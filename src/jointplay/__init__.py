@@ -24,6 +24,7 @@ mechanisms                   :mod:`jointplay.io.config`, :mod:`jointplay.model`
 nominal analysis             :mod:`jointplay.dynamics.nominal`
 contact and friction laws    :mod:`jointplay.contact`
 clearance dynamics           :mod:`jointplay.dynamics.simulate`
+many samples at once         :mod:`jointplay.dynamics.batch` (CPU, processes, Dask, JAX/GPU)
 tolerance analysis           :mod:`jointplay.tolerance`
 ===========================  ================================================
 """
@@ -71,6 +72,9 @@ _LAZY: dict[str, str] = {
     "Start": "jointplay.dynamics.simulate",
     "SolverOptions": "jointplay.dynamics.simulate",
     "integrate": "jointplay.dynamics.integrate",
+    "simulate_batch": "jointplay.dynamics.batch",
+    "BatchSamples": "jointplay.dynamics.batch",
+    "BatchResult": "jointplay.dynamics.batch",
     # tolerances
     "fit": "jointplay.tolerance.iso286",
     "general_tolerance": "jointplay.tolerance.iso2768",
@@ -81,6 +85,8 @@ _LAZY: dict[str, str] = {
 __all__ = [
     "CONTACT_LAWS",
     "AssemblyError",
+    "BatchResult",
+    "BatchSamples",
     "ClearanceJoint",
     "ConfigError",
     "FourBarGeometry",
@@ -109,6 +115,7 @@ __all__ = [
     "load_preset",
     "nominal_analysis",
     "simulate",
+    "simulate_batch",
     "slider_crank",
     "tolerance_study",
 ]
