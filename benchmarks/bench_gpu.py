@@ -56,9 +56,12 @@ def paper_fourbar(lengths: dict[str, float]) -> Any:
     }
     fits = {
         joint: JointFit(
-            diameter=0.01, fit="H8/g7", pin_length=0.03 if joint in ("O2", "O4") else 0.02,
-            pin_mass=0.02, clearance=2.1e-5,
-        )  # fmt: skip
+            diameter=0.01,
+            fit="H8/g7",
+            pin_length=0.03 if joint in ("O2", "O4") else 0.02,
+            pin_mass=0.02,
+            clearance=2.1e-5,
+        )
         for joint in JOINTS
     }
     return four_bar(
@@ -108,8 +111,12 @@ def build_inputs(law_name: str, distinct: int, seed: int) -> dict[str, Any]:
     solver = SolverOptions()
     n = 9
     atol = np.concatenate(
-        [np.full(n, solver.atol_position), np.full(n, solver.atol_velocity), np.full(2, 1e-6),
-         np.ones(len(JOINTS))]  # fmt: skip
+        [
+            np.full(n, solver.atol_position),
+            np.full(n, solver.atol_velocity),
+            np.full(2, 1e-6),
+            np.ones(len(JOINTS)),
+        ]
     )
     period = 60.0 / 200.0
     return {
@@ -234,7 +241,9 @@ def main() -> None:
         method = "explicit" if name == "conventional" else args.ecs_method
         inputs = build_inputs(law, args.distinct, seed=1)
         if args.reference is not None:
-            results.setdefault("reference", {})[name] = compare(args.reference, name, inputs, method)
+            results.setdefault("reference", {})[name] = compare(
+                args.reference, name, inputs, method
+            )
             print(name, "reference:", json.dumps(results["reference"][name]), flush=True)
         if args.check:
             results.setdefault("checks", {})[name] = check(inputs, method, 4)

@@ -29,12 +29,12 @@ from __future__ import annotations
 
 import os
 import time
-from collections.abc import Callable
 from pathlib import Path
-from typing import Any, NamedTuple
+from typing import Any
 
 import numpy as np
 
+from jointplay._kernels.batch import BatchKernelOutput  # one result type for both backends
 from jointplay.errors import ConfigError
 
 __all__ = [
@@ -52,28 +52,6 @@ CACHE_ENV = "JOINTPLAY_JAX_CACHE"
 METHODS = ("explicit", "implicit")
 
 
-class BatchKernelOutput(NamedTuple):
-    """What a batch kernel returns, one row per lane (the batch contract).
-
-    Attributes:
-        peaks: (n, P) largest |value| over [t_settle, t_end] of ω_b (rad/s), α_b (rad/s²),
-            F_j (N), torque (N·m), in that order.
-        stats: (n, M) mean of ω_b, RMS of ω_b (rad/s) and the largest penetration of each
-            clearance joint (m; negative: never touched), over the same window.
-        status: (n,) ``jointplay._kernels.common.STATUS_*`` (0: success).
-        t_reached: (n,) last accepted time, s.
-        n_steps, n_rejected, n_rhs: (n,) accepted steps, rejected attempts, evaluations of ẏ.
-    """
-
-    peaks: np.ndarray
-    stats: np.ndarray
-    status: np.ndarray
-    t_reached: np.ndarray
-    n_steps: np.ndarray
-    n_rejected: np.ndarray
-    n_rhs: np.ndarray
-
-
 def _import_jax() -> Any:
     try:
         import jax
@@ -83,6 +61,17 @@ def _import_jax() -> Any:
             "'jax[cuda12]' for NVIDIA GPUs); its CPU backend runs without a GPU"
         ) from exc
     return jax
+
+
+def _x64(jax: Any) -> Any:
+    """A context in which JAX computes in float64 (``jax.enable_x64``; before JAX 0.5,
+    ``jax.experimental.enable_x64``)."""
+    scoped = getattr(jax, "enable_x64", None)
+    if scoped is not None:
+        return scoped(True)
+    from jax import experimental
+
+    return experimental.enable_x64()  # type: ignore[attr-defined]
 
 
 def cache_dir() -> Path | None:
@@ -126,12 +115,12 @@ def padded_size(n: int, chunk_size: int) -> int:
     return min(chunk_size, -(-n // 1024) * 1024)
 
 
-_compiled: dict[Any, Callable[..., Any]] = {}
+_compiled: dict[Any, Any] = {}
 #: Compiled executables by (layout, method, lanes per chunk, R, S), for this process.
 _executables: dict[Any, Any] = {}
 
 
-def _batch_function(layout: Any, method: str) -> Callable[..., Any]:
+def _batch_function(layout: Any, method: str) -> Any:
     """The jitted, vmapped integrator for one layout and method (built once)."""
     key = (layout, method)
     if key not in _compiled:
@@ -236,7 +225,7 @@ def run_batch(
     compile_s = 0.0
     run_s = 0.0
     parts: list[dict[str, np.ndarray]] = []
-    with jax.enable_x64(True):
+    with _x64(jax):
         function = _batch_function(layout, method)
         key = (layout, method, size, rpar.shape[1], y0.shape[1])
         compiled = _executables.get(key)

@@ -268,7 +268,7 @@ def _cholesky_solve(a: list[list[Scalar]], b: list[Scalar]) -> list[Scalar]:
     """x with a x = b for a small symmetric positive definite ``a`` (lower triangle read),
     unrolled (eom._cholesky_solve's arithmetic)."""
     m = len(b)
-    low: list[list[Scalar]] = [[None] * m for _ in range(m)]  # type: ignore[list-item]
+    low: list[list[Scalar]] = [[None] * m for _ in range(m)]
     for k in range(m):
         d = a[k][k]
         for p in range(k):

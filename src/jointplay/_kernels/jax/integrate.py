@@ -292,7 +292,9 @@ class _LaneIntegrator:
         attempt = self._dopri_attempt if self.method == "explicit" else self._radau_attempt
         return self._step(c, (p, t_settle, t_end, max_step, rtol, atol, max_steps), attempt)
 
-    def _step(self, c: Lane, settings: tuple[Any, ...], attempt: Callable[..., Any]) -> Lane:
+    def _step(
+        self, c: Lane, settings: tuple[Any, ...], attempt: Callable[..., Any]
+    ) -> tuple[Lane, dict[str, Any]]:
         """One step attempt with its decision (accept, reject, retry shorter, stop)."""
         p, t_settle, t_end, max_step, rtol, atol, max_steps = settings
         model = self.model
@@ -347,7 +349,7 @@ class _LaneIntegrator:
             factor_acc = jnp.where(err > 0.0, jnp.clip(grow, 0.2, 10.0), 10.0)
             factor_acc = jnp.where(c["failed"], jnp.minimum(factor_acc, 1.0), factor_acc)
             factor_rej = jnp.maximum(0.2, grow)
-            rhs_after = jnp.where(changed, 1, 0)
+            rhs_after: Any = jnp.where(changed, 1, 0)
         else:
             predicted = _predict_factor(h, h_old, err, err_old)
             factor_acc = jnp.minimum(10.0, res["safety"] * predicted)
