@@ -91,7 +91,6 @@ DP_A = (
 )
 #: Error coefficients e_i = b_i − b̂_i (k2 has none).
 DP_E = (71 / 57600, 0.0, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525, -1 / 40)
-_DP_MATRIX = np.array([list(row) + [0.0] * (7 - len(row)) for row in DP_A])
 
 # ---- Radau IIA 5, SciPy's radau.py ----------------------------------------------------------
 S6 = 6**0.5
@@ -135,6 +134,12 @@ NEWTON_MAXITER = 6
 EPS = float(np.finfo(np.float64).eps)
 
 Lane = dict[str, Any]
+
+
+def _combination(coefficients: Any, vectors: Any) -> Any:
+    """Σ coefficients[j] · vectors[j], left to right, terms with a zero coefficient left out."""
+    terms = [float(a) * v for a, v in zip(coefficients, vectors, strict=False) if a != 0.0]
+    return sum(terms[1:], terms[0])
 
 
 def _rms(x: Any, scale: Any) -> Any:
@@ -206,8 +211,15 @@ class _LaneIntegrator:
         """The state at θ of the step described by ``data`` (the method's dense output)."""
         y, h = data["y"], data["h"]
         if self.method == "explicit":  # SciPy's RK45 interpolant (batch.DENSE)
-            powers = jnp.stack([theta, theta**2, theta**3, theta**4])
-            return y + h * ((jnp.asarray(DENSE) @ powers) @ data["k"])
+            t2 = theta * theta
+            powers = (theta, t2, t2 * theta, t2 * theta * theta)
+            weights = [
+                DENSE[j, 0] * powers[0] + DENSE[j, 1] * powers[1] + DENSE[j, 2] * powers[2]
+                + DENSE[j, 3] * powers[3]
+                for j in range(7)
+            ]  # fmt: skip
+            k = data["k"]
+            return y + h * sum((k[j] * weights[j] for j in range(1, 7)), k[0] * weights[0])
         return y + data["poly"] @ jnp.stack([theta, theta**2, theta**3])  # collocation
 
     def refine(self, data: dict[str, Any], p: Any, peaks: Any) -> Any:
@@ -407,16 +419,17 @@ class _LaneIntegrator:
         self, c: Lane, p: Any, t: Any, y: Any, h: Any, rtol: Any, atol: Any
     ) -> dict[str, Any]:
         rhs = self.model.rhs
-        a = jnp.asarray(_DP_MATRIX)
-        cs = jnp.asarray(DP_C)
-
-        def stage(i: Any, k: Any) -> Any:
-            return k.at[i].set(rhs(t + cs[i] * h, y + h * (a[i] @ k), p))
-
-        k = jnp.zeros((7, self.S), dtype=y.dtype).at[0].set(c["f"])
-        k = lax.fori_loop(1, 7, stage, k)
-        y_new = y + h * (a[6] @ k)  # the 7th stage's state (DP_A[6] are the weights b_i)
-        err_vec = h * (jnp.asarray(DP_E) @ k)
+        # Unrolled with the coefficients as constants, in the Numba kernel's order (zero
+        # coefficients skipped): elementwise work only, which XLA fuses into few kernels (a
+        # matrix product per stage is a library call per stage on a GPU).
+        stages = [c["f"]]
+        for i in range(1, 7):
+            state = y + h * _combination(DP_A[i], stages)
+            time = t + h if i == 6 else t + DP_C[i] * h  # the Numba kernel's t + h
+            stages.append(rhs(time, state, p))
+        k = jnp.stack(stages)
+        y_new = y + h * _combination(DP_A[6], stages)  # DP_A[6] are the weights b_i
+        err_vec = h * _combination(DP_E, stages)
         m = 2 * self.n
         scale = atol[:m] + rtol * jnp.maximum(jnp.abs(y[:m]), jnp.abs(y_new[:m]))
         err = _rms(err_vec[:m], scale)
