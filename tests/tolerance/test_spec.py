@@ -122,3 +122,31 @@ def test_with_distribution_and_only(paper_fourbar: Mechanism) -> None:
     described = spec.describe()["length_crank"]
     assert described["limits"] == pytest.approx([0.1072, 0.1088])
     assert described["distribution"] == "triangular"
+
+
+@pytest.mark.parametrize(
+    ("alpha", "beta"),
+    [
+        (-3.0, 3.0),
+        (-1.0, 2.0),
+        (-np.inf, np.inf),
+        (0.5, 4.0),
+        (-6.0, -1.0),
+        (-2.0, np.inf),
+        (5.0, 9.0),
+    ],
+)
+def test_truncated_normal_in_closed_form_equals_scipy_truncnorm(alpha: float, beta: float) -> None:
+    from scipy.stats import truncnorm
+
+    from jointplay.tolerance.spec import _truncated_normal_moments, _truncated_normal_ppf
+
+    reference = truncnorm(alpha, beta, loc=2.0, scale=0.5)
+    u = np.linspace(1e-6, 1.0 - 1e-6, 2001)
+    lower, upper = 2.0 + 0.5 * alpha, 2.0 + 0.5 * beta
+    assert _truncated_normal_ppf(u, 2.0, 0.5, lower, upper) == pytest.approx(
+        reference.ppf(u), rel=1e-12, abs=1e-12
+    )
+    mean, std = _truncated_normal_moments(alpha, beta)
+    assert 2.0 + 0.5 * mean == pytest.approx(reference.mean(), rel=1e-13)
+    assert 0.5 * std == pytest.approx(reference.std(), rel=1e-12)

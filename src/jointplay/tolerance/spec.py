@@ -19,7 +19,8 @@ Distributions (all SI, centre ``m = (lower + upper)/2``, half-width ``h = (upper
   (Cpk = min(USL − μ, μ − LSL)/(3σ), e.g. Montgomery, *Introduction to Statistical Quality
   Control*, §8.3). A normal quantity is truncated to its physical ``bounds`` (a clearance
   cannot be negative; the truncated mass is 1e-4 or less for the default settings): it is
-  :data:`scipy.stats.truncnorm` with standardised bounds ``(bound − mean)/σ``.
+  the truncated normal with standardised bounds ``(bound − mean)/σ`` (as
+  :data:`scipy.stats.truncnorm`, in closed form).
 
 The mechanism's own data give the default specification (:meth:`ToleranceSpec.from_mechanism`):
 its ``tolerances`` (the ``[tolerances.lengths.<name>]`` tables) and the ISO 286 fits of its
@@ -33,7 +34,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING, Any, Literal
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -42,9 +43,6 @@ from jointplay.errors import ConfigError
 from jointplay.model.mechanism import Mechanism
 from jointplay.model.templates import TemplateSpec
 from jointplay.tolerance import iso286, iso2768
-
-if TYPE_CHECKING:
-    from scipy.stats._distn_infrastructure import rv_continuous_frozen
 
 __all__ = [
     "DEFAULT_DISTRIBUTION",
@@ -185,7 +183,7 @@ class Tolerance:
         """Mean of the distribution (truncation of a normal included)."""
         if self.distribution != "normal" or self.sigma == 0.0:
             return self.mode
-        return float(self._truncated_normal().mean())
+        return self.mode + self.sigma * _truncated_normal_moments(*self._standard_bounds())[0]
 
     @property
     def std(self) -> float:
@@ -193,16 +191,12 @@ class Tolerance:
         sigma = self.sigma
         if self.distribution != "normal" or sigma == 0.0:
             return sigma
-        return float(self._truncated_normal().std())
+        return sigma * _truncated_normal_moments(*self._standard_bounds())[1]
 
-    def _truncated_normal(self) -> rv_continuous_frozen:
-        """The normal process truncated to ``bounds``: :data:`scipy.stats.truncnorm`."""
-        from scipy.stats import truncnorm  # scipy.stats is slow to import: only when sampled
-
+    def _standard_bounds(self) -> tuple[float, float]:
+        """``bounds`` in standard deviations of the normal process from its mean."""
         sigma = self.sigma
-        alpha = (self.bounds[0] - self.mode) / sigma
-        beta = (self.bounds[1] - self.mode) / sigma
-        return truncnorm(alpha, beta, loc=self.mode, scale=sigma)
+        return (self.bounds[0] - self.mode) / sigma, (self.bounds[1] - self.mode) / sigma
 
     def ppf(self, u: ArrayLike) -> FloatArray:
         """The quantity at cumulative probabilities ``u`` ∈ (0, 1) (inverse CDF), SI."""
@@ -217,7 +211,7 @@ class Tolerance:
             return np.asarray(np.where(upper_half, mode - offset, mode + offset), dtype=float)
         if self.sigma == 0.0:
             return np.full(u.shape, mode)
-        values = self._truncated_normal().ppf(u)
+        values = _truncated_normal_ppf(u, mode, self.sigma, *self.bounds)
         return np.asarray(np.clip(values, *self.bounds), dtype=float)
 
     def describe(self) -> dict[str, Any]:
@@ -231,6 +225,47 @@ class Tolerance:
             "mean": self.mean,
             "std": self.std,
         }
+
+
+def _truncated_normal_moments(alpha: float, beta: float) -> tuple[float, float]:
+    """Mean and standard deviation of the standard normal truncated to [α, β] (Johnson, Kotz &
+    Balakrishnan, *Continuous Univariate Distributions* 1, §10.1): with Z = Φ(β) − Φ(α),
+    mean = (φ(α) − φ(β))/Z and variance = 1 + (αφ(α) − βφ(β))/Z − mean²; a window above
+    the mean is mirrored below it (Φ small and exact there)."""
+    from scipy.special import ndtr
+
+    if alpha > 0.0:
+        mean, std = _truncated_normal_moments(-beta, -alpha)
+        return -mean, std
+
+    def density(x: float) -> float:
+        return math.exp(-0.5 * x * x) / math.sqrt(2.0 * math.pi) if math.isfinite(x) else 0.0
+
+    def x_density(x: float) -> float:
+        return x * density(x) if math.isfinite(x) else 0.0
+
+    mass = float(ndtr(beta) - ndtr(alpha))
+    mean = (density(alpha) - density(beta)) / mass
+    variance = 1.0 + (x_density(alpha) - x_density(beta)) / mass - mean * mean
+    return mean, math.sqrt(max(variance, 0.0))
+
+
+def _truncated_normal_ppf(
+    u: FloatArray, mean: float, sigma: float, lower: float, upper: float
+) -> FloatArray:
+    """Inverse CDF of the normal (``mean``, ``sigma``) truncated to [``lower``, ``upper``]:
+    x = μ + σ Φ⁻¹(Φ(α) + u (Φ(β) − Φ(α))), α, β the standardised limits — closed form, as
+    :data:`scipy.stats.truncnorm` gives it but ~100× faster (``ndtr``/``ndtri`` only). A
+    window above the mean is mirrored below it, so that Φ is evaluated where it is small and
+    exact.
+    """
+    from scipy.special import ndtr, ndtri
+
+    alpha, beta = (lower - mean) / sigma, (upper - mean) / sigma
+    if alpha > 0.0:  # the whole window above the mean: x = μ − σ ppf(1 − u) of the mirror
+        return mean - sigma * (_truncated_normal_ppf(1.0 - u, 0.0, 1.0, -beta, -alpha))
+    low, high = ndtr(alpha), ndtr(beta)
+    return np.asarray(mean + sigma * ndtri(low + u * (high - low)), dtype=float)
 
 
 def _finite_or_none(value: float) -> float | None:
