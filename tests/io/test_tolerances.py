@@ -70,7 +70,10 @@ def test_tolerance_table_reads_every_form(paper_fourbar: Mechanism) -> None:
 @pytest.mark.parametrize(
     ("table", "message"),
     [
-        ({"lenghts": {}}, r"unknown key 'lenghts' \(did you mean 'lengths'\?\); allowed keys: distribution, fits, general, joints, lengths"),
+        (
+            {"lenghts": {}},
+            r"unknown key 'lenghts' \(did you mean 'lengths'\?\); allowed keys: distribution, fits, general, joints, lengths",
+        ),
         ({"lengths": {"crank": {"lower": "-1 mm", "upper": "1 mm", "tol": 1}}}, "'tol'"),
         ({"lengths": {"slider": {"class": "m"}}}, "unknown length 'slider'"),
         ({"lengths": {"crank": {"class": "m", "lower": "-1 mm"}}}, "not both"),
