@@ -21,6 +21,28 @@ from jointplay.cli._common import (
     StartAngleOption,
     mechanism_from_options,
 )
+from jointplay.cli._simulation import (
+    ClearanceOption,
+    CmaxOption,
+    ContactOption,
+    DampingOption,
+    DepthOption,
+    EcsSourceOption,
+    ExponentOption,
+    FrictionLawOption,
+    FrictionOption,
+    JointsOption,
+    MethodOption,
+    RampTimeOption,
+    RestitutionOption,
+    RtolOption,
+    StartOption,
+    StiffnessLawOption,
+    StiffnessOption,
+    finite_number,
+    joint_list,
+    method_law_of,
+)
 from jointplay.errors import ConfigError
 
 
@@ -46,67 +68,22 @@ def animate_command(
     direction: DirectionOption = None,
     start_angle: StartAngleOption = None,
     gravity: GravityOption = None,
-    method: Annotated[
-        str | None,
-        _opt(
-            "One of the paper's six methods (e.g. ifm-ecs-spherical; see `jointplay simulate "
-            "--help`). Replaces the contact options.",
-            "--method",
-        ),
-    ] = None,
-    ecs_source: Annotated[
-        str | None,
-        _opt("ECS values of --method: computed (default) or paper.", "--ecs-source"),
-    ] = None,
-    contact: Annotated[
-        str | None, _opt("Contact law (as simulate; default impact).", "--contact")
-    ] = None,
-    k: Annotated[
-        str | None, _opt("Contact stiffness with units, e.g. '1e4 N/mm^1.5'.", "--k")
-    ] = None,
-    exponent: Annotated[float | None, _opt("Force exponent.", "--exponent")] = None,
-    cmax: Annotated[str | None, _opt("IMPACT maximum damping, e.g. '10 N*s/mm'.", "--cmax")] = None,
-    depth: Annotated[
-        str | None, _opt("IMPACT penetration of full damping, e.g. '0.1 mm'.", "--depth")
-    ] = None,
-    restitution: Annotated[
-        float | None, _opt("Coefficient of restitution.", "--restitution")
-    ] = None,
-    damping: Annotated[
-        str | None, _opt("Kelvin-Voigt damping, e.g. '100 N*s/m'.", "--damping")
-    ] = None,
-    stiffness_law: Annotated[
-        str | None,
-        _opt("Derive stiffness and exponent from geometry (as simulate).", "--stiffness-law"),
-    ] = None,
-    clearance: Annotated[
-        str | None,
-        _opt(
-            "Radial clearance of every clearance joint, e.g. '0.021 mm' (default: the fit data).",
-            "--clearance",
-        ),
-    ] = None,
-    joints: Annotated[
-        str | None,
-        _opt(
-            "Comma-separated clearance joints, e.g. O2,A,B,O4, or 'none' for ideal joints "
-            "(default: every joint with a clearance in its fit data).",
-            "--joints",
-        ),
-    ] = None,
-    friction: Annotated[
-        float | None, _opt("Friction coefficient in the clearance joints.", "--friction")
-    ] = None,
-    friction_law: Annotated[
-        str | None, _opt("Friction law: ambrosio or adams.", "--friction-law")
-    ] = None,
-    start: Annotated[
-        str | None,
-        _opt("Start: steady (default), rest, impulsive or ramp (as simulate).", "--start"),
-    ] = None,
-    ramp_time: Annotated[
-        str | None, _opt("Duration of the speed ramp of --start ramp, e.g. '50 ms'.", "--ramp-time")
-    ] = None,
+    method: MethodOption = None,
+    ecs_source: EcsSourceOption = None,
+    contact: ContactOption = None,
+    k: StiffnessOption = None,
+    exponent: ExponentOption = None,
+    cmax: CmaxOption = None,
+    depth: DepthOption = None,
+    restitution: RestitutionOption = None,
+    damping: DampingOption = None,
+    stiffness_law: StiffnessLawOption = None,
+    clearance: ClearanceOption = None,
+    joints: JointsOption = None,
+    friction: FrictionOption = None,
+    friction_law: FrictionLawOption = None,
+    start: StartOption = None,
+    ramp_time: RampTimeOption = None,
     settle: Annotated[
         int | None,
         _opt(
@@ -115,9 +92,7 @@ def animate_command(
             "--settle",
         ),
     ] = None,
-    rtol: Annotated[
-        float | None, _opt("Relative error tolerance of the integrator (1e-6).", "--rtol")
-    ] = None,
+    rtol: RtolOption = None,
     magnification: Annotated[
         float | None,
         _opt(
@@ -135,7 +110,7 @@ def animate_command(
     links to scale, each clearance joint's clearance circle and pin centre magnified by one
     stated factor. Writes --out (.gif, or .mp4 with ffmpeg installed). Simulation options
     are those of `jointplay simulate` and override the \[simulation] table of a --config
-    file.
+    file; --joints none animates the mechanism with ideal joints.
     """
     from jointplay.report.animation import check_animation_settings
 
@@ -177,7 +152,6 @@ def _simulate(
     """Simulate the settle revolutions and the animated one, with the options of simulate."""
     from rich.console import Console
 
-    from jointplay.cli.simulate import _joint_list, _method_law, _number
     from jointplay.dynamics.cycles import DEFAULT_SETTLE
     from jointplay.dynamics.setup import FrictionSettings, clearance_joints, contact_from_strings
     from jointplay.dynamics.simulate import SolverOptions, Start, simulate
@@ -192,17 +166,17 @@ def _simulate(
         preset, config, rpm, direction, values.get("start_angle"), gravity
     )
     ideal = isinstance(values.get("joints"), str) and values["joints"].strip().lower() == "none"
-    law, _ = _method_law(values, mechanism)
+    law, _ = method_law_of(values, mechanism)
     clear = (
         []
         if ideal
         else clearance_joints(
             mechanism,
-            _joint_list(values.get("joints")),
+            joint_list(values.get("joints")),
             contact=contact_from_strings(values) if law is None else None,
             friction=FrictionSettings(
                 law=str(values.get("friction_law", "ambrosio")),
-                coefficient=_number(values, "friction", 0.0),
+                coefficient=finite_number(values, "friction", 0.0),
             ),
             clearance=None
             if values.get("clearance") is None
@@ -231,7 +205,7 @@ def _simulate(
             revolutions=1.0,
             settle=settle,
             start=Start(mode, ramp),  # type: ignore[arg-type]  # validated by Start
-            solver=SolverOptions(rtol=_number(values, "rtol", 1e-6)),
+            solver=SolverOptions(rtol=finite_number(values, "rtol", 1e-6)),
         )
 
 

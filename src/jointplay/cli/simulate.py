@@ -27,6 +27,28 @@ from jointplay.cli._common import (
     provenance,
     quantity_option,
 )
+from jointplay.cli._simulation import (
+    ClearanceOption,
+    CmaxOption,
+    ContactOption,
+    DampingOption,
+    DepthOption,
+    EcsSourceOption,
+    ExponentOption,
+    FrictionLawOption,
+    FrictionOption,
+    JointsOption,
+    MethodOption,
+    RampTimeOption,
+    RestitutionOption,
+    RtolOption,
+    StartOption,
+    StiffnessLawOption,
+    StiffnessOption,
+    finite_number,
+    joint_list,
+    method_law_of,
+)
 from jointplay.errors import ConfigError
 from jointplay.units import parse_quantity
 
@@ -47,94 +69,22 @@ def simulate_command(
     direction: DirectionOption = None,
     start_angle: StartAngleOption = None,
     gravity: GravityOption = None,
-    method: Annotated[
-        str | None,
-        _opt(
-            "One of the paper's six methods (Table 2): ifm-conventional, rm-conventional, ifm-ecs-cylindrical, rm-ecs-cylindrical, ifm-ecs-spherical, rm-ecs-spherical. Replaces the contact options.",
-            "--method",
-        ),
-    ] = None,
-    ecs_source: Annotated[
-        str | None,
-        _opt(
-            "Where the ECS methods take K, delta, D from: computed (our ECS estimate, default) or paper (Tables 4 and 5).",
-            "--ecs-source",
-        ),
-    ] = None,
-    contact: Annotated[
-        str | None,
-        _opt(
-            "Contact law: impact (MSC ADAMS IMPACT, default), restitution, hertz, kelvin-voigt, hunt-crossley, lankarani-nikravesh, flores, gonthier, hu-guo, herbert-mcwhannell, lee-wang, zhiying-qishao.",
-            "--contact",
-        ),
-    ] = None,
-    k: Annotated[
-        str | None,
-        _opt(
-            "Contact stiffness with units, e.g. '1e4 N/mm^1.5' (the penalty for restitution).",
-            "--k",
-        ),
-    ] = None,
-    exponent: Annotated[
-        float | None, _opt("Force exponent (default 1.5; 1 for restitution).", "--exponent")
-    ] = None,
-    cmax: Annotated[str | None, _opt("IMPACT maximum damping, e.g. '10 N*s/mm'.", "--cmax")] = None,
-    depth: Annotated[
-        str | None, _opt("IMPACT penetration of full damping, e.g. '0.1 mm'.", "--depth")
-    ] = None,
-    restitution: Annotated[
-        float | None,
-        _opt(
-            "Coefficient of restitution (restitution and Hunt-Crossley-type laws; default 0.8).",
-            "--restitution",
-        ),
-    ] = None,
-    damping: Annotated[
-        str | None, _opt("Kelvin-Voigt damping, e.g. '100 N*s/m'.", "--damping")
-    ] = None,
-    stiffness_law: Annotated[
-        str | None,
-        _opt(
-            "Derive stiffness and exponent from geometry: hertz, johnson, esdu-78035, pereira, liu, radzimovsky.",
-            "--stiffness-law",
-        ),
-    ] = None,
-    clearance: Annotated[
-        str | None,
-        _opt(
-            "Radial clearance of every clearance joint, e.g. '0.021 mm' (default: from the joints' fit data).",
-            "--clearance",
-        ),
-    ] = None,
-    joints: Annotated[
-        str | None,
-        _opt(
-            "Comma-separated clearance joints, e.g. O2,A,B,O4 (default: every joint with a clearance in its fit data).",
-            "--joints",
-        ),
-    ] = None,
-    friction: Annotated[
-        float | None,
-        _opt("Friction coefficient in the clearance joints (default 0: off).", "--friction"),
-    ] = None,
-    friction_law: Annotated[
-        str | None,
-        _opt(
-            "Friction law: ambrosio (regularised Coulomb, default) or adams (STEP-based mu(v)).",
-            "--friction-law",
-        ),
-    ] = None,
-    start: Annotated[
-        str | None,
-        _opt(
-            "Start: steady (the nominal motion, default: the mechanism as it runs), rest (the paper's start-up: links at rest, the crank turning about its pivot at full speed), impulsive (rest velocities projected onto the driver: the crank first spins about its centre of mass) or ramp (speed ramp from rest).",
-            "--start",
-        ),
-    ] = None,
-    ramp_time: Annotated[
-        str | None,
-        _opt("Duration of the speed ramp for --start ramp, e.g. '50 ms'.", "--ramp-time"),
-    ] = None,
+    method: MethodOption = None,
+    ecs_source: EcsSourceOption = None,
+    contact: ContactOption = None,
+    k: StiffnessOption = None,
+    exponent: ExponentOption = None,
+    cmax: CmaxOption = None,
+    depth: DepthOption = None,
+    restitution: RestitutionOption = None,
+    damping: DampingOption = None,
+    stiffness_law: StiffnessLawOption = None,
+    clearance: ClearanceOption = None,
+    joints: JointsOption = None,
+    friction: FrictionOption = None,
+    friction_law: FrictionLawOption = None,
+    start: StartOption = None,
+    ramp_time: RampTimeOption = None,
     revolutions: Annotated[
         float | None,
         _opt(
@@ -164,9 +114,7 @@ def simulate_command(
             "--output-step",
         ),
     ] = None,
-    rtol: Annotated[
-        float | None, _opt("Relative error tolerance of the integrator (default 1e-6).", "--rtol")
-    ] = None,
+    rtol: RtolOption = None,
     max_step: Annotated[
         str | None,
         _opt("Largest integration step, e.g. '1 ms' (default: 1° of crank).", "--max-step"),
@@ -208,13 +156,13 @@ def simulate_command(
         mechanism = mechanism_from_options(
             preset, config, rpm, direction, values.get("start_angle"), gravity
         )
-        law, method_record = _method_law(values, mechanism)
+        law, method_record = method_law_of(values, mechanism)
         contact_settings = contact_from_strings(values) if law is None else None
         friction_settings = FrictionSettings(
             law=str(values.get("friction_law", "ambrosio")),
-            coefficient=_number(values, "friction", 0.0),
+            coefficient=finite_number(values, "friction", 0.0),
         )
-        joint_names = _joint_list(values.get("joints"))
+        joint_names = joint_list(values.get("joints"))
         clearance_value = (
             None
             if values.get("clearance") is None
@@ -237,7 +185,7 @@ def simulate_command(
         if mode == "ramp" and ramp == 0.0:
             ramp = mechanism.driver.period / 4
         solver = SolverOptions(
-            rtol=_number(values, "rtol", 1e-6),
+            rtol=finite_number(values, "rtol", 1e-6),
             max_step=None
             if values.get("max_step") is None
             else parse_quantity(values["max_step"], "s", field="--max-step"),
@@ -250,7 +198,7 @@ def simulate_command(
         fmt_value = str(values.get("format", "csv"))
         if fmt_value not in ("csv", "parquet"):
             raise ConfigError(f"--format must be csv or parquet, got {fmt_value!r}")
-        turns = _number(values, "revolutions", 1.0)
+        turns = finite_number(values, "revolutions", 1.0)
         if not (math.isfinite(turns) and turns > 0):
             raise ConfigError(f"--revolutions must be > 0, got {turns}")
         settle_turns = values.get("settle", DEFAULT_SETTLE if mode == "steady" else 0)
@@ -380,46 +328,6 @@ def _slider_rows(result: Any) -> list[tuple[str, ...]]:
     return rows
 
 
-CONTACT_KEYS = ("contact", "k", "exponent", "cmax", "depth", "damping", "stiffness_law")
-
-
-def _method_law(values: dict[str, Any], mechanism: Any) -> tuple[Any, dict[str, Any] | None]:
-    """The contact law of ``--method`` (None without one) and its parameter record."""
-    from jointplay.study.methods import PAPER_RESTITUTION, method_law
-
-    name = values.get("method")
-    if name is None:
-        if values.get("ecs_source") is not None:
-            raise ConfigError("--ecs-source applies to the paper's ECS methods: give --method too")
-        return None, None
-    clash = [key for key in CONTACT_KEYS if values.get(key) is not None]
-    if clash:
-        options = ", ".join("--" + key.replace("_", "-") for key in clash)
-        raise ConfigError(
-            f"--method sets the contact law and its parameters; drop {options} or drop --method"
-        )
-    restitution = values.get("restitution")
-    return method_law(
-        str(name),
-        mechanism,
-        ecs_source=str(values.get("ecs_source", "computed")),
-        restitution=PAPER_RESTITUTION
-        if restitution is None
-        else _number(values, "restitution", 0.0),
-    )
-
-
-def _number(values: dict[str, Any], key: str, default: float) -> float:
-    """``values[key]`` (a CLI option or a ``[simulation]`` entry) as a finite float."""
-    value = values.get(key, default)
-    option = "--" + key.replace("_", "-")
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        raise ConfigError(f"{option} must be a number, got {value!r}")
-    if not math.isfinite(value):
-        raise ConfigError(f"{option} must be a finite number, got {value!r}")
-    return float(value)
-
-
 def _sample_step(value: Any) -> float | None:
     """``--sample-deg`` (or ``[simulation] sample_deg``) in degrees, within (0, 360]."""
     if value is None:
@@ -432,16 +340,6 @@ def _sample_step(value: Any) -> float | None:
     if not 0 < step <= 360:
         raise ConfigError(f"--sample-deg must lie in (0, 360] degrees, got {value!r}")
     return step
-
-
-def _joint_list(value: Any) -> list[str] | None:
-    if value is None:
-        return None
-    names = value if isinstance(value, list) else str(value).split(",")
-    names = [str(n).strip() for n in names if str(n).strip()]
-    if not names:
-        raise ConfigError("--joints is empty; give e.g. O2,A,B,O4")
-    return names
 
 
 def _jsonable(values: dict[str, Any]) -> dict[str, Any]:
