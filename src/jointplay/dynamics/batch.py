@@ -1116,7 +1116,9 @@ def _dispatch(
     else:
         threads = workers or os.cpu_count() or 1
         chunk = chunk_size or max(1, min(DEFAULT_CHUNK, math.ceil(n / (4 * threads))))
-    parts = _chunks(n, chunk)
+    # the JAX kernel cuts its own chunks and pads the last one, so that one compilation
+    # serves them all: it is given every lane at once
+    parts = _chunks(n, max(n, 1) if backend == "gpu" else chunk)
     outputs: list[kb.BatchKernelOutput | None] = [None] * len(parts)
 
     def items() -> Iterator[Chunk]:
@@ -1147,7 +1149,7 @@ def _dispatch(
                 outputs[k] = kb.BatchKernelOutput(
                     *(np.asarray(a) for a in kernel(
                         problem.ipar, *chunk_items, problem.rtol, problem.atol,
-                        problem.max_steps, method,
+                        problem.max_steps, method, chunk_size=chunk,
                     ))
                 )  # fmt: skip
                 advance(len(parts[k]))
