@@ -15,6 +15,7 @@ from rich.console import Console
 from jointplay.cli._app import Interrupted, app
 from jointplay.cli._common import (
     ConfigOption,
+    FigureFormatOption,
     ForceOption,
     GravityOption,
     HardnessOption,
@@ -23,6 +24,7 @@ from jointplay.cli._common import (
     RpmOption,
     SettleOption,
     WearCoefficientOption,
+    check_figure_format,
     choice,
     mechanism_from_options,
     provenance,
@@ -207,6 +209,7 @@ def design_command(
         bool, typer.Option("--progress/--no-progress", help="Progress bar.")
     ] = True,
     force: ForceOption = False,
+    figure_format: FigureFormatOption = "png",
 ) -> None:
     """Design study: every fit × length class through the dynamics; the cheapest that meets
     the requirements, its yield and relative cost.
@@ -244,6 +247,7 @@ def design_command(
             "need each sample's trajectory); use local, processes or dask"
         )
     where = backend_from_options(backend, workers, dask_scheduler)
+    figure_format = check_figure_format(figure_format)
     with output_dir(out, force=force) as folder:  # checked before the study runs
         result = design_study(
             mechanism,
@@ -266,7 +270,14 @@ def design_command(
         )
         units = design_units(mechanism, result.responses)  # type: ignore[arg-type]
         summary = result.summary()
-        write_design(result, folder, units, plots=plots, provenance=provenance(summary["settings"]))
+        write_design(
+            result,
+            folder,
+            units,
+            plots=plots,
+            provenance=provenance(summary["settings"]),
+            figure_format=figure_format,
+        )
     _print(result, units)
     if result.interrupted:
         raise Interrupted(

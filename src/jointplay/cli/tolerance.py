@@ -16,11 +16,13 @@ from rich.console import Console
 from jointplay.cli._app import Interrupted, app
 from jointplay.cli._common import (
     ConfigOption,
+    FigureFormatOption,
     ForceOption,
     GravityOption,
     OutOption,
     PresetOption,
     RpmOption,
+    check_figure_format,
     crank_speed,
     parse_gravity,
     provenance,
@@ -275,6 +277,7 @@ def tolerance_command(
     progress: Annotated[
         bool, typer.Option("--progress/--no-progress", help="Show a progress bar.")
     ] = True,
+    figure_format: FigureFormatOption = "png",
 ) -> None:
     """Tolerance study: spread of the responses, out-of-spec share and what matters most.
 
@@ -288,6 +291,7 @@ def tolerance_command(
     from jointplay.tolerance.analysis import response_units, tolerance_study
     from jointplay.tolerance.methods import MonteCarlo, Rss, ToleranceMethod, WorstCase
 
+    figure_format = check_figure_format(figure_format)
     with output_dir(out, force=force) as folder:
         mechanism, spec = load_study_spec(preset, config)
         _check_lengths(spec)
@@ -344,7 +348,13 @@ def tolerance_command(
             progress=progress,
         )
         summary = study.summary()
-        write_study(study, folder, plots=plots, provenance=provenance(summary["configuration"]))
+        write_study(
+            study,
+            folder,
+            plots=plots,
+            provenance=provenance(summary["configuration"]),
+            figure_format=figure_format,
+        )
     _print(study)
     if study.interrupted:
         counts = summary["counts"]
