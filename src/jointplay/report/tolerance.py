@@ -162,6 +162,7 @@ def study_plots(study: ToleranceStudyResult, figure_format: str = "png") -> dict
         return images
     ok = r.run.status == 0
     fig, axes = _grid(plt, len(names))
+    legend: dict[str, Any] = {}  # one legend for the figure: the same lines in every panel
     for j, (ax, name) in enumerate(zip(axes, names, strict=True)):
         unit, scale = display_scale(r.units[name])
         values = r.run.values[ok, j] * scale
@@ -194,8 +195,8 @@ def study_plots(study: ToleranceStudyResult, figure_format: str = "png") -> dict
         ax.set_xlabel(unit, fontsize=8)
         ax.tick_params(labelsize=7)
         handles, labels = ax.get_legend_handles_labels()
-        unique = dict(zip(labels, handles, strict=True))
-        ax.legend(unique.values(), unique.keys(), fontsize=6)
+        legend.update(zip(labels, handles, strict=True))
+    fig.legend(legend.values(), legend.keys(), loc="upper right", ncol=len(legend), fontsize=8)
     fig.suptitle(f"{study.mechanism.name}: Monte Carlo, {int(ok.sum())} samples", fontsize=10)
     images.update(encode(fig, "histograms", figure_format))
     fig, axes = _grid(plt, len(names))
