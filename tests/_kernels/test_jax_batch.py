@@ -391,6 +391,8 @@ def test_padded_sizes_share_compilations() -> None:
     assert padded_size(1000, 200_000) == 1024
     assert padded_size(1500, 200_000) == 2048
     assert padded_size(100_000, 200_000) == 100_352
+    assert padded_size(1000, 200_000, minimum=16_384) == 16_384  # a GPU's small batches
+    assert padded_size(1000, 4096, minimum=16_384) == 4096  # never above the chunk
     assert padded_size(1_000_000, 200_000) == 200_000
     assert padded_size(3, 2) == 2
 
