@@ -579,11 +579,12 @@ def _message(run: IntegrationResult, t_end: float, solver: SolverOptions) -> str
     )
 
 
-def _interpolate(
-    system: System, t: FloatArray, y: FloatArray, qdd: FloatArray, samples: FloatArray
+def hermite(
+    t: FloatArray, values: FloatArray, rates: FloatArray, samples: FloatArray
 ) -> FloatArray:
-    """Cubic Hermite interpolation of q (with q̇) and q̇ (with q̈) between accepted steps."""
-    n = system.n_coordinates
+    """Cubic Hermite interpolation of ``values`` (rows at the times ``t``) with their time
+    derivatives ``rates`` at ``samples``: 4th-order accurate between accepted steps, like the
+    integrator's own dense output."""
     index = np.clip(np.searchsorted(t, samples, side="right") - 1, 0, len(t) - 2)
     t0, t1 = t[index], t[index + 1]
     h = (t1 - t0)[:, None]
@@ -594,12 +595,24 @@ def _interpolate(
         -2 * s**3 + 3 * s**2,
         s**3 - s**2,
     )
-    q0, q1 = y[index, :n], y[index + 1, :n]
-    v0, v1 = y[index, n : 2 * n], y[index + 1, n : 2 * n]
-    a0, a1 = qdd[index], qdd[index + 1]
+    return (
+        h00 * values[index]
+        + h10 * h * rates[index]
+        + h01 * values[index + 1]
+        + h11 * h * rates[index + 1]
+    )
+
+
+def _interpolate(
+    system: System, t: FloatArray, y: FloatArray, qdd: FloatArray, samples: FloatArray
+) -> FloatArray:
+    """Cubic Hermite interpolation of q (with q̇) and q̇ (with q̈) between accepted steps."""
+    n = system.n_coordinates
+    index = np.clip(np.searchsorted(t, samples, side="right") - 1, 0, len(t) - 2)
+    t0, t1 = t[index], t[index + 1]
     out = y[index].copy()  # work and impact-velocity memory: value at the step's start
-    out[:, :n] = h00 * q0 + h10 * h * v0 + h01 * q1 + h11 * h * v1
-    out[:, n : 2 * n] = h00 * v0 + h10 * h * a0 + h01 * v1 + h11 * h * a1
+    out[:, :n] = hermite(t, y[:, :n], y[:, n : 2 * n], samples)
+    out[:, n : 2 * n] = hermite(t, y[:, n : 2 * n], qdd, samples)
     w = (samples - t0) / (t1 - t0)
     out[:, 2 * n : 2 * n + 2] = (1 - w)[:, None] * y[index, 2 * n : 2 * n + 2] + w[:, None] * y[
         index + 1, 2 * n : 2 * n + 2

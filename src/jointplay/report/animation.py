@@ -257,22 +257,12 @@ def _frame_times(
 
 
 def _positions(result: SimulationResult, times: FloatArray) -> FloatArray:
-    """The coordinates q at ``times``: cubic Hermite interpolation of q with q̇ between the
-    accepted steps (the interpolation of :meth:`SimulationResult.evaluate`), (F, n)."""
-    t, y = result.t, result.y
+    """The coordinates q at ``times`` (F, n): the interpolation of
+    :meth:`SimulationResult.evaluate` (cubic Hermite of q with q̇ between accepted steps)."""
+    from jointplay.dynamics.simulate import hermite
+
     n = result.system.n_coordinates
-    index = np.clip(np.searchsorted(t, times, side="right") - 1, 0, len(t) - 2)
-    t0, t1 = t[index], t[index + 1]
-    h = (t1 - t0)[:, None]
-    s = ((times - t0) / (t1 - t0))[:, None]
-    q0, q1 = y[index, :n], y[index + 1, :n]
-    v0, v1 = y[index, n : 2 * n], y[index + 1, n : 2 * n]
-    return (
-        (2 * s**3 - 3 * s**2 + 1) * q0
-        + (s**3 - 2 * s**2 + s) * h * v0
-        + (-2 * s**3 + 3 * s**2) * q1
-        + (s**3 - s**2) * h * v1
-    )
+    return hermite(result.t, result.y[:, :n], result.y[:, n : 2 * n], times)
 
 
 def mechanism_frames(
