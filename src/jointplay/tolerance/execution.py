@@ -12,9 +12,10 @@ Two entry points:
   tolerance methods use it through :func:`run`; the paper study runs its simulations with it.
 * :func:`run` — a response model over an (n, k) matrix of samples: the samples are cut into
   blocks of ``model.chunk_size`` rows (fixed by n and the chunk size alone, never by the
-  backend), each block is one task, and the blocks are put back in sample order. The same
-  model and samples therefore give bit-identical results on every backend (on the same kind
-  of machine).
+  backend), each block is one task, and the blocks are put back in sample order, the
+  per-sample checks of a :class:`~jointplay.tolerance.responses.CheckedModel` with them. The
+  same model and samples therefore give bit-identical results on every backend (on the same
+  kind of machine).
 
 Backends (:class:`Backend`):
 
@@ -62,7 +63,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from jointplay.errors import ConfigError, caused_by_interrupt
-from jointplay.tolerance.responses import Evaluation, ResponseModel
+from jointplay.tolerance.responses import CheckedModel, Evaluation, ResponseModel
 
 __all__ = [
     "BACKENDS",
@@ -162,6 +163,9 @@ class RunResult:
         workers: number of workers used.
         chunk_size: samples per task.
         wall_time: elapsed time, s.
+        check_names: names of the model's per-sample checks (``()`` for a model without).
+        checks: (n, c) the checks, dimensionless, in sample order; NaN where a sample failed
+            or did not run; ``None`` for a model without checks.
     """
 
     values: FloatArray
@@ -172,6 +176,8 @@ class RunResult:
     workers: int
     chunk_size: int
     wall_time: float
+    check_names: tuple[str, ...] = ()
+    checks: FloatArray | None = None
 
     @property
     def n_ok(self) -> int:
@@ -465,7 +471,8 @@ def run(
         description: label of the progress bar.
 
     Returns:
-        The responses in sample order, with status and error message per sample.
+        The responses (and a :class:`~jointplay.tolerance.responses.CheckedModel`'s checks)
+        in sample order, with status and error message per sample.
     """
     backend = backend or Backend()
     x = np.ascontiguousarray(np.asarray(x, dtype=float))
@@ -486,6 +493,8 @@ def run(
         description=description,
     )
     values = np.full((n, len(model.response_names)), np.nan)
+    check_names = tuple(model.check_names) if isinstance(model, CheckedModel) else ()
+    checks = np.full((n, len(check_names)), np.nan)
     status = np.full(n, NOT_RUN, dtype=np.int8)
     errors = ["not run (interrupted)"] * n
     for start, block, code, error, evaluation in zip(
@@ -496,9 +505,12 @@ def run(
             values[start:stop] = evaluation.values
             status[start:stop] = np.where(evaluation.ok, OK, FAILED)
             errors[start:stop] = evaluation.errors
+            if check_names and evaluation.checks is not None:
+                checks[start:stop] = evaluation.checks
         elif code == FAILED:
             status[start:stop] = FAILED
             errors[start:stop] = [error] * len(block)
+    checks[status != OK] = np.nan
     engine = getattr(model, "engine", None)  # a batch model spreads its blocks itself
     return RunResult(
         values=values,
@@ -511,6 +523,8 @@ def run(
         else int(getattr(model, "workers", None) or os.cpu_count() or 1),
         chunk_size=chunk,
         wall_time=tasks.wall_time,
+        check_names=check_names,
+        checks=checks if check_names else None,
     )
 
 

@@ -273,7 +273,9 @@ class MethodResult:
         units: SI unit per response.
         x: (m, k) evaluated input points, SI.
         roles: m labels (``"sample"``, ``"corner"``, ``"nominal"``, ``"centre"``, ``"fd"``).
-        run: responses, status and errors of the points, and the execution record.
+        run: responses, status and errors of the points (and the model's per-point
+            checks, :attr:`~jointplay.tolerance.execution.RunResult.checks`), and the
+            execution record.
         nominal: (r,) responses at the nominal inputs.
         summaries: per response.
         failures: the failed points with their inputs.
@@ -917,6 +919,7 @@ class WorstCase:
 
 
 def _merge(first: RunResult, second: RunResult) -> RunResult:
+    """The two runs of the same model, one after the other (checks included)."""
     return RunResult(
         values=np.concatenate([first.values, second.values]),
         status=np.concatenate([first.status, second.status]),
@@ -926,6 +929,10 @@ def _merge(first: RunResult, second: RunResult) -> RunResult:
         workers=max(first.workers, second.workers),
         chunk_size=second.chunk_size,
         wall_time=first.wall_time + second.wall_time,
+        check_names=first.check_names,
+        checks=None
+        if first.checks is None or second.checks is None
+        else np.concatenate([first.checks, second.checks]),
     )
 
 

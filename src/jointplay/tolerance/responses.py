@@ -25,9 +25,21 @@ Models:
 * :class:`DynamicResponses` — the clearance-joint dynamics of every sample of a block at once
   with the batch engine (:func:`jointplay.dynamics.batch.simulate_batch`: compiled lanes, no
   trajectories): ``omega{k}_peak``, ``alpha{k}_peak``, ``F_<joint>_peak`` (N),
-  ``torque_peak`` (N·m), largest |value| over the analysed revolutions.
+  ``torque_peak`` (N·m), largest |value| over the analysed revolutions; checks
+  ``penetration_ratio_<joint>``.
+* :class:`RunningResponses` — the dynamic peaks plus the running responses of each sample's
+  single-engine simulation (rocker-speed error, joint force, contact pressure, wear rate);
+  the same checks, from each simulation (:func:`penetration_ratios`).
 * :class:`LinearModel` — a linear stack ``y = c + Σ aᵢ xᵢ`` whose worst case, RSS and
   Monte Carlo answers are known in closed form (verification), with an analytic Jacobian.
+
+Per-sample checks: a model that can tell a non-physical sample (:class:`CheckedModel`: the
+two dynamic models) names dimensionless ``check_names`` and returns their values per sample
+in :attr:`Evaluation.checks` beside the responses: ``penetration_ratio_<joint>``, the deepest
+penetration δ = |e| − c of the joint over the analysed revolutions divided by that sample's
+radial clearance c (above 1: the pin sinks deeper into its bearing than the clearance, the
+peaks are not physical; negative: the pin never touched its bearing). The kinematic models
+have none.
 """
 
 from __future__ import annotations
@@ -55,6 +67,7 @@ if TYPE_CHECKING:  # the dynamics import Numba: loaded only by dynamic studies
 
 __all__ = [
     "RUNNING_RESPONSES",
+    "CheckedModel",
     "DifferentiableModel",
     "DynamicResponses",
     "Evaluation",
@@ -65,10 +78,19 @@ __all__ = [
     "RunningResponses",
     "dynamic_model",
     "kinematic_model",
+    "penetration_ratios",
 ]
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
+
+#: Prefix of the per-sample penetration checks of the dynamic models (+ the joint's name).
+PENETRATION_RATIO = "penetration_ratio_"
+#: What a ``penetration_ratio_<joint>`` is, in words (reports, summary.json).
+PENETRATION_RATIO_DEFINITION = (
+    "deepest penetration of the pin into its bearing over the analysed revolutions divided by "
+    "the sample's radial clearance (above 1: not physical; negative: never touched)"
+)
 
 
 @dataclass(frozen=True)
@@ -79,26 +101,34 @@ class Evaluation:
         values: (m, r) responses, SI; NaN where a sample failed.
         ok: (m,) True where the sample succeeded.
         errors: m messages, ``""`` where the sample succeeded, else ``"ErrorType: message"``.
+        checks: (m, c) per-sample checks of a :class:`CheckedModel`, in its
+            ``check_names`` order (dimensionless; NaN where a sample failed); ``None`` for a
+            model without checks.
     """
 
     values: FloatArray
     ok: BoolArray
     errors: tuple[str, ...]
+    checks: FloatArray | None = None
 
     def __post_init__(self) -> None:
         m = self.values.shape[0]
         if self.ok.shape != (m,) or len(self.errors) != m:
             raise ValueError("Evaluation: values, ok and errors must describe the same samples")
+        if self.checks is not None and (self.checks.ndim != 2 or self.checks.shape[0] != m):
+            raise ValueError("Evaluation: checks must have one row per sample")
 
     @classmethod
     def concatenate(cls, parts: Sequence[Evaluation], n_responses: int) -> Evaluation:
-        """Join blocks in order."""
+        """Join blocks in order (checks only if every block has them)."""
         if not parts:
             return cls(np.empty((0, n_responses)), np.zeros(0, dtype=bool), ())
+        checks = [p.checks for p in parts if p.checks is not None]
         return cls(
             np.concatenate([p.values for p in parts], axis=0),
             np.concatenate([p.ok for p in parts]),
             tuple(e for p in parts for e in p.errors),
+            np.concatenate(checks, axis=0) if len(checks) == len(parts) else None,
         )
 
 
@@ -139,6 +169,17 @@ class DifferentiableModel(ResponseModel, Protocol):
 
     def jacobian(self, x0: FloatArray) -> FloatArray:
         """(r, k) sensitivities ∂y_j/∂x_i at the input point ``x0`` (SI)."""
+        ...
+
+
+@runtime_checkable
+class CheckedModel(ResponseModel, Protocol):
+    """A response model that also checks each sample for plausibility (see the module
+    docstring): its :meth:`evaluate` fills :attr:`Evaluation.checks`."""
+
+    @property
+    def check_names(self) -> tuple[str, ...]:
+        """Names of the per-sample checks (dimensionless), e.g. ``penetration_ratio_A``."""
         ...
 
 
@@ -741,6 +782,24 @@ class DynamicResponses:
         return tuple(f"{key}_peak" for key in self.peak_keys)
 
     @property
+    def check_names(self) -> tuple[str, ...]:
+        """``penetration_ratio_<joint>`` per clearance joint (see the module docstring)."""
+        return tuple(f"{PENETRATION_RATIO}{joint}" for joint in self.clearance_joints)
+
+    def clearances(self, x: FloatArray) -> FloatArray:
+        """(m, c) radial clearance of every clearance joint of the samples ``x``, m: the
+        ``clearance_<joint>`` input, else the joint's fixed clearance."""
+        x = _check_inputs(x, len(self.input_names))
+        columns = []
+        for joint in self.clearance_joints:
+            name = f"clearance_{joint}"
+            if name in self.input_names:
+                columns.append(x[:, self.input_names.index(name)])
+            else:
+                columns.append(np.full(len(x), self.fixed_clearances[joint]))
+        return np.stack(columns, axis=1) if columns else np.empty((len(x), 0))
+
+    @property
     def units(self) -> Mapping[str, str]:
         units = {}
         for key in self.peak_keys:
@@ -777,6 +836,7 @@ class DynamicResponses:
                 f"{self.settle} start-up revolution(s), searched between the integrator's "
                 "steps near every running peak (jointplay._kernels.batch)"
             ),
+            "checks": {name: PENETRATION_RATIO_DEFINITION for name in self.check_names},
         }
 
     def method_choice(self) -> Any:
@@ -878,12 +938,21 @@ class DynamicResponses:
     def evaluate(self, x: FloatArray) -> Evaluation:
         """Simulate every sample of the block at once with the batch engine
         (:func:`jointplay.dynamics.batch.simulate_batch`); integration and assembly failures
-        are marked, not raised. The results of a sample do not depend on the block."""
+        are marked, not raised. The results of a sample do not depend on the block.
+
+        The checks are the engine's deepest penetration per joint (``pen_<joint>`` of
+        :attr:`~jointplay.dynamics.batch.BatchResult.statistics`, m) over each sample's
+        radial clearance (:meth:`clearances`, m)."""
         from jointplay.dynamics.batch import simulate_batch
 
         x = _check_inputs(x, len(self.input_names))
         if len(x) == 0:
-            return Evaluation(np.empty((0, len(self.response_names))), np.zeros(0, bool), ())
+            return Evaluation(
+                np.empty((0, len(self.response_names))),
+                np.zeros(0, bool),
+                (),
+                np.empty((0, len(self.check_names))),
+            )
         result = simulate_batch(
             self.mechanism,
             self._nominal_joints(x),
@@ -898,7 +967,32 @@ class DynamicResponses:
             scheduler=self.scheduler,
         )
         values = result.peaks[list(self.peak_keys)].to_numpy(dtype=float)
-        return Evaluation(values, np.asarray(result.ok, dtype=bool), tuple(result.errors))
+        penetration = result.statistics[[f"pen_{j}" for j in self.clearance_joints]]
+        checks = _ratio(penetration.to_numpy(dtype=float), self.clearances(x))
+        return Evaluation(values, np.asarray(result.ok, dtype=bool), tuple(result.errors), checks)
+
+
+def _ratio(penetration: FloatArray, clearance: FloatArray) -> FloatArray:
+    """Penetration over clearance, elementwise (a zero clearance gives ±inf, or NaN)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.asarray(penetration / clearance, dtype=float)
+
+
+def penetration_ratios(result: SimulationResult) -> FloatArray:
+    """(c,) ``penetration_ratio_<joint>`` of a single-engine simulation, in the order of its
+    clearance joints: the deepest penetration δ = |e| − c over the analysed revolutions (at
+    the accepted steps, as the batch engine's ``pen_<joint>``) over the radial clearance c.
+
+    Raises:
+        IntegrationError: the simulation stopped at its initial state.
+    """
+    running = result.running
+    steps = result.steps
+    analysed = steps["t"].to_numpy() >= running.windows[running.settle][0]
+    joints = result.system.clearances
+    deepest = [np.max(steps[f"pen_{joint.joint}"].to_numpy()[analysed]) for joint in joints]
+    clearance = [joint.clearance for joint in joints]
+    return _ratio(np.asarray(deepest, dtype=float), np.asarray(clearance, dtype=float))
 
 
 #: Responses :class:`RunningResponses` adds to the dynamic peaks, with SI units.
@@ -954,6 +1048,10 @@ class RunningResponses:
         return self.base.clearance_joints
 
     @property
+    def check_names(self) -> tuple[str, ...]:
+        return self.base.check_names
+
+    @property
     def response_names(self) -> tuple[str, ...]:
         return (
             *self.base.response_names,
@@ -985,12 +1083,15 @@ class RunningResponses:
         }
 
     def evaluate(self, x: FloatArray) -> Evaluation:
+        """One single-engine simulation per sample (:meth:`DynamicResponses.simulate_one`);
+        failures are marked, not raised; checks from :func:`penetration_ratios`."""
         from jointplay.dynamics.diagnostics import line_contact_pressure
         from jointplay.dynamics.wear import cycle_wear, speed_error
 
         mechanism = self.base.mechanism
         names = self.response_names
         values = np.full((len(x), len(names)), np.nan)
+        checks = np.full((len(x), len(self.check_names)), np.nan)
         ok = np.zeros(len(x), dtype=bool)
         errors: list[str] = []
         for i, row in enumerate(np.asarray(x, dtype=float)):
@@ -1000,6 +1101,7 @@ class RunningResponses:
                     errors.append(f"IntegrationError: {result.message}")
                     continue
                 peaks = [result.peaks[key]["value"] for key in self.base.peak_keys]
+                checks[i] = penetration_ratios(result)
                 wear = cycle_wear(result, self.wear)
                 rates = [wear.joints[j].per_hour(wear.rpm) / 3600.0 for j in self.joints]
                 forces = [float(result.peaks[f"F_{j}"]["value"]) for j in self.joints]
@@ -1041,7 +1143,7 @@ class RunningResponses:
                 for i, error in enumerate(errors)
             ]
             ok &= kinematic.ok
-        return Evaluation(values, ok, tuple(errors))
+        return Evaluation(values, ok, tuple(errors), checks)
 
 
 def dynamic_model(
