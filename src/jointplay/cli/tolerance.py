@@ -7,6 +7,7 @@ CLI starts (``jointplay --help``).
 from __future__ import annotations
 
 import math
+import sys
 from enum import StrEnum
 from typing import TYPE_CHECKING, Annotated, Any
 
@@ -281,9 +282,11 @@ def tolerance_command(
 ) -> None:
     """Tolerance study: spread of the responses, out-of-spec share and what matters most.
 
-    Writes DIR/samples.parquet (one row per evaluated point: inputs, responses, status),
-    DIR/summary.json (statistics and contributions per response, failures, method, seed,
-    provenance), PNG plots and DIR/report.html.
+    Writes DIR/samples.parquet (one row per evaluated point: inputs, responses, status;
+    dynamic and running: penetration_ratio_<joint>), DIR/summary.json (statistics and
+    contributions per response, failures, diagnostics, method, seed, provenance), PNG plots
+    and DIR/report.html. Samples whose pins sink deeper than the radial clearance (not
+    physical) get one warning line per joint on stderr.
     """
     from jointplay.io.output import output_dir
     from jointplay.io.tolerances import load_study_spec
@@ -497,3 +500,5 @@ def _print(study: ToleranceStudyResult) -> None:
             console.print(f"  #{failure.index} ({inputs}): {failure.error}")
         if len(failures) > 5:
             console.print(f"  … and {len(failures) - 5} more")
+    for finding in study.diagnostics:  # one line each, on stderr, as `jointplay simulate`
+        print(f"jointplay: {finding.line()}", file=sys.stderr)

@@ -4,10 +4,13 @@
 a folder:
 
 * ``samples.parquet`` — one row per evaluated point: ``sample``, ``role``, the inputs (SI),
-  the responses (SI, NaN where the point failed), ``status`` (ok / failed / not run) and
-  ``error``;
+  the responses (SI, NaN where the point failed), for dynamic and running studies
+  ``penetration_ratio_<joint>`` (deepest penetration over the radial clearance; above 1:
+  not physical), ``status`` (ok / failed / not run) and ``error``;
 * ``summary.json`` — method, seed, inputs, statistics and contributions per response,
-  failures with their inputs, settings, execution record and provenance (SI), the
+  failures with their inputs, ``diagnostics`` (plausibility warnings over the points, e.g.
+  ``penetration-exceeds-clearance``: how many, the worst ratio and its inputs; empty when
+  all is physical), settings, execution record and provenance (SI), the
   definition of every response (``response_definitions``) and, for Monte Carlo, how the
   inputs were sampled (``sampling_distributions``: normal inputs truncated at their limits
   by default);
@@ -15,7 +18,7 @@ a folder:
   (with nominal, mean, ideal-joint value and spec limits marked) and ``scatter.png`` (the most
   influential input against each response);
 * ``report.html`` — a self-contained page (:class:`~jointplay.report.html.HtmlReport`) with
-  the tables and the plots embedded.
+  the diagnostics in a callout at the top, the tables and the plots embedded.
 
 Reports show lengths in mm, clearances in µm and angles in degrees; files stay SI.
 """
@@ -265,6 +268,10 @@ def _report(
         f"Points: {counts['points']}, ok {counts['ok']}, failed {counts['failed']}, "
         f"not run {counts['not_run']}{' (interrupted)' if r.interrupted else ''}."
     )
+    for finding in study.diagnostics:
+        d = finding.diagnostic
+        where = f", joint {d.joint}" if d.joint else ""
+        page.paragraph(f"Warning ({d.code}{where}): {d.message}.", css="note")
     note = sampling_note(study)
     if note:
         page.paragraph(f"Sampling: {note}.", css="note")

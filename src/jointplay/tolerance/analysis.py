@@ -7,21 +7,29 @@ lengths; dynamic: clearance joints, toleranced lengths and clearances), runs the
 one row per evaluated point (:meth:`~ToleranceStudyResult.to_dataframe`) and the statistics
 (:meth:`~ToleranceStudyResult.summary`), all SI. Files, plots and the HTML report are
 :mod:`jointplay.report.tolerance`'s.
+
+A result that is not physical is flagged: dynamic and running studies check every sample's
+penetration (``penetration_ratio_<joint>``, see :mod:`jointplay.tolerance.responses`), and
+:attr:`ToleranceStudyResult.diagnostics` has one ``penetration-exceeds-clearance`` warning
+per clearance joint whose pin sinks deeper than the radial clearance in some successful
+samples (:func:`penetration_findings`): how many, the worst ratio and its sample.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
+from functools import cached_property
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 import pandas as pd
 
 from jointplay.dynamics.cycles import DEFAULT_SETTLE
+from jointplay.dynamics.diagnostics import Diagnostic
 from jointplay.errors import ConfigError
 from jointplay.model.mechanism import Mechanism
-from jointplay.tolerance.execution import STATUS, Backend, prepare
+from jointplay.tolerance.execution import OK, STATUS, Backend, prepare
 from jointplay.tolerance.methods import (
     Failure,
     MethodResult,
@@ -31,6 +39,7 @@ from jointplay.tolerance.methods import (
     get_method,
 )
 from jointplay.tolerance.responses import (
+    PENETRATION_RATIO,
     DynamicResponses,
     ResponseModel,
     RunningResponses,
@@ -46,8 +55,10 @@ if TYPE_CHECKING:  # the dynamics import Numba: loaded only by dynamic studies
 
 __all__ = [
     "RESPONSE_KINDS",
+    "StudyDiagnostic",
     "ToleranceStudyResult",
     "build_model",
+    "penetration_findings",
     "response_units",
     "tolerance_study",
 ]
@@ -59,6 +70,101 @@ RESPONSE_KINDS: tuple[str, ...] = ("kinematic", "dynamic")
 
 #: How many failures summary.json lists in full (samples.parquet has every one).
 MAX_LISTED_FAILURES = 1000
+
+
+@dataclass(frozen=True)
+class StudyDiagnostic:
+    """A plausibility finding over the points of a study.
+
+    Attributes:
+        diagnostic: the finding in the words of :mod:`jointplay.dynamics.diagnostics`
+            (level, code, joint, message); ``value`` is the worst point's ratio and ``limit``
+            the ratio it must not pass (1 for ``penetration-exceeds-clearance``).
+        count: successful points concerned.
+        out_of: successful points checked.
+        worst_sample: row of the worst point (the ``sample`` column of ``samples.parquet``).
+        worst_inputs: its inputs, SI.
+    """
+
+    diagnostic: Diagnostic
+    count: int
+    out_of: int
+    worst_sample: int
+    worst_inputs: Mapping[str, float]
+
+    @property
+    def share(self) -> float:
+        """``count / out_of``."""
+        return self.count / self.out_of if self.out_of else 0.0
+
+    def line(self) -> str:
+        """One console line (as :meth:`Diagnostic.line`)."""
+        return self.diagnostic.line()
+
+    def as_dict(self) -> dict[str, Any]:
+        """JSON-ready: the diagnostic's record plus ``count``, ``out_of``, ``share``,
+        ``worst_sample`` and ``worst_inputs``."""
+        return {
+            **self.diagnostic.as_dict(),
+            "count": self.count,
+            "out_of": self.out_of,
+            "share": self.share,
+            "worst_sample": self.worst_sample,
+            "worst_inputs": dict(self.worst_inputs),
+        }
+
+
+def penetration_findings(result: MethodResult) -> tuple[StudyDiagnostic, ...]:
+    """One ``penetration-exceeds-clearance`` warning per clearance joint whose pin, in some
+    successful points, sinks deeper into its bearing than the radial clearance
+    (``penetration_ratio_<joint>`` > 1); none for a model without these checks.
+
+    The single engine's :func:`jointplay.dynamics.diagnostics.check_penetration` judges one
+    simulation; this counts the points of a study and names the worst.
+    """
+    run = result.run
+    if run.checks is None:
+        return ()
+    ok = run.status == OK
+    noun = "samples" if result.method == "monte-carlo" else "points"
+    findings = []
+    for column, name in enumerate(run.check_names):
+        if not name.startswith(PENETRATION_RATIO):
+            continue
+        joint = name.removeprefix(PENETRATION_RATIO)
+        ratio = np.where(ok, run.checks[:, column], np.nan)
+        exceeds = ratio > 1.0  # NaN compares False
+        count = int(np.sum(exceeds))
+        if count == 0:
+            continue
+        worst = int(np.argmax(np.where(exceeds, ratio, -np.inf)))
+        out_of = int(np.sum(ok))
+        message = (
+            f"{count} of {out_of} {noun} ({100.0 * count / out_of:.3g} %): the pin of {joint} "
+            f"penetrates its bearing by up to {ratio[worst]:.3g} times the radial clearance "
+            f"(sample {worst}; {name} in samples.parquet); those {noun}' peaks are not "
+            "physical: the contact stiffness is far too low for the load; use a stiffer "
+            "contact law (--k), e.g. one from the joints' geometry"
+        )
+        findings.append(
+            StudyDiagnostic(
+                Diagnostic(
+                    "warning",
+                    "penetration-exceeds-clearance",
+                    joint,
+                    float(ratio[worst]),
+                    1.0,
+                    message,
+                ),
+                count=count,
+                out_of=out_of,
+                worst_sample=worst,
+                worst_inputs=dict(
+                    zip(result.input_names, map(float, result.x[worst]), strict=True)
+                ),
+            )
+        )
+    return tuple(findings)
 
 
 @dataclass(frozen=True)
@@ -102,8 +208,16 @@ class ToleranceStudyResult:
         seed = self.result.settings.get("seed")
         return None if seed is None else int(seed)
 
+    @cached_property
+    def diagnostics(self) -> tuple[StudyDiagnostic, ...]:
+        """Plausibility warnings over the points (:func:`penetration_findings`); empty when
+        every point is physical or the model has no checks (kinematic studies)."""
+        return penetration_findings(self.result)
+
     def to_dataframe(self) -> pd.DataFrame:
-        """One row per evaluated point (the content of ``samples.parquet``)."""
+        """One row per evaluated point (the content of ``samples.parquet``): ``sample``,
+        ``role``, the inputs, the responses, the model's checks (dynamic studies:
+        ``penetration_ratio_<joint>``), ``status`` and ``error``; SI."""
         r = self.result
         columns: dict[str, Any] = {
             "sample": np.arange(len(r.x), dtype=np.int64),
@@ -113,6 +227,9 @@ class ToleranceStudyResult:
             columns[name] = r.x[:, i]
         for j, name in enumerate(r.response_names):
             columns[name] = r.run.values[:, j]
+        if r.run.checks is not None:
+            for j, name in enumerate(r.run.check_names):
+                columns[name] = r.run.checks[:, j]
         columns["status"] = [STATUS[int(s)] for s in r.run.status]
         columns["error"] = list(r.run.errors)
         return pd.DataFrame(columns)
@@ -150,6 +267,7 @@ class ToleranceStudyResult:
                 {"sample": f.index, "role": f.role, "inputs": dict(f.inputs), "error": f.error}
                 for f in r.failures[:MAX_LISTED_FAILURES]
             ],
+            "diagnostics": [finding.as_dict() for finding in self.diagnostics],
             "configuration": mechanism_summary(self.mechanism),
             "execution": r.run.describe(),
         }
