@@ -195,3 +195,31 @@ def test_running_responses_from_the_command_line(tmp_path) -> None:
         summary["responses"]
     )
     assert summary["responses"]["contact_pressure"]["out_of_spec_percent"] == 0.0
+
+
+def test_samples_beyond_the_clearance_get_one_warning_line_per_joint(tmp_path, capsys) -> None:
+    """An absurdly soft contact (every pin sinks several times its clearance): one warning
+    line per joint on stderr, as `jointplay simulate` prints its diagnostics; a stiff one
+    with the paper's 21 µm joints: none."""
+
+    def args(out, *extra: str) -> list[str]:
+        return ["tolerance", "--responses", "dynamic", "--samples", "4", "--settle", "0",
+                "--revolutions", "0.25", "--backend", "local", "--contact", "impact",
+                "--out", str(out), "--no-progress", "--no-plots", *extra]  # fmt: skip
+
+    assert run(args(tmp_path / "soft", "--k", "1e2 N/mm^1.5")) == 0
+    err = capsys.readouterr().err
+    lines = [line for line in err.splitlines() if "penetration-exceeds-clearance" in line]
+    assert len(lines) == 4
+    for line, joint in zip(lines, ("O2", "A", "B", "O4"), strict=True):
+        assert line.startswith(
+            f"jointplay: warning: penetration-exceeds-clearance [{joint}]: 4 of 4 samples "
+            f"(100 %): the pin of {joint} penetrates its bearing by up to "
+        )
+    summary = _summary(tmp_path / "soft")
+    assert [d["count"] for d in summary["diagnostics"]] == [4, 4, 4, 4]
+    frame = pd.read_parquet(tmp_path / "soft" / "samples.parquet")
+    assert (frame[[f"penetration_ratio_{j}" for j in ("O2", "A", "B", "O4")]] > 1).all().all()
+    assert run(args(tmp_path / "stiff", "--k", "1e5 N/mm^1.5", "--no-clearances")) == 0
+    assert "penetration" not in capsys.readouterr().err
+    assert _summary(tmp_path / "stiff")["diagnostics"] == []
