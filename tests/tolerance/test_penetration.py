@@ -274,3 +274,21 @@ def test_concatenated_evaluations_keep_their_checks() -> None:
     assert Evaluation.concatenate([parts[0], plain], 1).checks is None
     with pytest.raises(ValueError, match="one row per sample"):
         Evaluation(np.ones((2, 1)), np.ones(2, dtype=bool), ("", ""), np.ones((3, 1)))
+
+
+@pytest.mark.slow  # JAX compiles the batch for ~8 s
+def test_the_gpu_backend_gives_the_cpu_checks_and_warnings(paper_fourbar: Mechanism) -> None:
+    """The JAX kernel takes the Numba kernel's explicit steps in the same order: the deepest
+    penetrations agree to rounding (1e-6 leaves room for the fused arithmetic of a GPU; on
+    a CPU they agree to ~1e-8)."""
+    pytest.importorskip("jax")
+    options = {"responses": "dynamic", "contact": _impact(1e5), "samples": 6, "seed": 1}
+    local = tolerance_study(paper_fourbar, backend=LOCAL, **options, **FAST)
+    gpu = tolerance_study(paper_fourbar, backend=Backend("gpu"), **options, **FAST)
+    assert gpu.result.run.backend == "gpu"
+    assert local.result.run.checks is not None and gpu.result.run.checks is not None
+    np.testing.assert_allclose(gpu.result.run.checks, local.result.run.checks, rtol=1e-6)
+    assert [d.as_dict()["count"] for d in gpu.diagnostics] == [
+        d.as_dict()["count"] for d in local.diagnostics
+    ]
+    assert [d.diagnostic.joint for d in gpu.diagnostics] == ["O2", "A", "O4"]
