@@ -32,6 +32,32 @@ def test_python_dash_m_runs_the_command_line() -> None:
     assert done.stdout.strip() == f"jointplay {__version__}"
 
 
+def test_the_entry_point_ends_with_the_status_after_exit_handlers_and_flushed_output() -> None:
+    # main() skips the interpreter's teardown (cli._app.leave): the status must still come
+    # out, the atexit handlers (the worker pool's shutdown) still run, and buffered output
+    # still reaches the pipe
+    script = (
+        "import atexit, sys\n"
+        "atexit.register(lambda: print('handler ran'))\n"
+        "from jointplay.cli._app import leave\n"
+        "sys.stdout.write('x' * 100000)\n"
+        "leave(3)\n"
+    )
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+    assert done.returncode == 3
+    assert done.stdout == "x" * 100000 + "handler ran\n"
+
+
+def test_python_dash_m_returns_the_usage_error_status() -> None:
+    done = subprocess.run(
+        [sys.executable, "-m", "jointplay", "simulate", "--no-such-option"],
+        capture_output=True,
+        text=True,
+    )
+    assert done.returncode == 2
+    assert "--no-such-option" in done.stderr
+
+
 @pytest.mark.parametrize(
     "arguments",
     [

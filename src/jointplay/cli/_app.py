@@ -15,7 +15,7 @@ import threading
 import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
-from typing import Any
+from typing import Any, NoReturn
 
 import typer
 
@@ -276,5 +276,25 @@ def run(argv: list[str] | None = None) -> int:
 
 
 def main() -> None:
-    """Console-script entry point."""
-    sys.exit(run(sys.argv[1:]))
+    """Console-script entry point: :func:`run`, then :func:`leave`."""
+    leave(run(sys.argv[1:]))
+
+
+def leave(status: int) -> NoReturn:
+    """End the process with ``status`` once the command is done, skipping the interpreter's
+    teardown.
+
+    The exit handlers run first (``atexit``: e.g. the batch engine's worker pool is shut
+    down) and the standard streams are flushed; every file a command writes is closed by the
+    time it returns. What is skipped is the freeing of every module's objects — the compiled
+    kernels, the plotting and data libraries — which took ~0.6 s after each command on a
+    2-core machine (a tenth of a 1 000-sample dynamic tolerance study) and changes nothing.
+    """
+    import atexit
+
+    try:
+        atexit._run_exitfuncs()
+        sys.stdout.flush()
+        sys.stderr.flush()
+    finally:
+        os._exit(status)
