@@ -288,6 +288,14 @@ def tolerance_command(
     and DIR/report.html. Samples whose pins sink deeper than the radial clearance (not
     physical) get one warning line per joint on stderr.
     """
+    if responses is Responses.dynamic and method is Method.monte_carlo:
+        # the batch engine's worker processes start first, so that their start-up overlaps
+        # this command's imports and set-up (a second of a 1 000-sample study here)
+        from jointplay.tolerance.execution import start_batch_workers
+        from jointplay.tolerance.responses import DynamicResponses
+
+        where = backend_from_options(backend, workers, dask_scheduler)
+        start_batch_workers(where, samples, DynamicResponses.seconds_per_sample)
     from jointplay.io.output import output_dir
     from jointplay.io.tolerances import load_study_spec
     from jointplay.report.tolerance import write_study

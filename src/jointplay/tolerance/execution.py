@@ -74,6 +74,7 @@ __all__ = [
     "prepare",
     "run",
     "run_tasks",
+    "start_batch_workers",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -539,6 +540,34 @@ def prepare(model: ResponseModel, backend: Backend | None, n: int) -> None:
         start_workers(getattr(model, "workers", None))
 
 
+def start_batch_workers(backend: Backend, n: int, seconds_per_sample: float) -> None:
+    """Start the batch engine's worker processes that a run of ``n`` samples costing
+    ``seconds_per_sample`` each will use on ``backend`` (what :func:`prepare` starts), before
+    the model exists: the command line calls it first, so that the workers' start-up overlaps
+    its own imports and set-up. Nothing unless the run will use local processes."""
+    kind, workers = _affordable(backend.kind, backend.workers, n, seconds_per_sample)
+    if kind == "processes":
+        from jointplay.dynamics.batch import start_workers
+
+        start_workers(workers)
+
+
+def _affordable(
+    kind: BackendKind, workers: int | None, n: int, cost: float | None
+) -> tuple[BackendKind, int | None]:
+    """``(kind, workers)`` of a run of ``n`` samples costing ``cost`` s each on one core
+    (:func:`_placed`): with the default number of processes, only as many as pay for their
+    start-up, and this process (``"local"``) below two."""
+    if kind == "processes" and cost is not None and workers is None:
+        requested = os.cpu_count() or 1
+        affordable = int(n * float(cost) / WORKER_START_S)
+        if min(requested, affordable) < 2:
+            return "local", None
+        if affordable < requested:
+            return kind, affordable
+    return kind, workers
+
+
 def _placed(model: ResponseModel, backend: Backend, n: int) -> tuple[ResponseModel, Backend]:
     """The model and backend a run of ``n`` samples really uses.
 
@@ -561,15 +590,9 @@ def _placed(model: ResponseModel, backend: Backend, n: int) -> tuple[ResponseMod
         raise ConfigError(
             "the gpu backend runs the batch engine only: use it with --responses dynamic"
         )
-    workers = backend.workers
-    cost = getattr(model, "seconds_per_sample", None)
-    if kind == "processes" and cost is not None and workers is None:
-        requested = os.cpu_count() or 1
-        affordable = int(n * float(cost) / WORKER_START_S)
-        if min(requested, affordable) < 2:
-            kind = "local"
-        elif affordable < requested:
-            workers = affordable
+    kind, workers = _affordable(
+        kind, backend.workers, n, getattr(model, "seconds_per_sample", None)
+    )
     if engine is None:
         return model, dataclasses.replace(backend, kind=kind, workers=workers)
     model = dataclasses.replace(
