@@ -48,6 +48,19 @@ def test_the_entry_point_ends_with_the_status_after_exit_handlers_and_flushed_ou
     assert done.stdout == "x" * 100000 + "handler ran\n"
 
 
+def test_the_console_script_module_is_light_for_spawned_workers() -> None:
+    # a worker process started with "spawn" re-runs its parent's script, which imports the
+    # console script's module: that must not load the command line (Typer, Rich, commands)
+    from importlib.metadata import entry_points
+
+    (script,) = [e for e in entry_points(group="console_scripts") if e.name == "jointplay"]
+    module = script.value.partition(":")[0]
+    code = f"import sys, {module}; print(sorted(m for m in sys.modules if m.startswith(('jointplay.cli', 'typer', 'rich'))))"
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]"
+
+
 def test_python_dash_m_returns_the_usage_error_status() -> None:
     done = subprocess.run(
         [sys.executable, "-m", "jointplay", "simulate", "--no-such-option"],
