@@ -53,7 +53,10 @@ _MAX_QUANTITY_CHARS = 200
 def _registry() -> Any:
     import pint
 
-    registry: Any = pint.UnitRegistry()
+    try:  # pint's cache of its parsed definitions (~/.cache/pint): 0.05 s instead of 0.23 s
+        registry: Any = pint.UnitRegistry(cache_folder=":auto:")
+    except Exception:  # an unwritable or damaged cache only costs the parsing
+        registry = pint.UnitRegistry()
     registry.define("rev = revolution")
     return registry
 
