@@ -31,8 +31,6 @@ from typing import Protocol
 
 import numpy as np
 import numpy.typing as npt
-from scipy.integrate import solve_ivp
-from scipy.optimize import brentq
 
 from jointplay.errors import ConfigError
 
@@ -76,6 +74,8 @@ def effective_restitution(chi: float) -> float:
     Raises:
         ConfigError: χ is negative or not finite.
     """
+    from scipy.optimize import brentq  # scipy.optimize/integrate: ~0.3 s, loaded when used
+
     chi = float(chi)
     if not (math.isfinite(chi) and chi >= 0.0):
         raise ConfigError(f"effective_restitution: chi must be finite and >= 0, got {chi!r}")
@@ -103,6 +103,8 @@ def chi_for_restitution(e: float) -> float:
     Raises:
         ConfigError: ``e`` is outside (0, 1].
     """
+    from scipy.optimize import brentq  # scipy.optimize/integrate: ~0.3 s, loaded when used
+
     e = float(e)
     if not (math.isfinite(e) and 0.0 < e <= 1.0):
         raise ConfigError(
@@ -193,6 +195,8 @@ def single_impact(
     Raises:
         ConfigError: ``mass``, ``impact_speed`` or ``t_max`` not finite and positive.
     """
+    from scipy.integrate import solve_ivp  # scipy.optimize/integrate: ~0.3 s, loaded when used
+
     for field, value in (("mass", mass), ("impact_speed", impact_speed), ("t_max", t_max)):
         if not (math.isfinite(value) and value > 0.0):
             raise ConfigError(f"single_impact: {field} must be finite and > 0, got {value!r}")
