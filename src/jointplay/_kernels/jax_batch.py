@@ -104,9 +104,11 @@ def _configure(jax: Any) -> None:
     jax.config.update("jax_persistent_cache_min_entry_size_bytes", 0)
 
 
-#: Fewest lanes per chunk on a GPU. Measured on one H100 (explicit set, one revolution):
-#: 1 000 lanes ran in 20.9 s after a 68 s compilation, 10 000 in 1.2 s after 17 s: small
-#: batches take a slow path there, so they are padded up to this (copies of a lane).
+#: Fewest lanes per chunk of the explicit method on a GPU. Measured on one H100 (one
+#: revolution): 1 000 lanes ran in 20.9 s after a 68 s compilation, 10 000 in 1.2 s after
+#: 17 s: small explicit batches take a slow path there, so they are padded up to this (copies
+#: of a lane). The implicit method is not padded: its 1 000 lanes ran in 7.5 s as they are
+#: and in 28 s padded to 16 384 (its cost grows with the lanes).
 GPU_MIN_LANES = 16_384
 
 
@@ -230,7 +232,7 @@ def run_batch(
     n = rpar.shape[0]
     _configure(jax)
     on_gpu = jax.default_backend() == "gpu"
-    size = padded_size(n, chunk_size, GPU_MIN_LANES if on_gpu else 1)
+    size = padded_size(n, chunk_size, GPU_MIN_LANES if on_gpu and method == "explicit" else 1)
     compile_s = 0.0
     run_s = 0.0
     parts: list[dict[str, np.ndarray]] = []
