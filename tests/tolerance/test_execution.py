@@ -72,6 +72,29 @@ def test_default_workers_are_started_only_when_the_work_pays_for_them(
     assert (backend.kind, backend.workers) == ("processes", 2)  # asked for: started
 
 
+def test_early_worker_start_follows_the_same_rule(monkeypatch) -> None:
+    # the command line starts the batch engine's workers before its model exists: exactly
+    # those that the run will use (prepare/_placed), none for a run kept in this process
+    from jointplay.dynamics import batch
+    from jointplay.tolerance import execution
+
+    monkeypatch.setattr(execution.os, "cpu_count", lambda: 8)
+    started: list[int | None] = []
+    monkeypatch.setattr(batch, "start_workers", started.append)
+    cost = 0.015
+    per_worker = int(execution.WORKER_START_S / cost) + 1
+    for n, backend, expected in [
+        (per_worker, Backend("processes"), []),  # one worker's worth: stays here
+        (3 * per_worker, Backend("processes"), [3]),
+        (100 * per_worker, Backend("processes"), [None]),  # one per CPU
+        (10, Backend("processes", workers=2), [2]),  # asked for
+        (100 * per_worker, Backend("local"), []),
+    ]:
+        started.clear()
+        execution.start_batch_workers(backend, n, cost)
+        assert started == expected, (n, backend)
+
+
 def test_results_do_not_depend_on_the_chunk_size(kinematics) -> None:
     model, x = kinematics
     small = run(model, x[:300], backend=Backend("serial", chunk_size=7))
