@@ -3,7 +3,9 @@
 :func:`write_design` writes ``design.parquet`` and ``design.csv`` (one row per scheme),
 ``samples.parquet`` (one row per sample), ``summary.json``, PNG plots (cost against yield
 with the Pareto front; each required response per scheme with its spread) and
-``report.html``. :func:`write_wear` writes ``wear.csv`` (the history), ``profiles.csv`` (the
+``report.html`` (dynamic designs whose pins sink deeper than the radial clearance in some
+samples: one warning callout per joint under the verdict, and the count of those samples per
+scheme in the scheme table). :func:`write_wear` writes ``wear.csv`` (the history), ``profiles.csv`` (the
 worn profiles), ``summary.json``, plots (clearance, peak force and rocker-speed error over the
 life; the worn profile of each bearing and journal, polar) and ``report.html``.
 """
@@ -118,6 +120,10 @@ def design_section(
     summary = result.summary()
     report.heading("Design: fit and length class", anchor="design")
     report.paragraph(summary["verdict"])
+    for finding in result.diagnostics:  # right under the verdict they qualify
+        d = finding.diagnostic
+        where = f", joint {d.joint}" if d.joint else ""
+        report.paragraph(f"Warning ({d.code}{where}): {d.message}.", css="note")
     settings = result.settings
     report.bullets(
         [f"requirement: {r.text}" for r in result.requirements]
@@ -147,6 +153,11 @@ def design_section(
             unit, scale = display(units.get(r, ""))
             label = f"{r} at {100 * result.confidence:g} % ({unit})"
             shown[label] = table[f"{r}_at_confidence"] * scale
+        for finding in result.diagnostics:  # the joints whose pins pass the clearance
+            joint = finding.diagnostic.joint
+            shown[f"samples beyond the clearance in {joint}"] = table[
+                f"penetration_exceeds_{joint}"
+            ]
         report.table(
             shown.sort_values(columns["cost"]),
             caption="Schemes by cost",

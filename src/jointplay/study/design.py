@@ -16,7 +16,16 @@ pin joints, or one per named joint — and an ISO 2768-1 class for the link leng
    as a defect); the relative cost (:mod:`jointplay.tolerance.cost`);
 4. the cheapest scheme meeting every requirement — or, if none does, the requirement that
    binds (the one whose best yield over all schemes is lowest) — and the Pareto fronts of cost
-   against the yield and against each response.
+   against the yield and against each response;
+5. dynamic studies: whether the samples are physical. Every sample's pin of each clearance
+   joint must stay within its radial clearance (``penetration_ratio_<joint>``, the deepest
+   penetration over the analysed revolutions / that sample's radial clearance, see
+   :mod:`jointplay.tolerance.responses`); each scheme counts the successful samples beyond it
+   (``penetration_exceeds_<joint>``) and keeps the largest ratio
+   (``penetration_ratio_max_<joint>``), and :attr:`DesignResult.diagnostics` has one
+   ``penetration-exceeds-clearance`` warning per joint concerned in some scheme
+   (:class:`DesignDiagnostic`: how many samples of how many schemes, the worst ratio and its
+   scheme, whether the recommended scheme is among them).
 
 All samples of all schemes run as one batch on one backend
 (:func:`jointplay.tolerance.execution.run`), scheme after scheme: Ctrl-C keeps the schemes
@@ -48,15 +57,18 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from jointplay.dynamics.cycles import DEFAULT_SETTLE
+from jointplay.dynamics.diagnostics import Diagnostic
 from jointplay.errors import ConfigError
 from jointplay.model.mechanism import Mechanism, RevoluteJoint
 from jointplay.study.requirements import Requirement, parse_requirement
 from jointplay.tolerance import iso286, iso2768
+from jointplay.tolerance.analysis import StudyDiagnostic
 from jointplay.tolerance.cost import CostModel, fit_cost, length_class_cost
 from jointplay.tolerance.definitions import response_definitions
 from jointplay.tolerance.execution import NOT_RUN, OK, STATUS, Backend, run
 from jointplay.tolerance.methods import distribution_note, truncated_at_limits
 from jointplay.tolerance.responses import (
+    PENETRATION_RATIO,
     RUNNING_RESPONSES,
     ResponseModel,
     RunningResponses,
@@ -81,10 +93,13 @@ if TYPE_CHECKING:
 __all__ = [
     "DEFAULT_CONFIDENCE",
     "DERIVED_RESPONSES",
+    "DesignDiagnostic",
     "DesignResult",
     "Scheme",
     "design_study",
     "design_units",
+    "penetration_diagnostics",
+    "resolve_responses",
     "schemes",
 ]
 
@@ -235,6 +250,194 @@ def design_units(
     return units
 
 
+def resolve_responses(
+    mechanism: Mechanism,
+    requirements: Sequence[str | Requirement],
+    responses: Literal["auto", "kinematic", "dynamic"] = "auto",
+) -> Literal["kinematic", "dynamic"]:
+    """The response model a design study runs: ``responses`` itself, or for ``"auto"``
+    kinematic when every requirement (as text) names a kinematic response, else dynamic.
+
+    Raises:
+        ConfigError: a malformed requirement.
+    """
+    if responses != "auto":
+        return responses
+    units = design_units(mechanism, "kinematic")
+    kinematic = bool(requirements) and all(
+        isinstance(r, str) and parse_requirement_or_none(r, units) is not None for r in requirements
+    )
+    return "kinematic" if kinematic else "dynamic"
+
+
+# --- plausibility -----------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class DesignDiagnostic(StudyDiagnostic):
+    """A plausibility finding over the samples of every finished scheme.
+
+    The fields of :class:`~jointplay.tolerance.analysis.StudyDiagnostic` count over all
+    schemes together (``count`` samples concerned of ``out_of`` successful ones;
+    ``worst_sample`` is the ``sample`` column of ``samples.parquet`` *within*
+    ``worst_scheme``; ``worst_inputs`` SI); in addition:
+
+    Attributes:
+        schemes: finished schemes with at least one sample concerned.
+        out_of_schemes: finished schemes.
+        worst_scheme: label of the scheme of the worst sample.
+        best: the recommended scheme (:attr:`DesignResult.best`), or ``None``.
+        best_count: samples of the recommended scheme concerned (0 when none is, or when
+            there is no recommended scheme).
+        best_out_of: successful samples of the recommended scheme (0 without one).
+    """
+
+    schemes: int
+    out_of_schemes: int
+    worst_scheme: str
+    best: str | None
+    best_count: int
+    best_out_of: int
+
+    @property
+    def best_concerned(self) -> bool:
+        """The recommended scheme has samples concerned."""
+        return self.best_count > 0
+
+    def as_dict(self) -> dict[str, Any]:
+        """JSON-ready: :meth:`StudyDiagnostic.as_dict` plus ``schemes``, ``out_of_schemes``,
+        ``worst_scheme``, ``best``, ``best_concerned``, ``best_count`` and ``best_out_of``."""
+        return {
+            **super().as_dict(),
+            "schemes": self.schemes,
+            "out_of_schemes": self.out_of_schemes,
+            "worst_scheme": self.worst_scheme,
+            "best": self.best,
+            "best_concerned": self.best_concerned,
+            "best_count": self.best_count,
+            "best_out_of": self.best_out_of,
+        }
+
+
+def _penetration_columns(check_names: Sequence[str]) -> dict[str, str]:
+    """Joint → its penetration-ratio check (``penetration_ratio_<joint>``) among ``check_names``."""
+    return {
+        name.removeprefix(PENETRATION_RATIO): name
+        for name in check_names
+        if name.startswith(PENETRATION_RATIO)
+    }
+
+
+def _scheme_penetration(
+    check_names: Sequence[str], checks: FloatArray, ok: NDArray[np.bool_]
+) -> dict[str, Any]:
+    """A scheme's row entries of the penetration checks, per clearance joint:
+    ``penetration_exceeds_<joint>`` (successful samples whose ratio passes 1) and
+    ``penetration_ratio_max_<joint>`` (the largest ratio of its successful samples,
+    dimensionless; NaN when none succeeded).
+
+    Args:
+        check_names: the model's checks.
+        checks: (n, c) their values per sample (NaN where a sample failed).
+        ok: (n,) which samples succeeded.
+    """
+    row: dict[str, Any] = {}
+    for joint, name in _penetration_columns(check_names).items():
+        ratio = checks[ok, list(check_names).index(name)]
+        ratio = ratio[np.isfinite(ratio)]
+        row[f"penetration_exceeds_{joint}"] = int(np.sum(ratio > 1.0))
+        row[f"penetration_ratio_max_{joint}"] = float(ratio.max()) if len(ratio) else math.nan
+    return row
+
+
+def penetration_diagnostics(
+    samples: pd.DataFrame,
+    check_names: Sequence[str],
+    input_names: Sequence[str],
+    best: str | None,
+) -> tuple[DesignDiagnostic, ...]:
+    """One ``penetration-exceeds-clearance`` warning per clearance joint whose pin, in some
+    successful samples of some scheme, sinks deeper into its bearing than the radial
+    clearance (``penetration_ratio_<joint>`` > 1).
+
+    The tolerance study's :func:`~jointplay.tolerance.analysis.penetration_findings` judges
+    the samples of one study; this counts them over the schemes, names the worst sample's
+    scheme and says whether the recommended one is concerned.
+
+    Args:
+        samples: one row per sample (:attr:`DesignResult.samples`): ``scheme``, ``sample``,
+            the inputs, the checks, ``status``.
+        check_names: the model's checks (none: no warning).
+        input_names: the inputs, SI.
+        best: the recommended scheme, or ``None``.
+    """
+    columns = _penetration_columns(check_names)
+    if not columns or not len(samples):
+        return ()
+    ok = (samples["status"] == STATUS[OK]).to_numpy()
+    scheme = samples["scheme"].to_numpy()
+    labels = list(dict.fromkeys(scheme))
+    out_of = int(ok.sum())
+    findings = []
+    for joint, name in columns.items():
+        ratio = np.where(ok, samples[name].to_numpy(dtype=float), np.nan)
+        exceeds = ratio > 1.0  # NaN compares False
+        count = int(exceeds.sum())
+        if count == 0:
+            continue
+        per_scheme = {label: int(exceeds[scheme == label].sum()) for label in labels}
+        concerned = sum(1 for n in per_scheme.values() if n)
+        worst = int(np.argmax(np.where(exceeds, ratio, -np.inf)))
+        worst_scheme = str(scheme[worst])
+        worst_sample = int(samples["sample"].iloc[worst])
+        best_count = per_scheme.get(best, 0) if best is not None else 0
+        best_out_of = int(ok[scheme == best].sum()) if best is not None else 0
+        if best is None:
+            verdict = ""
+        elif best_count:
+            verdict = (
+                f"; the recommended scheme {best} is concerned ({best_count} of its "
+                f"{best_out_of} samples): its yield cannot be trusted"
+            )
+        else:
+            verdict = (
+                f"; the recommended scheme {best} is not concerned, but the schemes it was "
+                "chosen over were judged on these samples"
+            )
+        message = (
+            f"{count} of {out_of} samples ({100.0 * count / out_of:.3g} %) in {concerned} of "
+            f"{len(labels)} schemes: the pin of {joint} penetrates its bearing by up to "
+            f"{ratio[worst]:.3g} times the radial clearance (scheme {worst_scheme}, sample "
+            f"{worst_sample}; {name} in samples.parquet, penetration_exceeds_{joint} per scheme "
+            f"in design.parquet); those samples' responses are not physical{verdict}; the "
+            "contact stiffness is far too low for the load: use a stiffer contact law (--k, or "
+            "another --contact), e.g. one from the joints' geometry"
+        )
+        findings.append(
+            DesignDiagnostic(
+                Diagnostic(
+                    "warning",
+                    "penetration-exceeds-clearance",
+                    joint,
+                    float(ratio[worst]),
+                    1.0,
+                    message,
+                ),
+                count=count,
+                out_of=out_of,
+                worst_sample=worst_sample,
+                worst_inputs={n: float(samples[n].iloc[worst]) for n in input_names},
+                schemes=concerned,
+                out_of_schemes=len(labels),
+                worst_scheme=worst_scheme,
+                best=best,
+                best_count=best_count,
+                best_out_of=best_out_of,
+            )
+        )
+    return tuple(findings)
+
+
 # --- the study -------------------------------------------------------------------------------
 
 
@@ -247,12 +450,19 @@ class DesignResult:
         responses: ``"kinematic"`` or ``"dynamic"``.
         requirements: the requirements.
         confidence: the study's confidence level (fraction).
-        table: one row per finished scheme (:meth:`to_dataframe`).
-        samples: one row per sample of the finished schemes: scheme, inputs, responses, status.
+        table: one row per finished scheme (:meth:`to_dataframe`); dynamic studies add
+            ``penetration_exceeds_<joint>`` and ``penetration_ratio_max_<joint>`` per
+            clearance joint.
+        samples: one row per sample of the finished schemes: scheme, inputs, responses,
+            dynamic studies' ``penetration_ratio_<joint>`` (dimensionless; above 1: not
+            physical), status.
         best: label of the cheapest scheme meeting every requirement, or ``None``.
         binding: when none does: the requirement whose best yield is lowest.
         interrupted: Ctrl-C stopped the run; only finished schemes are in ``table``.
         settings: samples, seed, model description, cost model, clearance limits.
+        diagnostics: plausibility warnings over the samples of the finished schemes
+            (:func:`penetration_diagnostics`); empty when every sample is physical and for
+            kinematic studies.
     """
 
     mechanism: Mechanism
@@ -265,6 +475,7 @@ class DesignResult:
     binding: str | None
     interrupted: bool
     settings: Mapping[str, Any] = field(default_factory=dict)
+    diagnostics: tuple[DesignDiagnostic, ...] = ()
 
     def to_dataframe(self) -> pd.DataFrame:
         """One row per scheme (the content of ``design.parquet``)."""
@@ -302,6 +513,7 @@ class DesignResult:
             "settings": dict(self.settings),
             "response_definitions": response_definitions(self.reported_responses),
             "schemes": records,
+            "diagnostics": [finding.as_dict() for finding in self.diagnostics],
         }
 
     @property
@@ -368,12 +580,7 @@ def design_study(
     candidates = schemes(mechanism, fits, classes)
     kinematic_units = design_units(mechanism, "kinematic")
     dynamic_units = design_units(mechanism, "dynamic")
-    if responses == "auto":
-        kinematic = bool(requirements) and all(
-            isinstance(r, str) and parse_requirement_or_none(r, kinematic_units) is not None
-            for r in requirements
-        )
-        responses = "kinematic" if kinematic else "dynamic"
+    responses = resolve_responses(mechanism, requirements, responses)
     # A dynamic study gives the ideal-joint kinematic responses of each sample's lengths too,
     # so requirements may mix them (the dynamic peaks keep their own names).
     units = kinematic_units if responses == "kinematic" else {**kinematic_units, **dynamic_units}
@@ -453,6 +660,7 @@ def design_study(
                 scheme, mechanism, names, x, values, clearance_limit, clearance_allowance
             )
         ok = status == OK
+        checks = outcome.checks[part] if outcome.checks is not None else np.empty((samples, 0))
         row: dict[str, Any] = {
             "scheme": scheme.label,
             "fit": scheme.fit_label,
@@ -484,12 +692,15 @@ def design_study(
         row["yield"] = 100.0 * float(every.mean())
         row["dpm"] = 1e6 * (1.0 - float(every.mean()))
         row["feasible"] = bool(feasible)
+        row.update(_scheme_penetration(outcome.check_names, checks, ok))
         rows.append(row)
         frame = pd.DataFrame(x, columns=list(names))
         frame.insert(0, "scheme", scheme.label)
         frame.insert(1, "sample", np.arange(samples))
         for name, y in values.items():
             frame[name] = y
+        for c, name in enumerate(outcome.check_names):
+            frame[name] = checks[:, c]
         frame["status"] = [STATUS[int(s)] for s in status]
         frame["error"] = list(outcome.errors[part])
         sample_frames.append(frame)
@@ -522,17 +733,19 @@ def design_study(
         "schemes": len(candidates),
         "finished_schemes": len(rows),
     }
+    every_sample = pd.concat(sample_frames, ignore_index=True) if sample_frames else pd.DataFrame()
     return DesignResult(
         mechanism=mechanism,
         responses=responses,
         requirements=parsed,
         confidence=confidence,
         table=table,
-        samples=pd.concat(sample_frames, ignore_index=True) if sample_frames else pd.DataFrame(),
+        samples=every_sample,
         best=best,
         binding=binding,
         interrupted=outcome.interrupted,
         settings=settings,
+        diagnostics=penetration_diagnostics(every_sample, outcome.check_names, names, best),
     )
 
 
