@@ -39,6 +39,9 @@ def test_design_writes_one_row_per_scheme_and_names_the_choice(tmp_path, capsys)
         (["--require", "omega4_peak <= 3 rad/s", "--confidence", "100"], "--confidence"),
         (["--require", "omega4_peak <= 3 rad/s", "--backend", "gpu"], "single engine"),
         (["--require", "omega4_peak <= 3 rad/s", "--backend", "threads"], "--backend must be"),
+        (["--require", "omega4_peak <= 3 rad/s", "--k", "1e6 N/mm^1.5"], "dynamic designs only"),
+        (["--require", "joint_force <= 1 kN", "--k", "1e6"], "--k"),
+        (["--require", "joint_force <= 1 kN", "--contact", "nonsense"], "nonsense"),
     ],
 )
 def test_design_errors_are_one_line(tmp_path, capsys, args: list[str], message: str) -> None:
@@ -46,6 +49,42 @@ def test_design_errors_are_one_line(tmp_path, capsys, args: list[str], message: 
     assert code == 2
     err = capsys.readouterr().err
     assert message in err
+
+
+#: A dynamic design as short as it gets: 2 samples of one scheme, a quarter turn, no start-up.
+FAST_DYNAMIC = ["design", "--preset", "paper-fourbar", "--fits", "H7/g6", "--classes", "m",
+                "--require", "joint_force <= 1 kN", "--samples", "2", "--settle", "0",
+                "--revolutions", "0.25", "--backend", "local", "--no-progress", "--no-plots"]  # fmt: skip
+
+
+def test_design_warns_on_stderr_when_pins_sink_deeper_than_the_clearance(tmp_path, capsys) -> None:
+    """An absurdly soft --k (1e2 N/mm^1.5: every pin sinks several times its clearance):
+    one warning line per clearance joint on stderr, as `jointplay tolerance` prints them,
+    with the counts of samples.parquet; a stiff one (1e6 N/mm^1.5) prints none."""
+    soft = tmp_path / "soft"
+    assert run([*FAST_DYNAMIC, "--k", "1e2 N/mm^1.5", "--out", str(soft)]) == 0
+    err = capsys.readouterr().err
+    lines = [line for line in err.splitlines() if "penetration-exceeds-clearance" in line]
+    frame = pd.read_parquet(soft / "samples.parquet")
+    assert len(lines) == 4
+    for line, joint in zip(lines, ("O2", "A", "B", "O4"), strict=True):
+        count = int((frame[f"penetration_ratio_{joint}"] > 1).sum())
+        assert count == 2  # absurdly soft: both samples
+        assert line.startswith(
+            f"jointplay: warning: penetration-exceeds-clearance [{joint}]: {count} of 2 samples "
+            "(100 %) in 1 of 1 schemes: the pin of "
+        )
+        assert "the recommended scheme H7/g6 / m is concerned (2 of its 2 samples)" in line
+    summary = json.loads((soft / "summary.json").read_text())
+    assert [d["joint"] for d in summary["diagnostics"]] == ["O2", "A", "B", "O4"]
+    assert summary["settings"]["model"]["contact_law"]["stiffness"] == pytest.approx(
+        1e2 * 1000**1.5
+    )
+    stiff = tmp_path / "stiff"
+    assert run([*FAST_DYNAMIC, "--k", "1e6 N/mm^1.5", "--out", str(stiff)]) == 0
+    assert "penetration-exceeds-clearance" not in capsys.readouterr().err
+    assert json.loads((stiff / "summary.json").read_text())["diagnostics"] == []
+    assert (pd.read_parquet(stiff / "design.parquet")["penetration_exceeds_O2"] == 0).all()
 
 
 def test_wear_writes_the_history_and_the_life(tmp_path, capsys) -> None:

@@ -6,6 +6,7 @@ Import-light: NumPy, pandas, Numba and the study load when the command runs.
 from __future__ import annotations
 
 import math
+import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
@@ -29,7 +30,7 @@ from jointplay.cli._common import (
     mechanism_from_options,
     provenance,
 )
-from jointplay.cli.tolerance import BackendOption, backend_from_options
+from jointplay.cli.tolerance import BackendOption, backend_from_options, contact_law
 from jointplay.errors import ConfigError
 from jointplay.units import parse_quantity
 
@@ -190,6 +191,37 @@ def design_command(
     ] = None,
     wear_coefficient: WearCoefficientOption = None,
     hardness: HardnessOption = None,
+    contact: Annotated[
+        str | None,
+        typer.Option(
+            "--contact",
+            help="Dynamic: contact law of every clearance joint, as for `jointplay simulate` "
+            "(default: impact, the paper's IFM with the Table 3 parameters).",
+        ),
+    ] = None,
+    k: Annotated[
+        str | None,
+        typer.Option("--k", help="Dynamic: contact stiffness with units, e.g. '1e6 N/mm^1.5'."),
+    ] = None,
+    exponent: Annotated[
+        float | None, typer.Option("--exponent", help="Dynamic: force exponent (default 1.5).")
+    ] = None,
+    cmax: Annotated[
+        str | None,
+        typer.Option("--cmax", help="Dynamic: IMPACT maximum damping, e.g. '10 N*s/mm'."),
+    ] = None,
+    depth: Annotated[
+        str | None,
+        typer.Option("--depth", help="Dynamic: IMPACT penetration of full damping, e.g. '0.1 mm'."),
+    ] = None,
+    restitution: Annotated[
+        float | None,
+        typer.Option("--restitution", help="Dynamic: coefficient of restitution (default 0.8)."),
+    ] = None,
+    damping: Annotated[
+        str | None,
+        typer.Option("--damping", help="Dynamic: Kelvin-Voigt damping, e.g. '100 N*s/m'."),
+    ] = None,
     settle: SettleOption = 2,
     revolutions: Annotated[
         float, typer.Option("--revolutions", help="Analysed revolutions.")
@@ -217,16 +249,37 @@ def design_command(
     Link lengths and radial clearances are sampled from normal distributions centred in
     their limits, ±3σ at the limits, truncated at the limits (see --truncate).
 
-    Writes DIR/design.parquet and DIR/design.csv (one row per scheme), DIR/samples.parquet,
-    DIR/summary.json, PNG plots and DIR/report.html.
+    Writes DIR/design.parquet and DIR/design.csv (one row per scheme; dynamic:
+    penetration_exceeds_<joint> and penetration_ratio_max_<joint>), DIR/samples.parquet
+    (dynamic: penetration_ratio_<joint>), DIR/summary.json (with diagnostics), PNG plots and
+    DIR/report.html. Samples whose pins sink deeper than the radial clearance (not physical)
+    get one warning line per joint on stderr.
     """
     from jointplay.io.output import output_dir
     from jointplay.report.design import write_design
-    from jointplay.study.design import design_study, design_units
+    from jointplay.study.design import design_study, design_units, resolve_responses
     from jointplay.tolerance.cost import CostModel
 
     mechanism = mechanism_from_options(preset, config, rpm=rpm, gravity=gravity)
     kind = choice(responses, "--responses", ("auto", "kinematic", "dynamic"))
+    contact_options = {
+        "contact": contact,
+        "k": k,
+        "exponent": exponent,
+        "cmax": cmax,
+        "depth": depth,
+        "restitution": restitution,
+        "damping": damping,
+    }
+    law = None
+    if any(value is not None for value in contact_options.values()):
+        if resolve_responses(mechanism, require, kind) != "dynamic":  # type: ignore[arg-type]
+            given = ", ".join(f"--{key}" for key, v in contact_options.items() if v is not None)
+            raise ConfigError(
+                f"{given}: contact options apply to dynamic designs only, and every requirement "
+                "here is kinematic; add --responses dynamic or drop them"
+            )
+        law = contact_law(contact_options, mechanism)
     if not (math.isfinite(confidence) and 0 < confidence < 100):
         raise ConfigError(f"--confidence must lie between 0 and 100 %, got {confidence}")
     fit_list = [f.strip() for f in fits.split(",") if f.strip()]
@@ -263,6 +316,7 @@ def design_command(
             clearance_limit=limit,
             clearance_allowance=allowance,
             wear=wear,
+            contact=law,
             settle=settle,
             revolutions=revolutions,
             backend=where,
@@ -330,3 +384,5 @@ def _print(result: DesignResult, units: dict[str, str]) -> None:
         console.print(line)
     elif result.binding is not None:
         console.print(f"no scheme meets every requirement; binding: {result.binding}")
+    for finding in result.diagnostics:  # one line each, on stderr, as `jointplay tolerance`
+        print(f"jointplay: {finding.line()}", file=sys.stderr)
