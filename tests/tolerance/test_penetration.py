@@ -124,6 +124,20 @@ def test_running_ratio_is_the_single_engines_deepest_penetration(
     np.testing.assert_allclose(evaluation.checks, pen / clearance, rtol=0.03)
 
 
+def test_running_model_records_the_single_engine_not_the_batch_one(
+    paper_fourbar: Mechanism,
+) -> None:
+    # summary.json's "model" of a running (and design) study says what ran: the single
+    # engine per sample, not the batch engine's integrator choice
+    spec = ToleranceSpec.from_mechanism(paper_fourbar)
+    model, _ = build_model(paper_fourbar, spec, "running", contact=_impact(1e5), **FAST)
+    record = model.describe()
+    assert "single-engine" in record["model"] and "batch" not in record["model"]
+    assert "method" not in record and "method_reason" not in record
+    assert "continuous solution" in record["peaks"]
+    assert record["checks"] == model.base.describe()["checks"]
+
+
 def test_running_ratio_leaves_out_the_start_up_revolutions(paper_fourbar: Mechanism) -> None:
     """With a start-up revolution left out (as the peaks are), the ratio is the deepest
     penetration of the analysed quarter turn; the start-up's first impacts, deeper, are out."""

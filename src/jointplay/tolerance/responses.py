@@ -1073,8 +1073,18 @@ class RunningResponses:
         return units
 
     def describe(self) -> dict[str, Any]:
+        batch_only = ("model", "method", "method_reason", "peaks")
         return {
-            **self.base.describe(),
+            "model": (
+                "clearance-joint dynamics, one single-engine simulation per sample "
+                "(jointplay.dynamics.simulate, Radau IIA)"
+            ),
+            **{k: v for k, v in self.base.describe().items() if k not in batch_only},
+            "peaks": (
+                f"largest |value| over the {self.base.revolutions:g} revolution(s) after "
+                f"{self.base.settle} start-up revolution(s), located on the continuous "
+                "solution (SimulationResult.peaks)"
+            ),
             "wear": {
                 "coefficient": self.wear.coefficient,
                 "hardness_Pa": self.wear.hardness,
