@@ -136,7 +136,7 @@ def design_section(
     if sampling:
         report.paragraph(f"Sampling: {sampling}.", css="note")
     if result.interrupted:
-        report.paragraph("Interrupted: only the finished schemes are listed.", css="warn")
+        report.paragraph("Interrupted: only the finished schemes are listed.", css="note")
     table = result.table
     if len(table):
         columns = {
