@@ -30,6 +30,15 @@ from jointplay.cli._common import (
     mechanism_from_options,
     provenance,
 )
+from jointplay.cli._simulation import (
+    CmaxOption,
+    ContactOption,
+    DampingOption,
+    DepthOption,
+    ExponentOption,
+    RestitutionOption,
+    StiffnessOption,
+)
 from jointplay.cli.tolerance import BackendOption, backend_from_options, contact_law
 from jointplay.errors import ConfigError
 from jointplay.units import parse_quantity
@@ -191,37 +200,13 @@ def design_command(
     ] = None,
     wear_coefficient: WearCoefficientOption = None,
     hardness: HardnessOption = None,
-    contact: Annotated[
-        str | None,
-        typer.Option(
-            "--contact",
-            help="Dynamic: contact law of every clearance joint, as for `jointplay simulate` "
-            "(default: impact, the paper's IFM with the Table 3 parameters).",
-        ),
-    ] = None,
-    k: Annotated[
-        str | None,
-        typer.Option("--k", help="Dynamic: contact stiffness with units, e.g. '1e6 N/mm^1.5'."),
-    ] = None,
-    exponent: Annotated[
-        float | None, typer.Option("--exponent", help="Dynamic: force exponent (default 1.5).")
-    ] = None,
-    cmax: Annotated[
-        str | None,
-        typer.Option("--cmax", help="Dynamic: IMPACT maximum damping, e.g. '10 N*s/mm'."),
-    ] = None,
-    depth: Annotated[
-        str | None,
-        typer.Option("--depth", help="Dynamic: IMPACT penetration of full damping, e.g. '0.1 mm'."),
-    ] = None,
-    restitution: Annotated[
-        float | None,
-        typer.Option("--restitution", help="Dynamic: coefficient of restitution (default 0.8)."),
-    ] = None,
-    damping: Annotated[
-        str | None,
-        typer.Option("--damping", help="Dynamic: Kelvin-Voigt damping, e.g. '100 N*s/m'."),
-    ] = None,
+    contact: ContactOption = None,
+    k: StiffnessOption = None,
+    exponent: ExponentOption = None,
+    cmax: CmaxOption = None,
+    depth: DepthOption = None,
+    restitution: RestitutionOption = None,
+    damping: DampingOption = None,
     settle: SettleOption = 2,
     revolutions: Annotated[
         float, typer.Option("--revolutions", help="Analysed revolutions.")

@@ -28,6 +28,15 @@ from jointplay.cli._common import (
     parse_gravity,
     provenance,
 )
+from jointplay.cli._simulation import (
+    CmaxOption,
+    ContactOption,
+    DampingOption,
+    DepthOption,
+    ExponentOption,
+    RestitutionOption,
+    StiffnessOption,
+)
 from jointplay.errors import ConfigError
 from jointplay.units import parse_quantity
 
@@ -172,35 +181,13 @@ def tolerance_command(
             "clearance, fixed).",
         ),
     ] = True,
-    contact: Annotated[
-        str | None,
-        typer.Option(
-            "--contact",
-            help="Dynamic: contact law, as for `jointplay simulate` (default: impact, the "
-            "paper's IFM with the Table 3 parameters).",
-        ),
-    ] = None,
-    k: Annotated[
-        str | None,
-        typer.Option("--k", help="Contact stiffness with units, e.g. '1e4 N/mm^1.5'."),
-    ] = None,
-    exponent: Annotated[
-        float | None, typer.Option("--exponent", help="Force exponent (default 1.5).")
-    ] = None,
-    cmax: Annotated[
-        str | None, typer.Option("--cmax", help="IMPACT maximum damping, e.g. '10 N*s/mm'.")
-    ] = None,
-    depth: Annotated[
-        str | None,
-        typer.Option("--depth", help="IMPACT penetration of full damping, e.g. '0.1 mm'."),
-    ] = None,
-    restitution: Annotated[
-        float | None,
-        typer.Option("--restitution", help="Coefficient of restitution (default 0.8)."),
-    ] = None,
-    damping: Annotated[
-        str | None, typer.Option("--damping", help="Kelvin-Voigt damping, e.g. '100 N*s/m'.")
-    ] = None,
+    contact: ContactOption = None,
+    k: StiffnessOption = None,
+    exponent: ExponentOption = None,
+    cmax: CmaxOption = None,
+    depth: DepthOption = None,
+    restitution: RestitutionOption = None,
+    damping: DampingOption = None,
     paper_method: Annotated[
         str | None,
         typer.Option(

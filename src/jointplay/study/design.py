@@ -57,12 +57,11 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from jointplay.dynamics.cycles import DEFAULT_SETTLE
-from jointplay.dynamics.diagnostics import Diagnostic
 from jointplay.errors import ConfigError
 from jointplay.model.mechanism import Mechanism, RevoluteJoint
 from jointplay.study.requirements import Requirement, parse_requirement
 from jointplay.tolerance import iso286, iso2768
-from jointplay.tolerance.analysis import StudyDiagnostic
+from jointplay.tolerance.analysis import StudyDiagnostic, penetration_warning
 from jointplay.tolerance.cost import CostModel, fit_cost, length_class_cost
 from jointplay.tolerance.definitions import response_definitions
 from jointplay.tolerance.execution import NOT_RUN, OK, STATUS, Backend, run
@@ -415,14 +414,7 @@ def penetration_diagnostics(
         )
         findings.append(
             DesignDiagnostic(
-                Diagnostic(
-                    "warning",
-                    "penetration-exceeds-clearance",
-                    joint,
-                    float(ratio[worst]),
-                    1.0,
-                    message,
-                ),
+                penetration_warning(joint, float(ratio[worst]), message),
                 count=count,
                 out_of=out_of,
                 worst_sample=worst_sample,

@@ -59,6 +59,7 @@ __all__ = [
     "ToleranceStudyResult",
     "build_model",
     "penetration_findings",
+    "penetration_warning",
     "response_units",
     "tolerance_study",
 ]
@@ -114,6 +115,12 @@ class StudyDiagnostic:
         }
 
 
+def penetration_warning(joint: str, worst_ratio: float, message: str) -> Diagnostic:
+    """The ``penetration-exceeds-clearance`` warning of a study: ``value`` the worst point's
+    penetration / clearance ratio, ``limit`` 1."""
+    return Diagnostic("warning", "penetration-exceeds-clearance", joint, worst_ratio, 1.0, message)
+
+
 def penetration_findings(result: MethodResult) -> tuple[StudyDiagnostic, ...]:
     """One ``penetration-exceeds-clearance`` warning per clearance joint whose pin, in some
     successful points, sinks deeper into its bearing than the radial clearance
@@ -148,14 +155,7 @@ def penetration_findings(result: MethodResult) -> tuple[StudyDiagnostic, ...]:
         )
         findings.append(
             StudyDiagnostic(
-                Diagnostic(
-                    "warning",
-                    "penetration-exceeds-clearance",
-                    joint,
-                    float(ratio[worst]),
-                    1.0,
-                    message,
-                ),
+                penetration_warning(joint, float(ratio[worst]), message),
                 count=count,
                 out_of=out_of,
                 worst_sample=worst,
