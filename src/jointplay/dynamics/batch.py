@@ -1042,7 +1042,9 @@ def _pool(workers: int) -> cf.ProcessPoolExecutor:
             initializer=kb.worker_init,
         )
         _POOL.update(executor=executor, workers=workers)
-        atexit.register(_close_pool)
+        # at exit the (idle) workers are terminated: a graceful shutdown would wait for each
+        # to finish starting and to tear its interpreter down
+        atexit.register(_close_pool, terminate=True)
     return executor
 
 
