@@ -98,10 +98,6 @@ BACKENDS: tuple[str, ...] = ("local", "processes", "dask", "gpu")
 #: chunk takes ~1 s (so fixed costs are paid per worker, not per chunk), small enough to
 #: balance the workers.
 DEFAULT_CHUNK = 256
-#: Tasks per worker a batch is cut into on the process and Dask backends (chunks of at most
-#: :data:`DEFAULT_CHUNK`): the workers finish a batch together within about one small task
-#: (with 4 per worker, the tails of a 1 000-sample study's blocks idled the 2 cores here ~0.5 s).
-TASKS_PER_WORKER = 16
 #: Lanes per chunk on the GPU backend (JAX batches; throughput falls above ~200 000 lanes).
 GPU_CHUNK = 200_000
 
@@ -1121,9 +1117,7 @@ def _dispatch(
         chunk = chunk_size or GPU_CHUNK
     else:
         threads = workers or os.cpu_count() or 1
-        chunk = chunk_size or max(
-            1, min(DEFAULT_CHUNK, math.ceil(n / (TASKS_PER_WORKER * threads)))
-        )
+        chunk = chunk_size or max(1, min(DEFAULT_CHUNK, math.ceil(n / (4 * threads))))
     # the JAX kernel cuts its own chunks and pads the last one, so that one compilation
     # serves them all: it is given every lane at once
     parts = _chunks(n, max(n, 1) if backend == "gpu" else chunk)
