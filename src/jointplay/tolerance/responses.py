@@ -88,8 +88,9 @@ BoolArray = NDArray[np.bool_]
 PENETRATION_RATIO = "penetration_ratio_"
 #: What a ``penetration_ratio_<joint>`` is, in words (reports, summary.json).
 PENETRATION_RATIO_DEFINITION = (
-    "deepest penetration of the pin into its bearing over the analysed revolutions divided by "
-    "the sample's radial clearance (above 1: not physical; negative: never touched)"
+    "deepest penetration of the pin into its bearing over the analysed revolutions, taken at "
+    "the integrator's accepted steps (sampled, not located between them), divided by the "
+    "sample's radial clearance (above 1: not physical; negative: never touched)"
 )
 
 
