@@ -390,12 +390,22 @@ def _print(result: Any, findings: list[Any], out: Path) -> None:
             "integrator's accepted steps, not interpolated; the stroke is the range of the "
             "position in a revolution"
         )
+    if running.max_penetration:
+        clearances = {c.joint: c.clearance for c in result.system.clearances}
+        deepest = ", ".join(
+            f"{joint} {value * 1e6:.3g} µm (clearance {clearances[joint] * 1e6:.3g} µm)"
+            for joint, value in running.max_penetration.items()
+        )
+        stdout.print(
+            "deepest penetration over the analysed revolutions, at the accepted steps: " + deepest
+        )
     for finding in findings:  # one line each, on stderr
         print(f"jointplay: {finding.line()}", file=sys.stderr)
     stats = result.solver_stats
     stdout.print(
         f"{stats['steps']} steps ({stats['rejected_steps']} rejected), {stats['rhs_evaluations']} evaluations, "
-        f"impacts {stats['impacts']}, max penetration {stats['max_penetration_m'] * 1e6:.3g} µm, "
+        f"impacts {stats['impacts']}, max penetration {stats['max_penetration_m'] * 1e6:.3g} µm "
+        "over the whole run (start-up included), "
         f"energy residual {stats['energy_residual']:.2e}, {stats['wall_s']:.3f} s"
     )
     stdout.print(f"results written to {out}")

@@ -66,6 +66,9 @@ class RunningBehaviour:
         sampled_peaks: with ``sample_deg``, the peaks of the solution sampled every
             ``sample_deg`` degrees of crank over the analysed revolutions; else empty.
         sample_deg: the sampling interval of ``sampled_peaks``, deg (``None``: none).
+        max_penetration: each clearance joint's deepest penetration δ = |e| − c over the
+            analysed revolutions, m, taken at the integrator's accepted steps (sampled, as
+            the batch engine's ``pen_<joint>``; negative: the pin never touched).
         diagnostics: the plausibility findings, warnings first.
     """
 
@@ -79,6 +82,7 @@ class RunningBehaviour:
     periodicity: Periodicity
     sampled_peaks: dict[str, dict[str, float]]
     sample_deg: float | None
+    max_penetration: dict[str, float]
     diagnostics: tuple[dg.Diagnostic, ...]
 
     @property
@@ -100,6 +104,11 @@ class RunningBehaviour:
                     name: values[: self.settle] for name, values in self.per_revolution.items()
                 },
                 "across_revolutions": self.statistics,
+                "deepest_penetration_m": self.max_penetration,
+                "deepest_penetration_taken": (
+                    "over the analysed revolutions, at the integrator's accepted steps "
+                    "(sampled, not located between them); negative: the pin never touched"
+                ),
             },
             "periodicity": self.periodicity.summary(),
             "sampled_peaks": (
@@ -154,7 +163,6 @@ def characterise(
     sample_deg: float | None,
     nominal_peaks: Mapping[str, float],
     energy_residual: float,
-    max_penetration: Mapping[str, float],
     tolerances: tuple[float, float],
 ) -> RunningBehaviour:
     """The running behaviour of a finished simulation (see the module docstring).
@@ -171,7 +179,6 @@ def characterise(
         sample_deg: also report peaks sampled every ``sample_deg`` degrees (``None``: no).
         nominal_peaks: ideal-joint peaks, when known (for ``force-far-above-ideal``).
         energy_residual: the relative drift of the energy balance.
-        max_penetration: deepest penetration per clearance joint, m.
         tolerances: the integrator's absolute tolerances on positions (m) and velocities
             (m/s), which set the periodicity thresholds of the rate coordinates.
     """
@@ -218,6 +225,11 @@ def characterise(
         else {}
     )
     result_periodicity = periodicity(section[0], section[1], threshold=thresholds(section[2]))
+    in_window = t >= windows[settle][0]
+    max_penetration = {
+        joint.joint: float(np.max(step_columns[f"pen_{joint.joint}"][in_window]))
+        for joint in clearances
+    }
     found = _diagnose(
         mechanism,
         clearances,
@@ -242,6 +254,7 @@ def characterise(
         periodicity=result_periodicity,
         sampled_peaks=sampled,
         sample_deg=sample_deg,
+        max_penetration=max_penetration,
         diagnostics=tuple(found),
     )
 
@@ -328,8 +341,8 @@ def _diagnose(
     findings: list[dg.Diagnostic | None] = []
     for joint in clearances:
         name = joint.joint
-        findings.append(dg.check_penetration(name, max_penetration.get(name, 0.0), joint.clearance))
-        force = max(p.value for p in located[f"F_{name}"])
+        findings.append(dg.check_penetration(name, max_penetration[name], joint.clearance))
+        force = max(p.value for p in located[f"F_{name}"][settle:])
         width = mechanism.bearing_width(name)
         spec = mechanism.joint(name)
         if width is not None:

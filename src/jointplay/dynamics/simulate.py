@@ -220,7 +220,6 @@ class SimulationResult:
             sample_deg=self.sample_deg,
             nominal_peaks=self.nominal_peaks,
             energy_residual=stats["energy_residual"],
-            max_penetration=stats["max_penetration_per_joint_m"],
             tolerances=(self.solver.atol_position, self.solver.atol_velocity),
         )
 

@@ -987,13 +987,12 @@ def penetration_ratios(result: SimulationResult) -> FloatArray:
     Raises:
         IntegrationError: the simulation stopped at its initial state.
     """
-    running = result.running
-    steps = result.steps
-    analysed = steps["t"].to_numpy() >= running.windows[running.settle][0]
+    deepest = result.running.max_penetration
     joints = result.system.clearances
-    deepest = [np.max(steps[f"pen_{joint.joint}"].to_numpy()[analysed]) for joint in joints]
-    clearance = [joint.clearance for joint in joints]
-    return _ratio(np.asarray(deepest, dtype=float), np.asarray(clearance, dtype=float))
+    return _ratio(
+        np.array([deepest[joint.joint] for joint in joints]),
+        np.array([joint.clearance for joint in joints]),
+    )
 
 
 #: Responses :class:`RunningResponses` adds to the dynamic peaks, with SI units.
