@@ -184,7 +184,9 @@ def test_default_is_the_running_mechanism_and_diagnostics_reach_the_user(tmp_pat
     assert {j for code, j in codes if code == "penetration-exceeds-clearance"} == beyond
     err = capsys.readouterr().err.splitlines()
     lines = [line for line in err if "penetration-exceeds-clearance" in line]
-    assert len(lines) == len(beyond) and all(line.startswith("jointplay: warning:") for line in lines)
+    assert len(lines) == len(beyond) and all(
+        line.startswith("jointplay: warning:") for line in lines
+    )
 
 
 def test_start_up_on_request_and_the_settle_option(tmp_path) -> None:
