@@ -405,3 +405,36 @@ def test_cache_folder_from_environment(monkeypatch: pytest.MonkeyPatch, tmp_path
     monkeypatch.delenv("JOINTPLAY_JAX_CACHE")
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
     assert cache_dir() == tmp_path / "jointplay" / "jax"
+
+
+def test_a_later_process_compiles_the_saved_program_to_the_same_numbers(
+    monkeypatch: pytest.MonkeyPatch, tmp_path
+) -> None:  # type: ignore[no-untyped-def]
+    """The lowered program is kept (jax.export) beside the compilation cache and read back
+    instead of tracing the kernel again; its numbers are the traced program's, bit for bit.
+    A damaged file reads as none (so the kernel is traced afresh and the file rewritten)."""
+    from jointplay._kernels import jax_batch
+
+    pytest.importorskip("flatbuffers")
+    system = build_system(
+        _fourbar(), [ClearanceJoint(j, 2.1e-5, 5e-3, DEFAULT_IMPACT) for j in ("A", "B")]
+    )
+    args = _inputs([system], Start("steady"), system.mechanism.driver.period / 8, SolverOptions())
+
+    def fresh_run() -> Any:  # as a new process would: nothing compiled in memory
+        monkeypatch.setattr(jax_batch, "_executables", {})
+        return run_batch(*args, "explicit")
+
+    monkeypatch.setenv("JOINTPLAY_JAX_CACHE", "off")
+    traced = fresh_run()
+    monkeypatch.setenv("JOINTPLAY_JAX_CACHE", str(tmp_path))
+    saved = fresh_run()
+    (program,) = (tmp_path / "exported").iterdir()
+    monkeypatch.setattr(jax_batch, "_batch_function", None)  # reading back must not trace
+    read_back = fresh_run()
+    for result in (saved, read_back):
+        for field in traced._fields:
+            np.testing.assert_array_equal(getattr(result, field), getattr(traced, field), field)
+    program.write_bytes(b"not a program")  # damaged: traced afresh, then overwritten
+    assert jax_batch._read_exported(jax, program) is None
+    assert traced.status.tolist() == [STATUS_SUCCESS]
