@@ -64,6 +64,7 @@ def test_table_overrides_grades_classes_and_parameters() -> None:
         ({"k": -1}, "k must be finite and > 0"),
         ({"it": {"seven": 1}}, "IT grade"),
         ({"a": "x"}, "must be a number"),
+        ({"reference": 0.1}, r"\[cost\] reference: 0.1 has no unit"),  # 0.1 mm or 0.1 m?
     ],
 )
 def test_table_errors_name_the_field(table: dict, message: str) -> None:

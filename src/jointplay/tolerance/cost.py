@@ -135,7 +135,8 @@ class CostModel:
     @classmethod
     def from_table(cls, table: Mapping[str, Any]) -> CostModel:
         """A model from a config table: ``model``, ``a``, ``b``, ``k``, ``reference`` (a length
-        with unit, e.g. ``"0.1 mm"``, or metres), ``it`` and ``iso2768`` sub-tables.
+        with its unit, e.g. ``"0.1 mm"``; a bare number is refused, as everywhere in config
+        files), ``it`` and ``iso2768`` sub-tables.
 
         Raises:
             ConfigError: an unknown key or a bad value, naming it.
@@ -155,9 +156,7 @@ class CostModel:
             if key in table:
                 options[key] = _number(f"[cost] {key}", table[key])
         if "reference" in table:
-            options["reference"] = parse_quantity(
-                table["reference"], "m", field="[cost] reference", allow_bare=True
-            )
+            options["reference"] = parse_quantity(table["reference"], "m", field="[cost] reference")
         for key, target in (("it", "it_cost"), ("iso2768", "class_cost")):
             if key in table:
                 if not isinstance(table[key], Mapping):
