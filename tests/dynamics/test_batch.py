@@ -146,6 +146,34 @@ def test_worker_processes_give_the_same_bits(paper_fourbar: Mechanism, reference
     _same(result, expected)
 
 
+def test_a_dask_cluster_gives_the_same_bits_in_chunks_sized_by_the_cluster(
+    paper_fourbar: Mechanism, reference, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Three single-thread workers get ~4 chunks each, however many cores this machine has;
+    one connection serves every batch of the process."""
+    from distributed import LocalCluster
+
+    from jointplay.dynamics import batch
+
+    samples, expected = reference
+    monkeypatch.setattr(batch.os, "cpu_count", lambda: 1)  # a small client, a larger cluster
+    with LocalCluster(
+        n_workers=3, threads_per_worker=1, processes=False, dashboard_address=None
+    ) as cluster:
+        address = cluster.scheduler_address
+        results = [
+            simulate_batch(paper_fourbar, _joints(), samples, backend="dask", scheduler=address)
+            for _ in range(2)
+        ]
+        client = batch._CLIENTS[address]
+        assert client.status == "running"
+        batch._close_clients()
+    for result in results:
+        assert result.backend == "dask" and result.workers == 3
+        assert result.chunk_size == 1  # 9 lanes over 4 x 3 chunks, not 4 x 1
+        _same(result, expected)
+
+
 @pytest.mark.slow  # JAX compiles the batch for ~10 s
 def test_the_gpu_backend_agrees_with_the_cpu(paper_fourbar: Mechanism, reference) -> None:
     pytest.importorskip("jax")

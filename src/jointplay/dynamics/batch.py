@@ -1115,8 +1115,10 @@ def _dispatch(
         chunk = chunk_size or 4096
     elif backend == "gpu":
         chunk = chunk_size or GPU_CHUNK
-    else:
-        threads = workers or os.cpu_count() or 1
+    else:  # ~4 chunks per worker process, or per thread of the Dask cluster
+        threads = (
+            cluster_threads(scheduler) if backend == "dask" else workers or os.cpu_count() or 1
+        )
         chunk = chunk_size or max(1, min(DEFAULT_CHUNK, math.ceil(n / (4 * threads))))
     # the JAX kernel cuts its own chunks and pads the last one, so that one compilation
     # serves them all: it is given every lane at once
@@ -1172,12 +1174,50 @@ def _dispatch(
                 _close_pool(terminate=True)
                 raise
         else:
-            threads = _run_dask(shared, list(items()), scheduler, outputs, parts, advance)
+            _run_dask(shared, list(items()), scheduler, outputs, parts, advance)
     done = [o for o in outputs if o is not None]
     merged = kb.BatchKernelOutput(
         *(np.concatenate([getattr(o, name) for o in done]) for name in kb.BatchKernelOutput._fields)
     )
     return merged, threads, chunk
+
+
+#: Clients of the Dask clusters this process has used, by scheduler address.
+_CLIENTS: dict[str, Any] = {}
+
+
+def _dask_client(scheduler: str | None) -> Any:
+    """A client of the cluster at ``scheduler``, connected once and kept for the process (a
+    study runs many blocks: one connection, not one per block)."""
+    if not scheduler:
+        raise ConfigError("the dask backend needs the scheduler's address (scheduler=...)")
+    client = _CLIENTS.get(scheduler)
+    if client is not None and client.status == "running":
+        return client
+    try:
+        from distributed import Client
+    except ImportError:  # pragma: no cover - distributed is a dependency
+        raise ConfigError("the dask backend needs the 'distributed' package") from None
+    try:
+        client = Client(scheduler, timeout=30, set_as_default=False)
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise ConfigError(f"cannot connect to the Dask scheduler at {scheduler!r}: {exc}") from None
+    if not _CLIENTS:
+        atexit.register(_close_clients)
+    _CLIENTS[scheduler] = client
+    return client
+
+
+def _close_clients() -> None:
+    while _CLIENTS:
+        _CLIENTS.popitem()[1].close()
+
+
+def cluster_threads(scheduler: str | None) -> int:
+    """The threads of every worker of the Dask cluster at ``scheduler``: how many chunks it
+    runs at once (at least 1, while its workers are still joining)."""
+    info = _dask_client(scheduler).scheduler_info(n_workers=-1)
+    return max(1, sum(int(w.get("nthreads", 1)) for w in info.get("workers", {}).values()))
 
 
 def _run_dask(
@@ -1187,36 +1227,27 @@ def _run_dask(
     outputs: list[kb.BatchKernelOutput | None],
     parts: list[NDArray[np.intp]],
     advance: Callable[[int], None],
-) -> int:
-    if not scheduler:
-        raise ConfigError("the dask backend needs the scheduler's address (scheduler=...)")
-    try:
-        from distributed import Client, as_completed
-    except ImportError:  # pragma: no cover - distributed is a dependency
-        raise ConfigError("the dask backend needs the 'distributed' package") from None
-    try:
-        client = Client(scheduler, timeout=30, set_as_default=False)
-    except (OSError, TimeoutError, ValueError) as exc:
-        raise ConfigError(f"cannot connect to the Dask scheduler at {scheduler!r}: {exc}") from None
+) -> None:
+    from distributed import as_completed
+
+    client = _dask_client(scheduler)
     futures: dict[Any, int] = {}
     try:
-        workers = max(1, len(client.scheduler_info(n_workers=-1).get("workers", {})))
-        scattered = client.scatter(shared, broadcast=True)
+        # ``shared`` (the integer structure, tolerances, method) is a few hundred bytes: it
+        # travels with each task. Scattering it gave every block the same content-hashed
+        # keys, and the previous block's release could delete them under the next block's
+        # tasks, which then waited for ever ("computation on lost data").
         futures = {
-            client.submit(kb.run_chunk, scattered, item, pure=False): k
-            for k, item in enumerate(items)
+            client.submit(kb.run_chunk, shared, item, pure=False): k for k, item in enumerate(items)
         }
         for future in as_completed(list(futures), loop=client.loop):
             k = futures[future]
             outputs[k] = future.result()
             advance(len(parts[k]))
-        return workers
     except BaseException:
         if futures:
             client.cancel(list(futures))
         raise
-    finally:
-        client.close()
 
 
 # --- the entry point --------------------------------------------------------------------------------

@@ -429,7 +429,9 @@ def _run_dask(
     futures: list[Any] = []
     try:
         workers = max(1, len(client.scheduler_info(n_workers=-1).get("workers", {})))
-        scattered = client.scatter(shared, broadcast=True)
+        # unique keys: content-hashed ones would be shared with an earlier study's data,
+        # whose release could delete them under this study's tasks
+        scattered = client.scatter(shared, broadcast=True, hash=False)
         futures = [
             client.submit(_attempt_on_dask, function, scattered, index, item, pure=False)
             for index, item in enumerate(items)
@@ -576,7 +578,8 @@ def _placed(model: ResponseModel, backend: Backend, n: int) -> tuple[ResponseMod
     and spreads each block's lanes itself: on threads here (``"local"``), on this process's
     pool of workers, kept from block to block so that each worker starts and loads the
     compiled kernels once (``"processes"``), on the Dask cluster or on the GPU; its blocks
-    are large (:data:`GPU_BLOCK` on the GPU, 128 samples per worker on processes).
+    are large (:data:`GPU_BLOCK` on the GPU, 128 samples per worker process, or per thread of
+    the Dask cluster).
 
     On the process backend with the default number of workers, a model that states its cost
     (``seconds_per_sample``) gets only as many workers as the work pays for — one per
@@ -605,7 +608,11 @@ def _placed(model: ResponseModel, backend: Backend, n: int) -> tuple[ResponseMod
         block = backend.chunk_size
     elif kind == "gpu":
         block = GPU_BLOCK
-    elif kind in ("processes", "dask"):
+    elif kind == "dask":  # sized by the cluster, not by this machine
+        from jointplay.dynamics.batch import cluster_threads
+
+        block = max(model.chunk_size, 128 * cluster_threads(backend.scheduler))
+    elif kind == "processes":
         block = max(model.chunk_size, 128 * (workers or os.cpu_count() or 1))
     else:
         block = model.chunk_size
