@@ -12,7 +12,8 @@ few samples on the same backend (imports, loading the compiled kernels, starting
 workers of the process backend, which are kept). Sizes whose estimated time (from the
 previous size) exceeds ``--budget`` seconds are skipped.
 
-Run ``python benchmarks/bench_batch.py --backend local,processes --samples 1000,10000``;
+Run ``python benchmarks/bench_batch.py --backend local,processes --samples 1000,10000``
+(``--backend dask --dask-scheduler tcp://HOST:8786`` for a Dask cluster);
 ``--json out.json`` writes the rows. The GPU backend needs ``pip install 'jointplay[gpu]'``.
 """
 
@@ -53,6 +54,9 @@ def main() -> None:
     parser.add_argument("--samples", default="1000,10000,100000", help="comma-separated sizes")
     parser.add_argument("--sets", default="conventional,spherical", help="comma-separated")
     parser.add_argument("--workers", type=int, default=None, help="processes (default: CPUs)")
+    parser.add_argument(
+        "--dask-scheduler", default=None, help="the scheduler's address, for --backend dask"
+    )
     parser.add_argument("--budget", type=float, default=600.0, help="skip longer runs, s")
     parser.add_argument("--json", default=None, help="write the rows to this file")
     args = parser.parse_args()
@@ -74,6 +78,8 @@ def main() -> None:
             options: dict[str, Any] = {"backend": backend, "solver": SolverOptions()}
             if backend == "processes":
                 options["workers"] = args.workers
+            if backend == "dask":
+                options["scheduler"] = args.dask_scheduler
             simulate_batch(mechanism, joints, samples_of(8, seed=99), **options)  # warm-up
             rate = None
             for n in (int(v) for v in args.samples.split(",")):
