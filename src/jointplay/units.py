@@ -33,14 +33,24 @@ SI_UNITS: dict[str, str] = {
 }
 
 
-#: Lengths written as ``"<number> <unit>"`` with a decimal multiple of the metre are read
-#: without pint (whose import takes ~0.5 s, most of ``jointplay fit``'s start-up): the
-#: factor is exact powers of ten applied as pint applies them (magnitude × factor), so the
-#: result is the same float. Everything else goes through pint.
-_DECIMAL_LENGTHS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "μm": 1e-6}
-_SIMPLE_QUANTITY = re.compile(
-    r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*(m|cm|mm|um|µm|μm)\s*"
-)
+#: Quantities written as ``"<number> <unit>"`` with one of these units are read without pint,
+#: whose import takes ~0.35 s (most of ``jointplay fit``'s start-up, and all that loading a
+#: preset needed it for): SI unit asked for → {unit as written: factor}. The factors are
+#: pint's own, applied as pint applies them (magnitude × factor), so the result is the same
+#: float (``tests/test_units.py`` checks every entry against pint). Everything else goes
+#: through pint.
+_SIMPLE_UNITS: dict[str, dict[str, float]] = {
+    "m": {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "μm": 1e-6},
+    "kg": {"kg": 1.0, "g": 1e-3},
+    "s": {"s": 1.0, "ms": 1e-3},
+    "rad": {"rad": 1.0, "deg": math.pi / 180.0},
+    "rad/s": {"rad/s": 1.0, "rpm": 2.0 * math.pi / 60.0},
+    "Pa": {"Pa": 1.0, "kPa": 1e3, "MPa": 1e6, "GPa": 1e9},
+    "kg/m^3": {"kg/m^3": 1.0},
+    "m/s^2": {"m/s^2": 1.0},
+    "kg*m^2": {"kg*m^2": 1.0},
+}
+_SIMPLE_QUANTITY = re.compile(r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*(\S+)\s*")
 
 
 #: A number raised to a power ("10**10**10", "2^64"): pint would evaluate it exactly, which
@@ -87,10 +97,11 @@ def parse_quantity(
             f'{field}: {value!r} has no unit; write it with one, e.g. "{value} '
             f'{example or _example(unit)}"'
         )
-    if isinstance(value, str) and unit == "m":
+    if isinstance(value, str) and unit in _SIMPLE_UNITS:
         simple = _SIMPLE_QUANTITY.fullmatch(value)
-        if simple:
-            return _finite(float(simple[1]) * _DECIMAL_LENGTHS[simple[2]], field, value)
+        factor = _SIMPLE_UNITS[unit].get(simple[2]) if simple else None
+        if simple and factor is not None:
+            return _finite(float(simple[1]) * factor, field, value)
     registry = _registry()
     if isinstance(value, str):
         text = value.strip()
