@@ -37,7 +37,6 @@ def test_design_writes_one_row_per_scheme_and_names_the_choice(tmp_path, capsys)
         (["--require", "omega4_peak == 3"], "expected RESPONSE <=|<|>=|> VALUE"),
         (["--require", "omega4_peak <= 3 rad/s", "--fit", "O2"], "expected JOINT=FIT"),
         (["--require", "omega4_peak <= 3 rad/s", "--confidence", "100"], "--confidence"),
-        (["--require", "omega4_peak <= 3 rad/s", "--backend", "gpu"], "single engine"),
         (["--require", "omega4_peak <= 3 rad/s", "--backend", "threads"], "--backend must be"),
         (["--require", "omega4_peak <= 3 rad/s", "--k", "1e6 N/mm^1.5"], "dynamic designs only"),
         (["--require", "joint_force <= 1 kN", "--k", "1e6"], "--k"),
@@ -49,6 +48,26 @@ def test_design_errors_are_one_line(tmp_path, capsys, args: list[str], message: 
     assert code == 2
     err = capsys.readouterr().err
     assert message in err
+
+
+@pytest.mark.parametrize(
+    ("requirement", "message"),
+    [
+        ("omega4_peak <= 3 rad/s", "--responses dynamic"),  # kinematic: no dynamics to run
+        (
+            "rocker_speed_error <= 3 %",
+            "'rocker_speed_error <= 3 %' need(s) each sample's trajectory",
+        ),
+    ],
+)
+def test_the_gpu_backend_is_refused_where_the_batch_engine_cannot_answer(
+    tmp_path, capsys, requirement: str, message: str
+) -> None:
+    out = tmp_path / "x"
+    args = ["design", "--preset", "paper-fourbar", "--require", requirement, "--backend", "gpu"]
+    assert run([*args, "--out", str(out), "--no-progress", "--no-plots"]) == 2
+    assert message in capsys.readouterr().err
+    assert not out.exists()
 
 
 #: A dynamic design as short as it gets: 2 samples of one scheme, a quarter turn, no start-up.

@@ -279,11 +279,6 @@ def design_command(
     data = read_table(table, config)
     cost = CostModel.from_table(data.get("cost", {}))
     wear = wear_settings(data, wear_coefficient, hardness)
-    if backend.strip().lower() == "gpu":
-        raise ConfigError(
-            "--backend gpu: the design study runs the single engine (its running responses "
-            "need each sample's trajectory); use local, processes or dask"
-        )
     where = backend_from_options(backend, workers, dask_scheduler)
     figure_format = check_figure_format(figure_format)
     with output_dir(out, force=force) as folder:  # checked before the study runs

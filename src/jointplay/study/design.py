@@ -8,9 +8,14 @@ pin joints, or one per named joint — and an ISO 2768-1 class for the link leng
    fit's limits), distributed as in the tolerance study (:mod:`jointplay.tolerance.spec`),
    with the same seed for every scheme (common random numbers: schemes differ by their
    tolerances, not by their luck);
-2. each sample through the steady running dynamics (:class:`~jointplay.tolerance.responses.RunningResponses`: steady start,
-   ``settle`` start-up revolutions left out) — or through the ideal-joint kinematics when
-   every requirement is kinematic;
+2. each sample through the steady running dynamics (steady start, ``settle`` start-up
+   revolutions left out) — or through the ideal-joint kinematics when every requirement is
+   kinematic. When a requirement needs each sample's trajectory (``rocker_speed_error``,
+   ``wear_rate``, ``life``: :func:`trajectory_requirements`), one single-engine simulation per
+   sample (:class:`~jointplay.tolerance.responses.RunningResponses`); otherwise the batch
+   engine (:class:`~jointplay.tolerance.responses.PeakResponses`), which runs on every
+   backend, the GPU included, and gives the peaks, ``joint_force`` and ``contact_pressure``
+   (the two engines agree within the integration tolerance: ω 1e-5, forces 1e-3);
 3. per scheme: every response's mean, std and value at the confidence level; the share of
    samples meeting each requirement (yield %, defects per million; a failed simulation counts
    as a defect); the relative cost (:mod:`jointplay.tolerance.cost`);
@@ -47,6 +52,7 @@ Responses of the dynamic model (SI): the tolerance study's peaks (``omega<k>_pea
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -69,6 +75,7 @@ from jointplay.tolerance.methods import distribution_note, truncated_at_limits
 from jointplay.tolerance.responses import (
     PENETRATION_RATIO,
     RUNNING_RESPONSES,
+    PeakResponses,
     ResponseModel,
     RunningResponses,
     dynamic_model,
@@ -100,6 +107,7 @@ __all__ = [
     "penetration_diagnostics",
     "resolve_responses",
     "schemes",
+    "trajectory_requirements",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -267,6 +275,21 @@ def resolve_responses(
         isinstance(r, str) and parse_requirement_or_none(r, units) is not None for r in requirements
     )
     return "kinematic" if kinematic else "dynamic"
+
+
+#: Responses that need each sample's trajectory, not only its peaks: a design requiring one
+#: runs the single engine (:class:`RunningResponses`), else the batch engine
+#: (:class:`PeakResponses`, every backend including the GPU).
+TRAJECTORY_RESPONSES = ("rocker_speed_error", "wear_rate", "life")
+
+
+def trajectory_requirements(requirements: Sequence[Requirement]) -> list[str]:
+    """The requirements (as written) whose response needs each sample's trajectory."""
+    return [
+        r.text
+        for r in requirements
+        if r.response in TRAJECTORY_RESPONSES or r.response.startswith("wear_rate_")
+    ]
 
 
 # --- plausibility -----------------------------------------------------------------------------
@@ -622,12 +645,25 @@ def design_study(
         )
         lengths = [n for n in names if n.startswith("length_")]
         mixed = any(r.response not in dynamic_units for r in parsed)  # a kinematic one too
-        model = RunningResponses(
-            base,
-            OutputSpeedReference.of(mechanism),
-            wear or WearSettings(),
-            kinematic=kinematic_model(mechanism, lengths) if lengths and mixed else None,
-        )
+        kinematic = kinematic_model(mechanism, lengths) if lengths and mixed else None
+        need_trajectories = trajectory_requirements(parsed)
+        if need_trajectories:
+            if backend is not None and backend.kind == "gpu":
+                raise ConfigError(
+                    f"backend gpu: {', '.join(repr(t) for t in need_trajectories)} need(s) each "
+                    "sample's trajectory, which the GPU's batch engine does not keep (it gives "
+                    "peaks: omega, alpha, forces, torque, joint_force, contact_pressure); use "
+                    "local, processes or dask"
+                )
+            model = RunningResponses(
+                base,
+                OutputSpeedReference.of(mechanism),
+                wear or WearSettings(),
+                kinematic=kinematic,
+            )
+        else:
+            fields = {f.name: getattr(base, f.name) for f in dataclasses.fields(base)}
+            model = PeakResponses(**fields, kinematic=kinematic)
         order = list(range(len(candidates)))
     drawn = [truncated_at_limits(specs[i]) if truncate else specs[i] for i in order]
     blocks = [sample(spec, samples, seed).values for spec in drawn]
@@ -647,7 +683,7 @@ def design_study(
             continue  # interrupted before this scheme finished
         x = blocks[k]
         values = dict(zip(response_names, outcome.values[part].T, strict=True))
-        if responses == "dynamic":
+        if isinstance(model, RunningResponses):
             values["life"] = _life(
                 scheme, mechanism, names, x, values, clearance_limit, clearance_allowance
             )

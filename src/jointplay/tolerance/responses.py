@@ -74,6 +74,7 @@ __all__ = [
     "FourBarKinematics",
     "GeneralKinematics",
     "LinearModel",
+    "PeakResponses",
     "ResponseModel",
     "RunningResponses",
     "dynamic_model",
@@ -995,6 +996,59 @@ def penetration_ratios(result: SimulationResult) -> FloatArray:
     )
 
 
+def peak_contact_pressure(
+    mechanism: Mechanism, joint: str, force: float, journal_radius: float, clearance: float
+) -> float:
+    """The Hertz line-contact pressure (Pa) of a peak contact force ``force`` (N) in the pin
+    joint ``joint`` with radial clearance ``clearance`` (m), over its bearing width
+    (:func:`jointplay.dynamics.diagnostics.line_contact_pressure`); NaN when the width is not
+    known (no link thickness or pin length)."""
+    from jointplay.dynamics.diagnostics import line_contact_pressure
+
+    width = mechanism.bearing_width(joint)
+    if not width or not math.isfinite(force):
+        return math.nan
+    spec = mechanism.joint(joint)
+    return line_contact_pressure(
+        force,
+        width,
+        journal_radius,
+        max(clearance, 1e-9),
+        mechanism.material_of(spec.link_a),
+        mechanism.material_of(spec.link_b),
+    )
+
+
+def _kinematic_names(kinematic: ResponseModel | None, dynamic: Sequence[str]) -> tuple[str, ...]:
+    """The responses of ``kinematic`` that the dynamic ones do not give."""
+    if kinematic is None:
+        return ()
+    return tuple(n for n in kinematic.response_names if n not in set(dynamic))
+
+
+def _add_kinematic(
+    kinematic: ResponseModel | None,
+    names: Sequence[str],
+    input_names: Sequence[str],
+    x: FloatArray,
+    evaluation: Evaluation,
+) -> Evaluation:
+    """``evaluation`` with the ideal-joint responses ``names`` of each sample's lengths
+    written into its last columns (one vectorised call); a sample they fail for fails."""
+    if not names or kinematic is None:
+        return evaluation
+    columns = [list(input_names).index(n) for n in kinematic.input_names]
+    result = kinematic.evaluate(np.asarray(x, dtype=float)[:, columns])
+    chosen = [kinematic.response_names.index(n) for n in names]
+    values = evaluation.values.copy()
+    values[:, values.shape[1] - len(chosen) :] = result.values[:, chosen]
+    errors = tuple(
+        error or ("" if result.ok[i] else result.errors[i])
+        for i, error in enumerate(evaluation.errors)
+    )
+    return Evaluation(values, evaluation.ok & result.ok, errors, evaluation.checks)
+
+
 #: Responses :class:`RunningResponses` adds to the dynamic peaks, with SI units.
 RUNNING_RESPONSES: Mapping[str, str] = {
     "rocker_speed_error": "1",
@@ -1034,10 +1088,7 @@ class RunningResponses:
     @property
     def kinematic_names(self) -> tuple[str, ...]:
         """The kinematic responses added (those the dynamics do not give themselves)."""
-        if self.kinematic is None:
-            return ()
-        dynamic = set(self.base.response_names)
-        return tuple(n for n in self.kinematic.response_names if n not in dynamic)
+        return _kinematic_names(self.kinematic, self.base.response_names)
 
     @property
     def input_names(self) -> tuple[str, ...]:
@@ -1095,7 +1146,6 @@ class RunningResponses:
     def evaluate(self, x: FloatArray) -> Evaluation:
         """One single-engine simulation per sample (:meth:`DynamicResponses.simulate_one`);
         failures are marked, not raised; checks from :func:`penetration_ratios`."""
-        from jointplay.dynamics.diagnostics import line_contact_pressure
         from jointplay.dynamics.wear import cycle_wear, speed_error
 
         mechanism = self.base.mechanism
@@ -1115,20 +1165,16 @@ class RunningResponses:
                 wear = cycle_wear(result, self.wear)
                 rates = [wear.joints[j].per_hour(wear.rpm) / 3600.0 for j in self.joints]
                 forces = [float(result.peaks[f"F_{j}"]["value"]) for j in self.joints]
-                pressures = []
-                for clearance in result.system.clearances:
-                    joint = mechanism.joint(clearance.joint)
-                    width = mechanism.bearing_width(clearance.joint) or 0.0
-                    pressures.append(
-                        line_contact_pressure(
-                            float(result.peaks[f"F_{clearance.joint}"]["value"]),
-                            width,
-                            clearance.journal_radius,
-                            max(clearance.clearance, 1e-9),
-                            mechanism.material_of(joint.link_a),
-                            mechanism.material_of(joint.link_b),
-                        )
+                pressures = [
+                    peak_contact_pressure(
+                        mechanism,
+                        c.joint,
+                        float(result.peaks[f"F_{c.joint}"]["value"]),
+                        c.journal_radius,
+                        c.clearance,
                     )
+                    for c in result.system.clearances
+                ]
                 values[i, : len(names) - len(self.kinematic_names)] = [
                     *peaks,
                     speed_error(result, self.reference),
@@ -1142,18 +1188,82 @@ class RunningResponses:
                 continue
             ok[i] = True
             errors.append("")
-        if self.kinematic_names and self.kinematic is not None:
-            # The ideal-joint responses of each sample's lengths, in one vectorised call.
-            columns = [self.input_names.index(n) for n in self.kinematic.input_names]
-            kinematic = self.kinematic.evaluate(np.asarray(x, dtype=float)[:, columns])
-            chosen = [self.kinematic.response_names.index(n) for n in self.kinematic_names]
-            values[:, len(names) - len(chosen) :] = kinematic.values[:, chosen]
-            errors = [
-                error or ("" if kinematic.ok[i] else kinematic.errors[i])
-                for i, error in enumerate(errors)
+        evaluation = Evaluation(values, ok, tuple(errors), checks)
+        return _add_kinematic(self.kinematic, self.kinematic_names, self.input_names, x, evaluation)
+
+
+@dataclass(frozen=True)
+class PeakResponses(DynamicResponses):
+    """The dynamic peaks of the batch engine (:class:`DynamicResponses`) plus the largest
+    joint force and the largest Hertz contact pressure of each sample, both from its peak
+    contact forces: the design study's model when no requirement needs a sample's trajectory
+    (the rocker-speed error and the wear do; :class:`RunningResponses` gives those). It runs
+    on every backend of the batch engine, the GPU included.
+
+    Attributes:
+        kinematic: optionally, the ideal-joint kinematic model of the same length inputs (as
+            :attr:`RunningResponses.kinematic`).
+    """
+
+    kinematic: ResponseModel | None = None
+
+    @property
+    def kinematic_names(self) -> tuple[str, ...]:
+        """The kinematic responses added (those the dynamics do not give themselves)."""
+        return _kinematic_names(self.kinematic, super().response_names)
+
+    @property
+    def response_names(self) -> tuple[str, ...]:
+        return (
+            *super().response_names, "joint_force", "contact_pressure", *self.kinematic_names
+        )  # fmt: skip
+
+    @property
+    def units(self) -> Mapping[str, str]:
+        units = dict(super().units)
+        units.update(joint_force="N", contact_pressure="Pa")
+        if self.kinematic is not None:
+            units.update({n: self.kinematic.units[n] for n in self.kinematic_names})
+        return units
+
+    def describe(self) -> dict[str, Any]:
+        return {
+            **super().describe(),
+            "joint_force": "largest peak contact force over the clearance joints",
+            "contact_pressure": (
+                "largest Hertz line-contact pressure of the clearance joints' peak forces, "
+                "with each sample's radial clearance"
+            ),
+        }
+
+    def evaluate(self, x: FloatArray) -> Evaluation:
+        """The batch engine's peaks of the block (:meth:`DynamicResponses.evaluate`), the
+        joint force and contact pressure from them, then the kinematic responses."""
+        x = _check_inputs(x, len(self.input_names))
+        peaks = super().evaluate(x)
+        joints = self.clearance_joints
+        keys = list(self.peak_keys)
+        forces = peaks.values[:, [keys.index(f"F_{j}") for j in joints]]
+        clearances = self.clearances(x)
+        radius = [self.journal_radius[joint] for joint in joints]
+        pressures = np.array(
+            [
+                [
+                    peak_contact_pressure(self.mechanism, joint, force, r, clearance)
+                    for joint, force, r, clearance in zip(joints, row, radius, gaps, strict=True)
+                ]
+                for row, gaps in zip(forces, clearances, strict=True)
             ]
-            ok &= kinematic.ok
-        return Evaluation(values, ok, tuple(errors), checks)
+        ).reshape(len(x), len(joints))
+        with np.errstate(invalid="ignore"):
+            derived = np.column_stack(
+                [forces.max(axis=1, initial=0.0), pressures.max(axis=1, initial=0.0)]
+            )
+        values = np.column_stack(
+            [peaks.values, derived, np.full((len(x), len(self.kinematic_names)), np.nan)]
+        )
+        evaluation = Evaluation(values, peaks.ok, peaks.errors, peaks.checks)
+        return _add_kinematic(self.kinematic, self.kinematic_names, self.input_names, x, evaluation)
 
 
 def dynamic_model(
