@@ -15,7 +15,8 @@ pin joints, or one per named joint — and an ISO 2768-1 class for the link leng
    sample (:class:`~jointplay.tolerance.responses.RunningResponses`); otherwise the batch
    engine (:class:`~jointplay.tolerance.responses.PeakResponses`), which runs on every
    backend, the GPU included, and gives the peaks, ``joint_force`` and ``contact_pressure``
-   (the two engines agree within the integration tolerance: ω 1e-5, forces 1e-3);
+   (the engines agree on forces within 1e-3, on ω peaks within their integration errors:
+   docs/design.md);
 3. per scheme: every response's mean, std and value at the confidence level; the share of
    samples meeting each requirement (yield %, defects per million; a failed simulation counts
    as a defect); the relative cost (:mod:`jointplay.tolerance.cost`);
