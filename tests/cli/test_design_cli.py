@@ -161,3 +161,10 @@ def test_wear_and_cost_tables_sit_in_the_mechanism_config(tmp_path, capsys) -> N
     override.write_text("[wear]\ncoefficient = 1e-5\n", encoding="utf-8")
     assert lives(worn, "--table", str(override)) == pytest.approx(base, rel=1e-12)
     capsys.readouterr()
+
+
+def test_rtol_reaches_the_design_study(tmp_path) -> None:
+    out = tmp_path / "tight"
+    assert run([*FAST_DYNAMIC, "--rtol", "1e-8", "--out", str(out)]) == 0
+    settings = json.loads((out / "summary.json").read_text())["settings"]
+    assert settings["model"]["solver"]["rtol"] == 1e-8

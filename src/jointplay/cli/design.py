@@ -37,9 +37,15 @@ from jointplay.cli._simulation import (
     DepthOption,
     ExponentOption,
     RestitutionOption,
+    RtolOption,
     StiffnessOption,
 )
-from jointplay.cli.tolerance import BackendOption, backend_from_options, contact_law
+from jointplay.cli.tolerance import (
+    BackendOption,
+    backend_from_options,
+    contact_law,
+    solver_options,
+)
 from jointplay.errors import ConfigError
 from jointplay.units import parse_quantity
 
@@ -207,6 +213,7 @@ def design_command(
     depth: DepthOption = None,
     restitution: RestitutionOption = None,
     damping: DampingOption = None,
+    rtol: RtolOption = None,
     settle: SettleOption = 2,
     revolutions: Annotated[
         float, typer.Option("--revolutions", help="Analysed revolutions.")
@@ -299,6 +306,7 @@ def design_command(
             contact=law,
             settle=settle,
             revolutions=revolutions,
+            solver=solver_options(rtol),
             backend=where,
             progress=progress,
         )

@@ -35,6 +35,7 @@ from jointplay.cli._simulation import (
     DepthOption,
     ExponentOption,
     RestitutionOption,
+    RtolOption,
     StiffnessOption,
 )
 from jointplay.errors import ConfigError
@@ -188,6 +189,7 @@ def tolerance_command(
     depth: DepthOption = None,
     restitution: RestitutionOption = None,
     damping: DampingOption = None,
+    rtol: RtolOption = None,
     paper_method: Annotated[
         str | None,
         typer.Option(
@@ -320,6 +322,8 @@ def tolerance_command(
             law = contact_law(contact_options, mechanism, paper_method, ecs_source)
         elif any(v is not None for v in (*contact_options.values(), paper_method, ecs_source)):
             raise ConfigError("contact options apply to --responses dynamic or running only")
+        if rtol is not None and not dynamic:
+            raise ConfigError("--rtol applies to --responses dynamic or running only")
         where = backend_from_options(backend, workers, dask_scheduler)
         if where.kind == "gpu" and not dynamic:
             raise ConfigError("--backend gpu runs the dynamics: use it with --responses dynamic")
@@ -342,6 +346,7 @@ def tolerance_command(
             start=start.value,
             settle=settle,
             revolutions=revolutions,
+            solver=solver_options(rtol),
             backend=where,
             progress=progress,
         )
@@ -377,6 +382,15 @@ def _check_lengths(spec: Any) -> None:
                 f"of a {item.nominal * 1e3:g} mm length are impossible geometry (a length stays "
                 f"positive and below {MAX_LENGTH:g} m); check the deviations"
             )
+
+
+def solver_options(rtol: float | None) -> Any:
+    """The integration settings of --rtol (``None``: the defaults)."""
+    if rtol is None:
+        return None
+    from jointplay.dynamics.simulate import SolverOptions
+
+    return SolverOptions(rtol=rtol)
 
 
 def contact_law(

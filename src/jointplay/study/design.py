@@ -95,6 +95,7 @@ from jointplay.tolerance.spec import (
 
 if TYPE_CHECKING:
     from jointplay.contact.laws import ContactLaw
+    from jointplay.dynamics.simulate import SolverOptions
     from jointplay.dynamics.wear import WearSettings
 
 __all__ = [
@@ -556,6 +557,7 @@ def design_study(
     contact: str | ContactLaw | None = None,
     settle: int = DEFAULT_SETTLE,
     revolutions: float = 1.0,
+    solver: SolverOptions | None = None,
     distribution: str = DEFAULT_DISTRIBUTION,
     truncate: bool = True,
     backend: Backend | None = None,
@@ -580,6 +582,7 @@ def design_study(
         wear: Archard parameters (default steel on steel, :mod:`jointplay.dynamics.wear`).
         contact: dynamic: contact law (default the conventional IFM set).
         settle, revolutions: dynamic: start-up revolutions left out, analysed revolutions.
+        solver: dynamic: integration settings (default :class:`SolverOptions`).
         distribution: distribution of every toleranced input.
         truncate: draw normal inputs from the normal truncated at their limits (default:
             out-of-tolerance parts are rejected at inspection;
@@ -632,7 +635,7 @@ def design_study(
     else:
         from jointplay.contact.laws import get_law
         from jointplay.dynamics.setup import DEFAULT_IMPACT
-        from jointplay.dynamics.simulate import Start
+        from jointplay.dynamics.simulate import SolverOptions, Start
         from jointplay.dynamics.wear import OutputSpeedReference, WearSettings
 
         law = DEFAULT_IMPACT if contact is None else get_law(contact)
@@ -643,6 +646,7 @@ def design_study(
             start=Start("steady"),
             settle=settle,
             revolutions=revolutions,
+            solver=solver or SolverOptions(),
         )
         lengths = [n for n in names if n.startswith("length_")]
         mixed = any(r.response not in dynamic_units for r in parsed)  # a kinematic one too
