@@ -12,7 +12,11 @@ A result that is not physical is flagged: dynamic and running studies check ever
 penetration (``penetration_ratio_<joint>``, see :mod:`jointplay.tolerance.responses`), and
 :attr:`ToleranceStudyResult.diagnostics` has one ``penetration-exceeds-clearance`` warning
 per clearance joint whose pin sinks deeper than the radial clearance in some successful
-samples (:func:`penetration_findings`): how many, the worst ratio and its sample.
+samples (:func:`penetration_findings`): how many, the worst ratio and its sample. They also
+check that the scatter they report is the mechanism's, not the integrator's
+(:func:`convergence_finding`): a few successful samples are run again with tolerances 100×
+tighter, and a ``peaks-not-converged`` warning names the response whose values moved by more
+than a tenth of their spread over the study.
 """
 
 from __future__ import annotations
@@ -55,9 +59,11 @@ if TYPE_CHECKING:  # the dynamics import Numba: loaded only by dynamic studies
 
 __all__ = [
     "RESPONSE_KINDS",
+    "ConvergenceCheck",
     "StudyDiagnostic",
     "ToleranceStudyResult",
     "build_model",
+    "convergence_finding",
     "penetration_findings",
     "penetration_warning",
     "response_units",
@@ -167,6 +173,126 @@ def penetration_findings(result: MethodResult) -> tuple[StudyDiagnostic, ...]:
     return tuple(findings)
 
 
+#: Samples run again by :func:`convergence_finding`, the fewest successful points a study needs
+#: for the check (a spread from fewer is not worth comparing with, and the check would cost
+#: more than half the study: each sample costs ~2.5 at tolerances 100x tighter), the factor on
+#: their tolerances, and the share of a response's spread over the study its change may reach.
+CONVERGENCE_SAMPLES = 8
+CONVERGENCE_MIN_POINTS = 40
+CONVERGENCE_TIGHTENING = 100.0
+CONVERGENCE_LIMIT = 0.1
+
+
+@dataclass(frozen=True)
+class ConvergenceCheck:
+    """What :func:`convergence_finding` measured (``summary.json`` → ``convergence_check``).
+
+    Attributes:
+        samples: successful points run again.
+        tightening: the factor on every integration tolerance.
+        response: the response whose change was the largest share of its spread.
+        share: that share (largest change / standard deviation over the study's successful
+            points).
+        limit: the share above which the study warns.
+        finding: the ``peaks-not-converged`` warning, or ``None``.
+    """
+
+    samples: int
+    tightening: float
+    response: str
+    share: float
+    limit: float
+    finding: StudyDiagnostic | None
+
+    def as_dict(self) -> dict[str, Any]:
+        return {
+            "samples": self.samples,
+            "tolerances_tightened_by": self.tightening,
+            "response": self.response,
+            "largest_change_over_spread": self.share,
+            "limit": self.limit,
+            "converged": self.finding is None,
+        }
+
+
+def convergence_finding(
+    model: ResponseModel, result: MethodResult, backend: Backend | None = None
+) -> ConvergenceCheck | None:
+    """Whether the scatter of a dynamic study's responses is the mechanism's, not the
+    integrator's.
+
+    The first :data:`CONVERGENCE_SAMPLES` successful points are evaluated again with every
+    integration tolerance :data:`CONVERGENCE_TIGHTENING` times tighter (on ``backend``, or
+    here for the GPU). Each response's largest change is compared with its spread over the
+    study (the standard deviation of its successful points); the response with the largest
+    share is recorded, and if that share exceeds :data:`CONVERGENCE_LIMIT` the check carries a
+    ``peaks-not-converged`` warning (``value`` the share, ``limit`` the limit). ``None`` for
+    models without an integrator (kinematic, custom) and for studies with fewer than
+    :data:`CONVERGENCE_MIN_POINTS` successful points.
+    """
+    import dataclasses
+
+    from jointplay.tolerance.execution import run
+
+    dynamic = model.base if isinstance(model, RunningResponses) else model
+    if not isinstance(dynamic, DynamicResponses):
+        return None
+    ok = np.flatnonzero(result.run.status == OK)
+    if len(ok) < CONVERGENCE_MIN_POINTS:
+        return None
+    rows = ok[:CONVERGENCE_SAMPLES]
+    loose = dynamic.solver
+    tight = dataclasses.replace(
+        loose,
+        rtol=loose.rtol / CONVERGENCE_TIGHTENING,
+        atol_position=loose.atol_position / CONVERGENCE_TIGHTENING,
+        atol_velocity=loose.atol_velocity / CONVERGENCE_TIGHTENING,
+    )
+    tight_dynamic = dataclasses.replace(dynamic, solver=tight)
+    tightened: ResponseModel = (
+        dataclasses.replace(model, base=tight_dynamic)
+        if isinstance(model, RunningResponses)
+        else tight_dynamic
+    )
+    where = Backend("local") if backend is None or backend.kind == "gpu" else backend
+    again = run(tightened, result.x[rows], backend=where)
+    values = result.run.values
+    with np.errstate(divide="ignore", invalid="ignore"):
+        spread = np.nanstd(values[ok], axis=0, ddof=1)
+        change = np.abs(again.values - values[rows])
+        change[again.status != OK] = np.nan
+        share = np.where(spread > 0, np.nanmax(change, axis=0) / spread, np.nan)
+    if np.all(np.isnan(share)):
+        return None
+    j = int(np.nanargmax(share))
+    name = result.response_names[j]
+    finding = None
+    if share[j] > CONVERGENCE_LIMIT:
+        worst = int(rows[int(np.nanargmax(change[:, j]))])
+        count = int(np.sum(change[:, j] > CONVERGENCE_LIMIT * spread[j]))
+        message = (
+            f"{name}: run again with tolerances {CONVERGENCE_TIGHTENING:g}x tighter (rtol "
+            f"{loose.rtol:.0e} -> {tight.rtol:.0e}), {count} of {len(rows)} samples moved by "
+            f"up to {np.nanmax(change[:, j]):.3g} {model.units.get(name, '')}, "
+            f"{100 * share[j]:.0f} % of its spread over the study (std {spread[j]:.3g}): part "
+            "of the scatter is the integrator's, not the tolerances'; tighten the integration "
+            "(--rtol) or use a contact law that converges"
+        )
+        warning = Diagnostic(
+            "warning", "peaks-not-converged", None, float(share[j]), CONVERGENCE_LIMIT, message
+        )
+        finding = StudyDiagnostic(
+            warning,
+            count=count,
+            out_of=len(rows),
+            worst_sample=worst,
+            worst_inputs=dict(zip(result.input_names, map(float, result.x[worst]), strict=True)),
+        )
+    return ConvergenceCheck(
+        len(rows), CONVERGENCE_TIGHTENING, name, float(share[j]), CONVERGENCE_LIMIT, finding
+    )
+
+
 @dataclass(frozen=True)
 class ToleranceStudyResult:
     """A finished (or interrupted) tolerance study.
@@ -178,6 +304,8 @@ class ToleranceStudyResult:
         model: description of the response model and its settings.
         result: the method's points, responses, summaries and failures.
         ideal: dynamic studies: each response of the nominal mechanism with ideal joints.
+        convergence: dynamic studies: the integrator's share of the responses' scatter
+            (:func:`convergence_finding`; ``None`` for other studies).
     """
 
     mechanism: Mechanism
@@ -186,6 +314,7 @@ class ToleranceStudyResult:
     model: Mapping[str, Any]
     result: MethodResult
     ideal: Mapping[str, float] | None = None
+    convergence: ConvergenceCheck | None = None
 
     @property
     def method(self) -> str:
@@ -210,9 +339,13 @@ class ToleranceStudyResult:
 
     @cached_property
     def diagnostics(self) -> tuple[StudyDiagnostic, ...]:
-        """Plausibility warnings over the points (:func:`penetration_findings`); empty when
-        every point is physical or the model has no checks (kinematic studies)."""
-        return penetration_findings(self.result)
+        """Plausibility warnings over the points (:func:`penetration_findings`, then
+        :attr:`convergence`); empty when every point is physical and converged, or the model
+        has no checks (kinematic studies)."""
+        found = penetration_findings(self.result)
+        if self.convergence is None or self.convergence.finding is None:
+            return found
+        return (*found, self.convergence.finding)
 
     def to_dataframe(self) -> pd.DataFrame:
         """One row per evaluated point (the content of ``samples.parquet``): ``sample``,
@@ -268,6 +401,7 @@ class ToleranceStudyResult:
                 for f in r.failures[:MAX_LISTED_FAILURES]
             ],
             "diagnostics": [finding.as_dict() for finding in self.diagnostics],
+            "convergence_check": None if self.convergence is None else self.convergence.as_dict(),
             "configuration": mechanism_summary(self.mechanism),
             "execution": r.run.describe(),
         }
@@ -344,7 +478,10 @@ def tolerance_study(
             prepare(model, backend, int(getattr(analysis, "samples", 0) or 0))
             ideal = _ideal_peaks(mechanism, dynamic.peak_keys)
     outcome = analysis.run(model, spec, limits=limits, backend=backend, progress=progress)
-    return ToleranceStudyResult(mechanism, kind, spec, model.describe(), outcome, ideal)
+    convergence = None if outcome.interrupted else convergence_finding(model, outcome, backend)
+    return ToleranceStudyResult(
+        mechanism, kind, spec, model.describe(), outcome, ideal, convergence
+    )
 
 
 def build_model(
