@@ -154,6 +154,8 @@ def design_section(
             label = f"{r} at {100 * result.confidence:g} % ({unit})"
             shown[label] = table[f"{r}_at_confidence"] * scale
         for finding in result.diagnostics:  # the joints whose pins pass the clearance
+            if finding.diagnostic.code != "penetration-exceeds-clearance":
+                continue
             joint = finding.diagnostic.joint
             shown[f"samples beyond the clearance in {joint}"] = table[
                 f"penetration_exceeds_{joint}"

@@ -68,7 +68,12 @@ from jointplay.errors import ConfigError
 from jointplay.model.mechanism import Mechanism, RevoluteJoint
 from jointplay.study.requirements import Requirement, parse_requirement
 from jointplay.tolerance import iso286, iso2768
-from jointplay.tolerance.analysis import StudyDiagnostic, penetration_warning
+from jointplay.tolerance.analysis import (
+    ConvergenceCheck,
+    StudyDiagnostic,
+    convergence_finding,
+    penetration_warning,
+)
 from jointplay.tolerance.cost import CostModel, fit_cost, length_class_cost
 from jointplay.tolerance.definitions import response_definitions
 from jointplay.tolerance.execution import NOT_RUN, OK, STATUS, Backend, run
@@ -478,8 +483,12 @@ class DesignResult:
         interrupted: Ctrl-C stopped the run; only finished schemes are in ``table``.
         settings: samples, seed, model description, cost model, clearance limits.
         diagnostics: plausibility warnings over the samples of the finished schemes
-            (:func:`penetration_diagnostics`); empty when every sample is physical and for
+            (:func:`penetration_diagnostics`, then the ``peaks-not-converged`` warning of
+            :attr:`convergence`); empty when every sample is physical and converged, and for
             kinematic studies.
+        convergence: dynamic studies: the integrator's share of the responses' scatter
+            (:func:`~jointplay.tolerance.analysis.convergence_finding`, over every scheme's
+            samples; ``None`` when not checked).
     """
 
     mechanism: Mechanism
@@ -492,7 +501,8 @@ class DesignResult:
     binding: str | None
     interrupted: bool
     settings: Mapping[str, Any] = field(default_factory=dict)
-    diagnostics: tuple[DesignDiagnostic, ...] = ()
+    diagnostics: tuple[StudyDiagnostic, ...] = ()
+    convergence: ConvergenceCheck | None = None
 
     def to_dataframe(self) -> pd.DataFrame:
         """One row per scheme (the content of ``design.parquet``)."""
@@ -531,6 +541,7 @@ class DesignResult:
             "response_definitions": response_definitions(self.reported_responses),
             "schemes": records,
             "diagnostics": [finding.as_dict() for finding in self.diagnostics],
+            "convergence_check": None if self.convergence is None else self.convergence.as_dict(),
         }
 
     @property
@@ -767,6 +778,16 @@ def design_study(
         "finished_schemes": len(rows),
     }
     every_sample = pd.concat(sample_frames, ignore_index=True) if sample_frames else pd.DataFrame()
+    convergence = (
+        None
+        if outcome.interrupted or responses == "kinematic"
+        else convergence_finding(model, np.vstack(blocks), outcome, backend)
+    )
+    diagnostics: tuple[StudyDiagnostic, ...] = penetration_diagnostics(
+        every_sample, outcome.check_names, names, best
+    )
+    if convergence is not None and convergence.finding is not None:
+        diagnostics = (*diagnostics, convergence.finding)
     return DesignResult(
         mechanism=mechanism,
         responses=responses,
@@ -778,7 +799,8 @@ def design_study(
         binding=binding,
         interrupted=outcome.interrupted,
         settings=settings,
-        diagnostics=penetration_diagnostics(every_sample, outcome.check_names, names, best),
+        diagnostics=diagnostics,
+        convergence=convergence,
     )
 
 

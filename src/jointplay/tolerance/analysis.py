@@ -28,12 +28,13 @@ from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 import pandas as pd
+from numpy.typing import NDArray
 
 from jointplay.dynamics.cycles import DEFAULT_SETTLE
 from jointplay.dynamics.diagnostics import Diagnostic
 from jointplay.errors import ConfigError
 from jointplay.model.mechanism import Mechanism
-from jointplay.tolerance.execution import OK, STATUS, Backend, prepare
+from jointplay.tolerance.execution import OK, STATUS, Backend, RunResult, prepare
 from jointplay.tolerance.methods import (
     Failure,
     MethodResult,
@@ -71,6 +72,7 @@ __all__ = [
 ]
 
 ResponseKind = Literal["kinematic", "dynamic", "running"]
+FloatArray = NDArray[np.float64]
 
 #: Response kinds of :func:`tolerance_study`.
 RESPONSE_KINDS: tuple[str, ...] = ("kinematic", "dynamic")
@@ -216,12 +218,14 @@ class ConvergenceCheck:
 
 
 def convergence_finding(
-    model: ResponseModel, result: MethodResult, backend: Backend | None = None
+    model: ResponseModel, x: FloatArray, outcome: RunResult, backend: Backend | None = None
 ) -> ConvergenceCheck | None:
     """Whether the scatter of a dynamic study's responses is the mechanism's, not the
     integrator's.
 
-    The first :data:`CONVERGENCE_SAMPLES` successful points are evaluated again with every
+    ``x`` are the study's points and ``outcome`` their run (:func:`~jointplay.tolerance.
+    execution.run` of ``model``). The first :data:`CONVERGENCE_SAMPLES` successful points are
+    evaluated again with every
     integration tolerance :data:`CONVERGENCE_TIGHTENING` times tighter (on ``backend``, or
     here for the GPU). Each response's largest change is compared with its spread over the
     study (the standard deviation of its successful points); the response with the largest
@@ -237,7 +241,7 @@ def convergence_finding(
     dynamic = model.base if isinstance(model, RunningResponses) else model
     if not isinstance(dynamic, DynamicResponses):
         return None
-    ok = np.flatnonzero(result.run.status == OK)
+    ok = np.flatnonzero(outcome.status == OK)
     if len(ok) < CONVERGENCE_MIN_POINTS:
         return None
     rows = ok[:CONVERGENCE_SAMPLES]
@@ -255,8 +259,8 @@ def convergence_finding(
         else tight_dynamic
     )
     where = Backend("local") if backend is None or backend.kind == "gpu" else backend
-    again = run(tightened, result.x[rows], backend=where)
-    values = result.run.values
+    again = run(tightened, x[rows], backend=where)
+    values = outcome.values
     with np.errstate(divide="ignore", invalid="ignore"):
         spread = np.nanstd(values[ok], axis=0, ddof=1)
         change = np.abs(again.values - values[rows])
@@ -265,7 +269,7 @@ def convergence_finding(
     if np.all(np.isnan(share)):
         return None
     j = int(np.nanargmax(share))
-    name = result.response_names[j]
+    name = model.response_names[j]
     finding = None
     if share[j] > CONVERGENCE_LIMIT:
         worst = int(rows[int(np.nanargmax(change[:, j]))])
@@ -286,7 +290,7 @@ def convergence_finding(
             count=count,
             out_of=len(rows),
             worst_sample=worst,
-            worst_inputs=dict(zip(result.input_names, map(float, result.x[worst]), strict=True)),
+            worst_inputs=dict(zip(model.input_names, map(float, x[worst]), strict=True)),
         )
     return ConvergenceCheck(
         len(rows), CONVERGENCE_TIGHTENING, name, float(share[j]), CONVERGENCE_LIMIT, finding
@@ -478,7 +482,9 @@ def tolerance_study(
             prepare(model, backend, int(getattr(analysis, "samples", 0) or 0))
             ideal = _ideal_peaks(mechanism, dynamic.peak_keys)
     outcome = analysis.run(model, spec, limits=limits, backend=backend, progress=progress)
-    convergence = None if outcome.interrupted else convergence_finding(model, outcome, backend)
+    convergence = (
+        None if outcome.interrupted else convergence_finding(model, outcome.x, outcome.run, backend)
+    )
     return ToleranceStudyResult(
         mechanism, kind, spec, model.describe(), outcome, ideal, convergence
     )
