@@ -223,11 +223,11 @@ def convergence_finding(
     """Whether the scatter of a dynamic study's responses is the mechanism's, not the
     integrator's.
 
-    ``x`` are the study's points and ``outcome`` their run (:func:`~jointplay.tolerance.
-    execution.run` of ``model``). The first :data:`CONVERGENCE_SAMPLES` successful points are
-    evaluated again with every
-    integration tolerance :data:`CONVERGENCE_TIGHTENING` times tighter (on ``backend``, or
-    here for the GPU). Each response's largest change is compared with its spread over the
+    ``x`` are the study's points and ``outcome`` their run
+    (:func:`jointplay.tolerance.execution.run` of ``model``). The first
+    :data:`CONVERGENCE_SAMPLES` successful points are evaluated again with every integration
+    tolerance :data:`CONVERGENCE_TIGHTENING` times tighter (on ``backend``, or here for the
+    GPU). Each response's largest change is compared with its spread over the
     study (the standard deviation of its successful points); the response with the largest
     share is recorded, and if that share exceeds :data:`CONVERGENCE_LIMIT` the check carries a
     ``peaks-not-converged`` warning (``value`` the share, ``limit`` the limit). ``None`` for
