@@ -212,6 +212,12 @@ class ConvergenceCheck:
             "tolerances_tightened_by": self.tightening,
             "response": self.response,
             "largest_change_over_spread": self.share,
+            "taken": (
+                f"the first {self.samples} successful samples run again with every integration "
+                f"tolerance {self.tightening:g}x tighter; the largest change of each response "
+                "over its standard deviation across the study's successful samples; the "
+                "response with the largest share is reported"
+            ),
             "limit": self.limit,
             "converged": self.finding is None,
         }
