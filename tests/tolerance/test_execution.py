@@ -75,12 +75,12 @@ def test_default_workers_are_started_only_when_the_work_pays_for_them(
 def test_early_worker_start_follows_the_same_rule(monkeypatch) -> None:
     # the command line starts the batch engine's workers before its model exists: exactly
     # those that the run will use (prepare/_placed), none for a run kept in this process
-    from jointplay.dynamics import batch
+    from jointplay.dynamics import workers
     from jointplay.tolerance import execution
 
     monkeypatch.setattr(execution.os, "cpu_count", lambda: 8)
     started: list[int | None] = []
-    monkeypatch.setattr(batch, "start_workers", started.append)
+    monkeypatch.setattr(workers, "start_workers", started.append)
     cost = 0.015
     per_worker = int(execution.WORKER_START_S / cost) + 1
     for n, backend, expected in [

@@ -66,7 +66,6 @@ on the chunk it runs in, or on the thread that runs it.
 from __future__ import annotations
 
 import math
-import signal
 from typing import Any, NamedTuple, TypeVar
 
 import numba
@@ -93,8 +92,6 @@ __all__ = [
     "layout",
     "run_batch",
     "run_chunk",
-    "worker_init",
-    "worker_ready",
 ]
 
 #: Integration methods of :func:`run_batch`.
@@ -302,6 +299,8 @@ def _explicit_lane(
     n_points = len(REFINE_POINTS)
     samples = np.empty((n_points + 2, n_q))
     pen = np.empty(model.clear_joint.shape[0])
+    contacts = np.empty(7 * model.clear_joint.shape[0])
+    lam = np.zeros(eom.count_rows(model.active, model.driver))
     k = np.empty((7, size))
     ys = np.empty(size)
     y_new = np.empty(size)
@@ -374,7 +373,10 @@ def _explicit_lane(
                 y_new[i] = y[i] + h * (
                     B1 * k[0, i] + B3 * k[2, i] + B4 * k[3, i] + B5 * k[4, i] + B6 * k[5, i]
                 )
-            eom.rhs_into(t_new, y_new, model, k[6])
+            if in_window:  # the quantities at the step's end come with its last stage
+                eom.rhs_and_quantities(t_new, y_new, model, k[6], contacts, lam, qb, pen)
+            else:
+                eom.rhs_into(t_new, y_new, model, k[6])
             counts[K_RHS] += 6
             total = 0.0
             for i in range(n_active):
@@ -405,7 +407,10 @@ def _explicit_lane(
             factor = min(factor, 1.0)
         changed = eom.contact_memory_and_projection(t_new, y_new, model, work)
         if changed:
-            eom.rhs_into(t_new, y_new, model, f)
+            if in_window:
+                eom.rhs_and_quantities(t_new, y_new, model, f, contacts, lam, qb, pen)
+            else:
+                eom.rhs_into(t_new, y_new, model, f)
             counts[K_RHS] += 1
         else:
             f[:] = k[6]
@@ -413,7 +418,6 @@ def _explicit_lane(
             status = STATUS_NON_FINITE
             break
         if in_window:
-            eom.quantities(t_new, y_new, model, qb, pen)
             _accumulate(qa, qb, pen, h, peaks, stats, nb)
             if _wants_refinement(qa, qb, peaks, mask):
                 samples[0] = qa
@@ -582,17 +586,6 @@ def _implicit_lanes(
             _trajectory_reduce(
                 ipar, rpar[lane], ts, ys, t_settle[lane], t_end[lane], peaks[lane], stats[lane]
             )
-
-
-def worker_init() -> None:
-    """Initializer of a worker process of the batch engine: Ctrl-C is left to the parent."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-
-
-def worker_ready() -> bool:
-    """A no-op task: sent to a new worker so that it starts and imports the kernels while the
-    parent prepares the batch."""
-    return True
 
 
 def run_chunk(

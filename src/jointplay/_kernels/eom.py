@@ -519,24 +519,32 @@ def quantities(
     joint (m; negative while free). The same arithmetic as :func:`evaluate`.
     """
     n = model.mass.shape[0]
+    f = np.empty(y.shape[0])
+    rhs_and_quantities(
+        t, y, model, f, np.empty(7 * model.clear_joint.shape[0]),
+        np.zeros(count_rows(model.active, model.driver)), out, penetration,
+    )  # fmt: skip
+    return f[n : 2 * n]
+
+
+@njit(cache=True)
+def rhs_and_quantities(
+    t: float, y: np.ndarray, model: EomModel, f: np.ndarray, contacts: np.ndarray,
+    lam: np.ndarray, out: np.ndarray, penetration: np.ndarray,
+) -> None:  # fmt: skip
+    """:func:`rhs_into` and :func:`quantities` at one state from one evaluation of the forces
+    (the explicit batch lanes' last stage, whose ẏ is the next step's first): ``f`` receives
+    ẏ, ``out`` and ``penetration`` the quantities; ``contacts`` (7 nc) and ``lam`` (the
+    multipliers' rows) are work arrays. The same arithmetic as each of the two."""
+    n = model.mass.shape[0]
     nb = n // 3
     nc = model.clear_joint.shape[0]
     active, joint_int = model.active, model.joint_int
     nj = active.shape[0]
-    contacts = np.empty(7 * nc)
-    acc = model.gravity.copy()
-    add_contact_forces(y, model, acc, contacts)
-    lam = np.zeros(count_rows(active, model.driver))
-    n_ideal = 0
-    for j in range(nj):
-        n_ideal += active[j]
-    if n_ideal == 0:  # as in rhs_into
-        torque = _driver_only_accelerations(t, model, acc, lam)
-    else:
-        torque = constrained_accelerations(t, y, model, acc, lam)
+    torque = _rhs(t, y, model, f, contacts, lam)
     for b in range(nb):
         out[b] = y[n + 3 * b + 2]
-        out[nb + b] = acc[3 * b + 2]
+        out[nb + b] = f[n + 3 * b + 2]
     row = 0
     for j in range(nj):
         if active[j] == 1:
@@ -552,32 +560,43 @@ def quantities(
     out[2 * nb + nj] = torque
     for c in range(nc):
         penetration[c] = contacts[7 * c + 2]
-    return acc
 
 
 @njit(cache=True)
 def rhs_into(t: float, y: np.ndarray, model: EomModel, out: np.ndarray) -> None:
     """:func:`rhs` writing ẏ into ``out`` (the batch engine's form: no allocation, the model
     already unpacked); the same arithmetic."""
+    nothing = out[:0]
+    _rhs(t, y, model, out, nothing, nothing)
+
+
+@njit(cache=True)
+def _rhs(
+    t: float, y: np.ndarray, model: EomModel, out: np.ndarray, contacts: np.ndarray,
+    lam: np.ndarray,
+) -> float:  # fmt: skip
+    """ẏ into ``out``; the contacts' records into ``contacts`` and the multipliers into
+    ``lam`` unless they are empty (:func:`add_contact_forces`,
+    :func:`constrained_accelerations`); returns the motor torque."""
     gravity, driver = model.gravity, model.driver
     n = gravity.shape[0]
     acc = out[n : 2 * n]
     for i in range(n):
         out[i] = y[n + i]
         acc[i] = gravity[i]
-    nothing = out[:0]
-    out[2 * n + 1] = add_contact_forces(y, model, acc, nothing)
+    out[2 * n + 1] = add_contact_forces(y, model, acc, contacts)
     n_ideal = 0
     for j in range(model.active.shape[0]):
         n_ideal += model.active[j]
     if n_ideal == 0:  # called directly: measured twice as fast as through the general function
-        torque = _driver_only_accelerations(t, model, acc, nothing)
+        torque = _driver_only_accelerations(t, model, acc, lam)
     else:
-        torque = constrained_accelerations(t, y, model, acc, nothing)
+        torque = constrained_accelerations(t, y, model, acc, lam)
     crank = int(driver[0])
     out[2 * n] = torque * y[n + 3 * crank + 2] if crank >= 0 else 0.0
     for i in range(2 * n + 2, y.shape[0]):
         out[i] = 0.0
+    return torque
 
 
 @njit(rhs_signature, cache=True)

@@ -39,7 +39,6 @@ import atexit
 import concurrent.futures as cf
 import dataclasses
 import math
-import multiprocessing
 import os
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
@@ -61,6 +60,7 @@ from jointplay.dynamics.clearance import MIN_CLEARANCE, ClearanceJoint
 from jointplay.dynamics.integrate import IntegrationStatus, _interrupts_watched
 from jointplay.dynamics.simulate import SolverOptions, Start, initial_state
 from jointplay.dynamics.system import PARAMS_WIDTH, System, build_system
+from jointplay.dynamics.workers import close_pool, pool
 from jointplay.errors import ConfigError, JointplayError
 from jointplay.kinematics import fourbar, slidercrank
 from jointplay.kinematics.solver import revolute_tree
@@ -83,7 +83,6 @@ __all__ = [
     "build_batch",
     "choose_method",
     "simulate_batch",
-    "start_workers",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -1023,47 +1022,6 @@ def _chunks(n: int, size: int) -> list[NDArray[np.intp]]:
     return [np.arange(i, min(i + size, n)) for i in range(0, n, size)]
 
 
-_POOL: dict[str, Any] = {}
-
-
-def _pool(workers: int) -> cf.ProcessPoolExecutor:
-    """The worker processes of this process's batches, started once and kept (so the start-up
-    and the loading of the compiled kernels are paid once per worker, not per batch)."""
-    executor = _POOL.get("executor")
-    if executor is None or _POOL.get("workers") != workers:
-        _close_pool()
-        executor = cf.ProcessPoolExecutor(
-            max_workers=workers,
-            mp_context=multiprocessing.get_context("spawn"),
-            initializer=kb.worker_init,
-        )
-        _POOL.update(executor=executor, workers=workers)
-        # at exit the (idle) workers are terminated: a graceful shutdown would wait for each
-        # to finish starting and to tear its interpreter down
-        atexit.register(_close_pool, terminate=True)
-    return executor
-
-
-def start_workers(workers: int | None = None) -> None:
-    """Start the worker processes of the ``"processes"`` backend now (one per CPU by default),
-    so that their start-up overlaps whatever this process does before its batch."""
-    count = workers or os.cpu_count() or 1
-    executor = _pool(count)
-    for _ in range(count):
-        executor.submit(kb.worker_ready)
-
-
-def _close_pool(terminate: bool = False) -> None:
-    executor = _POOL.pop("executor", None)
-    _POOL.pop("workers", None)
-    if executor is None:
-        return
-    if terminate:
-        for process in list(getattr(executor, "_processes", {}).values()):
-            process.terminate()
-    executor.shutdown(wait=True, cancel_futures=True)
-
-
 def _gpu_kernel() -> Callable[..., Any]:
     try:
         from jointplay._kernels import jax_batch
@@ -1158,7 +1116,7 @@ def _dispatch(
                 )  # fmt: skip
                 advance(len(parts[k]))
         elif backend == "processes":
-            executor = _pool(threads)
+            executor = pool(threads)
             futures: dict[cf.Future[kb.BatchKernelOutput], int] = {}
             try:
                 futures = {
@@ -1171,7 +1129,7 @@ def _dispatch(
             except BaseException:
                 for future in futures:
                     future.cancel()
-                _close_pool(terminate=True)
+                close_pool(terminate=True)
                 raise
         else:
             _run_dask(shared, list(items()), scheduler, outputs, parts, advance)

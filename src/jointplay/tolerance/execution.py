@@ -537,7 +537,7 @@ def prepare(model: ResponseModel, backend: Backend | None, n: int) -> None:
     preparations). Nothing for other models or backends."""
     model, backend = _placed(model, backend or Backend(), n)
     if getattr(model, "engine", None) == "processes":
-        from jointplay.dynamics.batch import start_workers
+        from jointplay.dynamics.workers import start_workers
 
         start_workers(getattr(model, "workers", None))
 
@@ -549,7 +549,7 @@ def start_batch_workers(backend: Backend, n: int, seconds_per_sample: float) -> 
     its own imports and set-up. Nothing unless the run will use local processes."""
     kind, workers = _affordable(backend.kind, backend.workers, n, seconds_per_sample)
     if kind == "processes":
-        from jointplay.dynamics.batch import start_workers
+        from jointplay.dynamics.workers import start_workers
 
         start_workers(workers)
 
