@@ -9,7 +9,13 @@ import math
 import pytest
 
 from jointplay.model.mechanism import Mechanism
-from jointplay.report.tolerance import display_scale, format_value, input_label, write_study
+from jointplay.report.tolerance import (
+    display_scale,
+    format_value,
+    input_label,
+    study_plots,
+    write_study,
+)
 from jointplay.tolerance.analysis import tolerance_study
 from jointplay.tolerance.execution import Backend
 
@@ -87,3 +93,18 @@ def test_figure_format_writes_print_copies_beside_the_embedded_pngs(
     assert all((tmp_path / f"{stem}.svg").read_text().lstrip().startswith("<?xml") for stem in pngs)
     page = (tmp_path / "report.html").read_text(encoding="utf-8")
     assert page.count("<img") == len(pngs)  # the report embeds the PNGs only
+
+
+def test_worker_processes_draw_the_same_images(paper_fourbar: Mechanism) -> None:
+    # the command line lends the batch engine's idle workers to the plots: same files, same order
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    study = tolerance_study(paper_fourbar, samples=50, seed=1, backend=Backend("serial"))
+    serial = study_plots(study)
+    spawn = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(2, mp_context=spawn) as pool:
+        parallel = study_plots(study, executor=pool)
+    assert list(serial) == ["tornado.png", "histograms.png", "scatter.png"]
+    assert list(parallel) == list(serial)
+    assert parallel == serial

@@ -285,6 +285,7 @@ def tolerance_command(
 
         where = backend_from_options(backend, workers, dask_scheduler)
         start_batch_workers(where, samples, DynamicResponses.seconds_per_sample)
+    from jointplay.dynamics.workers import running_pool
     from jointplay.io.output import output_dir
     from jointplay.io.tolerances import load_study_spec
     from jointplay.report.tolerance import write_study
@@ -357,6 +358,7 @@ def tolerance_command(
             plots=plots,
             provenance=provenance(summary["configuration"]),
             figure_format=figure_format,
+            executor=running_pool(),  # the batch engine's idle workers draw plots too
         )
     _print(study)
     if study.interrupted:

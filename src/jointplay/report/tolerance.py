@@ -26,16 +26,23 @@ Reports show lengths in mm, clearances in µm and angles in degrees; files stay 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
+from concurrent.futures import Executor
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from jointplay.io.output import write_json
-from jointplay.report._mpl import pyplot
-from jointplay.report.figures import encode
+from jointplay.report.figures import FIGURE_FORMATS
 from jointplay.report.html import HtmlReport
+from jointplay.report.tolerance_plots import (
+    display_scale,
+    histograms,
+    input_label,
+    scatter,
+    tornado,
+)
 from jointplay.tolerance.analysis import ToleranceStudyResult
 from jointplay.tolerance.definitions import response_definitions
 
@@ -52,26 +59,12 @@ __all__ = [
 MAX_REPORTED_FAILURES = 100
 
 
-def display_scale(unit: str, kind: str = "") -> tuple[str, float]:
-    """(label, factor) that turns an SI value into report units: mm, µm (clearances), deg."""
-    if unit == "m":
-        return ("µm", 1e6) if kind == "clearance" else ("mm", 1e3)
-    if unit == "rad":
-        return "deg", 180.0 / math.pi
-    return unit.replace("^2", "²").replace("*", "·"), 1.0
-
-
 def format_value(value: float | None, scale: float = 1.0) -> str:
     """``value × scale`` with 5 significant digits; ``–`` for a missing or non-finite value."""
     if value is None:
         return "–"
     scaled = float(value) * scale
     return f"{scaled:.5g}" if math.isfinite(scaled) else "–"
-
-
-def input_label(name: str) -> str:
-    """Short label of an input for plots and tables: ``crank`` for ``length_crank``."""
-    return name.replace("length_", "").replace("clearance_", "clearance ").replace("_", " ")
 
 
 def write_study(
@@ -81,6 +74,7 @@ def write_study(
     plots: bool = True,
     provenance: Mapping[str, Any] | None = None,
     figure_format: str = "png",
+    executor: Executor | None = None,
 ) -> list[Path]:
     """Write ``samples.parquet``, ``summary.json``, the PNG plots and ``report.html``.
 
@@ -90,6 +84,7 @@ def write_study(
         plots: draw the PNG plots (and embed them in the report).
         provenance: recorded under ``provenance`` in ``summary.json`` (versions, command).
         figure_format: ``"png"``, or ``"svg"``/``"pdf"`` written beside each PNG.
+        executor: worker processes that draw some of the plots (:func:`study_plots`).
 
     Returns:
         The files written.
@@ -107,7 +102,7 @@ def write_study(
     write_json(written[1], summary)
     images: dict[str, bytes] = {}
     if plots:
-        images = study_plots(study, figure_format)
+        images = study_plots(study, figure_format, executor)
         for name, data in images.items():
             path = folder / name
             path.write_bytes(data)
@@ -121,119 +116,88 @@ def _input_scale(study: ToleranceStudyResult, name: str) -> tuple[str, float]:
     return display_scale(item.unit, item.kind)
 
 
-#: Ticks per numeric axis (at most): matplotlib's automatic choice, up to 9 on these panels,
-#: made the ticks most of the drawing time (0.4 s per nine-panel figure here; 0.27 s so).
-_TICKS = 5
-
-
-def _grid(
-    plt: Any, count: int, *, left: float = 0.07, numeric: str = "both"
-) -> tuple[Any, list[Any]]:
-    """A figure of ``count`` panels, three per row, with fixed margins; the ``numeric`` axes
-    ("x", "y" or "both") get at most :data:`_TICKS` ticks. The panels' titles are set at
-    ``y=1.0`` (just above the panel, where matplotlib would put them here) so that drawing
-    skips the automatic placement, which measures every tick label."""
-    columns = min(3, max(1, count))
-    rows = math.ceil(count / columns)
-    height = 3.0 * rows + 0.6
-    fig, axes = plt.subplots(rows, columns, figsize=(4.8 * columns, height), dpi=100, squeeze=False)
-    # Fixed margins: tight_layout doubles the drawing time of these many-panel figures.
-    fig.subplots_adjust(
-        left=left / columns * 3 if columns < 3 else left,
-        right=0.98,
-        bottom=0.55 / height,
-        top=1.0 - 0.9 / height,
-        hspace=0.65,
-        wspace=0.25 + 2.5 * left,
-    )
-    flat = list(axes.ravel())
-    for ax in flat[count:]:
-        ax.set_visible(False)
-    for ax in flat[:count]:
-        ax.locator_params(axis=numeric, nbins=_TICKS)
-    return fig, flat[:count]
-
-
-def study_plots(study: ToleranceStudyResult, figure_format: str = "png") -> dict[str, bytes]:
+def study_plots(
+    study: ToleranceStudyResult, figure_format: str = "png", executor: Executor | None = None
+) -> dict[str, bytes]:
     """The study's images by file name: tornado, and for Monte Carlo histograms and scatter;
-    PNG, and also ``figure_format`` (svg, pdf) for print."""
-    plt = pyplot()
+    PNG, and also ``figure_format`` (svg, pdf) for print.
+
+    Args:
+        executor: worker processes that draw all figures but the last while this process
+            draws that one (the same images; default: all drawn here, one after the other).
+    """
+    jobs = _figure_jobs(study, figure_format)
+    pending = [executor.submit(function, *args) for function, args in jobs[:-1]] if executor else []
+    images: dict[str, bytes] = {}
+    for function, args in jobs[len(pending) :]:
+        images.update(function(*args))
+    for future in pending:
+        images.update(future.result())
+    return {name: images[name] for name in sorted(images, key=_FIGURE_ORDER.index)}
+
+
+#: The files of :func:`study_plots`, in the order the report shows them.
+_FIGURE_ORDER = [
+    f"{stem}.{suffix}" for stem in ("tornado", "histograms", "scatter") for suffix in FIGURE_FORMATS
+]
+
+
+def _figure_jobs(
+    study: ToleranceStudyResult, figure_format: str
+) -> list[tuple[Callable[..., dict[str, bytes]], tuple[Any, ...]]]:
+    """(drawing function of :mod:`jointplay.report.tolerance_plots`, its arguments) per figure:
+    the study's numbers in report units."""
     r = study.result
     names = list(r.response_names)
-    images = {}
-    fig, axes = _grid(plt, len(names), left=0.1, numeric="x")
     what = "share of the worst-case stack" if r.method == "worst-case" else "share of variance"
-    for ax, name in zip(axes, names, strict=True):
-        shares = r.summaries[name].contributions
-        order = sorted(shares, key=lambda k: shares[k])
-        ax.barh([input_label(k) for k in order], [100.0 * shares[k] for k in order], color="C0")
-        ax.set_xlim(0, 100)
-        ax.set_title(name, fontsize=9, y=1.0)
-        ax.set_xlabel(f"{what} (%)", fontsize=8)
-        ax.tick_params(labelsize=7)
-        ax.grid(True, axis="x", alpha=0.3)
-    fig.suptitle(f"{study.mechanism.name}: contributions ({r.method})", fontsize=10)
-    images.update(encode(fig, "tornado", figure_format))
+    shares = [
+        (name, {input_label(k): v for k, v in r.summaries[name].contributions.items()})
+        for name in names
+    ]
+    title = study.mechanism.name
+    jobs: list[tuple[Callable[..., dict[str, bytes]], tuple[Any, ...]]] = [
+        (tornado, (f"{title}: contributions ({r.method})", what, shares, figure_format))
+    ]
     if r.method != "monte-carlo":
-        return images
+        return jobs
     ok = r.run.status == 0
-    fig, axes = _grid(plt, len(names))
-    legend: dict[str, Any] = {}  # one legend for the figure: the same lines in every panel
-    for j, (ax, name) in enumerate(zip(axes, names, strict=True)):
-        unit, scale = display_scale(r.units[name])
-        values = r.run.values[ok, j] * scale
-        summary = r.summaries[name]
-        if len(values):
-            ax.hist(
-                values,
-                bins=min(60, max(10, int(math.sqrt(len(values))))),
-                color="0.75",
-                histtype="stepfilled",  # one patch, not one per bin: fast to draw
-            )
-        ax.axvline(summary.nominal * scale, color="k", linewidth=1.2, label="nominal")
-        if summary.mean is not None:
-            ax.axvline(summary.mean * scale, color="C0", linestyle="--", linewidth=1, label="mean")
-        if study.ideal is not None and name in study.ideal:
-            ax.axvline(
-                study.ideal[name] * scale,
-                color="C2",
-                linestyle="-.",
-                linewidth=1,
-                label="ideal joints",
-            )
-        if summary.limits is not None:
-            for value in (summary.limits.lower, summary.limits.upper):
-                if value is not None:
-                    ax.axvline(
-                        value * scale, color="C3", linestyle=":", linewidth=1.5, label="spec limit"
-                    )
-        ax.set_title(name, fontsize=9, y=1.0)
-        ax.set_xlabel(unit, fontsize=8)
-        ax.tick_params(labelsize=7)
-        handles, labels = ax.get_legend_handles_labels()
-        legend.update(zip(labels, handles, strict=True))
-    fig.legend(legend.values(), legend.keys(), loc="upper right", ncol=len(legend), fontsize=8)
-    fig.suptitle(f"{study.mechanism.name}: Monte Carlo, {int(ok.sum())} samples", fontsize=10)
-    images.update(encode(fig, "histograms", figure_format))
-    fig, axes = _grid(plt, len(names))
     shown = np.flatnonzero(ok)[:5000]
-    for j, (ax, name) in enumerate(zip(axes, names, strict=True)):
+    counts, points = [], []
+    for j, name in enumerate(names):
         summary = r.summaries[name]
+        unit, scale = display_scale(r.units[name])
+        ideal = study.ideal.get(name) if study.ideal is not None else None
+        limits = (summary.limits.lower, summary.limits.upper) if summary.limits else ()
+        counts.append(
+            {
+                "name": name,
+                "unit": unit,
+                "values": r.run.values[ok, j] * scale,
+                "nominal": summary.nominal * scale,
+                "mean": None if summary.mean is None else summary.mean * scale,
+                "ideal": None if ideal is None else ideal * scale,
+                "limits": [value * scale for value in limits if value is not None],
+            }
+        )
         driver = summary.most_influential or r.input_names[0]
         i = r.input_names.index(driver)
         x_unit, x_scale = _input_scale(study, driver)
-        y_unit, y_scale = display_scale(r.units[name])
-        ax.scatter(r.x[shown, i] * x_scale, r.run.values[shown, j] * y_scale, s=3, alpha=0.4)
-        nominal_x = study.spec.nominal[i] * x_scale
-        ax.plot([nominal_x], [summary.nominal * y_scale], "k+", markersize=10, label="nominal")
         share = 100.0 * summary.contributions.get(driver, 0.0)
-        ax.set_title(f"{name} ({share:.0f} % from {input_label(driver)})", fontsize=9, y=1.0)
-        ax.set_xlabel(f"{input_label(driver)} ({x_unit})", fontsize=8)
-        ax.set_ylabel(y_unit, fontsize=8)
-        ax.tick_params(labelsize=7)
-    fig.suptitle(f"{study.mechanism.name}: most influential input per response", fontsize=10)
-    images.update(encode(fig, "scatter", figure_format))
-    return images
+        points.append(
+            {
+                "title": f"{name} ({share:.0f} % from {input_label(driver)})",
+                "x_label": f"{input_label(driver)} ({x_unit})",
+                "y_label": unit,
+                "x": r.x[shown, i] * x_scale,
+                "y": r.run.values[shown, j] * scale,
+                "nominal": (study.spec.nominal[i] * x_scale, summary.nominal * scale),
+            }
+        )
+    jobs.append(
+        (histograms, (f"{title}: Monte Carlo, {int(ok.sum())} samples", counts, figure_format))
+    )
+    jobs.append((scatter, (f"{title}: most influential input per response", points, figure_format)))
+    return jobs
 
 
 def _scaled(value: float | None, scale: float = 1.0) -> float | None:
