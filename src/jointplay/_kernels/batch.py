@@ -299,7 +299,8 @@ def _explicit_lane(
     n_points = len(REFINE_POINTS)
     samples = np.empty((n_points + 2, n_q))
     pen = np.empty(model.clear_joint.shape[0])
-    contacts = np.empty(7 * model.clear_joint.shape[0])
+    record = np.empty(7 * model.clear_joint.shape[0])  # the joints' contact records at y
+    record_new = np.empty(7 * model.clear_joint.shape[0])  # and at y_new
     lam = np.zeros(eom.count_rows(model.active, model.driver))
     k = np.empty((7, size))
     ys = np.empty(size)
@@ -314,13 +315,12 @@ def _explicit_lane(
     t = 0.0
     y = y0.copy()
     f = np.empty(size)
-    eom.rhs_into(t, y, model, f)
+    eom.rhs_and_quantities(t, y, model, f, record, lam, qa, pen)
     counts[K_RHS] += 1
     if not (all_finite(y) and all_finite(f)):
         return STATUS_NON_FINITE, t
     in_window = t_settle <= 0.0
     if in_window:
-        eom.quantities(t, y, model, qa, pen)
         _open_window(qa, pen, peaks, stats, nb)
     h = max_step / 10.0
     status = STATUS_RUNNING
@@ -373,10 +373,8 @@ def _explicit_lane(
                 y_new[i] = y[i] + h * (
                     B1 * k[0, i] + B3 * k[2, i] + B4 * k[3, i] + B5 * k[4, i] + B6 * k[5, i]
                 )
-            if in_window:  # the quantities at the step's end come with its last stage
-                eom.rhs_and_quantities(t_new, y_new, model, k[6], contacts, lam, qb, pen)
-            else:
-                eom.rhs_into(t_new, y_new, model, k[6])
+            # the last stage also gives the contact records and the quantities at the step's end
+            eom.rhs_and_quantities(t_new, y_new, model, k[6], record_new, lam, qb, pen)
             counts[K_RHS] += 6
             total = 0.0
             for i in range(n_active):
@@ -392,7 +390,7 @@ def _explicit_lane(
                 had_rejection = True
                 counts[K_REJECTED] += 1
                 continue
-            theta = eom.onset_check(t, y, t_new, y_new, model)
+            theta = eom.onset_check_recorded(record, record_new, model)
             h_try = h * theta
             if theta < 1.0 and min_step <= h_try < h and n_check < MAX_CHECK_REJECTIONS:
                 h = h_try
@@ -405,15 +403,14 @@ def _explicit_lane(
         factor = MAX_FACTOR if err == 0.0 else min(MAX_FACTOR, max(MIN_FACTOR, SAFETY * err**-0.2))
         if had_rejection:
             factor = min(factor, 1.0)
-        changed = eom.contact_memory_and_projection(t_new, y_new, model, work)
+        changed = eom.contact_memory(y_new, model, record_new)
+        changed = eom.project(t_new, y_new, model, work) or changed
         if changed:
-            if in_window:
-                eom.rhs_and_quantities(t_new, y_new, model, f, contacts, lam, qb, pen)
-            else:
-                eom.rhs_into(t_new, y_new, model, f)
+            eom.rhs_and_quantities(t_new, y_new, model, f, record, lam, qb, pen)
             counts[K_RHS] += 1
         else:
             f[:] = k[6]
+            record[:] = record_new
         if not (all_finite(y_new) and all_finite(f)):
             status = STATUS_NON_FINITE
             break
@@ -429,7 +426,7 @@ def _explicit_lane(
             qa, qb = qb, qa
         elif t_new == t_settle:
             in_window = True
-            eom.quantities(t_new, y_new, model, qa, pen)
+            qa[:] = qb
             _open_window(qa, pen, peaks, stats, nb)
         t = t_new
         y, y_new = y_new, y

@@ -805,8 +805,28 @@ def onset_check(
         if old > 0.0:
             continue
         new = _penetration(y_new[:n], rot_new, joint_int, joint_f, j, clearance)
-        if new > tolerance:
-            theta = min(theta, (0.5 * tolerance - old) / (new - old))
+        theta = min(theta, _onset_fraction(old, new, tolerance))
+    return theta
+
+
+@njit(cache=True, inline="always")
+def _onset_fraction(old: float, new: float, tolerance: float) -> float:
+    """The step's fraction that ends at half the onset tolerance (secant), for a joint free
+    at the step's start (``old`` <= 0) and ``new`` deep at its end; 1 if not too deep."""
+    if new > tolerance:
+        return (0.5 * tolerance - old) / (new - old)
+    return 1.0
+
+
+@njit(cache=True)
+def onset_check_recorded(old: np.ndarray, new: np.ndarray, model: EomModel) -> float:
+    """:func:`onset_check` from the contact records (7 per joint, :func:`add_contact_forces`)
+    of the step's two ends: the same penetrations, none computed again."""
+    tolerance = model.settings[S_ONSET_TOL]
+    theta = 1.0
+    for c in range(model.clear_joint.shape[0]):
+        if old[7 * c + 2] <= 0.0:
+            theta = min(theta, _onset_fraction(old[7 * c + 2], new[7 * c + 2], tolerance))
     return theta
 
 
@@ -841,57 +861,84 @@ def contact_memory_and_projection(
     t: float, y: np.ndarray, model: EomModel, work: np.ndarray
 ) -> bool:
     """:func:`after_step` on an unpacked model (the batch engine's form)."""
-    joint_int, active, clear_joint = model.joint_int, model.active, model.clear_joint
-    mass, joint_f, driver, geom = model.mass, model.joint_f, model.driver, model.geom
-    settings = model.settings
-    n = mass.shape[0]
-    nc = clear_joint.shape[0]
-    changed = False
+    n = model.mass.shape[0]
+    nc = model.clear_joint.shape[0]
     q = y[:n]
     qd = y[n : 2 * n]
     rot = _rotations(q)
+    record = np.empty(7 * nc)
     for c in range(nc):
-        j = clear_joint[c]
-        delta, delta_dot = _contact_state(q, qd, rot, joint_int, joint_f, j, geom, c)[:2]
+        delta, delta_dot = _contact_state(
+            q, qd, rot, model.joint_int, model.joint_f, model.clear_joint[c], model.geom, c
+        )[:2]
+        record[7 * c + 2] = delta
+        record[7 * c + 3] = delta_dot
+    changed = contact_memory(y, model, record)
+    return project(t, y, model, work) or changed
+
+
+@njit(cache=True)
+def contact_memory(y: np.ndarray, model: EomModel, record: np.ndarray) -> bool:
+    """Update each joint's contact-event memory v0 (state slot ``2n + 2 + c``) from the
+    penetration δ and its rate δ̇ in ``record`` (7 per joint, :func:`add_contact_forces`'s
+    layout): a new event stores max(δ̇, v_mark), an ended one 0. Returns: a slot changed."""
+    n = model.mass.shape[0]
+    changed = False
+    for c in range(model.clear_joint.shape[0]):
+        delta, delta_dot = record[7 * c + 2], record[7 * c + 3]
         slot = 2 * n + 2 + c
         if delta > 0.0 and y[slot] <= 0.0:
-            y[slot] = max(delta_dot, settings[S_V_MARK])  # a new contact event begins
+            y[slot] = max(delta_dot, model.settings[S_V_MARK])  # a new contact event begins
             changed = True
         elif delta <= 0.0 and y[slot] > 0.0:
             y[slot] = 0.0  # the event has ended
             changed = True
+    return changed
+
+
+@njit(cache=True)
+def project(t: float, y: np.ndarray, model: EomModel, work: np.ndarray) -> bool:
+    """Project q and q̇ onto the ideal constraints when they are violated beyond the
+    projection tolerance; record the largest violation and the projections in ``work``.
+    Returns: the state changed."""
+    joint_int, active = model.joint_int, model.active
+    mass, joint_f, driver = model.mass, model.joint_f, model.driver
+    settings = model.settings
+    n = mass.shape[0]
+    q = y[:n]
+    qd = y[n : 2 * n]
     nj = active.shape[0]
     crank = int(driver[0])
     if active.sum() == 0:  # the driver alone: check |φ_k − φ_d(t)| without building Φ
         if crank < 0:
-            return changed
+            return False
         violation = abs(q[3 * crank + 2] - driver_motion(t, driver)[0])
         work[W_MAX_VIOLATION] = max(work[W_MAX_VIOLATION], violation)
         if violation <= settings[S_PROJ_TOL]:
-            return changed
+            return False
     joints = joint_int.reshape((nj, 3))
     joint_floats = joint_f.reshape((nj, 6))
     phi = residual(q, t, joints, joint_floats, active, driver)
     if phi.shape[0] == 0:
-        return changed
+        return False
     violation = np.max(np.abs(phi))
     work[W_MAX_VIOLATION] = max(work[W_MAX_VIOLATION], violation)
-    if violation > settings[S_PROJ_TOL]:
-        inv_mass = 1.0 / mass
-        for _ in range(3):
-            phi_q = jacobian(q, joints, joint_floats, active, driver)
-            weighted = phi_q * inv_mass
-            q -= inv_mass * (phi_q.T @ np.linalg.solve(weighted @ phi_q.T, phi))
-            phi = residual(q, t, joints, joint_floats, active, driver)
-            if np.max(np.abs(phi)) <= 1e-3 * settings[S_PROJ_TOL]:
-                break
+    if violation <= settings[S_PROJ_TOL]:
+        return False
+    inv_mass = 1.0 / mass
+    for _ in range(3):
         phi_q = jacobian(q, joints, joint_floats, active, driver)
         weighted = phi_q * inv_mass
-        drift = phi_q @ qd - velocity_rhs(t, active, driver)
-        qd -= inv_mass * (phi_q.T @ np.linalg.solve(weighted @ phi_q.T, drift))
-        work[W_PROJECTIONS] += 1.0
-        changed = True
-    return changed
+        q -= inv_mass * (phi_q.T @ np.linalg.solve(weighted @ phi_q.T, phi))
+        phi = residual(q, t, joints, joint_floats, active, driver)
+        if np.max(np.abs(phi)) <= 1e-3 * settings[S_PROJ_TOL]:
+            break
+    phi_q = jacobian(q, joints, joint_floats, active, driver)
+    weighted = phi_q * inv_mass
+    drift = phi_q @ qd - velocity_rhs(t, active, driver)
+    qd -= inv_mass * (phi_q.T @ np.linalg.solve(weighted @ phi_q.T, drift))
+    work[W_PROJECTIONS] += 1.0
+    return True
 
 
 after_step_signature = types.boolean(types.float64, types.float64[::1], ARGS_TYPE)
