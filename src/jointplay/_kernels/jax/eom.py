@@ -196,6 +196,11 @@ def step3(x: Scalar, x0: Scalar, h0: Scalar, x1: Scalar, h1: Scalar) -> Scalar:
     return jnp.where(x <= x0, h0, jnp.where(x >= x1, h1, inner))
 
 
+def power(d: Scalar, exponent: Scalar) -> Scalar:
+    """δ^e (:func:`jointplay._kernels.contact.power`: δ√δ for e = 3/2)."""
+    return jnp.where(exponent == 1.5, d * jnp.sqrt(d), d**exponent)
+
+
 def normal_force(law: int, p: Any, delta: Scalar, delta_dot: Scalar, v0: Scalar) -> Scalar:
     """:func:`jointplay._kernels.contact.normal_force` for the static ``law`` (N; 0 outside
     contact). ``p`` holds the law's packed parameters."""
@@ -203,9 +208,9 @@ def normal_force(law: int, p: Any, delta: Scalar, delta_dot: Scalar, v0: Scalar)
     d = jnp.where(inside, delta, 1.0)  # a safe penetration outside contact
     if law == kc.LAW_IMPACT:
         damping = step3(d, 0.0, 0.0, p[kc.IMPACT_D_MAX], p[kc.IMPACT_C_MAX])
-        force = p[kc.IMPACT_STIFFNESS] * d ** p[kc.IMPACT_EXPONENT] + damping * delta_dot
+        force = p[kc.IMPACT_STIFFNESS] * power(d, p[kc.IMPACT_EXPONENT]) + damping * delta_dot
     elif law == kc.LAW_HERTZ:
-        force = p[kc.HERTZ_STIFFNESS] * d ** p[kc.HERTZ_EXPONENT]
+        force = p[kc.HERTZ_STIFFNESS] * power(d, p[kc.HERTZ_EXPONENT])
     elif law == kc.LAW_KELVIN_VOIGT:
         force = p[kc.KV_STIFFNESS] * d + p[kc.KV_DAMPING] * delta_dot
     elif kc.HC_FIRST <= law <= kc.HC_LAST:
@@ -213,7 +218,9 @@ def normal_force(law: int, p: Any, delta: Scalar, delta_dot: Scalar, v0: Scalar)
         v_floor = p[kc.HC_V_FLOOR]
         v_eff = jnp.where(v_ref > v_floor, v_ref, v_floor)
         force = (
-            p[kc.HC_STIFFNESS] * d ** p[kc.HC_EXPONENT] * (1.0 + p[kc.HC_CHI] * delta_dot / v_eff)
+            p[kc.HC_STIFFNESS]
+            * power(d, p[kc.HC_EXPONENT])
+            * (1.0 + p[kc.HC_CHI] * delta_dot / v_eff)
         )
     else:  # read_layout refuses unknown ids
         raise ConfigError(f"normal-force law id {law} is not ported to JAX")
