@@ -33,12 +33,17 @@ Table 5.2: the DOPRI5 tableau, FSAL), propagating the 5th-order solution:
   at most ``h`` if this step had a rejection; ``h <= max_step``; first step ``max_step/10``;
   a step that would pass the next landmark (``t_settle``, then ``t_end``) is cut to land on
   it exactly; a step below ``10·spacing(t)`` ends the lane with ``STATUS_STEP_TOO_SMALL``;
-- after the error test, :func:`~jointplay._kernels.eom.step_check` (contact onset) may retry
-  the step shorter, as in the Radau kernel (``MAX_CHECK_REJECTIONS``); each retry counts as a
-  rejection but does not cap the next step's growth;
-- after acceptance, :func:`~jointplay._kernels.eom.after_step` (contact memory v0, projection
-  onto the ideal constraints); f is re-evaluated only if it changed the state (FSAL otherwise);
-  a non-finite state or f ends the lane with ``STATUS_NON_FINITE``.
+- the last stage's evaluation, at the step's end, also records every joint's contact
+  (penetration, its rate, forces) and the quantities of the peak rule
+  (:func:`~jointplay._kernels.eom.rhs_and_quantities`);
+- after the error test, the contact-onset check of the Radau kernel's ``step_check``, on those
+  records (:func:`~jointplay._kernels.eom.onset_check_recorded`), may retry the step shorter
+  (``MAX_CHECK_REJECTIONS``); each retry counts as a rejection but does not cap the next
+  step's growth;
+- after acceptance, the Radau kernel's ``after_step`` (contact memory v0 from the records,
+  then the projection onto the ideal constraints); f, the records and the quantities are
+  evaluated again only if it changed the state (FSAL otherwise); a non-finite state or f ends
+  the lane with ``STATUS_NON_FINITE``.
 
 **"implicit"** — the Radau IIA kernel of :mod:`jointplay._kernels.radau`, one lane at a time,
 with exactly the settings of :func:`jointplay.dynamics.simulate.simulate`; its accepted steps
@@ -51,12 +56,12 @@ quantities at the two ends of an accepted step inside the window (``Q_b`` after
 *refined* when, for any quantity p that may trigger (every quantity except ω and α of the
 driven body and of bodies held by an ideal prismatic joint to the ground),
 ``max(|Q_a,p|, |Q_b,p|) >= (1 − REFINE_MARGIN)·peak_p > 0``. A refined step evaluates the
-method's interpolant at θ = 1/4, 1/2, 3/4 (DOPRI5: SciPy's free 4th-order dense output ``P``
-below; Radau: cubic Hermite), the quantities at those states, and for every quantity takes
-``s_0..s_4 = |Q|`` at θ = 0, 1/4, 1/2, 3/4, 1: with ``m`` the first index of the largest,
-``0 < m < 4`` and ``c = s_{m−1} − 2 s_m + s_{m+1} < 0``, the vertex of the parabola through
-the three points, ``s_m − (s_{m−1} − s_{m+1})² / (8 c)`` (offset clipped to ±1/2 spacing),
-else ``s_m``; the peak becomes the larger of that and the running peak. The first step of
+method's interpolant at the seven ``REFINE_POINTS`` θ = 1/8, 2/8, …, 7/8 (DOPRI5: SciPy's
+free 4th-order dense output ``P`` below; Radau: cubic Hermite), the quantities at those
+states, and for every quantity takes ``s_0..s_8 = |Q|`` at θ = 0, 1/8, …, 7/8, 1: with ``m``
+the first index of the largest, ``0 < m < 8`` and ``c = s_{m−1} − 2 s_m + s_{m+1} < 0``, the
+vertex of the parabola through the three points, ``s_m − (s_{m−1} − s_{m+1})² / (8 c)``
+(offset clipped to ±1/2 spacing), else ``s_m``; the peak becomes the larger of that and the running peak. The first step of
 the window (whose start sets the peaks) is therefore always refined.
 
 Lanes are independent: the kernel's result for a lane does not depend on the other lanes,
