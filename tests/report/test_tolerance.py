@@ -108,3 +108,14 @@ def test_worker_processes_draw_the_same_images(paper_fourbar: Mechanism) -> None
     assert list(serial) == ["tornado.png", "histograms.png", "scatter.png"]
     assert list(parallel) == list(serial)
     assert parallel == serial
+
+
+def test_a_pool_that_is_shut_down_leaves_the_figures_to_this_process(
+    paper_fourbar: Mechanism,
+) -> None:
+    from concurrent.futures import ThreadPoolExecutor
+
+    study = tolerance_study(paper_fourbar, samples=30, seed=2, backend=Backend("serial"))
+    pool = ThreadPoolExecutor(1)
+    pool.shutdown()
+    assert study_plots(study, executor=pool) == study_plots(study)

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping
-from concurrent.futures import Executor
+from concurrent.futures import BrokenExecutor, Executor, Future
 from pathlib import Path
 from typing import Any
 
@@ -125,14 +125,23 @@ def study_plots(
     Args:
         executor: worker processes that draw all figures but the last while this process
             draws that one (the same images; default: all drawn here, one after the other).
+            A pool that is shut down or broken leaves its figures to this process.
     """
     jobs = _figure_jobs(study, figure_format)
-    pending = [executor.submit(function, *args) for function, args in jobs[:-1]] if executor else []
+    pending: list[Future[dict[str, bytes]]] = []
+    if executor is not None:
+        try:
+            pending = [executor.submit(function, *args) for function, args in jobs[:-1]]
+        except (RuntimeError, BrokenExecutor):  # shut down (RuntimeError) or broken
+            pending = []
     images: dict[str, bytes] = {}
     for function, args in jobs[len(pending) :]:
         images.update(function(*args))
-    for future in pending:
-        images.update(future.result())
+    for (function, args), future in zip(jobs, pending, strict=False):
+        try:
+            images.update(future.result())
+        except BrokenExecutor:  # a worker died: draw its figure here
+            images.update(function(*args))
     return {name: images[name] for name in sorted(images, key=_FIGURE_ORDER.index)}
 
 
