@@ -284,3 +284,28 @@ def test_packed_model_unpacks_to_the_same_named_fields(fourbar_with_gravity: Mec
     for name in eom.EomModel._fields:
         np.testing.assert_array_equal(getattr(unpacked, name), getattr(system.model, name))
         assert getattr(unpacked, name).dtype == getattr(system.model, name).dtype, name
+
+
+def test_the_contact_memory_is_the_rate_at_the_instant_of_contact(
+    fourbar_with_gravity: Mechanism,
+) -> None:
+    """A step from δ0 <= 0 to δ1 > 0 stores δ̇ interpolated to δ = 0 (linear in δ), not the
+    rate at the step's end, which depends on where the step ended; with no known start, the
+    rate at the end."""
+    assert eom.impact_rate(-1e-6, 0.3, 3e-6, 0.1) == pytest.approx(0.25)
+    assert eom.impact_rate(1e-6, 0.3, 3e-6, 0.1) == 0.1  # in contact already at the start
+    system = _system(fourbar_with_gravity, ("A",), _laws()["impact"], None)
+    model = eom.unpack(*eom.pack(system.model))
+    slot = 2 * system.n_coordinates + 2
+    y = np.zeros(system.n_state)
+    start, end = np.zeros(7), np.zeros(7)
+    start[2:4] = (-1e-6, 0.3)  # (δ, δ̇) in the record layout
+    end[2:4] = (3e-6, 0.1)
+    assert eom.contact_memory(y, model, end, start)
+    assert y[slot] == pytest.approx(0.25)
+    assert not eom.contact_memory(y, model, end, start)  # the event goes on: kept
+    y[slot] = 0.0
+    assert eom.contact_memory(y, model, end, start[:0])
+    assert y[slot] == 0.1
+    end[2] = -1e-7  # the pin leaves the wall: the event ends
+    assert eom.contact_memory(y, model, end, start) and y[slot] == 0.0

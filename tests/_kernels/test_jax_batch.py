@@ -171,11 +171,11 @@ def test_equations_of_motion_equal_numba(label: str, system: System) -> None:
         rhs = jax.jit(jax.vmap(model.rhs, in_axes=(0, 0, None)))
         outputs = jax.jit(jax.vmap(model.outputs, in_axes=(0, 0, None)))
         check = jax.jit(jax.vmap(model.step_check, in_axes=(None, 0, None)))
-        after = jax.jit(jax.vmap(model.after_step, in_axes=(0, 0, None)))
+        after = jax.jit(jax.vmap(model.after_step, in_axes=(0, 0, None, None)))
         got_rhs = np.asarray(rhs(times, states, rpar))
         _, got_q, got_pen = (np.asarray(a) for a in outputs(times, states, rpar))
         got_theta = np.asarray(check(states[0], states, rpar))
-        got_after = np.asarray(after(times, states, rpar))
+        got_after = np.asarray(after(times, states, rpar, states[0]))  # steps from states[0]
     expected = np.array([eom.rhs(t, y, args) for t, y in zip(times, states, strict=True)])
     _assert_blocks_close(got_rhs, expected, n)
     # The quantities, as simulate._columns computes them from eom.diagnostics.
@@ -203,7 +203,9 @@ def test_equations_of_motion_equal_numba(label: str, system: System) -> None:
         theta = eom.step_check(0.0, states[0], 1e-3, states[k], args)
         assert got_theta[k] == pytest.approx(theta, rel=1e-12)
         y = states[k].copy()
-        eom.after_step(times[k], y, args)
+        step = system.kernel_args()  # a step from states[0] (contact memory interpolates)
+        eom.start_workspace(states[0], step)
+        eom.after_step(times[k], y, step)
         scale = np.maximum(np.abs(y), 1e-12)
         np.testing.assert_allclose(got_after[k], y, rtol=0, atol=1e-9 * np.max(scale))
 

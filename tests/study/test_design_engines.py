@@ -104,18 +104,17 @@ def test_a_peak_design_runs_on_the_gpu_backend(both, paper_fourbar: Mechanism) -
         np.testing.assert_allclose(on_gpu.samples[name], both[0].samples[name], rtol=1e-9)
 
 
-def test_a_design_on_an_unconverged_contact_set_says_so(paper_fourbar: Mechanism, tmp_path) -> None:
-    """The RM set's peaks move by a large share of their spread when the tolerances are
-    tightened (measured 0.35-0.66 on seeds 1-3): the design warns, in summary.json and in the
-    report, beside the penetration warnings."""
+def test_an_unconverged_design_says_so(paper_fourbar: Mechanism, tmp_path) -> None:
+    """Integrated coarsely (rtol 1e-3), the peaks move by a large share of their spread when
+    the tolerances are tightened: the design warns, in summary.json and in the report, beside
+    the penetration warnings."""
+    from jointplay.dynamics.simulate import SolverOptions
     from jointplay.report.design import write_design
     from jointplay.study.design import design_units
-    from jointplay.study.methods import method_law
 
-    law = method_law("rm-conventional", paper_fourbar)[0]
     result = design_study(
-        paper_fourbar, ["H8/g7"], ["c"], ["joint_force <= 1 kN"], contact=law, samples=40,
-        seed=1, settle=0, revolutions=1.0, backend=LOCAL,
+        paper_fourbar, ["H8/g7"], ["c"], ["joint_force <= 1 kN"], samples=40, seed=1,
+        settle=0, revolutions=1.0, backend=LOCAL, solver=SolverOptions(rtol=1e-3),
     )  # fmt: skip
     check = result.convergence
     assert check is not None and check.share > check.limit and check.finding is not None

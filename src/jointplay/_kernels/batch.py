@@ -408,7 +408,7 @@ def _explicit_lane(
         factor = MAX_FACTOR if err == 0.0 else min(MAX_FACTOR, max(MIN_FACTOR, SAFETY * err**-0.2))
         if had_rejection:
             factor = min(factor, 1.0)
-        changed = eom.contact_memory(y_new, model, record_new)
+        changed = eom.contact_memory(y_new, model, record_new, record)
         changed = eom.project(t_new, y_new, model, work) or changed
         if changed:
             eom.rhs_and_quantities(t_new, y_new, model, f, record, lam, qb, pen)
@@ -557,7 +557,8 @@ def _implicit_lanes(
     peaks, stats, status, t_reached, counts = out
     n = int(ipar[eom.L_MASS])
     for lane in range(y0.shape[0]):
-        args = (rpar[lane], ipar, eom.new_workspace())
+        args = (rpar[lane], ipar, eom.new_workspace(int(ipar[eom.L_CLEAR_JOINT])))
+        eom.start_workspace(y0[lane], args)
         code, ts, ys, counters = radau_integrate(
             eom.rhs,
             eom.step_check,

@@ -14,7 +14,9 @@ statistics (``W_*``). State vector::
 - W_contact = ∫ Σ (F_N δ̇ + F_T v_T) dt, the work absorbed by the clearance contacts (J) —
   so KE + V_gravity − W_motor + W_contact is constant (energy balance);
 - v0: penetration rate at the start of the current contact event of each clearance joint
-  (m/s, 0 while free); it has zero time derivative and is set by :func:`after_step`.
+  (m/s, 0 while free); it has zero time derivative and is set by :func:`after_step`: after
+  the step in which the contact begins, at δ̇ interpolated to the instant δ = 0 between the
+  step's ends (linear in δ), so that it does not depend on where the step happened to end.
 
 Ideal joints and the driver are constraints Φ(q, t) = 0 (see :mod:`constraints`); with the
 diagonal mass matrix M the accelerations follow from the Schur complement
@@ -106,10 +108,11 @@ class EomModel(NamedTuple):
 
 
 #: The workspace of one integration (:func:`new_workspace`), written by :func:`after_step`:
-#: the largest constraint violation max |Φ| seen after a step (m or rad) and the number of
-#: projections onto the ideal constraints.
-W_MAX_VIOLATION, W_PROJECTIONS = 0, 1
-N_WORK = 2
+#: the largest constraint violation max |Φ| seen after a step (m or rad), the number of
+#: projections onto the ideal constraints, whether a step was accepted yet, and from
+#: ``N_WORK`` on, per clearance joint, δ and δ̇ at the last accepted step's end.
+W_MAX_VIOLATION, W_PROJECTIONS, W_HAS_PREVIOUS = 0, 1, 2
+N_WORK = 3
 
 #: :class:`EomModel`'s fields by dtype, in the order they are packed.
 _FLOAT_FIELDS = ("mass", "gravity", "joint_f", "driver", "geom", "law_p", "fric_p", "settings")
@@ -127,9 +130,10 @@ L_CLEAR_JOINT, L_GEOM, L_LAW_ID, L_LAW_P, L_FRIC_ID, L_FRIC_P, L_SETTINGS = (
 HEADER = len(EomModel._fields)
 
 
-def new_workspace() -> np.ndarray:
-    """An empty workspace for one integration: ``N_WORK`` zeros (see ``W_*``)."""
-    return np.zeros(N_WORK)
+def new_workspace(n_clear: int = 0) -> np.ndarray:
+    """An empty workspace for one integration of a model with ``n_clear`` clearance joints:
+    ``N_WORK + 2 n_clear`` zeros (see ``W_*``)."""
+    return np.zeros(N_WORK + 2 * n_clear)
 
 
 def pack(model: EomModel) -> tuple[np.ndarray, np.ndarray]:
@@ -861,6 +865,45 @@ def contact_memory_and_projection(
     t: float, y: np.ndarray, model: EomModel, work: np.ndarray
 ) -> bool:
     """:func:`after_step` on an unpacked model (the batch engine's form)."""
+    nc = model.clear_joint.shape[0]
+    kept = work.shape[0] >= N_WORK + 2 * nc  # the workspace holds the last step's end
+    record = _contact_records(y, model)
+    before = np.zeros(7 * nc if kept and work[W_HAS_PREVIOUS] > 0.0 else 0)
+    for c in range(before.shape[0] // 7):
+        before[7 * c + 2] = work[N_WORK + 2 * c]
+        before[7 * c + 3] = work[N_WORK + 2 * c + 1]
+    changed = contact_memory(y, model, record, before)
+    if project(t, y, model, work):
+        changed = True
+        record = _contact_records(y, model)
+    _remember(record, work)
+    return changed
+
+
+@njit(cache=True)
+def _remember(record: np.ndarray, work: np.ndarray) -> None:
+    """Keep δ and δ̇ of every joint (``record``, 7 per joint) in the workspace, if it has room,
+    as the start of the next step."""
+    nc = record.shape[0] // 7
+    if work.shape[0] < N_WORK + 2 * nc:
+        return
+    work[W_HAS_PREVIOUS] = 1.0
+    for c in range(nc):
+        work[N_WORK + 2 * c] = record[7 * c + 2]
+        work[N_WORK + 2 * c + 1] = record[7 * c + 3]
+
+
+@njit(cache=True)
+def start_workspace(y: np.ndarray, args: EomArgs) -> None:
+    """Record the initial state ``y`` in the workspace (``args[2]``) as the start of the first
+    step, for :func:`after_step`'s contact memory."""
+    _remember(_contact_records(y, unpack(args[0], args[1])), args[2])
+
+
+@njit(cache=True)
+def _contact_records(y: np.ndarray, model: EomModel) -> np.ndarray:
+    """δ and δ̇ of every clearance joint at ``y``, in a record of :func:`add_contact_forces`'s
+    layout (7 per joint; the other entries are not set)."""
     n = model.mass.shape[0]
     nc = model.clear_joint.shape[0]
     q = y[:n]
@@ -873,27 +916,43 @@ def contact_memory_and_projection(
         )[:2]
         record[7 * c + 2] = delta
         record[7 * c + 3] = delta_dot
-    changed = contact_memory(y, model, record)
-    return project(t, y, model, work) or changed
+    return record
 
 
 @njit(cache=True)
-def contact_memory(y: np.ndarray, model: EomModel, record: np.ndarray) -> bool:
-    """Update each joint's contact-event memory v0 (state slot ``2n + 2 + c``) from the
-    penetration δ and its rate δ̇ in ``record`` (7 per joint, :func:`add_contact_forces`'s
-    layout): a new event stores max(δ̇, v_mark), an ended one 0. Returns: a slot changed."""
+def contact_memory(y: np.ndarray, model: EomModel, record: np.ndarray, before: np.ndarray) -> bool:
+    """Update each joint's contact-event memory v0 (state slot ``2n + 2 + c``) after a step
+    from the penetration δ and its rate δ̇ at the step's end (``record``) and start
+    (``before``; empty: unknown), both 7 per joint in :func:`add_contact_forces`'s layout: a
+    new event stores max(δ̇ at δ = 0, v_mark) (:func:`impact_rate`), an ended one 0.
+    Returns: a slot changed."""
     n = model.mass.shape[0]
     changed = False
+    known = before.shape[0] > 0
     for c in range(model.clear_joint.shape[0]):
         delta, delta_dot = record[7 * c + 2], record[7 * c + 3]
         slot = 2 * n + 2 + c
-        if delta > 0.0 and y[slot] <= 0.0:
-            y[slot] = max(delta_dot, model.settings[S_V_MARK])  # a new contact event begins
+        if delta > 0.0 and y[slot] <= 0.0:  # a new contact event begins
+            rate = (
+                impact_rate(before[7 * c + 2], before[7 * c + 3], delta, delta_dot)
+                if known
+                else delta_dot
+            )
+            y[slot] = max(rate, model.settings[S_V_MARK])
             changed = True
         elif delta <= 0.0 and y[slot] > 0.0:
             y[slot] = 0.0  # the event has ended
             changed = True
     return changed
+
+
+@njit(cache=True, inline="always")
+def impact_rate(delta_0: float, rate_0: float, delta_1: float, rate_1: float) -> float:
+    """δ̇ at the instant δ = 0 of a step from (δ0, δ̇0) to (δ1, δ̇1), linear in δ; δ̇1 when the
+    step does not cross δ = 0 from outside (δ0 > 0, or δ1 <= δ0)."""
+    if delta_0 <= 0.0 and delta_1 > delta_0:
+        return rate_0 + (rate_1 - rate_0) * (-delta_0 / (delta_1 - delta_0))
+    return rate_1
 
 
 @njit(cache=True)

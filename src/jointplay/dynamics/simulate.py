@@ -499,6 +499,7 @@ def simulate(
     )
     t_end = (int(settle) + revolutions) * period
     args = system.kernel_args()
+    eom.start_workspace(np.ascontiguousarray(y0, dtype=float), args)
     wall = time.perf_counter()
     run = integrate(
         eom.rhs,

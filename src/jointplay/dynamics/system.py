@@ -61,7 +61,7 @@ class System:
         """The kernels' ``args`` for one integration: the model packed for the integrator's
         hooks (:func:`~jointplay._kernels.eom.pack`) and a new workspace."""
         rpar, ipar = eom.pack(self.model)
-        return rpar, ipar, eom.new_workspace()
+        return rpar, ipar, eom.new_workspace(len(self.clearances))
 
 
 def _frozen(values: ArrayLike, dtype: type) -> NDArray[np.generic]:

@@ -649,24 +649,31 @@ class JaxModel:
             theta = jnp.where(hit, jnp.minimum(theta, (0.5 * tolerance - old) / span), theta)
         return theta
 
-    def after_step(self, t: Scalar, y: Any, p: Any) -> Any:
-        """The state after an accepted step (eom.after_step): each clearance joint's contact
-        memory v0 set at the start of a contact event (max(δ̇, v_mark)) and cleared at its
-        end; then, when max |Φ| exceeds the projection tolerance, q projected (up to three
-        Newton steps) and q̇ projected, mass-weighted, onto the ideal constraints and the
-        driver (Hairer, Lubich & Wanner, *Geometric Numerical Integration*, §IV.4)."""
+    def after_step(self, t: Scalar, y: Any, p: Any, y_old: Any) -> Any:
+        """The state after an accepted step from ``y_old`` to ``y`` (eom.after_step): each
+        clearance joint's contact memory v0 set at the start of a contact event (max(δ̇ at
+        δ = 0, v_mark), eom.impact_rate) and cleared at its end; then, when max |Φ| exceeds
+        the projection tolerance, q projected (up to three Newton steps) and q̇ projected,
+        mass-weighted, onto the ideal constraints and the driver (Hairer, Lubich & Wanner,
+        *Geometric Numerical Integration*, §IV.4)."""
         n = self.n
         q, qd = y[:n], y[n : 2 * n]
         v_mark = self._setting(p, eom.S_V_MARK)
         for c in range(self.layout.nc):
             k = self._contact(q, qd, p, c)
+            k_old = self._contact(y_old[:n], y_old[n : 2 * n], p, c)
             slot = 2 * n + 2 + c
             delta, memory = k["delta"], y[slot]
             start = (delta > 0.0) & (memory <= 0.0)
             end = (delta <= 0.0) & (memory > 0.0)
-            value = jnp.where(
-                start, jnp.maximum(k["delta_dot"], v_mark), jnp.where(end, 0.0, memory)
+            crossing = (k_old["delta"] <= 0.0) & (delta > k_old["delta"])
+            fraction = -k_old["delta"] / jnp.where(crossing, delta - k_old["delta"], 1.0)
+            rate = jnp.where(
+                crossing,
+                k_old["delta_dot"] + (k["delta_dot"] - k_old["delta_dot"]) * fraction,
+                k["delta_dot"],
             )
+            value = jnp.where(start, jnp.maximum(rate, v_mark), jnp.where(end, 0.0, memory))
             y = y.at[slot].set(value)
         if self.layout.n_rows == 0:
             return y

@@ -343,7 +343,7 @@ class _LaneIntegrator:
         error_reject = ~err_ok & ~too_small
 
         # Accepted step: contact memory and projection, then ẏ and the quantities there.
-        y_acc = model.after_step(t_new, y_new, p)
+        y_acc = model.after_step(t_new, y_new, p, y)
         changed = jnp.any(y_acc != y_new)
         f_new, q_b, pen_b = model.outputs(t_new, y_acc, p)
         finite = _all_finite(y_acc) & _all_finite(f_new)
