@@ -415,7 +415,7 @@ def _explicit_lane(
             counts[K_RHS] += 1
         else:
             f[:] = k[6]
-            record[:] = record_new
+            record, record_new = record_new, record  # the end's records become the start's
         if not (all_finite(y_new) and all_finite(f)):
             status = STATUS_NON_FINITE
             break
