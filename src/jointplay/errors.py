@@ -28,6 +28,22 @@ class StandardsError(JointplayError, ValueError):
     """A tolerance designation or size lies outside what ISO 286 / ISO 2768 define."""
 
 
+class PartialInterrupt(KeyboardInterrupt):
+    """SIGINT or SIGTERM stopped a computation that keeps what it finished before it.
+
+    A KeyboardInterrupt, so that code that does not look for the partial result sees an
+    interrupt as from any Python code; code that does takes :attr:`partial`.
+
+    Attributes:
+        partial: the computation's result, with what did not finish marked as not run (each
+            raiser says how).
+    """
+
+    def __init__(self, partial: object, message: str = "interrupted") -> None:
+        super().__init__(message)
+        self.partial = partial
+
+
 def caused_by_interrupt(exc: BaseException) -> bool:
     """Whether a KeyboardInterrupt is among the causes of ``exc``: Numba reports a Ctrl-C
     that arrived in compiled code as a SystemError whose cause is the KeyboardInterrupt."""

@@ -305,3 +305,70 @@ def test_an_rm_set_runs_implicit_and_converges(paper_fourbar: Mechanism) -> None
         bound = {"omega": 1e-3, "alpha": 5e-2}.get(key.rstrip("0123456789"), 5e-3)
         error = np.max(np.abs(result.peaks[key] / exact.peaks[key] - 1))
         assert error < bound, (key, error)
+
+
+@pytest.fixture
+def interrupt_after_first_chunk(monkeypatch: pytest.MonkeyPatch) -> None:
+    """SIGINT to this process as soon as the first chunk of lanes has finished (the readiness
+    signal: the engine's progress callback), as Ctrl-C would send it."""
+    import os
+    import signal
+    from contextlib import contextmanager
+
+    from jointplay.dynamics import batch
+
+    @contextmanager
+    def progress(enabled: bool, total: int):
+        def advance(count: int) -> None:
+            os.kill(os.getpid(), signal.SIGINT)
+
+        yield advance
+
+    monkeypatch.setattr(batch, "_progress", progress)
+
+
+@pytest.mark.parametrize("backend", ["local", "processes", "dask"])
+def test_an_interrupt_keeps_the_finished_lanes(
+    paper_fourbar: Mechanism, reference, interrupt_after_first_chunk, backend: str
+) -> None:
+    """Ctrl-C stops the batch on every CPU backend, and the lanes that had finished come back
+    with the interrupt, bit for bit what an uninterrupted run gives; the others are marked
+    not run."""
+    from distributed import LocalCluster
+
+    from jointplay.dynamics import batch
+    from jointplay.dynamics.batch import NOT_RUN, BatchInterrupted
+    from jointplay.dynamics.integrate import IntegrationStatus
+
+    samples, expected = reference
+    options = {"chunk_size": 2}
+    with (
+        LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None)
+        if backend == "dask"
+        else _nothing() as cluster
+    ):
+        if backend == "processes":
+            options["workers"] = 2
+        if backend == "dask":
+            options["scheduler"] = cluster.scheduler_address
+        with pytest.raises(BatchInterrupted) as stopped:
+            simulate_batch(paper_fourbar, _joints(), samples, backend=backend, **options)
+        batch._close_clients()
+    result = stopped.value.result
+    assert isinstance(stopped.value, KeyboardInterrupt)
+    finished = result.status != IntegrationStatus.INTERRUPTED
+    assert 2 <= finished.sum() < len(samples)  # at least the first chunk, not everything
+    assert all(e == NOT_RUN for e in np.asarray(result.errors)[~finished])
+    assert not result.ok[~finished].any() and np.isnan(result.peaks.to_numpy()[~finished]).all()
+    np.testing.assert_array_equal(
+        result.peaks.to_numpy()[finished], expected.peaks.to_numpy()[finished]
+    )
+    np.testing.assert_array_equal(
+        result.statistics.to_numpy()[finished], expected.statistics.to_numpy()[finished]
+    )
+
+
+def _nothing():
+    from contextlib import nullcontext
+
+    return nullcontext()

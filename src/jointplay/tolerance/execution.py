@@ -62,7 +62,7 @@ from typing import Any, Generic, Literal, TypeVar
 import numpy as np
 from numpy.typing import NDArray
 
-from jointplay.errors import ConfigError, caused_by_interrupt
+from jointplay.errors import ConfigError, PartialInterrupt, caused_by_interrupt
 from jointplay.tolerance.responses import CheckedModel, Evaluation, ResponseModel
 
 __all__ = [
@@ -257,7 +257,10 @@ class TaskRun(Generic[R]):
     """Results of :func:`run_tasks`, in the order of the items.
 
     Attributes:
-        results: the function's result per item; ``None`` where it failed or did not run.
+        results: the function's result per item; ``None`` where it failed or did not run;
+            for an item that an interrupt stopped midway on the local backend, the partial
+            result its function raised with (a :class:`~jointplay.errors.PartialInterrupt`),
+            with status 2.
         status: (n,) int8 codes of :data:`STATUS` (0 ok, 1 failed, 2 not run).
         errors: n messages: ``""`` where the item succeeded, ``"ErrorType: message"`` where
             the function raised, ``"not run (interrupted)"`` where Ctrl-C came first.
@@ -344,7 +347,11 @@ def run_tasks(
         try:
             if kind == "local":
                 for index, item in enumerate(items):
-                    store(index, _attempt(function, shared, item))
+                    try:
+                        store(index, _attempt(function, shared, item))
+                    except PartialInterrupt as stopped:  # keep what the item finished
+                        results[index] = stopped.partial  # type: ignore[assignment]
+                        raise
                     advance(weights[index])
             elif kind == "processes":
                 _run_processes(function, items, shared, workers, store, weights, advance)
@@ -504,9 +511,11 @@ def run(
         starts, blocks, tasks.status, tasks.errors, tasks.results, strict=True
     ):
         stop = start + len(block)
-        if evaluation is not None:
+        if evaluation is not None:  # finished, or partly (an interrupted block)
             values[start:stop] = evaluation.values
             status[start:stop] = np.where(evaluation.ok, OK, FAILED)
+            if evaluation.finished is not None:
+                status[start:stop][~evaluation.finished] = NOT_RUN
             errors[start:stop] = evaluation.errors
             if check_names and evaluation.checks is not None:
                 checks[start:stop] = evaluation.checks
