@@ -168,7 +168,7 @@ class _InterruptedMidBlock(_InterruptedAfter):
     def evaluate(self, x: np.ndarray) -> Evaluation:
         self.calls += 1
         if self.calls == 1:
-            return super().evaluate(x)
+            return Evaluation(x.copy(), np.ones(len(x), dtype=bool), ("",) * len(x))
         finished = np.arange(len(x)) < 4
         errors = tuple("" if f else "not run (interrupted)" for f in finished)
         values = np.where(finished[:, None], x, np.nan)
