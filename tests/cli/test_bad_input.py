@@ -333,7 +333,7 @@ def test_bad_input_is_one_line_exit_2_and_leaves_out_alone(
 
 @pytest.mark.parametrize(
     ("out", "culprit"),
-    [("", "--out"), (".", "--out"), ("/proc/jointplay-x", "output folder")],
+    [("", "--out"), (".", "--out"), ("/proc/jointplay-x", "is a system folder")],
     ids=["empty", "dot", "proc"],
 )
 def test_unusable_out_is_refused_before_computing(

@@ -24,7 +24,7 @@ try:  # Typer >= 0.20 vendors its own copy of Click, whose exceptions it raises
 except ImportError:  # pragma: no cover - older Typer uses the click package
     from click import exceptions as click_exceptions  # type: ignore[no-redef]
 
-from jointplay.errors import JointplayError, caused_by_interrupt
+from jointplay.errors import Interrupted, JointplayError, caused_by_interrupt
 
 
 def _flags_show_no_metavar() -> None:
@@ -94,14 +94,6 @@ EXIT_INTERRUPTED = 130
 
 #: The line printed when a run is interrupted before it could write anything.
 NOTHING_KEPT = "jointplay: interrupted; nothing was written (the output folder is as it was)"
-
-
-class Interrupted(Exception):
-    """Raised by a command that was interrupted but kept partial results.
-
-    Its message is the one line saying what was kept; :func:`run` prints it and returns
-    :data:`EXIT_INTERRUPTED`.
-    """
 
 
 def fail(message: str) -> None:
@@ -242,7 +234,7 @@ def run(argv: list[str] | None = None) -> int:
         fail(_one_line(exc.format_message()))
         return EXIT_ERROR if exc.exit_code in (1, 2) else int(exc.exit_code)
     except Interrupted as exc:
-        print(f"jointplay: interrupted; {_one_line(str(exc))}", file=sys.stderr)
+        print(f"jointplay: interrupted; {exc.line()}", file=sys.stderr)
         return EXIT_INTERRUPTED
     except (typer.Abort, KeyboardInterrupt):
         print(NOTHING_KEPT, file=sys.stderr)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 import shlex
 import sys
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from contextlib import AbstractContextManager, nullcontext
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
@@ -115,13 +115,18 @@ FigureFormatOption = Annotated[
 ForceOption = Annotated[
     bool,
     typer.Option(
-        "--force", help="Replace --out even if it is a non-empty folder jointplay did not write."
+        "--force",
+        help="Replace --out even if it is a non-empty folder jointplay did not write (never "
+        "the home folder, a system folder or a folder holding an input of the run).",
     ),
 ]
 
 
-def maybe_output_dir(out: Path | None, force: bool = False) -> AbstractContextManager[Path | None]:
-    """:func:`jointplay.io.output.output_dir` for ``out``, or ``None`` without one.
+def maybe_output_dir(
+    out: Path | None, force: bool = False, inputs: Sequence[Path | None] = ()
+) -> AbstractContextManager[Path | None]:
+    """:func:`jointplay.io.output.output_dir` for ``out`` (``inputs``: the files the run
+    reads), or ``None`` without one.
 
     Enter it before computing, so that an unusable ``--out`` is reported first.
     """
@@ -129,7 +134,7 @@ def maybe_output_dir(out: Path | None, force: bool = False) -> AbstractContextMa
         return nullcontext(None)
     from jointplay.io.output import output_dir
 
-    return output_dir(out, force=force)
+    return output_dir(out, force=force, inputs=inputs)
 
 
 def mechanism_from_options(

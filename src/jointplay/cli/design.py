@@ -8,12 +8,12 @@ from __future__ import annotations
 import math
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any, cast
 
 import typer
 from rich.console import Console
 
-from jointplay.cli._app import Interrupted, app
+from jointplay.cli._app import app
 from jointplay.cli._common import (
     ConfigOption,
     FigureFormatOption,
@@ -46,7 +46,7 @@ from jointplay.cli.tolerance import (
     contact_law,
     solver_options,
 )
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, Interrupted, PartialInterrupt
 from jointplay.units import parse_quantity
 
 if TYPE_CHECKING:
@@ -288,43 +288,50 @@ def design_command(
     wear = wear_settings(data, wear_coefficient, hardness)
     where = backend_from_options(backend, workers, dask_scheduler)
     figure_format = check_figure_format(figure_format)
-    with output_dir(out, force=force) as folder:  # checked before the study runs
-        result = design_study(
-            mechanism,
-            candidates,
-            class_list,
-            require,
-            samples=samples,
-            seed=seed,
-            truncate=truncate,
-            confidence=confidence / 100.0,
-            responses=kind,  # type: ignore[arg-type]
-            cost=cost,
-            clearance_limit=limit,
-            clearance_allowance=allowance,
-            wear=wear,
-            contact=law,
-            settle=settle,
-            revolutions=revolutions,
-            solver=solver_options(rtol),
-            backend=where,
-            progress=progress,
-        )
+    # the output folder is checked before the study runs
+    with output_dir(out, force=force, inputs=(config, table)) as folder:
+        missing = []
+        try:
+            result = design_study(
+                mechanism,
+                candidates,
+                class_list,
+                require,
+                samples=samples,
+                seed=seed,
+                truncate=truncate,
+                confidence=confidence / 100.0,
+                responses=kind,  # type: ignore[arg-type]
+                cost=cost,
+                clearance_limit=limit,
+                clearance_allowance=allowance,
+                wear=wear,
+                contact=law,
+                settle=settle,
+                revolutions=revolutions,
+                solver=solver_options(rtol),
+                backend=where,
+                progress=progress,
+            )
+        except PartialInterrupt as stopped:  # in the convergence check: every scheme finished
+            result, missing = cast("DesignResult", stopped.partial), ["the convergence check"]
         units = design_units(mechanism, result.responses)  # type: ignore[arg-type]
         summary = result.summary()
-        write_design(
-            result,
-            folder,
-            units,
-            plots=plots,
-            provenance=provenance(summary["settings"]),
-            figure_format=figure_format,
-        )
-    _print(result, units)
-    if result.interrupted:
-        raise Interrupted(
-            f"{len(result.table)} scheme(s) finished; their results were written to {out}"
-        )
+        finished = (len(result.table), int(summary["settings"]["schemes"]), "schemes")
+        try:
+            write_design(
+                result,
+                folder,
+                units,
+                plots=plots,
+                provenance=provenance(summary["settings"]),
+                figure_format=figure_format,
+            )
+        except KeyboardInterrupt:  # the tables and summary are written first, whole
+            raise Interrupted(*finished, ", ".join([*missing, "the figures and report"])) from None
+        _print(result, units)
+        if result.interrupted or missing:
+            raise Interrupted(*finished, ", ".join(missing))
     console.print(f"results written to {out}")
 
 

@@ -141,7 +141,7 @@ def simulate_command(
     from jointplay.model.summary import mechanism_summary
 
     figure_format = check_figure_format(figure_format)
-    with output_dir(out, force=force) as folder:
+    with output_dir(out, force=force, inputs=(config,)) as folder:
         table = simulation_settings(config)
         given = {
             "contact": contact, "k": k, "exponent": exponent, "cmax": cmax, "depth": depth,

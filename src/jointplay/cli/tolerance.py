@@ -9,12 +9,12 @@ from __future__ import annotations
 import math
 import sys
 from enum import StrEnum
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any, cast
 
 import typer
 from rich.console import Console
 
-from jointplay.cli._app import Interrupted, app
+from jointplay.cli._app import app
 from jointplay.cli._common import (
     ConfigOption,
     FigureFormatOption,
@@ -38,7 +38,7 @@ from jointplay.cli._simulation import (
     RtolOption,
     StiffnessOption,
 )
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, Interrupted, PartialInterrupt
 from jointplay.units import parse_quantity
 
 if TYPE_CHECKING:
@@ -293,7 +293,7 @@ def tolerance_command(
     from jointplay.tolerance.methods import MonteCarlo, Rss, ToleranceMethod, WorstCase
 
     figure_format = check_figure_format(figure_format)
-    with output_dir(out, force=force) as folder:
+    with output_dir(out, force=force, inputs=(config,)) as folder:
         mechanism, spec = load_study_spec(preset, config)
         _check_lengths(spec)
         if rpm is not None:
@@ -337,36 +337,44 @@ def tolerance_command(
             analysis = Rss(fd_step=fd_step)
         else:
             analysis = WorstCase(corners=corners.value, fd_step=fd_step)
-        study = tolerance_study(
-            mechanism,
-            spec,
-            method=analysis,
-            responses=responses.value,
-            limits=limits,
-            contact=law,
-            start=start.value,
-            settle=settle,
-            revolutions=revolutions,
-            solver=solver_options(rtol),
-            backend=where,
-            progress=progress,
-        )
+        missing = []
+        try:
+            study = tolerance_study(
+                mechanism,
+                spec,
+                method=analysis,
+                responses=responses.value,
+                limits=limits,
+                contact=law,
+                start=start.value,
+                settle=settle,
+                revolutions=revolutions,
+                solver=solver_options(rtol),
+                backend=where,
+                progress=progress,
+            )
+        except PartialInterrupt as stopped:  # in the convergence check: every point finished
+            study, missing = (
+                cast("ToleranceStudyResult", stopped.partial),
+                ["the convergence check"],
+            )
         summary = study.summary()
-        write_study(
-            study,
-            folder,
-            plots=plots,
-            provenance=provenance(summary["configuration"]),
-            figure_format=figure_format,
-            executor=running_pool(),  # the batch engine's idle workers draw plots too
-        )
-    _print(study)
-    if study.interrupted:
         counts = summary["counts"]
-        raise Interrupted(
-            f"{counts['ok'] + counts['failed']} of {counts['points']} points finished; "
-            f"their results were written to {out}"
-        )
+        finished = (counts["ok"] + counts["failed"], counts["points"], "points")
+        try:
+            write_study(
+                study,
+                folder,
+                plots=plots,
+                provenance=provenance(summary["configuration"]),
+                figure_format=figure_format,
+                executor=running_pool(),  # the batch engine's idle workers draw plots too
+            )
+        except KeyboardInterrupt:  # the samples and summary are written first, whole
+            raise Interrupted(*finished, ", ".join([*missing, "the figures and report"])) from None
+        _print(study)
+        if study.interrupted or missing:
+            raise Interrupted(*finished, ", ".join(missing))
     console.print(f"results written to {out}")
 
 
