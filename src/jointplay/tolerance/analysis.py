@@ -267,6 +267,8 @@ def convergence_finding(
     )
     where = Backend("local") if backend is None or backend.kind == "gpu" else backend
     again = run(tightened, x[rows], backend=where)
+    if again.interrupted:  # a check of some samples is no check
+        raise KeyboardInterrupt("interrupted during the convergence check")
     values = outcome.values
     with np.errstate(divide="ignore", invalid="ignore"):
         spread = np.nanstd(values[ok], axis=0, ddof=1)
