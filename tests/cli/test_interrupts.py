@@ -27,7 +27,7 @@ pytestmark = pytest.mark.slow
 #: Runs ``jointplay ARGS`` with a readiness file (``$JOINTPLAY_TEST_READY``) that appears
 #: when the compiled integration starts (``integration``) or when the first samples (more
 #: than the nominal point) have finished (``samples``: the progress callbacks of the batch
-#: engine and of the executor).
+#: engine and of the executor), or when the figures are being drawn (``figures``).
 _LAUNCHER = """
 import os
 import sys
@@ -60,6 +60,16 @@ if __name__ == "__main__":
 
     if sys.argv[1] == "integration":
         integrate._interrupts_watched = announcing(integrate._interrupts_watched, "integration")
+    elif sys.argv[1] == "figures":  # announce, then draw for as long as it takes the signal
+        import time
+
+        from jointplay.report import design, tolerance
+
+        def drawing(*args, **kwargs):
+            Path(os.environ["JOINTPLAY_TEST_READY"]).touch()
+            time.sleep(120)
+
+        tolerance.study_plots = design.design_plots = drawing
     else:
         batch._progress = announcing(batch._progress, "samples")
         execution._progress_bar = announcing(execution._progress_bar, "samples")
@@ -218,3 +228,27 @@ def test_interrupts_at_random_moments_never_lose_a_result(tmp_path: Path, backen
         )  # fmt: skip
         assert done.returncode == 0, done.stderr
         assert _state(target)[0] == 1.0  # type: ignore[index]
+
+
+@pytest.mark.parametrize("command", ["tolerance", "design"])
+def test_an_interrupt_while_the_figures_are_drawn_keeps_the_samples(
+    tmp_path: Path, command: str
+) -> None:
+    """Every sample had finished: the data files are kept (beside a complete result)."""
+    arguments = {
+        "tolerance": ["tolerance", "--samples", "40"],
+        "design": ["design", "--fits", "H7/g6,H8/f7", "--classes", "m", "--require"]
+        + ["rocker_swing >= 50 deg"],
+    }[command]
+    out = tmp_path / "out"
+    status, err = _interrupt(tmp_path, "figures", [*arguments, "--out", str(out)])
+    assert status == 130, err
+    unit = "points" if command == "tolerance" else "schemes"
+    total = 40 if command == "tolerance" else 2
+    assert err.strip().splitlines()[-1] == (
+        f"jointplay: interrupted; {total} of {total} {unit} finished (the figures and report "
+        f"missing); their results were written to {out}"
+    )
+    assert (out / "summary.json").is_file() and (out / "samples.parquet").is_file()
+    assert not (out / "report.html").exists()
+    assert _leftovers(out) == []
