@@ -237,8 +237,15 @@ def test_an_interrupt_while_the_figures_are_drawn_keeps_the_samples(
     """Every sample had finished: the data files are kept (beside a complete result)."""
     arguments = {
         "tolerance": ["tolerance", "--samples", "40"],
-        "design": ["design", "--fits", "H7/g6,H8/f7", "--classes", "m", "--require"]
-        + ["rocker_swing >= 50 deg"],
+        "design": [
+            "design",
+            "--fits",
+            "H7/g6,H8/f7",
+            "--classes",
+            "m",
+            "-r",
+            "rocker_swing >= 50 deg",
+        ],
     }[command]
     out = tmp_path / "out"
     status, err = _interrupt(tmp_path, "figures", [*arguments, "--out", str(out)])
