@@ -238,6 +238,31 @@ def choice(text: str, option: str, choices: Iterable[str]) -> str:
     return value
 
 
+#: The most samples of a study (and of each scheme of a design): 10 million samples of a
+#: dynamic study run for days; a larger number is a typo, refused before memory is asked for.
+MAX_SAMPLES = 10_000_000
+#: The most local worker processes.
+MAX_WORKERS = 1024
+#: The most crank revolutions simulated (analysed plus start-up) per simulation: a
+#: four-bar at 200 rpm runs ~100 revolutions a second on one core, so 10 000 take minutes
+#: per simulation and the integrator's step budget runs out beyond.
+MAX_REVOLUTIONS = 10_000
+
+
+def check_revolutions(revolutions: float, settle: int = 0, option: str = "--revolutions") -> None:
+    """Refuse revolutions that are not > 0, and revolutions plus ``settle`` beyond
+    :data:`MAX_REVOLUTIONS`, naming ``option``."""
+    if not (math.isfinite(revolutions) and revolutions > 0):
+        raise ConfigError(f"{option} must be > 0, got {revolutions:g}")
+    if settle < 0:
+        raise ConfigError(f"--settle must be a whole number of revolutions >= 0, got {settle}")
+    if revolutions + settle > MAX_REVOLUTIONS:
+        raise ConfigError(
+            f"{option} {revolutions:g}{f' with --settle {settle}' if settle else ''} is more than "
+            f"{MAX_REVOLUTIONS} revolutions per simulation; ask for fewer"
+        )
+
+
 def check_figure_format(text: str) -> str:
     """The ``--figure-format`` value, checked (before any computation)."""
     return choice(text, "--figure-format", FIGURE_FORMATS)

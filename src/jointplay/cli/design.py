@@ -15,6 +15,8 @@ from rich.console import Console
 
 from jointplay.cli._app import app
 from jointplay.cli._common import (
+    MAX_SAMPLES,
+    MAX_WORKERS,
     ConfigOption,
     FigureFormatOption,
     ForceOption,
@@ -26,6 +28,7 @@ from jointplay.cli._common import (
     SettleOption,
     WearCoefficientOption,
     check_figure_format,
+    check_revolutions,
     choice,
     mechanism_from_options,
     provenance,
@@ -65,15 +68,9 @@ def read_table(path: Path | None, config: Path | None = None) -> dict[str, Any]:
     tables = design_tables(config)
     if path is None:
         return tables
-    import tomllib
+    from jointplay.io.config import read_toml
 
-    try:
-        with open(path, "rb") as handle:
-            data = tomllib.load(handle)
-    except OSError as exc:
-        raise ConfigError(f"--table {path}: cannot read it ({exc.strerror})") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"--table {path}: not valid TOML ({exc})") from None
+    data = read_toml(path, "--table file")
     return {**tables, **design_table_keys(data, f"--table {path}")}
 
 
@@ -167,7 +164,7 @@ def design_command(
         typer.Option("--confidence", help="Share of samples that must meet a requirement, %."),
     ] = 99.73,
     samples: Annotated[
-        int, typer.Option("--samples", "-n", help="Samples per scheme.", min=1)
+        int, typer.Option("--samples", "-n", help="Samples per scheme.", min=1, max=MAX_SAMPLES)
     ] = 200,
     seed: Annotated[
         int, typer.Option("--seed", help="Seed (the same for every scheme).", min=0)
@@ -223,7 +220,12 @@ def design_command(
     backend: BackendOption = "processes",
     workers: Annotated[
         int | None,
-        typer.Option("--workers", help="Local worker processes (default: one per CPU).", min=1),
+        typer.Option(
+            "--workers",
+            help="Local worker processes (default: one per CPU).",
+            min=1,
+            max=MAX_WORKERS,
+        ),
     ] = None,
     dask_scheduler: Annotated[
         str | None, typer.Option("--dask-scheduler", help="Run on the Dask cluster at ADDRESS.")
@@ -283,6 +285,7 @@ def design_command(
     )
     class_list = [c.strip() for c in classes.split(",") if c.strip()]
     limit, allowance = parse_clearance_limit(clearance_limit)
+    check_revolutions(revolutions, settle)
     data = read_table(table, config)
     cost = CostModel.from_table(data.get("cost", {}))
     wear = wear_settings(data, wear_coefficient, hardness)

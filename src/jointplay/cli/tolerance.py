@@ -6,7 +6,6 @@ CLI starts (``jointplay --help``).
 
 from __future__ import annotations
 
-import math
 import sys
 from enum import StrEnum
 from typing import TYPE_CHECKING, Annotated, Any, cast
@@ -16,6 +15,8 @@ from rich.console import Console
 
 from jointplay.cli._app import app
 from jointplay.cli._common import (
+    MAX_SAMPLES,
+    MAX_WORKERS,
     ConfigOption,
     FigureFormatOption,
     ForceOption,
@@ -24,6 +25,7 @@ from jointplay.cli._common import (
     PresetOption,
     RpmOption,
     check_figure_format,
+    check_revolutions,
     crank_speed,
     parse_gravity,
     provenance,
@@ -149,7 +151,7 @@ def tolerance_command(
         Method, typer.Option("--method", help="monte-carlo, worst-case (corners) or rss.")
     ] = Method.monte_carlo,
     samples: Annotated[
-        int, typer.Option("--samples", "-n", help="Monte Carlo samples.", min=1)
+        int, typer.Option("--samples", "-n", help="Monte Carlo samples.", min=1, max=MAX_SAMPLES)
     ] = 1000,
     seed: Annotated[
         int, typer.Option("--seed", help="Seed: the same seed gives the same samples.", min=0)
@@ -254,7 +256,12 @@ def tolerance_command(
     backend: BackendOption = "processes",
     workers: Annotated[
         int | None,
-        typer.Option("--workers", help="Local worker processes (default: one per CPU).", min=1),
+        typer.Option(
+            "--workers",
+            help="Local worker processes (default: one per CPU).",
+            min=1,
+            max=MAX_WORKERS,
+        ),
     ] = None,
     dask_scheduler: Annotated[
         str | None,
@@ -305,10 +312,7 @@ def tolerance_command(
         dynamic = responses is not Responses.kinematic
         if dynamic and not clearances:
             spec = spec.only("length")
-        if not (math.isfinite(revolutions) and revolutions > 0):
-            raise ConfigError(f"--revolutions must be > 0, got {revolutions}")
-        if settle < 0:
-            raise ConfigError(f"--settle must be a whole number of revolutions >= 0, got {settle}")
+        check_revolutions(revolutions, settle)
         contact_options = {
             "contact": contact,
             "k": k,
