@@ -259,3 +259,41 @@ def test_an_interrupt_while_the_figures_are_drawn_keeps_the_samples(
     assert (out / "summary.json").is_file() and (out / "samples.parquet").is_file()
     assert not (out / "report.html").exists()
     assert _leftovers(out) == []
+
+
+def _children(pid: int) -> set[int]:
+    """The process ids of ``pid``'s children (Linux: /proc)."""
+    found: set[int] = set()
+    for task in Path(f"/proc/{pid}/task").glob("*"):
+        try:
+            found |= {int(c) for c in (task / "children").read_text().split()}
+        except OSError:
+            continue
+    return found
+
+
+def _alive(pid: int) -> bool:
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return False
+    return state != "Z"
+
+
+@pytest.mark.skipif(not Path("/proc/self/task").exists(), reason="needs Linux /proc")
+def test_the_worker_pool_dies_with_its_parent(tmp_path: Path) -> None:
+    """SIGKILL of the command (no clean-up runs) used to leave its workers for minutes."""
+    out = tmp_path / "tol"
+    arguments = ["tolerance", "--responses", "dynamic", "--samples", "40000", "--backend"]
+    arguments += ["processes", "--workers", "2", "--revolutions", "1", "--settle", "0"]
+    arguments += ["--no-progress", "--no-plots", "--out", str(out)]
+    process, ready = _start(tmp_path, "samples", arguments)
+    assert _wait_for(process, ready), process.communicate()
+    workers = _children(process.pid)
+    assert len(workers) >= 2
+    process.kill()
+    process.communicate(timeout=60)
+    deadline = time.monotonic() + 10  # each worker looks at its parent every 0.5 s
+    while any(_alive(pid) for pid in workers):
+        assert time.monotonic() < deadline, [pid for pid in workers if _alive(pid)]
+        time.sleep(0.1)

@@ -372,3 +372,54 @@ def _nothing():
     from contextlib import nullcontext
 
     return nullcontext()
+
+
+def test_a_dask_cluster_without_workers_is_a_clear_error(
+    paper_fourbar: Mechanism, reference, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """It used to wait 30 s and end with a bare TimeoutError (exit 3)."""
+    from distributed import LocalCluster
+
+    from jointplay.dynamics import batch
+
+    monkeypatch.setattr(batch, "DASK_NO_WORKERS_S", 0.5)
+    samples, _ = reference
+    with LocalCluster(n_workers=0, processes=False, dashboard_address=None) as cluster:
+        address = cluster.scheduler_address
+        with pytest.raises(ConfigError, match=r"has no workers \(none joined within 0.5 s\)"):
+            simulate_batch(paper_fourbar, _joints(), samples, backend="dask", scheduler=address)
+
+
+def test_a_dask_cluster_that_loses_its_workers_keeps_the_finished_lanes(
+    paper_fourbar: Mechanism, reference, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The workers go away after the first chunk: the batch ends in bounded time (it used to
+    wait for ever), the finished lanes kept, the others failed with the reason."""
+    from contextlib import contextmanager
+
+    from distributed import LocalCluster
+
+    from jointplay.dynamics import batch
+
+    samples, expected = reference
+    monkeypatch.setattr(batch, "DASK_NO_WORKERS_S", 1.0)
+    with LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None
+    ) as cluster:
+
+        @contextmanager
+        def progress(enabled: bool, total: int):
+            yield lambda count: cluster.scale(0)
+
+        monkeypatch.setattr(batch, "_progress", progress)
+        result = simulate_batch(
+            paper_fourbar, _joints(), samples, backend="dask", scheduler=cluster.scheduler_address,
+            chunk_size=2,
+        )  # fmt: skip
+        batch._close_clients()
+    assert 2 <= result.ok.sum() < len(samples)
+    lost = [e for e in result.errors if e]
+    assert lost and all("has had no worker for 1 s" in e for e in lost), lost
+    np.testing.assert_array_equal(
+        result.peaks.to_numpy()[result.ok], expected.peaks.to_numpy()[result.ok]
+    )

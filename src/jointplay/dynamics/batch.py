@@ -101,6 +101,11 @@ BACKENDS: tuple[str, ...] = ("local", "processes", "dask", "gpu")
 #: ~1.5 s of work per worker (32 lanes of an implicit RM-set sample at ~45 ms each; an
 #: explicit sample takes ~15 ms).
 DEFAULT_CHUNK = 32
+#: How long a batch waits for a Dask cluster that has no worker (at the start, or once its
+#: workers have died) before it gives up on the chunks not finished, s.
+DASK_NO_WORKERS_S = 30.0
+#: How often a batch on Dask looks for finished chunks (and for workers), s.
+DASK_POLL_S = 0.05
 #: Lanes per chunk on the GPU backend (JAX batches; throughput falls above ~200 000 lanes).
 GPU_CHUNK = 200_000
 
@@ -1145,22 +1150,30 @@ def _dispatch(
             )
             yield rpar, y0, t_settle, t_end, max_step
 
-    interrupted = False
+    interrupted, lost = False, ""
     try:
         _run_parts(
             problem, method, backend, threads, chunk, scheduler, progress, parts, items, outputs
         )
     except KeyboardInterrupt:  # the finished chunks are kept; the others are marked below
         interrupted = True
+    except _ClusterLost as error:
+        lost = f"ConfigError: {error}"
     merged = _merged(problem, parts, outputs)
-    if interrupted or np.any(merged.status == kc.STATUS_INTERRUPTED):
-        raise _PartialDispatch(merged, threads, chunk)
+    if interrupted or lost or np.any(merged.status == kc.STATUS_INTERRUPTED):
+        raise _PartialDispatch(merged, threads, chunk, lost)
     return merged, threads, chunk
 
 
 class _PartialDispatch(KeyboardInterrupt):
-    """An interrupted :func:`_dispatch`: ``args`` are its outputs (lanes that did not finish
-    have ``STATUS_INTERRUPTED``), workers and chunk size."""
+    """A :func:`_dispatch` that did not finish: ``args`` are its outputs (lanes that did not
+    finish have ``STATUS_INTERRUPTED``), workers, chunk size and why (``""``: an interrupt;
+    else the message of the lost Dask cluster, the error of those lanes)."""
+
+
+class _ClusterLost(JointplayError):
+    """The Dask cluster cannot finish the batch: no workers left, or a chunk killed its
+    workers (:data:`DASK_NO_WORKERS_S`, Dask's own retries)."""
 
 
 def _merged(
@@ -1270,6 +1283,14 @@ def _dask_client(scheduler: str | None) -> Any:
         client = Client(scheduler, timeout=30, set_as_default=False)
     except (OSError, TimeoutError, ValueError) as exc:
         raise ConfigError(f"cannot connect to the Dask scheduler at {scheduler!r}: {exc}") from None
+    try:
+        client.wait_for_workers(1, timeout=DASK_NO_WORKERS_S)
+    except TimeoutError:
+        client.close()
+        raise ConfigError(
+            f"the Dask cluster at {scheduler!r} has no workers (none joined within "
+            f"{DASK_NO_WORKERS_S:g} s); start some (dask worker {scheduler})"
+        ) from None
     if not _CLIENTS:
         atexit.register(_close_clients)
     _CLIENTS[scheduler] = client
@@ -1296,8 +1317,15 @@ def _run_dask(
     parts: list[NDArray[np.intp]],
     advance: Callable[[int], None],
 ) -> None:
-    from distributed import as_completed
+    """Run the chunks on the Dask cluster, filling ``outputs``.
 
+    Dask itself moves the chunks of a worker that dies to the others (and gives up on a chunk
+    that killed three workers: ``KilledWorker``).
+
+    Raises:
+        _ClusterLost: a chunk killed its workers, or the cluster had no worker for
+            :data:`DASK_NO_WORKERS_S` (the chunks that finished are in ``outputs``).
+    """
     client = _dask_client(scheduler)
     futures: dict[Any, int] = {}
     try:
@@ -1308,10 +1336,32 @@ def _run_dask(
         futures = {
             client.submit(kb.run_chunk, shared, item, pure=False): k for k, item in enumerate(items)
         }
-        for future in as_completed(list(futures), loop=client.loop):
-            k = futures[future]
-            outputs[k] = future.result()
-            advance(len(parts[k]))
+        pending, idle_since = set(futures), time.monotonic()
+        while pending:
+            done = {future for future in pending if future.done()}
+            pending -= done
+            if not done:
+                time.sleep(DASK_POLL_S)
+            for future in done:
+                k = futures[future]
+                if future.status == "error":
+                    raise _ClusterLost(
+                        f"the Dask cluster at {scheduler} could not run a chunk of samples "
+                        f"({type(future.exception()).__name__}: {future.exception()}); its "
+                        "workers died running it"
+                    )
+                outputs[k] = future.result()
+                advance(len(parts[k]))
+            if done:
+                idle_since = time.monotonic()
+            elif time.monotonic() - idle_since > DASK_NO_WORKERS_S:  # still any worker?
+                if client.scheduler_info(n_workers=-1).get("workers"):
+                    idle_since = time.monotonic()
+                    continue
+                raise _ClusterLost(
+                    f"the Dask cluster at {scheduler} has had no worker for "
+                    f"{DASK_NO_WORKERS_S:g} s; start workers (dask worker {scheduler})"
+                )
     except BaseException:
         if futures:
             client.cancel(list(futures))
@@ -1394,13 +1444,14 @@ def simulate_batch(
         problem = problem.scaled_tolerances(EXPLICIT_TOLERANCE_SCALE)
     n = len(samples)
     lanes = np.flatnonzero(problem.ok)
-    interrupted = False
+    interrupted, lost = False, ""
     try:
         output, used_workers, chunk = _dispatch(
             problem, lanes, chosen, backend, workers, chunk_size, scheduler, progress
         )
     except _PartialDispatch as partial:
-        (output, used_workers, chunk), interrupted = partial.args, True
+        output, used_workers, chunk, lost = partial.args
+        interrupted = not lost
     system = build_system(mechanism, clearances, ramp_time=start.ramp_time, driven=start.driven)
     peak_names, stat_names = _names(mechanism, system)
     peaks = np.full((n, len(peak_names)), np.nan)
@@ -1417,7 +1468,7 @@ def simulate_batch(
     errors = list(problem.errors)
     for row, lane in enumerate(lanes):
         if output.status[row] == kc.STATUS_INTERRUPTED:
-            errors[lane] = NOT_RUN
+            errors[lane] = lost or NOT_RUN
         elif output.status[row] != kc.STATUS_SUCCESS:
             errors[lane] = _lane_message(
                 int(output.status[row]), float(output.t_reached[row]),

@@ -62,6 +62,7 @@ from typing import Any, Generic, Literal, TypeVar
 import numpy as np
 from numpy.typing import NDArray
 
+from jointplay._kernels.workers import die_with_parent
 from jointplay.errors import ConfigError, PartialInterrupt, caused_by_interrupt
 from jointplay.tolerance.responses import CheckedModel, Evaluation, ResponseModel
 
@@ -87,6 +88,8 @@ BACKENDS: tuple[str, ...] = ("local", "processes", "dask", "gpu")
 #: What starting one worker process costs here (import, loading compiled code), s: a run
 #: starts only as many workers as its estimated work pays for.
 WORKER_START_S = 3.0
+#: How long a Dask run waits for its cluster's first worker, s.
+DASK_NO_WORKERS_S = 30.0
 #: Samples per block of a batch-engine model on the GPU backend.
 GPU_BLOCK = 200_000
 
@@ -209,10 +212,11 @@ _WORKER_SHARED: Any = None
 
 
 def _init_worker(shared: Any) -> None:
-    """Process-pool initializer: keep the shared object; leave Ctrl-C to the parent; one
-    compiled thread per worker (the workers are the parallelism)."""
+    """Process-pool initializer: keep the shared object; leave Ctrl-C to the parent and end
+    with it; one compiled thread per worker (the workers are the parallelism)."""
     global _WORKER_SHARED
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    die_with_parent()
     _WORKER_SHARED = shared
     try:
         import numba
@@ -435,6 +439,13 @@ def _run_dask(
         raise ConfigError(f"cannot connect to the Dask scheduler at {address!r}: {exc}") from None
     futures: list[Any] = []
     try:
+        try:
+            client.wait_for_workers(1, timeout=DASK_NO_WORKERS_S)
+        except TimeoutError:
+            raise ConfigError(
+                f"the Dask cluster at {address!r} has no workers (none joined within "
+                f"{DASK_NO_WORKERS_S:g} s); start some (dask worker {address})"
+            ) from None
         workers = max(1, len(client.scheduler_info(n_workers=-1).get("workers", {})))
         # unique keys: content-hashed ones would be shared with an earlier study's data,
         # whose release could delete them under this study's tasks
@@ -443,8 +454,13 @@ def _run_dask(
             client.submit(_attempt_on_dask, function, scattered, index, item, pure=False)
             for index, item in enumerate(items)
         ]
-        for future in as_completed(futures, loop=client.loop):
-            index, outcome = future.result()
+        where = {future.key: index for index, future in enumerate(futures)}
+        for future in as_completed(futures, loop=client.loop, raise_errors=False):
+            if future.status == "error":  # KilledWorker: Dask gave up after its retries
+                error = future.exception()
+                index, outcome = where[future.key], (False, f"{type(error).__name__}: {error}")
+            else:
+                index, outcome = future.result()
             store(index, outcome)
             advance(weights[index])
         return workers
