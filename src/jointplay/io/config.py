@@ -25,7 +25,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, JointplayError
 from jointplay.model.mechanism import (
     GROUND,
     STEEL,
@@ -500,6 +500,11 @@ def _material(table: _Table) -> Material:
     return material
 
 
+#: How far (m) a joint's ``clearance`` may lie outside its fit's radial clearance range: the
+#: round-off of writing the range's ends in µm or mm, far below any fit's micrometres.
+FIT_MARGIN = 1e-9
+
+
 def _fit(table: _Table) -> JointFit:
     fit = JointFit(
         diameter=table.quantity("diameter", "m"),
@@ -509,7 +514,30 @@ def _fit(table: _Table) -> JointFit:
         clearance=table.quantity("clearance", "m", None),
     )
     table.finish()
+    if fit.fit is not None and fit.clearance is not None:
+        _check_fit_clearance(fit, table.where)
     return fit
+
+
+def _check_fit_clearance(joint: JointFit, where: str) -> None:
+    """Refuse a ``clearance`` outside the radial clearance of the joint's ``fit`` (a copied
+    clearance kept after the fit was changed), naming both: commands that simulate one
+    clearance would use it while the tolerance studies use the fit."""
+    from jointplay.tolerance import iso286
+
+    assert joint.fit is not None and joint.clearance is not None
+    try:
+        result = iso286.fit(joint.fit, joint.diameter)
+    except JointplayError as exc:
+        raise ConfigError(f"{where}: fit {joint.fit!r}: {exc}") from None
+    low, high = result.radial_clearance_min, result.radial_clearance_max
+    if not low - FIT_MARGIN <= joint.clearance <= high + FIT_MARGIN:
+        raise ConfigError(
+            f"{where}: clearance = {joint.clearance * 1e6:.4g} µm lies outside the radial "
+            f"clearance of its fit {joint.fit} at Ø{joint.diameter * 1e3:g} mm "
+            f"({low * 1e6:.4g} … {high * 1e6:.4g} µm); remove the clearance to use the fit's "
+            "mean, or give one within the fit's range, or change the fit"
+        )
 
 
 def _parse_template(
