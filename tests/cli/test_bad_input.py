@@ -85,6 +85,11 @@ def files(tmp_path: Path) -> dict[str, str]:
     fifo = tmp_path / "fifo.toml"
     os.mkfifo(fifo)
     made["fifo"] = str(fifo)
+    made["clearance_zero"] = _config(
+        tmp_path,
+        "zero.toml",
+        extra='[tolerances.joints.A]\nclearance_min = "0 um"\nclearance_max = "20 um"\n',
+    )
     deep = tmp_path / "deep.toml"
     deep.write_text("a = " + "[" * 2000 + "]" * 2000 + "\n", encoding="utf-8")
     made["deep"] = str(deep)
@@ -282,6 +287,18 @@ CASES: dict[str, tuple[list[str], str]] = {
     "paper revolutions nan": (["paper", "--revolutions", "nan"], "--revolutions"),
     "paper ecs source": (["paper", "--ecs-source", "guess"], "--ecs-source"),
     "paper revolutions 1e9": (["paper", "--revolutions", "1e9"], "more than 10000 revolutions"),
+    "design clearance limit negative": (
+        ["design", "-r", "life >= 200 h", "--clearance-limit", "-20 um"],
+        "a radial clearance is > 0",
+    ),
+    "wear clearance allowance negative": (
+        ["wear", "--hours", "600 h", "--clearance-limit", "+-5 um"],
+        "an allowance >= 0",
+    ),
+    "tolerance clearance_min zero": (
+        ["tolerance", "--config", "{clearance_zero}", "--responses", "dynamic"],
+        "needs a radial clearance > 0",
+    ),
     # every number bounded before use
     "tolerance samples 1e23": (
         ["tolerance", "--samples", "99999999999999999999999"],

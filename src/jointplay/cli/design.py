@@ -49,7 +49,7 @@ from jointplay.cli.tolerance import (
     contact_law,
     solver_options,
 )
-from jointplay.errors import ConfigError, Interrupted, PartialInterrupt
+from jointplay.errors import ConfigError, Interrupted, JointplayError, PartialInterrupt
 from jointplay.units import parse_quantity
 
 if TYPE_CHECKING:
@@ -57,7 +57,9 @@ if TYPE_CHECKING:
 
 console = Console(highlight=False, soft_wrap=True)
 
-DEFAULT_FITS = "H7/h6,H7/g6,H8/f7,H8/g7,H9/d9,H11/c11"
+#: The fits tried when none are named: clearance fits with room for the pin at their lower
+#: limit. H7/h6, whose minimum clearance is zero, is tried only when named (with a note).
+DEFAULT_FITS = "H7/g6,H8/f7,H8/g7,H9/d9,H11/c11"
 
 
 def read_table(path: Path | None, config: Path | None = None) -> dict[str, Any]:
@@ -118,9 +120,15 @@ def parse_clearance_limit(text: str | None) -> tuple[float | None, float | None]
     if text is None:
         return None, None
     value = text.strip()
-    if value.startswith("+"):
-        return None, parse_quantity(value[1:].strip(), "m", field="--clearance-limit")
-    return parse_quantity(value, "m", field="--clearance-limit"), None
+    allowance = value.startswith("+")
+    number = parse_quantity(value.removeprefix("+").strip(), "m", field="--clearance-limit")
+    if not (number >= 0 if allowance else number > 0):
+        raise ConfigError(
+            f"--clearance-limit {text!r}: a radial clearance is > 0 and an allowance >= 0; "
+            "write an absolute limit such as '80 um', or '+20 um' (the fit's largest radial "
+            "clearance plus 20 µm)"
+        )
+    return (None, number) if allowance else (number, None)
 
 
 def parse_joint_fits(texts: list[str]) -> dict[str, str]:
@@ -283,6 +291,7 @@ def design_command(
         if fixed
         else fit_list
     )
+    _note_zero_clearance(mechanism, [*fit_list, *fixed.values()])
     class_list = [c.strip() for c in classes.split(",") if c.strip()]
     limit, allowance = parse_clearance_limit(clearance_limit)
     check_revolutions(revolutions, settle)
@@ -336,6 +345,28 @@ def design_command(
         if result.interrupted or missing:
             raise Interrupted(*finished, ", ".join(missing))
     console.print(f"results written to {out}")
+
+
+def _note_zero_clearance(mechanism: Any, fits: list[str]) -> None:
+    """A note on stderr for each named fit whose smallest radial clearance is zero (H7/h6)."""
+    from jointplay.tolerance import iso286
+
+    diameters = sorted({j.fit.diameter for j in mechanism.revolute_joints if j.fit is not None})
+    for name in dict.fromkeys(fits):
+        for diameter in diameters:
+            try:
+                result = iso286.fit(name, diameter)
+            except JointplayError:
+                continue  # reported by the study, with the joint
+            if result.radial_clearance_min <= 0 < result.radial_clearance_max:
+                print(
+                    f"jointplay: note: {result.designation} has a zero minimum radial clearance at "
+                    f"Ø{diameter * 1e3:g} mm (0 … {result.radial_clearance_max * 1e6:.3g} µm): its "
+                    "samples near the lower limit leave the pin almost no room, where the "
+                    "clearance-joint model is least reliable",
+                    file=sys.stderr,
+                )
+                break
 
 
 def _fit_joints(mechanism: Any) -> list[str]:
