@@ -81,9 +81,12 @@ __all__ = [
     "BatchProblem",
     "BatchResult",
     "BatchSamples",
+    "ClusterLost",
     "MethodChoice",
     "build_batch",
     "choose_method",
+    "completed_on_dask",
+    "dask_result",
     "simulate_batch",
 ]
 
@@ -1157,8 +1160,8 @@ def _dispatch(
         )
     except KeyboardInterrupt:  # the finished chunks are kept; the others are marked below
         interrupted = True
-    except _ClusterLost as error:
-        lost = f"ConfigError: {error}"
+    except ClusterLost as error:
+        lost = f"ClusterLost: {error}"
     merged = _merged(problem, parts, outputs)
     if interrupted or lost or np.any(merged.status == kc.STATUS_INTERRUPTED):
         raise _PartialDispatch(merged, threads, chunk, lost)
@@ -1171,9 +1174,9 @@ class _PartialDispatch(KeyboardInterrupt):
     else the message of the lost Dask cluster, the error of those lanes)."""
 
 
-class _ClusterLost(JointplayError):
-    """The Dask cluster cannot finish the batch: no workers left, or a chunk killed its
-    workers (:data:`DASK_NO_WORKERS_S`, Dask's own retries)."""
+class ClusterLost(JointplayError):
+    """The Dask cluster cannot finish: no workers left (:data:`DASK_NO_WORKERS_S`), or a
+    task killed its workers (Dask's own retries spent)."""
 
 
 def _merged(
@@ -1319,11 +1322,8 @@ def _run_dask(
 ) -> None:
     """Run the chunks on the Dask cluster, filling ``outputs``.
 
-    Dask itself moves the chunks of a worker that dies to the others (and gives up on a chunk
-    that killed three workers: ``KilledWorker``).
-
     Raises:
-        _ClusterLost: a chunk killed its workers, or the cluster had no worker for
+        ClusterLost: a chunk killed its workers, or the cluster had no worker for
             :data:`DASK_NO_WORKERS_S` (the chunks that finished are in ``outputs``).
     """
     client = _dask_client(scheduler)
@@ -1336,36 +1336,66 @@ def _run_dask(
         futures = {
             client.submit(kb.run_chunk, shared, item, pure=False): k for k, item in enumerate(items)
         }
-        pending, idle_since = set(futures), time.monotonic()
-        while pending:
-            done = {future for future in pending if future.done()}
-            pending -= done
-            if not done:
-                time.sleep(DASK_POLL_S)
-            for future in done:
-                k = futures[future]
-                if future.status == "error":
-                    raise _ClusterLost(
-                        f"the Dask cluster at {scheduler} could not run a chunk of samples "
-                        f"({type(future.exception()).__name__}: {future.exception()}); its "
-                        "workers died running it"
-                    )
-                outputs[k] = future.result()
-                advance(len(parts[k]))
-            if done:
-                idle_since = time.monotonic()
-            elif time.monotonic() - idle_since > DASK_NO_WORKERS_S:  # still any worker?
-                if client.scheduler_info(n_workers=-1).get("workers"):
-                    idle_since = time.monotonic()
-                    continue
-                raise _ClusterLost(
-                    f"the Dask cluster at {scheduler} has had no worker for "
-                    f"{DASK_NO_WORKERS_S:g} s; start workers (dask worker {scheduler})"
+        for future in completed_on_dask(client, list(futures), scheduler or ""):
+            if future.status == "error":
+                raise ClusterLost(
+                    f"the Dask cluster at {scheduler} could not run a chunk of samples "
+                    f"({type(future.exception()).__name__}: {future.exception()}); its "
+                    "workers died running it"
                 )
+            k = futures[future]
+            outputs[k] = dask_result(future, scheduler or "")
+            advance(len(parts[k]))
     except BaseException:
         if futures:
             client.cancel(list(futures))
         raise
+
+
+def dask_result(future: Any, address: str) -> Any:
+    """The result of a finished Dask ``future``, waiting at most :data:`DASK_NO_WORKERS_S`: a
+    result held by a worker that has since died is computed again, which needs a worker.
+
+    Raises:
+        ClusterLost: it did not come in that time.
+    """
+    try:
+        return future.result(timeout=DASK_NO_WORKERS_S)
+    except TimeoutError:
+        raise ClusterLost(
+            f"the Dask cluster at {address} lost a finished result with its worker and had no "
+            f"worker to compute it again within {DASK_NO_WORKERS_S:g} s"
+        ) from None
+
+
+def completed_on_dask(client: Any, futures: list[Any], address: str) -> Iterator[Any]:
+    """The Dask ``futures`` as they finish (failed ones too: look at their ``status``).
+
+    Dask itself moves the tasks of a worker that dies to the others (and gives up on a task
+    that killed three workers: its status is ``"error"``, ``KilledWorker``); this stops
+    waiting when the cluster has had no worker for :data:`DASK_NO_WORKERS_S`.
+
+    Raises:
+        ClusterLost: the cluster at ``address`` has had no worker for that long (the futures
+            not yielded did not finish).
+    """
+    pending, idle_since = set(futures), time.monotonic()
+    while pending:
+        done = [future for future in futures if future in pending and future.done()]
+        pending.difference_update(done)
+        yield from done
+        if done:
+            idle_since = time.monotonic()
+            continue
+        time.sleep(DASK_POLL_S)
+        if time.monotonic() - idle_since > DASK_NO_WORKERS_S:  # still any worker?
+            if client.scheduler_info(n_workers=-1).get("workers"):
+                idle_since = time.monotonic()
+                continue
+            raise ClusterLost(
+                f"the Dask cluster at {address} has had no worker for {DASK_NO_WORKERS_S:g} s; "
+                f"start workers (dask worker {address})"
+            )
 
 
 # --- the entry point --------------------------------------------------------------------------------

@@ -88,8 +88,6 @@ BACKENDS: tuple[str, ...] = ("local", "processes", "dask", "gpu")
 #: What starting one worker process costs here (import, loading compiled code), s: a run
 #: starts only as many workers as its estimated work pays for.
 WORKER_START_S = 3.0
-#: How long a Dask run waits for its cluster's first worker, s.
-DASK_NO_WORKERS_S = 30.0
 #: Samples per block of a batch-engine model on the GPU backend.
 GPU_BLOCK = 200_000
 
@@ -430,13 +428,20 @@ def _run_dask(
     advance: Callable[[int], None],
 ) -> int:
     try:
-        from distributed import Client, as_completed
+        from distributed import Client
     except ImportError:  # pragma: no cover - distributed is a dependency
         raise ConfigError("the dask backend needs the 'distributed' package") from None
     try:
         client = Client(address, timeout=30, set_as_default=False)
     except (OSError, TimeoutError, ValueError) as exc:
         raise ConfigError(f"cannot connect to the Dask scheduler at {address!r}: {exc}") from None
+    from jointplay.dynamics.batch import (
+        DASK_NO_WORKERS_S,
+        ClusterLost,
+        completed_on_dask,
+        dask_result,
+    )
+
     futures: list[Any] = []
     try:
         try:
@@ -455,14 +460,20 @@ def _run_dask(
             for index, item in enumerate(items)
         ]
         where = {future.key: index for index, future in enumerate(futures)}
-        for future in as_completed(futures, loop=client.loop, raise_errors=False):
-            if future.status == "error":  # KilledWorker: Dask gave up after its retries
-                error = future.exception()
-                index, outcome = where[future.key], (False, f"{type(error).__name__}: {error}")
-            else:
-                index, outcome = future.result()
-            store(index, outcome)
-            advance(weights[index])
+        try:
+            for future in completed_on_dask(client, futures, address):
+                if future.status == "error":  # KilledWorker: Dask gave up after its retries
+                    error = future.exception()
+                    index, outcome = where[future.key], (False, f"{type(error).__name__}: {error}")
+                else:
+                    index, outcome = dask_result(future, address)
+                store(index, outcome)
+                advance(weights[index])
+        except ClusterLost as lost:  # the items that finished are kept; the others failed
+            for future in futures:
+                if not future.done():
+                    store(where[future.key], (False, f"ClusterLost: {lost}"))
+            client.cancel(futures)
         return workers
     except BaseException:
         if futures:
