@@ -371,17 +371,18 @@ def test_every_command_checks_its_out_before_computing(
     assert (out / "notes.txt").read_text(encoding="utf-8") == "precious"
 
 
-def test_read_only_parent_is_refused(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    if os.geteuid() == 0:
-        pytest.skip("root writes into read-only folders")
-    locked = tmp_path / "locked"
-    locked.mkdir()
-    locked.chmod(0o500)
-    try:
-        assert run(["kinematics", "--out", str(locked / "out")]) == 2
-        assert "output folder" in capsys.readouterr().err
-    finally:
-        locked.chmod(0o700)
+def test_a_parent_nobody_may_write_is_refused(capsys: pytest.CaptureFixture[str]) -> None:
+    """A folder no user may create, root included: sysfs refuses new folders (EPERM; EROFS
+    where it is mounted read-only, as in most containers), so this runs whoever runs the tests
+    (a chmod 0o500 folder does not stop root)."""
+    sysfs = Path("/sys")
+    if not sysfs.is_dir():
+        pytest.skip("no /sys here (not Linux)")
+    out = sysfs / "jointplay-test-out" / "out"
+    assert run(["kinematics", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "cannot write the output folder" in err and len(err.strip().splitlines()) == 1, err
+    assert not out.parent.exists()
 
 
 def test_foreign_folder_needs_force(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -4,28 +4,22 @@ The page is rendered by headless Chromium (Debian's ``chromium`` package) with a
 script that writes, once the page has loaded, the document's scroll width and the number of
 images that failed to decode into an attribute of ``<body>``; ``--dump-dom`` returns the DOM
 after the load, so the test reads what the browser measured. Skipped, with the reason, when no
-Chromium is on PATH.
+Chromium is on PATH, except in CI (``tests/_programs.py``).
 """
 
 from __future__ import annotations
 
 import re
-import shutil
 import subprocess
 from pathlib import Path
 
 import pandas as pd
 import pytest
 
+from _programs import need
 from jointplay.report.html import HtmlReport
 
 WIDTH = 1400  # px: the window the issue asks the page to fit
-BROWSER = next(
-    (shutil.which(name) for name in ("chromium", "chromium-browser") if shutil.which(name)), None
-)
-needs_browser = pytest.mark.skipif(
-    BROWSER is None, reason="no chromium or chromium-browser on PATH (apt-get install chromium)"
-)
 PROBE = """<script>window.addEventListener('load', function () {
   var images = Array.from(document.images);
   var broken = images.filter(function (i) { return !(i.complete && i.naturalWidth > 0); });
@@ -38,17 +32,21 @@ PROBE = """<script>window.addEventListener('load', function () {
 });</script>"""
 
 
-def measure(page: Path, tmp_path: Path) -> dict[str, object]:
+@pytest.fixture
+def browser() -> str:
+    return need("chromium", "chromium-browser", package="chromium")
+
+
+def measure(page: Path, tmp_path: Path, browser: str) -> dict[str, object]:
     """Load ``page`` in headless Chromium at :data:`WIDTH` px and return what the probe saw."""
     import json
 
     probed = tmp_path / f"probed-{page.name}"
     text = page.read_text(encoding="utf-8")
     probed.write_text(text.replace("</body>", PROBE + "</body>"), encoding="utf-8")
-    assert BROWSER is not None
     run = subprocess.run(
         [
-            BROWSER,
+            browser,
             "--headless",
             "--no-sandbox",
             "--disable-gpu",
@@ -81,8 +79,9 @@ def png(tmp_path: Path) -> Path:
     return path
 
 
-@needs_browser
-def test_a_report_with_wide_tables_fits_1400_px_and_its_images_load(tmp_path: Path) -> None:
+def test_a_report_with_wide_tables_fits_1400_px_and_its_images_load(
+    tmp_path: Path, browser: str
+) -> None:
     page = HtmlReport("A page with everything that used to push it sideways")
     page.heading("Tables", anchor="tables")
     wide = pd.DataFrame(
@@ -101,13 +100,12 @@ def test_a_report_with_wide_tables_fits_1400_px_and_its_images_load(tmp_path: Pa
         page.figure(png(tmp_path), "a folded figure")
     page.preformatted("x" * 3000)
     path = page.write(tmp_path / "report.html")
-    seen = measure(path, tmp_path)
+    seen = measure(path, tmp_path, browser)
     assert seen["scrollWidth"] <= WIDTH, seen
     assert seen["images"] == 2 and seen["broken"] == [], seen
 
 
-@needs_browser
-def test_a_page_that_overflows_is_caught(tmp_path: Path) -> None:
+def test_a_page_that_overflows_is_caught(tmp_path: Path, browser: str) -> None:
     """The check can fail: a fixed-width block wider than the window is measured as overflow."""
     path = tmp_path / "wide.html"
     path.write_text(
@@ -115,14 +113,13 @@ def test_a_page_that_overflows_is_caught(tmp_path: Path) -> None:
         '<img alt="missing" src="data:image/png;base64,AAAA"/></body></html>',
         encoding="utf-8",
     )
-    seen = measure(path, tmp_path)
+    seen = measure(path, tmp_path, browser)
     assert seen["scrollWidth"] > WIDTH
     assert seen["broken"] == ["missing"]
 
 
-@needs_browser
 @pytest.mark.slow
-def test_the_paper_report_fits_1400_px_and_its_images_load(tmp_path: Path) -> None:
+def test_the_paper_report_fits_1400_px_and_its_images_load(tmp_path: Path, browser: str) -> None:
     """The real page of `jointplay paper`, on a reduced study (a few degrees of crank, two
     length corners, no experiment): every section, table and figure is there."""
     from jointplay.report.paper import write_paper_report
@@ -141,7 +138,7 @@ def test_the_paper_report_fits_1400_px_and_its_images_load(tmp_path: Path) -> No
     done = [d for _, d, _ in calls]
     assert done == sorted(done) and calls[-1][1] == calls[-1][2] and labels[-1] == "study done"
     write_paper_report(study, tmp_path, {"command_line": "test"})
-    seen = measure(tmp_path / "report.html", tmp_path)
+    seen = measure(tmp_path / "report.html", tmp_path, browser)
     assert seen["scrollWidth"] <= WIDTH, seen
     assert seen["broken"] == [], seen
     assert seen["images"] >= 12, seen  # 8 method figures, orbits, mechanism, nominal, ECS...
