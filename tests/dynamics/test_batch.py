@@ -317,3 +317,121 @@ def test_an_rm_set_runs_implicit_and_converges(paper_fourbar: Mechanism) -> None
         }.get(key.rstrip("0123456789"), RM_FORCE_RTOL_LOOSER_THAN_CONTRACT)
         error = np.max(np.abs(result.peaks[key] / exact.peaks[key] - 1))
         assert error < bound, (key, error)
+
+
+@pytest.fixture
+def interrupt_after_first_chunk(monkeypatch: pytest.MonkeyPatch) -> None:
+    """SIGINT to this process as soon as the first chunk of lanes has finished (the readiness
+    signal: the engine's progress callback), as Ctrl-C would send it."""
+    import os
+    import signal
+    from contextlib import contextmanager
+
+    from jointplay.dynamics import batch
+
+    @contextmanager
+    def progress(enabled: bool, total: int):
+        def advance(count: int) -> None:
+            os.kill(os.getpid(), signal.SIGINT)
+
+        yield advance
+
+    monkeypatch.setattr(batch, "_progress", progress)
+
+
+@pytest.mark.parametrize("backend", ["local", "processes", "dask"])
+def test_an_interrupt_keeps_the_finished_lanes(
+    paper_fourbar: Mechanism, reference, interrupt_after_first_chunk, backend: str
+) -> None:
+    """Ctrl-C stops the batch on every CPU backend, and the lanes that had finished come back
+    with the interrupt, bit for bit what an uninterrupted run gives; the others are marked
+    not run."""
+    from distributed import LocalCluster
+
+    from jointplay.dynamics import batch
+    from jointplay.dynamics.batch import NOT_RUN, BatchInterrupted
+    from jointplay.dynamics.integrate import IntegrationStatus
+
+    samples, expected = reference
+    options = {"chunk_size": 2}
+    with (
+        LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None)
+        if backend == "dask"
+        else _nothing() as cluster
+    ):
+        if backend == "processes":
+            options["workers"] = 2
+        if backend == "dask":
+            options["scheduler"] = cluster.scheduler_address
+        with pytest.raises(BatchInterrupted) as stopped:
+            simulate_batch(paper_fourbar, _joints(), samples, backend=backend, **options)
+        batch._close_clients()
+    result = stopped.value.result
+    assert isinstance(stopped.value, KeyboardInterrupt)
+    finished = result.status != IntegrationStatus.INTERRUPTED
+    assert 2 <= finished.sum() < len(samples)  # at least the first chunk, not everything
+    assert all(e == NOT_RUN for e in np.asarray(result.errors)[~finished])
+    assert not result.ok[~finished].any() and np.isnan(result.peaks.to_numpy()[~finished]).all()
+    np.testing.assert_array_equal(
+        result.peaks.to_numpy()[finished], expected.peaks.to_numpy()[finished]
+    )
+    np.testing.assert_array_equal(
+        result.statistics.to_numpy()[finished], expected.statistics.to_numpy()[finished]
+    )
+
+
+def _nothing():
+    from contextlib import nullcontext
+
+    return nullcontext()
+
+
+def test_a_dask_cluster_without_workers_is_a_clear_error(
+    paper_fourbar: Mechanism, reference, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """It used to wait 30 s and end with a bare TimeoutError (exit 3)."""
+    from distributed import LocalCluster
+
+    from jointplay.dynamics import batch
+
+    monkeypatch.setattr(batch, "DASK_NO_WORKERS_S", 0.5)
+    samples, _ = reference
+    with LocalCluster(n_workers=0, processes=False, dashboard_address=None) as cluster:
+        address = cluster.scheduler_address
+        with pytest.raises(ConfigError, match=r"has no workers \(none joined within 0.5 s\)"):
+            simulate_batch(paper_fourbar, _joints(), samples, backend="dask", scheduler=address)
+
+
+def test_a_dask_cluster_that_loses_its_workers_keeps_the_finished_lanes(
+    paper_fourbar: Mechanism, reference, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The workers go away after the first chunk: the batch ends in bounded time (it used to
+    wait for ever), the finished lanes kept, the others failed with the reason."""
+    from contextlib import contextmanager
+
+    from distributed import LocalCluster
+
+    from jointplay.dynamics import batch
+
+    samples, expected = reference
+    monkeypatch.setattr(batch, "DASK_NO_WORKERS_S", 1.0)
+    with LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None
+    ) as cluster:
+
+        @contextmanager
+        def progress(enabled: bool, total: int):
+            yield lambda count: cluster.scale(0)
+
+        monkeypatch.setattr(batch, "_progress", progress)
+        result = simulate_batch(
+            paper_fourbar, _joints(), samples, backend="dask", scheduler=cluster.scheduler_address,
+            chunk_size=2,
+        )  # fmt: skip
+        batch._close_clients()
+    assert 2 <= result.ok.sum() < len(samples)
+    lost = [e for e in result.errors if e]
+    assert lost and all("has had no worker for 1 s" in e for e in lost), lost
+    np.testing.assert_array_equal(
+        result.peaks.to_numpy()[result.ok], expected.peaks.to_numpy()[result.ok]
+    )

@@ -64,7 +64,7 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from jointplay.dynamics.cycles import DEFAULT_SETTLE
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, PartialInterrupt
 from jointplay.model.mechanism import Mechanism, RevoluteJoint
 from jointplay.study.requirements import Requirement, parse_requirement
 from jointplay.tolerance import iso286, iso2768
@@ -478,8 +478,10 @@ class DesignResult:
         samples: one row per sample of the finished schemes: scheme, inputs, responses,
             dynamic studies' ``penetration_ratio_<joint>`` (dimensionless; above 1: not
             physical), status.
-        best: label of the cheapest scheme meeting every requirement, or ``None``.
-        binding: when none does: the requirement whose best yield is lowest.
+        best: label of the cheapest scheme meeting every requirement, or ``None`` (always
+            for an interrupted study: a choice among some of the schemes is no choice).
+        binding: when none does: the requirement whose best yield is lowest (``None`` for
+            an interrupted study).
         interrupted: Ctrl-C stopped the run; only finished schemes are in ``table``.
         settings: samples, seed, model description, cost model, clearance limits.
         diagnostics: plausibility warnings over the samples of the finished schemes
@@ -517,7 +519,12 @@ class DesignResult:
 
     def summary(self) -> dict[str, Any]:
         """The ``summary.json`` content (SI)."""
-        if self.best is not None:
+        if self.interrupted:
+            verdict = (
+                f"interrupted: {len(self.table)} of {self.settings.get('schemes', '?')} schemes "
+                "finished; no recommendation from some of the schemes (run the study again)"
+            )
+        elif self.best is not None:
             verdict = f"cheapest scheme meeting every requirement: {self.best}"
         elif self.binding is not None:
             verdict = f"no scheme meets every requirement; binding requirement: {self.binding}"
@@ -603,6 +610,8 @@ def design_study(
 
     Raises:
         ConfigError: a malformed requirement, an unknown response, bad candidates.
+        PartialInterrupt: interrupted during the convergence check, after every scheme
+            finished; its ``partial`` is the result without the check.
     """
     if not 0.0 < confidence < 1.0:
         raise ConfigError(f"confidence must lie between 0 and 100 %, got {100 * confidence:g} %")
@@ -752,6 +761,7 @@ def design_study(
     best = binding = None
     if len(table):
         _pareto(table, parsed, response_names)
+    if len(table) and not outcome.interrupted:  # no recommendation from some schemes only
         feasible_rows = table[table["feasible"]]
         if len(feasible_rows):
             best = str(
@@ -778,17 +788,10 @@ def design_study(
         "finished_schemes": len(rows),
     }
     every_sample = pd.concat(sample_frames, ignore_index=True) if sample_frames else pd.DataFrame()
-    convergence = (
-        None
-        if outcome.interrupted or responses == "kinematic"
-        else convergence_finding(model, np.vstack(blocks), outcome, backend)
-    )
     diagnostics: tuple[StudyDiagnostic, ...] = penetration_diagnostics(
         every_sample, outcome.check_names, names, best
     )
-    if convergence is not None and convergence.finding is not None:
-        diagnostics = (*diagnostics, convergence.finding)
-    return DesignResult(
+    result = DesignResult(
         mechanism=mechanism,
         responses=responses,
         requirements=parsed,
@@ -800,8 +803,16 @@ def design_study(
         interrupted=outcome.interrupted,
         settings=settings,
         diagnostics=diagnostics,
-        convergence=convergence,
     )
+    if outcome.interrupted or responses == "kinematic":
+        return result
+    try:
+        convergence = convergence_finding(model, np.vstack(blocks), outcome, backend)
+    except KeyboardInterrupt:  # every scheme finished: they go on with the interrupt
+        raise PartialInterrupt(result, "interrupted during the convergence check") from None
+    if convergence is not None and convergence.finding is not None:
+        diagnostics = (*diagnostics, convergence.finding)
+    return dataclasses.replace(result, diagnostics=diagnostics, convergence=convergence)
 
 
 def parse_requirement_or_none(text: str, units: Mapping[str, str]) -> Requirement | None:
