@@ -220,3 +220,22 @@ def test_the_bracket_check_can_fail(capsys, monkeypatch) -> None:
     console = Console(width=HELP_COLUMNS, file=__import__("io").StringIO())
     console.print("pip install 'jointplay[gpu]'")
     assert "[gpu]" not in console.file.getvalue()  # type: ignore[attr-defined]
+
+
+@pytest.mark.parametrize("cached", [True, False])
+def test_a_first_run_says_it_compiles_the_kernels_and_how_long_it_took(
+    cached: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import jointplay._kernels
+    from jointplay.cli._common import COMPILE_NOTICE, compiling_kernels
+
+    monkeypatch.setattr(jointplay._kernels, "compiled_cache_present", lambda: cached)
+    said: list[str] = []
+    with compiling_kernels(said.append) as compiling:
+        assert said == ([] if cached else [COMPILE_NOTICE])  # before the work
+    assert compiling is not cached
+    if cached:
+        assert said == []
+    else:
+        assert re.fullmatch(r"jointplay: kernels compiled and cached; this step took \d+ s "
+                            r"with the compilation", said[-1])  # fmt: skip
