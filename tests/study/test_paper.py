@@ -163,6 +163,25 @@ def test_report_lists_every_claim_and_stands_alone(study: tuple[dict[str, Any], 
 
 
 @pytest.mark.slow
+def test_the_summary_counts_every_claim(study: tuple[dict[str, Any], Path]) -> None:
+    """The first screen's count adds up to the number of claims (it once said "holds 4 of 30,
+    does not hold 25" and left one out)."""
+    results, out = study
+    verdicts = [c["verdict"] for c in results["claims"]]
+    html = (out / "report.html").read_text()
+    summary = html[html.index('id="summary"') : html.index('id="claims"')]
+    sentence = (
+        f"Of the paper&#x27;s {len(verdicts)} quantitative claims, {verdicts.count('holds')} "
+        f"hold (within 10 % of its number), {verdicts.count('differs')} do not"
+    )
+    assert sentence in summary
+    unmatched = verdicts.count("no paper value")
+    assert unmatched == 1  # the RMS error of Table 7: the paper prints none
+    assert "1 has no number in the paper." in summary
+    assert "The running mechanism" in summary  # its numbers, on the first screen
+
+
+@pytest.mark.slow
 def test_nominal_peaks_match_an_independent_closed_form(results: dict[str, Any]) -> None:
     theta2 = np.radians(GRID_DEG)
     nominal = results["nominal_peaks"]

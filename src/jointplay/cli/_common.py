@@ -5,8 +5,9 @@ from __future__ import annotations
 import math
 import shlex
 import sys
-from collections.abc import Iterable, Sequence
-from contextlib import AbstractContextManager, nullcontext
+import time
+from collections.abc import Iterable, Iterator, Sequence
+from contextlib import AbstractContextManager, contextmanager, nullcontext
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
@@ -266,3 +267,30 @@ def check_revolutions(revolutions: float, settle: int = 0, option: str = "--revo
 def check_figure_format(text: str) -> str:
     """The ``--figure-format`` value, checked (before any computation)."""
     return choice(text, "--figure-format", FIGURE_FORMATS)
+
+
+#: What a first run after install spends compiling the kernels (2-core machine, load 0.5-1).
+COMPILE_NOTICE = (
+    "jointplay: compiling the numerical kernels first: once after an install or upgrade, "
+    "about 40 s on a 2-core machine; later runs load them in about a second"
+)
+
+
+@contextmanager
+def compiling_kernels(say: Any) -> Iterator[bool]:
+    """Around a command's first dynamic work: when no compiled kernels are cached
+    (:func:`jointplay._kernels.compiled_cache_present`), ``say`` (a print function) tells
+    the user before the work that the kernels are compiled now, and after it how long the
+    work took with the compilation. Yields whether they are compiled here."""
+    from jointplay._kernels import compiled_cache_present
+
+    if compiled_cache_present():
+        yield False
+        return
+    say(COMPILE_NOTICE)
+    started = time.perf_counter()
+    yield True
+    say(
+        f"jointplay: kernels compiled and cached; this step took "
+        f"{time.perf_counter() - started:.0f} s with the compilation"
+    )

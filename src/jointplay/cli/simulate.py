@@ -24,6 +24,7 @@ from jointplay.cli._common import (
     StartAngleOption,
     check_figure_format,
     check_revolutions,
+    compiling_kernels,
     mechanism_from_options,
     provenance,
     quantity_option,
@@ -207,8 +208,11 @@ def simulate_command(
                 f"--settle must be a whole number of revolutions >= 0, got {settle_turns!r}"
             )
         sample = _sample_step(values.get("sample_deg"))
-        with console.status(
-            f"simulating {settle_turns + turns:g} revolution(s) of {mechanism.name} with clearance in {', '.join(c.joint for c in clear)}"
+        with (
+            compiling_kernels(lambda line: console.print(line, markup=False, highlight=False)),
+            console.status(
+                f"simulating {settle_turns + turns:g} revolution(s) of {mechanism.name} with clearance in {', '.join(c.joint for c in clear)}"
+            ),
         ):
             result = simulate(
                 mechanism,

@@ -245,12 +245,22 @@ def tolerance_command(
             "half-width.",
         ),
     ] = 0.5,
+    require: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--require",
+            "-r",
+            help="A limit on a response: RESPONSE <=|<|>=|> VALUE [UNIT], e.g. "
+            "'omega4_peak <= 16 rad/s' (design's grammar; a lower and an upper limit on one "
+            "response make its two spec limits). Repeatable.",
+        ),
+    ] = None,
     spec_limit: Annotated[
         list[str] | None,
         typer.Option(
             "--spec-limit",
-            help="Limits of a response, RESPONSE=LO:HI with units, e.g. "
-            "'omega4_peak=:16 rad/s' (either side may be empty). Repeatable.",
+            help="Deprecated: use --require. Limits of a response, RESPONSE=LO:HI with units, "
+            "e.g. 'omega4_peak=:16 rad/s'. Repeatable.",
         ),
     ] = None,
     backend: BackendOption = "processes",
@@ -334,6 +344,16 @@ def tolerance_command(
             raise ConfigError("--backend gpu runs the dynamics: use it with --responses dynamic")
         units = response_units(mechanism, spec, responses.value, contact=law)
         limits = parse_spec_limits(spec_limit or [], units)
+        if spec_limit:  # after parsing: a malformed one is still one error line
+            print(
+                "jointplay: warning: --spec-limit is deprecated and will be removed; write "
+                "--require 'RESPONSE <= VALUE UNIT' (and >= for a lower limit), as in design",
+                file=sys.stderr,
+            )
+        for name, limit in limits_from_requirements(require or [], units).items():
+            if name in limits:
+                raise ConfigError(f"--require and --spec-limit both limit {name!r}: give one")
+            limits[name] = limit
         analysis: ToleranceMethod
         if method is Method.monte_carlo:
             analysis = MonteCarlo(samples=samples, seed=seed, sampling=sampling.value)
@@ -436,6 +456,33 @@ def contact_law(
     if ecs_source is not None:
         raise ConfigError("--ecs-source applies to the paper's ECS methods: give --paper-method")
     return make_law(contact_from_strings({k: v for k, v in options.items() if v is not None}))
+
+
+def limits_from_requirements(texts: list[str], units: dict[str, str]) -> dict[str, SpecLimits]:
+    """``--require`` texts (design's grammar, :func:`~jointplay.study.requirements.
+    parse_requirement`) to spec limits: ``<=``/``<`` give the upper limit, ``>=``/``>`` the
+    lower (both inclusive, as spec limits are); no ``@confidence`` (a tolerance study
+    reports the share out of spec instead)."""
+    from jointplay.study.requirements import parse_requirement
+    from jointplay.tolerance.methods import SpecLimits
+
+    bounds: dict[str, dict[str, float]] = {}
+    for text in texts:
+        requirement = parse_requirement(text, units)
+        if requirement.confidence is not None:
+            raise ConfigError(
+                f"--require {text!r}: a tolerance study takes no @confidence (it reports the "
+                "share out of spec); leave it out"
+            )
+        side = "upper" if requirement.upper else "lower"
+        limits = bounds.setdefault(requirement.response, {})
+        if side in limits:
+            raise ConfigError(f"--require: two {side} limits on {requirement.response!r}")
+        limits[side] = requirement.limit
+    return {
+        name: SpecLimits(limits.get("lower"), limits.get("upper"))
+        for name, limits in bounds.items()
+    }
 
 
 def parse_spec_limits(texts: list[str], units: dict[str, str]) -> dict[str, SpecLimits]:

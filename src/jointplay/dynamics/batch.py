@@ -1096,10 +1096,12 @@ def _progress(enabled: bool, total: int) -> Iterator[Callable[[int], None]]:
         yield lambda count: None
         return
     from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeRemainingColumn
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress
+
+    from jointplay.progress import eta_column
 
     bar = Progress(
-        "samples", BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(),
+        "samples", BarColumn(), MofNCompleteColumn(), eta_column(),
         console=Console(stderr=True),
     )  # fmt: skip
     with bar:
