@@ -145,7 +145,7 @@ def compare_command(
     labelled what-if (the crank speed that would explain it).
     """
     from jointplay.io.measurements import DIRECTIONS, SPEED_UNITS, MeasurementConventions
-    from jointplay.io.output import json_text, write_json
+    from jointplay.io.output import json_text, write_csv, write_json
     from jointplay.model.summary import mechanism_summary
     from jointplay.report.overlays import overlay_plots
     from jointplay.study import comparison as cmp
@@ -194,9 +194,7 @@ def compare_command(
         result = cmp.summarize_comparisons(data, comparisons, nominal)
         document = result.as_dict()
         if folder is not None:
-            result.points_table().to_csv(
-                folder / "comparison.csv", index=False, float_format="%.10g"
-            )
+            write_csv(result.points_table(), folder / "comparison.csv")
             write_json(
                 folder / "comparison.json",
                 {
