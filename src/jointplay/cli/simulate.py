@@ -20,6 +20,7 @@ from jointplay.cli._common import (
     GravityOption,
     OutOption,
     PresetOption,
+    ProgressOption,
     RpmOption,
     StartAngleOption,
     check_figure_format,
@@ -27,6 +28,7 @@ from jointplay.cli._common import (
     mechanism_from_options,
     provenance,
     quantity_option,
+    status,
 )
 from jointplay.cli._simulation import (
     ClearanceOption,
@@ -64,6 +66,7 @@ def _opt(help_text: str, *names: str) -> Any:
 def simulate_command(
     out: OutOption,
     force: ForceOption = False,
+    progress: ProgressOption = True,
     preset: PresetOption = None,
     config: ConfigOption = None,
     rpm: RpmOption = None,
@@ -210,8 +213,9 @@ def simulate_command(
         sample = _sample_step(values.get("sample_deg"))
         with (
             compiling_kernels(lambda line: console.print(line, markup=False, highlight=False)),
-            console.status(
-                f"simulating {settle_turns + turns:g} revolution(s) of {mechanism.name} with clearance in {', '.join(c.joint for c in clear)}"
+            status(
+                progress,
+                f"simulating {settle_turns + turns:g} revolution(s) of {mechanism.name} with clearance in {', '.join(c.joint for c in clear)}",
             ),
         ):
             result = simulate(
