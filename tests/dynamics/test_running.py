@@ -86,7 +86,14 @@ def test_the_paper_conventional_set_is_characterised(conventional_steady) -> Non
         assert len(values) == 3
         assert stats["min"] <= stats["mean"] <= stats["max"]
         assert stats["max"] == pytest.approx(conventional_steady.peaks[name]["value"])
-        assert conventional_steady.peaks[name]["revolution"] in (3, 4, 5)
+        peak = conventional_steady.peaks[name]
+        assert peak["revolution"] in (3, 4, 5)
+        # the angle within its revolution (0-360°) and the revolution's number give the
+        # angle turned since the start (1 µdeg: the two are computed from the same value)
+        assert 0.0 <= peak["revolution_deg"] <= 360.0
+        assert 360.0 * (peak["revolution"] - 1) + peak["revolution_deg"] == pytest.approx(
+            peak["crank_deg"], abs=1e-6
+        )
     # Measured: period 1, successive section points within 0.31 of the threshold on every
     # coordinate (0.31, 0.30, 0.08 for the three successive pairs).
     periodicity = running.periodicity
