@@ -10,6 +10,7 @@ from jointplay.errors import ConfigError
 from jointplay.study.design import Scheme, design_study, schemes
 from jointplay.tolerance import iso286
 from jointplay.tolerance.execution import Backend
+from jointplay.tolerance.parts import Process
 
 SERIAL = Backend("serial")
 FITS = ("H7/h6", "H7/g6", "H8/f7", "H8/g7", "H9/d9", "H11/c11")
@@ -27,13 +28,20 @@ HAND_MEAN_RADIAL_UM = {
 
 @pytest.mark.parametrize("fit", FITS)
 def test_mean_radial_clearance_of_each_fit_is_its_iso286_value(paper_fourbar, fit: str) -> None:
-    spec = Scheme(dict.fromkeys(("O2", "A", "B", "O4"), fit), "m").spec(paper_fourbar)
+    """Sampled as parts (hole and pin apart) or over the fit's band, the centre of the radial
+    clearance is the fit's mean."""
+    scheme = Scheme(dict.fromkeys(("O2", "A", "B", "O4"), fit), "m")
+    band = scheme.spec(paper_fourbar, Process(sampling="band"))
+    parts = scheme.spec(paper_fourbar)
     for joint in ("O2", "A", "B", "O4"):
-        item = spec[f"clearance_{joint}"]
+        item = band[f"clearance_{joint}"]
         assert item.nominal == pytest.approx(
             iso286.fit(fit, 0.010).radial_clearance_mean, rel=1e-12
         )
         assert item.nominal * 1e6 == pytest.approx(HAND_MEAN_RADIAL_UM[fit], rel=1e-9)
+        hole = parts[f"hole_{joint}"].tolerance.centre
+        pin = parts[f"pin_{joint}"].tolerance.centre
+        assert (hole - pin) / 2 * 1e6 == pytest.approx(HAND_MEAN_RADIAL_UM[fit], rel=1e-9)
 
 
 def test_schemes_are_every_combination_and_per_joint_fits(paper_fourbar) -> None:
@@ -48,18 +56,56 @@ def test_schemes_are_every_combination_and_per_joint_fits(paper_fourbar) -> None
 
 
 def test_requirements_every_scheme_meets_pick_the_cheapest(paper_fourbar) -> None:
+    """Samples in rounds (100, 200, ..., 1 600): zero failures show 99.73 % from 1 365 on."""
     result = design_study(
-        paper_fourbar, FITS, ["f", "m", "c", "v"], ["omega4_peak <= 100 rad/s"],
-        samples=8, backend=SERIAL,
+        paper_fourbar, FITS, ["f", "m", "c", "v"], ["omega4_peak <= 100 rad/s"], backend=SERIAL,
     )  # fmt: skip
     assert result.responses == "kinematic"
     table = result.table
-    assert len(table) == 24 and table["feasible"].all()
+    assert len(table) == 24 and table["feasible"].all() and (table["verdict"] == "meets").all()
+    assert (table["samples"] == 1600).all() and result.settings["rounds"][:5] == [
+        100, 200, 400, 800, 1600
+    ]  # fmt: skip
     cheapest = table.loc[table["cost"].idxmin(), "scheme"]
     assert result.best == cheapest == "H11/c11 / v"
-    assert result.binding is None
+    assert result.binding is None and result.to_decide is None
     assert bool(table.loc[table["scheme"] == cheapest, "pareto_yield"].iloc[0])
     assert (table["yield"] == 100.0).all() and (table["dpm"] == 0.0).all()
+    # no failure in 1 600: the DPM's upper bound is 1e6 (1 - 0.025^(1/1600))
+    assert table["dpm_high"].to_numpy() == pytest.approx(1e6 * (1 - 0.025 ** (1 / 1600)))
+    record = result.summary()["schemes"][0]["requirements"][0]
+    assert record["failures"] == 0 and record["samples"] == 1600 and record["verdict"] == "meets"
+    assert record["yield_ci95"][0] == pytest.approx(0.025 ** (1 / 1600), rel=1e-12)
+
+
+def test_few_samples_leave_a_scheme_undecided_and_say_what_would_decide(paper_fourbar) -> None:
+    """200 failure-free samples bound the defect rate only below 1.8 %: not 99.73 %."""
+    result = design_study(
+        paper_fourbar, ["H8/g7"], ["m"], ["omega4_peak <= 100 rad/s"], samples=200,
+        backend=SERIAL,
+    )  # fmt: skip
+    row = result.table.iloc[0]
+    assert result.best is None and row["verdict"] == "undecided" and not row["feasible"]
+    assert row["dpm_high"] == pytest.approx(1e6 * (1 - 0.025 ** (1 / 200)))
+    assert row["samples_to_decide"] == 1365
+    assert "about 1,365 would decide it" in result.verdict
+    assert row["omega4_peak_at_confidence_basis"] == "normal-model"
+
+
+def test_schemes_stop_when_decided_or_dearer_than_one_shown_feasible() -> None:
+    """After a round: a decided scheme stops; an undecided one goes on only while no cheaper
+    (or equally cheap) scheme has been shown to meet every requirement."""
+    from jointplay.study.design import _still_open
+
+    rows = {
+        0: {"cost": 10.0, "verdict": "undecided", "feasible": False},
+        1: {"cost": 20.0, "verdict": "meets", "feasible": True},
+        2: {"cost": 20.0, "verdict": "undecided", "feasible": False},
+        3: {"cost": 30.0, "verdict": "undecided", "feasible": False},
+        4: {"cost": 5.0, "verdict": "fails", "feasible": False},
+    }
+    assert _still_open({0, 1, 2, 3, 4}, rows) == {0, 2}
+    assert _still_open({0, 3}, {i: {**r, "feasible": False} for i, r in rows.items()}) == {0, 3}
 
 
 def test_no_feasible_scheme_names_the_binding_requirement(paper_fourbar) -> None:
@@ -69,7 +115,9 @@ def test_no_feasible_scheme_names_the_binding_requirement(paper_fourbar) -> None
     )  # fmt: skip
     assert result.best is None
     assert result.binding == "omega4_peak <= 1 rad/s"
-    assert "binding requirement" in result.summary()["verdict"]
+    # 4 failures in 4: the yield's upper bound 1 - 0.025^(1/4) = 60 % < 99.73 %
+    assert (result.table["verdict"] == "fails").all()
+    assert result.summary()["verdict"].startswith("every scheme fails; binding requirement")
 
 
 def test_unknown_response_is_one_line(paper_fourbar) -> None:
@@ -88,8 +136,9 @@ def test_dynamic_design_reports_wear_and_life(paper_fourbar) -> None:
     assert (table["wear_rate_mean"] > 0).all() and (table["life_mean"] > 360).all()
     # a looser fit lets the joints hit harder (paper, Table 6)
     assert table.loc["H11/c11", "joint_force_mean"] > table.loc["H7/g6", "joint_force_mean"]
-    assert result.best == "H11/c11 / m"
-    assert math.isfinite(result.summary()["best_scheme"]["cost"])
+    # two samples decide nothing at 99.73 %
+    assert result.best is None and (result.table["verdict"] == "undecided").all()
+    assert math.isfinite(result.summary()["schemes"][0]["cost"])
 
 
 def test_requirements_may_mix_kinematic_and_dynamic_responses(paper_fourbar) -> None:

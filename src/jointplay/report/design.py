@@ -26,11 +26,14 @@ from jointplay.report._mpl import pyplot
 from jointplay.report.figures import encode
 from jointplay.report.html import HtmlReport
 from jointplay.study.design import DesignResult
+from jointplay.study.requirements import Requirement
 
 __all__ = [
+    "binding_requirement",
     "design_plots",
     "design_section",
     "display",
+    "evidence_line",
     "wear_plots",
     "wear_section",
     "write_design",
@@ -50,6 +53,30 @@ _DISPLAY: Mapping[str, tuple[str, float]] = {
 def display(unit: str) -> tuple[str, float]:
     """Display unit and the factor from SI of a response unit."""
     return _DISPLAY.get(unit, (unit, 1.0))
+
+
+def binding_requirement(result: DesignResult, row: Mapping[str, Any]) -> Requirement | None:
+    """The requirement of a scheme closest to failing: the lowest lower bound of its
+    yield's 95 % interval."""
+    if not result.requirements:
+        return None
+    return min(result.requirements, key=lambda r: row[f"yield_low_{r.text}"])
+
+
+def evidence_line(result: DesignResult, row: Mapping[str, Any]) -> str:
+    """The evidence for a scheme in one line: its binding requirement, failures in samples,
+    the yield with its exact 95 % interval and the DPM bound."""
+    r = binding_requirement(result, row)
+    if r is None:
+        return f"{row['samples']:,} samples"
+    t = r.text
+    level = r.confidence if r.confidence is not None else result.confidence
+    return (
+        f"binding requirement {t!r} at {100 * level:g} %: {row[f'failures_{t}']:,} failures in "
+        f"{row['samples']:,} samples, yield {row[f'yield_{t}']:.2f} % (95 % CI "
+        f"{row[f'yield_low_{t}']:.3f}-{row[f'yield_high_{t}']:.3f} %), at most "
+        f"{row[f'dpm_high_{t}']:,.0f} DPM ({row[f'verdict_{t}']})"
+    )
 
 
 def _encode(fig: Any, stem: str, figure_format: str) -> dict[str, bytes]:

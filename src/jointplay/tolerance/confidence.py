@@ -72,7 +72,9 @@ def clopper_pearson(
     if trials < 1 or not 0.0 <= successes <= trials:
         raise ValueError(f"need 0 <= successes <= trials, trials >= 1; got {successes}, {trials}")
     alpha = 1.0 - level
-    lower = 0.0 if successes == 0 else float(betaincinv(successes, trials - successes + 1, alpha / 2))
+    lower = (
+        0.0 if successes == 0 else float(betaincinv(successes, trials - successes + 1, alpha / 2))
+    )
     upper = (
         1.0
         if successes == trials
@@ -208,9 +210,7 @@ class QuantileValue:
     def describe(self) -> str:
         """One phrase saying what the value is."""
         if self.basis == "order-statistic":
-            return (
-                f"distribution-free 95 % bound (order statistic {self.rank} of {self.samples})"
-            )
+            return f"distribution-free 95 % bound (order statistic {self.rank} of {self.samples})"
         return f"normal-model estimate (mean ± z·std of {self.samples} samples; not a bound)"
 
 
