@@ -467,6 +467,8 @@ def _print(result: DesignResult, units: dict[str, str]) -> None:
             f"choose {result.best}: relative cost {best['cost']:.3g}; {evidence_line(result, best)}"
         )
         console.print(line)
+        for callout in result.drawing:
+            console.print(f"  drawing: {callout.text}")
     if best is None:
         console.print(result.verdict)
     elif result.to_decide is not None:

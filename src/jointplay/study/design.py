@@ -106,14 +106,19 @@ if TYPE_CHECKING:
 
 __all__ = [
     "DEFAULT_CONFIDENCE",
+    "DEFAULT_MAX_SAMPLES",
     "DERIVED_RESPONSES",
+    "FIRST_ROUND",
+    "Callout",
     "DesignDiagnostic",
     "DesignResult",
     "Scheme",
     "design_study",
     "design_units",
+    "parse_requirements",
     "penetration_diagnostics",
     "resolve_responses",
+    "sample_rounds",
     "schemes",
     "trajectory_requirements",
 ]
@@ -126,6 +131,51 @@ DEFAULT_CONFIDENCE = 0.9973
 #: Responses the design study adds to the tolerance study's dynamic peaks, with SI units: the
 #: running responses and the life (computed per scheme from the wear rate).
 DERIVED_RESPONSES: Mapping[str, str] = {**RUNNING_RESPONSES, "life": "s"}
+
+
+@dataclass(frozen=True)
+class Callout:
+    """One feature's line on the drawing.
+
+    Attributes:
+        feature: e.g. ``"joint O2 hole"``, ``"length crank"``.
+        nominal: nominal size, m.
+        lower, upper: limits of size, m.
+        designation: ``"H8"``, ``"f7"`` or ``"ISO 2768-m"``.
+        diameter: a diameter (``Ø``) rather than a length.
+    """
+
+    feature: str
+    nominal: float
+    lower: float
+    upper: float
+    designation: str
+    diameter: bool = False
+
+    @property
+    def text(self) -> str:
+        """The callout in mm, e.g. ``"joint A hole Ø10 H8 = 10.000/10.022 mm"`` or
+        ``"length crank 108 ± 0.3 mm (ISO 2768-m)"``."""
+        if self.diameter:
+            return (
+                f"{self.feature} Ø{self.nominal * 1e3:g} {self.designation} = "
+                f"{self.lower * 1e3:.3f}/{self.upper * 1e3:.3f} mm"
+            )
+        deviation = 0.5 * (self.upper - self.lower)
+        return (
+            f"{self.feature} {self.nominal * 1e3:g} ± {deviation * 1e3:g} mm ({self.designation})"
+        )
+
+    def as_dict(self) -> dict[str, Any]:
+        """JSON-ready (SI) with the text."""
+        return {
+            "feature": self.feature,
+            "designation": self.designation,
+            "nominal_m": self.nominal,
+            "lower_m": self.lower,
+            "upper_m": self.upper,
+            "text": self.text,
+        }
 
 
 @dataclass(frozen=True)
@@ -180,6 +230,38 @@ class Scheme:
                     JointTolerance.from_fit(joint, fit, diameter, distribution=process.distribution)
                 )
         return ToleranceSpec(tuple(in_template_order(lengths, nominal)) + tuple(joints))
+
+    def callouts(self, mechanism: Mechanism) -> tuple[Callout, ...]:
+        """What goes on the drawing: per joint the hole and the pin with their ISO 286
+        classes and limits of size, per template length its ISO 2768-1 ±deviation."""
+        out = []
+        for joint, fit in self.fits.items():
+            result = iso286.fit(fit, _diameter(mechanism, joint))
+            for kind, zone in (("hole", result.hole), ("pin", result.shaft)):
+                out.append(
+                    Callout(
+                        f"joint {joint} {kind}",
+                        zone.nominal_size,
+                        zone.min_size,
+                        zone.max_size,
+                        zone.designation,
+                        diameter=True,
+                    )
+                )
+        for name, value in template_lengths(mechanism).items():
+            if abs(value) < 0.5e-3:
+                continue
+            deviation = iso2768.general_tolerance(self.length_class, abs(value))
+            out.append(
+                Callout(
+                    f"length {name}",
+                    value,
+                    value - deviation,
+                    value + deviation,
+                    f"ISO 2768-{self.length_class}",
+                )
+            )
+        return tuple(out)
 
     def cost(self, mechanism: Mechanism, model: CostModel) -> float:
         """Relative cost: every joint's fit plus every length's class."""
@@ -509,8 +591,9 @@ class DesignResult:
             :attr:`convergence`); empty when every sample is physical and converged, and for
             kinematic studies.
         convergence: dynamic studies: the integrator's share of the responses' scatter
-            (:func:`~jointplay.tolerance.analysis.convergence_finding`, over every scheme's
-            samples; ``None`` when not checked).
+            (:func:`~jointplay.tolerance.analysis.convergence_finding`, over the first
+            round's samples; ``None`` when not checked).
+        candidates: every scheme of the study (finished or not).
     """
 
     mechanism: Mechanism
@@ -525,6 +608,7 @@ class DesignResult:
     settings: Mapping[str, Any] = field(default_factory=dict)
     diagnostics: tuple[StudyDiagnostic, ...] = ()
     convergence: ConvergenceCheck | None = None
+    candidates: tuple[Scheme, ...] = ()
 
     def to_dataframe(self) -> pd.DataFrame:
         """One row per scheme (the content of ``design.parquet``)."""
@@ -536,6 +620,14 @@ class DesignResult:
             return None
         row = self.table[self.table["scheme"] == self.best].iloc[0]
         return {str(k): _plain(v) for k, v in row.items()}
+
+    @property
+    def drawing(self) -> tuple[Callout, ...]:
+        """The drawing callouts of the answer (none without one)."""
+        for scheme in self.candidates:
+            if scheme.label == self.best:
+                return scheme.callouts(self.mechanism)
+        return ()
 
     @property
     def undecided(self) -> pd.DataFrame:
@@ -595,6 +687,7 @@ class DesignResult:
             "verdict": self.verdict,
             "best": self.best,
             "best_scheme": self.best_row,
+            "drawing": [c.as_dict() for c in self.drawing],
             "binding": self.binding,
             "to_decide": self.to_decide,
             "interrupted": self.interrupted,
@@ -900,6 +993,7 @@ def design_study(
         settings=settings,
         diagnostics=diagnostics,
         convergence=convergence,
+        candidates=candidates,
     )
 
 
