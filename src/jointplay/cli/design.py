@@ -239,6 +239,15 @@ def design_command(
         str,
         typer.Option("--distribution", help="Every feature: normal (±3σ at its limits), uniform."),
     ] = "normal",
+    rare_defects: Annotated[
+        bool,
+        typer.Option(
+            "--rare-defects/--no-rare-defects",
+            help="After Monte Carlo, estimate the defect rate of each scheme it left undecided "
+            "(cheapest first) by cross-entropy importance sampling (at most 18 000 samples per "
+            "scheme; down to about 1 DPM) and decide it on that 95 % interval.",
+        ),
+    ] = False,
     cpk: Annotated[
         list[str] | None,
         typer.Option(
@@ -328,6 +337,7 @@ def design_command(
     from jointplay.io.output import output_dir
     from jointplay.report.design import write_design
     from jointplay.study.design import (
+        RareDefects,
         design_study,
         design_units,
         parse_requirements,
@@ -385,6 +395,7 @@ def design_command(
             seed=seed,
             process=process,
             truncate=truncate,
+            rare=RareDefects() if rare_defects else None,
             confidence=level,
             responses=kind,  # type: ignore[arg-type]
             cost=cost,

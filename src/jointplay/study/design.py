@@ -80,6 +80,7 @@ from jointplay.tolerance.definitions import response_definitions
 from jointplay.tolerance.execution import NOT_RUN, OK, STATUS, Backend, run
 from jointplay.tolerance.methods import distribution_note, truncated_at_limits
 from jointplay.tolerance.parts import Process, fit_features, model_inputs
+from jointplay.tolerance.rare import RareEstimate, cross_entropy_importance_sampling
 from jointplay.tolerance.responses import (
     PENETRATION_RATIO,
     RUNNING_RESPONSES,
@@ -112,6 +113,7 @@ __all__ = [
     "Callout",
     "DesignDiagnostic",
     "DesignResult",
+    "RareDefects",
     "Scheme",
     "design_study",
     "design_units",
@@ -807,6 +809,7 @@ def design_study(
     solver: SolverOptions | None = None,
     process: Process | None = None,
     truncate: bool = True,
+    rare: RareDefects | None = None,
     backend: Backend | None = None,
     progress: bool = False,
 ) -> DesignResult:
@@ -838,6 +841,9 @@ def design_study(
         truncate: draw normal features from the normal truncated at their limits (default:
             out-of-tolerance parts are rejected at inspection;
             :func:`jointplay.tolerance.methods.truncated_at_limits`), else untruncated.
+        rare: estimate the defect rate of the schemes Monte Carlo left undecided (cheapest
+            first) by cross-entropy importance sampling (:mod:`jointplay.tolerance.rare`);
+            its 95 % interval decides them (``verdict_basis``). ``None``: Monte Carlo only.
         backend: where the samples run (default local processes).
         progress: show a progress bar.
 
@@ -923,6 +929,19 @@ def design_study(
             interrupted = True
             break
         active = _still_open(active, rows)
+    if rare is not None and not interrupted:
+        for i in sorted(active, key=lambda j: rows[j]["cost"]):
+            if i not in _still_open({i}, rows):
+                continue  # a cheaper one was shown feasible meanwhile
+            estimate = _rare_defects(
+                candidates[i], mechanism, specs[key[i]], feature_names, names, model, parsed,
+                rare, seed, clearance_limit, clearance_allowance, backend,
+            )  # fmt: skip
+            if estimate is None:
+                interrupted = True
+                break
+            rows[i].update(_rare_columns(estimate, parsed, confidence, rows[i]["verdict"]))
+            rows[i]["feasible"] = rows[i]["verdict"] == "meets"
 
     table = pd.DataFrame([rows[i] for i in sorted(rows)])
     best = binding = None
@@ -960,6 +979,7 @@ def design_study(
         "truncated_at_limits": bool(truncate),
         "sampling_distributions": distribution_note(specs[0], truncate) if specs else "",
         "interval": "exact (Clopper-Pearson) two-sided 95 % interval of each yield",
+        "rare_defects": None if rare is None else dataclasses.asdict(rare),
         "responses": responses,
         "cost_model": cost.describe(),
         "clearance_limit_m": clearance_limit,
@@ -995,6 +1015,103 @@ def design_study(
         convergence=convergence,
         candidates=candidates,
     )
+
+
+@dataclass(frozen=True)
+class RareDefects:
+    """Settings of the rare-defect estimate (:func:`~jointplay.tolerance.rare.
+    cross_entropy_importance_sampling`): ``max_stages`` pilot stages of ``n_stage`` samples
+    and ``n_final`` final samples per scheme (default at most 8 000 + 10 000)."""
+
+    n_stage: int = 1000
+    n_final: int = 10000
+    max_stages: int = 8
+
+    def __post_init__(self) -> None:
+        if min(self.n_stage, self.n_final) < 10 or self.max_stages < 1:
+            raise ConfigError(
+                "rare defects: n_stage and n_final must be >= 10 and max_stages >= 1, got "
+                f"{self.n_stage}, {self.n_final}, {self.max_stages}"
+            )
+
+
+def _rare_defects(
+    scheme: Scheme,
+    mechanism: Mechanism,
+    spec: ToleranceSpec,
+    feature_names: tuple[str, ...],
+    names: tuple[str, ...],
+    model: ResponseModel,
+    parsed: Sequence[Requirement],
+    settings: RareDefects,
+    seed: int,
+    limit: Mapping[str, float] | float | None,
+    allowance: float | None,
+    backend: Backend | None,
+) -> RareEstimate | None:
+    """The probability that a part of ``scheme`` misses some requirement, by importance
+    sampling through the response model on ``backend`` (``None`` when interrupted)."""
+    from scipy.special import ndtr
+
+    stopped = False
+
+    def excess(z: FloatArray) -> FloatArray:
+        nonlocal stopped
+        if stopped:
+            return np.full(len(z), np.nan)
+        u = np.clip(ndtr(z), 1e-300, 1.0 - 2.0**-53)
+        features = np.column_stack(
+            [item.tolerance.ppf(u[:, c]) for c, item in enumerate(spec.inputs)]
+        )
+        _, x = model_inputs(feature_names, features)
+        outcome = run(model, x, backend=backend)
+        stopped = outcome.interrupted
+        done = _Evaluated()
+        done.add(features, x, outcome, slice(0, len(x)))
+        values = _responses(scheme, mechanism, done, names, model, limit, allowance)
+        worst = np.full(len(z), -np.inf)
+        for r in parsed:
+            y = values[r.response]
+            scale = abs(r.limit) or 1.0
+            worst = np.maximum(worst, (y - r.limit if r.upper else r.limit - y) / scale)
+        return np.where(outcome.status == OK, worst, np.nan)
+
+    estimate = cross_entropy_importance_sampling(
+        excess,
+        len(spec),
+        seed=seed,
+        n_stage=settings.n_stage,
+        n_final=settings.n_final,
+        max_stages=settings.max_stages,
+    )
+    return None if stopped else estimate
+
+
+def _rare_columns(
+    estimate: RareEstimate, parsed: Sequence[Requirement], confidence: float, verdict: str
+) -> dict[str, Any]:
+    """A scheme's rare-defect columns, and its verdict when Monte Carlo left it undecided:
+    ``meets`` when the upper bound of the defect rate of every requirement together is
+    within the strictest level (then each requirement's is), ``fails`` (one requirement only)
+    when its lower bound passes the level."""
+    levels = [r.confidence if r.confidence is not None else confidence for r in parsed]
+    low, high = estimate.interval
+    basis = "monte-carlo"
+    if verdict == "undecided" and estimate.converged:
+        if high <= 1.0 - max(levels):
+            verdict, basis = "meets", "importance-sampling"
+        elif len(parsed) == 1 and low > 1.0 - levels[0]:
+            # with several requirements, the rate of missing any does not show which one fails
+            verdict, basis = "fails", "importance-sampling"
+    return {
+        "dpm_rare": estimate.dpm,
+        "dpm_rare_low": estimate.dpm_interval[0],
+        "dpm_rare_high": estimate.dpm_interval[1],
+        "rare_samples": estimate.samples,
+        "rare_converged": estimate.converged,
+        "verdict": verdict,
+        "verdict_basis": basis,
+    }
 
 
 def _response_model(
@@ -1125,6 +1242,7 @@ def _scheme_row(
     row["verdict"] = (
         "fails" if "fails" in verdicts else "undecided" if "undecided" in verdicts else "meets"
     )
+    row["verdict_basis"] = "monte-carlo"
     row["feasible"] = row["verdict"] == "meets"
     reachable = [m for m in to_decide if m is not None]
     row["samples_to_decide"] = (
