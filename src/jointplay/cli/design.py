@@ -322,13 +322,17 @@ def design_command(
     force: ForceOption = False,
     figure_format: FigureFormatOption = "png",
 ) -> None:
-    """Design study: every fit × length class through the dynamics; the cheapest that meets
-    the requirements, its yield and relative cost.
+    """Design study: every fit × length class through the dynamics; the cheapest shown to
+    meet the requirements, with its evidence and its drawing callouts.
 
-    Link lengths and radial clearances are sampled from normal distributions centred in
-    their limits, ±3σ at the limits, truncated at the limits (see --truncate).
+    Parts are sampled as made: each link length in its ISO 2768-1 class, each hole and pin
+    diameter in its own ISO 286 zone (normal, ±3σ at the limits, truncated at them; see
+    --sampling, --cpk, --truncate). A scheme meets a requirement when the lower bound of its
+    yield's exact 95 % interval reaches the confidence level, fails when the upper bound
+    stays below it, and is undecided otherwise (--samples auto adds samples until decided).
 
-    Writes DIR/design.parquet and DIR/design.csv (one row per scheme; dynamic:
+    Writes DIR/design.parquet and DIR/design.csv (one row per scheme, the CSV's columns named
+    with their units; dynamic:
     penetration_exceeds_<joint> and penetration_ratio_max_<joint>), DIR/samples.parquet
     (dynamic: penetration_ratio_<joint>), DIR/summary.json (with diagnostics), PNG plots and
     DIR/report.html. Samples whose pins sink deeper than the radial clearance (not physical)
@@ -422,7 +426,8 @@ def design_command(
     _print(result, units)
     if result.interrupted:
         raise Interrupted(
-            f"{len(result.table)} scheme(s) finished; their results were written to {out}"
+            f"{len(result.table)} scheme(s) with finished rounds of samples (an unfinished "
+            f"round is left out); their results were written to {out}"
         )
     console.print(f"results written to {out}")
 
