@@ -138,6 +138,13 @@ def test_dynamic_design_reports_wear_and_life(paper_fourbar) -> None:
     assert table.loc["H11/c11", "joint_force_mean"] > table.loc["H7/g6", "joint_force_mean"]
     # two samples decide nothing at 99.73 %
     assert result.best is None and (result.table["verdict"] == "undecided").all()
+    # parts as made: each hole and pin in its ISO 286 zone, the clearance their difference
+    frame = result.samples[result.samples["scheme"] == "H7/g6 / m"]
+    assert frame["hole_A"].between(0.010, 0.010015).all()  # H7: 0/+15 µm
+    assert frame["pin_A"].between(0.010 - 14e-6, 0.010 - 5e-6).all()  # g6: -14/-5 µm
+    assert frame["clearance_A"].to_numpy() == pytest.approx(
+        (frame["hole_A"] - frame["pin_A"]).to_numpy() / 2, abs=1e-15
+    )
     assert math.isfinite(result.summary()["schemes"][0]["cost"])
 
 

@@ -145,9 +145,13 @@ def design_plots(
     ax.axhline(
         100 * result.confidence, c="k", ls=":", lw=1, label=f"level {100 * result.confidence:g} %"
     )
-    for _, row in table.iterrows():
-        ax.annotate(
-            f"{row['scheme']} (n={row['samples']})", (row["cost"], row["yield"]), fontsize=6
+    for k, (_, row) in enumerate(table.sort_values("cost").iterrows()):
+        ax.annotate(  # staggered: schemes of nearly the same cost and yield stay legible
+            f"{row['scheme']} (n={row['samples']:,})",
+            (row["cost"], row["yield"]),
+            xytext=(4, 4 - 9 * (k % 4)),
+            textcoords="offset points",
+            fontsize=6,
         )
     ax.set_xlabel("relative cost")
     ax.set_ylabel("yield (all requirements), %")
