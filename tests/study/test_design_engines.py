@@ -97,11 +97,34 @@ def test_trajectory_requirements_are_named(paper_fourbar: Mechanism) -> None:
 
 @pytest.mark.slow  # JAX compiles the batch for ~10 s
 def test_a_peak_design_runs_on_the_gpu_backend(both, paper_fourbar: Mechanism) -> None:
+    """The same algorithm as the local batch engine. On these samples (holes and pins as
+    made, seed 3) one sample's adaptive step sequence differs between the two kernels (a
+    step accepted by one and rejected by the other, through round-off), which moves its
+    peaks by up to 4e-7: within the integration tolerance (rtol 1e-6), not round-off. On
+    samples whose step sequences coincide (the fits' bands, the samples this test was first
+    written on) the engines agree to round-off (1e-10)."""
     pytest.importorskip("jax")
+    from jointplay.tolerance.parts import Process
+
     on_gpu = _design(paper_fourbar, ["joint_force <= 1 kN"], Backend("gpu"))
     assert on_gpu.settings["execution"]["backend"] == "gpu"
-    for name in PEAKS:  # the same algorithm as the local batch engine: round-off apart
-        np.testing.assert_allclose(on_gpu.samples[name], both[0].samples[name], rtol=1e-9)
+    for name in PEAKS:
+        np.testing.assert_allclose(on_gpu.samples[name], both[0].samples[name], rtol=1e-6)
+    band = Process(sampling="band")
+    local, gpu = (
+        design_study(
+            paper_fourbar,
+            ["H8/g7", "H11/c11"],
+            ["c"],
+            ["joint_force <= 1 kN"],
+            backend=where,
+            process=band,
+            **SHORT,
+        )
+        for where in (LOCAL, Backend("gpu"))
+    )
+    for name in PEAKS:  # round-off apart
+        np.testing.assert_allclose(gpu.samples[name], local.samples[name], rtol=1e-9)
 
 
 def test_an_unconverged_design_says_so(paper_fourbar: Mechanism, tmp_path) -> None:
