@@ -4,10 +4,13 @@ drawing.
 :func:`design_study` evaluates every combination (a *scheme*) of an ISO 286 fit — one for all
 pin joints, or one per named joint — and an ISO 2768-1 class for the link lengths:
 
-1. a Monte Carlo of the link lengths (the class's ±deviation) and the radial clearances (the
-   fit's limits), distributed as in the tolerance study (:mod:`jointplay.tolerance.spec`),
-   with the same seed for every scheme (common random numbers: schemes differ by their
-   tolerances, not by their luck);
+1. a Monte Carlo of the parts as made (:mod:`jointplay.tolerance.parts`): each link length in
+   its class's ±deviation, each joint's hole and pin diameters in their own ISO 286 zones,
+   the radial clearance their half difference (or, ``Process(sampling="band")``, the
+   clearance over the fit's worst-case band), with the same seed for every scheme and every
+   round (common random numbers: schemes differ by their tolerances, not by their luck);
+   ``samples="auto"`` adds rounds (:func:`sample_rounds`) while a scheme is undecided and
+   could still be the answer;
 2. each sample through the steady running dynamics (steady start, ``settle`` start-up
    revolutions left out) — or through the ideal-joint kinematics when every requirement is
    kinematic. When a requirement needs each sample's trajectory (``rocker_speed_error``,
@@ -17,12 +20,16 @@ pin joints, or one per named joint — and an ISO 2768-1 class for the link leng
    backend, the GPU included, and gives the peaks, ``joint_force`` and ``contact_pressure``
    (the engines agree on forces within 1e-3, on ω peaks within their integration errors:
    docs/design.md);
-3. per scheme: every response's mean, std and value at the confidence level; the share of
-   samples meeting each requirement (yield %, defects per million; a failed simulation counts
-   as a defect); the relative cost (:mod:`jointplay.tolerance.cost`);
-4. the cheapest scheme meeting every requirement — or, if none does, the requirement that
-   binds (the one whose best yield over all schemes is lowest) — and the Pareto fronts of cost
-   against the yield and against each response;
+3. per scheme (:mod:`jointplay.tolerance.confidence`): every response's mean, std and value
+   at the confidence level (a distribution-free order-statistic bound, or a named
+   normal-model estimate with too few samples); per requirement the failures (a failed
+   simulation counts as one), the yield and DPM with their exact 95 % intervals and the
+   verdict ``meets``/``fails``/``undecided``; the relative cost; with ``rare``, the defect
+   rate of the schemes left undecided by importance sampling
+   (:mod:`jointplay.tolerance.rare`);
+4. the cheapest scheme whose every requirement ``meets`` — or, if none does, the requirement
+   that binds (the one whose best yield over all schemes is lowest) and what would decide
+   the undecided ones — and the Pareto fronts of cost against the yield and each response;
 5. dynamic studies: whether the samples are physical. Every sample's pin of each clearance
    joint must stay within its radial clearance (``penetration_ratio_<joint>``, the deepest
    penetration over the analysed revolutions / that sample's radial clearance, see
@@ -33,8 +40,8 @@ pin joints, or one per named joint — and an ISO 2768-1 class for the link leng
    (:class:`DesignDiagnostic`: how many samples of how many schemes, the worst ratio and its
    scheme, whether the recommended scheme is among them).
 
-All samples of all schemes run as one batch on one backend
-(:func:`jointplay.tolerance.execution.run`), scheme after scheme: Ctrl-C keeps the schemes
+Each round's samples of all open schemes run as one batch on one backend
+(:func:`jointplay.tolerance.execution.run`), scheme after scheme: Ctrl-C keeps the rounds
 that finished.
 
 Responses of the dynamic model (SI): the tolerance study's peaks (``omega<k>_peak``,
@@ -579,9 +586,10 @@ class DesignResult:
         table: one row per finished scheme (:meth:`to_dataframe`); dynamic studies add
             ``penetration_exceeds_<joint>`` and ``penetration_ratio_max_<joint>`` per
             clearance joint.
-        samples: one row per sample of the finished schemes: scheme, inputs, responses,
-            dynamic studies' ``penetration_ratio_<joint>`` (dimensionless; above 1: not
-            physical), status.
+        samples: one row per sample of the finished schemes: scheme, the features as made
+            (``hole_<joint>``, ``pin_<joint>`` diameters), the model's inputs (lengths,
+            clearances), responses, dynamic studies' ``penetration_ratio_<joint>``
+            (dimensionless; above 1: not physical), status.
         best: label of the cheapest scheme shown to meet every requirement (verdict
             ``meets``: the lower bound of each yield's exact 95 % interval at or above the
             confidence level), or ``None``.
