@@ -240,3 +240,30 @@ def test_a_rare_estimate_decides_only_what_it_shows() -> None:
     assert _rare_columns(estimate(0, 1e-9, False), one, 0.9973, "undecided")["verdict"] == (
         "undecided"
     )
+
+
+def test_the_answer_names_cheaper_schemes_left_undecided(paper_fourbar) -> None:
+    """A cheaper scheme that ran out of samples undecided is named with what would decide it."""
+    import pandas as pd
+
+    from jointplay.study.design import DesignResult
+
+    table = pd.DataFrame(
+        {
+            "scheme": ["H11/c11 / m", "H9/d9 / m", "H8/f7 / m"],
+            "cost": [20.0, 30.0, 57.0],
+            "samples": [4000, 4000, 1600],
+            "verdict": ["fails", "undecided", "meets"],
+            "feasible": [False, False, True],
+            "samples_to_decide": pd.array([None, 9000, None], dtype="Int64"),
+            "yield": [90.0, 99.8, 100.0],
+        }
+    )
+    result = DesignResult(
+        paper_fourbar, "dynamic", (), 0.9973, table, pd.DataFrame(), "H8/f7 / m", None, False
+    )
+    assert result.verdict == (
+        "cheapest scheme shown to meet every requirement: H8/f7 / m; cheaper, undecided: "
+        "H9/d9 / m after 4,000 samples (about 9,000 would decide it at its observed defect "
+        "rate: --max-samples 9000)"
+    )
