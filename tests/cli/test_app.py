@@ -162,3 +162,80 @@ def test_quantity_options_refuse_bare_numbers_and_show_the_form() -> None:
     with pytest.raises(ConfigError, match="--step must be positive"):
         quantity_option("-1 deg", "rad", "--step", example="deg", positive=True)
     assert crank_speed("200 rpm") == pytest.approx(200 * math.pi / 30, rel=1e-15)
+
+
+# --- help that renders ------------------------------------------------------------------------
+
+HELP_COLUMNS = 80  # the narrowest terminal the help is written for
+
+
+def command_names() -> list[str]:
+    import typer.main
+
+    from jointplay.cli import app
+
+    return sorted(typer.main.get_command(app).commands)  # type: ignore[attr-defined]
+
+
+def help_at_80(arguments: list[str], capsys: pytest.CaptureFixture[str], monkeypatch) -> str:
+    monkeypatch.setenv("COLUMNS", str(HELP_COLUMNS))
+    monkeypatch.delenv("TERMINAL_WIDTH", raising=False)
+    assert run([*arguments, "--help"]) == 0
+    return capsys.readouterr().out
+
+
+@pytest.mark.parametrize("name", command_names())
+def test_every_help_shows_its_brackets_and_whole_option_names_at_80_columns(
+    name: str, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Every ``[...]`` a help text was written with (``jointplay[gpu]``, ``[wear]``) is shown,
+    not read as a Rich style tag, and every option's name is shown whole in its column."""
+    import typer.main
+
+    from jointplay.cli import app
+
+    command = typer.main.get_command(app).commands[name]  # type: ignore[attr-defined]
+    text = help_at_80([name], capsys, monkeypatch)
+    assert max(len(line) for line in text.splitlines()) <= HELP_COLUMNS
+    assert "…" not in text  # nothing cut: long words fold
+    squashed = re.sub(r"[\s│]", "", text)  # a folded word reads whole again
+    shown = [p for p in command.params if not getattr(p, "hidden", False)]
+    written = [command.help or "", *[getattr(p, "help", None) or "" for p in shown]]
+    brackets = {b for help_text in written for b in re.findall(r"\[[^\]\s]+\]", help_text)}
+    for bracket in brackets:
+        assert bracket in squashed, f"{name} --help lost {bracket}"
+    names = re.findall(r"^│\s+(?:\*\s+)?(--[\w,-]+)", text, flags=re.MULTILINE)
+    listed = {option for joined in names for option in joined.split(",")}
+    secondary = set(re.findall(r"\s(--no-[\w-]+)\s", text))
+    for param in shown:
+        for option in (*param.opts, *param.secondary_opts):
+            if option.startswith("--"):
+                assert option in listed | secondary, f"{name} --help cut {option}"
+
+
+def test_the_bracket_check_can_fail(capsys, monkeypatch) -> None:
+    """Read as Rich markup, ``[gpu]`` vanishes: the check above would see it missing."""
+    from rich.console import Console
+
+    console = Console(width=HELP_COLUMNS, file=__import__("io").StringIO())
+    console.print("pip install 'jointplay[gpu]'")
+    assert "[gpu]" not in console.file.getvalue()  # type: ignore[attr-defined]
+
+
+@pytest.mark.parametrize("cached", [True, False])
+def test_a_first_run_says_it_compiles_the_kernels_and_how_long_it_took(
+    cached: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import jointplay._kernels
+    from jointplay.cli._common import COMPILE_NOTICE, compiling_kernels
+
+    monkeypatch.setattr(jointplay._kernels, "compiled_cache_present", lambda: cached)
+    said: list[str] = []
+    with compiling_kernels(said.append) as compiling:
+        assert said == ([] if cached else [COMPILE_NOTICE])  # before the work
+    assert compiling is not cached
+    if cached:
+        assert said == []
+    else:
+        assert re.fullmatch(r"jointplay: kernels compiled and cached; this step took \d+ s "
+                            r"with the compilation", said[-1])  # fmt: skip

@@ -187,3 +187,21 @@ def test_rtol_reaches_the_design_study(tmp_path) -> None:
     assert run([*FAST_DYNAMIC, "--rtol", "1e-8", "--out", str(out)]) == 0
     settings = json.loads((out / "summary.json").read_text())["settings"]
     assert settings["model"]["solver"]["rtol"] == 1e-8
+
+
+def test_h7_h6_is_tried_only_when_named_with_a_note(tmp_path, capsys) -> None:
+    """Its minimum radial clearance is zero: not among the default fits; named, a note."""
+    from jointplay.cli.design import DEFAULT_FITS
+
+    assert "H7/h6" not in DEFAULT_FITS
+    base = ["design", "-r", "rocker_swing >= 50 deg", "--classes", "m", "--samples", "5"]
+    assert run([*base, "--no-plots", "--out", str(tmp_path / "default")]) == 0
+    assert "zero minimum" not in capsys.readouterr().err
+    named = [*base, "--fits", "H7/h6,H8/g7", "--no-plots", "--out", str(tmp_path / "named")]
+    assert run(named) == 0
+    notes = [line for line in capsys.readouterr().err.splitlines() if "note:" in line]
+    assert notes == [
+        "jointplay: note: H7/h6 has a zero minimum radial clearance at Ø10 mm (0 … 12 µm): "
+        "its samples near the lower limit leave the pin almost no room, where the "
+        "clearance-joint model is least reliable"
+    ]

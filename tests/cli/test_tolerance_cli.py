@@ -19,13 +19,44 @@ def _summary(folder) -> dict:
     return json.loads((folder / "summary.json").read_text())
 
 
+def test_spec_limit_is_a_deprecated_alias_of_require(tmp_path, capsys) -> None:
+    def limits(*given: str) -> dict:
+        out = tmp_path / str(len(list(tmp_path.iterdir())))
+        args = ["tolerance", "--samples", "50", "--out", str(out), *QUIET, *given]
+        assert run(args) == 0
+        return {k: v.get("spec_limits") for k, v in _summary(out)["responses"].items()}
+
+    old = limits("--spec-limit", "rocker_swing=52.3 deg:53 deg")
+    assert "--spec-limit is deprecated" in capsys.readouterr().err
+    new = limits("--require", "rocker_swing >= 52.3 deg", "--require", "rocker_swing <= 53 deg")
+    assert "deprecated" not in capsys.readouterr().err
+    assert new == old and new["rocker_swing"]["upper"] == pytest.approx(math.radians(53))
+
+
+@pytest.mark.parametrize(
+    ("given", "message"),
+    [
+        (["--require", "rocker_swing <= 53 deg @99"], "takes no @confidence"),
+        (["--require", "rocker_swing <= 53 deg", "--require", "rocker_swing < 54 deg"],
+         "two upper limits on 'rocker_swing'"),
+        (["--require", "rocker_swing <= 53 deg", "--spec-limit", "rocker_swing=52 deg:"],
+         "both limit 'rocker_swing'"),
+        (["--require", "omega9_peak <= 5 rad/s"], "unknown response 'omega9_peak'"),
+    ],
+)  # fmt: skip
+def test_bad_requirements_are_one_line_errors(given, message, tmp_path, capsys) -> None:
+    args = ["tolerance", "--method", "worst-case", "--out", str(tmp_path / "x"), *QUIET, *given]
+    assert run(args) == 2
+    assert message in capsys.readouterr().err
+
+
 def test_monte_carlo_answers_with_files_and_a_table(tmp_path, capsys) -> None:
     def args(out) -> list[str]:
         return [
             "tolerance", "--preset", "paper-fourbar", "--method", "monte-carlo",
             "--samples", "300", "--seed", "12", "--out", str(out), *QUIET,
-            "--spec-limit", "rocker_swing=52.3 deg:53 deg",
-            "--spec-limit", "omega4_peak=:13.9 rad/s",
+            "--require", "rocker_swing >= 52.3 deg", "--require", "rocker_swing <= 53 deg",
+            "--require", "omega4_peak <= 13.9 rad/s",
         ]  # fmt: skip
 
     out = tmp_path / "mc"

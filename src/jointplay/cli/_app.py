@@ -24,7 +24,7 @@ try:  # Typer >= 0.20 vendors its own copy of Click, whose exceptions it raises
 except ImportError:  # pragma: no cover - older Typer uses the click package
     from click import exceptions as click_exceptions  # type: ignore[no-redef]
 
-from jointplay.errors import JointplayError, caused_by_interrupt
+from jointplay.errors import Interrupted, JointplayError, caused_by_interrupt
 
 
 def _flags_show_no_metavar() -> None:
@@ -53,7 +53,78 @@ def _flags_show_no_metavar() -> None:
     TyperOption.display_type_rich = display_type_rich  # type: ignore[method-assign]
 
 
+def _help_is_plain_text() -> None:
+    """Help texts are read as written: ``pip install 'jointplay[gpu]'``, a ``[wear]`` table.
+
+    With ``rich_markup_mode="rich"`` (what gives the help its panels) Typer reads every help
+    text as Rich markup, where ``[gpu]`` or ``[wear]`` is a style tag and silently vanishes.
+    jointplay writes no markup in its help, so every help text is escaped
+    (:func:`rich.markup.escape`) just before Typer renders it: option help, command
+    docstrings and the epilogue alike, those of commands added later included. A paragraph's
+    line breaks (a docstring's, at 96 columns) are spaces: the paragraph is wrapped at the
+    terminal's width, as Typer already does for the first paragraph and for option help.
+    """
+    try:
+        from typer import rich_utils
+    except ImportError:  # pragma: no cover - Typer without Rich help: nothing is markup
+        return
+    render = getattr(rich_utils, "_make_rich_text", None)
+    if render is None or getattr(render, "_escapes_markup", False):
+        return
+    from rich.markup import escape
+
+    def make_rich_text(*, text: str, style: str = "", markup_mode: Any) -> Any:
+        if markup_mode == "rich":
+            text = escape(text)
+            text = "\n\n".join(
+                part if part.startswith("\b") else " ".join(part.split("\n"))
+                for part in text.split("\n\n")
+            )
+        return render(text=text, style=style, markup_mode=markup_mode)
+
+    make_rich_text._escapes_markup = True  # type: ignore[attr-defined]
+    rich_utils._make_rich_text = make_rich_text
+
+
+def _option_names_never_cut() -> None:
+    """At 80 columns an option's name is shown whole (``--clearance-limit``, never
+    ``--clearance-lim…``), and a long word in its help folds onto the next line instead of
+    ending in "…".
+
+    Typer draws each panel of options as a Rich table without declared columns; when the
+    table is wider than the terminal, Rich narrows every column that may wrap, the option
+    names' too, and cuts what no longer fits. Here the tables Typer creates mark the name
+    columns (all but the type and help columns) as not wrapping, so only the type and help
+    columns give way, and those fold their long words.
+    """
+    try:
+        from typer import rich_utils
+    except ImportError:  # pragma: no cover - Typer without Rich help
+        return
+    table = getattr(rich_utils, "Table", None)
+    if table is None or getattr(table, "_names_never_cut", False):
+        return
+
+    class OptionsTable(table):  # type: ignore[misc, valid-type]
+        _names_never_cut = True
+
+        def add_row(self, *renderables: Any, **kwargs: Any) -> None:
+            super().add_row(*renderables, **kwargs)
+            if self.show_header or len(self.columns) < 5:  # not an options panel
+                return
+            for column in self.columns[:-2]:
+                column.no_wrap = True
+            help_items = getattr(renderables[-1], "renderables", [renderables[-1]])
+            for item in [renderables[-2], *help_items]:  # the type, the help and its default
+                if hasattr(item, "overflow"):
+                    item.overflow = "fold"
+
+    rich_utils.Table = OptionsTable  # type: ignore[misc]
+
+
 _flags_show_no_metavar()
+_help_is_plain_text()
+_option_names_never_cut()
 
 app = typer.Typer(
     name="jointplay",
@@ -96,17 +167,9 @@ EXIT_INTERRUPTED = 130
 NOTHING_KEPT = "jointplay: interrupted; nothing was written (the output folder is as it was)"
 
 
-class Interrupted(Exception):
-    """Raised by a command that was interrupted but kept partial results.
-
-    Its message is the one line saying what was kept; :func:`run` prints it and returns
-    :data:`EXIT_INTERRUPTED`.
-    """
-
-
 def fail(message: str) -> None:
     """Print one error line to stderr (helper for commands that detect bad input themselves)."""
-    print(f"jointplay: error: {message}", file=sys.stderr)
+    print(f"jointplay: error: {_one_line(message)}", file=sys.stderr)
 
 
 #: The arguments of the command being run (for the provenance records of result files).
@@ -149,8 +212,18 @@ def _one_line_warnings() -> Iterator[None]:
         warnings.showwarning = previous
 
 
+#: The longest message line printed, characters: an error that quotes a huge input (a
+#: 10 MB line of a file, a long argument) keeps its start and its end, where the fix is said.
+MAX_LINE = 600
+
+
 def _one_line(text: str) -> str:
-    return " ".join(str(text).split())
+    """``text`` on one line, its middle cut where it is longer than :data:`MAX_LINE`."""
+    line = " ".join(str(text).split())
+    if len(line) <= MAX_LINE:
+        return line
+    head, tail = MAX_LINE * 2 // 3, MAX_LINE // 3
+    return f"{line[:head]} … ({len(line) - head - tail} characters cut) … {line[-tail:]}"
 
 
 #: Words that a user may write after a flag, meaning "on" or "off".
@@ -242,7 +315,7 @@ def run(argv: list[str] | None = None) -> int:
         fail(_one_line(exc.format_message()))
         return EXIT_ERROR if exc.exit_code in (1, 2) else int(exc.exit_code)
     except Interrupted as exc:
-        print(f"jointplay: interrupted; {_one_line(str(exc))}", file=sys.stderr)
+        print(f"jointplay: interrupted; {_one_line(exc.line())}", file=sys.stderr)
         return EXIT_INTERRUPTED
     except (typer.Abort, KeyboardInterrupt):
         print(NOTHING_KEPT, file=sys.stderr)

@@ -5,8 +5,9 @@ from __future__ import annotations
 import math
 import shlex
 import sys
-from collections.abc import Iterable
-from contextlib import AbstractContextManager, nullcontext
+import time
+from collections.abc import Iterable, Iterator, Sequence
+from contextlib import AbstractContextManager, contextmanager, nullcontext
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
@@ -115,13 +116,18 @@ FigureFormatOption = Annotated[
 ForceOption = Annotated[
     bool,
     typer.Option(
-        "--force", help="Replace --out even if it is a non-empty folder jointplay did not write."
+        "--force",
+        help="Replace --out even if it is a non-empty folder jointplay did not write (never "
+        "the home folder, a system folder or a folder holding an input of the run).",
     ),
 ]
 
 
-def maybe_output_dir(out: Path | None, force: bool = False) -> AbstractContextManager[Path | None]:
-    """:func:`jointplay.io.output.output_dir` for ``out``, or ``None`` without one.
+def maybe_output_dir(
+    out: Path | None, force: bool = False, inputs: Sequence[Path | None] = ()
+) -> AbstractContextManager[Path | None]:
+    """:func:`jointplay.io.output.output_dir` for ``out`` (``inputs``: the files the run
+    reads), or ``None`` without one.
 
     Enter it before computing, so that an unusable ``--out`` is reported first.
     """
@@ -129,7 +135,7 @@ def maybe_output_dir(out: Path | None, force: bool = False) -> AbstractContextMa
         return nullcontext(None)
     from jointplay.io.output import output_dir
 
-    return output_dir(out, force=force)
+    return output_dir(out, force=force, inputs=inputs)
 
 
 def mechanism_from_options(
@@ -233,6 +239,58 @@ def choice(text: str, option: str, choices: Iterable[str]) -> str:
     return value
 
 
+#: The most samples of a study (and of each scheme of a design): 10 million samples of a
+#: dynamic study run for days; a larger number is a typo, refused before memory is asked for.
+MAX_SAMPLES = 10_000_000
+#: The most local worker processes.
+MAX_WORKERS = 1024
+#: The most crank revolutions simulated (analysed plus start-up) per simulation: a
+#: four-bar at 200 rpm runs ~100 revolutions a second on one core, so 10 000 take minutes
+#: per simulation and the integrator's step budget runs out beyond.
+MAX_REVOLUTIONS = 10_000
+
+
+def check_revolutions(revolutions: float, settle: int = 0, option: str = "--revolutions") -> None:
+    """Refuse revolutions that are not > 0, and revolutions plus ``settle`` beyond
+    :data:`MAX_REVOLUTIONS`, naming ``option``."""
+    if not (math.isfinite(revolutions) and revolutions > 0):
+        raise ConfigError(f"{option} must be > 0, got {revolutions:g}")
+    if settle < 0:
+        raise ConfigError(f"--settle must be a whole number of revolutions >= 0, got {settle}")
+    if revolutions + settle > MAX_REVOLUTIONS:
+        raise ConfigError(
+            f"{option} {revolutions:g}{f' with --settle {settle}' if settle else ''} is more than "
+            f"{MAX_REVOLUTIONS} revolutions per simulation; ask for fewer"
+        )
+
+
 def check_figure_format(text: str) -> str:
     """The ``--figure-format`` value, checked (before any computation)."""
     return choice(text, "--figure-format", FIGURE_FORMATS)
+
+
+#: What a first run after install spends compiling the kernels (2-core machine, load 0.5-1).
+COMPILE_NOTICE = (
+    "jointplay: compiling the numerical kernels first: once after an install or upgrade, "
+    "about 40 s on a 2-core machine; later runs load them in about a second"
+)
+
+
+@contextmanager
+def compiling_kernels(say: Any) -> Iterator[bool]:
+    """Around a command's first dynamic work: when no compiled kernels are cached
+    (:func:`jointplay._kernels.compiled_cache_present`), ``say`` (a print function) tells
+    the user before the work that the kernels are compiled now, and after it how long the
+    work took with the compilation. Yields whether they are compiled here."""
+    from jointplay._kernels import compiled_cache_present
+
+    if compiled_cache_present():
+        yield False
+        return
+    say(COMPILE_NOTICE)
+    started = time.perf_counter()
+    yield True
+    say(
+        f"jointplay: kernels compiled and cached; this step took "
+        f"{time.perf_counter() - started:.0f} s with the compilation"
+    )

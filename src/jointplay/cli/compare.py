@@ -152,7 +152,7 @@ def compare_command(
     from jointplay.study.methods import ECS_SOURCES, METHODS
 
     figure_format = check_figure_format(figure_format)
-    with maybe_output_dir(out, force) as folder:
+    with maybe_output_dir(out, force, inputs=(config, measurements)) as folder:
         conventions = MeasurementConventions(
             unit=choice(unit, "--unit", tuple(SPEED_UNITS)),
             crank_direction=choice(crank_direction, "--crank-direction", DIRECTIONS),

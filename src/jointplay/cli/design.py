@@ -8,13 +8,15 @@ from __future__ import annotations
 import math
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any, Literal
+from typing import TYPE_CHECKING, Annotated, Any, Literal, cast
 
 import typer
 from rich.console import Console
 
-from jointplay.cli._app import Interrupted, app
+from jointplay.cli._app import app
 from jointplay.cli._common import (
+    MAX_SAMPLES,
+    MAX_WORKERS,
     ConfigOption,
     FigureFormatOption,
     ForceOption,
@@ -26,6 +28,7 @@ from jointplay.cli._common import (
     SettleOption,
     WearCoefficientOption,
     check_figure_format,
+    check_revolutions,
     choice,
     mechanism_from_options,
     provenance,
@@ -46,7 +49,7 @@ from jointplay.cli.tolerance import (
     contact_law,
     solver_options,
 )
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, Interrupted, JointplayError, PartialInterrupt
 from jointplay.units import parse_quantity
 
 if TYPE_CHECKING:
@@ -54,7 +57,9 @@ if TYPE_CHECKING:
 
 console = Console(highlight=False, soft_wrap=True)
 
-DEFAULT_FITS = "H7/h6,H7/g6,H8/f7,H8/g7,H9/d9,H11/c11"
+#: The fits tried when none are named: clearance fits with room for the pin at their lower
+#: limit. H7/h6, whose minimum clearance is zero, is tried only when named (with a note).
+DEFAULT_FITS = "H7/g6,H8/f7,H8/g7,H9/d9,H11/c11"
 
 
 def read_table(path: Path | None, config: Path | None = None) -> dict[str, Any]:
@@ -65,15 +70,9 @@ def read_table(path: Path | None, config: Path | None = None) -> dict[str, Any]:
     tables = design_tables(config)
     if path is None:
         return tables
-    import tomllib
+    from jointplay.io.config import read_toml
 
-    try:
-        with open(path, "rb") as handle:
-            data = tomllib.load(handle)
-    except OSError as exc:
-        raise ConfigError(f"--table {path}: cannot read it ({exc.strerror})") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"--table {path}: not valid TOML ({exc})") from None
+    data = read_toml(path, "--table file")
     return {**tables, **design_table_keys(data, f"--table {path}")}
 
 
@@ -121,23 +120,26 @@ def parse_clearance_limit(text: str | None) -> tuple[float | None, float | None]
     if text is None:
         return None, None
     value = text.strip()
-    if value.startswith("+"):
-        return None, parse_quantity(value[1:].strip(), "m", field="--clearance-limit")
-    return parse_quantity(value, "m", field="--clearance-limit"), None
-
-
-#: The most samples per scheme a command line may ask for (bounded before use).
-MAX_SAMPLES_LIMIT = 10**7
+    allowance = value.startswith("+")
+    number = parse_quantity(value.removeprefix("+").strip(), "m", field="--clearance-limit")
+    if not (number >= 0 if allowance else number > 0):
+        raise ConfigError(
+            f"--clearance-limit {text!r}: a radial clearance is > 0 and an allowance >= 0; "
+            "write an absolute limit such as '80 um', or '+20 um' (the fit's largest radial "
+            "clearance plus 20 µm)"
+        )
+    return (None, number) if allowance else (number, None)
 
 
 def parse_samples(text: str) -> int | Literal["auto"]:
-    """``--samples``: ``auto`` or a positive whole number (at most :data:`MAX_SAMPLES_LIMIT`)."""
+    """``--samples``: ``auto`` or a positive whole number (at most
+    :data:`~jointplay.cli._common.MAX_SAMPLES`)."""
     value = text.strip().lower()
     if value == "auto":
         return "auto"
-    if not value.isdigit() or not 1 <= int(value) <= MAX_SAMPLES_LIMIT:
+    if not value.isdigit() or not 1 <= int(value) <= MAX_SAMPLES:
         raise ConfigError(
-            f"--samples: expected 'auto' or a whole number from 1 to {MAX_SAMPLES_LIMIT:,}, "
+            f"--samples: expected 'auto' or a whole number from 1 to {MAX_SAMPLES:,}, "
             f"got {text[:40]!r}"
         )
     return int(value)
@@ -224,7 +226,12 @@ def design_command(
     ] = "auto",
     max_samples: Annotated[
         int,
-        typer.Option("--max-samples", help="--samples auto: the most samples per scheme.", min=1),
+        typer.Option(
+            "--max-samples",
+            help="--samples auto: the most samples per scheme.",
+            min=1,
+            max=MAX_SAMPLES,
+        ),
     ] = 4000,
     sampling: Annotated[
         str,
@@ -310,7 +317,12 @@ def design_command(
     backend: BackendOption = "processes",
     workers: Annotated[
         int | None,
-        typer.Option("--workers", help="Local worker processes (default: one per CPU).", min=1),
+        typer.Option(
+            "--workers",
+            help="Local worker processes (default: one per CPU).",
+            min=1,
+            max=MAX_WORKERS,
+        ),
     ] = None,
     dask_scheduler: Annotated[
         str | None, typer.Option("--dask-scheduler", help="Run on the Dask cluster at ADDRESS.")
@@ -381,55 +393,85 @@ def design_command(
         if fixed
         else fit_list
     )
+    _note_zero_clearance(mechanism, [*fit_list, *fixed.values()])
     class_list = [c.strip() for c in classes.split(",") if c.strip()]
     limit, allowance = parse_clearance_limit(clearance_limit)
+    check_revolutions(revolutions, settle)
     data = read_table(table, config)
     cost = CostModel.from_table(data.get("cost", {}))
     wear = wear_settings(data, wear_coefficient, hardness)
     where = backend_from_options(backend, workers, dask_scheduler)
     figure_format = check_figure_format(figure_format)
-    with output_dir(out, force=force) as folder:  # checked before the study runs
-        result = design_study(
-            mechanism,
-            candidates,
-            class_list,
-            requirements,
-            samples=count,
-            max_samples=max_samples,
-            seed=seed,
-            process=process,
-            truncate=truncate,
-            rare=RareDefects() if rare_defects else None,
-            confidence=level,
-            responses=kind,  # type: ignore[arg-type]
-            cost=cost,
-            clearance_limit=limit,
-            clearance_allowance=allowance,
-            wear=wear,
-            contact=law,
-            settle=settle,
-            revolutions=revolutions,
-            solver=solver_options(rtol),
-            backend=where,
-            progress=progress,
-        )
+    # the output folder is checked before the study runs
+    with output_dir(out, force=force, inputs=(config, table)) as folder:
+        missing = []
+        try:
+            result = design_study(
+                mechanism,
+                candidates,
+                class_list,
+                requirements,
+                samples=count,
+                max_samples=max_samples,
+                seed=seed,
+                process=process,
+                truncate=truncate,
+                rare=RareDefects() if rare_defects else None,
+                confidence=level,
+                responses=kind,  # type: ignore[arg-type]
+                cost=cost,
+                clearance_limit=limit,
+                clearance_allowance=allowance,
+                wear=wear,
+                contact=law,
+                settle=settle,
+                revolutions=revolutions,
+                solver=solver_options(rtol),
+                backend=where,
+                progress=progress,
+            )
+        except PartialInterrupt as stopped:  # in the convergence check: every scheme finished
+            result, missing = cast("DesignResult", stopped.partial), ["the convergence check"]
         units = design_units(mechanism, result.responses)  # type: ignore[arg-type]
         summary = result.summary()
-        write_design(
-            result,
-            folder,
-            units,
-            plots=plots,
-            provenance=provenance(summary["settings"]),
-            figure_format=figure_format,
-        )
-    _print(result, units)
-    if result.interrupted:
-        raise Interrupted(
-            f"{len(result.table)} scheme(s) with finished rounds of samples (an unfinished "
-            f"round is left out); their results were written to {out}"
-        )
+        finished = (len(result.table), int(summary["settings"]["schemes"]), "schemes")
+        try:
+            write_design(
+                result,
+                folder,
+                units,
+                plots=plots,
+                provenance=provenance(summary["settings"]),
+                figure_format=figure_format,
+            )
+        except KeyboardInterrupt:  # the tables and summary are written first, whole
+            raise Interrupted(*finished, ", ".join([*missing, "the figures and report"])) from None
+        _print(result, units)
+        if result.interrupted or missing:
+            raise Interrupted(*finished, ", ".join(missing))
     console.print(f"results written to {out}")
+
+
+def _note_zero_clearance(mechanism: Any, fits: list[str]) -> None:
+    """A note on stderr for each named fit whose smallest radial clearance is zero (H7/h6)."""
+    from jointplay.tolerance import iso286
+
+    diameters = sorted({j.fit.diameter for j in mechanism.revolute_joints if j.fit is not None})
+    for name in dict.fromkeys(fits):
+        for diameter in diameters:
+            try:
+                result = iso286.fit(name, diameter)
+            except JointplayError:
+                continue  # reported by the study, with the joint
+            if result.radial_clearance_min <= 0 < result.radial_clearance_max:
+                print(
+                    f"jointplay: note: {result.designation} has a zero minimum radial clearance at "
+                    f"Ø{diameter * 1e3:g} mm (0 … {result.radial_clearance_max * 1e6:.3g} µm): its "
+                    "samples near the lower limit leave the pin almost no room, where the "
+                    "clearance-joint model is least reliable",
+                    file=sys.stderr,
+                )
+                break
 
 
 def _fit_joints(mechanism: Any) -> list[str]:

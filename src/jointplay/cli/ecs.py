@@ -242,7 +242,7 @@ def ecs_command(
     if not console.is_terminal:
         console.width = PIPE_WIDTH
     figure_format = check_figure_format(figure_format)
-    with maybe_output_dir(out, force) as folder:
+    with maybe_output_dir(out, force, inputs=(config,)) as folder:
         contacts = _contacts(contact)
         ratio = quantity_option(damping_ratio, "s", "--damping-ratio", example="s")
         if not ratio >= 0:

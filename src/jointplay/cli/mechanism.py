@@ -90,7 +90,7 @@ def kinematics_command(
     from jointplay.io.output import output_dir, write_json
 
     figure_format = check_figure_format(figure_format)
-    with output_dir(out, force=force) as folder:
+    with output_dir(out, force=force, inputs=(config,)) as folder:
         mechanism = mechanism_from_options(preset, config, rpm, direction, start_angle, gravity)
         step_deg = math.degrees(
             quantity_option(step, "rad", "--step", example="deg", positive=True)

@@ -23,10 +23,12 @@ from rich.progress import (
 
 from jointplay.cli._app import app
 from jointplay.cli._common import (
+    COMPILE_NOTICE,
     FigureFormatOption,
     ForceOption,
     OutOption,
     check_figure_format,
+    check_revolutions,
     crank_speed,
     provenance,
 )
@@ -108,8 +110,7 @@ def paper_command(
         if ecs_source not in sources:
             raise ConfigError(f"--ecs-source must be both, paper or computed, got {ecs_source!r}")
         speed = crank_speed(rpm)
-        if not revolutions > 0:
-            raise ConfigError(f"--revolutions must be > 0, got {revolutions}")
+        check_revolutions(revolutions)
         if experiment_revolutions < 1:
             raise ConfigError(
                 f"--experiment-revolutions must be >= 1, got {experiment_revolutions}"
@@ -131,6 +132,11 @@ def paper_command(
         )
         options.backend  # noqa: B018 (checks --dask-scheduler before any work)
         console = Console(stderr=True)
+        from jointplay._kernels import compiled_cache_present
+
+        compiling = not compiled_cache_present()
+        if compiling:
+            console.print(COMPILE_NOTICE, markup=False, highlight=False)
         with Progress(
             TextColumn("[bold]paper study"),
             BarColumn(bar_width=24),
@@ -160,7 +166,8 @@ def paper_command(
             report_s = time.perf_counter() - writing
             progress.update(task, completed=steps["total"], description="done")
     total_s = time.perf_counter() - started
+    kernels = f", {study.extra['kernels_s']:.0f} s of it compiling the kernels" if compiling else ""
     typer.echo(
         f"paper study written to {out}/report.html in {total_s:.0f} s "
-        f"(simulations and analyses {study.wall_s:.0f} s, report {report_s:.0f} s)"
+        f"(simulations and analyses {study.wall_s:.0f} s{kernels}, report {report_s:.0f} s)"
     )

@@ -23,6 +23,8 @@ from jointplay.cli._common import (
     RpmOption,
     StartAngleOption,
     check_figure_format,
+    check_revolutions,
+    compiling_kernels,
     mechanism_from_options,
     provenance,
     quantity_option,
@@ -141,7 +143,7 @@ def simulate_command(
     from jointplay.model.summary import mechanism_summary
 
     figure_format = check_figure_format(figure_format)
-    with output_dir(out, force=force) as folder:
+    with output_dir(out, force=force, inputs=(config,)) as folder:
         table = simulation_settings(config)
         given = {
             "contact": contact, "k": k, "exponent": exponent, "cmax": cmax, "depth": depth,
@@ -199,16 +201,18 @@ def simulate_command(
         if fmt_value not in ("csv", "parquet"):
             raise ConfigError(f"--format must be csv or parquet, got {fmt_value!r}")
         turns = finite_number(values, "revolutions", 1.0)
-        if not (math.isfinite(turns) and turns > 0):
-            raise ConfigError(f"--revolutions must be > 0, got {turns}")
+        check_revolutions(turns)
         settle_turns = values.get("settle", DEFAULT_SETTLE if mode == "steady" else 0)
         if isinstance(settle_turns, bool) or not isinstance(settle_turns, int) or settle_turns < 0:
             raise ConfigError(
                 f"--settle must be a whole number of revolutions >= 0, got {settle_turns!r}"
             )
         sample = _sample_step(values.get("sample_deg"))
-        with console.status(
-            f"simulating {settle_turns + turns:g} revolution(s) of {mechanism.name} with clearance in {', '.join(c.joint for c in clear)}"
+        with (
+            compiling_kernels(lambda line: console.print(line, markup=False, highlight=False)),
+            console.status(
+                f"simulating {settle_turns + turns:g} revolution(s) of {mechanism.name} with clearance in {', '.join(c.joint for c in clear)}"
+            ),
         ):
             result = simulate(
                 mechanism,

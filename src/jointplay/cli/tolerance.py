@@ -6,16 +6,17 @@ CLI starts (``jointplay --help``).
 
 from __future__ import annotations
 
-import math
 import sys
 from enum import StrEnum
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any, cast
 
 import typer
 from rich.console import Console
 
-from jointplay.cli._app import Interrupted, app
+from jointplay.cli._app import app
 from jointplay.cli._common import (
+    MAX_SAMPLES,
+    MAX_WORKERS,
     ConfigOption,
     FigureFormatOption,
     ForceOption,
@@ -24,6 +25,7 @@ from jointplay.cli._common import (
     PresetOption,
     RpmOption,
     check_figure_format,
+    check_revolutions,
     crank_speed,
     parse_gravity,
     provenance,
@@ -38,7 +40,7 @@ from jointplay.cli._simulation import (
     RtolOption,
     StiffnessOption,
 )
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, Interrupted, PartialInterrupt
 from jointplay.units import parse_quantity
 
 if TYPE_CHECKING:
@@ -149,7 +151,7 @@ def tolerance_command(
         Method, typer.Option("--method", help="monte-carlo, worst-case (corners) or rss.")
     ] = Method.monte_carlo,
     samples: Annotated[
-        int, typer.Option("--samples", "-n", help="Monte Carlo samples.", min=1)
+        int, typer.Option("--samples", "-n", help="Monte Carlo samples.", min=1, max=MAX_SAMPLES)
     ] = 1000,
     seed: Annotated[
         int, typer.Option("--seed", help="Seed: the same seed gives the same samples.", min=0)
@@ -243,18 +245,33 @@ def tolerance_command(
             "half-width.",
         ),
     ] = 0.5,
+    require: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--require",
+            "-r",
+            help="A limit on a response: RESPONSE <=|<|>=|> VALUE [UNIT], e.g. "
+            "'omega4_peak <= 16 rad/s' (design's grammar; a lower and an upper limit on one "
+            "response make its two spec limits). Repeatable.",
+        ),
+    ] = None,
     spec_limit: Annotated[
         list[str] | None,
         typer.Option(
             "--spec-limit",
-            help="Limits of a response, RESPONSE=LO:HI with units, e.g. "
-            "'omega4_peak=:16 rad/s' (either side may be empty). Repeatable.",
+            help="Deprecated: use --require. Limits of a response, RESPONSE=LO:HI with units, "
+            "e.g. 'omega4_peak=:16 rad/s'. Repeatable.",
         ),
     ] = None,
     backend: BackendOption = "processes",
     workers: Annotated[
         int | None,
-        typer.Option("--workers", help="Local worker processes (default: one per CPU).", min=1),
+        typer.Option(
+            "--workers",
+            help="Local worker processes (default: one per CPU).",
+            min=1,
+            max=MAX_WORKERS,
+        ),
     ] = None,
     dask_scheduler: Annotated[
         str | None,
@@ -293,7 +310,7 @@ def tolerance_command(
     from jointplay.tolerance.methods import MonteCarlo, Rss, ToleranceMethod, WorstCase
 
     figure_format = check_figure_format(figure_format)
-    with output_dir(out, force=force) as folder:
+    with output_dir(out, force=force, inputs=(config,)) as folder:
         mechanism, spec = load_study_spec(preset, config)
         _check_lengths(spec)
         if rpm is not None:
@@ -305,10 +322,7 @@ def tolerance_command(
         dynamic = responses is not Responses.kinematic
         if dynamic and not clearances:
             spec = spec.only("length")
-        if not (math.isfinite(revolutions) and revolutions > 0):
-            raise ConfigError(f"--revolutions must be > 0, got {revolutions}")
-        if settle < 0:
-            raise ConfigError(f"--settle must be a whole number of revolutions >= 0, got {settle}")
+        check_revolutions(revolutions, settle)
         contact_options = {
             "contact": contact,
             "k": k,
@@ -330,6 +344,16 @@ def tolerance_command(
             raise ConfigError("--backend gpu runs the dynamics: use it with --responses dynamic")
         units = response_units(mechanism, spec, responses.value, contact=law)
         limits = parse_spec_limits(spec_limit or [], units)
+        if spec_limit:  # after parsing: a malformed one is still one error line
+            print(
+                "jointplay: warning: --spec-limit is deprecated and will be removed; write "
+                "--require 'RESPONSE <= VALUE UNIT' (and >= for a lower limit), as in design",
+                file=sys.stderr,
+            )
+        for name, limit in limits_from_requirements(require or [], units).items():
+            if name in limits:
+                raise ConfigError(f"--require and --spec-limit both limit {name!r}: give one")
+            limits[name] = limit
         analysis: ToleranceMethod
         if method is Method.monte_carlo:
             analysis = MonteCarlo(samples=samples, seed=seed, sampling=sampling.value)
@@ -337,36 +361,44 @@ def tolerance_command(
             analysis = Rss(fd_step=fd_step)
         else:
             analysis = WorstCase(corners=corners.value, fd_step=fd_step)
-        study = tolerance_study(
-            mechanism,
-            spec,
-            method=analysis,
-            responses=responses.value,
-            limits=limits,
-            contact=law,
-            start=start.value,
-            settle=settle,
-            revolutions=revolutions,
-            solver=solver_options(rtol),
-            backend=where,
-            progress=progress,
-        )
+        missing = []
+        try:
+            study = tolerance_study(
+                mechanism,
+                spec,
+                method=analysis,
+                responses=responses.value,
+                limits=limits,
+                contact=law,
+                start=start.value,
+                settle=settle,
+                revolutions=revolutions,
+                solver=solver_options(rtol),
+                backend=where,
+                progress=progress,
+            )
+        except PartialInterrupt as stopped:  # in the convergence check: every point finished
+            study, missing = (
+                cast("ToleranceStudyResult", stopped.partial),
+                ["the convergence check"],
+            )
         summary = study.summary()
-        write_study(
-            study,
-            folder,
-            plots=plots,
-            provenance=provenance(summary["configuration"]),
-            figure_format=figure_format,
-            executor=running_pool(),  # the batch engine's idle workers draw plots too
-        )
-    _print(study)
-    if study.interrupted:
         counts = summary["counts"]
-        raise Interrupted(
-            f"{counts['ok'] + counts['failed']} of {counts['points']} points finished; "
-            f"their results were written to {out}"
-        )
+        finished = (counts["ok"] + counts["failed"], counts["points"], "points")
+        try:
+            write_study(
+                study,
+                folder,
+                plots=plots,
+                provenance=provenance(summary["configuration"]),
+                figure_format=figure_format,
+                executor=running_pool(),  # the batch engine's idle workers draw plots too
+            )
+        except KeyboardInterrupt:  # the samples and summary are written first, whole
+            raise Interrupted(*finished, ", ".join([*missing, "the figures and report"])) from None
+        _print(study)
+        if study.interrupted or missing:
+            raise Interrupted(*finished, ", ".join(missing))
     console.print(f"results written to {out}")
 
 
@@ -424,6 +456,33 @@ def contact_law(
     if ecs_source is not None:
         raise ConfigError("--ecs-source applies to the paper's ECS methods: give --paper-method")
     return make_law(contact_from_strings({k: v for k, v in options.items() if v is not None}))
+
+
+def limits_from_requirements(texts: list[str], units: dict[str, str]) -> dict[str, SpecLimits]:
+    """``--require`` texts (design's grammar, :func:`~jointplay.study.requirements.
+    parse_requirement`) to spec limits: ``<=``/``<`` give the upper limit, ``>=``/``>`` the
+    lower (both inclusive, as spec limits are); no ``@confidence`` (a tolerance study
+    reports the share out of spec instead)."""
+    from jointplay.study.requirements import parse_requirement
+    from jointplay.tolerance.methods import SpecLimits
+
+    bounds: dict[str, dict[str, float]] = {}
+    for text in texts:
+        requirement = parse_requirement(text, units)
+        if requirement.confidence is not None:
+            raise ConfigError(
+                f"--require {text!r}: a tolerance study takes no @confidence (it reports the "
+                "share out of spec); leave it out"
+            )
+        side = "upper" if requirement.upper else "lower"
+        limits = bounds.setdefault(requirement.response, {})
+        if side in limits:
+            raise ConfigError(f"--require: two {side} limits on {requirement.response!r}")
+        limits[side] = requirement.limit
+    return {
+        name: SpecLimits(limits.get("lower"), limits.get("upper"))
+        for name, limits in bounds.items()
+    }
 
 
 def parse_spec_limits(texts: list[str], units: dict[str, str]) -> dict[str, SpecLimits]:

@@ -134,7 +134,9 @@ def wear_command(
         )
     if not joints:
         raise ConfigError("no clearance joints: give joints a fit and a diameter, or --fit")
-    with output_dir(out, force=force) as folder:  # checked before the wear runs
+    with output_dir(
+        out, force=force, inputs=(config, table)
+    ) as folder:  # checked before the wear runs
         history = wear_life(
             mechanism,
             joints,

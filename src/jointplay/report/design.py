@@ -21,7 +21,7 @@ import numpy as np
 import pandas as pd
 
 from jointplay.dynamics.wear import WearHistory
-from jointplay.io.output import write_json
+from jointplay.io.output import signals_held, write_json
 from jointplay.report._mpl import pyplot
 from jointplay.report.figures import encode
 from jointplay.report.html import HtmlReport
@@ -286,18 +286,22 @@ def write_design(
     provenance: Mapping[str, Any] | None = None,
     figure_format: str = "png",
 ) -> list[Path]:
-    """Write the design study's files into ``folder`` (existing); returns them."""
+    """Write the design study's files into ``folder`` (existing); returns them.
+
+    The data files and ``summary.json`` come first, each whole whatever the signals, so that
+    an interrupt while the figures are drawn keeps them."""
     folder = Path(folder)
     table = result.to_dataframe()
     written = [folder / "design.parquet", folder / "design.csv", folder / "samples.parquet"]
-    table.to_parquet(written[0], index=False)
-    csv_table(table, units).to_csv(written[1], index=False)
-    result.samples.to_parquet(written[2], index=False)
     summary = result.summary()
     if provenance is not None:
         summary["provenance"] = dict(provenance)
     written.append(folder / "summary.json")
-    write_json(written[-1], summary)
+    with signals_held():
+        table.to_parquet(written[0], index=False)
+        csv_table(table, units).to_csv(written[1], index=False)
+        result.samples.to_parquet(written[2], index=False)
+        write_json(written[-1], summary)
     images = design_plots(result, units, figure_format) if plots else {}
     for name, data in images.items():
         (folder / name).write_bytes(data)

@@ -71,7 +71,7 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from jointplay.dynamics.cycles import DEFAULT_SETTLE
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, PartialInterrupt
 from jointplay.model.mechanism import Mechanism, RevoluteJoint
 from jointplay.study.requirements import Requirement, parse_requirement
 from jointplay.tolerance import iso286, iso2768
@@ -592,8 +592,10 @@ class DesignResult:
             (dimensionless; above 1: not physical), status.
         best: label of the cheapest scheme shown to meet every requirement (verdict
             ``meets``: the lower bound of each yield's exact 95 % interval at or above the
-            confidence level), or ``None``.
-        binding: when none is: the requirement whose best observed yield is lowest.
+            confidence level), or ``None`` (always for an interrupted study: a choice among
+            some of the schemes is no choice).
+        binding: when none is: the requirement whose best observed yield is lowest
+            (``None`` for an interrupted study).
         interrupted: Ctrl-C stopped the run; only finished schemes are in ``table``.
         settings: samples, seed, model description, cost model, clearance limits.
         diagnostics: plausibility warnings over the samples of the finished schemes
@@ -669,6 +671,12 @@ class DesignResult:
     @property
     def verdict(self) -> str:
         """The answer in one sentence."""
+        if self.interrupted:
+            return (
+                f"interrupted: {len(self.table)} of {self.settings.get('schemes', '?')} schemes "
+                "with finished rounds; no recommendation from some of the schemes (run the "
+                "study again)"
+            )
         if self.best is not None:
             text = f"cheapest scheme shown to meet every requirement: {self.best}"
         elif not len(self.table):
@@ -857,6 +865,8 @@ def design_study(
 
     Raises:
         ConfigError: a malformed requirement, an unknown response, bad candidates.
+        PartialInterrupt: interrupted during the convergence check, after every scheme
+            finished; its ``partial`` is the result without the check.
     """
     if not 0.0 < confidence < 1.0:
         raise ConfigError(f"confidence must lie between 0 and 100 %, got {100 * confidence:g} %")
@@ -938,24 +948,28 @@ def design_study(
             break
         active = _still_open(active, rows)
     if rare is not None and not interrupted:
-        for i in sorted(active, key=lambda j: rows[j]["cost"]):
-            if i not in _still_open({i}, rows):
-                continue  # a cheaper one was shown feasible meanwhile
-            estimate = _rare_defects(
-                candidates[i], mechanism, specs[key[i]], feature_names, names, model, parsed,
-                rare, seed, clearance_limit, clearance_allowance, backend,
-            )  # fmt: skip
-            if estimate is None:
-                interrupted = True
-                break
-            rows[i].update(_rare_columns(estimate, parsed, confidence, rows[i]["verdict"]))
-            rows[i]["feasible"] = rows[i]["verdict"] == "meets"
+        try:
+            for i in sorted(active, key=lambda j: rows[j]["cost"]):
+                if i not in _still_open({i}, rows):
+                    continue  # a cheaper one was shown feasible meanwhile
+                estimate = _rare_defects(
+                    candidates[i], mechanism, specs[key[i]], feature_names, names, model,
+                    parsed, rare, seed, clearance_limit, clearance_allowance, backend,
+                )  # fmt: skip
+                if estimate is None:
+                    interrupted = True
+                    break
+                rows[i].update(_rare_columns(estimate, parsed, confidence, rows[i]["verdict"]))
+                rows[i]["feasible"] = rows[i]["verdict"] == "meets"
+        except KeyboardInterrupt:  # between two stages: the Monte Carlo rounds are kept
+            interrupted = True
 
     table = pd.DataFrame([rows[i] for i in sorted(rows)])
     best = binding = None
     if len(table):
         table["samples_to_decide"] = table["samples_to_decide"].astype("Int64")
         _pareto(table, parsed, tuple(model.response_names))
+    if len(table) and not interrupted:  # no recommendation from some schemes only
         feasible_rows = table[table["feasible"]]
         if len(feasible_rows):
             best = str(
@@ -998,17 +1012,10 @@ def design_study(
         "schemes": len(candidates),
         "finished_schemes": len(rows),
     }
-    convergence = (
-        None
-        if interrupted or responses == "kinematic" or first is None
-        else convergence_finding(model, first[0], first[1], backend)
-    )
     diagnostics: tuple[StudyDiagnostic, ...] = penetration_diagnostics(
         every_sample, check_names, names, best
     )
-    if convergence is not None and convergence.finding is not None:
-        diagnostics = (*diagnostics, convergence.finding)
-    return DesignResult(
+    result = DesignResult(
         mechanism=mechanism,
         responses=responses,
         requirements=parsed,
@@ -1020,9 +1027,17 @@ def design_study(
         interrupted=interrupted,
         settings=settings,
         diagnostics=diagnostics,
-        convergence=convergence,
         candidates=candidates,
     )
+    if interrupted or responses == "kinematic" or first is None:
+        return result
+    try:
+        convergence = convergence_finding(model, first[0], first[1], backend)
+    except KeyboardInterrupt:  # every scheme finished: they go on with the interrupt
+        raise PartialInterrupt(result, "interrupted during the convergence check") from None
+    if convergence is not None and convergence.finding is not None:
+        diagnostics = (*diagnostics, convergence.finding)
+    return dataclasses.replace(result, diagnostics=diagnostics, convergence=convergence)
 
 
 @dataclass(frozen=True)
