@@ -12,7 +12,7 @@ The public API, importable from the top::
     law = get_law("impact", stiffness=3.16e8, exponent=1.5, c_max=1e4, d_max=1e-4)
     joints = [ClearanceJoint(j, clearance=21e-6, journal_radius=5e-3, law=law)
               for j in ("O2", "A", "B", "O4")]
-    result = simulate(mechanism, joints, revolutions=1)
+    result = simulate(mechanism, joints, revolutions=1)   # steady start, 2 revolutions to settle
 
 The names are loaded on first use, so ``import jointplay`` (and the command line's
 ``--help``) does not pay for NumPy's, SciPy's or Numba's start-up. Where each lives:

@@ -30,6 +30,7 @@ Named tolerances:
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
 from typing import Any
 
@@ -250,7 +251,7 @@ def _assert_matches_single_engine(
     peaks: FloatArray, system: System, start: Start, revolutions: float, solver: SolverOptions
 ) -> Any:
     result = simulate(system.mechanism, list(system.clearances), revolutions=revolutions,
-                      start=start, solver=solver)  # fmt: skip
+                      settle=0, start=start, solver=solver)  # fmt: skip
     checked = 0
     for value, name in zip(peaks, _peak_names(system), strict=True):
         if name not in result.peaks:
@@ -443,3 +444,36 @@ def test_a_later_process_compiles_the_saved_program_to_the_same_numbers(
     program.write_bytes(b"not a program")  # damaged: traced afresh, then overwritten
     assert jax_batch._read_exported(jax, program) is None
     assert traced.status.tolist() == [STATUS_SUCCESS]
+
+
+def test_the_program_cache_is_private_and_verified(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    """A shared or tampered cache could hand this process a program to run: the folder must
+    be this user's alone, and a kept program is read only if it is this user's regular file,
+    unwritable by others, with the digest written with it."""
+    from jointplay._kernels import jax_batch
+
+    pytest.importorskip("flatbuffers")
+    folder = tmp_path / "cache"
+    folder.mkdir(mode=0o777)
+    os.chmod(folder, 0o777)
+    assert jax_batch.private_folder(folder) and (folder.stat().st_mode & 0o777) == 0o700
+    (tmp_path / "elsewhere").mkdir()
+    (tmp_path / "link").symlink_to(tmp_path / "elsewhere")
+    assert not jax_batch.private_folder(tmp_path / "link")
+
+    x = jax.numpy.arange(3.0)
+    exported = jax.export.export(jax.jit(lambda v: 2 * v))(x)
+    path = folder / "program.bin"
+    jax_batch._write_exported(exported, path)
+    assert (path.stat().st_mode & 0o777) == 0o600
+    assert sorted(p.name for p in folder.iterdir()) == ["program.bin"]
+    assert jax_batch._read_exported(jax, path) is not None
+    link = folder / "linked.bin"
+    link.symlink_to(path)
+    assert jax_batch._read_exported(jax, link) is None  # not followed
+    os.chmod(path, 0o666)
+    assert jax_batch._read_exported(jax, path) is None  # others could have written it
+    os.chmod(path, 0o600)
+    data = path.read_bytes()
+    path.write_bytes(data[:-1] + bytes([data[-1] ^ 1]))  # one bit changed
+    assert jax_batch._read_exported(jax, path) is None

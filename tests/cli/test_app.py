@@ -239,3 +239,19 @@ def test_a_first_run_says_it_compiles_the_kernels_and_how_long_it_took(
     else:
         assert re.fullmatch(r"jointplay: kernels compiled and cached; this step took \d+ s "
                             r"with the compilation", said[-1])  # fmt: skip
+
+
+@pytest.mark.parametrize("name", command_names())
+def test_every_command_that_shows_progress_can_hide_it(name: str) -> None:
+    """A command whose module draws a spinner or a progress bar takes --no-progress."""
+    import inspect
+
+    import typer.main
+
+    from jointplay.cli import app
+
+    command = typer.main.get_command(app).commands[name]  # type: ignore[attr-defined]
+    source = inspect.getsource(inspect.getmodule(command.callback))  # type: ignore[arg-type]
+    shows = bool(re.search(r"\bstatus\(|\bProgress\(|progress=", source))
+    spellings = {o for p in command.params for o in (*p.opts, *p.secondary_opts)}
+    assert not shows or "--no-progress" in spellings, f"{name} shows progress"

@@ -13,6 +13,8 @@ from jointplay.dynamics.reference import ReferenceModel
 from jointplay.dynamics.setup import DEFAULT_IMPACT
 from jointplay.dynamics.simulate import Start, simulate
 from jointplay.dynamics.wear import (
+    DEFAULT_HARDNESS,
+    DEFAULT_WEAR_COEFFICIENT,
     WearSettings,
     archard_volume,
     cycle_wear,
@@ -85,8 +87,8 @@ def test_life_of_a_constant_wear_rate_is_limit_over_rate() -> None:
 def test_settings_validate_and_override_per_joint() -> None:
     settings = WearSettings(joints={"A": {"coefficient": 1e-6}})
     assert settings.of("A")[0] == 1e-6 and settings.of("B") == (
-        settings.coefficient,
-        settings.hardness,
+        DEFAULT_WEAR_COEFFICIENT,
+        DEFAULT_HARDNESS,
     )
     with pytest.raises(ConfigError, match="coefficient must be finite and > 0"):
         WearSettings(coefficient=0.0)
@@ -151,16 +153,21 @@ def test_cycle_wear_of_the_paper_mechanism(paper_fourbar) -> None:
         assert profile_volume(
             joint.bearing_profile, joint.bearing_radius, joint.width
         ) == pytest.approx(joint.volume_bearing, rel=SUM_RTOL)
-        # Archard over the whole cycle: V = (k/H) ∫ F_N |v_T| dt
-        assert joint.volume_bearing == pytest.approx(
-            joint.coefficient * joint.work / joint.hardness, rel=SUM_RTOL
-        )
+        # Archard over the whole cycle, V = (k/H) ∫ F_N |v_T| dt, is the pair's: half of it
+        # comes off the bearing, half off the journal (it used to come off each in full)
+        archard = joint.coefficient * joint.work / joint.hardness
+        assert joint.volume_bearing == pytest.approx(0.5 * archard, rel=SUM_RTOL)
+        assert joint.volume_journal == pytest.approx(0.5 * archard, rel=SUM_RTOL)
+        assert profile_volume(
+            joint.journal_profile, joint.journal_radius, joint.width
+        ) == pytest.approx(joint.volume_journal, rel=SUM_RTOL)
 
 
 def test_coupled_wear_opens_the_joints_and_gives_a_life(paper_fourbar) -> None:
+    hardened = WearSettings(coefficient=1.3e-4, hardness=850 * 9.80665e6)  # slow: 3 points
     history = wear_life(
         paper_fourbar, _joints(paper_fourbar), hours=4.0, update_hours=2.0,
-        clearance_limit=60e-6,
+        clearance_limit=60e-6, settings=hardened,
     )  # fmt: skip
     assert history.hours == (0.0, 2.0, 4.0)
     for name, values in history.clearance.items():
@@ -169,3 +176,26 @@ def test_coupled_wear_opens_the_joints_and_gives_a_life(paper_fourbar) -> None:
         assert history.life[name] > 0
     assert history.mechanism_life == min(history.life.values())
     assert "effective radial clearance" in history.assumption
+
+
+def test_wear_data_follow_the_materials(paper_fourbar) -> None:
+    """The presets' steel is mild (ASTM A36's yield strength): it wears as mild steel, not as
+    the hardened tool steel the defaults used to be; an unknown material asks for values."""
+    import dataclasses
+
+    from jointplay.dynamics.wear import MATERIAL_WEAR, material_wear
+
+    assert paper_fourbar.material_of("crank").name == "steel"
+    data = material_wear(paper_fourbar, "A")
+    assert (data.coefficient, data.hardness) == (7e-3, pytest.approx(1.824e9, rel=1e-3))
+    assert "mild steel" in data.source
+    assert WearSettings().of("A", paper_fourbar) == (data.coefficient, data.hardness)
+    tool = dataclasses.replace(paper_fourbar.materials["steel"], name="tool-steel")
+    hardened = dataclasses.replace(paper_fourbar, materials={"steel": tool})
+    assert WearSettings().of("A", hardened) == (1.3e-4, MATERIAL_WEAR["tool-steel"].hardness)
+    assert WearSettings(coefficient=1e-6).of("A", hardened)[0] == 1e-6
+    bronze = dataclasses.replace(paper_fourbar.materials["steel"], name="bronze")
+    odd = dataclasses.replace(paper_fourbar, materials={"steel": bronze})
+    with pytest.raises(ConfigError, match="no wear data for material 'bronze'"):
+        WearSettings().of("A", odd)
+    assert WearSettings(coefficient=1e-6, hardness=1e9).of("A", odd) == (1e-6, 1e9)

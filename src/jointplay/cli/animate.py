@@ -17,9 +17,11 @@ from jointplay.cli._common import (
     DirectionOption,
     GravityOption,
     PresetOption,
+    ProgressOption,
     RpmOption,
     StartAngleOption,
     mechanism_from_options,
+    status,
 )
 from jointplay.cli._simulation import (
     ClearanceOption,
@@ -62,6 +64,7 @@ def animate_command(
         ),
     ],
     force: Annotated[bool, _opt("Replace --out if it exists.", "--force")] = False,
+    progress: ProgressOption = True,
     preset: PresetOption = None,
     config: ConfigOption = None,
     rpm: RpmOption = None,
@@ -125,12 +128,10 @@ def animate_command(
             "start": start, "ramp_time": ramp_time, "start_angle": start_angle,
             "settle": settle, "rtol": rtol,
         }  # fmt: skip
-        result = _simulate(preset, config, rpm, direction, gravity, given)
-        from rich.console import Console
-
+        result = _simulate(preset, config, rpm, direction, gravity, given, progress)
         from jointplay.report.animation import write_animation
 
-        with Console(stderr=True).status(f"drawing {frames} frames"):
+        with status(progress, f"drawing {frames} frames"):
             info = write_animation(
                 result,
                 partial,
@@ -148,10 +149,9 @@ def _simulate(
     direction: str | None,
     gravity: str | None,
     given: dict[str, Any],
+    progress: bool,
 ) -> Any:
     """Simulate the settle revolutions and the animated one, with the options of simulate."""
-    from rich.console import Console
-
     from jointplay.dynamics.cycles import DEFAULT_SETTLE
     from jointplay.dynamics.setup import FrictionSettings, clearance_joints, contact_from_strings
     from jointplay.dynamics.simulate import SolverOptions, Start, simulate
@@ -196,8 +196,9 @@ def _simulate(
     if isinstance(settle, bool) or not isinstance(settle, int) or settle < 0:
         raise ConfigError(f"--settle must be a whole number of revolutions >= 0, got {settle!r}")
     where = ", ".join(c.joint for c in clear) or "no joint (ideal joints)"
-    with Console(stderr=True).status(
-        f"simulating {settle + 1} revolution(s) of {mechanism.name} with clearance in {where}"
+    with status(
+        progress,
+        f"simulating {settle + 1} revolution(s) of {mechanism.name} with clearance in {where}",
     ):
         return simulate(
             mechanism,

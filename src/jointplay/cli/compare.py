@@ -30,6 +30,7 @@ from jointplay.cli._common import (
     FigureFormatOption,
     ForceOption,
     PresetOption,
+    ProgressOption,
     RpmOption,
     SpeedPositiveOption,
     check_figure_format,
@@ -37,6 +38,7 @@ from jointplay.cli._common import (
     maybe_output_dir,
     mechanism_from_options,
     provenance,
+    status,
 )
 from jointplay.errors import ConfigError
 from jointplay.units import parse_quantity
@@ -136,6 +138,7 @@ def compare_command(
         ),
     ] = None,
     force: ForceOption = False,
+    progress: ProgressOption = True,
     figure_format: FigureFormatOption = "png",
 ) -> None:
     """Compare the simulated steady-cycle rocker speed with measurements.
@@ -145,7 +148,7 @@ def compare_command(
     labelled what-if (the crank speed that would explain it).
     """
     from jointplay.io.measurements import DIRECTIONS, SPEED_UNITS, MeasurementConventions
-    from jointplay.io.output import json_text, write_json
+    from jointplay.io.output import json_text, write_csv, write_json
     from jointplay.model.summary import mechanism_summary
     from jointplay.report.overlays import overlay_plots
     from jointplay.study import comparison as cmp
@@ -177,15 +180,14 @@ def compare_command(
             raise ConfigError(f"--low-speed must be a fraction in [0, 1), got {low_speed}")
         data = _measurements(measurements, angle_column, speed_column, conventions)
         mechanism = cmp.rig_mechanism(mechanism_from_options(preset, config, rpm), conventions)
-        status = Console(stderr=True)
         nominal = cmp.compare(data, cmp.nominal_cycle(mechanism), low_speed_fraction=low_speed)
         comparisons = []
         for name in methods:
             if name == cmp.NOMINAL:
                 comparisons.append(nominal)
                 continue
-            with status.status(
-                f"simulating {name}: {revolutions:g} revolution(s) of {mechanism.name}"
+            with status(
+                progress, f"simulating {name}: {revolutions:g} revolution(s) of {mechanism.name}"
             ):
                 cycle = cmp.steady_cycle(
                     mechanism, name, revolutions=revolutions, ecs_source=ecs_source
@@ -194,9 +196,7 @@ def compare_command(
         result = cmp.summarize_comparisons(data, comparisons, nominal)
         document = result.as_dict()
         if folder is not None:
-            result.points_table().to_csv(
-                folder / "comparison.csv", index=False, float_format="%.10g"
-            )
+            write_csv(result.points_table(), folder / "comparison.csv")
             write_json(
                 folder / "comparison.json",
                 {

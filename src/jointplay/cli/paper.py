@@ -27,6 +27,7 @@ from jointplay.cli._common import (
     FigureFormatOption,
     ForceOption,
     OutOption,
+    ProgressOption,
     check_figure_format,
     check_revolutions,
     crank_speed,
@@ -39,6 +40,7 @@ from jointplay.errors import ConfigError
 def paper_command(
     out: OutOption,
     force: ForceOption = False,
+    progress_shown: ProgressOption = True,
     rpm: Annotated[
         str,
         typer.Option(
@@ -145,6 +147,7 @@ def paper_command(
             TextColumn("{task.description}"),
             console=console,
             transient=False,
+            disable=not progress_shown,
         ) as progress:
             task = progress.add_task("starting", total=None)
             steps = {"total": 0}

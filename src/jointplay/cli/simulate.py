@@ -20,6 +20,7 @@ from jointplay.cli._common import (
     GravityOption,
     OutOption,
     PresetOption,
+    ProgressOption,
     RpmOption,
     StartAngleOption,
     check_figure_format,
@@ -28,6 +29,7 @@ from jointplay.cli._common import (
     mechanism_from_options,
     provenance,
     quantity_option,
+    status,
 )
 from jointplay.cli._simulation import (
     ClearanceOption,
@@ -65,6 +67,7 @@ def _opt(help_text: str, *names: str) -> Any:
 def simulate_command(
     out: OutOption,
     force: ForceOption = False,
+    progress: ProgressOption = True,
     preset: PresetOption = None,
     config: ConfigOption = None,
     rpm: RpmOption = None,
@@ -210,8 +213,9 @@ def simulate_command(
         sample = _sample_step(values.get("sample_deg"))
         with (
             compiling_kernels(lambda line: console.print(line, markup=False, highlight=False)),
-            console.status(
-                f"simulating {settle_turns + turns:g} revolution(s) of {mechanism.name} with clearance in {', '.join(c.joint for c in clear)}"
+            status(
+                progress,
+                f"simulating {settle_turns + turns:g} revolution(s) of {mechanism.name} with clearance in {', '.join(c.joint for c in clear)}",
             ),
         ):
             result = simulate(
@@ -360,7 +364,7 @@ def _print(result: Any, findings: list[Any], out: Path) -> None:
         "quantity",
         "peak |value|",
         "revolution",
-        "crank (deg)",
+        "crank in it (deg)",
         "per-revolution min–max",
         "nominal",
         "increase %",
@@ -372,7 +376,7 @@ def _print(result: Any, findings: list[Any], out: Path) -> None:
             key,
             f"{peak['value']:.5g}",
             str(peak["revolution"]),
-            f"{peak['crank_deg']:.1f}",
+            f"{peak['revolution_deg']:.1f}",
             f"{stats[key]['min']:.4g}–{stats[key]['max']:.4g}",
             f"{result.nominal_peaks.get(key, float('nan')):.5g}",
             "" if increase is None else f"{increase:+.1f}",

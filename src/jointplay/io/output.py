@@ -310,6 +310,29 @@ def _swap(staging: Path, target: Path) -> Path | None:
     return trash
 
 
+#: The first characters that make a spreadsheet read a CSV cell as a formula (OWASP, "CSV
+#: Injection"): such text cells and column names are written behind a single quote.
+FORMULA_STARTS = ("=", "+", "-", "@", "\t", "\r")
+
+
+def csv_safe(text: object) -> object:
+    """``text`` behind a ``'`` if it is a string a spreadsheet would read as a formula."""
+    if isinstance(text, str) and text.startswith(FORMULA_STARTS):
+        return "'" + text
+    return text
+
+
+def write_csv(table: Any, path: Path, float_format: str | None = "%.10g") -> None:
+    """Write the pandas ``table`` as CSV without its index, every column name and text cell
+    that would start a spreadsheet formula quoted (:func:`csv_safe`); numbers are as they are.
+    The one CSV writer of the package."""
+    safe = table.rename(columns=csv_safe)
+    text = [name for name, kind in safe.dtypes.items() if getattr(kind, "kind", "") == "O"]
+    if text:
+        safe = safe.assign(**{str(name): safe[name].map(csv_safe) for name in text})
+    safe.to_csv(path, index=False, float_format=float_format)
+
+
 #: Significant digits of every number in a JSON document. Twelve keep far more than any
 #: computed quantity means (the integrator's tolerance is 1e-6 relative, measurements carry
 #: 3–4 digits) while a value such as 200 rpm → rad/s → rpm, computed as

@@ -21,7 +21,7 @@ import numpy as np
 import pandas as pd
 
 from jointplay.dynamics.wear import WearHistory
-from jointplay.io.output import signals_held, write_json
+from jointplay.io.output import signals_held, write_csv, write_json
 from jointplay.report._mpl import pyplot
 from jointplay.report.figures import encode
 from jointplay.report.html import HtmlReport
@@ -299,7 +299,7 @@ def write_design(
     written.append(folder / "summary.json")
     with signals_held():
         table.to_parquet(written[0], index=False)
-        csv_table(table, units).to_csv(written[1], index=False)
+        write_csv(csv_table(table, units), written[1], float_format=None)
         result.samples.to_parquet(written[2], index=False)
         write_json(written[-1], summary)
     images = design_plots(result, units, figure_format) if plots else {}
@@ -392,13 +392,13 @@ def write_wear(
     """Write the wear life's files into ``folder`` (existing); returns them."""
     folder = Path(folder)
     written = [folder / "wear.csv", folder / "profiles.csv", folder / "summary.json"]
-    history.to_dataframe().to_csv(written[0], index=False)
+    write_csv(history.to_dataframe(), written[0], float_format=None)
     bins = len(next(iter(history.bearing_profile.values()))) if history.bearing_profile else 0
     profiles: dict[str, Any] = {"angle_deg": (np.arange(bins) + 0.5) * 360.0 / max(bins, 1)}
     for name in history.bearing_profile:
         profiles[f"bearing_{name}_m"] = history.bearing_profile[name]
         profiles[f"journal_{name}_m"] = history.journal_profile[name]
-    pd.DataFrame(profiles).to_csv(written[1], index=False)
+    write_csv(pd.DataFrame(profiles), written[1], float_format=None)
     summary = history.summary()
     if provenance is not None:
         summary["provenance"] = dict(provenance)

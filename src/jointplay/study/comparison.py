@@ -251,7 +251,7 @@ def steady_cycle(
         record = {**record, "ecs_source": ecs_source}
     clear = clearance_joints(mechanism, joints, clearance=clearance, law=law)
     result = simulate(
-        mechanism, clear, revolutions=revolutions, start=Start("steady"), solver=solver
+        mechanism, clear, revolutions=revolutions, settle=0, start=Start("steady"), solver=solver
     )
     steps = result.steps
     t = steps["t"].to_numpy()

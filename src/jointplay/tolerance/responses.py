@@ -1154,11 +1154,7 @@ class RunningResponses:
                 f"{self.base.settle} start-up revolution(s), located on the continuous "
                 "solution (SimulationResult.peaks)"
             ),
-            "wear": {
-                "coefficient": self.wear.coefficient,
-                "hardness_Pa": self.wear.hardness,
-                "joints": dict(self.wear.joints),
-            },
+            "wear": self.wear.describe(self.base.mechanism),
         }
 
     def evaluate(self, x: FloatArray) -> Evaluation:
