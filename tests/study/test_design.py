@@ -268,3 +268,19 @@ def test_the_answer_names_cheaper_schemes_left_undecided(paper_fourbar) -> None:
         "H9/d9 / m after 4,000 samples (about 9,000 would decide it at its observed defect "
         "rate: --max-samples 9000)"
     )
+
+
+def test_rare_defects_give_the_same_estimate_on_every_backend(paper_fourbar) -> None:
+    """Importance sampling draws in this process and only evaluates on the backend: the same
+    seed gives the same estimate serially and on the process backend (which may keep batches
+    this cheap in this process: the point is that the backend never changes the draws)."""
+    from jointplay.study.design import RareDefects
+
+    def estimate(backend: Backend) -> tuple[float, float, float]:
+        row = design_study(
+            paper_fourbar, ["H8/f7"], ["c"], ["rocker_swing <= 53.065 deg"], samples=100,
+            rare=RareDefects(n_stage=200, n_final=1000), backend=backend,
+        ).table.iloc[0]  # fmt: skip
+        return row["dpm_rare"], row["dpm_rare_low"], row["dpm_rare_high"]
+
+    assert estimate(SERIAL) == estimate(Backend("processes", workers=2))
