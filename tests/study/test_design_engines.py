@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from _tolerances import CONTRACT_OTHER_RTOL, SAME_ALGORITHM_RTOL
+from _tolerances import CONTRACT_OTHER_RTOL, SAME_ALGORITHM_RTOL, contract_rtol
 from jointplay.errors import ConfigError
 from jointplay.model.mechanism import Mechanism
 from jointplay.study.design import design_study, trajectory_requirements
@@ -99,12 +99,37 @@ def test_trajectory_requirements_are_named(paper_fourbar: Mechanism) -> None:
 
 @pytest.mark.slow  # JAX compiles the batch for ~10 s
 def test_a_peak_design_runs_on_the_gpu_backend(both, paper_fourbar: Mechanism) -> None:
+    """The same algorithm as the local batch engine. On these samples (holes and pins as
+    made, seed 3) one sample's adaptive step sequence differs between the two kernels (a
+    step accepted by one and rejected by the other, through round-off), which moves its
+    peaks by up to 4e-7: within the accuracy contract, not round-off
+    (tests/_tolerances.py). On samples whose step sequences coincide (the fits' bands, the
+    samples this test was first written on) the engines agree to round-off (1e-10)."""
     pytest.importorskip("jax")
+    from jointplay.tolerance.parts import Process
+
     on_gpu = _design(paper_fourbar, ["joint_force <= 1 kN"], Backend("gpu"))
     assert on_gpu.settings["execution"]["backend"] == "gpu"
-    for name in PEAKS:  # the local batch engine's algorithm: round-off apart (≤ 2.4e-10)
+    for name in PEAKS:  # one lane's acceptance tipped by round-off: the contract
         np.testing.assert_allclose(
-            on_gpu.samples[name], both[0].samples[name], rtol=SAME_ALGORITHM_RTOL, err_msg=name
+            on_gpu.samples[name], both[0].samples[name], rtol=contract_rtol(name), err_msg=name
+        )
+    band = Process(sampling="band")
+    local, gpu = (
+        design_study(
+            paper_fourbar,
+            ["H8/g7", "H11/c11"],
+            ["c"],
+            ["joint_force <= 1 kN"],
+            backend=where,
+            process=band,
+            **SHORT,
+        )
+        for where in (LOCAL, Backend("gpu"))
+    )
+    for name in PEAKS:  # the same steps: round-off apart (measured ≤ 1.4e-10)
+        np.testing.assert_allclose(
+            gpu.samples[name], local.samples[name], rtol=SAME_ALGORITHM_RTOL, err_msg=name
         )
 
 
