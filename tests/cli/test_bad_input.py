@@ -429,18 +429,19 @@ def test_every_command_checks_its_out_before_computing(
     assert (out / "notes.txt").read_text(encoding="utf-8") == "precious"
 
 
-def test_a_parent_nobody_may_write_is_refused(capsys: pytest.CaptureFixture[str]) -> None:
-    """A folder no user may create, root included: sysfs refuses new folders (EPERM; EROFS
-    where it is mounted read-only, as in most containers), so this runs whoever runs the tests
-    (a chmod 0o500 folder does not stop root)."""
-    sysfs = Path("/sys")
-    if not sysfs.is_dir():
-        pytest.skip("no /sys here (not Linux)")
-    out = sysfs / "jointplay-test-out" / "out"
+def test_a_parent_nobody_may_write_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A folder no user may create, root included: its parent is a regular file (ENOTDIR),
+    so this runs whoever runs the tests (a chmod 0o500 folder does not stop root, and /sys is
+    now refused earlier, as a system folder)."""
+    blocker = tmp_path / "a-file"
+    blocker.write_text("not a folder", encoding="utf-8")
+    out = blocker / "sub" / "out"
     assert run(["kinematics", "--out", str(out)]) == 2
     err = capsys.readouterr().err
     assert "cannot write the output folder" in err and len(err.strip().splitlines()) == 1, err
-    assert not out.parent.exists()
+    assert blocker.read_text(encoding="utf-8") == "not a folder"
 
 
 def test_foreign_folder_needs_force(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
