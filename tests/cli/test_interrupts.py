@@ -25,9 +25,9 @@ from jointplay.io.output import MARKER
 pytestmark = pytest.mark.slow
 
 #: Runs ``jointplay ARGS`` with a readiness file (``$JOINTPLAY_TEST_READY``) that appears
-#: when the compiled integration starts (``integration``) or when the first samples (more
-#: than the nominal point) have finished (``samples``: the progress callbacks of the batch
-#: engine and of the executor), or when the figures are being drawn (``figures``).
+#: when the compiled integration starts (``integration``), when the first block of samples
+#: (more than the nominal point) has finished and been kept (``samples``: the executor's
+#: progress callback), or when the figures are being drawn (``figures``).
 _LAUNCHER = """
 import os
 import sys
@@ -55,7 +55,7 @@ def announcing(original, when):
 
 
 if __name__ == "__main__":
-    from jointplay.dynamics import batch, integrate
+    from jointplay.dynamics import integrate
     from jointplay.tolerance import execution
 
     if sys.argv[1] == "integration":
@@ -70,8 +70,7 @@ if __name__ == "__main__":
             time.sleep(120)
 
         tolerance.study_plots = design.design_plots = drawing
-    else:
-        batch._progress = announcing(batch._progress, "samples")
+    else:  # a block of samples is stored (the executor's progress, after it keeps them)
         execution._progress_bar = announcing(execution._progress_bar, "samples")
     from jointplay.cli import main
 
