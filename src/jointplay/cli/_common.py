@@ -281,3 +281,15 @@ def status(enabled: bool, text: str) -> AbstractContextManager[Any]:
     from rich.console import Console
 
     return Console(stderr=True).status(text)
+
+
+def whole_headers(table: Any) -> Any:
+    """``table`` (a :class:`rich.table.Table`) with headers that are never cut: each column
+    at least as wide as its header's longest word, and a cell too long for its column
+    folded onto the next line instead of ending in "…". A table that then outgrows the
+    terminal is wrapped by the terminal, not truncated by Rich."""
+    for column in table.columns:
+        words = str(column.header).split()
+        column.min_width = max((len(word) for word in words), default=0)
+        column.overflow = "fold"
+    return table

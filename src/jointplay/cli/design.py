@@ -29,6 +29,7 @@ from jointplay.cli._common import (
     choice,
     mechanism_from_options,
     provenance,
+    whole_headers,
 )
 from jointplay.cli._simulation import (
     CmaxOption,
@@ -360,7 +361,7 @@ def _print(result: DesignResult, units: dict[str, str]) -> None:
                 cells.append(f"{row[f'{name}_at_confidence'] * scale:.4g}")
             cells.append("yes" if row["feasible"] else "no")
             grid.add_row(*cells)
-    console.print(grid)
+    console.print(whole_headers(grid))
     best = result.best_row
     if best is not None:
         line = (

@@ -27,6 +27,7 @@ from jointplay.cli._common import (
     crank_speed,
     parse_gravity,
     provenance,
+    whole_headers,
 )
 from jointplay.cli._simulation import (
     CmaxOption,
@@ -544,7 +545,7 @@ def _print(study: ToleranceStudyResult) -> None:
         row.append(f"{input_label(top)} {100 * item.contributions[top]:.0f} %" if top else "–")
         table.add_row(*row)
     wide = console if console.is_terminal else Console(highlight=False, width=REPORT_WIDTH)
-    wide.print(table)
+    wide.print(whole_headers(table))
     for name, item in result.summaries.items():
         if item.note:
             console.print(f"note on {name}: {item.note}")
