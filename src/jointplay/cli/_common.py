@@ -52,6 +52,13 @@ StartAngleOption = Annotated[
         help="Crank angle at t = 0 with a unit, e.g. '30 deg' (CCW from the ground line).",
     ),
 ]
+#: Help panels that group the options of the long commands (``--help`` at 80 columns).
+SAMPLING_PANEL = "Sampling"
+EXECUTION_PANEL = "Execution"
+OUTPUT_PANEL = "Output"
+WEAR_PANEL = "Wear and cost"
+RUN_PANEL = "The dynamic run"
+
 GravityOption = Annotated[
     str | None,
     typer.Option(
@@ -66,6 +73,7 @@ OutOption = Annotated[
         help="Output folder: replaced as a whole when the run succeeds, left as it was when "
         "it fails or is interrupted. A non-empty folder that jointplay did not write needs "
         "--force.",
+        rich_help_panel=OUTPUT_PANEL,
     ),
 ]
 # Measurement conventions (compare, calibrate): how a file's angles and values are read.
@@ -96,13 +104,24 @@ SpeedPositiveOption = Annotated[
 ]
 # Archard wear and the running start-up (design, wear).
 WearCoefficientOption = Annotated[
-    float | None, typer.Option("--wear-coefficient", help="Archard k of every joint.")
+    float | None,
+    typer.Option(
+        "--wear-coefficient", help="Archard k of every joint.", rich_help_panel=WEAR_PANEL
+    ),
 ]
 HardnessOption = Annotated[
-    str | None, typer.Option("--hardness", help="Hardness of the softer surface, e.g. '2 GPa'.")
+    str | None,
+    typer.Option(
+        "--hardness",
+        help="Hardness of the softer surface, e.g. '2 GPa'.",
+        rich_help_panel=WEAR_PANEL,
+    ),
 ]
 SettleOption = Annotated[
-    int, typer.Option("--settle", help="Start-up revolutions left out.", min=0)
+    int,
+    typer.Option(
+        "--settle", help="Start-up revolutions left out.", min=0, rich_help_panel=RUN_PANEL
+    ),
 ]
 #: Figure formats of ``--figure-format`` (PNG is always written; the others beside it).
 FIGURE_FORMATS = ("png", "svg", "pdf")
@@ -111,6 +130,7 @@ FigureFormatOption = Annotated[
     typer.Option(
         "--figure-format",
         help="png; or svg or pdf: every figure is also written in that format, for print.",
+        rich_help_panel=OUTPUT_PANEL,
     ),
 ]
 ProgressOption = Annotated[
@@ -118,12 +138,15 @@ ProgressOption = Annotated[
     typer.Option(
         "--progress/--no-progress",
         help="Show on stderr what runs now (a progress bar or a spinner).",
+        rich_help_panel=OUTPUT_PANEL,
     ),
 ]
 ForceOption = Annotated[
     bool,
     typer.Option(
-        "--force", help="Replace --out even if it is a non-empty folder jointplay did not write."
+        "--force",
+        help="Replace --out even if it is a non-empty folder jointplay did not write.",
+        rich_help_panel=OUTPUT_PANEL,
     ),
 ]
 

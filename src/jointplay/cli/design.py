@@ -15,6 +15,11 @@ from rich.console import Console
 
 from jointplay.cli._app import Interrupted, app
 from jointplay.cli._common import (
+    EXECUTION_PANEL,
+    OUTPUT_PANEL,
+    RUN_PANEL,
+    SAMPLING_PANEL,
+    WEAR_PANEL,
     ConfigOption,
     FigureFormatOption,
     ForceOption,
@@ -22,6 +27,7 @@ from jointplay.cli._common import (
     HardnessOption,
     OutOption,
     PresetOption,
+    ProgressOption,
     RpmOption,
     SettleOption,
     WearCoefficientOption,
@@ -165,21 +171,34 @@ def design_command(
     ] = "f,m,c,v",
     confidence: Annotated[
         float,
-        typer.Option("--confidence", help="Share of samples that must meet a requirement, %."),
+        typer.Option(
+            "--confidence",
+            help="Share of samples that must meet a requirement, %.",
+            rich_help_panel=SAMPLING_PANEL,
+        ),
     ] = 99.73,
     samples: Annotated[
-        int, typer.Option("--samples", "-n", help="Samples per scheme.", min=1)
+        int,
+        typer.Option(
+            "--samples", "-n", help="Samples per scheme.", min=1, rich_help_panel=SAMPLING_PANEL
+        ),
     ] = 200,
     seed: Annotated[
-        int, typer.Option("--seed", help="Seed (the same for every scheme).", min=0)
+        int,
+        typer.Option(
+            "--seed",
+            help="Seed (the same for every scheme).",
+            min=0,
+            rich_help_panel=SAMPLING_PANEL,
+        ),
     ] = 0,
     truncate: Annotated[
         bool,
         typer.Option(
             "--truncate/--no-truncate",
-            help="Draw each normal input (σ = a sixth of its tolerance band) from the normal "
-            "truncated at its limits, as parts outside them are rejected (default); "
-            "--no-truncate keeps the 0.27 % of samples beyond ±3σ.",
+            help="Normal inputs (σ = band / 6) truncated at their limits, as parts outside "
+            "are rejected; --no-truncate keeps the 0.27 % beyond ±3σ.",
+            rich_help_panel=SAMPLING_PANEL,
         ),
     ] = True,
     responses: Annotated[
@@ -194,6 +213,7 @@ def design_command(
             "--clearance-limit",
             help="Radial clearance that ends a joint's life: '80 um', or '+20 um' = the fit's "
             "largest radial clearance plus 20 µm (needed by a 'life' requirement).",
+            rich_help_panel=WEAR_PANEL,
         ),
     ] = None,
     table: Annotated[
@@ -203,6 +223,7 @@ def design_command(
             help="TOML file with [wear] (coefficient, hardness, joints.<J>) and [cost] (model, "
             "a, b, k, reference, it, iso2768) tables; the same tables may sit in the --config "
             "file, and a table here replaces the config's.",
+            rich_help_panel=WEAR_PANEL,
         ),
     ] = None,
     wear_coefficient: WearCoefficientOption = None,
@@ -217,22 +238,34 @@ def design_command(
     rtol: RtolOption = None,
     settle: SettleOption = 2,
     revolutions: Annotated[
-        float, typer.Option("--revolutions", help="Analysed revolutions.")
+        float,
+        typer.Option("--revolutions", help="Analysed revolutions.", rich_help_panel=RUN_PANEL),
     ] = 1.0,
     rpm: RpmOption = None,
     gravity: GravityOption = None,
     backend: BackendOption = "processes",
     workers: Annotated[
         int | None,
-        typer.Option("--workers", help="Local worker processes (default: one per CPU).", min=1),
+        typer.Option(
+            "--workers",
+            help="Local worker processes (default: one per CPU).",
+            min=1,
+            rich_help_panel=EXECUTION_PANEL,
+        ),
     ] = None,
     dask_scheduler: Annotated[
-        str | None, typer.Option("--dask-scheduler", help="Run on the Dask cluster at ADDRESS.")
+        str | None,
+        typer.Option(
+            "--dask-scheduler",
+            help="Run on the Dask cluster at ADDRESS.",
+            rich_help_panel=EXECUTION_PANEL,
+        ),
     ] = None,
-    plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
-    progress: Annotated[
-        bool, typer.Option("--progress/--no-progress", help="Progress bar.")
+    plots: Annotated[
+        bool,
+        typer.Option("--plots/--no-plots", help="Write PNG plots.", rich_help_panel=OUTPUT_PANEL),
     ] = True,
+    progress: ProgressOption = True,
     force: ForceOption = False,
     figure_format: FigureFormatOption = "png",
 ) -> None:

@@ -16,6 +16,7 @@ from rich.console import Console
 
 from jointplay.cli._app import Interrupted, app
 from jointplay.cli._common import (
+    EXECUTION_PANEL,
     ConfigOption,
     FigureFormatOption,
     ForceOption,
@@ -101,6 +102,7 @@ BackendOption = Annotated[
         help="Where the samples run: local (this process; the dynamics on threads over the "
         "cores), processes (worker processes, default), dask (the cluster of "
         "--dask-scheduler) or gpu (the dynamics on JAX: pip install 'jointplay[gpu]').",
+        rich_help_panel=EXECUTION_PANEL,
     ),
 ]
 BACKEND_NAMES = ("local", "processes", "dask", "gpu", "serial")
