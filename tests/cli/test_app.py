@@ -234,6 +234,8 @@ def test_a_first_run_says_it_compiles_the_kernels_and_how_long_it_took(
     with compiling_kernels(said.append) as compiling:
         assert said == ([] if cached else [COMPILE_NOTICE])  # before the work
     assert compiling is not cached
+    with compiling_kernels(said.append, needed=False) as compiling:  # no dynamics: no word
+        assert not compiling
     if cached:
         assert said == []
     else:

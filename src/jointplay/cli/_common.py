@@ -276,15 +276,20 @@ COMPILE_NOTICE = (
 )
 
 
+def _to_stderr(line: str) -> None:
+    print(line, file=sys.stderr)
+
+
 @contextmanager
-def compiling_kernels(say: Any) -> Iterator[bool]:
+def compiling_kernels(say: Any = _to_stderr, *, needed: bool = True) -> Iterator[bool]:
     """Around a command's first dynamic work: when no compiled kernels are cached
-    (:func:`jointplay._kernels.compiled_cache_present`), ``say`` (a print function) tells
-    the user before the work that the kernels are compiled now, and after it how long the
-    work took with the compilation. Yields whether they are compiled here."""
+    (:func:`jointplay._kernels.compiled_cache_present`), ``say`` (a print function; default:
+    a line on stderr) tells the user before the work that the kernels are compiled now, and
+    after it how long the work took with the compilation. ``needed=False`` (work without
+    dynamics) says nothing. Yields whether they are compiled here."""
     from jointplay._kernels import compiled_cache_present
 
-    if compiled_cache_present():
+    if not needed or compiled_cache_present():
         yield False
         return
     say(COMPILE_NOTICE)

@@ -33,6 +33,7 @@ from jointplay.cli._common import (
     WearCoefficientOption,
     check_figure_format,
     choice,
+    compiling_kernels,
     mechanism_from_options,
     provenance,
     whole_headers,
@@ -323,27 +324,29 @@ def design_command(
     where = backend_from_options(backend, workers, dask_scheduler)
     figure_format = check_figure_format(figure_format)
     with output_dir(out, force=force) as folder:  # checked before the study runs
-        result = design_study(
-            mechanism,
-            candidates,
-            class_list,
-            require,
-            samples=samples,
-            seed=seed,
-            truncate=truncate,
-            confidence=confidence / 100.0,
-            responses=kind,  # type: ignore[arg-type]
-            cost=cost,
-            clearance_limit=limit,
-            clearance_allowance=allowance,
-            wear=wear,
-            contact=law,
-            settle=settle,
-            revolutions=revolutions,
-            solver=solver_options(rtol),
-            backend=where,
-            progress=progress,
-        )
+        dynamic = resolve_responses(mechanism, require, kind) == "dynamic"  # type: ignore[arg-type]
+        with compiling_kernels(needed=dynamic):
+            result = design_study(
+                mechanism,
+                candidates,
+                class_list,
+                require,
+                samples=samples,
+                seed=seed,
+                truncate=truncate,
+                confidence=confidence / 100.0,
+                responses=kind,  # type: ignore[arg-type]
+                cost=cost,
+                clearance_limit=limit,
+                clearance_allowance=allowance,
+                wear=wear,
+                contact=law,
+                settle=settle,
+                revolutions=revolutions,
+                solver=solver_options(rtol),
+                backend=where,
+                progress=progress,
+            )
         units = design_units(mechanism, result.responses)  # type: ignore[arg-type]
         summary = result.summary()
         write_design(

@@ -25,6 +25,7 @@ from jointplay.cli._common import (
     PresetOption,
     RpmOption,
     check_figure_format,
+    compiling_kernels,
     crank_speed,
     parse_gravity,
     provenance,
@@ -360,20 +361,21 @@ def tolerance_command(
             analysis = Rss(fd_step=fd_step)
         else:
             analysis = WorstCase(corners=corners.value, fd_step=fd_step)
-        study = tolerance_study(
-            mechanism,
-            spec,
-            method=analysis,
-            responses=responses.value,
-            limits=limits,
-            contact=law,
-            start=start.value,
-            settle=settle,
-            revolutions=revolutions,
-            solver=solver_options(rtol),
-            backend=where,
-            progress=progress,
-        )
+        with compiling_kernels(needed=dynamic):
+            study = tolerance_study(
+                mechanism,
+                spec,
+                method=analysis,
+                responses=responses.value,
+                limits=limits,
+                contact=law,
+                start=start.value,
+                settle=settle,
+                revolutions=revolutions,
+                solver=solver_options(rtol),
+                backend=where,
+                progress=progress,
+            )
         summary = study.summary()
         write_study(
             study,
