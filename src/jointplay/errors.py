@@ -7,6 +7,8 @@ raise, they return a status that is turned into one of these here.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 
 class JointplayError(Exception):
     """Base class of every error jointplay raises on purpose."""
@@ -26,6 +28,60 @@ class IntegrationError(JointplayError, RuntimeError):
 
 class StandardsError(JointplayError, ValueError):
     """A tolerance designation or size lies outside what ISO 286 / ISO 2768 define."""
+
+
+class PartialInterrupt(KeyboardInterrupt):
+    """SIGINT or SIGTERM stopped a computation that keeps what it finished before it.
+
+    A KeyboardInterrupt, so that code that does not look for the partial result sees an
+    interrupt as from any Python code; code that does takes :attr:`partial`.
+
+    Attributes:
+        partial: the computation's result, with what did not finish marked as not run (each
+            raiser says how).
+    """
+
+    def __init__(self, partial: object, message: str = "interrupted") -> None:
+        super().__init__(message)
+        self.partial = partial
+
+
+class Interrupted(Exception):
+    """Raised inside :func:`jointplay.io.output.output_dir` by a command that was interrupted after some of its
+    work finished and was written to the staging folder.
+
+    ``output_dir`` publishes the partial result (its module's docstring) and sets
+    :attr:`written_to`; the command line prints :meth:`line` and exits 130.
+
+    Args:
+        finished: items finished (points, schemes, samples).
+        total: items asked for.
+        unit: what an item is, plural (``"points"``).
+        missing: what else is missing, if anything (``"the figures and report"``).
+    """
+
+    def __init__(self, finished: int, total: int, unit: str, missing: str = "") -> None:
+        super().__init__(f"{finished} of {total} {unit} finished")
+        self.finished, self.total, self.unit, self.missing = finished, total, unit, missing
+        self.written_to: Path | None = None
+        self.kept: Path | None = None
+
+    def line(self) -> str:
+        """One line: what finished and where it was written."""
+        what = f"{self.finished} of {self.total} {self.unit} finished"
+        if self.missing:
+            what += f" ({self.missing} missing)"
+        if self.written_to is None:
+            return f"{what}; nothing was written (the output folder is as it was)"
+        where = f"{what}; their results were written to {self.written_to}"
+        if self.kept is not None:
+            where += f" (the more complete result in {self.kept} was kept)"
+        return where
+
+    @property
+    def complete_share(self) -> float:
+        """How complete the partial result is, 0-1 (for comparing with an older one)."""
+        return (self.finished - (0.5 if self.missing else 0.0)) / max(self.total, 1)
 
 
 def caused_by_interrupt(exc: BaseException) -> bool:

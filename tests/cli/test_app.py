@@ -290,9 +290,10 @@ def test_console_tables_never_cut_a_header() -> None:
 
 def test_design_help_is_grouped_in_panels(capsys, monkeypatch) -> None:
     """design's options are grouped (sampling, execution, output, wear and cost, the dynamic
-    run), so its help is shorter than the 246 lines of one panel at 80 columns: 152 measured.
+    run) and a flag's --no- form sits under its name: 185 lines at 80 columns, from 234 in
+    one panel with the --no- column (the options of the design study as of this change).
     The issue's 120 also needs the contact options' own panel (issue 22), not yet here."""
     text = help_at_80(["design"], capsys, monkeypatch)
     for panel in ("Sampling", "Execution", "Output"):
         assert f"─ {panel} ─" in text
-    assert len(text.splitlines()) <= 160
+    assert len(text.splitlines()) <= 190

@@ -85,6 +85,17 @@ def files(tmp_path: Path) -> dict[str, str]:
     fifo = tmp_path / "fifo.toml"
     os.mkfifo(fifo)
     made["fifo"] = str(fifo)
+    made["clearance_zero"] = _config(
+        tmp_path,
+        "zero.toml",
+        extra='[tolerances.joints.A]\nclearance_min = "0 um"\nclearance_max = "20 um"\n',
+    )
+    deep = tmp_path / "deep.toml"
+    deep.write_text("a = " + "[" * 2000 + "]" * 2000 + "\n", encoding="utf-8")
+    made["deep"] = str(deep)
+    dotted = tmp_path / "dotted.toml"
+    dotted.write_text(".".join(["k"] * 40) + " = 1\n", encoding="utf-8")
+    made["dotted"] = str(dotted)
     made["folder"] = str(tmp_path)
     for name, rows in {
         "huge_speed": "0,1e308\n90,-1e308\n",
@@ -275,6 +286,53 @@ CASES: dict[str, tuple[list[str], str]] = {
     "paper rpm zero": (["paper", "--rpm", "0"], "--rpm"),
     "paper revolutions nan": (["paper", "--revolutions", "nan"], "--revolutions"),
     "paper ecs source": (["paper", "--ecs-source", "guess"], "--ecs-source"),
+    "paper revolutions 1e9": (["paper", "--revolutions", "1e9"], "more than 10000 revolutions"),
+    "design clearance limit negative": (
+        ["design", "-r", "life >= 200 h", "--clearance-limit", "-20 um"],
+        "a radial clearance is > 0",
+    ),
+    "wear clearance allowance negative": (
+        ["wear", "--hours", "600 h", "--clearance-limit", "+-5 um"],
+        "an allowance >= 0",
+    ),
+    "tolerance clearance_min zero": (
+        ["tolerance", "--config", "{clearance_zero}", "--responses", "dynamic"],
+        "needs a radial clearance > 0",
+    ),
+    # every number bounded before use
+    "tolerance samples 1e23": (
+        ["tolerance", "--samples", "99999999999999999999999"],
+        "less than or equal to 10000000",
+    ),
+    "design samples 1e23": (
+        ["design", "-r", "rocker_swing >= 50 deg", "--samples", "99999999999999999999999"],
+        "--samples",
+    ),
+    "tolerance workers 1e23": (["tolerance", "--workers", "99999999999999999999999"], "--workers"),
+    "tolerance revolutions 1e9": (
+        ["tolerance", "--responses", "dynamic", "--revolutions", "1e9"],
+        "more than 10000 revolutions",
+    ),
+    "simulate revolutions 1e6": (["simulate", "--revolutions", "1e6"], "--revolutions 1e+06"),
+    # every file read through the one bounded reader
+    "design table fifo": (
+        ["design", "-r", "rocker_swing >= 50 deg", "--table", "{fifo}"],
+        "is not a regular file",
+    ),
+    "wear table /dev/zero": (
+        ["wear", "--hours", "600 h", "--clearance-limit", "+20 um", "--table", "/dev/zero"],
+        "'/dev/zero' is not a regular file",
+    ),
+    "wear table latin-1": (
+        ["wear", "--hours", "600 h", "--clearance-limit", "+20 um", "--table", "{latin1}"],
+        "is not UTF-8 text",
+    ),
+    "design table nested": (
+        ["design", "-r", "rocker_swing >= 50 deg", "--table", "{deep}"],
+        "nested deeper than 16 levels",
+    ),
+    "simulate config nested": (["simulate", "--config", "{deep}"], "nested deeper"),
+    "simulate config dotted keys": (["simulate", "--config", "{dotted}"], "nested deeper"),
     # fit and general-tolerance (no --out)
     "fit size 1e-300 mm": (["fit", "H8/g7", "--size", "1e-300 mm"], "1e-300"),
     "fit size negative": (["fit", "H8/g7", "--size", "-5 mm"], "--size"),
@@ -333,7 +391,7 @@ def test_bad_input_is_one_line_exit_2_and_leaves_out_alone(
 
 @pytest.mark.parametrize(
     ("out", "culprit"),
-    [("", "--out"), (".", "--out"), ("/proc/jointplay-x", "output folder")],
+    [("", "--out"), (".", "--out"), ("/proc/jointplay-x", "is a system folder")],
     ids=["empty", "dot", "proc"],
 )
 def test_unusable_out_is_refused_before_computing(
@@ -371,17 +429,19 @@ def test_every_command_checks_its_out_before_computing(
     assert (out / "notes.txt").read_text(encoding="utf-8") == "precious"
 
 
-def test_read_only_parent_is_refused(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    if os.geteuid() == 0:
-        pytest.skip("root writes into read-only folders")
-    locked = tmp_path / "locked"
-    locked.mkdir()
-    locked.chmod(0o500)
-    try:
-        assert run(["kinematics", "--out", str(locked / "out")]) == 2
-        assert "output folder" in capsys.readouterr().err
-    finally:
-        locked.chmod(0o700)
+def test_a_parent_nobody_may_write_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A folder no user may create, root included: its parent is a regular file (ENOTDIR),
+    so this runs whoever runs the tests (a chmod 0o500 folder does not stop root, and /sys is
+    now refused earlier, as a system folder)."""
+    blocker = tmp_path / "a-file"
+    blocker.write_text("not a folder", encoding="utf-8")
+    out = blocker / "sub" / "out"
+    assert run(["kinematics", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "cannot write the output folder" in err and len(err.strip().splitlines()) == 1, err
+    assert blocker.read_text(encoding="utf-8") == "not a folder"
 
 
 def test_foreign_folder_needs_force(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -402,6 +462,31 @@ def test_out_that_is_a_file_is_refused(tmp_path: Path, capsys: pytest.CaptureFix
     assert run(["kinematics", "--out", str(target)]) == 2
     assert "not a folder" in capsys.readouterr().err
     assert target.read_text(encoding="utf-8") == "x"
+
+
+def test_force_never_deletes_an_input_of_the_run(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``--config proj/my.toml --out proj --force`` used to delete my.toml."""
+    project = tmp_path / "proj"
+    project.mkdir()
+    config = _config(project, "my.toml")
+    status = run(["kinematics", "--config", config, "--out", str(project), "--force"])
+    err = capsys.readouterr().err
+    assert status == 2 and "holds 'my.toml', an input of this run" in err, err
+    assert Path(config).is_file()
+
+
+def test_error_lines_are_cut_to_a_readable_length(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """An error that quotes a huge input keeps its start and its end (where the fix is)."""
+    limit = "x" * 100_000 + "=:1 rad/s"
+    status = run(["tolerance", "--spec-limit", limit, "--out", str(tmp_path / "k")])
+    err = capsys.readouterr().err
+    assert status == 2 and len(err.splitlines()) == 1, err[:300]
+    assert len(err) < 700 and "characters cut" in err, err
+    assert "transmission_angle_min" in err, err  # the end of the line: the choices
 
 
 def test_usage_errors_take_one_line(capsys: pytest.CaptureFixture[str]) -> None:

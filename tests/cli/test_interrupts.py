@@ -1,11 +1,17 @@
-"""Ctrl-C and SIGTERM stop a run cleanly: exit 130, one line, no temporary folder left.
+"""Ctrl-C and SIGTERM stop a run cleanly: exit 130, one line, nothing lost, no staging left.
 
-The runs go through the compiled integrator on the serial path (one worker), where an
-interrupt used to escape through Numba as a SystemError. They take several seconds each.
+Each run is a subprocess of ``jointplay`` started through a small launcher that announces
+readiness (a file appears) when the work the test wants to interrupt has begun: the compiled
+integration, or the first finished samples. The signal goes then, never after a fixed sleep.
+The property test interrupts tolerance and design studies at random moments after that and
+checks that the previous result is intact, or that a strictly more complete one replaced it.
 """
 
 from __future__ import annotations
 
+import json
+import os
+import random
 import signal
 import subprocess
 import sys
@@ -14,39 +20,110 @@ from pathlib import Path
 
 import pytest
 
+from jointplay.io.output import MARKER
+
 pytestmark = pytest.mark.slow
 
+#: Runs ``jointplay ARGS`` with a readiness file (``$JOINTPLAY_TEST_READY``) that appears
+#: when the compiled integration starts (``integration``) or when the first samples (more
+#: than the nominal point) have finished (``samples``: the progress callbacks of the batch
+#: engine and of the executor), or when the figures are being drawn (``figures``).
+_LAUNCHER = """
+import os
+import sys
+from contextlib import contextmanager
+from pathlib import Path
 
-def _interrupt(arguments: list[str], out: Path, wait: float, sig: int) -> tuple[int, str]:
-    """Run ``jointplay ARGUMENTS --out OUT``, send ``sig`` ``wait`` s after it starts computing."""
+
+def announcing(original, when):
+    @contextmanager
+    def wrapped(*args, **kwargs):
+        with original(*args, **kwargs) as value:
+            if when == "integration":
+                Path(os.environ["JOINTPLAY_TEST_READY"]).touch()
+                yield value
+                return
+
+            def advance(count):
+                value(count)
+                if count > 1:  # samples, not the nominal point alone
+                    Path(os.environ["JOINTPLAY_TEST_READY"]).touch()
+
+            yield advance
+
+    return wrapped
+
+
+if __name__ == "__main__":
+    from jointplay.dynamics import batch, integrate
+    from jointplay.tolerance import execution
+
+    if sys.argv[1] == "integration":
+        integrate._interrupts_watched = announcing(integrate._interrupts_watched, "integration")
+    elif sys.argv[1] == "figures":  # announce, then draw for as long as it takes the signal
+        import time
+
+        from jointplay.report import design, tolerance
+
+        def drawing(*args, **kwargs):
+            Path(os.environ["JOINTPLAY_TEST_READY"]).touch()
+            time.sleep(120)
+
+        tolerance.study_plots = design.design_plots = drawing
+    else:
+        batch._progress = announcing(batch._progress, "samples")
+        execution._progress_bar = announcing(execution._progress_bar, "samples")
+    from jointplay.cli import main
+
+    sys.argv = ["jointplay", *sys.argv[2:]]
+    main()
+"""
+
+
+def _start(tmp_path: Path, when: str, arguments: list[str]) -> tuple[subprocess.Popen[str], Path]:
+    launcher = tmp_path / "launch.py"
+    launcher.write_text(_LAUNCHER, encoding="utf-8")
+    ready = tmp_path / f"ready-{time.monotonic_ns()}"
     process = subprocess.Popen(
-        [sys.executable, "-m", "jointplay", *arguments, "--out", str(out)],
+        [sys.executable, str(launcher), when, *arguments],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
+        env={**os.environ, "JOINTPLAY_TEST_READY": str(ready)},
     )
-    deadline = time.monotonic() + 60
-    while not any(p.name.startswith(f".{out.name}.partial-") for p in out.parent.iterdir()):
-        assert process.poll() is None, process.communicate()
-        assert time.monotonic() < deadline
-        time.sleep(0.05)
-    time.sleep(wait)  # into the integration
-    assert process.poll() is None, "finished before the interrupt; make the run longer"
+    return process, ready
+
+
+def _wait_for(process: subprocess.Popen[str], ready: Path, timeout: float = 240.0) -> bool:
+    """Whether ``ready`` appeared while the process still ran (False: it had finished)."""
+    deadline = time.monotonic() + timeout
+    while not ready.exists():
+        if process.poll() is not None:
+            return False
+        assert time.monotonic() < deadline, "no readiness signal"
+        time.sleep(0.02)
+    return True
+
+
+def _interrupt(
+    tmp_path: Path, when: str, arguments: list[str], sig: int = signal.SIGINT
+) -> tuple[int, str]:
+    process, ready = _start(tmp_path, when, arguments)
+    assert _wait_for(process, ready), process.communicate()
     process.send_signal(sig)
-    _, err = process.communicate(timeout=60)
+    _, err = process.communicate(timeout=120)
     return process.returncode, err
 
 
 def _leftovers(out: Path) -> list[str]:
-    return sorted(p.name for p in out.parent.iterdir() if p.name != out.name)
+    return sorted(p.name for p in out.parent.iterdir() if p.name.startswith(".jointplay-"))
 
 
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
 def test_interrupted_simulation_writes_nothing(tmp_path: Path, sig: int) -> None:
     out = tmp_path / "sim"
-    status, err = _interrupt(
-        ["simulate", "--revolutions", "500", "--no-plots"], out, wait=4.0, sig=sig
-    )
+    arguments = ["simulate", "--revolutions", "500", "--no-plots", "--out", str(out)]
+    status, err = _interrupt(tmp_path, "integration", arguments, sig)
     assert status == 130, err
     lines = err.strip().splitlines()
     assert lines == ["jointplay: interrupted; nothing was written (the output folder is as it was)"]
@@ -54,19 +131,169 @@ def test_interrupted_simulation_writes_nothing(tmp_path: Path, sig: int) -> None
     assert _leftovers(out) == []
 
 
-def test_interrupted_serial_tolerance_study_keeps_finished_samples(tmp_path: Path) -> None:
+def _finished(out: Path) -> int:
     import pandas as pd
 
+    samples = pd.read_parquet(out / "samples.parquet")
+    return int((samples["status"] != "not run").sum())
+
+
+@pytest.mark.parametrize("backend", ["local", "processes"])
+def test_an_interrupted_tolerance_study_keeps_the_finished_samples(
+    tmp_path: Path, backend: str
+) -> None:
+    """The batch engine returns the samples it finished (it used to keep none of them)."""
     out = tmp_path / "tol"
-    arguments = ["tolerance", "--responses", "dynamic", "--samples", "40000", "--workers", "1"]
-    arguments += ["--revolutions", "1", "--settle", "0", "--no-progress", "--no-plots"]
-    status, err = _interrupt(arguments, out, wait=25.0, sig=signal.SIGINT)
+    arguments = ["tolerance", "--responses", "dynamic", "--samples", "40000", "--backend"]
+    arguments += [backend, "--revolutions", "1", "--settle", "0"]
+    arguments += ["--workers", "2"] if backend == "processes" else []
+    arguments += ["--no-progress", "--no-plots", "--out", str(out)]
+    status, err = _interrupt(tmp_path, "samples", arguments)
     assert status == 130, err
     # the finished samples' findings (penetration warnings) may come first; then one line
     # saying what was kept
     lines = [line for line in err.strip().splitlines() if "warning:" not in line]
-    assert len(lines) == 1 and "points finished" in lines[0], err
-    samples = pd.read_parquet(out / "samples.parquet")
-    finished = int((samples["status"] == "ok").sum()) if "status" in samples else len(samples)
-    assert 0 < finished < 40000, err
+    assert len(lines) == 1 and "points finished; their results were written to" in lines[0], err
+    assert 0 < _finished(out) < 40000, err
+    assert json.loads((out / MARKER).read_text(encoding="utf-8"))["complete"] < 1
     assert _leftovers(out) == []
+
+
+def _state(out: Path) -> tuple[float, bytes] | None:
+    """(completeness, samples file) of the result at ``out``, or None."""
+    if not out.exists():
+        return None
+    record = json.loads((out / MARKER).read_text(encoding="utf-8"))
+    return float(record.get("complete", 1.0)), (out / "samples.parquet").read_bytes()
+
+
+@pytest.mark.parametrize("backend", ["local", "processes"])
+def test_interrupts_at_random_moments_never_lose_a_result(tmp_path: Path, backend: str) -> None:
+    """Property: whenever a tolerance or design run into a folder holding a result is
+    interrupted, that result is intact, or a strictly more complete one replaced it; what was
+    not kept there is beside it, named, or nowhere."""
+    rng = random.Random(24)
+    runs = {
+        "tolerance": ["tolerance", "--responses", "dynamic", "--revolutions", "1"],
+        "design": ["design", "--fits", "H7/g6,H8/f7,H11/c11", "--classes", "m", "--require"],
+    }
+    runs["design"] += ["omega4_peak <= 30 rad/s", "--revolutions", "1"]
+    common = ["--settle", "0", "--no-progress", "--no-plots", "--backend", backend]
+    common += ["--workers", "2"] if backend == "processes" else []
+    for command, arguments in runs.items():
+        out = tmp_path / command
+        small = "40" if command == "tolerance" else "10"
+        done = subprocess.run(
+            [sys.executable, "-m", "jointplay", *arguments, *common, "--samples", small,
+             "--out", str(out)],
+            capture_output=True, text=True, check=False,
+        )  # fmt: skip
+        assert done.returncode == 0, done.stderr
+        for attempt in range(2):
+            before = _state(out)
+            assert before is not None and before[0] == 1.0
+            process, ready = _start(
+                tmp_path, "samples", [*arguments, *common, "--samples", "4000", "--out", str(out)]
+            )
+            if _wait_for(process, ready):
+                time.sleep(rng.uniform(0.0, 3.0))  # a random moment after the first samples
+                process.send_signal(signal.SIGINT)
+            _, err = process.communicate(timeout=120)
+            after = _state(out)
+            if process.returncode == 0:  # finished first: a complete result replaced it
+                assert after is not None and after[0] == 1.0, err
+                continue
+            assert process.returncode == 130, err
+            assert after == before, (command, attempt, err)  # a complete result stays
+            beside = sorted(tmp_path.glob(f"{command}.interrupted-*"))
+            if "nothing was written" not in err:
+                assert beside, err
+                assert _state(beside[-1]) is not None
+                assert _state(beside[-1])[0] < 1.0  # type: ignore[index]
+            assert _leftovers(out) == []
+        # an interrupted result where there was none; a later, more complete one replaces it
+        target = tmp_path / f"{command}-fresh"
+        process, ready = _start(
+            tmp_path, "samples", [*arguments, *common, "--samples", "4000", "--out", str(target)]
+        )
+        assert _wait_for(process, ready)
+        process.send_signal(signal.SIGINT)
+        _, err = process.communicate(timeout=120)
+        first = _state(target)
+        assert first is None or first[0] < 1.0, err
+        done = subprocess.run(
+            [sys.executable, "-m", "jointplay", *arguments, *common, "--samples", small,
+             "--out", str(target)],
+            capture_output=True, text=True, check=False,
+        )  # fmt: skip
+        assert done.returncode == 0, done.stderr
+        assert _state(target)[0] == 1.0  # type: ignore[index]
+
+
+@pytest.mark.parametrize("command", ["tolerance", "design"])
+def test_an_interrupt_while_the_figures_are_drawn_keeps_the_samples(
+    tmp_path: Path, command: str
+) -> None:
+    """Every sample had finished: the data files are kept (beside a complete result)."""
+    arguments = {
+        "tolerance": ["tolerance", "--samples", "40"],
+        "design": [
+            "design",
+            "--fits",
+            "H7/g6,H8/f7",
+            "--classes",
+            "m",
+            "-r",
+            "rocker_swing >= 50 deg",
+        ],
+    }[command]
+    out = tmp_path / "out"
+    status, err = _interrupt(tmp_path, "figures", [*arguments, "--out", str(out)])
+    assert status == 130, err
+    unit = "points" if command == "tolerance" else "schemes"
+    total = 40 if command == "tolerance" else 2
+    assert err.strip().splitlines()[-1] == (
+        f"jointplay: interrupted; {total} of {total} {unit} finished (the figures and report "
+        f"missing); their results were written to {out}"
+    )
+    assert (out / "summary.json").is_file() and (out / "samples.parquet").is_file()
+    assert not (out / "report.html").exists()
+    assert _leftovers(out) == []
+
+
+def _children(pid: int) -> set[int]:
+    """The process ids of ``pid``'s children (Linux: /proc)."""
+    found: set[int] = set()
+    for task in Path(f"/proc/{pid}/task").glob("*"):
+        try:
+            found |= {int(c) for c in (task / "children").read_text().split()}
+        except OSError:
+            continue
+    return found
+
+
+def _alive(pid: int) -> bool:
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return False
+    return state != "Z"
+
+
+@pytest.mark.skipif(not Path("/proc/self/task").exists(), reason="needs Linux /proc")
+def test_the_worker_pool_dies_with_its_parent(tmp_path: Path) -> None:
+    """SIGKILL of the command (no clean-up runs) used to leave its workers for minutes."""
+    out = tmp_path / "tol"
+    arguments = ["tolerance", "--responses", "dynamic", "--samples", "40000", "--backend"]
+    arguments += ["processes", "--workers", "2", "--revolutions", "1", "--settle", "0"]
+    arguments += ["--no-progress", "--no-plots", "--out", str(out)]
+    process, ready = _start(tmp_path, "samples", arguments)
+    assert _wait_for(process, ready), process.communicate()
+    workers = _children(process.pid)
+    assert len(workers) >= 2
+    process.kill()
+    process.communicate(timeout=60)
+    deadline = time.monotonic() + 10  # each worker looks at its parent every 0.5 s
+    while any(_alive(pid) for pid in workers):
+        assert time.monotonic() < deadline, [pid for pid in workers if _alive(pid)]
+        time.sleep(0.1)

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from _tolerances import SAME_ALGORITHM_RTOL, contract_rtol
 from jointplay.dynamics.batch import (
     EXPLICIT_TOLERANCE_SCALE,
     BatchSamples,
@@ -102,9 +103,8 @@ def test_batch_agrees_with_the_single_engine_per_sample(paper_fourbar: Mechanism
     for i in range(len(samples)):
         reference = _single(paper_fourbar, samples, i)
         for key in result.peaks.columns:
-            bound = 1e-5 if key.startswith("omega") else 1e-3
             got = result.peaks.loc[i, key]
-            assert abs(got / reference.peaks[key]["value"] - 1) < bound, (i, key)
+            assert abs(got / reference.peaks[key]["value"] - 1) < contract_rtol(key), (i, key)
 
 
 def _single(mechanism: Mechanism, samples: BatchSamples, i: int, **options):
@@ -136,8 +136,8 @@ def test_batch_is_as_close_to_a_converged_solution_as_issue_14_asks(
     for i in range(len(samples)):
         exact = _single(paper_fourbar, samples, i, settle=settle, solver=converged).peaks
         for key in result.peaks.columns:
-            bound = 1e-5 if key.startswith("omega") else 1e-3
-            assert abs(result.peaks.loc[i, key] / exact[key]["value"] - 1) < bound, (i, key)
+            error = abs(result.peaks.loc[i, key] / exact[key]["value"] - 1)
+            assert error < contract_rtol(key), (i, key)
 
 
 @pytest.fixture(scope="module")
@@ -203,9 +203,10 @@ def test_the_gpu_backend_agrees_with_the_cpu(paper_fourbar: Mechanism, reference
     samples, expected = reference
     result = simulate_batch(paper_fourbar, _joints(), samples, backend="gpu", method="explicit")
     assert result.ok.all()
-    for key in expected.peaks.columns:
-        bound = 1e-5 if key.startswith("omega") else 1e-3
-        np.testing.assert_allclose(result.peaks[key], expected.peaks[key], rtol=bound)
+    for key in expected.peaks.columns:  # measured: alpha3 3.6e-9, the others <= 4.6e-10
+        np.testing.assert_allclose(
+            result.peaks[key], expected.peaks[key], rtol=SAME_ALGORITHM_RTOL, err_msg=key
+        )
 
 
 def test_the_gpu_backend_without_jax_says_what_to_install(
@@ -285,11 +286,19 @@ def test_the_explicit_method_tightens_rtol_and_the_velocity_atol_only(
     np.testing.assert_array_equal(tight.atol[2 * n :], problem.atol[2 * n :])
 
 
+#: The paper's RM (Hunt-Crossley family) set at the default tolerances misses the accuracy
+#: contract (1e-5 on omega, 1e-3 on the rest): the damping divided by the impact velocity makes
+#: grazing contacts stiff. Against rtol 1e-9 on the samples of seed 31: omega 4.0e-4, forces
+#: and torque 1.7e-3, alpha 1.9e-2 (a spike); with the contact memory v0 read at the end of the
+#: step entering contact (before 6016863), 5.6e-3, 2.3e-2 and 0.51. These bounds are 2.5-3x
+#: the measurement. Not a bound for every sample: seed 32 is off by 5.4e-3 (omega3) and 3.3e-2
+#: (F_A), seed 33 by 1.3e-4 and 6.6e-4.
+RM_OMEGA_RTOL_LOOSER_THAN_CONTRACT = 1e-3
+RM_FORCE_RTOL_LOOSER_THAN_CONTRACT = 5e-3
+RM_ALPHA_RTOL_LOOSER_THAN_CONTRACT = 5e-2
+
+
 def test_an_rm_set_runs_implicit_and_converges(paper_fourbar: Mechanism) -> None:
-    # The Hunt-Crossley family's contact memory v0 is the rate at the instant of contact
-    # (eom.impact_rate). On these samples, at the default tolerances against rtol 1e-9:
-    # omega 4.0e-4, forces and torque 1.8e-3, alpha 1.9e-2 (a spike); with v0 read at the end
-    # of the step entering contact, 5.6e-3, 2.3e-2 and 0.51.
     from jointplay.study.methods import method_law
 
     law, _ = method_law("rm-conventional", paper_fourbar)
@@ -302,6 +311,127 @@ def test_an_rm_set_runs_implicit_and_converges(paper_fourbar: Mechanism) -> None
         paper_fourbar, _joints(law=law), samples, backend="local", solver=converged
     )
     for key in result.peaks.columns:
-        bound = {"omega": 1e-3, "alpha": 5e-2}.get(key.rstrip("0123456789"), 5e-3)
+        bound = {
+            "omega": RM_OMEGA_RTOL_LOOSER_THAN_CONTRACT,
+            "alpha": RM_ALPHA_RTOL_LOOSER_THAN_CONTRACT,
+        }.get(key.rstrip("0123456789"), RM_FORCE_RTOL_LOOSER_THAN_CONTRACT)
         error = np.max(np.abs(result.peaks[key] / exact.peaks[key] - 1))
         assert error < bound, (key, error)
+
+
+@pytest.fixture
+def interrupt_after_first_chunk(monkeypatch: pytest.MonkeyPatch) -> None:
+    """SIGINT to this process as soon as the first chunk of lanes has finished (the readiness
+    signal: the engine's progress callback), as Ctrl-C would send it."""
+    import os
+    import signal
+    from contextlib import contextmanager
+
+    from jointplay.dynamics import batch
+
+    @contextmanager
+    def progress(enabled: bool, total: int):
+        def advance(count: int) -> None:
+            os.kill(os.getpid(), signal.SIGINT)
+
+        yield advance
+
+    monkeypatch.setattr(batch, "_progress", progress)
+
+
+@pytest.mark.parametrize("backend", ["local", "processes", "dask"])
+def test_an_interrupt_keeps_the_finished_lanes(
+    paper_fourbar: Mechanism, reference, interrupt_after_first_chunk, backend: str
+) -> None:
+    """Ctrl-C stops the batch on every CPU backend, and the lanes that had finished come back
+    with the interrupt, bit for bit what an uninterrupted run gives; the others are marked
+    not run."""
+    from distributed import LocalCluster
+
+    from jointplay.dynamics import batch
+    from jointplay.dynamics.batch import NOT_RUN, BatchInterrupted
+    from jointplay.dynamics.integrate import IntegrationStatus
+
+    samples, expected = reference
+    options = {"chunk_size": 2}
+    with (
+        LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None)
+        if backend == "dask"
+        else _nothing() as cluster
+    ):
+        if backend == "processes":
+            options["workers"] = 2
+        if backend == "dask":
+            options["scheduler"] = cluster.scheduler_address
+        with pytest.raises(BatchInterrupted) as stopped:
+            simulate_batch(paper_fourbar, _joints(), samples, backend=backend, **options)
+        batch._close_clients()
+    result = stopped.value.result
+    assert isinstance(stopped.value, KeyboardInterrupt)
+    finished = result.status != IntegrationStatus.INTERRUPTED
+    assert 2 <= finished.sum() < len(samples)  # at least the first chunk, not everything
+    assert all(e == NOT_RUN for e in np.asarray(result.errors)[~finished])
+    assert not result.ok[~finished].any() and np.isnan(result.peaks.to_numpy()[~finished]).all()
+    np.testing.assert_array_equal(
+        result.peaks.to_numpy()[finished], expected.peaks.to_numpy()[finished]
+    )
+    np.testing.assert_array_equal(
+        result.statistics.to_numpy()[finished], expected.statistics.to_numpy()[finished]
+    )
+
+
+def _nothing():
+    from contextlib import nullcontext
+
+    return nullcontext()
+
+
+def test_a_dask_cluster_without_workers_is_a_clear_error(
+    paper_fourbar: Mechanism, reference, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """It used to wait 30 s and end with a bare TimeoutError (exit 3)."""
+    from distributed import LocalCluster
+
+    from jointplay.dynamics import batch
+
+    monkeypatch.setattr(batch, "DASK_NO_WORKERS_S", 0.5)
+    samples, _ = reference
+    with LocalCluster(n_workers=0, processes=False, dashboard_address=None) as cluster:
+        address = cluster.scheduler_address
+        with pytest.raises(ConfigError, match=r"has no workers \(none joined within 0.5 s\)"):
+            simulate_batch(paper_fourbar, _joints(), samples, backend="dask", scheduler=address)
+
+
+def test_a_dask_cluster_that_loses_its_workers_keeps_the_finished_lanes(
+    paper_fourbar: Mechanism, reference, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The workers go away after the first chunk: the batch ends in bounded time (it used to
+    wait for ever), the finished lanes kept, the others failed with the reason."""
+    from contextlib import contextmanager
+
+    from distributed import LocalCluster
+
+    from jointplay.dynamics import batch
+
+    samples, expected = reference
+    monkeypatch.setattr(batch, "DASK_NO_WORKERS_S", 1.0)
+    with LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None
+    ) as cluster:
+
+        @contextmanager
+        def progress(enabled: bool, total: int):
+            yield lambda count: cluster.scale(0)
+
+        monkeypatch.setattr(batch, "_progress", progress)
+        result = simulate_batch(
+            paper_fourbar, _joints(), samples, backend="dask", scheduler=cluster.scheduler_address,
+            chunk_size=2,
+        )  # fmt: skip
+        batch._close_clients()
+    assert 2 <= result.ok.sum() < len(samples)
+    lost = [e for e in result.errors if e]
+    assert lost and all("has had no worker for 1 s" in e for e in lost), lost
+    np.testing.assert_array_equal(
+        result.peaks.to_numpy()[result.ok], expected.peaks.to_numpy()[result.ok]
+    )

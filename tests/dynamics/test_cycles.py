@@ -48,3 +48,32 @@ def test_below_threshold_noise_is_periodic_above_is_not() -> None:
 
 def test_too_few_revolutions_are_undetermined() -> None:
     assert periodicity(np.zeros((2, 3))).verdict == "undetermined"
+
+
+def test_a_start_up_transient_is_told_from_rattling() -> None:
+    """After a short --settle the section still moves; that is not rattling."""
+    from jointplay.dynamics import diagnostics as dg
+
+    rng = np.random.default_rng(1)
+    settling = np.vstack([[0.5], [0.2], *[[0.01]] * 6])  # periodic from revolution 3 on
+    converging = np.array([[0.5 * 0.6**k] for k in range(8)])  # steps shrink, never equal
+    rattling = rng.uniform(-1.0, 1.0, (8, 1))
+    found = {}
+    for name, points in {
+        "settling": settling,
+        "converging": converging,
+        "rattle": rattling,
+    }.items():
+        section = periodicity(points)
+        assert section.verdict == "not periodic", name
+        found[name] = dg.check_periodic(
+            section.verdict, section.period, len(points),
+            settles_after=section.settles_after(), converging=section.converging,
+        )  # fmt: skip
+    assert periodicity(settling).settles_after() == 2
+    assert "repeats from revolution 3 on: a start-up transient" in found["settling"].message
+    assert "raise --settle by 2" in found["settling"].message
+    assert periodicity(converging).settles_after() is None and periodicity(converging).converging
+    assert "a start-up transient still settling" in found["converging"].message
+    assert not periodicity(rattling).converging and periodicity(rattling).settles_after() is None
+    assert "the pins rattle differently every revolution" in found["rattle"].message

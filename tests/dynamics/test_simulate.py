@@ -116,19 +116,32 @@ def test_zero_clearance_limit_approaches_the_ideal_mechanism(paper_fourbar) -> N
         )
     assert rms_speed[0] > rms_speed[1] > rms_speed[2]
     assert mean_force[0] > mean_force[1] > mean_force[2]
+    # Measured, over c = 1e-4, 1e-5, 1e-6 m: RMS speed error 1.3 %, 0.18 %, 0.027 % of the
+    # nominal peak rocker speed; mean force error 12 %, 2.3 %, 0.67 % of the nominal peak force.
     assert rms_speed[2] < 0.001 * 13.73  # < 0.1 % of the nominal peak rocker speed
     assert mean_force[2] < 0.02 * 46.0  # < 2 % of the nominal peak joint force
+
+
+#: Relative change of every peak (ω, α, joint forces, torque) of the conventional IFM set from
+#: rest when the tolerances are tightened tenfold: measured ≤ 4.5e-7 (omega4 4.5e-7, F_B
+#: 3.9e-7, F_O2 3.4e-7, omega3 2.7e-7, the rest ≤ 1e-7; the default-tolerance peaks are within
+#: 4.1e-7 of rtol 1e-9's). About 10x the measurement, tighter than the accuracy contract.
+TENFOLD_TIGHTENING_RTOL = 5e-6
 
 
 def test_tightening_tolerances_tenfold_changes_peaks_little(paper_fourbar) -> None:
     """The issue's convergence check: conventional IFM from rest, rtol 1e-6 → 1e-7."""
     joints = clear(ALL, get_law("impact", **TABLE3))
-    loose = simulate(paper_fourbar, joints, revolutions=1.0)
-    tight = simulate(paper_fourbar, joints, revolutions=1.0, solver=SolverOptions().tightened(10))
-    for key in ("omega3", "omega4"):
-        assert loose.peaks[key]["value"] == pytest.approx(tight.peaks[key]["value"], rel=0.005)
-    for key in ("F_O2", "F_A", "F_B", "F_O4"):
-        assert loose.peaks[key]["value"] == pytest.approx(tight.peaks[key]["value"], rel=0.02)
+    rest = Start("rest")  # the case measured (simulate() now starts steady by default)
+    loose = simulate(paper_fourbar, joints, revolutions=1.0, start=rest)
+    tight = simulate(
+        paper_fourbar, joints, revolutions=1.0, start=rest, solver=SolverOptions().tightened(10)
+    )
+    assert set(loose.peaks) >= {"omega3", "omega4", "alpha3", "F_O2", "F_O4", "torque"}
+    for key, peak in loose.peaks.items():
+        assert peak["value"] == pytest.approx(
+            tight.peaks[key]["value"], rel=TENFOLD_TIGHTENING_RTOL
+        ), key
 
 
 def test_ideal_joints_reproduce_the_nominal_motion(paper_fourbar) -> None:

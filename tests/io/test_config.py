@@ -262,3 +262,20 @@ def test_an_edited_copy_of_a_preset_is_named_as_such(tmp_path) -> None:
         encoding="utf-8",
     )
     assert load_config(renamed).name == "rig B"
+
+
+def test_a_clearance_outside_its_fit_is_refused_naming_both() -> None:
+    """A copy of the paper preset whose fit was changed to H7/g6 but kept the copied
+    ``clearance = "0.021 mm"``: simulate ran 21 µm, above H7/g6's 14.5 µm, while the tolerance
+    studies used the fit."""
+    text = preset_text("paper-fourbar")
+    assert 'fit = "H8/g7"' in text and 'clearance = "0.021 mm"' in text
+    data = tomllib.loads(text.replace('fit = "H8/g7"', 'fit = "H7/g6"', 1))
+    with pytest.raises(ConfigError) as error:
+        parse_config(data, source="my.toml")
+    message = str(error.value)
+    assert "clearance = 21 µm lies outside the radial clearance of its fit H7/g6" in message
+    assert "(2.5 … 14.5 µm)" in message and "remove the clearance" in message
+    # within the fit's range (its ends included), the clearance is what is simulated
+    within = text.replace("H8/g7", "H7/g6").replace("0.021 mm", "14.5 um")
+    parse_config(tomllib.loads(within), source="my.toml")

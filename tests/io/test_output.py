@@ -3,11 +3,17 @@
 from __future__ import annotations
 
 import json
+import os
+import signal
+import subprocess
+import sys
 from pathlib import Path
+from typing import Any
 
 import pytest
 
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, Interrupted
+from jointplay.io import output
 from jointplay.io.output import MARKER, output_dir
 
 
@@ -78,25 +84,247 @@ def test_the_current_folder_is_refused(name: str) -> None:
         pass
 
 
-def test_a_failed_rename_restores_the_previous_result(
+def test_a_failed_swap_leaves_the_previous_result(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     target = tmp_path / "out"
     with output_dir(target) as folder:
         (folder / "summary.json").write_text("first", encoding="utf-8")
-    real_rename = Path.rename
 
-    def failing(self: Path, destination: Path) -> Path:
-        if self.name.startswith(".out.partial-"):
-            raise OSError(28, "No space left on device")
-        return real_rename(self, destination)
+    def failing(source: Path, destination: Path, flags: int) -> bool:
+        raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr(Path, "rename", failing)
+    monkeypatch.setattr(output, "_renameat2", failing)
     with pytest.raises(OSError), output_dir(target) as folder:
         (folder / "summary.json").write_text("second", encoding="utf-8")
     monkeypatch.undo()
     assert (target / "summary.json").read_text(encoding="utf-8") == "first"
     assert _leftovers(tmp_path, "out") == []
+
+
+@pytest.mark.parametrize("exchange", [True, False], ids=["renameat2", "two-renames"])
+def test_the_swap_puts_the_new_result_in_place_and_returns_the_old(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, exchange: bool
+) -> None:
+    """One atomic exchange on Linux; the documented fallback (two renames) elsewhere."""
+    if not exchange:
+        monkeypatch.setattr(output, "_renameat2", lambda source, destination, flags: False)
+    target, staging = tmp_path / "out", tmp_path / ".jointplay-1-0123abcd.partial"
+    target.mkdir()
+    (target / "a").write_text("old", encoding="utf-8")
+    staging.mkdir()
+    (staging / "a").write_text("new", encoding="utf-8")
+    old = output._swap(staging, target)
+    assert old is not None and (old / "a").read_text(encoding="utf-8") == "old"
+    assert (target / "a").read_text(encoding="utf-8") == "new"
+    assert old == staging if exchange else old.name == ".jointplay-1-0123abcd.old"
+
+
+def test_linux_has_the_atomic_exchange(tmp_path: Path) -> None:
+    if not sys.platform.startswith("linux"):
+        pytest.skip("renameat2 is Linux's")
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    (tmp_path / "a" / "x").touch()
+    assert output._renameat2(tmp_path / "a", tmp_path / "b", output._RENAME_EXCHANGE)
+    assert (tmp_path / "b" / "x").exists() and not (tmp_path / "a" / "x").exists()
+
+
+# --- nothing lost: partial results ------------------------------------------------------------
+
+
+def _result(target: Path, text: str, **interrupted: int) -> Interrupted | None:
+    """Write a result with ``summary.json`` = ``text``; interrupted after ``finished`` of
+    ``total`` items when given."""
+    try:
+        with output_dir(target) as folder:
+            (folder / "summary.json").write_text(text, encoding="utf-8")
+            if interrupted:
+                raise Interrupted(interrupted["finished"], interrupted["total"], "points")
+    except Interrupted as stopped:
+        return stopped
+    return None
+
+
+def test_a_partial_result_goes_where_nothing_was(tmp_path: Path) -> None:
+    target = tmp_path / "out"
+    stopped = _result(target, "partial", finished=5, total=40)
+    assert stopped is not None and stopped.written_to == target and stopped.kept is None
+    assert (target / "summary.json").read_text(encoding="utf-8") == "partial"
+    assert json.loads((target / MARKER).read_text(encoding="utf-8"))["complete"] == 0.125
+    assert "5 of 40 points finished; their results were written to" in stopped.line()
+
+
+def test_a_partial_result_never_replaces_a_complete_one(tmp_path: Path) -> None:
+    target = tmp_path / "out"
+    _result(target, "complete")
+    for number in (1, 2):
+        stopped = _result(target, f"partial {number}", finished=390, total=400)
+        assert stopped is not None and stopped.kept == target
+        beside = tmp_path / f"out.interrupted-{number}"
+        assert stopped.written_to == beside
+        assert (beside / "summary.json").read_text(encoding="utf-8") == f"partial {number}"
+        assert f"(the more complete result in {target} was kept)" in stopped.line()
+    assert (target / "summary.json").read_text(encoding="utf-8") == "complete"
+    assert _leftovers(tmp_path, "out") == ["out.interrupted-1", "out.interrupted-2"]
+
+
+def test_a_more_complete_partial_result_replaces_a_less_complete_one(tmp_path: Path) -> None:
+    target = tmp_path / "out"
+    _result(target, "few", finished=5, total=40)
+    stopped = _result(target, "fewer", finished=4, total=40)
+    assert stopped is not None and stopped.written_to == tmp_path / "out.interrupted-1"
+    stopped = _result(target, "more", finished=30, total=40)
+    assert stopped is not None and stopped.written_to == target
+    assert (target / "summary.json").read_text(encoding="utf-8") == "more"
+    _result(target, "complete")
+    assert (target / "summary.json").read_text(encoding="utf-8") == "complete"
+
+
+def test_an_interrupt_with_nothing_finished_writes_nothing(tmp_path: Path) -> None:
+    target = tmp_path / "out"
+    _result(target, "complete")
+    stopped = _result(target, "empty", finished=0, total=400)
+    assert stopped is not None and stopped.written_to is None
+    assert stopped.line() == (
+        "0 of 400 points finished; nothing was written (the output folder is as it was)"
+    )
+    assert (target / "summary.json").read_text(encoding="utf-8") == "complete"
+    assert _leftovers(tmp_path, "out") == []
+
+
+# --- --force: guard rails -----------------------------------------------------------------------
+
+
+def test_force_never_replaces_the_home_folder(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    home = tmp_path / "home" / "user"
+    (home / "work").mkdir(parents=True)
+    (home / "thesis.tex").write_text("years", encoding="utf-8")
+    monkeypatch.setenv("HOME", str(home))
+    monkeypatch.chdir(tmp_path)
+    for target in (home, home.parent):
+        with pytest.raises(ConfigError, match="home folder"), output_dir(target, force=True):
+            pass
+    assert (home / "thesis.tex").read_text(encoding="utf-8") == "years"
+
+
+@pytest.mark.parametrize("target", ["/", "/tmp", "/home", "/usr/local/share/out", "/etc/out"])
+def test_force_never_replaces_a_system_folder(target: str) -> None:
+    with pytest.raises(ConfigError, match=r"root|system"), output_dir(target, force=True):
+        pass
+
+
+def test_force_never_replaces_a_folder_holding_an_input(tmp_path: Path) -> None:
+    project = tmp_path / "proj"
+    project.mkdir()
+    config = project / "my.toml"
+    config.write_text("[mechanism]\n", encoding="utf-8")
+    with (
+        pytest.raises(ConfigError, match=r"holds 'my.toml', an input of this run"),
+        output_dir(project, force=True, inputs=(None, config)),
+    ):
+        pass
+    (project / MARKER).write_text("{}", encoding="utf-8")  # even one that looks like a result
+    with pytest.raises(ConfigError, match="input"), output_dir(project, inputs=(config,)):
+        pass
+    assert config.exists()
+
+
+# --- one swap, checked again; long names; stale folders swept ------------------------------------
+
+
+def test_a_folder_made_at_out_during_the_run_is_not_replaced(tmp_path: Path) -> None:
+    target = tmp_path / "out"
+    with (
+        pytest.raises(ConfigError, match=r"out\.interrupted-1") as error,
+        output_dir(target) as folder,
+    ):
+        (folder / "summary.json").write_text("new", encoding="utf-8")
+        target.mkdir()
+        (target / "mine.txt").write_text("mine", encoding="utf-8")
+    assert "did not write during the run" in str(error.value)
+    assert (target / "mine.txt").read_text(encoding="utf-8") == "mine"
+    assert (tmp_path / "out.interrupted-1" / "summary.json").read_text(encoding="utf-8") == "new"
+
+
+def test_a_name_of_255_characters_is_staged_under_a_short_one(tmp_path: Path) -> None:
+    target = tmp_path / ("r" * 255)
+    for text in ("first", "second"):
+        with output_dir(target) as folder:
+            assert len(folder.name) < 40
+            (folder / "summary.json").write_text(text, encoding="utf-8")
+    assert (target / "summary.json").read_text(encoding="utf-8") == "second"
+
+
+def test_an_old_result_that_cannot_be_removed_gives_a_warning(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    target = tmp_path / "out"
+    _result(target, "first")
+
+    def stuck(path: Path, onerror: Any = None, **_: Any) -> None:
+        if onerror is None:
+            return
+        onerror(os.rmdir, str(path), (OSError, OSError(16, "Device or resource busy"), None))
+
+    monkeypatch.setattr(output.shutil, "rmtree", stuck)
+    _result(target, "second")
+    monkeypatch.undo()
+    warning = capsys.readouterr().err
+    assert warning.startswith("jointplay: warning: the old result, moved to ")
+    assert "could not be fully removed (Device or resource busy); remove it by hand" in warning
+    assert (target / "summary.json").read_text(encoding="utf-8") == "second"
+
+
+def test_staging_folders_of_dead_runs_are_swept(tmp_path: Path) -> None:
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
+                          capture_output=True, text=True, check=True)  # fmt: skip
+    stale = tmp_path / f".jointplay-{int(dead.stdout)}-0123abcd.partial"
+    alive = tmp_path / f".jointplay-{os.getppid()}-0123abcd.partial"
+    old = tmp_path / f".jointplay-{int(dead.stdout)}-0123abcd.old"  # a fallback's old result
+    for folder in (stale, alive, old):
+        folder.mkdir()
+    _result(tmp_path / "out", "result")
+    assert not stale.exists() and alive.exists() and old.exists()
+
+
+_KILLED_AT = """
+import os, signal, sys
+from pathlib import Path
+from jointplay.io import output
+
+real = output._renameat2
+def renameat2(source, destination, flags):
+    if sys.argv[2] == "before":
+        os.kill(os.getpid(), signal.SIGKILL)
+    done = real(source, destination, flags)
+    os.kill(os.getpid(), signal.SIGKILL)
+output._renameat2 = renameat2
+with output.output_dir(sys.argv[1]) as folder:
+    (folder / "summary.json").write_text("second", encoding="utf-8")
+"""
+
+
+@pytest.mark.parametrize("moment", ["before", "after"])
+def test_a_sigkill_at_the_swap_leaves_one_whole_result(tmp_path: Path, moment: str) -> None:
+    """Fault injection: the process is killed just before, or just after, the swap (where two
+    renames used to leave no --out at all): --out holds the old or the new result, whole, and
+    the next run sweeps what the dead one left."""
+    if not sys.platform.startswith("linux"):
+        pytest.skip("renameat2 is Linux's")
+    target = tmp_path / "out"
+    _result(target, "first")
+    script = tmp_path / "killed.py"
+    script.write_text(_KILLED_AT, encoding="utf-8")
+    run = subprocess.run([sys.executable, str(script), str(target), moment], check=False)
+    assert run.returncode == -signal.SIGKILL
+    expected = "first" if moment == "before" else "second"
+    assert (target / "summary.json").read_text(encoding="utf-8") == expected
+    assert len(_leftovers(tmp_path, "out")) == 2  # the script and the dead run's folder
+    _result(tmp_path / "other", "third")
+    assert _leftovers(tmp_path, "out") == ["killed.py", "other"]
 
 
 # --- JSON numbers: rounded to what they mean --------------------------------------------------
@@ -130,3 +358,27 @@ def test_json_numbers_are_rounded_to_twelve_significant_digits() -> None:
     assert all(
         abs(a - float(v)) <= 5e-12 * abs(float(v)) for a, v in zip(once, values, strict=True)
     )
+
+
+def test_csv_cells_that_would_start_a_formula_are_quoted(tmp_path: Path) -> None:
+    """A point named '=HYPERLINK(...)' reached CSV headers verbatim: a spreadsheet formula."""
+    import pandas as pd
+
+    from jointplay.io.output import write_csv
+
+    table = pd.DataFrame(
+        {
+            "x_=HYPERLINK(1)": [-1.5, 2.0],
+            "label": ["+SUM(A1)", "plain"],
+            "@cmd": ["-2", "tab\tin the middle"],
+        }
+    )
+    path = tmp_path / "t.csv"
+    write_csv(table, path)
+    back = pd.read_csv(path)
+    assert list(back.columns) == ["x_=HYPERLINK(1)", "label", "'@cmd"]
+    assert back["x_=HYPERLINK(1)"].tolist() == [-1.5, 2.0]  # numbers as they are
+    assert back["label"].tolist() == ["'+SUM(A1)", "plain"]
+    assert back["'@cmd"].tolist() == ["'-2", "tab\tin the middle"]
+    write_csv(table.rename(columns={"x_=HYPERLINK(1)": "=HYPERLINK(1)"}), path)
+    assert pd.read_csv(path).columns[0] == "'=HYPERLINK(1)"

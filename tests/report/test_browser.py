@@ -7,13 +7,12 @@ script that writes, once the page has loaded, what the browser measured into an 
 the first image starts, and every visible table cell (of one column) whose text area is
 narrower than 8 characters (the width of "00000000" in the cell's own font);
 ``--dump-dom`` returns the DOM after the load, so the test reads what the browser measured.
-Skipped, with the reason, when no Chromium is on PATH.
+Skipped, with the reason, when no Chromium is on PATH, except in CI (``tests/_programs.py``).
 """
 
 from __future__ import annotations
 
 import re
-import shutil
 import subprocess
 from pathlib import Path
 from typing import Any
@@ -21,17 +20,12 @@ from typing import Any
 import pandas as pd
 import pytest
 
+from _programs import need
 from jointplay.report.html import HtmlReport
 
 WIDTH = 1400  # px: the window the issue asks the page to fit
 SCREEN = 900  # px: the window's height, one screen
 PHONE = 500  # px: a narrow window, where no column may be squeezed below 8 characters
-BROWSER = next(
-    (shutil.which(name) for name in ("chromium", "chromium-browser") if shutil.which(name)), None
-)
-needs_browser = pytest.mark.skipif(
-    BROWSER is None, reason="no chromium or chromium-browser on PATH (apt-get install chromium)"
-)
 PROBE = """<script>window.addEventListener('load', function () {
   var images = Array.from(document.images);
   var broken = images.filter(function (i) { return !(i.complete && i.naturalWidth > 0); });
@@ -63,17 +57,21 @@ PROBE = """<script>window.addEventListener('load', function () {
 });</script>"""
 
 
-def measure(page: Path, tmp_path: Path, width: int = WIDTH) -> dict[str, Any]:
+@pytest.fixture
+def browser() -> str:
+    return need("chromium", "chromium-browser", package="chromium")
+
+
+def measure(page: Path, tmp_path: Path, browser: str, width: int = WIDTH) -> dict[str, Any]:
     """Load ``page`` in headless Chromium ``width`` px wide and return what the probe saw."""
     import json
 
     probed = tmp_path / f"probed-{width}-{page.name}"
     text = page.read_text(encoding="utf-8")
     probed.write_text(text.replace("</body>", PROBE + "</body>"), encoding="utf-8")
-    assert BROWSER is not None
     run = subprocess.run(
         [
-            BROWSER,
+            browser,
             "--headless",
             "--no-sandbox",
             "--disable-gpu",
@@ -106,8 +104,9 @@ def png(tmp_path: Path) -> Path:
     return path
 
 
-@needs_browser
-def test_a_report_with_wide_tables_fits_1400_px_and_its_images_load(tmp_path: Path) -> None:
+def test_a_report_with_wide_tables_fits_1400_px_and_its_images_load(
+    tmp_path: Path, browser: str
+) -> None:
     page = HtmlReport("A page with everything that used to push it sideways")
     page.heading("Tables", anchor="tables")
     wide = pd.DataFrame(
@@ -126,7 +125,7 @@ def test_a_report_with_wide_tables_fits_1400_px_and_its_images_load(tmp_path: Pa
         page.figure(png(tmp_path), "a folded figure")
     page.preformatted("x" * 3000)
     path = page.write(tmp_path / "report.html")
-    seen = measure(path, tmp_path)
+    seen = measure(path, tmp_path, browser)
     assert seen["scrollWidth"] <= WIDTH, seen
     assert seen["images"] == 2 and seen["broken"] == [], seen
 
@@ -150,27 +149,26 @@ def claims_page(*, cards: bool) -> HtmlReport:
     return page
 
 
-@needs_browser
-def test_on_a_phone_no_column_is_squeezed_and_claims_read_as_cards(tmp_path: Path) -> None:
-    seen = measure(claims_page(cards=True).write(tmp_path / "cards.html"), tmp_path, PHONE)
+def test_on_a_phone_no_column_is_squeezed_and_claims_read_as_cards(
+    tmp_path: Path, browser: str
+) -> None:
+    seen = measure(claims_page(cards=True).write(tmp_path / "cards.html"), tmp_path, browser, PHONE)
     assert seen["narrow"] == [], seen
     assert seen["scrollWidth"] <= PHONE, seen  # wide tables scroll in their own box
 
 
-@needs_browser
-def test_a_squeezed_column_is_caught(tmp_path: Path) -> None:
+def test_a_squeezed_column_is_caught(tmp_path: Path, browser: str) -> None:
     """The check can fail: the claims table without cards, its long text columns squeezed,
     at a width where the 8-character minimum cannot hold (the page's own rule applies up to
     800 px, so a 500 px window without it is simulated by removing the rule)."""
     page = claims_page(cards=False).render().replace("min-width: 8ch;", "")
     path = tmp_path / "squeezed.html"
     path.write_text(page, encoding="utf-8")
-    seen = measure(path, tmp_path, PHONE)
+    seen = measure(path, tmp_path, browser, PHONE)
     assert seen["narrow"], seen
 
 
-@needs_browser
-def test_a_page_that_overflows_is_caught(tmp_path: Path) -> None:
+def test_a_page_that_overflows_is_caught(tmp_path: Path, browser: str) -> None:
     """The check can fail: a fixed-width block wider than the window is measured as overflow."""
     path = tmp_path / "wide.html"
     path.write_text(
@@ -178,15 +176,14 @@ def test_a_page_that_overflows_is_caught(tmp_path: Path) -> None:
         '<img alt="missing" src="data:image/png;base64,AAAA"/></body></html>',
         encoding="utf-8",
     )
-    seen = measure(path, tmp_path)
+    seen = measure(path, tmp_path, browser)
     assert seen["scrollWidth"] > WIDTH
     assert seen["broken"] == ["missing"]
 
 
-@needs_browser
 @pytest.mark.slow
 def test_the_paper_report_fits_1400_px_and_its_images_load(
-    tmp_path: Path, text_overlaps: dict[str, list[Any]]
+    tmp_path: Path, browser: str, text_overlaps: dict[str, list[Any]]
 ) -> None:
     """The real page of `jointplay paper`, on a reduced study (a few degrees of crank, two
     length corners, no experiment): every section, table and figure is there."""
@@ -213,7 +210,7 @@ def test_the_paper_report_fits_1400_px_and_its_images_load(
     assert done == sorted(done) and calls[-1][1] == calls[-1][2] and labels[-1] == "study done"
     write_paper_report(study, tmp_path, {"command_line": "test"})
     assert len(text_overlaps) >= 12 and not any(text_overlaps.values()), text_overlaps
-    seen = measure(tmp_path / "report.html", tmp_path)
+    seen = measure(tmp_path / "report.html", tmp_path, browser)
     assert seen["scrollWidth"] <= WIDTH, seen
     assert seen["broken"] == [], seen
     assert seen["images"] >= 12, seen  # 8 method figures, orbits, mechanism, nominal, ECS...
@@ -222,6 +219,6 @@ def test_the_paper_report_fits_1400_px_and_its_images_load(
     assert seen["firstImageTop"] <= 2 * SCREEN, seen
     assert seen["scrollHeight"] <= 12_000, seen
     assert (tmp_path / "report.html").stat().st_size <= 2_000_000
-    phone = measure(tmp_path / "report.html", tmp_path, PHONE)
+    phone = measure(tmp_path / "report.html", tmp_path, browser, PHONE)
     assert phone["narrow"] == [], phone
     assert phone["scrollWidth"] <= PHONE, phone

@@ -9,7 +9,7 @@ from typing import ClassVar
 import numpy as np
 import pytest
 
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, PartialInterrupt
 from jointplay.model.mechanism import Mechanism
 from jointplay.tolerance.analysis import tolerance_study
 from jointplay.tolerance.execution import Backend, run, run_tasks
@@ -159,6 +159,29 @@ def test_ctrl_c_keeps_the_finished_samples() -> None:
     assert (result.status[:10] == 0).all() and (result.status[10:] == 2).all()
     assert result.n_ok == 10 and result.n_not_run == 25 and result.n_failed == 0
     assert result.errors[10].startswith("not run")
+
+
+class _InterruptedMidBlock(_InterruptedAfter):
+    """A model whose second block is interrupted after its first 4 samples finished (what a
+    batch-engine model raises: :class:`PartialInterrupt` with the block's partial result)."""
+
+    def evaluate(self, x: np.ndarray) -> Evaluation:
+        self.calls += 1
+        if self.calls == 1:
+            return Evaluation(x.copy(), np.ones(len(x), dtype=bool), ("",) * len(x))
+        finished = np.arange(len(x)) < 4
+        errors = tuple("" if f else "not run (interrupted)" for f in finished)
+        values = np.where(finished[:, None], x, np.nan)
+        raise PartialInterrupt(Evaluation(values, finished.copy(), errors, finished=finished))
+
+
+def test_ctrl_c_keeps_the_finished_samples_of_the_block_it_stopped() -> None:
+    result = run(_InterruptedMidBlock(), np.arange(35.0)[:, None], backend=Backend("serial"))
+    assert result.interrupted
+    np.testing.assert_array_equal(result.values[:14, 0], np.arange(14.0))
+    assert (result.status[:14] == 0).all() and (result.status[14:] == 2).all()
+    assert result.n_ok == 14 and result.n_not_run == 21
+    assert np.isnan(result.values[14:]).all()
 
 
 def test_models_with_mechanisms_can_be_sent_to_workers(paper_fourbar: Mechanism) -> None:

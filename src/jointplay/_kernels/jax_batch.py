@@ -19,7 +19,10 @@ that nearby batch sizes share a compilation too. Compiled programs are kept in J
 persistent compilation cache, in ``$JOINTPLAY_JAX_CACHE`` (``off`` disables it) or else
 ``jointplay/jax`` under the user's cache folder (``$XDG_CACHE_HOME`` or ``~/.cache``), unless
 the program has set a cache folder of its own; the traced programs are kept there too
-(``exported/``, :func:`_compile`), so that a later process skips tracing.
+(``exported/``, :func:`_compile`), so that a later process skips tracing. The folder must be
+private (:func:`private_folder`: this user's, writable by no one else; else it is not used),
+kept programs are written by exclusive create and renamed into place, and read back only
+when they are this user's regular files whose content matches the digest written with them.
 
 JAX is imported by this module only, and only when a batch is run (``import jointplay``
 never imports it); without JAX, :func:`run_batch` raises a
@@ -30,6 +33,8 @@ from __future__ import annotations
 
 import hashlib
 import os
+import stat
+import tempfile
 import time
 from pathlib import Path
 from typing import Any
@@ -95,15 +100,29 @@ def _configure(jax: Any) -> None:
         return
     _configured = True
     folder = cache_dir()
-    if folder is None or jax.config.jax_compilation_cache_dir:
-        return
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-    except OSError:
-        return  # an unwritable cache folder only costs compilation time
+    if folder is None or jax.config.jax_compilation_cache_dir or not private_folder(folder):
+        return  # no usable cache folder only costs compilation time
     jax.config.update("jax_compilation_cache_dir", str(folder))
     jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
     jax.config.update("jax_persistent_cache_min_entry_size_bytes", 0)
+
+
+def private_folder(folder: Path) -> bool:
+    """Make ``folder`` (and its parents) if needed and say whether it is private to this user:
+    a real folder (not a symbolic link), owned by this user, that no one else can write
+    (it is made 0700, and a folder of this user's that others could write is made so). A
+    cache folder that others can write could hand this process a program to run; it is not
+    used."""
+    try:
+        folder.mkdir(mode=0o700, parents=True, exist_ok=True)
+        info = os.lstat(folder)
+        if not stat.S_ISDIR(info.st_mode) or info.st_uid != os.getuid():
+            return False
+        if info.st_mode & 0o077:
+            os.chmod(folder, 0o700)
+    except OSError:
+        return False
+    return True
 
 
 #: Fewest lanes per chunk of the explicit method on a GPU. Measured on one H100 (one
@@ -177,7 +196,7 @@ def _exported_path(jax: Any, layout: Any, method: str, args: tuple[Any, ...]) ->
     method, the layout, the argument shapes and the source of every kernel module (so an
     edited kernel is traced afresh)."""
     folder = cache_dir()
-    if folder is None:
+    if folder is None or not private_folder(folder / "exported"):
         return None
     digest = hashlib.sha256()
     shapes = [(np.shape(a), np.asarray(a).dtype.str) for a in args]
@@ -188,24 +207,52 @@ def _exported_path(jax: Any, layout: Any, method: str, args: tuple[Any, ...]) ->
     return folder / "exported" / f"{digest.hexdigest()}.bin"
 
 
+#: The first bytes of a kept program: a tag, then the SHA-256 of the program that follows.
+_EXPORTED_TAG = b"jointplay-exported-1\n"
+
+
 def _read_exported(jax: Any, path: Path) -> Any:
-    """The deserialized program at ``path``; ``None`` when absent or unreadable."""
+    """The deserialized program at ``path``; ``None`` when absent, unreadable, not a regular
+    file of this user's that only this user can write (a symbolic link is not followed), or
+    not what was written (its digest does not match)."""
     from jax import export
 
     try:
-        return export.deserialize(bytearray(path.read_bytes()))
-    except Exception:  # absent, damaged or foreign: trace afresh (and replace it)
+        descriptor = os.open(path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0))
+    except OSError:
+        return None
+    with os.fdopen(descriptor, "rb") as handle:
+        info = os.fstat(descriptor)
+        if not stat.S_ISREG(info.st_mode) or info.st_uid != os.getuid() or info.st_mode & 0o022:
+            return None
+        data = handle.read()
+    head, digest, blob = (
+        data[: len(_EXPORTED_TAG)],
+        data[len(_EXPORTED_TAG) : len(_EXPORTED_TAG) + 32],
+        data[len(_EXPORTED_TAG) + 32 :],
+    )
+    if head != _EXPORTED_TAG or hashlib.sha256(blob).digest() != digest:
+        return None
+    try:
+        return export.deserialize(bytearray(blob))
+    except Exception:  # damaged or foreign: trace afresh (and replace it)
         return None
 
 
 def _write_exported(exported: Any, path: Path) -> None:
-    """Serialize ``exported`` to ``path`` (atomically); failing to only costs tracing later."""
+    """Serialize ``exported`` to ``path``: written to a fresh file made by exclusive create
+    (a random name, mode 0600, never through a symbolic link), then renamed into place;
+    failing to only costs tracing later."""
     try:
         blob = exported.serialize()
-        path.parent.mkdir(parents=True, exist_ok=True)
-        partial = path.with_suffix(f".{os.getpid()}.tmp")
-        partial.write_bytes(blob)
-        os.replace(partial, path)
+        descriptor, name = tempfile.mkstemp(prefix=".", suffix=".tmp", dir=path.parent)
+        try:
+            with os.fdopen(descriptor, "wb") as handle:
+                handle.write(_EXPORTED_TAG + hashlib.sha256(blob).digest() + bytes(blob))
+            os.replace(name, path)
+        except BaseException:
+            os.unlink(name)
+            raise
     except (ImportError, OSError):  # no flatbuffers, or an unwritable folder
         return
 

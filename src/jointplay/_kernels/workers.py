@@ -8,14 +8,35 @@ kernels itself, in parallel with the parent.
 
 from __future__ import annotations
 
+import os
 import signal
+import threading
 
-__all__ = ["worker_init", "worker_ready"]
+__all__ = ["die_with_parent", "worker_init", "worker_ready"]
+
+#: How often a worker looks whether its parent is still alive, s.
+PARENT_CHECK_S = 0.5
 
 
 def worker_init() -> None:
-    """Initializer of a worker process of the batch engine: Ctrl-C is left to the parent."""
+    """Initializer of a worker process of the batch engine: Ctrl-C is left to the parent, and
+    the worker ends when its parent does (:func:`die_with_parent`)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    die_with_parent()
+
+
+def die_with_parent() -> None:
+    """End this process within :data:`PARENT_CHECK_S` of its parent's end, however that ends
+    (SIGKILL included, which runs no clean-up in the parent): a daemon thread watches the
+    parent's process id, which changes when the parent is gone (the orphan is adopted)."""
+    parent = os.getppid()
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            threading.Event().wait(PARENT_CHECK_S)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="jointplay-parent-watch", daemon=True).start()
 
 
 def worker_ready() -> bool:

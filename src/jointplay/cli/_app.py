@@ -24,7 +24,7 @@ try:  # Typer >= 0.20 vendors its own copy of Click, whose exceptions it raises
 except ImportError:  # pragma: no cover - older Typer uses the click package
     from click import exceptions as click_exceptions  # type: ignore[no-redef]
 
-from jointplay.errors import JointplayError, caused_by_interrupt
+from jointplay.errors import Interrupted, JointplayError, caused_by_interrupt
 
 
 def _flags_show_no_metavar() -> None:
@@ -95,7 +95,9 @@ def _option_names_never_cut() -> None:
     table is wider than the terminal, Rich narrows every column that may wrap, the option
     names' too, and cuts what no longer fits. Here the tables Typer creates mark the name
     columns (all but the type and help columns) as not wrapping, so only the type and help
-    columns give way, and those fold their long words.
+    columns give way, and those fold their long words. A flag's ``--no-`` form is written
+    under its name instead of in a column of its own, which left the help of a whole panel
+    17 characters narrower for one ``--rare-defects/--no-rare-defects``.
     """
     try:
         from typer import rich_utils
@@ -109,8 +111,15 @@ def _option_names_never_cut() -> None:
         _names_never_cut = True
 
         def add_row(self, *renderables: Any, **kwargs: Any) -> None:
+            if not self.show_header and len(renderables) in (6, 7):  # an options panel's row
+                # [required], long, short, --no- long, --no- short, type, help
+                first = len(renderables) - 6
+                names = [
+                    _stacked(renderables[first + k], renderables[first + k + 2]) for k in (0, 1)
+                ]
+                renderables = (*renderables[:first], *names, *renderables[first + 4 :])
             super().add_row(*renderables, **kwargs)
-            if self.show_header or len(self.columns) < 5:  # not an options panel
+            if self.show_header or len(self.columns) < 4:  # not an options panel
                 return
             for column in self.columns[:-2]:
                 column.no_wrap = True
@@ -120,6 +129,16 @@ def _option_names_never_cut() -> None:
                     item.overflow = "fold"
 
     rich_utils.Table = OptionsTable  # type: ignore[misc]
+
+
+def _stacked(name: Any, negative: Any) -> Any:
+    """An option's name with its ``--no-`` form on the line below (Rich texts)."""
+    if not str(negative).strip():
+        return name
+    stacked = name.copy()
+    stacked.append("\n")
+    stacked.append_text(negative)
+    return stacked
 
 
 _flags_show_no_metavar()
@@ -167,17 +186,9 @@ EXIT_INTERRUPTED = 130
 NOTHING_KEPT = "jointplay: interrupted; nothing was written (the output folder is as it was)"
 
 
-class Interrupted(Exception):
-    """Raised by a command that was interrupted but kept partial results.
-
-    Its message is the one line saying what was kept; :func:`run` prints it and returns
-    :data:`EXIT_INTERRUPTED`.
-    """
-
-
 def fail(message: str) -> None:
     """Print one error line to stderr (helper for commands that detect bad input themselves)."""
-    print(f"jointplay: error: {message}", file=sys.stderr)
+    print(f"jointplay: error: {_one_line(message)}", file=sys.stderr)
 
 
 #: The arguments of the command being run (for the provenance records of result files).
@@ -220,8 +231,18 @@ def _one_line_warnings() -> Iterator[None]:
         warnings.showwarning = previous
 
 
+#: The longest message line printed, characters: an error that quotes a huge input (a
+#: 10 MB line of a file, a long argument) keeps its start and its end, where the fix is said.
+MAX_LINE = 600
+
+
 def _one_line(text: str) -> str:
-    return " ".join(str(text).split())
+    """``text`` on one line, its middle cut where it is longer than :data:`MAX_LINE`."""
+    line = " ".join(str(text).split())
+    if len(line) <= MAX_LINE:
+        return line
+    head, tail = MAX_LINE * 2 // 3, MAX_LINE // 3
+    return f"{line[:head]} … ({len(line) - head - tail} characters cut) … {line[-tail:]}"
 
 
 #: Words that a user may write after a flag, meaning "on" or "off".
@@ -313,7 +334,7 @@ def run(argv: list[str] | None = None) -> int:
         fail(_one_line(exc.format_message()))
         return EXIT_ERROR if exc.exit_code in (1, 2) else int(exc.exit_code)
     except Interrupted as exc:
-        print(f"jointplay: interrupted; {_one_line(str(exc))}", file=sys.stderr)
+        print(f"jointplay: interrupted; {_one_line(exc.line())}", file=sys.stderr)
         return EXIT_INTERRUPTED
     except (typer.Abort, KeyboardInterrupt):
         print(NOTHING_KEPT, file=sys.stderr)

@@ -6,7 +6,7 @@ import math
 import shlex
 import sys
 import time
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable, Iterator, Sequence
 from contextlib import AbstractContextManager, contextmanager, nullcontext
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
@@ -145,14 +145,18 @@ ForceOption = Annotated[
     bool,
     typer.Option(
         "--force",
-        help="Replace --out even if it is a non-empty folder jointplay did not write.",
+        help="Replace --out even if it is a non-empty folder jointplay did not write (never "
+        "the home folder, a system folder or a folder holding an input of the run).",
         rich_help_panel=OUTPUT_PANEL,
     ),
 ]
 
 
-def maybe_output_dir(out: Path | None, force: bool = False) -> AbstractContextManager[Path | None]:
-    """:func:`jointplay.io.output.output_dir` for ``out``, or ``None`` without one.
+def maybe_output_dir(
+    out: Path | None, force: bool = False, inputs: Sequence[Path | None] = ()
+) -> AbstractContextManager[Path | None]:
+    """:func:`jointplay.io.output.output_dir` for ``out`` (``inputs``: the files the run
+    reads), or ``None`` without one.
 
     Enter it before computing, so that an unusable ``--out`` is reported first.
     """
@@ -160,7 +164,7 @@ def maybe_output_dir(out: Path | None, force: bool = False) -> AbstractContextMa
         return nullcontext(None)
     from jointplay.io.output import output_dir
 
-    return output_dir(out, force=force)
+    return output_dir(out, force=force, inputs=inputs)
 
 
 def mechanism_from_options(
@@ -262,6 +266,31 @@ def choice(text: str, option: str, choices: Iterable[str]) -> str:
     if value not in allowed:
         raise ConfigError(f"{option} must be one of {', '.join(allowed)}, got {text!r}")
     return value
+
+
+#: The most samples of a study (and of each scheme of a design): 10 million samples of a
+#: dynamic study run for days; a larger number is a typo, refused before memory is asked for.
+MAX_SAMPLES = 10_000_000
+#: The most local worker processes.
+MAX_WORKERS = 1024
+#: The most crank revolutions simulated (analysed plus start-up) per simulation: a
+#: four-bar at 200 rpm runs ~100 revolutions a second on one core, so 10 000 take minutes
+#: per simulation and the integrator's step budget runs out beyond.
+MAX_REVOLUTIONS = 10_000
+
+
+def check_revolutions(revolutions: float, settle: int = 0, option: str = "--revolutions") -> None:
+    """Refuse revolutions that are not > 0, and revolutions plus ``settle`` beyond
+    :data:`MAX_REVOLUTIONS`, naming ``option``."""
+    if not (math.isfinite(revolutions) and revolutions > 0):
+        raise ConfigError(f"{option} must be > 0, got {revolutions:g}")
+    if settle < 0:
+        raise ConfigError(f"--settle must be a whole number of revolutions >= 0, got {settle}")
+    if revolutions + settle > MAX_REVOLUTIONS:
+        raise ConfigError(
+            f"{option} {revolutions:g}{f' with --settle {settle}' if settle else ''} is more than "
+            f"{MAX_REVOLUTIONS} revolutions per simulation; ask for fewer"
+        )
 
 
 def check_figure_format(text: str) -> str:

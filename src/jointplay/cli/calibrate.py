@@ -301,7 +301,7 @@ def calibrate_command(
     if out is not None:
         from jointplay.report.calibration import write_calibration
 
-        with output_dir(out, force=force) as folder:
+        with output_dir(out, force=force, inputs=(config, *(measurements or ()))) as folder:
             result = run()
             write_calibration(
                 result,

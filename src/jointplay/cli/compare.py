@@ -148,14 +148,14 @@ def compare_command(
     labelled what-if (the crank speed that would explain it).
     """
     from jointplay.io.measurements import DIRECTIONS, SPEED_UNITS, MeasurementConventions
-    from jointplay.io.output import json_text, write_json
+    from jointplay.io.output import json_text, write_csv, write_json
     from jointplay.model.summary import mechanism_summary
     from jointplay.report.overlays import overlay_plots
     from jointplay.study import comparison as cmp
     from jointplay.study.methods import ECS_SOURCES, METHODS
 
     figure_format = check_figure_format(figure_format)
-    with maybe_output_dir(out, force) as folder:
+    with maybe_output_dir(out, force, inputs=(config, measurements)) as folder:
         conventions = MeasurementConventions(
             unit=choice(unit, "--unit", tuple(SPEED_UNITS)),
             crank_direction=choice(crank_direction, "--crank-direction", DIRECTIONS),
@@ -196,9 +196,7 @@ def compare_command(
         result = cmp.summarize_comparisons(data, comparisons, nominal)
         document = result.as_dict()
         if folder is not None:
-            result.points_table().to_csv(
-                folder / "comparison.csv", index=False, float_format="%.10g"
-            )
+            write_csv(result.points_table(), folder / "comparison.csv")
             write_json(
                 folder / "comparison.json",
                 {

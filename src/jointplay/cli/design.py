@@ -8,14 +8,16 @@ from __future__ import annotations
 import math
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any, Literal, cast
 
 import typer
 from rich.console import Console
 
-from jointplay.cli._app import Interrupted, app
+from jointplay.cli._app import app
 from jointplay.cli._common import (
     EXECUTION_PANEL,
+    MAX_SAMPLES,
+    MAX_WORKERS,
     OUTPUT_PANEL,
     RUN_PANEL,
     SAMPLING_PANEL,
@@ -32,6 +34,7 @@ from jointplay.cli._common import (
     SettleOption,
     WearCoefficientOption,
     check_figure_format,
+    check_revolutions,
     choice,
     compiling_kernels,
     mechanism_from_options,
@@ -54,7 +57,7 @@ from jointplay.cli.tolerance import (
     contact_law,
     solver_options,
 )
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, Interrupted, JointplayError, PartialInterrupt
 from jointplay.units import parse_quantity
 
 if TYPE_CHECKING:
@@ -62,7 +65,9 @@ if TYPE_CHECKING:
 
 console = Console(highlight=False, soft_wrap=True)
 
-DEFAULT_FITS = "H7/h6,H7/g6,H8/f7,H8/g7,H9/d9,H11/c11"
+#: The fits tried when none are named: clearance fits with room for the pin at their lower
+#: limit. H7/h6, whose minimum clearance is zero, is tried only when named (with a note).
+DEFAULT_FITS = "H7/g6,H8/f7,H8/g7,H9/d9,H11/c11"
 
 
 def read_table(path: Path | None, config: Path | None = None) -> dict[str, Any]:
@@ -73,15 +78,9 @@ def read_table(path: Path | None, config: Path | None = None) -> dict[str, Any]:
     tables = design_tables(config)
     if path is None:
         return tables
-    import tomllib
+    from jointplay.io.config import read_toml
 
-    try:
-        with open(path, "rb") as handle:
-            data = tomllib.load(handle)
-    except OSError as exc:
-        raise ConfigError(f"--table {path}: cannot read it ({exc.strerror})") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"--table {path}: not valid TOML ({exc})") from None
+    data = read_toml(path, "--table file")
     return {**tables, **design_table_keys(data, f"--table {path}")}
 
 
@@ -129,9 +128,55 @@ def parse_clearance_limit(text: str | None) -> tuple[float | None, float | None]
     if text is None:
         return None, None
     value = text.strip()
-    if value.startswith("+"):
-        return None, parse_quantity(value[1:].strip(), "m", field="--clearance-limit")
-    return parse_quantity(value, "m", field="--clearance-limit"), None
+    allowance = value.startswith("+")
+    number = parse_quantity(value.removeprefix("+").strip(), "m", field="--clearance-limit")
+    if not (number >= 0 if allowance else number > 0):
+        raise ConfigError(
+            f"--clearance-limit {text!r}: a radial clearance is > 0 and an allowance >= 0; "
+            "write an absolute limit such as '80 um', or '+20 um' (the fit's largest radial "
+            "clearance plus 20 µm)"
+        )
+    return (None, number) if allowance else (number, None)
+
+
+def parse_samples(text: str) -> int | Literal["auto"]:
+    """``--samples``: ``auto`` or a positive whole number (at most
+    :data:`~jointplay.cli._common.MAX_SAMPLES`)."""
+    value = text.strip().lower()
+    if value == "auto":
+        return "auto"
+    if not value.isdigit() or not 1 <= int(value) <= MAX_SAMPLES:
+        raise ConfigError(
+            f"--samples: expected 'auto' or a whole number from 1 to {MAX_SAMPLES:,}, "
+            f"got {text[:40]!r}"
+        )
+    return int(value)
+
+
+def parse_process(sampling: str, distribution: str, cpk: list[str]) -> Any:
+    """``--sampling``, ``--distribution`` and ``--cpk FEATURE=CPK`` → a
+    :class:`~jointplay.tolerance.parts.Process`."""
+    from jointplay.tolerance.parts import FEATURES, SAMPLINGS, Process
+
+    capability: dict[str, float] = {}
+    for text in cpk:
+        feature, sep, value = text.partition("=")
+        feature = feature.strip()
+        try:
+            number = float(value)
+        except ValueError:
+            number = math.nan
+        if not sep or feature not in FEATURES or not (math.isfinite(number) and number > 0):
+            raise ConfigError(
+                f"--cpk {text[:40]!r}: expected FEATURE=CPK with FEATURE one of "
+                f"{', '.join(FEATURES)} and CPK > 0, e.g. 'hole=1.33'"
+            )
+        capability[feature] = number
+    return Process(
+        choice(sampling, "--sampling", SAMPLINGS),  # type: ignore[arg-type]
+        choice(distribution, "--distribution", ("normal", "uniform")),  # type: ignore[arg-type]
+        capability,
+    )
 
 
 def parse_joint_fits(texts: list[str]) -> dict[str, str]:
@@ -171,19 +216,71 @@ def design_command(
         str, typer.Option("--classes", help="Candidate ISO 2768-1 classes, comma-separated.")
     ] = "f,m,c,v",
     confidence: Annotated[
-        float,
+        str,
         typer.Option(
             "--confidence",
-            help="Share of samples that must meet a requirement, %.",
+            help="Share of parts that must meet a requirement, in % (the sign optional: "
+            "'99.73' = '99.73 %'; '0.9973' is refused as a likely fraction).",
             rich_help_panel=SAMPLING_PANEL,
         ),
-    ] = 99.73,
+    ] = "99.73 %",
     samples: Annotated[
+        str,
+        typer.Option(
+            "--samples",
+            "-n",
+            help="Samples per scheme: 'auto' (rounds of 100, 200, 400, ... per scheme until "
+            "each is decided or --max-samples) or a number.",
+            rich_help_panel=SAMPLING_PANEL,
+        ),
+    ] = "auto",
+    max_samples: Annotated[
         int,
         typer.Option(
-            "--samples", "-n", help="Samples per scheme.", min=1, rich_help_panel=SAMPLING_PANEL
+            "--max-samples",
+            help="--samples auto: the most samples per scheme.",
+            min=1,
+            max=MAX_SAMPLES,
+            rich_help_panel=SAMPLING_PANEL,
         ),
-    ] = 200,
+    ] = 4000,
+    sampling: Annotated[
+        str,
+        typer.Option(
+            "--sampling",
+            help="parts: each hole and pin diameter drawn in its own ISO 286 zone, the "
+            "clearance their difference (default); band: the radial clearance drawn over the "
+            "fit's worst-case band (the old sampling, 1.4x wider for H8/f7).",
+            rich_help_panel=SAMPLING_PANEL,
+        ),
+    ] = "parts",
+    distribution: Annotated[
+        str,
+        typer.Option(
+            "--distribution",
+            help="Every feature: normal (±3σ at its limits), uniform.",
+            rich_help_panel=SAMPLING_PANEL,
+        ),
+    ] = "normal",
+    rare_defects: Annotated[
+        bool,
+        typer.Option(
+            "--rare-defects/--no-rare-defects",
+            help="After Monte Carlo, estimate the defect rate of each scheme it left undecided "
+            "(cheapest first) by cross-entropy importance sampling (at most 18 000 samples per "
+            "scheme; down to about 1 DPM) and decide it on that 95 % interval.",
+            rich_help_panel=SAMPLING_PANEL,
+        ),
+    ] = False,
+    cpk: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--cpk",
+            help="Process capability of a feature, FEATURE=CPK (hole, pin, length; e.g. "
+            "hole=1.33): a centred normal process, σ = half the band / (3 Cpk). Repeatable.",
+            rich_help_panel=SAMPLING_PANEL,
+        ),
+    ] = None,
     seed: Annotated[
         int,
         typer.Option(
@@ -197,8 +294,9 @@ def design_command(
         bool,
         typer.Option(
             "--truncate/--no-truncate",
-            help="Normal inputs (σ = band / 6) truncated at their limits, as parts outside "
-            "are rejected; --no-truncate keeps the 0.27 % beyond ±3σ.",
+            help="Draw each normal input (σ = a sixth of its tolerance band) from the normal "
+            "truncated at its limits, as parts outside them are rejected (default); "
+            "--no-truncate keeps the 0.27 % of samples beyond ±3σ.",
             rich_help_panel=SAMPLING_PANEL,
         ),
     ] = True,
@@ -251,6 +349,7 @@ def design_command(
             "--workers",
             help="Local worker processes (default: one per CPU).",
             min=1,
+            max=MAX_WORKERS,
             rich_help_panel=EXECUTION_PANEL,
         ),
     ] = None,
@@ -270,13 +369,17 @@ def design_command(
     force: ForceOption = False,
     figure_format: FigureFormatOption = "png",
 ) -> None:
-    """Design study: every fit × length class through the dynamics; the cheapest that meets
-    the requirements, its yield and relative cost.
+    """Design study: every fit × length class through the dynamics; the cheapest shown to
+    meet the requirements, with its evidence and its drawing callouts.
 
-    Link lengths and radial clearances are sampled from normal distributions centred in
-    their limits, ±3σ at the limits, truncated at the limits (see --truncate).
+    Parts are sampled as made: each link length in its ISO 2768-1 class, each hole and pin
+    diameter in its own ISO 286 zone (normal, ±3σ at the limits, truncated at them; see
+    --sampling, --cpk, --truncate). A scheme meets a requirement when the lower bound of its
+    yield's exact 95 % interval reaches the confidence level, fails when the upper bound
+    stays below it, and is undecided otherwise (--samples auto adds samples until decided).
 
-    Writes DIR/design.parquet and DIR/design.csv (one row per scheme; dynamic:
+    Writes DIR/design.parquet and DIR/design.csv (one row per scheme, the CSV's columns named
+    with their units; dynamic:
     penetration_exceeds_<joint> and penetration_ratio_max_<joint>), DIR/samples.parquet
     (dynamic: penetration_ratio_<joint>), DIR/summary.json (with diagnostics), PNG plots and
     DIR/report.html. Samples whose pins sink deeper than the radial clearance (not physical)
@@ -284,11 +387,22 @@ def design_command(
     """
     from jointplay.io.output import output_dir
     from jointplay.report.design import write_design
-    from jointplay.study.design import design_study, design_units, resolve_responses
+    from jointplay.study.design import (
+        RareDefects,
+        design_study,
+        design_units,
+        parse_requirements,
+        resolve_responses,
+    )
+    from jointplay.study.requirements import parse_confidence
     from jointplay.tolerance.cost import CostModel
 
     mechanism = mechanism_from_options(preset, config, rpm=rpm, gravity=gravity)
     kind = choice(responses, "--responses", ("auto", "kinematic", "dynamic"))
+    requirements = parse_requirements(mechanism, require)  # once, into typed objects
+    level = parse_confidence(confidence)
+    count = parse_samples(samples)
+    process = parse_process(sampling, distribution, cpk or [])
     contact_options = {
         "contact": contact,
         "k": k,
@@ -300,15 +414,13 @@ def design_command(
     }
     law = None
     if any(value is not None for value in contact_options.values()):
-        if resolve_responses(mechanism, require, kind) != "dynamic":  # type: ignore[arg-type]
+        if resolve_responses(mechanism, requirements, kind) != "dynamic":  # type: ignore[arg-type]
             given = ", ".join(f"--{key}" for key, v in contact_options.items() if v is not None)
             raise ConfigError(
                 f"{given}: contact options apply to dynamic designs only, and every requirement "
                 "here is kinematic; add --responses dynamic or drop them"
             )
         law = contact_law(contact_options, mechanism)
-    if not (math.isfinite(confidence) and 0 < confidence < 100):
-        raise ConfigError(f"--confidence must lie between 0 and 100 %, got {confidence}")
     fit_list = [f.strip() for f in fits.split(",") if f.strip()]
     fixed = parse_joint_fits(fit or [])
     candidates: list[Any] = (
@@ -316,53 +428,87 @@ def design_command(
         if fixed
         else fit_list
     )
+    _note_zero_clearance(mechanism, [*fit_list, *fixed.values()])
     class_list = [c.strip() for c in classes.split(",") if c.strip()]
     limit, allowance = parse_clearance_limit(clearance_limit)
+    check_revolutions(revolutions, settle)
     data = read_table(table, config)
     cost = CostModel.from_table(data.get("cost", {}))
     wear = wear_settings(data, wear_coefficient, hardness)
     where = backend_from_options(backend, workers, dask_scheduler)
     figure_format = check_figure_format(figure_format)
-    with output_dir(out, force=force) as folder:  # checked before the study runs
-        dynamic = resolve_responses(mechanism, require, kind) == "dynamic"  # type: ignore[arg-type]
-        with compiling_kernels(needed=dynamic):
-            result = design_study(
-                mechanism,
-                candidates,
-                class_list,
-                require,
-                samples=samples,
-                seed=seed,
-                truncate=truncate,
-                confidence=confidence / 100.0,
-                responses=kind,  # type: ignore[arg-type]
-                cost=cost,
-                clearance_limit=limit,
-                clearance_allowance=allowance,
-                wear=wear,
-                contact=law,
-                settle=settle,
-                revolutions=revolutions,
-                solver=solver_options(rtol),
-                backend=where,
-                progress=progress,
-            )
+    # the output folder is checked before the study runs
+    with output_dir(out, force=force, inputs=(config, table)) as folder:
+        missing = []
+        try:
+            dynamic = resolve_responses(mechanism, requirements, kind) == "dynamic"  # type: ignore[arg-type]
+            with compiling_kernels(needed=dynamic):
+                result = design_study(
+                    mechanism,
+                    candidates,
+                    class_list,
+                    requirements,
+                    samples=count,
+                    max_samples=max_samples,
+                    seed=seed,
+                    process=process,
+                    truncate=truncate,
+                    rare=RareDefects() if rare_defects else None,
+                    confidence=level,
+                    responses=kind,  # type: ignore[arg-type]
+                    cost=cost,
+                    clearance_limit=limit,
+                    clearance_allowance=allowance,
+                    wear=wear,
+                    contact=law,
+                    settle=settle,
+                    revolutions=revolutions,
+                    solver=solver_options(rtol),
+                    backend=where,
+                    progress=progress,
+                )
+        except PartialInterrupt as stopped:  # in the convergence check: every scheme finished
+            result, missing = cast("DesignResult", stopped.partial), ["the convergence check"]
         units = design_units(mechanism, result.responses)  # type: ignore[arg-type]
         summary = result.summary()
-        write_design(
-            result,
-            folder,
-            units,
-            plots=plots,
-            provenance=provenance(summary["settings"]),
-            figure_format=figure_format,
-        )
-    _print(result, units)
-    if result.interrupted:
-        raise Interrupted(
-            f"{len(result.table)} scheme(s) finished; their results were written to {out}"
-        )
+        finished = (len(result.table), int(summary["settings"]["schemes"]), "schemes")
+        try:
+            write_design(
+                result,
+                folder,
+                units,
+                plots=plots,
+                provenance=provenance(summary["settings"]),
+                figure_format=figure_format,
+            )
+        except KeyboardInterrupt:  # the tables and summary are written first, whole
+            raise Interrupted(*finished, ", ".join([*missing, "the figures and report"])) from None
+        _print(result, units)
+        if result.interrupted or missing:
+            raise Interrupted(*finished, ", ".join(missing))
     console.print(f"results written to {out}")
+
+
+def _note_zero_clearance(mechanism: Any, fits: list[str]) -> None:
+    """A note on stderr for each named fit whose smallest radial clearance is zero (H7/h6)."""
+    from jointplay.tolerance import iso286
+
+    diameters = sorted({j.fit.diameter for j in mechanism.revolute_joints if j.fit is not None})
+    for name in dict.fromkeys(fits):
+        for diameter in diameters:
+            try:
+                result = iso286.fit(name, diameter)
+            except JointplayError:
+                continue  # reported by the study, with the joint
+            if result.radial_clearance_min <= 0 < result.radial_clearance_max:
+                print(
+                    f"jointplay: note: {result.designation} has a zero minimum radial clearance at "
+                    f"Ø{diameter * 1e3:g} mm (0 … {result.radial_clearance_max * 1e6:.3g} µm): its "
+                    "samples near the lower limit leave the pin almost no room, where the "
+                    "clearance-joint model is least reliable",
+                    file=sys.stderr,
+                )
+                break
 
 
 def _fit_joints(mechanism: Any) -> list[str]:
@@ -372,42 +518,55 @@ def _fit_joints(mechanism: Any) -> list[str]:
 def _print(result: DesignResult, units: dict[str, str]) -> None:
     from rich.table import Table
 
-    from jointplay.report.design import display
+    from jointplay.report.design import display, evidence_line
 
     table = result.table
+    level = f"{100 * result.confidence:g} %"
     grid = Table(box=None)
-    headers = ["scheme", "cost", "yield %", "DPM"]
+    headers = ["scheme", "cost", "samples", "yield % [95 % CI]", "DPM [95 % CI]"]
     required = list(dict.fromkeys(r.response for r in result.requirements))
     for name in required:
         unit, _ = display(units.get(name, ""))
-        headers.append(f"{name} @{100 * result.confidence:g}% ({unit})")
-    headers.append("meets all")
+        headers.append(f"{name} @{level} ({unit})")
+    headers.append("verdict")
     for header in headers:
         grid.add_column(header, justify="left" if header == "scheme" else "right")
+    modelled = False
     if len(table):
         for _, row in table.sort_values("cost").iterrows():
             cells = [
                 str(row["scheme"]),
                 f"{row['cost']:.3g}",
-                f"{row['yield']:.2f}",
-                f"{row['dpm']:,.0f}",
+                f"{row['samples']:,}",
+                f"{row['yield']:.2f} [{row['yield_low']:.2f}, {row['yield_high']:.2f}]",
+                f"{row['dpm']:,.0f} [{row['dpm_low']:,.0f}, {row['dpm_high']:,.0f}]",
             ]
             for name in required:
                 _, scale = display(units.get(name, ""))
-                cells.append(f"{row[f'{name}_at_confidence'] * scale:.4g}")
-            cells.append("yes" if row["feasible"] else "no")
+                model = row[f"{name}_at_confidence_basis"] == "normal-model"
+                modelled |= model
+                cells.append(
+                    f"{row[f'{name}_at_confidence'] * scale:.4g}" + (" *" if model else "")
+                )
+            cells.append(str(row["verdict"]))
             grid.add_row(*cells)
     console.print(whole_headers(grid))
+    if modelled:
+        console.print(
+            f"* normal-model estimate (mean + z·std), not a bound: fewer samples than a "
+            f"distribution-free bound at {level} needs; the others are 95 % order-statistic bounds"
+        )
     best = result.best_row
     if best is not None:
         line = (
-            f"choose {result.best}: relative cost {best['cost']:.3g}, yield {best['yield']:.2f} %"
+            f"choose {result.best}: relative cost {best['cost']:.3g}; {evidence_line(result, best)}"
         )
-        life = best.get("life_at_confidence")
-        if life is not None and math.isfinite(life):
-            line += f", life {life / 3600.0:,.0f} h at {100 * result.confidence:g} %"
         console.print(line)
-    elif result.binding is not None:
-        console.print(f"no scheme meets every requirement; binding: {result.binding}")
+        for callout in result.drawing:
+            console.print(f"  drawing: {callout.text}")
+    if best is None:
+        console.print(result.verdict)
+    elif result.to_decide is not None:
+        console.print(f"cheaper, {result.to_decide}")
     for finding in result.diagnostics:  # one line each, on stderr, as `jointplay tolerance`
         print(f"jointplay: {finding.line()}", file=sys.stderr)

@@ -235,14 +235,14 @@ def ecs_command(
         RADIUS_CONVENTIONS,
         EcsConventions,
     )
-    from jointplay.io.output import json_text, write_json
+    from jointplay.io.output import json_text, write_csv, write_json
     from jointplay.model.summary import mechanism_summary
     from jointplay.study.ecs import ecs_analysis, ecs_sweep
 
     if not console.is_terminal:
         console.width = PIPE_WIDTH
     figure_format = check_figure_format(figure_format)
-    with maybe_output_dir(out, force) as folder:
+    with maybe_output_dir(out, force, inputs=(config,)) as folder:
         contacts = _contacts(contact)
         ratio = quantity_option(damping_ratio, "s", "--damping-ratio", example="s")
         if not ratio >= 0:
@@ -277,9 +277,7 @@ def ecs_command(
                 {**document, "provenance": provenance(mechanism_summary(mechanism))},
             )
             if swept is not None:
-                _sweep_csv(swept).to_csv(
-                    folder / "ecs_sweep.csv", index=False, float_format="%.10g"
-                )
+                write_csv(_sweep_csv(swept), folder / "ecs_sweep.csv")
                 from jointplay.report.plots import ecs_sweep_plots
 
                 ecs_sweep_plots(swept, contacts, folder, figure_format=figure_format)

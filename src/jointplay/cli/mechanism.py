@@ -87,10 +87,10 @@ def kinematics_command(
     """
     from jointplay.dynamics.diagnostics import check_transmission_angle
     from jointplay.dynamics.nominal import nominal_analysis
-    from jointplay.io.output import output_dir, write_json
+    from jointplay.io.output import output_dir, write_csv, write_json
 
     figure_format = check_figure_format(figure_format)
-    with output_dir(out, force=force) as folder:
+    with output_dir(out, force=force, inputs=(config,)) as folder:
         mechanism = mechanism_from_options(preset, config, rpm, direction, start_angle, gravity)
         step_deg = math.degrees(
             quantity_option(step, "rad", "--step", example="deg", positive=True)
@@ -102,7 +102,7 @@ def kinematics_command(
             )
         result = nominal_analysis(mechanism, step_deg=step_deg, method=method)
         findings = [d for d in [check_transmission_angle(mechanism)] if d is not None]
-        result.table.to_csv(folder / "kinematics.csv", index=False, float_format="%.10g")
+        write_csv(result.table, folder / "kinematics.csv")
         write_json(
             folder / "summary.json",
             {

@@ -29,6 +29,7 @@ from jointplay.cli._common import (
     OutOption,
     ProgressOption,
     check_figure_format,
+    check_revolutions,
     crank_speed,
     provenance,
 )
@@ -111,8 +112,7 @@ def paper_command(
         if ecs_source not in sources:
             raise ConfigError(f"--ecs-source must be both, paper or computed, got {ecs_source!r}")
         speed = crank_speed(rpm)
-        if not revolutions > 0:
-            raise ConfigError(f"--revolutions must be > 0, got {revolutions}")
+        check_revolutions(revolutions)
         if experiment_revolutions < 1:
             raise ConfigError(
                 f"--experiment-revolutions must be >= 1, got {experiment_revolutions}"

@@ -24,6 +24,7 @@ from jointplay.cli._common import (
     RpmOption,
     StartAngleOption,
     check_figure_format,
+    check_revolutions,
     compiling_kernels,
     mechanism_from_options,
     provenance,
@@ -146,7 +147,7 @@ def simulate_command(
     from jointplay.model.summary import mechanism_summary
 
     figure_format = check_figure_format(figure_format)
-    with output_dir(out, force=force) as folder:
+    with output_dir(out, force=force, inputs=(config,)) as folder:
         table = simulation_settings(config)
         given = {
             "contact": contact, "k": k, "exponent": exponent, "cmax": cmax, "depth": depth,
@@ -204,8 +205,7 @@ def simulate_command(
         if fmt_value not in ("csv", "parquet"):
             raise ConfigError(f"--format must be csv or parquet, got {fmt_value!r}")
         turns = finite_number(values, "revolutions", 1.0)
-        if not (math.isfinite(turns) and turns > 0):
-            raise ConfigError(f"--revolutions must be > 0, got {turns}")
+        check_revolutions(turns)
         settle_turns = values.get("settle", DEFAULT_SETTLE if mode == "steady" else 0)
         if isinstance(settle_turns, bool) or not isinstance(settle_turns, int) or settle_turns < 0:
             raise ConfigError(

@@ -6,17 +6,18 @@ CLI starts (``jointplay --help``).
 
 from __future__ import annotations
 
-import math
 import sys
 from enum import StrEnum
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any, cast
 
 import typer
 from rich.console import Console
 
-from jointplay.cli._app import Interrupted, app
+from jointplay.cli._app import app
 from jointplay.cli._common import (
     EXECUTION_PANEL,
+    MAX_SAMPLES,
+    MAX_WORKERS,
     ConfigOption,
     FigureFormatOption,
     ForceOption,
@@ -25,6 +26,7 @@ from jointplay.cli._common import (
     PresetOption,
     RpmOption,
     check_figure_format,
+    check_revolutions,
     compiling_kernels,
     crank_speed,
     parse_gravity,
@@ -41,7 +43,7 @@ from jointplay.cli._simulation import (
     RtolOption,
     StiffnessOption,
 )
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, Interrupted, PartialInterrupt
 from jointplay.units import parse_quantity
 
 if TYPE_CHECKING:
@@ -153,7 +155,7 @@ def tolerance_command(
         Method, typer.Option("--method", help="monte-carlo, worst-case (corners) or rss.")
     ] = Method.monte_carlo,
     samples: Annotated[
-        int, typer.Option("--samples", "-n", help="Monte Carlo samples.", min=1)
+        int, typer.Option("--samples", "-n", help="Monte Carlo samples.", min=1, max=MAX_SAMPLES)
     ] = 1000,
     seed: Annotated[
         int, typer.Option("--seed", help="Seed: the same seed gives the same samples.", min=0)
@@ -268,7 +270,12 @@ def tolerance_command(
     backend: BackendOption = "processes",
     workers: Annotated[
         int | None,
-        typer.Option("--workers", help="Local worker processes (default: one per CPU).", min=1),
+        typer.Option(
+            "--workers",
+            help="Local worker processes (default: one per CPU).",
+            min=1,
+            max=MAX_WORKERS,
+        ),
     ] = None,
     dask_scheduler: Annotated[
         str | None,
@@ -307,7 +314,7 @@ def tolerance_command(
     from jointplay.tolerance.methods import MonteCarlo, Rss, ToleranceMethod, WorstCase
 
     figure_format = check_figure_format(figure_format)
-    with output_dir(out, force=force) as folder:
+    with output_dir(out, force=force, inputs=(config,)) as folder:
         mechanism, spec = load_study_spec(preset, config)
         _check_lengths(spec)
         if rpm is not None:
@@ -319,10 +326,7 @@ def tolerance_command(
         dynamic = responses is not Responses.kinematic
         if dynamic and not clearances:
             spec = spec.only("length")
-        if not (math.isfinite(revolutions) and revolutions > 0):
-            raise ConfigError(f"--revolutions must be > 0, got {revolutions}")
-        if settle < 0:
-            raise ConfigError(f"--settle must be a whole number of revolutions >= 0, got {settle}")
+        check_revolutions(revolutions, settle)
         contact_options = {
             "contact": contact,
             "k": k,
@@ -361,37 +365,45 @@ def tolerance_command(
             analysis = Rss(fd_step=fd_step)
         else:
             analysis = WorstCase(corners=corners.value, fd_step=fd_step)
-        with compiling_kernels(needed=dynamic):
-            study = tolerance_study(
-                mechanism,
-                spec,
-                method=analysis,
-                responses=responses.value,
-                limits=limits,
-                contact=law,
-                start=start.value,
-                settle=settle,
-                revolutions=revolutions,
-                solver=solver_options(rtol),
-                backend=where,
-                progress=progress,
+        missing = []
+        try:
+            with compiling_kernels(needed=dynamic):
+                study = tolerance_study(
+                    mechanism,
+                    spec,
+                    method=analysis,
+                    responses=responses.value,
+                    limits=limits,
+                    contact=law,
+                    start=start.value,
+                    settle=settle,
+                    revolutions=revolutions,
+                    solver=solver_options(rtol),
+                    backend=where,
+                    progress=progress,
+                )
+        except PartialInterrupt as stopped:  # in the convergence check: every point finished
+            study, missing = (
+                cast("ToleranceStudyResult", stopped.partial),
+                ["the convergence check"],
             )
         summary = study.summary()
-        write_study(
-            study,
-            folder,
-            plots=plots,
-            provenance=provenance(summary["configuration"]),
-            figure_format=figure_format,
-            executor=running_pool(),  # the batch engine's idle workers draw plots too
-        )
-    _print(study)
-    if study.interrupted:
         counts = summary["counts"]
-        raise Interrupted(
-            f"{counts['ok'] + counts['failed']} of {counts['points']} points finished; "
-            f"their results were written to {out}"
-        )
+        finished = (counts["ok"] + counts["failed"], counts["points"], "points")
+        try:
+            write_study(
+                study,
+                folder,
+                plots=plots,
+                provenance=provenance(summary["configuration"]),
+                figure_format=figure_format,
+                executor=running_pool(),  # the batch engine's idle workers draw plots too
+            )
+        except KeyboardInterrupt:  # the samples and summary are written first, whole
+            raise Interrupted(*finished, ", ".join([*missing, "the figures and report"])) from None
+        _print(study)
+        if study.interrupted or missing:
+            raise Interrupted(*finished, ", ".join(missing))
     console.print(f"results written to {out}")
 
 

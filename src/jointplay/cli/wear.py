@@ -135,7 +135,9 @@ def wear_command(
         )
     if not joints:
         raise ConfigError("no clearance joints: give joints a fit and a diameter, or --fit")
-    with output_dir(out, force=force) as folder:  # checked before the wear runs
+    with output_dir(
+        out, force=force, inputs=(config, table)
+    ) as folder:  # checked before the wear runs
         with compiling_kernels():
             history = wear_life(
                 mechanism,

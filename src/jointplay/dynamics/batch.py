@@ -61,7 +61,7 @@ from jointplay.dynamics.integrate import IntegrationStatus, _interrupts_watched
 from jointplay.dynamics.simulate import SolverOptions, Start, initial_state
 from jointplay.dynamics.system import PARAMS_WIDTH, System, build_system
 from jointplay.dynamics.workers import close_pool, pool
-from jointplay.errors import ConfigError, JointplayError
+from jointplay.errors import ConfigError, JointplayError, PartialInterrupt
 from jointplay.kinematics import fourbar, slidercrank
 from jointplay.kinematics.solver import revolute_tree
 from jointplay.model.columns import rotating_links
@@ -76,6 +76,8 @@ from jointplay.model.templates import (
 
 __all__ = [
     "BACKENDS",
+    "NOT_RUN",
+    "BatchInterrupted",
     "BatchProblem",
     "BatchResult",
     "BatchSamples",
@@ -94,9 +96,16 @@ BatchMethod = Literal["auto", "explicit", "implicit"]
 #: The backends of :func:`simulate_batch` (``"serial"`` is accepted for ``"local"``).
 BACKENDS: tuple[str, ...] = ("local", "processes", "dask", "gpu")
 #: Lanes per chunk on the process and Dask backends when none is given: large enough that a
-#: chunk takes ~1 s (so fixed costs are paid per worker, not per chunk), small enough to
-#: balance the workers.
-DEFAULT_CHUNK = 256
+#: chunk's fixed costs (a task's pickling and dispatch, ~1 ms) are small, small enough to
+#: balance the workers and that an interrupt, which drops the chunks in flight, costs at most
+#: ~1.5 s of work per worker (32 lanes of an implicit RM-set sample at ~45 ms each; an
+#: explicit sample takes ~15 ms).
+DEFAULT_CHUNK = 32
+#: How long a batch waits for a Dask cluster that has no worker (at the start, or once its
+#: workers have died) before it gives up on the chunks not finished, s.
+DASK_NO_WORKERS_S = 30.0
+#: How often a batch on Dask looks for finished chunks (and for workers), s.
+DASK_POLL_S = 0.05
 #: Lanes per chunk on the GPU backend (JAX batches; throughput falls above ~200 000 lanes).
 GPU_CHUNK = 200_000
 
@@ -935,6 +944,23 @@ def choose_method(
 
 
 # --- the result ------------------------------------------------------------------------------------
+#: The error of a sample that an interrupt stopped before it finished.
+NOT_RUN = "not run (interrupted)"
+
+
+class BatchInterrupted(PartialInterrupt):
+    """SIGINT or SIGTERM stopped :func:`simulate_batch`; :attr:`result` keeps what finished.
+
+    Attributes:
+        result: the :class:`BatchResult` of every sample (also :attr:`partial`); those that
+            did not finish have status ``interrupted`` and the error :data:`NOT_RUN`.
+    """
+
+    def __init__(self, result: BatchResult) -> None:
+        super().__init__(result, "the batch was interrupted")
+        self.result = result
+
+
 @dataclass(frozen=True)
 class BatchResult:
     """Per-sample peaks and steady-cycle statistics of a batch (failures as data).
@@ -1093,8 +1119,12 @@ def _dispatch(
     scheduler: str | None,
     progress: bool,
 ) -> tuple[kb.BatchKernelOutput, int, int]:
-    """Run the lanes ``lanes`` of ``problem``; (outputs in lane order, workers, chunk size)."""
-    shared = (problem.ipar, problem.rtol, problem.atol, problem.max_steps, method)
+    """Run the lanes ``lanes`` of ``problem``; (outputs in lane order, workers, chunk size).
+
+    Raises:
+        _PartialDispatch: interrupted (SIGINT, SIGTERM); it carries the outputs, the lanes
+            that did not finish marked ``STATUS_INTERRUPTED``.
+    """
     columns = (problem.rpar, problem.y0, problem.t_settle, problem.t_end, problem.max_step)
     n = len(lanes)
     threads = 1
@@ -1122,6 +1152,76 @@ def _dispatch(
             )
             yield rpar, y0, t_settle, t_end, max_step
 
+    interrupted, lost = False, ""
+    try:
+        _run_parts(
+            problem, method, backend, threads, chunk, scheduler, progress, parts, items, outputs
+        )
+    except KeyboardInterrupt:  # the finished chunks are kept; the others are marked below
+        interrupted = True
+    except _ClusterLost as error:
+        lost = f"ConfigError: {error}"
+    merged = _merged(problem, parts, outputs)
+    if interrupted or lost or np.any(merged.status == kc.STATUS_INTERRUPTED):
+        raise _PartialDispatch(merged, threads, chunk, lost)
+    return merged, threads, chunk
+
+
+class _PartialDispatch(KeyboardInterrupt):
+    """A :func:`_dispatch` that did not finish: ``args`` are its outputs (lanes that did not
+    finish have ``STATUS_INTERRUPTED``), workers, chunk size and why (``""``: an interrupt;
+    else the message of the lost Dask cluster, the error of those lanes)."""
+
+
+class _ClusterLost(JointplayError):
+    """The Dask cluster cannot finish the batch: no workers left, or a chunk killed its
+    workers (:data:`DASK_NO_WORKERS_S`, Dask's own retries)."""
+
+
+def _merged(
+    problem: BatchProblem, parts: list[NDArray[np.intp]], outputs: list[kb.BatchKernelOutput | None]
+) -> kb.BatchKernelOutput:
+    """The outputs of every part in lane order; a part that did not run is ``STATUS_INTERRUPTED``."""
+    nb, nj, nc, _ = kb.layout(problem.ipar)
+
+    def not_run(m: int) -> kb.BatchKernelOutput:
+        return kb.BatchKernelOutput(
+            peaks=np.full((m, 2 * nb + nj + 1), np.nan),
+            stats=np.full((m, 2 * nb + nc), np.nan),
+            status=np.full(m, kc.STATUS_INTERRUPTED, dtype=np.int64),
+            t_reached=np.zeros(m),
+            n_steps=np.zeros(m, dtype=np.int64),
+            n_rejected=np.zeros(m, dtype=np.int64),
+            n_rhs=np.zeros(m, dtype=np.int64),
+        )
+
+    filled = [not_run(0)]
+    filled += [not_run(len(p)) if o is None else o for p, o in zip(parts, outputs, strict=True)]
+    return kb.BatchKernelOutput(
+        *(
+            np.concatenate([getattr(o, name) for o in filled])
+            for name in kb.BatchKernelOutput._fields
+        )
+    )
+
+
+def _run_parts(
+    problem: BatchProblem,
+    method: str,
+    backend: str,
+    threads: int,
+    chunk: int,
+    scheduler: str | None,
+    progress: bool,
+    parts: list[NDArray[np.intp]],
+    items: Callable[[], Iterator[Chunk]],
+    outputs: list[kb.BatchKernelOutput | None],
+) -> None:
+    """Run every part of the lanes on ``backend``, filling ``outputs`` as they finish (an
+    interrupt leaves ``None`` where a part did not finish: on the GPU, the one call that runs
+    every lane)."""
+    shared = (problem.ipar, problem.rtol, problem.atol, problem.max_steps, method)
+    n = sum(len(part) for part in parts)
     with _progress(progress, n) as advance:
         if backend == "local" or (backend == "processes" and threads == 1):
             with _interrupts_watched() as flags:
@@ -1135,8 +1235,6 @@ def _dispatch(
                     advance(len(parts[k]))
                     if np.any(out.status == kc.STATUS_INTERRUPTED):
                         break
-            if any(o is None or np.any(o.status == kc.STATUS_INTERRUPTED) for o in outputs):
-                raise KeyboardInterrupt("the batch was interrupted")
         elif backend == "gpu":
             kernel = _gpu_kernel()
             for k, chunk_items in enumerate(items()):
@@ -1165,11 +1263,6 @@ def _dispatch(
                 raise
         else:
             _run_dask(shared, list(items()), scheduler, outputs, parts, advance)
-    done = [o for o in outputs if o is not None]
-    merged = kb.BatchKernelOutput(
-        *(np.concatenate([getattr(o, name) for o in done]) for name in kb.BatchKernelOutput._fields)
-    )
-    return merged, threads, chunk
 
 
 #: Clients of the Dask clusters this process has used, by scheduler address.
@@ -1192,6 +1285,14 @@ def _dask_client(scheduler: str | None) -> Any:
         client = Client(scheduler, timeout=30, set_as_default=False)
     except (OSError, TimeoutError, ValueError) as exc:
         raise ConfigError(f"cannot connect to the Dask scheduler at {scheduler!r}: {exc}") from None
+    try:
+        client.wait_for_workers(1, timeout=DASK_NO_WORKERS_S)
+    except TimeoutError:
+        client.close()
+        raise ConfigError(
+            f"the Dask cluster at {scheduler!r} has no workers (none joined within "
+            f"{DASK_NO_WORKERS_S:g} s); start some (dask worker {scheduler})"
+        ) from None
     if not _CLIENTS:
         atexit.register(_close_clients)
     _CLIENTS[scheduler] = client
@@ -1218,8 +1319,15 @@ def _run_dask(
     parts: list[NDArray[np.intp]],
     advance: Callable[[int], None],
 ) -> None:
-    from distributed import as_completed
+    """Run the chunks on the Dask cluster, filling ``outputs``.
 
+    Dask itself moves the chunks of a worker that dies to the others (and gives up on a chunk
+    that killed three workers: ``KilledWorker``).
+
+    Raises:
+        _ClusterLost: a chunk killed its workers, or the cluster had no worker for
+            :data:`DASK_NO_WORKERS_S` (the chunks that finished are in ``outputs``).
+    """
     client = _dask_client(scheduler)
     futures: dict[Any, int] = {}
     try:
@@ -1230,10 +1338,32 @@ def _run_dask(
         futures = {
             client.submit(kb.run_chunk, shared, item, pure=False): k for k, item in enumerate(items)
         }
-        for future in as_completed(list(futures), loop=client.loop):
-            k = futures[future]
-            outputs[k] = future.result()
-            advance(len(parts[k]))
+        pending, idle_since = set(futures), time.monotonic()
+        while pending:
+            done = {future for future in pending if future.done()}
+            pending -= done
+            if not done:
+                time.sleep(DASK_POLL_S)
+            for future in done:
+                k = futures[future]
+                if future.status == "error":
+                    raise _ClusterLost(
+                        f"the Dask cluster at {scheduler} could not run a chunk of samples "
+                        f"({type(future.exception()).__name__}: {future.exception()}); its "
+                        "workers died running it"
+                    )
+                outputs[k] = future.result()
+                advance(len(parts[k]))
+            if done:
+                idle_since = time.monotonic()
+            elif time.monotonic() - idle_since > DASK_NO_WORKERS_S:  # still any worker?
+                if client.scheduler_info(n_workers=-1).get("workers"):
+                    idle_since = time.monotonic()
+                    continue
+                raise _ClusterLost(
+                    f"the Dask cluster at {scheduler} has had no worker for "
+                    f"{DASK_NO_WORKERS_S:g} s; start workers (dask worker {scheduler})"
+                )
     except BaseException:
         if futures:
             client.cancel(list(futures))
@@ -1279,6 +1409,9 @@ def simulate_batch(
 
     Raises:
         ConfigError: an argument is out of range, or the backend is not available.
+        BatchInterrupted: SIGINT or SIGTERM stopped the run (a KeyboardInterrupt); its
+            ``result`` holds the samples that finished, the others with status
+            ``interrupted`` and the error :data:`NOT_RUN`.
     """
     wall = time.perf_counter()
     if not isinstance(samples, BatchSamples):
@@ -1313,9 +1446,14 @@ def simulate_batch(
         problem = problem.scaled_tolerances(EXPLICIT_TOLERANCE_SCALE)
     n = len(samples)
     lanes = np.flatnonzero(problem.ok)
-    output, used_workers, chunk = _dispatch(
-        problem, lanes, chosen, backend, workers, chunk_size, scheduler, progress
-    )
+    interrupted, lost = False, ""
+    try:
+        output, used_workers, chunk = _dispatch(
+            problem, lanes, chosen, backend, workers, chunk_size, scheduler, progress
+        )
+    except _PartialDispatch as partial:
+        output, used_workers, chunk, lost = partial.args
+        interrupted = not lost
     system = build_system(mechanism, clearances, ramp_time=start.ramp_time, driven=start.driven)
     peak_names, stat_names = _names(mechanism, system)
     peaks = np.full((n, len(peak_names)), np.nan)
@@ -1331,7 +1469,9 @@ def simulate_batch(
     )
     errors = list(problem.errors)
     for row, lane in enumerate(lanes):
-        if output.status[row] != kc.STATUS_SUCCESS:
+        if output.status[row] == kc.STATUS_INTERRUPTED:
+            errors[lane] = lost or NOT_RUN
+        elif output.status[row] != kc.STATUS_SUCCESS:
             errors[lane] = _lane_message(
                 int(output.status[row]), float(output.t_reached[row]),
                 float(problem.t_end[lane]), problem.max_steps,
@@ -1339,7 +1479,7 @@ def simulate_batch(
     ok = status == kc.STATUS_SUCCESS
     units = {name: unit for _, name, unit in (*peak_names, *stat_names)}
     index = pd.RangeIndex(n, name="sample")
-    return BatchResult(
+    result = BatchResult(
         samples=samples,
         peaks=pd.DataFrame(peaks, columns=[name for _, name, _ in peak_names], index=index),
         statistics=pd.DataFrame(stats, columns=[name for _, name, _ in stat_names], index=index),
@@ -1364,3 +1504,6 @@ def simulate_batch(
         build_time=build_time,
         wall_time=time.perf_counter() - wall,
     )
+    if interrupted:
+        raise BatchInterrupted(result)
+    return result

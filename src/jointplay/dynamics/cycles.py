@@ -73,6 +73,11 @@ def revolution_statistics(per_revolution: Mapping[str, Sequence[float]]) -> dict
     return out
 
 
+#: The most one step of a converging section may grow over the one before (round-off and the
+#: section's sampling make a shrinking sequence wobble by a few per cent).
+CONVERGING_GROWTH = 1.1
+
+
 @dataclass(frozen=True)
 class Periodicity:
     """The verdict on a Poincaré section taken once per crank revolution.
@@ -104,6 +109,34 @@ class Periodicity:
         if self.points.shape[0] < 3:
             return "undetermined"
         return "not periodic"
+
+    def settles_after(self) -> int | None:
+        """For a section that is not periodic: the fewest first revolutions whose omission
+        leaves a periodic section (at least 3 points left) — a start-up transient that the
+        analysed revolutions still held; ``None`` if there is none, or the section is
+        periodic already."""
+        if self.period is not None:
+            return None
+        for first in range(1, self.points.shape[0] - 2):
+            later = periodicity(
+                self.points[first:], self.coordinates, threshold=self.threshold,
+                max_period=self.max_period,
+            )  # fmt: skip
+            if later.period is not None:
+                return first
+        return None
+
+    @property
+    def converging(self) -> bool:
+        """Whether the steps between successive section points shrink (none grows by more than
+        :data:`CONVERGING_GROWTH`, the last is under half the first, over at least 3 steps):
+        the motion is still approaching its periodic cycle — a start-up transient, not a
+        rattle, which jumps about."""
+        steps = self.successive_distance
+        if len(steps) < 3 or not steps[0] > 0:
+            return False
+        grows = steps[1:] > CONVERGING_GROWTH * steps[:-1]
+        return bool(not grows.any() and steps[-1] < 0.5 * steps[0])
 
     def summary(self) -> dict[str, Any]:
         """A JSON-ready description."""

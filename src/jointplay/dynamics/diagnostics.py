@@ -263,19 +263,42 @@ def check_settled(quantity: str, per_revolution: Sequence[float]) -> Diagnostic 
     )
 
 
-def check_periodic(verdict: str, period: int | None, revolutions: int) -> Diagnostic | None:
-    """``not-periodic`` (information) when the Poincaré section does not repeat."""
+def check_periodic(
+    verdict: str,
+    period: int | None,
+    revolutions: int,
+    *,
+    settles_after: int | None = None,
+    converging: bool = False,
+) -> Diagnostic | None:
+    """``not-periodic`` (information) when the Poincaré section does not repeat.
+
+    The message tells a start-up transient from rattling: ``settles_after`` (the section is
+    periodic once its first revolutions are left out) or ``converging`` (its steps shrink)
+    mean the motion is still settling, not rattling (:class:`~jointplay.dynamics.cycles.
+    Periodicity`).
+    """
     if period is not None or verdict != "not periodic":
         return None
+    where = (
+        f"the once-per-revolution Poincaré section does not repeat over {revolutions} revolutions"
+    )
+    if settles_after is not None:
+        reason = (
+            f"it repeats from revolution {settles_after + 1} on: a start-up transient, not "
+            f"rattling; raise --settle by {settles_after}"
+        )
+    elif converging:
+        reason = (
+            "its steps shrink from revolution to revolution: a start-up transient still "
+            "settling, not rattling; raise --settle"
+        )
+    else:
+        reason = (
+            "the pins rattle differently every revolution; read peaks as ranges across revolutions"
+        )
     return Diagnostic(
-        "info",
-        "not-periodic",
-        None,
-        float(revolutions),
-        math.nan,
-        f"the once-per-revolution Poincaré section does not repeat over {revolutions} "
-        "revolutions: the pins rattle differently every revolution; read peaks as ranges "
-        "across revolutions",
+        "info", "not-periodic", None, float(revolutions), math.nan, f"{where}: {reason}"
     )
 
 

@@ -383,7 +383,13 @@ def _diagnose(
     findings.append(_worst(settled))
     analysed = len(next(iter(per_revolution.values()), [])) - settle
     findings.append(
-        dg.check_periodic(result_periodicity.verdict, result_periodicity.period, analysed)
+        dg.check_periodic(
+            result_periodicity.verdict,
+            result_periodicity.period,
+            analysed,
+            settles_after=result_periodicity.settles_after(),
+            converging=result_periodicity.converging,
+        )
     )
     findings.append(dg.check_energy(energy_residual))
     findings.append(dg.check_transmission_angle(mechanism))

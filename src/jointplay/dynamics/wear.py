@@ -13,7 +13,10 @@ revolutions of a simulation, on the integrator's own steps (which resolve every 
 spreads each increment over the Hertz contact arc (half-width ``b = √(4 F R/(π w E*))``, an
 elliptical pressure, Johnson 1985 §4.2) on both the bearing (angle in the bearing body's
 frame) and the journal (angle in the journal body's frame). The discrete spread is normalised,
-so the depth profile integrated over the surface, ``∫ h(θ) R w dθ``, equals the worn volume.
+so the depth profile integrated over the surface, ``∫ h(θ) R w dθ``, equals that surface's
+worn volume: Archard's ``V`` is what the pair loses, shared half and half between bearing and
+journal (:data:`SURFACE_SHARE`). ``k`` and ``H`` follow the joint's materials
+(:data:`MATERIAL_WEAR`) unless given.
 
 Geometric assumption of the coupling (:func:`wear_life`): the compiled contact kernel models a
 circular bearing and a circular journal, so a worn (non-circular) profile cannot enter it. The
@@ -61,13 +64,52 @@ __all__ = [
 
 FloatArray = NDArray[np.float64]
 
-#: Archard wear coefficient of hardened tool steel sliding on hardened tool steel, dry:
-#: k = 1.3e-4 (Archard & Hirst, *Proc. R. Soc. A* 236:397–410, 1956, Table; reproduced in
-#: Hutchings, *Tribology*, 1992, Table 5.3). Mild steel on mild steel is 7e-3 (same table);
-#: lubricated contacts are 1e-6 … 1e-9. Set it per joint (:class:`WearSettings`).
-DEFAULT_WEAR_COEFFICIENT = 1.3e-4
-#: Hardness of the same hardened tool steel, 850 kgf/mm² ≈ 8.34 GPa (Archard & Hirst 1956).
-DEFAULT_HARDNESS = 850 * 9.80665e6
+
+@dataclass(frozen=True)
+class WearData:
+    """Archard data of a material sliding on itself, dry.
+
+    Attributes:
+        coefficient: dimensionless wear coefficient k.
+        hardness: hardness H, Pa.
+        source: where the numbers come from, and which material they stand for.
+    """
+
+    coefficient: float
+    hardness: float
+    source: str
+
+
+#: 1 kgf/mm² in Pa (the unit of the hardness in Archard & Hirst's table).
+KGF_PER_MM2 = 9.80665e6
+
+#: Archard data by :attr:`~jointplay.model.mechanism.Material.name`, from Archard & Hirst,
+#: *Proc. R. Soc. A* 236:397–410, 1956, Table 1 (reproduced in Hutchings, *Tribology*, 1992,
+#: Table 5.3): pairs of like metals, dry, in the same pin-on-ring test. Jointplay's
+#: ``"steel"`` (the presets' material) is a mild structural steel — its yield strength is
+#: ASTM A36's, and the contact-pressure check uses it — so it wears as mild steel.
+#: Lubricated contacts have k = 1e-6 … 1e-9: set the coefficient for them.
+MATERIAL_WEAR: Mapping[str, WearData] = {
+    "steel": WearData(
+        7e-3, 186 * KGF_PER_MM2, "mild steel on mild steel, dry (Archard & Hirst 1956)"
+    ),
+    "mild-steel": WearData(
+        7e-3, 186 * KGF_PER_MM2, "mild steel on mild steel, dry (Archard & Hirst 1956)"
+    ),
+    "tool-steel": WearData(
+        1.3e-4, 850 * KGF_PER_MM2, "hardened tool steel on itself, dry (Archard & Hirst 1956)"
+    ),
+}
+#: The wear coefficient of jointplay's default material, ``"steel"`` (mild steel).
+DEFAULT_WEAR_COEFFICIENT = MATERIAL_WEAR["steel"].coefficient
+#: The hardness of the same, 186 kgf/mm² ≈ 1.82 GPa.
+DEFAULT_HARDNESS = MATERIAL_WEAR["steel"].hardness
+#: The share of the Archard volume worn off each of the two surfaces, bearing and journal.
+#: Archard's V = k F s / H is the volume the pair loses (the wear debris); jointplay's rule,
+#: for a joint whose two surfaces have one hardness H (like materials, as every material of
+#: :data:`MATERIAL_WEAR` sliding on itself): they wear alike, half each. (It used to remove
+#: the whole V from both, counting the pair's wear twice.)
+SURFACE_SHARE = 0.5
 #: Angular bins of a worn profile around a bearing or a journal (0.5°).
 PROFILE_BINS = 720
 
@@ -77,22 +119,23 @@ class WearSettings:
     """Archard parameters, with per-joint overrides.
 
     Attributes:
-        coefficient: dimensionless wear coefficient k (default
-            :data:`DEFAULT_WEAR_COEFFICIENT`).
-        hardness: hardness H of the softer surface, Pa (default :data:`DEFAULT_HARDNESS`).
+        coefficient: dimensionless wear coefficient k (``None``: the material's,
+            :data:`MATERIAL_WEAR`).
+        hardness: hardness H of the softer surface, Pa (``None``: the material's).
         joints: per-joint overrides ``{joint: {"coefficient": k, "hardness": H}}``.
         bins: angular bins of the worn profiles.
     """
 
-    coefficient: float = DEFAULT_WEAR_COEFFICIENT
-    hardness: float = DEFAULT_HARDNESS
+    coefficient: float | None = None
+    hardness: float | None = None
     joints: Mapping[str, Mapping[str, float]] = field(default_factory=dict)
     bins: int = PROFILE_BINS
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "joints", {k: dict(v) for k, v in self.joints.items()})
-        _check("WearSettings", "coefficient", self.coefficient)
-        _check("WearSettings", "hardness", self.hardness)
+        for name in ("coefficient", "hardness"):
+            if getattr(self, name) is not None:
+                _check("WearSettings", name, float(getattr(self, name)))
         for joint, values in self.joints.items():
             for key, value in values.items():
                 if key not in ("coefficient", "hardness"):
@@ -104,13 +147,51 @@ class WearSettings:
         if isinstance(self.bins, bool) or not isinstance(self.bins, int) or self.bins < 8:
             raise ConfigError(f"WearSettings: bins must be an integer >= 8, got {self.bins!r}")
 
-    def of(self, joint: str) -> tuple[float, float]:
-        """``(k, H)`` of ``joint``."""
+    def of(self, joint: str, mechanism: Mechanism | None = None) -> tuple[float, float]:
+        """``(k, H)`` of ``joint``: its override, else the settings', else those of the softer
+        material of its two links in ``mechanism`` (:data:`MATERIAL_WEAR`; default steel).
+
+        Raises:
+            ConfigError: a value is needed from a material that :data:`MATERIAL_WEAR` lacks.
+        """
         values = self.joints.get(joint, {})
-        return (
-            float(values.get("coefficient", self.coefficient)),
-            float(values.get("hardness", self.hardness)),
+        k = values.get("coefficient", self.coefficient)
+        hardness = values.get("hardness", self.hardness)
+        if k is None or hardness is None:
+            data = material_wear(mechanism, joint)
+            k = data.coefficient if k is None else k
+            hardness = data.hardness if hardness is None else hardness
+        return float(k), float(hardness)
+
+    def describe(self, mechanism: Mechanism | None = None) -> dict[str, Any]:
+        """JSON-ready: the values used and where they come from."""
+        joint = next((j.name for j in mechanism.revolute_joints), None) if mechanism else None
+        data = material_wear(mechanism, joint) if joint else MATERIAL_WEAR["steel"]
+        return {
+            "coefficient": data.coefficient if self.coefficient is None else self.coefficient,
+            "hardness_Pa": data.hardness if self.hardness is None else self.hardness,
+            "source": "given"
+            if self.coefficient is not None and self.hardness is not None
+            else data.source,
+            "joints": dict(self.joints),
+        }
+
+
+def material_wear(mechanism: Mechanism | None, joint: str) -> WearData:
+    """The Archard data of ``joint``: those of the softer material of its two links
+    (:data:`MATERIAL_WEAR`; without a mechanism, steel's)."""
+    if mechanism is None:
+        return MATERIAL_WEAR["steel"]
+    found = mechanism.joint(joint)
+    names = {mechanism.material_of(found.link_a).name, mechanism.material_of(found.link_b).name}
+    missing = sorted(n for n in names if n.lower() not in MATERIAL_WEAR)
+    if missing:
+        raise ConfigError(
+            f"wear of joint {joint!r}: no wear data for material {missing[0]!r} (known: "
+            f"{', '.join(MATERIAL_WEAR)}); give the [wear] coefficient and hardness, or "
+            "--wear-coefficient and --hardness"
         )
+    return min((MATERIAL_WEAR[n.lower()] for n in names), key=lambda data: data.hardness)
 
 
 def _check(owner: str, name: str, value: float) -> None:
@@ -322,7 +403,7 @@ def wear_from_series(
         return np.mod(np.angle(np.exp(1j * angle[:-1]) + np.exp(1j * angle[1:])), 2 * math.pi)
 
     active = volumes > 0.0
-    vol = volumes[active]
+    vol = SURFACE_SHARE * volumes[active]  # each surface's share of the pair's volume
     bearing_vol = _spread(midpoint(bearing_angle)[active], vol, half_width[active] / r_b, bins)
     journal_vol = _spread(midpoint(journal_angle)[active], vol, half_width[active] / r_j, bins)
     arc = 2.0 * math.pi / bins
@@ -383,7 +464,7 @@ def cycle_wear(
                 f"wear of joint {name!r}: no bearing width; give its links a thickness or the "
                 "pin a pin_length"
             )
-        k, hardness = settings.of(name)
+        k, hardness = settings.of(name, mechanism)
         r_j = clearance.journal_radius
         r_b = r_j + clearance.clearance
         ex, ey = steps[f"ex_{name}"], steps[f"ey_{name}"]

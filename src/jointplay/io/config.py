@@ -25,7 +25,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, JointplayError
 from jointplay.model.mechanism import (
     GROUND,
     STEEL,
@@ -270,54 +270,87 @@ def load_preset(name: str) -> Mechanism:
 
 #: The largest configuration file read, bytes (a guard against reading a huge file by mistake).
 MAX_CONFIG_BYTES = 16 * 2**20
+#: The deepest nesting of tables and arrays in a TOML file (a mechanism needs 4:
+#: ``[tolerances.lengths.crank]`` holding an array); deeper is a mistake or an attack.
+MAX_TOML_DEPTH = 16
 
 
 def read_text_file(path: Any, what: str = "configuration file") -> str:
     """The UTF-8 text of the regular file ``path``, or a ConfigError saying what is wrong.
 
     The one reader of user-given text files: refuses what is not a path, a missing file, a
-    folder, a FIFO or device (which could block for ever), a file over
-    :data:`MAX_CONFIG_BYTES` and text that is not UTF-8.
+    folder, a FIFO or device (opened without blocking and checked on the open file, so it
+    cannot hang), a file over :data:`MAX_CONFIG_BYTES` and text that is not UTF-8.
     """
     if isinstance(path, bool) or not isinstance(path, str | os.PathLike):
         raise ConfigError(f"the {what} must be a file path, got {type(path).__name__}")
     name = os.fspath(path)
     if isinstance(name, bytes) or not name.strip():
         raise ConfigError(f"the {what} must be a file path, got {name!r}")
+    shown = repr(name)
+    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0)
     try:
-        info = os.stat(name)
+        descriptor = os.open(name, flags)
     except FileNotFoundError:
-        raise ConfigError(f"{what} {name!r} not found") from None
+        raise ConfigError(f"{what} {shown} not found") from None
     except OSError as exc:
-        raise ConfigError(f"cannot read {what} {name!r}: {exc.strerror}") from None
-    if not stat.S_ISREG(info.st_mode):
-        kind = "a folder" if stat.S_ISDIR(info.st_mode) else "not a regular file"
-        raise ConfigError(f"{what} {name!r} is {kind}; give a file")
-    if info.st_size > MAX_CONFIG_BYTES:
-        raise ConfigError(
-            f"{what} {name!r} is {info.st_size / 2**20:.0f} MiB; a {what} is at most "
-            f"{MAX_CONFIG_BYTES / 2**20:.0f} MiB"
-        )
+        raise ConfigError(f"cannot read {what} {shown}: {exc.strerror}") from None
     try:
-        with open(name, "rb") as handle:
-            raw = handle.read(MAX_CONFIG_BYTES + 1)
+        info = os.fstat(descriptor)
+        if not stat.S_ISREG(info.st_mode):
+            kind = "a folder" if stat.S_ISDIR(info.st_mode) else "not a regular file"
+            raise ConfigError(f"{what} {shown} is {kind}; give a file")
+        if info.st_size > MAX_CONFIG_BYTES:
+            raise ConfigError(
+                f"{what} {shown} is {info.st_size / 2**20:.0f} MiB; a {what} is at most "
+                f"{MAX_CONFIG_BYTES / 2**20:.0f} MiB"
+            )
+        raw = os.read(descriptor, MAX_CONFIG_BYTES + 1)
     except OSError as exc:
-        raise ConfigError(f"cannot read {what} {name!r}: {exc.strerror}") from None
+        raise ConfigError(f"cannot read {what} {shown}: {exc.strerror}") from None
+    finally:
+        os.close(descriptor)
+    if len(raw) > MAX_CONFIG_BYTES:  # it grew after the check
+        raise ConfigError(f"{what} {shown} is over {MAX_CONFIG_BYTES / 2**20:.0f} MiB")
     try:
         return raw.decode("utf-8")
     except UnicodeDecodeError as exc:
         raise ConfigError(
-            f"{what} {name!r} is not UTF-8 text (byte 0x{raw[exc.start]:02x} at offset "
+            f"{what} {shown} is not UTF-8 text (byte 0x{raw[exc.start]:02x} at offset "
             f"{exc.start}); save it as UTF-8"
         ) from None
 
 
-def _read_toml(path: Any) -> dict[str, Any]:
-    text = read_text_file(path)
+def read_toml(path: Any, what: str = "configuration file") -> dict[str, Any]:
+    """The TOML data of the file ``path`` (:func:`read_text_file`), nested at most
+    :data:`MAX_TOML_DEPTH` deep, or a ConfigError saying what is wrong."""
+    text = read_text_file(path, what)
+    shown = os.fspath(path)
     try:
-        return tomllib.loads(text)
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"{os.fspath(path)}: malformed TOML: {exc}") from None
+        raise ConfigError(f"{shown}: malformed TOML: {exc}") from None
+    except RecursionError:
+        data = None
+    if data is None or _depth(data) > MAX_TOML_DEPTH:
+        raise ConfigError(
+            f"{shown}: tables and arrays nested deeper than {MAX_TOML_DEPTH} levels; a "
+            f"{what} needs a few"
+        )
+    return data
+
+
+def _depth(data: Any) -> int:
+    """How deep tables and arrays nest in ``data`` (without recursion)."""
+    deepest, stack = 0, [(data, 1)]
+    while stack:
+        item, level = stack.pop()
+        if isinstance(item, dict | list):
+            deepest = max(deepest, level)
+            if level <= MAX_TOML_DEPTH:
+                values = item.values() if isinstance(item, dict) else item
+                stack.extend((value, level + 1) for value in values)
+    return deepest
 
 
 def load_config(path: Path | str) -> Mechanism:
@@ -329,7 +362,7 @@ def load_config(path: Path | str) -> Mechanism:
     and reports never pass an edited mechanism off as the preset; an unedited copy keeps the
     preset's name. Give an edited file its own ``name`` to choose the title.
     """
-    data = _read_toml(path)
+    data = read_toml(path)
     return _edited_name(parse_config(data, source=os.fspath(path)), path)
 
 
@@ -352,7 +385,7 @@ def tolerance_table(
 ) -> dict[str, Any] | None:
     """The raw ``[tolerances]`` table of a config file or preset (``None`` without one)."""
     if config is not None:
-        data = _read_toml(config)
+        data = read_toml(config)
     else:
         data = tomllib.loads(preset_text(preset or "paper-fourbar"))
     table = data.get("tolerances")
@@ -467,6 +500,11 @@ def _material(table: _Table) -> Material:
     return material
 
 
+#: How far (m) a joint's ``clearance`` may lie outside its fit's radial clearance range: the
+#: round-off of writing the range's ends in µm or mm, far below any fit's micrometres.
+FIT_MARGIN = 1e-9
+
+
 def _fit(table: _Table) -> JointFit:
     fit = JointFit(
         diameter=table.quantity("diameter", "m"),
@@ -476,7 +514,30 @@ def _fit(table: _Table) -> JointFit:
         clearance=table.quantity("clearance", "m", None),
     )
     table.finish()
+    if fit.fit is not None and fit.clearance is not None:
+        _check_fit_clearance(fit, table.where)
     return fit
+
+
+def _check_fit_clearance(joint: JointFit, where: str) -> None:
+    """Refuse a ``clearance`` outside the radial clearance of the joint's ``fit`` (a copied
+    clearance kept after the fit was changed), naming both: commands that simulate one
+    clearance would use it while the tolerance studies use the fit."""
+    from jointplay.tolerance import iso286
+
+    assert joint.fit is not None and joint.clearance is not None
+    try:
+        result = iso286.fit(joint.fit, joint.diameter)
+    except JointplayError as exc:
+        raise ConfigError(f"{where}: fit {joint.fit!r}: {exc}") from None
+    low, high = result.radial_clearance_min, result.radial_clearance_max
+    if not low - FIT_MARGIN <= joint.clearance <= high + FIT_MARGIN:
+        raise ConfigError(
+            f"{where}: clearance = {joint.clearance * 1e6:.4g} µm lies outside the radial "
+            f"clearance of its fit {joint.fit} at Ø{joint.diameter * 1e3:g} mm "
+            f"({low * 1e6:.4g} … {high * 1e6:.4g} µm); remove the clearance to use the fit's "
+            "mean, or give one within the fit's range, or change the fit"
+        )
 
 
 def _parse_template(
@@ -714,7 +775,7 @@ def design_tables(path: Path | str | None) -> dict[str, Any]:
     their canonical spelling, values raw; empty without)."""
     if path is None:
         return {}
-    data = _read_toml(path)
+    data = read_toml(path)
     tables = {name: data[name] for name in DESIGN_TABLES if name in data}
     for name, table in tables.items():
         if not isinstance(table, dict):
@@ -726,7 +787,7 @@ def simulation_settings(path: Path | str | None) -> dict[str, Any]:
     """The ``[simulation]`` table of a configuration file (raw values; empty without one)."""
     if path is None:
         return {}
-    data = _read_toml(path)
+    data = read_toml(path)
     table = _Table(data.get("simulation", {}), f"{os.fspath(path)}: [simulation]")
     values = {key: table.raw(key) for key in SIMULATION_KEYS if table.has(key)}
     table.finish()

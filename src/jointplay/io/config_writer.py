@@ -35,13 +35,10 @@ from jointplay.errors import ConfigError
 
 def source_config(preset: str | None = None, config: Path | str | None = None) -> dict[str, Any]:
     """The raw TOML data of a configuration file, or of a preset (default ``paper-fourbar``)."""
-    from jointplay.io.config import preset_text
+    from jointplay.io.config import preset_text, read_toml
 
     if config is not None:
-        try:
-            return tomllib.loads(Path(config).read_text(encoding="utf-8"))
-        except (OSError, tomllib.TOMLDecodeError) as exc:
-            raise ConfigError(f"{config}: cannot read the configuration: {exc}") from None
+        return read_toml(config)
     return tomllib.loads(preset_text(preset or "paper-fourbar"))
 
 

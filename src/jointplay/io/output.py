@@ -1,37 +1,81 @@
-"""Writing a command's results all-or-nothing.
+"""Writing a command's results all-or-nothing, never losing a complete one.
 
 A command prepares its output folder before it computes anything (:func:`output_dir`): a
-fresh temporary folder beside the target, so that an unwritable ``--out`` is reported at
-once. Everything is written there; only when the command succeeds does the temporary folder
-replace the target, by renames (old → trash, staging → target, trash removed). A failed or
-interrupted run leaves the target as it was: the previous complete result, or nothing. Every
-result folder carries a marker file (:data:`MARKER`); an existing non-empty folder without
-one is not a jointplay result and is refused unless ``force``.
+fresh staging folder beside the target, under a short name (``.jointplay-PID-XXXXXXXX``), so
+that an unwritable ``--out`` is reported at once and a long ``--out`` name still fits. Every
+result folder carries a marker file (:data:`MARKER`) saying whether it is complete; an
+existing non-empty folder without one is not a jointplay result and is refused unless
+``force``. Some folders are never replaced, ``force`` or not: the root and every top-level
+folder, the system trees (``/usr``, ``/etc``, ...), the home folder and the folders above it
+and above the working folder, and any folder that holds an input of the run.
+
+How a run ends:
+
+* **success** — the staging folder takes the target's place in one atomic swap
+  (``renameat2(RENAME_EXCHANGE)`` on Linux; elsewhere two renames, see :func:`_swap`), the
+  target's checks repeated just before it (a folder someone created at ``--out`` during the
+  run is not replaced without ``force``); the old result is then removed, with a warning if
+  it cannot be;
+* **interrupted with finished work** — the command raises :class:`Interrupted` inside the
+  ``with`` block, after writing what finished. The partial result takes the target's place
+  only if the target holds nothing or a less complete partial result; beside a complete one
+  (or an equally complete partial one) it is kept as ``NAME.interrupted-N``. With nothing
+  finished, nothing is written;
+* **failed or interrupted before any result** — the target is left as it was.
+
+Staging folders of runs that died (SIGKILL) are swept by the next run in the same folder.
 """
 
 from __future__ import annotations
 
+import ctypes
+import ctypes.util
+import errno
 import json
 import math
 import os
+import re
 import shutil
 import signal
-import tempfile
+import sys
 import uuid
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, Interrupted
 
 #: Name of the marker file that every result folder written by jointplay carries.
 MARKER = ".jointplay-result.json"
+#: Staging (and, on the fallback path, old-result) folders: ``.jointplay-PID-HEX.KIND``.
+_STAGING = re.compile(r"^\.jointplay-(\d+)-[0-9a-f]{8}\.(partial|old)$")
+#: Trees no result ever replaces (with the root and every folder directly under it).
+SYSTEM_TREES = ("/bin", "/boot", "/dev", "/etc", "/lib", "/lib32", "/lib64", "/libx32", "/proc",
+                "/run", "/sbin", "/sys", "/usr")  # fmt: skip
 
 
-def _check_target(target: Path | str, force: bool) -> Path:
+def _forbidden(resolved: Path, inputs: Sequence[Path]) -> str:
+    """Why ``resolved`` may never be replaced, or ``""``."""
+    home = Path.home().resolve()
+    here = Path.cwd().resolve()
+    if len(resolved.parts) <= 2:
+        return "is the root or a folder directly under it"
+    if any(resolved == Path(tree) or Path(tree) in resolved.parents for tree in SYSTEM_TREES):
+        return "is a system folder"
+    if resolved == home or resolved in home.parents:
+        return "is the home folder or one above it"
+    if resolved == here or resolved in here.parents:
+        return "is the current folder or one above it"
+    for item in inputs:
+        if resolved in item.parents:
+            return f"holds {item.name!r}, an input of this run"
+    return ""
+
+
+def _check_target(target: Path | str, force: bool, inputs: Sequence[Path | str] = ()) -> Path:
     """``target`` as a path that may be replaced, or a ConfigError saying why not."""
     text = str(target)
     if text.strip() in ("", "."):
@@ -39,67 +83,152 @@ def _check_target(target: Path | str, force: bool) -> Path:
     path = Path(text)
     try:
         resolved = path.resolve()
-        here = Path.cwd().resolve()
+        why = _forbidden(resolved, [Path(item).resolve() for item in inputs])
     except (OSError, RuntimeError) as exc:
         raise ConfigError(f"--out {text!r} cannot be resolved: {exc}") from None
-    if resolved == here or resolved in here.parents or resolved.parent == resolved:
-        raise ConfigError(
-            f"--out {text!r} is the current folder or one above it; give a folder to write into"
-        )
+    if why:
+        raise ConfigError(f"--out {text!r} {why}; give a new folder to write into")
     if path.is_symlink() or (path.exists() and not path.is_dir()):
         raise ConfigError(f"--out {text!r} exists and is not a folder")
-    if path.is_dir() and not force:
-        try:
-            entries = [entry.name for entry in path.iterdir()]
-        except OSError as exc:
-            raise ConfigError(f"--out {text!r} cannot be read: {exc.strerror}") from None
-        if entries and MARKER not in entries:
-            raise ConfigError(
-                f"--out {text!r} is a non-empty folder that jointplay did not write; "
-                "give a new folder, or --force to replace it"
-            )
+    if path.is_dir() and not force and _foreign(path):
+        raise ConfigError(
+            f"--out {text!r} is a non-empty folder that jointplay did not write; "
+            "give a new folder, or --force to replace it"
+        )
     return path
 
 
+def _foreign(path: Path) -> bool:
+    """Whether ``path`` is a non-empty folder without jointplay's marker."""
+    try:
+        entries = [entry.name for entry in path.iterdir()]
+    except OSError as exc:
+        raise ConfigError(f"--out {str(path)!r} cannot be read: {exc.strerror}") from None
+    return bool(entries) and MARKER not in entries
+
+
+def _completeness(path: Path) -> float | None:
+    """How complete the jointplay result at ``path`` is (1: complete), ``None`` if none."""
+    try:
+        record = json.loads((path / MARKER).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None if not path.is_dir() or _foreign(path) else 0.0
+    share = record.get("complete", 1.0) if isinstance(record, dict) else 1.0
+    return float(share) if isinstance(share, int | float) else 1.0
+
+
 @contextmanager
-def output_dir(target: Path | str, *, force: bool = False) -> Iterator[Path]:
-    """Yield a fresh temporary folder beside ``target``; on normal exit it replaces ``target``.
+def output_dir(
+    target: Path | str, *, force: bool = False, inputs: Sequence[Path | str | None] = ()
+) -> Iterator[Path]:
+    """Yield a fresh staging folder beside ``target``; on normal exit it replaces ``target``.
 
     Enter it before computing: the checks (a usable ``target``, a writable parent) come
-    first, so bad output paths are reported before any work. On an exception (including
-    KeyboardInterrupt) the temporary folder is removed and ``target`` is left as it was.
+    first, so bad output paths are reported before any work. On :class:`Interrupted` the
+    partial result is kept by the module's rules; on any other exception (including
+    KeyboardInterrupt) the staging folder is removed and ``target`` is left as it was.
 
     Args:
         target: the output folder (``--out``).
         force: replace an existing non-empty folder even if jointplay did not write it.
+        inputs: the files the run reads (``None`` entries ignored): a folder holding one is
+            never replaced.
 
     Raises:
         ConfigError: ``target`` cannot be used or its parent is not writable.
     """
-    path = _check_target(target, force)
+    given = [Path(item) for item in inputs if item is not None]
+    path = _check_target(target, force, given)
     parent = path.absolute().parent
     try:
         parent.mkdir(parents=True, exist_ok=True)
-        staging = Path(tempfile.mkdtemp(prefix=f".{path.name}.partial-", dir=parent))
+        _sweep(parent)
+        staging = parent / f".jointplay-{os.getpid()}-{uuid.uuid4().hex[:8]}.partial"
+        staging.mkdir()
     except OSError as exc:
         reason = exc.strerror or type(exc).__name__
         raise ConfigError(f"cannot write the output folder {str(target)!r}: {reason}") from None
     try:
-        yield staging
-        (staging / MARKER).write_text(
-            json.dumps({"written_by": "jointplay"}) + "\n", encoding="utf-8"
-        )
-        with _signals_held():
+        try:
+            yield staging
+        except Interrupted as stopped:
+            if stopped.finished > 0:
+                _write_marker(staging, stopped.complete_share)
+                with signals_held():
+                    stopped.written_to, stopped.kept = _keep_partial(
+                        staging, path, stopped.complete_share
+                    )
+            raise
+        _write_marker(staging, 1.0)
+        with signals_held():
+            if path.is_dir() and not force and _foreign(path):  # made during the run
+                beside = _free_name(path)
+                _swap(staging, beside)
+                raise ConfigError(
+                    f"--out {str(target)!r} became a folder that jointplay did not write "
+                    f"during the run and is not replaced without --force; the results were "
+                    f"written to {beside}"
+                )
+            _check_target(path, force, given)  # again, just before the swap
             _publish(staging, path)
     finally:
-        with _signals_held():
+        with signals_held():
             shutil.rmtree(staging, ignore_errors=True)
 
 
+def _write_marker(folder: Path, complete: float) -> None:
+    record = {"written_by": "jointplay", "complete": round(complete, 6)}
+    (folder / MARKER).write_text(json.dumps(record) + "\n", encoding="utf-8")
+
+
+def _keep_partial(staging: Path, target: Path, share: float) -> tuple[Path, Path | None]:
+    """Publish the partial result ``staging`` (completeness ``share``) at ``target`` if that
+    holds nothing or a less complete result, else beside it; (where it went, what was kept)."""
+    old = _completeness(target) if target.exists() else -1.0
+    if old is not None and old < share:
+        _publish(staging, target)
+        return target, None
+    beside = _free_name(target)
+    _swap(staging, beside)
+    return beside, target
+
+
+def _free_name(target: Path) -> Path:
+    """``NAME.interrupted-N`` beside ``target``, the first N that is free."""
+    number = 1
+    while True:
+        candidate = target.with_name(f"{target.name}.interrupted-{number}")
+        if not candidate.exists() and not candidate.is_symlink():
+            return candidate
+        number += 1
+
+
+def _sweep(parent: Path) -> None:
+    """Remove the staging folders in ``parent`` of jointplay runs that are no longer alive
+    (a run killed with SIGKILL cannot clean up after itself)."""
+    for entry in parent.iterdir():
+        match = _STAGING.match(entry.name)
+        if match is None or match[2] != "partial" or _alive(int(match[1])):
+            continue
+        shutil.rmtree(entry, ignore_errors=True)
+
+
+def _alive(pid: int) -> bool:
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # another user's process: alive
+        return True
+    return True
+
+
 @contextmanager
-def _signals_held() -> Iterator[None]:
-    """Hold SIGINT and SIGTERM back (delivered on exit), so that the renames and the clean-up
-    are never cut in half."""
+def signals_held() -> Iterator[None]:
+    """Hold SIGINT and SIGTERM back (delivered on exit), so that the renames, the clean-up and
+    the writing of a result's data files are never cut in half."""
     if not hasattr(signal, "pthread_sigmask"):  # pragma: no cover - not POSIX
         yield
         return
@@ -111,21 +240,97 @@ def _signals_held() -> Iterator[None]:
 
 
 def _publish(staging: Path, target: Path) -> None:
-    """Put ``staging`` in the place of ``target`` by renames (all or nothing)."""
+    """Put ``staging`` in the place of ``target`` in one swap; then remove the old result,
+    warning if it cannot be (fully) removed."""
     umask = os.umask(0)
     os.umask(umask)
     os.chmod(staging, 0o777 & ~umask)
     if not target.exists():
-        staging.rename(target)
+        _swap(staging, target)
         return
-    trash = target.absolute().parent / f".{target.name}.old-{uuid.uuid4().hex[:8]}"
+    old = _swap(staging, target)
+    if old is None:
+        return
+    failures: list[str] = []
+    shutil.rmtree(
+        old, onerror=lambda f, name, info: failures.append(getattr(info[1], "strerror", "") or "")
+    )
+    if failures or old.exists():
+        print(
+            f"jointplay: warning: the old result, moved to {old}, could not be fully removed "
+            f"({failures[0] or 'an error' if failures else 'it is still there'}); remove it by hand",
+            file=sys.stderr,
+        )
+
+
+_RENAME_NOREPLACE, _RENAME_EXCHANGE, _AT_FDCWD = 1, 2, -100
+
+
+def _renameat2(source: Path, destination: Path, flags: int) -> bool:
+    """``renameat2(source, destination, flags)``; False where the platform lacks it."""
+    if not sys.platform.startswith("linux"):
+        return False
+    libc = ctypes.CDLL(ctypes.util.find_library("c") or None, use_errno=True)
+    function = getattr(libc, "renameat2", None)
+    if function is None:  # glibc < 2.28
+        return False
+    function.argtypes = [ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p,
+                         ctypes.c_uint]  # fmt: skip
+    result = function(_AT_FDCWD, os.fsencode(source), _AT_FDCWD, os.fsencode(destination), flags)
+    if result == 0:
+        return True
+    code = ctypes.get_errno()
+    if code in (errno.EINVAL, errno.ENOSYS, errno.EOPNOTSUPP):  # kernel or file system lacks it
+        return False
+    raise OSError(code, os.strerror(code), str(destination))
+
+
+def _swap(staging: Path, target: Path) -> Path | None:
+    """Move ``staging`` to ``target``; if ``target`` exists, the two change places in one
+    atomic ``renameat2(RENAME_EXCHANGE)`` (Linux >= 3.15) and the old result is returned, now
+    at ``staging``'s name.
+
+    Fallback where the platform has no exchange: two renames (old → ``.jointplay-PID-HEX.old``
+    beside it, staging → target); a kill between them leaves no ``target`` and the old result
+    in that folder, which no run removes (restore it by renaming it back).
+    """
+    if not target.exists() and not target.is_symlink():
+        if not _renameat2(staging, target, _RENAME_NOREPLACE):
+            staging.rename(target)
+        return None
+    if _renameat2(staging, target, _RENAME_EXCHANGE):
+        return staging
+    trash = staging.with_name(staging.name.removesuffix(".partial") + ".old")
     target.rename(trash)
     try:
         staging.rename(target)
     except BaseException:
         trash.rename(target)
         raise
-    shutil.rmtree(trash, ignore_errors=True)
+    return trash
+
+
+#: The first characters that make a spreadsheet read a CSV cell as a formula (OWASP, "CSV
+#: Injection"): such text cells and column names are written behind a single quote.
+FORMULA_STARTS = ("=", "+", "-", "@", "\t", "\r")
+
+
+def csv_safe(text: object) -> object:
+    """``text`` behind a ``'`` if it is a string a spreadsheet would read as a formula."""
+    if isinstance(text, str) and text.startswith(FORMULA_STARTS):
+        return "'" + text
+    return text
+
+
+def write_csv(table: Any, path: Path, float_format: str | None = "%.10g") -> None:
+    """Write the pandas ``table`` as CSV without its index, every column name and text cell
+    that would start a spreadsheet formula quoted (:func:`csv_safe`); numbers are as they are.
+    The one CSV writer of the package."""
+    safe = table.rename(columns=csv_safe)
+    text = [name for name, kind in safe.dtypes.items() if getattr(kind, "kind", "") == "O"]
+    if text:
+        safe = safe.assign(**{str(name): safe[name].map(csv_safe) for name in text})
+    safe.to_csv(path, index=False, float_format=float_format)
 
 
 #: Significant digits of every number in a JSON document. Twelve keep far more than any

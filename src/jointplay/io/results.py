@@ -8,6 +8,7 @@ from typing import Any, Literal
 import pandas as pd
 
 from jointplay.errors import ConfigError
+from jointplay.io.output import write_csv
 
 TableFormat = Literal["csv", "parquet"]
 
@@ -16,7 +17,7 @@ def write_table(table: pd.DataFrame, folder: Path, stem: str, fmt: str) -> Path:
     """Write ``table`` as ``folder/stem.csv`` or ``.parquet``; returns the path."""
     if fmt == "csv":
         path = folder / f"{stem}.csv"
-        table.to_csv(path, index=False, float_format="%.10g")
+        write_csv(table, path)
     elif fmt == "parquet":
         path = folder / f"{stem}.parquet"
         table.to_parquet(path, index=False)

@@ -203,6 +203,12 @@ def _joint_entry(
             )
         lower = parse_quantity(entry["clearance_min"], "m", field=f"{where}.clearance_min")
         upper = parse_quantity(entry["clearance_max"], "m", field=f"{where}.clearance_max")
+        if not lower > 0:
+            raise ConfigError(
+                f"{where}.clearance_min = {entry['clearance_min']!r}: the clearance joint model "
+                "needs a radial clearance > 0 (at 0 the pin has no room to move and its "
+                "penetration ratio is undefined); give clearance_min > 0, e.g. '1 um'"
+            )
         return _with_context(
             lambda: JointTolerance.from_limits(
                 joint.name,

@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from jointplay.io.config_writer import calibrated_config, write_config
-from jointplay.io.output import write_json
+from jointplay.io.output import write_csv, write_json
 from jointplay.report._mpl import pyplot
 from jointplay.report.figures import save
 from jointplay.study.calibration import CalibrationResult, Dataset
@@ -135,10 +135,10 @@ def write_calibration(
     write_json(path, {**result.as_dict(), **(extra or {})})
     written.append(path)
     path = folder / "calibration_points.csv"
-    result.points.to_csv(path, index=False, float_format="%.10g")
+    write_csv(result.points, path)
     written.append(path)
     path = folder / "calibration_curves.csv"
-    result.curves.to_csv(path, index=False, float_format="%.10g")
+    write_csv(result.curves, path)
     written.append(path)
     if config_data is not None:
         data = calibrated_config(

@@ -33,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from jointplay.io.output import write_json
+from jointplay.io.output import signals_held, write_json
 from jointplay.report.figures import FIGURE_FORMATS
 from jointplay.report.html import HtmlReport
 from jointplay.report.tolerance_plots import (
@@ -76,7 +76,8 @@ def write_study(
     figure_format: str = "png",
     executor: Executor | None = None,
 ) -> list[Path]:
-    """Write ``samples.parquet``, ``summary.json``, the PNG plots and ``report.html``.
+    """Write ``samples.parquet`` and ``summary.json`` (both whole, whatever the signals),
+    then the PNG plots and ``report.html``.
 
     Args:
         study: the finished (or interrupted) study.
@@ -91,7 +92,6 @@ def write_study(
     """
     folder = Path(folder)
     written = [folder / "samples.parquet", folder / "summary.json"]
-    study.to_dataframe().to_parquet(written[0], index=False)
     summary = study.summary()
     summary["response_definitions"] = response_definitions(study.result.response_names)
     note = sampling_note(study)
@@ -99,7 +99,9 @@ def write_study(
         summary["sampling_distributions"] = note
     if provenance is not None:
         summary["provenance"] = dict(provenance)
-    write_json(written[1], summary)
+    with signals_held():  # the data first, whole: an interrupt in the figures keeps them
+        study.to_dataframe().to_parquet(written[0], index=False)
+        write_json(written[1], summary)
     images: dict[str, bytes] = {}
     if plots:
         images = study_plots(study, figure_format, executor)

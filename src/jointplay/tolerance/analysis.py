@@ -21,6 +21,7 @@ than a tenth of their spread over the study.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cached_property
@@ -32,7 +33,7 @@ from numpy.typing import NDArray
 
 from jointplay.dynamics.cycles import DEFAULT_SETTLE
 from jointplay.dynamics.diagnostics import Diagnostic
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, PartialInterrupt
 from jointplay.model.mechanism import Mechanism
 from jointplay.tolerance.execution import OK, STATUS, Backend, RunResult, prepare
 from jointplay.tolerance.methods import (
@@ -266,6 +267,8 @@ def convergence_finding(
     )
     where = Backend("local") if backend is None or backend.kind == "gpu" else backend
     again = run(tightened, x[rows], backend=where)
+    if again.interrupted:  # a check of some samples is no check
+        raise KeyboardInterrupt("interrupted during the convergence check")
     values = outcome.values
     with np.errstate(divide="ignore", invalid="ignore"):
         spread = np.nanstd(values[ok], axis=0, ddof=1)
@@ -463,6 +466,14 @@ def tolerance_study(
         **method_options: options of the method (see
             :func:`~jointplay.tolerance.methods.get_method`), e.g. ``samples=2000, seed=1``
             for Monte Carlo or ``corners="all"`` for the worst case.
+
+    Returns:
+        The study; an interrupted one (Ctrl-C) keeps the points that finished
+        (``interrupted`` is True).
+
+    Raises:
+        PartialInterrupt: interrupted during the convergence check, after every point
+            finished; its ``partial`` is the study without the check.
     """
     analysis = get_method(method, **method_options)
     spec = spec if spec is not None else ToleranceSpec.from_mechanism(mechanism)
@@ -488,12 +499,14 @@ def tolerance_study(
             prepare(model, backend, int(getattr(analysis, "samples", 0) or 0))
             ideal = _ideal_peaks(mechanism, dynamic.peak_keys)
     outcome = analysis.run(model, spec, limits=limits, backend=backend, progress=progress)
-    convergence = (
-        None if outcome.interrupted else convergence_finding(model, outcome.x, outcome.run, backend)
-    )
-    return ToleranceStudyResult(
-        mechanism, kind, spec, model.describe(), outcome, ideal, convergence
-    )
+    study = ToleranceStudyResult(mechanism, kind, spec, model.describe(), outcome, ideal)
+    if outcome.interrupted:
+        return study
+    try:
+        convergence = convergence_finding(model, outcome.x, outcome.run, backend)
+    except KeyboardInterrupt:  # every sample finished: they go on with the interrupt
+        raise PartialInterrupt(study, "interrupted during the convergence check") from None
+    return dataclasses.replace(study, convergence=convergence)
 
 
 def build_model(

@@ -62,7 +62,8 @@ from typing import Any, Generic, Literal, TypeVar
 import numpy as np
 from numpy.typing import NDArray
 
-from jointplay.errors import ConfigError, caused_by_interrupt
+from jointplay._kernels.workers import die_with_parent
+from jointplay.errors import ConfigError, PartialInterrupt, caused_by_interrupt
 from jointplay.tolerance.responses import CheckedModel, Evaluation, ResponseModel
 
 __all__ = [
@@ -87,6 +88,8 @@ BACKENDS: tuple[str, ...] = ("local", "processes", "dask", "gpu")
 #: What starting one worker process costs here (import, loading compiled code), s: a run
 #: starts only as many workers as its estimated work pays for.
 WORKER_START_S = 3.0
+#: How long a Dask run waits for its cluster's first worker, s.
+DASK_NO_WORKERS_S = 30.0
 #: Samples per block of a batch-engine model on the GPU backend.
 GPU_BLOCK = 200_000
 
@@ -209,10 +212,11 @@ _WORKER_SHARED: Any = None
 
 
 def _init_worker(shared: Any) -> None:
-    """Process-pool initializer: keep the shared object; leave Ctrl-C to the parent; one
-    compiled thread per worker (the workers are the parallelism)."""
+    """Process-pool initializer: keep the shared object; leave Ctrl-C to the parent and end
+    with it; one compiled thread per worker (the workers are the parallelism)."""
     global _WORKER_SHARED
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    die_with_parent()
     _WORKER_SHARED = shared
     try:
         import numba
@@ -257,7 +261,10 @@ class TaskRun(Generic[R]):
     """Results of :func:`run_tasks`, in the order of the items.
 
     Attributes:
-        results: the function's result per item; ``None`` where it failed or did not run.
+        results: the function's result per item; ``None`` where it failed or did not run;
+            for an item that an interrupt stopped midway on the local backend, the partial
+            result its function raised with (a :class:`~jointplay.errors.PartialInterrupt`),
+            with status 2.
         status: (n,) int8 codes of :data:`STATUS` (0 ok, 1 failed, 2 not run).
         errors: n messages: ``""`` where the item succeeded, ``"ErrorType: message"`` where
             the function raised, ``"not run (interrupted)"`` where Ctrl-C came first.
@@ -344,7 +351,11 @@ def run_tasks(
         try:
             if kind == "local":
                 for index, item in enumerate(items):
-                    store(index, _attempt(function, shared, item))
+                    try:
+                        store(index, _attempt(function, shared, item))
+                    except PartialInterrupt as stopped:  # keep what the item finished
+                        results[index] = stopped.partial  # type: ignore[assignment]
+                        raise
                     advance(weights[index])
             elif kind == "processes":
                 _run_processes(function, items, shared, workers, store, weights, advance)
@@ -428,6 +439,13 @@ def _run_dask(
         raise ConfigError(f"cannot connect to the Dask scheduler at {address!r}: {exc}") from None
     futures: list[Any] = []
     try:
+        try:
+            client.wait_for_workers(1, timeout=DASK_NO_WORKERS_S)
+        except TimeoutError:
+            raise ConfigError(
+                f"the Dask cluster at {address!r} has no workers (none joined within "
+                f"{DASK_NO_WORKERS_S:g} s); start some (dask worker {address})"
+            ) from None
         workers = max(1, len(client.scheduler_info(n_workers=-1).get("workers", {})))
         # unique keys: content-hashed ones would be shared with an earlier study's data,
         # whose release could delete them under this study's tasks
@@ -436,8 +454,13 @@ def _run_dask(
             client.submit(_attempt_on_dask, function, scattered, index, item, pure=False)
             for index, item in enumerate(items)
         ]
-        for future in as_completed(futures, loop=client.loop):
-            index, outcome = future.result()
+        where = {future.key: index for index, future in enumerate(futures)}
+        for future in as_completed(futures, loop=client.loop, raise_errors=False):
+            if future.status == "error":  # KilledWorker: Dask gave up after its retries
+                error = future.exception()
+                index, outcome = where[future.key], (False, f"{type(error).__name__}: {error}")
+            else:
+                index, outcome = future.result()
             store(index, outcome)
             advance(weights[index])
         return workers
@@ -504,9 +527,11 @@ def run(
         starts, blocks, tasks.status, tasks.errors, tasks.results, strict=True
     ):
         stop = start + len(block)
-        if evaluation is not None:
+        if evaluation is not None:  # finished, or partly (an interrupted block)
             values[start:stop] = evaluation.values
             status[start:stop] = np.where(evaluation.ok, OK, FAILED)
+            if evaluation.finished is not None:
+                status[start:stop][~evaluation.finished] = NOT_RUN
             errors[start:stop] = evaluation.errors
             if check_names and evaluation.checks is not None:
                 checks[start:stop] = evaluation.checks

@@ -346,9 +346,9 @@ def _evaluate(
 
 
 def _nominal_or_raise(result: RunResult, index: int, what: str) -> FloatArray:
+    if result.interrupted:  # even where this point finished: the run stops here
+        raise KeyboardInterrupt
     if result.status[index] != OK:
-        if result.interrupted:
-            raise KeyboardInterrupt
         raise ConfigError(f"the {what} point cannot be evaluated: {result.errors[index]}")
     return np.asarray(result.values[index], dtype=float)
 

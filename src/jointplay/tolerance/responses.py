@@ -53,7 +53,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from jointplay.dynamics.cycles import DEFAULT_SETTLE
-from jointplay.errors import ConfigError, JointplayError
+from jointplay.errors import ConfigError, JointplayError, PartialInterrupt
 from jointplay.kinematics import batch, fourbar
 from jointplay.model.mechanism import Mechanism
 from jointplay.model.templates import FourBarGeometry, TemplateSpec, template_of
@@ -106,12 +106,16 @@ class Evaluation:
         checks: (m, c) per-sample checks of a :class:`CheckedModel`, in its
             ``check_names`` order (dimensionless; NaN where a sample failed); ``None`` for a
             model without checks.
+        finished: (m,) False where an interrupt stopped the sample before it finished (the
+            evaluation a :class:`~jointplay.errors.PartialInterrupt` carries); ``None``:
+            every sample finished.
     """
 
     values: FloatArray
     ok: BoolArray
     errors: tuple[str, ...]
     checks: FloatArray | None = None
+    finished: BoolArray | None = None
 
     def __post_init__(self) -> None:
         m = self.values.shape[0]
@@ -119,6 +123,8 @@ class Evaluation:
             raise ValueError("Evaluation: values, ok and errors must describe the same samples")
         if self.checks is not None and (self.checks.ndim != 2 or self.checks.shape[0] != m):
             raise ValueError("Evaluation: checks must have one row per sample")
+        if self.finished is not None and self.finished.shape != (m,):
+            raise ValueError("Evaluation: finished must have one value per sample")
 
     @classmethod
     def concatenate(cls, parts: Sequence[Evaluation], n_responses: int) -> Evaluation:
@@ -945,7 +951,8 @@ class DynamicResponses:
         The checks are the engine's deepest penetration per joint (``pen_<joint>`` of
         :attr:`~jointplay.dynamics.batch.BatchResult.statistics`, m) over each sample's
         radial clearance (:meth:`clearances`, m)."""
-        from jointplay.dynamics.batch import simulate_batch
+        from jointplay.dynamics.batch import BatchInterrupted, simulate_batch
+        from jointplay.dynamics.integrate import IntegrationStatus
 
         x = _check_inputs(x, len(self.input_names))
         if len(x) == 0:
@@ -955,23 +962,34 @@ class DynamicResponses:
                 (),
                 np.empty((0, len(self.check_names))),
             )
-        result = simulate_batch(
-            self.mechanism,
-            self._nominal_joints(x),
-            self.batch_samples(x),
-            revolutions=self.revolutions,
-            settle=self.settle,
-            start=self.start,
-            solver=self.solver,
-            method=self.method_choice().method,
-            backend=self.engine,
-            workers=self.workers,
-            scheduler=self.scheduler,
-        )
+        try:
+            result = simulate_batch(
+                self.mechanism,
+                self._nominal_joints(x),
+                self.batch_samples(x),
+                revolutions=self.revolutions,
+                settle=self.settle,
+                start=self.start,
+                solver=self.solver,
+                method=self.method_choice().method,
+                backend=self.engine,
+                workers=self.workers,
+                scheduler=self.scheduler,
+            )
+        except BatchInterrupted as stopped:  # the finished samples go on with the interrupt
+            finished = stopped.result.status != IntegrationStatus.INTERRUPTED
+            raise PartialInterrupt(self._evaluation(x, stopped.result, finished)) from None
+        return self._evaluation(x, result)
+
+    def _evaluation(
+        self, x: FloatArray, result: Any, finished: BoolArray | None = None
+    ) -> Evaluation:
+        """The :class:`Evaluation` of the block ``x`` from its batch result."""
         values = result.peaks[list(self.peak_keys)].to_numpy(dtype=float)
         penetration = result.statistics[[f"pen_{j}" for j in self.clearance_joints]]
         checks = _ratio(penetration.to_numpy(dtype=float), self.clearances(x))
-        return Evaluation(values, np.asarray(result.ok, dtype=bool), tuple(result.errors), checks)
+        ok = np.asarray(result.ok, dtype=bool)
+        return Evaluation(values, ok, tuple(result.errors), checks, finished)
 
 
 def _ratio(penetration: FloatArray, clearance: FloatArray) -> FloatArray:
@@ -1136,11 +1154,7 @@ class RunningResponses:
                 f"{self.base.settle} start-up revolution(s), located on the continuous "
                 "solution (SimulationResult.peaks)"
             ),
-            "wear": {
-                "coefficient": self.wear.coefficient,
-                "hardness_Pa": self.wear.hardness,
-                "joints": dict(self.wear.joints),
-            },
+            "wear": self.wear.describe(self.base.mechanism),
         }
 
     def evaluate(self, x: FloatArray) -> Evaluation:
