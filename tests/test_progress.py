@@ -64,3 +64,30 @@ def test_nothing_is_shown_before_any_work_is_done(total: int) -> None:
     eta = Eta(total)
     eta.update(5.0, 0)
     assert eta.remaining(5.0) is None
+
+
+def test_the_progress_bar_column_shows_the_rule_s_time_left() -> None:
+    """The column a real bar draws (a fake clock drives it): nothing before 10 % of the work,
+    then a time left never below 80 % of what the elapsed speed gives."""
+    import io
+
+    from rich.console import Console
+    from rich.progress import Progress
+
+    from jointplay.progress import eta_column
+
+    clock = [0.0]
+    column = eta_column()
+    bar = Progress(column, console=Console(file=io.StringIO()), get_time=lambda: clock[0])
+    task_id = bar.add_task("samples", total=SAMPLES)
+    bar.start_task(task_id)
+    for t, done in schedule()[::10]:  # the bar redraws every second here
+        clock[0] = t
+        bar.update(task_id, completed=done)
+        shown = str(column.render(bar.tasks[0]))
+        if done < SHOWN_AFTER * SAMPLES:
+            assert shown == "-:--:--"
+            continue
+        hours, minutes, seconds = (int(part) for part in shown.split(":"))
+        left = 3600 * hours + 60 * minutes + seconds
+        assert left >= FLOOR * (SAMPLES - done) * t / done - 0.5, (t, done, shown)

@@ -182,7 +182,9 @@ def test_a_page_that_overflows_is_caught(tmp_path: Path, browser: str) -> None:
 
 
 @pytest.mark.slow
-def test_the_paper_report_fits_1400_px_and_its_images_load(tmp_path: Path, browser: str) -> None:
+def test_the_paper_report_fits_1400_px_and_its_images_load(
+    tmp_path: Path, browser: str, text_overlaps: dict[str, list[Any]]
+) -> None:
     """The real page of `jointplay paper`, on a reduced study (a few degrees of crank, two
     length corners, no experiment): every section, table and figure is there."""
     from jointplay.report.paper import write_paper_report
@@ -207,6 +209,7 @@ def test_the_paper_report_fits_1400_px_and_its_images_load(tmp_path: Path, brows
     done = [d for _, d, _ in calls]
     assert done == sorted(done) and calls[-1][1] == calls[-1][2] and labels[-1] == "study done"
     write_paper_report(study, tmp_path, {"command_line": "test"})
+    assert len(text_overlaps) >= 12 and not any(text_overlaps.values()), text_overlaps
     seen = measure(tmp_path / "report.html", tmp_path, browser)
     assert seen["scrollWidth"] <= WIDTH, seen
     assert seen["broken"] == [], seen

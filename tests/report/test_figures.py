@@ -127,3 +127,19 @@ def test_encode_gives_the_png_and_the_print_copy_by_file_name() -> None:
     assert files["demo.png"].startswith(b"\x89PNG") and files["demo.pdf"].startswith(b"%PDF")
     with pytest.raises(ConfigError, match="png, svg, pdf"):
         encode(pyplot().figure(), "demo", "jpg")
+
+
+def test_overlapping_text_finds_labels_that_collide_and_only_those() -> None:
+    from jointplay.report._mpl import pyplot
+    from jointplay.report.figures import overlapping_text
+
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(4, 3))
+    ax.plot([0, 1], [0, 1])
+    ax.set_xlabel("crank angle (deg)")
+    assert overlapping_text(fig) == []
+    ax.annotate("an annotation on the tick labels", (0.5, 0.0), xycoords="data",
+                xytext=(0.0, -0.04), textcoords="axes fraction")  # fmt: skip
+    found = overlapping_text(fig)
+    assert found and all("an annotation on the tick labels" in pair for pair in found)
+    plt.close(fig)

@@ -36,8 +36,11 @@ def slider_run():
     )
 
 
-def test_simulation_figures_draw_the_slider_and_the_orbit(slider_run, tmp_path) -> None:
+def test_simulation_figures_draw_the_slider_and_the_orbit(
+    slider_run, tmp_path, text_overlaps
+) -> None:
     written = simulation_figures(slider_run, tmp_path, "slider-crank", figure_format="svg")
+    assert text_overlaps and not any(text_overlaps.values()), text_overlaps
     names = {p.name for p in written}
     assert {"angular_velocity.png", "joint_forces.png", "journal_orbits.png"} <= names
     assert {"slider_x.png", "slider_v.png", "slider_a.png"} <= names

@@ -95,7 +95,9 @@ def _option_names_never_cut() -> None:
     table is wider than the terminal, Rich narrows every column that may wrap, the option
     names' too, and cuts what no longer fits. Here the tables Typer creates mark the name
     columns (all but the type and help columns) as not wrapping, so only the type and help
-    columns give way, and those fold their long words.
+    columns give way, and those fold their long words. A flag's ``--no-`` form is written
+    under its name instead of in a column of its own, which left the help of a whole panel
+    17 characters narrower for one ``--rare-defects/--no-rare-defects``.
     """
     try:
         from typer import rich_utils
@@ -109,8 +111,15 @@ def _option_names_never_cut() -> None:
         _names_never_cut = True
 
         def add_row(self, *renderables: Any, **kwargs: Any) -> None:
+            if not self.show_header and len(renderables) in (6, 7):  # an options panel's row
+                # [required], long, short, --no- long, --no- short, type, help
+                first = len(renderables) - 6
+                names = [
+                    _stacked(renderables[first + k], renderables[first + k + 2]) for k in (0, 1)
+                ]
+                renderables = (*renderables[:first], *names, *renderables[first + 4 :])
             super().add_row(*renderables, **kwargs)
-            if self.show_header or len(self.columns) < 5:  # not an options panel
+            if self.show_header or len(self.columns) < 4:  # not an options panel
                 return
             for column in self.columns[:-2]:
                 column.no_wrap = True
@@ -120,6 +129,16 @@ def _option_names_never_cut() -> None:
                     item.overflow = "fold"
 
     rich_utils.Table = OptionsTable  # type: ignore[misc]
+
+
+def _stacked(name: Any, negative: Any) -> Any:
+    """An option's name with its ``--no-`` form on the line below (Rich texts)."""
+    if not str(negative).strip():
+        return name
+    stacked = name.copy()
+    stacked.append("\n")
+    stacked.append_text(negative)
+    return stacked
 
 
 _flags_show_no_metavar()

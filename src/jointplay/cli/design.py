@@ -15,8 +15,13 @@ from rich.console import Console
 
 from jointplay.cli._app import app
 from jointplay.cli._common import (
+    EXECUTION_PANEL,
     MAX_SAMPLES,
     MAX_WORKERS,
+    OUTPUT_PANEL,
+    RUN_PANEL,
+    SAMPLING_PANEL,
+    WEAR_PANEL,
     ConfigOption,
     FigureFormatOption,
     ForceOption,
@@ -24,14 +29,17 @@ from jointplay.cli._common import (
     HardnessOption,
     OutOption,
     PresetOption,
+    ProgressOption,
     RpmOption,
     SettleOption,
     WearCoefficientOption,
     check_figure_format,
     check_revolutions,
     choice,
+    compiling_kernels,
     mechanism_from_options,
     provenance,
+    whole_headers,
 )
 from jointplay.cli._simulation import (
     CmaxOption,
@@ -213,6 +221,7 @@ def design_command(
             "--confidence",
             help="Share of parts that must meet a requirement, in % (the sign optional: "
             "'99.73' = '99.73 %'; '0.9973' is refused as a likely fraction).",
+            rich_help_panel=SAMPLING_PANEL,
         ),
     ] = "99.73 %",
     samples: Annotated[
@@ -222,6 +231,7 @@ def design_command(
             "-n",
             help="Samples per scheme: 'auto' (rounds of 100, 200, 400, ... per scheme until "
             "each is decided or --max-samples) or a number.",
+            rich_help_panel=SAMPLING_PANEL,
         ),
     ] = "auto",
     max_samples: Annotated[
@@ -231,6 +241,7 @@ def design_command(
             help="--samples auto: the most samples per scheme.",
             min=1,
             max=MAX_SAMPLES,
+            rich_help_panel=SAMPLING_PANEL,
         ),
     ] = 4000,
     sampling: Annotated[
@@ -240,11 +251,16 @@ def design_command(
             help="parts: each hole and pin diameter drawn in its own ISO 286 zone, the "
             "clearance their difference (default); band: the radial clearance drawn over the "
             "fit's worst-case band (the old sampling, 1.4x wider for H8/f7).",
+            rich_help_panel=SAMPLING_PANEL,
         ),
     ] = "parts",
     distribution: Annotated[
         str,
-        typer.Option("--distribution", help="Every feature: normal (±3σ at its limits), uniform."),
+        typer.Option(
+            "--distribution",
+            help="Every feature: normal (±3σ at its limits), uniform.",
+            rich_help_panel=SAMPLING_PANEL,
+        ),
     ] = "normal",
     rare_defects: Annotated[
         bool,
@@ -253,6 +269,7 @@ def design_command(
             help="After Monte Carlo, estimate the defect rate of each scheme it left undecided "
             "(cheapest first) by cross-entropy importance sampling (at most 18 000 samples per "
             "scheme; down to about 1 DPM) and decide it on that 95 % interval.",
+            rich_help_panel=SAMPLING_PANEL,
         ),
     ] = False,
     cpk: Annotated[
@@ -261,10 +278,17 @@ def design_command(
             "--cpk",
             help="Process capability of a feature, FEATURE=CPK (hole, pin, length; e.g. "
             "hole=1.33): a centred normal process, σ = half the band / (3 Cpk). Repeatable.",
+            rich_help_panel=SAMPLING_PANEL,
         ),
     ] = None,
     seed: Annotated[
-        int, typer.Option("--seed", help="Seed (the same for every scheme).", min=0)
+        int,
+        typer.Option(
+            "--seed",
+            help="Seed (the same for every scheme).",
+            min=0,
+            rich_help_panel=SAMPLING_PANEL,
+        ),
     ] = 0,
     truncate: Annotated[
         bool,
@@ -273,6 +297,7 @@ def design_command(
             help="Draw each normal input (σ = a sixth of its tolerance band) from the normal "
             "truncated at its limits, as parts outside them are rejected (default); "
             "--no-truncate keeps the 0.27 % of samples beyond ±3σ.",
+            rich_help_panel=SAMPLING_PANEL,
         ),
     ] = True,
     responses: Annotated[
@@ -287,6 +312,7 @@ def design_command(
             "--clearance-limit",
             help="Radial clearance that ends a joint's life: '80 um', or '+20 um' = the fit's "
             "largest radial clearance plus 20 µm (needed by a 'life' requirement).",
+            rich_help_panel=WEAR_PANEL,
         ),
     ] = None,
     table: Annotated[
@@ -296,6 +322,7 @@ def design_command(
             help="TOML file with [wear] (coefficient, hardness, joints.<J>) and [cost] (model, "
             "a, b, k, reference, it, iso2768) tables; the same tables may sit in the --config "
             "file, and a table here replaces the config's.",
+            rich_help_panel=WEAR_PANEL,
         ),
     ] = None,
     wear_coefficient: WearCoefficientOption = None,
@@ -310,7 +337,8 @@ def design_command(
     rtol: RtolOption = None,
     settle: SettleOption = 2,
     revolutions: Annotated[
-        float, typer.Option("--revolutions", help="Analysed revolutions.")
+        float,
+        typer.Option("--revolutions", help="Analysed revolutions.", rich_help_panel=RUN_PANEL),
     ] = 1.0,
     rpm: RpmOption = None,
     gravity: GravityOption = None,
@@ -322,15 +350,22 @@ def design_command(
             help="Local worker processes (default: one per CPU).",
             min=1,
             max=MAX_WORKERS,
+            rich_help_panel=EXECUTION_PANEL,
         ),
     ] = None,
     dask_scheduler: Annotated[
-        str | None, typer.Option("--dask-scheduler", help="Run on the Dask cluster at ADDRESS.")
+        str | None,
+        typer.Option(
+            "--dask-scheduler",
+            help="Run on the Dask cluster at ADDRESS.",
+            rich_help_panel=EXECUTION_PANEL,
+        ),
     ] = None,
-    plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
-    progress: Annotated[
-        bool, typer.Option("--progress/--no-progress", help="Progress bar.")
+    plots: Annotated[
+        bool,
+        typer.Option("--plots/--no-plots", help="Write PNG plots.", rich_help_panel=OUTPUT_PANEL),
     ] = True,
+    progress: ProgressOption = True,
     force: ForceOption = False,
     figure_format: FigureFormatOption = "png",
 ) -> None:
@@ -406,30 +441,32 @@ def design_command(
     with output_dir(out, force=force, inputs=(config, table)) as folder:
         missing = []
         try:
-            result = design_study(
-                mechanism,
-                candidates,
-                class_list,
-                requirements,
-                samples=count,
-                max_samples=max_samples,
-                seed=seed,
-                process=process,
-                truncate=truncate,
-                rare=RareDefects() if rare_defects else None,
-                confidence=level,
-                responses=kind,  # type: ignore[arg-type]
-                cost=cost,
-                clearance_limit=limit,
-                clearance_allowance=allowance,
-                wear=wear,
-                contact=law,
-                settle=settle,
-                revolutions=revolutions,
-                solver=solver_options(rtol),
-                backend=where,
-                progress=progress,
-            )
+            dynamic = resolve_responses(mechanism, requirements, kind) == "dynamic"  # type: ignore[arg-type]
+            with compiling_kernels(needed=dynamic):
+                result = design_study(
+                    mechanism,
+                    candidates,
+                    class_list,
+                    requirements,
+                    samples=count,
+                    max_samples=max_samples,
+                    seed=seed,
+                    process=process,
+                    truncate=truncate,
+                    rare=RareDefects() if rare_defects else None,
+                    confidence=level,
+                    responses=kind,  # type: ignore[arg-type]
+                    cost=cost,
+                    clearance_limit=limit,
+                    clearance_allowance=allowance,
+                    wear=wear,
+                    contact=law,
+                    settle=settle,
+                    revolutions=revolutions,
+                    solver=solver_options(rtol),
+                    backend=where,
+                    progress=progress,
+                )
         except PartialInterrupt as stopped:  # in the convergence check: every scheme finished
             result, missing = cast("DesignResult", stopped.partial), ["the convergence check"]
         units = design_units(mechanism, result.responses)  # type: ignore[arg-type]
@@ -513,7 +550,7 @@ def _print(result: DesignResult, units: dict[str, str]) -> None:
                 )
             cells.append(str(row["verdict"]))
             grid.add_row(*cells)
-    console.print(grid)
+    console.print(whole_headers(grid))
     if modelled:
         console.print(
             f"* normal-model estimate (mean + z·std), not a bound: fewer samples than a "

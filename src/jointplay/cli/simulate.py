@@ -30,6 +30,7 @@ from jointplay.cli._common import (
     provenance,
     quantity_option,
     status,
+    whole_headers,
 )
 from jointplay.cli._simulation import (
     ClearanceOption,
@@ -391,7 +392,7 @@ def _print(result: Any, findings: list[Any], out: Path) -> None:
         f"peaks over revolutions {running.settle + 1}–{len(running.windows)}, located on the "
         "continuous solution; periodicity: " + running.periodicity.verdict
     )
-    stdout.print(table)
+    stdout.print(whole_headers(table))
     if slider:
         stdout.print(
             "* the slider (position m, velocity m/s, acceleration m/s²): peaks among the "

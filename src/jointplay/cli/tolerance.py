@@ -15,6 +15,7 @@ from rich.console import Console
 
 from jointplay.cli._app import app
 from jointplay.cli._common import (
+    EXECUTION_PANEL,
     MAX_SAMPLES,
     MAX_WORKERS,
     ConfigOption,
@@ -26,9 +27,11 @@ from jointplay.cli._common import (
     RpmOption,
     check_figure_format,
     check_revolutions,
+    compiling_kernels,
     crank_speed,
     parse_gravity,
     provenance,
+    whole_headers,
 )
 from jointplay.cli._simulation import (
     CmaxOption,
@@ -102,6 +105,7 @@ BackendOption = Annotated[
         help="Where the samples run: local (this process; the dynamics on threads over the "
         "cores), processes (worker processes, default), dask (the cluster of "
         "--dask-scheduler) or gpu (the dynamics on JAX: pip install 'jointplay[gpu]').",
+        rich_help_panel=EXECUTION_PANEL,
     ),
 ]
 BACKEND_NAMES = ("local", "processes", "dask", "gpu", "serial")
@@ -363,20 +367,21 @@ def tolerance_command(
             analysis = WorstCase(corners=corners.value, fd_step=fd_step)
         missing = []
         try:
-            study = tolerance_study(
-                mechanism,
-                spec,
-                method=analysis,
-                responses=responses.value,
-                limits=limits,
-                contact=law,
-                start=start.value,
-                settle=settle,
-                revolutions=revolutions,
-                solver=solver_options(rtol),
-                backend=where,
-                progress=progress,
-            )
+            with compiling_kernels(needed=dynamic):
+                study = tolerance_study(
+                    mechanism,
+                    spec,
+                    method=analysis,
+                    responses=responses.value,
+                    limits=limits,
+                    contact=law,
+                    start=start.value,
+                    settle=settle,
+                    revolutions=revolutions,
+                    solver=solver_options(rtol),
+                    backend=where,
+                    progress=progress,
+                )
         except PartialInterrupt as stopped:  # in the convergence check: every point finished
             study, missing = (
                 cast("ToleranceStudyResult", stopped.partial),
@@ -556,7 +561,7 @@ def _print(study: ToleranceStudyResult) -> None:
         row.append(f"{input_label(top)} {100 * item.contributions[top]:.0f} %" if top else "–")
         table.add_row(*row)
     wide = console if console.is_terminal else Console(highlight=False, width=REPORT_WIDTH)
-    wide.print(table)
+    wide.print(whole_headers(table))
     for name, item in result.summaries.items():
         if item.note:
             console.print(f"note on {name}: {item.note}")

@@ -24,6 +24,7 @@ from jointplay.cli._common import (
     SettleOption,
     WearCoefficientOption,
     check_figure_format,
+    compiling_kernels,
     mechanism_from_options,
     provenance,
     quantity_option,
@@ -137,16 +138,19 @@ def wear_command(
     with output_dir(
         out, force=force, inputs=(config, table)
     ) as folder:  # checked before the wear runs
-        history = wear_life(
-            mechanism,
-            joints,
-            hours=life_hours,
-            update_hours=step,
-            clearance_limit=limits,
-            settings=settings,
-            settle=settle,
-            on_update=lambda done, total: console.print(f"  {done:g} of {total:g} h", style="dim"),
-        )
+        with compiling_kernels():
+            history = wear_life(
+                mechanism,
+                joints,
+                hours=life_hours,
+                update_hours=step,
+                clearance_limit=limits,
+                settings=settings,
+                settle=settle,
+                on_update=lambda done, total: console.print(
+                    f"  {done:g} of {total:g} h", style="dim"
+                ),
+            )
         write_wear(
             history,
             folder,

@@ -330,20 +330,39 @@ def wear_plots(history: WearHistory, figure_format: str = "png") -> dict[str, by
     axes[0].legend(fontsize=7)
     axes[0].set_title(f"wear over the life at {history.rpm:g} RPM (dotted: limits)")
     images.update(_encode(fig, "wear_history", figure_format))
+    images.update(_encode(wear_profile_figure(history), "wear_profiles", figure_format))
+    return images
+
+
+def wear_profile_figure(history: WearHistory) -> Any:
+    """The worn depth of each joint's bearing and journal around the pin, one polar panel per
+    joint: angle labels every 90° outside the circle, depth labels on a ray of their own,
+    panels far enough apart that one's 0° never meets the next one's 180°, and the legend
+    under the panels, where it covers no label."""
+    plt = pyplot()
     names = list(history.bearing_profile)
     fig, axes = plt.subplots(
-        1, len(names), figsize=(3.2 * len(names), 3.6), subplot_kw={"projection": "polar"}
+        1,
+        len(names),
+        figsize=(3.3 * len(names), 3.9),
+        subplot_kw={"projection": "polar"},
+        layout="constrained",
     )
+    fig.get_layout_engine().set(wspace=0.12)
     for ax, name in zip(np.atleast_1d(axes), names, strict=True):
         bearing = history.bearing_profile[name]
         theta = (np.arange(len(bearing)) + 0.5) * 2 * math.pi / len(bearing)
         ax.plot(theta, bearing * 1e6, label="bearing")
         ax.plot(theta, history.journal_profile[name] * 1e6, label="journal")
-        ax.set_title(f"{name}: worn depth (µm)", fontsize=8)
+        ax.set_title(f"{name}: worn depth (µm)", fontsize=8, pad=12)
+        ax.set_thetagrids([0, 90, 180, 270])
+        ax.set_rlabel_position(67.5)
+        ax.yaxis.set_major_locator(plt.MaxNLocator(3))
         ax.tick_params(labelsize=6)
-    np.atleast_1d(axes)[0].legend(fontsize=6, loc="lower left")
-    images.update(_encode(fig, "wear_profiles", figure_format))
-    return images
+        ax.tick_params(axis="x", pad=1)
+    handles, labels = np.atleast_1d(axes)[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncol=2, fontsize=7)
+    return fig
 
 
 def wear_section(report: HtmlReport, history: WearHistory, images: Mapping[str, bytes]) -> None:

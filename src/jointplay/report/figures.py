@@ -216,3 +216,38 @@ def style() -> Any:
             "agg.path.chunksize": 10000,
         }
     )
+
+
+def overlapping_text(fig: Any, *, margin_px: float = 1.0) -> list[tuple[str, str]]:
+    """Pairs of texts of ``fig`` that overlap once drawn: tick labels (those of ticks inside
+    the view, the ones drawn), axis labels, titles, annotations and legend entries (their
+    bounding boxes, shrunk by ``margin_px`` so that boxes that only touch do not count).
+    For the figure tests: a figure is legible when this is empty."""
+    from matplotlib.text import Text
+
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ticks, drawn = set(), []
+    for ax in fig.get_axes():
+        for axis, index in ((ax.xaxis, 0), (ax.yaxis, 1)):
+            low, high = sorted(axis.get_view_interval())
+            span = 1e-9 * max(abs(low), abs(high), 1.0)
+            for label in axis.get_ticklabels(which="both"):
+                ticks.add(id(label))
+                at = label.get_position()[index]
+                if low - span <= at <= high + span:
+                    drawn.append(label)
+    texts = [t for t in fig.findobj(Text) if id(t) not in ticks] + drawn
+    boxes = []
+    for text in texts:
+        if not (text.get_visible() and text.get_text().strip()):
+            continue
+        box = text.get_window_extent(renderer)
+        if box.width > 0 and box.height > 0:
+            boxes.append((text.get_text(), box.padded(-margin_px)))
+    return [
+        (first, second)
+        for i, (first, a) in enumerate(boxes)
+        for second, b in boxes[i + 1 :]
+        if a.overlaps(b)
+    ]

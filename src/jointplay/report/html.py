@@ -90,11 +90,15 @@ class HtmlReport:
         title: the page title (``<h1>`` and ``<title>``).
         toc: list the anchored headings (``heading(..., anchor=...)``) in a table of contents
             under the title (only drawn when there are at least two).
+        contents_before: the anchor of the heading the table of contents goes right before
+            (e.g. after a summary that should fill the first screen; default: under the
+            title).
     """
 
-    def __init__(self, title: str, *, toc: bool = True) -> None:
+    def __init__(self, title: str, *, toc: bool = True, contents_before: str | None = None) -> None:
         self.title = title
         self.toc = toc
+        self.contents_before = contents_before
         self.parts: list[str] = []
         self._headings: list[tuple[int, str, str]] = []
 
@@ -291,12 +295,16 @@ class HtmlReport:
         return "".join(out)
 
     def render(self) -> str:
-        body = "\n".join(self.parts)
+        parts, contents = list(self.parts), self._contents()
+        marker = f' id="{html.escape(self.contents_before)}"' if self.contents_before else None
+        at = next((i for i, part in enumerate(parts) if marker and marker in part), 0)
+        parts.insert(at, contents)
+        body = "\n".join(parts)
         return (
             '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8"/>'
             '<meta name="viewport" content="width=device-width, initial-scale=1"/>'
             f"<title>{html.escape(self.title)}</title><style>{_STYLE}</style></head>"
-            f"<body><h1>{html.escape(self.title)}</h1>\n{self._contents()}\n{body}\n</body></html>\n"
+            f"<body><h1>{html.escape(self.title)}</h1>\n{body}\n</body></html>\n"
         )
 
     def write(self, path: Path) -> Path:

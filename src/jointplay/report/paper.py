@@ -100,7 +100,10 @@ def write_paper_report(
     results = results_document(study, claims, provenance)
     write_json(folder / "results.json", results)
     page = _Page(
-        HtmlReport("jointplay: the four-bar with tolerance stack of Akhadkar et al., reproduced"),
+        HtmlReport(
+            "jointplay: the four-bar with tolerance stack of Akhadkar et al., reproduced",
+            contents_before="claims",  # the summary fills the first screen
+        ),
         folder,
         figure_format,
     )
