@@ -81,7 +81,8 @@ def test_design_warns_on_stderr_when_pins_sink_deeper_than_the_clearance(tmp_pat
     one warning line per clearance joint on stderr, as `jointplay tolerance` prints them,
     with the counts of samples.parquet; a stiff one (1e6 N/mm^1.5) prints none."""
     soft = tmp_path / "soft"
-    assert run([*FAST_DYNAMIC, "--k", "1e2 N/mm^1.5", "--out", str(soft)]) == 0
+    impact = ["--contact", "impact"]  # the IMPACT law (not the default) with these --k
+    assert run([*FAST_DYNAMIC, *impact, "--k", "1e2 N/mm^1.5", "--out", str(soft)]) == 0
     err = capsys.readouterr().err
     lines = [line for line in err.splitlines() if "penetration-exceeds-clearance" in line]
     frame = pd.read_parquet(soft / "samples.parquet")
@@ -100,7 +101,7 @@ def test_design_warns_on_stderr_when_pins_sink_deeper_than_the_clearance(tmp_pat
         1e2 * 1000**1.5
     )
     stiff = tmp_path / "stiff"
-    assert run([*FAST_DYNAMIC, "--k", "1e6 N/mm^1.5", "--out", str(stiff)]) == 0
+    assert run([*FAST_DYNAMIC, *impact, "--k", "1e6 N/mm^1.5", "--out", str(stiff)]) == 0
     assert "penetration-exceeds-clearance" not in capsys.readouterr().err
     assert json.loads((stiff / "summary.json").read_text())["diagnostics"] == []
     assert (pd.read_parquet(stiff / "design.parquet")["penetration_exceeds_O2"] == 0).all()

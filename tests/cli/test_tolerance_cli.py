@@ -118,6 +118,8 @@ def test_dynamic_study_on_the_local_backend_names_its_method(tmp_path) -> None:
     out = tmp_path / "local"
     args = ["tolerance", "--responses", "dynamic", "--samples", "3", "--settle", "0"]
     args += ["--revolutions", "0.1", "--backend", "local", "--out", str(out)]
+    # the conventional set: the explicit method (the default contact runs implicit)
+    args += ["--paper-method", "ifm-conventional"]
     assert run([*args, "--no-progress", "--no-plots"]) == 0
     summary = _summary(out)
     assert summary["execution"]["backend"] == "local"
@@ -180,7 +182,10 @@ def test_dynamic_worst_case_with_a_paper_method_and_fixed_clearances(tmp_path) -
         (["--k", "1e4 N/mm^1.5"], "dynamic or running only"),
         (["--rtol", "1e-7"], "--rtol applies to --responses dynamic or running only"),
         (["--responses", "dynamic", "--rtol", "0.5"], "rtol"),
-        (["--responses", "dynamic", "--contact", "lankarani-nikravesh"], "needs a stiffness"),
+        (
+            ["--responses", "dynamic", "--contact", "kelvin-voigt", "--damping", "1 N*s/m"],
+            "needs a stiffness",
+        ),
         (["--responses", "dynamic", "--contact", "bogus"], "unknown contact law"),
         (
             ["--responses", "dynamic", "--paper-method", "ifm-ecs-spherical", "--k", "1 N/m"],

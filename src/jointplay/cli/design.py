@@ -35,15 +35,20 @@ from jointplay.cli._simulation import (
     ContactOption,
     DampingOption,
     DepthOption,
+    EcsSourceOption,
     ExponentOption,
+    FrictionLawOption,
+    FrictionOption,
+    MethodOption,
     RestitutionOption,
     RtolOption,
+    StiffnessLawOption,
     StiffnessOption,
+    contact_from_options,
 )
 from jointplay.cli.tolerance import (
     BackendOption,
     backend_from_options,
-    contact_law,
     solver_options,
 )
 from jointplay.errors import ConfigError
@@ -206,6 +211,8 @@ def design_command(
     ] = None,
     wear_coefficient: WearCoefficientOption = None,
     hardness: HardnessOption = None,
+    method: MethodOption = None,
+    ecs_source: EcsSourceOption = None,
     contact: ContactOption = None,
     k: StiffnessOption = None,
     exponent: ExponentOption = None,
@@ -213,6 +220,9 @@ def design_command(
     depth: DepthOption = None,
     restitution: RestitutionOption = None,
     damping: DampingOption = None,
+    stiffness_law: StiffnessLawOption = None,
+    friction: FrictionOption = None,
+    friction_law: FrictionLawOption = None,
     rtol: RtolOption = None,
     settle: SettleOption = 2,
     revolutions: Annotated[
@@ -255,23 +265,18 @@ def design_command(
     mechanism = mechanism_from_options(preset, config, rpm=rpm, gravity=gravity)
     kind = choice(responses, "--responses", ("auto", "kinematic", "dynamic"))
     contact_options = {
-        "contact": contact,
-        "k": k,
-        "exponent": exponent,
-        "cmax": cmax,
-        "depth": depth,
-        "restitution": restitution,
-        "damping": damping,
-    }
-    law = None
-    if any(value is not None for value in contact_options.values()):
-        if resolve_responses(mechanism, require, kind) != "dynamic":  # type: ignore[arg-type]
-            given = ", ".join(f"--{key}" for key, v in contact_options.items() if v is not None)
-            raise ConfigError(
-                f"{given}: contact options apply to dynamic designs only, and every requirement "
-                "here is kinematic; add --responses dynamic or drop them"
-            )
-        law = contact_law(contact_options, mechanism)
+        "method": method, "ecs_source": ecs_source, "contact": contact, "k": k,
+        "exponent": exponent, "cmax": cmax, "depth": depth, "restitution": restitution,
+        "damping": damping, "stiffness_law": stiffness_law, "friction": friction,
+        "friction_law": friction_law,
+    }  # fmt: skip
+    given = [f"--{key.replace('_', '-')}" for key, v in contact_options.items() if v is not None]
+    if given and resolve_responses(mechanism, require, kind) != "dynamic":  # type: ignore[arg-type]
+        raise ConfigError(
+            f"{', '.join(given)}: contact options apply to dynamic designs only, and every "
+            "requirement here is kinematic; add --responses dynamic or drop them"
+        )
+    contact_used = contact_from_options(config, mechanism, "--method", **contact_options)
     if not (math.isfinite(confidence) and 0 < confidence < 100):
         raise ConfigError(f"--confidence must lie between 0 and 100 %, got {confidence}")
     fit_list = [f.strip() for f in fits.split(",") if f.strip()]
@@ -303,7 +308,7 @@ def design_command(
             clearance_limit=limit,
             clearance_allowance=allowance,
             wear=wear,
-            contact=law,
+            contact=contact_used,
             settle=settle,
             revolutions=revolutions,
             solver=solver_options(rtol),

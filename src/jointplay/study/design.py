@@ -73,6 +73,7 @@ from jointplay.tolerance.analysis import (
     StudyDiagnostic,
     convergence_finding,
     penetration_warning,
+    study_contact,
 )
 from jointplay.tolerance.cost import CostModel, fit_cost, length_class_cost
 from jointplay.tolerance.definitions import response_definitions
@@ -100,6 +101,7 @@ from jointplay.tolerance.spec import (
 
 if TYPE_CHECKING:
     from jointplay.contact.laws import ContactLaw
+    from jointplay.dynamics.setup import ContactModel
     from jointplay.dynamics.simulate import SolverOptions
     from jointplay.dynamics.wear import WearSettings
 
@@ -565,7 +567,7 @@ def design_study(
     clearance_limit: Mapping[str, float] | float | None = None,
     clearance_allowance: float | None = None,
     wear: WearSettings | None = None,
-    contact: str | ContactLaw | None = None,
+    contact: str | ContactLaw | ContactModel | None = None,
     settle: int = DEFAULT_SETTLE,
     revolutions: float = 1.0,
     solver: SolverOptions | None = None,
@@ -591,7 +593,9 @@ def design_study(
         clearance_limit: radial clearance limit for ``life``, m (one for all, or per joint).
         clearance_allowance: instead: the fit's largest radial clearance plus this, m.
         wear: Archard parameters (default steel on steel, :mod:`jointplay.dynamics.wear`).
-        contact: dynamic: contact law (default the conventional IFM set).
+        contact: dynamic: a :class:`~jointplay.dynamics.setup.ContactModel` (the physical
+            default: ``ContactModel()``), a contact law, or ``None``: the conventional IFM set
+            (:func:`jointplay.tolerance.analysis.study_contact`).
         settle, revolutions: dynamic: start-up revolutions left out, analysed revolutions.
         solver: dynamic: integration settings (default :class:`SolverOptions`).
         distribution: distribution of every toleranced input.
@@ -644,16 +648,13 @@ def design_study(
             unique.setdefault(scheme.length_class, i)
         order = list(unique.values())
     else:
-        from jointplay.contact.laws import get_law
-        from jointplay.dynamics.setup import DEFAULT_IMPACT
         from jointplay.dynamics.simulate import SolverOptions, Start
         from jointplay.dynamics.wear import OutputSpeedReference, WearSettings
 
-        law = DEFAULT_IMPACT if contact is None else get_law(contact)
         base = dynamic_model(
             mechanism,
             names,
-            law,
+            **study_contact(mechanism, contact),
             start=Start("steady"),
             settle=settle,
             revolutions=revolutions,

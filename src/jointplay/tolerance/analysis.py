@@ -56,6 +56,7 @@ from jointplay.tolerance.spec import JointTolerance, ToleranceSpec
 if TYPE_CHECKING:  # the dynamics import Numba: loaded only by dynamic studies
     from jointplay.contact.friction import FrictionLaw
     from jointplay.contact.laws import ContactLaw
+    from jointplay.dynamics.setup import ContactModel
     from jointplay.dynamics.simulate import SolverOptions, Start
 
 __all__ = [
@@ -424,7 +425,7 @@ def tolerance_study(
     method: str | ToleranceMethod = "monte-carlo",
     responses: ResponseKind = "kinematic",
     limits: Mapping[str, SpecLimits] | None = None,
-    contact: str | ContactLaw | None = None,
+    contact: str | ContactLaw | ContactModel | None = None,
     friction: FrictionLaw | None = None,
     start: str | Start = "steady",
     settle: int = DEFAULT_SETTLE,
@@ -447,9 +448,12 @@ def tolerance_study(
             or ``"running"`` (the dynamic peaks plus rocker-speed error, largest joint force
             and contact pressure, Archard wear rates).
         limits: specification limits per response name (SI).
-        contact: dynamic: a contact law instance or name (default: the paper's conventional
-            IFM, :data:`jointplay.dynamics.setup.DEFAULT_IMPACT`).
-        friction: dynamic: a friction law, or ``None``.
+        contact: dynamic: a :class:`~jointplay.dynamics.setup.ContactModel` (its stiffness
+            from each joint's geometry is refitted to every sample's clearance; the physical
+            default of docs/contact.md is ``ContactModel()``), a contact law instance or name,
+            or ``None``: the paper's conventional IFM,
+            :data:`jointplay.dynamics.setup.DEFAULT_IMPACT`.
+        friction: dynamic: a friction law, or ``None`` (with a ContactModel: its friction).
         start: dynamic: ``"steady"`` (default: the mechanism as it runs), ``"rest"`` (the
             paper's start-up), ``"impulsive"``, ``"ramp"`` or a
             :class:`~jointplay.dynamics.simulate.Start`.
@@ -501,7 +505,7 @@ def build_model(
     spec: ToleranceSpec,
     responses: ResponseKind,
     *,
-    contact: str | ContactLaw | None = None,
+    contact: str | ContactLaw | ContactModel | None = None,
     friction: FrictionLaw | None = None,
     start: str | Start = "steady",
     settle: int = DEFAULT_SETTLE,
@@ -526,29 +530,28 @@ def build_model(
         return kinematic_model(mechanism, spec.names), spec
     if responses not in ("dynamic", "running"):
         raise ConfigError(f"responses must be kinematic, dynamic or running, got {responses!r}")
-    from jointplay.contact.laws import get_law
-    from jointplay.dynamics.setup import DEFAULT_IMPACT
-    from jointplay.dynamics.simulate import Start
+    from jointplay.dynamics.simulate import SolverOptions, Start
 
     spec = spec.only("length", "clearance")
     if len(spec) == 0:
         raise ConfigError(
             f"mechanism {mechanism.name!r} has no length or clearance tolerances to study"
         )
-    law = DEFAULT_IMPACT if contact is None else get_law(contact)
+    parts = study_contact(mechanism, contact)
+    if friction is not None:
+        parts["friction"] = friction
     radius = {
         item.joint: item.journal_radius for item in spec.inputs if isinstance(item, JointTolerance)
     }
     model = dynamic_model(
         mechanism,
         spec.names,
-        law,
         journal_radius=radius,
         start=Start(start) if isinstance(start, str) else start,  # type: ignore[arg-type]
         settle=settle,
         revolutions=revolutions,
-        friction=friction,
-        **({} if solver is None else {"solver": solver}),
+        solver=solver or SolverOptions(),
+        **parts,
     )
     if not model.clearance_joints:
         raise ConfigError(
@@ -560,6 +563,22 @@ def build_model(
 
         return RunningResponses(model, OutputSpeedReference.of(mechanism), WearSettings()), spec
     return model, spec
+
+
+def study_contact(
+    mechanism: Mechanism, contact: str | ContactLaw | ContactModel | None
+) -> dict[str, Any]:
+    """``law``, ``friction`` and ``stiffness_from`` of a dynamic study's response model
+    (:func:`jointplay.tolerance.responses.contact_parts`); a law or a name: that law,
+    frictionless; ``None``: :data:`jointplay.dynamics.setup.DEFAULT_IMPACT`, frictionless."""
+    from jointplay.contact.laws import get_law
+    from jointplay.dynamics.setup import DEFAULT_IMPACT, ContactModel
+    from jointplay.tolerance.responses import contact_parts
+
+    if isinstance(contact, ContactModel):
+        return contact_parts(mechanism, contact)
+    law = DEFAULT_IMPACT if contact is None else get_law(contact)
+    return {"law": law, "friction": None, "stiffness_from": {}}
 
 
 def response_units(
