@@ -44,6 +44,7 @@ from jointplay.tolerance.methods import (
     get_method,
 )
 from jointplay.tolerance.responses import (
+    ELASTIC_RATIO,
     PENETRATION_RATIO,
     DynamicResponses,
     ResponseModel,
@@ -133,11 +134,17 @@ def penetration_warning(joint: str, worst_ratio: float, message: str) -> Diagnos
 def penetration_findings(result: MethodResult) -> tuple[StudyDiagnostic, ...]:
     """One ``penetration-exceeds-clearance`` warning per clearance joint whose pin, in some
     successful points, sinks deeper into its bearing than the radial clearance
-    (``penetration_ratio_<joint>`` > 1); none for a model without these checks.
+    (``penetration_ratio_<joint>`` > 1), and one ``penetration-exceeds-elastic`` warning per
+    joint whose pin sinks deeper than :data:`~jointplay.dynamics.diagnostics.ELASTIC_FACTOR`
+    times its Hertz approach at the peak force (``elastic_ratio_<joint>``); none for a model
+    without these checks.
 
-    The single engine's :func:`jointplay.dynamics.diagnostics.check_penetration` judges one
-    simulation; this counts the points of a study and names the worst.
+    The single engine's :func:`jointplay.dynamics.diagnostics.check_penetration` and
+    ``check_elastic`` judge one simulation; this counts the points of a study and names the
+    worst.
     """
+    from jointplay.dynamics.diagnostics import ELASTIC_FACTOR
+
     run = result.run
     if run.checks is None:
         return ()
@@ -145,26 +152,46 @@ def penetration_findings(result: MethodResult) -> tuple[StudyDiagnostic, ...]:
     noun = "samples" if result.method == "monte-carlo" else "points"
     findings = []
     for column, name in enumerate(run.check_names):
-        if not name.startswith(PENETRATION_RATIO):
+        if name.startswith(PENETRATION_RATIO):
+            joint, limit = name.removeprefix(PENETRATION_RATIO), 1.0
+        elif name.startswith(ELASTIC_RATIO):
+            joint, limit = name.removeprefix(ELASTIC_RATIO), ELASTIC_FACTOR
+        else:
             continue
-        joint = name.removeprefix(PENETRATION_RATIO)
         ratio = np.where(ok, run.checks[:, column], np.nan)
-        exceeds = ratio > 1.0  # NaN compares False
+        exceeds = ratio > limit  # NaN compares False
         count = int(np.sum(exceeds))
         if count == 0:
             continue
         worst = int(np.argmax(np.where(exceeds, ratio, -np.inf)))
         out_of = int(np.sum(ok))
-        message = (
-            f"{count} of {out_of} {noun} ({100.0 * count / out_of:.3g} %): the pin of {joint} "
-            f"penetrates its bearing by up to {ratio[worst]:.3g} times the radial clearance "
-            f"(sample {worst}; {name} in samples.parquet); those {noun}' peaks are not "
-            "physical: the contact stiffness is far too low for the load; use a stiffer "
-            "contact law (--k), e.g. one from the joints' geometry"
-        )
+        share = f"{count} of {out_of} {noun} ({100.0 * count / out_of:.3g} %)"
+        where = f"(sample {worst}; {name} in samples.parquet)"
+        if limit == 1.0:
+            diagnostic = penetration_warning(
+                joint,
+                float(ratio[worst]),
+                f"{share}: the pin of {joint} penetrates its bearing by up to "
+                f"{ratio[worst]:.3g} times the radial clearance {where}; those {noun}' peaks "
+                "are not physical: the contact stiffness is far too low for the load; use a "
+                "stiffness from the joints' geometry (the default contact, or --stiffness-law)",
+            )
+        else:
+            diagnostic = Diagnostic(
+                "warning",
+                "penetration-exceeds-elastic",
+                joint,
+                float(ratio[worst]),
+                limit,
+                f"{share}: the pin of {joint} penetrates its bearing by up to "
+                f"{ratio[worst]:.3g} times the elastic approach of the joint's own Hertz law "
+                f"at its peak force {where}: the contact is far softer than the joint's "
+                "materials; use a stiffness from the joints' geometry (the default contact, "
+                "or --stiffness-law)",
+            )
         findings.append(
             StudyDiagnostic(
-                penetration_warning(joint, float(ratio[worst]), message),
+                diagnostic,
                 count=count,
                 out_of=out_of,
                 worst_sample=worst,

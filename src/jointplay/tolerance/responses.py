@@ -83,6 +83,7 @@ __all__ = [
     "dynamic_model",
     "kinematic_model",
     "penetration_ratios",
+    "sample_checks",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -95,6 +96,15 @@ PENETRATION_RATIO_DEFINITION = (
     "deepest penetration of the pin into its bearing over the analysed revolutions, taken at "
     "the integrator's accepted steps (sampled, not located between them), divided by the "
     "sample's radial clearance (above 1: not physical; negative: never touched)"
+)
+#: Prefix of the per-sample elastic checks of the dynamic models (+ the joint's name).
+ELASTIC_RATIO = "elastic_ratio_"
+#: What an ``elastic_ratio_<joint>`` is, in words (reports, summary.json).
+ELASTIC_RATIO_DEFINITION = (
+    "deepest penetration of the pin over the analysed revolutions (as penetration_ratio_) "
+    "divided by the elastic approach the joint's own Hertz law gives at the joint's peak "
+    "force (jointplay.dynamics.diagnostics.hertz_approach; above "
+    "jointplay.dynamics.diagnostics.ELASTIC_FACTOR = 3: far softer than the joint's materials)"
 )
 
 
@@ -793,8 +803,13 @@ class DynamicResponses:
 
     @property
     def check_names(self) -> tuple[str, ...]:
-        """``penetration_ratio_<joint>`` per clearance joint (see the module docstring)."""
-        return tuple(f"{PENETRATION_RATIO}{joint}" for joint in self.clearance_joints)
+        """``penetration_ratio_<joint>`` then ``elastic_ratio_<joint>`` per clearance joint
+        (see the module docstring)."""
+        return tuple(
+            f"{prefix}{joint}"
+            for prefix in (PENETRATION_RATIO, ELASTIC_RATIO)
+            for joint in self.clearance_joints
+        )
 
     def clearances(self, x: FloatArray) -> FloatArray:
         """(m, c) radial clearance of every clearance joint of the samples ``x``, m: the
@@ -856,7 +871,12 @@ class DynamicResponses:
                 f"{self.settle} start-up revolution(s), searched between the integrator's "
                 "steps near every running peak (jointplay._kernels.batch)"
             ),
-            "checks": {name: PENETRATION_RATIO_DEFINITION for name in self.check_names},
+            "checks": {
+                name: PENETRATION_RATIO_DEFINITION
+                if name.startswith(PENETRATION_RATIO)
+                else ELASTIC_RATIO_DEFINITION
+                for name in self.check_names
+            },
         }
 
     def _law_fields(self) -> dict[str, Any]:
@@ -1023,7 +1043,16 @@ class DynamicResponses:
         )
         values = result.peaks[list(self.peak_keys)].to_numpy(dtype=float)
         penetration = result.statistics[[f"pen_{j}" for j in self.clearance_joints]]
-        checks = _ratio(penetration.to_numpy(dtype=float), self.clearances(x))
+        deepest = penetration.to_numpy(dtype=float)
+        clearance = self.clearances(x)
+        forces = result.peaks[[f"F_{j}" for j in self.clearance_joints]].to_numpy(dtype=float)
+        checks = np.hstack(
+            [
+                _ratio(deepest, clearance),
+                _elastic_ratios(self.mechanism, self.clearance_joints, self.journal_radius,
+                                clearance, deepest, forces),
+            ]
+        )  # fmt: skip
         return Evaluation(values, np.asarray(result.ok, dtype=bool), tuple(result.errors), checks)
 
 
@@ -1046,6 +1075,56 @@ def penetration_ratios(result: SimulationResult) -> FloatArray:
     return _ratio(
         np.array([deepest[joint.joint] for joint in joints]),
         np.array([joint.clearance for joint in joints]),
+    )
+
+
+def _elastic_ratios(
+    mechanism: Mechanism,
+    joints: Sequence[str],
+    journal_radius: Mapping[str, float],
+    clearance: FloatArray,
+    deepest: FloatArray,
+    force: FloatArray,
+) -> FloatArray:
+    """(m, c) ``elastic_ratio_<joint>``: ``deepest`` (m) over the Hertz approach at ``force``
+    (N) for each sample's ``clearance`` (m) (NaN where a value is missing)."""
+    from jointplay.dynamics.diagnostics import hertz_approach
+
+    out = np.full(deepest.shape, np.nan)
+    for c, joint in enumerate(joints):
+        spec = mechanism.joint(joint)
+        bearing, pin = mechanism.material_of(spec.link_a), mechanism.material_of(spec.link_b)
+        for i in range(len(deepest)):
+            f, gap = force[i, c], clearance[i, c]
+            if math.isfinite(f) and math.isfinite(gap) and f > 0 and gap > 0:
+                approach = hertz_approach(float(f), journal_radius[joint], float(gap), bearing, pin)
+                out[i, c] = deepest[i, c] / approach
+    return out
+
+
+def sample_checks(result: SimulationResult) -> FloatArray:
+    """(2c,) the checks of a single-engine simulation, in the order of
+    :attr:`DynamicResponses.check_names`: :func:`penetration_ratios`, then the elastic
+    ratios (``elastic_ratio_<joint>``).
+
+    Raises:
+        IntegrationError: the simulation stopped at its initial state.
+    """
+    joints = result.system.clearances
+    names = [joint.joint for joint in joints]
+    deepest = result.running.max_penetration
+    return np.concatenate(
+        [
+            penetration_ratios(result),
+            _elastic_ratios(
+                result.system.mechanism,
+                names,
+                {joint.joint: joint.journal_radius for joint in joints},
+                np.array([[joint.clearance for joint in joints]]),
+                np.array([[deepest[name] for name in names]]),
+                np.array([[result.peaks[f"F_{name}"]["value"] for name in names]]),
+            )[0],
+        ]
     )
 
 
@@ -1214,7 +1293,7 @@ class RunningResponses:
                     errors.append(f"IntegrationError: {result.message}")
                     continue
                 peaks = [result.peaks[key]["value"] for key in self.base.peak_keys]
-                checks[i] = penetration_ratios(result)
+                checks[i] = sample_checks(result)
                 wear = cycle_wear(result, self.wear)
                 rates = [wear.joints[j].per_hour(wear.rpm) / 3600.0 for j in self.joints]
                 forces = [float(result.peaks[f"F_{j}"]["value"]) for j in self.joints]
