@@ -124,8 +124,14 @@ def test_design_refits_each_sample_as_a_joint_built_at_its_clearance(tmp_path) -
     out = tmp_path / "design"
     args = ["design", "--fits", "H8/g7", "--classes", "c", "-n", "1", "--require",
             "joint_force <= 1000 N", "--stiffness-law", "hertz", "--friction", "0.1",
-            "--no-plots", "--no-progress"]  # fmt: skip
+            "--no-progress"]  # fmt: skip
     assert run([*args, "--out", str(out)]) == 0
+    sensitivity = json.loads((out / "summary.json").read_text())["model_sensitivity"]
+    assert [r["parameter"] for r in sensitivity["rows"]] == [
+        "as chosen", "restitution", "restitution", "friction", "friction", "stiffness_law",
+    ]  # fmt: skip
+    assert sensitivity["rows"][-1]["value"] == "liu"  # the other law than the study's hertz
+    assert "Model sensitivity of the choice" in (out / "report.html").read_text()
     row = pd.read_parquet(out / "samples.parquet").iloc[0]
     lengths = {k: float(row[f"length_{k}"]) for k in ("crank", "coupler", "rocker", "ground")}
     mechanism = with_lengths(load_preset("paper-fourbar"), **lengths)

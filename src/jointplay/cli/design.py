@@ -224,6 +224,15 @@ def design_command(
     friction: FrictionOption = None,
     friction_law: FrictionLawOption = None,
     rtol: RtolOption = None,
+    model_check: Annotated[
+        bool,
+        typer.Option(
+            "--model-sensitivity/--no-model-sensitivity",
+            help="Dynamic: re-evaluate the chosen scheme at the ends of the contact model's "
+            "ranges (restitution 0.6-0.95, friction 0.01-0.2, the other stiffness law; "
+            "docs/contact.md) and say whether the choice holds.",
+        ),
+    ] = True,
     settle: SettleOption = 2,
     revolutions: Annotated[
         float, typer.Option("--revolutions", help="Analysed revolutions.")
@@ -260,6 +269,7 @@ def design_command(
     from jointplay.io.output import output_dir
     from jointplay.report.design import write_design
     from jointplay.study.design import design_study, design_units, resolve_responses
+    from jointplay.study.sensitivity import model_sensitivity
     from jointplay.tolerance.cost import CostModel
 
     mechanism = mechanism_from_options(preset, config, rpm=rpm, gravity=gravity)
@@ -294,26 +304,26 @@ def design_command(
     where = backend_from_options(backend, workers, dask_scheduler)
     figure_format = check_figure_format(figure_format)
     with output_dir(out, force=force) as folder:  # checked before the study runs
+        options: dict[str, Any] = {
+            "samples": samples, "seed": seed, "truncate": truncate, "cost": cost,
+            "clearance_limit": limit, "clearance_allowance": allowance, "wear": wear,
+            "settle": settle, "revolutions": revolutions, "solver": solver_options(rtol),
+            "backend": where, "progress": progress,
+        }  # fmt: skip
         result = design_study(
             mechanism,
             candidates,
             class_list,
             require,
-            samples=samples,
-            seed=seed,
-            truncate=truncate,
             confidence=confidence / 100.0,
             responses=kind,  # type: ignore[arg-type]
-            cost=cost,
-            clearance_limit=limit,
-            clearance_allowance=allowance,
-            wear=wear,
             contact=contact_used,
-            settle=settle,
-            revolutions=revolutions,
-            solver=solver_options(rtol),
-            backend=where,
-            progress=progress,
+            **options,
+        )
+        sensitivity = (
+            model_sensitivity(mechanism, result, contact_used, **options)
+            if model_check and not result.interrupted
+            else None
         )
         units = design_units(mechanism, result.responses)  # type: ignore[arg-type]
         summary = result.summary()
@@ -324,8 +334,11 @@ def design_command(
             plots=plots,
             provenance=provenance(summary["settings"]),
             figure_format=figure_format,
+            sensitivity=sensitivity,
         )
     _print(result, units)
+    if sensitivity is not None:
+        console.print(f"model sensitivity: {sensitivity.verdict}")
     if result.interrupted:
         raise Interrupted(
             f"{len(result.table)} scheme(s) finished; their results were written to {out}"

@@ -26,6 +26,7 @@ from jointplay.report._mpl import pyplot
 from jointplay.report.figures import encode
 from jointplay.report.html import HtmlReport
 from jointplay.study.design import DesignResult
+from jointplay.study.sensitivity import ModelSensitivity
 
 __all__ = [
     "design_plots",
@@ -179,6 +180,25 @@ def design_section(
             report.figure(data, name.removesuffix(".png").replace("_", " "))
 
 
+def _sensitivity_section(report: HtmlReport, sensitivity: ModelSensitivity) -> None:
+    """The model-sensitivity table: the chosen scheme's yields under each contact model."""
+    report.heading("Model sensitivity of the choice", anchor="model-sensitivity")
+    report.paragraph(sensitivity.verdict)
+    requirements = list(sensitivity.rows[0].yields)
+    rows = [
+        (row.parameter, str(row.value), *row.yields.values(), "yes" if row.meets else "no")
+        for row in sensitivity.rows
+    ]
+    report.table(
+        rows,
+        headers=["contact parameter", "value", *(f"yield: {r} (%)" for r in requirements),
+                 "meets all"],
+        text_columns=(0, 1, len(requirements) + 2),
+        note="one parameter at a time at the ends of its documented range (docs/contact.md), "
+        "the others as the study ran; the study's samples and seed",
+    )  # fmt: skip
+
+
 def write_design(
     result: DesignResult,
     folder: Path,
@@ -187,8 +207,11 @@ def write_design(
     plots: bool = True,
     provenance: Mapping[str, Any] | None = None,
     figure_format: str = "png",
+    sensitivity: ModelSensitivity | None = None,
 ) -> list[Path]:
-    """Write the design study's files into ``folder`` (existing); returns them."""
+    """Write the design study's files into ``folder`` (existing); returns them.
+    ``sensitivity``: the chosen scheme under the contact model's ranges
+    (:mod:`jointplay.study.sensitivity`), in ``summary.json`` and the report."""
     folder = Path(folder)
     table = result.to_dataframe()
     written = [folder / "design.parquet", folder / "design.csv", folder / "samples.parquet"]
@@ -196,6 +219,8 @@ def write_design(
     table.to_csv(written[1], index=False)
     result.samples.to_parquet(written[2], index=False)
     summary = result.summary()
+    if sensitivity is not None:
+        summary["model_sensitivity"] = sensitivity.as_dict()
     if provenance is not None:
         summary["provenance"] = dict(provenance)
     written.append(folder / "summary.json")
@@ -206,6 +231,8 @@ def write_design(
         written.append(folder / name)
     report = HtmlReport(f"jointplay design — {result.mechanism.name}")
     design_section(report, result, units, images)
+    if sensitivity is not None:
+        _sensitivity_section(report, sensitivity)
     written.append(report.write(folder / "report.html"))
     return written
 
