@@ -241,7 +241,8 @@ class ContactModel:
     ``method`` (its parameter record in ``record``); and the joints' friction.
 
     The default is the physical contact of docs/contact.md, with dry friction
-    :data:`DEFAULT_FRICTION`.
+    :data:`DEFAULT_FRICTION` (with a ``law`` too: give ``FrictionSettings()`` for none, as
+    the command line does with ``--method``).
     """
 
     settings: ContactSettings = dataclasses.field(default_factory=ContactSettings)

@@ -132,6 +132,7 @@ def design_section(
             f"confidence level: {100 * result.confidence:g} %",
             f"responses: {result.responses}; samples per scheme: {settings.get('samples')}",
         ]
+        + [f"contact: {c}" for c in [settings.get("model", {}).get("contact")] if c]
     )
     sampling = settings.get("sampling_distributions")
     if sampling:
