@@ -7,11 +7,14 @@ contact options (or the ``[simulation]`` keys of the same names) into the
 from __future__ import annotations
 
 import math
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
 from jointplay.errors import ConfigError
+
+if TYPE_CHECKING:  # the dynamics import Numba: loaded when a command runs
+    from jointplay.dynamics.setup import ContactModel
 
 
 def _opt(help_text: str, *names: str) -> Any:
@@ -117,7 +120,9 @@ CONTACT_KEYS = ("contact", "k", "exponent", "cmax", "depth", "damping", "stiffne
 CONTACT_OPTIONS = (*CONTACT_KEYS, "restitution", "friction", "friction_law", "method", "ecs_source")
 
 
-def contact_model(values: dict[str, Any], mechanism: Any, method_option: str = "--method") -> Any:
+def contact_model(
+    values: dict[str, Any], mechanism: Any, method_option: str = "--method"
+) -> ContactModel:
     """The :class:`~jointplay.dynamics.setup.ContactModel` of the contact options in
     ``values`` (strings with units, ``None`` or absent where not given): the physical default
     without any; ``--method`` one of the paper's six (frictionless unless --friction)."""
@@ -140,7 +145,7 @@ def contact_model(values: dict[str, Any], mechanism: Any, method_option: str = "
 
 def contact_from_options(
     config: Any, mechanism: Any, method_option: str = "--method", **given: Any
-) -> Any:
+) -> ContactModel:
     """:func:`contact_model` of the contact options ``given`` (``None``: not given) over the
     same keys of the ``[simulation]`` table of the ``config`` file (a path or ``None``);
     ``method_option``: the name of ``method`` on this command."""
