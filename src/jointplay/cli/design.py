@@ -337,6 +337,8 @@ def design_command(
             sensitivity=sensitivity,
         )
     _print(result, units)
+    if result.settings.get("model", {}).get("contact"):
+        console.print(f"contact: {result.settings['model']['contact']}")
     if sensitivity is not None:
         console.print(f"model sensitivity: {sensitivity.verdict}")
     if result.interrupted:

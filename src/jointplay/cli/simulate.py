@@ -247,6 +247,7 @@ def simulate_command(
                 title=mechanism.name,
                 figure_format=figure_format,
             )
+    print(f"contact: {contact_used.describe()['text']}")
     _print(result, findings, Path(out))
 
 

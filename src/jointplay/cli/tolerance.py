@@ -359,6 +359,8 @@ def tolerance_command(
             executor=running_pool(),  # the batch engine's idle workers draw plots too
         )
     _print(study)
+    if study.model.get("contact"):
+        console.print(f"contact: {study.model['contact']}")
     if study.interrupted:
         counts = summary["counts"]
         raise Interrupted(
