@@ -161,7 +161,7 @@ def compare_command(
             angle_origin=_angle_origin(angle_origin),
             speed_sign=1 if choice(speed_positive, "--speed-positive", DIRECTIONS) == "ccw" else -1,
         )
-        methods = list(dict.fromkeys(method or cmp.DEFAULT_METHODS))
+        methods = list(dict.fromkeys(method or cmp.COMPARE_METHODS))
         for name in methods:
             if name not in (cmp.NOMINAL, cmp.PHYSICAL) and name not in METHODS:
                 raise ConfigError(

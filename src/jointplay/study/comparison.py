@@ -72,16 +72,17 @@ FloatArray = NDArray[np.float64]
 NOMINAL = "nominal"
 #: The label of the physical default contact (docs/contact.md).
 PHYSICAL = "physical"
-#: Compared by default: the nominal kinematics, the physical default contact and the paper's
-#: four ECS methods (Figs. 17–20).
+#: The paper study's comparison: the nominal kinematics and the paper's four ECS methods
+#: (Figs. 17–20).
 DEFAULT_METHODS = (
     NOMINAL,
-    PHYSICAL,
     "ifm-ecs-spherical",
     "rm-ecs-spherical",
     "ifm-ecs-cylindrical",
     "rm-ecs-cylindrical",
 )
+#: ``jointplay compare``'s default: the physical default contact beside them.
+COMPARE_METHODS = (NOMINAL, PHYSICAL, *DEFAULT_METHODS[1:])
 #: Default fraction of the largest |simulated| below which a point is left out of the % stats.
 LOW_SPEED_FRACTION = 0.10
 
