@@ -98,6 +98,16 @@ def test_implicit_lanes_take_the_single_engines_steps(lanes) -> None:
             assert _relative(got, reference.peaks[key]["value"]) < bound, (lane, key)
 
 
+def test_implicit_lanes_on_threads_give_the_same_bits(lanes) -> None:
+    """The compiled Radau driver releases the GIL and each lane writes its own rows: the
+    thread pool of ``parallel=True`` changes nothing but the wall time."""
+    args, _ = lanes
+    one = kb.run_batch(*args, "implicit", parallel=False)
+    threads = kb.run_batch(*args, "implicit", parallel=True)
+    for field in ("peaks", "stats", "status", "n_steps", "n_rejected", "n_rhs"):
+        np.testing.assert_array_equal(getattr(threads, field), getattr(one, field), err_msg=field)
+
+
 def test_statistics_agree_with_the_single_engines_solution(lanes) -> None:
     """Mean and RMS of ω from the single engine's dense time series (trapezoids on 0.5°
     samples: 1e-4 of the RMS), the deepest penetration from its steps (1e-3)."""

@@ -154,7 +154,10 @@ CASES: dict[str, tuple[list[str], str]] = {
     "simulate stiffness wrong unit": (["simulate", "--k", "1e4 N"], "--k"),
     "simulate exponent zero": (["simulate", "--exponent", "0"], "--exponent"),
     "simulate unknown law": (["simulate", "--contact", "glue"], "glue"),
-    "simulate law needs stiffness": (["simulate", "--contact", "hertz"], "stiffness"),
+    "simulate law needs stiffness": (
+        ["simulate", "--contact", "kelvin-voigt", "--damping", "100 N*s/m"],
+        "stiffness",
+    ),
     "simulate clearance 1 m": (["simulate", "--clearance", "1 m"], "clearance"),
     "simulate clearance negative": (["simulate", "--clearance", "-1 um"], "clearance"),
     "simulate clearance text": (["simulate", "--clearance", "wide"], "--clearance"),

@@ -100,7 +100,8 @@ def test_design_warns_on_stderr_when_pins_sink_deeper_than_the_clearance(tmp_pat
     one warning line per clearance joint on stderr, as `jointplay tolerance` prints them,
     with the counts of samples.parquet; a stiff one (1e6 N/mm^1.5) prints none."""
     soft = tmp_path / "soft"
-    assert run([*FAST_DYNAMIC, "--k", "1e2 N/mm^1.5", "--out", str(soft)]) == 0
+    impact = ["--contact", "impact"]  # the IMPACT law (not the default) with these --k
+    assert run([*FAST_DYNAMIC, *impact, "--k", "1e2 N/mm^1.5", "--out", str(soft)]) == 0
     err = capsys.readouterr().err
     lines = [line for line in err.splitlines() if "penetration-exceeds-clearance" in line]
     frame = pd.read_parquet(soft / "samples.parquet")
@@ -114,14 +115,19 @@ def test_design_warns_on_stderr_when_pins_sink_deeper_than_the_clearance(tmp_pat
         )
         assert "the recommended scheme H7/g6 / m is concerned (2 of its 2 samples)" in line
     summary = json.loads((soft / "summary.json").read_text())
-    assert [d["joint"] for d in summary["diagnostics"]] == ["O2", "A", "B", "O4"]
+    codes = [(d["code"], d["joint"]) for d in summary["diagnostics"]]
+    clearance = [j for code, j in codes if code == "penetration-exceeds-clearance"]
+    assert clearance == ["O2", "A", "B", "O4"]
+    # so soft a contact is not elastic either (penetration-exceeds-elastic, every joint)
+    assert [j for code, j in codes if code == "penetration-exceeds-elastic"] == clearance
     assert summary["settings"]["model"]["contact_law"]["stiffness"] == pytest.approx(
         1e2 * 1000**1.5
     )
     stiff = tmp_path / "stiff"
-    assert run([*FAST_DYNAMIC, "--k", "1e6 N/mm^1.5", "--out", str(stiff)]) == 0
+    assert run([*FAST_DYNAMIC, *impact, "--k", "1e6 N/mm^1.5", "--out", str(stiff)]) == 0
     assert "penetration-exceeds-clearance" not in capsys.readouterr().err
-    assert json.loads((stiff / "summary.json").read_text())["diagnostics"] == []
+    written = json.loads((stiff / "summary.json").read_text())["diagnostics"]
+    assert [d for d in written if d["code"] == "penetration-exceeds-clearance"] == []
     assert (pd.read_parquet(stiff / "design.parquet")["penetration_exceeds_O2"] == 0).all()
 
 

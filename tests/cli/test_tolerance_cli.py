@@ -149,6 +149,8 @@ def test_dynamic_study_on_the_local_backend_names_its_method(tmp_path) -> None:
     out = tmp_path / "local"
     args = ["tolerance", "--responses", "dynamic", "--samples", "3", "--settle", "0"]
     args += ["--revolutions", "0.1", "--backend", "local", "--out", str(out)]
+    # the conventional set: the explicit method (the default contact runs implicit)
+    args += ["--paper-method", "ifm-conventional"]
     assert run([*args, "--no-progress", "--no-plots"]) == 0
     summary = _summary(out)
     assert summary["execution"]["backend"] == "local"
@@ -211,7 +213,10 @@ def test_dynamic_worst_case_with_a_paper_method_and_fixed_clearances(tmp_path) -
         (["--k", "1e4 N/mm^1.5"], "dynamic or running only"),
         (["--rtol", "1e-7"], "--rtol applies to --responses dynamic or running only"),
         (["--responses", "dynamic", "--rtol", "0.5"], "rtol"),
-        (["--responses", "dynamic", "--contact", "lankarani-nikravesh"], "needs a stiffness"),
+        (
+            ["--responses", "dynamic", "--contact", "kelvin-voigt", "--damping", "1 N*s/m"],
+            "needs a stiffness",
+        ),
         (["--responses", "dynamic", "--contact", "bogus"], "unknown contact law"),
         (
             ["--responses", "dynamic", "--paper-method", "ifm-ecs-spherical", "--k", "1 N/m"],
@@ -267,9 +272,16 @@ def test_samples_beyond_the_clearance_get_one_warning_line_per_joint(tmp_path, c
             f"(100 %): the pin of {joint} penetrates its bearing by up to "
         )
     summary = _summary(tmp_path / "soft")
-    assert [d["count"] for d in summary["diagnostics"]] == [4, 4, 4, 4]
+    clearance = [d for d in summary["diagnostics"] if d["code"] == "penetration-exceeds-clearance"]
+    assert [d["count"] for d in clearance] == [4, 4, 4, 4]
+    # so soft a contact is not elastic either: one more line per joint
+    elastic = [d for d in summary["diagnostics"] if d["code"] == "penetration-exceeds-elastic"]
+    assert [d["count"] for d in elastic] == [4, 4, 4, 4]
     frame = pd.read_parquet(tmp_path / "soft" / "samples.parquet")
     assert (frame[[f"penetration_ratio_{j}" for j in ("O2", "A", "B", "O4")]] > 1).all().all()
+    # IMPACT 1e5 N/mm^1.5 in the 21 µm joints: inside the clearance, but ~50x softer than
+    # the joints' Hertz law: only the elastic check speaks (docs/contact.md)
     assert run(args(tmp_path / "stiff", "--k", "1e5 N/mm^1.5", "--no-clearances")) == 0
-    assert "penetration" not in capsys.readouterr().err
-    assert _summary(tmp_path / "stiff")["diagnostics"] == []
+    assert "penetration-exceeds-clearance" not in capsys.readouterr().err
+    codes = {d["code"] for d in _summary(tmp_path / "stiff")["diagnostics"]}
+    assert codes == {"penetration-exceeds-elastic"}

@@ -41,9 +41,9 @@ from jointplay.cli._simulation import (
     StartOption,
     StiffnessLawOption,
     StiffnessOption,
+    contact_model,
     finite_number,
     joint_list,
-    method_law_of,
 )
 from jointplay.errors import ConfigError
 
@@ -153,7 +153,6 @@ def _simulate(
 ) -> Any:
     """Simulate the settle revolutions and the animated one, with the options of simulate."""
     from jointplay.dynamics.cycles import DEFAULT_SETTLE
-    from jointplay.dynamics.setup import FrictionSettings, clearance_joints, contact_from_strings
     from jointplay.dynamics.simulate import SolverOptions, Start, simulate
     from jointplay.io.config import simulation_settings
     from jointplay.units import parse_quantity
@@ -166,22 +165,16 @@ def _simulate(
         preset, config, rpm, direction, values.get("start_angle"), gravity
     )
     ideal = isinstance(values.get("joints"), str) and values["joints"].strip().lower() == "none"
-    law, _ = method_law_of(values, mechanism)
+    contact_used = contact_model(values, mechanism)
     clear = (
         []
         if ideal
-        else clearance_joints(
+        else contact_used.joints(
             mechanism,
             joint_list(values.get("joints")),
-            contact=contact_from_strings(values) if law is None else None,
-            friction=FrictionSettings(
-                law=str(values.get("friction_law", "ambrosio")),
-                coefficient=finite_number(values, "friction", 0.0),
-            ),
             clearance=None
             if values.get("clearance") is None
             else parse_quantity(values["clearance"], "m", field="--clearance"),
-            law=law,
         )
     )
     mode = str(values.get("start", "steady"))

@@ -259,7 +259,9 @@ def calibrate_command(
     table = simulation_settings(config)
     if contact is not None:
         table = {**table, "contact": contact}
-    contact_settings = contact_from_strings(table)
+    # the IMPACT law unless told: its stiffness k is what a calibration fits (the physical
+    # default's stiffness comes from the geometry; docs/contact.md)
+    contact_settings = contact_from_strings({"contact": "impact", **table})
     joint_list = tuple(_split([joints])) if joints else None
     if joint_list is None and table.get("joints"):
         raw = table["joints"]

@@ -96,9 +96,10 @@ def compare_command(
     method: Annotated[
         list[str] | None,
         _opt(
-            "Simulation to compare (repeatable): nominal (ideal joints) or one of the paper's "
-            "methods ifm-conventional, rm-conventional, ifm-ecs-cylindrical, rm-ecs-cylindrical, "
-            "ifm-ecs-spherical, rm-ecs-spherical. Default: nominal and the four ECS methods.",
+            "Simulation to compare (repeatable): nominal (ideal joints), physical (the default "
+            "contact, docs/contact.md) or one of the paper's methods ifm-conventional, "
+            "rm-conventional, ifm-ecs-cylindrical, rm-ecs-cylindrical, ifm-ecs-spherical, "
+            "rm-ecs-spherical. Default: nominal, physical and the four ECS methods.",
             "--method",
         ),
     ] = None,
@@ -163,12 +164,12 @@ def compare_command(
             angle_origin=_angle_origin(angle_origin),
             speed_sign=1 if choice(speed_positive, "--speed-positive", DIRECTIONS) == "ccw" else -1,
         )
-        methods = list(dict.fromkeys(method or cmp.DEFAULT_METHODS))
+        methods = list(dict.fromkeys(method or cmp.COMPARE_METHODS))
         for name in methods:
-            if name != cmp.NOMINAL and name not in METHODS:
+            if name not in (cmp.NOMINAL, cmp.PHYSICAL) and name not in METHODS:
                 raise ConfigError(
-                    f"--method: unknown method {name!r}; use {cmp.NOMINAL} or one of "
-                    f"{', '.join(METHODS)}"
+                    f"--method: unknown method {name!r}; use {cmp.NOMINAL}, {cmp.PHYSICAL} or "
+                    f"one of {', '.join(METHODS)}"
                 )
         if ecs_source not in ECS_SOURCES:
             raise ConfigError(f"--ecs-source must be computed or paper, got {ecs_source!r}")

@@ -46,15 +46,20 @@ from jointplay.cli._simulation import (
     ContactOption,
     DampingOption,
     DepthOption,
+    EcsSourceOption,
     ExponentOption,
+    FrictionLawOption,
+    FrictionOption,
+    MethodOption,
     RestitutionOption,
     RtolOption,
+    StiffnessLawOption,
     StiffnessOption,
+    contact_from_options,
 )
 from jointplay.cli.tolerance import (
     BackendOption,
     backend_from_options,
-    contact_law,
     solver_options,
 )
 from jointplay.errors import ConfigError, Interrupted, JointplayError, PartialInterrupt
@@ -327,6 +332,8 @@ def design_command(
     ] = None,
     wear_coefficient: WearCoefficientOption = None,
     hardness: HardnessOption = None,
+    method: MethodOption = None,
+    ecs_source: EcsSourceOption = None,
     contact: ContactOption = None,
     k: StiffnessOption = None,
     exponent: ExponentOption = None,
@@ -334,7 +341,19 @@ def design_command(
     depth: DepthOption = None,
     restitution: RestitutionOption = None,
     damping: DampingOption = None,
+    stiffness_law: StiffnessLawOption = None,
+    friction: FrictionOption = None,
+    friction_law: FrictionLawOption = None,
     rtol: RtolOption = None,
+    model_check: Annotated[
+        bool,
+        typer.Option(
+            "--model-sensitivity/--no-model-sensitivity",
+            help="Dynamic: re-evaluate the chosen scheme at the ends of the contact model's "
+            "ranges (restitution 0.6-0.95, friction 0.01-0.2, the other stiffness law; "
+            "docs/contact.md) and say whether the choice holds.",
+        ),
+    ] = True,
     settle: SettleOption = 2,
     revolutions: Annotated[
         float,
@@ -395,6 +414,7 @@ def design_command(
         resolve_responses,
     )
     from jointplay.study.requirements import parse_confidence
+    from jointplay.study.sensitivity import model_sensitivity
     from jointplay.tolerance.cost import CostModel
 
     mechanism = mechanism_from_options(preset, config, rpm=rpm, gravity=gravity)
@@ -404,23 +424,18 @@ def design_command(
     count = parse_samples(samples)
     process = parse_process(sampling, distribution, cpk or [])
     contact_options = {
-        "contact": contact,
-        "k": k,
-        "exponent": exponent,
-        "cmax": cmax,
-        "depth": depth,
-        "restitution": restitution,
-        "damping": damping,
-    }
-    law = None
-    if any(value is not None for value in contact_options.values()):
-        if resolve_responses(mechanism, requirements, kind) != "dynamic":  # type: ignore[arg-type]
-            given = ", ".join(f"--{key}" for key, v in contact_options.items() if v is not None)
-            raise ConfigError(
-                f"{given}: contact options apply to dynamic designs only, and every requirement "
-                "here is kinematic; add --responses dynamic or drop them"
-            )
-        law = contact_law(contact_options, mechanism)
+        "method": method, "ecs_source": ecs_source, "contact": contact, "k": k,
+        "exponent": exponent, "cmax": cmax, "depth": depth, "restitution": restitution,
+        "damping": damping, "stiffness_law": stiffness_law, "friction": friction,
+        "friction_law": friction_law,
+    }  # fmt: skip
+    given = [f"--{key.replace('_', '-')}" for key, v in contact_options.items() if v is not None]
+    if given and resolve_responses(mechanism, requirements, kind) != "dynamic":  # type: ignore[arg-type]
+        raise ConfigError(
+            f"{', '.join(given)}: contact options apply to dynamic designs only, and every "
+            "requirement here is kinematic; add --responses dynamic or drop them"
+        )
+    contact_used = contact_from_options(config, mechanism, "--method", **contact_options)
     fit_list = [f.strip() for f in fits.split(",") if f.strip()]
     fixed = parse_joint_fits(fit or [])
     candidates: list[Any] = (
@@ -439,7 +454,15 @@ def design_command(
     figure_format = check_figure_format(figure_format)
     # the output folder is checked before the study runs
     with output_dir(out, force=force, inputs=(config, table)) as folder:
+        options: dict[str, Any] = {
+            "samples": count, "max_samples": max_samples, "seed": seed, "process": process,
+            "truncate": truncate, "cost": cost, "clearance_limit": limit,
+            "clearance_allowance": allowance, "wear": wear, "settle": settle,
+            "revolutions": revolutions, "solver": solver_options(rtol), "backend": where,
+            "progress": progress,
+        }  # fmt: skip
         missing = []
+        sensitivity = None
         try:
             dynamic = resolve_responses(mechanism, requirements, kind) == "dynamic"  # type: ignore[arg-type]
             with compiling_kernels(needed=dynamic):
@@ -448,24 +471,16 @@ def design_command(
                     candidates,
                     class_list,
                     requirements,
-                    samples=count,
-                    max_samples=max_samples,
-                    seed=seed,
-                    process=process,
-                    truncate=truncate,
                     rare=RareDefects() if rare_defects else None,
                     confidence=level,
                     responses=kind,  # type: ignore[arg-type]
-                    cost=cost,
-                    clearance_limit=limit,
-                    clearance_allowance=allowance,
-                    wear=wear,
-                    contact=law,
-                    settle=settle,
-                    revolutions=revolutions,
-                    solver=solver_options(rtol),
-                    backend=where,
-                    progress=progress,
+                    contact=contact_used,
+                    **options,
+                )
+                sensitivity = (
+                    model_sensitivity(mechanism, result, contact_used, **options)
+                    if model_check and not result.interrupted
+                    else None
                 )
         except PartialInterrupt as stopped:  # in the convergence check: every scheme finished
             result, missing = cast("DesignResult", stopped.partial), ["the convergence check"]
@@ -480,10 +495,15 @@ def design_command(
                 plots=plots,
                 provenance=provenance(summary["settings"]),
                 figure_format=figure_format,
+                sensitivity=sensitivity,
             )
         except KeyboardInterrupt:  # the tables and summary are written first, whole
             raise Interrupted(*finished, ", ".join([*missing, "the figures and report"])) from None
         _print(result, units)
+        if result.settings.get("model", {}).get("contact"):
+            console.print(f"contact: {result.settings['model']['contact']}")
+        if sensitivity is not None:
+            console.print(f"model sensitivity: {sensitivity.verdict}")
         if result.interrupted or missing:
             raise Interrupted(*finished, ", ".join(missing))
     console.print(f"results written to {out}")

@@ -50,9 +50,9 @@ from jointplay.cli._simulation import (
     StartOption,
     StiffnessLawOption,
     StiffnessOption,
+    contact_model,
     finite_number,
     joint_list,
-    method_law_of,
 )
 from jointplay.errors import ConfigError
 from jointplay.units import parse_quantity
@@ -139,7 +139,6 @@ def simulate_command(
     PNG plots. Options override the \[simulation] table of a --config file.
     """
     from jointplay.dynamics.cycles import DEFAULT_SETTLE
-    from jointplay.dynamics.setup import FrictionSettings, clearance_joints, contact_from_strings
     from jointplay.dynamics.simulate import SolverOptions, Start, simulate
     from jointplay.io.config import simulation_settings
     from jointplay.io.output import output_dir, write_json
@@ -162,25 +161,14 @@ def simulate_command(
         mechanism = mechanism_from_options(
             preset, config, rpm, direction, values.get("start_angle"), gravity
         )
-        law, method_record = method_law_of(values, mechanism)
-        contact_settings = contact_from_strings(values) if law is None else None
-        friction_settings = FrictionSettings(
-            law=str(values.get("friction_law", "ambrosio")),
-            coefficient=finite_number(values, "friction", 0.0),
-        )
-        joint_names = joint_list(values.get("joints"))
+        contact_used = contact_model(values, mechanism)
         clearance_value = (
             None
             if values.get("clearance") is None
             else parse_quantity(values["clearance"], "m", field="--clearance")
         )
-        clear = clearance_joints(
-            mechanism,
-            joint_names,
-            contact=contact_settings,
-            friction=friction_settings,
-            clearance=clearance_value,
-            law=law,
+        clear = contact_used.joints(
+            mechanism, joint_list(values.get("joints")), clearance=clearance_value
         )
         mode = str(values.get("start", "steady"))
         ramp = (
@@ -235,13 +223,14 @@ def simulate_command(
             {
                 "mechanism": mechanism_summary(mechanism),
                 "simulation": _jsonable(values),
-                "method": method_record,
+                "method": contact_used.record,
             }
         )
         findings = _diagnostics(result, mechanism)
         write_table(result.timeseries, folder, "timeseries", fmt_value)
         write_table(result.steps, folder, "steps", fmt_value)
         summary = simulation_summary(result, record)
+        summary["contact"] = contact_used.describe()
         summary["diagnostics"] = [finding.as_dict() for finding in findings]
         write_json(folder / "summary.json", summary)
         if plots:
@@ -267,6 +256,7 @@ def simulate_command(
                 title=mechanism.name,
                 figure_format=figure_format,
             )
+    print(f"contact: {contact_used.describe()['text']}")
     _print(result, findings, Path(out))
 
 

@@ -38,17 +38,20 @@ from jointplay.cli._simulation import (
     ContactOption,
     DampingOption,
     DepthOption,
+    EcsSourceOption,
     ExponentOption,
+    FrictionLawOption,
+    FrictionOption,
     RestitutionOption,
     RtolOption,
+    StiffnessLawOption,
     StiffnessOption,
+    contact_from_options,
 )
 from jointplay.errors import ConfigError, Interrupted, PartialInterrupt
 from jointplay.units import parse_quantity
 
 if TYPE_CHECKING:
-    from jointplay.contact.laws import ContactLaw
-    from jointplay.model.mechanism import Mechanism
     from jointplay.tolerance.analysis import ToleranceStudyResult
     from jointplay.tolerance.execution import Backend
     from jointplay.tolerance.methods import SpecLimits
@@ -195,6 +198,9 @@ def tolerance_command(
     depth: DepthOption = None,
     restitution: RestitutionOption = None,
     damping: DampingOption = None,
+    stiffness_law: StiffnessLawOption = None,
+    friction: FrictionOption = None,
+    friction_law: FrictionLawOption = None,
     rtol: RtolOption = None,
     paper_method: Annotated[
         str | None,
@@ -202,17 +208,12 @@ def tolerance_command(
             "--paper-method",
             help="Dynamic: one of the paper's six contact methods (ifm-conventional, "
             "rm-conventional, ifm-ecs-cylindrical, rm-ecs-cylindrical, ifm-ecs-spherical, "
-            "rm-ecs-spherical) instead of the contact options; ECS parameters from the "
-            "nominal mechanism.",
+            "rm-ecs-spherical) instead of the contact options, as --method of simulate "
+            "(here --method is the tolerance method); ECS parameters from the nominal "
+            "mechanism.",
         ),
     ] = None,
-    ecs_source: Annotated[
-        str | None,
-        typer.Option(
-            "--ecs-source",
-            help="ECS methods: computed (our estimate, default) or paper (Tables 4 and 5).",
-        ),
-    ] = None,
+    ecs_source: EcsSourceOption = None,
     start: Annotated[
         StartMode,
         typer.Option(
@@ -328,18 +329,15 @@ def tolerance_command(
             spec = spec.only("length")
         check_revolutions(revolutions, settle)
         contact_options = {
-            "contact": contact,
-            "k": k,
-            "exponent": exponent,
-            "cmax": cmax,
-            "depth": depth,
-            "restitution": restitution,
-            "damping": damping,
-        }
+            "method": paper_method, "ecs_source": ecs_source, "contact": contact, "k": k,
+            "exponent": exponent, "cmax": cmax, "depth": depth, "restitution": restitution,
+            "damping": damping, "stiffness_law": stiffness_law, "friction": friction,
+            "friction_law": friction_law,
+        }  # fmt: skip
         law = None
         if dynamic:
-            law = contact_law(contact_options, mechanism, paper_method, ecs_source)
-        elif any(v is not None for v in (*contact_options.values(), paper_method, ecs_source)):
+            law = contact_from_options(config, mechanism, "--paper-method", **contact_options)
+        elif any(v is not None for v in contact_options.values()):
             raise ConfigError("contact options apply to --responses dynamic or running only")
         if rtol is not None and not dynamic:
             raise ConfigError("--rtol applies to --responses dynamic or running only")
@@ -402,6 +400,8 @@ def tolerance_command(
         except KeyboardInterrupt:  # the samples and summary are written first, whole
             raise Interrupted(*finished, ", ".join([*missing, "the figures and report"])) from None
         _print(study)
+        if study.model.get("contact"):
+            console.print(f"contact: {study.model['contact']}")
         if study.interrupted or missing:
             raise Interrupted(*finished, ", ".join(missing))
     console.print(f"results written to {out}")
@@ -430,37 +430,6 @@ def solver_options(rtol: float | None) -> Any:
     from jointplay.dynamics.simulate import SolverOptions
 
     return SolverOptions(rtol=rtol)
-
-
-def contact_law(
-    options: dict[str, Any],
-    mechanism: Mechanism,
-    paper_method: str | None = None,
-    ecs_source: str | None = None,
-) -> ContactLaw:
-    """The contact law of every clearance joint, read as ``jointplay simulate`` reads it.
-
-    ``options`` are the strings with units of --contact, --k, --exponent, --cmax, --depth,
-    --restitution and --damping (``None`` where not given; without any, the paper's
-    conventional IFM set of Table 3). ``paper_method`` picks one of the paper's six methods
-    instead (ECS parameters from the nominal mechanism).
-    """
-    from jointplay.dynamics.setup import contact_from_strings, make_law
-
-    given = [f"--{key}" for key, value in options.items() if value is not None]
-    if paper_method is not None:
-        if given:
-            raise ConfigError(
-                f"--paper-method sets the contact law and its parameters; drop {', '.join(given)} "
-                "or drop --paper-method"
-            )
-        from jointplay.study.methods import method_law
-
-        law, _ = method_law(paper_method, mechanism, ecs_source=ecs_source or "computed")
-        return law
-    if ecs_source is not None:
-        raise ConfigError("--ecs-source applies to the paper's ECS methods: give --paper-method")
-    return make_law(contact_from_strings({k: v for k, v in options.items() if v is not None}))
 
 
 def limits_from_requirements(texts: list[str], units: dict[str, str]) -> dict[str, SpecLimits]:

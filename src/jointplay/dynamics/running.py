@@ -348,9 +348,16 @@ def _diagnose(
         force = max(p.value for p in located[f"F_{name}"][settle:])
         width = mechanism.bearing_width(name)
         spec = mechanism.joint(name)
+        bearing = mechanism.material_of(spec.link_a)
+        pin = mechanism.material_of(spec.link_b)
+        approach = dg.hertz_approach(force, joint.journal_radius, joint.clearance, bearing, pin)
+        findings.append(dg.check_elastic(name, max_penetration[name], approach, force))
         if width is not None:
-            bearing = mechanism.material_of(spec.link_a)
-            pin = mechanism.material_of(spec.link_b)
+            findings.append(
+                dg.check_hertz_validity(
+                    name, force, width, joint.journal_radius, joint.clearance, bearing, pin
+                )
+            )
             pressure = dg.line_contact_pressure(
                 force, width, joint.journal_radius, joint.clearance, bearing, pin
             )

@@ -27,6 +27,7 @@ from jointplay.report.figures import encode
 from jointplay.report.html import HtmlReport
 from jointplay.study.design import DesignResult
 from jointplay.study.requirements import Requirement
+from jointplay.study.sensitivity import ModelSensitivity
 
 __all__ = [
     "binding_requirement",
@@ -222,6 +223,7 @@ def design_section(
             f"responses: {result.responses}; samples per scheme: {settings.get('samples')} "
             f"(rounds {settings.get('rounds')})",
         ]
+        + [f"contact: {c}" for c in [settings.get("model", {}).get("contact")] if c]
     )
     sampling = settings.get("sampling_distributions")
     if sampling:
@@ -277,6 +279,25 @@ def design_section(
             report.figure(data, name.removesuffix(".png").replace("_", " "))
 
 
+def _sensitivity_section(report: HtmlReport, sensitivity: ModelSensitivity) -> None:
+    """The model-sensitivity table: the chosen scheme's yields under each contact model."""
+    report.heading("Model sensitivity of the choice", anchor="model-sensitivity")
+    report.paragraph(sensitivity.verdict)
+    requirements = list(sensitivity.rows[0].yields)
+    rows = [
+        (row.parameter, str(row.value), *row.yields.values(), "yes" if row.meets else "no")
+        for row in sensitivity.rows
+    ]
+    report.table(
+        rows,
+        headers=["contact parameter", "value", *(f"yield: {r} (%)" for r in requirements),
+                 "meets all"],
+        text_columns=(0, 1, len(requirements) + 2),
+        note="one parameter at a time at the ends of its documented range (docs/contact.md), "
+        "the others as the study ran; the study's samples and seed",
+    )  # fmt: skip
+
+
 def write_design(
     result: DesignResult,
     folder: Path,
@@ -285,8 +306,12 @@ def write_design(
     plots: bool = True,
     provenance: Mapping[str, Any] | None = None,
     figure_format: str = "png",
+    sensitivity: ModelSensitivity | None = None,
 ) -> list[Path]:
     """Write the design study's files into ``folder`` (existing); returns them.
+
+    ``sensitivity``: the chosen scheme under the contact model's ranges
+    (:mod:`jointplay.study.sensitivity`), in ``summary.json`` and the report.
 
     The data files and ``summary.json`` come first, each whole whatever the signals, so that
     an interrupt while the figures are drawn keeps them."""
@@ -294,6 +319,8 @@ def write_design(
     table = result.to_dataframe()
     written = [folder / "design.parquet", folder / "design.csv", folder / "samples.parquet"]
     summary = result.summary()
+    if sensitivity is not None:
+        summary["model_sensitivity"] = sensitivity.as_dict()
     if provenance is not None:
         summary["provenance"] = dict(provenance)
     written.append(folder / "summary.json")
@@ -308,6 +335,8 @@ def write_design(
         written.append(folder / name)
     report = HtmlReport(f"jointplay design — {result.mechanism.name}")
     design_section(report, result, units, images)
+    if sensitivity is not None:
+        _sensitivity_section(report, sensitivity)
     written.append(report.write(folder / "report.html"))
     return written
 

@@ -80,6 +80,7 @@ from jointplay.tolerance.analysis import (
     StudyDiagnostic,
     convergence_finding,
     penetration_warning,
+    study_contact,
 )
 from jointplay.tolerance.confidence import YieldEstimate, quantile_value, verdict
 from jointplay.tolerance.cost import CostModel, fit_cost, length_class_cost
@@ -89,6 +90,7 @@ from jointplay.tolerance.methods import distribution_note, truncated_at_limits
 from jointplay.tolerance.parts import Process, fit_features, model_inputs
 from jointplay.tolerance.rare import RareEstimate, cross_entropy_importance_sampling
 from jointplay.tolerance.responses import (
+    ELASTIC_RATIO,
     PENETRATION_RATIO,
     RUNNING_RESPONSES,
     PeakResponses,
@@ -109,6 +111,7 @@ from jointplay.tolerance.spec import (
 
 if TYPE_CHECKING:
     from jointplay.contact.laws import ContactLaw
+    from jointplay.dynamics.setup import ContactModel
     from jointplay.dynamics.simulate import SolverOptions
     from jointplay.dynamics.wear import WearSettings
 
@@ -498,7 +501,9 @@ def penetration_diagnostics(
 ) -> tuple[DesignDiagnostic, ...]:
     """One ``penetration-exceeds-clearance`` warning per clearance joint whose pin, in some
     successful samples of some scheme, sinks deeper into its bearing than the radial
-    clearance (``penetration_ratio_<joint>`` > 1).
+    clearance (``penetration_ratio_<joint>`` > 1), and one ``penetration-exceeds-elastic``
+    per joint whose pin sinks deeper than ``ELASTIC_FACTOR`` times its Hertz approach
+    (``elastic_ratio_<joint>``, :mod:`jointplay.dynamics.diagnostics`).
 
     The tolerance study's :func:`~jointplay.tolerance.analysis.penetration_findings` judges
     the samples of one study; this counts them over the schemes, names the worst sample's
@@ -511,17 +516,23 @@ def penetration_diagnostics(
         input_names: the inputs, SI.
         best: the recommended scheme, or ``None``.
     """
-    columns = _penetration_columns(check_names)
-    if not columns or not len(samples):
+    from jointplay.dynamics.diagnostics import ELASTIC_FACTOR, Diagnostic
+
+    kinds = [(joint, name, 1.0) for joint, name in _penetration_columns(check_names).items()] + [
+        (name.removeprefix(ELASTIC_RATIO), name, ELASTIC_FACTOR)
+        for name in check_names
+        if name.startswith(ELASTIC_RATIO)
+    ]
+    if not kinds or not len(samples):
         return ()
     ok = (samples["status"] == STATUS[OK]).to_numpy()
     scheme = samples["scheme"].to_numpy()
     labels = list(dict.fromkeys(scheme))
     out_of = int(ok.sum())
     findings = []
-    for joint, name in columns.items():
+    for joint, name, limit in kinds:
         ratio = np.where(ok, samples[name].to_numpy(dtype=float), np.nan)
-        exceeds = ratio > 1.0  # NaN compares False
+        exceeds = ratio > limit  # NaN compares False
         count = int(exceeds.sum())
         if count == 0:
             continue
@@ -544,18 +555,34 @@ def penetration_diagnostics(
                 f"; the recommended scheme {best} is not concerned, but the schemes it was "
                 "chosen over were judged on these samples"
             )
+        what = (
+            "the radial clearance"
+            if limit == 1.0
+            else "the elastic approach of the joint's own Hertz law at its peak force"
+        )
+        per_scheme_column = (
+            f", penetration_exceeds_{joint} per scheme in design.parquet" if limit == 1.0 else ""
+        )
         message = (
             f"{count} of {out_of} samples ({100.0 * count / out_of:.3g} %) in {concerned} of "
             f"{len(labels)} schemes: the pin of {joint} penetrates its bearing by up to "
-            f"{ratio[worst]:.3g} times the radial clearance (scheme {worst_scheme}, sample "
-            f"{worst_sample}; {name} in samples.parquet, penetration_exceeds_{joint} per scheme "
-            f"in design.parquet); those samples' responses are not physical{verdict}; the "
-            "contact stiffness is far too low for the load: use a stiffer contact law (--k, or "
-            "another --contact), e.g. one from the joints' geometry"
+            f"{ratio[worst]:.3g} times {what} (scheme {worst_scheme}, sample "
+            f"{worst_sample}; {name} in samples.parquet{per_scheme_column}); those samples' "
+            f"responses are not physical{verdict}; the contact stiffness is far too low for "
+            "the load: use a stiffness from the joints' geometry (the default contact, or "
+            "--stiffness-law)"
         )
+        diagnostic = (
+            penetration_warning(joint, float(ratio[worst]), message)
+            if limit == 1.0
+            else Diagnostic(
+                "warning", "penetration-exceeds-elastic", joint, float(ratio[worst]), limit,
+                message,
+            )
+        )  # fmt: skip
         findings.append(
             DesignDiagnostic(
-                penetration_warning(joint, float(ratio[worst]), message),
+                diagnostic,
                 count=count,
                 out_of=out_of,
                 worst_sample=worst_sample,
@@ -819,7 +846,7 @@ def design_study(
     clearance_limit: Mapping[str, float] | float | None = None,
     clearance_allowance: float | None = None,
     wear: WearSettings | None = None,
-    contact: str | ContactLaw | None = None,
+    contact: str | ContactLaw | ContactModel | None = None,
     settle: int = DEFAULT_SETTLE,
     revolutions: float = 1.0,
     solver: SolverOptions | None = None,
@@ -849,7 +876,9 @@ def design_study(
         clearance_limit: radial clearance limit for ``life``, m (one for all, or per joint).
         clearance_allowance: instead: the fit's largest radial clearance plus this, m.
         wear: Archard parameters (default steel on steel, :mod:`jointplay.dynamics.wear`).
-        contact: dynamic: contact law (default the conventional IFM set).
+        contact: dynamic: a :class:`~jointplay.dynamics.setup.ContactModel` (the physical
+            default: ``ContactModel()``), a contact law, or ``None``: the conventional IFM set
+            (:func:`jointplay.tolerance.analysis.study_contact`).
         settle, revolutions: dynamic: start-up revolutions left out, analysed revolutions.
         solver: dynamic: integration settings (default :class:`SolverOptions`).
         process: how the parts are made (default: hole and pin apart, normal ±3σ at their
@@ -1144,7 +1173,7 @@ def _response_model(
     responses: str,
     dynamic_units: Mapping[str, str],
     *,
-    contact: str | ContactLaw | None,
+    contact: str | ContactLaw | ContactModel | None,
     settle: int,
     revolutions: float,
     solver: SolverOptions | None,
@@ -1154,16 +1183,13 @@ def _response_model(
     """The response model of a design study over the inputs ``names``."""
     if responses == "kinematic":
         return kinematic_model(mechanism, names)
-    from jointplay.contact.laws import get_law
-    from jointplay.dynamics.setup import DEFAULT_IMPACT
     from jointplay.dynamics.simulate import SolverOptions, Start
     from jointplay.dynamics.wear import OutputSpeedReference, WearSettings
 
-    law = DEFAULT_IMPACT if contact is None else get_law(contact)
     base = dynamic_model(
         mechanism,
         names,
-        law,
+        **study_contact(mechanism, contact),
         start=Start("steady"),
         settle=settle,
         revolutions=revolutions,
