@@ -1,8 +1,9 @@
 """Samples per second of the batch engine (issue 14), per backend and contact set.
 
-The paper's four-bar, every joint clear, one revolution from the steady start (no settling):
-the conventional IMPACT set (Table 3, jointplay's default law: explicit Dormand–Prince) and
-the spherical ECS set (Table 5, stiff: implicit Radau IIA, chosen automatically). Each
+The paper's four-bar, every joint clear, one revolution from the steady start (``--settle``
+start-up revolutions before it, default none): the conventional IMPACT set (Table 3:
+explicit Dormand–Prince), the spherical ECS set (Table 5, stiff: implicit Radau IIA, chosen
+automatically) and ``physical``, the default contact (docs/contact.md: implicit). Each
 sample draws the four link lengths uniformly within ±0.2 mm and the four radial clearances
 within 6–21 µm, from one seed, before dispatch (the same samples on every backend).
 
@@ -30,7 +31,7 @@ import numpy as np
 
 from jointplay.dynamics.batch import BatchSamples, simulate_batch
 from jointplay.dynamics.clearance import ClearanceJoint
-from jointplay.dynamics.setup import DEFAULT_IMPACT
+from jointplay.dynamics.setup import DEFAULT_IMPACT, ContactModel
 from jointplay.dynamics.simulate import SolverOptions
 from jointplay.io.config import load_preset
 from jointplay.study.methods import method_law
@@ -52,7 +53,13 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--backend", default="local,processes", help="comma-separated")
     parser.add_argument("--samples", default="1000,10000,100000", help="comma-separated sizes")
-    parser.add_argument("--sets", default="conventional,spherical", help="comma-separated")
+    parser.add_argument(
+        "--sets",
+        default="conventional,spherical",
+        help="comma-separated: conventional, spherical, physical (the default contact, "
+        "docs/contact.md: its stiffness refitted to every sample's clearance)",
+    )
+    parser.add_argument("--settle", type=int, default=0, help="start-up revolutions left out")
     parser.add_argument("--workers", type=int, default=None, help="processes (default: CPUs)")
     parser.add_argument(
         "--dask-scheduler", default=None, help="the scheduler's address, for --backend dask"
@@ -68,14 +75,21 @@ def main() -> None:
     print(machine)
     rows: list[dict[str, Any]] = []
     for set_name in args.sets.split(","):
-        law = (
-            DEFAULT_IMPACT
-            if set_name == "conventional"
-            else method_law(SETS[set_name], mechanism)[0]
-        )
-        joints = [ClearanceJoint(j, 11.75e-6, 0.005, law) for j in JOINTS]
+        if set_name == "physical":
+            joints = ContactModel().joints(mechanism, JOINTS, clearance=11.75e-6)
+        else:
+            law = (
+                DEFAULT_IMPACT
+                if set_name == "conventional"
+                else method_law(SETS[set_name], mechanism)[0]
+            )
+            joints = [ClearanceJoint(j, 11.75e-6, 0.005, law) for j in JOINTS]
         for backend in args.backend.split(","):
-            options: dict[str, Any] = {"backend": backend, "solver": SolverOptions()}
+            options: dict[str, Any] = {
+                "backend": backend,
+                "solver": SolverOptions(),
+                "settle": args.settle,
+            }
             if backend == "processes":
                 options["workers"] = args.workers
             if backend == "dask":

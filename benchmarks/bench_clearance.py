@@ -46,7 +46,7 @@ from scipy.integrate import solve_ivp
 from jointplay.contact.laws import get_law
 from jointplay.dynamics.clearance import ClearanceJoint
 from jointplay.dynamics.reference import ReferenceModel
-from jointplay.dynamics.simulate import SimulationResult, SolverOptions, simulate
+from jointplay.dynamics.simulate import SimulationResult, SolverOptions, Start, simulate
 from jointplay.io.config import load_preset
 from jointplay.model.mechanism import Mechanism
 
@@ -79,7 +79,7 @@ def clearances(name: str) -> list[ClearanceJoint]:
 
 def run(mechanism: Mechanism, name: str, revolutions: float = 1.0) -> SimulationResult:
     """One simulation from rest with the default solver options."""
-    return simulate(mechanism, clearances(name), revolutions=revolutions)
+    return simulate(mechanism, clearances(name), revolutions=revolutions, start=Start("rest"))
 
 
 @dataclass(frozen=True)

@@ -12,7 +12,7 @@ The public API, importable from the top::
     law = get_law("impact", stiffness=3.16e8, exponent=1.5, c_max=1e4, d_max=1e-4)
     joints = [ClearanceJoint(j, clearance=21e-6, journal_radius=5e-3, law=law)
               for j in ("O2", "A", "B", "O4")]
-    result = simulate(mechanism, joints, revolutions=1)
+    result = simulate(mechanism, joints, revolutions=1)   # steady start, 2 revolutions to settle
 
 The names are loaded on first use, so ``import jointplay`` (and the command line's
 ``--help``) does not pay for NumPy's, SciPy's or Numba's start-up. Where each lives:
@@ -26,6 +26,7 @@ contact and friction laws    :mod:`jointplay.contact`
 clearance dynamics           :mod:`jointplay.dynamics.simulate`
 many samples at once         :mod:`jointplay.dynamics.batch` (CPU, processes, Dask, JAX/GPU)
 tolerance analysis           :mod:`jointplay.tolerance`
+design study                 :mod:`jointplay.study.design`
 ===========================  ================================================
 """
 
@@ -80,6 +81,8 @@ _LAZY: dict[str, str] = {
     "general_tolerance": "jointplay.tolerance.iso2768",
     "ToleranceSpec": "jointplay.tolerance.spec",
     "tolerance_study": "jointplay.tolerance.analysis",
+    # design
+    "design_study": "jointplay.study.design",
 }
 
 __all__ = [
@@ -102,6 +105,7 @@ __all__ = [
     "__version__",
     "analyse",
     "clearance_joints",
+    "design_study",
     "fit",
     "four_bar",
     "general_tolerance",
@@ -153,6 +157,7 @@ if TYPE_CHECKING:  # the same names, for type checkers and IDEs
         four_bar,
         slider_crank,
     )
+    from jointplay.study.design import design_study
     from jointplay.tolerance.analysis import tolerance_study
     from jointplay.tolerance.iso286 import fit
     from jointplay.tolerance.iso2768 import general_tolerance

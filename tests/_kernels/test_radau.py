@@ -53,6 +53,9 @@ CONTACT_UNLOCATED_UNITS = 200.0
 #: Kernel vs SciPy step counts on the contact problem (148 vs 157 measured at rtol 1e-6):
 #: the jump at onset makes the rejection sequence round-off sensitive.
 CONTACT_COUNT_RATIO = 1.5
+#: Deepest penetration of the contact problem, kernel against SciPy (relative): measured
+#: 3.0e-6 at rtol 1e-6; about 10x.
+CONTACT_PEAK_RTOL = 3e-5
 #: Contact problem with onset landed on by ``step_check`` and flagged by ``after_step``:
 #: measured 2.5–24 units over rtol 1e-3…1e-8.
 CONTACT_LOCATED_UNITS = 50.0
@@ -502,7 +505,7 @@ def test_contact_drop_matches_scipy(contact_reference: npt.NDArray[np.float64]) 
     before = run.t < 0.14
     np.testing.assert_allclose(run.y[before], sol.y.T[: before.sum()], rtol=1e-12, atol=1e-15)
     # Peak penetration and rebound: the physics agrees.
-    assert run.y[:, 0].min() == pytest.approx(sol.y[0].min(), rel=1e-2)
+    assert run.y[:, 0].min() == pytest.approx(sol.y[0].min(), rel=CONTACT_PEAK_RTOL)
     assert tolerance_units(run.y[-1], contact_reference, rtol, atol) < CONTACT_UNLOCATED_UNITS
     assert tolerance_units(sol.y[:, -1], contact_reference, rtol, atol) < CONTACT_UNLOCATED_UNITS
     assert_counts_close(run, sol, CONTACT_COUNT_RATIO)

@@ -154,7 +154,10 @@ CASES: dict[str, tuple[list[str], str]] = {
     "simulate stiffness wrong unit": (["simulate", "--k", "1e4 N"], "--k"),
     "simulate exponent zero": (["simulate", "--exponent", "0"], "--exponent"),
     "simulate unknown law": (["simulate", "--contact", "glue"], "glue"),
-    "simulate law needs stiffness": (["simulate", "--contact", "hertz"], "stiffness"),
+    "simulate law needs stiffness": (
+        ["simulate", "--contact", "kelvin-voigt", "--damping", "100 N*s/m"],
+        "stiffness",
+    ),
     "simulate clearance 1 m": (["simulate", "--clearance", "1 m"], "clearance"),
     "simulate clearance negative": (["simulate", "--clearance", "-1 um"], "clearance"),
     "simulate clearance text": (["simulate", "--clearance", "wide"], "--clearance"),
@@ -429,17 +432,19 @@ def test_every_command_checks_its_out_before_computing(
     assert (out / "notes.txt").read_text(encoding="utf-8") == "precious"
 
 
-def test_read_only_parent_is_refused(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    if os.geteuid() == 0:
-        pytest.skip("root writes into read-only folders")
-    locked = tmp_path / "locked"
-    locked.mkdir()
-    locked.chmod(0o500)
-    try:
-        assert run(["kinematics", "--out", str(locked / "out")]) == 2
-        assert "output folder" in capsys.readouterr().err
-    finally:
-        locked.chmod(0o700)
+def test_a_parent_nobody_may_write_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A folder no user may create, root included: its parent is a regular file (ENOTDIR),
+    so this runs whoever runs the tests (a chmod 0o500 folder does not stop root, and /sys is
+    now refused earlier, as a system folder)."""
+    blocker = tmp_path / "a-file"
+    blocker.write_text("not a folder", encoding="utf-8")
+    out = blocker / "sub" / "out"
+    assert run(["kinematics", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "cannot write the output folder" in err and len(err.strip().splitlines()) == 1, err
+    assert blocker.read_text(encoding="utf-8") == "not a folder"
 
 
 def test_foreign_folder_needs_force(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

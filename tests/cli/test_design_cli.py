@@ -16,11 +16,13 @@ def test_design_writes_one_row_per_scheme_and_names_the_choice(tmp_path, capsys)
     out = tmp_path / "design"
     code = run(
         ["design", "--preset", "paper-fourbar", "--fits", "H7/g6,H11/c11", "--classes", "f,v",
-         "--require", "omega4_peak <= 100 rad/s", "--samples", "4", "--out", str(out), *QUIET]
+         "--require", "omega4_peak <= 100 rad/s", "--out", str(out), *QUIET]
     )  # fmt: skip
     assert code == 0
     printed = capsys.readouterr().out
+    # --samples auto: 1 600 failure-free samples show 99.73 % (95 % interval)
     assert "choose H11/c11 / v" in printed
+    assert "0 failures in 1,600 samples" in printed
     table = pd.read_parquet(out / "design.parquet")
     assert len(table) == 4 and set(pd.read_csv(out / "design.csv")["scheme"]) == set(
         table["scheme"]
@@ -41,13 +43,28 @@ def test_design_writes_one_row_per_scheme_and_names_the_choice(tmp_path, capsys)
         (["--require", "omega4_peak <= 3 rad/s", "--k", "1e6 N/mm^1.5"], "dynamic designs only"),
         (["--require", "joint_force <= 1 kN", "--k", "1e6"], "--k"),
         (["--require", "joint_force <= 1 kN", "--contact", "nonsense"], "nonsense"),
+        (["--require", "rocker_speed_error <= 3"], "did you mean 'rocker_speed_error <= 3 %'?"),
+        (["--require", "life >= 200"], "did you mean 'life >= 200 h'?"),
+        (["--require", "contact_pressure <= 500"], "did you mean 'contact_pressure <= 500 MPa'?"),
+        (["--require", "joint_force <= 1 kN", "--confidence", "0.9973"], "'99.73 %'?"),
+        (["--require", "joint_force <= 1 kN", "--samples", "many"], "--samples: expected 'auto'"),
+        (["--require", "joint_force <= 1 kN", "--samples", "9" * 25], "--samples: expected"),
+        (["--require", "joint_force <= 1 kN", "--cpk", "bore=1.33"], "--cpk 'bore=1.33'"),
+        (["--require", "joint_force <= 1 kN", "--cpk", "hole=-1"], "CPK > 0"),
+        (["--require", "joint_force <= 1 kN", "--sampling", "worst"], "--sampling must be"),
+        (
+            ["--require", "joint_force <= 1 kN", "--sampling", "band", "--cpk", "pin=1.33"],
+            "needs sampling 'parts'",
+        ),
     ],
 )
 def test_design_errors_are_one_line(tmp_path, capsys, args: list[str], message: str) -> None:
-    code = run(["design", "--preset", "paper-fourbar", "--out", str(tmp_path / "x"), *args, *QUIET])
+    out = tmp_path / "x"
+    code = run(["design", "--preset", "paper-fourbar", "--out", str(out), *args, *QUIET])
     assert code == 2
     err = capsys.readouterr().err
-    assert message in err
+    assert message in err and len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    assert not out.exists()
 
 
 @pytest.mark.parametrize(
@@ -70,9 +87,11 @@ def test_the_gpu_backend_is_refused_where_the_batch_engine_cannot_answer(
     assert not out.exists()
 
 
-#: A dynamic design as short as it gets: 2 samples of one scheme, a quarter turn, no start-up.
+#: A dynamic design as short as it gets: 2 samples of one scheme, a quarter turn, no start-up;
+#: at 10 % two failure-free samples decide (the yield's lower bound is 0.025^(1/2) = 15.8 %).
 FAST_DYNAMIC = ["design", "--preset", "paper-fourbar", "--fits", "H7/g6", "--classes", "m",
-                "--require", "joint_force <= 1 kN", "--samples", "2", "--settle", "0",
+                "--require", "joint_force <= 1 kN", "--samples", "2", "--confidence", "10 %",
+                "--settle", "0",
                 "--revolutions", "0.25", "--backend", "local", "--no-progress", "--no-plots"]  # fmt: skip
 
 
@@ -81,7 +100,8 @@ def test_design_warns_on_stderr_when_pins_sink_deeper_than_the_clearance(tmp_pat
     one warning line per clearance joint on stderr, as `jointplay tolerance` prints them,
     with the counts of samples.parquet; a stiff one (1e6 N/mm^1.5) prints none."""
     soft = tmp_path / "soft"
-    assert run([*FAST_DYNAMIC, "--k", "1e2 N/mm^1.5", "--out", str(soft)]) == 0
+    impact = ["--contact", "impact"]  # the IMPACT law (not the default) with these --k
+    assert run([*FAST_DYNAMIC, *impact, "--k", "1e2 N/mm^1.5", "--out", str(soft)]) == 0
     err = capsys.readouterr().err
     lines = [line for line in err.splitlines() if "penetration-exceeds-clearance" in line]
     frame = pd.read_parquet(soft / "samples.parquet")
@@ -95,14 +115,19 @@ def test_design_warns_on_stderr_when_pins_sink_deeper_than_the_clearance(tmp_pat
         )
         assert "the recommended scheme H7/g6 / m is concerned (2 of its 2 samples)" in line
     summary = json.loads((soft / "summary.json").read_text())
-    assert [d["joint"] for d in summary["diagnostics"]] == ["O2", "A", "B", "O4"]
+    codes = [(d["code"], d["joint"]) for d in summary["diagnostics"]]
+    clearance = [j for code, j in codes if code == "penetration-exceeds-clearance"]
+    assert clearance == ["O2", "A", "B", "O4"]
+    # so soft a contact is not elastic either (penetration-exceeds-elastic, every joint)
+    assert [j for code, j in codes if code == "penetration-exceeds-elastic"] == clearance
     assert summary["settings"]["model"]["contact_law"]["stiffness"] == pytest.approx(
         1e2 * 1000**1.5
     )
     stiff = tmp_path / "stiff"
-    assert run([*FAST_DYNAMIC, "--k", "1e6 N/mm^1.5", "--out", str(stiff)]) == 0
+    assert run([*FAST_DYNAMIC, *impact, "--k", "1e6 N/mm^1.5", "--out", str(stiff)]) == 0
     assert "penetration-exceeds-clearance" not in capsys.readouterr().err
-    assert json.loads((stiff / "summary.json").read_text())["diagnostics"] == []
+    written = json.loads((stiff / "summary.json").read_text())["diagnostics"]
+    assert [d for d in written if d["code"] == "penetration-exceeds-clearance"] == []
     assert (pd.read_parquet(stiff / "design.parquet")["penetration_exceeds_O2"] == 0).all()
 
 

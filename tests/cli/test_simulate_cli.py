@@ -165,9 +165,11 @@ def test_stiffness_from_geometry(tmp_path) -> None:
 
 def test_default_is_the_running_mechanism_and_diagnostics_reach_the_user(tmp_path, capsys) -> None:
     """Without --start the answer is steady running after two start-up revolutions; the
-    soft conventional contact sinks deeper than the clearance and says so, one line each."""
+    soft conventional contact (no longer the default: --method) sinks deeper than the
+    clearance and says so, one line each."""
     out = tmp_path / "steady"
-    args = ["simulate", "--preset", "paper-fourbar", "--joints", "A,B", "--sample-deg", "1 deg"]
+    args = ["simulate", "--preset", "paper-fourbar", "--joints", "A,B", "--sample-deg", "1 deg",
+            "--method", "ifm-conventional"]  # fmt: skip
     assert run([*args, "--revolutions", "2", "--no-plots", "--out", str(out)]) == 0
     summary = json.loads((out / "summary.json").read_text())
     assert summary["start"]["mode"] == "steady" and summary["settle_revolutions"] == 2

@@ -19,13 +19,44 @@ def _summary(folder) -> dict:
     return json.loads((folder / "summary.json").read_text())
 
 
+def test_spec_limit_is_a_deprecated_alias_of_require(tmp_path, capsys) -> None:
+    def limits(*given: str) -> dict:
+        out = tmp_path / str(len(list(tmp_path.iterdir())))
+        args = ["tolerance", "--samples", "50", "--out", str(out), *QUIET, *given]
+        assert run(args) == 0
+        return {k: v.get("spec_limits") for k, v in _summary(out)["responses"].items()}
+
+    old = limits("--spec-limit", "rocker_swing=52.3 deg:53 deg")
+    assert "--spec-limit is deprecated" in capsys.readouterr().err
+    new = limits("--require", "rocker_swing >= 52.3 deg", "--require", "rocker_swing <= 53 deg")
+    assert "deprecated" not in capsys.readouterr().err
+    assert new == old and new["rocker_swing"]["upper"] == pytest.approx(math.radians(53))
+
+
+@pytest.mark.parametrize(
+    ("given", "message"),
+    [
+        (["--require", "rocker_swing <= 53 deg @99"], "takes no @confidence"),
+        (["--require", "rocker_swing <= 53 deg", "--require", "rocker_swing < 54 deg"],
+         "two upper limits on 'rocker_swing'"),
+        (["--require", "rocker_swing <= 53 deg", "--spec-limit", "rocker_swing=52 deg:"],
+         "both limit 'rocker_swing'"),
+        (["--require", "omega9_peak <= 5 rad/s"], "unknown response 'omega9_peak'"),
+    ],
+)  # fmt: skip
+def test_bad_requirements_are_one_line_errors(given, message, tmp_path, capsys) -> None:
+    args = ["tolerance", "--method", "worst-case", "--out", str(tmp_path / "x"), *QUIET, *given]
+    assert run(args) == 2
+    assert message in capsys.readouterr().err
+
+
 def test_monte_carlo_answers_with_files_and_a_table(tmp_path, capsys) -> None:
     def args(out) -> list[str]:
         return [
             "tolerance", "--preset", "paper-fourbar", "--method", "monte-carlo",
             "--samples", "300", "--seed", "12", "--out", str(out), *QUIET,
-            "--spec-limit", "rocker_swing=52.3 deg:53 deg",
-            "--spec-limit", "omega4_peak=:13.9 rad/s",
+            "--require", "rocker_swing >= 52.3 deg", "--require", "rocker_swing <= 53 deg",
+            "--require", "omega4_peak <= 13.9 rad/s",
         ]  # fmt: skip
 
     out = tmp_path / "mc"
@@ -118,6 +149,8 @@ def test_dynamic_study_on_the_local_backend_names_its_method(tmp_path) -> None:
     out = tmp_path / "local"
     args = ["tolerance", "--responses", "dynamic", "--samples", "3", "--settle", "0"]
     args += ["--revolutions", "0.1", "--backend", "local", "--out", str(out)]
+    # the conventional set: the explicit method (the default contact runs implicit)
+    args += ["--paper-method", "ifm-conventional"]
     assert run([*args, "--no-progress", "--no-plots"]) == 0
     summary = _summary(out)
     assert summary["execution"]["backend"] == "local"
@@ -180,7 +213,10 @@ def test_dynamic_worst_case_with_a_paper_method_and_fixed_clearances(tmp_path) -
         (["--k", "1e4 N/mm^1.5"], "dynamic or running only"),
         (["--rtol", "1e-7"], "--rtol applies to --responses dynamic or running only"),
         (["--responses", "dynamic", "--rtol", "0.5"], "rtol"),
-        (["--responses", "dynamic", "--contact", "lankarani-nikravesh"], "needs a stiffness"),
+        (
+            ["--responses", "dynamic", "--contact", "kelvin-voigt", "--damping", "1 N*s/m"],
+            "needs a stiffness",
+        ),
         (["--responses", "dynamic", "--contact", "bogus"], "unknown contact law"),
         (
             ["--responses", "dynamic", "--paper-method", "ifm-ecs-spherical", "--k", "1 N/m"],
@@ -236,9 +272,16 @@ def test_samples_beyond_the_clearance_get_one_warning_line_per_joint(tmp_path, c
             f"(100 %): the pin of {joint} penetrates its bearing by up to "
         )
     summary = _summary(tmp_path / "soft")
-    assert [d["count"] for d in summary["diagnostics"]] == [4, 4, 4, 4]
+    clearance = [d for d in summary["diagnostics"] if d["code"] == "penetration-exceeds-clearance"]
+    assert [d["count"] for d in clearance] == [4, 4, 4, 4]
+    # so soft a contact is not elastic either: one more line per joint
+    elastic = [d for d in summary["diagnostics"] if d["code"] == "penetration-exceeds-elastic"]
+    assert [d["count"] for d in elastic] == [4, 4, 4, 4]
     frame = pd.read_parquet(tmp_path / "soft" / "samples.parquet")
     assert (frame[[f"penetration_ratio_{j}" for j in ("O2", "A", "B", "O4")]] > 1).all().all()
+    # IMPACT 1e5 N/mm^1.5 in the 21 µm joints: inside the clearance, but ~50x softer than
+    # the joints' Hertz law: only the elastic check speaks (docs/contact.md)
     assert run(args(tmp_path / "stiff", "--k", "1e5 N/mm^1.5", "--no-clearances")) == 0
-    assert "penetration" not in capsys.readouterr().err
-    assert _summary(tmp_path / "stiff")["diagnostics"] == []
+    assert "penetration-exceeds-clearance" not in capsys.readouterr().err
+    codes = {d["code"] for d in _summary(tmp_path / "stiff")["diagnostics"]}
+    assert codes == {"penetration-exceeds-elastic"}

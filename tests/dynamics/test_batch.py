@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from _tolerances import SAME_ALGORITHM_RTOL, contract_rtol
 from jointplay.dynamics.batch import (
     EXPLICIT_TOLERANCE_SCALE,
     BatchSamples,
@@ -102,9 +103,8 @@ def test_batch_agrees_with_the_single_engine_per_sample(paper_fourbar: Mechanism
     for i in range(len(samples)):
         reference = _single(paper_fourbar, samples, i)
         for key in result.peaks.columns:
-            bound = 1e-5 if key.startswith("omega") else 1e-3
             got = result.peaks.loc[i, key]
-            assert abs(got / reference.peaks[key]["value"] - 1) < bound, (i, key)
+            assert abs(got / reference.peaks[key]["value"] - 1) < contract_rtol(key), (i, key)
 
 
 def _single(mechanism: Mechanism, samples: BatchSamples, i: int, **options):
@@ -118,7 +118,7 @@ def _single(mechanism: Mechanism, samples: BatchSamples, i: int, **options):
         d_max=DEFAULT_IMPACT.d_max,
     )
     joints = [ClearanceJoint(j, float(samples.clearances[j][i]), 0.005, law) for j in JOINTS]
-    return simulate(mechanism, joints, start=Start("steady"), **options)
+    return simulate(mechanism, joints, start=Start("steady"), **{"settle": 0, **options})
 
 
 @pytest.mark.parametrize("settle", [0, 2])
@@ -136,8 +136,8 @@ def test_batch_is_as_close_to_a_converged_solution_as_issue_14_asks(
     for i in range(len(samples)):
         exact = _single(paper_fourbar, samples, i, settle=settle, solver=converged).peaks
         for key in result.peaks.columns:
-            bound = 1e-5 if key.startswith("omega") else 1e-3
-            assert abs(result.peaks.loc[i, key] / exact[key]["value"] - 1) < bound, (i, key)
+            error = abs(result.peaks.loc[i, key] / exact[key]["value"] - 1)
+            assert error < contract_rtol(key), (i, key)
 
 
 @pytest.fixture(scope="module")
@@ -203,9 +203,10 @@ def test_the_gpu_backend_agrees_with_the_cpu(paper_fourbar: Mechanism, reference
     samples, expected = reference
     result = simulate_batch(paper_fourbar, _joints(), samples, backend="gpu", method="explicit")
     assert result.ok.all()
-    for key in expected.peaks.columns:
-        bound = 1e-5 if key.startswith("omega") else 1e-3
-        np.testing.assert_allclose(result.peaks[key], expected.peaks[key], rtol=bound)
+    for key in expected.peaks.columns:  # measured: alpha3 3.6e-9, the others <= 4.6e-10
+        np.testing.assert_allclose(
+            result.peaks[key], expected.peaks[key], rtol=SAME_ALGORITHM_RTOL, err_msg=key
+        )
 
 
 def test_the_gpu_backend_without_jax_says_what_to_install(
@@ -285,11 +286,19 @@ def test_the_explicit_method_tightens_rtol_and_the_velocity_atol_only(
     np.testing.assert_array_equal(tight.atol[2 * n :], problem.atol[2 * n :])
 
 
+#: The paper's RM (Hunt-Crossley family) set at the default tolerances misses the accuracy
+#: contract (1e-5 on omega, 1e-3 on the rest): the damping divided by the impact velocity makes
+#: grazing contacts stiff. Against rtol 1e-9 on the samples of seed 31: omega 4.0e-4, forces
+#: and torque 1.7e-3, alpha 1.9e-2 (a spike); with the contact memory v0 read at the end of the
+#: step entering contact (before 6016863), 5.6e-3, 2.3e-2 and 0.51. These bounds are 2.5-3x
+#: the measurement. Not a bound for every sample: seed 32 is off by 5.4e-3 (omega3) and 3.3e-2
+#: (F_A), seed 33 by 1.3e-4 and 6.6e-4.
+RM_OMEGA_RTOL_LOOSER_THAN_CONTRACT = 1e-3
+RM_FORCE_RTOL_LOOSER_THAN_CONTRACT = 5e-3
+RM_ALPHA_RTOL_LOOSER_THAN_CONTRACT = 5e-2
+
+
 def test_an_rm_set_runs_implicit_and_converges(paper_fourbar: Mechanism) -> None:
-    # The Hunt-Crossley family's contact memory v0 is the rate at the instant of contact
-    # (eom.impact_rate). On these samples, at the default tolerances against rtol 1e-9:
-    # omega 4.0e-4, forces and torque 1.8e-3, alpha 1.9e-2 (a spike); with v0 read at the end
-    # of the step entering contact, 5.6e-3, 2.3e-2 and 0.51.
     from jointplay.study.methods import method_law
 
     law, _ = method_law("rm-conventional", paper_fourbar)
@@ -302,7 +311,10 @@ def test_an_rm_set_runs_implicit_and_converges(paper_fourbar: Mechanism) -> None
         paper_fourbar, _joints(law=law), samples, backend="local", solver=converged
     )
     for key in result.peaks.columns:
-        bound = {"omega": 1e-3, "alpha": 5e-2}.get(key.rstrip("0123456789"), 5e-3)
+        bound = {
+            "omega": RM_OMEGA_RTOL_LOOSER_THAN_CONTRACT,
+            "alpha": RM_ALPHA_RTOL_LOOSER_THAN_CONTRACT,
+        }.get(key.rstrip("0123456789"), RM_FORCE_RTOL_LOOSER_THAN_CONTRACT)
         error = np.max(np.abs(result.peaks[key] / exact.peaks[key] - 1))
         assert error < bound, (key, error)
 

@@ -117,3 +117,59 @@ def test_transmission_angle_below_the_guideline_is_a_warning(paper_fourbar) -> N
 
 def test_transmission_angle_is_not_checked_on_a_slider_crank(slider_crank) -> None:
     assert dg.check_transmission_angle(slider_crank) is None
+
+
+#: contact-models.md §3.7: Ø10 pin, 21 µm, steel E = 207 GPa, ν = 0.3 → K = 1.66e11 N/m^1.5.
+ANCHOR_STEEL = Material("anchor", density=7800.0, youngs_modulus=207e9, poisson_ratio=0.3)
+
+
+def test_the_hertz_approach_is_the_published_anchor() -> None:
+    # F = K δ^1.5 with the anchor's K: 166 N at 1 µm (the table's "Hertz-sphere 166 N")
+    approach = dg.hertz_approach(166.0, 5e-3, 21e-6, ANCHOR_STEEL, ANCHOR_STEEL)
+    assert approach == pytest.approx(1e-6, rel=5e-3)  # K printed to 3 digits
+    assert dg.hertz_approach(0.0, 5e-3, 21e-6, ANCHOR_STEEL, ANCHOR_STEEL) == 0.0
+
+
+def test_penetration_beyond_the_elastic_approach_warns_even_inside_the_clearance() -> None:
+    # the issue's case: 164 µm in a 0.5 mm clearance raised nothing
+    approach = dg.hertz_approach(500.0, 9.5e-3, 0.5e-3, STEEL, STEEL)
+    assert dg.check_penetration("A", 164e-6, 0.5e-3) is None
+    found = dg.check_elastic("A", 164e-6, approach, 500.0)
+    assert found is not None and (found.level, found.code) == (
+        "warning",
+        "penetration-exceeds-elastic",
+    )
+    assert found.limit == pytest.approx(dg.ELASTIC_FACTOR * approach)
+    assert dg.check_elastic("A", 0.99 * dg.ELASTIC_FACTOR * approach, approach, 500.0) is None
+    assert dg.check_elastic("A", 1.01 * dg.ELASTIC_FACTOR * approach, approach, 500.0) is not None
+
+
+def test_a_contact_wider_than_hertz_theory_allows_is_flagged() -> None:
+    # the force that gives a half-width b: Johnson eq. 4.43 inverted, f = π E* b² / (4 R)
+    radius, clearance, width = 5e-3, 21e-6, 0.01
+    e_star = 1 / (2 * (1 - STEEL.poisson_ratio**2) / STEEL.youngs_modulus)
+    big_r = radius * (radius + clearance) / clearance
+
+    def force_at(share: float) -> float:
+        return math.pi * e_star * (share * radius) ** 2 / (4 * big_r) * width
+
+    args = (width, radius, clearance, STEEL, STEEL)
+    assert dg.check_hertz_validity("O2", force_at(0.99 * dg.HERTZ_VALIDITY), *args) is None
+    found = dg.check_hertz_validity("O2", force_at(0.57), *args)  # the paper's start from rest
+    assert found is not None and found.code == "hertz-validity"
+    assert found.value == pytest.approx(0.57, rel=1e-9) and found.limit == dg.HERTZ_VALIDITY
+
+
+def test_the_slider_crank_says_its_soft_contact_is_not_elastic(slider_crank) -> None:
+    """The conventional set sinks the pin 436 µm into a 0.5 mm clearance (inside it, so the
+    clearance check is silent); the elastic check fires. The default contact passes both."""
+    from jointplay.dynamics.setup import DEFAULT_IMPACT, ContactModel
+    from jointplay.dynamics.simulate import simulate
+
+    codes = {}
+    for name, contact in (("soft", ContactModel(law=DEFAULT_IMPACT)), ("default", ContactModel())):
+        result = simulate(slider_crank, contact.joints(slider_crank), revolutions=1, settle=2)
+        codes[name] = {d.code for d in result.diagnostics if d.joint == "B"}
+    assert "penetration-exceeds-elastic" in codes["soft"]
+    assert "penetration-exceeds-clearance" not in codes["soft"]
+    assert not {"penetration-exceeds-elastic", "penetration-exceeds-clearance"} & codes["default"]

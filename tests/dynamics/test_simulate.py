@@ -74,6 +74,7 @@ def test_momentum_is_conserved_in_free_flight(paper_fourbar) -> None:
         paper_fourbar,
         joints,
         revolutions=0.04,
+        settle=0,
         start=Start("steady", driven=False),
         solver=SolverOptions(rtol=1e-8),
     )
@@ -115,19 +116,32 @@ def test_zero_clearance_limit_approaches_the_ideal_mechanism(paper_fourbar) -> N
         )
     assert rms_speed[0] > rms_speed[1] > rms_speed[2]
     assert mean_force[0] > mean_force[1] > mean_force[2]
+    # Measured, over c = 1e-4, 1e-5, 1e-6 m: RMS speed error 1.3 %, 0.18 %, 0.027 % of the
+    # nominal peak rocker speed; mean force error 12 %, 2.3 %, 0.67 % of the nominal peak force.
     assert rms_speed[2] < 0.001 * 13.73  # < 0.1 % of the nominal peak rocker speed
     assert mean_force[2] < 0.02 * 46.0  # < 2 % of the nominal peak joint force
+
+
+#: Relative change of every peak (ω, α, joint forces, torque) of the conventional IFM set from
+#: rest when the tolerances are tightened tenfold: measured ≤ 4.5e-7 (omega4 4.5e-7, F_B
+#: 3.9e-7, F_O2 3.4e-7, omega3 2.7e-7, the rest ≤ 1e-7; the default-tolerance peaks are within
+#: 4.1e-7 of rtol 1e-9's). About 10x the measurement, tighter than the accuracy contract.
+TENFOLD_TIGHTENING_RTOL = 5e-6
 
 
 def test_tightening_tolerances_tenfold_changes_peaks_little(paper_fourbar) -> None:
     """The issue's convergence check: conventional IFM from rest, rtol 1e-6 → 1e-7."""
     joints = clear(ALL, get_law("impact", **TABLE3))
-    loose = simulate(paper_fourbar, joints, revolutions=1.0)
-    tight = simulate(paper_fourbar, joints, revolutions=1.0, solver=SolverOptions().tightened(10))
-    for key in ("omega3", "omega4"):
-        assert loose.peaks[key]["value"] == pytest.approx(tight.peaks[key]["value"], rel=0.005)
-    for key in ("F_O2", "F_A", "F_B", "F_O4"):
-        assert loose.peaks[key]["value"] == pytest.approx(tight.peaks[key]["value"], rel=0.02)
+    rest = Start("rest")  # the case measured (simulate() now starts steady by default)
+    loose = simulate(paper_fourbar, joints, revolutions=1.0, start=rest)
+    tight = simulate(
+        paper_fourbar, joints, revolutions=1.0, start=rest, solver=SolverOptions().tightened(10)
+    )
+    assert set(loose.peaks) >= {"omega3", "omega4", "alpha3", "F_O2", "F_O4", "torque"}
+    for key, peak in loose.peaks.items():
+        assert peak["value"] == pytest.approx(
+            tight.peaks[key]["value"], rel=TENFOLD_TIGHTENING_RTOL
+        ), key
 
 
 def test_ideal_joints_reproduce_the_nominal_motion(paper_fourbar) -> None:
@@ -152,7 +166,7 @@ def test_ideal_joints_reproduce_the_nominal_motion(paper_fourbar) -> None:
 def test_start_modes(paper_fourbar) -> None:
     law = get_law("impact", **TABLE3)
     omega = paper_fourbar.driver.angular_velocity
-    rest = simulate(paper_fourbar, clear(ALL, law), revolutions=0.02)
+    rest = simulate(paper_fourbar, clear(ALL, law), revolutions=0.02, start=Start("rest"))
     first = rest.steps.iloc[0]
     assert first["omega3"] == first["omega4"] == 0.0
     n = rest.system.n_coordinates
@@ -173,7 +187,9 @@ def test_peaks_are_located_between_the_integrator_steps(paper_fourbar) -> None:
     """Peaks come from the continuous solution (issue: answers a designer can trust), so they
     are never below a step or a sample of it, and they lie at the step maximum or between
     the steps next to it."""
-    result = simulate(paper_fourbar, clear(ALL, get_law("impact", **TABLE3)), revolutions=0.1)
+    result = simulate(
+        paper_fourbar, clear(ALL, get_law("impact", **TABLE3)), revolutions=0.1, start=Start("rest")
+    )
     t = result.steps["t"].to_numpy()
     for key, peak in result.peaks.items():
         steps = result.steps[key].abs().to_numpy()
@@ -264,3 +280,13 @@ def test_failure_as_data_with_throw_false(paper_fourbar) -> None:
     complete = simulate(paper_fourbar, joints, revolutions=0.1)
     assert complete.success and complete.status is IntegrationStatus.SUCCESS
     np.testing.assert_array_equal(result.y, complete.y[:6])  # the same first steps
+
+
+def test_the_defaults_are_the_command_line_s(paper_fourbar) -> None:
+    """simulate() starts as `jointplay simulate` does: on the nominal motion, with 2
+    revolutions to settle; another start settles none unless told."""
+    law = get_law("impact", **TABLE3)
+    steady = simulate(paper_fourbar, clear(ALL, law), revolutions=0.02)
+    assert steady.start.mode == "steady" and steady.settle == 2
+    rest = simulate(paper_fourbar, clear(ALL, law), revolutions=0.02, start=Start("rest"))
+    assert rest.settle == 0

@@ -58,6 +58,23 @@ def test_contents_list_the_anchored_headings_in_order() -> None:
     assert nav.count("<ol>") == 2  # the level-3 heading nests under the first
 
 
+def test_contents_can_follow_a_first_section() -> None:
+    page = HtmlReport("t", contents_before="two")
+    page.heading("Summary", anchor="one")
+    page.paragraph("the answer")
+    page.heading("Second", anchor="two")
+    text = page.render()
+    assert text.index("the answer") < text.index("<nav") < text.index('<h2 id="two">')
+    assert re.findall(r'href="#([^"]+)"', text) == ["one", "two"]
+    # without the option the contents stay under the title
+    plain = HtmlReport("t")
+    plain.heading("Summary", anchor="one")
+    plain.heading("Second", anchor="two")
+    plain.paragraph("after")
+    rendered = plain.render()
+    assert rendered.index("<nav") < rendered.index('<h2 id="one">')
+
+
 def test_every_table_scrolls_in_its_own_box_and_groups_span_the_table() -> None:
     page = HtmlReport("t", toc=False)
     page.table(

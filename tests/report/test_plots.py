@@ -36,8 +36,11 @@ def slider_run():
     )
 
 
-def test_simulation_figures_draw_the_slider_and_the_orbit(slider_run, tmp_path) -> None:
+def test_simulation_figures_draw_the_slider_and_the_orbit(
+    slider_run, tmp_path, text_overlaps
+) -> None:
     written = simulation_figures(slider_run, tmp_path, "slider-crank", figure_format="svg")
+    assert text_overlaps and not any(text_overlaps.values()), text_overlaps
     names = {p.name for p in written}
     assert {"angular_velocity.png", "joint_forces.png", "journal_orbits.png"} <= names
     assert {"slider_x.png", "slider_v.png", "slider_a.png"} <= names
@@ -45,3 +48,23 @@ def test_simulation_figures_draw_the_slider_and_the_orbit(slider_run, tmp_path) 
     # each line is thinned: no SVG path carries the integrator's every step
     svg = (tmp_path / "slider_v.svg").read_text()
     assert svg.count(" L ") < 3 * 1000 * 4 + 100
+
+
+def test_a_crank_angle_axis_reads_per_revolution() -> None:
+    """Revolutions 3 and 4 of a run started at 0°: ticks 0-360 within each, and the
+    revolutions named on the top edge, not 720-1080."""
+    from jointplay.report._mpl import pyplot
+    from jointplay.report.plots import revolution_axis
+
+    plt = pyplot()
+    fig, ax = plt.subplots()
+    ax.plot([720.0, 1440.0], [0.0, 1.0])
+    revolution_axis(ax, 0.0, 720.0, 1440.0)
+    fig.canvas.draw()
+    shown = [x for x in ax.get_xticks() if 720.0 <= x <= 1440.0]
+    labels = [ax.xaxis.get_major_formatter()(x) for x in shown]
+    assert labels and all(0 <= int(text) <= 360 for text in labels), labels
+    assert labels[0] == "0" and labels[-1] == "360"
+    names = [t.get_text() for t in ax.child_axes[0].get_xticklabels()]
+    assert names == ["revolution 3", "revolution 4"]
+    plt.close(fig)

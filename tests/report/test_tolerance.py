@@ -95,6 +95,13 @@ def test_figure_format_writes_print_copies_beside_the_embedded_pngs(
     assert page.count("<img") == len(pngs)  # the report embeds the PNGs only
 
 
+def test_the_tolerance_figures_have_no_overlapping_text(paper_fourbar: Mechanism, text_overlaps):
+    study = tolerance_study(paper_fourbar, samples=50, seed=1, backend=Backend("serial"))
+    study_plots(study)
+    assert set(text_overlaps) == {"tornado", "histograms", "scatter"}
+    assert not any(text_overlaps.values()), text_overlaps
+
+
 def test_worker_processes_draw_the_same_images(paper_fourbar: Mechanism) -> None:
     # the command line lends the batch engine's idle workers to the plots: same files, same order
     import multiprocessing

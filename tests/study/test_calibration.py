@@ -204,13 +204,17 @@ def test_contact_stiffness_recovered_on_the_clearance_model(mechanism, template)
 @pytest.mark.slow
 def test_rough_clearance_response_is_flagged(mechanism, template):
     """From the paper's k the pointwise accelerations are a rough function of k (impact
-    sequences change with it): the fit cannot be trusted, and says so."""
+    sequences change with it): the fit stops in a local minimum whose interval misses the
+    truth, and says so. Measured: k = 0.92 k0 with a 95 % interval of 0.82-1.02 k0 (the data
+    were made with 3 k0), RMS 33.0 -> 29.6, the 1 % and 3 % difference steps differing by
+    112 %."""
     data = _stiffness_data(mechanism, template)
     result = calibrate(mechanism, [data], ["k"], max_nfev=15)
     estimate = result.estimate("k")
-    assert estimate.ci95[0] <= 3 * K0 <= estimate.ci95[1] or any(
-        "rough" in w for w in result.warnings
-    )
+    assert estimate.ci95[1] < 3 * K0  # the interval is not reliable here ...
+    rough = "not identifiable: the clearance model's response to k is rough here"
+    assert any(w.startswith(rough) for w in result.warnings)  # ... and the result says so
+    assert result.rms_after > 0.5 * result.rms_before  # no fit: far from the data's 3 k0
 
 
 def test_a_parameter_without_effect_has_no_finite_error():

@@ -225,3 +225,13 @@ def test_unknown_method_and_bad_revolutions(rig: Mechanism) -> None:
         steady_cycle(rig, CHEAP_METHOD, revolutions=0.5)
     with pytest.raises(ConfigError, match="omega9"):
         nominal_cycle(rig, quantity="omega9")
+
+
+def test_the_physical_default_is_a_method_to_compare(paper_fourbar) -> None:
+    """``physical`` (docs/contact.md) runs the default contact and records it."""
+    from jointplay.study.comparison import PHYSICAL, steady_cycle
+
+    cycle = steady_cycle(paper_fourbar, PHYSICAL, revolutions=1)
+    assert cycle.method == PHYSICAL
+    assert cycle.record["contact"]["stiffness_from_geometry"] == "liu"
+    assert cycle.record["contact"]["friction"]["coefficient"] == 0.1

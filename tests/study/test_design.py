@@ -10,6 +10,7 @@ from jointplay.errors import ConfigError
 from jointplay.study.design import Scheme, design_study, schemes
 from jointplay.tolerance import iso286
 from jointplay.tolerance.execution import Backend
+from jointplay.tolerance.parts import Process
 
 SERIAL = Backend("serial")
 FITS = ("H7/h6", "H7/g6", "H8/f7", "H8/g7", "H9/d9", "H11/c11")
@@ -27,13 +28,20 @@ HAND_MEAN_RADIAL_UM = {
 
 @pytest.mark.parametrize("fit", FITS)
 def test_mean_radial_clearance_of_each_fit_is_its_iso286_value(paper_fourbar, fit: str) -> None:
-    spec = Scheme(dict.fromkeys(("O2", "A", "B", "O4"), fit), "m").spec(paper_fourbar)
+    """Sampled as parts (hole and pin apart) or over the fit's band, the centre of the radial
+    clearance is the fit's mean."""
+    scheme = Scheme(dict.fromkeys(("O2", "A", "B", "O4"), fit), "m")
+    band = scheme.spec(paper_fourbar, Process(sampling="band"))
+    parts = scheme.spec(paper_fourbar)
     for joint in ("O2", "A", "B", "O4"):
-        item = spec[f"clearance_{joint}"]
+        item = band[f"clearance_{joint}"]
         assert item.nominal == pytest.approx(
             iso286.fit(fit, 0.010).radial_clearance_mean, rel=1e-12
         )
         assert item.nominal * 1e6 == pytest.approx(HAND_MEAN_RADIAL_UM[fit], rel=1e-9)
+        hole = parts[f"hole_{joint}"].tolerance.centre
+        pin = parts[f"pin_{joint}"].tolerance.centre
+        assert (hole - pin) / 2 * 1e6 == pytest.approx(HAND_MEAN_RADIAL_UM[fit], rel=1e-9)
 
 
 def test_schemes_are_every_combination_and_per_joint_fits(paper_fourbar) -> None:
@@ -48,18 +56,56 @@ def test_schemes_are_every_combination_and_per_joint_fits(paper_fourbar) -> None
 
 
 def test_requirements_every_scheme_meets_pick_the_cheapest(paper_fourbar) -> None:
+    """Samples in rounds (100, 200, ..., 1 600): zero failures show 99.73 % from 1 365 on."""
     result = design_study(
-        paper_fourbar, FITS, ["f", "m", "c", "v"], ["omega4_peak <= 100 rad/s"],
-        samples=8, backend=SERIAL,
+        paper_fourbar, FITS, ["f", "m", "c", "v"], ["omega4_peak <= 100 rad/s"], backend=SERIAL,
     )  # fmt: skip
     assert result.responses == "kinematic"
     table = result.table
-    assert len(table) == 24 and table["feasible"].all()
+    assert len(table) == 24 and table["feasible"].all() and (table["verdict"] == "meets").all()
+    assert (table["samples"] == 1600).all() and result.settings["rounds"][:5] == [
+        100, 200, 400, 800, 1600
+    ]  # fmt: skip
     cheapest = table.loc[table["cost"].idxmin(), "scheme"]
     assert result.best == cheapest == "H11/c11 / v"
-    assert result.binding is None
+    assert result.binding is None and result.to_decide is None
     assert bool(table.loc[table["scheme"] == cheapest, "pareto_yield"].iloc[0])
     assert (table["yield"] == 100.0).all() and (table["dpm"] == 0.0).all()
+    # no failure in 1 600: the DPM's upper bound is 1e6 (1 - 0.025^(1/1600))
+    assert table["dpm_high"].to_numpy() == pytest.approx(1e6 * (1 - 0.025 ** (1 / 1600)))
+    record = result.summary()["schemes"][0]["requirements"][0]
+    assert record["failures"] == 0 and record["samples"] == 1600 and record["verdict"] == "meets"
+    assert record["yield_ci95"][0] == pytest.approx(0.025 ** (1 / 1600), rel=1e-12)
+
+
+def test_few_samples_leave_a_scheme_undecided_and_say_what_would_decide(paper_fourbar) -> None:
+    """200 failure-free samples bound the defect rate only below 1.8 %: not 99.73 %."""
+    result = design_study(
+        paper_fourbar, ["H8/g7"], ["m"], ["omega4_peak <= 100 rad/s"], samples=200,
+        backend=SERIAL,
+    )  # fmt: skip
+    row = result.table.iloc[0]
+    assert result.best is None and row["verdict"] == "undecided" and not row["feasible"]
+    assert row["dpm_high"] == pytest.approx(1e6 * (1 - 0.025 ** (1 / 200)))
+    assert row["samples_to_decide"] == 1365
+    assert "about 1,365 would decide it" in result.verdict
+    assert row["omega4_peak_at_confidence_basis"] == "normal-model"
+
+
+def test_schemes_stop_when_decided_or_dearer_than_one_shown_feasible() -> None:
+    """After a round: a decided scheme stops; an undecided one goes on only while no cheaper
+    (or equally cheap) scheme has been shown to meet every requirement."""
+    from jointplay.study.design import _still_open
+
+    rows = {
+        0: {"cost": 10.0, "verdict": "undecided", "feasible": False},
+        1: {"cost": 20.0, "verdict": "meets", "feasible": True},
+        2: {"cost": 20.0, "verdict": "undecided", "feasible": False},
+        3: {"cost": 30.0, "verdict": "undecided", "feasible": False},
+        4: {"cost": 5.0, "verdict": "fails", "feasible": False},
+    }
+    assert _still_open({0, 1, 2, 3, 4}, rows) == {0, 2}
+    assert _still_open({0, 3}, {i: {**r, "feasible": False} for i, r in rows.items()}) == {0, 3}
 
 
 def test_no_feasible_scheme_names_the_binding_requirement(paper_fourbar) -> None:
@@ -69,7 +115,9 @@ def test_no_feasible_scheme_names_the_binding_requirement(paper_fourbar) -> None
     )  # fmt: skip
     assert result.best is None
     assert result.binding == "omega4_peak <= 1 rad/s"
-    assert "binding requirement" in result.summary()["verdict"]
+    # 4 failures in 4: the yield's upper bound 1 - 0.025^(1/4) = 60 % < 99.73 %
+    assert (result.table["verdict"] == "fails").all()
+    assert result.summary()["verdict"].startswith("every scheme fails; binding requirement")
 
 
 def test_unknown_response_is_one_line(paper_fourbar) -> None:
@@ -89,8 +137,16 @@ def test_dynamic_design_reports_wear_and_life(paper_fourbar) -> None:
     assert (table["wear_rate_mean"] > 0).all() and (table["life_mean"] > 36).all()
     # a looser fit lets the joints hit harder (paper, Table 6)
     assert table.loc["H11/c11", "joint_force_mean"] > table.loc["H7/g6", "joint_force_mean"]
-    assert result.best == "H11/c11 / m"
-    assert math.isfinite(result.summary()["best_scheme"]["cost"])
+    # two samples decide nothing at 99.73 %
+    assert result.best is None and (result.table["verdict"] == "undecided").all()
+    # parts as made: each hole and pin in its ISO 286 zone, the clearance their difference
+    frame = result.samples[result.samples["scheme"] == "H7/g6 / m"]
+    assert frame["hole_A"].between(0.010, 0.010015).all()  # H7: 0/+15 µm
+    assert frame["pin_A"].between(0.010 - 14e-6, 0.010 - 5e-6).all()  # g6: -14/-5 µm
+    assert frame["clearance_A"].to_numpy() == pytest.approx(
+        (frame["hole_A"] - frame["pin_A"]).to_numpy() / 2, abs=1e-15
+    )
+    assert math.isfinite(result.summary()["schemes"][0]["cost"])
 
 
 def test_requirements_may_mix_kinematic_and_dynamic_responses(paper_fourbar) -> None:
@@ -142,3 +198,89 @@ def test_samples_stay_inside_the_class_limits_unless_asked(paper_fourbar, trunca
         )
     else:  # 4 inputs × 4000 samples × 0.27 %: about 43
         assert 15 < outside < 80
+
+
+def test_rare_defects_agree_with_brute_force_and_decide(paper_fourbar) -> None:
+    """The rocker swing of H8/f7 / c passes 53.065° in about 3 000 DPM (benchmarks/
+    bench_rare_defects.py: 3 138 in 10⁶). Importance sampling (≤ 18 000 samples) and 100 000
+    plain samples (seed 1) must give overlapping 95 % intervals; at 99.73 % (2 700 DPM) the
+    estimate decides what 100 samples left undecided."""
+    from jointplay.study.design import RareDefects
+
+    requirement = "rocker_swing <= 53.065 deg"
+    rare = design_study(
+        paper_fourbar, ["H8/f7"], ["c"], [requirement], samples=100, rare=RareDefects(),
+        backend=SERIAL,
+    ).table.iloc[0]  # fmt: skip
+    brute = design_study(
+        paper_fourbar, ["H8/f7"], ["c"], [requirement], samples=100_000, seed=1, backend=SERIAL
+    ).table.iloc[0]
+    assert rare["rare_converged"] and rare["rare_samples"] <= 18_000
+    assert rare["dpm_rare_low"] <= brute["dpm_high"] and brute["dpm_low"] <= rare["dpm_rare_high"]
+    assert (rare["dpm_rare_high"] - rare["dpm_rare_low"]) / 2 <= 0.5 * rare["dpm_rare"]
+    assert rare["verdict"] == "fails" and rare["verdict_basis"] == "importance-sampling"
+
+
+def test_a_rare_estimate_decides_only_what_it_shows() -> None:
+    from jointplay.study.design import _rare_columns
+    from jointplay.study.requirements import Requirement
+    from jointplay.tolerance.rare import RareEstimate
+
+    def estimate(low: float, high: float, converged: bool = True) -> RareEstimate:
+        return RareEstimate((low + high) / 2, (low, high), 10_000, 8_000, 50, (0.0,), 3, converged)
+
+    one = [Requirement("joint_force", "<=", 150.0, "N", None, "joint_force <= 150 N")]
+    two = [*one, Requirement("life", ">=", 3600.0, "s", 0.99, "life >= 1 h @99")]
+    assert _rare_columns(estimate(1e-4, 2e-4), one, 0.9973, "undecided")["verdict"] == "meets"
+    assert _rare_columns(estimate(3e-3, 4e-3), one, 0.9973, "undecided")["verdict"] == "fails"
+    assert _rare_columns(estimate(2e-3, 3e-3), one, 0.9973, "undecided")["verdict"] == "undecided"
+    # the strictest level rules a "meets"; several requirements never give "fails"
+    assert _rare_columns(estimate(1e-4, 2e-4), two, 0.9999, "undecided")["verdict"] == "undecided"
+    assert _rare_columns(estimate(0.5, 0.6), two, 0.9973, "undecided")["verdict"] == "undecided"
+    # an estimate that never reached the failure region decides nothing
+    assert _rare_columns(estimate(0, 1e-9, False), one, 0.9973, "undecided")["verdict"] == (
+        "undecided"
+    )
+
+
+def test_the_answer_names_cheaper_schemes_left_undecided(paper_fourbar) -> None:
+    """A cheaper scheme that ran out of samples undecided is named with what would decide it."""
+    import pandas as pd
+
+    from jointplay.study.design import DesignResult
+
+    table = pd.DataFrame(
+        {
+            "scheme": ["H11/c11 / m", "H9/d9 / m", "H8/f7 / m"],
+            "cost": [20.0, 30.0, 57.0],
+            "samples": [4000, 4000, 1600],
+            "verdict": ["fails", "undecided", "meets"],
+            "feasible": [False, False, True],
+            "samples_to_decide": pd.array([None, 9000, None], dtype="Int64"),
+            "yield": [90.0, 99.8, 100.0],
+        }
+    )
+    result = DesignResult(
+        paper_fourbar, "dynamic", (), 0.9973, table, pd.DataFrame(), "H8/f7 / m", None, False
+    )
+    assert result.verdict == (
+        "cheapest scheme shown to meet every requirement: H8/f7 / m; cheaper, undecided: "
+        "H9/d9 / m after 4,000 samples (about 9,000 would decide it at its observed defect "
+        "rate: --max-samples 9000)"
+    )
+
+
+def test_rare_defects_give_the_same_estimate_on_every_backend(paper_fourbar) -> None:
+    """Importance sampling draws in this process and only evaluates on the backend: the same
+    seed gives the same estimate serially and on the process backend (which may keep batches
+    this cheap in this process: the point is that the backend never changes the draws)."""
+    from jointplay.study.design import RareDefects
+
+    def estimate(backend: Backend) -> tuple[float, float, float]:
+        row = design_study(
+            paper_fourbar, ["H8/f7"], ["c"], ["rocker_swing <= 53.065 deg"], samples=100,
+            rare=RareDefects(n_stage=200, n_final=1000), backend=backend,
+        ).table.iloc[0]  # fmt: skip
+        return row["dpm_rare"], row["dpm_rare_low"], row["dpm_rare_high"]
+
+    assert estimate(SERIAL) == estimate(Backend("processes", workers=2))

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from _tolerances import CONTRACT_OTHER_RTOL, SAME_ALGORITHM_RTOL, contract_rtol
 from jointplay.errors import ConfigError
 from jointplay.model.mechanism import Mechanism
 from jointplay.study.design import design_study, trajectory_requirements
@@ -21,8 +22,8 @@ PEAKS = ["omega4_peak", "F_A_peak", "F_B_peak", "joint_force", "contact_pressure
 #: 3.4e-5 (8 of 24 beyond 1e-5) and the single engine's Radau by up to 1.3e-5; both converge
 #: under refinement (batch at rtol 1e-7: ≤ 2.2e-6). The batch contract's 1e-5
 #: (tests/dynamics/test_batch.py) holds on its own cases; here the engines are compared as
-#: they run by default.
-OMEGA_RTOL = 5e-5
+#: they run by default, at a bound looser than the contract (the forces keep its 1e-3).
+OMEGA_RTOL_LOOSER_THAN_CONTRACT = 5e-5
 
 
 def _design(mechanism: Mechanism, requirements: list[str], backend: Backend = LOCAL):
@@ -54,7 +55,8 @@ def test_the_two_engines_agree_within_the_integration_tolerance(both) -> None:
     assert (a["status"] == "ok").all() and (b["status"] == "ok").all()
     np.testing.assert_array_equal(a["clearance_A"], b["clearance_A"])  # the same samples
     for name in PEAKS:
-        rtol = OMEGA_RTOL if name.startswith("omega") else 1e-3
+        omega = name.startswith("omega")
+        rtol = OMEGA_RTOL_LOOSER_THAN_CONTRACT if omega else CONTRACT_OTHER_RTOL
         np.testing.assert_allclose(a[name], b[name], rtol=rtol, err_msg=name)
     assert peaks.best == trajectories.best
     np.testing.assert_array_equal(peaks.table["yield"], trajectories.table["yield"])
@@ -97,11 +99,38 @@ def test_trajectory_requirements_are_named(paper_fourbar: Mechanism) -> None:
 
 @pytest.mark.slow  # JAX compiles the batch for ~10 s
 def test_a_peak_design_runs_on_the_gpu_backend(both, paper_fourbar: Mechanism) -> None:
+    """The same algorithm as the local batch engine. On these samples (holes and pins as
+    made, seed 3) one sample's adaptive step sequence differs between the two kernels (a
+    step accepted by one and rejected by the other, through round-off), which moves its
+    peaks by up to 4e-7: within the accuracy contract, not round-off
+    (tests/_tolerances.py). On samples whose step sequences coincide (the fits' bands, the
+    samples this test was first written on) the engines agree to round-off (1e-10)."""
     pytest.importorskip("jax")
+    from jointplay.tolerance.parts import Process
+
     on_gpu = _design(paper_fourbar, ["joint_force <= 1 kN"], Backend("gpu"))
     assert on_gpu.settings["execution"]["backend"] == "gpu"
-    for name in PEAKS:  # the same algorithm as the local batch engine: round-off apart
-        np.testing.assert_allclose(on_gpu.samples[name], both[0].samples[name], rtol=1e-9)
+    for name in PEAKS:  # one lane's acceptance tipped by round-off: the contract
+        np.testing.assert_allclose(
+            on_gpu.samples[name], both[0].samples[name], rtol=contract_rtol(name), err_msg=name
+        )
+    band = Process(sampling="band")
+    local, gpu = (
+        design_study(
+            paper_fourbar,
+            ["H8/g7", "H11/c11"],
+            ["c"],
+            ["joint_force <= 1 kN"],
+            backend=where,
+            process=band,
+            **SHORT,
+        )
+        for where in (LOCAL, Backend("gpu"))
+    )
+    for name in PEAKS:  # the same steps: round-off apart (measured ≤ 1.4e-10)
+        np.testing.assert_allclose(
+            gpu.samples[name], local.samples[name], rtol=SAME_ALGORITHM_RTOL, err_msg=name
+        )
 
 
 def test_an_unconverged_design_says_so(paper_fourbar: Mechanism, tmp_path) -> None:

@@ -887,9 +887,9 @@ def _specialised_core(args_type: Any) -> Any:
         with _compile_lock:
             core = _specialisations.get(args_type)
             if core is None:
-                core = numba.njit([_core_signature(args_type)], cache=True, error_model="numpy")(
-                    _radau_core
-                )
+                core = numba.njit(
+                    [_core_signature(args_type)], cache=True, error_model="numpy", nogil=True
+                )(_radau_core)  # nogil: the batch engine runs implicit lanes on threads
                 _specialisations[args_type] = core
     return core
 

@@ -53,7 +53,97 @@ def _flags_show_no_metavar() -> None:
     TyperOption.display_type_rich = display_type_rich  # type: ignore[method-assign]
 
 
+def _help_is_plain_text() -> None:
+    """Help texts are read as written: ``pip install 'jointplay[gpu]'``, a ``[wear]`` table.
+
+    With ``rich_markup_mode="rich"`` (what gives the help its panels) Typer reads every help
+    text as Rich markup, where ``[gpu]`` or ``[wear]`` is a style tag and silently vanishes.
+    jointplay writes no markup in its help, so every help text is escaped
+    (:func:`rich.markup.escape`) just before Typer renders it: option help, command
+    docstrings and the epilogue alike, those of commands added later included. A paragraph's
+    line breaks (a docstring's, at 96 columns) are spaces: the paragraph is wrapped at the
+    terminal's width, as Typer already does for the first paragraph and for option help.
+    """
+    try:
+        from typer import rich_utils
+    except ImportError:  # pragma: no cover - Typer without Rich help: nothing is markup
+        return
+    render = getattr(rich_utils, "_make_rich_text", None)
+    if render is None or getattr(render, "_escapes_markup", False):
+        return
+    from rich.markup import escape
+
+    def make_rich_text(*, text: str, style: str = "", markup_mode: Any) -> Any:
+        if markup_mode == "rich":
+            text = escape(text)
+            text = "\n\n".join(
+                part if part.startswith("\b") else " ".join(part.split("\n"))
+                for part in text.split("\n\n")
+            )
+        return render(text=text, style=style, markup_mode=markup_mode)
+
+    make_rich_text._escapes_markup = True  # type: ignore[attr-defined]
+    rich_utils._make_rich_text = make_rich_text
+
+
+def _option_names_never_cut() -> None:
+    """At 80 columns an option's name is shown whole (``--clearance-limit``, never
+    ``--clearance-lim…``), and a long word in its help folds onto the next line instead of
+    ending in "…".
+
+    Typer draws each panel of options as a Rich table without declared columns; when the
+    table is wider than the terminal, Rich narrows every column that may wrap, the option
+    names' too, and cuts what no longer fits. Here the tables Typer creates mark the name
+    columns (all but the type and help columns) as not wrapping, so only the type and help
+    columns give way, and those fold their long words. A flag's ``--no-`` form is written
+    under its name instead of in a column of its own, which left the help of a whole panel
+    17 characters narrower for one ``--rare-defects/--no-rare-defects``.
+    """
+    try:
+        from typer import rich_utils
+    except ImportError:  # pragma: no cover - Typer without Rich help
+        return
+    table = getattr(rich_utils, "Table", None)
+    if table is None or getattr(table, "_names_never_cut", False):
+        return
+
+    class OptionsTable(table):  # type: ignore[misc, valid-type]
+        _names_never_cut = True
+
+        def add_row(self, *renderables: Any, **kwargs: Any) -> None:
+            if not self.show_header and len(renderables) in (6, 7):  # an options panel's row
+                # [required], long, short, --no- long, --no- short, type, help
+                first = len(renderables) - 6
+                names = [
+                    _stacked(renderables[first + k], renderables[first + k + 2]) for k in (0, 1)
+                ]
+                renderables = (*renderables[:first], *names, *renderables[first + 4 :])
+            super().add_row(*renderables, **kwargs)
+            if self.show_header or len(self.columns) < 4:  # not an options panel
+                return
+            for column in self.columns[:-2]:
+                column.no_wrap = True
+            help_items = getattr(renderables[-1], "renderables", [renderables[-1]])
+            for item in [renderables[-2], *help_items]:  # the type, the help and its default
+                if hasattr(item, "overflow"):
+                    item.overflow = "fold"
+
+    rich_utils.Table = OptionsTable  # type: ignore[misc]
+
+
+def _stacked(name: Any, negative: Any) -> Any:
+    """An option's name with its ``--no-`` form on the line below (Rich texts)."""
+    if not str(negative).strip():
+        return name
+    stacked = name.copy()
+    stacked.append("\n")
+    stacked.append_text(negative)
+    return stacked
+
+
 _flags_show_no_metavar()
+_help_is_plain_text()
+_option_names_never_cut()
 
 app = typer.Typer(
     name="jointplay",

@@ -5,8 +5,9 @@ from __future__ import annotations
 import math
 import shlex
 import sys
-from collections.abc import Iterable, Sequence
-from contextlib import AbstractContextManager, nullcontext
+import time
+from collections.abc import Iterable, Iterator, Sequence
+from contextlib import AbstractContextManager, contextmanager, nullcontext
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
@@ -51,6 +52,13 @@ StartAngleOption = Annotated[
         help="Crank angle at t = 0 with a unit, e.g. '30 deg' (CCW from the ground line).",
     ),
 ]
+#: Help panels that group the options of the long commands (``--help`` at 80 columns).
+SAMPLING_PANEL = "Sampling"
+EXECUTION_PANEL = "Execution"
+OUTPUT_PANEL = "Output"
+WEAR_PANEL = "Wear and cost"
+RUN_PANEL = "The dynamic run"
+
 GravityOption = Annotated[
     str | None,
     typer.Option(
@@ -65,6 +73,7 @@ OutOption = Annotated[
         help="Output folder: replaced as a whole when the run succeeds, left as it was when "
         "it fails or is interrupted. A non-empty folder that jointplay did not write needs "
         "--force.",
+        rich_help_panel=OUTPUT_PANEL,
     ),
 ]
 # Measurement conventions (compare, calibrate): how a file's angles and values are read.
@@ -95,13 +104,24 @@ SpeedPositiveOption = Annotated[
 ]
 # Archard wear and the running start-up (design, wear).
 WearCoefficientOption = Annotated[
-    float | None, typer.Option("--wear-coefficient", help="Archard k of every joint.")
+    float | None,
+    typer.Option(
+        "--wear-coefficient", help="Archard k of every joint.", rich_help_panel=WEAR_PANEL
+    ),
 ]
 HardnessOption = Annotated[
-    str | None, typer.Option("--hardness", help="Hardness of the softer surface, e.g. '2 GPa'.")
+    str | None,
+    typer.Option(
+        "--hardness",
+        help="Hardness of the softer surface, e.g. '2 GPa'.",
+        rich_help_panel=WEAR_PANEL,
+    ),
 ]
 SettleOption = Annotated[
-    int, typer.Option("--settle", help="Start-up revolutions left out.", min=0)
+    int,
+    typer.Option(
+        "--settle", help="Start-up revolutions left out.", min=0, rich_help_panel=RUN_PANEL
+    ),
 ]
 #: Figure formats of ``--figure-format`` (PNG is always written; the others beside it).
 FIGURE_FORMATS = ("png", "svg", "pdf")
@@ -110,6 +130,15 @@ FigureFormatOption = Annotated[
     typer.Option(
         "--figure-format",
         help="png; or svg or pdf: every figure is also written in that format, for print.",
+        rich_help_panel=OUTPUT_PANEL,
+    ),
+]
+ProgressOption = Annotated[
+    bool,
+    typer.Option(
+        "--progress/--no-progress",
+        help="Show on stderr what runs now (a progress bar or a spinner).",
+        rich_help_panel=OUTPUT_PANEL,
     ),
 ]
 ForceOption = Annotated[
@@ -118,6 +147,7 @@ ForceOption = Annotated[
         "--force",
         help="Replace --out even if it is a non-empty folder jointplay did not write (never "
         "the home folder, a system folder or a folder holding an input of the run).",
+        rich_help_panel=OUTPUT_PANEL,
     ),
 ]
 
@@ -266,3 +296,57 @@ def check_revolutions(revolutions: float, settle: int = 0, option: str = "--revo
 def check_figure_format(text: str) -> str:
     """The ``--figure-format`` value, checked (before any computation)."""
     return choice(text, "--figure-format", FIGURE_FORMATS)
+
+
+#: What a first run after install spends compiling the kernels (2-core machine, load 0.5-1).
+COMPILE_NOTICE = (
+    "jointplay: compiling the numerical kernels first: once after an install or upgrade, "
+    "about 40 s on a 2-core machine; later runs load them in about a second"
+)
+
+
+def _to_stderr(line: str) -> None:
+    print(line, file=sys.stderr)
+
+
+@contextmanager
+def compiling_kernels(say: Any = _to_stderr, *, needed: bool = True) -> Iterator[bool]:
+    """Around a command's first dynamic work: when no compiled kernels are cached
+    (:func:`jointplay._kernels.compiled_cache_present`), ``say`` (a print function; default:
+    a line on stderr) tells the user before the work that the kernels are compiled now, and
+    after it how long the work took with the compilation. ``needed=False`` (work without
+    dynamics) says nothing. Yields whether they are compiled here."""
+    from jointplay._kernels import compiled_cache_present
+
+    if not needed or compiled_cache_present():
+        yield False
+        return
+    say(COMPILE_NOTICE)
+    started = time.perf_counter()
+    yield True
+    say(
+        f"jointplay: kernels compiled and cached; this step took "
+        f"{time.perf_counter() - started:.0f} s with the compilation"
+    )
+
+
+def status(enabled: bool, text: str) -> AbstractContextManager[Any]:
+    """A spinner on stderr saying ``text`` while the block runs (nothing with
+    ``--no-progress``)."""
+    if not enabled:
+        return nullcontext()
+    from rich.console import Console
+
+    return Console(stderr=True).status(text)
+
+
+def whole_headers(table: Any) -> Any:
+    """``table`` (a :class:`rich.table.Table`) with headers that are never cut: each column
+    at least as wide as its header's longest word, and a cell too long for its column
+    folded onto the next line instead of ending in "…". A table that then outgrows the
+    terminal is wrapped by the terminal, not truncated by Rich."""
+    for column in table.columns:
+        words = str(column.header).split()
+        column.min_width = max((len(word) for word in words), default=0)
+        column.overflow = "fold"
+    return table

@@ -1,14 +1,20 @@
 """The options and settings shared by the commands that simulate the clearance dynamics
-(``simulate`` and ``animate``): one declaration of each option, one reader of each value."""
+(``simulate``, ``animate``, ``tolerance``, ``design``, ``wear``, ``calibrate``, ``compare``):
+one declaration of each option, one reader of each value. :func:`contact_model` turns the
+contact options (or the ``[simulation]`` keys of the same names) into the
+:class:`~jointplay.dynamics.setup.ContactModel` the layers below take."""
 
 from __future__ import annotations
 
 import math
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
 from jointplay.errors import ConfigError
+
+if TYPE_CHECKING:  # the dynamics import Numba: loaded when a command runs
+    from jointplay.dynamics.setup import ContactModel
 
 
 def _opt(help_text: str, *names: str) -> Any:
@@ -32,7 +38,7 @@ EcsSourceOption = Annotated[
 ContactOption = Annotated[
     str | None,
     _opt(
-        "Contact law: impact (MSC ADAMS IMPACT, default), restitution, hertz, kelvin-voigt, hunt-crossley, lankarani-nikravesh, flores, gonthier, hu-guo, herbert-mcwhannell, lee-wang, zhiying-qishao.",
+        "Contact law: restitution (Hunt-Crossley damping with exactly --restitution, default), impact (MSC ADAMS IMPACT), hertz, kelvin-voigt, hunt-crossley, lankarani-nikravesh, flores, gonthier, hu-guo, herbert-mcwhannell, lee-wang, zhiying-qishao. Without --k the stiffness comes from each joint's geometry (--stiffness-law; impact: 1e4 N/mm^1.5).",
         "--contact",
     ),
 ]
@@ -53,7 +59,7 @@ DepthOption = Annotated[
 RestitutionOption = Annotated[
     float | None,
     _opt(
-        "Coefficient of restitution (restitution and Hunt-Crossley-type laws; default 0.8).",
+        "Coefficient of restitution (restitution and Hunt-Crossley-type laws; default 0.8, documented range 0.6-0.95).",
         "--restitution",
     ),
 ]
@@ -61,7 +67,7 @@ DampingOption = Annotated[str | None, _opt("Kelvin-Voigt damping, e.g. '100 N*s/
 StiffnessLawOption = Annotated[
     str | None,
     _opt(
-        "Derive stiffness and exponent from geometry: hertz, johnson, esdu-78035, pereira, liu, radzimovsky.",
+        "Pin-in-hole law that gives each joint's stiffness and exponent from its radii and materials: liu (default), hertz, johnson, esdu-78035, pereira, radzimovsky.",
         "--stiffness-law",
     ),
 ]
@@ -81,7 +87,10 @@ JointsOption = Annotated[
 ]
 FrictionOption = Annotated[
     float | None,
-    _opt("Friction coefficient in the clearance joints (default 0: off).", "--friction"),
+    _opt(
+        "Friction coefficient in the clearance joints (default 0.1, documented range 0.01-0.2; 0: off; with --method: 0).",
+        "--friction",
+    ),
 ]
 FrictionLawOption = Annotated[
     str | None,
@@ -107,22 +116,70 @@ RtolOption = Annotated[
 
 #: Options that set the contact law (refused together with --method).
 CONTACT_KEYS = ("contact", "k", "exponent", "cmax", "depth", "damping", "stiffness_law")
+#: Every contact option, by its key in ``values`` (and in ``[simulation]``).
+CONTACT_OPTIONS = (*CONTACT_KEYS, "restitution", "friction", "friction_law", "method", "ecs_source")
 
 
-def method_law_of(values: dict[str, Any], mechanism: Any) -> tuple[Any, dict[str, Any] | None]:
-    """The contact law of ``--method`` (None without one) and its parameter record."""
+def contact_model(
+    values: dict[str, Any], mechanism: Any, method_option: str = "--method"
+) -> ContactModel:
+    """The :class:`~jointplay.dynamics.setup.ContactModel` of the contact options in
+    ``values`` (strings with units, ``None`` or absent where not given): the physical default
+    without any; ``--method`` one of the paper's six (frictionless unless --friction)."""
+    from jointplay.dynamics.setup import (
+        DEFAULT_FRICTION,
+        ContactModel,
+        FrictionSettings,
+        contact_from_strings,
+    )
+
+    law, record = method_law_of(values, mechanism, method_option)
+    friction = FrictionSettings(
+        law=str(values.get("friction_law") or "ambrosio"),
+        coefficient=finite_number(values, "friction", 0.0 if law is not None else DEFAULT_FRICTION),
+    )
+    if law is not None:
+        return ContactModel(friction=friction, law=law, method=str(values["method"]), record=record)
+    return ContactModel(settings=contact_from_strings(values), friction=friction)
+
+
+def contact_from_options(
+    config: Any, mechanism: Any, method_option: str = "--method", **given: Any
+) -> ContactModel:
+    """:func:`contact_model` of the contact options ``given`` (``None``: not given) over the
+    same keys of the ``[simulation]`` table of the ``config`` file (a path or ``None``);
+    ``method_option``: the name of ``method`` on this command."""
+    from jointplay.io.config import simulation_settings
+
+    table = simulation_settings(config)
+    unknown = set(given) - set(CONTACT_OPTIONS)
+    if unknown:
+        raise TypeError(f"not contact options: {sorted(unknown)}")
+    values = {key: table[key] for key in CONTACT_OPTIONS if key in table}
+    values.update({key: value for key, value in given.items() if value is not None})
+    return contact_model(values, mechanism, method_option)
+
+
+def method_law_of(
+    values: dict[str, Any], mechanism: Any, method_option: str = "--method"
+) -> tuple[Any, dict[str, Any] | None]:
+    """The contact law of ``--method`` (None without one) and its parameter record;
+    ``method_option``: the option's name on this command, for messages."""
     from jointplay.study.methods import PAPER_RESTITUTION, method_law
 
     name = values.get("method")
     if name is None:
         if values.get("ecs_source") is not None:
-            raise ConfigError("--ecs-source applies to the paper's ECS methods: give --method too")
+            raise ConfigError(
+                f"--ecs-source applies to the paper's ECS methods: give {method_option} too"
+            )
         return None, None
     clash = [key for key in CONTACT_KEYS if values.get(key) is not None]
     if clash:
         options = ", ".join("--" + key.replace("_", "-") for key in clash)
         raise ConfigError(
-            f"--method sets the contact law and its parameters; drop {options} or drop --method"
+            f"{method_option} sets the contact law and its parameters; drop {options} or drop "
+            f"{method_option}"
         )
     restitution = values.get("restitution")
     return method_law(
@@ -137,7 +194,8 @@ def method_law_of(values: dict[str, Any], mechanism: Any) -> tuple[Any, dict[str
 
 def finite_number(values: dict[str, Any], key: str, default: float) -> float:
     """``values[key]`` (a CLI option or a ``[simulation]`` entry) as a finite float."""
-    value = values.get(key, default)
+    value = values.get(key)
+    value = default if value is None else value
     option = "--" + key.replace("_", "-")
     if isinstance(value, bool) or not isinstance(value, int | float):
         raise ConfigError(f"{option} must be a number, got {value!r}")

@@ -17,9 +17,11 @@ from jointplay.cli._common import (
     DirectionOption,
     GravityOption,
     PresetOption,
+    ProgressOption,
     RpmOption,
     StartAngleOption,
     mechanism_from_options,
+    status,
 )
 from jointplay.cli._simulation import (
     ClearanceOption,
@@ -39,9 +41,9 @@ from jointplay.cli._simulation import (
     StartOption,
     StiffnessLawOption,
     StiffnessOption,
+    contact_model,
     finite_number,
     joint_list,
-    method_law_of,
 )
 from jointplay.errors import ConfigError
 
@@ -62,6 +64,7 @@ def animate_command(
         ),
     ],
     force: Annotated[bool, _opt("Replace --out if it exists.", "--force")] = False,
+    progress: ProgressOption = True,
     preset: PresetOption = None,
     config: ConfigOption = None,
     rpm: RpmOption = None,
@@ -125,12 +128,10 @@ def animate_command(
             "start": start, "ramp_time": ramp_time, "start_angle": start_angle,
             "settle": settle, "rtol": rtol,
         }  # fmt: skip
-        result = _simulate(preset, config, rpm, direction, gravity, given)
-        from rich.console import Console
-
+        result = _simulate(preset, config, rpm, direction, gravity, given, progress)
         from jointplay.report.animation import write_animation
 
-        with Console(stderr=True).status(f"drawing {frames} frames"):
+        with status(progress, f"drawing {frames} frames"):
             info = write_animation(
                 result,
                 partial,
@@ -148,12 +149,10 @@ def _simulate(
     direction: str | None,
     gravity: str | None,
     given: dict[str, Any],
+    progress: bool,
 ) -> Any:
     """Simulate the settle revolutions and the animated one, with the options of simulate."""
-    from rich.console import Console
-
     from jointplay.dynamics.cycles import DEFAULT_SETTLE
-    from jointplay.dynamics.setup import FrictionSettings, clearance_joints, contact_from_strings
     from jointplay.dynamics.simulate import SolverOptions, Start, simulate
     from jointplay.io.config import simulation_settings
     from jointplay.units import parse_quantity
@@ -166,22 +165,16 @@ def _simulate(
         preset, config, rpm, direction, values.get("start_angle"), gravity
     )
     ideal = isinstance(values.get("joints"), str) and values["joints"].strip().lower() == "none"
-    law, _ = method_law_of(values, mechanism)
+    contact_used = contact_model(values, mechanism)
     clear = (
         []
         if ideal
-        else clearance_joints(
+        else contact_used.joints(
             mechanism,
             joint_list(values.get("joints")),
-            contact=contact_from_strings(values) if law is None else None,
-            friction=FrictionSettings(
-                law=str(values.get("friction_law", "ambrosio")),
-                coefficient=finite_number(values, "friction", 0.0),
-            ),
             clearance=None
             if values.get("clearance") is None
             else parse_quantity(values["clearance"], "m", field="--clearance"),
-            law=law,
         )
     )
     mode = str(values.get("start", "steady"))
@@ -196,8 +189,9 @@ def _simulate(
     if isinstance(settle, bool) or not isinstance(settle, int) or settle < 0:
         raise ConfigError(f"--settle must be a whole number of revolutions >= 0, got {settle!r}")
     where = ", ".join(c.joint for c in clear) or "no joint (ideal joints)"
-    with Console(stderr=True).status(
-        f"simulating {settle + 1} revolution(s) of {mechanism.name} with clearance in {where}"
+    with status(
+        progress,
+        f"simulating {settle + 1} revolution(s) of {mechanism.name} with clearance in {where}",
     ):
         return simulate(
             mechanism,

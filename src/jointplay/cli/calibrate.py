@@ -30,11 +30,13 @@ from jointplay.cli._common import (
     FigureFormatOption,
     ForceOption,
     PresetOption,
+    ProgressOption,
     RpmOption,
     SpeedPositiveOption,
     check_figure_format,
     choice,
     provenance,
+    status,
 )
 from jointplay.errors import ConfigError
 from jointplay.units import parse_quantity
@@ -196,6 +198,7 @@ def calibrate_command(
     ] = None,
     plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
     force: ForceOption = False,
+    progress: ProgressOption = True,
     figure_format: FigureFormatOption = "png",
 ) -> None:
     """Fit crank speed, phase, link lengths or contact parameters to measurements.
@@ -256,7 +259,9 @@ def calibrate_command(
     table = simulation_settings(config)
     if contact is not None:
         table = {**table, "contact": contact}
-    contact_settings = contact_from_strings(table)
+    # the IMPACT law unless told: its stiffness k is what a calibration fits (the physical
+    # default's stiffness comes from the geometry; docs/contact.md)
+    contact_settings = contact_from_strings({"contact": "impact", **table})
     joint_list = tuple(_split([joints])) if joints else None
     if joint_list is None and table.get("joints"):
         raw = table["joints"]
@@ -281,11 +286,10 @@ def calibrate_command(
             "--fit-more"
         )
     config_data = source_config(preset, config) if out is not None else None
-    status = Console(stderr=True)
 
     def run() -> CalibrationResult:
         what = "clearance model" if any(n in cal.DYNAMIC_PARAMETERS for n in names) else "nominal"
-        with status.status(f"fitting {', '.join(names)} on the {what} model"):
+        with status(progress, f"fitting {', '.join(names)} on the {what} model"):
             return cal.calibrate(
                 mechanism,
                 datasets,

@@ -30,6 +30,7 @@ from jointplay.cli._common import (
     FigureFormatOption,
     ForceOption,
     PresetOption,
+    ProgressOption,
     RpmOption,
     SpeedPositiveOption,
     check_figure_format,
@@ -37,6 +38,7 @@ from jointplay.cli._common import (
     maybe_output_dir,
     mechanism_from_options,
     provenance,
+    status,
 )
 from jointplay.errors import ConfigError
 from jointplay.units import parse_quantity
@@ -94,9 +96,10 @@ def compare_command(
     method: Annotated[
         list[str] | None,
         _opt(
-            "Simulation to compare (repeatable): nominal (ideal joints) or one of the paper's "
-            "methods ifm-conventional, rm-conventional, ifm-ecs-cylindrical, rm-ecs-cylindrical, "
-            "ifm-ecs-spherical, rm-ecs-spherical. Default: nominal and the four ECS methods.",
+            "Simulation to compare (repeatable): nominal (ideal joints), physical (the default "
+            "contact, docs/contact.md) or one of the paper's methods ifm-conventional, "
+            "rm-conventional, ifm-ecs-cylindrical, rm-ecs-cylindrical, ifm-ecs-spherical, "
+            "rm-ecs-spherical. Default: nominal, physical and the four ECS methods.",
             "--method",
         ),
     ] = None,
@@ -136,6 +139,7 @@ def compare_command(
         ),
     ] = None,
     force: ForceOption = False,
+    progress: ProgressOption = True,
     figure_format: FigureFormatOption = "png",
 ) -> None:
     """Compare the simulated steady-cycle rocker speed with measurements.
@@ -160,12 +164,12 @@ def compare_command(
             angle_origin=_angle_origin(angle_origin),
             speed_sign=1 if choice(speed_positive, "--speed-positive", DIRECTIONS) == "ccw" else -1,
         )
-        methods = list(dict.fromkeys(method or cmp.DEFAULT_METHODS))
+        methods = list(dict.fromkeys(method or cmp.COMPARE_METHODS))
         for name in methods:
-            if name != cmp.NOMINAL and name not in METHODS:
+            if name not in (cmp.NOMINAL, cmp.PHYSICAL) and name not in METHODS:
                 raise ConfigError(
-                    f"--method: unknown method {name!r}; use {cmp.NOMINAL} or one of "
-                    f"{', '.join(METHODS)}"
+                    f"--method: unknown method {name!r}; use {cmp.NOMINAL}, {cmp.PHYSICAL} or "
+                    f"one of {', '.join(METHODS)}"
                 )
         if ecs_source not in ECS_SOURCES:
             raise ConfigError(f"--ecs-source must be computed or paper, got {ecs_source!r}")
@@ -177,15 +181,14 @@ def compare_command(
             raise ConfigError(f"--low-speed must be a fraction in [0, 1), got {low_speed}")
         data = _measurements(measurements, angle_column, speed_column, conventions)
         mechanism = cmp.rig_mechanism(mechanism_from_options(preset, config, rpm), conventions)
-        status = Console(stderr=True)
         nominal = cmp.compare(data, cmp.nominal_cycle(mechanism), low_speed_fraction=low_speed)
         comparisons = []
         for name in methods:
             if name == cmp.NOMINAL:
                 comparisons.append(nominal)
                 continue
-            with status.status(
-                f"simulating {name}: {revolutions:g} revolution(s) of {mechanism.name}"
+            with status(
+                progress, f"simulating {name}: {revolutions:g} revolution(s) of {mechanism.name}"
             ):
                 cycle = cmp.steady_cycle(
                     mechanism, name, revolutions=revolutions, ecs_source=ecs_source

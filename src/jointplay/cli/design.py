@@ -8,15 +8,20 @@ from __future__ import annotations
 import math
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any, cast
+from typing import TYPE_CHECKING, Annotated, Any, Literal, cast
 
 import typer
 from rich.console import Console
 
 from jointplay.cli._app import app
 from jointplay.cli._common import (
+    EXECUTION_PANEL,
     MAX_SAMPLES,
     MAX_WORKERS,
+    OUTPUT_PANEL,
+    RUN_PANEL,
+    SAMPLING_PANEL,
+    WEAR_PANEL,
     ConfigOption,
     FigureFormatOption,
     ForceOption,
@@ -24,29 +29,37 @@ from jointplay.cli._common import (
     HardnessOption,
     OutOption,
     PresetOption,
+    ProgressOption,
     RpmOption,
     SettleOption,
     WearCoefficientOption,
     check_figure_format,
     check_revolutions,
     choice,
+    compiling_kernels,
     mechanism_from_options,
     provenance,
+    whole_headers,
 )
 from jointplay.cli._simulation import (
     CmaxOption,
     ContactOption,
     DampingOption,
     DepthOption,
+    EcsSourceOption,
     ExponentOption,
+    FrictionLawOption,
+    FrictionOption,
+    MethodOption,
     RestitutionOption,
     RtolOption,
+    StiffnessLawOption,
     StiffnessOption,
+    contact_from_options,
 )
 from jointplay.cli.tolerance import (
     BackendOption,
     backend_from_options,
-    contact_law,
     solver_options,
 )
 from jointplay.errors import ConfigError, Interrupted, JointplayError, PartialInterrupt
@@ -131,6 +144,46 @@ def parse_clearance_limit(text: str | None) -> tuple[float | None, float | None]
     return (None, number) if allowance else (number, None)
 
 
+def parse_samples(text: str) -> int | Literal["auto"]:
+    """``--samples``: ``auto`` or a positive whole number (at most
+    :data:`~jointplay.cli._common.MAX_SAMPLES`)."""
+    value = text.strip().lower()
+    if value == "auto":
+        return "auto"
+    if not value.isdigit() or not 1 <= int(value) <= MAX_SAMPLES:
+        raise ConfigError(
+            f"--samples: expected 'auto' or a whole number from 1 to {MAX_SAMPLES:,}, "
+            f"got {text[:40]!r}"
+        )
+    return int(value)
+
+
+def parse_process(sampling: str, distribution: str, cpk: list[str]) -> Any:
+    """``--sampling``, ``--distribution`` and ``--cpk FEATURE=CPK`` → a
+    :class:`~jointplay.tolerance.parts.Process`."""
+    from jointplay.tolerance.parts import FEATURES, SAMPLINGS, Process
+
+    capability: dict[str, float] = {}
+    for text in cpk:
+        feature, sep, value = text.partition("=")
+        feature = feature.strip()
+        try:
+            number = float(value)
+        except ValueError:
+            number = math.nan
+        if not sep or feature not in FEATURES or not (math.isfinite(number) and number > 0):
+            raise ConfigError(
+                f"--cpk {text[:40]!r}: expected FEATURE=CPK with FEATURE one of "
+                f"{', '.join(FEATURES)} and CPK > 0, e.g. 'hole=1.33'"
+            )
+        capability[feature] = number
+    return Process(
+        choice(sampling, "--sampling", SAMPLINGS),  # type: ignore[arg-type]
+        choice(distribution, "--distribution", ("normal", "uniform")),  # type: ignore[arg-type]
+        capability,
+    )
+
+
 def parse_joint_fits(texts: list[str]) -> dict[str, str]:
     """``--fit JOINT=FIT`` options."""
     out: dict[str, str] = {}
@@ -168,14 +221,79 @@ def design_command(
         str, typer.Option("--classes", help="Candidate ISO 2768-1 classes, comma-separated.")
     ] = "f,m,c,v",
     confidence: Annotated[
-        float,
-        typer.Option("--confidence", help="Share of samples that must meet a requirement, %."),
-    ] = 99.73,
+        str,
+        typer.Option(
+            "--confidence",
+            help="Share of parts that must meet a requirement, in % (the sign optional: "
+            "'99.73' = '99.73 %'; '0.9973' is refused as a likely fraction).",
+            rich_help_panel=SAMPLING_PANEL,
+        ),
+    ] = "99.73 %",
     samples: Annotated[
-        int, typer.Option("--samples", "-n", help="Samples per scheme.", min=1, max=MAX_SAMPLES)
-    ] = 200,
+        str,
+        typer.Option(
+            "--samples",
+            "-n",
+            help="Samples per scheme: 'auto' (rounds of 100, 200, 400, ... per scheme until "
+            "each is decided or --max-samples) or a number.",
+            rich_help_panel=SAMPLING_PANEL,
+        ),
+    ] = "auto",
+    max_samples: Annotated[
+        int,
+        typer.Option(
+            "--max-samples",
+            help="--samples auto: the most samples per scheme.",
+            min=1,
+            max=MAX_SAMPLES,
+            rich_help_panel=SAMPLING_PANEL,
+        ),
+    ] = 4000,
+    sampling: Annotated[
+        str,
+        typer.Option(
+            "--sampling",
+            help="parts: each hole and pin diameter drawn in its own ISO 286 zone, the "
+            "clearance their difference (default); band: the radial clearance drawn over the "
+            "fit's worst-case band (the old sampling, 1.4x wider for H8/f7).",
+            rich_help_panel=SAMPLING_PANEL,
+        ),
+    ] = "parts",
+    distribution: Annotated[
+        str,
+        typer.Option(
+            "--distribution",
+            help="Every feature: normal (±3σ at its limits), uniform.",
+            rich_help_panel=SAMPLING_PANEL,
+        ),
+    ] = "normal",
+    rare_defects: Annotated[
+        bool,
+        typer.Option(
+            "--rare-defects/--no-rare-defects",
+            help="After Monte Carlo, estimate the defect rate of each scheme it left undecided "
+            "(cheapest first) by cross-entropy importance sampling (at most 18 000 samples per "
+            "scheme; down to about 1 DPM) and decide it on that 95 % interval.",
+            rich_help_panel=SAMPLING_PANEL,
+        ),
+    ] = False,
+    cpk: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--cpk",
+            help="Process capability of a feature, FEATURE=CPK (hole, pin, length; e.g. "
+            "hole=1.33): a centred normal process, σ = half the band / (3 Cpk). Repeatable.",
+            rich_help_panel=SAMPLING_PANEL,
+        ),
+    ] = None,
     seed: Annotated[
-        int, typer.Option("--seed", help="Seed (the same for every scheme).", min=0)
+        int,
+        typer.Option(
+            "--seed",
+            help="Seed (the same for every scheme).",
+            min=0,
+            rich_help_panel=SAMPLING_PANEL,
+        ),
     ] = 0,
     truncate: Annotated[
         bool,
@@ -184,6 +302,7 @@ def design_command(
             help="Draw each normal input (σ = a sixth of its tolerance band) from the normal "
             "truncated at its limits, as parts outside them are rejected (default); "
             "--no-truncate keeps the 0.27 % of samples beyond ±3σ.",
+            rich_help_panel=SAMPLING_PANEL,
         ),
     ] = True,
     responses: Annotated[
@@ -198,6 +317,7 @@ def design_command(
             "--clearance-limit",
             help="Radial clearance that ends a joint's life: '80 um', or '+20 um' = the fit's "
             "largest radial clearance plus 20 µm (needed by a 'life' requirement).",
+            rich_help_panel=WEAR_PANEL,
         ),
     ] = None,
     table: Annotated[
@@ -207,10 +327,13 @@ def design_command(
             help="TOML file with [wear] (coefficient, hardness, joints.<J>) and [cost] (model, "
             "a, b, k, reference, it, iso2768) tables; the same tables may sit in the --config "
             "file, and a table here replaces the config's.",
+            rich_help_panel=WEAR_PANEL,
         ),
     ] = None,
     wear_coefficient: WearCoefficientOption = None,
     hardness: HardnessOption = None,
+    method: MethodOption = None,
+    ecs_source: EcsSourceOption = None,
     contact: ContactOption = None,
     k: StiffnessOption = None,
     exponent: ExponentOption = None,
@@ -218,10 +341,23 @@ def design_command(
     depth: DepthOption = None,
     restitution: RestitutionOption = None,
     damping: DampingOption = None,
+    stiffness_law: StiffnessLawOption = None,
+    friction: FrictionOption = None,
+    friction_law: FrictionLawOption = None,
     rtol: RtolOption = None,
+    model_check: Annotated[
+        bool,
+        typer.Option(
+            "--model-sensitivity/--no-model-sensitivity",
+            help="Dynamic: re-evaluate the chosen scheme at the ends of the contact model's "
+            "ranges (restitution 0.6-0.95, friction 0.01-0.2, the other stiffness law; "
+            "docs/contact.md) and say whether the choice holds.",
+        ),
+    ] = True,
     settle: SettleOption = 2,
     revolutions: Annotated[
-        float, typer.Option("--revolutions", help="Analysed revolutions.")
+        float,
+        typer.Option("--revolutions", help="Analysed revolutions.", rich_help_panel=RUN_PANEL),
     ] = 1.0,
     rpm: RpmOption = None,
     gravity: GravityOption = None,
@@ -233,25 +369,36 @@ def design_command(
             help="Local worker processes (default: one per CPU).",
             min=1,
             max=MAX_WORKERS,
+            rich_help_panel=EXECUTION_PANEL,
         ),
     ] = None,
     dask_scheduler: Annotated[
-        str | None, typer.Option("--dask-scheduler", help="Run on the Dask cluster at ADDRESS.")
+        str | None,
+        typer.Option(
+            "--dask-scheduler",
+            help="Run on the Dask cluster at ADDRESS.",
+            rich_help_panel=EXECUTION_PANEL,
+        ),
     ] = None,
-    plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
-    progress: Annotated[
-        bool, typer.Option("--progress/--no-progress", help="Progress bar.")
+    plots: Annotated[
+        bool,
+        typer.Option("--plots/--no-plots", help="Write PNG plots.", rich_help_panel=OUTPUT_PANEL),
     ] = True,
+    progress: ProgressOption = True,
     force: ForceOption = False,
     figure_format: FigureFormatOption = "png",
 ) -> None:
-    """Design study: every fit × length class through the dynamics; the cheapest that meets
-    the requirements, its yield and relative cost.
+    """Design study: every fit × length class through the dynamics; the cheapest shown to
+    meet the requirements, with its evidence and its drawing callouts.
 
-    Link lengths and radial clearances are sampled from normal distributions centred in
-    their limits, ±3σ at the limits, truncated at the limits (see --truncate).
+    Parts are sampled as made: each link length in its ISO 2768-1 class, each hole and pin
+    diameter in its own ISO 286 zone (normal, ±3σ at the limits, truncated at them; see
+    --sampling, --cpk, --truncate). A scheme meets a requirement when the lower bound of its
+    yield's exact 95 % interval reaches the confidence level, fails when the upper bound
+    stays below it, and is undecided otherwise (--samples auto adds samples until decided).
 
-    Writes DIR/design.parquet and DIR/design.csv (one row per scheme; dynamic:
+    Writes DIR/design.parquet and DIR/design.csv (one row per scheme, the CSV's columns named
+    with their units; dynamic:
     penetration_exceeds_<joint> and penetration_ratio_max_<joint>), DIR/samples.parquet
     (dynamic: penetration_ratio_<joint>), DIR/summary.json (with diagnostics), PNG plots and
     DIR/report.html. Samples whose pins sink deeper than the radial clearance (not physical)
@@ -259,31 +406,36 @@ def design_command(
     """
     from jointplay.io.output import output_dir
     from jointplay.report.design import write_design
-    from jointplay.study.design import design_study, design_units, resolve_responses
+    from jointplay.study.design import (
+        RareDefects,
+        design_study,
+        design_units,
+        parse_requirements,
+        resolve_responses,
+    )
+    from jointplay.study.requirements import parse_confidence
+    from jointplay.study.sensitivity import model_sensitivity
     from jointplay.tolerance.cost import CostModel
 
     mechanism = mechanism_from_options(preset, config, rpm=rpm, gravity=gravity)
     kind = choice(responses, "--responses", ("auto", "kinematic", "dynamic"))
+    requirements = parse_requirements(mechanism, require)  # once, into typed objects
+    level = parse_confidence(confidence)
+    count = parse_samples(samples)
+    process = parse_process(sampling, distribution, cpk or [])
     contact_options = {
-        "contact": contact,
-        "k": k,
-        "exponent": exponent,
-        "cmax": cmax,
-        "depth": depth,
-        "restitution": restitution,
-        "damping": damping,
-    }
-    law = None
-    if any(value is not None for value in contact_options.values()):
-        if resolve_responses(mechanism, require, kind) != "dynamic":  # type: ignore[arg-type]
-            given = ", ".join(f"--{key}" for key, v in contact_options.items() if v is not None)
-            raise ConfigError(
-                f"{given}: contact options apply to dynamic designs only, and every requirement "
-                "here is kinematic; add --responses dynamic or drop them"
-            )
-        law = contact_law(contact_options, mechanism)
-    if not (math.isfinite(confidence) and 0 < confidence < 100):
-        raise ConfigError(f"--confidence must lie between 0 and 100 %, got {confidence}")
+        "method": method, "ecs_source": ecs_source, "contact": contact, "k": k,
+        "exponent": exponent, "cmax": cmax, "depth": depth, "restitution": restitution,
+        "damping": damping, "stiffness_law": stiffness_law, "friction": friction,
+        "friction_law": friction_law,
+    }  # fmt: skip
+    given = [f"--{key.replace('_', '-')}" for key, v in contact_options.items() if v is not None]
+    if given and resolve_responses(mechanism, requirements, kind) != "dynamic":  # type: ignore[arg-type]
+        raise ConfigError(
+            f"{', '.join(given)}: contact options apply to dynamic designs only, and every "
+            "requirement here is kinematic; add --responses dynamic or drop them"
+        )
+    contact_used = contact_from_options(config, mechanism, "--method", **contact_options)
     fit_list = [f.strip() for f in fits.split(",") if f.strip()]
     fixed = parse_joint_fits(fit or [])
     candidates: list[Any] = (
@@ -302,29 +454,34 @@ def design_command(
     figure_format = check_figure_format(figure_format)
     # the output folder is checked before the study runs
     with output_dir(out, force=force, inputs=(config, table)) as folder:
+        options: dict[str, Any] = {
+            "samples": count, "max_samples": max_samples, "seed": seed, "process": process,
+            "truncate": truncate, "cost": cost, "clearance_limit": limit,
+            "clearance_allowance": allowance, "wear": wear, "settle": settle,
+            "revolutions": revolutions, "solver": solver_options(rtol), "backend": where,
+            "progress": progress,
+        }  # fmt: skip
         missing = []
+        sensitivity = None
         try:
-            result = design_study(
-                mechanism,
-                candidates,
-                class_list,
-                require,
-                samples=samples,
-                seed=seed,
-                truncate=truncate,
-                confidence=confidence / 100.0,
-                responses=kind,  # type: ignore[arg-type]
-                cost=cost,
-                clearance_limit=limit,
-                clearance_allowance=allowance,
-                wear=wear,
-                contact=law,
-                settle=settle,
-                revolutions=revolutions,
-                solver=solver_options(rtol),
-                backend=where,
-                progress=progress,
-            )
+            dynamic = resolve_responses(mechanism, requirements, kind) == "dynamic"  # type: ignore[arg-type]
+            with compiling_kernels(needed=dynamic):
+                result = design_study(
+                    mechanism,
+                    candidates,
+                    class_list,
+                    requirements,
+                    rare=RareDefects() if rare_defects else None,
+                    confidence=level,
+                    responses=kind,  # type: ignore[arg-type]
+                    contact=contact_used,
+                    **options,
+                )
+                sensitivity = (
+                    model_sensitivity(mechanism, result, contact_used, **options)
+                    if model_check and not result.interrupted
+                    else None
+                )
         except PartialInterrupt as stopped:  # in the convergence check: every scheme finished
             result, missing = cast("DesignResult", stopped.partial), ["the convergence check"]
         units = design_units(mechanism, result.responses)  # type: ignore[arg-type]
@@ -338,10 +495,15 @@ def design_command(
                 plots=plots,
                 provenance=provenance(summary["settings"]),
                 figure_format=figure_format,
+                sensitivity=sensitivity,
             )
         except KeyboardInterrupt:  # the tables and summary are written first, whole
             raise Interrupted(*finished, ", ".join([*missing, "the figures and report"])) from None
         _print(result, units)
+        if result.settings.get("model", {}).get("contact"):
+            console.print(f"contact: {result.settings['model']['contact']}")
+        if sensitivity is not None:
+            console.print(f"model sensitivity: {sensitivity.verdict}")
         if result.interrupted or missing:
             raise Interrupted(*finished, ", ".join(missing))
     console.print(f"results written to {out}")
@@ -376,42 +538,55 @@ def _fit_joints(mechanism: Any) -> list[str]:
 def _print(result: DesignResult, units: dict[str, str]) -> None:
     from rich.table import Table
 
-    from jointplay.report.design import display
+    from jointplay.report.design import display, evidence_line
 
     table = result.table
+    level = f"{100 * result.confidence:g} %"
     grid = Table(box=None)
-    headers = ["scheme", "cost", "yield %", "DPM"]
+    headers = ["scheme", "cost", "samples", "yield % [95 % CI]", "DPM [95 % CI]"]
     required = list(dict.fromkeys(r.response for r in result.requirements))
     for name in required:
         unit, _ = display(units.get(name, ""))
-        headers.append(f"{name} @{100 * result.confidence:g}% ({unit})")
-    headers.append("meets all")
+        headers.append(f"{name} @{level} ({unit})")
+    headers.append("verdict")
     for header in headers:
         grid.add_column(header, justify="left" if header == "scheme" else "right")
+    modelled = False
     if len(table):
         for _, row in table.sort_values("cost").iterrows():
             cells = [
                 str(row["scheme"]),
                 f"{row['cost']:.3g}",
-                f"{row['yield']:.2f}",
-                f"{row['dpm']:,.0f}",
+                f"{row['samples']:,}",
+                f"{row['yield']:.2f} [{row['yield_low']:.2f}, {row['yield_high']:.2f}]",
+                f"{row['dpm']:,.0f} [{row['dpm_low']:,.0f}, {row['dpm_high']:,.0f}]",
             ]
             for name in required:
                 _, scale = display(units.get(name, ""))
-                cells.append(f"{row[f'{name}_at_confidence'] * scale:.4g}")
-            cells.append("yes" if row["feasible"] else "no")
+                model = row[f"{name}_at_confidence_basis"] == "normal-model"
+                modelled |= model
+                cells.append(
+                    f"{row[f'{name}_at_confidence'] * scale:.4g}" + (" *" if model else "")
+                )
+            cells.append(str(row["verdict"]))
             grid.add_row(*cells)
-    console.print(grid)
+    console.print(whole_headers(grid))
+    if modelled:
+        console.print(
+            f"* normal-model estimate (mean + z·std), not a bound: fewer samples than a "
+            f"distribution-free bound at {level} needs; the others are 95 % order-statistic bounds"
+        )
     best = result.best_row
     if best is not None:
         line = (
-            f"choose {result.best}: relative cost {best['cost']:.3g}, yield {best['yield']:.2f} %"
+            f"choose {result.best}: relative cost {best['cost']:.3g}; {evidence_line(result, best)}"
         )
-        life = best.get("life_at_confidence")
-        if life is not None and math.isfinite(life):
-            line += f", life {life / 3600.0:,.0f} h at {100 * result.confidence:g} %"
         console.print(line)
-    elif result.binding is not None:
-        console.print(f"no scheme meets every requirement; binding: {result.binding}")
+        for callout in result.drawing:
+            console.print(f"  drawing: {callout.text}")
+    if best is None:
+        console.print(result.verdict)
+    elif result.to_decide is not None:
+        console.print(f"cheaper, {result.to_decide}")
     for finding in result.diagnostics:  # one line each, on stderr, as `jointplay tolerance`
         print(f"jointplay: {finding.line()}", file=sys.stderr)

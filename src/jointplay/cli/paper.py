@@ -23,9 +23,11 @@ from rich.progress import (
 
 from jointplay.cli._app import app
 from jointplay.cli._common import (
+    COMPILE_NOTICE,
     FigureFormatOption,
     ForceOption,
     OutOption,
+    ProgressOption,
     check_figure_format,
     check_revolutions,
     crank_speed,
@@ -38,6 +40,7 @@ from jointplay.errors import ConfigError
 def paper_command(
     out: OutOption,
     force: ForceOption = False,
+    progress_shown: ProgressOption = True,
     rpm: Annotated[
         str,
         typer.Option(
@@ -131,6 +134,11 @@ def paper_command(
         )
         options.backend  # noqa: B018 (checks --dask-scheduler before any work)
         console = Console(stderr=True)
+        from jointplay._kernels import compiled_cache_present
+
+        compiling = not compiled_cache_present()
+        if compiling:
+            console.print(COMPILE_NOTICE, markup=False, highlight=False)
         with Progress(
             TextColumn("[bold]paper study"),
             BarColumn(bar_width=24),
@@ -139,6 +147,7 @@ def paper_command(
             TextColumn("{task.description}"),
             console=console,
             transient=False,
+            disable=not progress_shown,
         ) as progress:
             task = progress.add_task("starting", total=None)
             steps = {"total": 0}
@@ -160,7 +169,8 @@ def paper_command(
             report_s = time.perf_counter() - writing
             progress.update(task, completed=steps["total"], description="done")
     total_s = time.perf_counter() - started
+    kernels = f", {study.extra['kernels_s']:.0f} s of it compiling the kernels" if compiling else ""
     typer.echo(
         f"paper study written to {out}/report.html in {total_s:.0f} s "
-        f"(simulations and analyses {study.wall_s:.0f} s, report {report_s:.0f} s)"
+        f"(simulations and analyses {study.wall_s:.0f} s{kernels}, report {report_s:.0f} s)"
     )

@@ -20,13 +20,17 @@ from jointplay.cli._common import (
     GravityOption,
     OutOption,
     PresetOption,
+    ProgressOption,
     RpmOption,
     StartAngleOption,
     check_figure_format,
     check_revolutions,
+    compiling_kernels,
     mechanism_from_options,
     provenance,
     quantity_option,
+    status,
+    whole_headers,
 )
 from jointplay.cli._simulation import (
     ClearanceOption,
@@ -46,9 +50,9 @@ from jointplay.cli._simulation import (
     StartOption,
     StiffnessLawOption,
     StiffnessOption,
+    contact_model,
     finite_number,
     joint_list,
-    method_law_of,
 )
 from jointplay.errors import ConfigError
 from jointplay.units import parse_quantity
@@ -64,6 +68,7 @@ def _opt(help_text: str, *names: str) -> Any:
 def simulate_command(
     out: OutOption,
     force: ForceOption = False,
+    progress: ProgressOption = True,
     preset: PresetOption = None,
     config: ConfigOption = None,
     rpm: RpmOption = None,
@@ -134,7 +139,6 @@ def simulate_command(
     PNG plots. Options override the \[simulation] table of a --config file.
     """
     from jointplay.dynamics.cycles import DEFAULT_SETTLE
-    from jointplay.dynamics.setup import FrictionSettings, clearance_joints, contact_from_strings
     from jointplay.dynamics.simulate import SolverOptions, Start, simulate
     from jointplay.io.config import simulation_settings
     from jointplay.io.output import output_dir, write_json
@@ -157,25 +161,14 @@ def simulate_command(
         mechanism = mechanism_from_options(
             preset, config, rpm, direction, values.get("start_angle"), gravity
         )
-        law, method_record = method_law_of(values, mechanism)
-        contact_settings = contact_from_strings(values) if law is None else None
-        friction_settings = FrictionSettings(
-            law=str(values.get("friction_law", "ambrosio")),
-            coefficient=finite_number(values, "friction", 0.0),
-        )
-        joint_names = joint_list(values.get("joints"))
+        contact_used = contact_model(values, mechanism)
         clearance_value = (
             None
             if values.get("clearance") is None
             else parse_quantity(values["clearance"], "m", field="--clearance")
         )
-        clear = clearance_joints(
-            mechanism,
-            joint_names,
-            contact=contact_settings,
-            friction=friction_settings,
-            clearance=clearance_value,
-            law=law,
+        clear = contact_used.joints(
+            mechanism, joint_list(values.get("joints")), clearance=clearance_value
         )
         mode = str(values.get("start", "steady"))
         ramp = (
@@ -207,8 +200,12 @@ def simulate_command(
                 f"--settle must be a whole number of revolutions >= 0, got {settle_turns!r}"
             )
         sample = _sample_step(values.get("sample_deg"))
-        with console.status(
-            f"simulating {settle_turns + turns:g} revolution(s) of {mechanism.name} with clearance in {', '.join(c.joint for c in clear)}"
+        with (
+            compiling_kernels(lambda line: console.print(line, markup=False, highlight=False)),
+            status(
+                progress,
+                f"simulating {settle_turns + turns:g} revolution(s) of {mechanism.name} with clearance in {', '.join(c.joint for c in clear)}",
+            ),
         ):
             result = simulate(
                 mechanism,
@@ -226,13 +223,14 @@ def simulate_command(
             {
                 "mechanism": mechanism_summary(mechanism),
                 "simulation": _jsonable(values),
-                "method": method_record,
+                "method": contact_used.record,
             }
         )
         findings = _diagnostics(result, mechanism)
         write_table(result.timeseries, folder, "timeseries", fmt_value)
         write_table(result.steps, folder, "steps", fmt_value)
         summary = simulation_summary(result, record)
+        summary["contact"] = contact_used.describe()
         summary["diagnostics"] = [finding.as_dict() for finding in findings]
         write_json(folder / "summary.json", summary)
         if plots:
@@ -258,6 +256,7 @@ def simulate_command(
                 title=mechanism.name,
                 figure_format=figure_format,
             )
+    print(f"contact: {contact_used.describe()['text']}")
     _print(result, findings, Path(out))
 
 
@@ -356,7 +355,7 @@ def _print(result: Any, findings: list[Any], out: Path) -> None:
         "quantity",
         "peak |value|",
         "revolution",
-        "crank (deg)",
+        "crank in it (deg)",
         "per-revolution min–max",
         "nominal",
         "increase %",
@@ -368,7 +367,7 @@ def _print(result: Any, findings: list[Any], out: Path) -> None:
             key,
             f"{peak['value']:.5g}",
             str(peak["revolution"]),
-            f"{peak['crank_deg']:.1f}",
+            f"{peak['revolution_deg']:.1f}",
             f"{stats[key]['min']:.4g}–{stats[key]['max']:.4g}",
             f"{result.nominal_peaks.get(key, float('nan')):.5g}",
             "" if increase is None else f"{increase:+.1f}",
@@ -383,7 +382,7 @@ def _print(result: Any, findings: list[Any], out: Path) -> None:
         f"peaks over revolutions {running.settle + 1}–{len(running.windows)}, located on the "
         "continuous solution; periodicity: " + running.periodicity.verdict
     )
-    stdout.print(table)
+    stdout.print(whole_headers(table))
     if slider:
         stdout.print(
             "* the slider (position m, velocity m/s, acceleration m/s²): peaks among the "

@@ -15,6 +15,7 @@ from rich.console import Console
 
 from jointplay.cli._app import app
 from jointplay.cli._common import (
+    EXECUTION_PANEL,
     MAX_SAMPLES,
     MAX_WORKERS,
     ConfigOption,
@@ -26,26 +27,31 @@ from jointplay.cli._common import (
     RpmOption,
     check_figure_format,
     check_revolutions,
+    compiling_kernels,
     crank_speed,
     parse_gravity,
     provenance,
+    whole_headers,
 )
 from jointplay.cli._simulation import (
     CmaxOption,
     ContactOption,
     DampingOption,
     DepthOption,
+    EcsSourceOption,
     ExponentOption,
+    FrictionLawOption,
+    FrictionOption,
     RestitutionOption,
     RtolOption,
+    StiffnessLawOption,
     StiffnessOption,
+    contact_from_options,
 )
 from jointplay.errors import ConfigError, Interrupted, PartialInterrupt
 from jointplay.units import parse_quantity
 
 if TYPE_CHECKING:
-    from jointplay.contact.laws import ContactLaw
-    from jointplay.model.mechanism import Mechanism
     from jointplay.tolerance.analysis import ToleranceStudyResult
     from jointplay.tolerance.execution import Backend
     from jointplay.tolerance.methods import SpecLimits
@@ -102,6 +108,7 @@ BackendOption = Annotated[
         help="Where the samples run: local (this process; the dynamics on threads over the "
         "cores), processes (worker processes, default), dask (the cluster of "
         "--dask-scheduler) or gpu (the dynamics on JAX: pip install 'jointplay[gpu]').",
+        rich_help_panel=EXECUTION_PANEL,
     ),
 ]
 BACKEND_NAMES = ("local", "processes", "dask", "gpu", "serial")
@@ -191,6 +198,9 @@ def tolerance_command(
     depth: DepthOption = None,
     restitution: RestitutionOption = None,
     damping: DampingOption = None,
+    stiffness_law: StiffnessLawOption = None,
+    friction: FrictionOption = None,
+    friction_law: FrictionLawOption = None,
     rtol: RtolOption = None,
     paper_method: Annotated[
         str | None,
@@ -198,17 +208,12 @@ def tolerance_command(
             "--paper-method",
             help="Dynamic: one of the paper's six contact methods (ifm-conventional, "
             "rm-conventional, ifm-ecs-cylindrical, rm-ecs-cylindrical, ifm-ecs-spherical, "
-            "rm-ecs-spherical) instead of the contact options; ECS parameters from the "
-            "nominal mechanism.",
+            "rm-ecs-spherical) instead of the contact options, as --method of simulate "
+            "(here --method is the tolerance method); ECS parameters from the nominal "
+            "mechanism.",
         ),
     ] = None,
-    ecs_source: Annotated[
-        str | None,
-        typer.Option(
-            "--ecs-source",
-            help="ECS methods: computed (our estimate, default) or paper (Tables 4 and 5).",
-        ),
-    ] = None,
+    ecs_source: EcsSourceOption = None,
     start: Annotated[
         StartMode,
         typer.Option(
@@ -245,12 +250,22 @@ def tolerance_command(
             "half-width.",
         ),
     ] = 0.5,
+    require: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--require",
+            "-r",
+            help="A limit on a response: RESPONSE <=|<|>=|> VALUE [UNIT], e.g. "
+            "'omega4_peak <= 16 rad/s' (design's grammar; a lower and an upper limit on one "
+            "response make its two spec limits). Repeatable.",
+        ),
+    ] = None,
     spec_limit: Annotated[
         list[str] | None,
         typer.Option(
             "--spec-limit",
-            help="Limits of a response, RESPONSE=LO:HI with units, e.g. "
-            "'omega4_peak=:16 rad/s' (either side may be empty). Repeatable.",
+            help="Deprecated: use --require. Limits of a response, RESPONSE=LO:HI with units, "
+            "e.g. 'omega4_peak=:16 rad/s'. Repeatable.",
         ),
     ] = None,
     backend: BackendOption = "processes",
@@ -314,18 +329,15 @@ def tolerance_command(
             spec = spec.only("length")
         check_revolutions(revolutions, settle)
         contact_options = {
-            "contact": contact,
-            "k": k,
-            "exponent": exponent,
-            "cmax": cmax,
-            "depth": depth,
-            "restitution": restitution,
-            "damping": damping,
-        }
+            "method": paper_method, "ecs_source": ecs_source, "contact": contact, "k": k,
+            "exponent": exponent, "cmax": cmax, "depth": depth, "restitution": restitution,
+            "damping": damping, "stiffness_law": stiffness_law, "friction": friction,
+            "friction_law": friction_law,
+        }  # fmt: skip
         law = None
         if dynamic:
-            law = contact_law(contact_options, mechanism, paper_method, ecs_source)
-        elif any(v is not None for v in (*contact_options.values(), paper_method, ecs_source)):
+            law = contact_from_options(config, mechanism, "--paper-method", **contact_options)
+        elif any(v is not None for v in contact_options.values()):
             raise ConfigError("contact options apply to --responses dynamic or running only")
         if rtol is not None and not dynamic:
             raise ConfigError("--rtol applies to --responses dynamic or running only")
@@ -334,6 +346,16 @@ def tolerance_command(
             raise ConfigError("--backend gpu runs the dynamics: use it with --responses dynamic")
         units = response_units(mechanism, spec, responses.value, contact=law)
         limits = parse_spec_limits(spec_limit or [], units)
+        if spec_limit:  # after parsing: a malformed one is still one error line
+            print(
+                "jointplay: warning: --spec-limit is deprecated and will be removed; write "
+                "--require 'RESPONSE <= VALUE UNIT' (and >= for a lower limit), as in design",
+                file=sys.stderr,
+            )
+        for name, limit in limits_from_requirements(require or [], units).items():
+            if name in limits:
+                raise ConfigError(f"--require and --spec-limit both limit {name!r}: give one")
+            limits[name] = limit
         analysis: ToleranceMethod
         if method is Method.monte_carlo:
             analysis = MonteCarlo(samples=samples, seed=seed, sampling=sampling.value)
@@ -343,20 +365,21 @@ def tolerance_command(
             analysis = WorstCase(corners=corners.value, fd_step=fd_step)
         missing = []
         try:
-            study = tolerance_study(
-                mechanism,
-                spec,
-                method=analysis,
-                responses=responses.value,
-                limits=limits,
-                contact=law,
-                start=start.value,
-                settle=settle,
-                revolutions=revolutions,
-                solver=solver_options(rtol),
-                backend=where,
-                progress=progress,
-            )
+            with compiling_kernels(needed=dynamic):
+                study = tolerance_study(
+                    mechanism,
+                    spec,
+                    method=analysis,
+                    responses=responses.value,
+                    limits=limits,
+                    contact=law,
+                    start=start.value,
+                    settle=settle,
+                    revolutions=revolutions,
+                    solver=solver_options(rtol),
+                    backend=where,
+                    progress=progress,
+                )
         except PartialInterrupt as stopped:  # in the convergence check: every point finished
             study, missing = (
                 cast("ToleranceStudyResult", stopped.partial),
@@ -377,6 +400,8 @@ def tolerance_command(
         except KeyboardInterrupt:  # the samples and summary are written first, whole
             raise Interrupted(*finished, ", ".join([*missing, "the figures and report"])) from None
         _print(study)
+        if study.model.get("contact"):
+            console.print(f"contact: {study.model['contact']}")
         if study.interrupted or missing:
             raise Interrupted(*finished, ", ".join(missing))
     console.print(f"results written to {out}")
@@ -407,35 +432,31 @@ def solver_options(rtol: float | None) -> Any:
     return SolverOptions(rtol=rtol)
 
 
-def contact_law(
-    options: dict[str, Any],
-    mechanism: Mechanism,
-    paper_method: str | None = None,
-    ecs_source: str | None = None,
-) -> ContactLaw:
-    """The contact law of every clearance joint, read as ``jointplay simulate`` reads it.
+def limits_from_requirements(texts: list[str], units: dict[str, str]) -> dict[str, SpecLimits]:
+    """``--require`` texts (design's grammar, :func:`~jointplay.study.requirements.
+    parse_requirement`) to spec limits: ``<=``/``<`` give the upper limit, ``>=``/``>`` the
+    lower (both inclusive, as spec limits are); no ``@confidence`` (a tolerance study
+    reports the share out of spec instead)."""
+    from jointplay.study.requirements import parse_requirement
+    from jointplay.tolerance.methods import SpecLimits
 
-    ``options`` are the strings with units of --contact, --k, --exponent, --cmax, --depth,
-    --restitution and --damping (``None`` where not given; without any, the paper's
-    conventional IFM set of Table 3). ``paper_method`` picks one of the paper's six methods
-    instead (ECS parameters from the nominal mechanism).
-    """
-    from jointplay.dynamics.setup import contact_from_strings, make_law
-
-    given = [f"--{key}" for key, value in options.items() if value is not None]
-    if paper_method is not None:
-        if given:
+    bounds: dict[str, dict[str, float]] = {}
+    for text in texts:
+        requirement = parse_requirement(text, units)
+        if requirement.confidence is not None:
             raise ConfigError(
-                f"--paper-method sets the contact law and its parameters; drop {', '.join(given)} "
-                "or drop --paper-method"
+                f"--require {text!r}: a tolerance study takes no @confidence (it reports the "
+                "share out of spec); leave it out"
             )
-        from jointplay.study.methods import method_law
-
-        law, _ = method_law(paper_method, mechanism, ecs_source=ecs_source or "computed")
-        return law
-    if ecs_source is not None:
-        raise ConfigError("--ecs-source applies to the paper's ECS methods: give --paper-method")
-    return make_law(contact_from_strings({k: v for k, v in options.items() if v is not None}))
+        side = "upper" if requirement.upper else "lower"
+        limits = bounds.setdefault(requirement.response, {})
+        if side in limits:
+            raise ConfigError(f"--require: two {side} limits on {requirement.response!r}")
+        limits[side] = requirement.limit
+    return {
+        name: SpecLimits(limits.get("lower"), limits.get("upper"))
+        for name, limits in bounds.items()
+    }
 
 
 def parse_spec_limits(texts: list[str], units: dict[str, str]) -> dict[str, SpecLimits]:
@@ -509,7 +530,7 @@ def _print(study: ToleranceStudyResult) -> None:
         row.append(f"{input_label(top)} {100 * item.contributions[top]:.0f} %" if top else "–")
         table.add_row(*row)
     wide = console if console.is_terminal else Console(highlight=False, width=REPORT_WIDTH)
-    wide.print(table)
+    wide.print(whole_headers(table))
     for name, item in result.summaries.items():
         if item.note:
             console.print(f"note on {name}: {item.note}")

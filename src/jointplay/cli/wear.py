@@ -24,9 +24,25 @@ from jointplay.cli._common import (
     SettleOption,
     WearCoefficientOption,
     check_figure_format,
+    compiling_kernels,
     mechanism_from_options,
     provenance,
     quantity_option,
+)
+from jointplay.cli._simulation import (
+    CmaxOption,
+    ContactOption,
+    DampingOption,
+    DepthOption,
+    EcsSourceOption,
+    ExponentOption,
+    FrictionLawOption,
+    FrictionOption,
+    MethodOption,
+    RestitutionOption,
+    StiffnessLawOption,
+    StiffnessOption,
+    contact_from_options,
 )
 from jointplay.errors import ConfigError
 
@@ -73,6 +89,18 @@ def wear_command(
     settle: SettleOption = 2,
     rpm: RpmOption = None,
     gravity: GravityOption = None,
+    method: MethodOption = None,
+    ecs_source: EcsSourceOption = None,
+    contact: ContactOption = None,
+    k: StiffnessOption = None,
+    exponent: ExponentOption = None,
+    cmax: CmaxOption = None,
+    depth: DepthOption = None,
+    restitution: RestitutionOption = None,
+    damping: DampingOption = None,
+    stiffness_law: StiffnessLawOption = None,
+    friction: FrictionOption = None,
+    friction_law: FrictionLawOption = None,
     plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
     force: ForceOption = False,
     figure_format: FigureFormatOption = "png",
@@ -84,8 +112,6 @@ def wear_command(
     Writes DIR/wear.csv, DIR/profiles.csv, DIR/summary.json, PNG plots and DIR/report.html.
     """
     from jointplay.cli.design import parse_clearance_limit, read_table, wear_settings
-    from jointplay.dynamics.clearance import ClearanceJoint
-    from jointplay.dynamics.setup import DEFAULT_IMPACT
     from jointplay.dynamics.wear import wear_life
     from jointplay.io.output import output_dir
     from jointplay.report.design import write_wear
@@ -102,6 +128,11 @@ def wear_command(
     )
     limit, allowance = parse_clearance_limit(clearance_limit)
     settings = wear_settings(read_table(table, config), wear_coefficient, hardness)
+    contact_used = contact_from_options(
+        config, mechanism, method=method, ecs_source=ecs_source, contact=contact, k=k,
+        exponent=exponent, cmax=cmax, depth=depth, restitution=restitution, damping=damping,
+        stiffness_law=stiffness_law, friction=friction, friction_law=friction_law,
+    )  # fmt: skip
     joints = []
     limits: dict[str, float] = {}
     for joint in mechanism.revolute_joints:
@@ -124,34 +155,30 @@ def wear_command(
             )
         else:
             limits[joint.name] = float(limit)  # type: ignore[arg-type]
-        joints.append(
-            ClearanceJoint(
-                joint.name,
-                clearance=clearance,
-                journal_radius=joint.fit.diameter / 2.0,
-                law=DEFAULT_IMPACT,
-            )
-        )
+        joints.extend(contact_used.joints(mechanism, [joint.name], clearance=clearance))
     if not joints:
         raise ConfigError("no clearance joints: give joints a fit and a diameter, or --fit")
     with output_dir(
         out, force=force, inputs=(config, table)
     ) as folder:  # checked before the wear runs
-        history = wear_life(
-            mechanism,
-            joints,
-            hours=life_hours,
-            update_hours=step,
-            clearance_limit=limits,
-            settings=settings,
-            settle=settle,
-            on_update=lambda done, total: console.print(f"  {done:g} of {total:g} h", style="dim"),
-        )
+        with compiling_kernels():
+            history = wear_life(
+                mechanism,
+                joints,
+                hours=life_hours,
+                update_hours=step,
+                clearance_limit=limits,
+                settings=settings,
+                settle=settle,
+                on_update=lambda done, total: console.print(
+                    f"  {done:g} of {total:g} h", style="dim"
+                ),
+            )
         write_wear(
             history,
             folder,
             plots=plots,
-            provenance=provenance(history.summary()),
+            provenance=provenance({**history.summary(), "contact": contact_used.describe()}),
             figure_format=figure_format,
         )
     for name, life in history.life.items():

@@ -56,7 +56,7 @@ from jointplay._kernels import common as kc
 from jointplay._kernels import constraints as ck
 from jointplay._kernels import eom
 from jointplay._kernels.contact import normal_force
-from jointplay.dynamics.clearance import MIN_CLEARANCE, ClearanceJoint
+from jointplay.dynamics.clearance import MIN_CLEARANCE, ClearanceJoint, stiffness_field
 from jointplay.dynamics.integrate import IntegrationStatus, _interrupts_watched
 from jointplay.dynamics.simulate import SolverOptions, Start, initial_state
 from jointplay.dynamics.system import PARAMS_WIDTH, System, build_system
@@ -415,7 +415,7 @@ def _sample_mechanism(
     for c in system0.clearances:
         change: dict[str, Any] = {}
         if c.joint in samples.clearances:
-            change["clearance"] = float(samples.clearances[c.joint][i])
+            c = c.with_clearance(float(samples.clearances[c.joint][i]))
         if law_changes:
             change["law"] = dataclasses.replace(c.law, **law_changes)
         joints.append(dataclasses.replace(c, **change) if change else c)
@@ -465,6 +465,19 @@ def _ground_points(kind: str, g: SimpleNamespace, n: int) -> dict[str, tuple[Any
     if kind == "four-bar":
         return {"O2": (zero, zero), "O4": (g.ground, zero)}
     return {"O2": (zero, zero), "S0": (zero, g.offset)}
+
+
+def _geometric_changes(
+    clear: ClearanceJoint, samples: BatchSamples, clearance: FloatArray
+) -> Mapping[str, FloatArray]:
+    """``samples.law`` plus, for a joint whose stiffness follows its geometry and whose
+    clearance varies, the stiffness and exponent refitted to each sample's clearance (NaN,
+    so the sample fails, where the stiffness law does not apply)."""
+    rule = clear.stiffness_from
+    if rule is None or clear.joint not in samples.clearances:
+        return samples.law
+    k, n = rule.fits(clear.journal_radius, clearance)
+    return {stiffness_field(clear.law): k, "exponent": n, **samples.law}
 
 
 def _law_columns(
@@ -643,7 +656,9 @@ def _build_vectorised(
         geom[:, c, eom.G_R_BEARING] = clear.journal_radius + clearance
         geom[:, c, eom.G_R_JOURNAL] = clear.journal_radius
         geom[:, c, eom.G_CLEARANCE] = clearance
-        law_p[:, c], law_ok, law_errors = _law_columns(clear.law, samples.law, n)
+        law_p[:, c], law_ok, law_errors = _law_columns(
+            clear.law, _geometric_changes(clear, samples, clearance), n
+        )
         for i in np.flatnonzero(~law_ok & ok):
             ok[i], errors[i] = False, law_errors[i]
         if clear.joint in samples.clearances:  # ClearanceJoint's checks, for the bad ones
@@ -1099,10 +1114,12 @@ def _progress(enabled: bool, total: int) -> Iterator[Callable[[int], None]]:
         yield lambda count: None
         return
     from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeRemainingColumn
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress
+
+    from jointplay.progress import eta_column
 
     bar = Progress(
-        "samples", BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(),
+        "samples", BarColumn(), MofNCompleteColumn(), eta_column(),
         console=Console(stderr=True),
     )  # fmt: skip
     with bar:

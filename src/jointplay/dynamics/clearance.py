@@ -2,16 +2,93 @@
 
 from __future__ import annotations
 
+import contextlib
+import dataclasses
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from jointplay.contact.friction import FrictionLaw
 from jointplay.contact.laws import ContactLaw
+from jointplay.contact.stiffness import STIFFNESS_LAWS, get_stiffness_law
 from jointplay.errors import ConfigError
 
 #: The smallest radial clearance modelled, m (1 nm): below it the joint is ideal in practice
 #: and the contact arithmetic (onset tolerance, eccentricity ratios) underflows.
 MIN_CLEARANCE = 1e-9
+
+
+#: Penetrations over which a geometric stiffness law is fitted by ``F = k δ^n``, m: the fit
+#: covers (FIT_DEPTH/100, FIT_DEPTH), the µm penetrations of steel pins at 10-1000 N.
+FIT_DEPTH = 5e-6
+
+
+@dataclass(frozen=True)
+class JointStiffness:
+    """How a joint's contact stiffness follows from its geometry and materials.
+
+    A pin-in-hole law of :mod:`jointplay.contact.stiffness`, fitted by ``F = k δ^n`` over
+    penetrations up to ``fit_depth`` (:meth:`PinInHoleStiffness.power_law_fit`), for the
+    joint's pin radius and each clearance it is given (:meth:`fit`).
+
+    Attributes:
+        law: registry name of the pin-in-hole law (``liu``, ``hertz``, ``pereira``, ...).
+        length: axial contact length L, m.
+        bearing_youngs_modulus, bearing_poisson_ratio: the bearing's E (Pa) and ν.
+        pin_youngs_modulus, pin_poisson_ratio: the pin's E (Pa) and ν.
+        fit_depth: the largest penetration of the fit, m.
+    """
+
+    law: str
+    length: float
+    bearing_youngs_modulus: float
+    bearing_poisson_ratio: float
+    pin_youngs_modulus: float
+    pin_poisson_ratio: float
+    fit_depth: float = FIT_DEPTH
+
+    def __post_init__(self) -> None:
+        if self.law not in STIFFNESS_LAWS:
+            raise ConfigError(
+                f"unknown stiffness law {self.law!r}; known: {', '.join(sorted(STIFFNESS_LAWS))}"
+            )
+        if not (math.isfinite(self.fit_depth) and self.fit_depth > 0):
+            raise ConfigError(f"the stiffness fit depth must be > 0 m, got {self.fit_depth!r}")
+
+    def fit(self, pin_radius: float, clearance: float) -> tuple[float, float]:
+        """``(k, n)`` of ``F = k δ^n`` (k in N/m^n) for a pin of ``pin_radius`` (m) in a hole
+        ``clearance`` (m) larger in radius.
+
+        Raises:
+            ConfigError: the geometry is outside the law's range (e.g. Pereira's fit).
+        """
+        law = get_stiffness_law(
+            self.law,
+            bearing_radius=pin_radius + clearance,
+            pin_radius=pin_radius,
+            length=self.length,
+            bearing_youngs_modulus=self.bearing_youngs_modulus,
+            bearing_poisson_ratio=self.bearing_poisson_ratio,
+            pin_youngs_modulus=self.pin_youngs_modulus,
+            pin_poisson_ratio=self.pin_poisson_ratio,
+        )
+        return law.power_law_fit(self.fit_depth)
+
+    def fits(self, pin_radius: float, clearances: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`fit` of every clearance (``NaN`` where it fails), arrays of k and n."""
+        k = np.full(len(clearances), np.nan)
+        n = np.full(len(clearances), np.nan)
+        for i, c in enumerate(np.asarray(clearances, dtype=float)):
+            if math.isfinite(c) and c > 0:
+                with contextlib.suppress(ConfigError):  # NaN: that sample fails
+                    k[i], n[i] = self.fit(pin_radius, float(c))
+        return k, n
+
+
+def stiffness_field(law: ContactLaw) -> str:
+    """The name of the stiffness field of a contact law (``penalty`` for ``restitution``)."""
+    return "penalty" if hasattr(law, "penalty") else "stiffness"
 
 
 @dataclass(frozen=True)
@@ -25,6 +102,8 @@ class ClearanceJoint:
         journal_radius: pin radius R_J, m (> 0); the bearing radius is R_J + c.
         law: normal contact force law (an instance from :mod:`jointplay.contact.laws`).
         friction: friction law, or ``None`` (frictionless, the default).
+        stiffness_from: the law's stiffness and exponent follow the joint's geometry this
+            way (:meth:`with_clearance` refits them), or ``None``: they are fixed.
     """
 
     joint: str
@@ -32,6 +111,7 @@ class ClearanceJoint:
     journal_radius: float
     law: ContactLaw
     friction: FrictionLaw | None = None
+    stiffness_from: JointStiffness | None = None
 
     def __post_init__(self) -> None:
         where = f"clearance joint {self.joint!r}"
@@ -74,6 +154,14 @@ class ClearanceJoint:
                 f"{where}: friction must be a FrictionLaw instance or None, got "
                 f"{type(self.friction).__name__}"
             )
+
+    def with_clearance(self, clearance: float) -> ClearanceJoint:
+        """This joint with another radial clearance (m); a geometric stiffness is refitted."""
+        if self.stiffness_from is None:
+            return dataclasses.replace(self, clearance=clearance)
+        k, n = self.stiffness_from.fit(self.journal_radius, clearance)
+        law = dataclasses.replace(self.law, **{stiffness_field(self.law): k, "exponent": n})
+        return dataclasses.replace(self, clearance=clearance, law=law)
 
     @property
     def bearing_radius(self) -> float:

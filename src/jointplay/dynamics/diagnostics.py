@@ -10,6 +10,15 @@ code                                   fires when
 ``penetration-exceeds-clearance``      a pin sinks deeper into its bearing than the radial
                                        clearance: the contact stiffness is far too low for the
                                        load, and the "clearance joint" is a soft spring
+``penetration-exceeds-elastic``        a pin sinks deeper than :data:`ELASTIC_FACTOR` times
+                                       the elastic approach that the joint's own Hertz law
+                                       gives at its peak force: the contact is far softer than
+                                       the joint's materials (raised even when the clearance
+                                       is larger than the penetration)
+``hertz-validity``                     the Hertz line-contact half-width at the peak force
+                                       exceeds :data:`HERTZ_VALIDITY` of the pin radius: the
+                                       half-space theory behind Hertz's stiffness, the paper's
+                                       ECS estimates and the contact pressure no longer holds
 ``contact-pressure-exceeds-allowable``  the peak Hertz pressure of the line contact (force over
                                        the joint's bearing width) exceeds the material's
                                        allowable pressure
@@ -38,6 +47,12 @@ code                                   fires when
                                        integration is not accurate enough
 =====================================  ==========================================================
 
+The elastic approach is Hertz's for the joint's radii and materials,
+δ_H = (F / K)^(2/3), K = (4/3) E* √R (contact-models.md §3.1): the stiffness law
+``--stiffness-law hertz`` uses; the other geometric laws give approaches within a factor of
+about 1.3 of it at µm clearances (docs/contact.md), so :data:`ELASTIC_FACTOR` leaves room
+for them and for the damping.
+
 The contact pressure is Hertz's for two parallel cylinders in internal (conformal) contact:
 line load f = F / L, equivalent radius R = R_J R_B / (R_B − R_J), half-width
 b = √(4 f R / (π E*)) and peak pressure p₀ = 2 f / (π b) = √(f E* / (π R)) (Johnson,
@@ -51,7 +66,12 @@ from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass
 from typing import Any, Literal
 
-from jointplay.contact.hertz import conformal_radius, effective_modulus, line_contact_half_width
+from jointplay.contact.hertz import (
+    conformal_radius,
+    effective_modulus,
+    line_contact_half_width,
+    point_contact_stiffness,
+)
 from jointplay.kinematics import fourbar
 from jointplay.model.mechanism import Material, Mechanism
 from jointplay.model.templates import FourBarGeometry, TemplateSpec
@@ -67,6 +87,13 @@ START_WINDOW_DEG = 30.0
 #: How far (relative to the later revolutions' mean) the first analysed revolution's peak may
 #: lie outside their range before the motion counts as "not settled".
 SETTLED_CHANGE = 0.05
+#: A penetration beyond this many times the joint's Hertz approach at its peak force is not
+#: elastic (the geometric laws sit within ~1.3 of Hertz's at µm clearances: docs/contact.md).
+ELASTIC_FACTOR = 3.0
+#: Largest contact half-width, as a share of the pin radius, at which Hertz theory is used:
+#: the half-space idealisation needs a contact small against the radii (Johnson 1985, §4.1);
+#: at b = 0.3 R the contact arc already spans ±17°.
+HERTZ_VALIDITY = 0.3
 #: Largest acceptable drift of the energy balance, relative to the largest energy.
 ENERGY_TOLERANCE = 1e-3
 
@@ -141,6 +168,70 @@ def check_penetration(joint: str, penetration: float, clearance: float) -> Diagn
         f"the pin penetrates its bearing by {penetration * 1e6:.3g} µm, more than the "
         f"{clearance * 1e6:.3g} µm radial clearance: the contact stiffness is far too low "
         "for the load; use a stiffness from the joint's geometry (e.g. --stiffness-law)",
+    )
+
+
+def hertz_approach(
+    force: float, journal_radius: float, clearance: float, bearing: Material, pin: Material
+) -> float:
+    """The elastic approach δ_H = (F / K)^(2/3) of the joint's Hertz law at ``force`` (N), m,
+    K = (4/3) E* √R with the conformal radius R (contact-models.md §3.1)."""
+    if force <= 0.0:
+        return 0.0
+    modulus = effective_modulus(
+        bearing.youngs_modulus, bearing.poisson_ratio, pin.youngs_modulus, pin.poisson_ratio
+    )
+    radius = conformal_radius(journal_radius, journal_radius + clearance)
+    return float((force / point_contact_stiffness(radius, modulus)) ** (2.0 / 3.0))
+
+
+def check_elastic(
+    joint: str, penetration: float, approach: float, force: float
+) -> Diagnostic | None:
+    """``penetration-exceeds-elastic`` when the deepest penetration exceeds
+    :data:`ELASTIC_FACTOR` times the Hertz approach ``approach`` (m) at the peak ``force``."""
+    if not approach > 0.0 or penetration <= ELASTIC_FACTOR * approach:
+        return None
+    return Diagnostic(
+        "warning",
+        "penetration-exceeds-elastic",
+        joint,
+        penetration,
+        ELASTIC_FACTOR * approach,
+        f"the pin penetrates its bearing by {penetration * 1e6:.3g} µm, "
+        f"{penetration / approach:.3g} times the {approach * 1e6:.3g} µm elastic approach of "
+        f"the joint's own Hertz law at its peak force {force:.4g} N: the contact is far "
+        "softer than the joint's materials; use a stiffness from the joint's geometry "
+        "(the default contact, or --stiffness-law)",
+    )
+
+
+def check_hertz_validity(
+    joint: str, force: float, width: float, journal_radius: float, clearance: float,
+    bearing: Material, pin: Material,
+) -> Diagnostic | None:  # fmt: skip
+    """``hertz-validity`` when the line-contact half-width at ``force`` (N) over ``width``
+    (m) exceeds :data:`HERTZ_VALIDITY` of the pin radius."""
+    if force <= 0.0:
+        return None
+    modulus = effective_modulus(
+        bearing.youngs_modulus, bearing.poisson_ratio, pin.youngs_modulus, pin.poisson_ratio
+    )
+    radius = conformal_radius(journal_radius, journal_radius + clearance)
+    half_width = line_contact_half_width(force / width, radius, modulus)
+    share = half_width / journal_radius
+    if share <= HERTZ_VALIDITY:
+        return None
+    return Diagnostic(
+        "warning",
+        "hertz-validity",
+        joint,
+        share,
+        HERTZ_VALIDITY,
+        f"at its peak force {force:.4g} N the contact half-width is {half_width * 1e3:.3g} mm, "
+        f"{share:.2g} of the pin radius (Hertz theory holds to about {HERTZ_VALIDITY:g}): "
+        "Hertz's stiffness, the ECS estimates and the contact pressure are outside their "
+        "validity here",
     )
 
 

@@ -57,7 +57,9 @@ class RunningBehaviour:
         windows: ``(start, end)`` times of every revolution, the start-up ones first, s.
         peaks: each quantity's peak over the analysed revolutions: ``value`` (largest
             \\|value\\|), ``signed_value``, ``t`` (s), ``crank_deg`` (turned since the start),
-            ``revolution`` (1 = the first simulated one).
+            ``revolution`` (1 = the first simulated one) and ``revolution_deg`` (turned
+            within that revolution, 0-360°: what tables and summaries show beside the
+            revolution's number).
         start_up_peaks: the same over the start-up revolutions (empty without any).
         per_revolution: each quantity's peak in every simulated revolution, start-up
             included (the analysed ones are the last ``len(windows) - settle``).
@@ -198,6 +200,7 @@ def characterise(
             "t": peak.t,
             "crank_deg": crank_at,
             "revolution": revolution,
+            "revolution_deg": min(max(crank_at - 360.0 * (revolution - 1), 0.0), 360.0),
         }
 
     def overall(first: int, last: int) -> dict[str, dict[str, float]]:
@@ -345,9 +348,16 @@ def _diagnose(
         force = max(p.value for p in located[f"F_{name}"][settle:])
         width = mechanism.bearing_width(name)
         spec = mechanism.joint(name)
+        bearing = mechanism.material_of(spec.link_a)
+        pin = mechanism.material_of(spec.link_b)
+        approach = dg.hertz_approach(force, joint.journal_radius, joint.clearance, bearing, pin)
+        findings.append(dg.check_elastic(name, max_penetration[name], approach, force))
         if width is not None:
-            bearing = mechanism.material_of(spec.link_a)
-            pin = mechanism.material_of(spec.link_b)
+            findings.append(
+                dg.check_hertz_validity(
+                    name, force, width, joint.journal_radius, joint.clearance, bearing, pin
+                )
+            )
             pressure = dg.line_contact_pressure(
                 force, width, joint.journal_radius, joint.clearance, bearing, pin
             )

@@ -1,11 +1,16 @@
 """From user-level settings (law names, quantities with units) to clearance joints.
 
-Shared by the Python API, the TOML ``[simulation]`` table and ``jointplay simulate``. The
-default contact law is :data:`DEFAULT_IMPACT`.
+Shared by the Python API, the TOML ``[simulation]`` table and every command that simulates.
+The default contact is physical (docs/contact.md): per joint, a stiffness from the joint's
+radii and materials (:data:`DEFAULT_STIFFNESS_LAW`), Hunt–Crossley damping with exactly the
+coefficient of restitution :data:`DEFAULT_RESTITUTION` (the ``restitution`` law) and, on the
+command line, dry friction :data:`DEFAULT_FRICTION`. The paper's conventional IMPACT set,
+:data:`DEFAULT_IMPACT`, is ``--method ifm-conventional``.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -13,10 +18,10 @@ from typing import Any
 
 from jointplay.contact.friction import FrictionLaw, get_friction
 from jointplay.contact.laws import CONTACT_LAWS, ContactLaw, ImpactLaw, get_law
-from jointplay.contact.stiffness import STIFFNESS_LAWS, get_stiffness_law
-from jointplay.dynamics.clearance import ClearanceJoint
+from jointplay.contact.stiffness import STIFFNESS_LAWS
+from jointplay.dynamics.clearance import FIT_DEPTH, ClearanceJoint, JointStiffness
 from jointplay.errors import ConfigError
-from jointplay.model.mechanism import STEEL, Mechanism, RevoluteJoint
+from jointplay.model.mechanism import Mechanism, RevoluteJoint
 from jointplay.units import parse_quantity
 
 #: The default IMPACT law: k = 1e4 N/mm^1.5 (= 1e4 · 1000^1.5 N/m^1.5), e = 1.5,
@@ -26,6 +31,16 @@ from jointplay.units import parse_quantity
 #: :data:`jointplay.study.published.TABLE3_IMPACT` names them for the paper study. Each field
 #: is used where a setting leaves it unset.
 DEFAULT_IMPACT = ImpactLaw(stiffness=1e4 * 1000**1.5, exponent=1.5, c_max=1e4, d_max=1e-4)
+
+#: The physical default (docs/contact.md): the normal law (Hunt–Crossley damping with the
+#: exact χ of the coefficient of restitution), the pin-in-hole stiffness law of every law
+#: given no stiffness (Liu et al.'s elastic foundation for conformal cylinders), the
+#: coefficient of restitution (steel on steel, as the paper cites) and the friction
+#: coefficient of the command line (greased steel pins, boundary lubrication).
+DEFAULT_LAW = "restitution"
+DEFAULT_STIFFNESS_LAW = "liu"
+DEFAULT_RESTITUTION = 0.8
+DEFAULT_FRICTION = 0.1
 
 _HC_FAMILY = {name for name, cls in CONTACT_LAWS.items() if hasattr(cls, "chi_of")}
 
@@ -89,11 +104,14 @@ class ContactSettings:
         damping: Kelvin–Voigt damping coefficient, N·s/m.
         stiffness_law: derive stiffness and exponent from the joint geometry and materials
             with this pin-in-hole law (``hertz``, ``johnson``, ``esdu-78035``, ``pereira``,
-            ``liu``, ``radzimovsky``), fitted over penetrations up to ``fit_depth``.
+            ``liu``, ``radzimovsky``), fitted over penetrations up to ``fit_depth``; without
+            it and without a stiffness, :data:`DEFAULT_STIFFNESS_LAW` (except ``impact``,
+            whose default stiffness is the conventional one, and ``kelvin-voigt``): see
+            :attr:`geometry_law`.
         fit_depth: the largest penetration of that fit, m.
     """
 
-    law: str = "impact"
+    law: str = DEFAULT_LAW
     stiffness: float | None = None
     exponent: float | None = None
     c_max: float | None = None
@@ -101,7 +119,31 @@ class ContactSettings:
     restitution: float | None = None
     damping: float | None = None
     stiffness_law: str | None = None
-    fit_depth: float = 5e-6
+    fit_depth: float = FIT_DEPTH
+
+    @property
+    def geometry_law(self) -> str | None:
+        """The pin-in-hole law the stiffness comes from (``None``: a given or fixed one)."""
+        if self.stiffness_law is not None:
+            return self.stiffness_law
+        if self.stiffness is None and self.law not in ("impact", "kelvin-voigt"):
+            return DEFAULT_STIFFNESS_LAW
+        return None
+
+    def describe(self) -> str:
+        """The contact in words, for summaries and reports."""
+        if self.geometry_law is not None:
+            stiffness = f"stiffness from each joint's geometry ({self.geometry_law} law)"
+        elif self.stiffness is not None:
+            stiffness = (
+                f"stiffness {self.stiffness:.4g} N/m^{law_exponent(self.law, self.exponent):g}"
+            )
+        else:
+            stiffness = "the conventional stiffness 1e4 N/mm^1.5"
+        if self.law in ("restitution", *_HC_FAMILY):
+            e = DEFAULT_RESTITUTION if self.restitution is None else self.restitution
+            return f"{self.law} law, {stiffness}, coefficient of restitution {e:g}"
+        return f"{self.law} law, {stiffness}"
 
     def __post_init__(self) -> None:
         if self.law not in CONTACT_LAWS:
@@ -131,6 +173,10 @@ class ContactSettings:
             raise ConfigError(
                 f"--exponent {self.exponent:g} does not apply to the contact law 'kelvin-voigt', "
                 "which is linear (F = K δ + D δ̇, stiffness in N/m): drop --exponent"
+            )
+        if self.stiffness_law is not None and self.stiffness is not None:
+            raise ConfigError(
+                "give either a stiffness (--k) or a stiffness law (--stiffness-law), not both"
             )
         if self.stiffness_law is not None and self.law == "kelvin-voigt":
             raise ConfigError(
@@ -186,6 +232,67 @@ class FrictionSettings:
         raise ConfigError(f"unknown friction law {self.law!r}; use ambrosio or adams")
 
 
+@dataclass(frozen=True)
+class ContactModel:
+    """The contact of every clearance joint, as every command that simulates takes it.
+
+    Either ``settings`` (a law and its parameters, the stiffness from each joint's geometry
+    unless given) or ``law``, a ready law object, e.g. one of the paper's six methods named
+    ``method`` (its parameter record in ``record``); and the joints' friction.
+
+    The default is the physical contact of docs/contact.md, with dry friction
+    :data:`DEFAULT_FRICTION` (with a ``law`` too: give ``FrictionSettings()`` for none, as
+    the command line does with ``--method``).
+    """
+
+    settings: ContactSettings = dataclasses.field(default_factory=ContactSettings)
+    friction: FrictionSettings = dataclasses.field(
+        default_factory=lambda: FrictionSettings(coefficient=DEFAULT_FRICTION)
+    )
+    law: ContactLaw | None = None
+    method: str | None = None
+    record: Mapping[str, Any] | None = None
+
+    def joints(
+        self,
+        mechanism: Mechanism,
+        names: Sequence[str] | None = None,
+        *,
+        clearance: float | None = None,
+    ) -> list[ClearanceJoint]:
+        """The clearance joints of ``mechanism`` with this contact (:func:`clearance_joints`)."""
+        return clearance_joints(
+            mechanism,
+            names,
+            contact=self.settings,
+            friction=self.friction,
+            clearance=clearance,
+            law=self.law,
+        )
+
+    def describe(self) -> dict[str, Any]:
+        """The contact used, for ``summary.json`` and the reports: ``text`` in words, the
+        method, the law's settings and the friction."""
+        if self.law is not None:
+            text = f"the paper's method {self.method}" if self.method else f"{self.law.name} law"
+        else:
+            text = self.settings.describe()
+        friction = self.friction
+        text += (
+            f"; {friction.law} friction, coefficient {friction.coefficient:g}"
+            if friction.enabled
+            else "; no friction"
+        )
+        settings = {k: v for k, v in vars(self.settings).items() if v is not None}
+        return {
+            "text": text,
+            "method": self.method,
+            "settings": None if self.law is not None else settings,
+            "stiffness_from_geometry": None if self.law is not None else self.settings.geometry_law,
+            "friction": {"law": friction.law, "coefficient": friction.coefficient},
+        }
+
+
 def make_law(
     settings: ContactSettings, *, stiffness: float | None = None, exponent: float | None = None
 ) -> ContactLaw:
@@ -209,7 +316,9 @@ def make_law(
         return get_law(
             name,
             penalty=k,
-            restitution=0.8 if settings.restitution is None else settings.restitution,
+            restitution=DEFAULT_RESTITUTION
+            if settings.restitution is None
+            else settings.restitution,
             exponent=1.0 if n is None else n,
         )
     if name == "hertz":
@@ -224,7 +333,9 @@ def make_law(
         return get_law(
             name,
             stiffness=k,
-            restitution=0.8 if settings.restitution is None else settings.restitution,
+            restitution=DEFAULT_RESTITUTION
+            if settings.restitution is None
+            else settings.restitution,
             exponent=1.5 if n is None else n,
         )
     raise ConfigError(f"contact law {name!r} cannot be built from these settings")
@@ -269,15 +380,17 @@ def clearance_joints(
         if r is None:
             r = 0.005
         _check_fits(mechanism, name, c, r)
-        joint_law = law or make_law(
-            contact,
-            **_stiffness_from_geometry(mechanism, contact, c, r, fit.pin_length if fit else None),
+        geometry = None if law is not None else joint_stiffness(mechanism, name, contact)
+        joint = ClearanceJoint(
+            name,
+            clearance=c,
+            journal_radius=r,
+            # a stiffness from the geometry: a placeholder, fitted by with_clearance
+            law=law or make_law(contact, stiffness=None if geometry is None else 1.0),
+            friction=friction.build(),
+            stiffness_from=geometry,
         )
-        result.append(
-            ClearanceJoint(
-                name, clearance=c, journal_radius=r, law=joint_law, friction=friction.build()
-            )
-        )
+        result.append(joint if geometry is None else joint.with_clearance(c))
     return result
 
 
@@ -301,30 +414,29 @@ def _check_fits(mechanism: Mechanism, joint: str, clearance: float, radius: floa
         )
 
 
-def _stiffness_from_geometry(
-    mechanism: Mechanism,
-    contact: ContactSettings,
-    clearance: float,
-    journal_radius: float,
-    length: float | None,
-) -> dict[str, float]:
-    if contact.stiffness_law is None:
-        return {}
-    if contact.stiffness is not None:
-        raise ConfigError("give either a stiffness or a stiffness law (from geometry), not both")
-    material = next(iter(mechanism.materials.values()), STEEL)
-    law = get_stiffness_law(
-        contact.stiffness_law,
-        bearing_radius=journal_radius + clearance,
-        pin_radius=journal_radius,
+def joint_stiffness(
+    mechanism: Mechanism, joint: str, contact: ContactSettings
+) -> JointStiffness | None:
+    """How joint ``joint``'s stiffness follows its geometry under ``contact`` (``None``: it
+    does not): the law :attr:`ContactSettings.geometry_law`, the bearing's and the pin's
+    materials (the links ``link_a`` and ``link_b`` of the joint) and the contact length
+    (:meth:`Mechanism.bearing_width`, else 10 mm)."""
+    name = contact.geometry_law
+    if name is None:
+        return None
+    spec = mechanism.joint(joint)
+    bearing = mechanism.material_of(spec.link_a)
+    pin = mechanism.material_of(spec.link_b)
+    length = mechanism.bearing_width(joint)
+    return JointStiffness(
+        law=name,
         length=length if length is not None else 0.01,
-        bearing_youngs_modulus=material.youngs_modulus,
-        bearing_poisson_ratio=material.poisson_ratio,
-        pin_youngs_modulus=material.youngs_modulus,
-        pin_poisson_ratio=material.poisson_ratio,
+        bearing_youngs_modulus=bearing.youngs_modulus,
+        bearing_poisson_ratio=bearing.poisson_ratio,
+        pin_youngs_modulus=pin.youngs_modulus,
+        pin_poisson_ratio=pin.poisson_ratio,
+        fit_depth=contact.fit_depth,
     )
-    k, n = law.power_law_fit(contact.fit_depth)
-    return {"stiffness": k, "exponent": n}
 
 
 def parse_stiffness(text: Any, exponent: float, *, field: str = "--k") -> float:
@@ -344,11 +456,13 @@ def contact_from_strings(values: Mapping[str, Any]) -> ContactSettings:
 
     Keys: contact, k, exponent, cmax, depth, restitution, damping, stiffness_law, fit_depth.
     """
-    law = values.get("contact") or "impact"
+    law = values.get("contact") or DEFAULT_LAW
     if not isinstance(law, str):
         raise ConfigError(f"--contact must be the name of a contact law, got {law!r}")
     exponent = values.get("exponent")
     exponent = None if exponent is None else _real(exponent, "--exponent", text=True)
+    if exponent is None and values.get("contact") is None and values.get("k") is not None:
+        exponent = 1.5  # a stiffness given to the default law: a power law as Hertz's
     if exponent is not None and not exponent > 0:
         raise ConfigError(f"--exponent must be > 0, got {exponent}")
     if law == "kelvin-voigt" and exponent not in (None, 1.0):
@@ -375,11 +489,11 @@ def contact_from_strings(values: Mapping[str, Any]) -> ContactSettings:
         if values.get("damping") is None
         else parse_quantity(values["damping"], "N*s/m", field="--damping"),
         stiffness_law=values.get("stiffness_law"),
-        fit_depth=5e-6
+        fit_depth=FIT_DEPTH
         if values.get("fit_depth") is None
         else parse_quantity(values["fit_depth"], "m", field="--fit-depth"),
     )
     # Validate the parameters early, with the law's own messages (a geometry-derived
     # stiffness is only known per joint, so a placeholder stands in for it here).
-    make_law(settings, stiffness=1.0 if settings.stiffness_law else None)
+    make_law(settings, stiffness=1.0 if settings.geometry_law else None)
     return settings

@@ -28,6 +28,7 @@ from numpy.typing import NDArray
 from jointplay._kernels import constraints as ck
 from jointplay._kernels import eom
 from jointplay.dynamics.clearance import ClearanceJoint
+from jointplay.dynamics.cycles import DEFAULT_SETTLE
 from jointplay.dynamics.diagnostics import Diagnostic
 from jointplay.dynamics.integrate import IntegrationResult, IntegrationStatus, integrate
 from jointplay.dynamics.nominal import nominal_analysis
@@ -425,7 +426,7 @@ def simulate(
     clearances: Sequence[ClearanceJoint],
     *,
     revolutions: float = 1.0,
-    settle: int = 0,
+    settle: int | None = None,
     start: Start | None = None,
     solver: SolverOptions | None = None,
     output_step: float | None = None,
@@ -439,8 +440,10 @@ def simulate(
     Args:
         revolutions: analysed time in periods of the nominal crank speed (> 0).
         settle: start-up revolutions simulated first and left out of the peaks and the
-            statistics (>= 0; default 0).
-        start: initial state and driver ramp (default: from rest, the paper's case).
+            statistics (>= 0; default: 2 with the steady start, 0 with the others, whose
+            start-up is what they show), as ``jointplay simulate``.
+        start: initial state and driver ramp (default: ``Start("steady")``, the nominal
+            motion, as ``jointplay simulate``; ``Start("rest")`` is the paper's case).
         solver: integration settings.
         output_step: sampling interval of :attr:`SimulationResult.timeseries`, s (default: the
             time of 0.5° of crank rotation).
@@ -459,7 +462,9 @@ def simulate(
         IntegrationError: the integration failed and ``throw`` is true.
     """
     _check_arguments(mechanism, clearances, start, solver, revolutions, output_step, sample_deg)
-    start = start or Start()
+    start = start or Start("steady")
+    if settle is None:
+        settle = DEFAULT_SETTLE if start.mode == "steady" else 0
     solver = solver or SolverOptions()
     if not (math.isfinite(revolutions) and revolutions > 0):
         raise ConfigError(f"revolutions must be > 0, got {revolutions}")

@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -693,7 +693,7 @@ def wear_life(
     done = 0.0
     rates: dict[str, float] = {}
     while True:
-        state = [replace(j, clearance=current[j.joint]) for j in joints]
+        state = [j.with_clearance(current[j.joint]) for j in joints]
         result = simulate(
             mechanism,
             state,

@@ -26,11 +26,15 @@ from jointplay.report._mpl import pyplot
 from jointplay.report.figures import encode
 from jointplay.report.html import HtmlReport
 from jointplay.study.design import DesignResult
+from jointplay.study.requirements import Requirement
+from jointplay.study.sensitivity import ModelSensitivity
 
 __all__ = [
+    "binding_requirement",
     "design_plots",
     "design_section",
     "display",
+    "evidence_line",
     "wear_plots",
     "wear_section",
     "write_design",
@@ -52,6 +56,63 @@ def display(unit: str) -> tuple[str, float]:
     return _DISPLAY.get(unit, (unit, 1.0))
 
 
+#: Columns of the scheme table in %: yields and their interval bounds, overall and per
+#: requirement (longest prefix first).
+_PERCENT_PREFIXES = ("yield_low", "yield_high", "yield")
+
+
+def csv_table(table: pd.DataFrame, units: Mapping[str, str]) -> pd.DataFrame:
+    """The scheme table as ``design.csv`` shows it: each response column in its display unit
+    with the unit in its name (``joint_force_mean_N``, ``life_at_confidence_h``,
+    ``contact_pressure_std_MPa``, ``rocker_speed_error_mean_pct``), yields ``..._pct``, the
+    relative cost ``cost_relative``; ``design.parquet`` keeps SI and the plain names."""
+    renamed: dict[str, str] = {"cost": "cost_relative"}
+    out = table.copy()
+    for column in table.columns:
+        name = str(column)
+        for suffix in ("_mean", "_std", "_at_confidence"):
+            response = name.removesuffix(suffix)
+            if response != name and response in units:
+                unit, scale = display(units[response])
+                out[name] = table[name] * scale
+                renamed[name] = f"{name}_{_unit_tag(unit)}"
+        for prefix in _PERCENT_PREFIXES:
+            if name == prefix or name.startswith(f"{prefix}_"):
+                renamed[name] = f"{prefix}_pct{name.removeprefix(prefix)}"
+                break
+    return out.rename(columns=renamed)
+
+
+def _unit_tag(unit: str) -> str:
+    """A unit as a column-name suffix: ``%`` → ``pct``, ``µm/h`` → ``um_per_h``."""
+    tag = unit.replace("%", "pct").replace("µ", "u").replace("*", "_").replace("^", "")
+    return tag.replace("/", "_per_") or "1"
+
+
+def binding_requirement(result: DesignResult, row: Mapping[Any, Any]) -> Requirement | None:
+    """The requirement of a scheme closest to failing: the lowest lower bound of its
+    yield's 95 % interval."""
+    if not result.requirements:
+        return None
+    return min(result.requirements, key=lambda r: row[f"yield_low_{r.text}"])
+
+
+def evidence_line(result: DesignResult, row: Mapping[Any, Any]) -> str:
+    """The evidence for a scheme in one line: its binding requirement, failures in samples,
+    the yield with its exact 95 % interval and the DPM bound."""
+    r = binding_requirement(result, row)
+    if r is None:
+        return f"{row['samples']:,} samples"
+    t = r.text
+    level = r.confidence if r.confidence is not None else result.confidence
+    return (
+        f"binding requirement {t!r} at {100 * level:g} %: {row[f'failures_{t}']:,} failures in "
+        f"{row['samples']:,} samples, yield {row[f'yield_{t}']:.2f} % (95 % CI "
+        f"{row[f'yield_low_{t}']:.3f}-{row[f'yield_high_{t}']:.3f} %), at most "
+        f"{row[f'dpm_high_{t}']:,.0f} DPM ({row[f'verdict_{t}']})"
+    )
+
+
 def _encode(fig: Any, stem: str, figure_format: str) -> dict[str, bytes]:
     return encode(fig, stem, figure_format, dpi=110, bbox_inches="tight")
 
@@ -66,16 +127,36 @@ def design_plots(
     if not len(table):
         return images
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    feasible = table["feasible"].to_numpy(dtype=bool)
-    ax.scatter(table["cost"][~feasible], table["yield"][~feasible], c="tab:red", label="fails")
-    ax.scatter(table["cost"][feasible], table["yield"][feasible], c="tab:green", label="meets all")
+    colours = {"meets": "tab:green", "undecided": "tab:orange", "fails": "tab:red"}
+    for name, colour in colours.items():
+        part = table[table["verdict"] == name]
+        if not len(part):
+            continue
+        ax.errorbar(
+            part["cost"],
+            part["yield"],
+            yerr=[part["yield"] - part["yield_low"], part["yield_high"] - part["yield"]],
+            fmt="o",
+            c=colour,
+            capsize=3,
+            label=f"{name} (95 % interval)",
+        )
     front = table[table["pareto_yield"]].sort_values("cost")
     ax.step(front["cost"], front["yield"], where="post", c="k", lw=1, label="Pareto front")
-    for _, row in table.iterrows():
-        ax.annotate(row["scheme"], (row["cost"], row["yield"]), fontsize=6)
+    ax.axhline(
+        100 * result.confidence, c="k", ls=":", lw=1, label=f"level {100 * result.confidence:g} %"
+    )
+    for k, (_, row) in enumerate(table.sort_values("cost").iterrows()):
+        ax.annotate(  # staggered: schemes of nearly the same cost and yield stay legible
+            f"{row['scheme']} (n={row['samples']:,})",
+            (row["cost"], row["yield"]),
+            xytext=(4, 4 - 9 * (k % 4)),
+            textcoords="offset points",
+            fontsize=6,
+        )
     ax.set_xlabel("relative cost")
     ax.set_ylabel("yield (all requirements), %")
-    ax.set_title(f"{result.mechanism.name}: cost against yield")
+    ax.set_title(f"{result.mechanism.name}: cost against yield (exact 95 % intervals)")
     ax.legend(fontsize=7)
     images.update(_encode(fig, "design_pareto", figure_format))
     responses = list(dict.fromkeys(r.response for r in result.requirements))
@@ -117,9 +198,17 @@ def design_section(
     """The design study's section of an HTML report."""
     from jointplay.tolerance.definitions import response_definition
 
-    summary = result.summary()
     report.heading("Design: fit and length class", anchor="design")
-    report.paragraph(summary["verdict"])
+    report.paragraph(f"Answer: {result.verdict}.")
+    best = result.best_row
+    if best is not None:
+        report.paragraph(f"Evidence: {evidence_line(result, best)}.")
+        report.bullets([f"drawing: {c.text}" for c in result.drawing])
+    elif len(result.table):
+        cheapest = result.table.sort_values("cost").iloc[0].to_dict()
+        report.paragraph(
+            f"Cheapest scheme, {cheapest['scheme']}: {evidence_line(result, cheapest)}."
+        )
     for finding in result.diagnostics:  # right under the verdict they qualify
         d = finding.diagnostic
         where = f", joint {d.joint}" if d.joint else ""
@@ -128,9 +217,13 @@ def design_section(
     report.bullets(
         [f"requirement: {r.text}" for r in result.requirements]
         + [
-            f"confidence level: {100 * result.confidence:g} %",
-            f"responses: {result.responses}; samples per scheme: {settings.get('samples')}",
+            f"confidence level: {100 * result.confidence:g} %: a scheme meets a requirement "
+            "when the lower bound of its yield's exact (Clopper-Pearson) 95 % interval reaches "
+            "it, fails when the upper bound stays below it, and is undecided otherwise",
+            f"responses: {result.responses}; samples per scheme: {settings.get('samples')} "
+            f"(rounds {settings.get('rounds')})",
         ]
+        + [f"contact: {c}" for c in [settings.get("model", {}).get("contact")] if c]
     )
     sampling = settings.get("sampling_distributions")
     if sampling:
@@ -142,17 +235,19 @@ def design_section(
         columns = {
             "scheme": "scheme (fit, length class)",
             "cost": "relative cost",
+            "verdict": "verdict",
+            "samples": "samples",
             "yield": "yield (%)",
-            "dpm": "defects per million",
-            "feasible": "meets every requirement",
-            "failed": "failed samples",
+            "yield_low": "yield, 95 % lower bound (%)",
+            "dpm_high": "DPM, 95 % upper bound",
+            "failed": "failed simulations",
         }
         shown = table[list(columns)].rename(columns=columns)
-        shown[columns["feasible"]] = table["feasible"].map({True: "yes", False: "no"})
         for r in result.reported_responses:
             unit, scale = display(units.get(r, ""))
             label = f"{r} at {100 * result.confidence:g} % ({unit})"
             shown[label] = table[f"{r}_at_confidence"] * scale
+            shown[f"{r}: basis"] = table[f"{r}_at_confidence_basis"]
         for finding in result.diagnostics:  # the joints whose pins pass the clearance
             if finding.diagnostic.code != "penetration-exceeds-clearance":
                 continue
@@ -162,8 +257,13 @@ def design_section(
             ]
         report.table(
             shown.sort_values(columns["cost"]),
-            caption="Schemes by cost",
-            text_columns=(0, 4),
+            caption="Schemes by cost; values at the level: 'order-statistic' = a "
+            "distribution-free 95 % bound, 'normal-model' = mean + z·std, an estimate",
+            text_columns=tuple(
+                i
+                for i, c in enumerate(shown.columns)
+                if c in (columns["scheme"], "verdict") or str(c).endswith(": basis")
+            ),
         )
         report.heading("What each response means", level=3, anchor="design-definitions")
         report.table(
@@ -179,6 +279,25 @@ def design_section(
             report.figure(data, name.removesuffix(".png").replace("_", " "))
 
 
+def _sensitivity_section(report: HtmlReport, sensitivity: ModelSensitivity) -> None:
+    """The model-sensitivity table: the chosen scheme's yields under each contact model."""
+    report.heading("Model sensitivity of the choice", anchor="model-sensitivity")
+    report.paragraph(sensitivity.verdict)
+    requirements = list(sensitivity.rows[0].yields)
+    rows = [
+        (row.parameter, str(row.value), *row.yields.values(), "yes" if row.meets else "no")
+        for row in sensitivity.rows
+    ]
+    report.table(
+        rows,
+        headers=["contact parameter", "value", *(f"yield: {r} (%)" for r in requirements),
+                 "meets all"],
+        text_columns=(0, 1, len(requirements) + 2),
+        note="one parameter at a time at the ends of its documented range (docs/contact.md), "
+        "the others as the study ran; the study's samples and seed",
+    )  # fmt: skip
+
+
 def write_design(
     result: DesignResult,
     folder: Path,
@@ -187,8 +306,12 @@ def write_design(
     plots: bool = True,
     provenance: Mapping[str, Any] | None = None,
     figure_format: str = "png",
+    sensitivity: ModelSensitivity | None = None,
 ) -> list[Path]:
     """Write the design study's files into ``folder`` (existing); returns them.
+
+    ``sensitivity``: the chosen scheme under the contact model's ranges
+    (:mod:`jointplay.study.sensitivity`), in ``summary.json`` and the report.
 
     The data files and ``summary.json`` come first, each whole whatever the signals, so that
     an interrupt while the figures are drawn keeps them."""
@@ -196,12 +319,14 @@ def write_design(
     table = result.to_dataframe()
     written = [folder / "design.parquet", folder / "design.csv", folder / "samples.parquet"]
     summary = result.summary()
+    if sensitivity is not None:
+        summary["model_sensitivity"] = sensitivity.as_dict()
     if provenance is not None:
         summary["provenance"] = dict(provenance)
     written.append(folder / "summary.json")
     with signals_held():
         table.to_parquet(written[0], index=False)
-        write_csv(table, written[1], float_format=None)
+        write_csv(csv_table(table, units), written[1], float_format=None)
         result.samples.to_parquet(written[2], index=False)
         write_json(written[-1], summary)
     images = design_plots(result, units, figure_format) if plots else {}
@@ -210,6 +335,8 @@ def write_design(
         written.append(folder / name)
     report = HtmlReport(f"jointplay design — {result.mechanism.name}")
     design_section(report, result, units, images)
+    if sensitivity is not None:
+        _sensitivity_section(report, sensitivity)
     written.append(report.write(folder / "report.html"))
     return written
 
@@ -232,20 +359,39 @@ def wear_plots(history: WearHistory, figure_format: str = "png") -> dict[str, by
     axes[0].legend(fontsize=7)
     axes[0].set_title(f"wear over the life at {history.rpm:g} RPM (dotted: limits)")
     images.update(_encode(fig, "wear_history", figure_format))
+    images.update(_encode(wear_profile_figure(history), "wear_profiles", figure_format))
+    return images
+
+
+def wear_profile_figure(history: WearHistory) -> Any:
+    """The worn depth of each joint's bearing and journal around the pin, one polar panel per
+    joint: angle labels every 90° outside the circle, depth labels on a ray of their own,
+    panels far enough apart that one's 0° never meets the next one's 180°, and the legend
+    under the panels, where it covers no label."""
+    plt = pyplot()
     names = list(history.bearing_profile)
     fig, axes = plt.subplots(
-        1, len(names), figsize=(3.2 * len(names), 3.6), subplot_kw={"projection": "polar"}
+        1,
+        len(names),
+        figsize=(3.3 * len(names), 3.9),
+        subplot_kw={"projection": "polar"},
+        layout="constrained",
     )
+    fig.get_layout_engine().set(wspace=0.12)
     for ax, name in zip(np.atleast_1d(axes), names, strict=True):
         bearing = history.bearing_profile[name]
         theta = (np.arange(len(bearing)) + 0.5) * 2 * math.pi / len(bearing)
         ax.plot(theta, bearing * 1e6, label="bearing")
         ax.plot(theta, history.journal_profile[name] * 1e6, label="journal")
-        ax.set_title(f"{name}: worn depth (µm)", fontsize=8)
+        ax.set_title(f"{name}: worn depth (µm)", fontsize=8, pad=12)
+        ax.set_thetagrids([0, 90, 180, 270])
+        ax.set_rlabel_position(67.5)
+        ax.yaxis.set_major_locator(plt.MaxNLocator(3))
         ax.tick_params(labelsize=6)
-    np.atleast_1d(axes)[0].legend(fontsize=6, loc="lower left")
-    images.update(_encode(fig, "wear_profiles", figure_format))
-    return images
+        ax.tick_params(axis="x", pad=1)
+    handles, labels = np.atleast_1d(axes)[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncol=2, fontsize=7)
+    return fig
 
 
 def wear_section(report: HtmlReport, history: WearHistory, images: Mapping[str, bytes]) -> None:

@@ -7,7 +7,10 @@
   is drawn as the smallest and largest value in each of ~1000 columns of its x range, in
   order, so every spike and every extreme survives while the figure is drawn in milliseconds.
 * **Formats** (:func:`save`): PNG always (a report embeds it), plus SVG or PDF for print when
-  ``figure_format`` asks for one.
+  ``figure_format`` asks for one. The PNG is stored with a palette of at most
+  :data:`PNG_COLOURS` colours (:func:`compact_png`): a line plot has few colours, and the
+  palette makes it about a third of matplotlib's RGBA file, which keeps a report with a dozen
+  embedded figures small.
 
 No physics here; matplotlib is only imported when a figure is saved or drawn.
 """
@@ -48,6 +51,8 @@ SERIES_COLOURS = ("#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E
 NOMINAL_STYLES = ("--", ":", "-.", (0, (5, 1, 1, 1, 1, 1)))
 #: The nominal mechanism (ideal joints): black, dashed.
 NOMINAL = {"color": "black", "linestyle": "--", "linewidth": 1.0}
+#: Colours of a saved PNG's palette (:func:`compact_png`).
+PNG_COLOURS = 256
 #: Columns of a figure's x range a thinned line keeps its extremes in.
 THIN_BINS = 1000
 
@@ -84,6 +89,7 @@ def save(fig: Any, path: Path, figure_format: str = "png", *, dpi: int = 100) ->
     check_format(figure_format)
     png = path.with_suffix(".png")
     fig.savefig(png, dpi=dpi)
+    compact_png(png)
     written = [png]
     if figure_format != "png":
         vector = path.with_suffix(f".{figure_format}")
@@ -93,6 +99,20 @@ def save(fig: Any, path: Path, figure_format: str = "png", *, dpi: int = 100) ->
 
     pyplot().close(fig)
     return written
+
+
+def compact_png(path: Path) -> Path:
+    """Rewrite the PNG at ``path`` with a palette of :data:`PNG_COLOURS` colours (no
+    dithering, so lines stay crisp); returns ``path``."""
+    from PIL import Image
+
+    with Image.open(path) as image:
+        image.load()
+        palette = image.convert("RGB").quantize(
+            colors=PNG_COLOURS, method=Image.Quantize.MAXCOVERAGE, dither=Image.Dither.NONE
+        )
+    palette.save(path, format="PNG", optimize=True)
+    return path
 
 
 def encode(fig: Any, stem: str, figure_format: str = "png", **savefig: Any) -> dict[str, bytes]:
@@ -196,3 +216,38 @@ def style() -> Any:
             "agg.path.chunksize": 10000,
         }
     )
+
+
+def overlapping_text(fig: Any, *, margin_px: float = 1.0) -> list[tuple[str, str]]:
+    """Pairs of texts of ``fig`` that overlap once drawn: tick labels (those of ticks inside
+    the view, the ones drawn), axis labels, titles, annotations and legend entries (their
+    bounding boxes, shrunk by ``margin_px`` so that boxes that only touch do not count).
+    For the figure tests: a figure is legible when this is empty."""
+    from matplotlib.text import Text
+
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ticks, drawn = set(), []
+    for ax in fig.get_axes():
+        for axis, index in ((ax.xaxis, 0), (ax.yaxis, 1)):
+            low, high = sorted(axis.get_view_interval())
+            span = 1e-9 * max(abs(low), abs(high), 1.0)
+            for label in axis.get_ticklabels(which="both"):
+                ticks.add(id(label))
+                at = label.get_position()[index]
+                if low - span <= at <= high + span:
+                    drawn.append(label)
+    texts = [t for t in fig.findobj(Text) if id(t) not in ticks] + drawn
+    boxes = []
+    for text in texts:
+        if not (text.get_visible() and text.get_text().strip()):
+            continue
+        box = text.get_window_extent(renderer)
+        if box.width > 0 and box.height > 0:
+            boxes.append((text.get_text(), box.padded(-margin_px)))
+    return [
+        (first, second)
+        for i, (first, a) in enumerate(boxes)
+        for second, b in boxes[i + 1 :]
+        if a.overlaps(b)
+    ]

@@ -2,7 +2,10 @@
 
 The page reads at 1400 px without scrolling sideways: the body is at most 1100 px wide, every
 table sits in its own box that scrolls on its own if it must (``overflow-x: auto``), long
-words in cells wrap, and images shrink to the column. Headings with an anchor are listed in a
+words in cells wrap, and images shrink to the column. On a narrow screen (a phone, up to
+800 px) no column is squeezed below 8 characters (the table's box scrolls instead), and a
+table written as cards (``table(..., cards=True)``) stacks each row's cells, each under its
+header, so that long text reads at the screen's width. Headings with an anchor are listed in a
 table of contents at the top. Numbers in tables are written by the one number format of
 :mod:`jointplay.report.format`.
 """
@@ -28,6 +31,7 @@ h2 { margin-top: 2em; border-bottom: 1px solid #bbb; }
 h3 { margin-top: 1.6em; }
 nav.toc { background: #f7f7f7; border: 1px solid #ddd; padding: .4em 1.2em; font-size: .92em; }
 nav.toc ol { margin: .3em 0; padding-left: 1.4em; } nav.toc ol ol { font-size: .95em; }
+nav.toc > ol { columns: 2 20em; } nav.toc li { break-inside: avoid; }
 .scroll { max-width: 100%; overflow-x: auto; margin: .8em 0 1.4em; }
 table { border-collapse: collapse; font-size: 0.88em; }
 th, td { border: 1px solid #ccc; padding: .25em .6em; text-align: right; vertical-align: top; }
@@ -49,8 +53,18 @@ pre { padding: .6em; overflow-x: auto; font-size: 0.82em; }
 .cols { display: flex; flex-wrap: wrap; gap: 0 1.2em; align-items: flex-start; }
 .cols table { font-size: 0.8em; }
 .cols > div { max-width: 100%; min-width: 0; }
+.cols > figure { flex: 1 1 320px; min-width: 0; margin: 0 0 1em; }
 details { margin: 1em 0; } details > summary { cursor: pointer; font-weight: 600; color: #225; }
 dl.defs dt { font-weight: 600; } dl.defs dd { margin: 0 0 .4em 1.4em; }
+@media (max-width: 800px) {
+  body { padding: 0 .5em; }
+  th, td { min-width: 8ch; }
+  table.cards, table.cards tbody, table.cards tr, table.cards td { display: block; }
+  table.cards tr.head { display: none; }
+  table.cards tr { border-bottom: 1px solid #ccc; padding: .3em 0; }
+  table.cards td { border: none; text-align: left; white-space: normal; min-width: 0; }
+  table.cards td[data-label]::before { content: attr(data-label) ": "; font-weight: 600; }
+}
 """
 
 
@@ -76,11 +90,15 @@ class HtmlReport:
         title: the page title (``<h1>`` and ``<title>``).
         toc: list the anchored headings (``heading(..., anchor=...)``) in a table of contents
             under the title (only drawn when there are at least two).
+        contents_before: the anchor of the heading the table of contents goes right before
+            (e.g. after a summary that should fill the first screen; default: under the
+            title).
     """
 
-    def __init__(self, title: str, *, toc: bool = True) -> None:
+    def __init__(self, title: str, *, toc: bool = True, contents_before: str | None = None) -> None:
         self.title = title
         self.toc = toc
+        self.contents_before = contents_before
         self.parts: list[str] = []
         self._headings: list[tuple[int, str, str]] = []
 
@@ -122,6 +140,7 @@ class HtmlReport:
         note: str | None = None,
         groups: Sequence[tuple[int, str] | tuple[int, str, str]] = (),
         widths: Sequence[str | None] = (),
+        cards: bool = False,
     ) -> None:
         """A table in its own horizontally scrolling box.
 
@@ -137,6 +156,8 @@ class HtmlReport:
                 group row before that row, its title in bold and the detail (e.g. what the
                 group's rows share) after it.
             widths: CSS widths of the first columns (e.g. ``"25%"``; ``None``: automatic).
+            cards: on a narrow screen, each row a card: its cells stacked, each after its
+                header (for a table of long text, e.g. claims with notes).
         """
         if isinstance(rows, pd.DataFrame):
             headers = list(headers) if headers is not None else [str(c) for c in rows.columns]
@@ -145,7 +166,8 @@ class HtmlReport:
             body = list(rows)
         width = len(headers) if headers else max((len(r) for r in body), default=1)
         starts = {g[0]: (g[1], g[2] if len(g) > 2 else "") for g in groups}
-        out = ['<div class="tablebox"><div class="scroll"><table>']
+        klass = ' class="cards"' if cards else ""
+        out = [f'<div class="tablebox"><div class="scroll"><table{klass}>']
         if caption:
             out.append(f"<caption>{html.escape(caption)}</caption>")
         if widths:
@@ -158,7 +180,7 @@ class HtmlReport:
             )
         if headers:
             out.append(
-                "<tr>"
+                '<tr class="head">'
                 + "".join(
                     f'<th class="text">{html.escape(h)}</th>'
                     if i in text_columns
@@ -178,6 +200,8 @@ class HtmlReport:
             cells = []
             for i, value in enumerate(row):
                 css = ' class="text"' if i in text_columns else ""
+                if cards and headers and i < len(headers):
+                    css += f' data-label="{html.escape(headers[i])}"'
                 cells.append(f"<td{css}>{html.escape(_fmt(value))}</td>")
             out.append("<tr>" + "".join(cells) + "</tr>")
         out.append("</table></div>")
@@ -271,12 +295,16 @@ class HtmlReport:
         return "".join(out)
 
     def render(self) -> str:
-        body = "\n".join(self.parts)
+        parts, contents = list(self.parts), self._contents()
+        marker = f' id="{html.escape(self.contents_before)}"' if self.contents_before else None
+        at = next((i for i, part in enumerate(parts) if marker and marker in part), 0)
+        parts.insert(at, contents)
+        body = "\n".join(parts)
         return (
             '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8"/>'
             '<meta name="viewport" content="width=device-width, initial-scale=1"/>'
             f"<title>{html.escape(self.title)}</title><style>{_STYLE}</style></head>"
-            f"<body><h1>{html.escape(self.title)}</h1>\n{self._contents()}\n{body}\n</body></html>\n"
+            f"<body><h1>{html.escape(self.title)}</h1>\n{body}\n</body></html>\n"
         )
 
     def write(self, path: Path) -> Path:

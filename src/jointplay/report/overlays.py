@@ -120,9 +120,9 @@ def overlay_plots(
                 path = folder / f"overlay_{comparison.method}.png"
                 written.append(save(fig, path, figure_format)[0])
         n = len(result.comparisons)
-        cols = min(n, 2)
+        cols = min(n, 3)
         rows = math.ceil(n / cols)
-        fig, axes = plt.subplots(rows, cols, figsize=(5.5 * cols, 3.3 * rows), squeeze=False,
+        fig, axes = plt.subplots(rows, cols, figsize=(3.8 * cols, 2.9 * rows), squeeze=False,
                                  sharex=True, sharey=True)  # fmt: skip
         for ax, comparison in zip(axes.flat, result.comparisons, strict=False):
             draw(ax, comparison, what_if=False)

@@ -146,11 +146,11 @@ def method_figure(
         fig, axes = plt.subplots(
             len(methods),
             2,
-            figsize=(11, 1.75 * len(methods) + 0.9),
+            figsize=(11, 1.35 * len(methods) + 1.0),
             sharex="col",
             squeeze=False,
-            gridspec_kw={"left": 0.08, "right": 0.99, "top": 0.9, "bottom": 0.06,
-                         "hspace": 0.42, "wspace": 0.13},
+            gridspec_kw={"left": 0.08, "right": 0.99, "top": 0.88, "bottom": 0.07,
+                         "hspace": 0.5, "wspace": 0.13},
         )  # fmt: skip
         for row, method in zip(axes, methods, strict=True):
             colour = METHOD_COLOURS[method.name]

@@ -323,15 +323,46 @@ def _time_figure(
                         linestyle=NOMINAL_STYLES[k % len(NOMINAL_STYLES)],
                         label=f"{words} nominal",
                     )
-            ax.set_xlabel("crank angle (deg)")
             ax.yaxis.set_major_formatter(tick_formatter())
+            if x.size:
+                revolution_axis(ax, float(crank[0]), float(x.min()), float(x.max()))
+            else:
+                ax.set_xlabel("crank angle (deg)")
             if label:
-                ax.set_title(label, fontsize=9)
+                ax.set_title(label, fontsize=9, pad=14)  # above the revolutions' numbers
         axes[0, 0].set_ylabel(ylabel)
         axes[0, -1].legend(loc="best", ncol=2 if len(series) > 2 else 1)
         fig.suptitle(title, fontsize=10)
         fig.tight_layout()
         return save(fig, path, figure_format)[0]
+
+
+def revolution_axis(ax: Any, start: float, low: float, high: float) -> None:
+    """A crank-angle axis read per revolution: ticks every 90° show the angle turned within
+    the revolution (0-360), each revolution's number labels the top edge at its middle
+    (outside the data), and the boundaries between revolutions are faint lines
+    (``start``: the crank angle the run started at)."""
+    from matplotlib.ticker import FuncFormatter, MultipleLocator
+
+    def within(x: float, _: Any = None) -> str:
+        turned = (x - start) % 360.0
+        return "360" if turned < 1e-6 and x > low and abs(x - high) < 1e-6 else f"{turned:.0f}"
+
+    ax.set_xlim(low, high)
+    ax.xaxis.set_major_locator(MultipleLocator(90.0, offset=start % 90.0))
+    ax.xaxis.set_major_formatter(FuncFormatter(within))
+    middles, names = [], []
+    for k in range(int(np.floor((low - start) / 360.0)), int(np.ceil((high - start) / 360.0))):
+        left, right = start + 360.0 * k, start + 360.0 * (k + 1)
+        if left > low:
+            ax.axvline(left, color="0.75", linewidth=0.6, zorder=0)
+        if min(right, high) - max(left, low) > 0.15 * (high - low):
+            middles.append((max(left, low) + min(right, high)) / 2.0)
+            names.append(f"revolution {k + 1}")
+    top = ax.secondary_xaxis("top")
+    top.set_xticks(middles, names, fontsize=7, color="0.35")
+    top.tick_params(length=0)
+    ax.set_xlabel("crank angle within the revolution (deg)")
 
 
 def orbit_plot(

@@ -256,6 +256,9 @@ def _report(
         f"Points: {counts['points']}, ok {counts['ok']}, failed {counts['failed']}, "
         f"not run {counts['not_run']}{' (interrupted)' if r.interrupted else ''}."
     )
+    contact = study.model.get("contact") if isinstance(study.model, Mapping) else None
+    if contact:
+        page.paragraph(f"Contact: {contact}.")
     for finding in study.diagnostics:
         d = finding.diagnostic
         where = f", joint {d.joint}" if d.joint else ""

@@ -277,7 +277,9 @@ class DynamicSettings:
     """The clearance model fitted when a dynamic parameter is (SI).
 
     Attributes:
-        contact: the contact law and its parameters (default: the paper's IMPACT, Table 3).
+        contact: the contact law and its parameters (default: the paper's IMPACT, Table 3,
+            whose stiffness ``k`` is the parameter a calibration fits; ``jointplay
+            calibrate`` passes its contact options, the physical default without them).
         friction: the friction law (default off; fitting ``friction`` switches it on).
         clearance: radial clearance of every clearance joint, m (default: the fit data).
         joints: clearance joints (default: every joint with a clearance in its fit data).
@@ -285,7 +287,7 @@ class DynamicSettings:
         solver: integration settings.
     """
 
-    contact: ContactSettings = field(default_factory=ContactSettings)
+    contact: ContactSettings = field(default_factory=lambda: ContactSettings(law="impact"))
     friction: FrictionSettings = field(default_factory=FrictionSettings)
     clearance: float | None = None
     joints: tuple[str, ...] | None = None

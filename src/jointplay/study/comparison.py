@@ -70,7 +70,10 @@ FloatArray = NDArray[np.float64]
 
 #: The label of the ideal-joint (closed-form kinematics) simulation.
 NOMINAL = "nominal"
-#: Compared by default: the nominal kinematics and the paper's four ECS methods (Figs. 17–20).
+#: The label of the physical default contact (docs/contact.md).
+PHYSICAL = "physical"
+#: The paper study's comparison: the nominal kinematics and the paper's four ECS methods
+#: (Figs. 17–20).
 DEFAULT_METHODS = (
     NOMINAL,
     "ifm-ecs-spherical",
@@ -78,6 +81,8 @@ DEFAULT_METHODS = (
     "ifm-ecs-cylindrical",
     "rm-ecs-cylindrical",
 )
+#: ``jointplay compare``'s default: the physical default contact beside them.
+COMPARE_METHODS = (NOMINAL, PHYSICAL, *DEFAULT_METHODS[1:])
 #: Default fraction of the largest |simulated| below which a point is left out of the % stats.
 LOW_SPEED_FRACTION = 0.10
 
@@ -214,8 +219,9 @@ def steady_cycle(
     Args:
         mechanism: the mechanism, driven in the rig's direction (see
             :func:`rig_mechanism`).
-        method: ``"nominal"`` (ideal joints, closed-form kinematics) or one of the paper's
-            methods (:data:`jointplay.study.methods.METHODS`).
+        method: ``"nominal"`` (ideal joints, closed-form kinematics), ``"physical"`` (the
+            default contact of docs/contact.md) or one of the paper's methods
+            (:data:`jointplay.study.methods.METHODS`).
         revolutions: simulated crank periods (>= 1, default 3), starting from the nominal
             steady motion; only the last full revolution is used.
         ecs_source: ``"computed"`` (our ECS estimate) or ``"paper"`` (Tables 4 and 5).
@@ -232,26 +238,32 @@ def steady_cycle(
     """
     if method == NOMINAL:
         return nominal_cycle(mechanism, quantity=quantity)
-    from jointplay.dynamics.setup import clearance_joints
+    from jointplay.dynamics.setup import ContactModel, clearance_joints
     from jointplay.dynamics.simulate import Start, simulate
     from jointplay.study.methods import METHODS, get_method, method_law
 
-    if method not in METHODS:
+    if method not in METHODS and method != PHYSICAL:
         raise ConfigError(
-            f"unknown method {method!r}; use {NOMINAL} or one of the paper's: {', '.join(METHODS)}"
+            f"unknown method {method!r}; use {NOMINAL}, {PHYSICAL} or one of the paper's: "
+            f"{', '.join(METHODS)}"
         )
     if not (math.isfinite(revolutions) and revolutions >= 1):
         raise ConfigError(
             f"revolutions must be >= 1 (the last full revolution is used), got {revolutions}"
         )
     _link_of(mechanism, quantity)
-    law, record = method_law(method, mechanism, ecs_source=ecs_source)
-    uses_ecs = get_method(method).uses_ecs
-    if uses_ecs:
-        record = {**record, "ecs_source": ecs_source}
-    clear = clearance_joints(mechanism, joints, clearance=clearance, law=law)
+    uses_ecs = method != PHYSICAL and get_method(method).uses_ecs
+    if method == PHYSICAL:
+        contact = ContactModel()
+        record: dict[str, Any] = {"method": PHYSICAL, "contact": contact.describe()}
+        clear = contact.joints(mechanism, joints, clearance=clearance)
+    else:
+        law, record = method_law(method, mechanism, ecs_source=ecs_source)
+        if uses_ecs:
+            record = {**record, "ecs_source": ecs_source}
+        clear = clearance_joints(mechanism, joints, clearance=clearance, law=law)
     result = simulate(
-        mechanism, clear, revolutions=revolutions, start=Start("steady"), solver=solver
+        mechanism, clear, revolutions=revolutions, settle=0, start=Start("steady"), solver=solver
     )
     steps = result.steps
     t = steps["t"].to_numpy()

@@ -4,10 +4,13 @@ drawing.
 :func:`design_study` evaluates every combination (a *scheme*) of an ISO 286 fit — one for all
 pin joints, or one per named joint — and an ISO 2768-1 class for the link lengths:
 
-1. a Monte Carlo of the link lengths (the class's ±deviation) and the radial clearances (the
-   fit's limits), distributed as in the tolerance study (:mod:`jointplay.tolerance.spec`),
-   with the same seed for every scheme (common random numbers: schemes differ by their
-   tolerances, not by their luck);
+1. a Monte Carlo of the parts as made (:mod:`jointplay.tolerance.parts`): each link length in
+   its class's ±deviation, each joint's hole and pin diameters in their own ISO 286 zones,
+   the radial clearance their half difference (or, ``Process(sampling="band")``, the
+   clearance over the fit's worst-case band), with the same seed for every scheme and every
+   round (common random numbers: schemes differ by their tolerances, not by their luck);
+   ``samples="auto"`` adds rounds (:func:`sample_rounds`) while a scheme is undecided and
+   could still be the answer;
 2. each sample through the steady running dynamics (steady start, ``settle`` start-up
    revolutions left out) — or through the ideal-joint kinematics when every requirement is
    kinematic. When a requirement needs each sample's trajectory (``rocker_speed_error``,
@@ -17,12 +20,16 @@ pin joints, or one per named joint — and an ISO 2768-1 class for the link leng
    backend, the GPU included, and gives the peaks, ``joint_force`` and ``contact_pressure``
    (the engines agree on forces within 1e-3, on ω peaks within their integration errors:
    docs/design.md);
-3. per scheme: every response's mean, std and value at the confidence level; the share of
-   samples meeting each requirement (yield %, defects per million; a failed simulation counts
-   as a defect); the relative cost (:mod:`jointplay.tolerance.cost`);
-4. the cheapest scheme meeting every requirement — or, if none does, the requirement that
-   binds (the one whose best yield over all schemes is lowest) — and the Pareto fronts of cost
-   against the yield and against each response;
+3. per scheme (:mod:`jointplay.tolerance.confidence`): every response's mean, std and value
+   at the confidence level (a distribution-free order-statistic bound, or a named
+   normal-model estimate with too few samples); per requirement the failures (a failed
+   simulation counts as one), the yield and DPM with their exact 95 % intervals and the
+   verdict ``meets``/``fails``/``undecided``; the relative cost; with ``rare``, the defect
+   rate of the schemes left undecided by importance sampling
+   (:mod:`jointplay.tolerance.rare`);
+4. the cheapest scheme whose every requirement ``meets`` — or, if none does, the requirement
+   that binds (the one whose best yield over all schemes is lowest) and what would decide
+   the undecided ones — and the Pareto fronts of cost against the yield and each response;
 5. dynamic studies: whether the samples are physical. Every sample's pin of each clearance
    joint must stay within its radial clearance (``penetration_ratio_<joint>``, the deepest
    penetration over the analysed revolutions / that sample's radial clearance, see
@@ -33,8 +40,8 @@ pin joints, or one per named joint — and an ISO 2768-1 class for the link leng
    (:class:`DesignDiagnostic`: how many samples of how many schemes, the worst ratio and its
    scheme, whether the recommended scheme is among them).
 
-All samples of all schemes run as one batch on one backend
-(:func:`jointplay.tolerance.execution.run`), scheme after scheme: Ctrl-C keeps the schemes
+Each round's samples of all open schemes run as one batch on one backend
+(:func:`jointplay.tolerance.execution.run`), scheme after scheme: Ctrl-C keeps the rounds
 that finished.
 
 Responses of the dynamic model (SI): the tolerance study's peaks (``omega<k>_peak``,
@@ -73,12 +80,17 @@ from jointplay.tolerance.analysis import (
     StudyDiagnostic,
     convergence_finding,
     penetration_warning,
+    study_contact,
 )
+from jointplay.tolerance.confidence import YieldEstimate, quantile_value, verdict
 from jointplay.tolerance.cost import CostModel, fit_cost, length_class_cost
 from jointplay.tolerance.definitions import response_definitions
 from jointplay.tolerance.execution import NOT_RUN, OK, STATUS, Backend, run
 from jointplay.tolerance.methods import distribution_note, truncated_at_limits
+from jointplay.tolerance.parts import Process, fit_features, model_inputs
+from jointplay.tolerance.rare import RareEstimate, cross_entropy_importance_sampling
 from jointplay.tolerance.responses import (
+    ELASTIC_RATIO,
     PENETRATION_RATIO,
     RUNNING_RESPONSES,
     PeakResponses,
@@ -89,7 +101,6 @@ from jointplay.tolerance.responses import (
 )
 from jointplay.tolerance.sampling import sample
 from jointplay.tolerance.spec import (
-    DEFAULT_DISTRIBUTION,
     InputTolerance,
     JointTolerance,
     LinkTolerance,
@@ -100,19 +111,26 @@ from jointplay.tolerance.spec import (
 
 if TYPE_CHECKING:
     from jointplay.contact.laws import ContactLaw
+    from jointplay.dynamics.setup import ContactModel
     from jointplay.dynamics.simulate import SolverOptions
     from jointplay.dynamics.wear import WearSettings
 
 __all__ = [
     "DEFAULT_CONFIDENCE",
+    "DEFAULT_MAX_SAMPLES",
     "DERIVED_RESPONSES",
+    "FIRST_ROUND",
+    "Callout",
     "DesignDiagnostic",
     "DesignResult",
+    "RareDefects",
     "Scheme",
     "design_study",
     "design_units",
+    "parse_requirements",
     "penetration_diagnostics",
     "resolve_responses",
+    "sample_rounds",
     "schemes",
     "trajectory_requirements",
 ]
@@ -125,6 +143,51 @@ DEFAULT_CONFIDENCE = 0.9973
 #: Responses the design study adds to the tolerance study's dynamic peaks, with SI units: the
 #: running responses and the life (computed per scheme from the wear rate).
 DERIVED_RESPONSES: Mapping[str, str] = {**RUNNING_RESPONSES, "life": "s"}
+
+
+@dataclass(frozen=True)
+class Callout:
+    """One feature's line on the drawing.
+
+    Attributes:
+        feature: e.g. ``"joint O2 hole"``, ``"length crank"``.
+        nominal: nominal size, m.
+        lower, upper: limits of size, m.
+        designation: ``"H8"``, ``"f7"`` or ``"ISO 2768-m"``.
+        diameter: a diameter (``Ø``) rather than a length.
+    """
+
+    feature: str
+    nominal: float
+    lower: float
+    upper: float
+    designation: str
+    diameter: bool = False
+
+    @property
+    def text(self) -> str:
+        """The callout in mm, e.g. ``"joint A hole Ø10 H8 = 10.000/10.022 mm"`` or
+        ``"length crank 108 ± 0.3 mm (ISO 2768-m)"``."""
+        if self.diameter:
+            return (
+                f"{self.feature} Ø{self.nominal * 1e3:g} {self.designation} = "
+                f"{self.lower * 1e3:.3f}/{self.upper * 1e3:.3f} mm"
+            )
+        deviation = 0.5 * (self.upper - self.lower)
+        return (
+            f"{self.feature} {self.nominal * 1e3:g} ± {deviation * 1e3:g} mm ({self.designation})"
+        )
+
+    def as_dict(self) -> dict[str, Any]:
+        """JSON-ready (SI) with the text."""
+        return {
+            "feature": self.feature,
+            "designation": self.designation,
+            "nominal_m": self.nominal,
+            "lower_m": self.lower,
+            "upper_m": self.upper,
+            "text": self.text,
+        }
 
 
 @dataclass(frozen=True)
@@ -154,21 +217,63 @@ class Scheme:
     def label(self) -> str:
         return f"{self.fit_label} / {self.length_class}"
 
-    def spec(self, mechanism: Mechanism, distribution: str = DEFAULT_DISTRIBUTION) -> ToleranceSpec:
-        """The toleranced inputs of this scheme (lengths of the class, clearances of the fits)."""
+    def spec(self, mechanism: Mechanism, process: Process | None = None) -> ToleranceSpec:
+        """The toleranced features of this scheme: the lengths of its class, and per joint
+        the hole and pin diameters of its fit (``process.sampling == "parts"``,
+        :mod:`jointplay.tolerance.parts`) or the radial clearance over the fit's band
+        (``"band"``)."""
+        process = process or Process()
+        cpk = process.cpk.get("length")
         nominal = template_lengths(mechanism)
         lengths: list[InputTolerance] = [
-            LinkTolerance.general(name, value, self.length_class, distribution=distribution)  # type: ignore[arg-type]
+            LinkTolerance.general(
+                name, value, self.length_class, distribution=process.distribution, cpk=cpk
+            )
             for name, value in nominal.items()
             if abs(value) >= 0.5e-3
         ]
         joints: list[InputTolerance] = []
         for joint, fit in self.fits.items():
             diameter = _diameter(mechanism, joint)
-            joints.append(
-                JointTolerance.from_fit(joint, fit, diameter, distribution=distribution)  # type: ignore[arg-type]
-            )
+            if process.sampling == "parts":
+                joints.extend(fit_features(joint, fit, diameter, process))
+            else:
+                joints.append(
+                    JointTolerance.from_fit(joint, fit, diameter, distribution=process.distribution)
+                )
         return ToleranceSpec(tuple(in_template_order(lengths, nominal)) + tuple(joints))
+
+    def callouts(self, mechanism: Mechanism) -> tuple[Callout, ...]:
+        """What goes on the drawing: per joint the hole and the pin with their ISO 286
+        classes and limits of size, per template length its ISO 2768-1 ±deviation."""
+        out = []
+        for joint, fit in self.fits.items():
+            result = iso286.fit(fit, _diameter(mechanism, joint))
+            for kind, zone in (("hole", result.hole), ("pin", result.shaft)):
+                out.append(
+                    Callout(
+                        f"joint {joint} {kind}",
+                        zone.nominal_size,
+                        zone.min_size,
+                        zone.max_size,
+                        zone.designation,
+                        diameter=True,
+                    )
+                )
+        for name, value in template_lengths(mechanism).items():
+            if abs(value) < 0.5e-3:
+                continue
+            deviation = iso2768.general_tolerance(self.length_class, abs(value))
+            out.append(
+                Callout(
+                    f"length {name}",
+                    value,
+                    value - deviation,
+                    value + deviation,
+                    f"ISO 2768-{self.length_class}",
+                )
+            )
+        return tuple(out)
 
     def cost(self, mechanism: Mechanism, model: CostModel) -> float:
         """Relative cost: every joint's fit plus every length's class."""
@@ -264,23 +369,32 @@ def design_units(
     return units
 
 
+def parse_requirements(
+    mechanism: Mechanism, requirements: Sequence[str | Requirement]
+) -> tuple[Requirement, ...]:
+    """Requirements as typed objects, each text parsed once against every response a design
+    study of ``mechanism`` may give (kinematic and dynamic).
+
+    Raises:
+        ConfigError: a malformed requirement or an unknown response.
+    """
+    units = {**design_units(mechanism, "kinematic"), **design_units(mechanism, "dynamic")}
+    return tuple(
+        r if isinstance(r, Requirement) else parse_requirement(r, units) for r in requirements
+    )
+
+
 def resolve_responses(
     mechanism: Mechanism,
-    requirements: Sequence[str | Requirement],
+    requirements: Sequence[Requirement],
     responses: Literal["auto", "kinematic", "dynamic"] = "auto",
 ) -> Literal["kinematic", "dynamic"]:
     """The response model a design study runs: ``responses`` itself, or for ``"auto"``
-    kinematic when every requirement (as text) names a kinematic response, else dynamic.
-
-    Raises:
-        ConfigError: a malformed requirement.
-    """
+    kinematic when every requirement names a kinematic response, else dynamic."""
     if responses != "auto":
         return responses
     units = design_units(mechanism, "kinematic")
-    kinematic = bool(requirements) and all(
-        isinstance(r, str) and parse_requirement_or_none(r, units) is not None for r in requirements
-    )
+    kinematic = bool(requirements) and all(r.response in units for r in requirements)
     return "kinematic" if kinematic else "dynamic"
 
 
@@ -387,7 +501,9 @@ def penetration_diagnostics(
 ) -> tuple[DesignDiagnostic, ...]:
     """One ``penetration-exceeds-clearance`` warning per clearance joint whose pin, in some
     successful samples of some scheme, sinks deeper into its bearing than the radial
-    clearance (``penetration_ratio_<joint>`` > 1).
+    clearance (``penetration_ratio_<joint>`` > 1), and one ``penetration-exceeds-elastic``
+    per joint whose pin sinks deeper than ``ELASTIC_FACTOR`` times its Hertz approach
+    (``elastic_ratio_<joint>``, :mod:`jointplay.dynamics.diagnostics`).
 
     The tolerance study's :func:`~jointplay.tolerance.analysis.penetration_findings` judges
     the samples of one study; this counts them over the schemes, names the worst sample's
@@ -400,17 +516,23 @@ def penetration_diagnostics(
         input_names: the inputs, SI.
         best: the recommended scheme, or ``None``.
     """
-    columns = _penetration_columns(check_names)
-    if not columns or not len(samples):
+    from jointplay.dynamics.diagnostics import ELASTIC_FACTOR, Diagnostic
+
+    kinds = [(joint, name, 1.0) for joint, name in _penetration_columns(check_names).items()] + [
+        (name.removeprefix(ELASTIC_RATIO), name, ELASTIC_FACTOR)
+        for name in check_names
+        if name.startswith(ELASTIC_RATIO)
+    ]
+    if not kinds or not len(samples):
         return ()
     ok = (samples["status"] == STATUS[OK]).to_numpy()
     scheme = samples["scheme"].to_numpy()
     labels = list(dict.fromkeys(scheme))
     out_of = int(ok.sum())
     findings = []
-    for joint, name in columns.items():
+    for joint, name, limit in kinds:
         ratio = np.where(ok, samples[name].to_numpy(dtype=float), np.nan)
-        exceeds = ratio > 1.0  # NaN compares False
+        exceeds = ratio > limit  # NaN compares False
         count = int(exceeds.sum())
         if count == 0:
             continue
@@ -433,18 +555,34 @@ def penetration_diagnostics(
                 f"; the recommended scheme {best} is not concerned, but the schemes it was "
                 "chosen over were judged on these samples"
             )
+        what = (
+            "the radial clearance"
+            if limit == 1.0
+            else "the elastic approach of the joint's own Hertz law at its peak force"
+        )
+        per_scheme_column = (
+            f", penetration_exceeds_{joint} per scheme in design.parquet" if limit == 1.0 else ""
+        )
         message = (
             f"{count} of {out_of} samples ({100.0 * count / out_of:.3g} %) in {concerned} of "
             f"{len(labels)} schemes: the pin of {joint} penetrates its bearing by up to "
-            f"{ratio[worst]:.3g} times the radial clearance (scheme {worst_scheme}, sample "
-            f"{worst_sample}; {name} in samples.parquet, penetration_exceeds_{joint} per scheme "
-            f"in design.parquet); those samples' responses are not physical{verdict}; the "
-            "contact stiffness is far too low for the load: use a stiffer contact law (--k, or "
-            "another --contact), e.g. one from the joints' geometry"
+            f"{ratio[worst]:.3g} times {what} (scheme {worst_scheme}, sample "
+            f"{worst_sample}; {name} in samples.parquet{per_scheme_column}); those samples' "
+            f"responses are not physical{verdict}; the contact stiffness is far too low for "
+            "the load: use a stiffness from the joints' geometry (the default contact, or "
+            "--stiffness-law)"
         )
+        diagnostic = (
+            penetration_warning(joint, float(ratio[worst]), message)
+            if limit == 1.0
+            else Diagnostic(
+                "warning", "penetration-exceeds-elastic", joint, float(ratio[worst]), limit,
+                message,
+            )
+        )  # fmt: skip
         findings.append(
             DesignDiagnostic(
-                penetration_warning(joint, float(ratio[worst]), message),
+                diagnostic,
                 count=count,
                 out_of=out_of,
                 worst_sample=worst_sample,
@@ -475,13 +613,16 @@ class DesignResult:
         table: one row per finished scheme (:meth:`to_dataframe`); dynamic studies add
             ``penetration_exceeds_<joint>`` and ``penetration_ratio_max_<joint>`` per
             clearance joint.
-        samples: one row per sample of the finished schemes: scheme, inputs, responses,
-            dynamic studies' ``penetration_ratio_<joint>`` (dimensionless; above 1: not
-            physical), status.
-        best: label of the cheapest scheme meeting every requirement, or ``None`` (always
-            for an interrupted study: a choice among some of the schemes is no choice).
-        binding: when none does: the requirement whose best yield is lowest (``None`` for
-            an interrupted study).
+        samples: one row per sample of the finished schemes: scheme, the features as made
+            (``hole_<joint>``, ``pin_<joint>`` diameters), the model's inputs (lengths,
+            clearances), responses, dynamic studies' ``penetration_ratio_<joint>``
+            (dimensionless; above 1: not physical), status.
+        best: label of the cheapest scheme shown to meet every requirement (verdict
+            ``meets``: the lower bound of each yield's exact 95 % interval at or above the
+            confidence level), or ``None`` (always for an interrupted study: a choice among
+            some of the schemes is no choice).
+        binding: when none is: the requirement whose best observed yield is lowest
+            (``None`` for an interrupted study).
         interrupted: Ctrl-C stopped the run; only finished schemes are in ``table``.
         settings: samples, seed, model description, cost model, clearance limits.
         diagnostics: plausibility warnings over the samples of the finished schemes
@@ -489,8 +630,9 @@ class DesignResult:
             :attr:`convergence`); empty when every sample is physical and converged, and for
             kinematic studies.
         convergence: dynamic studies: the integrator's share of the responses' scatter
-            (:func:`~jointplay.tolerance.analysis.convergence_finding`, over every scheme's
-            samples; ``None`` when not checked).
+            (:func:`~jointplay.tolerance.analysis.convergence_finding`, over the first
+            round's samples; ``None`` when not checked).
+        candidates: every scheme of the study (finished or not).
     """
 
     mechanism: Mechanism
@@ -505,6 +647,7 @@ class DesignResult:
     settings: Mapping[str, Any] = field(default_factory=dict)
     diagnostics: tuple[StudyDiagnostic, ...] = ()
     convergence: ConvergenceCheck | None = None
+    candidates: tuple[Scheme, ...] = ()
 
     def to_dataframe(self) -> pd.DataFrame:
         """One row per scheme (the content of ``design.parquet``)."""
@@ -515,41 +658,117 @@ class DesignResult:
         if self.best is None:
             return None
         row = self.table[self.table["scheme"] == self.best].iloc[0]
-        return {k: (v.item() if hasattr(v, "item") else v) for k, v in row.items()}  # type: ignore[misc]
+        return {str(k): _plain(v) for k, v in row.items()}
+
+    @property
+    def drawing(self) -> tuple[Callout, ...]:
+        """The drawing callouts of the answer (none without one)."""
+        for scheme in self.candidates:
+            if scheme.label == self.best:
+                return scheme.callouts(self.mechanism)
+        return ()
+
+    @property
+    def undecided(self) -> pd.DataFrame:
+        """The undecided schemes cheaper than the answer (all of them without one), by cost."""
+        if not len(self.table):
+            return self.table
+        rows = self.table[self.table["verdict"] == "undecided"]
+        if self.best is not None:
+            rows = rows[rows["cost"] < self.best_row["cost"]]  # type: ignore[index]
+        return rows.sort_values("cost")
+
+    @property
+    def to_decide(self) -> str | None:
+        """What would decide the undecided schemes that could change the answer, or ``None``."""
+        rows = self.undecided
+        if not len(rows):
+            return None
+        row = rows.iloc[0]
+        m = row["samples_to_decide"]
+        text = f"undecided: {row['scheme']} after {row['samples']:,} samples (" + (
+            f"about {int(m):,} would decide it at its observed defect rate: --max-samples {int(m)})"
+            if not pd.isna(m)
+            else "its observed defect rate sits at the level: more samples may not decide it)"
+        )
+        if len(rows) > 1:
+            text += f", and {len(rows) - 1} dearer undecided scheme(s)"
+        return text
+
+    @property
+    def verdict(self) -> str:
+        """The answer in one sentence."""
+        if self.interrupted:
+            return (
+                f"interrupted: {len(self.table)} of {self.settings.get('schemes', '?')} schemes "
+                "with finished rounds; no recommendation from some of the schemes (run the "
+                "study again)"
+            )
+        if self.best is not None:
+            text = f"cheapest scheme shown to meet every requirement: {self.best}"
+        elif not len(self.table):
+            return "no finished scheme"
+        elif (self.table["verdict"] == "fails").all():
+            text = "every scheme fails"
+            if self.binding is not None:
+                text += f"; binding requirement: {self.binding}"
+            return text
+        else:
+            text = "no scheme is shown to meet every requirement"
+            if self.binding is not None:
+                text += f"; binding requirement: {self.binding}"
+        if self.to_decide is not None:
+            text += f"; {'cheaper, ' if self.best is not None else ''}{self.to_decide}"
+        return text
 
     def summary(self) -> dict[str, Any]:
-        """The ``summary.json`` content (SI)."""
-        if self.interrupted:
-            verdict = (
-                f"interrupted: {len(self.table)} of {self.settings.get('schemes', '?')} schemes "
-                "finished; no recommendation from some of the schemes (run the study again)"
-            )
-        elif self.best is not None:
-            verdict = f"cheapest scheme meeting every requirement: {self.best}"
-        elif self.binding is not None:
-            verdict = f"no scheme meets every requirement; binding requirement: {self.binding}"
-        else:
-            verdict = "no finished scheme"
-        records = [
-            {k: (v.item() if hasattr(v, "item") else v) for k, v in row.items()}
-            for row in self.table.to_dict(orient="records")
-        ]
+        """The ``summary.json`` content (SI; yields and their intervals as fractions in
+        ``schemes[].requirements[]``, as % in the flat scheme columns)."""
         return {
             "mechanism": self.mechanism.name,
             "responses_kind": self.responses,
             "confidence": self.confidence,
             "requirements": [r.describe() for r in self.requirements],
-            "verdict": verdict,
+            "verdict": self.verdict,
             "best": self.best,
             "best_scheme": self.best_row,
+            "drawing": [c.as_dict() for c in self.drawing],
             "binding": self.binding,
+            "to_decide": self.to_decide,
             "interrupted": self.interrupted,
             "settings": dict(self.settings),
             "response_definitions": response_definitions(self.reported_responses),
-            "schemes": records,
+            "schemes": [self._record(row) for row in self.table.to_dict(orient="records")],
             "diagnostics": [finding.as_dict() for finding in self.diagnostics],
             "convergence_check": None if self.convergence is None else self.convergence.as_dict(),
         }
+
+    def _record(self, row: Mapping[Any, Any]) -> dict[str, Any]:
+        """A scheme's summary: its flat columns, the per-requirement ones gathered in
+        ``requirements`` (fractions)."""
+        own = {f"_{r.text}" for r in self.requirements}
+        record = {
+            str(k): _plain(v) for k, v in row.items() if not any(str(k).endswith(o) for o in own)
+        }
+        record["requirements"] = [
+            {
+                "requirement": r.text,
+                "confidence": r.confidence if r.confidence is not None else self.confidence,
+                "failures": _plain(row[f"failures_{r.text}"]),
+                "samples": _plain(row["samples"]),
+                "yield": row[f"yield_{r.text}"] / 100.0,
+                "yield_ci95": [
+                    row[f"yield_low_{r.text}"] / 100.0,
+                    row[f"yield_high_{r.text}"] / 100.0,
+                ],
+                "dpm": row[f"dpm_{r.text}"],
+                "dpm_ci95": [row[f"dpm_low_{r.text}"], row[f"dpm_high_{r.text}"]],
+                "verdict": row[f"verdict_{r.text}"],
+                "samples_to_decide": _plain(row[f"samples_to_decide_{r.text}"]),
+            }
+            for r in self.requirements
+        ]
+        return record
 
     @property
     def reported_responses(self) -> tuple[str, ...]:
@@ -558,13 +777,68 @@ class DesignResult:
         return tuple(dict.fromkeys(names))
 
 
+def _plain(value: Any) -> Any:
+    """A table cell as plain JSON-ready Python (missing → ``None``)."""
+    if value is None or (not isinstance(value, str | bool) and pd.isna(value)):
+        return None
+    return value.item() if hasattr(value, "item") else value
+
+
+#: ``samples="auto"``: samples per scheme of the first round; each round doubles the total.
+FIRST_ROUND = 100
+#: ``samples="auto"``: default largest number of samples per scheme.
+DEFAULT_MAX_SAMPLES = 4000
+
+
+def sample_rounds(samples: int | Literal["auto"], max_samples: int) -> tuple[int, ...]:
+    """Total samples per scheme after each round: ``(samples,)`` for a number, else
+    :data:`FIRST_ROUND`, doubling, up to ``max_samples`` (its last round)."""
+    if samples != "auto":
+        if isinstance(samples, bool) or not isinstance(samples, int) or samples < 1:
+            raise ConfigError(f"samples must be a positive integer or 'auto', got {samples!r}")
+        return (samples,)
+    if isinstance(max_samples, bool) or not isinstance(max_samples, int) or max_samples < 1:
+        raise ConfigError(f"max_samples must be a positive integer, got {max_samples!r}")
+    out = [min(FIRST_ROUND, max_samples)]
+    while out[-1] < max_samples:
+        out.append(min(2 * out[-1], max_samples))
+    return tuple(out)
+
+
+@dataclass
+class _Evaluated:
+    """The samples one evaluation key (a scheme; a length class when kinematic) has run."""
+
+    features: list[FloatArray] = field(default_factory=list)
+    x: list[FloatArray] = field(default_factory=list)
+    values: list[FloatArray] = field(default_factory=list)
+    status: list[NDArray[np.int8]] = field(default_factory=list)
+    checks: list[FloatArray] = field(default_factory=list)
+    errors: list[str] = field(default_factory=list)
+
+    @property
+    def n(self) -> int:
+        return sum(len(s) for s in self.status)
+
+    def add(self, features: FloatArray, x: FloatArray, outcome: Any, part: slice) -> None:
+        n = len(features)
+        self.features.append(features)
+        self.x.append(x[part])
+        self.values.append(outcome.values[part])
+        self.status.append(outcome.status[part])
+        checks = outcome.checks[part] if outcome.checks is not None else np.empty((n, 0))
+        self.checks.append(checks)
+        self.errors.extend(outcome.errors[part])
+
+
 def design_study(
     mechanism: Mechanism,
     fits: Sequence[str | Mapping[str, str]],
     classes: Sequence[str],
     requirements: Sequence[str | Requirement],
     *,
-    samples: int = 200,
+    samples: int | Literal["auto"] = "auto",
+    max_samples: int = DEFAULT_MAX_SAMPLES,
     seed: int = 0,
     confidence: float = DEFAULT_CONFIDENCE,
     responses: Literal["auto", "kinematic", "dynamic"] = "auto",
@@ -572,16 +846,17 @@ def design_study(
     clearance_limit: Mapping[str, float] | float | None = None,
     clearance_allowance: float | None = None,
     wear: WearSettings | None = None,
-    contact: str | ContactLaw | None = None,
+    contact: str | ContactLaw | ContactModel | None = None,
     settle: int = DEFAULT_SETTLE,
     revolutions: float = 1.0,
     solver: SolverOptions | None = None,
-    distribution: str = DEFAULT_DISTRIBUTION,
+    process: Process | None = None,
     truncate: bool = True,
+    rare: RareDefects | None = None,
     backend: Backend | None = None,
     progress: bool = False,
 ) -> DesignResult:
-    """Find the cheapest fit and length class meeting ``requirements``.
+    """Find the cheapest fit and length class shown to meet ``requirements``.
 
     Args:
         mechanism: the nominal mechanism (template four-bar or slider-crank; pin joints with
@@ -589,22 +864,31 @@ def design_study(
         fits: candidate fits: text (every joint) or a mapping joint → fit.
         classes: candidate ISO 2768-1 classes.
         requirements: requirements as text (:mod:`jointplay.study.requirements`) or objects.
-        samples: Monte Carlo samples per scheme.
-        seed: the seed (the same for every scheme).
-        confidence: share of samples that must meet a requirement without its own ``@``.
+        samples: Monte Carlo samples per scheme, or ``"auto"``: rounds of samples
+            (:func:`sample_rounds`) until every scheme is decided, can no longer be the
+            cheapest feasible one, or has ``max_samples``.
+        max_samples: ``"auto"``: the most samples per scheme.
+        seed: the seed (the same for every scheme and every round: common random numbers).
+        confidence: share of parts that must meet a requirement without its own ``@``.
         responses: ``"dynamic"`` (clearance joints, steady running), ``"kinematic"`` (ideal
             joints, lengths only) or ``"auto"`` (kinematic when every requirement is).
         cost: the cost–tolerance model (default :class:`CostModel`).
         clearance_limit: radial clearance limit for ``life``, m (one for all, or per joint).
         clearance_allowance: instead: the fit's largest radial clearance plus this, m.
         wear: Archard parameters (default steel on steel, :mod:`jointplay.dynamics.wear`).
-        contact: dynamic: contact law (default the conventional IFM set).
+        contact: dynamic: a :class:`~jointplay.dynamics.setup.ContactModel` (the physical
+            default: ``ContactModel()``), a contact law, or ``None``: the conventional IFM set
+            (:func:`jointplay.tolerance.analysis.study_contact`).
         settle, revolutions: dynamic: start-up revolutions left out, analysed revolutions.
         solver: dynamic: integration settings (default :class:`SolverOptions`).
-        distribution: distribution of every toleranced input.
-        truncate: draw normal inputs from the normal truncated at their limits (default:
+        process: how the parts are made (default: hole and pin apart, normal ±3σ at their
+            limits; :class:`~jointplay.tolerance.parts.Process`).
+        truncate: draw normal features from the normal truncated at their limits (default:
             out-of-tolerance parts are rejected at inspection;
             :func:`jointplay.tolerance.methods.truncated_at_limits`), else untruncated.
+        rare: estimate the defect rate of the schemes Monte Carlo left undecided (cheapest
+            first) by cross-entropy importance sampling (:mod:`jointplay.tolerance.rare`);
+            its 95 % interval decides them (``verdict_basis``). ``None``: Monte Carlo only.
         backend: where the samples run (default local processes).
         progress: show a progress bar.
 
@@ -615,17 +899,17 @@ def design_study(
     """
     if not 0.0 < confidence < 1.0:
         raise ConfigError(f"confidence must lie between 0 and 100 %, got {100 * confidence:g} %")
+    rounds = sample_rounds(samples, max_samples)
+    process = process or Process()
     cost = cost or CostModel()
     candidates = schemes(mechanism, fits, classes)
+    parsed = parse_requirements(mechanism, requirements)
+    responses = resolve_responses(mechanism, parsed, responses)
     kinematic_units = design_units(mechanism, "kinematic")
     dynamic_units = design_units(mechanism, "dynamic")
-    responses = resolve_responses(mechanism, requirements, responses)
     # A dynamic study gives the ideal-joint kinematic responses of each sample's lengths too,
     # so requirements may mix them (the dynamic peaks keep their own names).
     units = kinematic_units if responses == "kinematic" else {**kinematic_units, **dynamic_units}
-    parsed = tuple(
-        r if isinstance(r, Requirement) else parse_requirement(r, units) for r in requirements
-    )
     for item in parsed:
         if item.response not in units:
             raise ConfigError(
@@ -639,129 +923,82 @@ def design_study(
             "a 'life' requirement needs a clearance limit: clearance_limit or clearance_allowance"
         )
 
-    # one batch: every scheme's samples, scheme after scheme
-    specs = [s.spec(mechanism, distribution) for s in candidates]
+    specs = [s.spec(mechanism, process) for s in candidates]
     if responses == "kinematic":
         specs = [s.only("length") for s in specs]
-    names = specs[0].names
-    model: ResponseModel
-    if responses == "kinematic":
-        model = kinematic_model(mechanism, names)
-        # fits do not move ideal joints: evaluate each length class once
-        unique: dict[str, int] = {}
-        for i, scheme in enumerate(candidates):
-            unique.setdefault(scheme.length_class, i)
-        order = list(unique.values())
-    else:
-        from jointplay.contact.laws import get_law
-        from jointplay.dynamics.setup import DEFAULT_IMPACT
-        from jointplay.dynamics.simulate import SolverOptions, Start
-        from jointplay.dynamics.wear import OutputSpeedReference, WearSettings
-
-        law = DEFAULT_IMPACT if contact is None else get_law(contact)
-        base = dynamic_model(
-            mechanism,
-            names,
-            law,
-            start=Start("steady"),
-            settle=settle,
-            revolutions=revolutions,
-            solver=solver or SolverOptions(),
-        )
-        lengths = [n for n in names if n.startswith("length_")]
-        mixed = any(r.response not in dynamic_units for r in parsed)  # a kinematic one too
-        kinematic = kinematic_model(mechanism, lengths) if lengths and mixed else None
-        need_trajectories = trajectory_requirements(parsed)
-        if need_trajectories:
-            if backend is not None and backend.kind == "gpu":
-                raise ConfigError(
-                    f"backend gpu: {', '.join(repr(t) for t in need_trajectories)} need(s) each "
-                    "sample's trajectory, which the GPU's batch engine does not keep (it gives "
-                    "peaks: omega, alpha, forces, torque, joint_force, contact_pressure); use "
-                    "local, processes or dask"
-                )
-            model = RunningResponses(
-                base,
-                OutputSpeedReference.of(mechanism),
-                wear or WearSettings(),
-                kinematic=kinematic,
-            )
-        else:
-            fields = {f.name: getattr(base, f.name) for f in dataclasses.fields(base)}
-            model = PeakResponses(**fields, kinematic=kinematic)
-        order = list(range(len(candidates)))
-    drawn = [truncated_at_limits(specs[i]) if truncate else specs[i] for i in order]
-    blocks = [sample(spec, samples, seed).values for spec in drawn]
-    outcome = run(model, np.vstack(blocks), backend=backend, progress=progress)
-    response_names = tuple(model.response_names)
-
-    rows = []
-    sample_frames = []
-    evaluated = {index: k for k, index in enumerate(order)}
+    specs = [truncated_at_limits(s) if truncate else s for s in specs]
+    feature_names = specs[0].names
+    names, _ = model_inputs(feature_names, np.empty((0, len(feature_names))))
+    model = _response_model(
+        mechanism, names, parsed, responses, dynamic_units,
+        contact=contact, settle=settle, revolutions=revolutions, solver=solver, wear=wear,
+        backend=backend,
+    )  # fmt: skip
+    # evaluation key of each scheme: fits do not move ideal joints, so a kinematic study
+    # evaluates each length class once
+    first_of_class: dict[str, int] = {}
     for i, scheme in enumerate(candidates):
-        k = evaluated[
-            i if responses == "dynamic" else order[list(unique).index(scheme.length_class)]
-        ]
-        part = slice(k * samples, (k + 1) * samples)
-        status = outcome.status[part]
-        if np.any(status == NOT_RUN):
-            continue  # interrupted before this scheme finished
-        x = blocks[k]
-        values = dict(zip(response_names, outcome.values[part].T, strict=True))
-        if isinstance(model, RunningResponses):
-            values["life"] = _life(
-                scheme, mechanism, names, x, values, clearance_limit, clearance_allowance
-            )
-        ok = status == OK
-        checks = outcome.checks[part] if outcome.checks is not None else np.empty((samples, 0))
-        row: dict[str, Any] = {
-            "scheme": scheme.label,
-            "fit": scheme.fit_label,
-            **{f"fit_{j}": f for j, f in scheme.fits.items()},
-            "length_class": scheme.length_class,
-            "cost": scheme.cost(mechanism, cost),
-            "samples": samples,
-            "ok": int(ok.sum()),
-            "failed": int((~ok).sum()),
-        }
-        for name, y in values.items():
-            good = y[ok & np.isfinite(y)]
-            row[f"{name}_mean"] = float(good.mean()) if len(good) else math.nan
-            row[f"{name}_std"] = float(good.std(ddof=1)) if len(good) > 1 else math.nan
-            lower = name == "life" or any(r.response == name and not r.upper for r in parsed)
-            q = 1.0 - confidence if lower else confidence
-            row[f"{name}_at_confidence"] = float(np.quantile(good, q)) if len(good) else math.nan
-        every = np.ones(samples, dtype=bool)
-        feasible = True
-        for r in parsed:
-            met = r.met(values[r.response]) & ok
-            every &= met
-            level = r.confidence if r.confidence is not None else confidence
-            share = float(met.mean())
-            row[f"yield_{r.text}"] = 100.0 * share
-            row[f"dpm_{r.text}"] = 1e6 * (1.0 - share)
-            row[f"meets_{r.text}"] = share >= level - 1e-12
-            feasible &= row[f"meets_{r.text}"]
-        row["yield"] = 100.0 * float(every.mean())
-        row["dpm"] = 1e6 * (1.0 - float(every.mean()))
-        row["feasible"] = bool(feasible)
-        row.update(_scheme_penetration(outcome.check_names, checks, ok))
-        rows.append(row)
-        frame = pd.DataFrame(x, columns=list(names))
-        frame.insert(0, "scheme", scheme.label)
-        frame.insert(1, "sample", np.arange(samples))
-        for name, y in values.items():
-            frame[name] = y
-        for c, name in enumerate(outcome.check_names):
-            frame[name] = checks[:, c]
-        frame["status"] = [STATUS[int(s)] for s in status]
-        frame["error"] = list(outcome.errors[part])
-        sample_frames.append(frame)
-    table = pd.DataFrame(rows)
+        first_of_class.setdefault(scheme.length_class, i)
+    key = [
+        first_of_class[s.length_class] if responses == "kinematic" else i
+        for i, s in enumerate(candidates)
+    ]
+    evaluated = {k: _Evaluated() for k in set(key)}
+    active = set(range(len(candidates)))
+    rows: dict[int, dict[str, Any]] = {}
+    interrupted = False
+    first: tuple[FloatArray, Any] | None = None  # the first round, for the convergence check
+    executions = []
+    for target in rounds:
+        keys = sorted({key[i] for i in active if evaluated[key[i]].n < target})
+        if not keys:
+            break
+        drawn = [sample(specs[k], target, seed).values[evaluated[k].n :] for k in keys]
+        features = np.vstack(drawn)
+        _, x = model_inputs(feature_names, features)
+        outcome = run(model, x, backend=backend, progress=progress)
+        executions.append(outcome.describe())
+        if first is None:
+            first = (x, outcome)
+        start = 0
+        for k, block in zip(keys, drawn, strict=True):
+            part = slice(start, start + len(block))
+            start += len(block)
+            if not np.any(outcome.status[part] == NOT_RUN):  # else interrupted: not kept
+                evaluated[k].add(block, x, outcome, part)
+        for i, scheme in enumerate(candidates):
+            if evaluated[key[i]].n:
+                rows[i] = _scheme_row(
+                    scheme, mechanism, cost, evaluated[key[i]], names, model, outcome.check_names,
+                    parsed, confidence, clearance_limit, clearance_allowance,
+                )  # fmt: skip
+        if outcome.interrupted:
+            interrupted = True
+            break
+        active = _still_open(active, rows)
+    if rare is not None and not interrupted:
+        try:
+            for i in sorted(active, key=lambda j: rows[j]["cost"]):
+                if i not in _still_open({i}, rows):
+                    continue  # a cheaper one was shown feasible meanwhile
+                estimate = _rare_defects(
+                    candidates[i], mechanism, specs[key[i]], feature_names, names, model,
+                    parsed, rare, seed, clearance_limit, clearance_allowance, backend,
+                )  # fmt: skip
+                if estimate is None:
+                    interrupted = True
+                    break
+                rows[i].update(_rare_columns(estimate, parsed, confidence, rows[i]["verdict"]))
+                rows[i]["feasible"] = rows[i]["verdict"] == "meets"
+        except KeyboardInterrupt:  # between two stages: the Monte Carlo rounds are kept
+            interrupted = True
+
+    table = pd.DataFrame([rows[i] for i in sorted(rows)])
     best = binding = None
     if len(table):
-        _pareto(table, parsed, response_names)
-    if len(table) and not outcome.interrupted:  # no recommendation from some schemes only
+        table["samples_to_decide"] = table["samples_to_decide"].astype("Int64")
+        _pareto(table, parsed, tuple(model.response_names))
+    if len(table) and not interrupted:  # no recommendation from some schemes only
         feasible_rows = table[table["feasible"]]
         if len(feasible_rows):
             best = str(
@@ -772,24 +1009,40 @@ def design_study(
         elif parsed:
             best_yield = {r.text: float(table[f"yield_{r.text}"].max()) for r in parsed}
             binding = min(best_yield, key=lambda t: best_yield[t])
+    sample_frames = []
+    check_names = first[1].check_names if first is not None else ()
+    for i, scheme in enumerate(candidates):
+        if i in rows:
+            done = evaluated[key[i]]
+            values = _responses(
+                scheme, mechanism, done, names, model, clearance_limit, clearance_allowance
+            )
+            sample_frames.append(
+                _sample_frame(scheme, done, feature_names, names, values, check_names)
+            )
+    every_sample = pd.concat(sample_frames, ignore_index=True) if sample_frames else pd.DataFrame()
     settings = {
         "samples": samples,
+        "max_samples": max_samples if samples == "auto" else samples,
+        "rounds": list(rounds),
         "seed": seed,
-        "distribution": distribution,
+        "process": process.describe(),
         "truncated_at_limits": bool(truncate),
-        "sampling_distributions": distribution_note(drawn[0], truncate) if drawn else "",
+        "sampling_distributions": distribution_note(specs[0], truncate) if specs else "",
+        "interval": "exact (Clopper-Pearson) two-sided 95 % interval of each yield",
+        "rare_defects": None if rare is None else dataclasses.asdict(rare),
         "responses": responses,
         "cost_model": cost.describe(),
         "clearance_limit_m": clearance_limit,
         "clearance_allowance_m": clearance_allowance,
         "model": model.describe(),
-        "execution": outcome.describe(),
+        "execution": executions[-1] if executions else {},
+        "execution_rounds": executions,
         "schemes": len(candidates),
         "finished_schemes": len(rows),
     }
-    every_sample = pd.concat(sample_frames, ignore_index=True) if sample_frames else pd.DataFrame()
     diagnostics: tuple[StudyDiagnostic, ...] = penetration_diagnostics(
-        every_sample, outcome.check_names, names, best
+        every_sample, check_names, names, best
     )
     result = DesignResult(
         mechanism=mechanism,
@@ -800,14 +1053,15 @@ def design_study(
         samples=every_sample,
         best=best,
         binding=binding,
-        interrupted=outcome.interrupted,
+        interrupted=interrupted,
         settings=settings,
         diagnostics=diagnostics,
+        candidates=candidates,
     )
-    if outcome.interrupted or responses == "kinematic":
+    if interrupted or responses == "kinematic" or first is None:
         return result
     try:
-        convergence = convergence_finding(model, np.vstack(blocks), outcome, backend)
+        convergence = convergence_finding(model, first[0], first[1], backend)
     except KeyboardInterrupt:  # every scheme finished: they go on with the interrupt
         raise PartialInterrupt(result, "interrupted during the convergence check") from None
     if convergence is not None and convergence.finding is not None:
@@ -815,15 +1069,291 @@ def design_study(
     return dataclasses.replace(result, diagnostics=diagnostics, convergence=convergence)
 
 
-def parse_requirement_or_none(text: str, units: Mapping[str, str]) -> Requirement | None:
-    """The requirement if ``text`` names one of ``units``' responses, else ``None``
-    (malformed text still raises)."""
-    try:
-        return parse_requirement(text, units)
-    except ConfigError as exc:
-        if "unknown response" in str(exc):
-            return None
-        raise
+@dataclass(frozen=True)
+class RareDefects:
+    """Settings of the rare-defect estimate (:func:`~jointplay.tolerance.rare.
+    cross_entropy_importance_sampling`): ``max_stages`` pilot stages of ``n_stage`` samples
+    and ``n_final`` final samples per scheme (default at most 8 000 + 10 000)."""
+
+    n_stage: int = 1000
+    n_final: int = 10000
+    max_stages: int = 8
+
+    def __post_init__(self) -> None:
+        if min(self.n_stage, self.n_final) < 10 or self.max_stages < 1:
+            raise ConfigError(
+                "rare defects: n_stage and n_final must be >= 10 and max_stages >= 1, got "
+                f"{self.n_stage}, {self.n_final}, {self.max_stages}"
+            )
+
+
+def _rare_defects(
+    scheme: Scheme,
+    mechanism: Mechanism,
+    spec: ToleranceSpec,
+    feature_names: tuple[str, ...],
+    names: tuple[str, ...],
+    model: ResponseModel,
+    parsed: Sequence[Requirement],
+    settings: RareDefects,
+    seed: int,
+    limit: Mapping[str, float] | float | None,
+    allowance: float | None,
+    backend: Backend | None,
+) -> RareEstimate | None:
+    """The probability that a part of ``scheme`` misses some requirement, by importance
+    sampling through the response model on ``backend`` (``None`` when interrupted)."""
+    from scipy.special import ndtr
+
+    stopped = False
+
+    def excess(z: FloatArray) -> FloatArray:
+        nonlocal stopped
+        if stopped:
+            return np.full(len(z), np.nan)
+        u = np.clip(ndtr(z), 1e-300, 1.0 - 2.0**-53)
+        features = np.column_stack(
+            [item.tolerance.ppf(u[:, c]) for c, item in enumerate(spec.inputs)]
+        )
+        _, x = model_inputs(feature_names, features)
+        outcome = run(model, x, backend=backend)
+        stopped = outcome.interrupted
+        done = _Evaluated()
+        done.add(features, x, outcome, slice(0, len(x)))
+        values = _responses(scheme, mechanism, done, names, model, limit, allowance)
+        worst = np.full(len(z), -np.inf)
+        for r in parsed:
+            y = values[r.response]
+            scale = abs(r.limit) or 1.0
+            worst = np.maximum(worst, (y - r.limit if r.upper else r.limit - y) / scale)
+        return np.where(outcome.status == OK, worst, np.nan)
+
+    estimate = cross_entropy_importance_sampling(
+        excess,
+        len(spec),
+        seed=seed,
+        n_stage=settings.n_stage,
+        n_final=settings.n_final,
+        max_stages=settings.max_stages,
+    )
+    return None if stopped else estimate
+
+
+def _rare_columns(
+    estimate: RareEstimate, parsed: Sequence[Requirement], confidence: float, verdict: str
+) -> dict[str, Any]:
+    """A scheme's rare-defect columns, and its verdict when Monte Carlo left it undecided:
+    ``meets`` when the upper bound of the defect rate of every requirement together is
+    within the strictest level (then each requirement's is), ``fails`` (one requirement only)
+    when its lower bound passes the level."""
+    levels = [r.confidence if r.confidence is not None else confidence for r in parsed]
+    low, high = estimate.interval
+    basis = "monte-carlo"
+    if verdict == "undecided" and estimate.converged:
+        if high <= 1.0 - max(levels):
+            verdict, basis = "meets", "importance-sampling"
+        elif len(parsed) == 1 and low > 1.0 - levels[0]:
+            # with several requirements, the rate of missing any does not show which one fails
+            verdict, basis = "fails", "importance-sampling"
+    return {
+        "dpm_rare": estimate.dpm,
+        "dpm_rare_low": estimate.dpm_interval[0],
+        "dpm_rare_high": estimate.dpm_interval[1],
+        "rare_samples": estimate.samples,
+        "rare_converged": estimate.converged,
+        "verdict": verdict,
+        "verdict_basis": basis,
+    }
+
+
+def _response_model(
+    mechanism: Mechanism,
+    names: tuple[str, ...],
+    parsed: Sequence[Requirement],
+    responses: str,
+    dynamic_units: Mapping[str, str],
+    *,
+    contact: str | ContactLaw | ContactModel | None,
+    settle: int,
+    revolutions: float,
+    solver: SolverOptions | None,
+    wear: WearSettings | None,
+    backend: Backend | None,
+) -> ResponseModel:
+    """The response model of a design study over the inputs ``names``."""
+    if responses == "kinematic":
+        return kinematic_model(mechanism, names)
+    from jointplay.dynamics.simulate import SolverOptions, Start
+    from jointplay.dynamics.wear import OutputSpeedReference, WearSettings
+
+    base = dynamic_model(
+        mechanism,
+        names,
+        **study_contact(mechanism, contact),
+        start=Start("steady"),
+        settle=settle,
+        revolutions=revolutions,
+        solver=solver or SolverOptions(),
+    )
+    lengths = [n for n in names if n.startswith("length_")]
+    mixed = any(r.response not in dynamic_units for r in parsed)  # a kinematic one too
+    kinematic = kinematic_model(mechanism, lengths) if lengths and mixed else None
+    need_trajectories = trajectory_requirements(parsed)
+    if need_trajectories:
+        if backend is not None and backend.kind == "gpu":
+            raise ConfigError(
+                f"backend gpu: {', '.join(repr(t) for t in need_trajectories)} need(s) each "
+                "sample's trajectory, which the GPU's batch engine does not keep (it gives "
+                "peaks: omega, alpha, forces, torque, joint_force, contact_pressure); use "
+                "local, processes or dask"
+            )
+        return RunningResponses(
+            base,
+            OutputSpeedReference.of(mechanism),
+            wear or WearSettings(),
+            kinematic=kinematic,
+        )
+    fields = {f.name: getattr(base, f.name) for f in dataclasses.fields(base)}
+    return PeakResponses(**fields, kinematic=kinematic)
+
+
+def _responses(
+    scheme: Scheme,
+    mechanism: Mechanism,
+    done: _Evaluated,
+    names: tuple[str, ...],
+    model: ResponseModel,
+    limit: Mapping[str, float] | float | None,
+    allowance: float | None,
+) -> dict[str, FloatArray]:
+    """Every response of a scheme's samples by name (``life`` added for running models)."""
+    values = dict(zip(model.response_names, np.vstack(done.values).T, strict=True))
+    if isinstance(model, RunningResponses):
+        values["life"] = _life(
+            scheme, mechanism, names, np.vstack(done.x), values, limit, allowance
+        )
+    return values
+
+
+def _scheme_row(
+    scheme: Scheme,
+    mechanism: Mechanism,
+    cost: CostModel,
+    done: _Evaluated,
+    names: tuple[str, ...],
+    model: ResponseModel,
+    check_names: Sequence[str],
+    parsed: Sequence[Requirement],
+    confidence: float,
+    limit: Mapping[str, float] | float | None,
+    allowance: float | None,
+) -> dict[str, Any]:
+    """One scheme's row: its budget, each response's statistics, and per requirement the
+    failures, the yield and DPM with their exact intervals and the verdict."""
+    status = np.concatenate(done.status)
+    n = len(status)
+    ok = status == OK
+    values = _responses(scheme, mechanism, done, names, model, limit, allowance)
+    row: dict[str, Any] = {
+        "scheme": scheme.label,
+        "fit": scheme.fit_label,
+        **{f"fit_{j}": f for j, f in scheme.fits.items()},
+        "length_class": scheme.length_class,
+        "cost": scheme.cost(mechanism, cost),
+        "samples": n,
+        "ok": int(ok.sum()),
+        "failed": int((~ok).sum()),
+    }
+    for name, y in values.items():
+        good = y[ok & np.isfinite(y)]
+        row[f"{name}_mean"] = float(good.mean()) if len(good) else math.nan
+        row[f"{name}_std"] = float(good.std(ddof=1)) if len(good) > 1 else math.nan
+        lower = name == "life" or any(r.response == name and not r.upper for r in parsed)
+        at = quantile_value(np.where(ok, y, math.nan), confidence, upper=not lower)
+        row[f"{name}_at_confidence"] = at.value
+        row[f"{name}_at_confidence_basis"] = at.basis
+    every = np.ones(n, dtype=bool)
+    verdicts = []
+    to_decide: list[int | None] = []
+    for r in parsed:
+        met = r.met(values[r.response]) & ok
+        every &= met
+        estimate = YieldEstimate(int(n - met.sum()), n)
+        judged = verdict(estimate, r.confidence if r.confidence is not None else confidence)
+        verdicts.append(judged.name)
+        if judged.name == "undecided":
+            to_decide.append(judged.samples_to_decide)
+        row[f"failures_{r.text}"] = estimate.failures
+        row.update(_yield_columns(estimate, f"_{r.text}"))
+        row[f"verdict_{r.text}"] = judged.name
+        row[f"samples_to_decide_{r.text}"] = judged.samples_to_decide
+    row.update(_yield_columns(YieldEstimate(int(n - every.sum()), n), ""))
+    row["verdict"] = (
+        "fails" if "fails" in verdicts else "undecided" if "undecided" in verdicts else "meets"
+    )
+    row["verdict_basis"] = "monte-carlo"
+    row["feasible"] = row["verdict"] == "meets"
+    reachable = [m for m in to_decide if m is not None]
+    row["samples_to_decide"] = (
+        max(reachable) if reachable and len(reachable) == len(to_decide) else None
+    )
+    checks = np.vstack(done.checks)
+    row.update(_scheme_penetration(check_names, checks, ok))
+    return row
+
+
+def _yield_columns(estimate: YieldEstimate, suffix: str) -> dict[str, float]:
+    """``yield``, its interval ``yield_low``/``yield_high`` (%), ``dpm``, ``dpm_low``,
+    ``dpm_high``, each name followed by ``suffix``."""
+    low, high = estimate.interval
+    dpm_low, dpm_high = estimate.dpm_interval
+    return {
+        f"yield{suffix}": 100.0 * estimate.value,
+        f"yield_low{suffix}": 100.0 * low,
+        f"yield_high{suffix}": 100.0 * high,
+        f"dpm{suffix}": estimate.dpm,
+        f"dpm_low{suffix}": dpm_low,
+        f"dpm_high{suffix}": dpm_high,
+    }
+
+
+def _still_open(active: set[int], rows: Mapping[int, Mapping[str, Any]]) -> set[int]:
+    """The schemes worth another round: undecided, and not dearer than a scheme already
+    shown to meet every requirement (they can no longer be the cheapest feasible one)."""
+    shown = [row["cost"] for row in rows.values() if row["feasible"]]
+    ceiling = min(shown) if shown else math.inf
+    return {
+        i
+        for i in active
+        if i in rows and rows[i]["verdict"] == "undecided" and rows[i]["cost"] <= ceiling
+    }
+
+
+def _sample_frame(
+    scheme: Scheme,
+    done: _Evaluated,
+    feature_names: Sequence[str],
+    names: Sequence[str],
+    values: Mapping[str, FloatArray],
+    check_names: Sequence[str],
+) -> pd.DataFrame:
+    """One row per sample of a scheme: the features as made (``hole_<J>``, ``pin_<J>``
+    diameters when sampled as parts), the model's inputs, the responses, the checks, the
+    status."""
+    frame = pd.DataFrame(np.vstack(done.features), columns=list(feature_names))
+    x = np.vstack(done.x)
+    for c, name in enumerate(names):
+        frame[name] = x[:, c]
+    frame.insert(0, "scheme", scheme.label)
+    frame.insert(1, "sample", np.arange(len(frame)))
+    for name, y in values.items():
+        frame[name] = y
+    checks = np.vstack(done.checks)
+    for c, name in enumerate(check_names):
+        frame[name] = checks[:, c]
+    frame["status"] = [STATUS[int(s)] for s in np.concatenate(done.status)]
+    frame["error"] = list(done.errors)
+    return frame
 
 
 def _life(

@@ -8,12 +8,19 @@ Grammar (spaces optional around the comparison and the ``@``)::
                    joint_force, F_A_peak, contact_pressure, wear_rate, life
     UNIT        := any unit convertible to the response's SI unit ("N", "kN", "MPa",
                    "um/h", "h", ...); "%" for dimensionless responses (1 % = 0.01)
-    CONFIDENCE  := the share of samples that must meet the requirement, in % (default:
+    CONFIDENCE  := the share of parts that must meet the requirement, in % (default:
                    the study's confidence level)
 
 Examples: ``"rocker_speed_error <= 1 %"``, ``"joint_force <= 150 N @99.73"``,
 ``"life >= 2000 h"``. A malformed requirement is a one-line :class:`ConfigError` that says
 what was expected.
+
+**Units are required.** A bare number is refused with a suggestion in the response's usual
+unit (:data:`USUAL_UNITS`): ``rocker_speed_error <= 3`` → "3 %", ``life >= 200`` → "200 h",
+``contact_pressure <= 500`` → "500 MPa", since reading it as SI (300 %, 200 s, 500 Pa) would
+silently answer another question. A confidence level (``@`` here, ``--confidence`` on the
+command line: :func:`parse_confidence`) is always in %, the sign optional; a level of 1 or
+less without the sign (``@0.9973``) is refused as a likely fraction, suggesting "99.73 %".
 """
 
 from __future__ import annotations
@@ -29,7 +36,7 @@ from numpy.typing import NDArray
 
 from jointplay.errors import ConfigError
 
-__all__ = ["COMPARISONS", "Requirement", "parse_requirement"]
+__all__ = ["COMPARISONS", "USUAL_UNITS", "Requirement", "parse_confidence", "parse_requirement"]
 
 Comparison = Literal["<=", "<", ">=", ">"]
 #: The comparisons a requirement may use.
@@ -37,8 +44,18 @@ COMPARISONS: tuple[str, ...] = ("<=", "<", ">=", ">")
 
 _PATTERN = re.compile(
     r"^\s*(?P<name>[A-Za-z_][A-Za-z0-9_]*)\s*(?P<op><=|>=|<|>)\s*(?P<value>[^@]+?)\s*"
-    r"(?:@\s*(?P<confidence>[^%\s]+)\s*%?\s*)?$"
+    r"(?:@\s*(?P<confidence>[^%\s]+\s*%?)\s*)?$"
 )
+#: The unit a designer writes for each SI unit of a response (display and suggestions).
+USUAL_UNITS: Mapping[str, str] = {
+    "1": "%",
+    "Pa": "MPa",
+    "m/s": "um/h",
+    "s": "h",
+    "m": "um",
+    "rad/s^2": "rad/s^2",
+}
+
 _EXPECTED = (
     "expected RESPONSE <=|<|>=|> VALUE [UNIT] [@CONFIDENCE], e.g. 'joint_force <= 150 N @99.73'"
 )
@@ -120,31 +137,62 @@ def parse_requirement(text: str, units: Mapping[str, str]) -> Requirement:
         )
     unit = units[name]
     field = f"requirement {text!r}"
+    if _is_number(value):
+        usual = USUAL_UNITS.get(unit, unit)
+        hint = f"'{name} {op} {value} {usual}'"
+        if unit == "1" and abs(float(value)) < 1.0:
+            hint += f" (or '{float(value) * 100:g} %' if {value} is a fraction)"
+        raise ConfigError(
+            f"{field}: the limit needs its unit ({name} is in {_unit_words(unit)}); did you "
+            f"mean {hint}?"
+        )
     if unit == "1":
-        percent = value.endswith("%")
         number = value.removesuffix("%").strip()
-        try:
-            magnitude = float(number)
-        except ValueError:
+        if not value.endswith("%") or not _is_number(number):
             raise ConfigError(
-                f"{field}: {name} is dimensionless; expected a number, optionally with %, "
-                f"got {value!r}"
-            ) from None
-        limit = magnitude / 100.0 if percent else magnitude
+                f"{field}: {name} is dimensionless; expected a number with %, e.g. "
+                f"'{name} {op} 3 %', got {value!r}"
+            )
+        limit = float(number) / 100.0
     else:
-        try:
-            limit = float(value)  # a bare number: SI
-        except ValueError:
-            limit = parse_quantity(value, unit, field=field)
+        limit = parse_quantity(value, unit, field=field)
     confidence = None
     if match["confidence"] is not None:
-        try:
-            percent = float(match["confidence"])
-        except ValueError:
-            raise ConfigError(
-                f"{field}: expected a confidence in % after '@', e.g. '@99.73'"
-            ) from None
-        if not 0.0 < percent < 100.0:
-            raise ConfigError(f"{field}: the confidence after '@' must lie between 0 and 100 %")
-        confidence = percent / 100.0
+        confidence = parse_confidence(match["confidence"], f"{field}: the confidence after '@'")
     return Requirement(name, op, float(limit), unit, confidence, text.strip())  # type: ignore[arg-type]
+
+
+def parse_confidence(text: str, field: str = "--confidence") -> float:
+    """A confidence level in % (the sign optional) → a fraction in (0, 1).
+
+    ``"99.73"`` and ``"99.73 %"`` give 0.9973. A bare number of 1 or less (``"0.9973"``) is
+    refused as a likely fraction, with the suggestion "99.73 %"; write ``"0.9973 %"`` to mean
+    that level.
+
+    Raises:
+        ConfigError: one line naming ``field``.
+    """
+    value = str(text).strip()
+    number = value.removesuffix("%").strip()
+    if not _is_number(number):
+        raise ConfigError(f"{field}: expected a confidence in %, e.g. '99.73 %', got {value!r}")
+    percent = float(number)
+    if not 0.0 < percent < 100.0:
+        raise ConfigError(f"{field} must lie between 0 and 100 %, got {value!r}")
+    if percent <= 1.0 and not value.endswith("%"):
+        raise ConfigError(
+            f"{field} is in %: {value} reads as {value} %; did you mean '{percent * 100:g} %'? "
+            f"(write '{value} %' if you mean {value} %)"
+        )
+    return percent / 100.0
+
+
+def _is_number(text: str) -> bool:
+    try:
+        return math.isfinite(float(text))
+    except ValueError:
+        return False
+
+
+def _unit_words(unit: str) -> str:
+    return "%, dimensionless" if unit == "1" else f"{unit} (SI)"

@@ -45,6 +45,7 @@ from jointplay.tolerance.methods import (
     get_method,
 )
 from jointplay.tolerance.responses import (
+    ELASTIC_RATIO,
     PENETRATION_RATIO,
     DynamicResponses,
     ResponseModel,
@@ -57,6 +58,7 @@ from jointplay.tolerance.spec import JointTolerance, ToleranceSpec
 if TYPE_CHECKING:  # the dynamics import Numba: loaded only by dynamic studies
     from jointplay.contact.friction import FrictionLaw
     from jointplay.contact.laws import ContactLaw
+    from jointplay.dynamics.setup import ContactModel
     from jointplay.dynamics.simulate import SolverOptions, Start
 
 __all__ = [
@@ -133,11 +135,17 @@ def penetration_warning(joint: str, worst_ratio: float, message: str) -> Diagnos
 def penetration_findings(result: MethodResult) -> tuple[StudyDiagnostic, ...]:
     """One ``penetration-exceeds-clearance`` warning per clearance joint whose pin, in some
     successful points, sinks deeper into its bearing than the radial clearance
-    (``penetration_ratio_<joint>`` > 1); none for a model without these checks.
+    (``penetration_ratio_<joint>`` > 1), and one ``penetration-exceeds-elastic`` warning per
+    joint whose pin sinks deeper than :data:`~jointplay.dynamics.diagnostics.ELASTIC_FACTOR`
+    times its Hertz approach at the peak force (``elastic_ratio_<joint>``); none for a model
+    without these checks.
 
-    The single engine's :func:`jointplay.dynamics.diagnostics.check_penetration` judges one
-    simulation; this counts the points of a study and names the worst.
+    The single engine's :func:`jointplay.dynamics.diagnostics.check_penetration` and
+    ``check_elastic`` judge one simulation; this counts the points of a study and names the
+    worst.
     """
+    from jointplay.dynamics.diagnostics import ELASTIC_FACTOR
+
     run = result.run
     if run.checks is None:
         return ()
@@ -145,26 +153,46 @@ def penetration_findings(result: MethodResult) -> tuple[StudyDiagnostic, ...]:
     noun = "samples" if result.method == "monte-carlo" else "points"
     findings = []
     for column, name in enumerate(run.check_names):
-        if not name.startswith(PENETRATION_RATIO):
+        if name.startswith(PENETRATION_RATIO):
+            joint, limit = name.removeprefix(PENETRATION_RATIO), 1.0
+        elif name.startswith(ELASTIC_RATIO):
+            joint, limit = name.removeprefix(ELASTIC_RATIO), ELASTIC_FACTOR
+        else:
             continue
-        joint = name.removeprefix(PENETRATION_RATIO)
         ratio = np.where(ok, run.checks[:, column], np.nan)
-        exceeds = ratio > 1.0  # NaN compares False
+        exceeds = ratio > limit  # NaN compares False
         count = int(np.sum(exceeds))
         if count == 0:
             continue
         worst = int(np.argmax(np.where(exceeds, ratio, -np.inf)))
         out_of = int(np.sum(ok))
-        message = (
-            f"{count} of {out_of} {noun} ({100.0 * count / out_of:.3g} %): the pin of {joint} "
-            f"penetrates its bearing by up to {ratio[worst]:.3g} times the radial clearance "
-            f"(sample {worst}; {name} in samples.parquet); those {noun}' peaks are not "
-            "physical: the contact stiffness is far too low for the load; use a stiffer "
-            "contact law (--k), e.g. one from the joints' geometry"
-        )
+        share = f"{count} of {out_of} {noun} ({100.0 * count / out_of:.3g} %)"
+        where = f"(sample {worst}; {name} in samples.parquet)"
+        if limit == 1.0:
+            diagnostic = penetration_warning(
+                joint,
+                float(ratio[worst]),
+                f"{share}: the pin of {joint} penetrates its bearing by up to "
+                f"{ratio[worst]:.3g} times the radial clearance {where}; those {noun}' peaks "
+                "are not physical: the contact stiffness is far too low for the load; use a "
+                "stiffness from the joints' geometry (the default contact, or --stiffness-law)",
+            )
+        else:
+            diagnostic = Diagnostic(
+                "warning",
+                "penetration-exceeds-elastic",
+                joint,
+                float(ratio[worst]),
+                limit,
+                f"{share}: the pin of {joint} penetrates its bearing by up to "
+                f"{ratio[worst]:.3g} times the elastic approach of the joint's own Hertz law "
+                f"at its peak force {where}: the contact is far softer than the joint's "
+                "materials; use a stiffness from the joints' geometry (the default contact, "
+                "or --stiffness-law)",
+            )
         findings.append(
             StudyDiagnostic(
-                penetration_warning(joint, float(ratio[worst]), message),
+                diagnostic,
                 count=count,
                 out_of=out_of,
                 worst_sample=worst,
@@ -427,7 +455,7 @@ def tolerance_study(
     method: str | ToleranceMethod = "monte-carlo",
     responses: ResponseKind = "kinematic",
     limits: Mapping[str, SpecLimits] | None = None,
-    contact: str | ContactLaw | None = None,
+    contact: str | ContactLaw | ContactModel | None = None,
     friction: FrictionLaw | None = None,
     start: str | Start = "steady",
     settle: int = DEFAULT_SETTLE,
@@ -450,9 +478,12 @@ def tolerance_study(
             or ``"running"`` (the dynamic peaks plus rocker-speed error, largest joint force
             and contact pressure, Archard wear rates).
         limits: specification limits per response name (SI).
-        contact: dynamic: a contact law instance or name (default: the paper's conventional
-            IFM, :data:`jointplay.dynamics.setup.DEFAULT_IMPACT`).
-        friction: dynamic: a friction law, or ``None``.
+        contact: dynamic: a :class:`~jointplay.dynamics.setup.ContactModel` (its stiffness
+            from each joint's geometry is refitted to every sample's clearance; the physical
+            default of docs/contact.md is ``ContactModel()``), a contact law instance or name,
+            or ``None``: the paper's conventional IFM,
+            :data:`jointplay.dynamics.setup.DEFAULT_IMPACT`.
+        friction: dynamic: a friction law, or ``None`` (with a ContactModel: its friction).
         start: dynamic: ``"steady"`` (default: the mechanism as it runs), ``"rest"`` (the
             paper's start-up), ``"impulsive"``, ``"ramp"`` or a
             :class:`~jointplay.dynamics.simulate.Start`.
@@ -514,7 +545,7 @@ def build_model(
     spec: ToleranceSpec,
     responses: ResponseKind,
     *,
-    contact: str | ContactLaw | None = None,
+    contact: str | ContactLaw | ContactModel | None = None,
     friction: FrictionLaw | None = None,
     start: str | Start = "steady",
     settle: int = DEFAULT_SETTLE,
@@ -539,29 +570,28 @@ def build_model(
         return kinematic_model(mechanism, spec.names), spec
     if responses not in ("dynamic", "running"):
         raise ConfigError(f"responses must be kinematic, dynamic or running, got {responses!r}")
-    from jointplay.contact.laws import get_law
-    from jointplay.dynamics.setup import DEFAULT_IMPACT
-    from jointplay.dynamics.simulate import Start
+    from jointplay.dynamics.simulate import SolverOptions, Start
 
     spec = spec.only("length", "clearance")
     if len(spec) == 0:
         raise ConfigError(
             f"mechanism {mechanism.name!r} has no length or clearance tolerances to study"
         )
-    law = DEFAULT_IMPACT if contact is None else get_law(contact)
+    parts = study_contact(mechanism, contact)
+    if friction is not None:
+        parts["friction"] = friction
     radius = {
         item.joint: item.journal_radius for item in spec.inputs if isinstance(item, JointTolerance)
     }
     model = dynamic_model(
         mechanism,
         spec.names,
-        law,
         journal_radius=radius,
         start=Start(start) if isinstance(start, str) else start,  # type: ignore[arg-type]
         settle=settle,
         revolutions=revolutions,
-        friction=friction,
-        **({} if solver is None else {"solver": solver}),
+        solver=solver or SolverOptions(),
+        **parts,
     )
     if not model.clearance_joints:
         raise ConfigError(
@@ -573,6 +603,22 @@ def build_model(
 
         return RunningResponses(model, OutputSpeedReference.of(mechanism), WearSettings()), spec
     return model, spec
+
+
+def study_contact(
+    mechanism: Mechanism, contact: str | ContactLaw | ContactModel | None
+) -> dict[str, Any]:
+    """``law``, ``friction`` and ``stiffness_from`` of a dynamic study's response model
+    (:func:`jointplay.tolerance.responses.contact_parts`); a law or a name: that law,
+    frictionless; ``None``: :data:`jointplay.dynamics.setup.DEFAULT_IMPACT`, frictionless."""
+    from jointplay.contact.laws import get_law
+    from jointplay.dynamics.setup import DEFAULT_IMPACT, ContactModel
+    from jointplay.tolerance.responses import contact_parts
+
+    if isinstance(contact, ContactModel):
+        return contact_parts(mechanism, contact)
+    law = DEFAULT_IMPACT if contact is None else get_law(contact)
+    return {"law": law, "friction": None, "stiffness_from": {}}
 
 
 def response_units(

@@ -669,9 +669,10 @@ def _progress_bar(enabled: bool, total: int, description: str) -> Iterator[Calla
         Task,
         TextColumn,
         TimeElapsedColumn,
-        TimeRemainingColumn,
     )
     from rich.text import Text
+
+    from jointplay.progress import eta_column
 
     class RateColumn(ProgressColumn):
         """Samples per second."""
@@ -687,7 +688,7 @@ def _progress_bar(enabled: bool, total: int, description: str) -> Iterator[Calla
         RateColumn(),
         TimeElapsedColumn(),
         TextColumn("left"),
-        TimeRemainingColumn(),
+        eta_column(),
         console=Console(stderr=True),
         transient=False,
     )

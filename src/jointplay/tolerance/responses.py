@@ -44,6 +44,7 @@ have none.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -61,6 +62,8 @@ from jointplay.model.templates import FourBarGeometry, TemplateSpec, template_of
 if TYPE_CHECKING:  # the dynamics import Numba: loaded only by dynamic studies
     from jointplay.contact.friction import FrictionLaw
     from jointplay.contact.laws import ContactLaw
+    from jointplay.dynamics.clearance import ClearanceJoint, JointStiffness
+    from jointplay.dynamics.setup import ContactModel
     from jointplay.dynamics.simulate import SimulationResult, SolverOptions, Start
     from jointplay.dynamics.wear import OutputSpeedReference, WearSettings
     from jointplay.model.mechanism import PrismaticJoint
@@ -80,6 +83,7 @@ __all__ = [
     "dynamic_model",
     "kinematic_model",
     "penetration_ratios",
+    "sample_checks",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -92,6 +96,15 @@ PENETRATION_RATIO_DEFINITION = (
     "deepest penetration of the pin into its bearing over the analysed revolutions, taken at "
     "the integrator's accepted steps (sampled, not located between them), divided by the "
     "sample's radial clearance (above 1: not physical; negative: never touched)"
+)
+#: Prefix of the per-sample elastic checks of the dynamic models (+ the joint's name).
+ELASTIC_RATIO = "elastic_ratio_"
+#: What an ``elastic_ratio_<joint>`` is, in words (reports, summary.json).
+ELASTIC_RATIO_DEFINITION = (
+    "deepest penetration of the pin over the analysed revolutions (as penetration_ratio_) "
+    "divided by the elastic approach the joint's own Hertz law gives at the joint's peak "
+    "force (jointplay.dynamics.diagnostics.hertz_approach; above "
+    "jointplay.dynamics.diagnostics.ELASTIC_FACTOR = 3: far softer than the joint's materials)"
 )
 
 
@@ -693,6 +706,9 @@ class DynamicResponses:
         workers: worker processes of the ``"processes"`` engine (default one per CPU).
         scheduler: the Dask scheduler's address (``"dask"`` engine).
         chunk_size: samples per block.
+        stiffness_from: joint → how its contact stiffness follows its geometry
+            (:class:`~jointplay.dynamics.clearance.JointStiffness`): the law's stiffness and
+            exponent are refitted to every sample's clearance of those joints.
     """
 
     mechanism: Mechanism
@@ -710,6 +726,7 @@ class DynamicResponses:
     workers: int | None = None
     scheduler: str | None = None
     chunk_size: int = 64
+    stiffness_from: Mapping[str, JointStiffness] = field(default_factory=dict)
 
     #: Rough cost of one sample on one core (the conventional four-bar, one revolution), s:
     #: the execution backend starts worker processes only when they pay for themselves.
@@ -731,6 +748,7 @@ class DynamicResponses:
         object.__setattr__(self, "input_names", tuple(self.input_names))
         object.__setattr__(self, "journal_radius", dict(self.journal_radius))
         object.__setattr__(self, "fixed_clearances", dict(self.fixed_clearances))
+        object.__setattr__(self, "stiffness_from", dict(self.stiffness_from))
         if not isinstance(self.law, ContactLaw):
             raise ConfigError(
                 f"dynamic responses: law must be a ContactLaw instance, got {type(self.law).__name__}"
@@ -791,8 +809,13 @@ class DynamicResponses:
 
     @property
     def check_names(self) -> tuple[str, ...]:
-        """``penetration_ratio_<joint>`` per clearance joint (see the module docstring)."""
-        return tuple(f"{PENETRATION_RATIO}{joint}" for joint in self.clearance_joints)
+        """``penetration_ratio_<joint>`` then ``elastic_ratio_<joint>`` per clearance joint
+        (see the module docstring)."""
+        return tuple(
+            f"{prefix}{joint}"
+            for prefix in (PENETRATION_RATIO, ELASTIC_RATIO)
+            for joint in self.clearance_joints
+        )
 
     def clearances(self, x: FloatArray) -> FloatArray:
         """(m, c) radial clearance of every clearance joint of the samples ``x``, m: the
@@ -826,12 +849,22 @@ class DynamicResponses:
         choice = self.method_choice()
         return {
             "model": "clearance-joint dynamics (batch engine, jointplay.dynamics.batch)",
+            "contact": self.contact_text,
             "method": choice.method,
             "method_reason": choice.reason,
             "clearance_joints": list(self.clearance_joints),
             "journal_radius_m": dict(self.journal_radius),
             "fixed_clearances_m": dict(self.fixed_clearances),
-            "contact_law": {"name": self.law.name, **fields_of(self.law)},
+            "contact_law": {"name": self.law.name, **self._law_fields()},
+            "stiffness_from_geometry": {
+                nominal.joint: {
+                    **fields_of(rule),
+                    "nominal_joint_law": fields_of(nominal.law),
+                    "nominal_clearance_m": nominal.clearance,
+                }
+                for nominal in self._nominal_joints(None)
+                if (rule := self.stiffness_from.get(nominal.joint)) is not None
+            },
             "friction": None
             if self.friction is None
             else {"name": self.friction.name, **fields_of(self.friction)},
@@ -844,8 +877,49 @@ class DynamicResponses:
                 f"{self.settle} start-up revolution(s), searched between the integrator's "
                 "steps near every running peak (jointplay._kernels.batch)"
             ),
-            "checks": {name: PENETRATION_RATIO_DEFINITION for name in self.check_names},
+            "checks": {
+                name: PENETRATION_RATIO_DEFINITION
+                if name.startswith(PENETRATION_RATIO)
+                else ELASTIC_RATIO_DEFINITION
+                for name in self.check_names
+            },
         }
+
+    def _law_fields(self) -> dict[str, Any]:
+        """The contact law's parameters; a stiffness from the geometry is named as such."""
+        from jointplay.dynamics.clearance import stiffness_field
+
+        fields = {k: v for k, v in vars(self.law).items() if not k.startswith("_")}
+        if self.stiffness_from:
+            for name in (stiffness_field(self.law), "exponent"):
+                fields[name] = "per joint and sample, from its geometry (stiffness_from_geometry)"
+        return fields
+
+    @property
+    def contact_text(self) -> str:
+        """The contact of the clearance joints in words (summaries and reports)."""
+        from jointplay.dynamics.clearance import stiffness_field
+
+        law = self.law
+        text = f"{law.name} law"
+        if hasattr(law, "restitution"):
+            text += f", coefficient of restitution {law.restitution:g}"
+        rules = {rule.law for rule in self.stiffness_from.values()}
+        if rules:
+            depth = min(rule.fit_depth for rule in self.stiffness_from.values())
+            text += (
+                f", stiffness from each joint's geometry ({', '.join(sorted(rules))} law, "
+                f"F = k δ^n fitted over δ ≤ {depth * 1e6:g} µm, refitted to every sample's "
+                "clearance)"
+            )
+        else:
+            k = getattr(law, stiffness_field(law), math.nan)
+            text += f", stiffness {k:.4g} N/m^{getattr(law, 'exponent', 1.0):g}"
+        friction = self.friction
+        if friction is None:
+            return text + "; no friction"
+        mu = getattr(friction, "mu", getattr(friction, "mu_static", math.nan))
+        return text + f"; {friction.name} friction, coefficient {mu:g}"
 
     def method_choice(self) -> Any:
         """The batch engine's method for this model (the nominal contact laws decide, so
@@ -860,8 +934,6 @@ class DynamicResponses:
         """The clearance joints with the fixed clearances, the input ones at their first
         sample in ``x`` (any valid value: the samples replace it), else at their fit's
         nominal clearance (what :meth:`method_choice` linearises the contact law at)."""
-        from jointplay.dynamics.clearance import ClearanceJoint
-
         joints = []
         for joint in self.clearance_joints:
             name = f"clearance_{joint}"
@@ -878,16 +950,27 @@ class DynamicResponses:
                     if fit is not None and fit.clearance
                     else 0.01 * self.journal_radius[joint]
                 )
-            joints.append(
-                ClearanceJoint(
-                    joint,
-                    clearance=value,
-                    journal_radius=self.journal_radius[joint],
-                    law=self.law,
-                    friction=self.friction,
-                )
-            )
+            joints.append(self._joint(joint, value))
         return joints
+
+    def _joint(self, joint: str, clearance: float) -> ClearanceJoint:
+        """Clearance joint ``joint`` at ``clearance`` (m), its stiffness fitted to it when it
+        follows the geometry."""
+        from jointplay.dynamics.clearance import ClearanceJoint, stiffness_field
+
+        rule = self.stiffness_from.get(joint)
+        law = self.law
+        if rule is not None:
+            k, n = rule.fit(self.journal_radius[joint], clearance)
+            law = dataclasses.replace(law, **{stiffness_field(law): k, "exponent": n})
+        return ClearanceJoint(
+            joint,
+            clearance=clearance,
+            journal_radius=self.journal_radius[joint],
+            law=law,
+            friction=self.friction,
+            stiffness_from=rule,
+        )
 
     def batch_samples(self, x: FloatArray) -> Any:
         """The :class:`~jointplay.dynamics.batch.BatchSamples` of the input block ``x``."""
@@ -911,7 +994,6 @@ class DynamicResponses:
         Raises:
             JointplayError: the sample's mechanism cannot be assembled or set up.
         """
-        from jointplay.dynamics.clearance import ClearanceJoint
         from jointplay.dynamics.simulate import simulate
         from jointplay.model.templates import with_lengths
 
@@ -923,16 +1005,7 @@ class DynamicResponses:
             else:
                 clearance[name.removeprefix("clearance_")] = float(value)
         mechanism = with_lengths(self.mechanism, **lengths) if lengths else self.mechanism
-        joints = [
-            ClearanceJoint(
-                joint,
-                clearance=clearance[joint],
-                journal_radius=self.journal_radius[joint],
-                law=self.law,
-                friction=self.friction,
-            )
-            for joint in self.clearance_joints
-        ]
+        joints = [self._joint(joint, clearance[joint]) for joint in self.clearance_joints]
         return simulate(
             mechanism,
             joints,
@@ -987,7 +1060,16 @@ class DynamicResponses:
         """The :class:`Evaluation` of the block ``x`` from its batch result."""
         values = result.peaks[list(self.peak_keys)].to_numpy(dtype=float)
         penetration = result.statistics[[f"pen_{j}" for j in self.clearance_joints]]
-        checks = _ratio(penetration.to_numpy(dtype=float), self.clearances(x))
+        deepest = penetration.to_numpy(dtype=float)
+        clearance = self.clearances(x)
+        forces = result.peaks[[f"F_{j}" for j in self.clearance_joints]].to_numpy(dtype=float)
+        checks = np.hstack(
+            [
+                _ratio(deepest, clearance),
+                _elastic_ratios(self.mechanism, self.clearance_joints, self.journal_radius,
+                                clearance, deepest, forces),
+            ]
+        )  # fmt: skip
         ok = np.asarray(result.ok, dtype=bool)
         return Evaluation(values, ok, tuple(result.errors), checks, finished)
 
@@ -1011,6 +1093,56 @@ def penetration_ratios(result: SimulationResult) -> FloatArray:
     return _ratio(
         np.array([deepest[joint.joint] for joint in joints]),
         np.array([joint.clearance for joint in joints]),
+    )
+
+
+def _elastic_ratios(
+    mechanism: Mechanism,
+    joints: Sequence[str],
+    journal_radius: Mapping[str, float],
+    clearance: FloatArray,
+    deepest: FloatArray,
+    force: FloatArray,
+) -> FloatArray:
+    """(m, c) ``elastic_ratio_<joint>``: ``deepest`` (m) over the Hertz approach at ``force``
+    (N) for each sample's ``clearance`` (m) (NaN where a value is missing)."""
+    from jointplay.dynamics.diagnostics import hertz_approach
+
+    out = np.full(deepest.shape, np.nan)
+    for c, joint in enumerate(joints):
+        spec = mechanism.joint(joint)
+        bearing, pin = mechanism.material_of(spec.link_a), mechanism.material_of(spec.link_b)
+        for i in range(len(deepest)):
+            f, gap = force[i, c], clearance[i, c]
+            if math.isfinite(f) and math.isfinite(gap) and f > 0 and gap > 0:
+                approach = hertz_approach(float(f), journal_radius[joint], float(gap), bearing, pin)
+                out[i, c] = deepest[i, c] / approach
+    return out
+
+
+def sample_checks(result: SimulationResult) -> FloatArray:
+    """(2c,) the checks of a single-engine simulation, in the order of
+    :attr:`DynamicResponses.check_names`: :func:`penetration_ratios`, then the elastic
+    ratios (``elastic_ratio_<joint>``).
+
+    Raises:
+        IntegrationError: the simulation stopped at its initial state.
+    """
+    joints = result.system.clearances
+    names = [joint.joint for joint in joints]
+    deepest = result.running.max_penetration
+    return np.concatenate(
+        [
+            penetration_ratios(result),
+            _elastic_ratios(
+                result.system.mechanism,
+                names,
+                {joint.joint: joint.journal_radius for joint in joints},
+                np.array([[joint.clearance for joint in joints]]),
+                np.array([[deepest[name] for name in names]]),
+                np.array([[result.peaks[f"F_{name}"]["value"] for name in names]]),
+            )[0],
+        ]
     )
 
 
@@ -1175,7 +1307,7 @@ class RunningResponses:
                     errors.append(f"IntegrationError: {result.message}")
                     continue
                 peaks = [result.peaks[key]["value"] for key in self.base.peak_keys]
-                checks[i] = penetration_ratios(result)
+                checks[i] = sample_checks(result)
                 wear = cycle_wear(result, self.wear)
                 rates = [wear.joints[j].per_hour(wear.rpm) / 3600.0 for j in self.joints]
                 forces = [float(result.peaks[f"F_{j}"]["value"]) for j in self.joints]
@@ -1278,6 +1410,26 @@ class PeakResponses(DynamicResponses):
         )
         evaluation = Evaluation(values, peaks.ok, peaks.errors, peaks.checks)
         return _add_kinematic(self.kinematic, self.kinematic_names, self.input_names, x, evaluation)
+
+
+def contact_parts(mechanism: Mechanism, contact: ContactModel) -> dict[str, Any]:
+    """The ``law``, ``friction`` and ``stiffness_from`` of :class:`DynamicResponses` for the
+    contact ``contact``: with a stiffness from the geometry, the law's stiffness and exponent
+    are placeholders that every joint refits to its clearance (:meth:`DynamicResponses._joint`)."""
+    from jointplay.dynamics.setup import joint_stiffness, make_law
+
+    if contact.law is not None:
+        return {"law": contact.law, "friction": contact.friction.build(), "stiffness_from": {}}
+    geometric = contact.settings.geometry_law is not None
+    return {
+        "law": make_law(contact.settings, stiffness=1.0 if geometric else None),
+        "friction": contact.friction.build(),
+        "stiffness_from": {
+            joint.name: rule
+            for joint in mechanism.revolute_joints
+            if (rule := joint_stiffness(mechanism, joint.name, contact.settings)) is not None
+        },
+    }
 
 
 def dynamic_model(

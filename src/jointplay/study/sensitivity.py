@@ -1,0 +1,178 @@
+"""Is a design's choice robust to the contact model? (issue 22, item 4)
+
+The contact's uncertain parameters — the coefficient of restitution, the friction
+coefficient and the pin-in-hole stiffness law — are inputs with documented ranges
+(docs/contact.md). :func:`model_sensitivity` re-evaluates the scheme a design study chose
+with each of them, one at a time, at the ends of its range (the others as the study had
+them), with the study's samples and seed, and says whether the choice holds: the scheme
+still meets every requirement.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from jointplay.dynamics.setup import ContactModel
+    from jointplay.model.mechanism import Mechanism
+    from jointplay.study.design import DesignResult
+
+#: The documented ranges (docs/contact.md): their ends are the cases re-evaluated.
+RESTITUTION_RANGE = (0.6, 0.95)
+FRICTION_RANGE = (0.01, 0.2)
+#: The stiffness laws for conformal pin-in-hole contact valid at every clearance: the default
+#: (Liu's) and Hertz's point-contact convention of the revolute-clearance literature.
+STIFFNESS_LAWS = ("liu", "hertz")
+
+
+@dataclass(frozen=True)
+class ModelCase:
+    """One contact model of the sensitivity table: ``parameter`` set to ``value``."""
+
+    parameter: str
+    value: float | str
+    contact: ContactModel
+
+
+def model_cases(contact: ContactModel) -> tuple[ModelCase, ...]:
+    """Each uncertain parameter of ``contact`` at the ends of its range, one at a time: the
+    restitution (laws that take one), the friction coefficient, and the other stiffness law
+    (a stiffness from the geometry). None for one of the paper's methods (fixed by name)."""
+    from jointplay.dynamics.setup import DEFAULT_RESTITUTION
+
+    if contact.law is not None:
+        return ()
+    settings, friction = contact.settings, contact.friction
+    cases = []
+    if settings.law not in ("impact", "hertz", "kelvin-voigt"):  # the restitution family
+        given = DEFAULT_RESTITUTION if settings.restitution is None else settings.restitution
+        for e in RESTITUTION_RANGE:
+            if e != given:
+                changed = dataclasses.replace(settings, restitution=e)
+                cases.append(
+                    ModelCase("restitution", e, dataclasses.replace(contact, settings=changed))
+                )
+    for mu in FRICTION_RANGE:
+        if mu != friction.coefficient:
+            changed_friction = dataclasses.replace(friction, coefficient=mu)
+            cases.append(
+                ModelCase("friction", mu, dataclasses.replace(contact, friction=changed_friction))
+            )
+    if settings.geometry_law is not None:
+        for law in STIFFNESS_LAWS:
+            if law != settings.geometry_law:
+                changed = dataclasses.replace(settings, stiffness_law=law)
+                cases.append(
+                    ModelCase("stiffness_law", law, dataclasses.replace(contact, settings=changed))
+                )
+    return tuple(cases)
+
+
+@dataclass(frozen=True)
+class SensitivityRow:
+    """The chosen scheme under one contact model.
+
+    Attributes:
+        parameter, value: what changed (``"as chosen"`` for the study's own model).
+        yields: requirement text → share of the samples meeting it, %.
+        meets: the scheme meets every requirement at the study's confidence.
+    """
+
+    parameter: str
+    value: float | str
+    yields: Mapping[str, float]
+    meets: bool
+
+    def as_dict(self) -> dict[str, Any]:
+        return {
+            "parameter": self.parameter,
+            "value": self.value,
+            "yield_percent": dict(self.yields),
+            "meets_every_requirement": self.meets,
+        }
+
+
+@dataclass(frozen=True)
+class ModelSensitivity:
+    """The model-sensitivity table of a design (``summary.json`` → ``model_sensitivity``)."""
+
+    scheme: str
+    rows: tuple[SensitivityRow, ...]
+
+    @property
+    def holds(self) -> bool:
+        """The choice holds at every end of every range."""
+        return all(row.meets for row in self.rows)
+
+    @property
+    def verdict(self) -> str:
+        if self.holds:
+            return (
+                f"the choice {self.scheme} holds at the ends of the contact model's ranges "
+                "(restitution, friction, stiffness law)"
+            )
+        failing = ", ".join(f"{r.parameter} = {r.value}" for r in self.rows if not r.meets)
+        return f"the choice {self.scheme} does not hold with {failing}"
+
+    def as_dict(self) -> dict[str, Any]:
+        return {
+            "scheme": self.scheme,
+            "holds": self.holds,
+            "verdict": self.verdict,
+            "ranges": {
+                "restitution": list(RESTITUTION_RANGE),
+                "friction": list(FRICTION_RANGE),
+                "stiffness_law": list(STIFFNESS_LAWS),
+            },
+            "rows": [row.as_dict() for row in self.rows],
+        }
+
+
+def _row(parameter: str, value: float | str, result: DesignResult) -> SensitivityRow:
+    table = result.table.iloc[0]
+    yields = {r.text: float(table[f"yield_{r.text}"]) for r in result.requirements}
+    return SensitivityRow(parameter, value, yields, bool(table["feasible"]))
+
+
+def model_sensitivity(
+    mechanism: Mechanism, result: DesignResult, contact: ContactModel, **options: Any
+) -> ModelSensitivity | None:
+    """The chosen scheme of ``result`` re-evaluated under every :func:`model_cases` of
+    ``contact``; ``None`` without a chosen scheme, for kinematic designs and for a paper
+    method.
+
+    Args:
+        mechanism: the design's mechanism.
+        result: the finished design study (its requirements and confidence are reused).
+        contact: the contact model the study ran with.
+        **options: the other arguments the study ran with
+            (:func:`jointplay.study.design.design_study`: samples, seed, settle, solver, …).
+    """
+    from jointplay.study.design import design_study
+
+    row = result.best_row
+    cases = model_cases(contact)
+    if row is None or result.responses != "dynamic" or not cases:
+        return None
+    joints = [key.removeprefix("fit_") for key in row if key.startswith("fit_")]
+    fits = {joint: str(row[f"fit_{joint}"]) for joint in joints}
+    base = result.table[result.table["scheme"] == result.best].reset_index(drop=True)
+    rows = [_row("as chosen", "", dataclasses.replace(result, table=base))]
+    for case in cases:
+        again = design_study(
+            mechanism,
+            [fits],
+            [str(row["length_class"])],
+            result.requirements,
+            confidence=result.confidence,
+            responses="dynamic",
+            contact=case.contact,
+            **options,
+        )
+        if again.interrupted or again.table.empty:
+            break
+        rows.append(_row(case.parameter, case.value, again))
+    return ModelSensitivity(str(result.best), tuple(rows))
