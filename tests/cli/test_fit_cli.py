@@ -15,7 +15,7 @@ def _json(capsys: pytest.CaptureFixture[str], argv: list[str]) -> object:
 
 
 def test_fit_json_structure_h8_g7(capsys: pytest.CaptureFixture[str]) -> None:
-    """contact-models.md §6c: H8/g7 at Ø10 gives 5 … 42 µm diametral, 2.5 … 21 µm radial."""
+    """docs/contact-laws.md §6c: H8/g7 at Ø10 gives 5 … 42 µm diametral, 2.5 … 21 µm radial."""
     assert _json(capsys, ["fit", "H8/g7", "--size", "10mm", "--json"]) == {
         "hole": {"designation": "H8", "upper_um": 22, "lower_um": 0},
         "shaft": {"designation": "g7", "upper_um": -5, "lower_um": -20},

@@ -32,7 +32,7 @@ def test_examples_cover_the_registry() -> None:
 
 
 def test_ambrosio_defaults_and_ramp() -> None:
-    """c_d = 0 up to v0 = 1e-4, linear to 1 at v1 = 1e-3 m/s, then 1 (contact-models.md §4)."""
+    """c_d = 0 up to v0 = 1e-4, linear to 1 at v1 = 1e-3 m/s, then 1 (docs/contact-laws.md §4)."""
     assert (AMBROSIO.v0, AMBROSIO.v1) == (1e-4, 1e-3)
     v = np.array([0.0, 5e-5, 1e-4, 3.25e-4, 5.5e-4, 1e-3, 0.5])
     np.testing.assert_allclose(AMBROSIO.correction(v), [0, 0, 0, 0.25, 0.5, 1, 1], atol=1e-15)
@@ -47,7 +47,7 @@ def test_ambrosio_limit_is_coulomb() -> None:
 
 
 def test_adams_values_at_the_transitions() -> None:
-    """μ passes 0 at 0, ±μ_s at ±v_s, ±μ_d from ±v_d on (contact-models.md §1.4)."""
+    """μ passes 0 at 0, ±μ_s at ±v_s, ±μ_d from ±v_d on (docs/contact-laws.md §1.4)."""
     v = np.array([0.0, 1e-3, -1e-3, 1e-2, -1e-2, 5.0, -5.0])
     np.testing.assert_allclose(
         ADAMS.coefficient(v), [0.0, 0.3, -0.3, 0.2, -0.2, 0.2, -0.2], rtol=1e-14, atol=1e-16

@@ -149,7 +149,7 @@ def test_single_impact_loses_energy_with_damping(name: str) -> None:
 
 @pytest.mark.parametrize(("zeta", "expected"), [(0.1, 0.744), (0.3, 0.451), (0.5, 0.298)])
 def test_clamped_kelvin_voigt_restitution_matches_reference(zeta: float, expected: float) -> None:
-    """contact-models.md §2.1 [DERIVED]: clamped KV e_eff, given to three digits."""
+    """docs/contact-laws.md §2.1 [DERIVED]: clamped KV e_eff, given to three digits."""
     law = KelvinVoigtLaw(stiffness=K_LINEAR, damping=2.0 * zeta * math.sqrt(MASS * K_LINEAR))
     result = single_impact(law, MASS, SPEED)
     assert result.restitution == pytest.approx(expected, abs=5e-4)
@@ -181,7 +181,7 @@ def test_impact_matches_hand_computation() -> None:
 
 
 def test_impact_equals_adams_definition() -> None:
-    """IMPACT(x, ẋ, x1, k, e, cmax, d) of contact-models.md §1.2 with δ = x1 − x, δ̇ = −ẋ."""
+    """IMPACT(x, ẋ, x1, k, e, cmax, d) of docs/contact-laws.md §1.2 with δ = x1 − x, δ̇ = −ẋ."""
     k, e, cmax, d, x1 = 100.0, 1.5, 25.0, 0.1, 1.0
     law = ImpactLaw(stiffness=k, exponent=e, c_max=cmax, d_max=d)
     rng = np.random.default_rng(7)
@@ -214,7 +214,7 @@ def test_impact_equals_adams_definition() -> None:
     ],
 )
 def test_hysteresis_factors_at_e_08(cls: type[HuntCrossleyTypeLaw], chi: float) -> None:
-    """χ(0.8) of every model, computed by hand from contact-models.md §2.2."""
+    """χ(0.8) of every model, computed by hand from docs/contact-laws.md §2.2."""
     assert cls(stiffness=1.0, restitution=0.8).chi == pytest.approx(chi, rel=1e-12)
 
 

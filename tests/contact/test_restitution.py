@@ -1,4 +1,4 @@
-"""Exact restitution of Hunt–Crossley-type laws (contact-models.md §2.3) and single impacts."""
+"""Exact restitution of Hunt–Crossley-type laws (docs/contact-laws.md §2.3) and single impacts."""
 
 from __future__ import annotations
 

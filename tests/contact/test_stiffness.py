@@ -1,4 +1,4 @@
-"""Pin-in-hole stiffness laws: the numeric anchors of contact-models.md §3.7 and properties.
+"""Pin-in-hole stiffness laws: the numeric anchors of docs/contact-laws.md §3.7 and properties.
 
 Anchor material: steel–steel, E = 207 GPa, ν = 0.3 ⇒ E* = 113.7 GPa. The "Ø10 H8/g7" rows are
 the real Ø10 joint: pin radius R_j = 5 mm, bearing radius R_i = R_j + ΔR (R = R_i R_j / ΔR =

@@ -119,7 +119,7 @@ def test_transmission_angle_is_not_checked_on_a_slider_crank(slider_crank) -> No
     assert dg.check_transmission_angle(slider_crank) is None
 
 
-#: contact-models.md §3.7: Ø10 pin, 21 µm, steel E = 207 GPa, ν = 0.3 → K = 1.66e11 N/m^1.5.
+#: docs/contact-laws.md §3.7: Ø10 pin, 21 µm, steel E = 207 GPa, ν = 0.3 → K = 1.66e11 N/m^1.5.
 ANCHOR_STEEL = Material("anchor", density=7800.0, youngs_modulus=207e9, poisson_ratio=0.3)
 
 

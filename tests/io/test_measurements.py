@@ -61,7 +61,7 @@ def test_conventions_round_trip(conventions: MeasurementConventions) -> None:
 
 
 def test_conventions_mean_what_they_say() -> None:
-    # Table 7 as read in paper-notes.md: 30° clockwise from the ground line, deg/s, CCW +
+    # Table 7 as read in docs/paper-reading.md: 30° clockwise from the ground line, deg/s, CCW +
     theta, omega = PAPER.to_model([30.0], [644.0])
     assert theta[0] == -30.0
     assert omega[0] == pytest.approx(math.radians(644.0), rel=1e-15)

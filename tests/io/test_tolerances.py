@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from jointplay.errors import ConfigError, StandardsError
-from jointplay.io.tolerances import load_study_spec, parse_tolerance_table
+from jointplay.io.config import load_study_spec
+from jointplay.io.tolerances import parse_tolerance_table
 from jointplay.model.mechanism import Mechanism
 from jointplay.tolerance.spec import ToleranceSpec
 

@@ -152,7 +152,7 @@ def test_paper_mechanism_figures(paper_fourbar) -> None:
     geometry = paper_fourbar.template.geometry
     extended, folded = fourbar.rocker_limit_positions(geometry)
     swing = math.degrees(abs(extended.rocker_angle - folded.rocker_angle))
-    assert swing == pytest.approx(52.6, abs=0.1)  # paper-notes.md: "a 52.6° rocker swing"
+    assert swing == pytest.approx(52.6, abs=0.1)  # docs/paper-reading.md: "a 52.6° rocker swing"
     # At the limit positions the rocker is momentarily at rest.
     res = analyse(paper_fourbar, np.array([extended.crank_angle, folded.crank_angle]))
     np.testing.assert_allclose(res.omega("rocker"), 0.0, atol=1e-9)

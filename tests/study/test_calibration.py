@@ -157,7 +157,7 @@ def test_robust_loss_resists_an_outlier(mechanism, template):
 
 
 def test_table7_explained(mechanism):
-    """Table 7 read as paper-notes.md says: the nominal kinematics match the measurements
+    """Table 7 read as docs/paper-reading.md says: the nominal kinematics match the measurements
     best at ~228 RPM (the 1.143 factor of the comparison) and the paper's MBD column at
     ~234 RPM; neither fit reaches the printing resolution (shape errors remain), and link
     lengths within their tolerances hardly help."""

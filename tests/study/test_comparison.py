@@ -134,7 +134,7 @@ def test_a_measurement_made_from_a_simulation_compares_with_zero_error(
 
 
 def test_mirror_image_of_the_rig_is_the_same_comparison(paper_fourbar: Mechanism) -> None:
-    """paper-notes.md: the mirror image (all directions flipped, other branch) is the same thing."""
+    """docs/paper-reading.md: the mirror image (all directions flipped, other branch) is the same thing."""
     mirror = MeasurementConventions(crank_direction="ccw", angle_direction="ccw", speed_sign=-1)
     a = compare(paper_table7(), nominal_cycle(rig_mechanism(paper_fourbar, PAPER)))
     flipped = dataclasses.replace(paper_fourbar, branch=-1)
@@ -171,7 +171,7 @@ def test_discrepancy_with_table7_is_reported_not_applied(
 ) -> None:
     result = table7_nominal_and_cheap
     d = result.discrepancy
-    # paper-notes.md: the measurements lie some 15-20 % above the nominal kinematics
+    # docs/paper-reading.md: the measurements lie some 15-20 % above the nominal kinematics
     assert 1.1 < d.speed_factor < 1.25 and d.speed_factor == pytest.approx(1.143, abs=0.005)
     assert d.range_factor == pytest.approx(1.194, abs=0.005)
     assert d.implied_crank_rpm == pytest.approx(200.0 * d.speed_factor, rel=1e-12)

@@ -38,7 +38,7 @@ from jointplay.study import paper
 from jointplay.study.paper import SimTask, run_simulations
 from jointplay.tolerance.execution import Backend
 
-#: The paper's mechanism as read in paper-notes.md (Table 1): link lengths, m; crank speed.
+#: The paper's mechanism as read in docs/paper-reading.md (Table 1): link lengths, m; crank speed.
 CRANK, COUPLER, ROCKER, GROUND = 0.108, 0.2705, 0.2705, 0.2794
 OMEGA2 = 200.0 * math.pi / 30.0  # rad/s
 #: The study's nominal analysis samples the crank every 0.1°, starting at 0° (crank at O4).
@@ -419,7 +419,7 @@ def test_geometry_matches_the_law_of_cosines(results: dict[str, Any]) -> None:
     mechanism = results["mechanism"]
     assert mechanism["grashof"] == "crank-rocker"
     assert mechanism["rocker_swing_deg"] == pytest.approx(swing, rel=1e-12)
-    assert swing == pytest.approx(52.65, abs=0.005)  # 0.1.0 and paper-notes.md (52.6°)
+    assert swing == pytest.approx(52.65, abs=0.005)  # 0.1.0 and docs/paper-reading.md (52.6°)
     # the study samples the crank every 0.1°: the extremes at 0° and 180° are on its grid
     low, high = mechanism["transmission_angle_deg"]
     assert low == pytest.approx(transmission(GROUND - CRANK), rel=1e-9)
@@ -565,7 +565,7 @@ def test_kinematic_sensitivities_match_the_closed_form(results: dict[str, Any]) 
 
 @pytest.mark.slow
 def test_table7_against_an_independent_reading(results: dict[str, Any]) -> None:
-    """Table 7 read as paper-notes.md says: deg/s, crank clockwise, angles clockwise from O2→O4.
+    """Table 7 read as docs/paper-reading.md says: deg/s, crank clockwise, angles clockwise from O2→O4.
 
     Error % = (measured − simulated) / simulated × 100, the paper's own definition; points where
     |simulated| < 10 % of its largest value are left out of the % statistics.

@@ -1,7 +1,7 @@
 """ISO 2768-1:1989 (= IS 2102-1:1993) general tolerances: every cell, boundaries, errors.
 
 The expected tables are written out again here, independently of the module, from
-shared/reference/contact-models.md §7 (Table 1, linear dimensions) and from the issue text
+docs/contact-laws.md §7 (Table 1, linear dimensions) and from the issue text
 (Table 2, broken edges; Table 3, angular dimensions).
 """
 
@@ -34,7 +34,7 @@ LINEAR_RANGES = [
     (1000, 2000, "over 1000 up to and including 2000 mm"),
     (2000, 4000, "over 2000 up to and including 4000 mm"),
 ]
-# contact-models.md §7, ± mm; None = "—"
+# docs/contact-laws.md §7, ± mm; None = "—"
 LINEAR: dict[str, list[float | None]] = {
     "f": [0.05, 0.05, 0.1, 0.15, 0.2, 0.3, 0.5, None],
     "m": [0.1, 0.1, 0.2, 0.3, 0.5, 0.8, 1.2, 2],
@@ -91,7 +91,7 @@ def test_linear_boundaries(cls: str, size_mm: float, expected_mm: float, size_ra
 
 
 def test_paper_four_bar_links_in_class_c() -> None:
-    """contact-models.md §7: links of 108, 270.5 and 279.4 mm in class c: ±0.8, ±1.2, ±1.2 mm."""
+    """docs/contact-laws.md §7: links of 108, 270.5 and 279.4 mm in class c: ±0.8, ±1.2, ±1.2 mm."""
     assert [general_tolerance("c", length * MM) * 1e3 for length in (108, 270.5, 279.4)] == [
         pytest.approx(0.8, rel=1e-12),
         pytest.approx(1.2, rel=1e-12),

@@ -48,7 +48,7 @@ def um(value_m: float) -> float:
 @pytest.mark.parametrize(
     ("grade", "size_mm", "expected_um"),
     [
-        ("IT7", 10, 15),  # contact-models.md §6c (band over 6 up to 10 mm)
+        ("IT7", 10, 15),  # docs/contact-laws.md §6c (band over 6 up to 10 mm)
         ("IT8", 10, 22),  # §6c
         ("IT6", 10, 9),  # §6c
         ("IT7", 25, 21),
@@ -201,7 +201,7 @@ def test_fundamental_deviations_grow_with_size() -> None:
 #  Tables 2–5; for K, M, N ≤ IT8 and P…ZC ≤ IT7 over 3 mm it includes Δ of Table 3)
 PUBLISHED = [
     # --- holes A … H: EI = −es (Table 4 mirrored, Table 2) ---
-    ("H8", 10, 22, 0, 22, 0),  # contact-models §6c (H8/f7 row at 10 mm)
+    ("H8", 10, 22, 0, 22, 0),  # docs/contact-laws.md §6c (H8/f7 row at 10 mm)
     ("H7", 10, 15, 0, 15, 0),  # §6c (torqyx 10 mm row)
     ("H7", 25, 21, 0, 21, 0),
     ("H7", 50, 25, 0, 25, 0),
@@ -515,7 +515,7 @@ def test_tolerance_class_validates_its_fields() -> None:
 # Fits
 # ---------------------------------------------------------------------------------------------
 def test_h8_g7_at_10mm_matches_reference() -> None:
-    """contact-models.md §6c: diametral clearance 5 … 42 µm, mean 23.5; radial 2.5 … 21, 11.75."""
+    """docs/contact-laws.md §6c: diametral clearance 5 … 42 µm, mean 23.5; radial 2.5 … 21, 11.75."""
     result = fit("H8/g7", 10 * MM)
     assert result.designation == "H8/g7"
     assert result.fit_type == "clearance"

@@ -103,7 +103,7 @@ def step3(x: float, x0: float, h0: float, x1: float, h1: float) -> float:
     """ADAMS cubic STEP: ``h0`` for x ≤ x0, ``h1`` for x ≥ x1, a C¹ cubic in between.
 
     ``h0 + (h1 - h0) u² (3 - 2u)`` with ``u = (x - x0)/(x1 - x0)``
-    (contact-models.md §1.1). Never divides by zero: with ``x1 <= x0`` every ``x`` falls in
+    (docs/contact-laws.md §1.1). Never divides by zero: with ``x1 <= x0`` every ``x`` falls in
     one of the two constant branches.
     """
     if x <= x0:
@@ -168,7 +168,7 @@ def normal_force(
 def friction_force(law_id: int, params: npt.NDArray[np.float64], v_t: float, f_n: float) -> float:
     """Signed tangential friction force F_T, N.
 
-    ``F_T = μ(v_T) F_N sgn(v_T)`` in the sign convention of contact-models.md §5: the
+    ``F_T = μ(v_T) F_N sgn(v_T)`` in the sign convention of docs/contact-laws.md §5: the
     friction force on the journal is ``-F_T t``, on the bearing ``+F_T t``.
 
     Args:

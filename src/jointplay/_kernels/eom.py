@@ -33,7 +33,7 @@ The integrator is told that q̇ = d/dt q (``n_second``) and that W_motor, W_cont
 do not feed back (``n_active``), see :func:`jointplay._kernels.radau.radau_integrate`.
 
 Clearance joint (Flores et al., *Kinematics and Dynamics of Multibody Systems with Imperfect
-Joints*, 2008; shared/reference/contact-models.md §5): bearing on body a, journal on body b,
+Joints*, 2008; docs/contact-laws.md §5): bearing on body a, journal on body b,
 eccentricity e = r_J − r_B, penetration δ = |e| − c, normal n = e/|e|, δ̇ = ė·n,
 v_T = ė·t + R_J ω_b − R_B ω_a with t = ẑ × n. The force on the journal, −F_N n − F_T t, acts
 at Q_J = r_J + R_J n; its opposite acts on the bearing at Q_B = r_B + R_B n.
@@ -282,7 +282,7 @@ def _contact_state(
     q: np.ndarray, qd: np.ndarray, rot: np.ndarray, joint_int: np.ndarray, joint_f: np.ndarray,
     j: int, geom: np.ndarray, c: int,
 ):  # fmt: skip
-    """Kinematics of clearance joint ``c`` (row ``j``), §5 of contact-models.md.
+    """Kinematics of clearance joint ``c`` (row ``j``), §5 of docs/contact-laws.md.
 
     Returns:
         (δ, δ̇, v_T, |e|, e_x, e_y, n_x, n_y, ė·t, r_a, r_b, ω_a, ω_b) with the arms r of the

@@ -85,7 +85,7 @@ def compare_command(
         str,
         _opt(
             "Unit of the measured speeds: deg/s (default; Table 7's 'RPM' read as deg/s, see "
-            "paper-notes.md), rpm or rad/s.",
+            "docs/paper-reading.md), rpm or rad/s.",
             "--unit",
         ),
     ] = "deg/s",

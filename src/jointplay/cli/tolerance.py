@@ -308,8 +308,8 @@ def tolerance_command(
         where = backend_from_options(backend, workers, dask_scheduler)
         start_batch_workers(where, samples, DynamicResponses.seconds_per_sample)
     from jointplay.dynamics.workers import running_pool
+    from jointplay.io.config import load_study_spec
     from jointplay.io.output import output_dir
-    from jointplay.io.tolerances import load_study_spec
     from jointplay.report.tolerance import write_study
     from jointplay.tolerance.analysis import response_units, tolerance_study
     from jointplay.tolerance.methods import MonteCarlo, Rss, ToleranceMethod, WorstCase

@@ -596,7 +596,7 @@ def estimate_joint(load: JointLoad, conventions: EcsConventions) -> EcsJoint:
 
 
 def comparison_factors(restitution: float) -> dict[str, float]:
-    """χ(e) of the Hunt–Crossley-type models of the paper's Fig. 6 (contact-models.md §2.2).
+    """χ(e) of the Hunt–Crossley-type models of the paper's Fig. 6 (docs/contact-laws.md §2.2).
 
     Args:
         restitution: coefficient of restitution e in (0, 1].

@@ -1,6 +1,6 @@
 """Joint friction laws, as small frozen objects.
 
-Sign convention (contact-models.md §5): ``v_T`` is the tangential slip velocity of the journal
+Sign convention (docs/contact-laws.md §5): ``v_T`` is the tangential slip velocity of the journal
 relative to the bearing, m/s; the laws return the signed ``F_T = μ(v_T) F_N sgn(v_T)``, N,
 and the friction force on the journal is ``-F_T t`` (on the bearing ``+F_T t``), so friction
 always opposes the slip. Each law's :meth:`~FrictionLaw.force` is the readable NumPy
@@ -76,7 +76,7 @@ class NoFriction(FrictionLaw):
 
 @dataclass(frozen=True)
 class AmbrosioFriction(FrictionLaw):
-    """Coulomb friction with Ambrósio's dynamic correction coefficient (contact-models.md §4).
+    """Coulomb friction with Ambrósio's dynamic correction coefficient (docs/contact-laws.md §4).
 
     ``F_T = μ c_d(v_T) F_N sgn(v_T)`` with ``c_d = 0`` for |v_T| ≤ v0,
     ``(|v_T| − v0)/(v1 − v0)`` for v0 < |v_T| < v1 and 1 for |v_T| ≥ v1. Below v0 there is no
@@ -95,7 +95,7 @@ class AmbrosioFriction(FrictionLaw):
     law_id: ClassVar[int] = kc.FRICTION_AMBROSIO
     citation: ClassVar[str] = (
         "Ambrósio (2003), Impact of rigid and flexible multibody systems; Flores et al.; "
-        "contact-models.md §4"
+        "docs/contact-laws.md §4"
     )
     equation: ClassVar[str] = "F_T = μ c_d(v_T) F_N sgn(v_T),  c_d linear from 0 at v0 to 1 at v1"
     aliases: ClassVar[Mapping[str, str]] = MappingProxyType(
@@ -139,7 +139,7 @@ class AmbrosioFriction(FrictionLaw):
 
 @dataclass(frozen=True)
 class AdamsFriction(FrictionLaw):
-    """MSC ADAMS CONTACT friction, μ(v) built from cubic STEPs (contact-models.md §1.4).
+    """MSC ADAMS CONTACT friction, μ(v) built from cubic STEPs (docs/contact-laws.md §1.4).
 
     In our sign convention (the ADAMS μ(v) of the docs opposes v; ours is its negative)::
 
@@ -163,7 +163,7 @@ class AdamsFriction(FrictionLaw):
     law_id: ClassVar[int] = kc.FRICTION_ADAMS
     citation: ClassVar[str] = (
         "MSC ADAMS contact friction (adams.thisaray.com/adams_view/contact_friction_force.html); "
-        "contact-models.md §1.4"
+        "docs/contact-laws.md §1.4"
     )
     equation: ClassVar[str] = (
         "μ = STEP(v,-v_s,-μ_s,v_s,μ_s) | sgn(v) STEP(|v|,v_s,μ_s,v_d,μ_d) | sgn(v) μ_d; F_T = μ F_N"

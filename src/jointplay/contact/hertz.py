@@ -2,7 +2,7 @@
 
 The textbook elastic contact of two bodies (Johnson 1985 = K. L. Johnson, *Contact
 Mechanics*, Cambridge University Press, ch. 4 and 5; chapters cited from memory, as in
-contact-models.md §3). Every function takes and returns plain numbers in SI units (N, m, Pa);
+docs/contact-laws.md §3). Every function takes and returns plain numbers in SI units (N, m, Pa);
 the Equivalent Contact Stiffness method (:mod:`jointplay.contact.ecs`) and the pin-in-hole
 stiffness laws (:mod:`jointplay.contact.stiffness`) both build on these, so each formula is
 written once, here.
@@ -102,7 +102,7 @@ def point_contact_penetration(contact_radius: float, radius: float) -> float:
 def point_contact_stiffness(radius: float, modulus: float) -> float:
     """Hertz point-contact stiffness K of ``F = K δ^(3/2)``: ``K = (4/3) E* √R``, N/m^1.5.
 
-    Johnson 1985 ch. 4 (``F = (4/3) E* √R δ^(3/2)``); contact-models.md §3.1.
+    Johnson 1985 ch. 4 (``F = (4/3) E* √R δ^(3/2)``); docs/contact-laws.md §3.1.
 
     Args:
         radius: equivalent radius R > 0, m.

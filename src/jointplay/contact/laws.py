@@ -18,7 +18,7 @@ Conventions (the dynamics engine relies on them):
   slides on the bearing and v0 of the last small rebound can be tiny. It changes a single
   impact only when the impact is slower than ``v_floor``.
 
-Sources: contact-models.md (§1 MSC ADAMS, §2 continuous laws) and the paper's Impact Force
+Sources: docs/contact-laws.md (§1 MSC ADAMS, §2 continuous laws) and the paper's Impact Force
 Method (IFM, eqs. 1–3) and Restitution Method (RM, eq. 8).
 """
 
@@ -138,7 +138,7 @@ def _as_array(value: npt.ArrayLike) -> FloatArray:
 
 
 def step3(x: npt.ArrayLike, x0: float, h0: float, x1: float, h1: float) -> FloatArray:
-    """ADAMS cubic STEP, vectorised (contact-models.md §1.1).
+    """ADAMS cubic STEP, vectorised (docs/contact-laws.md §1.1).
 
     ``h0`` for x ≤ x0, ``h1`` for x ≥ x1, else ``h0 + (h1 - h0) u² (3 - 2u)`` with
     ``u = (x - x0)/(x1 - x0)``; C¹, the second derivative jumps at x0 and x1. Reference of
@@ -216,7 +216,7 @@ class ContactLaw(_Validated, ABC):
 
 @dataclass(frozen=True)
 class ImpactLaw(ContactLaw):
-    """MSC ADAMS IMPACT (the paper's Impact Force Method, eqs. 1–3; contact-models.md §1.2).
+    """MSC ADAMS IMPACT (the paper's Impact Force Method, eqs. 1–3; docs/contact-laws.md §1.2).
 
     ``F = max(0, k δ^e + STEP(δ, 0, 0, d_max, c_max) δ̇)`` for δ > 0, else 0.
     The damping coefficient rises as a cubic STEP from 0 at first touch to ``c_max`` at
@@ -237,7 +237,7 @@ class ImpactLaw(ContactLaw):
     law_id: ClassVar[int] = kc.LAW_IMPACT
     citation: ClassVar[str] = (
         "MSC ADAMS IMPACT function (adams.thisaray.com/adams_solver/func_impact.html); "
-        "paper eqs. (1)-(3); contact-models.md §1.2"
+        "paper eqs. (1)-(3); docs/contact-laws.md §1.2"
     )
     equation: ClassVar[str] = "F = max(0, k δ^e + STEP(δ, 0, 0, d_max, c_max) δ̇)"
     aliases: ClassVar[Mapping[str, str]] = MappingProxyType(
@@ -289,7 +289,7 @@ class ImpactLaw(ContactLaw):
 
 @dataclass(frozen=True)
 class HertzLaw(ContactLaw):
-    """Hertz elastic contact ``F = K δ^n`` (no dissipation; contact-models.md §2.1).
+    """Hertz elastic contact ``F = K δ^n`` (no dissipation; docs/contact-laws.md §2.1).
 
     Attributes:
         stiffness: K > 0, N/m^n; from geometry with :mod:`jointplay.contact.stiffness`.
@@ -299,7 +299,7 @@ class HertzLaw(ContactLaw):
     name: ClassVar[str] = "hertz"
     law_id: ClassVar[int] = kc.LAW_HERTZ
     citation: ClassVar[str] = (
-        "Hertz (1882); Johnson (1985) Contact Mechanics; contact-models.md §2.1"
+        "Hertz (1882); Johnson (1985) Contact Mechanics; docs/contact-laws.md §2.1"
     )
     equation: ClassVar[str] = "F = K δ^n"
     aliases: ClassVar[Mapping[str, str]] = MappingProxyType(
@@ -332,7 +332,7 @@ class HertzLaw(ContactLaw):
 
 @dataclass(frozen=True)
 class KelvinVoigtLaw(ContactLaw):
-    """Linear spring–dashpot ``F = max(0, K δ + D δ̇)`` (contact-models.md §2.1).
+    """Linear spring–dashpot ``F = max(0, K δ + D δ̇)`` (docs/contact-laws.md §2.1).
 
     The force jumps from 0 to ``D v0`` at first contact (the only law here that is not
     continuous there), and near separation the unclamped law would pull; the clamp F ≥ 0
@@ -346,7 +346,7 @@ class KelvinVoigtLaw(ContactLaw):
 
     name: ClassVar[str] = "kelvin-voigt"
     law_id: ClassVar[int] = kc.LAW_KELVIN_VOIGT
-    citation: ClassVar[str] = "Kelvin–Voigt viscoelastic element; contact-models.md §2.1"
+    citation: ClassVar[str] = "Kelvin–Voigt viscoelastic element; docs/contact-laws.md §2.1"
     equation: ClassVar[str] = "F = max(0, K δ + D δ̇)"
     aliases: ClassVar[Mapping[str, str]] = MappingProxyType(
         {"k": "stiffness", "K": "stiffness", "D": "damping", "c": "damping"}
@@ -399,7 +399,7 @@ class RestitutionLaw(ContactLaw):
 
     ``F = p δ^n (1 + χ(ε) δ̇ / v_eff)``, clamped ≥ 0, with χ(ε) from
     :func:`~jointplay.contact.restitution.chi_for_restitution`, so one impact rebounds with
-    exactly the coefficient ε for any exponent, penalty, mass and speed (contact-models.md
+    exactly the coefficient ε for any exponent, penalty, mass and speed (docs/contact-laws.md
     §1.5, §2.3).
 
     This is **not** ADAMS's POISSON law. ADAMS does not publish that law: the form quoted in
@@ -420,7 +420,7 @@ class RestitutionLaw(ContactLaw):
     needs_impact_velocity: ClassVar[bool] = True
     citation: ClassVar[str] = (
         "Surrogate for the paper's Restitution Method (eq. 8, ADAMS POISSON, law unpublished); "
-        "exact Hunt–Crossley restitution of contact-models.md §2.3 "
+        "exact Hunt–Crossley restitution of docs/contact-laws.md §2.3 "
         "(Carvalho & Martins 2019, Mech. Mach. Theory 139:174–194, citation recalled)"
     )
     equation: ClassVar[str] = "F = p δ^n (1 + χ(ε) δ̇ / v0),  g(χ) = g(-χ ε),  g(x) = x - ln(1+x)"
@@ -483,7 +483,7 @@ class RestitutionLaw(ContactLaw):
 class HuntCrossleyTypeLaw(ContactLaw):
     """Base of the Hunt–Crossley family ``F = K δ^n (1 + χ(e) δ̇ / v_eff)``, clamped ≥ 0.
 
-    Subclasses differ only in the hysteresis factor χ(e) (contact-models.md §2.1–2.2). The
+    Subclasses differ only in the hysteresis factor χ(e) (docs/contact-laws.md §2.1–2.2). The
     restitution a law really produces is
     ``effective_restitution(law.chi)`` (§2.3), generally not ``e``.
 
@@ -557,7 +557,7 @@ class HuntCrossleyTypeLaw(ContactLaw):
 
 @dataclass(frozen=True)
 class HuntCrossleyLaw(HuntCrossleyTypeLaw):
-    """Hunt & Crossley (1975): χ = 3(1 − e)/2, first order in 1 − e (contact-models.md §2.2).
+    """Hunt & Crossley (1975): χ = 3(1 − e)/2, first order in 1 − e (docs/contact-laws.md §2.2).
 
     Attributes: see :class:`HuntCrossleyTypeLaw`.
     """
@@ -575,7 +575,7 @@ class HuntCrossleyLaw(HuntCrossleyTypeLaw):
 
 @dataclass(frozen=True)
 class LankaraniNikraveshLaw(HuntCrossleyTypeLaw):
-    """Lankarani & Nikravesh (1990): χ = 3(1 − e²)/4 (contact-models.md §2.2).
+    """Lankarani & Nikravesh (1990): χ = 3(1 − e²)/4 (docs/contact-laws.md §2.2).
 
     Accurate only for e close to 1. Attributes: see :class:`HuntCrossleyTypeLaw`.
     """
@@ -593,7 +593,7 @@ class LankaraniNikraveshLaw(HuntCrossleyTypeLaw):
 
 @dataclass(frozen=True)
 class FloresLaw(HuntCrossleyTypeLaw):
-    """Flores et al. (2011): χ = 8(1 − e)/(5e) (contact-models.md §2.2).
+    """Flores et al. (2011): χ = 8(1 − e)/(5e) (docs/contact-laws.md §2.2).
 
     Attributes: see :class:`HuntCrossleyTypeLaw`.
     """
@@ -611,7 +611,7 @@ class FloresLaw(HuntCrossleyTypeLaw):
 
 @dataclass(frozen=True)
 class GonthierLaw(HuntCrossleyTypeLaw):
-    """Gonthier et al. (2004): χ = (1 − e²)/e (contact-models.md §2.2).
+    """Gonthier et al. (2004): χ = (1 − e²)/e (docs/contact-laws.md §2.2).
 
     Attributes: see :class:`HuntCrossleyTypeLaw`.
     """
@@ -629,7 +629,7 @@ class GonthierLaw(HuntCrossleyTypeLaw):
 
 @dataclass(frozen=True)
 class HuGuoLaw(HuntCrossleyTypeLaw):
-    """Hu & Guo (2015): χ = 3(1 − e)/(2e) — **constant unconfirmed** (contact-models.md §2.2).
+    """Hu & Guo (2015): χ = 3(1 − e)/(2e) — **constant unconfirmed** (docs/contact-laws.md §2.2).
 
     The paper's value is recalled, not checked: Skrinjar's code has 3(1 − e)/(4e) instead. We
     use 3(1 − e)/(2e) because it has the correct first-order limit 1.5(1 − e) as e → 1, which
@@ -652,7 +652,7 @@ class HuGuoLaw(HuntCrossleyTypeLaw):
 
 @dataclass(frozen=True)
 class HerbertMcWhannellLaw(HuntCrossleyTypeLaw):
-    """Herbert & McWhannell (1977): χ = 6(1 − e)/[(2e − 1)² + 3] (contact-models.md §2.2).
+    """Herbert & McWhannell (1977): χ = 6(1 − e)/[(2e − 1)² + 3] (docs/contact-laws.md §2.2).
 
     Attributes: see :class:`HuntCrossleyTypeLaw`.
     """
@@ -670,7 +670,7 @@ class HerbertMcWhannellLaw(HuntCrossleyTypeLaw):
 
 @dataclass(frozen=True)
 class LeeWangLaw(HuntCrossleyTypeLaw):
-    """Lee & Wang (1983): χ = 3(1 − e)/4 (contact-models.md §2.2).
+    """Lee & Wang (1983): χ = 3(1 − e)/4 (docs/contact-laws.md §2.2).
 
     Attributes: see :class:`HuntCrossleyTypeLaw`.
     """
@@ -688,7 +688,7 @@ class LeeWangLaw(HuntCrossleyTypeLaw):
 
 @dataclass(frozen=True)
 class ZhiyingQishaoLaw(HuntCrossleyTypeLaw):
-    """Zhiying & Qishao (2006): χ = 3(1 − e²) exp[2(1 − e)]/4 (contact-models.md §2.2).
+    """Zhiying & Qishao (2006): χ = 3(1 − e²) exp[2(1 − e)]/4 (docs/contact-laws.md §2.2).
 
     Attributes: see :class:`HuntCrossleyTypeLaw`.
     """

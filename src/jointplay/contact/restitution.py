@@ -3,7 +3,7 @@
 A Hunt–Crossley-type law ``F = K δ^n (1 + χ δ̇ / v0)`` dissipates energy in one impact. The
 coefficient of restitution it actually produces, e_eff, follows from χ alone: integrating
 ``m u du/dδ = -K δ^n (1 + χ u / v0)`` from entry (δ = 0, u = v0) to exit (δ = 0,
-u = -e_eff v0) gives (contact-models.md §2.3, [DERIVED])::
+u = -e_eff v0) gives (docs/contact-laws.md §2.3, [DERIVED])::
 
     g(χ) = g(-χ e_eff),    g(x) = x - ln(1 + x)
 
@@ -61,7 +61,7 @@ def _h(lam: float) -> float:
 def effective_restitution(chi: float) -> float:
     """Coefficient of restitution that a Hunt–Crossley-type law with factor χ produces.
 
-    Solves ``g(χ) = g(-χ e_eff)``, ``g(x) = x - ln(1 + x)`` (contact-models.md §2.3; see the
+    Solves ``g(χ) = g(-χ e_eff)``, ``g(x) = x - ln(1 + x)`` (docs/contact-laws.md §2.3; see the
     module docstring for the source). Independent of exponent, stiffness, mass and impact speed.
 
     Args:
@@ -90,7 +90,7 @@ def effective_restitution(chi: float) -> float:
 def chi_for_restitution(e: float) -> float:
     """Hysteresis factor χ for which a Hunt–Crossley-type law rebounds with exactly ``e``.
 
-    The inverse of :func:`effective_restitution` (contact-models.md §2.3), found with
+    The inverse of :func:`effective_restitution` (docs/contact-laws.md §2.3), found with
     :func:`scipy.optimize.brentq`. Reference values: e = 0.9 → 0.1665, 0.5 → 1.4328,
     0.1 → 9.9982.
 

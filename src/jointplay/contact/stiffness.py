@@ -9,7 +9,7 @@ bearing and pin). It gives the elastic force ``elastic_force(δ)`` (N, vectorise
 :data:`STIFFNESS_LAWS`; :func:`get_stiffness_law` accepts a name plus parameters, or an
 instance.
 
-Notation (contact-models.md §3): clearance ``ΔR = R_i − R_j``, conformal radius
+Notation (docs/contact-laws.md §3): clearance ``ΔR = R_i − R_j``, conformal radius
 ``R = R_i R_j / ΔR``, effective modulus ``1/E* = (1 − ν_i²)/E_i + (1 − ν_j²)/E_j``, load per
 unit length ``f = F/L``. The Hertz formulas (E*, R, the point-contact stiffness) are those of
 :mod:`jointplay.contact.hertz`.
@@ -208,7 +208,7 @@ class PinInHoleStiffness(_Validated, ABC):
 
 @dataclass(frozen=True, kw_only=True)
 class HertzStiffness(PinInHoleStiffness):
-    """Hertz point contact with the conformal radius (contact-models.md §3.1).
+    """Hertz point contact with the conformal radius (docs/contact-laws.md §3.1).
 
     ``F = K δ^(3/2)``, ``K = (4/3) E* √R``, ``R = R_i R_j / (R_i − R_j)``: the sphere formula
     applied to the two cylinder radii, as in Lankarani/Flores's revolute-clearance papers (and
@@ -217,7 +217,7 @@ class HertzStiffness(PinInHoleStiffness):
 
     name: ClassVar[str] = "hertz"
     citation: ClassVar[str] = (
-        "Johnson (1985) Contact Mechanics; Lankarani & Nikravesh (1990); contact-models.md §3.1"
+        "Johnson (1985) Contact Mechanics; Lankarani & Nikravesh (1990); docs/contact-laws.md §3.1"
     )
     equation: ClassVar[str] = "F = (4/3) E* sqrt(R_i R_j / ΔR) δ^1.5"
 
@@ -237,7 +237,7 @@ class HertzStiffness(PinInHoleStiffness):
 
 @dataclass(frozen=True, kw_only=True)
 class PereiraStiffness(PinInHoleStiffness):
-    """Pereira, Ramalho & Ambrósio (2011) internal cylindrical contact (contact-models.md §3.4).
+    """Pereira, Ramalho & Ambrósio (2011) internal cylindrical contact (docs/contact-laws.md §3.4).
 
     ``F = K δ^n`` with, in the N–mm units in which the fit was made (ΔR, L, δ in mm, E* in
     N/mm², F in N)::
@@ -257,7 +257,7 @@ class PereiraStiffness(PinInHoleStiffness):
 
     name: ClassVar[str] = "pereira"
     citation: ClassVar[str] = (
-        "Pereira, Ramalho & Ambrósio (2011), Nonlinear Dyn. 63:681–697; contact-models.md §3.4"
+        "Pereira, Ramalho & Ambrósio (2011), Nonlinear Dyn. 63:681–697; docs/contact-laws.md §3.4"
     )
     equation: ClassVar[str] = "F = (a ΔR + b) L E*/ΔR · δ^n  (N-mm), n = Y(ΔR) ΔR^-0.005"
 
@@ -308,7 +308,7 @@ class PereiraStiffness(PinInHoleStiffness):
 
 @dataclass(frozen=True, kw_only=True)
 class LiuStiffness(PinInHoleStiffness):
-    """Liu, Zhang & Yang improved elastic-foundation law (contact-models.md §3.5).
+    """Liu, Zhang & Yang improved elastic-foundation law (docs/contact-laws.md §3.5).
 
     ``F = (π/2) E* L δ sqrt(δ / (2 (ΔR + δ)))``. Its derivative per unit length is the
     nonlinear stiffness of Bai & Zhao's hybrid model (§3.6). The paper and year of the
@@ -317,7 +317,7 @@ class LiuStiffness(PinInHoleStiffness):
 
     name: ClassVar[str] = "liu"
     citation: ClassVar[str] = (
-        "Liu, Zhang & Yang (2007), Mech. Mach. Theory 42:183–197 (recalled); contact-models.md §3.5"
+        "Liu, Zhang & Yang (2007), Mech. Mach. Theory 42:183–197 (recalled); docs/contact-laws.md §3.5"
     )
     equation: ClassVar[str] = "F = (π/2) E* L δ sqrt(δ / (2(ΔR + δ)))"
 
@@ -372,14 +372,14 @@ class _LogarithmicStiffness(PinInHoleStiffness):
 
 @dataclass(frozen=True, kw_only=True)
 class JohnsonStiffness(_LogarithmicStiffness):
-    """Johnson's pin-in-hole law (contact-models.md §3.3, [CODE] form).
+    """Johnson's pin-in-hole law (docs/contact-laws.md §3.3, [CODE] form).
 
     ``δ = (f/(π E*)) [ln(4π E* ΔR / f) − 1]``, f = F/L, solved for F. Defined for
     δ ≤ 4 ΔR e^(−2) ≈ 0.54 ΔR.
     """
 
     name: ClassVar[str] = "johnson"
-    citation: ClassVar[str] = "Johnson (1985) Contact Mechanics; contact-models.md §3.3"
+    citation: ClassVar[str] = "Johnson (1985) Contact Mechanics; docs/contact-laws.md §3.3"
     equation: ClassVar[str] = "δ = f/(π E*) [ln(4π E* ΔR/f) − 1]"
 
     @property
@@ -389,7 +389,7 @@ class JohnsonStiffness(_LogarithmicStiffness):
 
 @dataclass(frozen=True, kw_only=True)
 class RadzimovskyStiffness(_LogarithmicStiffness):
-    """Radzimovsky's law (contact-models.md §3.3, [CODE] form).
+    """Radzimovsky's law (docs/contact-laws.md §3.3, [CODE] form).
 
     ``δ = (f/(π E*)) [2/3 + ln(4R_i/b) + ln(4R_j/b)]``, ``b = 1.6 sqrt(f R / E*)``. The radii
     cancel: ``ln(4R_i/b) + ln(4R_j/b) = ln(6.25 E* ΔR / f)``. Defined for
@@ -397,7 +397,7 @@ class RadzimovskyStiffness(_LogarithmicStiffness):
     """
 
     name: ClassVar[str] = "radzimovsky"
-    citation: ClassVar[str] = "Radzimovsky (1953); contact-models.md §3.3"
+    citation: ClassVar[str] = "Radzimovsky (1953); docs/contact-laws.md §3.3"
     equation: ClassVar[str] = "δ = f/(π E*) [2/3 + ln(4R_i/b) + ln(4R_j/b)], b = 1.6 sqrt(f R/E*)"
 
     @property
@@ -411,7 +411,7 @@ class RadzimovskyStiffness(_LogarithmicStiffness):
 
 @dataclass(frozen=True, kw_only=True)
 class Esdu78035Stiffness(_LogarithmicStiffness):
-    """ESDU-78035 pin-in-hole law — **placement of π unconfirmed** (contact-models.md §3.3).
+    """ESDU-78035 pin-in-hole law — **placement of π unconfirmed** (docs/contact-laws.md §3.3).
 
     We use ``δ = (f/(π E*)) [ln(4π E* ΔR / f) + 1]``, i.e.
     ``δ = f σ [ln(4ΔR/(f σ)) + 1]`` with ``σ = σ_i + σ_j``, ``σ_k = (1 − ν_k²)/(π E_k)`` —
@@ -423,7 +423,9 @@ class Esdu78035Stiffness(_LogarithmicStiffness):
     """
 
     name: ClassVar[str] = "esdu-78035"
-    citation: ClassVar[str] = "ESDU-78035 (1978); contact-models.md §3.3 (π placement UNCONFIRMED)"
+    citation: ClassVar[str] = (
+        "ESDU-78035 (1978); docs/contact-laws.md §3.3 (π placement UNCONFIRMED)"
+    )
     equation: ClassVar[str] = "δ = f/(π E*) [ln(4π E* ΔR/f) + 1]"
 
     @property

@@ -48,7 +48,7 @@ code                                   fires when
 =====================================  ==========================================================
 
 The elastic approach is Hertz's for the joint's radii and materials,
-δ_H = (F / K)^(2/3), K = (4/3) E* √R (contact-models.md §3.1): the stiffness law
+δ_H = (F / K)^(2/3), K = (4/3) E* √R (docs/contact-laws.md §3.1): the stiffness law
 ``--stiffness-law hertz`` uses; the other geometric laws give approaches within a factor of
 about 1.3 of it at µm clearances (docs/contact.md), so :data:`ELASTIC_FACTOR` leaves room
 for them and for the damping.
@@ -56,7 +56,7 @@ for them and for the damping.
 The contact pressure is Hertz's for two parallel cylinders in internal (conformal) contact:
 line load f = F / L, equivalent radius R = R_J R_B / (R_B − R_J), half-width
 b = √(4 f R / (π E*)) and peak pressure p₀ = 2 f / (π b) = √(f E* / (π R)) (Johnson,
-*Contact Mechanics*, 1985, eqs. 4.43–4.45; shared/reference/contact-models.md §3.2).
+*Contact Mechanics*, 1985, eqs. 4.43–4.45; docs/contact-laws.md §3.2).
 """
 
 from __future__ import annotations
@@ -175,7 +175,7 @@ def hertz_approach(
     force: float, journal_radius: float, clearance: float, bearing: Material, pin: Material
 ) -> float:
     """The elastic approach δ_H = (F / K)^(2/3) of the joint's Hertz law at ``force`` (N), m,
-    K = (4/3) E* √R with the conformal radius R (contact-models.md §3.1)."""
+    K = (4/3) E* √R with the conformal radius R (docs/contact-laws.md §3.1)."""
     if force <= 0.0:
         return 0.0
     modulus = effective_modulus(

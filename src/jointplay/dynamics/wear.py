@@ -6,7 +6,7 @@ two sliding surfaces is ``V = k F_N s / H`` with ``k`` the dimensionless wear co
 softer surface (Pa). Locally, the depth grows as ``dh = (k/H) p ds`` with ``p`` the contact
 pressure (Flores, *Mech. Mach. Theory* 44:1211–1222, 2009, eq. 4).
 
-In a clearance joint (shared/reference/contact-models.md §5) the sliding speed at the contact
+In a clearance joint (docs/contact-laws.md §5) the sliding speed at the contact
 point is ``v_T = ė·t + R_J ω_b − R_B ω_a`` (bearing on body a, journal on body b, t = ẑ × n),
 the speed friction uses. :func:`cycle_wear` integrates ``(k/H) F_N |v_T|`` over the steady
 revolutions of a simulation, on the integrator's own steps (which resolve every impact), and

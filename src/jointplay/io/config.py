@@ -14,18 +14,18 @@ mean"). Names that are data, not keys (links, joints, points), are taken as writ
 
 from __future__ import annotations
 
-import difflib
 import math
 import os
 import stat
 import tomllib
-from collections.abc import Iterable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from jointplay.errors import ConfigError, JointplayError
+from jointplay.io.keys import option_keys, unknown_keys_message
 from jointplay.model.mechanism import (
     GROUND,
     STEEL,
@@ -47,6 +47,9 @@ from jointplay.model.templates import (
     slider_crank,
 )
 from jointplay.units import parse_quantity
+
+if TYPE_CHECKING:
+    from jointplay.tolerance.spec import ToleranceSpec
 
 STANDARD_GRAVITY = 9.80665
 
@@ -70,54 +73,6 @@ def _plausible(value: float, unit: str, field: str, given: Any) -> float:
             f"{MAX_LENGTH:g} m); check the geometry"
         )
     return value
-
-
-def option_key(key: str) -> str:
-    """A configuration key in its canonical spelling: ``stiffness-law`` → ``stiffness_law``."""
-    return key.replace("-", "_")
-
-
-def unknown_keys_message(where: str, unknown: Iterable[str], allowed: Iterable[str]) -> str:
-    """One line naming the unknown keys of table ``where``, the closest allowed key of each
-    ("did you mean"), and every allowed key."""
-    choices = sorted(set(allowed))
-    named = []
-    for key in unknown:
-        close = difflib.get_close_matches(option_key(key), choices, n=1, cutoff=0.6)
-        named.append(f"{key!r}" + (f" (did you mean {close[0]!r}?)" if close else ""))
-    allowed_text = ", ".join(choices) if choices else "none"
-    return (
-        f"{where or 'top level'}: unknown key{'s' if len(named) > 1 else ''} "
-        f"{', '.join(named)}; allowed keys: {allowed_text} (each also with '-' for '_')"
-    )
-
-
-def option_keys(table: Mapping[str, Any], allowed: Iterable[str], where: str) -> dict[str, Any]:
-    """``table`` with its keys in the canonical spelling (:func:`option_key`), checked.
-
-    For tables whose keys are settings (``[simulation]``, ``[wear]``, ``[cost]``, the
-    entries of ``[tolerances]``), not names.
-
-    Raises:
-        ConfigError: a key given in both spellings, or a key that is not ``allowed`` (the
-            message lists the allowed keys and suggests the closest).
-    """
-    if not isinstance(table, Mapping):
-        raise ConfigError(f"{where} must be a table, got {type(table).__name__}")
-    permitted = {option_key(k) for k in allowed}
-    out: dict[str, Any] = {}
-    written: dict[str, str] = {}
-    for key, value in table.items():
-        canonical = option_key(str(key))
-        if canonical in out:
-            raise ConfigError(
-                f"{where}: {written[canonical]!r} and {key!r} are the same key; give it once"
-            )
-        out[canonical], written[canonical] = value, str(key)
-    unknown = [written[k] for k in out if k not in permitted]
-    if unknown:
-        raise ConfigError(unknown_keys_message(where, unknown, permitted))
-    return out
 
 
 class _Table:
@@ -399,6 +354,25 @@ def load_mechanism(preset: str | None = None, config: Path | str | None = None) 
             raise ConfigError("give either a preset or a config file, not both")
         return load_config(config)
     return load_preset(preset or "paper-fourbar")
+
+
+def load_study_spec(
+    preset: str | None = None, config: Path | str | None = None
+) -> tuple[Mechanism, ToleranceSpec]:
+    """Load a mechanism (preset or TOML file) and its full tolerance specification.
+
+    Args:
+        preset: a preset name (default ``paper-fourbar`` when ``config`` is not given).
+        config: a configuration file; takes precedence over ``preset``.
+
+    Raises:
+        ConfigError: the file cannot be read or its tables are invalid.
+    """
+    from jointplay.io.tolerances import parse_tolerance_table
+
+    mechanism = load_mechanism(preset, config)
+    # parse_config has validated the table already (with the file's name in any message).
+    return mechanism, parse_tolerance_table(tolerance_table(preset, config), mechanism)
 
 
 def parse_config(data: Mapping[str, Any], *, source: str = "configuration") -> Mechanism:

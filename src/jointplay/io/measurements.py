@@ -7,7 +7,7 @@ simulation is :mod:`jointplay.study.comparison`.
 
 Conventions of a measurement file (:class:`MeasurementConventions`)
     A file has a crank-angle column (degrees) and a speed column. Its conventions are
-    explicit, with the defaults of ``shared/reference/paper-notes.md`` for Table 7:
+    explicit, with the defaults of ``docs/paper-reading.md`` for Table 7:
 
     * ``unit``: ``"deg/s"`` (default), ``"rpm"`` or ``"rad/s"``. Table 7's header says
       "RPM", but with a 200 RPM crank and a 52.6° rocker swing 932 RPM is impossible; the
@@ -77,7 +77,7 @@ class MeasurementConventions:
 
     Attributes:
         unit: unit of the speed column: ``"deg/s"`` (default, Table 7 as read in
-            paper-notes.md), ``"rpm"`` or ``"rad/s"``.
+            docs/paper-reading.md), ``"rpm"`` or ``"rad/s"``.
         crank_direction: the rig's crank turns ``"cw"`` (default) or ``"ccw"``.
         angle_direction: crank angles in the file are counted ``"cw"`` (default) or ``"ccw"``.
         angle_origin: crank position of the file's 0°, degrees counter-clockwise from the
@@ -292,7 +292,7 @@ def read_measurements(
         speed_column: column of measured speeds; by default the other column of a two-column
             file (a file with more columns must name it).
         conventions: unit and direction conventions of the file (default: those of Table 7 as
-            read in paper-notes.md).
+            read in docs/paper-reading.md).
         model_column: optional column of a published simulation at the same angles.
         error_column: optional column of published error percentages.
 
@@ -403,7 +403,7 @@ def paper_table7(conventions: MeasurementConventions | None = None) -> Measureme
     """The paper's Table 7: measured rocker speed ("Experimentation") at 200 RPM, 30° steps.
 
     The "MBD Simulation" column becomes :attr:`Measurements.model` and the printed error %
-    :attr:`Measurements.printed_error`. Conventions default to the paper-notes.md reading
+    :attr:`Measurements.printed_error`. Conventions default to the docs/paper-reading.md reading
     (deg/s, crank clockwise, angle clockwise from the ground line, CCW-positive speeds).
     """
     text = paper_table7_path().read_text(encoding="utf-8")

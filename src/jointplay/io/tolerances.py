@@ -4,7 +4,8 @@
 :class:`~jointplay.tolerance.spec.ToleranceSpec` (lengths with explicit deviations or ISO
 2768-1 classes, joint clearances from ISO 286 fits or explicit limits, distributions, shifts
 and Cpk); :func:`mechanism_tolerances` is what :func:`jointplay.io.config.parse_config` keeps
-of it on the mechanism; :func:`load_study_spec` reads a preset or file and returns both.
+of it on the mechanism; :func:`jointplay.io.config.load_study_spec` reads a preset or file
+and returns both.
 The specification objects, their distributions and validation live in
 :mod:`jointplay.tolerance.spec`.
 """
@@ -14,11 +15,10 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from dataclasses import replace
 from functools import partial
-from pathlib import Path
 from typing import Any, TypeVar
 
 from jointplay.errors import ConfigError, JointplayError
-from jointplay.io.config import load_mechanism, option_keys, tolerance_table
+from jointplay.io.keys import option_keys
 from jointplay.model.mechanism import LengthTolerance, Mechanism, RevoluteJoint
 from jointplay.tolerance.spec import (
     DEFAULT_DISTRIBUTION,
@@ -33,7 +33,7 @@ from jointplay.tolerance.spec import (
 )
 from jointplay.units import parse_quantity
 
-__all__ = ["load_study_spec", "mechanism_tolerances", "parse_tolerance_table"]
+__all__ = ["mechanism_tolerances", "parse_tolerance_table"]
 
 _T = TypeVar("_T")
 
@@ -292,20 +292,3 @@ def mechanism_tolerances(
         for item in spec.inputs
         if isinstance(item, LinkTolerance)
     )
-
-
-def load_study_spec(
-    preset: str | None = None, config: Path | str | None = None
-) -> tuple[Mechanism, ToleranceSpec]:
-    """Load a mechanism (preset or TOML file) and its full tolerance specification.
-
-    Args:
-        preset: a preset name (default ``paper-fourbar`` when ``config`` is not given).
-        config: a configuration file; takes precedence over ``preset``.
-
-    Raises:
-        ConfigError: the file cannot be read or its tables are invalid.
-    """
-    mechanism = load_mechanism(preset, config)
-    # parse_config has validated the table already (with the file's name in any message).
-    return mechanism, parse_tolerance_table(tolerance_table(preset, config), mechanism)

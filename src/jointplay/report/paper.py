@@ -255,7 +255,7 @@ def _summary_section(page: _Page, study: PaperStudy, claims: list[Claim]) -> Non
         f"Table 1 with radial clearance {PAPER_CLEARANCE * 1e3:g} mm in all four joints, the "
         f"crank at {o.rpm:g} rpm, the six contact-modelling methods (Table 2), the ISO 2768-1 "
         "class c tolerance stack and the measured rocker speed (Table 7). Our reading of the "
-        "paper's ambiguous parts: shared/reference/paper-notes.md."
+        "paper's ambiguous parts: docs/paper-reading.md."
     )
     counts = claim_counts(claims)
     holds, differs = counts["holds"], counts["differs"]

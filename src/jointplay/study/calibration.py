@@ -1152,7 +1152,7 @@ ROUNDING_SIGMA = 1.0 / math.sqrt(12.0)
 
 
 def table7_dataset(column: str = "experiment_printed") -> Dataset:
-    """One value column of the paper's Table 7 as a :class:`Dataset` (paper-notes.md reading)."""
+    """One value column of the paper's Table 7 as a :class:`Dataset` (docs/paper-reading.md reading)."""
     from jointplay.io.measurements import PAPER_TABLE7_COLUMNS
 
     table = paper_table7()
@@ -1182,7 +1182,7 @@ def explain_table7(
     mechanism are fitted (:func:`calibrate`), with 95 % intervals, the RMS error % before
     (200 RPM, no phase) and after, and what remains unexplained: the residual scatter in
     deg/s against the printing resolution (whole numbers: σ = 1/√12 ≈ 0.29 deg/s) and the
-    points that deviate most. As a check of the other explanation the paper-notes name
+    points that deviate most. As a check of the other explanation docs/paper-reading.md names
     (real links of other lengths), the fit is repeated with ``lengths`` free within their
     tolerances too (the crank's is kept: angular speeds depend only on length ratios, so the
     four lengths and the crank speed cannot all be fitted); its residual is reported under
@@ -1282,7 +1282,7 @@ def explain_table7(
     return {
         "method": "nominal (ideal-joint) kinematics of the mechanism fitted by least squares "
         "(jointplay.study.calibration.calibrate); 95 % intervals from the Jacobian, "
-        "cov = s^2 (J^T J)^-1, s^2 = RSS/(m - p), Student-t; Table 7 read as paper-notes.md "
+        "cov = s^2 (J^T J)^-1, s^2 = RSS/(m - p), Student-t; Table 7 read as docs/paper-reading.md "
         "says (deg/s, crank clockwise)",
         "columns": out,
         "summary": " | ".join(lines),

@@ -164,7 +164,7 @@ def paper_claims(study: PaperStudy) -> list[Claim]:
             "nominal kinematics at crank angle 0 (the peak over the cycle is {:.4g} rad/s)".format(
                 study.nominal_peaks["omega4"]
             ),
-            "the paper's nominal speeds are 15-20 % above the kinematics of Table 1 at 200 RPM, as its Table 7 (paper-notes.md)",
+            "the paper's nominal speeds are 15-20 % above the kinematics of Table 1 at 200 RPM, as its Table 7 (docs/paper-reading.md)",
         ),
     ]
     for quantity, label, paper_value in (
@@ -235,7 +235,7 @@ def paper_claims(study: PaperStudy) -> list[Claim]:
     claims.append(
         Claim(
             "Mechanism",
-            "rocker swing (paper-notes.md)",
+            "rocker swing (docs/paper-reading.md)",
             52.6,
             figures["rocker_swing_deg"],
             "deg",
@@ -251,7 +251,7 @@ def paper_claims(study: PaperStudy) -> list[Claim]:
             math.degrees(_peak(study, sph, "omega4", "startup")),
             "deg/s",
             startup_source(sph_words),
-            "the paper's 'RPM' behave as deg/s (paper-notes.md)",
+            "the paper's 'RPM' behave as deg/s (docs/paper-reading.md)",
         )
     )
     if study.experiment is not None:

@@ -31,7 +31,7 @@ Errors (:func:`compare`)
     position, and both count.
 
 The discrepancy (:class:`Discrepancy`)
-    The measurements lie some 15–20 % above the nominal kinematics at 200 RPM (paper-notes.md).
+    The measurements lie some 15–20 % above the nominal kinematics at 200 RPM (docs/paper-reading.md).
     The least-squares speed factor s = Σ(sim · meas) / Σ(sim²) between the measurements and the
     nominal kinematics quantifies it; for ideal joints the rocker speed is proportional to the
     crank speed, so s is exactly the factor by which the crank would have had to run faster

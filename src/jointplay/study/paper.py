@@ -1,7 +1,7 @@
 """The paper's study end to end: ECS, the six methods, nominal vs actual, sensitivities.
 
 Akhadkar, Deoghare & Vaidya simulate their crank-rocker (Table 1, read as in
-shared/reference/paper-notes.md) with radial clearance 0.021 mm in all four joints, started
+docs/paper-reading.md) with radial clearance 0.021 mm in all four joints, started
 from rest, with six contact-modelling methods (Table 2), compare the "actual" mechanism
 (toleranced lengths + clearance) with the nominal one (basic lengths, ideal joints), and check
 the rocker speed against measurements (Table 7). :func:`run_paper_study` does all of that with
