@@ -116,7 +116,7 @@ def test_dask_scheduler_option(tmp_path) -> None:
 
     out = tmp_path / "dask"
     with LocalCluster(
-        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None
+        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0"
     ) as cluster:
         args = ["tolerance", "--samples", "100", "--seed", "2", "--out", str(out)]
         args += ["--dask-scheduler", cluster.scheduler_address, "--no-progress", "--no-plots"]

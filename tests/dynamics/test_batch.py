@@ -181,7 +181,7 @@ def test_a_dask_cluster_gives_the_same_bits_in_chunks_sized_by_the_cluster(
     samples, expected = reference
     monkeypatch.setattr(batch.os, "cpu_count", lambda: 1)  # a small client, a larger cluster
     with LocalCluster(
-        n_workers=3, threads_per_worker=1, processes=False, dashboard_address=None
+        n_workers=3, threads_per_worker=1, processes=False, dashboard_address=":0"
     ) as cluster:
         address = cluster.scheduler_address
         results = [
@@ -355,7 +355,7 @@ def test_an_interrupt_keeps_the_finished_lanes(
     samples, expected = reference
     options = {"chunk_size": 2}
     with (
-        LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None)
+        LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0")
         if backend == "dask"
         else _nothing() as cluster
     ):
@@ -396,7 +396,7 @@ def test_a_dask_cluster_without_workers_is_a_clear_error(
 
     monkeypatch.setattr(batch, "DASK_NO_WORKERS_S", 0.5)
     samples, _ = reference
-    with LocalCluster(n_workers=0, processes=False, dashboard_address=None) as cluster:
+    with LocalCluster(n_workers=0, processes=False, dashboard_address=":0") as cluster:
         address = cluster.scheduler_address
         with pytest.raises(ConfigError, match=r"has no workers \(none joined within 0.5 s\)"):
             simulate_batch(paper_fourbar, _joints(), samples, backend="dask", scheduler=address)
@@ -422,7 +422,7 @@ if __name__ == "__main__":
     reference = simulate_batch(mechanism, joints, samples)
     batch.DASK_NO_WORKERS_S = 1.0
     with LocalCluster(
-        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None
+        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0"
     ) as cluster:
 
         @contextmanager

@@ -117,7 +117,7 @@ def test_dask_cluster_gives_identical_samples_and_summaries(paper_fourbar: Mecha
     )
     # One worker process: the model really travels through the scheduler (pickled).
     with LocalCluster(
-        n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None
+        n_workers=1, threads_per_worker=1, processes=True, dashboard_address=":0"
     ) as cluster:
         on_dask = tolerance_study(
             paper_fourbar,
