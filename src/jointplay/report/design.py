@@ -316,15 +316,15 @@ def write_design(
     The data files and ``summary.json`` come first, each whole whatever the signals, so that
     an interrupt while the figures are drawn keeps them."""
     folder = Path(folder)
-    table = result.to_dataframe()
     written = [folder / "design.parquet", folder / "design.csv", folder / "samples.parquet"]
-    summary = result.summary()
-    if sensitivity is not None:
-        summary["model_sensitivity"] = sensitivity.as_dict()
-    if provenance is not None:
-        summary["provenance"] = dict(provenance)
     written.append(folder / "summary.json")
-    with signals_held():
+    with signals_held():  # from here: an interrupt before the files are whole would lose them
+        table = result.to_dataframe()
+        summary = result.summary()
+        if sensitivity is not None:
+            summary["model_sensitivity"] = sensitivity.as_dict()
+        if provenance is not None:
+            summary["provenance"] = dict(provenance)
         table.to_parquet(written[0], index=False)
         write_csv(csv_table(table, units), written[1], float_format=None)
         result.samples.to_parquet(written[2], index=False)

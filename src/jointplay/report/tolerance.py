@@ -92,14 +92,14 @@ def write_study(
     """
     folder = Path(folder)
     written = [folder / "samples.parquet", folder / "summary.json"]
-    summary = study.summary()
-    summary["response_definitions"] = response_definitions(study.result.response_names)
-    note = sampling_note(study)
-    if note:
-        summary["sampling_distributions"] = note
-    if provenance is not None:
-        summary["provenance"] = dict(provenance)
     with signals_held():  # the data first, whole: an interrupt in the figures keeps them
+        summary = study.summary()
+        summary["response_definitions"] = response_definitions(study.result.response_names)
+        note = sampling_note(study)
+        if note:
+            summary["sampling_distributions"] = note
+        if provenance is not None:
+            summary["provenance"] = dict(provenance)
         study.to_dataframe().to_parquet(written[0], index=False)
         write_json(written[1], summary)
     images: dict[str, bytes] = {}
