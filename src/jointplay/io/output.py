@@ -38,6 +38,7 @@ import re
 import shutil
 import signal
 import sys
+import threading
 import uuid
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
@@ -228,15 +229,44 @@ def _alive(pid: int) -> bool:
 @contextmanager
 def signals_held() -> Iterator[None]:
     """Hold SIGINT and SIGTERM back (delivered on exit), so that the renames, the clean-up and
-    the writing of a result's data files are never cut in half."""
-    if not hasattr(signal, "pthread_sigmask"):  # pragma: no cover - not POSIX
-        yield
+    the writing of a result's data files are never cut in half.
+
+    In the main thread the two signals' handlers are replaced by one that only records them,
+    and the first one recorded is raised again on exit. Blocking them with
+    ``pthread_sigmask`` alone is not enough: it holds them for the calling thread only, and a
+    signal sent to the process is then delivered through another thread (pyarrow's writers,
+    Numba's workers), whose Python handler still interrupts the main thread at once (seen: an
+    interrupted design's partial result without its samples file). Elsewhere, where Python
+    handlers cannot be set, the calling thread blocks them.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        if not hasattr(signal, "pthread_sigmask"):  # pragma: no cover - not POSIX
+            yield
+            return
+        previous_mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+        try:
+            yield
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, previous_mask)
         return
-    previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+    pending: list[int] = []
+
+    def record(signum: int, frame: object) -> None:
+        pending.append(signum)
+
+    # a handler set outside Python (None) could not be put back: such a signal is not held
+    previous = {
+        number: signal.signal(number, record)
+        for number in (signal.SIGINT, signal.SIGTERM)
+        if signal.getsignal(number) is not None
+    }
     try:
         yield
     finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+        for number, handler in previous.items():
+            signal.signal(number, handler)
+        if pending:
+            signal.raise_signal(pending[0])
 
 
 def _publish(staging: Path, target: Path) -> None:
