@@ -1,0 +1,393 @@
+// jointplay explore: the page. Its state is the URL query; every change asks the server for
+// the view of the new settings (GET /api/view), aborting the request before it. A reply
+// that is not the newest is dropped; a bad value shows the server's message and keeps the
+// last good view.
+"use strict";
+
+const SVG = "http://www.w3.org/2000/svg";
+const PROGRESS_AFTER_MS = 300;
+const PERIOD_MS = 3000; // one animated revolution
+const UNITS = { omega: "rad/s", alpha: "rad/s²", F: "N", torque: "N·m", slider_v: "m/s", slider_a: "m/s²" };
+const COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"];
+
+let spec = null;
+let state = {};
+let sequence = 0;
+let controller = null;
+let animation = null;
+let views = 0;
+
+function $(id) { return document.getElementById(id); }
+
+function unitOf(key) {
+  for (const [prefix, unit] of Object.entries(UNITS)) { if (key.startsWith(prefix)) return unit; }
+  return "";
+}
+
+function query() {
+  const params = new URLSearchParams();
+  for (const [key, value] of Object.entries(state)) { if (value !== "") params.set(key, value); }
+  return params.toString();
+}
+
+function showMessage(text) {
+  const box = $("message");
+  box.textContent = text || "";
+  box.hidden = !text;
+}
+
+function setStatus(kind, text) {
+  document.body.dataset.state = kind;
+  $("status").textContent = text;
+}
+
+// --- controls -----------------------------------------------------------------------------
+
+function option(select, value, text) {
+  const item = document.createElement("option");
+  item.value = value;
+  item.textContent = text || value;
+  select.appendChild(item);
+}
+
+function pair(label, id, key, min, max, step) {
+  const wrap = document.createElement("label");
+  wrap.textContent = label;
+  const row = document.createElement("span");
+  row.className = "pair";
+  row.innerHTML = `<input type="range" id="${id}-range" min="${min}" max="${max}" step="${step}" data-for="${key}">` +
+    `<input type="text" id="${id}" data-key="${key}" inputmode="decimal">`;
+  wrap.appendChild(row);
+  return wrap;
+}
+
+function buildControls() {
+  $("name").textContent = `${spec.name} (${spec.source})`;
+  for (const name of spec.contacts) {
+    option($("contact"), name, name === "physical" ? "physical default (docs/contact.md)" : name);
+  }
+  for (const name of spec.starts) option($("start"), name);
+  $("settle").max = spec.max_settle;
+  const joints = $("joints");
+  for (const joint of spec.joints) {
+    const box = document.createElement("div");
+    box.className = "joint";
+    box.dataset.joint = joint.name;
+    const mode = document.createElement("select");
+    mode.id = `mode-${joint.name}`;
+    option(mode, "um", "µm");
+    if (joint.fit) {
+      for (const pick of ["min", "mean", "max"]) option(mode, pick, `${joint.fit} ${pick}`);
+    }
+    option(mode, "off", "ideal joint");
+    const title = document.createElement("label");
+    title.textContent = `${joint.name} (Ø${joint.diameter_mm} mm${joint.fit ? ", fit " + joint.fit + ": " + joint.fit_range_um.map((v) => v.toFixed(1)).join("–") + " µm" : ""}) `;
+    title.appendChild(mode);
+    box.appendChild(title);
+    box.appendChild(pair("clearance (µm)", `clr-${joint.name}`, `c.${joint.name}`, 1, 100, 0.5));
+    joints.appendChild(box);
+    mode.addEventListener("change", () => {
+      const fit = joint.fit;
+      const number = $(`clr-${joint.name}`);
+      if (mode.value === "um") {
+        state[`c.${joint.name}`] = number.value && !number.value.includes(":") ? number.value : "21";
+      } else if (mode.value === "off") {
+        state[`c.${joint.name}`] = "off";
+      } else {
+        state[`c.${joint.name}`] = `${fit}:${mode.value}`;
+      }
+      changed();
+    });
+  }
+  const lengths = $("lengths");
+  for (const length of spec.lengths) {
+    const item = pair(`${length.name} (${length.tolerance}: ${length.min_mm.toFixed(2)}–${length.max_mm.toFixed(2)})`,
+      `len-${length.name}`, `L.${length.name}`, length.min_mm, length.max_mm, 0.01);
+    lengths.appendChild(item);
+  }
+  $("rpm-range").min = Math.max(spec.rpm_range[0], 10);
+  for (const input of document.querySelectorAll("[data-key]")) {
+    input.addEventListener(input.tagName === "SELECT" ? "change" : "input", () => {
+      state[input.dataset.key] = input.value.trim();
+      const range = document.querySelector(`[data-for="${input.dataset.key}"]`);
+      if (range && input.value.trim() !== "" && isFinite(Number(input.value))) range.value = input.value;
+      changed();
+    });
+  }
+  for (const range of document.querySelectorAll("[data-for]")) {
+    range.addEventListener("input", () => {
+      state[range.dataset.for] = range.value;
+      const text = document.querySelector(`[data-key="${range.dataset.for}"]`);
+      if (text) text.value = range.value;
+      changed();
+    });
+  }
+}
+
+function showState() {
+  for (const input of document.querySelectorAll("[data-key]")) {
+    const value = state[input.dataset.key] ?? "";
+    input.value = value;
+    const range = document.querySelector(`[data-for="${input.dataset.key}"]`);
+    if (range && value !== "" && isFinite(Number(value))) range.value = value;
+  }
+  for (const joint of spec.joints) {
+    const value = state[`c.${joint.name}`] ?? "";
+    const mode = $(`mode-${joint.name}`);
+    const number = $(`clr-${joint.name}`);
+    const range = $(`clr-${joint.name}-range`);
+    let kind = "um";
+    if (value === "off") kind = "off";
+    else if (value.includes(":")) kind = value.split(":")[1];
+    if (![...mode.options].some((o) => o.value === kind)) kind = "um";
+    mode.value = kind;
+    const own = kind === "um";
+    number.disabled = !own;
+    range.disabled = !own;
+    if (!own) number.value = value;
+  }
+}
+
+function changed() {
+  history.replaceState(null, "", "?" + query());
+  showState();
+  update();
+}
+
+// --- the view -----------------------------------------------------------------------------
+
+async function update() {
+  sequence += 1;
+  const mine = sequence;
+  if (controller) controller.abort();
+  controller = new AbortController();
+  $("download").href = "/api/download?" + query();
+  const started = performance.now();
+  const timer = setTimeout(() => setStatus("busy", "computing…"), PROGRESS_AFTER_MS);
+  let reply;
+  let body;
+  try {
+    reply = await fetch("/api/view?" + query(), { signal: controller.signal });
+    body = await reply.json();
+  } catch (error) {
+    clearTimeout(timer);
+    if (mine === sequence) { setStatus("error", "the server did not answer"); showMessage(String(error)); }
+    return;
+  }
+  clearTimeout(timer);
+  if (mine !== sequence) return; // a newer change is on its way: drop this one
+  if (!reply.ok) {
+    setStatus("error", "last good view kept");
+    showMessage(body.error || `error ${reply.status}`);
+    return;
+  }
+  showMessage("");
+  render(body);
+  views += 1;
+  document.body.dataset.views = String(views);
+  const seconds = (performance.now() - started) / 1000;
+  document.body.dataset.lastUpdateS = seconds.toFixed(3);
+  setStatus("ready", `updated in ${seconds.toFixed(2)} s (simulation ${body.solver.wall_s.toFixed(2)} s, ${body.solver.steps} steps)`);
+}
+
+function render(view) {
+  drawMechanism(view.mechanism);
+  drawOrbits(view.orbits);
+  drawCurves(view.curves);
+  drawPeaks(view);
+  drawDiagnostics(view);
+}
+
+function svgElement(name, attributes) {
+  const item = document.createElementNS(SVG, name);
+  for (const [key, value] of Object.entries(attributes)) item.setAttribute(key, value);
+  return item;
+}
+
+function drawMechanism(mechanism) {
+  const svg = $("mechanism");
+  svg.replaceChildren();
+  if (animation) cancelAnimationFrame(animation);
+  const xs = [];
+  const ys = [];
+  for (const link of mechanism.links) for (const [x, y] of link) { xs.push(...x); ys.push(...y); }
+  for (const [x, y] of mechanism.ground) { xs.push(x); ys.push(y); }
+  const margin = 0.08 * (Math.max(...xs) - Math.min(...xs) + 1);
+  const left = Math.min(...xs) - margin;
+  const top = -Math.max(...ys) - margin;
+  const width = Math.max(...xs) - Math.min(...xs) + 2 * margin;
+  const height = Math.max(...ys) - Math.min(...ys) + 2 * margin;
+  svg.setAttribute("viewBox", `${left} ${top} ${width} ${height}`);
+  const stroke = width / 250;
+  const root = svgElement("g", { transform: "scale(1,-1)" });
+  svg.appendChild(root);
+  for (const [x, y] of mechanism.ground) {
+    root.appendChild(svgElement("path", { d: `M${x - 4 * stroke},${y - 5 * stroke} L${x},${y} L${x + 4 * stroke},${y - 5 * stroke} Z`, fill: "#999" }));
+  }
+  const lines = mechanism.links.map((link, k) => {
+    const line = svgElement("polygon", { fill: "none", stroke: COLOURS[k % COLOURS.length], "stroke-width": 2 * stroke, "stroke-linejoin": "round" });
+    root.appendChild(line);
+    return line;
+  });
+  const M = mechanism.magnification;
+  const bearings = mechanism.bearings.map((bearing) => {
+    const r = (bearing.clearance_um * 1e-3) * M;
+    const circle = svgElement("circle", { r, fill: "white", stroke: "#444", "stroke-width": stroke / 2, "stroke-dasharray": `${stroke} ${stroke}` });
+    const trace = svgElement("polyline", { fill: "none", stroke: "#bbb", "stroke-width": stroke / 3 });
+    const pin = svgElement("circle", { r: 1.2 * stroke, fill: "#111" });
+    root.append(circle, trace, pin);
+    return { bearing, circle, trace, pin, M };
+  });
+  $("mechanism-caption").textContent =
+    `The links at their true positions over revolution ${mechanism.revolution ?? "(part)"}; ` +
+    `clearance circles and pin offsets magnified ×${M} (pin centre = bearing centre + ${M} × eccentricity).`;
+  const frames = mechanism.frames;
+  const t0 = performance.now();
+  function frame(now) {
+    const i = Math.floor(((now - t0) % PERIOD_MS) / PERIOD_MS * frames) % frames;
+    mechanism.links.forEach((link, k) => {
+      lines[k].setAttribute("points", link.map(([x, y]) => `${x[i]},${y[i]}`).join(" "));
+    });
+    for (const { bearing, circle, trace, pin, M } of bearings) {
+      const cx = bearing.centre_mm[0][i];
+      const cy = bearing.centre_mm[1][i];
+      circle.setAttribute("cx", cx);
+      circle.setAttribute("cy", cy);
+      pin.setAttribute("cx", cx + M * bearing.eccentricity_um[0][i] * 1e-3);
+      pin.setAttribute("cy", cy + M * bearing.eccentricity_um[1][i] * 1e-3);
+      trace.setAttribute("points", bearing.eccentricity_um[0].map((ex, j) =>
+        `${cx + M * ex * 1e-3},${cy + M * bearing.eccentricity_um[1][j] * 1e-3}`).join(" "));
+    }
+    svg.dataset.frame = String(i);
+    animation = requestAnimationFrame(frame);
+  }
+  animation = requestAnimationFrame(frame);
+}
+
+const CONFIG = { displaylogo: false, responsive: true };
+
+function drawOrbits(orbits) {
+  const box = $("orbits");
+  for (const child of [...box.children]) {
+    if (!(child.dataset.joint in orbits)) { Plotly.purge(child); child.remove(); }
+  }
+  for (const [joint, orbit] of Object.entries(orbits)) {
+    let div = $(`orbit-${joint}`);
+    if (!div) {
+      div = document.createElement("div");
+      div.id = `orbit-${joint}`;
+      div.dataset.joint = joint;
+      box.appendChild(div);
+    }
+    const c = orbit.clearance_um;
+    const angles = Array.from({ length: 121 }, (_, k) => (2 * Math.PI * k) / 120);
+    const reach = Math.max(c, ...orbit.x_um.map(Math.abs), ...orbit.y_um.map(Math.abs)) * 1.1;
+    Plotly.react(div, [
+      { x: angles.map((a) => c * Math.cos(a)), y: angles.map((a) => c * Math.sin(a)), mode: "lines", line: { dash: "dash", color: "#888" }, name: `clearance ${c.toPrecision(3)} µm`, hoverinfo: "skip" },
+      { x: orbit.x_um, y: orbit.y_um, mode: "lines", line: { color: "#1f77b4" }, name: "pin centre" },
+    ], {
+      title: { text: `${joint}: c = ${c.toPrecision(3)} µm`, font: { size: 13 } },
+      showlegend: false,
+      margin: { l: 45, r: 10, t: 30, b: 35 },
+      xaxis: { range: [-reach, reach], title: { text: "ex (µm)" }, zeroline: false },
+      yaxis: { range: [-reach, reach], title: { text: "ey (µm)" }, scaleanchor: "x", zeroline: false },
+    }, CONFIG);
+  }
+}
+
+function curvePlot(id, title, unit, keys, curves) {
+  const traces = [];
+  keys.forEach((key, k) => {
+    const series = curves.series[key];
+    const colour = COLOURS[k % COLOURS.length];
+    traces.push({ x: curves.crank_deg, y: series.values, mode: "lines", name: key, line: { color: colour } });
+    if (series.nominal.length) {
+      traces.push({ x: curves.nominal_crank_deg, y: series.nominal, mode: "lines", name: `${key} ideal`, line: { color: "#111", dash: "dot", width: 1.5 } });
+    }
+  });
+  Plotly.react($(id), traces, {
+    title: { text: title, font: { size: 13 } },
+    margin: { l: 55, r: 10, t: 30, b: 40 },
+    xaxis: { title: { text: "crank angle in the analysed revolution (deg)" } },
+    yaxis: { title: { text: unit } },
+  }, CONFIG);
+}
+
+function drawCurves(curves) {
+  const keys = Object.keys(curves.series);
+  const forces = keys.filter((k) => k.startsWith("F_"));
+  const omegas = keys.filter((k) => k.startsWith("omega") || k === "slider_v");
+  const output = omegas.length ? [omegas[omegas.length - 1]] : [];
+  curvePlot("forces", "Joint forces (dotted: ideal joints)", "N", forces, curves);
+  curvePlot("speed", "Output link speed against the ideal one", output.length ? unitOf(output[0]) : "", output, curves);
+  curvePlot("torque", "Driving torque (dotted: ideal joints)", "N·m", keys.filter((k) => k === "torque"), curves);
+}
+
+function format(value, digits) {
+  if (value === null || value === undefined || Number.isNaN(value)) return "";
+  return Number(value).toPrecision(digits);
+}
+
+function drawPeaks(view) {
+  const body = $("peaks").querySelector("tbody");
+  body.replaceChildren();
+  for (const [key, peak] of Object.entries(view.peaks)) {
+    const row = document.createElement("tr");
+    row.dataset.key = key;
+    const increase = view.increase_percent[key];
+    const cells = [
+      `${key} (${unitOf(key)})`,
+      format(peak.value, 5),
+      String(peak.revolution),
+      format(peak.revolution_deg, 4),
+      format(view.nominal_peaks[key], 5),
+      increase === undefined || increase === null ? "" : (increase >= 0 ? "+" : "") + increase.toFixed(1),
+    ];
+    for (const text of cells) {
+      const cell = document.createElement("td");
+      cell.textContent = text;
+      row.appendChild(cell);
+    }
+    row.children[1].dataset.value = String(peak.value);
+    body.appendChild(row);
+  }
+}
+
+function drawDiagnostics(view) {
+  const list = $("diagnostics");
+  list.replaceChildren();
+  const lines = [
+    ["info", `contact: ${view.contact}`],
+    ["info", `periodicity: ${view.periodicity}`],
+    ["info", "deepest penetration over the analysed revolution: " +
+      Object.entries(view.max_penetration_um).map(([j, v]) => `${j} ${v.toPrecision(3)} µm`).join(", ")],
+  ];
+  if (view.status !== "success" && view.message) lines.push(["warning", view.message]);
+  for (const finding of view.diagnostics) {
+    lines.push([finding.level, `${finding.level}: ${finding.code}${finding.joint ? " [" + finding.joint + "]" : ""}: ${finding.message}`]);
+  }
+  for (const [level, text] of lines) {
+    const item = document.createElement("li");
+    item.className = level;
+    item.textContent = text;
+    list.appendChild(item);
+  }
+}
+
+async function start() {
+  try {
+    const reply = await fetch("/api/spec");
+    spec = await reply.json();
+  } catch (error) {
+    setStatus("error", "the server did not answer");
+    return;
+  }
+  buildControls();
+  state = { ...spec.defaults };
+  for (const [key, value] of new URLSearchParams(location.search)) state[key] = value;
+  history.replaceState(null, "", "?" + query());
+  showState();
+  update();
+}
+
+start();
