@@ -21,7 +21,11 @@ def _check_installed() -> None:
     """A clear line when the web app's packages are missing."""
     import importlib.util
 
-    missing = [name for name in ("starlette", "uvicorn", "plotly") if importlib.util.find_spec(name) is None]
+    missing = [
+        name
+        for name in ("starlette", "uvicorn", "plotly")
+        if importlib.util.find_spec(name) is None
+    ]
     if missing:
         raise ConfigError(
             f"jointplay explore needs {', '.join(missing)}, which are not installed: {INSTALL_HINT}"
@@ -34,9 +38,7 @@ def explore_command(
     config: ConfigOption = None,
     port: Annotated[
         int,
-        typer.Option(
-            "--port", help="Port to serve on (0: any free port).", min=0, max=65535
-        ),
+        typer.Option("--port", help="Port to serve on (0: any free port).", min=0, max=65535),
     ] = 8765,
     host: Annotated[
         str,

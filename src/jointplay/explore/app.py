@@ -99,12 +99,16 @@ def create_app(base: Base, *, hosts: tuple[str, ...] = HOSTS) -> Starlette:
 
     async def page(request: Request) -> Response:
         # The page reads its own query and reports a bad one beside the controls.
-        return Response(_asset_cached("index.html"), media_type="text/html; charset=utf-8", headers=HEADERS)
+        return Response(
+            _asset_cached("index.html"), media_type="text/html; charset=utf-8", headers=HEADERS
+        )
 
     def _asset_cached(name: str) -> bytes:
         if name not in cache:
             if name == "index.html":
-                cache[name] = (resources.files("jointplay.explore") / "static/index.html").read_bytes()
+                cache[name] = (
+                    resources.files("jointplay.explore") / "static/index.html"
+                ).read_bytes()
             else:
                 cache[name] = _asset(name)
         return cache[name]
@@ -128,7 +132,8 @@ def create_app(base: Base, *, hosts: tuple[str, ...] = HOSTS) -> Starlette:
     async def view(request: Request) -> Response:
         try:
             data = await _settle(
-                request, lambda s: engine.view(engine.simulate_settings(base, s)) | {"query": s.query()}
+                request,
+                lambda s: engine.view(engine.simulate_settings(base, s)) | {"query": s.query()},
             )
         except Superseded:
             return _error("superseded by a newer request", 409)

@@ -32,6 +32,8 @@ from jointplay.explore.settings import Base, Settings, config_data
 FRAMES = 90
 #: The nominal curves are drawn every this many of their 0.1° rows (0.5°).
 NOMINAL_STRIDE = 5
+#: The arguments of the download's ``jointplay simulate`` (run in a fresh folder).
+COMMAND = ("--config", "settings.toml", "--out", "results", "--no-plots", "--no-progress")
 #: The longest the download's ``jointplay simulate`` may take, s.
 DOWNLOAD_TIMEOUT_S = 300.0
 
@@ -93,9 +95,7 @@ def simulate_settings(base: Base, settings: Settings) -> Run:
 def _list(values: Any, digits: int = 6) -> list[float | None]:
     """Numbers for JSON, rounded to ``digits`` significant digits (NaN: ``None``)."""
     array = np.asarray(values, dtype=float)
-    return [
-        None if not math.isfinite(v) else float(f"{v:.{digits}g}") for v in array.tolist()
-    ]
+    return [None if not math.isfinite(v) else float(f"{v:.{digits}g}") for v in array.tolist()]
 
 
 def view(run: Run) -> dict[str, Any]:
@@ -135,7 +135,9 @@ def view(run: Run) -> dict[str, Any]:
                 for key in keys
             ]
         )
-    ground = sorted({key for key in frames.points if key[0] not in {lk.name for lk in mechanism.links}})
+    ground = sorted(
+        {key for key in frames.points if key[0] not in {lk.name for lk in mechanism.links}}
+    )
     out["mechanism"] = {
         "frames": frames.count,
         "revolution": frames.revolution,
@@ -207,10 +209,7 @@ def download(base: Base, settings: Settings) -> bytes:
         environment = {**os.environ, "MPLBACKEND": "Agg"}
         try:
             done = subprocess.run(
-                [
-                    sys.executable, "-m", "jointplay", "simulate", "--config", "settings.toml",
-                    "--out", "results", "--no-plots", "--no-progress",
-                ],  # fmt: skip
+                [sys.executable, "-m", "jointplay", "simulate", *COMMAND],
                 cwd=work,
                 env=environment,
                 capture_output=True,
@@ -224,7 +223,9 @@ def download(base: Base, settings: Settings) -> bytes:
             ) from None
         if done.returncode != 0:
             lines = [line for line in done.stderr.splitlines() if line.startswith("jointplay:")]
-            raise ConfigError(lines[-1] if lines else f"jointplay simulate failed ({done.returncode})")
+            raise ConfigError(
+                lines[-1] if lines else f"jointplay simulate failed ({done.returncode})"
+            )
         buffer = io.BytesIO()
         with zipfile.ZipFile(buffer, "w", zipfile.ZIP_DEFLATED) as archive:
             archive.writestr("settings.toml", text)

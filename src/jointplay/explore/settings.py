@@ -160,7 +160,9 @@ def load_base(preset: str | None = None, config: Path | str | None = None) -> Ba
             fit_range = (limits.radial_clearance_min, limits.radial_clearance_max)
         given = table.get("clearance")
         joints.append(
-            JointControl(name, fit.diameter, fit.fit, None if given is None else fit.clearance, fit_range)
+            JointControl(
+                name, fit.diameter, fit.fit, None if given is None else fit.clearance, fit_range
+            )
         )
     return Base(
         data=data,
