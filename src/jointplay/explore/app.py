@@ -45,7 +45,7 @@ ASSETS: dict[str, tuple[str, str, str]] = {
 }
 #: Host names the server answers to (a guard against DNS rebinding: another site's page
 #: cannot reach it under its own name).
-HOSTS = ("127.0.0.1", "localhost", "[::1]", "::1", "testserver")
+HOSTS = ("127.0.0.1", "localhost", "[::1]", "::1")
 #: Security headers of every page and asset: no framing, no foreign scripts.
 HEADERS = {
     "Content-Security-Policy": "default-src 'self'; img-src 'self' data:; style-src 'self' 'unsafe-inline'; script-src 'self'",

@@ -402,8 +402,8 @@ def config_data(base: Base, settings: Settings) -> dict[str, Any]:
         simulation["method"] = settings.contact
     if settings.friction is not None:
         simulation["friction"] = settings.friction
-    simulation.update(
-        {"joints": joints, "start": settings.start, "settle": settings.settle, "revolutions": 1}
-    )
+    if base.joints:  # else simulate's default: every joint with a clearance in its fit data
+        simulation["joints"] = joints
+    simulation.update({"start": settings.start, "settle": settings.settle, "revolutions": 1})
     data["simulation"] = simulation
     return data
