@@ -68,31 +68,32 @@ def explore_command(
     from jointplay.explore.settings import load_base, parse_query
 
     base = load_base(preset, None if config is None else str(config))
+    sock = socket.socket(socket.AF_INET6 if ":" in host else socket.AF_INET)
     try:
-        sock = socket.socket(socket.AF_INET6 if ":" in host else socket.AF_INET)
         sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
         sock.bind((host, port))
     except OSError as exc:
+        sock.close()
         raise ConfigError(
             f"cannot serve on {host}:{port}: {exc.strerror or exc}; give another --port (0: any free one)"
         ) from None
-    with compiling_kernels():  # the first view is then as quick as the next
-        simulate_settings(base, parse_query(base, {}))
-    bound = sock.getsockname()[1]
-    shown = f"[{host}]" if ":" in host else host
-    url = f"http://{shown}:{bound}/"
-    hosts = HOSTS if host in ("127.0.0.1", "localhost", "::1") else (*HOSTS, host, shown)
-    server = uvicorn.Server(
-        uvicorn.Config(
-            create_app(base, hosts=tuple(hosts)),
-            log_level="warning",
-            timeout_graceful_shutdown=5,
-        )
-    )
-    print(f"jointplay explore: {base.name} at {url} (Ctrl-C stops)", flush=True)
-    if browser:
-        threading.Thread(target=_open_when_up, args=(server, url), daemon=True).start()
     try:
+        with compiling_kernels():  # the first view is then as quick as the next
+            simulate_settings(base, parse_query(base, {}))
+        bound = sock.getsockname()[1]
+        shown = f"[{host}]" if ":" in host else host
+        url = f"http://{shown}:{bound}/"
+        hosts = HOSTS if host in ("127.0.0.1", "localhost", "::1") else (*HOSTS, host, shown)
+        server = uvicorn.Server(
+            uvicorn.Config(
+                create_app(base, hosts=tuple(hosts)),
+                log_level="warning",
+                timeout_graceful_shutdown=5,
+            )
+        )
+        where = f"{base.name} at {url}"
+        announce = (server, where, url if browser else None)
+        threading.Thread(target=_announce, args=announce, daemon=True).start()
         server.run(sockets=[sock])
     except (KeyboardInterrupt, Interrupted):
         pass  # uvicorn has shut down; it raises the signal it caught again
@@ -101,12 +102,16 @@ def explore_command(
     print("jointplay explore: stopped", file=sys.stderr)
 
 
-def _open_when_up(server: object, url: str) -> None:
+def _announce(server: object, where: str, url: str | None) -> None:
+    """Once the server answers: say where (one line on stdout), and open ``url`` in the
+    browser unless ``None``."""
     import time
     import webbrowser
 
-    for _ in range(200):
-        if getattr(server, "started", False):
-            webbrowser.open(url)
+    while not getattr(server, "started", False):
+        if getattr(server, "should_exit", False):
             return
-        time.sleep(0.05)
+        time.sleep(0.02)
+    print(f"jointplay explore: {where} (Ctrl-C stops)", flush=True)
+    if url is not None:
+        webbrowser.open(url)

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import itertools
 import threading
+import time
 from collections.abc import Callable
 from importlib import resources
 from typing import Any, TypeVar
@@ -133,7 +134,10 @@ def create_app(base: Base, *, hosts: tuple[str, ...] = HOSTS) -> Starlette:
         try:
             data = await _settle(
                 request,
-                lambda s: engine.view(engine.simulate_settings(base, s)) | {"query": s.query()},
+                lambda s: (
+                    _timed(lambda: engine.view(engine.simulate_settings(base, s)))
+                    | {"query": s.query()}
+                ),
             )
         except Superseded:
             return _error("superseded by a newer request", 409)
@@ -166,6 +170,14 @@ def create_app(base: Base, *, hosts: tuple[str, ...] = HOSTS) -> Starlette:
     )
     app.state.runner = runner
     return app
+
+
+def _timed(work: Callable[[], dict[str, Any]]) -> dict[str, Any]:
+    """``work()`` with ``server_s``, the seconds it took."""
+    started = time.perf_counter()
+    out = work()
+    out["server_s"] = time.perf_counter() - started
+    return out
 
 
 def _line(exc: BaseException) -> str:

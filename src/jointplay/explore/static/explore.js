@@ -159,6 +159,7 @@ function changed() {
 async function update() {
   sequence += 1;
   const mine = sequence;
+  pauseAnimation(); // the browser's drawing would compete with the simulation for the CPU
   if (controller) controller.abort();
   controller = new AbortController();
   $("download").href = "/api/download?" + query();
@@ -171,23 +172,31 @@ async function update() {
     body = await reply.json();
   } catch (error) {
     clearTimeout(timer);
-    if (mine === sequence) { setStatus("error", "the server did not answer"); showMessage(String(error)); }
+    if (mine === sequence) { resumeAnimation(); setStatus("error", "the server did not answer"); showMessage(String(error)); }
     return;
   }
   clearTimeout(timer);
   if (mine !== sequence) return; // a newer change is on its way: drop this one
   if (!reply.ok) {
+    resumeAnimation();
     setStatus("error", "last good view kept");
     showMessage(body.error || `error ${reply.status}`);
     return;
   }
   showMessage("");
+  const received = performance.now();
   render(body);
   views += 1;
-  document.body.dataset.views = String(views);
-  const seconds = (performance.now() - started) / 1000;
-  document.body.dataset.lastUpdateS = seconds.toFixed(3);
-  setStatus("ready", `updated in ${seconds.toFixed(2)} s (simulation ${body.solver.wall_s.toFixed(2)} s, ${body.solver.steps} steps)`);
+  const done = performance.now();
+  const seconds = (done - started) / 1000;
+  // what the update took: in all, on the server (simulation and view), and drawing here
+  Object.assign(document.body.dataset, {
+    lastUpdateS: seconds.toFixed(3),
+    lastServerS: body.server_s.toFixed(3),
+    lastDrawS: ((done - received) / 1000).toFixed(3),
+    views: String(views),
+  });
+  setStatus("ready", `updated in ${seconds.toFixed(2)} s (server ${body.server_s.toFixed(2)} s, of which integration ${body.solver.wall_s.toFixed(2)} s, ${body.solver.steps} steps)`);
 }
 
 function render(view) {
@@ -204,10 +213,21 @@ function svgElement(name, attributes) {
   return item;
 }
 
+let animate = null; // draws the current frame and asks for the next one
+
+function pauseAnimation() {
+  if (animation) cancelAnimationFrame(animation);
+  animation = null;
+}
+
+function resumeAnimation() {
+  if (animate && !animation) animation = requestAnimationFrame(animate);
+}
+
 function drawMechanism(mechanism) {
   const svg = $("mechanism");
   svg.replaceChildren();
-  if (animation) cancelAnimationFrame(animation);
+  pauseAnimation();
   const xs = [];
   const ys = [];
   for (const link of mechanism.links) for (const [x, y] of link) { xs.push(...x); ys.push(...y); }
@@ -243,8 +263,12 @@ function drawMechanism(mechanism) {
     `clearance circles and pin offsets magnified ×${M} (pin centre = bearing centre + ${M} × eccentricity).`;
   const frames = mechanism.frames;
   const t0 = performance.now();
+  let shown = -1;
   function frame(now) {
     const i = Math.floor(((now - t0) % PERIOD_MS) / PERIOD_MS * frames) % frames;
+    animation = requestAnimationFrame(frame);
+    if (i === shown) return; // 30 frames a second at most: no work between frames
+    shown = i;
     mechanism.links.forEach((link, k) => {
       lines[k].setAttribute("points", link.map(([x, y]) => `${x[i]},${y[i]}`).join(" "));
     });
@@ -259,58 +283,45 @@ function drawMechanism(mechanism) {
         `${cx + M * ex * 1e-3},${cy + M * bearing.eccentricity_um[1][j] * 1e-3}`).join(" "));
     }
     svg.dataset.frame = String(i);
-    animation = requestAnimationFrame(frame);
   }
-  animation = requestAnimationFrame(frame);
+  animate = frame;
+  resumeAnimation();
 }
 
 const CONFIG = { displaylogo: false, responsive: true };
 
+// One figure of every joint's orbit (a subplot each, equal axes) and one of the curves:
+// Plotly's cost is mostly per figure, and the page must redraw within ~0.1 s.
 function drawOrbits(orbits) {
-  const box = $("orbits");
-  for (const child of [...box.children]) {
-    if (!(child.dataset.joint in orbits)) { Plotly.purge(child); child.remove(); }
-  }
-  for (const [joint, orbit] of Object.entries(orbits)) {
-    let div = $(`orbit-${joint}`);
-    if (!div) {
-      div = document.createElement("div");
-      div.id = `orbit-${joint}`;
-      div.dataset.joint = joint;
-      box.appendChild(div);
-    }
-    const c = orbit.clearance_um;
-    const angles = Array.from({ length: 121 }, (_, k) => (2 * Math.PI * k) / 120);
-    const reach = Math.max(c, ...orbit.x_um.map(Math.abs), ...orbit.y_um.map(Math.abs)) * 1.1;
-    Plotly.react(div, [
-      { x: angles.map((a) => c * Math.cos(a)), y: angles.map((a) => c * Math.sin(a)), mode: "lines", line: { dash: "dash", color: "#888" }, name: `clearance ${c.toPrecision(3)} µm`, hoverinfo: "skip" },
-      { x: orbit.x_um, y: orbit.y_um, mode: "lines", line: { color: "#1f77b4" }, name: "pin centre" },
-    ], {
-      title: { text: `${joint}: c = ${c.toPrecision(3)} µm`, font: { size: 13 } },
-      showlegend: false,
-      margin: { l: 45, r: 10, t: 30, b: 35 },
-      xaxis: { range: [-reach, reach], title: { text: "ex (µm)" }, zeroline: false },
-      yaxis: { range: [-reach, reach], title: { text: "ey (µm)" }, scaleanchor: "x", zeroline: false },
-    }, CONFIG);
-  }
-}
-
-function curvePlot(id, title, unit, keys, curves) {
+  const joints = Object.keys(orbits);
+  const columns = Math.min(joints.length, 4);
+  const rows = Math.ceil(joints.length / columns);
   const traces = [];
-  keys.forEach((key, k) => {
-    const series = curves.series[key];
-    const colour = COLOURS[k % COLOURS.length];
-    traces.push({ x: curves.crank_deg, y: series.values, mode: "lines", name: key, line: { color: colour } });
-    if (series.nominal.length) {
-      traces.push({ x: curves.nominal_crank_deg, y: series.nominal, mode: "lines", name: `${key} ideal`, line: { color: "#111", dash: "dot", width: 1.5 } });
-    }
+  const layout = { showlegend: false, margin: { l: 40, r: 10, t: 25, b: 35 }, annotations: [], height: 270 * rows };
+  const angles = Array.from({ length: 121 }, (_, k) => (2 * Math.PI * k) / 120);
+  joints.forEach((joint, k) => {
+    const orbit = orbits[joint];
+    const c = orbit.clearance_um;
+    const n = k === 0 ? "" : String(k + 1);
+    const column = k % columns;
+    const row = Math.floor(k / columns);
+    const gap = 0.06;
+    const x0 = column / columns + (column ? gap / 2 : 0);
+    const x1 = (column + 1) / columns - (column < columns - 1 ? gap / 2 : 0);
+    const y1 = 1 - row / rows - (row ? 0.06 : 0);
+    const y0 = 1 - (row + 1) / rows + (row < rows - 1 ? 0.06 : 0);
+    const reach = Math.max(c, ...orbit.x_um.map(Math.abs), ...orbit.y_um.map(Math.abs)) * 1.1;
+    traces.push(
+      { x: angles.map((a) => c * Math.cos(a)), y: angles.map((a) => c * Math.sin(a)), xaxis: "x" + n, yaxis: "y" + n, mode: "lines", line: { dash: "dash", color: "#888" }, name: `${joint} clearance`, meta: [joint, "clearance"], hoverinfo: "skip" },
+      { x: orbit.x_um, y: orbit.y_um, xaxis: "x" + n, yaxis: "y" + n, mode: "lines", line: { color: "#1f77b4" }, name: `${joint} pin centre`, meta: [joint, "orbit"] },
+    );
+    layout["xaxis" + n] = { domain: [x0, x1], range: [-reach, reach], anchor: "y" + n, title: { text: "ex (µm)" }, zeroline: false };
+    layout["yaxis" + n] = { domain: [y0, y1], range: [-reach, reach], anchor: "x" + n, scaleanchor: "x" + n, title: { text: "ey (µm)" }, zeroline: false };
+    layout.annotations.push({ text: `${joint}: c = ${c.toPrecision(3)} µm`, x: (x0 + x1) / 2, y: y1, xref: "paper", yref: "paper", yanchor: "bottom", showarrow: false, font: { size: 13 } });
   });
-  Plotly.react($(id), traces, {
-    title: { text: title, font: { size: 13 } },
-    margin: { l: 55, r: 10, t: 30, b: 40 },
-    xaxis: { title: { text: "crank angle in the analysed revolution (deg)" } },
-    yaxis: { title: { text: unit } },
-  }, CONFIG);
+  const box = $("orbits");
+  box.style.height = `${layout.height}px`;
+  Plotly.react(box, traces, layout, CONFIG);
 }
 
 function drawCurves(curves) {
@@ -318,9 +329,33 @@ function drawCurves(curves) {
   const forces = keys.filter((k) => k.startsWith("F_"));
   const omegas = keys.filter((k) => k.startsWith("omega") || k === "slider_v");
   const output = omegas.length ? [omegas[omegas.length - 1]] : [];
-  curvePlot("forces", "Joint forces (dotted: ideal joints)", "N", forces, curves);
-  curvePlot("speed", "Output link speed against the ideal one", output.length ? unitOf(output[0]) : "", output, curves);
-  curvePlot("torque", "Driving torque (dotted: ideal joints)", "N·m", keys.filter((k) => k === "torque"), curves);
+  const panels = [
+    ["Joint forces (N)", forces],
+    [`Output link speed${output.length ? " " + output[0] + " (" + unitOf(output[0]) + ")" : ""}`, output],
+    ["Driving torque (N·m)", keys.filter((k) => k === "torque")],
+  ];
+  const traces = [];
+  const layout = {
+    height: 760, margin: { l: 55, r: 10, t: 25, b: 40 }, annotations: [],
+    legend: { orientation: "v", x: 1.01, y: 1 },
+  };
+  let colour = 0;
+  panels.forEach(([title, names], k) => {
+    const n = k === 0 ? "" : String(k + 1);
+    const top = 1 - k / 3 - (k ? 0.03 : 0);
+    const bottom = 1 - (k + 1) / 3 + (k < 2 ? 0.05 : 0);
+    layout["xaxis" + n] = { anchor: "y" + n, matches: k ? "x" : undefined, showticklabels: k === 2, title: k === 2 ? { text: "crank angle in the analysed revolution (deg); dotted: ideal joints" } : undefined };
+    layout["yaxis" + n] = { domain: [bottom, top], anchor: "x" + n };
+    layout.annotations.push({ text: title, x: 0.5, y: top, xref: "paper", yref: "paper", yanchor: "bottom", showarrow: false, font: { size: 13 } });
+    for (const key of names) {
+      const series = curves.series[key];
+      traces.push({ x: curves.crank_deg, y: series.values, xaxis: "x" + n, yaxis: "y" + n, mode: "lines", name: key, meta: [key, "run"], line: { color: COLOURS[colour++ % COLOURS.length], width: 1.5 } });
+      if (series.nominal.length) {
+        traces.push({ x: curves.nominal_crank_deg, y: series.nominal, xaxis: "x" + n, yaxis: "y" + n, mode: "lines", name: `${key} ideal`, meta: [key, "ideal"], showlegend: false, line: { color: "#111", dash: "dot", width: 1.5 } });
+      }
+    }
+  });
+  Plotly.react($("curves"), traces, layout, CONFIG);
 }
 
 function format(value, digits) {
