@@ -108,6 +108,9 @@ class Base:
                     "name": j.name,
                     "diameter_mm": j.diameter * 1e3,
                     "fit": j.fit,
+                    "slider_max_um": max(
+                        100.0, 2e6 * max(j.clearance or 0.0, (j.fit_range or (0.0, 0.0))[1])
+                    ),
                     "fit_range_um": None
                     if j.fit_range is None
                     else [j.fit_range[0] * 1e6, j.fit_range[1] * 1e6],

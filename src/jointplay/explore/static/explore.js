@@ -84,7 +84,7 @@ function buildControls() {
     title.textContent = `${joint.name} (Ø${joint.diameter_mm} mm${joint.fit ? ", fit " + joint.fit + ": " + joint.fit_range_um.map((v) => v.toFixed(1)).join("–") + " µm" : ""}) `;
     title.appendChild(mode);
     box.appendChild(title);
-    box.appendChild(pair("clearance (µm)", `clr-${joint.name}`, `c.${joint.name}`, 1, 100, 0.5));
+    box.appendChild(pair("clearance (µm)", `clr-${joint.name}`, `c.${joint.name}`, 1, joint.slider_max_um, 0.5));
     joints.appendChild(box);
     mode.addEventListener("change", () => {
       const fit = joint.fit;
