@@ -129,6 +129,9 @@ def test_download_is_what_simulate_writes(client) -> None:
     assert summary["peaks"].keys() == view["peaks"].keys()
     for key, peak in view["peaks"].items():
         assert summary["peaks"][key]["value"] == pytest.approx(peak["value"], rel=1e-9)
+    # the view's nominal analysis was kept from an earlier run; the command computes its own
+    assert summary["nominal_peaks"] == pytest.approx(view["nominal_peaks"], rel=1e-9)
+    assert summary["increase_percent"] == pytest.approx(view["increase_percent"], rel=1e-9)
     assert summary["contact"]["method"] == "ifm-conventional"
     assert 'method = "ifm-conventional"' in archive.read("settings.toml").decode()
 

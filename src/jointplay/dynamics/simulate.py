@@ -530,6 +530,7 @@ def simulate(
     if throw and not run.success:
         raise IntegrationError(message)
     columns, qdd = _columns(system, run.t, run.y)
+    table: pd.DataFrame | None
     if isinstance(nominal, pd.DataFrame):  # this mechanism's, computed before
         table = nominal
     else:
