@@ -143,6 +143,8 @@ def create_app(base: Base, *, hosts: tuple[str, ...] = HOSTS) -> Starlette:
             return _error("superseded by a newer request", 409)
         except JointplayError as exc:
             return _error(_line(exc))
+        except Exception as exc:  # a bug: one line to the page and the console
+            return _bug(exc)
         return JSONResponse(data, headers=HEADERS)
 
     async def download(request: Request) -> Response:
@@ -151,6 +153,8 @@ def create_app(base: Base, *, hosts: tuple[str, ...] = HOSTS) -> Starlette:
             archive = await run_in_threadpool(engine.download, base, settings)
         except JointplayError as exc:
             return _error(_line(exc))
+        except Exception as exc:
+            return _bug(exc)
         name = f"jointplay-{base.name}.zip"
         return Response(
             archive,
@@ -178,6 +182,23 @@ def _timed(work: Callable[[], dict[str, Any]]) -> dict[str, Any]:
     out = work()
     out["server_s"] = time.perf_counter() - started
     return out
+
+
+def _bug(exc: Exception) -> JSONResponse:
+    """A ``500`` for an unexpected error, said in one line on the page and on the server's
+    console (with the traceback when ``JOINTPLAY_DEBUG=1``, as the command line does)."""
+    import os
+    import sys
+    import traceback
+
+    line = (
+        f"internal error (a bug): {type(exc).__name__}: {_line(exc)}; please report it to the "
+        "jointplay maintainers with the page's address"
+    )
+    print(f"jointplay explore: {line}", file=sys.stderr)
+    if os.environ.get("JOINTPLAY_DEBUG"):
+        traceback.print_exception(exc)
+    return _error(line, 500)
 
 
 def _line(exc: BaseException) -> str:

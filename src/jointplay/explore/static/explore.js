@@ -164,19 +164,27 @@ async function update() {
   controller = new AbortController();
   $("download").href = "/api/download?" + query();
   const started = performance.now();
-  const timer = setTimeout(() => setStatus("busy", "computing…"), PROGRESS_AFTER_MS);
+  // past PROGRESS_AFTER_MS: "computing…" with the seconds so far, until the answer
+  let ticker = null;
+  const timer = setTimeout(() => {
+    const tick = () => setStatus("busy", `computing… ${((performance.now() - started) / 1000).toFixed(1)} s`);
+    tick();
+    ticker = setInterval(tick, 100);
+  }, PROGRESS_AFTER_MS);
+  const stopTimer = () => { clearTimeout(timer); clearInterval(ticker); };
   let reply;
   let body;
   try {
     reply = await fetch("/api/view?" + query(), { signal: controller.signal });
     body = await reply.json();
   } catch (error) {
-    clearTimeout(timer);
+    stopTimer(); // aborted by a newer change, or no answer
     if (mine === sequence) { resumeAnimation(); setStatus("error", "the server did not answer"); showMessage(String(error)); }
     return;
   }
-  clearTimeout(timer);
+  stopTimer();
   if (mine !== sequence) return; // a newer change is on its way: drop this one
+  if (reply.status === 409) { update(); return; } // superseded by another tab's change: again
   if (!reply.ok) {
     resumeAnimation();
     setStatus("error", "last good view kept");
