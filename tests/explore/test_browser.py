@@ -210,10 +210,16 @@ def test_the_url_reproduces_the_view(page, browser, server) -> None:
     _views(page, 1)
     page.select_option("#mode-B", "max")
     _views(page, 2)
-    page.fill("#len-crank", "108.4")
+    assert max(_orbit(page, "B")["circle"]) == pytest.approx(21, rel=1e-3)  # H8/g7's largest
+    page.fill("#fit-B", "H7/g6")
+    page.dispatch_event("#fit-B", "change")
     _views(page, 3)
+    # ISO 286 at Ø10 mm: H7 +15/0 µm, g6 -5/-14 µm, so the largest radial clearance is 14.5 µm
+    assert max(_orbit(page, "B")["circle"]) == pytest.approx(14.5, rel=1e-3)
+    page.fill("#len-crank", "108.4")
+    _views(page, 4)
     url, peaks = page.url, _peaks(page)
-    assert "c.B=H8%2Fg7%3Amax" in url and "L.crank=108.4" in url
+    assert "c.B=H7%2Fg6%3Amax" in url and "L.crank=108.4" in url
     context = browser.new_context(bypass_csp=True)
     shared = context.new_page()
     shared.goto(url)
@@ -221,6 +227,7 @@ def test_the_url_reproduces_the_view(page, browser, server) -> None:
     assert _peaks(shared) == peaks
     assert shared.input_value("#contact") == "ifm-conventional"
     assert shared.input_value("#mode-B") == "max"
+    assert shared.input_value("#fit-B") == "H7/g6"
     assert shared.input_value("#len-crank") == "108.4"
     assert shared.url == url
     context.close()

@@ -113,3 +113,14 @@ def test_presets_without_fit_tables_have_no_joint_controls() -> None:
     assert general.lengths == ()
     with pytest.raises(ConfigError, match="not both"):
         load_base("paper-fourbar", "x.toml")
+
+
+def test_a_configuration_file_is_explored_as_given(tmp_path) -> None:
+    from jointplay.io.config import preset_text
+
+    text = preset_text("paper-fourbar").replace('speed = "200 rpm"', 'speed = "150 rpm"')
+    path = tmp_path / "mine.toml"
+    path.write_text(text, encoding="utf-8")
+    mine = load_base(config=path)
+    assert mine.rpm == pytest.approx(150) and "mine.toml" in mine.source
+    assert parse_query(mine, {}).rpm == pytest.approx(150)

@@ -76,28 +76,34 @@ function buildControls() {
     const mode = document.createElement("select");
     mode.id = `mode-${joint.name}`;
     option(mode, "um", "µm");
-    if (joint.fit) {
-      for (const pick of ["min", "mean", "max"]) option(mode, pick, `${joint.fit} ${pick}`);
-    }
+    for (const pick of ["min", "mean", "max"]) option(mode, pick, `ISO 286 fit, ${pick}`);
     option(mode, "off", "ideal joint");
+    const fit = document.createElement("input");
+    fit.type = "text";
+    fit.id = `fit-${joint.name}`;
+    fit.size = 7;
+    fit.value = joint.fit || "H8/g7";
+    fit.title = "ISO 286 fit at the joint's diameter, e.g. H7/g6";
     const title = document.createElement("label");
     title.textContent = `${joint.name} (Ø${joint.diameter_mm} mm${joint.fit ? ", fit " + joint.fit + ": " + joint.fit_range_um.map((v) => v.toFixed(1)).join("–") + " µm" : ""}) `;
-    title.appendChild(mode);
+    title.append(mode, " ", fit);
     box.appendChild(title);
     box.appendChild(pair("clearance (µm)", `clr-${joint.name}`, `c.${joint.name}`, 1, joint.slider_max_um, 0.5));
     joints.appendChild(box);
-    mode.addEventListener("change", () => {
-      const fit = joint.fit;
+    const choose = () => {
       const number = $(`clr-${joint.name}`);
       if (mode.value === "um") {
-        state[`c.${joint.name}`] = number.value && !number.value.includes(":") ? number.value : "21";
+        const range = $(`clr-${joint.name}-range`);
+        state[`c.${joint.name}`] = number.value && !number.value.includes(":") && number.value !== "off" ? number.value : range.value;
       } else if (mode.value === "off") {
         state[`c.${joint.name}`] = "off";
       } else {
-        state[`c.${joint.name}`] = `${fit}:${mode.value}`;
+        state[`c.${joint.name}`] = `${fit.value.trim()}:${mode.value}`;
       }
       changed();
-    });
+    };
+    mode.addEventListener("change", choose);
+    fit.addEventListener("change", () => { if (!["um", "off"].includes(mode.value)) choose(); });
   }
   const lengths = $("lengths");
   for (const length of spec.lengths) {
@@ -138,12 +144,16 @@ function showState() {
     const range = $(`clr-${joint.name}-range`);
     let kind = "um";
     if (value === "off") kind = "off";
-    else if (value.includes(":")) kind = value.split(":")[1];
+    else if (value.includes(":")) {
+      kind = value.slice(value.lastIndexOf(":") + 1);
+      $(`fit-${joint.name}`).value = value.slice(0, value.lastIndexOf(":"));
+    }
     if (![...mode.options].some((o) => o.value === kind)) kind = "um";
     mode.value = kind;
     const own = kind === "um";
     number.disabled = !own;
     range.disabled = !own;
+    $(`fit-${joint.name}`).disabled = own || kind === "off";
     if (!own) number.value = value;
   }
 }
