@@ -34,7 +34,7 @@ from starlette.responses import JSONResponse, Response
 from starlette.routing import Route
 
 from jointplay.errors import JointplayError
-from jointplay.explore.settings import Base, parse_query
+from jointplay.explore.settings import Base, Settings, parse_query
 
 T = TypeVar("T")
 
@@ -82,8 +82,7 @@ class Runner:
             return work()
 
 
-def _asset(name: str) -> bytes:
-    package, path, _ = ASSETS[name]
+def _read(package: str, path: str) -> bytes:
     return (resources.files(package) / path).read_bytes()
 
 
@@ -92,53 +91,41 @@ def _error(message: str, status: int = 400) -> JSONResponse:
 
 
 def create_app(base: Base, *, hosts: tuple[str, ...] = HOSTS) -> Starlette:
-    """The application exploring ``base``."""
+    """The application exploring ``base``; it answers requests addressed to ``hosts``."""
     from jointplay.explore import engine
 
     runner = Runner()
-    cache: dict[str, bytes] = {}
+    files = {name: _read(package, path) for name, (package, path, _) in ASSETS.items()}
+    index = _read("jointplay.explore", "static/index.html")
 
     async def page(request: Request) -> Response:
         # The page reads its own query and reports a bad one beside the controls.
-        return Response(
-            _asset_cached("index.html"), media_type="text/html; charset=utf-8", headers=HEADERS
-        )
-
-    def _asset_cached(name: str) -> bytes:
-        if name not in cache:
-            if name == "index.html":
-                cache[name] = (
-                    resources.files("jointplay.explore") / "static/index.html"
-                ).read_bytes()
-            else:
-                cache[name] = _asset(name)
-        return cache[name]
+        return Response(index, media_type="text/html; charset=utf-8", headers=HEADERS)
 
     async def asset(request: Request) -> Response:
         name = request.path_params["name"]
-        if name not in ASSETS:  # only the named files, never a path
+        if name not in files:  # only the named files, never a path
             return _error(f"no asset {name[:60]!r}", 404)
-        return Response(_asset_cached(name), media_type=ASSETS[name][2], headers=HEADERS)
+        return Response(files[name], media_type=ASSETS[name][2], headers=HEADERS)
 
     async def spec(request: Request) -> Response:
         if request.query_params:
             return _error("/api/spec takes no parameters")
         return JSONResponse(base.spec(), headers=HEADERS)
 
-    async def _settle(request: Request, work: Callable[[Any], Any]) -> Any:
-        settings = parse_query(base, request.query_params)
-        ticket = runner.ticket()
-        return await run_in_threadpool(runner.run, ticket, lambda: work(settings))
+    def simulated(settings: Settings) -> dict[str, Any]:
+        """The view of ``settings``, with the server's time and the canonical query."""
+        started = time.perf_counter()
+        out = engine.view(engine.simulate_settings(base, settings))
+        out["server_s"] = time.perf_counter() - started
+        out["query"] = settings.query()
+        return out
 
     async def view(request: Request) -> Response:
         try:
-            data = await _settle(
-                request,
-                lambda s: (
-                    _timed(lambda: engine.view(engine.simulate_settings(base, s)))
-                    | {"query": s.query()}
-                ),
-            )
+            settings = parse_query(base, request.query_params)
+            ticket = runner.ticket()  # supersedes every request still waiting
+            data = await run_in_threadpool(runner.run, ticket, lambda: simulated(settings))
         except Superseded:
             return _error("superseded by a newer request", 409)
         except JointplayError as exc:
@@ -174,14 +161,6 @@ def create_app(base: Base, *, hosts: tuple[str, ...] = HOSTS) -> Starlette:
     )
     app.state.runner = runner
     return app
-
-
-def _timed(work: Callable[[], dict[str, Any]]) -> dict[str, Any]:
-    """``work()`` with ``server_s``, the seconds it took."""
-    started = time.perf_counter()
-    out = work()
-    out["server_s"] = time.perf_counter() - started
-    return out
 
 
 def _bug(exc: Exception) -> JSONResponse:
