@@ -136,6 +136,15 @@ def test_download_is_what_simulate_writes(client) -> None:
     assert 'method = "ifm-conventional"' in archive.read("settings.toml").decode()
 
 
+def test_joints_of_their_own_contact_cannot_be_downloaded(client) -> None:
+    # jointplay simulate takes one contact for all joints: it cannot write this run
+    reply = client.get("/api/download", params={**QUICK, "contact.A": "physical"})
+    assert reply.status_code == 400
+    assert "one contact and friction for every joint" in reply.json()["error"]
+    view = client.get("/api/view", params={**QUICK, "contact.A": "physical"})
+    assert view.status_code == 200 and "A: restitution law" in view.json()["contact"]
+
+
 def test_a_waiting_run_is_superseded() -> None:
     runner = Runner()
     first = runner.ticket()

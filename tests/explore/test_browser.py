@@ -233,6 +233,21 @@ def test_the_url_reproduces_the_view(page, browser, server) -> None:
     context.close()
 
 
+def test_a_joint_of_its_own_contact(page, server) -> None:
+    page.goto(f"{server}?contact=ifm-conventional")
+    _views(page, 1)
+    peaks = _peaks(page)
+    page.select_option("#contact-A", "physical")
+    _views(page, 2)
+    assert "contact.A=physical" in page.url
+    contact = page.text_content("#diagnostics li")
+    assert "A: restitution law" in contact and "O2: the paper's method ifm-conventional" in contact
+    assert _peaks(page) != peaks
+    page.select_option("#contact-A", "")  # as above again
+    _views(page, 3)
+    assert "contact.A" not in page.url and _peaks(page) == peaks
+
+
 def test_a_newer_change_supersedes_the_pending_one(page, server) -> None:
     page.goto(f"{server}?contact=ifm-conventional")
     _views(page, 1)

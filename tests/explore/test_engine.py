@@ -48,3 +48,28 @@ def test_the_view_of_a_kept_nominal_equals_a_fresh_one(base) -> None:
     assert kept["increase_percent"] == fresh["increase_percent"]
     assert kept["peaks"] == fresh["peaks"]
     assert kept["orbits"]["A"]["clearance_um"] == pytest.approx(50)
+
+
+def test_joints_of_their_own_contact_are_simulated_with_it(base) -> None:
+    from jointplay.cli._simulation import contact_model
+
+    settings = parse_query(
+        base, {"contact.A": "ifm-conventional", "mu.B": "0.02", "settle": "0", "c.O4": "off"}
+    )
+    run = engine.simulate_settings(base, settings)
+    laws = {c.joint: c.law.name for c in run.result.system.clearances}
+    assert set(laws) == {"O2", "A", "B"}
+    assert laws["A"] != laws["O2"] and laws["B"] == laws["O2"]
+    assert "A: the paper's method ifm-conventional" in run.contact
+    assert "B: " in run.contact and "coefficient 0.02" in run.contact
+
+    mechanism = run.mechanism
+    joints = (
+        contact_model({}, mechanism).joints(mechanism, ["O2"])
+        + contact_model({"method": "ifm-conventional"}, mechanism).joints(mechanism, ["A"])
+        + contact_model({"friction": 0.02}, mechanism).joints(mechanism, ["B"])
+    )
+    expected = jointplay.simulate(mechanism, joints, settle=0, start=jointplay.Start("steady"))
+    assert {k: p["value"] for k, p in run.result.peaks.items()} == pytest.approx(
+        {k: p["value"] for k, p in expected.peaks.items()}, rel=1e-12
+    )

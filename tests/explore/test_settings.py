@@ -124,3 +124,38 @@ def test_a_configuration_file_is_explored_as_given(tmp_path) -> None:
     mine = load_base(config=path)
     assert mine.rpm == pytest.approx(150) and "mine.toml" in mine.source
     assert parse_query(mine, {}).rpm == pytest.approx(150)
+
+
+def test_a_joint_may_have_its_own_contact_and_friction(base, tmp_path) -> None:
+    from jointplay.io.config import simulation_settings
+    from jointplay.io.config_writer import write_config
+
+    mixed = parse_query(base, {"contact.A": "ifm-conventional", "mu.B": "0.02"})
+    assert mixed.contact_of("A") == ("ifm-conventional", None)
+    assert mixed.contact_of("B") == ("physical", 0.02)
+    assert mixed.contact_of("O2") == ("physical", None)
+    assert mixed.uniform() is None
+    assert parse_query(base, mixed.query()) == mixed
+    # the same own contact everywhere (the ideal joint aside) is one contact for all, which a
+    # configuration file says
+    same = {f"contact.{j}": "rm-conventional" for j in ("O2", "A", "B")}
+    alike = parse_query(base, {**same, "c.O4": "off", "mu": "0.05"})
+    assert alike.uniform() == ("rm-conventional", 0.05)
+    path = tmp_path / "alike.toml"
+    write_config(path, config_data(base, alike))
+    assert simulation_settings(path)["method"] == "rm-conventional"
+
+
+@pytest.mark.parametrize(
+    ("query", "words"),
+    [
+        ({"contact.A": "glue"}, "unknown contact of joint A 'glue'"),
+        ({"mu.B": "-0.1"}, "friction coefficient of joint B must lie within 0–1"),
+        ({"mu.B": "x"}, "friction coefficient of joint B must be a number"),
+        ({"contact.Z": "physical"}, "unknown parameter 'contact.Z'"),
+    ],
+)
+def test_bad_joint_contacts_are_refused(base, query, words) -> None:
+    with pytest.raises(ConfigError) as caught:
+        parse_query(base, query)
+    assert words in str(caught.value)

@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from jointplay.errors import ConfigError
-from jointplay.explore.settings import Base, Settings, config_data
+from jointplay.explore.settings import PHYSICAL, Base, Settings, config_data
 
 #: Frames of the mechanism's animation over the analysed revolution.
 FRAMES = 90
@@ -78,7 +78,7 @@ class Run:
 
     result: Any
     mechanism: Any
-    contact: Any
+    contact: str  # in words
     findings: list[Any]
 
 
@@ -97,8 +97,24 @@ def simulate_settings(base: Base, settings: Settings) -> Run:
         values = simulation_settings(path)
     key = nominal_key(base, settings)
     nominal = _NOMINAL.get(key, True)  # True: simulate computes it
-    contact = contact_model(values, mechanism)
-    clear = contact.joints(mechanism, joint_list(values.get("joints")))
+    names = joint_list(values.get("joints"))
+    if settings.uniform() is not None or names is None:
+        contact = contact_model(values, mechanism)
+        clear = contact.joints(mechanism, names)
+        described = contact.describe()["text"]
+    else:  # joints of their own contact or friction: each its contact model, as simulate's
+        clear, texts = [], []
+        for name in names:
+            law, friction = settings.contact_of(name)
+            own = {key: value for key, value in values.items() if key not in ("method", "friction")}
+            if law != PHYSICAL:
+                own["method"] = law
+            if friction is not None:
+                own["friction"] = friction
+            contact = contact_model(own, mechanism)
+            clear += contact.joints(mechanism, [name])
+            texts.append(f"{name}: {contact.describe()['text']}")
+        described = " | ".join(texts)
     mode = str(values.get("start", "steady"))
     ramp = mechanism.driver.period / 4 if mode == "ramp" else 0.0
     turns = finite_number(values, "revolutions", 1.0)
@@ -117,7 +133,7 @@ def simulate_settings(base: Base, settings: Settings) -> Run:
         _NOMINAL[key] = result.nominal
         while len(_NOMINAL) > NOMINAL_CACHE:
             _NOMINAL.pop(next(iter(_NOMINAL)))
-    return Run(result, mechanism, contact, _diagnostics(result, mechanism))
+    return Run(result, mechanism, described, _diagnostics(result, mechanism))
 
 
 def _list(values: Any, digits: int = 6) -> list[float | None]:
@@ -139,7 +155,7 @@ def view(run: Run) -> dict[str, Any]:
     out: dict[str, Any] = {
         "status": summary["status"],
         "message": summary["message"],
-        "contact": run.contact.describe()["text"],
+        "contact": run.contact,
         "peaks": summary["peaks"],
         "nominal_peaks": summary["nominal_peaks"],
         "increase_percent": summary["increase_percent"],
@@ -234,6 +250,12 @@ def download(base: Base, settings: Settings) -> bytes:
     Raises:
         ConfigError: the command failed (its one-line message).
     """
+    if settings.uniform() is None:
+        raise ConfigError(
+            "jointplay simulate takes one contact and friction for every joint, and these "
+            "joints differ: give them the same contact and friction to download what the "
+            "command writes"
+        )
     text = settings_toml(base, settings)
     with tempfile.TemporaryDirectory(prefix="jointplay-explore-") as folder:
         work = Path(folder)

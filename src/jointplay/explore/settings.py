@@ -15,6 +15,7 @@ configuration carries quantities with units, read by :mod:`jointplay.io.config` 
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 import tomllib
 from collections.abc import Mapping
@@ -250,6 +251,25 @@ class Settings:
     settle: int
     clearances: Mapping[str, Clearance]
     lengths_mm: Mapping[str, float]
+    #: A joint's own contact and friction, where it has one (else the common ``contact``
+    #: and ``friction`` above).
+    joint_contact: Mapping[str, str] = dataclasses.field(default_factory=dict)
+    joint_friction: Mapping[str, float] = dataclasses.field(default_factory=dict)
+
+    def contact_of(self, joint: str) -> tuple[str, float | None]:
+        """The contact and friction (``None``: the law's default) of ``joint``."""
+        return (
+            self.joint_contact.get(joint, self.contact),
+            self.joint_friction.get(joint, self.friction),
+        )
+
+    def uniform(self) -> tuple[str, float | None] | None:
+        """The one contact and friction of every clearance joint, or ``None`` when they
+        differ (the command line takes one contact for all joints)."""
+        pairs = {self.contact_of(name) for name, c in self.clearances.items() if not c.off}
+        if len(pairs) > 1:
+            return None
+        return pairs.pop() if pairs else (self.contact, self.friction)
 
     def query(self) -> dict[str, str]:
         """The canonical query of these settings (what the page writes into its URL)."""
@@ -265,6 +285,10 @@ class Settings:
             else:
                 assert choice.micrometres is not None
                 out[f"c.{name}"] = _number(choice.micrometres)
+            if name in self.joint_contact:
+                out[f"contact.{name}"] = self.joint_contact[name]
+            if name in self.joint_friction:
+                out[f"mu.{name}"] = _number(self.joint_friction[name])
         out.update({f"L.{name}": _number(value) for name, value in self.lengths_mm.items()})
         return out
 
@@ -285,7 +309,7 @@ def parse_query(base: Base, query: Mapping[str, str] | Any) -> Settings:
     items = list(query.multi_items()) if hasattr(query, "multi_items") else list(query.items())
     given: dict[str, str] = {}
     allowed = set(PARAMETERS)
-    allowed |= {f"c.{j.name}" for j in base.joints}
+    allowed |= {f"{key}.{j.name}" for j in base.joints for key in ("c", "contact", "mu")}
     allowed |= {f"L.{length.name}" for length in base.lengths}
     for key, value in items:
         if key not in allowed:
@@ -305,20 +329,19 @@ def parse_query(base: Base, query: Mapping[str, str] | Any) -> Settings:
         raise ConfigError(
             f"the crank speed must lie within {RPM_RANGE[0]:g}–{RPM_RANGE[1]:g} rev/min, got {rpm:g}"
         )
-    contact = values["contact"]
-    if contact != PHYSICAL:
-        from jointplay.study.methods import METHODS
-
-        if contact not in METHODS:
-            raise ConfigError(
-                f"unknown contact {contact!r}; choose {PHYSICAL} or one of the paper's methods: "
-                + ", ".join(METHODS)
-            )
-    friction = None
-    if values.get("mu", "") != "":
-        friction = _finite(values["mu"], "the friction coefficient")
-        if not 0 <= friction <= 1:
-            raise ConfigError(f"the friction coefficient must lie within 0–1, got {friction:g}")
+    contact = _contact(values["contact"], "contact")
+    friction = _friction(values.get("mu", ""), "the friction coefficient")
+    joint_contact: dict[str, str] = {}
+    joint_friction: dict[str, float] = {}
+    for joint in base.joints:
+        own = values.get(f"contact.{joint.name}", "")
+        if own != "":
+            joint_contact[joint.name] = _contact(own, f"contact of joint {joint.name}")
+        value = _friction(
+            values.get(f"mu.{joint.name}", ""), f"the friction coefficient of joint {joint.name}"
+        )
+        if value is not None:
+            joint_friction[joint.name] = value
     start = values["start"]
     if start not in STARTS:
         raise ConfigError(f"the start must be one of {', '.join(STARTS)}, got {start!r}")
@@ -345,7 +368,31 @@ def parse_query(base: Base, query: Mapping[str, str] | Any) -> Settings:
                 f"{low:.4g}–{high:.4g} mm, got {value:g}"
             )
         lengths[length.name] = value
-    return Settings(rpm, contact, friction, start, settle, clearances, lengths)
+    return Settings(
+        rpm, contact, friction, start, settle, clearances, lengths, joint_contact, joint_friction
+    )
+
+
+def _contact(text: str, what: str) -> str:
+    """A contact choice: :data:`PHYSICAL` or one of the paper's methods."""
+    from jointplay.study.methods import METHODS
+
+    if text != PHYSICAL and text not in METHODS:
+        raise ConfigError(
+            f"unknown {what} {text!r}; choose {PHYSICAL} or one of the paper's methods: "
+            + ", ".join(METHODS)
+        )
+    return text
+
+
+def _friction(text: str, what: str) -> float | None:
+    """A friction coefficient within 0–1, or ``None`` for a blank (the law's default)."""
+    if text == "":
+        return None
+    value = _finite(text, what)
+    if not 0 <= value <= 1:
+        raise ConfigError(f"{what} must lie within 0–1, got {value:g}")
+    return value
 
 
 def _clearance(joint: JointControl, text: str) -> Clearance:
@@ -401,10 +448,13 @@ def config_data(base: Base, settings: Settings) -> dict[str, Any]:
             table.pop("fit", None)  # a clearance of its own, not the fit's
         table["clearance"] = f"{_number(value * 1e3)} mm"
     simulation: dict[str, Any] = {}
-    if settings.contact != PHYSICAL:
-        simulation["method"] = settings.contact
-    if settings.friction is not None:
-        simulation["friction"] = settings.friction
+    # one contact for every joint, as the command line takes it: the joints' common one (the
+    # engine gives joints of their own their own; the download refuses them)
+    contact, friction = settings.uniform() or (settings.contact, settings.friction)
+    if contact != PHYSICAL:
+        simulation["method"] = contact
+    if friction is not None:
+        simulation["friction"] = friction
     if base.joints:  # else simulate's default: every joint with a clearance in its fit data
         simulation["joints"] = joints
     simulation.update({"start": settings.start, "settle": settings.settle, "revolutions": 1})

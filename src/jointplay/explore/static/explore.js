@@ -89,6 +89,23 @@ function buildControls() {
     title.append(mode, " ", fit);
     box.appendChild(title);
     box.appendChild(pair("clearance (µm)", `clr-${joint.name}`, `c.${joint.name}`, 1, joint.slider_max_um, 0.5));
+    // the joint's own contact and friction; blank: the common ones above
+    const own = document.createElement("label");
+    own.className = "own";
+    own.textContent = "contact ";
+    const law = document.createElement("select");
+    law.id = `contact-${joint.name}`;
+    law.dataset.key = `contact.${joint.name}`;
+    option(law, "", "as above");
+    for (const name of spec.contacts) option(law, name);
+    const mu = document.createElement("input");
+    mu.type = "text";
+    mu.id = `mu-${joint.name}`;
+    mu.dataset.key = `mu.${joint.name}`;
+    mu.placeholder = "as above";
+    mu.size = 6;
+    own.append(law, " friction ", mu);
+    box.appendChild(own);
     joints.appendChild(box);
     const choose = () => {
       const number = $(`clr-${joint.name}`);
