@@ -44,7 +44,8 @@ def explore_command(
         str,
         typer.Option(
             "--host",
-            help="Address to serve on: 127.0.0.1 (default) keeps the app on this machine.",
+            help="Address to serve on: 127.0.0.1 (default) keeps the app on this machine; "
+            "0.0.0.0 serves every network interface.",
         ),
     ] = "127.0.0.1",
     browser: Annotated[
@@ -83,7 +84,17 @@ def explore_command(
         bound = sock.getsockname()[1]
         shown = f"[{host}]" if ":" in host else host
         url = f"http://{shown}:{bound}/"
-        hosts = HOSTS if host in ("127.0.0.1", "localhost", "::1") else (*HOSTS, host, shown)
+        if host in ("0.0.0.0", "::"):  # every interface: any name that reaches it
+            hosts: tuple[str, ...] = ("*",)
+            print(
+                "jointplay explore: warning: serving on every network interface; anyone who "
+                "can reach this machine can use the page",
+                file=sys.stderr,
+            )
+        elif host in ("127.0.0.1", "localhost", "::1"):
+            hosts = HOSTS
+        else:
+            hosts = (*HOSTS, host, shown)
         server = uvicorn.Server(
             uvicorn.Config(
                 create_app(base, hosts=tuple(hosts)),
