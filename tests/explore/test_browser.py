@@ -25,6 +25,8 @@ import pytest
 
 from _programs import need
 
+pytestmark = pytest.mark.slow  # ~45 s: Chromium, a server, and simulate to compare with
+
 #: ``jointplay simulate``'s options for the comparison: no plots, no spinner.
 QUIET = ("--no-plots", "--no-progress")
 #: Seconds the page may take for one view (generous: a shared 2-core machine under load).
