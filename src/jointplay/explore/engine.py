@@ -106,7 +106,7 @@ def simulate_settings(base: Base, settings: Settings) -> Run:
         clear, texts = [], []
         for name in names:
             law, friction = settings.contact_of(name)
-            own = {key: value for key, value in values.items() if key not in ("method", "friction")}
+            own = {k: v for k, v in values.items() if k not in ("method", "friction")}
             if law != PHYSICAL:
                 own["method"] = law
             if friction is not None:
