@@ -250,6 +250,29 @@ def test_a_joint_of_its_own_contact(page, server) -> None:
     assert "contact.A" not in page.url and _peaks(page) == peaks
 
 
+def test_the_download_button(page, server) -> None:
+    import io
+    import zipfile
+
+    page.goto(f"{server}?contact=ifm-conventional&c.A=50&settle=1")
+    _views(page, 1)
+    with page.expect_download(timeout=WAIT_MS) as caught:
+        page.click("#download")
+    archive = zipfile.ZipFile(io.BytesIO(Path(caught.value.path()).read_bytes()))
+    assert {"settings.toml", "summary.json", "timeseries.csv", "steps.csv"} <= set(
+        archive.namelist()
+    )
+    summary = json.loads(archive.read("summary.json"))
+    peaks = _peaks(page)
+    assert {k: p["value"] for k, p in summary["peaks"].items()} == pytest.approx(peaks, rel=1e-9)
+    # joints of their own contact: jointplay simulate cannot write them, and the page says so
+    page.select_option("#contact-B", "physical")
+    _views(page, 2)
+    page.click("#download")
+    page.wait_for_function("!document.getElementById('message').hidden", timeout=WAIT_MS)
+    assert "one contact and friction for every joint" in page.text_content("#message")
+
+
 def test_a_newer_change_supersedes_the_pending_one(page, server) -> None:
     page.goto(f"{server}?contact=ifm-conventional")
     _views(page, 1)

@@ -444,6 +444,35 @@ function drawDiagnostics(view) {
   }
 }
 
+// The download: fetched first, so that a refusal (joints of their own contact, a bad value)
+// is the page's message rather than a saved error file.
+async function download(event) {
+  event.preventDefault();
+  const link = $("download");
+  const label = link.textContent;
+  link.textContent = "running jointplay simulate…";
+  try {
+    const reply = await fetch(link.href);
+    if (!reply.ok) {
+      showMessage((await reply.json()).error || `error ${reply.status}`);
+      return;
+    }
+    const name = (reply.headers.get("Content-Disposition") || "").match(/filename="([^"]+)"/);
+    const url = URL.createObjectURL(await reply.blob());
+    const save = document.createElement("a");
+    save.href = url;
+    save.download = name ? name[1] : "jointplay.zip";
+    document.body.appendChild(save);
+    save.click();
+    save.remove();
+    setTimeout(() => URL.revokeObjectURL(url), 10000);
+  } catch (error) {
+    showMessage(String(error));
+  } finally {
+    link.textContent = label;
+  }
+}
+
 async function start() {
   try {
     const reply = await fetch("/api/spec");
@@ -453,6 +482,7 @@ async function start() {
     return;
   }
   buildControls();
+  $("download").addEventListener("click", download);
   state = { ...spec.defaults };
   for (const [key, value] of new URLSearchParams(location.search)) state[key] = value;
   history.replaceState(null, "", "?" + query());
