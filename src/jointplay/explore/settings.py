@@ -1,8 +1,9 @@
 """The settings of ``jointplay explore``: what the page may ask for, read from its query.
 
 The page's state lives in its URL query (a shared link reproduces the view). Every parameter
-is one of :data:`PARAMETERS` (or ``c.<joint>`` / ``L.<length>`` of the explored mechanism);
-anything else is refused. A valid query becomes a *configuration file* — the explored
+is one of :data:`PARAMETERS` or, for the explored mechanism's joints and lengths,
+``c.<joint>`` (clearance), ``contact.<joint>`` and ``mu.<joint>`` (the joint's own contact and
+friction) and ``L.<length>``; anything else is refused. A valid query becomes a *configuration file* — the explored
 mechanism's own TOML data with the chosen lengths, crank speed and clearances written in, and a
 ``[simulation]`` table with the contact, friction and start — which the engine reads exactly as
 ``jointplay simulate --config`` does (:mod:`jointplay.explore.engine`), and which the download
