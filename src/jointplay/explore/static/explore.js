@@ -16,6 +16,7 @@ let sequence = 0;
 let controller = null;
 let animation = null;
 let views = 0;
+let notice = ""; // said with the first view
 
 function $(id) { return document.getElementById(id); }
 
@@ -218,7 +219,8 @@ async function update() {
     showMessage(body.error || `error ${reply.status}`);
     return;
   }
-  showMessage("");
+  showMessage(notice);
+  notice = "";
   const received = performance.now();
   render(body);
   views += 1;
@@ -484,7 +486,16 @@ async function start() {
   buildControls();
   $("download").addEventListener("click", download);
   state = { ...spec.defaults };
-  for (const [key, value] of new URLSearchParams(location.search)) state[key] = value;
+  // a link may carry what this mechanism has no control for (another mechanism's joint, an
+  // old parameter): it is left out, and said, rather than refused on every change
+  const known = new Set([...Object.keys(spec.defaults), "mu",
+    ...spec.joints.flatMap((j) => [`contact.${j.name}`, `mu.${j.name}`])]);
+  const ignored = [];
+  for (const [key, value] of new URLSearchParams(location.search)) {
+    if (known.has(key)) state[key] = value;
+    else ignored.push(key);
+  }
+  if (ignored.length) notice = `left out of the link, as this page has no control for it: ${ignored.join(", ")}`;
   history.replaceState(null, "", "?" + query());
   showState();
   update();
