@@ -431,7 +431,7 @@ def simulate(
     solver: SolverOptions | None = None,
     output_step: float | None = None,
     sample_deg: float | None = None,
-    nominal: bool = False,
+    nominal: bool | pd.DataFrame = False,
     nominal_step_deg: float = 0.1,
     throw: bool = True,
 ) -> SimulationResult:
@@ -451,7 +451,9 @@ def simulate(
             degrees of crank, labelled as sampled (default: none).
         nominal: also run the nominal (ideal-joint) analysis, for
             :attr:`SimulationResult.nominal`, ``nominal_peaks`` and ``increase_percent``
-            (default: no, they stay empty).
+            (default: no, they stay empty). Or that analysis's table
+            (``SimulationResult.nominal`` of an earlier run of the same mechanism), taken as
+            it is: an interactive caller that changes only the clearance skips its cost.
         nominal_step_deg: crank-angle step of that nominal analysis, degrees.
         throw: raise :class:`~jointplay.errors.IntegrationError` when the integration fails
             (default); with ``False``, return the partial result, whose ``status`` and
@@ -528,7 +530,11 @@ def simulate(
     if throw and not run.success:
         raise IntegrationError(message)
     columns, qdd = _columns(system, run.t, run.y)
-    table = nominal_analysis(mechanism, step_deg=nominal_step_deg).table if nominal else None
+    table: pd.DataFrame | None
+    if isinstance(nominal, pd.DataFrame):  # this mechanism's, computed before
+        table = nominal
+    else:
+        table = nominal_analysis(mechanism, step_deg=nominal_step_deg).table if nominal else None
     nominal_peaks = (
         {}
         if table is None

@@ -1,0 +1,186 @@
+"""The web application of ``jointplay explore`` (Starlette; served by uvicorn).
+
+Routes, and nothing else:
+
+=====================  ===========================================================
+``GET /``              the page
+``GET /assets/NAME``   one of :data:`ASSETS` (the page's script and style, plotly.js)
+``GET /api/spec``      the controls of the explored mechanism and their defaults
+``GET /api/view?Q``    what the page draws for the settings of query ``Q`` (JSON)
+``GET /api/download``  a ZIP of ``jointplay simulate``'s files for ``Q``
+=====================  ===========================================================
+
+A query is read by :func:`jointplay.explore.settings.parse_query`: an unknown, repeated or bad
+parameter is answered ``400`` with ``{"error": ...}`` in one line. Simulations run one at a
+time in a worker thread; a request that is still waiting when a newer one arrives is not run
+(``409``, superseded) — the page has moved on and discards it too.
+"""
+
+from __future__ import annotations
+
+import itertools
+import threading
+import time
+from collections.abc import Callable
+from importlib import resources
+from typing import Any, TypeVar
+
+from starlette.applications import Starlette
+from starlette.concurrency import run_in_threadpool
+from starlette.middleware import Middleware
+from starlette.middleware.trustedhost import TrustedHostMiddleware
+from starlette.requests import Request
+from starlette.responses import JSONResponse, Response
+from starlette.routing import Route
+
+from jointplay.errors import JointplayError
+from jointplay.explore.settings import Base, Settings, parse_query
+
+T = TypeVar("T")
+
+#: The files the page loads, by name: (package, resource path, media type).
+ASSETS: dict[str, tuple[str, str, str]] = {
+    "explore.js": ("jointplay.explore", "static/explore.js", "text/javascript; charset=utf-8"),
+    "explore.css": ("jointplay.explore", "static/explore.css", "text/css; charset=utf-8"),
+    "plotly.min.js": ("plotly", "package_data/plotly.min.js", "text/javascript; charset=utf-8"),
+}
+#: Host names the server answers to (a guard against DNS rebinding: another site's page
+#: cannot reach it under its own name).
+HOSTS = ("127.0.0.1", "localhost", "[::1]", "::1")
+#: Security headers of every page and asset: no framing, no foreign scripts.
+HEADERS = {
+    "Content-Security-Policy": "default-src 'self'; img-src 'self' data:; style-src 'self' 'unsafe-inline'; script-src 'self'",
+    "X-Content-Type-Options": "nosniff",
+    "X-Frame-Options": "DENY",
+}
+
+
+class Superseded(Exception):
+    """A newer request arrived before this one ran."""
+
+
+class Runner:
+    """Runs one simulation at a time; a waiting run that a newer one supersedes is skipped."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._tickets = itertools.count(1)
+        self._latest = 0
+        self.runs = 0  # simulations run (for tests and the log)
+
+    def ticket(self) -> int:
+        """A number for a new request; it supersedes every earlier one still waiting."""
+        number = next(self._tickets)
+        self._latest = number
+        return number
+
+    def run(self, ticket: int, work: Callable[[], T]) -> T:
+        with self._lock:
+            if ticket != self._latest:
+                raise Superseded
+            self.runs += 1
+            return work()
+
+
+def _read(package: str, path: str) -> bytes:
+    return (resources.files(package) / path).read_bytes()
+
+
+def _error(message: str, status: int = 400) -> JSONResponse:
+    return JSONResponse({"error": message}, status_code=status, headers=HEADERS)
+
+
+def create_app(base: Base, *, hosts: tuple[str, ...] = HOSTS) -> Starlette:
+    """The application exploring ``base``; it answers requests addressed to ``hosts``."""
+    from jointplay.explore import engine
+
+    runner = Runner()
+    files = {name: _read(package, path) for name, (package, path, _) in ASSETS.items()}
+    index = _read("jointplay.explore", "static/index.html")
+
+    async def page(request: Request) -> Response:
+        # The page reads its own query and reports a bad one beside the controls.
+        return Response(index, media_type="text/html; charset=utf-8", headers=HEADERS)
+
+    async def asset(request: Request) -> Response:
+        name = request.path_params["name"]
+        if name not in files:  # only the named files, never a path
+            return _error(f"no asset {name[:60]!r}", 404)
+        return Response(files[name], media_type=ASSETS[name][2], headers=HEADERS)
+
+    async def spec(request: Request) -> Response:
+        if request.query_params:
+            return _error("/api/spec takes no parameters")
+        return JSONResponse(base.spec(), headers=HEADERS)
+
+    def simulated(settings: Settings) -> dict[str, Any]:
+        """The view of ``settings``, with the server's time and the canonical query."""
+        started = time.perf_counter()
+        out = engine.view(engine.simulate_settings(base, settings))
+        out["server_s"] = time.perf_counter() - started
+        out["query"] = settings.query()
+        return out
+
+    async def view(request: Request) -> Response:
+        try:
+            settings = parse_query(base, request.query_params)
+            ticket = runner.ticket()  # supersedes every request still waiting
+            data = await run_in_threadpool(runner.run, ticket, lambda: simulated(settings))
+        except Superseded:
+            return _error("superseded by a newer request", 409)
+        except JointplayError as exc:
+            return _error(_line(exc))
+        except Exception as exc:  # a bug: one line to the page and the console
+            return _bug(exc)
+        return JSONResponse(data, headers=HEADERS)
+
+    async def download(request: Request) -> Response:
+        try:
+            settings = parse_query(base, request.query_params)
+            archive = await run_in_threadpool(engine.download, base, settings)
+        except JointplayError as exc:
+            return _error(_line(exc))
+        except Exception as exc:
+            return _bug(exc)
+        name = f"jointplay-{base.name}.zip"
+        return Response(
+            archive,
+            media_type="application/zip",
+            headers={**HEADERS, "Content-Disposition": f'attachment; filename="{name}"'},
+        )
+
+    app = Starlette(
+        routes=[
+            Route("/", page, methods=["GET"]),
+            Route("/assets/{name}", asset, methods=["GET"]),
+            Route("/api/spec", spec, methods=["GET"]),
+            Route("/api/view", view, methods=["GET"]),
+            Route("/api/download", download, methods=["GET"]),
+        ],
+        middleware=[Middleware(TrustedHostMiddleware, allowed_hosts=list(hosts))],
+    )
+    app.state.runner = runner
+    return app
+
+
+def _bug(exc: Exception) -> JSONResponse:
+    """A ``500`` for an unexpected error, said in one line on the page and on the server's
+    console (with the traceback when ``JOINTPLAY_DEBUG=1``, as the command line does)."""
+    import os
+    import sys
+    import traceback
+
+    line = (
+        f"internal error (a bug): {type(exc).__name__}: {_line(exc)}; please report it to the "
+        "jointplay maintainers with the page's address"
+    )
+    print(f"jointplay explore: {line}", file=sys.stderr)
+    if os.environ.get("JOINTPLAY_DEBUG"):
+        traceback.print_exception(exc)
+    return _error(line, 500)
+
+
+def _line(exc: BaseException) -> str:
+    """An error in one line (at most 600 characters)."""
+    text = " ".join(str(exc).split())
+    return text if len(text) <= 600 else text[:597] + "..."

@@ -1,0 +1,168 @@
+"""The web application of ``jointplay explore``, through Starlette's test client: every route
+with good and bad input, the assets it serves (and nothing else), the download against
+``jointplay simulate``, and the superseding of waiting runs."""
+
+from __future__ import annotations
+
+import io
+import json
+import threading
+import time
+import warnings
+import zipfile
+
+import pytest
+
+pytest.importorskip("starlette", reason="jointplay[explore] is not installed")
+pytest.importorskip("httpx", reason="Starlette's test client needs httpx")
+
+with warnings.catch_warnings():
+    # Starlette >= 1.10 asks for its httpx fork (httpx2) and warns when it finds httpx
+    warnings.filterwarnings("ignore", "Using `httpx` with")
+    from starlette.testclient import TestClient
+
+from jointplay.explore.app import Runner, Superseded, create_app
+from jointplay.explore.settings import load_base
+
+QUICK = {"contact": "ifm-conventional", "settle": "1"}
+
+
+@pytest.fixture(scope="module")
+def client():
+    app = create_app(load_base("paper-fourbar"))
+    with TestClient(app, base_url="http://127.0.0.1") as test_client:
+        yield test_client
+
+
+def test_the_page_and_its_assets(client) -> None:
+    page = client.get("/")
+    assert page.status_code == 200 and "text/html" in page.headers["content-type"]
+    assert "/assets/plotly.min.js" in page.text and "cdn" not in page.text.lower()
+    assert page.headers["content-security-policy"].startswith("default-src 'self'")
+    for name in ("explore.js", "explore.css", "plotly.min.js"):
+        reply = client.get(f"/assets/{name}")
+        assert reply.status_code == 200 and len(reply.content) > 100
+    assert "plotly.js" in client.get("/assets/plotly.min.js").text[:400]
+
+
+@pytest.mark.parametrize(
+    "path",
+    [
+        "/assets/settings.py",
+        "/assets/..%2Fsettings.py",
+        "/assets/%2e%2e%2f%2e%2e%2fpyproject.toml",
+        "/assets/static%2Findex.html",
+        "/assets/",
+        "/static/explore.js",
+        "/etc/passwd",
+        "/../../etc/passwd",
+    ],
+)
+def test_no_file_outside_the_assets(client, path) -> None:
+    reply = client.get(path)
+    assert reply.status_code == 404
+    assert "import" not in reply.text and "root:" not in reply.text
+
+
+def test_only_its_own_host_names(client) -> None:
+    assert client.get("/", headers={"host": "evil.example"}).status_code == 400
+    assert client.get("/", headers={"host": "localhost:8765"}).status_code == 200
+
+
+def test_only_get(client) -> None:
+    assert client.post("/api/view", data={"rpm": "200"}).status_code == 405
+    assert client.delete("/").status_code == 405
+
+
+def test_spec(client) -> None:
+    spec = client.get("/api/spec").json()
+    assert [j["name"] for j in spec["joints"]] == ["O2", "A", "B", "O4"]
+    assert spec["defaults"]["c.A"] == "21" and "ifm-conventional" in spec["contacts"]
+    assert client.get("/api/spec?x=1").status_code == 400
+
+
+@pytest.mark.parametrize(
+    ("query", "words"),
+    [
+        ("c.A=abc", "must be a number"),
+        ("c.A=-5", "must lie within"),
+        ("evil=1", "unknown parameter"),
+        ("rpm=200&rpm=300", "given twice"),
+        ("contact=%3Cscript%3E", "unknown contact"),
+        ("L.rocker=500", "tolerance"),
+        ("settle=-1", "start-up revolutions"),
+        ("mu=1e999", "finite"),
+    ],
+)
+@pytest.mark.parametrize("route", ["/api/view", "/api/download"])
+def test_bad_queries_get_one_line(client, route, query, words) -> None:
+    reply = client.get(f"{route}?{query}")
+    assert reply.status_code == 400
+    error = reply.json()["error"]
+    assert words in error and "\n" not in error and "Traceback" not in error
+
+
+def test_view_changes_with_the_clearance(client) -> None:
+    small = client.get("/api/view", params={**QUICK, "c.A": "5"}).json()
+    large = client.get("/api/view", params={**QUICK, "c.A": "50"}).json()
+    assert small["orbits"]["A"]["clearance_um"] == pytest.approx(5)
+    assert large["orbits"]["A"]["clearance_um"] == pytest.approx(50)
+    reach = max(map(abs, large["orbits"]["A"]["x_um"] + large["orbits"]["A"]["y_um"]))
+    assert reach > 10  # the pin travels beyond where the 5 µm bearing would hold it
+    assert small["peaks"]["F_A"]["value"] != large["peaks"]["F_A"]["value"]
+    assert large["query"]["c.A"] == "50"
+    mechanism = large["mechanism"]
+    assert mechanism["frames"] == len(mechanism["crank_deg"]) and mechanism["magnification"] > 1
+
+
+def test_download_is_what_simulate_writes(client) -> None:
+    query = {**QUICK, "c.A": "50"}
+    reply = client.get("/api/download", params=query)
+    assert reply.status_code == 200
+    assert reply.headers["content-type"] == "application/zip"
+    archive = zipfile.ZipFile(io.BytesIO(reply.content))
+    assert {"settings.toml", "summary.json", "timeseries.csv", "steps.csv"} <= set(
+        archive.namelist()
+    )
+    summary = json.loads(archive.read("summary.json"))
+    view = client.get("/api/view", params=query).json()
+    assert summary["peaks"].keys() == view["peaks"].keys()
+    for key, peak in view["peaks"].items():
+        assert summary["peaks"][key]["value"] == pytest.approx(peak["value"], rel=1e-9)
+    # the view's nominal analysis was kept from an earlier run; the command computes its own
+    assert summary["nominal_peaks"] == pytest.approx(view["nominal_peaks"], rel=1e-9)
+    assert summary["increase_percent"] == pytest.approx(view["increase_percent"], rel=1e-9)
+    assert summary["contact"]["method"] == "ifm-conventional"
+    assert 'method = "ifm-conventional"' in archive.read("settings.toml").decode()
+
+
+def test_joints_of_their_own_contact_cannot_be_downloaded(client) -> None:
+    # jointplay simulate takes one contact for all joints: it cannot write this run
+    reply = client.get("/api/download", params={**QUICK, "contact.A": "physical"})
+    assert reply.status_code == 400
+    assert "one contact and friction for every joint" in reply.json()["error"]
+    view = client.get("/api/view", params={**QUICK, "contact.A": "physical"})
+    assert view.status_code == 200 and "A: restitution law" in view.json()["contact"]
+
+
+def test_a_waiting_run_is_superseded() -> None:
+    runner = Runner()
+    first = runner.ticket()
+    release = threading.Event()
+    results: list[object] = []
+
+    def slow() -> str:
+        release.wait(5)
+        return "first"
+
+    worker = threading.Thread(target=lambda: results.append(runner.run(first, slow)))
+    worker.start()
+    time.sleep(0.05)
+    waiting = runner.ticket()
+    newest = runner.ticket()
+    release.set()
+    worker.join()
+    with pytest.raises(Superseded):
+        runner.run(waiting, lambda: "stale")
+    assert runner.run(newest, lambda: "newest") == "newest"
+    assert results == ["first"] and runner.runs == 2
