@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 
 from jointplay import __version__
-from jointplay.cli._app import current_argv
+from jointplay.cli._app import OUTPUT_PANEL, RUN_PANEL, WEAR_PANEL, current_argv
 from jointplay.errors import ConfigError
 from jointplay.units import parse_quantity
 
@@ -24,7 +24,7 @@ if TYPE_CHECKING:
 PresetOption = Annotated[
     str | None,
     typer.Option(
-        "--preset", "-p", help="Named mechanism (see `jointplay presets`). Default: paper-fourbar."
+        "--preset", "-p", help="Named mechanism (jointplay presets; default paper-fourbar)."
     ),
 ]
 ConfigOption = Annotated[
@@ -37,8 +37,7 @@ RpmOption = Annotated[
     str | None,
     typer.Option(
         "--rpm",
-        help="Crank speed with a unit, e.g. '200 rpm' or '20.9 rad/s' (overrides the "
-        "mechanism's; a bare number is refused).",
+        help="Crank speed with a unit, e.g. '200 rpm' or '20.9 rad/s' (overrides the mechanism's).",
     ),
 ]
 DirectionOption = Annotated[
@@ -52,27 +51,17 @@ StartAngleOption = Annotated[
         help="Crank angle at t = 0 with a unit, e.g. '30 deg' (CCW from the ground line).",
     ),
 ]
-#: Help panels that group the options of the long commands (``--help`` at 80 columns).
-SAMPLING_PANEL = "Sampling"
-EXECUTION_PANEL = "Execution"
-OUTPUT_PANEL = "Output"
-WEAR_PANEL = "Wear and cost"
-RUN_PANEL = "The dynamic run"
 
 GravityOption = Annotated[
     str | None,
-    typer.Option(
-        "--gravity", help="'off', 'on' (9.80665 m/s² towards -y) or a magnitude like '9.81 m/s^2'."
-    ),
+    typer.Option("--gravity", help="off, on (9.80665 m/s² towards -y) or e.g. '9.81 m/s^2'."),
 ]
 OutOption = Annotated[
     Path,
     typer.Option(
         "--out",
         "-o",
-        help="Output folder: replaced as a whole when the run succeeds, left as it was when "
-        "it fails or is interrupted. A non-empty folder that jointplay did not write needs "
-        "--force.",
+        help="Output folder, replaced on success.",
         rich_help_panel=OUTPUT_PANEL,
     ),
 ]
@@ -129,7 +118,7 @@ FigureFormatOption = Annotated[
     str,
     typer.Option(
         "--figure-format",
-        help="png; or svg or pdf: every figure is also written in that format, for print.",
+        help="svg or pdf: figures also in it.",
         rich_help_panel=OUTPUT_PANEL,
     ),
 ]
@@ -137,7 +126,7 @@ ProgressOption = Annotated[
     bool,
     typer.Option(
         "--progress/--no-progress",
-        help="Show on stderr what runs now (a progress bar or a spinner).",
+        help="A progress bar or spinner on stderr.",
         rich_help_panel=OUTPUT_PANEL,
     ),
 ]
@@ -145,8 +134,7 @@ ForceOption = Annotated[
     bool,
     typer.Option(
         "--force",
-        help="Replace --out even if it is a non-empty folder jointplay did not write (never "
-        "the home folder, a system folder or a folder holding an input of the run).",
+        help="Replace --out though jointplay did not write it (never home or a system folder).",
         rich_help_panel=OUTPUT_PANEL,
     ),
 ]

@@ -88,8 +88,8 @@ def general_tolerance_command(
         Feature,
         typer.Option(
             "--feature",
-            help="Which table: linear dimensions (Table 1), broken edges = external radii and "
-            "chamfer heights (Table 2), or angular dimensions keyed by the shorter side (Table 3).",
+            help="Which table: linear (dimensions, Table 1), broken-edge (external radii and "
+            "chamfer heights, Table 2) or angular (keyed by the shorter side, Table 3).",
         ),
     ] = Feature.linear,
     as_json: JsonOption = False,
