@@ -140,9 +140,7 @@ def test_batch_is_as_close_to_a_converged_solution_as_issue_14_asks(
             assert error < contract_rtol(key), (i, key)
 
 
-@pytest.mark.parametrize(
-    ("start", "settle"), [(None, 2), (Start("steady"), 2), (Start("rest"), 0)]
-)
+@pytest.mark.parametrize(("start", "settle"), [(None, 2), (Start("steady"), 2), (Start("rest"), 0)])
 def test_the_batch_settles_by_default_as_simulate_and_the_cli_do(
     paper_fourbar: Mechanism, monkeypatch: pytest.MonkeyPatch, start, settle: int
 ) -> None:

@@ -56,8 +56,8 @@ from jointplay._kernels import common as kc
 from jointplay._kernels import constraints as ck
 from jointplay._kernels import eom
 from jointplay._kernels.contact import normal_force
-from jointplay.dynamics.cycles import DEFAULT_SETTLE
 from jointplay.dynamics.clearance import MIN_CLEARANCE, ClearanceJoint, stiffness_field
+from jointplay.dynamics.cycles import DEFAULT_SETTLE
 from jointplay.dynamics.integrate import IntegrationStatus, _interrupts_watched
 from jointplay.dynamics.simulate import SolverOptions, Start, initial_state
 from jointplay.dynamics.system import PARAMS_WIDTH, System, build_system
