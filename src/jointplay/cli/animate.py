@@ -20,6 +20,7 @@ from jointplay.cli._common import (
     ProgressOption,
     RpmOption,
     StartAngleOption,
+    compiling_kernels,
     mechanism_from_options,
     status,
 )
@@ -189,9 +190,12 @@ def _simulate(
     if isinstance(settle, bool) or not isinstance(settle, int) or settle < 0:
         raise ConfigError(f"--settle must be a whole number of revolutions >= 0, got {settle!r}")
     where = ", ".join(c.joint for c in clear) or "no joint (ideal joints)"
-    with status(
-        progress,
-        f"simulating {settle + 1} revolution(s) of {mechanism.name} with clearance in {where}",
+    with (
+        compiling_kernels(),
+        status(
+            progress,
+            f"simulating {settle + 1} revolution(s) of {mechanism.name} with clearance in {where}",
+        ),
     ):
         return simulate(
             mechanism,

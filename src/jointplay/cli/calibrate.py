@@ -35,6 +35,7 @@ from jointplay.cli._common import (
     SpeedPositiveOption,
     check_figure_format,
     choice,
+    compiling_kernels,
     provenance,
     status,
 )
@@ -289,7 +290,10 @@ def calibrate_command(
 
     def run() -> CalibrationResult:
         what = "clearance model" if any(n in cal.DYNAMIC_PARAMETERS for n in names) else "nominal"
-        with status(progress, f"fitting {', '.join(names)} on the {what} model"):
+        with (
+            compiling_kernels(needed=what != "nominal"),
+            status(progress, f"fitting {', '.join(names)} on the {what} model"),
+        ):
             return cal.calibrate(
                 mechanism,
                 datasets,

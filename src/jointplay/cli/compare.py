@@ -35,6 +35,7 @@ from jointplay.cli._common import (
     SpeedPositiveOption,
     check_figure_format,
     choice,
+    compiling_kernels,
     maybe_output_dir,
     mechanism_from_options,
     provenance,
@@ -187,8 +188,12 @@ def compare_command(
             if name == cmp.NOMINAL:
                 comparisons.append(nominal)
                 continue
-            with status(
-                progress, f"simulating {name}: {revolutions:g} revolution(s) of {mechanism.name}"
+            with (
+                compiling_kernels(),  # says so only while no compiled kernels are cached
+                status(
+                    progress,
+                    f"simulating {name}: {revolutions:g} revolution(s) of {mechanism.name}",
+                ),
             ):
                 cycle = cmp.steady_cycle(
                     mechanism, name, revolutions=revolutions, ecs_source=ecs_source
