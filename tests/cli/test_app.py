@@ -288,6 +288,66 @@ def test_console_tables_never_cut_a_header() -> None:
     assert all(word in text.split() for word in words)
 
 
+def test_a_table_never_splits_a_number_nor_cuts_a_declared_no_wrap_header() -> None:
+    """At 80 columns Rich folded numbers across lines ("4825." over ".8") and cut headers
+    ("nomi…"; a no_wrap column's, "most influenti", where the console crops); whole_headers
+    keeps them whole, and the table within 80 columns by wrapping the text cells."""
+    import io
+
+    from rich.console import Console
+    from rich.table import Table
+
+    from jointplay.cli._common import whole_headers
+
+    headers = ["response", "nominal", "mean", "std", "min", "max", "ideal joints",
+               "most influential"]  # fmt: skip
+    rows = [["omega3_peak (rad/s)", "13.8365", "13.822", "0.0605", "13.597", "14.057",
+             "13.726", "crank 62 %"],
+            ["alpha3_peak (rad/s²)", "5330.54", "4825.8", "1455", "1044.4", "8328.4",
+             "411.02", "clearance A 88 %"]]  # fmt: skip
+
+    def printed(fix: bool) -> str:
+        table = Table(box=None)
+        for header in headers:
+            table.add_column(header, no_wrap=header in ("response", "most influential"))
+        for row in rows:
+            table.add_row(*row)
+        console = Console(width=80, file=io.StringIO(), soft_wrap=True)
+        console.print(whole_headers(table) if fix else table)
+        return console.file.getvalue()  # type: ignore[attr-defined]
+
+    numbers = {cell for row in rows for cell in row[1:-1]}
+    before = printed(fix=False).split()
+    assert not numbers <= set(before) and "nomi…" in before  # the check can fail
+    after = printed(fix=True)
+    assert all(word in after.split() for header in headers for word in header.split())
+    assert numbers <= set(after.split())
+    assert max(len(line) for line in after.splitlines()) <= 80  # and it still fits
+
+
+def test_the_ecs_tables_keep_every_header_and_number_whole_at_80_columns(monkeypatch) -> None:
+    """A command's console tables on an 80-column terminal (ecs: six tables of up to 11
+    columns): no "…", and every number of the same tables printed 200 wide is there whole."""
+    import io
+
+    from rich.console import Console
+
+    import jointplay.cli.ecs as ecs
+
+    def shown(width: int) -> list[str]:
+        console = Console(width=width, file=io.StringIO(), force_terminal=True,
+                          color_system=None, soft_wrap=True, highlight=False)  # fmt: skip
+        monkeypatch.setattr(ecs, "console", console)
+        assert run(["ecs"]) == 0
+        return re.sub(r"\x1b\[[0-9;]*m", "", console.file.getvalue()).split()  # type: ignore[attr-defined]
+
+    narrow, wide = shown(80), shown(200)
+    assert not any("…" in word for word in narrow)
+    numbers = {w for w in wide if re.fullmatch(r"-?\d[\d.]*(e[-+]\d+)?", w)}
+    assert len(numbers) > 30
+    assert numbers <= set(narrow), sorted(numbers - set(narrow))
+
+
 #: The longest help a command may print at 80 columns (issue 25: design's first, 235 lines
 #: in one panel, fits the terminal's scroll-back of one screenful or two).
 MOST_HELP_LINES = 120

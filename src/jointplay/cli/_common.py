@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 import shlex
 import sys
 import time
@@ -328,13 +329,28 @@ def status(enabled: bool, text: str) -> AbstractContextManager[Any]:
     return Console(stderr=True).status(text)
 
 
+#: Words of a table's cells up to this length are never split either (``zero-load``,
+#: ``overall``); longer ones (a design scheme's ``O2=H7/g6,A=H7/g6,...``) fold.
+LONGEST_WHOLE_WORD = 16
+#: A cell that is one number (``13.822``, ``-3.963e-06``, ``2338.1``): never split.
+_NUMBER = re.compile(r"[-+−]?(\d[\d,]*\.?\d*|\.\d+)([eE][-+]?\d+)?%?")
+
+
 def whole_headers(table: Any) -> Any:
-    """``table`` (a :class:`rich.table.Table`) with headers that are never cut: each column
-    at least as wide as its header's longest word, and a cell too long for its column
-    folded onto the next line instead of ending in "…". A table that then outgrows the
-    terminal is wrapped by the terminal, not truncated by Rich."""
+    """``table`` (a :class:`rich.table.Table`, its rows added) with headers and numbers that
+    are never cut: each column at least as wide as the longest word of its header, the
+    longest number among its cells and their longest word up to
+    :data:`LONGEST_WHOLE_WORD` characters; its cells wrapped at spaces or, where a longer
+    word does not fit, folded onto the next line instead of ending in "…". A table that still outgrows the
+    terminal is wrapped by the terminal (the consoles print it with ``soft_wrap``), not
+    truncated by Rich. Columns declared ``no_wrap`` wrap at spaces too: Rich cut their
+    header otherwise (tolerance's "most influential" read "most influenti" at 80 columns)."""
     for column in table.columns:
         words = str(column.header).split()
-        column.min_width = max((len(word) for word in words), default=0)
+        cells = [str(getattr(cell, "plain", cell)).strip() for cell in column.cells]
+        numbers = [cell for cell in cells if _NUMBER.fullmatch(cell)]
+        short = [w for cell in cells for w in cell.split() if len(w) <= LONGEST_WHOLE_WORD]
+        column.min_width = max((len(word) for word in [*words, *numbers, *short]), default=0)
         column.overflow = "fold"
+        column.no_wrap = False
     return table

@@ -38,6 +38,7 @@ from jointplay.cli._common import (
     compiling_kernels,
     provenance,
     status,
+    whole_headers,
 )
 from jointplay.errors import ConfigError
 from jointplay.units import parse_quantity
@@ -452,7 +453,7 @@ def _print(result: CalibrationResult, out: Path | None) -> None:
             f"{p.initial:.6g}",
             _friendly(p.name, p.value, p.ci95),
         )
-    console.print(table)
+    console.print(whole_headers(table))
     names = [p.name for p in result.parameters]
     if len(names) > 1:
         corr = Table(title="correlation", box=None)
@@ -461,7 +462,7 @@ def _print(result: CalibrationResult, out: Path | None) -> None:
             corr.add_column(name, justify="right")
         for name, row in zip(names, result.correlation, strict=True):
             corr.add_row(name, *(f"{v:+.3f}" if math.isfinite(v) else "-" for v in row))
-        console.print(corr)
+        console.print(whole_headers(corr))
     b, a = result.before, result.after
     console.print(
         f"RMS error {b.rms_error_percent:.2f} % -> {a.rms_error_percent:.2f} %, max |error| "

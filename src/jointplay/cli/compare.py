@@ -40,6 +40,7 @@ from jointplay.cli._common import (
     mechanism_from_options,
     provenance,
     status,
+    whole_headers,
 )
 from jointplay.errors import ConfigError
 from jointplay.units import parse_quantity
@@ -298,7 +299,7 @@ def _print(result: MethodsComparison, mechanism: Mechanism, out: Path | None) ->
                 _format_number(float(frame["error_percent"].iloc[i]), "+.2f") + flag,
             ]
         points.add_row(*row)
-    console.print(points)
+    console.print(whole_headers(points))
     flagged = [c for c in result.comparisons if c.points["low_speed"].any()]
     if flagged:
         console.print(
@@ -329,7 +330,7 @@ def _print(result: MethodsComparison, mechanism: Mechanism, out: Path | None) ->
             f"{record['n_percent_points']}/{record['n_points']}",
             _format_number(record["speed_factor_what_if"], ".3f"),
         )
-    console.print(stats)
+    console.print(whole_headers(stats))
     console.print(result.verdict())
     console.print(f"discrepancy: {result.discrepancy.summary()}")
     if result.printed_check is not None:
