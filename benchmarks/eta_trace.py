@@ -8,8 +8,8 @@ After the run it compares, from 10 % of the work on (before that nothing is show
 * the time left shown against the one the average speed since the start gives,
   (work left) / (done / elapsed): the rule is that the shown one is never more than 20 %
   below it;
-* the time left shown against the time that was in fact left (the run's end minus the
-  moment of the sample).
+* the time left shown against the time that was in fact left (the first redraw with all
+  the work done, minus the moment of the sample).
 
 Usage (from the repository root; the progress bar is drawn only on a terminal, so the script
 sets ``TTY_COMPATIBLE=1`` for Rich)::
@@ -67,6 +67,9 @@ def main(argv: list[str] | None = None) -> int:
         print(f"jointplay {' '.join(command)} exited {status}; {len(rows)} trace samples")
         return 1
     total = max(totals)  # one bar: its work in all
+    # the bar's end: its first redraw with all the work done (what follows, the report's
+    # writing, is not the bar's time left); the command's end if it never drew that
+    end = next((wall for wall, _, done, _ in rows if done >= total), end)
     below, error, kept = [], [], []
     for wall, elapsed, done, shown in rows:
         if shown is None or done < 0.1 * total or done >= total or elapsed <= 0:
