@@ -204,6 +204,7 @@ def test_every_help_shows_its_brackets_and_whole_option_names_at_80_columns(
     brackets = {b for help_text in written for b in re.findall(r"\[[^\]\s]+\]", help_text)}
     for bracket in brackets:
         assert bracket in squashed, f"{name} --help lost {bracket}"
+    assert "\\[" not in squashed, f"{name} --help shows an escape"  # escaped twice: '\\[wear]'
     names = re.findall(r"^│\s+(?:\*\s+)?(--[\w,-]+)", text, flags=re.MULTILINE)
     listed = {option for joined in names for option in joined.split(",")}
     secondary = set(re.findall(r"\s(--no-[\w-]+)\s", text))

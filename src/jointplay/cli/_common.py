@@ -30,9 +30,7 @@ PresetOption = Annotated[
 ]
 ConfigOption = Annotated[
     Path | None,
-    typer.Option(
-        "--config", "-c", help="TOML mechanism file (see `jointplay show paper-fourbar`)."
-    ),
+    typer.Option("--config", "-c", help="TOML mechanism file (see jointplay show)."),
 ]
 RpmOption = Annotated[
     str | None,

@@ -108,12 +108,12 @@ def animate_command(
     fps: Annotated[int, _opt("Frames per second.", "--fps")] = 20,
     frames: Annotated[int, _opt("Frames over the revolution.", "--frames")] = 72,
 ) -> None:
-    r"""Animate the mechanism over its steady cycle with each pin's play magnified.
+    """Animate the mechanism over its steady cycle with each pin's play magnified.
 
     Simulates --settle start-up revolutions and one more, and draws that last revolution:
     links to scale, each clearance joint's clearance circle and pin centre magnified by one
     stated factor. Writes --out (.gif, or .mp4 with ffmpeg installed). Simulation options
-    are those of `jointplay simulate` and override the \[simulation] table of a --config
+    are those of `jointplay simulate` and override the [simulation] table of a --config
     file; --joints none animates the mechanism with ideal joints.
     """
     from jointplay.report.animation import check_animation_settings
