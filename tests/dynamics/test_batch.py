@@ -98,7 +98,7 @@ def test_unbuildable_samples_fail_with_the_per_sample_message(paper_fourbar: Mec
 
 def test_batch_agrees_with_the_single_engine_per_sample(paper_fourbar: Mechanism) -> None:
     samples = _random_samples(3, seed=11)
-    result = simulate_batch(paper_fourbar, _joints(), samples, backend="local")
+    result = simulate_batch(paper_fourbar, _joints(), samples, backend="local", settle=0)
     assert result.method == "explicit" and result.ok.all()
     for i in range(len(samples)):
         reference = _single(paper_fourbar, samples, i)
@@ -140,10 +140,36 @@ def test_batch_is_as_close_to_a_converged_solution_as_issue_14_asks(
             assert error < contract_rtol(key), (i, key)
 
 
+@pytest.mark.parametrize(("start", "settle"), [(None, 2), (Start("steady"), 2), (Start("rest"), 0)])
+def test_the_batch_settles_by_default_as_simulate_and_the_cli_do(
+    paper_fourbar: Mechanism, monkeypatch: pytest.MonkeyPatch, start, settle: int
+) -> None:
+    """Without ``settle``, the steady start leaves 2 start-up revolutions out (as
+    ``simulate()`` and ``jointplay simulate``); the other starts, whose start-up is what they
+    show, none. (The batch took 0 for every start before.)"""
+    import inspect
+
+    from jointplay.dynamics import batch
+
+    seen: list[int] = []
+
+    def build(*args, **kwargs):
+        seen.append(kwargs["settle"])
+        raise KeyboardInterrupt  # stop before any integration
+
+    monkeypatch.setattr(batch, "build_batch", build)
+    with pytest.raises(KeyboardInterrupt):
+        simulate_batch(paper_fourbar, _joints(), BatchSamples(size=1), start=start)
+    assert seen == [settle]
+    for function in (simulate, simulate_batch):  # one default, stated where it is read
+        assert inspect.signature(function).parameters["settle"].default is None
+        assert "default: 2 with the steady start" in " ".join((function.__doc__ or "").split())
+
+
 @pytest.fixture(scope="module")
 def reference(paper_fourbar: Mechanism):
     samples = _random_samples(9, seed=5)
-    return samples, simulate_batch(paper_fourbar, _joints(), samples, backend="local")
+    return samples, simulate_batch(paper_fourbar, _joints(), samples, backend="local", settle=0)
 
 
 def _same(a, b) -> None:
@@ -156,14 +182,14 @@ def _same(a, b) -> None:
 @pytest.mark.parametrize("chunk_size", [1, 7, 9])
 def test_chunking_does_not_change_results(paper_fourbar: Mechanism, reference, chunk_size) -> None:
     samples, expected = reference
-    result = simulate_batch(paper_fourbar, _joints(), samples, chunk_size=chunk_size)
+    result = simulate_batch(paper_fourbar, _joints(), samples, chunk_size=chunk_size, settle=0)
     _same(result, expected)
 
 
 def test_worker_processes_give_the_same_bits(paper_fourbar: Mechanism, reference) -> None:
     samples, expected = reference
     result = simulate_batch(
-        paper_fourbar, _joints(), samples, backend="processes", workers=2, chunk_size=4
+        paper_fourbar, _joints(), samples, backend="processes", workers=2, chunk_size=4, settle=0
     )
     assert result.backend == "processes" and result.workers == 2
     _same(result, expected)
@@ -185,7 +211,9 @@ def test_a_dask_cluster_gives_the_same_bits_in_chunks_sized_by_the_cluster(
     ) as cluster:
         address = cluster.scheduler_address
         results = [
-            simulate_batch(paper_fourbar, _joints(), samples, backend="dask", scheduler=address)
+            simulate_batch(
+                paper_fourbar, _joints(), samples, backend="dask", scheduler=address, settle=0
+            )
             for _ in range(2)
         ]
         client = batch._CLIENTS[address]
@@ -201,7 +229,9 @@ def test_a_dask_cluster_gives_the_same_bits_in_chunks_sized_by_the_cluster(
 def test_the_gpu_backend_agrees_with_the_cpu(paper_fourbar: Mechanism, reference) -> None:
     pytest.importorskip("jax")
     samples, expected = reference
-    result = simulate_batch(paper_fourbar, _joints(), samples, backend="gpu", method="explicit")
+    result = simulate_batch(
+        paper_fourbar, _joints(), samples, backend="gpu", method="explicit", settle=0
+    )
     assert result.ok.all()
     for key in expected.peaks.columns:  # measured: alpha3 3.6e-9, the others <= 4.6e-10
         np.testing.assert_allclose(
@@ -219,7 +249,7 @@ def test_the_gpu_backend_without_jax_says_what_to_install(
     monkeypatch.setitem(sys.modules, "jointplay._kernels.jax_batch", None)  # import fails
     monkeypatch.delattr(jointplay._kernels, "jax_batch", raising=False)
     with pytest.raises(ConfigError, match=r"jointplay\[gpu\]"):
-        simulate_batch(paper_fourbar, _joints(), BatchSamples(size=1), backend="gpu")
+        simulate_batch(paper_fourbar, _joints(), BatchSamples(size=1), backend="gpu", settle=0)
 
 
 def test_failed_samples_keep_their_inputs_and_do_not_stop_the_others(
@@ -229,7 +259,7 @@ def test_failed_samples_keep_their_inputs_and_do_not_stop_the_others(
         law={"stiffness": np.array([3e8, 1e300, 3e8])},  # the middle one overflows
         lengths={"crank": np.array([0.108, 0.108, 0.3])},  # the last cannot turn
     )
-    result = simulate_batch(paper_fourbar, _joints(), samples)
+    result = simulate_batch(paper_fourbar, _joints(), samples, settle=0)
     assert result.ok.tolist() == [True, False, False]
     failures = result.failures
     assert failures.index.tolist() == [1, 2]
@@ -238,7 +268,11 @@ def test_failed_samples_keep_their_inputs_and_do_not_stop_the_others(
     assert failures.loc[2, "error"].startswith("AssemblyError")
     assert np.isnan(result.peaks.loc[1:]).all(axis=None)
     few = simulate_batch(
-        paper_fourbar, _joints(), BatchSamples(size=2), solver=SolverOptions(max_steps=400)
+        paper_fourbar,
+        _joints(),
+        BatchSamples(size=2),
+        solver=SolverOptions(max_steps=400),
+        settle=0,
     )
     assert not few.ok.any() and "max_steps = 400" in few.errors[0]
     frame = few.to_frame()
@@ -265,7 +299,7 @@ def test_method_choice_follows_the_stiffness(paper_fourbar: Mechanism) -> None:
 
 def test_bad_arguments_name_the_fix(paper_fourbar: Mechanism) -> None:
     with pytest.raises(ConfigError, match="backend must be one of"):
-        simulate_batch(paper_fourbar, _joints(), BatchSamples(size=1), backend="threads")
+        simulate_batch(paper_fourbar, _joints(), BatchSamples(size=1), backend="threads", settle=0)
     with pytest.raises(ConfigError, match="no parameter 'k'"):
         build_batch(paper_fourbar, _joints(), BatchSamples(law={"k": [1.0]}))
     with pytest.raises(ConfigError, match="not a clearance joint"):
@@ -304,11 +338,11 @@ def test_an_rm_set_runs_implicit_and_converges(paper_fourbar: Mechanism) -> None
     law, _ = method_law("rm-conventional", paper_fourbar)
     samples = _random_samples(4, seed=31)
     samples = BatchSamples(lengths=samples.lengths, clearances=samples.clearances)
-    result = simulate_batch(paper_fourbar, _joints(law=law), samples, backend="local")
+    result = simulate_batch(paper_fourbar, _joints(law=law), samples, backend="local", settle=0)
     assert result.method == "implicit" and result.ok.all()
     converged = SolverOptions(rtol=1e-9, atol_position=1e-12, atol_velocity=1e-9)
     exact = simulate_batch(
-        paper_fourbar, _joints(law=law), samples, backend="local", solver=converged
+        paper_fourbar, _joints(law=law), samples, backend="local", solver=converged, settle=0
     )
     for key in result.peaks.columns:
         bound = {
@@ -364,7 +398,7 @@ def test_an_interrupt_keeps_the_finished_lanes(
         if backend == "dask":
             options["scheduler"] = cluster.scheduler_address
         with pytest.raises(BatchInterrupted) as stopped:
-            simulate_batch(paper_fourbar, _joints(), samples, backend=backend, **options)
+            simulate_batch(paper_fourbar, _joints(), samples, backend=backend, **options, settle=0)
         batch._close_clients()
     result = stopped.value.result
     assert isinstance(stopped.value, KeyboardInterrupt)
@@ -399,7 +433,9 @@ def test_a_dask_cluster_without_workers_is_a_clear_error(
     with LocalCluster(n_workers=0, processes=False, dashboard_address=":0") as cluster:
         address = cluster.scheduler_address
         with pytest.raises(ConfigError, match=r"has no workers \(none joined within 0.5 s\)"):
-            simulate_batch(paper_fourbar, _joints(), samples, backend="dask", scheduler=address)
+            simulate_batch(
+                paper_fourbar, _joints(), samples, backend="dask", scheduler=address, settle=0
+            )
 
 
 _LOSES_ITS_WORKERS = """
@@ -419,7 +455,7 @@ if __name__ == "__main__":
     samples = BatchSamples(clearances={j: np.linspace(6e-6, 20e-6, 9) for j in ("A", "B")})
     joints = [ClearanceJoint(j, 11.75e-6, 0.005, DEFAULT_IMPACT) for j in ("A", "B")]
     mechanism = load_preset("paper-fourbar")
-    reference = simulate_batch(mechanism, joints, samples)
+    reference = simulate_batch(mechanism, joints, samples, settle=0)
     batch.DASK_NO_WORKERS_S = 1.0
     with LocalCluster(
         n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0"
@@ -432,7 +468,7 @@ if __name__ == "__main__":
         batch._progress = progress
         result = simulate_batch(
             mechanism, joints, samples, backend="dask", scheduler=cluster.scheduler_address,
-            chunk_size=2,
+            chunk_size=2, settle=0,
         )
         batch._close_clients()
     ok = result.ok

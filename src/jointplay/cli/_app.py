@@ -26,6 +26,10 @@ except ImportError:  # pragma: no cover - older Typer uses the click package
 
 from jointplay.errors import Interrupted, JointplayError, caused_by_interrupt
 
+#: A choice option's type column lists its choices up to this width (``<random|lhs>``);
+#: longer lists (``<monte-carlo|worst-case|rss>``) show ``<choice>``, the help naming them.
+LONGEST_CHOICES = 14
+
 
 def _flags_show_no_metavar() -> None:
     """Flags (``--json``, ``--force``, ``--plots/--no-plots``, ``--help``) take no value, so
@@ -47,10 +51,51 @@ def _flags_show_no_metavar() -> None:
     def display_type_rich(self: Any, ctx: Any) -> str | None:
         if getattr(self, "is_flag", False) or getattr(self, "count", False):
             return None
-        return shown(self, ctx)
+        text = shown(self, ctx)
+        if text and "|" in text and len(text) > LONGEST_CHOICES:  # the help names them
+            return "<choice>"
+        return text.replace(" range>", ">") if text else text  # the range: with the help
 
     display_type_rich._flags_hidden = True  # type: ignore[attr-defined]
     TyperOption.display_type_rich = display_type_rich  # type: ignore[method-assign]
+
+
+def _ranges_beside_the_help() -> None:
+    """A number option's range (``--workers``: 1 to 1024) is shown after its help, as its
+    default is, not in the type column: there ``<int range> [1<=x<=10000000]`` made the
+    column 30 characters wide and left the help of every option of the panel 20 columns.
+
+    Typer's Rich help takes the range from ``_get_number_range_help_str`` for the type
+    column; here that returns nothing, and the help's items (``[default: ...]``) get a
+    ``[range: ...]`` from the option's ``min`` and ``max``."""
+    try:
+        from rich.text import Text
+        from typer import core, rich_utils
+        from typer._display import describe_number_range
+    except ImportError:  # pragma: no cover - another Typer: its own layout stays
+        return
+    helped = getattr(rich_utils, "_get_parameter_help", None)
+    if helped is None or getattr(helped, "_with_range", False):
+        return
+
+    def get_parameter_help(*, param: Any, ctx: Any, markup_mode: Any) -> Any:
+        columns = helped(param=param, ctx=ctx, markup_mode=markup_mode)
+        low, high = getattr(param, "min", None), getattr(param, "max", None)
+        if (low is not None or high is not None) and hasattr(columns, "renderables"):
+            text = describe_number_range(low, high)
+            items = columns.renderables
+            default = next((t for t in items if str(t).startswith("[default: ")), None)
+            if text and default is not None:  # one line: [default: 2; x>=0]
+                default.plain = f"{str(default)[:-1]}; {text}]"
+            elif text:
+                items.append(Text(f"[range: {text}]", style="dim"))
+        return columns
+
+    get_parameter_help._with_range = True  # type: ignore[attr-defined]
+    rich_utils._get_parameter_help = get_parameter_help
+    for kind in (core.TyperOption, core.TyperArgument):
+        if hasattr(kind, "_get_number_range_help_str"):
+            kind._get_number_range_help_str = lambda self: None  # type: ignore[method-assign]
 
 
 def _help_is_plain_text() -> None:
@@ -141,9 +186,120 @@ def _stacked(name: Any, negative: Any) -> Any:
     return stacked
 
 
+#: Help panels: every command groups its options under the same titles, in this order
+#: (Typer's "Options" first: what is studied, the mechanism and its speed).
+REQUIREMENTS_PANEL = "Requirements"
+SAMPLING_PANEL = "Sampling"
+CONTACT_PANEL = "Contact"
+RUN_PANEL = "The dynamic run"
+WEAR_PANEL = "Wear and cost"
+MEASUREMENTS_PANEL = "Measurements file"
+EXECUTION_PANEL = "Execution"
+OUTPUT_PANEL = "Output"
+PANEL_ORDER = (
+    "Options",
+    REQUIREMENTS_PANEL,
+    SAMPLING_PANEL,
+    CONTACT_PANEL,
+    RUN_PANEL,
+    WEAR_PANEL,
+    MEASUREMENTS_PANEL,
+    EXECUTION_PANEL,
+    OUTPUT_PANEL,
+)
+#: The panel of an option by its name, on every command whose declaration names none (one
+#: grammar across commands: ``--settle`` is under "The dynamic run" wherever it appears).
+#: ``--method`` is not here: it names a contact method on the simulating commands (declared
+#: in the Contact panel) and a tolerance method on ``tolerance``.
+# fmt: off
+OPTION_PANELS = {
+    **dict.fromkeys(("--require", "--spec-limit", "--confidence"), REQUIREMENTS_PANEL),
+    **dict.fromkeys(
+        ("--samples", "--max-samples", "--seed", "--sampling", "--distribution", "--cpk",
+         "--truncate", "--rare-defects", "--clearances", "--corners", "--fd-step"),
+        SAMPLING_PANEL),
+    **dict.fromkeys(
+        ("--paper-method", "--ecs-source", "--contact", "--k", "--exponent", "--cmax",
+         "--depth", "--restitution", "--damping", "--stiffness-law", "--friction",
+         "--friction-law", "--clearance", "--joints", "--model-sensitivity"),
+        CONTACT_PANEL),
+    **dict.fromkeys(
+        ("--start", "--ramp-time", "--settle", "--revolutions", "--rtol", "--max-step",
+         "--output-step", "--sample-deg", "--experiment-revolutions"),
+        RUN_PANEL),
+    **dict.fromkeys(
+        ("--clearance-limit", "--table", "--wear-coefficient", "--hardness", "--hours",
+         "--update-hours"),
+        WEAR_PANEL),
+    **dict.fromkeys(
+        ("--measurements", "--column", "--quantity", "--unit", "--angle-column",
+         "--speed-column", "--angle-direction", "--angle-origin", "--crank-direction",
+         "--speed-positive"),
+        MEASUREMENTS_PANEL),
+    **dict.fromkeys(("--backend", "--workers", "--dask-scheduler"), EXECUTION_PANEL),
+    **dict.fromkeys(
+        ("--out", "--plots", "--progress", "--force", "--figure-format", "--json", "--format",
+         "--animation"),
+        OUTPUT_PANEL),
+}
+# fmt: on
+
+
+def option_panel(param: Any) -> str:
+    """The help panel of ``param`` (a Click parameter): its declared one, else the one of
+    :data:`OPTION_PANELS` for its long name, else Typer's "Options"."""
+    declared = getattr(param, "rich_help_panel", None)
+    if declared:
+        return str(declared)
+    names = [*getattr(param, "opts", ()), *getattr(param, "secondary_opts", ())]
+    return next((OPTION_PANELS[n] for n in names if n in OPTION_PANELS), "Options")
+
+
+def _options_in_panels() -> None:
+    """Every command's help groups its options in the panels of :data:`PANEL_ORDER` (the
+    panel of an option without a declared one: :func:`option_panel`), in that order, so a
+    long command's help (``design``: 235 lines at 80 columns in one panel) is read by topic
+    and each panel's columns are as wide as its own options need."""
+    try:
+        from typer import core, rich_utils
+    except ImportError:  # pragma: no cover - Typer without Rich help
+        return
+    render = getattr(rich_utils, "rich_format_help", None)
+    if render is None or getattr(render, "_in_panels", False):
+        return
+
+    def rich_format_help(*, obj: Any, ctx: Any, markup_mode: Any) -> None:
+        params = list(getattr(obj, "params", []))
+        order = {panel: k for k, panel in enumerate(PANEL_ORDER)}
+        panels = [option_panel(p) if isinstance(p, core.TyperOption) else None for p in params]
+        saved = [getattr(p, "rich_help_panel", None) for p in params]
+        try:
+            for param, panel in zip(params, panels, strict=True):
+                if panel is not None and panel != "Options":
+                    param.rich_help_panel = panel
+            obj.params = sorted(  # stable: each panel keeps its options' declared order
+                params,
+                key=lambda p: (
+                    order.get(option_panel(p), len(order))
+                    if isinstance(p, core.TyperOption)
+                    else -1
+                ),
+            )
+            render(obj=obj, ctx=ctx, markup_mode=markup_mode)
+        finally:
+            obj.params = params
+            for param, panel in zip(params, saved, strict=True):
+                param.rich_help_panel = panel
+
+    rich_format_help._in_panels = True  # type: ignore[attr-defined]
+    rich_utils.rich_format_help = rich_format_help
+
+
 _flags_show_no_metavar()
+_ranges_beside_the_help()
 _help_is_plain_text()
 _option_names_never_cut()
+_options_in_panels()
 
 app = typer.Typer(
     name="jointplay",

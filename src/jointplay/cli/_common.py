@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 import shlex
 import sys
 import time
@@ -14,7 +15,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 
 from jointplay import __version__
-from jointplay.cli._app import current_argv
+from jointplay.cli._app import OUTPUT_PANEL, RUN_PANEL, WEAR_PANEL, current_argv
 from jointplay.errors import ConfigError
 from jointplay.units import parse_quantity
 
@@ -24,21 +25,18 @@ if TYPE_CHECKING:
 PresetOption = Annotated[
     str | None,
     typer.Option(
-        "--preset", "-p", help="Named mechanism (see `jointplay presets`). Default: paper-fourbar."
+        "--preset", "-p", help="Named mechanism (jointplay presets; default paper-fourbar)."
     ),
 ]
 ConfigOption = Annotated[
     Path | None,
-    typer.Option(
-        "--config", "-c", help="TOML mechanism file (see `jointplay show paper-fourbar`)."
-    ),
+    typer.Option("--config", "-c", help="TOML mechanism file (see jointplay show)."),
 ]
 RpmOption = Annotated[
     str | None,
     typer.Option(
         "--rpm",
-        help="Crank speed with a unit, e.g. '200 rpm' or '20.9 rad/s' (overrides the "
-        "mechanism's; a bare number is refused).",
+        help="Crank speed with a unit, e.g. '200 rpm' or '20.9 rad/s' (overrides the mechanism's).",
     ),
 ]
 DirectionOption = Annotated[
@@ -52,27 +50,17 @@ StartAngleOption = Annotated[
         help="Crank angle at t = 0 with a unit, e.g. '30 deg' (CCW from the ground line).",
     ),
 ]
-#: Help panels that group the options of the long commands (``--help`` at 80 columns).
-SAMPLING_PANEL = "Sampling"
-EXECUTION_PANEL = "Execution"
-OUTPUT_PANEL = "Output"
-WEAR_PANEL = "Wear and cost"
-RUN_PANEL = "The dynamic run"
 
 GravityOption = Annotated[
     str | None,
-    typer.Option(
-        "--gravity", help="'off', 'on' (9.80665 m/s² towards -y) or a magnitude like '9.81 m/s^2'."
-    ),
+    typer.Option("--gravity", help="off, on (9.80665 m/s² towards -y) or e.g. '9.81 m/s^2'."),
 ]
 OutOption = Annotated[
     Path,
     typer.Option(
         "--out",
         "-o",
-        help="Output folder: replaced as a whole when the run succeeds, left as it was when "
-        "it fails or is interrupted. A non-empty folder that jointplay did not write needs "
-        "--force.",
+        help="Output folder, replaced on success.",
         rich_help_panel=OUTPUT_PANEL,
     ),
 ]
@@ -129,7 +117,7 @@ FigureFormatOption = Annotated[
     str,
     typer.Option(
         "--figure-format",
-        help="png; or svg or pdf: every figure is also written in that format, for print.",
+        help="svg or pdf: figures also in it.",
         rich_help_panel=OUTPUT_PANEL,
     ),
 ]
@@ -137,7 +125,7 @@ ProgressOption = Annotated[
     bool,
     typer.Option(
         "--progress/--no-progress",
-        help="Show on stderr what runs now (a progress bar or a spinner).",
+        help="A progress bar or spinner on stderr.",
         rich_help_panel=OUTPUT_PANEL,
     ),
 ]
@@ -145,8 +133,7 @@ ForceOption = Annotated[
     bool,
     typer.Option(
         "--force",
-        help="Replace --out even if it is a non-empty folder jointplay did not write (never "
-        "the home folder, a system folder or a folder holding an input of the run).",
+        help="Replace --out though jointplay did not write it (never home or a system folder).",
         rich_help_panel=OUTPUT_PANEL,
     ),
 ]
@@ -340,13 +327,28 @@ def status(enabled: bool, text: str) -> AbstractContextManager[Any]:
     return Console(stderr=True).status(text)
 
 
+#: Words of a table's cells up to this length are never split either (``zero-load``,
+#: ``overall``); longer ones (a design scheme's ``O2=H7/g6,A=H7/g6,...``) fold.
+LONGEST_WHOLE_WORD = 16
+#: A cell that is one number (``13.822``, ``-3.963e-06``, ``2338.1``): never split.
+_NUMBER = re.compile(r"[-+−]?(\d[\d,]*\.?\d*|\.\d+)([eE][-+]?\d+)?%?")
+
+
 def whole_headers(table: Any) -> Any:
-    """``table`` (a :class:`rich.table.Table`) with headers that are never cut: each column
-    at least as wide as its header's longest word, and a cell too long for its column
-    folded onto the next line instead of ending in "…". A table that then outgrows the
-    terminal is wrapped by the terminal, not truncated by Rich."""
+    """``table`` (a :class:`rich.table.Table`, its rows added) with headers and numbers that
+    are never cut: each column at least as wide as the longest word of its header, the
+    longest number among its cells and their longest word up to
+    :data:`LONGEST_WHOLE_WORD` characters; its cells wrapped at spaces or, where a longer
+    word does not fit, folded onto the next line instead of ending in "…". A table that still outgrows the
+    terminal is wrapped by the terminal (the consoles print it with ``soft_wrap``), not
+    truncated by Rich. Columns declared ``no_wrap`` wrap at spaces too: Rich cut their
+    header otherwise (tolerance's "most influential" read "most influenti" at 80 columns)."""
     for column in table.columns:
         words = str(column.header).split()
-        column.min_width = max((len(word) for word in words), default=0)
+        cells = [str(getattr(cell, "plain", cell)).strip() for cell in column.cells]
+        numbers = [cell for cell in cells if _NUMBER.fullmatch(cell)]
+        short = [w for cell in cells for w in cell.split() if len(w) <= LONGEST_WHOLE_WORD]
+        column.min_width = max((len(word) for word in [*words, *numbers, *short]), default=0)
         column.overflow = "fold"
+        column.no_wrap = False
     return table

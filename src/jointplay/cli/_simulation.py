@@ -11,55 +11,55 @@ from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
+from jointplay.cli._app import CONTACT_PANEL, RUN_PANEL
 from jointplay.errors import ConfigError
 
 if TYPE_CHECKING:  # the dynamics import Numba: loaded when a command runs
     from jointplay.dynamics.setup import ContactModel
 
 
-def _opt(help_text: str, *names: str) -> Any:
-    return typer.Option(*names, help=help_text)
+def _opt(help_text: str, *names: str, panel: str = CONTACT_PANEL) -> Any:
+    """A contact option (in the help's "Contact" panel unless ``panel``)."""
+    return typer.Option(*names, help=help_text, rich_help_panel=panel)
 
 
 MethodOption = Annotated[
     str | None,
     _opt(
-        "One of the paper's six methods (Table 2): ifm-conventional, rm-conventional, ifm-ecs-cylindrical, rm-ecs-cylindrical, ifm-ecs-spherical, rm-ecs-spherical. Replaces the contact options.",
+        "A method of the paper's Table 2 instead of the contact options: ifm- or rm- with conventional, ecs-cylindrical or ecs-spherical.",
         "--method",
     ),
 ]
 EcsSourceOption = Annotated[
     str | None,
     _opt(
-        "Where the ECS methods take K, delta, D from: computed (our ECS estimate, default) or paper (Tables 4 and 5).",
+        "ECS K, δ, D: computed (default) or paper.",
         "--ecs-source",
     ),
 ]
 ContactOption = Annotated[
     str | None,
     _opt(
-        "Contact law: restitution (Hunt-Crossley damping with exactly --restitution, default), impact (MSC ADAMS IMPACT), hertz, kelvin-voigt, hunt-crossley, lankarani-nikravesh, flores, gonthier, hu-guo, herbert-mcwhannell, lee-wang, zhiying-qishao. Without --k the stiffness comes from each joint's geometry (--stiffness-law; impact: 1e4 N/mm^1.5).",
+        "Contact law: restitution (default), impact, hertz, flores or another of docs/contact-laws.md.",
         "--contact",
     ),
 ]
 StiffnessOption = Annotated[
     str | None,
     _opt(
-        "Contact stiffness with units, e.g. '1e4 N/mm^1.5' (the penalty for restitution).",
+        "Stiffness, e.g. '1e4 N/mm^1.5' (default: each joint's, --stiffness-law).",
         "--k",
     ),
 ]
 ExponentOption = Annotated[
-    float | None, _opt("Force exponent (default 1.5; 1 for restitution).", "--exponent")
+    float | None, _opt("Force exponent n (1.5; restitution: 1).", "--exponent")
 ]
 CmaxOption = Annotated[str | None, _opt("IMPACT maximum damping, e.g. '10 N*s/mm'.", "--cmax")]
-DepthOption = Annotated[
-    str | None, _opt("IMPACT penetration of full damping, e.g. '0.1 mm'.", "--depth")
-]
+DepthOption = Annotated[str | None, _opt("IMPACT full-damping depth, e.g. '0.1 mm'.", "--depth")]
 RestitutionOption = Annotated[
     float | None,
     _opt(
-        "Coefficient of restitution (restitution and Hunt-Crossley-type laws; default 0.8, documented range 0.6-0.95).",
+        "Restitution, 0.6-0.95 (default 0.8).",
         "--restitution",
     ),
 ]
@@ -67,51 +67,52 @@ DampingOption = Annotated[str | None, _opt("Kelvin-Voigt damping, e.g. '100 N*s/
 StiffnessLawOption = Annotated[
     str | None,
     _opt(
-        "Pin-in-hole law that gives each joint's stiffness and exponent from its radii and materials: liu (default), hertz, johnson, esdu-78035, pereira, radzimovsky.",
+        "Each joint's stiffness from its radii and materials: liu (default), hertz, johnson, esdu-78035, pereira, radzimovsky.",
         "--stiffness-law",
     ),
 ]
 ClearanceOption = Annotated[
     str | None,
     _opt(
-        "Radial clearance of every clearance joint, e.g. '0.021 mm' (default: from the joints' fit data).",
+        "Radial clearance of every clearance joint, e.g. '0.021 mm' (default: from the fits).",
         "--clearance",
     ),
 ]
 JointsOption = Annotated[
     str | None,
     _opt(
-        "Comma-separated clearance joints, e.g. O2,A,B,O4 (default: every joint with a clearance in its fit data).",
+        "Clearance joints, e.g. O2,A,B,O4 (default: every joint with a fit).",
         "--joints",
     ),
 ]
 FrictionOption = Annotated[
     float | None,
     _opt(
-        "Friction coefficient in the clearance joints (default 0.1, documented range 0.01-0.2; 0: off; with --method: 0).",
+        "Friction coefficient (default 0.1, range 0.01-0.2; 0: off; --method: 0).",
         "--friction",
     ),
 ]
 FrictionLawOption = Annotated[
     str | None,
     _opt(
-        "Friction law: ambrosio (regularised Coulomb, default) or adams (STEP-based mu(v)).",
+        "Friction law: ambrosio (regularised Coulomb, default) or adams (STEP mu(v)).",
         "--friction-law",
     ),
 ]
 StartOption = Annotated[
     str | None,
     _opt(
-        "Start: steady (the nominal motion, default: the mechanism as it runs), rest (the paper's start-up: links at rest, the crank turning about its pivot at full speed), impulsive (rest velocities projected onto the driver: the crank first spins about its centre of mass) or ramp (speed ramp from rest).",
+        "steady (the nominal motion, default), rest (the paper's start-up), impulsive or ramp (docs/cli.md).",
         "--start",
+        panel=RUN_PANEL,
     ),
 ]
 RampTimeOption = Annotated[
     str | None,
-    _opt("Duration of the speed ramp for --start ramp, e.g. '50 ms'.", "--ramp-time"),
+    _opt("--start ramp: the ramp's duration, e.g. '50 ms'.", "--ramp-time", panel=RUN_PANEL),
 ]
 RtolOption = Annotated[
-    float | None, _opt("Relative error tolerance of the integrator (default 1e-6).", "--rtol")
+    float | None, _opt("Integrator's relative tolerance (default 1e-6).", "--rtol", panel=RUN_PANEL)
 ]
 
 #: Options that set the contact law (refused together with --method).

@@ -20,6 +20,7 @@ from jointplay.cli._common import (
     ProgressOption,
     RpmOption,
     StartAngleOption,
+    compiling_kernels,
     mechanism_from_options,
     status,
 )
@@ -107,12 +108,12 @@ def animate_command(
     fps: Annotated[int, _opt("Frames per second.", "--fps")] = 20,
     frames: Annotated[int, _opt("Frames over the revolution.", "--frames")] = 72,
 ) -> None:
-    r"""Animate the mechanism over its steady cycle with each pin's play magnified.
+    """Animate the mechanism over its steady cycle with each pin's play magnified.
 
     Simulates --settle start-up revolutions and one more, and draws that last revolution:
     links to scale, each clearance joint's clearance circle and pin centre magnified by one
     stated factor. Writes --out (.gif, or .mp4 with ffmpeg installed). Simulation options
-    are those of `jointplay simulate` and override the \[simulation] table of a --config
+    are those of `jointplay simulate` and override the [simulation] table of a --config
     file; --joints none animates the mechanism with ideal joints.
     """
     from jointplay.report.animation import check_animation_settings
@@ -189,9 +190,12 @@ def _simulate(
     if isinstance(settle, bool) or not isinstance(settle, int) or settle < 0:
         raise ConfigError(f"--settle must be a whole number of revolutions >= 0, got {settle!r}")
     where = ", ".join(c.joint for c in clear) or "no joint (ideal joints)"
-    with status(
-        progress,
-        f"simulating {settle + 1} revolution(s) of {mechanism.name} with clearance in {where}",
+    with (
+        compiling_kernels(),
+        status(
+            progress,
+            f"simulating {settle + 1} revolution(s) of {mechanism.name} with clearance in {where}",
+        ),
     ):
         return simulate(
             mechanism,

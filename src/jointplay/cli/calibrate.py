@@ -35,8 +35,10 @@ from jointplay.cli._common import (
     SpeedPositiveOption,
     check_figure_format,
     choice,
+    compiling_kernels,
     provenance,
     status,
+    whole_headers,
 )
 from jointplay.errors import ConfigError
 from jointplay.units import parse_quantity
@@ -289,7 +291,10 @@ def calibrate_command(
 
     def run() -> CalibrationResult:
         what = "clearance model" if any(n in cal.DYNAMIC_PARAMETERS for n in names) else "nominal"
-        with status(progress, f"fitting {', '.join(names)} on the {what} model"):
+        with (
+            compiling_kernels(needed=what != "nominal"),
+            status(progress, f"fitting {', '.join(names)} on the {what} model"),
+        ):
             return cal.calibrate(
                 mechanism,
                 datasets,
@@ -448,7 +453,7 @@ def _print(result: CalibrationResult, out: Path | None) -> None:
             f"{p.initial:.6g}",
             _friendly(p.name, p.value, p.ci95),
         )
-    console.print(table)
+    console.print(whole_headers(table))
     names = [p.name for p in result.parameters]
     if len(names) > 1:
         corr = Table(title="correlation", box=None)
@@ -457,7 +462,7 @@ def _print(result: CalibrationResult, out: Path | None) -> None:
             corr.add_column(name, justify="right")
         for name, row in zip(names, result.correlation, strict=True):
             corr.add_row(name, *(f"{v:+.3f}" if math.isfinite(v) else "-" for v in row))
-        console.print(corr)
+        console.print(whole_headers(corr))
     b, a = result.before, result.after
     console.print(
         f"RMS error {b.rms_error_percent:.2f} % -> {a.rms_error_percent:.2f} %, max |error| "

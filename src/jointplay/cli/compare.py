@@ -35,10 +35,12 @@ from jointplay.cli._common import (
     SpeedPositiveOption,
     check_figure_format,
     choice,
+    compiling_kernels,
     maybe_output_dir,
     mechanism_from_options,
     provenance,
     status,
+    whole_headers,
 )
 from jointplay.errors import ConfigError
 from jointplay.units import parse_quantity
@@ -187,8 +189,12 @@ def compare_command(
             if name == cmp.NOMINAL:
                 comparisons.append(nominal)
                 continue
-            with status(
-                progress, f"simulating {name}: {revolutions:g} revolution(s) of {mechanism.name}"
+            with (
+                compiling_kernels(),  # says so only while no compiled kernels are cached
+                status(
+                    progress,
+                    f"simulating {name}: {revolutions:g} revolution(s) of {mechanism.name}",
+                ),
             ):
                 cycle = cmp.steady_cycle(
                     mechanism, name, revolutions=revolutions, ecs_source=ecs_source
@@ -293,7 +299,7 @@ def _print(result: MethodsComparison, mechanism: Mechanism, out: Path | None) ->
                 _format_number(float(frame["error_percent"].iloc[i]), "+.2f") + flag,
             ]
         points.add_row(*row)
-    console.print(points)
+    console.print(whole_headers(points))
     flagged = [c for c in result.comparisons if c.points["low_speed"].any()]
     if flagged:
         console.print(
@@ -324,7 +330,7 @@ def _print(result: MethodsComparison, mechanism: Mechanism, out: Path | None) ->
             f"{record['n_percent_points']}/{record['n_points']}",
             _format_number(record["speed_factor_what_if"], ".3f"),
         )
-    console.print(stats)
+    console.print(whole_headers(stats))
     console.print(result.verdict())
     console.print(f"discrepancy: {result.discrepancy.summary()}")
     if result.printed_check is not None:

@@ -13,15 +13,18 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal, cast
 import typer
 from rich.console import Console
 
-from jointplay.cli._app import app
-from jointplay.cli._common import (
+from jointplay.cli._app import (
     EXECUTION_PANEL,
-    MAX_SAMPLES,
-    MAX_WORKERS,
     OUTPUT_PANEL,
+    REQUIREMENTS_PANEL,
     RUN_PANEL,
     SAMPLING_PANEL,
     WEAR_PANEL,
+    app,
+)
+from jointplay.cli._common import (
+    MAX_SAMPLES,
+    MAX_WORKERS,
     ConfigOption,
     FigureFormatOption,
     ForceOption,
@@ -203,19 +206,19 @@ def design_command(
         typer.Option(
             "--require",
             "-r",
-            help="A requirement: RESPONSE <=|<|>=|> VALUE [UNIT] [@CONFIDENCE], e.g. "
-            "'rocker_speed_error <= 1 %' or 'joint_force <= 150 N @99.73'. Repeatable.",
+            help="RESPONSE <=|<|>=|> VALUE [UNIT] [@CONFIDENCE], e.g. 'joint_force <= 150 N "
+            "@99.73'. Repeatable.",
         ),
     ],
     preset: PresetOption = None,
     config: ConfigOption = None,
     fits: Annotated[
         str,
-        typer.Option("--fits", help="Candidate ISO 286 fits for every pin joint, comma-separated."),
+        typer.Option("--fits", help="Candidate ISO 286 fits, comma-separated."),
     ] = DEFAULT_FITS,
     fit: Annotated[
         list[str] | None,
-        typer.Option("--fit", help="Fix one joint's fit, JOINT=FIT (e.g. O2=H7/g6). Repeatable."),
+        typer.Option("--fit", help="Fix a joint's fit, e.g. O2=H7/g6. Repeatable."),
     ] = None,
     classes: Annotated[
         str, typer.Option("--classes", help="Candidate ISO 2768-1 classes, comma-separated.")
@@ -224,9 +227,8 @@ def design_command(
         str,
         typer.Option(
             "--confidence",
-            help="Share of parts that must meet a requirement, in % (the sign optional: "
-            "'99.73' = '99.73 %'; '0.9973' is refused as a likely fraction).",
-            rich_help_panel=SAMPLING_PANEL,
+            help="Share of parts meeting a requirement, in %.",
+            rich_help_panel=REQUIREMENTS_PANEL,
         ),
     ] = "99.73 %",
     samples: Annotated[
@@ -234,8 +236,7 @@ def design_command(
         typer.Option(
             "--samples",
             "-n",
-            help="Samples per scheme: 'auto' (rounds of 100, 200, 400, ... per scheme until "
-            "each is decided or --max-samples) or a number.",
+            help="Per scheme: a number, or auto (rounds of 100, 200, 400, ... until decided).",
             rich_help_panel=SAMPLING_PANEL,
         ),
     ] = "auto",
@@ -243,7 +244,7 @@ def design_command(
         int,
         typer.Option(
             "--max-samples",
-            help="--samples auto: the most samples per scheme.",
+            help="--samples auto: the most per scheme.",
             min=1,
             max=MAX_SAMPLES,
             rich_help_panel=SAMPLING_PANEL,
@@ -253,9 +254,8 @@ def design_command(
         str,
         typer.Option(
             "--sampling",
-            help="parts: each hole and pin diameter drawn in its own ISO 286 zone, the "
-            "clearance their difference (default); band: the radial clearance drawn over the "
-            "fit's worst-case band (the old sampling, 1.4x wider for H8/f7).",
+            help="parts (hole and pin each in its ISO 286 zone) or band (the clearance over "
+            "the fit's worst-case band).",
             rich_help_panel=SAMPLING_PANEL,
         ),
     ] = "parts",
@@ -263,7 +263,7 @@ def design_command(
         str,
         typer.Option(
             "--distribution",
-            help="Every feature: normal (±3σ at its limits), uniform.",
+            help="normal (±3σ at the limits) or uniform.",
             rich_help_panel=SAMPLING_PANEL,
         ),
     ] = "normal",
@@ -271,9 +271,7 @@ def design_command(
         bool,
         typer.Option(
             "--rare-defects/--no-rare-defects",
-            help="After Monte Carlo, estimate the defect rate of each scheme it left undecided "
-            "(cheapest first) by cross-entropy importance sampling (at most 18 000 samples per "
-            "scheme; down to about 1 DPM) and decide it on that 95 % interval.",
+            help="Importance sampling for the schemes left undecided (to ~1 DPM).",
             rich_help_panel=SAMPLING_PANEL,
         ),
     ] = False,
@@ -281,8 +279,7 @@ def design_command(
         list[str] | None,
         typer.Option(
             "--cpk",
-            help="Process capability of a feature, FEATURE=CPK (hole, pin, length; e.g. "
-            "hole=1.33): a centred normal process, σ = half the band / (3 Cpk). Repeatable.",
+            help="FEATURE=CPK (hole, pin, length), e.g. hole=1.33. Repeatable.",
             rich_help_panel=SAMPLING_PANEL,
         ),
     ] = None,
@@ -299,9 +296,7 @@ def design_command(
         bool,
         typer.Option(
             "--truncate/--no-truncate",
-            help="Draw each normal input (σ = a sixth of its tolerance band) from the normal "
-            "truncated at its limits, as parts outside them are rejected (default); "
-            "--no-truncate keeps the 0.27 % of samples beyond ±3σ.",
+            help="Normal inputs truncated at their limits.",
             rich_help_panel=SAMPLING_PANEL,
         ),
     ] = True,
@@ -315,8 +310,7 @@ def design_command(
         str | None,
         typer.Option(
             "--clearance-limit",
-            help="Radial clearance that ends a joint's life: '80 um', or '+20 um' = the fit's "
-            "largest radial clearance plus 20 µm (needed by a 'life' requirement).",
+            help="Radial clearance that ends a life: '80 um', or '+20 um' over the fit's largest.",
             rich_help_panel=WEAR_PANEL,
         ),
     ] = None,
@@ -324,9 +318,7 @@ def design_command(
         Path | None,
         typer.Option(
             "--table",
-            help="TOML file with [wear] (coefficient, hardness, joints.<J>) and [cost] (model, "
-            "a, b, k, reference, it, iso2768) tables; the same tables may sit in the --config "
-            "file, and a table here replaces the config's.",
+            help="TOML file with [wear] and [cost] tables (replacing the --config file's).",
             rich_help_panel=WEAR_PANEL,
         ),
     ] = None,
@@ -349,9 +341,7 @@ def design_command(
         bool,
         typer.Option(
             "--model-sensitivity/--no-model-sensitivity",
-            help="Dynamic: re-evaluate the chosen scheme at the ends of the contact model's "
-            "ranges (restitution 0.6-0.95, friction 0.01-0.2, the other stiffness law; "
-            "docs/contact.md) and say whether the choice holds.",
+            help="Re-check the chosen scheme at the ends of the contact model's ranges.",
         ),
     ] = True,
     settle: SettleOption = 2,
@@ -376,7 +366,7 @@ def design_command(
         str | None,
         typer.Option(
             "--dask-scheduler",
-            help="Run on the Dask cluster at ADDRESS.",
+            help="The Dask cluster's ADDRESS.",
             rich_help_panel=EXECUTION_PANEL,
         ),
     ] = None,
@@ -391,18 +381,8 @@ def design_command(
     """Design study: every fit × length class through the dynamics; the cheapest shown to
     meet the requirements, with its evidence and its drawing callouts.
 
-    Parts are sampled as made: each link length in its ISO 2768-1 class, each hole and pin
-    diameter in its own ISO 286 zone (normal, ±3σ at the limits, truncated at them; see
-    --sampling, --cpk, --truncate). A scheme meets a requirement when the lower bound of its
-    yield's exact 95 % interval reaches the confidence level, fails when the upper bound
-    stays below it, and is undecided otherwise (--samples auto adds samples until decided).
-
-    Writes DIR/design.parquet and DIR/design.csv (one row per scheme, the CSV's columns named
-    with their units; dynamic:
-    penetration_exceeds_<joint> and penetration_ratio_max_<joint>), DIR/samples.parquet
-    (dynamic: penetration_ratio_<joint>), DIR/summary.json (with diagnostics), PNG plots and
-    DIR/report.html. Samples whose pins sink deeper than the radial clearance (not physical)
-    get one warning line per joint on stderr.
+    A scheme meets a requirement when its yield's 95 % interval lies above --confidence.
+    The files written to --out: docs/cli.md.
     """
     from jointplay.io.output import output_dir
     from jointplay.report.design import write_design

@@ -34,6 +34,7 @@ from jointplay.cli._common import (
     mechanism_from_options,
     provenance,
     quantity_option,
+    whole_headers,
 )
 from jointplay.errors import ConfigError
 from jointplay.units import parse_quantity
@@ -424,7 +425,7 @@ def _print_report(
         elif name == "damping_ratio":
             text = f"{value:g} s"
         table.add_row(name, text, descriptions.get(name, ""))
-    console.print(table)
+    console.print(whole_headers(table))
 
     loads = Table(
         "joint", "α from", "|α|max (rad/s²)", "at crank (deg)", "r (mm)", "m (g)", "c (mm)",
@@ -443,7 +444,7 @@ def _print_report(
             _g(ld.length / _MM),
             _g(ld.load),
         )
-    console.print(loads)
+    console.print(whole_headers(loads))
     console.print("* the joint with the largest load: its values are the mechanism's ECS values")
 
     for c in contacts:
@@ -467,7 +468,7 @@ def _print_report(
                 _g(p.d_max / _MM),
                 _g(p.penalty * _MM, 6),
             )
-    console.print(params)
+    console.print(whole_headers(params))
     if not math.isclose(result.crank_speed_rpm, 200.0, rel_tol=1e-6):
         console.print("note: the paper's values are for 200 RPM")
 
@@ -535,7 +536,7 @@ def _print_contact(result: EcsResult, contact: str) -> None:
         _g(_ratio(ours.damping, published.damping)),
         "",
     )
-    console.print(table)
+    console.print(whole_headers(table))
     if spherical:
         bound = spherical_load_lower_bound(published.stiffness, published.penetration)
         console.print(
@@ -555,4 +556,4 @@ def _print_sweep(swept: EcsSweep, contacts: tuple[str, ...]) -> None:
     table = Table(*headers, box=None, title="Crank-speed sweep (overall joint)")
     for _, record in data.iterrows():
         table.add_row(*(_g(float(record[col]), 5) for col in columns))
-    console.print(table)
+    console.print(whole_headers(table))

@@ -11,6 +11,7 @@ from rich.console import Console
 from rich.table import Table
 
 from jointplay.cli._app import app
+from jointplay.cli._common import whole_headers
 from jointplay.errors import ConfigError
 from jointplay.tolerance import iso286, iso2768
 from jointplay.units import parse_quantity
@@ -88,8 +89,8 @@ def general_tolerance_command(
         Feature,
         typer.Option(
             "--feature",
-            help="Which table: linear dimensions (Table 1), broken edges = external radii and "
-            "chamfer heights (Table 2), or angular dimensions keyed by the shorter side (Table 3).",
+            help="Which table: linear (dimensions, Table 1), broken-edge (external radii and "
+            "chamfer heights, Table 2) or angular (keyed by the shorter side, Table 3).",
         ),
     ] = Feature.linear,
     as_json: JsonOption = False,
@@ -182,7 +183,7 @@ def _limits_table(classes: list[iso286.ToleranceClass]) -> Table:
 
 def _print_fit(result: iso286.Fit) -> None:
     console.print(f"ISO 286 fit {result.designation} at {_size_text(result.nominal_size)}")
-    console.print(_limits_table([result.hole, result.shaft]))
+    console.print(whole_headers(_limits_table([result.hole, result.shaft])))
     console.print(f"fit type: {result.fit_type}")
     table = Table(box=None, pad_edge=False)
     for header in ("clearance", "min µm", "max µm", "mean µm"):
@@ -190,7 +191,7 @@ def _print_fit(result: iso286.Fit) -> None:
     low, high, mean = result.clearance_min_um, result.clearance_max_um, result.clearance_mean_um
     table.add_row("diametral", _um(low), _um(high), _um(mean))
     table.add_row("radial", _um(low / 2), _um(high / 2), _um(mean / 2))
-    console.print(table)
+    console.print(whole_headers(table))
     console.print("(negative clearance = interference)")
 
 
@@ -199,7 +200,7 @@ def _print_class(tolerance: iso286.ToleranceClass) -> None:
         f"ISO 286 tolerance class {tolerance.designation} ({tolerance.kind}) at "
         f"{_size_text(tolerance.nominal_size)}"
     )
-    console.print(_limits_table([tolerance]))
+    console.print(whole_headers(_limits_table([tolerance])))
     nominal_mm = tolerance.nominal_size * 1e3
     low = _plain(nominal_mm + tolerance.lower_um / 1e3)
     high = _plain(nominal_mm + tolerance.upper_um / 1e3)

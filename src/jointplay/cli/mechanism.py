@@ -25,6 +25,7 @@ from jointplay.cli._common import (
     mechanism_from_options,
     provenance,
     quantity_option,
+    whole_headers,
 )
 from jointplay.errors import ConfigError
 
@@ -39,7 +40,7 @@ def presets_command() -> None:
     table = Table("preset", "description", box=None)
     for preset in list_presets():
         table.add_row(preset.name, preset.description)
-    console.print(table)
+    console.print(whole_headers(table))
 
 
 @app.command("show")
@@ -132,7 +133,7 @@ def _print_summary(summary: dict, out: object) -> None:
                 f"{stats['peak_abs']:.4g}",
                 f"{stats['peak_abs_at_crank_deg']:.0f}",
             )
-    console.print(table)
+    console.print(whole_headers(table))
     if "grashof" in summary:
         console.print(
             f"Grashof class: {summary['grashof']['class']}; transmission angle "

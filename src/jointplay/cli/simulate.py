@@ -131,12 +131,12 @@ def simulate_command(
     plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
     figure_format: FigureFormatOption = "png",
 ) -> None:
-    r"""Simulate the mechanism with radial clearance in its revolute joints.
+    """Simulate the mechanism with radial clearance in its revolute joints.
 
     Writes DIR/timeseries.csv (or .parquet), DIR/steps.* (every integrator step),
     DIR/summary.json (peaks located on the continuous solution, nominal peaks, % increase,
     per-revolution statistics, periodicity, diagnostics, solver statistics, provenance) and
-    PNG plots. Options override the \[simulation] table of a --config file.
+    PNG plots. Options override the [simulation] table of a --config file.
     """
     from jointplay.dynamics.cycles import DEFAULT_SETTLE
     from jointplay.dynamics.simulate import SolverOptions, Start, simulate

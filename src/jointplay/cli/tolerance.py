@@ -13,9 +13,8 @@ from typing import TYPE_CHECKING, Annotated, Any, cast
 import typer
 from rich.console import Console
 
-from jointplay.cli._app import app
+from jointplay.cli._app import EXECUTION_PANEL, app
 from jointplay.cli._common import (
-    EXECUTION_PANEL,
     MAX_SAMPLES,
     MAX_WORKERS,
     ConfigOption,
@@ -105,9 +104,7 @@ BackendOption = Annotated[
     str,
     typer.Option(
         "--backend",
-        help="Where the samples run: local (this process; the dynamics on threads over the "
-        "cores), processes (worker processes, default), dask (the cluster of "
-        "--dask-scheduler) or gpu (the dynamics on JAX: pip install 'jointplay[gpu]').",
+        help="local, processes (default), dask or gpu (pip install 'jointplay[gpu]').",
         rich_help_panel=EXECUTION_PANEL,
     ),
 ]
@@ -170,25 +167,23 @@ def tolerance_command(
         Responses,
         typer.Option(
             "--responses",
-            help="kinematic (ideal joints, toleranced lengths), dynamic (clearance joints: "
-            "toleranced lengths and clearances; peaks) or running (dynamic plus "
-            "rocker_speed_error, joint_force, contact_pressure and Archard wear_rate).",
+            help="kinematic (ideal joints), dynamic (clearance joints: peaks) or running "
+            "(dynamic plus the running responses, docs/cli.md).",
         ),
     ] = Responses.kinematic,
     distribution: Annotated[
         Distribution | None,
         typer.Option(
             "--distribution",
-            help="Distribution of every toleranced quantity (default: the configuration's, "
-            "normal with ±3σ at the limits).",
+            help="uniform, normal or triangular, for every toleranced quantity (default: the "
+            "configuration's).",
         ),
     ] = None,
     clearances: Annotated[
         bool,
         typer.Option(
             "--clearances/--no-clearances",
-            help="Dynamic: vary the joint clearances within their fits (off: the configured "
-            "clearance, fixed).",
+            help="Dynamic: clearances drawn within their fits (off: as configured).",
         ),
     ] = True,
     contact: ContactOption = None,
@@ -206,11 +201,8 @@ def tolerance_command(
         str | None,
         typer.Option(
             "--paper-method",
-            help="Dynamic: one of the paper's six contact methods (ifm-conventional, "
-            "rm-conventional, ifm-ecs-cylindrical, rm-ecs-cylindrical, ifm-ecs-spherical, "
-            "rm-ecs-spherical) instead of the contact options, as --method of simulate "
-            "(here --method is the tolerance method); ECS parameters from the nominal "
-            "mechanism.",
+            help="Dynamic: simulate's --method (a contact method of the paper's Table 2; "
+            "here --method is the tolerance method).",
         ),
     ] = None,
     ecs_source: EcsSourceOption = None,
@@ -218,19 +210,20 @@ def tolerance_command(
         StartMode,
         typer.Option(
             "--start",
-            help="Dynamic: steady (the nominal motion: the mechanism as it runs, default), rest (the paper's start-up: links at rest, crank at full speed) or impulsive.",
+            help="Dynamic: steady (the nominal motion), rest (the paper's start-up) or impulsive.",
         ),
     ] = StartMode.steady,
     settle: Annotated[
         int,
         typer.Option(
             "--settle",
-            help="Dynamic: start-up revolutions left out of the responses (default 2; --start rest --settle 0 gives the start-up peaks the paper reports).",
+            help="Dynamic: start-up revolutions left out (--start rest --settle 0: the "
+            "paper's start-up peaks).",
         ),
     ] = 2,
     revolutions: Annotated[
         float,
-        typer.Option("--revolutions", help="Dynamic: analysed crank revolutions after --settle."),
+        typer.Option("--revolutions", help="Dynamic: analysed revolutions after --settle."),
     ] = 1.0,
     rpm: RpmOption = None,
     gravity: GravityOption = None,
@@ -238,16 +231,15 @@ def tolerance_command(
         CornerMode,
         typer.Option(
             "--corners",
-            help="Worst case: all 2^k corners, the sensitivity-sign corners, or auto (all for "
-            "<= 10 inputs).",
+            help="Worst case: all 2^k corners, sensitivity-sign ones or auto (all for <= 10 "
+            "inputs).",
         ),
     ] = CornerMode.auto,
     fd_step: Annotated[
         float,
         typer.Option(
             "--fd-step",
-            help="RSS and sensitivity corners: finite-difference step, fraction of each "
-            "half-width.",
+            help="RSS, sensitivity corners: difference step, share of a half-width.",
         ),
     ] = 0.5,
     require: Annotated[
@@ -255,17 +247,16 @@ def tolerance_command(
         typer.Option(
             "--require",
             "-r",
-            help="A limit on a response: RESPONSE <=|<|>=|> VALUE [UNIT], e.g. "
-            "'omega4_peak <= 16 rad/s' (design's grammar; a lower and an upper limit on one "
-            "response make its two spec limits). Repeatable.",
+            help="RESPONSE <=|<|>=|> VALUE [UNIT], e.g. 'omega4_peak <= 16 rad/s' (a lower "
+            "and an upper one: two spec limits). Repeatable.",
         ),
     ] = None,
     spec_limit: Annotated[
         list[str] | None,
         typer.Option(
             "--spec-limit",
-            help="Deprecated: use --require. Limits of a response, RESPONSE=LO:HI with units, "
-            "e.g. 'omega4_peak=:16 rad/s'. Repeatable.",
+            help="Deprecated: use --require. RESPONSE=LO:HI with units, e.g. "
+            "'omega4_peak=:16 rad/s'.",
         ),
     ] = None,
     backend: BackendOption = "processes",
@@ -293,11 +284,8 @@ def tolerance_command(
 ) -> None:
     """Tolerance study: spread of the responses, out-of-spec share and what matters most.
 
-    Writes DIR/samples.parquet (one row per evaluated point: inputs, responses, status;
-    dynamic and running: penetration_ratio_<joint>), DIR/summary.json (statistics and
-    contributions per response, failures, diagnostics, method, seed, provenance), PNG plots
-    and DIR/report.html. Samples whose pins sink deeper than the radial clearance (not
-    physical) get one warning line per joint on stderr.
+    Writes DIR/report.html, samples.parquet, summary.json and plots; what each holds:
+    docs/cli.md.
     """
     if responses is Responses.dynamic and method is Method.monte_carlo:
         # the batch engine's worker processes start first, so that their start-up overlaps

@@ -57,6 +57,7 @@ from jointplay._kernels import constraints as ck
 from jointplay._kernels import eom
 from jointplay._kernels.contact import normal_force
 from jointplay.dynamics.clearance import MIN_CLEARANCE, ClearanceJoint, stiffness_field
+from jointplay.dynamics.cycles import DEFAULT_SETTLE
 from jointplay.dynamics.integrate import IntegrationStatus, _interrupts_watched
 from jointplay.dynamics.simulate import SolverOptions, Start, initial_state
 from jointplay.dynamics.system import PARAMS_WIDTH, System, build_system
@@ -1422,7 +1423,7 @@ def simulate_batch(
     samples: BatchSamples,
     *,
     revolutions: float = 1.0,
-    settle: int = 0,
+    settle: int | None = None,
     start: Start | None = None,
     solver: SolverOptions | None = None,
     method: BatchMethod = "auto",
@@ -1440,8 +1441,11 @@ def simulate_batch(
             replace what they give).
         samples: per-sample inputs (:class:`BatchSamples`).
         revolutions: analysed crank revolutions after ``settle`` start-up ones.
-        settle: start-up revolutions left out of the peaks and statistics.
-        start: initial state (default: the nominal steady motion).
+        settle: start-up revolutions left out of the peaks and statistics (>= 0; default:
+            2 with the steady start, 0 with the others, whose start-up is what they show), as
+            :func:`~jointplay.dynamics.simulate.simulate` and ``jointplay simulate``.
+        start: initial state (default: ``Start("steady")``, the nominal motion, as
+            :func:`~jointplay.dynamics.simulate.simulate`).
         solver: tolerances, largest step and step budget (as :func:`simulate`).
         method: ``"explicit"``, ``"implicit"`` or ``"auto"`` (:func:`choose_method`).
         backend: ``"local"`` (threads in this process), ``"processes"``, ``"dask"`` (give
@@ -1474,6 +1478,8 @@ def simulate_batch(
     if backend == "gpu":
         _gpu_kernel()  # fail early, before building
     start = start or Start("steady")
+    if settle is None:
+        settle = DEFAULT_SETTLE if start.mode == "steady" else 0
     solver = solver or SolverOptions()
     problem = build_batch(
         mechanism, clearances, samples, revolutions=revolutions, settle=settle, start=start,
