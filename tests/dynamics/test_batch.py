@@ -176,10 +176,12 @@ def test_a_dask_cluster_gives_the_same_bits_in_chunks_sized_by_the_cluster(
     one connection serves every batch of the process."""
     from distributed import LocalCluster
 
-    from jointplay.dynamics import batch
+    import os
+
+    from jointplay.execution import dask
 
     samples, expected = reference
-    monkeypatch.setattr(batch.os, "cpu_count", lambda: 1)  # a small client, a larger cluster
+    monkeypatch.setattr(os, "cpu_count", lambda: 1)  # a small client, a larger cluster
     with LocalCluster(
         n_workers=3, threads_per_worker=1, processes=False, dashboard_address=":0"
     ) as cluster:
@@ -188,9 +190,9 @@ def test_a_dask_cluster_gives_the_same_bits_in_chunks_sized_by_the_cluster(
             simulate_batch(paper_fourbar, _joints(), samples, backend="dask", scheduler=address)
             for _ in range(2)
         ]
-        client = batch._CLIENTS[address]
+        client = dask._CLIENTS[address]
         assert client.status == "running"
-        batch._close_clients()
+        dask.close_clients()
     for result in results:
         assert result.backend == "dask" and result.workers == 3
         assert result.chunk_size == 1  # 9 lanes over 4 x 3 chunks, not 4 x 1
@@ -327,16 +329,16 @@ def interrupt_after_first_chunk(monkeypatch: pytest.MonkeyPatch) -> None:
     import signal
     from contextlib import contextmanager
 
-    from jointplay.dynamics import batch
+    from jointplay.execution import progress
 
     @contextmanager
-    def progress(enabled: bool, total: int):
+    def bar(total: int, description: str):
         def advance(count: int) -> None:
             os.kill(os.getpid(), signal.SIGINT)
 
         yield advance
 
-    monkeypatch.setattr(batch, "_progress", progress)
+    monkeypatch.setattr(progress, "progress_bar", bar)
 
 
 @pytest.mark.parametrize("backend", ["local", "processes", "dask"])
@@ -348,8 +350,8 @@ def test_an_interrupt_keeps_the_finished_lanes(
     not run."""
     from distributed import LocalCluster
 
-    from jointplay.dynamics import batch
     from jointplay.dynamics.batch import NOT_RUN, BatchInterrupted
+    from jointplay.execution import dask
     from jointplay.dynamics.integrate import IntegrationStatus
 
     samples, expected = reference
@@ -364,8 +366,10 @@ def test_an_interrupt_keeps_the_finished_lanes(
         if backend == "dask":
             options["scheduler"] = cluster.scheduler_address
         with pytest.raises(BatchInterrupted) as stopped:
-            simulate_batch(paper_fourbar, _joints(), samples, backend=backend, **options)
-        batch._close_clients()
+            simulate_batch(
+                paper_fourbar, _joints(), samples, backend=backend, progress=True, **options
+            )
+        dask.close_clients()
     result = stopped.value.result
     assert isinstance(stopped.value, KeyboardInterrupt)
     finished = result.status != IntegrationStatus.INTERRUPTED
@@ -392,9 +396,9 @@ def test_a_dask_cluster_without_workers_is_a_clear_error(
     """It used to wait 30 s and end with a bare TimeoutError (exit 3)."""
     from distributed import LocalCluster
 
-    from jointplay.dynamics import batch
+    from jointplay.execution import dask
 
-    monkeypatch.setattr(batch, "DASK_NO_WORKERS_S", 0.5)
+    monkeypatch.setattr(dask, "DASK_NO_WORKERS_S", 0.5)
     samples, _ = reference
     with LocalCluster(n_workers=0, processes=False, dashboard_address=":0") as cluster:
         address = cluster.scheduler_address
@@ -409,9 +413,9 @@ from contextlib import contextmanager
 import numpy as np
 from distributed import LocalCluster
 
-from jointplay.dynamics import batch
 from jointplay.dynamics.batch import BatchSamples, simulate_batch
 from jointplay.dynamics.clearance import ClearanceJoint
+from jointplay.execution import dask, progress
 from jointplay.dynamics.setup import DEFAULT_IMPACT
 from jointplay.io.config import load_preset
 
@@ -420,21 +424,21 @@ if __name__ == "__main__":
     joints = [ClearanceJoint(j, 11.75e-6, 0.005, DEFAULT_IMPACT) for j in ("A", "B")]
     mechanism = load_preset("paper-fourbar")
     reference = simulate_batch(mechanism, joints, samples)
-    batch.DASK_NO_WORKERS_S = 1.0
+    dask.DASK_NO_WORKERS_S = 1.0
     with LocalCluster(
         n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0"
     ) as cluster:
 
         @contextmanager
-        def progress(enabled, total):
+        def bar(total, description):
             yield lambda count: cluster.scale(0)  # the workers go after the first chunk
 
-        batch._progress = progress
+        progress.progress_bar = bar
         result = simulate_batch(
             mechanism, joints, samples, backend="dask", scheduler=cluster.scheduler_address,
-            chunk_size=2,
+            chunk_size=2, progress=True,
         )
-        batch._close_clients()
+        dask.close_clients()
     ok = result.ok
     same = np.array_equal(result.peaks.to_numpy()[ok], reference.peaks.to_numpy()[ok])
     print(json.dumps({"ok": int(ok.sum()), "n": len(ok), "same": bool(same),

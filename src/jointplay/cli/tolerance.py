@@ -52,8 +52,8 @@ from jointplay.errors import ConfigError, Interrupted, PartialInterrupt
 from jointplay.units import parse_quantity
 
 if TYPE_CHECKING:
+    from jointplay.execution.backends import Backend
     from jointplay.tolerance.analysis import ToleranceStudyResult
-    from jointplay.tolerance.execution import Backend
     from jointplay.tolerance.methods import SpecLimits
 
 console = Console(highlight=False, soft_wrap=True)
@@ -111,7 +111,6 @@ BackendOption = Annotated[
         rich_help_panel=EXECUTION_PANEL,
     ),
 ]
-BACKEND_NAMES = ("local", "processes", "dask", "gpu", "serial")
 
 
 def backend_from_options(kind: str, workers: int | None, dask_scheduler: str | None) -> Backend:
@@ -120,11 +119,13 @@ def backend_from_options(kind: str, workers: int | None, dask_scheduler: str | N
     ``--dask-scheduler`` alone means ``--backend dask``; ``serial`` is another name of
     ``local``; ``--workers`` applies to local processes only.
     """
-    from jointplay.tolerance.execution import Backend
+    from jointplay.execution.backends import ALIASES, BACKENDS, Backend
 
     kind = kind.strip().lower()
-    if kind not in BACKEND_NAMES:
-        raise ConfigError(f"--backend must be local, processes, dask or gpu, got {kind!r}")
+    if kind not in (*BACKENDS, *ALIASES):
+        raise ConfigError(
+            f"--backend must be {', '.join(BACKENDS[:-1])} or {BACKENDS[-1]}, got {kind!r}"
+        )
     if dask_scheduler is not None and kind == "processes":
         kind = "dask"
     if kind == "dask":
@@ -132,7 +133,10 @@ def backend_from_options(kind: str, workers: int | None, dask_scheduler: str | N
             raise ConfigError("--backend dask needs the scheduler's address: give --dask-scheduler")
         if workers is not None:
             raise ConfigError("--workers applies to local processes; the Dask cluster has its own")
-        return Backend.dask(dask_scheduler)
+        try:
+            return Backend.dask(dask_scheduler)
+        except ConfigError as error:  # the address is the one setting it checks here
+            raise ConfigError(f"--dask-scheduler: {error}") from None
     if dask_scheduler is not None:
         raise ConfigError(f"--dask-scheduler applies to --backend dask, not {kind}")
     if workers is not None and kind != "processes":
@@ -307,7 +311,7 @@ def tolerance_command(
 
         where = backend_from_options(backend, workers, dask_scheduler)
         start_batch_workers(where, samples, DynamicResponses.seconds_per_sample)
-    from jointplay.dynamics.workers import running_pool
+    from jointplay.execution.pool import running_pool
     from jointplay.io.config import load_study_spec
     from jointplay.io.output import output_dir
     from jointplay.report.tolerance import write_study

@@ -35,14 +35,10 @@ gives those for one sample.
 
 from __future__ import annotations
 
-import atexit
-import concurrent.futures as cf
 import dataclasses
 import math
-import os
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
-from contextlib import contextmanager
 from dataclasses import dataclass, field
 from types import SimpleNamespace
 from typing import Any, Literal
@@ -57,11 +53,14 @@ from jointplay._kernels import constraints as ck
 from jointplay._kernels import eom
 from jointplay._kernels.contact import normal_force
 from jointplay.dynamics.clearance import MIN_CLEARANCE, ClearanceJoint, stiffness_field
-from jointplay.dynamics.integrate import IntegrationStatus, _interrupts_watched
+from jointplay.dynamics.integrate import IntegrationStatus
 from jointplay.dynamics.simulate import SolverOptions, Start, initial_state
 from jointplay.dynamics.system import PARAMS_WIDTH, System, build_system
-from jointplay.dynamics.workers import close_pool, pool
 from jointplay.errors import ConfigError, JointplayError, PartialInterrupt
+from jointplay.execution import progress as _progress
+from jointplay.execution.backends import BACKENDS, Backend, backend_kind
+from jointplay.execution.dask import ClusterLost
+from jointplay.execution.executors import Executor, LaneWork, executor
 from jointplay.kinematics import fourbar, slidercrank
 from jointplay.kinematics.solver import revolute_tree
 from jointplay.model.columns import rotating_links
@@ -85,32 +84,13 @@ __all__ = [
     "MethodChoice",
     "build_batch",
     "choose_method",
-    "completed_on_dask",
-    "dask_result",
     "simulate_batch",
 ]
 
 FloatArray = NDArray[np.float64]
 #: One chunk of lanes: rpar, y0, t_settle, t_end, max_step.
 Chunk = tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]
-BatchBackend = Literal["local", "processes", "dask", "gpu"]
 BatchMethod = Literal["auto", "explicit", "implicit"]
-
-#: The backends of :func:`simulate_batch` (``"serial"`` is accepted for ``"local"``).
-BACKENDS: tuple[str, ...] = ("local", "processes", "dask", "gpu")
-#: Lanes per chunk on the process and Dask backends when none is given: large enough that a
-#: chunk's fixed costs (a task's pickling and dispatch, ~1 ms) are small, small enough to
-#: balance the workers and that an interrupt, which drops the chunks in flight, costs at most
-#: ~1.5 s of work per worker (32 lanes of an implicit RM-set sample at ~45 ms each; an
-#: explicit sample takes ~15 ms).
-DEFAULT_CHUNK = 32
-#: How long a batch waits for a Dask cluster that has no worker (at the start, or once its
-#: workers have died) before it gives up on the chunks not finished, s.
-DASK_NO_WORKERS_S = 30.0
-#: How often a batch on Dask looks for finished chunks (and for workers), s.
-DASK_POLL_S = 0.05
-#: Lanes per chunk on the GPU backend (JAX batches; throughput falls above ~200 000 lanes).
-GPU_CHUNK = 200_000
 
 
 # --- the samples ---------------------------------------------------------------------------------
@@ -1091,7 +1071,7 @@ def _lane_message(code: int, t_reached: float, t_end: float, max_steps: int) -> 
     return f"IntegrationError: {where}; {_ADVICE.get(status, '')}".rstrip("; ")
 
 
-# --- the backends ------------------------------------------------------------------------------------
+# --- the lanes on an executor -----------------------------------------------------------------------
 def _chunks(n: int, size: int) -> list[NDArray[np.intp]]:
     return [np.arange(i, min(i + size, n)) for i in range(0, n, size)]
 
@@ -1108,36 +1088,38 @@ def _gpu_kernel() -> Callable[..., Any]:
     return kernel
 
 
-@contextmanager
-def _progress(enabled: bool, total: int) -> Iterator[Callable[[int], None]]:
-    if not enabled:
-        yield lambda count: None
-        return
-    from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress
+def _lane_work(problem: BatchProblem, method: str) -> LaneWork:
+    """How a chunk ``(rpar, y0, t_settle, t_end, max_step)`` of ``problem``'s lanes runs: the
+    compiled kernels in a worker or in this process, the JAX kernel on a device."""
+    constants = (problem.rtol, problem.atol, problem.max_steps, method)
 
-    from jointplay.progress import eta_column
+    def here(chunk: Chunk, parallel: bool, interrupt: Any) -> kb.BatchKernelOutput:
+        return kb.run_batch(
+            problem.ipar, *chunk, *constants, parallel=parallel, interrupt=interrupt
+        )
 
-    bar = Progress(
-        "samples", BarColumn(), MofNCompleteColumn(), eta_column(),
-        console=Console(stderr=True),
+    def device(chunk: Chunk, size: int) -> kb.BatchKernelOutput:
+        outputs = _gpu_kernel()(problem.ipar, *chunk, *constants, chunk_size=size)
+        return kb.BatchKernelOutput(*(np.asarray(a) for a in outputs))
+
+    def stopped(output: kb.BatchKernelOutput) -> bool:
+        return bool(np.any(output.status == kc.STATUS_INTERRUPTED))
+
+    return LaneWork(
+        task=kb.run_chunk, shared=(problem.ipar, *constants), here=here, stopped=stopped,
+        device=device,
     )  # fmt: skip
-    with bar:
-        task = bar.add_task("samples", total=total)
-        yield lambda count: bar.advance(task, count)
 
 
 def _dispatch(
     problem: BatchProblem,
     lanes: NDArray[np.intp],
     method: str,
-    backend: str,
-    workers: int | None,
-    chunk_size: int | None,
-    scheduler: str | None,
+    runner: Executor,
     progress: bool,
 ) -> tuple[kb.BatchKernelOutput, int, int]:
-    """Run the lanes ``lanes`` of ``problem``; (outputs in lane order, workers, chunk size).
+    """Run the lanes ``lanes`` of ``problem`` on ``runner``; (outputs in lane order, workers,
+    chunk size).
 
     Raises:
         _PartialDispatch: interrupted (SIGINT, SIGTERM); it carries the outputs, the lanes
@@ -1145,22 +1127,9 @@ def _dispatch(
     """
     columns = (problem.rpar, problem.y0, problem.t_settle, problem.t_end, problem.max_step)
     n = len(lanes)
-    threads = 1
-    if backend == "local":
-        import numba
-
-        threads = numba.get_num_threads()
-        chunk = chunk_size or 4096
-    elif backend == "gpu":
-        chunk = chunk_size or GPU_CHUNK
-    else:  # ~4 chunks per worker process, or per thread of the Dask cluster
-        threads = (
-            cluster_threads(scheduler) if backend == "dask" else workers or os.cpu_count() or 1
-        )
-        chunk = chunk_size or max(1, min(DEFAULT_CHUNK, math.ceil(n / (4 * threads))))
-    # the JAX kernel cuts its own chunks and pads the last one, so that one compilation
-    # serves them all: it is given every lane at once
-    parts = _chunks(n, max(n, 1) if backend == "gpu" else chunk)
+    threads = runner.lane_slots()
+    chunk = runner.lane_chunk(n, threads)
+    parts = _chunks(n, runner.lane_parts(n, chunk))
     outputs: list[kb.BatchKernelOutput | None] = [None] * len(parts)
 
     def items() -> Iterator[Chunk]:
@@ -1172,9 +1141,13 @@ def _dispatch(
 
     interrupted, lost = False, ""
     try:
-        _run_parts(
-            problem, method, backend, threads, chunk, scheduler, progress, parts, items, outputs
-        )
+        with _progress.bar(progress, n, "samples") as advance:
+
+            def done(k: int, output: kb.BatchKernelOutput) -> None:
+                outputs[k] = output
+                advance(len(parts[k]))
+
+            runner.run_lanes(_lane_work(problem, method), items(), threads, chunk, done)
     except KeyboardInterrupt:  # the finished chunks are kept; the others are marked below
         interrupted = True
     except ClusterLost as error:
@@ -1189,11 +1162,6 @@ class _PartialDispatch(KeyboardInterrupt):
     """A :func:`_dispatch` that did not finish: ``args`` are its outputs (lanes that did not
     finish have ``STATUS_INTERRUPTED``), workers, chunk size and why (``""``: an interrupt;
     else the message of the lost Dask cluster, the error of those lanes)."""
-
-
-class ClusterLost(JointplayError):
-    """The Dask cluster cannot finish: no workers left (:data:`DASK_NO_WORKERS_S`), or a
-    task killed its workers (Dask's own retries spent)."""
 
 
 def _merged(
@@ -1223,198 +1191,6 @@ def _merged(
     )
 
 
-def _run_parts(
-    problem: BatchProblem,
-    method: str,
-    backend: str,
-    threads: int,
-    chunk: int,
-    scheduler: str | None,
-    progress: bool,
-    parts: list[NDArray[np.intp]],
-    items: Callable[[], Iterator[Chunk]],
-    outputs: list[kb.BatchKernelOutput | None],
-) -> None:
-    """Run every part of the lanes on ``backend``, filling ``outputs`` as they finish (an
-    interrupt leaves ``None`` where a part did not finish: on the GPU, the one call that runs
-    every lane)."""
-    shared = (problem.ipar, problem.rtol, problem.atol, problem.max_steps, method)
-    n = sum(len(part) for part in parts)
-    with _progress(progress, n) as advance:
-        if backend == "local" or (backend == "processes" and threads == 1):
-            with _interrupts_watched() as flags:
-                for k, (rpar, y0, t_settle, t_end, max_step) in enumerate(items()):
-                    out = kb.run_batch(
-                        problem.ipar, rpar, y0, t_settle, t_end, max_step, problem.rtol,
-                        problem.atol, problem.max_steps, method, parallel=threads > 1,
-                        interrupt=flags,
-                    )  # fmt: skip
-                    outputs[k] = out
-                    advance(len(parts[k]))
-                    if np.any(out.status == kc.STATUS_INTERRUPTED):
-                        break
-        elif backend == "gpu":
-            kernel = _gpu_kernel()
-            for k, chunk_items in enumerate(items()):
-                outputs[k] = kb.BatchKernelOutput(
-                    *(np.asarray(a) for a in kernel(
-                        problem.ipar, *chunk_items, problem.rtol, problem.atol,
-                        problem.max_steps, method, chunk_size=chunk,
-                    ))
-                )  # fmt: skip
-                advance(len(parts[k]))
-        elif backend == "processes":
-            executor = pool(threads)
-            futures: dict[cf.Future[kb.BatchKernelOutput], int] = {}
-            try:
-                futures = {
-                    executor.submit(kb.run_chunk, shared, item): k for k, item in enumerate(items())
-                }
-                for future in cf.as_completed(futures):
-                    k = futures[future]
-                    outputs[k] = future.result()
-                    advance(len(parts[k]))
-            except BaseException:
-                for future in futures:
-                    future.cancel()
-                close_pool(terminate=True)
-                raise
-        else:
-            _run_dask(shared, list(items()), scheduler, outputs, parts, advance)
-
-
-#: Clients of the Dask clusters this process has used, by scheduler address.
-_CLIENTS: dict[str, Any] = {}
-
-
-def _dask_client(scheduler: str | None) -> Any:
-    """A client of the cluster at ``scheduler``, connected once and kept for the process (a
-    study runs many blocks: one connection, not one per block)."""
-    if not scheduler:
-        raise ConfigError("the dask backend needs the scheduler's address (scheduler=...)")
-    client = _CLIENTS.get(scheduler)
-    if client is not None and client.status == "running":
-        return client
-    try:
-        from distributed import Client
-    except ImportError:  # pragma: no cover - distributed is a dependency
-        raise ConfigError("the dask backend needs the 'distributed' package") from None
-    try:
-        client = Client(scheduler, timeout=30, set_as_default=False)
-    except (OSError, TimeoutError, ValueError) as exc:
-        raise ConfigError(f"cannot connect to the Dask scheduler at {scheduler!r}: {exc}") from None
-    try:
-        client.wait_for_workers(1, timeout=DASK_NO_WORKERS_S)
-    except TimeoutError:
-        client.close()
-        raise ConfigError(
-            f"the Dask cluster at {scheduler!r} has no workers (none joined within "
-            f"{DASK_NO_WORKERS_S:g} s); start some (dask worker {scheduler})"
-        ) from None
-    if not _CLIENTS:
-        atexit.register(_close_clients)
-    _CLIENTS[scheduler] = client
-    return client
-
-
-def _close_clients() -> None:
-    while _CLIENTS:
-        _CLIENTS.popitem()[1].close()
-
-
-def cluster_threads(scheduler: str | None) -> int:
-    """The threads of every worker of the Dask cluster at ``scheduler``: how many chunks it
-    runs at once (at least 1, while its workers are still joining)."""
-    info = _dask_client(scheduler).scheduler_info(n_workers=-1)
-    return max(1, sum(int(w.get("nthreads", 1)) for w in info.get("workers", {}).values()))
-
-
-def _run_dask(
-    shared: tuple[Any, ...],
-    items: list[tuple[FloatArray, ...]],
-    scheduler: str | None,
-    outputs: list[kb.BatchKernelOutput | None],
-    parts: list[NDArray[np.intp]],
-    advance: Callable[[int], None],
-) -> None:
-    """Run the chunks on the Dask cluster, filling ``outputs``.
-
-    Raises:
-        ClusterLost: a chunk killed its workers, or the cluster had no worker for
-            :data:`DASK_NO_WORKERS_S` (the chunks that finished are in ``outputs``).
-    """
-    client = _dask_client(scheduler)
-    futures: dict[Any, int] = {}
-    try:
-        # ``shared`` (the integer structure, tolerances, method) is a few hundred bytes: it
-        # travels with each task. Scattering it gave every block the same content-hashed
-        # keys, and the previous block's release could delete them under the next block's
-        # tasks, which then waited for ever ("computation on lost data").
-        futures = {
-            client.submit(kb.run_chunk, shared, item, pure=False): k for k, item in enumerate(items)
-        }
-        for future in completed_on_dask(client, list(futures), scheduler or ""):
-            if future.status == "error":
-                raise ClusterLost(
-                    f"the Dask cluster at {scheduler} could not run a chunk of samples "
-                    f"({type(future.exception()).__name__}: {future.exception()}); its "
-                    "workers died running it"
-                )
-            k = futures[future]
-            outputs[k] = dask_result(future, scheduler or "")
-            advance(len(parts[k]))
-    except BaseException:
-        if futures:
-            client.cancel(list(futures))
-        raise
-
-
-def dask_result(future: Any, address: str) -> Any:
-    """The result of a finished Dask ``future``, waiting at most :data:`DASK_NO_WORKERS_S`: a
-    result held by a worker that has since died is computed again, which needs a worker.
-
-    Raises:
-        ClusterLost: it did not come in that time.
-    """
-    try:
-        return future.result(timeout=DASK_NO_WORKERS_S)
-    except TimeoutError:
-        raise ClusterLost(
-            f"the Dask cluster at {address} lost a finished result with its worker and had no "
-            f"worker to compute it again within {DASK_NO_WORKERS_S:g} s"
-        ) from None
-
-
-def completed_on_dask(client: Any, futures: list[Any], address: str) -> Iterator[Any]:
-    """The Dask ``futures`` as they finish (failed ones too: look at their ``status``).
-
-    Dask itself moves the tasks of a worker that dies to the others (and gives up on a task
-    that killed three workers: its status is ``"error"``, ``KilledWorker``); this stops
-    waiting when the cluster has had no worker for :data:`DASK_NO_WORKERS_S`.
-
-    Raises:
-        ClusterLost: the cluster at ``address`` has had no worker for that long (the futures
-            not yielded did not finish).
-    """
-    pending, idle_since = set(futures), time.monotonic()
-    while pending:
-        done = [future for future in futures if future in pending and future.done()]
-        pending.difference_update(done)
-        yield from done
-        if done:
-            idle_since = time.monotonic()
-            continue
-        time.sleep(DASK_POLL_S)
-        if time.monotonic() - idle_since > DASK_NO_WORKERS_S:  # still any worker?
-            if client.scheduler_info(n_workers=-1).get("workers"):
-                idle_since = time.monotonic()
-                continue
-            raise ClusterLost(
-                f"the Dask cluster at {address} has had no worker for {DASK_NO_WORKERS_S:g} s; "
-                f"start workers (dask worker {address})"
-            )
-
-
 # --- the entry point --------------------------------------------------------------------------------
 def simulate_batch(
     mechanism: Mechanism,
@@ -1426,7 +1202,7 @@ def simulate_batch(
     start: Start | None = None,
     solver: SolverOptions | None = None,
     method: BatchMethod = "auto",
-    backend: BatchBackend | str = "local",
+    backend: Backend | str = "local",
     workers: int | None = None,
     chunk_size: int | None = None,
     scheduler: str | None = None,
@@ -1444,12 +1220,13 @@ def simulate_batch(
         start: initial state (default: the nominal steady motion).
         solver: tolerances, largest step and step budget (as :func:`simulate`).
         method: ``"explicit"``, ``"implicit"`` or ``"auto"`` (:func:`choose_method`).
-        backend: ``"local"`` (threads in this process), ``"processes"``, ``"dask"`` (give
-            ``scheduler``) or ``"gpu"`` (JAX; ``pip install 'jointplay[gpu]'``).
-        workers: worker processes (``"processes"``; default one per CPU).
-        chunk_size: lanes per task (default: 4096 local, ≤ 256 per process task so each
+        backend: where the lanes run: a :class:`~jointplay.execution.backends.Backend`, or
+            its name: ``"local"`` (threads in this process), ``"processes"``, ``"dask"``
+            (give ``scheduler``) or ``"gpu"`` (JAX; ``pip install 'jointplay[gpu]'``).
+        workers: worker processes (``"processes"`` given by name; default one per CPU).
+        chunk_size: lanes per task (default: 4096 local, ≤ 32 per process task so each
             worker gets ~4, 200 000 on the GPU). Never changes the results.
-        scheduler: the Dask scheduler's address (``"dask"``).
+        scheduler: the Dask scheduler's address (``"dask"`` given by name).
         progress: show a progress bar on stderr.
 
     Raises:
@@ -1461,17 +1238,10 @@ def simulate_batch(
     wall = time.perf_counter()
     if not isinstance(samples, BatchSamples):
         raise ConfigError(f"samples must be a BatchSamples, got {type(samples).__name__}")
-    backend = "local" if backend == "serial" else backend
-    if backend not in BACKENDS:
-        raise ConfigError(f"backend must be one of {', '.join(BACKENDS)}, got {backend!r}")
     if method not in ("auto", *kb.METHODS):
         raise ConfigError(f"method must be auto, explicit or implicit, got {method!r}")
-    for name, value in (("workers", workers), ("chunk_size", chunk_size)):
-        if value is not None and (
-            isinstance(value, bool) or not isinstance(value, int) or value < 1
-        ):
-            raise ConfigError(f"{name} must be a positive integer, got {value!r}")
-    if backend == "gpu":
+    runner = executor(_where(backend, workers, chunk_size, scheduler))
+    if runner.on_device:
         _gpu_kernel()  # fail early, before building
     start = start or Start("steady")
     solver = solver or SolverOptions()
@@ -1493,9 +1263,7 @@ def simulate_batch(
     lanes = np.flatnonzero(problem.ok)
     interrupted, lost = False, ""
     try:
-        output, used_workers, chunk = _dispatch(
-            problem, lanes, chosen, backend, workers, chunk_size, scheduler, progress
-        )
+        output, used_workers, chunk = _dispatch(problem, lanes, chosen, runner, progress)
     except _PartialDispatch as partial:
         output, used_workers, chunk, lost = partial.args
         interrupted = not lost
@@ -1543,7 +1311,7 @@ def simulate_batch(
         ),
         method=chosen,
         method_reason=reason,
-        backend=backend,
+        backend=runner.kind,
         workers=used_workers,
         chunk_size=chunk,
         build_time=build_time,
@@ -1552,3 +1320,19 @@ def simulate_batch(
     if interrupted:
         raise BatchInterrupted(result)
     return result
+
+
+def _where(
+    backend: Backend | str, workers: int | None, chunk_size: int | None, scheduler: str | None
+) -> Backend:
+    """The :class:`Backend` of :func:`simulate_batch`'s arguments (a name and its settings,
+    or a Backend whose chunk size ``chunk_size`` replaces)."""
+    if isinstance(backend, Backend):
+        if workers is not None or scheduler is not None:
+            raise ConfigError("give workers and scheduler in the Backend, not beside it")
+        return (
+            backend if chunk_size is None else dataclasses.replace(backend, chunk_size=chunk_size)
+        )
+    return Backend(
+        backend_kind(backend), workers=workers, scheduler=scheduler, chunk_size=chunk_size
+    )

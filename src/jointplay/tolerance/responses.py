@@ -55,6 +55,7 @@ from numpy.typing import NDArray
 
 from jointplay.dynamics.cycles import DEFAULT_SETTLE
 from jointplay.errors import ConfigError, JointplayError, PartialInterrupt
+from jointplay.execution.backends import Backend
 from jointplay.kinematics import batch, fourbar
 from jointplay.model.mechanism import Mechanism
 from jointplay.model.templates import FourBarGeometry, TemplateSpec, template_of
@@ -697,14 +698,12 @@ class DynamicResponses:
         method: integration method of the batch engine: ``"explicit"`` (Dormand–Prince
             5(4)), ``"implicit"`` (Radau IIA) or ``"auto"`` (chosen from the nominal contact
             laws, the same for every block: :func:`jointplay.dynamics.batch.choose_method`).
-        engine: where the lanes of a block run (the backend of
+        backend: where the lanes of a block run
+            (:class:`~jointplay.execution.backends.Backend`, the backend of
             :func:`jointplay.dynamics.batch.simulate_batch`): ``"local"`` (threads over the
             cores of this process), ``"processes"`` (this process's pool of worker processes,
-            kept from block to block), ``"dask"`` or ``"gpu"`` (JAX). The execution backend
-            sets it, with ``workers`` and ``scheduler``
-            (:func:`jointplay.tolerance.execution.run`).
-        workers: worker processes of the ``"processes"`` engine (default one per CPU).
-        scheduler: the Dask scheduler's address (``"dask"`` engine).
+            kept from block to block), ``"dask"`` or ``"gpu"`` (JAX). A study's execution
+            backend sets it (:func:`jointplay.tolerance.execution.run`).
         chunk_size: samples per block.
         stiffness_from: joint → how its contact stiffness follows its geometry
             (:class:`~jointplay.dynamics.clearance.JointStiffness`): the law's stiffness and
@@ -722,9 +721,7 @@ class DynamicResponses:
     solver: SolverOptions = field(default_factory=_default_solver)
     friction: FrictionLaw | None = None
     method: str = "auto"
-    engine: str = "local"
-    workers: int | None = None
-    scheduler: str | None = None
+    backend: Backend = field(default_factory=lambda: Backend("local"))
     chunk_size: int = 64
     stiffness_from: Mapping[str, JointStiffness] = field(default_factory=dict)
 
@@ -739,10 +736,10 @@ class DynamicResponses:
             raise ConfigError(
                 f"dynamic responses: method must be auto, explicit or implicit, got {self.method!r}"
             )
-        if self.engine not in ("local", "processes", "dask", "gpu"):
+        if not isinstance(self.backend, Backend):
             raise ConfigError(
-                f"dynamic responses: engine must be local, processes, dask or gpu, got "
-                f"{self.engine!r}"
+                f"dynamic responses: backend must be a Backend (jointplay.execution), got "
+                f"{type(self.backend).__name__}"
             )
 
         object.__setattr__(self, "input_names", tuple(self.input_names))
@@ -1045,9 +1042,7 @@ class DynamicResponses:
                 start=self.start,
                 solver=self.solver,
                 method=self.method_choice().method,
-                backend=self.engine,
-                workers=self.workers,
-                scheduler=self.scheduler,
+                backend=self.backend,
             )
         except BatchInterrupted as stopped:  # the finished samples go on with the interrupt
             finished = stopped.result.status != IntegrationStatus.INTERRUPTED
