@@ -174,9 +174,9 @@ def test_a_dask_cluster_gives_the_same_bits_in_chunks_sized_by_the_cluster(
 ) -> None:
     """Three single-thread workers get ~4 chunks each, however many cores this machine has;
     one connection serves every batch of the process."""
-    from distributed import LocalCluster
-
     import os
+
+    from distributed import LocalCluster
 
     from jointplay.execution import dask
 
@@ -351,8 +351,8 @@ def test_an_interrupt_keeps_the_finished_lanes(
     from distributed import LocalCluster
 
     from jointplay.dynamics.batch import NOT_RUN, BatchInterrupted
-    from jointplay.execution import dask
     from jointplay.dynamics.integrate import IntegrationStatus
+    from jointplay.execution import dask
 
     samples, expected = reference
     options = {"chunk_size": 2}

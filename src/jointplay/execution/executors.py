@@ -29,9 +29,9 @@ from typing import Any, ClassVar, Protocol
 from jointplay._kernels.workers import die_with_parent
 from jointplay.errors import ConfigError, PartialInterrupt, caused_by_interrupt
 from jointplay.execution import dask as _dask
+from jointplay.execution import pool as _pool
 from jointplay.execution.backends import Backend, BackendKind
 from jointplay.execution.interrupts import interrupts_watched
-from jointplay.execution import pool as _pool
 
 __all__ = [
     "DEFAULT_CHUNK",
