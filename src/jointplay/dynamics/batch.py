@@ -60,7 +60,7 @@ from jointplay.errors import ConfigError, JointplayError, PartialInterrupt
 from jointplay.execution import progress as _progress
 from jointplay.execution.backends import BACKENDS, Backend, backend_kind
 from jointplay.execution.dask import ClusterLost
-from jointplay.execution.executors import Executor, LaneWork, executor
+from jointplay.execution.executors import Executor, Lanes, LaneWork, executor
 from jointplay.kinematics import fourbar, slidercrank
 from jointplay.kinematics.solver import revolute_tree
 from jointplay.model.columns import rotating_links
@@ -1147,7 +1147,7 @@ def _dispatch(
                 outputs[k] = output
                 advance(len(parts[k]))
 
-            runner.run_lanes(_lane_work(problem, method), items(), threads, chunk, done)
+            runner.run_lanes(Lanes(_lane_work(problem, method), items(), threads, chunk, done))
     except KeyboardInterrupt:  # the finished chunks are kept; the others are marked below
         interrupted = True
     except ClusterLost as error:

@@ -40,6 +40,7 @@ __all__ = [
     "WORKER_START_S",
     "Executor",
     "LaneWork",
+    "Lanes",
     "TaskSink",
     "executor",
 ]
@@ -81,6 +82,25 @@ class LaneWork:
     here: Callable[[Any, bool, Any], Any]
     stopped: Callable[[Any], bool]
     device: Callable[[Any, int], Any] | None = None
+
+
+@dataclass(frozen=True)
+class Lanes:
+    """One run of an engine's lanes on an executor (:meth:`Executor.run_lanes`).
+
+    Attributes:
+        work: how a chunk runs (:class:`LaneWork`).
+        chunks: the chunks, in order (consumed once).
+        slots: chunks at once (:meth:`Executor.lane_slots`).
+        chunk: lanes per chunk (:meth:`Executor.lane_chunk`).
+        done: ``done(k, output)``, called in this process as chunk ``k`` finishes.
+    """
+
+    work: LaneWork
+    chunks: Iterable[Any]
+    slots: int
+    chunk: int
+    done: Callable[[int, Any], None]
 
 
 class TaskSink(Protocol):
@@ -177,15 +197,9 @@ class Executor:
         """Lanes per part handed to :meth:`run_lanes` (the chunk, unless the kernel cuts its own)."""
         return chunk
 
-    def run_lanes(
-        self,
-        work: LaneWork,
-        chunks: Iterable[Any],
-        slots: int,
-        chunk: int,
-        done: Callable[[int, Any], None],
-    ) -> None:
-        """Run every chunk of ``chunks`` and call ``done(k, output)`` as chunk ``k`` finishes.
+    def run_lanes(self, lanes: Lanes) -> None:
+        """Run every chunk of ``lanes`` and call ``lanes.done(k, output)`` as chunk ``k``
+        finishes.
 
         An interrupt (KeyboardInterrupt) goes through, the chunks done kept by ``done``.
 
@@ -240,18 +254,12 @@ class Local(Executor):
     def block(self, default: int) -> int:
         return self.backend.chunk_size or default
 
-    def run_lanes(
-        self,
-        work: LaneWork,
-        chunks: Iterable[Any],
-        slots: int,
-        chunk: int,
-        done: Callable[[int, Any], None],
-    ) -> None:
+    def run_lanes(self, lanes: Lanes) -> None:
+        work = lanes.work
         with interrupts_watched() as flags:
-            for k, item in enumerate(chunks):
-                output = work.here(item, slots > 1, flags)
-                done(k, output)
+            for k, item in enumerate(lanes.chunks):
+                output = work.here(item, lanes.slots > 1, flags)
+                lanes.done(k, output)
                 if work.stopped(output):
                     break
 
@@ -295,23 +303,19 @@ class Processes(Executor):
             return dataclasses.replace(self.backend, workers=affordable)
         return self.backend
 
-    def run_lanes(
-        self,
-        work: LaneWork,
-        chunks: Iterable[Any],
-        slots: int,
-        chunk: int,
-        done: Callable[[int, Any], None],
-    ) -> None:
-        if slots == 1:  # one worker: this process, on one thread
-            Local(Backend("local")).run_lanes(work, chunks, slots, chunk, done)
+    def run_lanes(self, lanes: Lanes) -> None:
+        if lanes.slots == 1:  # one worker: this process, on one thread
+            Local(Backend("local")).run_lanes(lanes)
             return
-        workers = _pool.pool(slots)  # kept from batch to batch: started and loaded once
+        workers = _pool.pool(lanes.slots)  # kept from batch to batch: started and loaded once
+        work = lanes.work
         futures: dict[cf.Future[Any], int] = {}
         try:
-            futures = {workers.submit(work.task, work.shared, c): k for k, c in enumerate(chunks)}
+            futures = {
+                workers.submit(work.task, work.shared, c): k for k, c in enumerate(lanes.chunks)
+            }
             for future in cf.as_completed(futures):
-                done(futures[future], future.result())
+                lanes.done(futures[future], future.result())
         except BaseException:
             for future in futures:
                 future.cancel()
@@ -365,15 +369,9 @@ class Dask(Executor):
     def lane_slots(self) -> int:  # sized by the cluster, not by this machine
         return _dask.cluster_threads(self.address)
 
-    def run_lanes(
-        self,
-        work: LaneWork,
-        chunks: Iterable[Any],
-        slots: int,
-        chunk: int,
-        done: Callable[[int, Any], None],
-    ) -> None:
+    def run_lanes(self, lanes: Lanes) -> None:
         client = _dask.client(self.address)
+        work = lanes.work
         futures: dict[Any, int] = {}
         try:
             # ``shared`` is small: it travels with each task. Scattering it gave every
@@ -382,7 +380,7 @@ class Dask(Executor):
             # ("computation on lost data").
             futures = {
                 client.submit(work.task, work.shared, c, pure=False): k
-                for k, c in enumerate(chunks)
+                for k, c in enumerate(lanes.chunks)
             }
             for future in _dask.completed(client, list(futures), self.address):
                 if future.status == "error":
@@ -391,7 +389,7 @@ class Dask(Executor):
                         f"({type(future.exception()).__name__}: {future.exception()}); its "
                         "workers died running it"
                     )
-                done(futures[future], _dask.result(future, self.address))
+                lanes.done(futures[future], _dask.result(future, self.address))
         except BaseException:
             if futures:
                 client.cancel(list(futures))
@@ -453,18 +451,12 @@ class Gpu(Executor):
         # serves them all: it is given every lane at once
         return max(n, 1)
 
-    def run_lanes(
-        self,
-        work: LaneWork,
-        chunks: Iterable[Any],
-        slots: int,
-        chunk: int,
-        done: Callable[[int, Any], None],
-    ) -> None:
-        if work.device is None:
+    def run_lanes(self, lanes: Lanes) -> None:
+        device = lanes.work.device
+        if device is None:
             raise ConfigError("the gpu backend runs the batch engine only")
-        for k, item in enumerate(chunks):
-            done(k, work.device(item, chunk))
+        for k, item in enumerate(lanes.chunks):
+            lanes.done(k, device(item, lanes.chunk))
 
     def for_tasks(self, n: int) -> Executor:
         return Local(Backend("local"))
