@@ -282,10 +282,10 @@ MAX_REVOLUTIONS = 10_000
 def check_revolutions(revolutions: float, settle: int = 0, option: str = "--revolutions") -> None:
     """Refuse revolutions that are not > 0, and revolutions plus ``settle`` beyond
     :data:`MAX_REVOLUTIONS`, naming ``option``."""
-    if not (math.isfinite(revolutions) and revolutions > 0):
-        raise ConfigError(f"{option} must be > 0, got {revolutions:g}")
-    if settle < 0:
-        raise ConfigError(f"--settle must be a whole number of revolutions >= 0, got {settle}")
+    from jointplay.dynamics.cycles import analysed_revolutions, settle_revolutions
+
+    analysed_revolutions(revolutions, option)
+    settle_revolutions(settle, "--settle")
     if revolutions + settle > MAX_REVOLUTIONS:
         raise ConfigError(
             f"{option} {revolutions:g}{f' with --settle {settle}' if settle else ''} is more than "

@@ -430,7 +430,8 @@ def design_command(
         "friction_law": friction_law,
     }  # fmt: skip
     given = [f"--{key.replace('_', '-')}" for key, v in contact_options.items() if v is not None]
-    if given and resolve_responses(mechanism, requirements, kind) != "dynamic":  # type: ignore[arg-type]
+    dynamic = resolve_responses(mechanism, requirements, kind) == "dynamic"  # type: ignore[arg-type]
+    if given and not dynamic:
         raise ConfigError(
             f"{', '.join(given)}: contact options apply to dynamic designs only, and every "
             "requirement here is kinematic; add --responses dynamic or drop them"
@@ -451,6 +452,8 @@ def design_command(
     cost = CostModel.from_table(data.get("cost", {}))
     wear = wear_settings(data, wear_coefficient, hardness)
     where = backend_from_options(backend, workers, dask_scheduler)
+    if where.kind == "gpu" and not dynamic:
+        raise ConfigError("--backend gpu runs the dynamics: use it with --responses dynamic")
     figure_format = check_figure_format(figure_format)
     # the output folder is checked before the study runs
     with output_dir(out, force=force, inputs=(config, table)) as folder:
@@ -464,7 +467,6 @@ def design_command(
         missing = []
         sensitivity = None
         try:
-            dynamic = resolve_responses(mechanism, requirements, kind) == "dynamic"  # type: ignore[arg-type]
             with compiling_kernels(needed=dynamic):
                 result = design_study(
                     mechanism,

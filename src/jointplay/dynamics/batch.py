@@ -53,6 +53,7 @@ from jointplay._kernels import constraints as ck
 from jointplay._kernels import eom
 from jointplay._kernels.contact import normal_force
 from jointplay.dynamics.clearance import MIN_CLEARANCE, ClearanceJoint, stiffness_field
+from jointplay.dynamics.cycles import analysed_revolutions, settle_revolutions
 from jointplay.dynamics.integrate import IntegrationStatus
 from jointplay.dynamics.simulate import SolverOptions, Start, initial_state
 from jointplay.dynamics.system import PARAMS_WIDTH, System, build_system
@@ -228,12 +229,8 @@ def _check_settings(revolutions: float, settle: int, start: Any, solver: Any) ->
         raise ConfigError(f"start must be a Start, e.g. Start('steady'), got {start!r}")
     if not isinstance(solver, SolverOptions):
         raise ConfigError(f"solver must be a SolverOptions, got {type(solver).__name__}")
-    if isinstance(revolutions, bool) or not isinstance(revolutions, int | float):
-        raise ConfigError(f"revolutions must be a number, got {revolutions!r}")
-    if not (math.isfinite(revolutions) and revolutions > 0):
-        raise ConfigError(f"revolutions must be > 0, got {revolutions}")
-    if isinstance(settle, bool) or not isinstance(settle, int | np.integer) or settle < 0:
-        raise ConfigError(f"settle must be a whole number of revolutions >= 0, got {settle!r}")
+    analysed_revolutions(revolutions)
+    settle_revolutions(settle)
 
 
 def _settle_time(driver: FloatArray, turns: float) -> FloatArray:

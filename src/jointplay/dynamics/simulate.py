@@ -28,7 +28,7 @@ from numpy.typing import NDArray
 from jointplay._kernels import constraints as ck
 from jointplay._kernels import eom
 from jointplay.dynamics.clearance import ClearanceJoint
-from jointplay.dynamics.cycles import DEFAULT_SETTLE
+from jointplay.dynamics.cycles import DEFAULT_SETTLE, analysed_revolutions, settle_revolutions
 from jointplay.dynamics.diagnostics import Diagnostic
 from jointplay.dynamics.integrate import IntegrationResult, IntegrationStatus, integrate
 from jointplay.dynamics.nominal import nominal_analysis
@@ -466,10 +466,8 @@ def simulate(
     if settle is None:
         settle = DEFAULT_SETTLE if start.mode == "steady" else 0
     solver = solver or SolverOptions()
-    if not (math.isfinite(revolutions) and revolutions > 0):
-        raise ConfigError(f"revolutions must be > 0, got {revolutions}")
-    if isinstance(settle, bool) or not isinstance(settle, int | np.integer) or settle < 0:
-        raise ConfigError(f"settle must be a whole number of revolutions >= 0, got {settle!r}")
+    analysed_revolutions(revolutions)
+    settle_revolutions(settle)
     if sample_deg is not None and not (math.isfinite(sample_deg) and 0 < sample_deg <= 360):
         raise ConfigError(f"sample_deg must lie in (0, 360] degrees, got {sample_deg}")
     period = mechanism.driver.period

@@ -79,6 +79,7 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 from scipy import optimize, stats
 
+from jointplay.dynamics.cycles import settle_revolutions
 from jointplay.dynamics.setup import (
     DEFAULT_IMPACT,
     ContactSettings,
@@ -295,8 +296,7 @@ class DynamicSettings:
     solver: SolverOptions | None = None
 
     def __post_init__(self) -> None:
-        if isinstance(self.settle, bool) or not isinstance(self.settle, int) or self.settle < 0:
-            raise ConfigError(f"DynamicSettings: settle must be an integer >= 0, got {self.settle}")
+        settle_revolutions(self.settle, "DynamicSettings: settle")
 
 
 def parameter_names(mechanism: Mechanism, datasets: Sequence[Dataset]) -> tuple[str, ...]:

@@ -53,7 +53,7 @@ from typing import TYPE_CHECKING, Any, Protocol, runtime_checkable
 import numpy as np
 from numpy.typing import NDArray
 
-from jointplay.dynamics.cycles import DEFAULT_SETTLE
+from jointplay.dynamics.cycles import DEFAULT_SETTLE, analysed_revolutions, settle_revolutions
 from jointplay.errors import ConfigError, JointplayError, PartialInterrupt
 from jointplay.execution.backends import Backend
 from jointplay.kinematics import batch, fourbar
@@ -750,13 +750,8 @@ class DynamicResponses:
             raise ConfigError(
                 f"dynamic responses: law must be a ContactLaw instance, got {type(self.law).__name__}"
             )
-        if not (math.isfinite(self.revolutions) and self.revolutions > 0):
-            raise ConfigError(f"dynamic responses: revolutions must be > 0, got {self.revolutions}")
-        if isinstance(self.settle, bool) or not isinstance(self.settle, int) or self.settle < 0:
-            raise ConfigError(
-                f"dynamic responses: settle must be a whole number of revolutions >= 0, got "
-                f"{self.settle!r}"
-            )
+        analysed_revolutions(self.revolutions, "dynamic responses: revolutions")
+        settle_revolutions(self.settle, "dynamic responses: settle")
         lengths = (
             template_of(self.mechanism).geometry.length_names
             if isinstance(self.mechanism.template, TemplateSpec)
