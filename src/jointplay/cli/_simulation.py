@@ -118,6 +118,23 @@ RtolOption = Annotated[
 CONTACT_KEYS = ("contact", "k", "exponent", "cmax", "depth", "damping", "stiffness_law")
 #: Every contact option, by its key in ``values`` (and in ``[simulation]``).
 CONTACT_OPTIONS = (*CONTACT_KEYS, "restitution", "friction", "friction_law", "method", "ecs_source")
+#: The option of each setting that the layers below name in their errors
+#: (:class:`~jointplay.errors.SettingError`): the command line shows these names.
+SETTING_OPTIONS = {
+    "law": "--contact",
+    "stiffness": "--k",
+    "exponent": "--exponent",
+    "c_max": "--cmax",
+    "depth": "--depth",
+    "restitution": "--restitution",
+    "damping": "--damping",
+    "stiffness_law": "--stiffness-law",
+    "fit_depth": "--fit-depth",
+    "friction": "--friction",
+    "friction_law": "--friction-law",
+    "joints": "--joints",
+    "clearance": "--clearance",
+}
 
 
 def contact_model(
