@@ -6,16 +6,16 @@ import math
 import shlex
 import sys
 import time
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import AbstractContextManager, contextmanager, nullcontext
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any, TypeVar, cast
 
 import typer
 
 from jointplay import __version__
 from jointplay.cli._app import current_argv
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, Interrupted, PartialInterrupt
 from jointplay.units import parse_quantity
 
 if TYPE_CHECKING:
@@ -350,3 +350,34 @@ def whole_headers(table: Any) -> Any:
         column.min_width = max((len(word) for word in words), default=0)
         column.overflow = "fold"
     return table
+
+
+_R = TypeVar("_R")
+
+
+def run_study(compute: Callable[[], _R]) -> tuple[_R, list[str]]:
+    """``(compute(), [])``; an interrupt in the study's convergence check, after every point
+    or scheme finished (a :class:`~jointplay.errors.PartialInterrupt`), gives its partial
+    result and ``["the convergence check"]``, what is missing from it."""
+    try:
+        return compute(), []
+    except PartialInterrupt as stopped:
+        return cast("_R", stopped.partial), ["the convergence check"]
+
+
+@contextmanager
+def writing_study(finished: tuple[int, int, str], missing: list[str]) -> Iterator[None]:
+    """Around the writing of a study's results, whose tables and summary are written first,
+    whole: an interrupt there becomes :class:`~jointplay.errors.Interrupted` saying that
+    ``finished`` (done, of, what) are kept and ``missing`` and the figures and report are not."""
+    try:
+        yield
+    except KeyboardInterrupt:
+        raise Interrupted(*finished, ", ".join([*missing, "the figures and report"])) from None
+
+
+def study_kept(interrupted: bool, finished: tuple[int, int, str], missing: list[str]) -> None:
+    """Raise :class:`~jointplay.errors.Interrupted` for a study written in full that an
+    interrupt had cut short (``interrupted``) or that lacks ``missing``."""
+    if interrupted or missing:
+        raise Interrupted(*finished, ", ".join(missing))

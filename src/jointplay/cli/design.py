@@ -8,7 +8,7 @@ from __future__ import annotations
 import math
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any, Literal, cast
+from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 import typer
 from rich.console import Console
@@ -39,7 +39,10 @@ from jointplay.cli._common import (
     compiling_kernels,
     mechanism_from_options,
     provenance,
+    run_study,
+    study_kept,
     whole_headers,
+    writing_study,
 )
 from jointplay.cli._simulation import (
     CmaxOption,
@@ -62,7 +65,7 @@ from jointplay.cli.tolerance import (
     backend_from_options,
     solver_options,
 )
-from jointplay.errors import ConfigError, Interrupted, JointplayError, PartialInterrupt
+from jointplay.errors import ConfigError, JointplayError
 from jointplay.units import parse_quantity
 
 if TYPE_CHECKING:
@@ -464,9 +467,10 @@ def design_command(
             "revolutions": revolutions, "solver": solver_options(rtol), "backend": where,
             "progress": progress,
         }  # fmt: skip
-        missing = []
         sensitivity = None
-        try:
+
+        def compute() -> DesignResult:
+            nonlocal sensitivity
             with compiling_kernels(needed=dynamic):
                 result = design_study(
                     mechanism,
@@ -484,12 +488,13 @@ def design_command(
                     if model_check and not result.interrupted
                     else None
                 )
-        except PartialInterrupt as stopped:  # in the convergence check: every scheme finished
-            result, missing = cast("DesignResult", stopped.partial), ["the convergence check"]
+            return result
+
+        result, missing = run_study(compute)
         units = design_units(mechanism, result.responses)  # type: ignore[arg-type]
         summary = result.summary()
         finished = (len(result.table), int(summary["settings"]["schemes"]), "schemes")
-        try:
+        with writing_study(finished, missing):
             write_design(
                 result,
                 folder,
@@ -499,15 +504,12 @@ def design_command(
                 figure_format=figure_format,
                 sensitivity=sensitivity,
             )
-        except KeyboardInterrupt:  # the tables and summary are written first, whole
-            raise Interrupted(*finished, ", ".join([*missing, "the figures and report"])) from None
         _print(result, units)
         if result.settings.get("model", {}).get("contact"):
             console.print(f"contact: {result.settings['model']['contact']}")
         if sensitivity is not None:
             console.print(f"model sensitivity: {sensitivity.verdict}")
-        if result.interrupted or missing:
-            raise Interrupted(*finished, ", ".join(missing))
+        study_kept(result.interrupted, finished, missing)
     console.print(f"results written to {out}")
 
 

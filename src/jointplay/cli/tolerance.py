@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import sys
 from enum import StrEnum
-from typing import TYPE_CHECKING, Annotated, Any, cast
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 from rich.console import Console
@@ -31,7 +31,10 @@ from jointplay.cli._common import (
     crank_speed,
     parse_gravity,
     provenance,
+    run_study,
+    study_kept,
     whole_headers,
+    writing_study,
 )
 from jointplay.cli._simulation import (
     CmaxOption,
@@ -48,7 +51,7 @@ from jointplay.cli._simulation import (
     StiffnessOption,
     contact_from_options,
 )
-from jointplay.errors import ConfigError, Interrupted, PartialInterrupt
+from jointplay.errors import ConfigError
 from jointplay.units import parse_quantity
 
 if TYPE_CHECKING:
@@ -367,10 +370,10 @@ def tolerance_command(
             analysis = Rss(fd_step=fd_step)
         else:
             analysis = WorstCase(corners=corners.value, fd_step=fd_step)
-        missing = []
-        try:
+
+        def compute() -> ToleranceStudyResult:
             with compiling_kernels(needed=dynamic):
-                study = tolerance_study(
+                return tolerance_study(
                     mechanism,
                     spec,
                     method=analysis,
@@ -384,15 +387,12 @@ def tolerance_command(
                     backend=where,
                     progress=progress,
                 )
-        except PartialInterrupt as stopped:  # in the convergence check: every point finished
-            study, missing = (
-                cast("ToleranceStudyResult", stopped.partial),
-                ["the convergence check"],
-            )
+
+        study, missing = run_study(compute)
         summary = study.summary()
         counts = summary["counts"]
         finished = (counts["ok"] + counts["failed"], counts["points"], "points")
-        try:
+        with writing_study(finished, missing):
             write_study(
                 study,
                 folder,
@@ -401,13 +401,10 @@ def tolerance_command(
                 figure_format=figure_format,
                 executor=running_pool(),  # the batch engine's idle workers draw plots too
             )
-        except KeyboardInterrupt:  # the samples and summary are written first, whole
-            raise Interrupted(*finished, ", ".join([*missing, "the figures and report"])) from None
         _print(study)
         if study.model.get("contact"):
             console.print(f"contact: {study.model['contact']}")
-        if study.interrupted or missing:
-            raise Interrupted(*finished, ", ".join(missing))
+        study_kept(study.interrupted, finished, missing)
     console.print(f"results written to {out}")
 
 
