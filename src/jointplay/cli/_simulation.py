@@ -134,6 +134,19 @@ SETTING_OPTIONS = {
     "friction_law": "--friction-law",
     "joints": "--joints",
     "clearance": "--clearance",
+    "output folder": "--out",
+    "force=True": "--force",
+    "format": "--format",
+    "ecs_source": "--ecs-source",
+    "fit": "--fit",
+    "responses": "--responses",
+    "output_step": "--output-step",
+    "sample_deg": "--sample-deg",
+    "max_step": "--max-step",
+    "wear_coefficient": "--wear-coefficient",
+    "hardness": "--hardness",
+    "speed_column": "--speed-column",
+    "angle_column": "--angle-column",
 }
 
 

@@ -87,7 +87,7 @@ from jointplay.dynamics.setup import (
     clearance_joints,
 )
 from jointplay.dynamics.simulate import SolverOptions, Start, simulate
-from jointplay.errors import ConfigError, IntegrationError
+from jointplay.errors import ConfigError, IntegrationError, SettingError
 from jointplay.io.measurements import Measurements, frozen_array, paper_table7
 from jointplay.kinematics.analysis import analyse
 from jointplay.model.mechanism import Mechanism, RevoluteJoint
@@ -866,7 +866,7 @@ def calibrate(
         else tuple(default_parameters(mechanism, datasets, fit, settings, initial=initial))
     )
     if not params:
-        raise ConfigError("calibrate: no parameter to fit; name some with --fit")
+        raise SettingError("calibrate: no parameter to fit; name some with {fit}")
     dynamic = any(p.dynamic for p in params)
     model = _Model(mechanism, tuple(datasets), params, settings, dynamic)
     weights = _weights(datasets)

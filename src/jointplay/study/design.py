@@ -71,7 +71,7 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from jointplay.dynamics.cycles import DEFAULT_SETTLE
-from jointplay.errors import ConfigError, PartialInterrupt
+from jointplay.errors import ConfigError, PartialInterrupt, SettingError
 from jointplay.model.mechanism import Mechanism, RevoluteJoint
 from jointplay.study.requirements import Requirement, parse_requirement
 from jointplay.tolerance import iso286, iso2768
@@ -327,7 +327,9 @@ def schemes(
             for joint in joints:
                 fit = candidate.get(joint, own.get(joint))
                 if fit is None:
-                    raise ConfigError(f"joint {joint!r} has no fit: name one (--fit {joint}=H7/g6)")
+                    raise SettingError(
+                        "joint {joint!r} has no fit: name one ({fit} {joint}=H7/g6)", joint=joint
+                    )
                 chosen[joint] = fit
         for joint, fit in chosen.items():
             result = iso286.fit(fit, _diameter(mechanism, joint))

@@ -54,7 +54,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from jointplay.dynamics.cycles import DEFAULT_SETTLE, analysed_revolutions, settle_revolutions
-from jointplay.errors import ConfigError, JointplayError, PartialInterrupt
+from jointplay.errors import ConfigError, JointplayError, PartialInterrupt, SettingError
 from jointplay.execution.backends import Backend
 from jointplay.kinematics import batch, fourbar
 from jointplay.model.mechanism import Mechanism
@@ -655,9 +655,10 @@ def kinematic_model(
     """The kinematic response model of ``mechanism``: vectorised for four-bars, general otherwise."""
     spec = mechanism.template
     if not isinstance(spec, TemplateSpec):
-        raise ConfigError(
-            f"mechanism {mechanism.name!r} has no template: tolerance studies of link lengths "
-            "need a four-bar or slider-crank template (use --responses dynamic for clearances)"
+        raise SettingError(
+            "mechanism {name!r} has no template: tolerance studies of link lengths need a "
+            "four-bar or slider-crank template (use {responses} dynamic for clearances)",
+            name=mechanism.name,
         )
     if isinstance(spec.geometry, FourBarGeometry):
         return FourBarKinematics.from_mechanism(mechanism, input_names, **options)
