@@ -147,6 +147,9 @@ SETTING_OPTIONS = {
     "hardness": "--hardness",
     "speed_column": "--speed-column",
     "angle_column": "--angle-column",
+    "fps": "--fps",
+    "frames": "--frames",
+    "magnification": "--magnification",
 }
 
 

@@ -423,7 +423,7 @@ def design_command(
     mechanism = mechanism_from_options(preset, config, rpm=rpm, gravity=gravity)
     kind = choice(responses, "--responses", ("auto", "kinematic", "dynamic"))
     requirements = parse_requirements(mechanism, require)  # once, into typed objects
-    level = parse_confidence(confidence)
+    level = parse_confidence(confidence, "--confidence")
     count = parse_samples(samples)
     process = parse_process(sampling, distribution, cpk or [])
     contact_options = {
