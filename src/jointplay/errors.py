@@ -23,7 +23,7 @@ class ConfigError(JointplayError, ValueError):
 class SettingError(ConfigError):
     """A setting is out of range; the message names the settings it is about by their names
     in a template, and each caller shows its own name for them (:meth:`named`): the Python
-    API the setting's name (``stiffness``), the command line its option (``--k``). No module
+    API the setting's name (``stiffness``), the command line its option's. No module
     below the command line names an option.
 
     Args:

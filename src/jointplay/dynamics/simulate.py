@@ -572,7 +572,7 @@ def _message(run: IntegrationResult, t_end: float, solver: SolverOptions) -> str
         )
     if status is IntegrationStatus.STEP_TOO_SMALL:
         return (
-            f"{where}. Loosen SolverOptions.rtol (--rtol on the command line), atol_position"
+            f"{where}. Loosen SolverOptions.rtol, atol_position"
             " or atol_velocity, and check that the contact stiffness and damping are"
             " physically sensible."
         )

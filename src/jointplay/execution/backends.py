@@ -1,6 +1,6 @@
 """The execution backends' names and the typed setting that says where work runs.
 
-Standard library only: the command line validates ``--backend`` with it at start-up. The
+Standard library only: the command line validates its backend option with it at start-up. The
 names live here and nowhere else; what each backend does lives in
 :mod:`jointplay.execution.executors`.
 """

@@ -399,7 +399,7 @@ def jsonable(value: Any) -> Any:
     tuples become lists, paths strings, NaN or inf become ``None`` (JSON null), and floats
     are rounded to :data:`JSON_DIGITS` significant digits (:func:`round_significant`).
 
-    The one JSON sanitiser of the package: every JSON file and ``--json`` document goes
+    The one JSON sanitiser of the package: every JSON file and JSON document goes
     through it.
     """
     if isinstance(value, dict):

@@ -691,7 +691,7 @@ class CalibrationResult:
         return self.after.rms_error_percent
 
     def as_json(self) -> dict[str, Any]:
-        """The issue's ``--json`` shape (SI units)."""
+        """The issue's JSON shape (SI units)."""
         return {
             "parameters": {p.name: p.as_dict() for p in self.parameters},
             "rms_before": self.rms_before,

@@ -572,7 +572,7 @@ def penetration_diagnostics(
             f"{worst_sample}; {name} in samples.parquet{per_scheme_column}); those samples' "
             f"responses are not physical{verdict}; the contact stiffness is far too low for "
             "the load: use a stiffness from the joints' geometry (the default contact, or "
-            "--stiffness-law)"
+            "a stiffness law)"
         )
         diagnostic = (
             penetration_warning(joint, float(ratio[worst]), message)
@@ -689,7 +689,7 @@ class DesignResult:
         row = rows.iloc[0]
         m = row["samples_to_decide"]
         text = f"undecided: {row['scheme']} after {row['samples']:,} samples (" + (
-            f"about {int(m):,} would decide it at its observed defect rate: --max-samples {int(m)})"
+            f"about {int(m):,} would decide it at its observed defect rate: max_samples {int(m)})"
             if not pd.isna(m)
             else "its observed defect rate sits at the level: more samples may not decide it)"
         )
