@@ -15,7 +15,7 @@ The public API, importable from the top::
     result = simulate(mechanism, joints, revolutions=1)   # steady start, 2 revolutions to settle
 
 The names are loaded on first use, so ``import jointplay`` (and the command line's
-``--help``) does not pay for NumPy's, SciPy's or Numba's start-up. Where each lives:
+help) does not pay for NumPy's, SciPy's or Numba's start-up. Where each lives:
 
 ===========================  ================================================
 name                         module

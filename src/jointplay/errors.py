@@ -7,7 +7,9 @@ raise, they return a status that is turned into one of these here.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
+from typing import Any
 
 
 class JointplayError(Exception):
@@ -16,6 +18,48 @@ class JointplayError(Exception):
 
 class ConfigError(JointplayError, ValueError):
     """A configuration value, file or unit is malformed or out of range."""
+
+
+class SettingError(ConfigError):
+    """A setting is out of range; the message names the settings it is about by their names
+    in a template, and each caller shows its own name for them (:meth:`named`): the Python
+    API the setting's name (``stiffness``), the command line its option's. No module
+    below the command line names an option.
+
+    Args:
+        template: the message (:meth:`str.format` syntax): ``{stiffness}`` where a setting is
+            named, other fields for ``values``.
+        values: what the template shows besides setting names (e.g. ``got=value``).
+    """
+
+    def __init__(self, template: str, /, **values: Any) -> None:
+        self.template = template
+        self.values = values
+        self.names: dict[str, str] = {}
+        super().__init__(self._render())
+
+    def _render(self) -> str:
+        names = self.names
+
+        class _Names(dict[str, Any]):
+            def __missing__(self, key: str) -> str:
+                return names.get(key, key)
+
+        return self.template.format_map(_Names(self.values))
+
+    def named(self, names: Mapping[str, str]) -> SettingError:
+        """The same error, its settings called by ``names`` (setting → name) where given."""
+        renamed = SettingError(self.template, **self.values)
+        renamed.names = {**self.names, **names}
+        renamed.args = (renamed._render(),)
+        return renamed
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return _rebuilt, (self.template, self.values, self.names)
+
+
+def _rebuilt(template: str, values: dict[str, Any], names: dict[str, str]) -> SettingError:
+    return SettingError(template, **values).named(names)
 
 
 class AssemblyError(JointplayError, ValueError):

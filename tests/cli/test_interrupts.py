@@ -56,7 +56,7 @@ def announcing(original, when):
 
 if __name__ == "__main__":
     from jointplay.dynamics import integrate
-    from jointplay.tolerance import execution
+    from jointplay.execution import progress
 
     if sys.argv[1] == "integration":
         integrate._interrupts_watched = announcing(integrate._interrupts_watched, "integration")
@@ -71,7 +71,7 @@ if __name__ == "__main__":
 
         tolerance.study_plots = design.design_plots = drawing
     else:  # a block of samples is stored (the executor's progress, after it keeps them)
-        execution._progress_bar = announcing(execution._progress_bar, "samples")
+        progress.progress_bar = announcing(progress.progress_bar, "samples")
     from jointplay.cli import main
 
     sys.argv = ["jointplay", *sys.argv[2:]]

@@ -18,7 +18,7 @@ from jointplay.dynamics.clearance import ClearanceJoint
 from jointplay.dynamics.integrate import IntegrationStatus, integrate
 from jointplay.dynamics.setup import ContactSettings, FrictionSettings, contact_from_strings
 from jointplay.dynamics.simulate import SolverOptions, Start, simulate
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, SettingError
 from jointplay.io.config import load_config, load_preset
 
 LAW = get_law("hertz", stiffness=1e10, exponent=1.5)
@@ -92,23 +92,30 @@ def test_clearance_joint_checks_its_fields(keywords, culprit) -> None:  # type: 
 
 @pytest.mark.parametrize("mu", [math.nan, math.inf, -0.1, "0.1"])
 def test_friction_coefficient_must_be_a_finite_number(mu) -> None:  # type: ignore[no-untyped-def]
-    with pytest.raises(ConfigError, match="--friction"):
+    with pytest.raises(ConfigError, match=r"^friction must be") as error:
         FrictionSettings(coefficient=mu)
+    # the command line calls the setting by its option
+    assert str(error.value.named({"friction": "--friction"})).startswith("--friction must be")
 
 
 @pytest.mark.parametrize(
-    ("settings", "culprit"),
+    ("settings", "setting", "option"),
     [
-        ({"law": "impact", "restitution": 0.5}, "--restitution"),
-        ({"law": "hertz", "stiffness": 1e10, "c_max": 1.0}, "--cmax"),
-        ({"law": "hertz", "stiffness": 1e10, "damping": 1.0}, "--damping"),
-        ({"law": "restitution", "stiffness": 1e10, "depth": 1e-4}, "--depth"),
+        ({"law": "impact", "restitution": 0.5}, "restitution", "--restitution"),
+        ({"law": "hertz", "stiffness": 1e10, "c_max": 1.0}, "c_max", "--cmax"),
+        ({"law": "hertz", "stiffness": 1e10, "damping": 1.0}, "damping", "--damping"),
+        ({"law": "restitution", "stiffness": 1e10, "depth": 1e-4}, "depth", "--depth"),
     ],
 )
-def test_options_that_a_law_does_not_use_are_errors(settings, culprit) -> None:  # type: ignore[no-untyped-def]
-    with pytest.raises(ConfigError, match=culprit) as caught:
+def test_options_that_a_law_does_not_use_are_errors(settings, setting, option) -> None:  # type: ignore[no-untyped-def]
+    """The API names the setting; the command line shows its option instead."""
+    from jointplay.cli._simulation import SETTING_OPTIONS
+
+    with pytest.raises(SettingError, match=f"^{setting} does not apply") as caught:
         ContactSettings(**settings)
     assert repr(settings["law"]) in str(caught.value)
+    shown = str(caught.value.named(SETTING_OPTIONS))
+    assert shown.startswith(f"{option} does not apply") and "--contact" in shown
 
 
 def test_a_clearance_larger_than_the_links_is_impossible() -> None:

@@ -200,12 +200,14 @@ def test_a_dask_cluster_gives_the_same_bits_in_chunks_sized_by_the_cluster(
 ) -> None:
     """Three single-thread workers get ~4 chunks each, however many cores this machine has;
     one connection serves every batch of the process."""
+    import os
+
     from distributed import LocalCluster
 
-    from jointplay.dynamics import batch
+    from jointplay.execution import dask
 
     samples, expected = reference
-    monkeypatch.setattr(batch.os, "cpu_count", lambda: 1)  # a small client, a larger cluster
+    monkeypatch.setattr(os, "cpu_count", lambda: 1)  # a small client, a larger cluster
     with LocalCluster(
         n_workers=3, threads_per_worker=1, processes=False, dashboard_address=":0"
     ) as cluster:
@@ -216,9 +218,9 @@ def test_a_dask_cluster_gives_the_same_bits_in_chunks_sized_by_the_cluster(
             )
             for _ in range(2)
         ]
-        client = batch._CLIENTS[address]
+        client = dask._CLIENTS[address]
         assert client.status == "running"
-        batch._close_clients()
+        dask.close_clients()
     for result in results:
         assert result.backend == "dask" and result.workers == 3
         assert result.chunk_size == 1  # 9 lanes over 4 x 3 chunks, not 4 x 1
@@ -361,16 +363,16 @@ def interrupt_after_first_chunk(monkeypatch: pytest.MonkeyPatch) -> None:
     import signal
     from contextlib import contextmanager
 
-    from jointplay.dynamics import batch
+    from jointplay.execution import progress
 
     @contextmanager
-    def progress(enabled: bool, total: int):
+    def bar(total: int, description: str):
         def advance(count: int) -> None:
             os.kill(os.getpid(), signal.SIGINT)
 
         yield advance
 
-    monkeypatch.setattr(batch, "_progress", progress)
+    monkeypatch.setattr(progress, "progress_bar", bar)
 
 
 @pytest.mark.parametrize("backend", ["local", "processes", "dask"])
@@ -382,9 +384,9 @@ def test_an_interrupt_keeps_the_finished_lanes(
     not run."""
     from distributed import LocalCluster
 
-    from jointplay.dynamics import batch
     from jointplay.dynamics.batch import NOT_RUN, BatchInterrupted
     from jointplay.dynamics.integrate import IntegrationStatus
+    from jointplay.execution import dask
 
     samples, expected = reference
     options = {"chunk_size": 2}
@@ -398,8 +400,16 @@ def test_an_interrupt_keeps_the_finished_lanes(
         if backend == "dask":
             options["scheduler"] = cluster.scheduler_address
         with pytest.raises(BatchInterrupted) as stopped:
-            simulate_batch(paper_fourbar, _joints(), samples, backend=backend, **options, settle=0)
-        batch._close_clients()
+            simulate_batch(
+                paper_fourbar,
+                _joints(),
+                samples,
+                backend=backend,
+                progress=True,
+                **options,
+                settle=0,
+            )
+        dask.close_clients()
     result = stopped.value.result
     assert isinstance(stopped.value, KeyboardInterrupt)
     finished = result.status != IntegrationStatus.INTERRUPTED
@@ -426,9 +436,9 @@ def test_a_dask_cluster_without_workers_is_a_clear_error(
     """It used to wait 30 s and end with a bare TimeoutError (exit 3)."""
     from distributed import LocalCluster
 
-    from jointplay.dynamics import batch
+    from jointplay.execution import dask
 
-    monkeypatch.setattr(batch, "DASK_NO_WORKERS_S", 0.5)
+    monkeypatch.setattr(dask, "DASK_NO_WORKERS_S", 0.5)
     samples, _ = reference
     with LocalCluster(n_workers=0, processes=False, dashboard_address=":0") as cluster:
         address = cluster.scheduler_address
@@ -445,9 +455,9 @@ from contextlib import contextmanager
 import numpy as np
 from distributed import LocalCluster
 
-from jointplay.dynamics import batch
 from jointplay.dynamics.batch import BatchSamples, simulate_batch
 from jointplay.dynamics.clearance import ClearanceJoint
+from jointplay.execution import dask, progress
 from jointplay.dynamics.setup import DEFAULT_IMPACT
 from jointplay.io.config import load_preset
 
@@ -456,21 +466,21 @@ if __name__ == "__main__":
     joints = [ClearanceJoint(j, 11.75e-6, 0.005, DEFAULT_IMPACT) for j in ("A", "B")]
     mechanism = load_preset("paper-fourbar")
     reference = simulate_batch(mechanism, joints, samples, settle=0)
-    batch.DASK_NO_WORKERS_S = 1.0
+    dask.DASK_NO_WORKERS_S = 1.0
     with LocalCluster(
         n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0"
     ) as cluster:
 
         @contextmanager
-        def progress(enabled, total):
+        def bar(total, description):
             yield lambda count: cluster.scale(0)  # the workers go after the first chunk
 
-        batch._progress = progress
+        progress.progress_bar = bar
         result = simulate_batch(
             mechanism, joints, samples, backend="dask", scheduler=cluster.scheduler_address,
-            chunk_size=2, settle=0,
+            chunk_size=2, progress=True, settle=0,
         )
-        batch._close_clients()
+        dask.close_clients()
     ok = result.ok
     same = np.array_equal(result.peaks.to_numpy()[ok], reference.peaks.to_numpy()[ok])
     print(json.dumps({"ok": int(ok.sum()), "n": len(ok), "same": bool(same),

@@ -72,7 +72,7 @@ def test_a_start_up_transient_is_told_from_rattling() -> None:
         )  # fmt: skip
     assert periodicity(settling).settles_after() == 2
     assert "repeats from revolution 3 on: a start-up transient" in found["settling"].message
-    assert "raise --settle by 2" in found["settling"].message
+    assert "raise settle by 2" in found["settling"].message
     assert periodicity(converging).settles_after() is None and periodicity(converging).converging
     assert "a start-up transient still settling" in found["converging"].message
     assert not periodicity(rattling).converging and periodicity(rattling).settles_after() is None

@@ -216,8 +216,8 @@ def test_crank_length(paper_fourbar, slider_crank) -> None:
         ({"magnification": -5.0}, "finite number > 0"),
         ({"magnification": float("nan")}, "finite number > 0"),
         ({"magnification": True}, "must be a number"),
-        ({"fps": 0}, "--fps"),
-        ({"frames": 1}, "--frames"),
+        ({"fps": 0}, r"frames per second \(fps\)"),  # the CLI shows --fps
+        ({"frames": 1}, r"number of frames \(frames\)"),
         ({"frames": 2.5}, "whole number"),
         ({"figure_size": (6.0, -1.0)}, "figure_size"),
         ({"figure_size": "big"}, "figure_size"),

@@ -266,7 +266,7 @@ def test_the_answer_names_cheaper_schemes_left_undecided(paper_fourbar) -> None:
     assert result.verdict == (
         "cheapest scheme shown to meet every requirement: H8/f7 / m; cheaper, undecided: "
         "H9/d9 / m after 4,000 samples (about 9,000 would decide it at its observed defect "
-        "rate: --max-samples 9000)"
+        "rate: max_samples 9000)"
     )
 
 

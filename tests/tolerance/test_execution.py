@@ -56,9 +56,11 @@ def test_cheap_kinematics_stay_in_process_with_the_same_numbers(kinematics) -> N
 def test_default_workers_are_started_only_when_the_work_pays_for_them(
     kinematics, monkeypatch
 ) -> None:
+    import os
+
     from jointplay.tolerance import execution
 
-    monkeypatch.setattr(execution.os, "cpu_count", lambda: 8)
+    monkeypatch.setattr(os, "cpu_count", lambda: 8)
     model, _ = kinematics
     per_worker = int(execution.WORKER_START_S / model.seconds_per_sample) + 1
     for n, expected in [
@@ -75,12 +77,14 @@ def test_default_workers_are_started_only_when_the_work_pays_for_them(
 def test_early_worker_start_follows_the_same_rule(monkeypatch) -> None:
     # the command line starts the batch engine's workers before its model exists: exactly
     # those that the run will use (prepare/_placed), none for a run kept in this process
-    from jointplay.dynamics import workers
+    import os
+
+    from jointplay.execution import pool
     from jointplay.tolerance import execution
 
-    monkeypatch.setattr(execution.os, "cpu_count", lambda: 8)
+    monkeypatch.setattr(os, "cpu_count", lambda: 8)
     started: list[int | None] = []
-    monkeypatch.setattr(workers, "start_workers", started.append)
+    monkeypatch.setattr(pool, "start_workers", started.append)
     cost = 0.015
     per_worker = int(execution.WORKER_START_S / cost) + 1
     for n, backend, expected in [

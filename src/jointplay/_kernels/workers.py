@@ -2,7 +2,7 @@
 
 Standard library only: the parent pickles them by reference, so importing this module must
 not pull in NumPy, Numba or the kernels — the parent starts its workers before it has
-imported any of those (:mod:`jointplay.dynamics.workers`), and each worker imports the
+imported any of those (:mod:`jointplay.execution.pool`), and each worker imports the
 kernels itself, in parallel with the parent.
 """
 

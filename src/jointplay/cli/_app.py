@@ -24,7 +24,7 @@ try:  # Typer >= 0.20 vendors its own copy of Click, whose exceptions it raises
 except ImportError:  # pragma: no cover - older Typer uses the click package
     from click import exceptions as click_exceptions  # type: ignore[no-redef]
 
-from jointplay.errors import Interrupted, JointplayError, caused_by_interrupt
+from jointplay.errors import Interrupted, JointplayError, SettingError, caused_by_interrupt
 
 #: A choice option's type column lists its choices up to this width (``<random|lhs>``);
 #: longer lists (``<monte-carlo|worst-case|rss>``) show ``<choice>``, the help naming them.
@@ -496,7 +496,7 @@ def run(argv: list[str] | None = None) -> int:
         print(NOTHING_KEPT, file=sys.stderr)
         return EXIT_INTERRUPTED
     except JointplayError as exc:
-        fail(_one_line(str(exc)))
+        fail(_one_line(str(_with_options(exc))))
         return EXIT_ERROR
     except MemoryError:
         fail("out of memory; ask for less (fewer samples or revolutions, a coarser step)")
@@ -546,3 +546,13 @@ def leave(status: int) -> NoReturn:
         sys.stderr.flush()
     finally:
         os._exit(status)
+
+
+def _with_options(error: JointplayError) -> JointplayError:
+    """``error``, a :class:`~jointplay.errors.SettingError` calling its settings by their
+    command-line options (the layers below know no option)."""
+    if isinstance(error, SettingError):
+        from jointplay.cli._simulation import SETTING_OPTIONS
+
+        return error.named(SETTING_OPTIONS)
+    return error

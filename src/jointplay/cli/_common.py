@@ -7,16 +7,16 @@ import re
 import shlex
 import sys
 import time
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import AbstractContextManager, contextmanager, nullcontext
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any, TypeVar, cast
 
 import typer
 
 from jointplay import __version__
 from jointplay.cli._app import OUTPUT_PANEL, RUN_PANEL, WEAR_PANEL, current_argv
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, Interrupted, PartialInterrupt
 from jointplay.units import parse_quantity
 
 if TYPE_CHECKING:
@@ -269,10 +269,10 @@ MAX_REVOLUTIONS = 10_000
 def check_revolutions(revolutions: float, settle: int = 0, option: str = "--revolutions") -> None:
     """Refuse revolutions that are not > 0, and revolutions plus ``settle`` beyond
     :data:`MAX_REVOLUTIONS`, naming ``option``."""
-    if not (math.isfinite(revolutions) and revolutions > 0):
-        raise ConfigError(f"{option} must be > 0, got {revolutions:g}")
-    if settle < 0:
-        raise ConfigError(f"--settle must be a whole number of revolutions >= 0, got {settle}")
+    from jointplay.dynamics.cycles import analysed_revolutions, settle_revolutions
+
+    analysed_revolutions(revolutions, option)
+    settle_revolutions(settle, "--settle")
     if revolutions + settle > MAX_REVOLUTIONS:
         raise ConfigError(
             f"{option} {revolutions:g}{f' with --settle {settle}' if settle else ''} is more than "
@@ -352,3 +352,34 @@ def whole_headers(table: Any) -> Any:
         column.overflow = "fold"
         column.no_wrap = False
     return table
+
+
+_R = TypeVar("_R")
+
+
+def run_study(compute: Callable[[], _R]) -> tuple[_R, list[str]]:
+    """``(compute(), [])``; an interrupt in the study's convergence check, after every point
+    or scheme finished (a :class:`~jointplay.errors.PartialInterrupt`), gives its partial
+    result and ``["the convergence check"]``, what is missing from it."""
+    try:
+        return compute(), []
+    except PartialInterrupt as stopped:
+        return cast("_R", stopped.partial), ["the convergence check"]
+
+
+@contextmanager
+def writing_study(finished: tuple[int, int, str], missing: list[str]) -> Iterator[None]:
+    """Around the writing of a study's results, whose tables and summary are written first,
+    whole: an interrupt there becomes :class:`~jointplay.errors.Interrupted` saying that
+    ``finished`` (done, of, what) are kept and ``missing`` and the figures and report are not."""
+    try:
+        yield
+    except KeyboardInterrupt:
+        raise Interrupted(*finished, ", ".join([*missing, "the figures and report"])) from None
+
+
+def study_kept(interrupted: bool, finished: tuple[int, int, str], missing: list[str]) -> None:
+    """Raise :class:`~jointplay.errors.Interrupted` for a study written in full that an
+    interrupt had cut short (``interrupted``) or that lacks ``missing``."""
+    if interrupted or missing:
+        raise Interrupted(*finished, ", ".join(missing))

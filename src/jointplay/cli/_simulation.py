@@ -119,6 +119,39 @@ RtolOption = Annotated[
 CONTACT_KEYS = ("contact", "k", "exponent", "cmax", "depth", "damping", "stiffness_law")
 #: Every contact option, by its key in ``values`` (and in ``[simulation]``).
 CONTACT_OPTIONS = (*CONTACT_KEYS, "restitution", "friction", "friction_law", "method", "ecs_source")
+#: The option of each setting that the layers below name in their errors
+#: (:class:`~jointplay.errors.SettingError`): the command line shows these names.
+SETTING_OPTIONS = {
+    "law": "--contact",
+    "stiffness": "--k",
+    "exponent": "--exponent",
+    "c_max": "--cmax",
+    "depth": "--depth",
+    "restitution": "--restitution",
+    "damping": "--damping",
+    "stiffness_law": "--stiffness-law",
+    "fit_depth": "--fit-depth",
+    "friction": "--friction",
+    "friction_law": "--friction-law",
+    "joints": "--joints",
+    "clearance": "--clearance",
+    "output folder": "--out",
+    "force=True": "--force",
+    "format": "--format",
+    "ecs_source": "--ecs-source",
+    "fit": "--fit",
+    "responses": "--responses",
+    "output_step": "--output-step",
+    "sample_deg": "--sample-deg",
+    "max_step": "--max-step",
+    "wear_coefficient": "--wear-coefficient",
+    "hardness": "--hardness",
+    "speed_column": "--speed-column",
+    "angle_column": "--angle-column",
+    "fps": "--fps",
+    "frames": "--frames",
+    "magnification": "--magnification",
+}
 
 
 def contact_model(

@@ -153,7 +153,7 @@ def _simulate(
     progress: bool,
 ) -> Any:
     """Simulate the settle revolutions and the animated one, with the options of simulate."""
-    from jointplay.dynamics.cycles import DEFAULT_SETTLE
+    from jointplay.dynamics.cycles import DEFAULT_SETTLE, settle_revolutions
     from jointplay.dynamics.simulate import SolverOptions, Start, simulate
     from jointplay.io.config import simulation_settings
     from jointplay.units import parse_quantity
@@ -186,9 +186,7 @@ def _simulate(
     )
     if mode == "ramp" and ramp == 0.0:
         ramp = mechanism.driver.period / 4
-    settle = values.get("settle", DEFAULT_SETTLE)
-    if isinstance(settle, bool) or not isinstance(settle, int) or settle < 0:
-        raise ConfigError(f"--settle must be a whole number of revolutions >= 0, got {settle!r}")
+    settle = settle_revolutions(values.get("settle", DEFAULT_SETTLE), "--settle")
     where = ", ".join(c.joint for c in clear) or "no joint (ideal joints)"
     with (
         compiling_kernels(),

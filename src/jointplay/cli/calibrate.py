@@ -216,6 +216,7 @@ def calibrate_command(
     """
     figure_format = check_figure_format(figure_format)
     from jointplay.cli._common import mechanism_from_options
+    from jointplay.dynamics.cycles import settle_revolutions
     from jointplay.dynamics.setup import contact_from_strings
     from jointplay.io.config import simulation_settings
     from jointplay.io.config_writer import source_config
@@ -239,8 +240,7 @@ def calibrate_command(
         raise ConfigError(f"--loss must be one of {', '.join(cal.LOSSES)}, got {loss!r}")
     if max_nfev is not None and max_nfev < 1:
         raise ConfigError(f"--max-nfev must be >= 1, got {max_nfev}")
-    if settle < 0:
-        raise ConfigError(f"--settle must be >= 0, got {settle}")
+    settle_revolutions(settle, "--settle")
     names = _split(fit) or ["crank-speed", "phase"]
     more = _split(fit_more)
     for name in more:

@@ -8,7 +8,7 @@ from __future__ import annotations
 import math
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any, Literal, cast
+from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 import typer
 from rich.console import Console
@@ -42,7 +42,10 @@ from jointplay.cli._common import (
     compiling_kernels,
     mechanism_from_options,
     provenance,
+    run_study,
+    study_kept,
     whole_headers,
+    writing_study,
 )
 from jointplay.cli._simulation import (
     CmaxOption,
@@ -65,7 +68,7 @@ from jointplay.cli.tolerance import (
     backend_from_options,
     solver_options,
 )
-from jointplay.errors import ConfigError, Interrupted, JointplayError, PartialInterrupt
+from jointplay.errors import ConfigError, JointplayError
 from jointplay.units import parse_quantity
 
 if TYPE_CHECKING:
@@ -400,7 +403,7 @@ def design_command(
     mechanism = mechanism_from_options(preset, config, rpm=rpm, gravity=gravity)
     kind = choice(responses, "--responses", ("auto", "kinematic", "dynamic"))
     requirements = parse_requirements(mechanism, require)  # once, into typed objects
-    level = parse_confidence(confidence)
+    level = parse_confidence(confidence, "--confidence")
     count = parse_samples(samples)
     process = parse_process(sampling, distribution, cpk or [])
     contact_options = {
@@ -410,7 +413,8 @@ def design_command(
         "friction_law": friction_law,
     }  # fmt: skip
     given = [f"--{key.replace('_', '-')}" for key, v in contact_options.items() if v is not None]
-    if given and resolve_responses(mechanism, requirements, kind) != "dynamic":  # type: ignore[arg-type]
+    dynamic = resolve_responses(mechanism, requirements, kind) == "dynamic"  # type: ignore[arg-type]
+    if given and not dynamic:
         raise ConfigError(
             f"{', '.join(given)}: contact options apply to dynamic designs only, and every "
             "requirement here is kinematic; add --responses dynamic or drop them"
@@ -431,6 +435,8 @@ def design_command(
     cost = CostModel.from_table(data.get("cost", {}))
     wear = wear_settings(data, wear_coefficient, hardness)
     where = backend_from_options(backend, workers, dask_scheduler)
+    if where.kind == "gpu" and not dynamic:
+        raise ConfigError("--backend gpu runs the dynamics: use it with --responses dynamic")
     figure_format = check_figure_format(figure_format)
     # the output folder is checked before the study runs
     with output_dir(out, force=force, inputs=(config, table)) as folder:
@@ -441,10 +447,10 @@ def design_command(
             "revolutions": revolutions, "solver": solver_options(rtol), "backend": where,
             "progress": progress,
         }  # fmt: skip
-        missing = []
         sensitivity = None
-        try:
-            dynamic = resolve_responses(mechanism, requirements, kind) == "dynamic"  # type: ignore[arg-type]
+
+        def compute() -> DesignResult:
+            nonlocal sensitivity
             with compiling_kernels(needed=dynamic):
                 result = design_study(
                     mechanism,
@@ -462,12 +468,13 @@ def design_command(
                     if model_check and not result.interrupted
                     else None
                 )
-        except PartialInterrupt as stopped:  # in the convergence check: every scheme finished
-            result, missing = cast("DesignResult", stopped.partial), ["the convergence check"]
+            return result
+
+        result, missing = run_study(compute)
         units = design_units(mechanism, result.responses)  # type: ignore[arg-type]
         summary = result.summary()
         finished = (len(result.table), int(summary["settings"]["schemes"]), "schemes")
-        try:
+        with writing_study(finished, missing):
             write_design(
                 result,
                 folder,
@@ -477,15 +484,12 @@ def design_command(
                 figure_format=figure_format,
                 sensitivity=sensitivity,
             )
-        except KeyboardInterrupt:  # the tables and summary are written first, whole
-            raise Interrupted(*finished, ", ".join([*missing, "the figures and report"])) from None
         _print(result, units)
         if result.settings.get("model", {}).get("contact"):
             console.print(f"contact: {result.settings['model']['contact']}")
         if sensitivity is not None:
             console.print(f"model sensitivity: {sensitivity.verdict}")
-        if result.interrupted or missing:
-            raise Interrupted(*finished, ", ".join(missing))
+        study_kept(result.interrupted, finished, missing)
     console.print(f"results written to {out}")
 
 

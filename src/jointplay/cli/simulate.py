@@ -138,7 +138,7 @@ def simulate_command(
     per-revolution statistics, periodicity, diagnostics, solver statistics, provenance) and
     PNG plots. Options override the [simulation] table of a --config file.
     """
-    from jointplay.dynamics.cycles import DEFAULT_SETTLE
+    from jointplay.dynamics.cycles import DEFAULT_SETTLE, settle_revolutions
     from jointplay.dynamics.simulate import SolverOptions, Start, simulate
     from jointplay.io.config import simulation_settings
     from jointplay.io.output import output_dir, write_json
@@ -194,11 +194,9 @@ def simulate_command(
             raise ConfigError(f"--format must be csv or parquet, got {fmt_value!r}")
         turns = finite_number(values, "revolutions", 1.0)
         check_revolutions(turns)
-        settle_turns = values.get("settle", DEFAULT_SETTLE if mode == "steady" else 0)
-        if isinstance(settle_turns, bool) or not isinstance(settle_turns, int) or settle_turns < 0:
-            raise ConfigError(
-                f"--settle must be a whole number of revolutions >= 0, got {settle_turns!r}"
-            )
+        settle_turns = settle_revolutions(
+            values.get("settle", DEFAULT_SETTLE if mode == "steady" else 0), "--settle"
+        )
         sample = _sample_step(values.get("sample_deg"))
         with (
             compiling_kernels(lambda line: console.print(line, markup=False, highlight=False)),

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import sys
 from enum import StrEnum
-from typing import TYPE_CHECKING, Annotated, Any, cast
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 from rich.console import Console
@@ -30,7 +30,10 @@ from jointplay.cli._common import (
     crank_speed,
     parse_gravity,
     provenance,
+    run_study,
+    study_kept,
     whole_headers,
+    writing_study,
 )
 from jointplay.cli._simulation import (
     CmaxOption,
@@ -47,12 +50,12 @@ from jointplay.cli._simulation import (
     StiffnessOption,
     contact_from_options,
 )
-from jointplay.errors import ConfigError, Interrupted, PartialInterrupt
+from jointplay.errors import ConfigError
 from jointplay.units import parse_quantity
 
 if TYPE_CHECKING:
+    from jointplay.execution.backends import Backend
     from jointplay.tolerance.analysis import ToleranceStudyResult
-    from jointplay.tolerance.execution import Backend
     from jointplay.tolerance.methods import SpecLimits
 
 console = Console(highlight=False, soft_wrap=True)
@@ -108,7 +111,6 @@ BackendOption = Annotated[
         rich_help_panel=EXECUTION_PANEL,
     ),
 ]
-BACKEND_NAMES = ("local", "processes", "dask", "gpu", "serial")
 
 
 def backend_from_options(kind: str, workers: int | None, dask_scheduler: str | None) -> Backend:
@@ -117,11 +119,13 @@ def backend_from_options(kind: str, workers: int | None, dask_scheduler: str | N
     ``--dask-scheduler`` alone means ``--backend dask``; ``serial`` is another name of
     ``local``; ``--workers`` applies to local processes only.
     """
-    from jointplay.tolerance.execution import Backend
+    from jointplay.execution.backends import ALIASES, BACKENDS, Backend
 
     kind = kind.strip().lower()
-    if kind not in BACKEND_NAMES:
-        raise ConfigError(f"--backend must be local, processes, dask or gpu, got {kind!r}")
+    if kind not in (*BACKENDS, *ALIASES):
+        raise ConfigError(
+            f"--backend must be {', '.join(BACKENDS[:-1])} or {BACKENDS[-1]}, got {kind!r}"
+        )
     if dask_scheduler is not None and kind == "processes":
         kind = "dask"
     if kind == "dask":
@@ -129,7 +133,10 @@ def backend_from_options(kind: str, workers: int | None, dask_scheduler: str | N
             raise ConfigError("--backend dask needs the scheduler's address: give --dask-scheduler")
         if workers is not None:
             raise ConfigError("--workers applies to local processes; the Dask cluster has its own")
-        return Backend.dask(dask_scheduler)
+        try:
+            return Backend.dask(dask_scheduler)
+        except ConfigError as error:  # the address is the one setting it checks here
+            raise ConfigError(f"--dask-scheduler: {error}") from None
     if dask_scheduler is not None:
         raise ConfigError(f"--dask-scheduler applies to --backend dask, not {kind}")
     if workers is not None and kind != "processes":
@@ -295,7 +302,7 @@ def tolerance_command(
 
         where = backend_from_options(backend, workers, dask_scheduler)
         start_batch_workers(where, samples, DynamicResponses.seconds_per_sample)
-    from jointplay.dynamics.workers import running_pool
+    from jointplay.execution.pool import running_pool
     from jointplay.io.config import load_study_spec
     from jointplay.io.output import output_dir
     from jointplay.report.tolerance import write_study
@@ -351,10 +358,10 @@ def tolerance_command(
             analysis = Rss(fd_step=fd_step)
         else:
             analysis = WorstCase(corners=corners.value, fd_step=fd_step)
-        missing = []
-        try:
+
+        def compute() -> ToleranceStudyResult:
             with compiling_kernels(needed=dynamic):
-                study = tolerance_study(
+                return tolerance_study(
                     mechanism,
                     spec,
                     method=analysis,
@@ -368,15 +375,12 @@ def tolerance_command(
                     backend=where,
                     progress=progress,
                 )
-        except PartialInterrupt as stopped:  # in the convergence check: every point finished
-            study, missing = (
-                cast("ToleranceStudyResult", stopped.partial),
-                ["the convergence check"],
-            )
+
+        study, missing = run_study(compute)
         summary = study.summary()
         counts = summary["counts"]
         finished = (counts["ok"] + counts["failed"], counts["points"], "points")
-        try:
+        with writing_study(finished, missing):
             write_study(
                 study,
                 folder,
@@ -385,13 +389,10 @@ def tolerance_command(
                 figure_format=figure_format,
                 executor=running_pool(),  # the batch engine's idle workers draw plots too
             )
-        except KeyboardInterrupt:  # the samples and summary are written first, whole
-            raise Interrupted(*finished, ", ".join([*missing, "the figures and report"])) from None
         _print(study)
         if study.model.get("contact"):
             console.print(f"contact: {study.model['contact']}")
-        if study.interrupted or missing:
-            raise Interrupted(*finished, ", ".join(missing))
+        study_kept(study.interrupted, finished, missing)
     console.print(f"results written to {out}")
 
 

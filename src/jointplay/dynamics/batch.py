@@ -7,22 +7,22 @@ of the single engine's peak quantities over the analysed revolutions, the time-m
 every link's angular velocity, the deepest penetration of every clearance joint, the status
 and, for a failed sample, what went wrong — with its inputs.
 
-The work is split in three:
+The work is split in three, each in its own module:
 
-1. **build** (:func:`build_batch`): the kernels' inputs for every sample — the packed model
-   ``(ipar, rpar)`` of :mod:`jointplay._kernels.eom` (``ipar`` shared, ``rpar`` per sample),
-   the initial state, the analysed window and the largest step. For the four-bar and
-   slider-crank templates this is vectorised over the samples and equals, to round-off, what
-   :func:`~jointplay.dynamics.system.build_system` and
-   :func:`~jointplay.dynamics.simulate.initial_state` give for each sample (tested); any other
-   mechanism is built one sample at a time with them;
-2. **method** (:func:`choose_method`): explicit Dormand–Prince 5(4) for contact laws that do
-   not make the equations stiff at the accuracy step, Radau IIA otherwise, with the reason;
-3. **run** on a backend: ``"local"`` (this process, compiled loop, threads over the cores),
-   ``"processes"`` (worker processes, each running the compiled loop on one thread over large
-   chunks: start-up and loading the compiled code are paid once per worker), ``"dask"`` (the
-   same on a Dask cluster) or ``"gpu"`` (:mod:`jointplay._kernels.jax_batch`, the optional
-   ``jointplay[gpu]`` extra; JAX on a GPU, or on the CPU without one).
+1. **build** (:func:`~jointplay.dynamics.batch_inputs.build_batch`,
+   :mod:`jointplay.dynamics.batch_inputs`): the kernels' inputs for every sample;
+2. **method** (:func:`~jointplay.dynamics.batch_method.choose_method`,
+   :mod:`jointplay.dynamics.batch_method`): explicit Dormand–Prince 5(4) or Radau IIA, with
+   the reason;
+3. **run** (here): the lanes go to the executor of the given
+   :class:`~jointplay.execution.backends.Backend` (:mod:`jointplay.execution`): ``"local"``
+   (this process, compiled loop, threads over the cores), ``"processes"`` (worker processes,
+   each running the compiled loop on one thread over large chunks), ``"dask"`` (the same on a
+   Dask cluster) or ``"gpu"`` (:mod:`jointplay._kernels.jax_batch`, the optional
+   ``jointplay[gpu]`` extra); the results come back per sample, failures as data.
+
+This module re-exports what the other two define, so ``jointplay.dynamics.batch`` stays the
+one import path of the engine.
 
 Lanes are independent, so neither the backend nor the chunking changes a sample's result
 (bitwise on the CPU backends). The peak rule (which steps are searched between their ends,
@@ -35,16 +35,10 @@ gives those for one sample.
 
 from __future__ import annotations
 
-import atexit
-import concurrent.futures as cf
 import dataclasses
-import math
-import os
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
-from contextlib import contextmanager
-from dataclasses import dataclass, field
-from types import SimpleNamespace
+from dataclasses import dataclass
 from typing import Any, Literal
 
 import numpy as np
@@ -53,30 +47,29 @@ from numpy.typing import NDArray
 
 from jointplay._kernels import batch as kb
 from jointplay._kernels import common as kc
-from jointplay._kernels import constraints as ck
-from jointplay._kernels import eom
-from jointplay._kernels.contact import normal_force
-from jointplay.dynamics.clearance import MIN_CLEARANCE, ClearanceJoint, stiffness_field
-from jointplay.dynamics.cycles import DEFAULT_SETTLE
-from jointplay.dynamics.integrate import IntegrationStatus, _interrupts_watched
-from jointplay.dynamics.simulate import SolverOptions, Start, initial_state
-from jointplay.dynamics.system import PARAMS_WIDTH, System, build_system
-from jointplay.dynamics.workers import close_pool, pool
-from jointplay.errors import ConfigError, JointplayError, PartialInterrupt
-from jointplay.kinematics import fourbar, slidercrank
-from jointplay.kinematics.solver import revolute_tree
-from jointplay.model.columns import rotating_links
-from jointplay.model.flat import DRV_OMEGA
-from jointplay.model.mechanism import GROUND, Mechanism
-from jointplay.model.templates import (
-    FourBarGeometry,
-    LinkBody,
-    TemplateSpec,
-    with_lengths,
+from jointplay.dynamics.batch_inputs import BatchProblem, BatchSamples, build_batch
+from jointplay.dynamics.batch_method import (
+    EXPLICIT_TOLERANCE_SCALE,
+    EXPLICIT_TOLERANCES,
+    MethodChoice,
+    choose_method,
 )
+from jointplay.dynamics.clearance import ClearanceJoint
+from jointplay.dynamics.cycles import DEFAULT_SETTLE
+from jointplay.dynamics.integrate import IntegrationStatus
+from jointplay.dynamics.simulate import SolverOptions, Start
+from jointplay.dynamics.system import System, build_system
+from jointplay.errors import ConfigError, PartialInterrupt
+from jointplay.execution import progress as _progress
+from jointplay.execution.backends import BACKENDS, Backend, backend_kind
+from jointplay.execution.dask import ClusterLost
+from jointplay.execution.executors import Executor, Lanes, LaneWork, executor
+from jointplay.model.columns import rotating_links
+from jointplay.model.mechanism import Mechanism
 
 __all__ = [
     "BACKENDS",
+    "EXPLICIT_TOLERANCE_SCALE",
     "NOT_RUN",
     "BatchInterrupted",
     "BatchProblem",
@@ -86,880 +79,13 @@ __all__ = [
     "MethodChoice",
     "build_batch",
     "choose_method",
-    "completed_on_dask",
-    "dask_result",
     "simulate_batch",
 ]
 
 FloatArray = NDArray[np.float64]
 #: One chunk of lanes: rpar, y0, t_settle, t_end, max_step.
 Chunk = tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]
-BatchBackend = Literal["local", "processes", "dask", "gpu"]
 BatchMethod = Literal["auto", "explicit", "implicit"]
-
-#: The backends of :func:`simulate_batch` (``"serial"`` is accepted for ``"local"``).
-BACKENDS: tuple[str, ...] = ("local", "processes", "dask", "gpu")
-#: Lanes per chunk on the process and Dask backends when none is given: large enough that a
-#: chunk's fixed costs (a task's pickling and dispatch, ~1 ms) are small, small enough to
-#: balance the workers and that an interrupt, which drops the chunks in flight, costs at most
-#: ~1.5 s of work per worker (32 lanes of an implicit RM-set sample at ~45 ms each; an
-#: explicit sample takes ~15 ms).
-DEFAULT_CHUNK = 32
-#: How long a batch waits for a Dask cluster that has no worker (at the start, or once its
-#: workers have died) before it gives up on the chunks not finished, s.
-DASK_NO_WORKERS_S = 30.0
-#: How often a batch on Dask looks for finished chunks (and for workers), s.
-DASK_POLL_S = 0.05
-#: Lanes per chunk on the GPU backend (JAX batches; throughput falls above ~200 000 lanes).
-GPU_CHUNK = 200_000
-
-
-# --- the samples ---------------------------------------------------------------------------------
-def _column(values: Any, name: str) -> FloatArray:
-    array = np.array(values, dtype=np.float64)
-    if array.ndim != 1:
-        raise ConfigError(f"batch samples: {name} must be a 1-D array (one value per sample)")
-    return array
-
-
-@dataclass(frozen=True)
-class BatchSamples:
-    """Per-sample inputs of :func:`simulate_batch` (SI); anything absent stays nominal.
-
-    Attributes:
-        lengths: template length name (``crank``, ``coupler``, ``rocker``, ``ground``;
-            ``crank``, ``rod``, ``offset``) → one length per sample, m.
-        clearances: clearance joint name → radial clearance per sample, m.
-        law: contact-law field name (e.g. ``stiffness``, ``c_max``, ``d_max``,
-            ``restitution``) → value per sample (SI), for every clearance joint's law.
-        angular_velocity: signed crank angular velocity per sample, rad/s (``None``: nominal).
-        size: number of samples (needed only when no input varies: n nominal copies).
-    """
-
-    lengths: Mapping[str, FloatArray] = field(default_factory=dict)
-    clearances: Mapping[str, FloatArray] = field(default_factory=dict)
-    law: Mapping[str, FloatArray] = field(default_factory=dict)
-    angular_velocity: FloatArray | None = None
-    size: int | None = None
-
-    def __post_init__(self) -> None:
-        for group in ("lengths", "clearances", "law"):
-            columns = {
-                str(k): _column(v, f"{group}[{k!r}]") for k, v in getattr(self, group).items()
-            }
-            for array in columns.values():
-                array.flags.writeable = False
-            object.__setattr__(self, group, columns)
-        if self.angular_velocity is not None:
-            speed = _column(self.angular_velocity, "angular_velocity")
-            speed.flags.writeable = False
-            object.__setattr__(self, "angular_velocity", speed)
-        sizes = {len(a) for a in self._columns().values()}
-        if self.size is not None:
-            if isinstance(self.size, bool) or not isinstance(self.size, int) or self.size < 0:
-                raise ConfigError(f"batch samples: size must be a whole number, got {self.size!r}")
-            sizes.add(self.size)
-        if len(sizes) > 1:
-            raise ConfigError(
-                f"batch samples: every input needs one value per sample, got {sorted(sizes)}"
-            )
-        object.__setattr__(self, "size", sizes.pop() if sizes else 0)
-
-    def _columns(self) -> dict[str, FloatArray]:
-        out = {f"length_{k}": v for k, v in self.lengths.items()}
-        out.update({f"clearance_{k}": v for k, v in self.clearances.items()})
-        out.update({f"law_{k}": v for k, v in self.law.items()})
-        if self.angular_velocity is not None:
-            out["angular_velocity"] = self.angular_velocity
-        return out
-
-    def __len__(self) -> int:
-        return int(self.size or 0)
-
-    def take(self, index: NDArray[np.intp] | slice) -> BatchSamples:
-        """The samples at ``index`` (a slice or integer array)."""
-        return BatchSamples(
-            lengths={k: v[index] for k, v in self.lengths.items()},
-            clearances={k: v[index] for k, v in self.clearances.items()},
-            law={k: v[index] for k, v in self.law.items()},
-            angular_velocity=None
-            if self.angular_velocity is None
-            else self.angular_velocity[index],
-            size=len(np.arange(len(self))[index]),
-        )
-
-    def to_frame(self) -> pd.DataFrame:
-        """One row per sample: ``length_*``, ``clearance_*``, ``law_*``, ``angular_velocity``."""
-        columns = self._columns()
-        return pd.DataFrame(columns, index=pd.RangeIndex(len(self), name="sample"))
-
-
-# --- the kernels' inputs ----------------------------------------------------------------------------
-@dataclass(frozen=True)
-class BatchProblem:
-    """What the batch kernels take, for every sample (:mod:`jointplay._kernels.batch`).
-
-    Attributes:
-        ipar: the integer structure, shared.
-        rpar: (n, R) model floats per sample.
-        y0: (n, S) initial states.
-        t_settle, t_end: (n,) analysed window, s.
-        max_step: (n,) largest step, s.
-        rtol, atol, max_steps: integration settings (atol per state component).
-        ok: (n,) the sample could be built (the others hold nominal values and are not run).
-        errors: n messages, ``""`` where ``ok``.
-        vectorised: the template builder was used (else one sample at a time).
-    """
-
-    ipar: NDArray[np.int64]
-    rpar: FloatArray
-    y0: FloatArray
-    t_settle: FloatArray
-    t_end: FloatArray
-    max_step: FloatArray
-    rtol: float
-    atol: FloatArray
-    max_steps: int
-    ok: NDArray[np.bool_]
-    errors: tuple[str, ...]
-    vectorised: bool
-
-    def scaled_tolerances(self, scale: float) -> BatchProblem:
-        """This problem with rtol and the velocities' atol times ``scale``."""
-        nb = kb.layout(self.ipar)[0]
-        atol = self.atol.copy()
-        atol[3 * nb : 6 * nb] *= scale
-        return dataclasses.replace(self, rtol=self.rtol * scale, atol=atol)
-
-    def take(self, index: NDArray[np.intp]) -> BatchProblem:
-        return dataclasses.replace(
-            self,
-            rpar=self.rpar[index],
-            y0=self.y0[index],
-            t_settle=self.t_settle[index],
-            t_end=self.t_end[index],
-            max_step=self.max_step[index],
-            ok=self.ok[index],
-            errors=tuple(self.errors[i] for i in index),
-        )
-
-
-def _check_settings(revolutions: float, settle: int, start: Any, solver: Any) -> None:
-    if not isinstance(start, Start):
-        raise ConfigError(f"start must be a Start, e.g. Start('steady'), got {start!r}")
-    if not isinstance(solver, SolverOptions):
-        raise ConfigError(f"solver must be a SolverOptions, got {type(solver).__name__}")
-    if isinstance(revolutions, bool) or not isinstance(revolutions, int | float):
-        raise ConfigError(f"revolutions must be a number, got {revolutions!r}")
-    if not (math.isfinite(revolutions) and revolutions > 0):
-        raise ConfigError(f"revolutions must be > 0, got {revolutions}")
-    if isinstance(settle, bool) or not isinstance(settle, int | np.integer) or settle < 0:
-        raise ConfigError(f"settle must be a whole number of revolutions >= 0, got {settle!r}")
-
-
-def _settle_time(driver: FloatArray, turns: float) -> FloatArray:
-    """Time at which the driven crank has turned ``turns`` revolutions (per sample), s — the
-    single engine counts its revolutions by the crank's angle, which a speed ramp delays."""
-    omega = np.abs(driver[:, DRV_OMEGA])
-    ramp = driver[:, 3]
-    angle = 2.0 * math.pi * turns
-    out = angle / omega
-    for i in np.flatnonzero(ramp > 0.0):
-        covered = 0.5 * omega[i] * ramp[i]  # the angle turned during the ramp
-        if angle >= covered:
-            out[i] = ramp[i] + (angle - covered) / omega[i]
-            continue
-        low, high = 0.0, float(ramp[i])  # within the ramp: bisection on the STEP5 angle
-        for _ in range(200):
-            mid = 0.5 * (low + high)
-            u = mid / ramp[i]
-            if omega[i] * ramp[i] * u**4 * (2.5 - 3.0 * u + u * u) < angle:
-                low = mid
-            else:
-                high = mid
-        out[i] = 0.5 * (low + high)
-    return np.asarray(out, dtype=float)
-
-
-def build_batch(
-    mechanism: Mechanism,
-    clearances: Sequence[ClearanceJoint],
-    samples: BatchSamples,
-    *,
-    revolutions: float = 1.0,
-    settle: int = 0,
-    start: Start | None = None,
-    solver: SolverOptions | None = None,
-    vectorised: bool | None = None,
-) -> BatchProblem:
-    """The kernels' inputs for every sample (see :class:`BatchProblem`).
-
-    Args:
-        vectorised: force (``True``) or refuse (``False``) the vectorised template builder;
-            ``None``: vectorised whenever the mechanism is a template.
-
-    Raises:
-        ConfigError: a setting is out of range, or an input names nothing of the mechanism.
-    """
-    start = start or Start("steady")
-    solver = solver or SolverOptions()
-    _check_settings(revolutions, settle, start, solver)
-    clearances = tuple(clearances)
-    if not clearances:
-        raise ConfigError("the batch engine needs at least one clearance joint")
-    names = [c.joint for c in clearances]
-    for joint in samples.clearances:
-        if joint not in names:
-            raise ConfigError(
-                f"batch samples: clearance of {joint!r}, which is not a clearance joint; "
-                f"clearance joints: {names}"
-            )
-    laws = {type(c.law) for c in clearances}
-    for name in samples.law:
-        for law in laws:
-            if name not in {f.name for f in dataclasses.fields(law)}:
-                raise ConfigError(
-                    f"batch samples: {law.__name__} has no parameter {name!r}; its parameters "
-                    f"are {[f.name for f in dataclasses.fields(law)]}"
-                )
-    template = isinstance(mechanism.template, TemplateSpec)
-    if samples.lengths and not template:
-        raise ConfigError(
-            f"mechanism {mechanism.name!r} has no template: its lengths cannot vary per sample"
-        )
-    if template:
-        assert isinstance(mechanism.template, TemplateSpec)
-        known = mechanism.template.geometry.length_names
-        for name in samples.lengths:
-            if name not in known:
-                raise ConfigError(
-                    f"batch samples: unknown length {name!r}; the template's lengths are "
-                    f"{list(known)}"
-                )
-    use_vector = template if vectorised is None else vectorised
-    if use_vector and not template:
-        raise ConfigError("the vectorised builder needs a four-bar or slider-crank template")
-    system0 = build_system(
-        mechanism,
-        clearances,
-        ramp_time=start.ramp_time,
-        onset_tolerance=solver.onset_tolerance,
-        driven=start.driven,
-    )
-    rpar0, ipar = eom.pack(system0.model)
-    if use_vector:
-        rpar, y0, ok, errors = _build_vectorised(system0, rpar0, samples, start, solver)
-    else:
-        rpar, y0, ok, errors = _build_each(system0, samples, start, solver)
-    n_coord = system0.n_coordinates
-    driver = rpar[:, _offset(ipar, "driver") : _offset(ipar, "driver") + 4]
-    period = 2.0 * math.pi / np.abs(driver[:, DRV_OMEGA])
-    t_settle = _settle_time(driver, float(settle)) if settle else np.zeros(len(rpar))
-    t_end = (int(settle) + revolutions) * period
-    max_step = np.full(len(rpar), solver.max_step) if solver.max_step else period / 360.0
-    fewest = (t_end / max_step)[ok]
-    if fewest.size and fewest.max() > solver.max_steps:
-        raise ConfigError(
-            f"a max step of {solver.max_step:.3g} s needs at least {fewest.max():.3g} steps for "
-            f"{int(settle) + revolutions:g} revolution(s), more than max_steps = "
-            f"{solver.max_steps}; give a larger max step or fewer revolutions"
-        )
-    atol = np.concatenate(
-        [
-            np.full(n_coord, solver.atol_position),
-            np.full(n_coord, solver.atol_velocity),
-            np.full(2, 1e-6),
-            np.full(len(clearances), 1.0),
-        ]
-    )
-    return BatchProblem(
-        ipar=np.array(ipar),
-        rpar=rpar,
-        y0=y0,
-        t_settle=t_settle,
-        t_end=t_end,
-        max_step=max_step,
-        rtol=solver.rtol,
-        atol=atol,
-        max_steps=solver.max_steps,
-        ok=ok,
-        errors=tuple(errors),
-        vectorised=bool(use_vector),
-    )
-
-
-def _offset(ipar: NDArray[np.int64], name: str) -> int:
-    """Start of the float field ``name`` in ``rpar`` (:func:`jointplay._kernels.eom.pack`)."""
-    offset = 0
-    for item in eom._FLOAT_FIELDS:
-        if item == name:
-            return offset
-        offset += int(ipar[eom.EomModel._fields.index(item)])
-    raise KeyError(name)
-
-
-def _sample_mechanism(
-    system0: System, samples: BatchSamples, i: int
-) -> tuple[Mechanism, list[ClearanceJoint]]:
-    """The mechanism and clearance joints of sample ``i`` (the per-sample path)."""
-    mechanism = system0.mechanism
-    lengths = {k: float(v[i]) for k, v in samples.lengths.items()}
-    if lengths:
-        mechanism = with_lengths(mechanism, **lengths)
-    if samples.angular_velocity is not None:
-        omega = float(samples.angular_velocity[i])
-        if not (math.isfinite(omega) and omega != 0.0):
-            raise ConfigError(f"crank angular velocity must be finite and non-zero, got {omega}")
-        mechanism = mechanism.with_driver(speed=abs(omega), direction=1 if omega > 0 else -1)
-    law_changes = {k: float(v[i]) for k, v in samples.law.items()}
-    joints = []
-    for c in system0.clearances:
-        change: dict[str, Any] = {}
-        if c.joint in samples.clearances:
-            c = c.with_clearance(float(samples.clearances[c.joint][i]))
-        if law_changes:
-            change["law"] = dataclasses.replace(c.law, **law_changes)
-        joints.append(dataclasses.replace(c, **change) if change else c)
-    return mechanism, joints
-
-
-def _build_each(
-    system0: System, samples: BatchSamples, start: Start, solver: SolverOptions
-) -> tuple[FloatArray, FloatArray, NDArray[np.bool_], list[str]]:
-    """Per sample: :func:`build_system` and :func:`initial_state` (any mechanism)."""
-    rpar0, _ = eom.pack(system0.model)
-    y00 = initial_state(system0, start)
-    n = len(samples)
-    rpar = np.tile(rpar0, (n, 1))
-    y0 = np.tile(y00, (n, 1))
-    ok = np.ones(n, dtype=bool)
-    errors = [""] * n
-    for i in range(n):
-        try:
-            mechanism, joints = _sample_mechanism(system0, samples, i)
-            system = build_system(
-                mechanism,
-                joints,
-                ramp_time=start.ramp_time,
-                onset_tolerance=solver.onset_tolerance,
-                driven=start.driven,
-            )
-            rpar[i] = eom.pack(system.model)[0]
-            y0[i] = initial_state(system, start)
-        except (JointplayError, np.linalg.LinAlgError) as exc:
-            ok[i] = False
-            errors[i] = f"{type(exc).__name__}: {exc}"
-    return rpar, y0, ok, errors
-
-
-#: Per template: each bar link's (length name, start point, end point); ground points as
-#: functions of the geometry (see :mod:`jointplay.model.templates`).
-_BARS = {
-    "four-bar": {"crank": ("crank", "O2", "A"), "coupler": ("coupler", "A", "B"),
-                 "rocker": ("rocker", "O4", "B")},
-    "slider-crank": {"crank": ("crank", "O2", "A"), "rod": ("rod", "A", "B")},
-}  # fmt: skip
-
-
-def _ground_points(kind: str, g: SimpleNamespace, n: int) -> dict[str, tuple[Any, Any]]:
-    zero = np.zeros(n)
-    if kind == "four-bar":
-        return {"O2": (zero, zero), "O4": (g.ground, zero)}
-    return {"O2": (zero, zero), "S0": (zero, g.offset)}
-
-
-def _geometric_changes(
-    clear: ClearanceJoint, samples: BatchSamples, clearance: FloatArray
-) -> Mapping[str, FloatArray]:
-    """``samples.law`` plus, for a joint whose stiffness follows its geometry and whose
-    clearance varies, the stiffness and exponent refitted to each sample's clearance (NaN,
-    so the sample fails, where the stiffness law does not apply)."""
-    rule = clear.stiffness_from
-    if rule is None or clear.joint not in samples.clearances:
-        return samples.law
-    k, n = rule.fits(clear.journal_radius, clearance)
-    return {stiffness_field(clear.law): k, "exponent": n, **samples.law}
-
-
-def _law_columns(
-    law: Any, changes: Mapping[str, FloatArray], n: int
-) -> tuple[FloatArray, NDArray[np.bool_], list[str]]:
-    """(n, PARAMS_WIDTH) packed parameters of ``law`` with ``changes`` per sample, validity
-    and messages. Fields the law packs as they are go straight into their column; others
-    (e.g. a restitution, packed as its hysteresis factor) are packed once per distinct row."""
-    base = np.zeros(PARAMS_WIDTH)
-    packed = law.params()
-    base[: len(packed)] = packed
-    out = np.tile(base, (n, 1))
-    ok = np.ones(n, dtype=bool)
-    errors = [""] * n
-    if not changes:
-        return out, ok, errors
-    direct: dict[str, int] = {}
-    for name in changes:
-        probe = float(getattr(law, name)) * 1.25 + 1e-3
-        try:
-            moved = dataclasses.replace(law, **{name: probe}).params()
-        except JointplayError:
-            continue
-        diff = np.flatnonzero(~((moved == packed) | (np.isnan(moved) & np.isnan(packed))))
-        if diff.size == 1 and moved[diff[0]] == probe:
-            direct[name] = int(diff[0])
-    for name, column in direct.items():
-        out[:, column] = changes[name]
-    rows = np.column_stack([changes[name] for name in changes])
-    if len(direct) == len(changes) and np.all(np.isfinite(rows)):
-        # packed as given: the laws' checks are ranges, so checking the extremes suffices
-        try:
-            for extreme in (rows.min(axis=0), rows.max(axis=0)):
-                dataclasses.replace(law, **dict(zip(changes, map(float, extreme), strict=True)))
-            return out, ok, errors
-        except JointplayError:
-            pass
-    unique, inverse = np.unique(rows, axis=0, return_inverse=True)
-    checked: list[tuple[bool, str, FloatArray]] = []
-    for values in unique:
-        try:
-            variant = dataclasses.replace(
-                law, **dict(zip(changes, map(float, values), strict=True))
-            )
-            params = np.zeros(PARAMS_WIDTH)
-            params[: len(packed)] = variant.params()
-            checked.append((True, "", params))
-        except JointplayError as exc:
-            checked.append((False, f"{type(exc).__name__}: {exc}", base))
-    indirect = [name for name in changes if name not in direct]
-    for i, k in enumerate(np.asarray(inverse).ravel()):
-        good, message, params = checked[k]
-        if not good:
-            ok[i], errors[i] = False, message
-        elif indirect:
-            out[i] = params
-    return out, ok, errors
-
-
-def _build_vectorised(
-    system0: System, rpar0: FloatArray, samples: BatchSamples, start: Start, solver: SolverOptions
-) -> tuple[FloatArray, FloatArray, NDArray[np.bool_], list[str]]:
-    """The template builder: :func:`build_system` + :func:`initial_state` over all samples."""
-    mechanism = system0.mechanism
-    spec = mechanism.template
-    assert isinstance(spec, TemplateSpec)
-    kind = spec.geometry.kind
-    n = len(samples)
-    ok = np.ones(n, dtype=bool)
-    errors = [""] * n
-    g = SimpleNamespace(
-        **{
-            name: np.array(samples.lengths[name], dtype=float)
-            if name in samples.lengths
-            else np.full(n, float(getattr(spec.geometry, name)))
-            for name in spec.geometry.length_names
-        }
-    )
-    # assembly: the crank must turn fully (as analyse's check_mobility)
-    if kind == "four-bar":
-        lengths = np.column_stack([g.crank, g.coupler, g.rocker, g.ground])
-        turns = _turns_fully(lengths)
-        positive = np.all(lengths > 0, axis=1)
-    else:
-        turns = g.crank + np.abs(g.offset) < g.rod
-        positive = (g.crank > 0) & (g.rod > 0)
-    finite = np.all(np.isfinite(np.column_stack(list(vars(g).values()))), axis=1)
-    bad = np.flatnonzero(~(turns & positive & finite))
-    for i in bad:  # the exact message of the per-sample build
-        ok[i] = False
-        try:
-            _sample_mechanism(system0, samples, int(i))
-            values: dict[str, Any] = {k: float(v[i]) for k, v in vars(g).items()}
-            if isinstance(spec.geometry, FourBarGeometry):
-                fourbar.check_full_rotation(dataclasses.replace(spec.geometry, **values))
-            else:
-                slidercrank.check_full_rotation(dataclasses.replace(spec.geometry, **values))
-            errors[i] = "AssemblyError: the crank cannot turn fully"
-        except JointplayError as exc:
-            errors[i] = f"{type(exc).__name__}: {exc}"
-    for name in vars(g):  # failed samples: nominal geometry, not run
-        getattr(g, name)[~ok] = float(getattr(spec.geometry, name))
-    driver0 = mechanism.driver
-    omega = (
-        np.full(n, driver0.angular_velocity)
-        if samples.angular_velocity is None
-        else np.array(samples.angular_velocity, dtype=float)
-    )
-    bad_speed = ~(np.isfinite(omega) & (omega != 0.0))
-    for i in np.flatnonzero(bad_speed & ok):
-        ok[i] = False
-        errors[i] = (
-            f"ConfigError: crank angular velocity must be finite and non-zero, got {omega[i]}"
-        )
-    omega[bad_speed] = driver0.angular_velocity
-    # masses and inertias: Link.bar's formulas (unless the template gave them)
-    flat0 = system0.flat
-    nb = flat0.n_bodies
-    mass = np.tile(flat0.mass, (n, 1))
-    inertia = np.tile(flat0.inertia, (n, 1))
-    com = np.tile(flat0.com_local, (n, 1, 1))
-    bars = _BARS[kind]
-    for k, link in enumerate(mechanism.links):
-        if link.name not in bars:
-            continue
-        length = getattr(g, bars[link.name][0])
-        body = spec.bodies.get(link.name, LinkBody())
-        m = (
-            np.full(n, body.mass)
-            if body.mass is not None
-            else spec.material.density * length * body.width * float(body.thickness or 0.0)
-        )
-        mass[:, k] = m
-        inertia[:, k] = (
-            body.inertia if body.inertia is not None else m * (length**2 + body.width**2) / 12.0
-        )
-        com[:, k, 0] = length / 2.0
-        com[:, k, 1] = 0.0
-    # joint points from the centres of mass (flatten's ``local``)
-    ground = _ground_points(kind, g, n)
-    joint_f = np.tile(flat0.joint_f, (n, 1, 1))
-
-    def local(link: str, point: str) -> tuple[Any, Any]:
-        if link == GROUND:
-            return ground[point]
-        k = flat0.body_index(link)
-        if link in bars:
-            _, first, last = bars[link]
-            length = getattr(g, bars[link][0])
-            x, y = (
-                (np.zeros(n), np.zeros(n))
-                if point == first
-                else (length, np.zeros(n))
-                if point == last
-                else tuple(np.full(n, v) for v in mechanism.link(link).point(point))
-            )
-        else:
-            x, y = (np.full(n, v) for v in mechanism.link(link).point(point))
-        return x - com[:, k, 0], y - com[:, k, 1]
-
-    for row, joint in enumerate(mechanism.joints):
-        joint_f[:, row, 0], joint_f[:, row, 1] = local(joint.link_a, joint.point_a)
-        joint_f[:, row, 2], joint_f[:, row, 3] = local(joint.link_b, joint.point_b)
-    driver = np.tile(flat0.driver, (n, 1))
-    driver[:, DRV_OMEGA] = omega
-    # clearances, laws, settings
-    nc = len(system0.clearances)
-    geom = np.zeros((n, nc, eom.N_GEOM))
-    law_p = np.zeros((n, nc, PARAMS_WIDTH))
-    for c, clear in enumerate(system0.clearances):
-        clearance = (
-            np.array(samples.clearances[clear.joint], dtype=float)
-            if clear.joint in samples.clearances
-            else np.full(n, clear.clearance)
-        )
-        geom[:, c, eom.G_R_BEARING] = clear.journal_radius + clearance
-        geom[:, c, eom.G_R_JOURNAL] = clear.journal_radius
-        geom[:, c, eom.G_CLEARANCE] = clearance
-        law_p[:, c], law_ok, law_errors = _law_columns(
-            clear.law, _geometric_changes(clear, samples, clearance), n
-        )
-        for i in np.flatnonzero(~law_ok & ok):
-            ok[i], errors[i] = False, law_errors[i]
-        if clear.joint in samples.clearances:  # ClearanceJoint's checks, for the bad ones
-            with np.errstate(invalid="ignore"):
-                suspect = ~(np.isfinite(clearance) & (clearance >= MIN_CLEARANCE))
-            for i in np.flatnonzero(ok & suspect):
-                try:
-                    dataclasses.replace(clear, clearance=float(clearance[i]))
-                except JointplayError as exc:
-                    ok[i], errors[i] = False, f"{type(exc).__name__}: {exc}"
-    settings = np.tile(system0.model.settings, (n, 1))
-    if solver.onset_tolerance is None:
-        settings[:, eom.S_ONSET_TOL] = 0.01 * geom[:, :, eom.G_CLEARANCE].min(axis=1)
-    mass_vector = np.stack([mass, mass, inertia], axis=2).reshape(n, 3 * nb)
-    gravity = np.zeros((n, nb, 3))
-    gravity[:, :, 0] = mass * flat0.gravity[0]
-    gravity[:, :, 1] = mass * flat0.gravity[1]
-    fields = {
-        "mass": mass_vector,
-        "gravity": gravity.reshape(n, 3 * nb),
-        "joint_f": joint_f.reshape(n, -1),
-        "driver": driver,
-        "geom": geom.reshape(n, -1),
-        "law_p": law_p.reshape(n, -1),
-        "fric_p": np.tile(system0.model.fric_p, (n, 1)),
-        "settings": settings,
-    }
-    rpar = np.concatenate([fields[name] for name in eom._FLOAT_FIELDS], axis=1)
-    assert rpar.shape[1] == rpar0.shape[0]
-    y0 = _initial_states(system0, kind, g, omega, joint_f, mass_vector, driver, start)
-    return rpar, y0, ok, errors
-
-
-def _four(row: FloatArray) -> FourBarGeometry:
-    crank, coupler, rocker, ground = (float(v) for v in row)
-    return FourBarGeometry(crank=crank, coupler=coupler, rocker=rocker, ground=ground)
-
-
-def _turns_fully(lengths: FloatArray) -> NDArray[np.bool_]:
-    """Vectorised :func:`jointplay.kinematics.fourbar.infeasible_crank_ranges` is empty."""
-    a, b, c, d = lengths.T
-    too_long = (a * a + d * d - (b + c) ** 2) / (2 * a * d)
-    too_short = (a * a + d * d - (b - c) ** 2) / (2 * a * d)
-    with np.errstate(invalid="ignore"):
-        ok = (too_long <= -1) & (too_short >= 1)
-    # Ranges narrower than 1e-12 rad count as feasible, as infeasible_crank_ranges drops them.
-    edge = ~ok & (too_long <= too_short) & np.isfinite(too_long) & np.isfinite(too_short)
-    for i in np.flatnonzero(edge):
-        ok[i] = not fourbar.infeasible_crank_ranges(_four(lengths[i]))
-    return np.asarray(ok, dtype=bool)
-
-
-def _rotate(phi: FloatArray, sx: FloatArray, sy: FloatArray) -> FloatArray:
-    c, s = np.cos(phi), np.sin(phi)
-    return np.column_stack([c * sx - s * sy, s * sx + c * sy])
-
-
-def _initial_states(
-    system0: System,
-    kind: str,
-    g: SimpleNamespace,
-    omega: FloatArray,
-    joint_f: FloatArray,
-    mass_vector: FloatArray,
-    driver: FloatArray,
-    start: Start,
-) -> FloatArray:
-    """:func:`initial_state` for every sample: the closed-form assembly at the start angle
-    (:func:`jointplay.kinematics.analysis.analyse`), velocities per ``start``, projected onto
-    the ideal constraints and the driver."""
-    mechanism = system0.mechanism
-    flat0 = system0.flat
-    n = len(omega)
-    nb = flat0.n_bodies
-    theta2 = np.full(n, mechanism.driver.start_angle)
-    phi = np.zeros((n, nb))
-    w = np.zeros((n, nb))
-    phi[:, 0], w[:, 0] = theta2, omega
-    if kind == "four-bar":
-        t3, t4 = fourbar.positions(g, theta2, mechanism.branch)  # type: ignore[arg-type]
-        w3, w4 = fourbar.velocities(g, theta2, t3, t4, omega)  # type: ignore[arg-type]
-        phi[:, 1], phi[:, 2], w[:, 1], w[:, 2] = t3, t4, w3, w4
-    else:
-        t3, _ = slidercrank.positions(g, theta2, mechanism.branch)  # type: ignore[arg-type]
-        w3, _ = slidercrank.velocities(g, theta2, t3, omega)  # type: ignore[arg-type]
-        phi[:, 1], w[:, 1] = t3, w3
-        slider = next(j for j in mechanism.joints if j.name not in {"O2", "A", "B"})
-        phi[:, 2] = slider.axis_angle + slider.relative_angle  # type: ignore[union-attr]
-    # gs.state_from_angles, with each sample's joint points
-    pos = np.zeros((n, nb, 2))
-    vel = np.zeros((n, nb, 2))
-    for row, known, new in revolute_tree(flat0):
-        a = int(flat0.joint_int[row, 1])
-        s_known = joint_f[:, row, 0:2] if known == a else joint_f[:, row, 2:4]
-        s_new = joint_f[:, row, 2:4] if known == a else joint_f[:, row, 0:2]
-        if known < 0:
-            p, v = s_known.copy(), np.zeros((n, 2))
-        else:
-            rs = _rotate(phi[:, known], s_known[:, 0], s_known[:, 1])
-            perp = np.column_stack([-rs[:, 1], rs[:, 0]])
-            p, v = pos[:, known] + rs, vel[:, known] + w[:, known][:, None] * perp
-        rs = _rotate(phi[:, new], s_new[:, 0], s_new[:, 1])
-        perp = np.column_stack([-rs[:, 1], rs[:, 0]])
-        pos[:, new] = p - rs
-        vel[:, new] = v - w[:, new][:, None] * perp
-    q0 = np.concatenate([pos, phi[:, :, None]], axis=2).reshape(n, -1)
-    steady = np.concatenate([vel, w[:, :, None]], axis=2).reshape(n, -1)
-    crank = flat0.body_index(mechanism.driver.link)
-    qd0 = np.zeros_like(steady)
-    if start.mode == "steady":
-        qd0 = steady
-    elif start.mode == "rest":
-        qd0[:, 3 * crank : 3 * crank + 3] = steady[:, 3 * crank : 3 * crank + 3]
-    # the driver of the packed model (off when not driven), as initial_state projects
-    model_driver = driver.copy()
-    model_driver[:, 0] = system0.model.driver[0]
-    _project(q0, qd0, flat0.joint_int, joint_f, system0.flat.active, model_driver, mass_vector)
-    nc = len(system0.clearances)
-    return np.concatenate([q0, qd0, np.zeros((n, 2 + nc))], axis=1)
-
-
-def _project(
-    q0: FloatArray,
-    qd0: FloatArray,
-    joint_int: NDArray[np.int64],
-    joint_f: FloatArray,
-    active: NDArray[np.int64],
-    driver: FloatArray,
-    mass_vector: FloatArray,
-) -> None:
-    """q̇ ← q̇ − M⁻¹Φ_qᵀ(Φ_q M⁻¹Φ_qᵀ)⁻¹(Φ_q q̇ − ν) per sample, in place (initial_state's
-    impulsive projection). With the driver as the only constraint (every joint clear) it sets
-    the crank's rate; otherwise each sample's Jacobian is built and solved."""
-    n = len(q0)
-    rows = 2 * int(active.sum()) + (1 if driver[0, 0] >= 0 else 0)
-    if rows == 0:
-        return
-    if int(active.sum()) == 0:  # Φ_q = e_k: the crank's rate becomes ν
-        k = 3 * int(driver[0, 0]) + 2  # ν = φ̇_d(0): ω, or 0 at the start of a ramp
-        qd0[:, k] = np.where(driver[:, 3] > 0.0, 0.0, driver[:, DRV_OMEGA])
-        return
-    for i in range(n):
-        phi_q = ck.jacobian(q0[i], joint_int, joint_f[i], active, driver[i])
-        nu = ck.velocity_rhs(0.0, active, driver[i])
-        inv_mass = 1.0 / mass_vector[i]
-        weighted = phi_q * inv_mass
-        qd0[i] -= inv_mass * (phi_q.T @ np.linalg.solve(weighted @ phi_q.T, phi_q @ qd0[i] - nu))
-
-
-# --- the method ------------------------------------------------------------------------------------
-#: DOPRI5's stability boundary on the negative real axis (Hairer & Wanner, Solving ODEs II,
-#: §IV.2, Fig. 2.1: about −3.3).
-DOPRI5_STABILITY = 3.3
-#: The explicit method is chosen when its stability limit allows steps of at least this
-#: fraction of the largest (accuracy) step; below it the contact is stiff at that step.
-STIFFNESS_RATIO = 1.0 / 10.0
-#: The explicit method runs at this fraction of the solver's rtol and velocity atol. For the
-#: same tolerances Dormand–Prince 5(4) lands ~2.5 times further from the exact solution than
-#: the single engine's Radau IIA (its error estimate is less conservative: on random samples
-#: of the paper's four-bar, ω peaks off a converged solution by up to 2.9e-5 against Radau's
-#: 1.2e-5, α peaks by 5.7e-3 against 7e-4); at a fifth of them by 7.1e-6 and 1.2e-3, for
-#: ~30 % more steps (docs/performance.md, "Against a converged solution").
-EXPLICIT_TOLERANCE_SCALE = 0.2
-_EXPLICIT_TOLERANCES = (
-    f"at {EXPLICIT_TOLERANCE_SCALE:g} times the solver's rtol and velocity atol, as close to "
-    "the exact solution as Radau IIA at them"
-)
-
-
-@dataclass(frozen=True)
-class MethodChoice:
-    """The integration method of a batch and why.
-
-    Attributes:
-        method: ``"explicit"`` (Dormand–Prince 5(4)) or ``"implicit"`` (Radau IIA).
-        reason: one sentence for the user.
-        stable_step: the explicit method's stability limit estimated for the stiffest contact
-            law, s (``inf``: none found).
-        max_step: the largest (accuracy) step, s.
-    """
-
-    method: str
-    reason: str
-    stable_step: float
-    max_step: float
-
-
-def _contact_rate(law: Any, friction: Any, delta: float, rate: float, mass: float) -> float:
-    """Largest |eigenvalue| (1/s) of one contact linearised about (δ, δ̇) with mass ``mass``:
-    c/m + √(k/m), with k = ∂F_N/∂δ, c = ∂F_N/∂δ̇ (+ the friction law's slope times F_N)."""
-    params = np.zeros(PARAMS_WIDTH)
-    packed = law.params()
-    params[: len(packed)] = packed
-    force = normal_force(law.law_id, params, delta, rate, rate)
-    h = 1e-6 * delta
-    stiffness = (normal_force(law.law_id, params, delta + h, rate, rate) - force) / h
-    h = 1e-6 * abs(rate)
-    damping = (normal_force(law.law_id, params, delta, rate + h, rate) - force) / h
-    if friction is not None:
-        from jointplay._kernels.contact import friction_force
-
-        fparams = np.zeros(PARAMS_WIDTH)
-        fpacked = friction.params()
-        fparams[: len(fpacked)] = fpacked
-        slip = 1e-6 * abs(rate)
-        slope = max(
-            abs(
-                friction_force(friction.law_id, fparams, v, force)
-                - friction_force(friction.law_id, fparams, v - slip, force)
-            )
-            / slip
-            for v in (slip, abs(rate))
-        )
-        damping += slope
-    return float(abs(damping) / mass + math.sqrt(max(stiffness, 0.0) / mass))
-
-
-def choose_method(
-    mechanism: Mechanism,
-    clearances: Sequence[ClearanceJoint],
-    *,
-    samples: BatchSamples | None = None,
-    solver: SolverOptions | None = None,
-) -> MethodChoice:
-    """Explicit or implicit integration for this mechanism, contact laws and samples.
-
-    Each clearance joint's contact law is linearised at a penetration equal to its clearance
-    and a penetration rate of 10 % of the crank pin's speed (the scale of the impacts), over
-    the lightest moving link: its largest rate |λ| = c/m + √(k/m) bounds the explicit step to
-    ``DOPRI5_STABILITY / |λ|``. When that bound is below ``STIFFNESS_RATIO`` of the largest
-    step (1° of crank by default) the contact is stiff — the ECS parameter sets with their
-    huge damping reached at nanometre depths are — and Radau IIA is chosen; so it is for the
-    Hunt–Crossley family (a damping divided by the impact velocity: stiff in slow contacts,
-    where the linearisation at 10 % of the crank pin's speed does not look); otherwise
-    Dormand–Prince 5(4), whose steps then follow the accuracy it is asked for. With samples,
-    the stiffest combination of the sampled law parameters (each at its extremes) decides.
-    A heuristic: both methods solve every set; the choice only decides which is faster.
-    """
-    solver = solver or SolverOptions()
-    driver = mechanism.driver
-    period = driver.period
-    max_step = solver.max_step if solver.max_step is not None else period / 360.0
-    spec = mechanism.template
-    crank_pin = (
-        (float(getattr(spec.geometry, "crank", 0.0)) if isinstance(spec, TemplateSpec) else 0.0)
-        or max(math.hypot(*link.com) for link in mechanism.links) * 2.0
-        or 0.1
-    )
-    rate = 0.1 * driver.speed * crank_pin
-    lightest = min(link.mass for link in mechanism.links)
-    worst = 0.0
-    for joint in clearances:
-        variants = [joint.law]
-        if samples is not None and samples.law:
-            for pick in (np.min, np.max):
-                try:
-                    variants.append(
-                        dataclasses.replace(
-                            joint.law, **{k: float(pick(v)) for k, v in samples.law.items()}
-                        )
-                    )
-                except JointplayError:
-                    continue
-        clearance = joint.clearance
-        if samples is not None and joint.joint in samples.clearances:
-            clearance = float(np.nanmin(samples.clearances[joint.joint]))
-        for law in variants:
-            worst = max(worst, _contact_rate(law, joint.friction, clearance, rate, lightest))
-    stable = DOPRI5_STABILITY / worst if worst > 0 else math.inf
-    remembering = sorted({j.law.name for j in clearances if j.law.needs_impact_velocity})
-    if remembering:
-        return MethodChoice(
-            "implicit",
-            f"implicit Radau IIA: the {', '.join(remembering)} law divides its damping by the "
-            "impact velocity, which makes slow (grazing) contacts stiff: on the paper's RM set "
-            "the explicit lanes needed 4.6 times Radau's steps for its accuracy",
-            stable,
-            max_step,
-        )
-    if not math.isfinite(worst):
-        return MethodChoice(
-            "implicit", "the contact law's slopes are not finite: Radau IIA", stable, max_step
-        )
-    if stable >= STIFFNESS_RATIO * max_step:
-        return MethodChoice(
-            "explicit",
-            f"explicit Dormand-Prince 5(4): the contact laws allow explicit steps up to "
-            f"{stable:.3g} s, not far below the largest step {max_step:.3g} s (the contact "
-            f"is not stiff at the accuracy asked for); {_EXPLICIT_TOLERANCES}",
-            stable,
-            max_step,
-        )
-    return MethodChoice(
-        "implicit",
-        f"implicit Radau IIA: the contact laws are stiff (explicit steps would be limited to "
-        f"{stable:.3g} s by stability, under {STIFFNESS_RATIO:g} of the largest step "
-        f"{max_step:.3g} s)",
-        stable,
-        max_step,
-    )
 
 
 # --- the result ------------------------------------------------------------------------------------
@@ -1092,7 +218,7 @@ def _lane_message(code: int, t_reached: float, t_end: float, max_steps: int) -> 
     return f"IntegrationError: {where}; {_ADVICE.get(status, '')}".rstrip("; ")
 
 
-# --- the backends ------------------------------------------------------------------------------------
+# --- the lanes on an executor -----------------------------------------------------------------------
 def _chunks(n: int, size: int) -> list[NDArray[np.intp]]:
     return [np.arange(i, min(i + size, n)) for i in range(0, n, size)]
 
@@ -1109,36 +235,38 @@ def _gpu_kernel() -> Callable[..., Any]:
     return kernel
 
 
-@contextmanager
-def _progress(enabled: bool, total: int) -> Iterator[Callable[[int], None]]:
-    if not enabled:
-        yield lambda count: None
-        return
-    from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress
+def _lane_work(problem: BatchProblem, method: str) -> LaneWork:
+    """How a chunk ``(rpar, y0, t_settle, t_end, max_step)`` of ``problem``'s lanes runs: the
+    compiled kernels in a worker or in this process, the JAX kernel on a device."""
+    constants = (problem.rtol, problem.atol, problem.max_steps, method)
 
-    from jointplay.progress import eta_column
+    def here(chunk: Chunk, parallel: bool, interrupt: Any) -> kb.BatchKernelOutput:
+        return kb.run_batch(
+            problem.ipar, *chunk, *constants, parallel=parallel, interrupt=interrupt
+        )
 
-    bar = Progress(
-        "samples", BarColumn(), MofNCompleteColumn(), eta_column(),
-        console=Console(stderr=True),
+    def device(chunk: Chunk, size: int) -> kb.BatchKernelOutput:
+        outputs = _gpu_kernel()(problem.ipar, *chunk, *constants, chunk_size=size)
+        return kb.BatchKernelOutput(*(np.asarray(a) for a in outputs))
+
+    def stopped(output: kb.BatchKernelOutput) -> bool:
+        return bool(np.any(output.status == kc.STATUS_INTERRUPTED))
+
+    return LaneWork(
+        task=kb.run_chunk, shared=(problem.ipar, *constants), here=here, stopped=stopped,
+        device=device,
     )  # fmt: skip
-    with bar:
-        task = bar.add_task("samples", total=total)
-        yield lambda count: bar.advance(task, count)
 
 
 def _dispatch(
     problem: BatchProblem,
     lanes: NDArray[np.intp],
     method: str,
-    backend: str,
-    workers: int | None,
-    chunk_size: int | None,
-    scheduler: str | None,
+    runner: Executor,
     progress: bool,
 ) -> tuple[kb.BatchKernelOutput, int, int]:
-    """Run the lanes ``lanes`` of ``problem``; (outputs in lane order, workers, chunk size).
+    """Run the lanes ``lanes`` of ``problem`` on ``runner``; (outputs in lane order, workers,
+    chunk size).
 
     Raises:
         _PartialDispatch: interrupted (SIGINT, SIGTERM); it carries the outputs, the lanes
@@ -1146,22 +274,9 @@ def _dispatch(
     """
     columns = (problem.rpar, problem.y0, problem.t_settle, problem.t_end, problem.max_step)
     n = len(lanes)
-    threads = 1
-    if backend == "local":
-        import numba
-
-        threads = numba.get_num_threads()
-        chunk = chunk_size or 4096
-    elif backend == "gpu":
-        chunk = chunk_size or GPU_CHUNK
-    else:  # ~4 chunks per worker process, or per thread of the Dask cluster
-        threads = (
-            cluster_threads(scheduler) if backend == "dask" else workers or os.cpu_count() or 1
-        )
-        chunk = chunk_size or max(1, min(DEFAULT_CHUNK, math.ceil(n / (4 * threads))))
-    # the JAX kernel cuts its own chunks and pads the last one, so that one compilation
-    # serves them all: it is given every lane at once
-    parts = _chunks(n, max(n, 1) if backend == "gpu" else chunk)
+    threads = runner.lane_slots()
+    chunk = runner.lane_chunk(n, threads)
+    parts = _chunks(n, runner.lane_parts(n, chunk))
     outputs: list[kb.BatchKernelOutput | None] = [None] * len(parts)
 
     def items() -> Iterator[Chunk]:
@@ -1173,9 +288,13 @@ def _dispatch(
 
     interrupted, lost = False, ""
     try:
-        _run_parts(
-            problem, method, backend, threads, chunk, scheduler, progress, parts, items, outputs
-        )
+        with _progress.bar(progress, n, "samples") as advance:
+
+            def done(k: int, output: kb.BatchKernelOutput) -> None:
+                outputs[k] = output
+                advance(len(parts[k]))
+
+            runner.run_lanes(Lanes(_lane_work(problem, method), items(), threads, chunk, done))
     except KeyboardInterrupt:  # the finished chunks are kept; the others are marked below
         interrupted = True
     except ClusterLost as error:
@@ -1190,11 +309,6 @@ class _PartialDispatch(KeyboardInterrupt):
     """A :func:`_dispatch` that did not finish: ``args`` are its outputs (lanes that did not
     finish have ``STATUS_INTERRUPTED``), workers, chunk size and why (``""``: an interrupt;
     else the message of the lost Dask cluster, the error of those lanes)."""
-
-
-class ClusterLost(JointplayError):
-    """The Dask cluster cannot finish: no workers left (:data:`DASK_NO_WORKERS_S`), or a
-    task killed its workers (Dask's own retries spent)."""
 
 
 def _merged(
@@ -1224,198 +338,6 @@ def _merged(
     )
 
 
-def _run_parts(
-    problem: BatchProblem,
-    method: str,
-    backend: str,
-    threads: int,
-    chunk: int,
-    scheduler: str | None,
-    progress: bool,
-    parts: list[NDArray[np.intp]],
-    items: Callable[[], Iterator[Chunk]],
-    outputs: list[kb.BatchKernelOutput | None],
-) -> None:
-    """Run every part of the lanes on ``backend``, filling ``outputs`` as they finish (an
-    interrupt leaves ``None`` where a part did not finish: on the GPU, the one call that runs
-    every lane)."""
-    shared = (problem.ipar, problem.rtol, problem.atol, problem.max_steps, method)
-    n = sum(len(part) for part in parts)
-    with _progress(progress, n) as advance:
-        if backend == "local" or (backend == "processes" and threads == 1):
-            with _interrupts_watched() as flags:
-                for k, (rpar, y0, t_settle, t_end, max_step) in enumerate(items()):
-                    out = kb.run_batch(
-                        problem.ipar, rpar, y0, t_settle, t_end, max_step, problem.rtol,
-                        problem.atol, problem.max_steps, method, parallel=threads > 1,
-                        interrupt=flags,
-                    )  # fmt: skip
-                    outputs[k] = out
-                    advance(len(parts[k]))
-                    if np.any(out.status == kc.STATUS_INTERRUPTED):
-                        break
-        elif backend == "gpu":
-            kernel = _gpu_kernel()
-            for k, chunk_items in enumerate(items()):
-                outputs[k] = kb.BatchKernelOutput(
-                    *(np.asarray(a) for a in kernel(
-                        problem.ipar, *chunk_items, problem.rtol, problem.atol,
-                        problem.max_steps, method, chunk_size=chunk,
-                    ))
-                )  # fmt: skip
-                advance(len(parts[k]))
-        elif backend == "processes":
-            executor = pool(threads)
-            futures: dict[cf.Future[kb.BatchKernelOutput], int] = {}
-            try:
-                futures = {
-                    executor.submit(kb.run_chunk, shared, item): k for k, item in enumerate(items())
-                }
-                for future in cf.as_completed(futures):
-                    k = futures[future]
-                    outputs[k] = future.result()
-                    advance(len(parts[k]))
-            except BaseException:
-                for future in futures:
-                    future.cancel()
-                close_pool(terminate=True)
-                raise
-        else:
-            _run_dask(shared, list(items()), scheduler, outputs, parts, advance)
-
-
-#: Clients of the Dask clusters this process has used, by scheduler address.
-_CLIENTS: dict[str, Any] = {}
-
-
-def _dask_client(scheduler: str | None) -> Any:
-    """A client of the cluster at ``scheduler``, connected once and kept for the process (a
-    study runs many blocks: one connection, not one per block)."""
-    if not scheduler:
-        raise ConfigError("the dask backend needs the scheduler's address (scheduler=...)")
-    client = _CLIENTS.get(scheduler)
-    if client is not None and client.status == "running":
-        return client
-    try:
-        from distributed import Client
-    except ImportError:  # pragma: no cover - distributed is a dependency
-        raise ConfigError("the dask backend needs the 'distributed' package") from None
-    try:
-        client = Client(scheduler, timeout=30, set_as_default=False)
-    except (OSError, TimeoutError, ValueError) as exc:
-        raise ConfigError(f"cannot connect to the Dask scheduler at {scheduler!r}: {exc}") from None
-    try:
-        client.wait_for_workers(1, timeout=DASK_NO_WORKERS_S)
-    except TimeoutError:
-        client.close()
-        raise ConfigError(
-            f"the Dask cluster at {scheduler!r} has no workers (none joined within "
-            f"{DASK_NO_WORKERS_S:g} s); start some (dask worker {scheduler})"
-        ) from None
-    if not _CLIENTS:
-        atexit.register(_close_clients)
-    _CLIENTS[scheduler] = client
-    return client
-
-
-def _close_clients() -> None:
-    while _CLIENTS:
-        _CLIENTS.popitem()[1].close()
-
-
-def cluster_threads(scheduler: str | None) -> int:
-    """The threads of every worker of the Dask cluster at ``scheduler``: how many chunks it
-    runs at once (at least 1, while its workers are still joining)."""
-    info = _dask_client(scheduler).scheduler_info(n_workers=-1)
-    return max(1, sum(int(w.get("nthreads", 1)) for w in info.get("workers", {}).values()))
-
-
-def _run_dask(
-    shared: tuple[Any, ...],
-    items: list[tuple[FloatArray, ...]],
-    scheduler: str | None,
-    outputs: list[kb.BatchKernelOutput | None],
-    parts: list[NDArray[np.intp]],
-    advance: Callable[[int], None],
-) -> None:
-    """Run the chunks on the Dask cluster, filling ``outputs``.
-
-    Raises:
-        ClusterLost: a chunk killed its workers, or the cluster had no worker for
-            :data:`DASK_NO_WORKERS_S` (the chunks that finished are in ``outputs``).
-    """
-    client = _dask_client(scheduler)
-    futures: dict[Any, int] = {}
-    try:
-        # ``shared`` (the integer structure, tolerances, method) is a few hundred bytes: it
-        # travels with each task. Scattering it gave every block the same content-hashed
-        # keys, and the previous block's release could delete them under the next block's
-        # tasks, which then waited for ever ("computation on lost data").
-        futures = {
-            client.submit(kb.run_chunk, shared, item, pure=False): k for k, item in enumerate(items)
-        }
-        for future in completed_on_dask(client, list(futures), scheduler or ""):
-            if future.status == "error":
-                raise ClusterLost(
-                    f"the Dask cluster at {scheduler} could not run a chunk of samples "
-                    f"({type(future.exception()).__name__}: {future.exception()}); its "
-                    "workers died running it"
-                )
-            k = futures[future]
-            outputs[k] = dask_result(future, scheduler or "")
-            advance(len(parts[k]))
-    except BaseException:
-        if futures:
-            client.cancel(list(futures))
-        raise
-
-
-def dask_result(future: Any, address: str) -> Any:
-    """The result of a finished Dask ``future``, waiting at most :data:`DASK_NO_WORKERS_S`: a
-    result held by a worker that has since died is computed again, which needs a worker.
-
-    Raises:
-        ClusterLost: it did not come in that time.
-    """
-    try:
-        return future.result(timeout=DASK_NO_WORKERS_S)
-    except TimeoutError:
-        raise ClusterLost(
-            f"the Dask cluster at {address} lost a finished result with its worker and had no "
-            f"worker to compute it again within {DASK_NO_WORKERS_S:g} s"
-        ) from None
-
-
-def completed_on_dask(client: Any, futures: list[Any], address: str) -> Iterator[Any]:
-    """The Dask ``futures`` as they finish (failed ones too: look at their ``status``).
-
-    Dask itself moves the tasks of a worker that dies to the others (and gives up on a task
-    that killed three workers: its status is ``"error"``, ``KilledWorker``); this stops
-    waiting when the cluster has had no worker for :data:`DASK_NO_WORKERS_S`.
-
-    Raises:
-        ClusterLost: the cluster at ``address`` has had no worker for that long (the futures
-            not yielded did not finish).
-    """
-    pending, idle_since = set(futures), time.monotonic()
-    while pending:
-        done = [future for future in futures if future in pending and future.done()]
-        pending.difference_update(done)
-        yield from done
-        if done:
-            idle_since = time.monotonic()
-            continue
-        time.sleep(DASK_POLL_S)
-        if time.monotonic() - idle_since > DASK_NO_WORKERS_S:  # still any worker?
-            if client.scheduler_info(n_workers=-1).get("workers"):
-                idle_since = time.monotonic()
-                continue
-            raise ClusterLost(
-                f"the Dask cluster at {address} has had no worker for {DASK_NO_WORKERS_S:g} s; "
-                f"start workers (dask worker {address})"
-            )
-
-
 # --- the entry point --------------------------------------------------------------------------------
 def simulate_batch(
     mechanism: Mechanism,
@@ -1427,7 +349,7 @@ def simulate_batch(
     start: Start | None = None,
     solver: SolverOptions | None = None,
     method: BatchMethod = "auto",
-    backend: BatchBackend | str = "local",
+    backend: Backend | str = "local",
     workers: int | None = None,
     chunk_size: int | None = None,
     scheduler: str | None = None,
@@ -1448,12 +370,13 @@ def simulate_batch(
             :func:`~jointplay.dynamics.simulate.simulate`).
         solver: tolerances, largest step and step budget (as :func:`simulate`).
         method: ``"explicit"``, ``"implicit"`` or ``"auto"`` (:func:`choose_method`).
-        backend: ``"local"`` (threads in this process), ``"processes"``, ``"dask"`` (give
-            ``scheduler``) or ``"gpu"`` (JAX; ``pip install 'jointplay[gpu]'``).
-        workers: worker processes (``"processes"``; default one per CPU).
-        chunk_size: lanes per task (default: 4096 local, ≤ 256 per process task so each
+        backend: where the lanes run: a :class:`~jointplay.execution.backends.Backend`, or
+            its name: ``"local"`` (threads in this process), ``"processes"``, ``"dask"``
+            (give ``scheduler``) or ``"gpu"`` (JAX; ``pip install 'jointplay[gpu]'``).
+        workers: worker processes (``"processes"`` given by name; default one per CPU).
+        chunk_size: lanes per task (default: 4096 local, ≤ 32 per process task so each
             worker gets ~4, 200 000 on the GPU). Never changes the results.
-        scheduler: the Dask scheduler's address (``"dask"``).
+        scheduler: the Dask scheduler's address (``"dask"`` given by name).
         progress: show a progress bar on stderr.
 
     Raises:
@@ -1465,17 +388,10 @@ def simulate_batch(
     wall = time.perf_counter()
     if not isinstance(samples, BatchSamples):
         raise ConfigError(f"samples must be a BatchSamples, got {type(samples).__name__}")
-    backend = "local" if backend == "serial" else backend
-    if backend not in BACKENDS:
-        raise ConfigError(f"backend must be one of {', '.join(BACKENDS)}, got {backend!r}")
     if method not in ("auto", *kb.METHODS):
         raise ConfigError(f"method must be auto, explicit or implicit, got {method!r}")
-    for name, value in (("workers", workers), ("chunk_size", chunk_size)):
-        if value is not None and (
-            isinstance(value, bool) or not isinstance(value, int) or value < 1
-        ):
-            raise ConfigError(f"{name} must be a positive integer, got {value!r}")
-    if backend == "gpu":
+    runner = executor(_where(backend, workers, chunk_size, scheduler))
+    if runner.on_device:
         _gpu_kernel()  # fail early, before building
     start = start or Start("steady")
     if settle is None:
@@ -1492,16 +408,14 @@ def simulate_batch(
     else:
         chosen, reason = method, f"{method}, as asked"
         if method == "explicit":
-            reason += f" ({_EXPLICIT_TOLERANCES})"
+            reason += f" ({EXPLICIT_TOLERANCES})"
     if chosen == "explicit":
         problem = problem.scaled_tolerances(EXPLICIT_TOLERANCE_SCALE)
     n = len(samples)
     lanes = np.flatnonzero(problem.ok)
     interrupted, lost = False, ""
     try:
-        output, used_workers, chunk = _dispatch(
-            problem, lanes, chosen, backend, workers, chunk_size, scheduler, progress
-        )
+        output, used_workers, chunk = _dispatch(problem, lanes, chosen, runner, progress)
     except _PartialDispatch as partial:
         output, used_workers, chunk, lost = partial.args
         interrupted = not lost
@@ -1549,7 +463,7 @@ def simulate_batch(
         ),
         method=chosen,
         method_reason=reason,
-        backend=backend,
+        backend=runner.kind,
         workers=used_workers,
         chunk_size=chunk,
         build_time=build_time,
@@ -1558,3 +472,19 @@ def simulate_batch(
     if interrupted:
         raise BatchInterrupted(result)
     return result
+
+
+def _where(
+    backend: Backend | str, workers: int | None, chunk_size: int | None, scheduler: str | None
+) -> Backend:
+    """The :class:`Backend` of :func:`simulate_batch`'s arguments (a name and its settings,
+    or a Backend whose chunk size ``chunk_size`` replaces)."""
+    if isinstance(backend, Backend):
+        if workers is not None or scheduler is not None:
+            raise ConfigError("give workers and scheduler in the Backend, not beside it")
+        return (
+            backend if chunk_size is None else dataclasses.replace(backend, chunk_size=chunk_size)
+        )
+    return Backend(
+        backend_kind(backend), workers=workers, scheduler=scheduler, chunk_size=chunk_size
+    )

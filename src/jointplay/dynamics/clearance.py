@@ -12,7 +12,7 @@ import numpy as np
 from jointplay.contact.friction import FrictionLaw
 from jointplay.contact.laws import ContactLaw
 from jointplay.contact.stiffness import STIFFNESS_LAWS, get_stiffness_law
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, SettingError
 
 #: The smallest radial clearance modelled, m (1 nm): below it the joint is ideal in practice
 #: and the contact arithmetic (onset tolerance, eccentricity ratios) underflows.
@@ -138,8 +138,9 @@ class ClearanceJoint:
                 "ideal instead, or check the unit (e.g. '0.021 mm')"
             )
         if self.clearance == 0:
-            raise ConfigError(
-                f"{where}: zero clearance — leave the joint ideal instead (omit it from --joints)"
+            raise SettingError(
+                "{where}: zero clearance — leave the joint ideal instead (omit it from {joints})",
+                where=where,
             )
         if not (math.isfinite(self.journal_radius) and self.journal_radius > 0):
             raise ConfigError(

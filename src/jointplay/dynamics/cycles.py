@@ -24,6 +24,7 @@ instead (:func:`thresholds`), so the verdict never hinges on the integrator's no
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -31,12 +32,48 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from jointplay.errors import ConfigError
+
 FloatArray = NDArray[np.float64]
 
 #: Start-up revolutions that studies of the running mechanism leave out by default: from a
 #: steady start with centred pins the contact transient of the paper's four-bar dies out within
 #: two revolutions (the conventional set's per-revolution peaks are flat from the third on).
 DEFAULT_SETTLE = 2
+
+
+def analysed_revolutions(value: Any, name: str = "revolutions") -> float:
+    """``value`` as a number of analysed crank revolutions (a finite number > 0).
+
+    Args:
+        name: what the message calls it (the command line passes its option's name).
+
+    Raises:
+        ConfigError: it is not a number, or not > 0 — the one check of every engine, study
+            and command.
+    """
+    if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
+        raise ConfigError(f"{name} must be a number, got {value!r}")
+    if not (math.isfinite(value) and value > 0):
+        raise ConfigError(f"{name} must be > 0, got {value:g}")
+    return float(value)
+
+
+def settle_revolutions(value: Any, name: str = "settle") -> int:
+    """``value`` as a number of start-up revolutions left out (a whole number >= 0).
+
+    Args:
+        name: what the message calls it (the command line passes its option's name, a
+            configuration file its key's place).
+
+    Raises:
+        ConfigError: it is not a whole number >= 0 — the one check of every engine, study,
+            command and configuration file.
+    """
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 0:
+        raise ConfigError(f"{name} must be a whole number of revolutions >= 0, got {value!r}")
+    return int(value)
+
 
 #: Largest normalised distance between section points that counts as "the same point".
 PERIODICITY_THRESHOLD = 1e-2

@@ -49,7 +49,7 @@ code                                   fires when
 
 The elastic approach is Hertz's for the joint's radii and materials,
 δ_H = (F / K)^(2/3), K = (4/3) E* √R (docs/contact-laws.md §3.1): the stiffness law
-``--stiffness-law hertz`` uses; the other geometric laws give approaches within a factor of
+``hertz`` uses; the other geometric laws give approaches within a factor of
 about 1.3 of it at µm clearances (docs/contact.md), so :data:`ELASTIC_FACTOR` leaves room
 for them and for the damping.
 
@@ -167,7 +167,7 @@ def check_penetration(joint: str, penetration: float, clearance: float) -> Diagn
         clearance,
         f"the pin penetrates its bearing by {penetration * 1e6:.3g} µm, more than the "
         f"{clearance * 1e6:.3g} µm radial clearance: the contact stiffness is far too low "
-        "for the load; use a stiffness from the joint's geometry (e.g. --stiffness-law)",
+        "for the load; use a stiffness from the joint's geometry (e.g. a stiffness law)",
     )
 
 
@@ -202,7 +202,7 @@ def check_elastic(
         f"{penetration / approach:.3g} times the {approach * 1e6:.3g} µm elastic approach of "
         f"the joint's own Hertz law at its peak force {force:.4g} N: the contact is far "
         "softer than the joint's materials; use a stiffness from the joint's geometry "
-        "(the default contact, or --stiffness-law)",
+        "(the default contact, or a stiffness law)",
     )
 
 
@@ -305,7 +305,7 @@ def check_start_transient(
                 TRANSIENT_RATIO * later,
                 f"{quantity} peaks at {first:.4g} in the first revolution, "
                 f"{first / later:.3g} times its later peaks ({later:.4g}): a start-up "
-                "artefact; read the steady-running statistics (--settle)",
+                "artefact; read the steady-running statistics (settle)",
             )
         return None
     if (
@@ -320,7 +320,7 @@ def check_start_transient(
             first_peak_crank_deg,
             START_WINDOW_DEG,
             f"{quantity} peaks {first_peak_crank_deg:.3g}° after the start of a single "
-            "revolution: likely a start-up artefact; simulate more revolutions with --settle",
+            "revolution: likely a start-up artefact; simulate more start-up revolutions (settle)",
         )
     return None
 
@@ -350,7 +350,7 @@ def check_settled(quantity: str, per_revolution: Sequence[float]) -> Diagnostic 
         SETTLED_CHANGE,
         f"{quantity}'s peak in the first analysed revolution ({first:.4g}) lies "
         f"{change:.1%} outside the range of the later ones ({low:.4g} to {high:.4g}): the "
-        "motion is still changing from its start; raise --settle",
+        "motion is still changing from its start; raise settle",
     )
 
 
@@ -377,12 +377,12 @@ def check_periodic(
     if settles_after is not None:
         reason = (
             f"it repeats from revolution {settles_after + 1} on: a start-up transient, not "
-            f"rattling; raise --settle by {settles_after}"
+            f"rattling; raise settle by {settles_after}"
         )
     elif converging:
         reason = (
             "its steps shrink from revolution to revolution: a start-up transient still "
-            "settling, not rattling; raise --settle"
+            "settling, not rattling; raise settle"
         )
     else:
         reason = (
@@ -404,7 +404,7 @@ def check_energy(residual: float) -> Diagnostic | None:
         residual,
         ENERGY_TOLERANCE,
         f"the energy balance drifts by {residual:.2e} of the largest energy: the "
-        "integration is not accurate enough; tighten --rtol",
+        "integration is not accurate enough; tighten rtol",
     )
 
 

@@ -30,13 +30,7 @@ from __future__ import annotations
 
 import enum
 import math
-import mmap
-import os
-import signal
-import tempfile
-import threading
-from collections.abc import Iterator, Sequence
-from contextlib import contextmanager
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -48,6 +42,7 @@ from numba.core.dispatcher import Dispatcher
 from jointplay._kernels import common as _common
 from jointplay._kernels import radau as _radau
 from jointplay.errors import ConfigError, IntegrationError
+from jointplay.execution.interrupts import interrupts_watched as _interrupts_watched
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -315,79 +310,6 @@ def _message(
         " Check fun for a division by zero, a negative base under a fractional power or an"
         " overflow at that state, and check what after_step writes into y."
     )
-
-
-# ---------------------------------------------------------------------------------------
-# Interrupts: the compiled loop reads flags that the C-level signal handler writes.
-# ---------------------------------------------------------------------------------------
-class _InterruptFlags:
-    """One page of shared memory behind a file descriptor, seen as a uint8 array.
-
-    Python's C-level signal handler writes the number of each signal it catches to the
-    wakeup descriptor (:func:`signal.set_wakeup_fd`). Pointed at this descriptor, those
-    bytes land in memory that the compiled integrator reads between steps, so Ctrl-C and
-    SIGTERM stop it with a status instead of raising through Numba.
-    """
-
-    def __init__(self) -> None:
-        size = mmap.PAGESIZE
-        if hasattr(os, "memfd_create"):
-            self.fd = os.memfd_create("jointplay-interrupt", os.MFD_CLOEXEC)
-        else:  # pragma: no cover - not Linux
-            self._file = tempfile.TemporaryFile()  # noqa: SIM115 (kept open for good)
-            self.fd = self._file.fileno()
-        os.ftruncate(self.fd, size)
-        os.set_blocking(self.fd, False)
-        self._map = mmap.mmap(self.fd, size)
-        self.array = np.frombuffer(self._map, dtype=np.uint8)
-
-    def reset(self) -> None:
-        os.lseek(self.fd, 0, os.SEEK_SET)
-        self._map[:] = bytes(len(self._map))
-
-
-_flags: _InterruptFlags | None = None
-
-
-@contextmanager
-def _interrupts_watched() -> Iterator[npt.NDArray[np.uint8] | None]:
-    """Flags for the kernel while SIGINT and SIGTERM are watched (``None``: not watched).
-
-    Only in the main thread, and only for signals that have a Python handler (a worker
-    process that ignores SIGINT keeps ignoring it). While watched, a signal is only noted;
-    when the integration returns the context raises KeyboardInterrupt, so that callers see
-    an interrupt exactly as in plain Python code.
-    """
-    global _flags
-    if threading.current_thread() is not threading.main_thread():
-        yield None
-        return
-    watched = [s for s in (signal.SIGINT, signal.SIGTERM) if callable(signal.getsignal(s))]
-    if not watched:
-        yield None
-        return
-    try:
-        if _flags is None:
-            _flags = _InterruptFlags()
-        _flags.reset()
-    except (OSError, ValueError):  # pragma: no cover - no shared memory: no watching
-        yield None
-        return
-    noted: list[int] = []
-    previous = {s: signal.signal(s, lambda number, frame: noted.append(number)) for s in watched}
-    try:
-        old_fd = signal.set_wakeup_fd(_flags.fd, warn_on_full_buffer=False)
-    except ValueError:  # pragma: no cover
-        old_fd = None
-    try:
-        yield _flags.array
-    finally:
-        if old_fd is not None:
-            signal.set_wakeup_fd(old_fd)
-        for s, handler in previous.items():
-            signal.signal(s, handler)
-    if noted:
-        raise KeyboardInterrupt(f"signal {noted[0]}")
 
 
 # ---------------------------------------------------------------------------------------

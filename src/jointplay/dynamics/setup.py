@@ -5,7 +5,10 @@ The default contact is physical (docs/contact.md): per joint, a stiffness from t
 radii and materials (:data:`DEFAULT_STIFFNESS_LAW`), Hunt–Crossley damping with exactly the
 coefficient of restitution :data:`DEFAULT_RESTITUTION` (the ``restitution`` law) and, on the
 command line, dry friction :data:`DEFAULT_FRICTION`. The paper's conventional IMPACT set,
-:data:`DEFAULT_IMPACT`, is ``--method ifm-conventional``.
+:data:`DEFAULT_IMPACT`, is the method ``ifm-conventional``.
+
+Errors about a setting are :class:`~jointplay.errors.SettingError`: they call it by its
+setting name (``stiffness``, ``c_max``, …), and the command line by its option.
 """
 
 from __future__ import annotations
@@ -20,7 +23,7 @@ from jointplay.contact.friction import FrictionLaw, get_friction
 from jointplay.contact.laws import CONTACT_LAWS, ContactLaw, ImpactLaw, get_law
 from jointplay.contact.stiffness import STIFFNESS_LAWS
 from jointplay.dynamics.clearance import FIT_DEPTH, ClearanceJoint, JointStiffness
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, SettingError
 from jointplay.model.mechanism import Mechanism, RevoluteJoint
 from jointplay.units import parse_quantity
 
@@ -44,15 +47,8 @@ DEFAULT_FRICTION = 0.1
 
 _HC_FAMILY = {name for name, cls in CONTACT_LAWS.items() if hasattr(cls, "chi_of")}
 
-#: The command-line option of each ContactSettings parameter.
-_OPTIONS = {
-    "stiffness": "--k",
-    "exponent": "--exponent",
-    "c_max": "--cmax",
-    "depth": "--depth",
-    "restitution": "--restitution",
-    "damping": "--damping",
-}
+#: The numeric parameters of ContactSettings (each also names its setting in messages).
+_PARAMETERS = ("stiffness", "exponent", "c_max", "depth", "restitution", "damping")
 #: The parameters each contact law uses (any other one given is an error, not ignored).
 _USES = {
     "impact": ("stiffness", "exponent", "c_max", "depth"),
@@ -72,8 +68,8 @@ def law_exponent(law: str, exponent: float | None = None) -> float:
     return 1.0 if law in ("restitution", "kelvin-voigt") else 1.5
 
 
-def _real(value: Any, option: str, *, text: bool = False) -> float:
-    """``value`` as a finite float, or a ConfigError naming ``option``; ``text``: a string
+def _real(value: Any, setting: str, *, text: bool = False) -> float:
+    """``value`` as a finite float, or a SettingError about ``setting``; ``text``: a string
     holding a plain number is read too (settings that come as strings)."""
     if isinstance(value, bool) or not isinstance(value, int | float):
         try:
@@ -81,12 +77,24 @@ def _real(value: Any, option: str, *, text: bool = False) -> float:
                 raise ValueError
             number = float(value)
         except ValueError:
-            raise ConfigError(f"{option} must be a number, got {value!r}") from None
+            raise SettingError(
+                f"{{{setting}}} must be a number, got {{got!r}}", got=value
+            ) from None
     else:
         number = float(value)
     if not math.isfinite(number):
-        raise ConfigError(f"{option} must be a finite number, got {value!r}")
+        raise SettingError(f"{{{setting}}} must be a finite number, got {{got!r}}", got=value)
     return number
+
+
+def _quantity(value: Any, unit: str, setting: str, hint: str = "") -> float:
+    """``value`` as a quantity in ``unit`` (:func:`~jointplay.units.parse_quantity`), or a
+    SettingError about ``setting`` (``hint`` added to its message)."""
+    try:
+        return parse_quantity(value, unit, field=setting)
+    except ConfigError as exc:
+        detail = str(exc).removeprefix(f"{setting}: ")  # the setting is named by the template
+        raise SettingError(f"{{{setting}}}: {{detail}}{{hint}}", detail=detail, hint=hint) from None
 
 
 @dataclass(frozen=True)
@@ -154,35 +162,43 @@ class ContactSettings:
             raise ConfigError(
                 f"unknown stiffness law {self.stiffness_law!r}; known: {', '.join(sorted(STIFFNESS_LAWS))}"
             )
-        for field in _OPTIONS:
+        for field in _PARAMETERS:
             value = getattr(self, field)
             if value is not None:
-                _real(value, f"{_OPTIONS[field]} ({field})")
-        uses = _USES.get(self.law, tuple(_OPTIONS))
+                _real(value, field)
+        uses = _USES.get(self.law, _PARAMETERS)
         stray = [
-            field for field in _OPTIONS if getattr(self, field) is not None and field not in uses
+            field for field in _PARAMETERS if getattr(self, field) is not None and field not in uses
         ]
         if stray:
-            given = ", ".join(_OPTIONS[field] for field in stray)
-            used = ", ".join(_OPTIONS[field] for field in uses)
-            raise ConfigError(
-                f"{given} {'does' if len(stray) == 1 else 'do'} not apply to the contact law {self.law!r}, which takes {used}; "
-                "drop it or choose a law that uses it (--contact)"
+            given = ", ".join(f"{{{field}}}" for field in stray)
+            used = ", ".join(f"{{{field}}}" for field in uses)
+            raise SettingError(
+                f"{given} {'does' if len(stray) == 1 else 'do'} not apply to the contact law "
+                f"{{name!r}}, which takes {used}; drop it or choose a law that uses it ({{law}})",
+                name=self.law,
             )
         if self.law == "kelvin-voigt" and self.exponent not in (None, 1.0):
-            raise ConfigError(
-                f"--exponent {self.exponent:g} does not apply to the contact law 'kelvin-voigt', "
-                "which is linear (F = K δ + D δ̇, stiffness in N/m): drop --exponent"
-            )
+            _not_linear(self.exponent)
         if self.stiffness_law is not None and self.stiffness is not None:
-            raise ConfigError(
-                "give either a stiffness (--k) or a stiffness law (--stiffness-law), not both"
+            raise SettingError(
+                "give either a stiffness ({stiffness}) or a stiffness law ({stiffness_law}), "
+                "not both"
             )
         if self.stiffness_law is not None and self.law == "kelvin-voigt":
-            raise ConfigError(
-                "--stiffness-law fits a power law with its own exponent; the contact law "
-                "'kelvin-voigt' is linear: drop --stiffness-law or choose another --contact"
+            raise SettingError(
+                "{stiffness_law} fits a power law with its own exponent; the contact law "
+                "'kelvin-voigt' is linear: drop {stiffness_law} or choose another {law}"
             )
+
+
+def _not_linear(exponent: float) -> None:
+    """Kelvin–Voigt is linear: refuse an ``exponent`` other than 1."""
+    raise SettingError(
+        "{exponent} {got:g} does not apply to the contact law 'kelvin-voigt', which is linear "
+        "(F = K δ + D δ̇, stiffness in N/m): drop {exponent}",
+        got=exponent,
+    )
 
 
 @dataclass(frozen=True)
@@ -195,10 +211,14 @@ class FrictionSettings:
 
     def __post_init__(self) -> None:
         if self.law not in ("ambrosio", "adams"):
-            raise ConfigError(f"--friction-law must be ambrosio or adams, got {self.law!r}")
-        mu = _real(self.coefficient, "--friction")
+            raise SettingError(
+                "{friction_law} must be ambrosio or adams, got {got!r}", got=self.law
+            )
+        mu = _real(self.coefficient, "friction")
         if mu < 0:
-            raise ConfigError(f"--friction must be >= 0 (0: no friction), got {self.coefficient!r}")
+            raise SettingError(
+                "{friction} must be >= 0 (0: no friction), got {got!r}", got=self.coefficient
+            )
         object.__setattr__(self, "coefficient", mu)
         if self.dynamic_coefficient is not None:
             dynamic = _real(self.dynamic_coefficient, "dynamic friction coefficient")
@@ -242,7 +262,7 @@ class ContactModel:
 
     The default is the physical contact of docs/contact.md, with dry friction
     :data:`DEFAULT_FRICTION` (with a ``law`` too: give ``FrictionSettings()`` for none, as
-    the command line does with ``--method``).
+    the command line does with its method option).
     """
 
     settings: ContactSettings = dataclasses.field(default_factory=ContactSettings)
@@ -309,8 +329,10 @@ def make_law(
             d_max=DEFAULT_IMPACT.d_max if settings.depth is None else settings.depth,
         )
     if k is None:
-        raise ConfigError(
-            f"contact law {name!r} needs a stiffness: give --k (or stiffness in [simulation])"
+        raise SettingError(
+            "contact law {name!r} needs a stiffness: give {stiffness} (or stiffness in "
+            "[simulation])",
+            name=name,
         )
     if name == "restitution":
         return get_law(
@@ -325,8 +347,8 @@ def make_law(
         return get_law(name, stiffness=k, exponent=1.5 if n is None else n)
     if name == "kelvin-voigt":
         if settings.damping is None:
-            raise ConfigError(
-                "contact law 'kelvin-voigt' needs a damping coefficient: give --damping"
+            raise SettingError(
+                "contact law 'kelvin-voigt' needs a damping coefficient: give {damping}"
             )
         return get_law(name, stiffness=k, damping=settings.damping)
     if name in _HC_FAMILY:
@@ -363,8 +385,9 @@ def clearance_joints(
     if joints is None:
         joints = [name for name, j in revolute.items() if j.fit is not None and j.fit.clearance]
         if not joints:
-            raise ConfigError(
-                f"mechanism {mechanism.name!r} has no joint with a clearance; name them with --joints"
+            raise SettingError(
+                "mechanism {name!r} has no joint with a clearance; name them with {joints}",
+                name=mechanism.name,
             )
     result = []
     for name in joints:
@@ -375,7 +398,9 @@ def clearance_joints(
         fit = revolute[name].fit
         c = clearance if clearance is not None else (fit.clearance if fit else None)
         if c is None:
-            raise ConfigError(f"joint {name!r} has no clearance in its fit data: give --clearance")
+            raise SettingError(
+                "joint {name!r} has no clearance in its fit data: give {clearance}", name=name
+            )
         r = journal_radius if journal_radius is not None else (fit.diameter / 2 if fit else None)
         if r is None:
             r = 0.005
@@ -439,16 +464,16 @@ def joint_stiffness(
     )
 
 
-def parse_stiffness(text: Any, exponent: float, *, field: str = "--k") -> float:
-    """A stiffness with units for force exponent ``exponent``: ``"1e4 N/mm^1.5"`` → N/m^1.5."""
+def parse_stiffness(text: Any, exponent: float, *, setting: str = "stiffness") -> float:
+    """A stiffness with units for force exponent ``exponent``: ``"1e4 N/mm^1.5"`` → N/m^1.5.
+
+    Raises:
+        SettingError: not such a quantity (about ``setting``).
+    """
     unit = "N/m" if exponent == 1 else f"N/m^{exponent:g}"
     written = "N/mm" if exponent == 1 else f"N/mm^{exponent:g}"
-    try:
-        return parse_quantity(text, unit, field=field)
-    except ConfigError as exc:
-        raise ConfigError(
-            f"{exc} (with force exponent {exponent:g} the stiffness is in {written} or {unit})"
-        ) from None
+    hint = f" (with force exponent {exponent:g} the stiffness is in {written} or {unit})"
+    return _quantity(text, unit, setting, hint)
 
 
 def contact_from_strings(values: Mapping[str, Any]) -> ContactSettings:
@@ -458,18 +483,15 @@ def contact_from_strings(values: Mapping[str, Any]) -> ContactSettings:
     """
     law = values.get("contact") or DEFAULT_LAW
     if not isinstance(law, str):
-        raise ConfigError(f"--contact must be the name of a contact law, got {law!r}")
+        raise SettingError("{law} must be the name of a contact law, got {got!r}", got=law)
     exponent = values.get("exponent")
-    exponent = None if exponent is None else _real(exponent, "--exponent", text=True)
+    exponent = None if exponent is None else _real(exponent, "exponent", text=True)
     if exponent is None and values.get("contact") is None and values.get("k") is not None:
         exponent = 1.5  # a stiffness given to the default law: a power law as Hertz's
     if exponent is not None and not exponent > 0:
-        raise ConfigError(f"--exponent must be > 0, got {exponent}")
+        raise SettingError("{exponent} must be > 0, got {got}", got=exponent)
     if law == "kelvin-voigt" and exponent not in (None, 1.0):
-        raise ConfigError(
-            f"--exponent {exponent:g} does not apply to the contact law 'kelvin-voigt', which "
-            "is linear (F = K δ + D δ̇, stiffness in N/m): drop --exponent"
-        )
+        _not_linear(exponent)
     stiffness = values.get("k")
     restitution = values.get("restitution")
     settings = ContactSettings(
@@ -478,20 +500,16 @@ def contact_from_strings(values: Mapping[str, Any]) -> ContactSettings:
         if stiffness is None
         else parse_stiffness(stiffness, law_exponent(law, exponent)),
         exponent=exponent,
-        c_max=None
-        if values.get("cmax") is None
-        else parse_quantity(values["cmax"], "N*s/m", field="--cmax"),
-        depth=None
-        if values.get("depth") is None
-        else parse_quantity(values["depth"], "m", field="--depth"),
-        restitution=None if restitution is None else _real(restitution, "--restitution", text=True),
+        c_max=None if values.get("cmax") is None else _quantity(values["cmax"], "N*s/m", "c_max"),
+        depth=None if values.get("depth") is None else _quantity(values["depth"], "m", "depth"),
+        restitution=None if restitution is None else _real(restitution, "restitution", text=True),
         damping=None
         if values.get("damping") is None
-        else parse_quantity(values["damping"], "N*s/m", field="--damping"),
+        else _quantity(values["damping"], "N*s/m", "damping"),
         stiffness_law=values.get("stiffness_law"),
         fit_depth=FIT_DEPTH
         if values.get("fit_depth") is None
-        else parse_quantity(values["fit_depth"], "m", field="--fit-depth"),
+        else _quantity(values["fit_depth"], "m", "fit_depth"),
     )
     # Validate the parameters early, with the law's own messages (a geometry-derived
     # stiffness is only known per joint, so a placeholder stands in for it here).

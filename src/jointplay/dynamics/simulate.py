@@ -28,13 +28,13 @@ from numpy.typing import NDArray
 from jointplay._kernels import constraints as ck
 from jointplay._kernels import eom
 from jointplay.dynamics.clearance import ClearanceJoint
-from jointplay.dynamics.cycles import DEFAULT_SETTLE
+from jointplay.dynamics.cycles import DEFAULT_SETTLE, analysed_revolutions, settle_revolutions
 from jointplay.dynamics.diagnostics import Diagnostic
 from jointplay.dynamics.integrate import IntegrationResult, IntegrationStatus, integrate
 from jointplay.dynamics.nominal import nominal_analysis
 from jointplay.dynamics.running import PEAK_KEYS, RunningBehaviour, characterise
 from jointplay.dynamics.system import System, build_system
-from jointplay.errors import ConfigError, IntegrationError
+from jointplay.errors import ConfigError, IntegrationError, SettingError
 from jointplay.kinematics.analysis import analyse
 from jointplay.model.columns import rotating_links, sliders
 from jointplay.model.flat import REVOLUTE
@@ -407,17 +407,17 @@ def _check_output_size(
     rows = turns * period / output_step
     if rows > MAX_OUTPUT_ROWS:
         finest = turns * period / MAX_OUTPUT_ROWS
-        raise ConfigError(
+        raise SettingError(
             f"an output step of {output_step:.3g} s over {turns:g} revolution(s) of "
             f"{period:.3g} s gives {rows:.3g} rows of time series (at most "
             f"{MAX_OUTPUT_ROWS:.0e}); give an output step of at least {finest:.3g} s "
-            "(--output-step) or fewer revolutions"
+            "({output_step}) or fewer revolutions"
         )
     if sample_deg is not None and turns * 360.0 / sample_deg > MAX_OUTPUT_ROWS:
-        raise ConfigError(
+        raise SettingError(
             f"sample_deg = {sample_deg:g} over {turns:g} revolution(s) gives more than "
             f"{MAX_OUTPUT_ROWS:.0e} samples; give at least {turns * 360.0 / MAX_OUTPUT_ROWS:.3g}"
-            " degrees (--sample-deg)"
+            " degrees ({sample_deg})"
         )
 
 
@@ -468,10 +468,8 @@ def simulate(
     if settle is None:
         settle = DEFAULT_SETTLE if start.mode == "steady" else 0
     solver = solver or SolverOptions()
-    if not (math.isfinite(revolutions) and revolutions > 0):
-        raise ConfigError(f"revolutions must be > 0, got {revolutions}")
-    if isinstance(settle, bool) or not isinstance(settle, int | np.integer) or settle < 0:
-        raise ConfigError(f"settle must be a whole number of revolutions >= 0, got {settle!r}")
+    analysed_revolutions(revolutions)
+    settle_revolutions(settle)
     if sample_deg is not None and not (math.isfinite(sample_deg) and 0 < sample_deg <= 360):
         raise ConfigError(f"sample_deg must lie in (0, 360] degrees, got {sample_deg}")
     period = mechanism.driver.period
@@ -482,10 +480,10 @@ def simulate(
     if solver.max_step is not None:
         fewest = (int(settle) + revolutions) * period / solver.max_step
         if fewest > solver.max_steps:
-            raise ConfigError(
+            raise SettingError(
                 f"a max step of {solver.max_step:.3g} s needs at least {fewest:.3g} steps for "
                 f"{int(settle) + revolutions:g} revolution(s), more than max_steps = "
-                f"{solver.max_steps}; give a larger max step (--max-step) or fewer revolutions"
+                f"{solver.max_steps}; give a larger max step ({{max_step}}) or fewer revolutions"
             )
     system = build_system(
         mechanism,
@@ -580,7 +578,7 @@ def _message(run: IntegrationResult, t_end: float, solver: SolverOptions) -> str
         )
     if status is IntegrationStatus.STEP_TOO_SMALL:
         return (
-            f"{where}. Loosen SolverOptions.rtol (--rtol on the command line), atol_position"
+            f"{where}. Loosen SolverOptions.rtol, atol_position"
             " or atol_velocity, and check that the contact stiffness and damping are"
             " physically sensible."
         )

@@ -40,7 +40,7 @@ from jointplay.contact.hertz import conformal_radius, effective_modulus
 from jointplay.dynamics.clearance import ClearanceJoint
 from jointplay.dynamics.cycles import DEFAULT_SETTLE
 from jointplay.dynamics.simulate import SimulationResult, SolverOptions, Start, simulate
-from jointplay.errors import ConfigError, IntegrationError
+from jointplay.errors import ConfigError, IntegrationError, SettingError
 from jointplay.model.columns import rotating_links
 from jointplay.model.mechanism import GROUND, Mechanism
 
@@ -186,10 +186,13 @@ def material_wear(mechanism: Mechanism | None, joint: str) -> WearData:
     names = {mechanism.material_of(found.link_a).name, mechanism.material_of(found.link_b).name}
     missing = sorted(n for n in names if n.lower() not in MATERIAL_WEAR)
     if missing:
-        raise ConfigError(
-            f"wear of joint {joint!r}: no wear data for material {missing[0]!r} (known: "
-            f"{', '.join(MATERIAL_WEAR)}); give the [wear] coefficient and hardness, or "
-            "--wear-coefficient and --hardness"
+        raise SettingError(
+            "wear of joint {joint!r}: no wear data for material {material!r} (known: "
+            "{known}); give the [wear] coefficient and hardness, or {wear_coefficient} and "
+            "{hardness}",
+            joint=joint,
+            material=missing[0],
+            known=", ".join(MATERIAL_WEAR),
         )
     return min((MATERIAL_WEAR[n.lower()] for n in names), key=lambda data: data.hardness)
 

@@ -761,6 +761,8 @@ def simulation_settings(path: Path | str | None) -> dict[str, Any]:
     """The ``[simulation]`` table of a configuration file (raw values; empty without one)."""
     if path is None:
         return {}
+    from jointplay.dynamics.cycles import settle_revolutions
+
     data = read_toml(path)
     table = _Table(data.get("simulation", {}), f"{os.fspath(path)}: [simulation]")
     values = {key: table.raw(key) for key in SIMULATION_KEYS if table.has(key)}
@@ -768,10 +770,7 @@ def simulation_settings(path: Path | str | None) -> dict[str, Any]:
     for key, value in values.items():
         where = f"{os.fspath(path)}: simulation.{key}"
         if key == "settle":
-            if isinstance(value, bool) or not isinstance(value, int) or value < 0:
-                raise ConfigError(
-                    f"{where} must be a whole number of revolutions >= 0, got {value!r}"
-                )
+            settle_revolutions(value, where)
         elif key in _SIMULATION_NUMBERS:
             if isinstance(value, bool) or not isinstance(value, int | float):
                 raise ConfigError(f"{where} must be a number, got {value!r}")

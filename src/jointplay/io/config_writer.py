@@ -18,7 +18,7 @@ parameter           key
 
 Values are written with 10 significant digits. Comments of the source file are not kept;
 the header says where the file came from. The result is read by
-:func:`jointplay.io.config.load_config` like any other configuration (``--config``).
+:func:`jointplay.io.config.load_config` like any other configuration file.
 """
 
 from __future__ import annotations

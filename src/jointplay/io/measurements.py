@@ -48,7 +48,7 @@ from typing import IO, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, SettingError
 from jointplay.io.config import read_text_file
 
 FloatArray = NDArray[np.float64]
@@ -308,9 +308,11 @@ def read_measurements(
     if speed_column is None:
         others = [c for c in columns if c != angle_column]
         if angle_column not in columns or len(others) != 1:
-            raise ConfigError(
-                f"{label}: cannot tell which column holds the speed (columns: "
-                f"{', '.join(columns)}); name it with speed_column / --speed-column"
+            raise SettingError(
+                "{label}: cannot tell which column holds the speed (columns: {columns}); "
+                "name it with {speed_column}",
+                label=label,
+                columns=", ".join(columns),
             )
         speed_column = others[0]
     if speed_column == angle_column:
@@ -318,9 +320,12 @@ def read_measurements(
     wanted = [angle_column, speed_column, model_column, error_column]
     for column in wanted:
         if column is not None and column not in columns:
-            raise ConfigError(
-                f"{label}: no column {column!r}; columns: {', '.join(columns)} "
-                "(choose with --angle-column / --speed-column)"
+            raise SettingError(
+                "{label}: no column {column!r}; columns: {columns} (choose with {angle_column} "
+                "/ {speed_column})",
+                label=label,
+                column=column,
+                columns=", ".join(columns),
             )
     if not rows:
         raise ConfigError(f"{label}: no data rows (only a header)")

@@ -2,7 +2,7 @@
 
 A command prepares its output folder before it computes anything (:func:`output_dir`): a
 fresh staging folder beside the target, under a short name (``.jointplay-PID-XXXXXXXX``), so
-that an unwritable ``--out`` is reported at once and a long ``--out`` name still fits. Every
+that an unwritable output folder is reported at once and a long name still fits. Every
 result folder carries a marker file (:data:`MARKER`) saying whether it is complete; an
 existing non-empty folder without one is not a jointplay result and is refused unless
 ``force``. Some folders are never replaced, ``force`` or not: the root and every top-level
@@ -13,7 +13,7 @@ How a run ends:
 
 * **success** — the staging folder takes the target's place in one atomic swap
   (``renameat2(RENAME_EXCHANGE)`` on Linux; elsewhere two renames, see :func:`_swap`), the
-  target's checks repeated just before it (a folder someone created at ``--out`` during the
+  target's checks repeated just before it (a folder someone created at the target during the
   run is not replaced without ``force``); the old result is then removed, with a warning if
   it cannot be;
 * **interrupted with finished work** — the command raises :class:`Interrupted` inside the
@@ -47,7 +47,7 @@ from typing import Any
 
 import numpy as np
 
-from jointplay.errors import ConfigError, Interrupted
+from jointplay.errors import ConfigError, Interrupted, SettingError
 
 #: Name of the marker file that every result folder written by jointplay carries.
 MARKER = ".jointplay-result.json"
@@ -80,21 +80,29 @@ def _check_target(target: Path | str, force: bool, inputs: Sequence[Path | str] 
     """``target`` as a path that may be replaced, or a ConfigError saying why not."""
     text = str(target)
     if text.strip() in ("", "."):
-        raise ConfigError(f"--out {text!r} names the current folder; give a folder to write into")
+        raise SettingError(
+            "{output folder} {got!r} names the current folder; give a folder to write into",
+            got=text,
+        )
     path = Path(text)
     try:
         resolved = path.resolve()
         why = _forbidden(resolved, [Path(item).resolve() for item in inputs])
     except (OSError, RuntimeError) as exc:
-        raise ConfigError(f"--out {text!r} cannot be resolved: {exc}") from None
+        raise SettingError(
+            "{output folder} {got!r} cannot be resolved: {why}", got=text, why=exc
+        ) from None
     if why:
-        raise ConfigError(f"--out {text!r} {why}; give a new folder to write into")
+        raise SettingError(
+            "{output folder} {got!r} {why}; give a new folder to write into", got=text, why=why
+        )
     if path.is_symlink() or (path.exists() and not path.is_dir()):
-        raise ConfigError(f"--out {text!r} exists and is not a folder")
+        raise SettingError("{output folder} {got!r} exists and is not a folder", got=text)
     if path.is_dir() and not force and _foreign(path):
-        raise ConfigError(
-            f"--out {text!r} is a non-empty folder that jointplay did not write; "
-            "give a new folder, or --force to replace it"
+        raise SettingError(
+            "{output folder} {got!r} is a non-empty folder that jointplay did not write; "
+            "give a new folder, or {force=True} to replace it",
+            got=text,
         )
     return path
 
@@ -104,7 +112,9 @@ def _foreign(path: Path) -> bool:
     try:
         entries = [entry.name for entry in path.iterdir()]
     except OSError as exc:
-        raise ConfigError(f"--out {str(path)!r} cannot be read: {exc.strerror}") from None
+        raise SettingError(
+            "{output folder} {got!r} cannot be read: {why}", got=str(path), why=exc.strerror
+        ) from None
     return bool(entries) and MARKER not in entries
 
 
@@ -130,7 +140,7 @@ def output_dir(
     KeyboardInterrupt) the staging folder is removed and ``target`` is left as it was.
 
     Args:
-        target: the output folder (``--out``).
+        target: the output folder.
         force: replace an existing non-empty folder even if jointplay did not write it.
         inputs: the files the run reads (``None`` entries ignored): a folder holding one is
             never replaced.
@@ -165,10 +175,12 @@ def output_dir(
             if path.is_dir() and not force and _foreign(path):  # made during the run
                 beside = _free_name(path)
                 _swap(staging, beside)
-                raise ConfigError(
-                    f"--out {str(target)!r} became a folder that jointplay did not write "
-                    f"during the run and is not replaced without --force; the results were "
-                    f"written to {beside}"
+                raise SettingError(
+                    "{output folder} {got!r} became a folder that jointplay did not write "
+                    "during the run and is not replaced without {force=True}; the results "
+                    "were written to {beside}",
+                    got=str(target),
+                    beside=beside,
                 )
             _check_target(path, force, given)  # again, just before the swap
             _publish(staging, path)
@@ -387,7 +399,7 @@ def jsonable(value: Any) -> Any:
     tuples become lists, paths strings, NaN or inf become ``None`` (JSON null), and floats
     are rounded to :data:`JSON_DIGITS` significant digits (:func:`round_significant`).
 
-    The one JSON sanitiser of the package: every JSON file and ``--json`` document goes
+    The one JSON sanitiser of the package: every JSON file and JSON document goes
     through it.
     """
     if isinstance(value, dict):

@@ -7,7 +7,7 @@ from typing import Any, Literal
 
 import pandas as pd
 
-from jointplay.errors import ConfigError
+from jointplay.errors import SettingError
 from jointplay.io.output import write_csv
 
 TableFormat = Literal["csv", "parquet"]
@@ -22,7 +22,7 @@ def write_table(table: pd.DataFrame, folder: Path, stem: str, fmt: str) -> Path:
         path = folder / f"{stem}.parquet"
         table.to_parquet(path, index=False)
     else:
-        raise ConfigError(f"--format must be csv or parquet, got {fmt!r}")
+        raise SettingError("{format} must be csv or parquet, got {got!r}", got=fmt)
     return path
 
 

@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, SettingError
 from jointplay.model.mechanism import GROUND, Mechanism, PrismaticJoint, RevoluteJoint
 from jointplay.report._mpl import pyplot
 
@@ -134,20 +134,27 @@ class AnimationInfo:
 
 
 def _whole(value: Any, name: str, low: int, high: int) -> int:
+    """``value`` as a whole number in [low, high]; ``name`` says what it is (a
+    :class:`~jointplay.errors.SettingError` template: ``{frames}`` names that setting)."""
     if isinstance(value, bool) or not isinstance(value, int | np.integer):
-        raise ConfigError(f"{name} must be a whole number, got {value!r}")
+        raise SettingError(name + " must be a whole number, got {got!r}", got=value)
     if not low <= int(value) <= high:
-        raise ConfigError(f"{name} must lie between {low} and {high}, got {value}")
+        raise SettingError(
+            name + " must lie between {low} and {high}, got {got}", low=low, high=high, got=value
+        )
     return int(value)
 
 
 def _check_magnification(value: Any) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
-        raise ConfigError(f"the magnification (--magnification) must be a number, got {value!r}")
+        raise SettingError(
+            "the magnification ({magnification}) must be a number, got {got!r}", got=value
+        )
     if not (math.isfinite(value) and value > 0):
-        raise ConfigError(
-            f"the magnification (--magnification) must be a finite number > 0 (e.g. 500), "
-            f"got {value!r}; leave it out to have one chosen"
+        raise SettingError(
+            "the magnification ({magnification}) must be a finite number > 0 (e.g. 500), "
+            "got {got!r}; leave it out to have one chosen",
+            got=value,
         )
     return float(value)
 
@@ -196,8 +203,8 @@ def check_animation_settings(
     name = animation_writer(path)
     if magnification is not None:
         _check_magnification(magnification)
-    _whole(fps, "frames per second (--fps)", 1, MAX_GIF_FPS if name == "pillow" else MAX_FPS)
-    _whole(frames, "the number of frames (--frames)", 2, MAX_FRAMES)
+    _whole(fps, "frames per second ({fps})", 1, MAX_GIF_FPS if name == "pillow" else MAX_FPS)
+    _whole(frames, "the number of frames ({frames})", 2, MAX_FRAMES)
     _figure_size(figure_size)
     _whole(dpi, "dpi", *DPI_RANGE)
     return name
@@ -283,7 +290,7 @@ def mechanism_frames(
     Raises:
         ConfigError: a setting is out of range or the revolution was not simulated.
     """
-    frames = _whole(frames, "the number of frames (--frames)", 2, MAX_FRAMES)
+    frames = _whole(frames, "the number of frames ({frames})", 2, MAX_FRAMES)
     if revolution is not None:
         revolution = _whole(revolution, "revolution", 1, 10**9)
     if result.t.shape[0] < 2:

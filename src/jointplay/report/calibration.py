@@ -97,7 +97,7 @@ def config_header(result: CalibrationResult, source: str) -> str:
     if "phase" in result.values:
         lines.append(
             f"The phase ({math.degrees(result.values['phase']):+.3f} deg, counter-clockwise) "
-            "belongs to the measurements: add it to their --angle-origin."
+            "belongs to the measurements: add it to their angle origin."
         )
     if any(p.name.startswith("crank-speed@") for p in result.parameters):
         lines.append("Each file had its own crank speed: the driver speed is left as it was.")

@@ -62,7 +62,7 @@ def check_format(figure_format: str, field: str = "figure format") -> str:
 
     Args:
         figure_format: the format asked for.
-        field: its name in the message (e.g. the option ``--figure-format``).
+        field: its name in the message (the command line passes its option's).
 
     Raises:
         ConfigError: another format.

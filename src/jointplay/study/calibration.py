@@ -79,6 +79,7 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 from scipy import optimize, stats
 
+from jointplay.dynamics.cycles import settle_revolutions
 from jointplay.dynamics.setup import (
     DEFAULT_IMPACT,
     ContactSettings,
@@ -86,7 +87,7 @@ from jointplay.dynamics.setup import (
     clearance_joints,
 )
 from jointplay.dynamics.simulate import SolverOptions, Start, simulate
-from jointplay.errors import ConfigError, IntegrationError
+from jointplay.errors import ConfigError, IntegrationError, SettingError
 from jointplay.io.measurements import Measurements, frozen_array, paper_table7
 from jointplay.kinematics.analysis import analyse
 from jointplay.model.mechanism import Mechanism, RevoluteJoint
@@ -295,8 +296,7 @@ class DynamicSettings:
     solver: SolverOptions | None = None
 
     def __post_init__(self) -> None:
-        if isinstance(self.settle, bool) or not isinstance(self.settle, int) or self.settle < 0:
-            raise ConfigError(f"DynamicSettings: settle must be an integer >= 0, got {self.settle}")
+        settle_revolutions(self.settle, "DynamicSettings: settle")
 
 
 def parameter_names(mechanism: Mechanism, datasets: Sequence[Dataset]) -> tuple[str, ...]:
@@ -691,7 +691,7 @@ class CalibrationResult:
         return self.after.rms_error_percent
 
     def as_json(self) -> dict[str, Any]:
-        """The issue's ``--json`` shape (SI units)."""
+        """The issue's JSON shape (SI units)."""
         return {
             "parameters": {p.name: p.as_dict() for p in self.parameters},
             "rms_before": self.rms_before,
@@ -866,7 +866,7 @@ def calibrate(
         else tuple(default_parameters(mechanism, datasets, fit, settings, initial=initial))
     )
     if not params:
-        raise ConfigError("calibrate: no parameter to fit; name some with --fit")
+        raise SettingError("calibrate: no parameter to fit; name some with {fit}")
     dynamic = any(p.dynamic for p in params)
     model = _Model(mechanism, tuple(datasets), params, settings, dynamic)
     weights = _weights(datasets)

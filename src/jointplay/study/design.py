@@ -71,7 +71,7 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from jointplay.dynamics.cycles import DEFAULT_SETTLE
-from jointplay.errors import ConfigError, PartialInterrupt
+from jointplay.errors import ConfigError, PartialInterrupt, SettingError
 from jointplay.model.mechanism import Mechanism, RevoluteJoint
 from jointplay.study.requirements import Requirement, parse_requirement
 from jointplay.tolerance import iso286, iso2768
@@ -327,7 +327,9 @@ def schemes(
             for joint in joints:
                 fit = candidate.get(joint, own.get(joint))
                 if fit is None:
-                    raise ConfigError(f"joint {joint!r} has no fit: name one (--fit {joint}=H7/g6)")
+                    raise SettingError(
+                        "joint {joint!r} has no fit: name one ({fit} {joint}=H7/g6)", joint=joint
+                    )
                 chosen[joint] = fit
         for joint, fit in chosen.items():
             result = iso286.fit(fit, _diameter(mechanism, joint))
@@ -570,7 +572,7 @@ def penetration_diagnostics(
             f"{worst_sample}; {name} in samples.parquet{per_scheme_column}); those samples' "
             f"responses are not physical{verdict}; the contact stiffness is far too low for "
             "the load: use a stiffness from the joints' geometry (the default contact, or "
-            "--stiffness-law)"
+            "a stiffness law)"
         )
         diagnostic = (
             penetration_warning(joint, float(ratio[worst]), message)
@@ -687,7 +689,7 @@ class DesignResult:
         row = rows.iloc[0]
         m = row["samples_to_decide"]
         text = f"undecided: {row['scheme']} after {row['samples']:,} samples (" + (
-            f"about {int(m):,} would decide it at its observed defect rate: --max-samples {int(m)})"
+            f"about {int(m):,} would decide it at its observed defect rate: max_samples {int(m)})"
             if not pd.isna(m)
             else "its observed defect rate sits at the level: more samples may not decide it)"
         )

@@ -28,7 +28,7 @@ from typing import Any
 
 from jointplay.contact.ecs import EcsConventions
 from jointplay.contact.laws import ContactLaw, RestitutionLaw
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, SettingError
 from jointplay.model.mechanism import Mechanism
 from jointplay.study.ecs import ecs_parameters
 from jointplay.study.published import TABLE3_IMPACT
@@ -92,7 +92,7 @@ def method_law(
     """The contact law of method ``name`` for ``mechanism``, with a record of its parameters."""
     method = get_method(name)
     if method.uses_ecs and ecs_source not in ECS_SOURCES:
-        raise ConfigError(f"--ecs-source must be computed or paper, got {ecs_source!r}")
+        raise SettingError("{ecs_source} must be computed or paper, got {got!r}", got=ecs_source)
     record: dict[str, Any] = {"method": method.name, "title": method.title}
     law: ContactLaw
     if not method.uses_ecs:

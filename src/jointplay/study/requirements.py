@@ -18,7 +18,7 @@ what was expected.
 **Units are required.** A bare number is refused with a suggestion in the response's usual
 unit (:data:`USUAL_UNITS`): ``rocker_speed_error <= 3`` → "3 %", ``life >= 200`` → "200 h",
 ``contact_pressure <= 500`` → "500 MPa", since reading it as SI (300 %, 200 s, 500 Pa) would
-silently answer another question. A confidence level (``@`` here, ``--confidence`` on the
+silently answer another question. A confidence level (``@`` here, the confidence on the
 command line: :func:`parse_confidence`) is always in %, the sign optional; a level of 1 or
 less without the sign (``@0.9973``) is refused as a likely fraction, suggesting "99.73 %".
 """
@@ -162,7 +162,7 @@ def parse_requirement(text: str, units: Mapping[str, str]) -> Requirement:
     return Requirement(name, op, float(limit), unit, confidence, text.strip())  # type: ignore[arg-type]
 
 
-def parse_confidence(text: str, field: str = "--confidence") -> float:
+def parse_confidence(text: str, field: str = "confidence") -> float:
     """A confidence level in % (the sign optional) → a fraction in (0, 1).
 
     ``"99.73"`` and ``"99.73 %"`` give 0.9973. A bare number of 1 or less (``"0.9973"``) is

@@ -175,7 +175,7 @@ def penetration_findings(result: MethodResult) -> tuple[StudyDiagnostic, ...]:
                 f"{share}: the pin of {joint} penetrates its bearing by up to "
                 f"{ratio[worst]:.3g} times the radial clearance {where}; those {noun}' peaks "
                 "are not physical: the contact stiffness is far too low for the load; use a "
-                "stiffness from the joints' geometry (the default contact, or --stiffness-law)",
+                "stiffness from the joints' geometry (the default contact, or a stiffness law)",
             )
         else:
             diagnostic = Diagnostic(
@@ -188,7 +188,7 @@ def penetration_findings(result: MethodResult) -> tuple[StudyDiagnostic, ...]:
                 f"{ratio[worst]:.3g} times the elastic approach of the joint's own Hertz law "
                 f"at its peak force {where}: the contact is far softer than the joint's "
                 "materials; use a stiffness from the joints' geometry (the default contact, "
-                "or --stiffness-law)",
+                "or a stiffness law)",
             )
         findings.append(
             StudyDiagnostic(
@@ -317,7 +317,7 @@ def convergence_finding(
             f"up to {np.nanmax(change[:, j]):.3g} {model.units.get(name, '')}, "
             f"{100 * share[j]:.0f} % of its spread over the study (std {spread[j]:.3g}): part "
             "of the scatter is the integrator's, not the tolerances'; tighten the integration "
-            "(--rtol) or use a contact law that converges"
+            "(rtol) or use a contact law that converges"
         )
         warning = Diagnostic(
             "warning", "peaks-not-converged", None, float(share[j]), CONVERGENCE_LIMIT, message

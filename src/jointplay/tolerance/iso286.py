@@ -471,7 +471,7 @@ class Fit:
         return "transition"
 
     def as_dict_um(self) -> dict[str, object]:
-        """The fit as plain data in µm (the structure of ``jointplay fit --json``)."""
+        """The fit as plain data in µm (the structure of the ``fit`` command's JSON)."""
         return {
             "hole": _class_dict(self.hole, with_kind=False),
             "shaft": _class_dict(self.shaft, with_kind=False),
@@ -499,7 +499,7 @@ def _class_dict(tc: ToleranceClass, *, with_kind: bool) -> dict[str, object]:
 
 
 def class_as_dict_um(tc: ToleranceClass) -> dict[str, object]:
-    """One class as plain data in µm (the structure of ``jointplay fit K7 --json``)."""
+    """One class as plain data in µm (the structure of the ``fit`` command's JSON for a class)."""
     return _class_dict(tc, with_kind=True)
 
 

@@ -1,4 +1,4 @@
-"""The worker processes of the batch engine's ``"processes"`` backend, kept for the process.
+"""The worker processes of the ``"processes"`` backend for the batch engine, kept for the process.
 
 Standard library only, so that a command can start the workers first thing: their start-up
 (an interpreter and the compiled kernels, ~0.7 s each) then overlaps the command's own

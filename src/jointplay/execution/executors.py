@@ -1,0 +1,472 @@
+"""The executors: what each backend does with a run's tasks, one class per backend.
+
+An executor owns the pools, clients and interrupts of its backend; the engines own the
+numerics. Two kinds of work come to it:
+
+* independent **tasks** (:meth:`Executor.run_tasks`, behind
+  :func:`jointplay.execution.tasks.run_tasks`): ``function(shared, item)`` per item, a
+  failure is data (``"ErrorType: message"``);
+* an engine's **chunks of lanes** (:meth:`Executor.run_lanes`, the batch engine's samples):
+  :class:`LaneWork` says how a chunk runs in a worker, in this process and on a device.
+
+:func:`executor` is the only place that turns a :class:`~jointplay.execution.backends.Backend`
+into behaviour: a new backend is a name in :mod:`jointplay.execution.backends` and a class
+here. NumPy, Numba, Dask and JAX are imported only when they are used.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import dataclasses
+import math
+import multiprocessing
+import os
+import signal
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+from typing import Any, ClassVar, Protocol
+
+from jointplay._kernels.workers import die_with_parent
+from jointplay.errors import ConfigError, PartialInterrupt, caused_by_interrupt
+from jointplay.execution import dask as _dask
+from jointplay.execution import pool as _pool
+from jointplay.execution.backends import Backend, BackendKind
+from jointplay.execution.interrupts import interrupts_watched
+
+__all__ = [
+    "DEFAULT_CHUNK",
+    "GPU_CHUNK",
+    "LOCAL_CHUNK",
+    "WORKER_START_S",
+    "Executor",
+    "LaneWork",
+    "Lanes",
+    "TaskSink",
+    "executor",
+]
+
+#: Lanes per chunk on the process and Dask backends when none is given: large enough that a
+#: chunk's fixed costs (a task's pickling and dispatch, ~1 ms) are small, small enough to
+#: balance the workers and that an interrupt, which drops the chunks in flight, costs at most
+#: ~1.5 s of work per worker (32 lanes of an implicit RM-set sample at ~45 ms each; an
+#: explicit sample takes ~15 ms).
+DEFAULT_CHUNK = 32
+#: Lanes per chunk in this process (the compiled loop spreads a chunk over the threads).
+LOCAL_CHUNK = 4096
+#: Lanes per chunk on the GPU backend (JAX batches; throughput falls above ~200 000 lanes);
+#: also the samples per block of a study there.
+GPU_CHUNK = 200_000
+#: What starting one worker process costs here (import, loading compiled code), s: a run
+#: starts only as many workers as its estimated work pays for.
+WORKER_START_S = 3.0
+
+
+@dataclass(frozen=True)
+class LaneWork:
+    """An engine's chunks of independent lanes, as an executor runs them.
+
+    Attributes:
+        task: ``task(shared, chunk)``, a module-level function (pickled by reference) that a
+            worker process or a Dask worker runs on one thread.
+        shared: what every chunk needs (sent with each task: small).
+        here: ``here(chunk, parallel, interrupt)`` in this process: ``parallel`` spreads the
+            chunk over the threads; ``interrupt`` is the flag array of
+            :func:`~jointplay.execution.interrupts.interrupts_watched` (or ``None``).
+        stopped: whether an output of ``here`` was cut short by an interrupt.
+        device: ``device(chunk, chunk_size)`` on the accelerator (JAX), or ``None`` where the
+            engine has no device kernel.
+    """
+
+    task: Callable[[Any, Any], Any]
+    shared: Any
+    here: Callable[[Any, bool, Any], Any]
+    stopped: Callable[[Any], bool]
+    device: Callable[[Any, int], Any] | None = None
+
+
+@dataclass(frozen=True)
+class Lanes:
+    """One run of an engine's lanes on an executor (:meth:`Executor.run_lanes`).
+
+    Attributes:
+        work: how a chunk runs (:class:`LaneWork`).
+        chunks: the chunks, in order (consumed once).
+        slots: chunks at once (:meth:`Executor.lane_slots`).
+        chunk: lanes per chunk (:meth:`Executor.lane_chunk`).
+        done: ``done(k, output)``, called in this process as chunk ``k`` finishes.
+    """
+
+    work: LaneWork
+    chunks: Iterable[Any]
+    slots: int
+    chunk: int
+    done: Callable[[int, Any], None]
+
+
+class TaskSink(Protocol):
+    """Where an executor puts what its tasks give (:func:`~jointplay.execution.tasks.run_tasks`)."""
+
+    def store(self, index: int, outcome: tuple[bool, Any]) -> None:
+        """``(True, result)`` or ``(False, "ErrorType: message")`` of item ``index``."""
+
+    def keep_partial(self, index: int, partial: Any) -> None:
+        """What item ``index`` finished before an interrupt stopped it."""
+
+    def advance(self, index: int) -> None:
+        """Item ``index`` is done (the progress bar)."""
+
+
+# --- worker-side functions (module level: pickled by reference) --------------------------------
+
+_WORKER_SHARED: Any = None
+
+
+def _init_worker(shared: Any) -> None:
+    """Process-pool initializer: keep the shared object; leave Ctrl-C to the parent and end
+    with it; one compiled thread per worker (the workers are the parallelism)."""
+    global _WORKER_SHARED
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    die_with_parent()
+    _WORKER_SHARED = shared
+    try:
+        import numba
+
+        numba.set_num_threads(1)
+    except (ImportError, ValueError):  # pragma: no cover - numba is a dependency
+        pass
+
+
+def attempt(function: Callable[[Any, Any], Any], shared: Any, item: Any) -> tuple[bool, Any]:
+    """``(True, function(shared, item))``, or ``(False, "ErrorType: message")`` if it raised."""
+    try:
+        return True, function(shared, item)
+    except Exception as exc:  # failure is data: the caller counts it, the run goes on
+        if caused_by_interrupt(exc):  # Ctrl-C inside compiled code arrives as Numba's SystemError
+            raise KeyboardInterrupt from exc
+        return False, f"{type(exc).__name__}: {exc}"
+
+
+def _attempt_in_worker(
+    function: Callable[[Any, Any], Any], index: int, item: Any
+) -> tuple[int, tuple[bool, Any]]:
+    return index, attempt(function, _WORKER_SHARED, item)
+
+
+def _attempt_on_dask(
+    function: Callable[[Any, Any], Any], shared: Any, index: int, item: Any
+) -> tuple[int, tuple[bool, Any]]:
+    return index, attempt(function, shared, item)
+
+
+def _stop_workers(pool_executor: cf.ProcessPoolExecutor) -> None:
+    """Terminate the pool's workers so an interrupted run returns at once."""
+    terminate = getattr(pool_executor, "terminate_workers", None)  # Python >= 3.14
+    if terminate is not None:
+        terminate()
+        return
+    for process in list(getattr(pool_executor, "_processes", {}).values()):
+        process.terminate()
+
+
+# --- the executors ---------------------------------------------------------------------------------
+
+
+class Executor:
+    """Runs tasks and chunks of lanes on one backend (a subclass per backend)."""
+
+    kind: ClassVar[BackendKind]
+    #: Whether the engine's device kernel runs the lanes (the engine checks it is there).
+    on_device: ClassVar[bool] = False
+
+    def __init__(self, backend: Backend) -> None:
+        self.backend = backend
+        #: Workers that :meth:`run_tasks` used (set as it starts them).
+        self.workers = 1
+
+    # lanes
+    def lane_slots(self) -> int:
+        """How many chunks of lanes run at once."""
+        return 1
+
+    def lane_chunk(self, n: int, slots: int) -> int:
+        """Lanes per chunk for ``n`` lanes over ``slots`` (``chunk_size`` when given): ~4
+        chunks per slot, at most :data:`DEFAULT_CHUNK`."""
+        return self.backend.chunk_size or max(1, min(DEFAULT_CHUNK, math.ceil(n / (4 * slots))))
+
+    def lane_parts(self, n: int, chunk: int) -> int:
+        """Lanes per part handed to :meth:`run_lanes` (the chunk, unless the kernel cuts its own)."""
+        return chunk
+
+    def run_lanes(self, lanes: Lanes) -> None:
+        """Run every chunk of ``lanes`` and call ``lanes.done(k, output)`` as chunk ``k``
+        finishes.
+
+        An interrupt (KeyboardInterrupt) goes through, the chunks done kept by ``done``.
+
+        Raises:
+            ClusterLost: the Dask cluster could not finish.
+        """
+        raise NotImplementedError
+
+    def lane_workers(self) -> int:
+        """Worker processes a batch of lanes keeps busy from this process (1: none)."""
+        return 1
+
+    def prepare(self) -> None:
+        """Start ahead what :meth:`run_lanes` will need (nothing on most backends)."""
+
+    # tasks
+    def affordable(self, n: int, cost: float | None) -> Backend:
+        """The backend a run of ``n`` tasks costing ``cost`` s each on one core is worth:
+        this one, except where starting workers would cost more than they save."""
+        return self.backend
+
+    def block(self, default: int) -> int:
+        """Samples per block of a study whose blocks spread their lanes here: ``default``,
+        or 128 per slot where the slots are workers or a cluster's threads."""
+        return self.backend.chunk_size or max(default, 128 * self.lane_slots())
+
+    def for_tasks(self, n: int) -> Executor:
+        """The executor that a run of ``n`` independent tasks really uses."""
+        return self
+
+    def run_tasks(
+        self, function: Callable[[Any, Any], Any], shared: Any, items: list[Any], sink: TaskSink
+    ) -> None:
+        """Run ``function(shared, item)`` for every item into ``sink`` (:attr:`workers`: how
+        many ran them)."""
+        raise NotImplementedError
+
+
+class Local(Executor):
+    """In this process: tasks one after the other, lanes on the compiled loop's threads."""
+
+    kind = "local"
+
+    def lane_slots(self) -> int:
+        import numba
+
+        return int(numba.get_num_threads())
+
+    def lane_chunk(self, n: int, slots: int) -> int:
+        return self.backend.chunk_size or LOCAL_CHUNK
+
+    def block(self, default: int) -> int:
+        return self.backend.chunk_size or default
+
+    def run_lanes(self, lanes: Lanes) -> None:
+        work = lanes.work
+        with interrupts_watched() as flags:
+            for k, item in enumerate(lanes.chunks):
+                output = work.here(item, lanes.slots > 1, flags)
+                lanes.done(k, output)
+                if work.stopped(output):
+                    break
+
+    def run_tasks(
+        self, function: Callable[[Any, Any], Any], shared: Any, items: list[Any], sink: TaskSink
+    ) -> None:
+        for index, item in enumerate(items):
+            try:
+                sink.store(index, attempt(function, shared, item))
+            except PartialInterrupt as stopped:  # keep what the item finished
+                sink.keep_partial(index, stopped.partial)
+                raise
+            sink.advance(index)
+
+
+class Processes(Executor):
+    """Local worker processes (``spawn``; one compiled thread each)."""
+
+    kind = "processes"
+
+    def lane_slots(self) -> int:
+        return self.backend.workers or os.cpu_count() or 1
+
+    def lane_workers(self) -> int:
+        return self.lane_slots()
+
+    def prepare(self) -> None:
+        _pool.start_workers(self.backend.workers)
+
+    def affordable(self, n: int, cost: float | None) -> Backend:
+        """With the default number of workers, only as many as pay for their start-up
+        (:data:`WORKER_START_S` of estimated serial work each), and none (this process,
+        ``"local"``) below two; workers asked for explicitly are started."""
+        if cost is None or self.backend.workers is not None:
+            return self.backend
+        requested = os.cpu_count() or 1
+        affordable = int(n * float(cost) / WORKER_START_S)
+        if min(requested, affordable) < 2:
+            return dataclasses.replace(self.backend, kind="local", workers=None)
+        if affordable < requested:
+            return dataclasses.replace(self.backend, workers=affordable)
+        return self.backend
+
+    def run_lanes(self, lanes: Lanes) -> None:
+        if lanes.slots == 1:  # one worker: this process, on one thread
+            Local(Backend("local")).run_lanes(lanes)
+            return
+        workers = _pool.pool(lanes.slots)  # kept from batch to batch: started and loaded once
+        work = lanes.work
+        futures: dict[cf.Future[Any], int] = {}
+        try:
+            futures = {
+                workers.submit(work.task, work.shared, c): k for k, c in enumerate(lanes.chunks)
+            }
+            for future in cf.as_completed(futures):
+                lanes.done(futures[future], future.result())
+        except BaseException:
+            for future in futures:
+                future.cancel()
+            _pool.close_pool(terminate=True)
+            raise
+
+    def for_tasks(self, n: int) -> Executor:
+        workers = min(self.backend.workers or os.cpu_count() or 1, n)
+        if workers <= 1:
+            return Local(Backend("local"))
+        return Processes(Backend("processes", workers=workers))
+
+    def run_tasks(
+        self, function: Callable[[Any, Any], Any], shared: Any, items: list[Any], sink: TaskSink
+    ) -> None:
+        self.workers = self.lane_slots()
+        started = cf.ProcessPoolExecutor(  # the shared object goes to each worker once
+            max_workers=self.workers,
+            mp_context=multiprocessing.get_context("spawn"),
+            initializer=_init_worker,
+            initargs=(shared,),
+        )
+        futures: list[cf.Future[tuple[int, tuple[bool, Any]]]] = []
+        try:
+            futures = [
+                started.submit(_attempt_in_worker, function, index, item)
+                for index, item in enumerate(items)
+            ]
+            for future in cf.as_completed(futures):
+                index, outcome = future.result()
+                sink.store(index, outcome)
+                sink.advance(index)
+        except BaseException:
+            for future in futures:
+                future.cancel()
+            _stop_workers(started)
+            raise
+        finally:
+            started.shutdown(wait=True, cancel_futures=True)
+
+
+class Dask(Executor):
+    """A Dask distributed cluster at ``backend.scheduler``."""
+
+    kind = "dask"
+
+    @property
+    def address(self) -> str:
+        return self.backend.scheduler or ""
+
+    def lane_slots(self) -> int:  # sized by the cluster, not by this machine
+        return _dask.cluster_threads(self.address)
+
+    def run_lanes(self, lanes: Lanes) -> None:
+        client = _dask.client(self.address)
+        work = lanes.work
+        futures: dict[Any, int] = {}
+        try:
+            # ``shared`` is small: it travels with each task. Scattering it gave every
+            # block the same content-hashed keys, and the previous block's release could
+            # delete them under the next block's tasks, which then waited for ever
+            # ("computation on lost data").
+            futures = {
+                client.submit(work.task, work.shared, c, pure=False): k
+                for k, c in enumerate(lanes.chunks)
+            }
+            for future in _dask.completed(client, list(futures), self.address):
+                if future.status == "error":
+                    raise _dask.ClusterLost(
+                        f"the Dask cluster at {self.address} could not run a chunk of samples "
+                        f"({type(future.exception()).__name__}: {future.exception()}); its "
+                        "workers died running it"
+                    )
+                lanes.done(futures[future], _dask.result(future, self.address))
+        except BaseException:
+            if futures:
+                client.cancel(list(futures))
+            raise
+
+    def run_tasks(
+        self, function: Callable[[Any, Any], Any], shared: Any, items: list[Any], sink: TaskSink
+    ) -> None:
+        client = _dask.connect(self.address)
+        futures: list[Any] = []
+        try:
+            workers = _dask.workers(client)
+            # unique keys: content-hashed ones would be shared with an earlier study's data,
+            # whose release could delete them under this study's tasks
+            scattered = client.scatter(shared, broadcast=True, hash=False)
+            futures = [
+                client.submit(_attempt_on_dask, function, scattered, index, item, pure=False)
+                for index, item in enumerate(items)
+            ]
+            where = {future.key: index for index, future in enumerate(futures)}
+            try:
+                for future in _dask.completed(client, futures, self.address):
+                    if future.status == "error":  # KilledWorker: Dask gave up after its retries
+                        error = future.exception()
+                        index = where[future.key]
+                        outcome: tuple[bool, Any] = (False, f"{type(error).__name__}: {error}")
+                    else:
+                        index, outcome = _dask.result(future, self.address)
+                    sink.store(index, outcome)
+                    sink.advance(index)
+            except _dask.ClusterLost as lost:  # the items that finished are kept; the others failed
+                for future in futures:
+                    if not future.done():
+                        sink.store(where[future.key], (False, f"ClusterLost: {lost}"))
+                client.cancel(futures)
+            self.workers = workers
+        except BaseException:
+            if futures:
+                client.cancel(futures)
+            raise
+        finally:
+            client.close()
+
+
+class Gpu(Executor):
+    """The engine's device kernel (JAX) from this process; other tasks run here."""
+
+    kind = "gpu"
+    on_device = True
+
+    def lane_chunk(self, n: int, slots: int) -> int:
+        return self.backend.chunk_size or GPU_CHUNK
+
+    def block(self, default: int) -> int:
+        return self.backend.chunk_size or GPU_CHUNK
+
+    def lane_parts(self, n: int, chunk: int) -> int:
+        # the JAX kernel cuts its own chunks and pads the last one, so that one compilation
+        # serves them all: it is given every lane at once
+        return max(n, 1)
+
+    def run_lanes(self, lanes: Lanes) -> None:
+        device = lanes.work.device
+        if device is None:
+            raise ConfigError("the gpu backend runs the batch engine only")
+        for k, item in enumerate(lanes.chunks):
+            lanes.done(k, device(item, lanes.chunk))
+
+    def for_tasks(self, n: int) -> Executor:
+        return Local(Backend("local"))
+
+
+_EXECUTORS: dict[str, type[Executor]] = {cls.kind: cls for cls in (Local, Processes, Dask, Gpu)}
+
+
+def executor(backend: Backend | str) -> Executor:
+    """The executor of ``backend`` (a name is a :class:`Backend` of that kind)."""
+    if isinstance(backend, str):
+        backend = Backend(backend)  # type: ignore[arg-type]
+    return _EXECUTORS[backend.kind](backend)
