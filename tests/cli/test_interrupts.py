@@ -71,7 +71,7 @@ if __name__ == "__main__":
 
         tolerance.study_plots = design.design_plots = drawing
     else:  # a block of samples is stored (the executor's progress, after it keeps them)
-        progress.progress_bar = announcing(progress.progress_bar, "samples")
+        progress.bar = announcing(progress.bar, "samples")
     from jointplay.cli import main
 
     sys.argv = ["jointplay", *sys.argv[2:]]
@@ -89,6 +89,7 @@ def _start(tmp_path: Path, when: str, arguments: list[str]) -> tuple[subprocess.
         stderr=subprocess.PIPE,
         text=True,
         env={**os.environ, "JOINTPLAY_TEST_READY": str(ready)},
+        start_new_session=True,  # its own process group: a failed test kills the pool too
     )
     return process, ready
 
@@ -99,7 +100,10 @@ def _wait_for(process: subprocess.Popen[str], ready: Path, timeout: float = 240.
     while not ready.exists():
         if process.poll() is not None:
             return False
-        assert time.monotonic() < deadline, "no readiness signal"
+        if time.monotonic() > deadline:  # stop the run (and its pool) before failing
+            os.killpg(process.pid, signal.SIGKILL)
+            process.communicate()
+            raise AssertionError("no readiness signal")
         time.sleep(0.02)
     return True
 
