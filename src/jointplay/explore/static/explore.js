@@ -386,7 +386,7 @@ function drawCurves(curves) {
     layout.annotations.push({ text: title, x: 0.5, y: top, xref: "paper", yref: "paper", yanchor: "bottom", showarrow: false, font: { size: 13 } });
     for (const key of names) {
       const series = curves.series[key];
-      traces.push({ x: curves.crank_deg, y: series.values, xaxis: "x" + n, yaxis: "y" + n, mode: "lines", name: key, meta: [key, "run"], line: { color: COLOURS[colour++ % COLOURS.length], width: 1.5 } });
+      traces.push({ x: curves.crank_deg, y: series.values, xaxis: "x" + n, yaxis: "y" + n, mode: "lines", name: key, meta: [key, "run"], showlegend: k === 0, line: { color: COLOURS[colour++ % COLOURS.length], width: 1.5 } });
       if (series.nominal.length) {
         traces.push({ x: curves.nominal_crank_deg, y: series.nominal, xaxis: "x" + n, yaxis: "y" + n, mode: "lines", name: `${key} ideal`, meta: [key, "ideal"], showlegend: false, line: { color: "#111", dash: "dot", width: 1.5 } });
       }
