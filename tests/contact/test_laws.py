@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 
+from jointplay._kernels import contact as kc
 from jointplay.contact.laws import (
     CONTACT_LAWS,
     DEFAULT_V_FLOOR,
@@ -26,6 +27,7 @@ from jointplay.contact.laws import (
     RestitutionLaw,
     ZhiyingQishaoLaw,
     get_law,
+    layout,
     step3,
 )
 from jointplay.contact.restitution import chi_for_restitution, single_impact
@@ -90,8 +92,35 @@ def test_examples_cover_the_registry() -> None:
     for name, cls in CONTACT_LAWS.items():
         assert cls.name == name
         assert isinstance(EXAMPLES[name], cls)
-    ids = [cls.law_id for cls in CONTACT_LAWS.values()]
-    assert len(set(ids)) == len(ids)
+    # law_id is the kernel's force form: its own for each law outside the Hunt–Crossley family,
+    # an id from HC_FIRST to HC_LAST (one form, which family members may share) inside it
+    for cls in CONTACT_LAWS.values():
+        family = issubclass(cls, HuntCrossleyTypeLaw | RestitutionLaw)
+        assert family == (kc.HC_FIRST <= cls.law_id <= kc.HC_LAST), cls.name
+    others = [cls.law_id for cls in CONTACT_LAWS.values() if cls.law_id < kc.HC_FIRST]
+    assert len(set(others)) == len(others)
+
+
+@pytest.mark.parametrize("name", sorted(CONTACT_LAWS))
+def test_each_law_declares_what_it_packs(name: str) -> None:
+    """``params()`` is the declared ``packing``; a field packed as it is sits in its slot, and
+    the stiffness the geometric refit replaces is a field of the law."""
+    law = EXAMPLES[name]
+    fields = {item.name for item in dataclasses.fields(law)}
+    np.testing.assert_array_equal(law.params(), [getattr(law, n) for n in law.packing])
+    for field in fields:
+        slot = law.packed_slot(field)
+        if slot is not None:
+            assert law.params()[slot] == getattr(law, field)
+    assert law.stiffness_name in fields and law.packed_slot(law.stiffness_name) == 0
+    unpacked = fields - set(law.packing)  # packed transformed (restitution → χ), or not at all
+    assert unpacked <= {"restitution"}
+
+
+def test_a_layout_must_fill_every_slot() -> None:
+    assert layout(2, {1: "b", 0: "a"}) == ("a", "b")
+    with pytest.raises(ConfigError, match="do not fill"):
+        layout(3, {0: "a", 2: "c"})
 
 
 @pytest.mark.parametrize("name", sorted(CONTACT_LAWS))

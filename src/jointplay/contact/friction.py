@@ -5,7 +5,8 @@ relative to the bearing, m/s; the laws return the signed ``F_T = μ(v_T) F_N sgn
 and the friction force on the journal is ``-F_T t`` (on the bearing ``+F_T t``), so friction
 always opposes the slip. Each law's :meth:`~FrictionLaw.force` is the readable NumPy
 reference of the compiled kernel :func:`jointplay._kernels.contact.friction_force`;
-``law.law_id`` and ``law.params()`` are what the kernel takes. Laws are registered by name in
+``law.law_id`` and ``law.params()`` (generic: the attributes the class's ``packing`` names)
+are what the kernel takes. Laws are registered by name in
 :data:`FRICTION_LAWS`; :func:`get_friction` accepts a name plus parameters, or an instance.
 """
 
@@ -21,12 +22,13 @@ import numpy as np
 import numpy.typing as npt
 
 from jointplay._kernels import contact as kc
-from jointplay.contact.laws import FloatArray, _pack, _resolve, _Validated, step3
+from jointplay.contact.laws import FloatArray, _Packed, _resolve, _Validated, layout, step3
 
 
 @dataclass(frozen=True)
-class FrictionLaw(_Validated, ABC):
-    """Base of the friction laws: ``name``, ``law_id``, ``citation``, ``equation``."""
+class FrictionLaw(_Packed, _Validated, ABC):
+    """Base of the friction laws: ``name``, ``law_id``, ``packing`` (the attributes in the
+    order of the kernel's packed layout), ``citation``, ``equation``."""
 
     name: ClassVar[str]
     law_id: ClassVar[int]
@@ -46,10 +48,6 @@ class FrictionLaw(_Validated, ABC):
         """
         return self.coefficient(v_t) * np.asarray(f_n, dtype=np.float64)
 
-    @abstractmethod
-    def params(self) -> FloatArray:
-        """Packed float64 parameters in the kernel's layout for ``law_id``."""
-
 
 @dataclass(frozen=True)
 class NoFriction(FrictionLaw):
@@ -57,6 +55,7 @@ class NoFriction(FrictionLaw):
 
     name: ClassVar[str] = "none"
     law_id: ClassVar[int] = kc.FRICTION_NONE
+    packing: ClassVar[tuple[str, ...]] = layout(kc.NONE_SIZE, {})
     citation: ClassVar[str] = "frictionless contact"
     equation: ClassVar[str] = "F_T = 0"
 
@@ -68,10 +67,6 @@ class NoFriction(FrictionLaw):
         """Zero everywhere, N (broadcast shape of the arguments)."""
         v, _ = np.broadcast_arrays(np.asarray(v_t, dtype=np.float64), np.asarray(f_n))
         return np.zeros_like(v)
-
-    def params(self) -> FloatArray:
-        """An empty array (layout ``NONE_SIZE`` = 0)."""
-        return np.empty(kc.NONE_SIZE)
 
 
 @dataclass(frozen=True)
@@ -93,6 +88,9 @@ class AmbrosioFriction(FrictionLaw):
 
     name: ClassVar[str] = "ambrosio"
     law_id: ClassVar[int] = kc.FRICTION_AMBROSIO
+    packing: ClassVar[tuple[str, ...]] = layout(
+        kc.AMBROSIO_SIZE, {kc.AMBROSIO_MU: "mu", kc.AMBROSIO_V0: "v0", kc.AMBROSIO_V1: "v1"}
+    )
     citation: ClassVar[str] = (
         "Ambrósio (2003), Impact of rigid and flexible multibody systems; Flores et al.; "
         "docs/contact-laws.md §4"
@@ -129,13 +127,6 @@ class AmbrosioFriction(FrictionLaw):
         v = np.asarray(v_t, dtype=np.float64)
         return self.mu * self.correction(v) * np.asarray(f_n, dtype=np.float64) * np.sign(v)
 
-    def params(self) -> FloatArray:
-        """``[mu, v0, v1]`` (layout ``AMBROSIO_*``)."""
-        return _pack(
-            kc.AMBROSIO_SIZE,
-            {kc.AMBROSIO_MU: self.mu, kc.AMBROSIO_V0: self.v0, kc.AMBROSIO_V1: self.v1},
-        )
-
 
 @dataclass(frozen=True)
 class AdamsFriction(FrictionLaw):
@@ -161,6 +152,15 @@ class AdamsFriction(FrictionLaw):
 
     name: ClassVar[str] = "adams"
     law_id: ClassVar[int] = kc.FRICTION_ADAMS
+    packing: ClassVar[tuple[str, ...]] = layout(
+        kc.ADAMS_SIZE,
+        {
+            kc.ADAMS_MU_STATIC: "mu_static",
+            kc.ADAMS_MU_DYNAMIC: "mu_dynamic",
+            kc.ADAMS_V_STATIC: "v_static",
+            kc.ADAMS_V_DYNAMIC: "v_dynamic",
+        },
+    )
     citation: ClassVar[str] = (
         "MSC ADAMS contact friction (adams.thisaray.com/adams_view/contact_friction_force.html); "
         "docs/contact-laws.md §1.4"
@@ -209,18 +209,6 @@ class AdamsFriction(FrictionLaw):
             speed <= self.v_static,
             stiction,
             np.where(speed < self.v_dynamic, transition, sliding),
-        )
-
-    def params(self) -> FloatArray:
-        """``[mu_static, mu_dynamic, v_static, v_dynamic]`` (layout ``ADAMS_*``)."""
-        return _pack(
-            kc.ADAMS_SIZE,
-            {
-                kc.ADAMS_MU_STATIC: self.mu_static,
-                kc.ADAMS_MU_DYNAMIC: self.mu_dynamic,
-                kc.ADAMS_V_STATIC: self.v_static,
-                kc.ADAMS_V_DYNAMIC: self.v_dynamic,
-            },
         )
 
 

@@ -2,9 +2,13 @@
 
 Every law is a frozen dataclass whose fields are its parameters (SI, validated at
 construction) and whose :meth:`~ContactLaw.force` is the readable NumPy reference of the
-compiled kernel :func:`jointplay._kernels.contact.normal_force`. ``law.law_id`` and
-``law.params()`` are what the kernel takes. Laws are registered by name in
-:data:`CONTACT_LAWS`; :func:`get_law` accepts a name plus parameters, or an instance.
+compiled kernel :func:`jointplay._kernels.contact.normal_force`. Each law declares, as data
+on its class, what the kernel takes: ``law_id`` (the kernel's force form) and ``packing``
+(the attributes, in slot order, of the packed ``float64`` array ``law.params()``), plus
+``stiffness_name`` (the field a geometric stiffness refit replaces). Packing is generic:
+nothing outside the law inspects its type or probes its fields. Laws are registered by name
+in :data:`CONTACT_LAWS`; :func:`get_law` accepts a name plus parameters, or an instance.
+docs/contact-laws.md, "Adding a law", says what a new law takes.
 
 Conventions (the dynamics engine relies on them):
 
@@ -156,11 +160,38 @@ def step3(x: npt.ArrayLike, x0: float, h0: float, x1: float, h1: float) -> Float
     return np.where(x <= x0, h0, np.where(x >= x1, h1, ramp))
 
 
-def _pack(size: int, values: Mapping[int, float]) -> FloatArray:
-    packed = np.full(size, np.nan)
-    for index, value in values.items():
-        packed[index] = value
-    return packed
+def layout(size: int, slots: Mapping[int, str]) -> tuple[str, ...]:
+    """A law's ``packing``: the attribute names of a kernel layout's slots, in slot order.
+
+    ``slots`` maps each slot index (the layout constants of :mod:`jointplay._kernels.contact`)
+    to the attribute packed there, so the kernel module stays the one place where a layout is
+    defined.
+
+    Raises:
+        ConfigError: the slots are not exactly ``0 .. size - 1``.
+    """
+    if sorted(slots) != list(range(size)):
+        raise ConfigError(f"packed layout: slots {sorted(slots)} do not fill 0..{size - 1}")
+    return tuple(slots[index] for index in range(size))
+
+
+class _Packed:
+    """Mixin for the laws the kernels evaluate: ``packing`` declares the packed parameters."""
+
+    #: Attribute names packed into the kernel's parameter array, slot by slot (fields, or
+    #: derived values such as the hysteresis factor ``chi``); see :func:`layout`.
+    packing: ClassVar[tuple[str, ...]]
+
+    def params(self) -> FloatArray:
+        """Packed float64 parameters in the kernel's layout for ``law_id``: the attributes
+        named by ``packing``, in order."""
+        return np.array([getattr(self, name) for name in self.packing], dtype=np.float64)
+
+    @classmethod
+    def packed_slot(cls, field: str) -> int | None:
+        """The slot where the dataclass field ``field`` is packed as it is, or ``None`` when it
+        is packed transformed (a restitution, packed as its hysteresis factor) or not at all."""
+        return cls.packing.index(field) if field in cls.packing else None
 
 
 def _prepare(
@@ -180,15 +211,20 @@ def _clamped(force: FloatArray, in_contact: npt.NDArray[np.bool_]) -> FloatArray
 
 
 @dataclass(frozen=True)
-class ContactLaw(_Validated, ABC):
+class ContactLaw(_Packed, _Validated, ABC):
     """Base of the normal contact force laws.
 
-    Class attributes: ``name`` (registry key), ``law_id`` (kernel id), ``needs_impact_velocity``,
-    ``citation`` and ``equation``.
+    Class attributes: ``name`` (registry key), ``law_id`` (the kernel's force form, a
+    ``LAW_*`` id of :mod:`jointplay._kernels.contact`), ``packing`` (attributes in the order of
+    that form's packed layout), ``stiffness_name``, ``needs_impact_velocity``, ``citation`` and
+    ``equation``.
     """
 
     name: ClassVar[str]
     law_id: ClassVar[int]
+    #: The field holding the stiffness K of ``K δ^n`` (a geometric refit replaces it and
+    #: ``exponent``).
+    stiffness_name: ClassVar[str] = "stiffness"
     needs_impact_velocity: ClassVar[bool] = False
     citation: ClassVar[str]
     equation: ClassVar[str]
@@ -208,10 +244,6 @@ class ContactLaw(_Validated, ABC):
             v0: impact velocity of the current contact event, m/s; ignored by laws that do
                 not need it. ``None`` or values ≤ 0 mean "not known yet".
         """
-
-    @abstractmethod
-    def params(self) -> FloatArray:
-        """Packed float64 parameters in the kernel's layout for ``law_id``."""
 
 
 @dataclass(frozen=True)
@@ -235,6 +267,15 @@ class ImpactLaw(ContactLaw):
 
     name: ClassVar[str] = "impact"
     law_id: ClassVar[int] = kc.LAW_IMPACT
+    packing: ClassVar[tuple[str, ...]] = layout(
+        kc.IMPACT_SIZE,
+        {
+            kc.IMPACT_STIFFNESS: "stiffness",
+            kc.IMPACT_EXPONENT: "exponent",
+            kc.IMPACT_C_MAX: "c_max",
+            kc.IMPACT_D_MAX: "d_max",
+        },
+    )
     citation: ClassVar[str] = (
         "MSC ADAMS IMPACT function (adams.thisaray.com/adams_solver/func_impact.html); "
         "paper eqs. (1)-(3); docs/contact-laws.md §1.2"
@@ -274,18 +315,6 @@ class ImpactLaw(ContactLaw):
         force = self.stiffness * penetration**self.exponent + damping * rate
         return _clamped(force, in_contact)
 
-    def params(self) -> FloatArray:
-        """``[stiffness, exponent, c_max, d_max]`` (layout ``IMPACT_*``)."""
-        return _pack(
-            kc.IMPACT_SIZE,
-            {
-                kc.IMPACT_STIFFNESS: self.stiffness,
-                kc.IMPACT_EXPONENT: self.exponent,
-                kc.IMPACT_C_MAX: self.c_max,
-                kc.IMPACT_D_MAX: self.d_max,
-            },
-        )
-
 
 @dataclass(frozen=True)
 class HertzLaw(ContactLaw):
@@ -298,6 +327,9 @@ class HertzLaw(ContactLaw):
 
     name: ClassVar[str] = "hertz"
     law_id: ClassVar[int] = kc.LAW_HERTZ
+    packing: ClassVar[tuple[str, ...]] = layout(
+        kc.HERTZ_SIZE, {kc.HERTZ_STIFFNESS: "stiffness", kc.HERTZ_EXPONENT: "exponent"}
+    )
     citation: ClassVar[str] = (
         "Hertz (1882); Johnson (1985) Contact Mechanics; docs/contact-laws.md §2.1"
     )
@@ -323,12 +355,6 @@ class HertzLaw(ContactLaw):
         penetration, _, in_contact = _prepare(delta, delta_dot)
         return _clamped(self.stiffness * penetration**self.exponent, in_contact)
 
-    def params(self) -> FloatArray:
-        """``[stiffness, exponent]`` (layout ``HERTZ_*``)."""
-        return _pack(
-            kc.HERTZ_SIZE, {kc.HERTZ_STIFFNESS: self.stiffness, kc.HERTZ_EXPONENT: self.exponent}
-        )
-
 
 @dataclass(frozen=True)
 class KelvinVoigtLaw(ContactLaw):
@@ -346,6 +372,9 @@ class KelvinVoigtLaw(ContactLaw):
 
     name: ClassVar[str] = "kelvin-voigt"
     law_id: ClassVar[int] = kc.LAW_KELVIN_VOIGT
+    packing: ClassVar[tuple[str, ...]] = layout(
+        kc.KV_SIZE, {kc.KV_STIFFNESS: "stiffness", kc.KV_DAMPING: "damping"}
+    )
     citation: ClassVar[str] = "Kelvin–Voigt viscoelastic element; docs/contact-laws.md §2.1"
     equation: ClassVar[str] = "F = max(0, K δ + D δ̇)"
     aliases: ClassVar[Mapping[str, str]] = MappingProxyType(
@@ -369,10 +398,6 @@ class KelvinVoigtLaw(ContactLaw):
         penetration, rate, in_contact = _prepare(delta, delta_dot)
         force = self.stiffness * penetration + self.damping * rate
         return _clamped(force, in_contact)
-
-    def params(self) -> FloatArray:
-        """``[stiffness, damping]`` (layout ``KV_*``)."""
-        return _pack(kc.KV_SIZE, {kc.KV_STIFFNESS: self.stiffness, kc.KV_DAMPING: self.damping})
 
 
 def _hunt_crossley_force(
@@ -417,6 +442,12 @@ class RestitutionLaw(ContactLaw):
 
     name: ClassVar[str] = "restitution"
     law_id: ClassVar[int] = kc.LAW_RESTITUTION
+    packing: ClassVar[tuple[str, ...]] = layout(
+        kc.HC_SIZE,
+        {kc.HC_STIFFNESS: "penalty", kc.HC_EXPONENT: "exponent", kc.HC_CHI: "chi",
+         kc.HC_V_FLOOR: "v_floor"},
+    )  # fmt: skip
+    stiffness_name: ClassVar[str] = "penalty"
     needs_impact_velocity: ClassVar[bool] = True
     citation: ClassVar[str] = (
         "Surrogate for the paper's Restitution Method (eq. 8, ADAMS POISSON, law unpublished); "
@@ -466,18 +497,6 @@ class RestitutionLaw(ContactLaw):
             self.penalty, self.exponent, self.chi, self.v_floor, delta, delta_dot, v0
         )
 
-    def params(self) -> FloatArray:
-        """``[penalty, exponent, chi, v_floor]`` (layout ``HC_*``)."""
-        return _pack(
-            kc.HC_SIZE,
-            {
-                kc.HC_STIFFNESS: self.penalty,
-                kc.HC_EXPONENT: self.exponent,
-                kc.HC_CHI: self.chi,
-                kc.HC_V_FLOOR: self.v_floor,
-            },
-        )
-
 
 @dataclass(frozen=True)
 class HuntCrossleyTypeLaw(ContactLaw):
@@ -494,6 +513,15 @@ class HuntCrossleyTypeLaw(ContactLaw):
         v_floor: floor on the impact velocity, m/s (default 1e-4; module docstring).
     """
 
+    #: The kernel evaluates every id from ``HC_FIRST`` to ``HC_LAST`` as this one force form;
+    #: the registered laws carry their own ids only to be told apart, and a new χ(e) law may
+    #: keep this inherited one (docs/contact-laws.md, "Adding a law").
+    law_id: ClassVar[int] = kc.LAW_HUNT_CROSSLEY
+    packing: ClassVar[tuple[str, ...]] = layout(
+        kc.HC_SIZE,
+        {kc.HC_STIFFNESS: "stiffness", kc.HC_EXPONENT: "exponent", kc.HC_CHI: "chi",
+         kc.HC_V_FLOOR: "v_floor"},
+    )  # fmt: skip
     needs_impact_velocity: ClassVar[bool] = True
     aliases: ClassVar[Mapping[str, str]] = MappingProxyType(
         {
@@ -540,18 +568,6 @@ class HuntCrossleyTypeLaw(ContactLaw):
         """Hunt–Crossley-type force, N. See the class and module docstrings."""
         return _hunt_crossley_force(
             self.stiffness, self.exponent, self.chi, self.v_floor, delta, delta_dot, v0
-        )
-
-    def params(self) -> FloatArray:
-        """``[stiffness, exponent, chi, v_floor]`` (layout ``HC_*``)."""
-        return _pack(
-            kc.HC_SIZE,
-            {
-                kc.HC_STIFFNESS: self.stiffness,
-                kc.HC_EXPONENT: self.exponent,
-                kc.HC_CHI: self.chi,
-                kc.HC_V_FLOOR: self.v_floor,
-            },
         )
 
 

@@ -26,6 +26,7 @@ from numpy.typing import NDArray
 from jointplay._kernels import batch as kb
 from jointplay._kernels import constraints as ck
 from jointplay._kernels import eom
+from jointplay.contact.laws import ContactLaw
 from jointplay.dynamics.clearance import MIN_CLEARANCE, ClearanceJoint, stiffness_field
 from jointplay.dynamics.cycles import analysed_revolutions, settle_revolutions
 from jointplay.dynamics.simulate import SolverOptions, Start, initial_state
@@ -411,11 +412,12 @@ def _geometric_changes(
 
 
 def _law_columns(
-    law: Any, changes: Mapping[str, FloatArray], n: int
+    law: ContactLaw, changes: Mapping[str, FloatArray], n: int
 ) -> tuple[FloatArray, NDArray[np.bool_], list[str]]:
     """(n, PARAMS_WIDTH) packed parameters of ``law`` with ``changes`` per sample, validity
-    and messages. Fields the law packs as they are go straight into their column; others
-    (e.g. a restitution, packed as its hysteresis factor) are packed once per distinct row."""
+    and messages. Fields the law packs as they are (its declared ``packing``) go straight into
+    their column; others (e.g. a restitution, packed as its hysteresis factor) are packed once
+    per distinct row."""
     base = np.zeros(PARAMS_WIDTH)
     packed = law.params()
     base[: len(packed)] = packed
@@ -424,16 +426,8 @@ def _law_columns(
     errors = [""] * n
     if not changes:
         return out, ok, errors
-    direct: dict[str, int] = {}
-    for name in changes:
-        probe = float(getattr(law, name)) * 1.25 + 1e-3
-        try:
-            moved = dataclasses.replace(law, **{name: probe}).params()
-        except JointplayError:
-            continue
-        diff = np.flatnonzero(~((moved == packed) | (np.isnan(moved) & np.isnan(packed))))
-        if diff.size == 1 and moved[diff[0]] == probe:
-            direct[name] = int(diff[0])
+    slots = {name: law.packed_slot(name) for name in changes}  # the law declares them
+    direct = {name: slot for name, slot in slots.items() if slot is not None}
     for name, column in direct.items():
         out[:, column] = changes[name]
     rows = np.column_stack([changes[name] for name in changes])

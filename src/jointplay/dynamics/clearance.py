@@ -87,8 +87,9 @@ class JointStiffness:
 
 
 def stiffness_field(law: ContactLaw) -> str:
-    """The name of the stiffness field of a contact law (``penalty`` for ``restitution``)."""
-    return "penalty" if hasattr(law, "penalty") else "stiffness"
+    """The name of the stiffness field of a contact law (``penalty`` for ``restitution``), as
+    the law declares it (:attr:`~jointplay.contact.laws.ContactLaw.stiffness_name`)."""
+    return law.stiffness_name
 
 
 @dataclass(frozen=True)
