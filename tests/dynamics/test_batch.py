@@ -424,6 +424,36 @@ def test_an_interrupt_keeps_the_finished_lanes(
     )
 
 
+@pytest.mark.slow  # JAX compiles the batch for ~10 s
+def test_an_interrupt_on_the_gpu_backend_keeps_the_finished_chunks(
+    paper_fourbar: Mechanism, reference, interrupt_after_first_chunk
+) -> None:
+    """The GPU backend (here on JAX's CPU backend) runs its chunks one XLA call each, so
+    Ctrl-C after the first chunk keeps that chunk's lanes (status ok, the values of the CPU
+    run) and marks the others not run. It used to give all the lanes to one call, and an
+    interrupt lost them all."""
+    pytest.importorskip("jax")
+    from jointplay.dynamics.batch import NOT_RUN, BatchInterrupted
+    from jointplay.dynamics.integrate import IntegrationStatus
+
+    samples, expected = reference
+    with pytest.raises(BatchInterrupted) as stopped:
+        simulate_batch(
+            paper_fourbar, _joints(), samples, backend="gpu", method="explicit",
+            chunk_size=2, progress=True, settle=0,
+        )  # fmt: skip
+    result = stopped.value.result
+    finished = result.status != IntegrationStatus.INTERRUPTED
+    assert finished.tolist() == [True] * 2 + [False] * (len(samples) - 2)
+    assert result.ok[finished].all()
+    assert all(e == NOT_RUN for e in np.asarray(result.errors)[~finished])
+    assert np.isnan(result.peaks.to_numpy()[~finished]).all()
+    np.testing.assert_allclose(
+        result.peaks.to_numpy()[finished], expected.peaks.to_numpy()[finished],
+        rtol=SAME_ALGORITHM_RTOL,
+    )  # fmt: skip
+
+
 def _nothing():
     from contextlib import nullcontext
 

@@ -245,8 +245,8 @@ def _lane_work(problem: BatchProblem, method: str) -> LaneWork:
             problem.ipar, *chunk, *constants, parallel=parallel, interrupt=interrupt
         )
 
-    def device(chunk: Chunk, size: int) -> kb.BatchKernelOutput:
-        outputs = _gpu_kernel()(problem.ipar, *chunk, *constants, chunk_size=size)
+    def device(chunk: Chunk, size: int, timings: dict[str, float]) -> kb.BatchKernelOutput:
+        outputs = _gpu_kernel()(problem.ipar, *chunk, *constants, chunk_size=size, timings=timings)
         return kb.BatchKernelOutput(*(np.asarray(a) for a in outputs))
 
     def stopped(output: kb.BatchKernelOutput) -> bool:
