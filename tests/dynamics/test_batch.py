@@ -454,6 +454,32 @@ def test_an_interrupt_on_the_gpu_backend_keeps_the_finished_chunks(
     )  # fmt: skip
 
 
+def test_an_interrupt_while_the_batch_result_is_put_together_keeps_every_lane(
+    paper_fourbar: Mechanism, reference, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Ctrl-C after every lane ran, while the engine builds the result's tables: the result
+    comes back with the interrupt (BatchInterrupted, every lane ok), not lost with it."""
+    import os
+    import signal
+
+    import jointplay.dynamics.batch as batch
+    from jointplay.dynamics.batch import BatchInterrupted
+
+    samples, expected = reference
+    names = batch._names
+
+    def tables(*args, **kwargs):
+        os.kill(os.getpid(), signal.SIGINT)
+        return names(*args, **kwargs)
+
+    monkeypatch.setattr(batch, "_names", tables)
+    with pytest.raises(KeyboardInterrupt) as stopped:
+        simulate_batch(paper_fourbar, _joints(), samples, backend="local", settle=0)
+    assert isinstance(stopped.value, BatchInterrupted), "the finished lanes were lost"
+    assert stopped.value.result.ok.all()
+    _same(stopped.value.result, expected)
+
+
 def _nothing():
     from contextlib import nullcontext
 
