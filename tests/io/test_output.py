@@ -429,3 +429,20 @@ def test_a_held_interrupt_is_delivered_after_the_next_data_write_or_on_release()
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
     hold_signals()
     release_signals()  # nothing came: nothing raised
+
+
+def test_a_marker_that_is_a_fifo_is_not_read(tmp_path: Path) -> None:
+    """The marker of an old result goes through the bounded reader: a FIFO in its place (a
+    read would block for ever) counts as no marker, and the partial result goes beside it."""
+    import os
+
+    from jointplay.errors import Interrupted
+
+    out = tmp_path / "out"
+    out.mkdir()
+    os.mkfifo(out / MARKER)
+    with pytest.raises(Interrupted) as stopped, output_dir(out) as staging:
+        (staging / "a.txt").write_text("x")
+        raise Interrupted(1, 2, "points")
+    assert stopped.value.written_to is not None
+    assert (stopped.value.written_to / "a.txt").read_text() == "x"

@@ -120,9 +120,11 @@ def _foreign(path: Path) -> bool:
 
 def _completeness(path: Path) -> float | None:
     """How complete the jointplay result at ``path`` is (1: complete), ``None`` if none."""
-    try:
-        record = json.loads((path / MARKER).read_text(encoding="utf-8"))
-    except (OSError, ValueError):
+    from jointplay.io.config import read_text_file  # the one bounded reader
+
+    try:  # a FIFO or device in its place is refused, never read (it would hang)
+        record = json.loads(read_text_file(path / MARKER, "result marker"))
+    except (OSError, ValueError):  # ConfigError is a ValueError
         return None if not path.is_dir() or _foreign(path) else 0.0
     share = record.get("complete", 1.0) if isinstance(record, dict) else 1.0
     return float(share) if isinstance(share, int | float) else 1.0
