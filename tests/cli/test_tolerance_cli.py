@@ -285,3 +285,42 @@ def test_samples_beyond_the_clearance_get_one_warning_line_per_joint(tmp_path, c
     assert "penetration-exceeds-clearance" not in capsys.readouterr().err
     codes = {d["code"] for d in _summary(tmp_path / "stiff")["diagnostics"]}
     assert codes == {"penetration-exceeds-elastic"}
+
+
+def test_an_interrupt_between_the_study_and_its_writing_keeps_every_sample(
+    tmp_path, capsys, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Ctrl-C after the study finished and before its results were written (here: as the
+    command reads the study's summary) used to lose every sample; they are now written as
+    the partial result (the figures and report missing), beside the complete result of an
+    earlier run, which is kept."""
+    import os
+    import signal
+
+    from jointplay.tolerance.analysis import ToleranceStudyResult
+
+    out = tmp_path / "out"
+    args = ["tolerance", "--samples", "40", "--out", str(out), *QUIET]
+    assert run(args) == 0
+    before = pd.read_parquet(out / "samples.parquet")
+    capsys.readouterr()
+    summary = ToleranceStudyResult.summary
+    calls = []
+
+    def interrupted_once(self):
+        if not calls:  # the command's own call, before the writing
+            calls.append(1)
+            os.kill(os.getpid(), signal.SIGINT)
+        return summary(self)
+
+    monkeypatch.setattr(ToleranceStudyResult, "summary", interrupted_once)
+    assert run(args) == 130
+    beside = tmp_path / "out.interrupted-1"
+    assert capsys.readouterr().err.strip().splitlines()[-1] == (
+        "jointplay: interrupted; 40 of 40 points finished (the figures and report missing); "
+        f"their results were written to {beside} (the more complete result in {out} was kept)"
+    )
+    pd.testing.assert_frame_equal(pd.read_parquet(out / "samples.parquet"), before)
+    pd.testing.assert_frame_equal(pd.read_parquet(beside / "samples.parquet"), before)
+    assert not (beside / "report.html").exists()
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # nothing left held

@@ -424,6 +424,62 @@ def test_an_interrupt_keeps_the_finished_lanes(
     )
 
 
+@pytest.mark.slow  # JAX compiles the batch for ~10 s
+def test_an_interrupt_on_the_gpu_backend_keeps_the_finished_chunks(
+    paper_fourbar: Mechanism, reference, interrupt_after_first_chunk
+) -> None:
+    """The GPU backend (here on JAX's CPU backend) runs its chunks one XLA call each, so
+    Ctrl-C after the first chunk keeps that chunk's lanes (status ok, the values of the CPU
+    run) and marks the others not run. It used to give all the lanes to one call, and an
+    interrupt lost them all."""
+    pytest.importorskip("jax")
+    from jointplay.dynamics.batch import NOT_RUN, BatchInterrupted
+    from jointplay.dynamics.integrate import IntegrationStatus
+
+    samples, expected = reference
+    with pytest.raises(BatchInterrupted) as stopped:
+        simulate_batch(
+            paper_fourbar, _joints(), samples, backend="gpu", method="explicit",
+            chunk_size=2, progress=True, settle=0,
+        )  # fmt: skip
+    result = stopped.value.result
+    finished = result.status != IntegrationStatus.INTERRUPTED
+    assert finished.tolist() == [True] * 2 + [False] * (len(samples) - 2)
+    assert result.ok[finished].all()
+    assert all(e == NOT_RUN for e in np.asarray(result.errors)[~finished])
+    assert np.isnan(result.peaks.to_numpy()[~finished]).all()
+    np.testing.assert_allclose(
+        result.peaks.to_numpy()[finished], expected.peaks.to_numpy()[finished],
+        rtol=SAME_ALGORITHM_RTOL,
+    )  # fmt: skip
+
+
+def test_an_interrupt_while_the_batch_result_is_put_together_keeps_every_lane(
+    paper_fourbar: Mechanism, reference, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Ctrl-C after every lane ran, while the engine builds the result's tables: the result
+    comes back with the interrupt (BatchInterrupted, every lane ok), not lost with it."""
+    import os
+    import signal
+
+    import jointplay.dynamics.batch as batch
+    from jointplay.dynamics.batch import BatchInterrupted
+
+    samples, expected = reference
+    names = batch._names
+
+    def tables(*args, **kwargs):
+        os.kill(os.getpid(), signal.SIGINT)
+        return names(*args, **kwargs)
+
+    monkeypatch.setattr(batch, "_names", tables)
+    with pytest.raises(KeyboardInterrupt) as stopped:
+        simulate_batch(paper_fourbar, _joints(), samples, backend="local", settle=0)
+    assert isinstance(stopped.value, BatchInterrupted), "the finished lanes were lost"
+    assert stopped.value.result.ok.all()
+    _same(stopped.value.result, expected)
+
+
 def _nothing():
     from contextlib import nullcontext
 

@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import pytest
 
 from jointplay.errors import ConfigError
 from jointplay.execution import ALIASES, BACKENDS, Backend, backend_kind
-from jointplay.execution.executors import _EXECUTORS, Executor, executor
+from jointplay.execution.executors import _EXECUTORS, GPU_CHUNKS, Executor, executor, gpu_chunk
 
 
 def test_every_backend_name_has_one_executor_and_no_more() -> None:
@@ -37,7 +39,55 @@ def test_lane_chunks_follow_the_backend_and_a_given_chunk_size_wins() -> None:
     assert processes.lane_chunk(12, 3) == 1
     assert executor(Backend("processes", workers=3, chunk_size=7)).lane_chunk(1000, 3) == 7
     gpu = executor(Backend("gpu"))
-    assert gpu.on_device and gpu.lane_parts(10, gpu.lane_chunk(10, 1)) == 10
+    assert gpu.on_device and gpu.lane_chunk(10, 1) == GPU_CHUNKS[0]  # the parts it groups
+    assert executor(Backend("gpu", chunk_size=7)).lane_chunk(10, 1) == 7
+
+
+def test_the_gpu_chunk_is_the_largest_size_that_fits_the_budget() -> None:
+    """The rule: the largest size the measured rate runs within the budget; the smallest
+    before anything is measured or when none fits."""
+    sizes = (1024, 4096, 16384, 65536)
+    assert gpu_chunk(None, 2.0, sizes) == 1024
+    assert gpu_chunk(0.0, 2.0, sizes) == 1024
+    assert gpu_chunk(100.0, 2.0, sizes) == 1024  # 10 s even for the smallest: the smallest
+    assert gpu_chunk(22_000.0, 2.0, sizes) == 16384  # 0.74 s; 65536 would take 3 s
+    assert gpu_chunk(32_768.0, 2.0, sizes) == 65536  # exactly the budget
+    assert gpu_chunk(32_767.0, 2.0, sizes) == 16384
+    assert gpu_chunk(1e9, 2.0, sizes) == 65536  # never above the largest
+    assert gpu_chunk(22_000.0, 0.5, sizes) == 4096
+    assert GPU_CHUNKS == (1024, 4096, 16384, 65536)  # powers of 4 up to GPU_CHUNK
+
+
+def test_the_gpu_executor_sizes_each_chunk_from_the_rate_of_the_one_before(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A fake device that runs 4 lanes/s: with a 2 s budget and sizes 2, 8, 32 the first
+    chunk is the smallest, then 8 lanes (2 s), padded to its size when short; every part
+    comes back in order with its own lanes."""
+    import numpy as np
+
+    from jointplay.execution import executors as ex
+    from jointplay.execution.executors import Lanes, LaneWork
+
+    class Out(NamedTuple):
+        lanes: np.ndarray
+
+    calls: list[tuple[int, int]] = []
+
+    def device(chunk, size, timings):
+        calls.append((len(chunk[0]), size))
+        timings["run_s"] = len(chunk[0]) / 4.0
+        return Out(chunk[0].copy())
+
+    work = LaneWork(task=print, shared=None, here=print, stopped=lambda o: False, device=device)
+    parts = [(np.arange(i, min(i + 2, 13)),) for i in range(0, 13, 2)]  # 13 lanes in 7 parts
+    got: dict[int, np.ndarray] = {}
+    monkeypatch.setattr(ex, "GPU_CHUNKS", (2, 8, 32))
+    runner = executor(Backend("gpu"))
+    runner.run_lanes(Lanes(work, parts, 1, 2, lambda k, o: got.__setitem__(k, o.lanes)))
+    assert calls == [(2, 2), (8, 8), (8, 8)]  # the last 3 lanes padded to 8
+    assert sorted(got) == list(range(7))
+    np.testing.assert_array_equal(np.concatenate([got[k] for k in range(7)]), np.arange(13))
 
 
 def test_the_gpu_executor_refuses_an_engine_without_a_device_kernel() -> None:

@@ -402,3 +402,47 @@ def test_an_interrupt_sent_through_another_thread_waits_for_the_held_block() -> 
         steps.append("not reached")
     assert steps == ["the files are whole"]
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # put back
+
+
+def test_a_held_interrupt_is_delivered_after_the_next_data_write_or_on_release() -> None:
+    """hold_signals() (from a study's end) notes Ctrl-C; the writing of the data files
+    (signals_held) takes it over and delivers it when they are whole; without a writing,
+    release_signals() delivers it; the handlers are put back either way."""
+    import os
+    import signal
+
+    from jointplay.io.output import hold_signals, release_signals, signals_held
+
+    written = []
+    hold_signals()
+    os.kill(os.getpid(), signal.SIGINT)  # noted, not raised
+    with pytest.raises(KeyboardInterrupt), signals_held():
+        written.append("data")
+    assert written == ["data"]
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    release_signals()  # taken over already: nothing left to deliver
+
+    hold_signals()
+    os.kill(os.getpid(), signal.SIGINT)
+    with pytest.raises(KeyboardInterrupt):
+        release_signals()
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    hold_signals()
+    release_signals()  # nothing came: nothing raised
+
+
+def test_a_marker_that_is_a_fifo_is_not_read(tmp_path: Path) -> None:
+    """The marker of an old result goes through the bounded reader: a FIFO in its place (a
+    read would block for ever) counts as no marker, and the partial result goes beside it."""
+    import os
+
+    from jointplay.errors import Interrupted
+
+    out = tmp_path / "out"
+    out.mkdir()
+    os.mkfifo(out / MARKER)
+    with pytest.raises(Interrupted) as stopped, output_dir(out) as staging:
+        (staging / "a.txt").write_text("x")
+        raise Interrupted(1, 2, "points")
+    assert stopped.value.written_to is not None
+    assert (stopped.value.written_to / "a.txt").read_text() == "x"

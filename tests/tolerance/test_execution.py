@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import operator
 import pickle
 from typing import ClassVar
@@ -273,3 +274,74 @@ class _Raising:
 
     def describe(self) -> dict:
         return {}
+
+
+def _ctrl_c() -> None:
+    """SIGINT to this process, as Ctrl-C sends it."""
+    import os
+    import signal
+
+    os.kill(os.getpid(), signal.SIGINT)
+
+
+class _CtrlCWhileRead:
+    """An evaluation whose results are read (by :func:`run`, putting the blocks together)
+    just as Ctrl-C arrives."""
+
+    def __init__(self, x: np.ndarray) -> None:
+        self._values, self.ok, self.errors = x.copy(), np.ones(len(x), bool), ("",) * len(x)
+        self.finished = self.checks = None
+
+    @property
+    def values(self) -> np.ndarray:
+        _ctrl_c()
+        return self._values
+
+
+class _LastBlockReadUnderCtrlC(_InterruptedAfter):
+    def evaluate(self, x: np.ndarray):  # type: ignore[override]
+        return _CtrlCWhileRead(x)
+
+
+def test_ctrl_c_while_the_blocks_are_put_together_keeps_every_finished_sample() -> None:
+    """Every block had finished when Ctrl-C came, while :func:`run` put their results
+    together: the run is interrupted and keeps them all (it used to lose them all)."""
+    try:
+        result = run(
+            _LastBlockReadUnderCtrlC(), np.arange(25.0)[:, None], backend=Backend("serial")
+        )
+    except KeyboardInterrupt:
+        pytest.fail("the interrupt went through and the finished samples were lost")
+    assert result.interrupted and result.n_ok == 25
+    np.testing.assert_array_equal(result.values[:, 0], np.arange(25.0))
+
+
+def test_ctrl_c_while_a_dynamic_block_is_post_processed_keeps_the_block(
+    paper_fourbar: Mechanism, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Ctrl-C after the batch engine ran a block, while its responses are computed from the
+    batch result: the block comes back with the interrupt (a PartialInterrupt whose samples
+    all finished), not lost with it."""
+    from jointplay.contact.laws import get_law
+    from jointplay.tolerance.response_dynamic import DynamicResponses
+    from jointplay.tolerance.responses import dynamic_model
+
+    spec = ToleranceSpec.from_mechanism(paper_fourbar)
+    law = get_law("impact", stiffness=3.16e8, exponent=1.5, c_max=1e4, d_max=1e-4)
+    model = dynamic_model(paper_fourbar, spec.names, law, revolutions=0.25, settle=0)
+    model = dataclasses.replace(model, backend=Backend("local"))
+    x = np.repeat(spec.nominal[None, :], 2, axis=0)
+    expected = model.evaluate(x)
+    original = DynamicResponses._evaluation
+
+    def post_processing(self, *args, **kwargs):
+        _ctrl_c()
+        return original(self, *args, **kwargs)
+
+    monkeypatch.setattr(DynamicResponses, "_evaluation", post_processing)
+    with pytest.raises(KeyboardInterrupt) as stopped:
+        model.evaluate(x)
+    assert isinstance(stopped.value, PartialInterrupt), "the block was lost"
+    kept = stopped.value.partial
+    assert kept.ok.all() and kept.finished is None
+    np.testing.assert_array_equal(kept.values, expected.values)

@@ -318,7 +318,8 @@ def run_batch(
         method: ``"explicit"`` (Dormand–Prince 5(4)) or ``"implicit"`` (Radau IIA 5).
         chunk_size: lanes per compiled chunk (default :data:`DEFAULT_CHUNK`).
         timings: if given, receives ``compile_s`` (tracing and compiling, or loading from the
-            persistent cache; 0 when this process had compiled it already) and ``run_s``.
+            persistent cache; 0 when this process had compiled it already), ``run_s`` and
+            ``lanes`` (the lanes that ran in ``run_s``, padding included).
 
     Returns:
         A :class:`BatchKernelOutput` of NumPy arrays, one row per lane.
@@ -346,7 +347,9 @@ def run_batch(
     n = rpar.shape[0]
     _configure(jax)
     on_gpu = jax.default_backend() == "gpu"
-    size = padded_size(n, chunk_size, GPU_MIN_LANES if on_gpu and method == "explicit" else 1)
+    minimum = GPU_MIN_LANES if on_gpu and method == "explicit" else 1
+    # a chunk smaller than the minimum is padded to it too (small shapes are a slow path)
+    size = padded_size(n, max(chunk_size, minimum), minimum)
     compile_s = 0.0
     run_s = 0.0
     parts: list[dict[str, np.ndarray]] = []
@@ -373,6 +376,7 @@ def run_batch(
     if timings is not None:
         timings["compile_s"] = compile_s
         timings["run_s"] = run_s
+        timings["lanes"] = float(size * len(parts))  # the padded lanes that ran
 
     def joined(key: str, dtype: Any) -> np.ndarray:
         return np.ascontiguousarray(np.concatenate([part[key] for part in parts]), dtype=dtype)

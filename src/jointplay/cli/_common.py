@@ -17,6 +17,7 @@ import typer
 from jointplay import __version__
 from jointplay.cli._app import OUTPUT_PANEL, RUN_PANEL, WEAR_PANEL, current_argv
 from jointplay.errors import ConfigError, Interrupted, PartialInterrupt
+from jointplay.io.output import hold_signals, release_signals
 from jointplay.units import parse_quantity
 
 if TYPE_CHECKING:
@@ -360,10 +361,18 @@ _R = TypeVar("_R")
 def run_study(compute: Callable[[], _R]) -> tuple[_R, list[str]]:
     """``(compute(), [])``; an interrupt in the study's convergence check, after every point
     or scheme finished (a :class:`~jointplay.errors.PartialInterrupt`), gives its partial
-    result and ``["the convergence check"]``, what is missing from it."""
+    result and ``["the convergence check"]``, what is missing from it.
+
+    From the study's end SIGINT and SIGTERM are held back
+    (:func:`~jointplay.io.output.hold_signals`) until its data files have been written
+    (:func:`writing_study`): an interrupt in between is delivered after them instead of
+    losing every finished sample."""
     try:
-        return compute(), []
+        result = compute()
+        hold_signals()
+        return result, []
     except PartialInterrupt as stopped:
+        hold_signals()
         return cast("_R", stopped.partial), ["the convergence check"]
 
 
@@ -373,7 +382,10 @@ def writing_study(finished: tuple[int, int, str], missing: list[str]) -> Iterato
     whole: an interrupt there becomes :class:`~jointplay.errors.Interrupted` saying that
     ``finished`` (done, of, what) are kept and ``missing`` and the figures and report are not."""
     try:
-        yield
+        try:
+            yield
+        finally:
+            release_signals()  # what run_study held, if the writing did not take it over
     except KeyboardInterrupt:
         raise Interrupted(*finished, ", ".join([*missing, "the figures and report"])) from None
 

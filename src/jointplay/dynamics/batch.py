@@ -64,6 +64,7 @@ from jointplay.execution import progress as _progress
 from jointplay.execution.backends import BACKENDS, Backend, backend_kind
 from jointplay.execution.dask import ClusterLost
 from jointplay.execution.executors import Executor, Lanes, LaneWork, executor
+from jointplay.execution.interrupts import interrupts_noted
 from jointplay.model.columns import rotating_links
 from jointplay.model.mechanism import Mechanism
 
@@ -245,8 +246,8 @@ def _lane_work(problem: BatchProblem, method: str) -> LaneWork:
             problem.ipar, *chunk, *constants, parallel=parallel, interrupt=interrupt
         )
 
-    def device(chunk: Chunk, size: int) -> kb.BatchKernelOutput:
-        outputs = _gpu_kernel()(problem.ipar, *chunk, *constants, chunk_size=size)
+    def device(chunk: Chunk, size: int, timings: dict[str, float]) -> kb.BatchKernelOutput:
+        outputs = _gpu_kernel()(problem.ipar, *chunk, *constants, chunk_size=size, timings=timings)
         return kb.BatchKernelOutput(*(np.asarray(a) for a in outputs))
 
     def stopped(output: kb.BatchKernelOutput) -> bool:
@@ -419,57 +420,62 @@ def simulate_batch(
     except _PartialDispatch as partial:
         output, used_workers, chunk, lost = partial.args
         interrupted = not lost
-    system = build_system(mechanism, clearances, ramp_time=start.ramp_time, driven=start.driven)
-    peak_names, stat_names = _names(mechanism, system)
-    peaks = np.full((n, len(peak_names)), np.nan)
-    stats = np.full((n, len(stat_names)), np.nan)
-    status = np.full(n, kc.STATUS_NON_FINITE, dtype=np.int64)
-    counters = np.zeros((n, 4))
-    counters[:, 3] = np.nan
-    peaks[lanes] = output.peaks[:, [k for k, _, _ in peak_names]]
-    stats[lanes] = output.stats[:, [k for k, _, _ in stat_names]]
-    status[lanes] = output.status
-    counters[lanes] = np.column_stack(
-        [output.n_steps, output.n_rejected, output.n_rhs, output.t_reached]
-    )
-    errors = list(problem.errors)
-    for row, lane in enumerate(lanes):
-        if output.status[row] == kc.STATUS_INTERRUPTED:
-            errors[lane] = lost or NOT_RUN
-        elif output.status[row] != kc.STATUS_SUCCESS:
-            errors[lane] = _lane_message(
-                int(output.status[row]), float(output.t_reached[row]),
-                float(problem.t_end[lane]), problem.max_steps,
-            )  # fmt: skip
-    ok = status == kc.STATUS_SUCCESS
-    units = {name: unit for _, name, unit in (*peak_names, *stat_names)}
-    index = pd.RangeIndex(n, name="sample")
-    result = BatchResult(
-        samples=samples,
-        peaks=pd.DataFrame(peaks, columns=[name for _, name, _ in peak_names], index=index),
-        statistics=pd.DataFrame(stats, columns=[name for _, name, _ in stat_names], index=index),
-        units=units,
-        ok=ok,
-        status=status,
-        errors=tuple(errors),
-        counters=pd.DataFrame(
-            {
-                "n_steps": counters[:, 0].astype(np.int64),
-                "n_rejected": counters[:, 1].astype(np.int64),
-                "n_rhs": counters[:, 2].astype(np.int64),
-                "t_reached": counters[:, 3],
-            },
-            index=index,
-        ),
-        method=chosen,
-        method_reason=reason,
-        backend=runner.kind,
-        workers=used_workers,
-        chunk_size=chunk,
-        build_time=build_time,
-        wall_time=time.perf_counter() - wall,
-    )
-    if interrupted:
+    # the lanes ran: an interrupt while their result is put together is noted, and the
+    # result goes with it (BatchInterrupted) instead of being lost
+    with interrupts_noted() as noted:
+        system = build_system(mechanism, clearances, ramp_time=start.ramp_time, driven=start.driven)
+        peak_names, stat_names = _names(mechanism, system)
+        peaks = np.full((n, len(peak_names)), np.nan)
+        stats = np.full((n, len(stat_names)), np.nan)
+        status = np.full(n, kc.STATUS_NON_FINITE, dtype=np.int64)
+        counters = np.zeros((n, 4))
+        counters[:, 3] = np.nan
+        peaks[lanes] = output.peaks[:, [k for k, _, _ in peak_names]]
+        stats[lanes] = output.stats[:, [k for k, _, _ in stat_names]]
+        status[lanes] = output.status
+        counters[lanes] = np.column_stack(
+            [output.n_steps, output.n_rejected, output.n_rhs, output.t_reached]
+        )
+        errors = list(problem.errors)
+        for row, lane in enumerate(lanes):
+            if output.status[row] == kc.STATUS_INTERRUPTED:
+                errors[lane] = lost or NOT_RUN
+            elif output.status[row] != kc.STATUS_SUCCESS:
+                errors[lane] = _lane_message(
+                    int(output.status[row]), float(output.t_reached[row]),
+                    float(problem.t_end[lane]), problem.max_steps,
+                )  # fmt: skip
+        ok = status == kc.STATUS_SUCCESS
+        units = {name: unit for _, name, unit in (*peak_names, *stat_names)}
+        index = pd.RangeIndex(n, name="sample")
+        result = BatchResult(
+            samples=samples,
+            peaks=pd.DataFrame(peaks, columns=[name for _, name, _ in peak_names], index=index),
+            statistics=pd.DataFrame(
+                stats, columns=[name for _, name, _ in stat_names], index=index
+            ),
+            units=units,
+            ok=ok,
+            status=status,
+            errors=tuple(errors),
+            counters=pd.DataFrame(
+                {
+                    "n_steps": counters[:, 0].astype(np.int64),
+                    "n_rejected": counters[:, 1].astype(np.int64),
+                    "n_rhs": counters[:, 2].astype(np.int64),
+                    "t_reached": counters[:, 3],
+                },
+                index=index,
+            ),
+            method=chosen,
+            method_reason=reason,
+            backend=runner.kind,
+            workers=used_workers,
+            chunk_size=chunk,
+            build_time=build_time,
+            wall_time=time.perf_counter() - wall,
+        )
+    if interrupted or noted:
         raise BatchInterrupted(result)
     return result
 

@@ -34,8 +34,10 @@ from jointplay.execution.backends import Backend, BackendKind
 from jointplay.execution.interrupts import interrupts_watched
 
 __all__ = [
+    "CHUNK_BUDGET_S",
     "DEFAULT_CHUNK",
     "GPU_CHUNK",
+    "GPU_CHUNKS",
     "LOCAL_CHUNK",
     "WORKER_START_S",
     "Executor",
@@ -43,6 +45,7 @@ __all__ = [
     "Lanes",
     "TaskSink",
     "executor",
+    "gpu_chunk",
 ]
 
 #: Lanes per chunk on the process and Dask backends when none is given: large enough that a
@@ -53,9 +56,16 @@ __all__ = [
 DEFAULT_CHUNK = 32
 #: Lanes per chunk in this process (the compiled loop spreads a chunk over the threads).
 LOCAL_CHUNK = 4096
-#: Lanes per chunk on the GPU backend (JAX batches; throughput falls above ~200 000 lanes);
+#: The largest chunk on the GPU backend (JAX batches; throughput falls above ~200 000 lanes);
 #: also the samples per block of a study there.
 GPU_CHUNK = 200_000
+#: The chunk sizes the GPU backend chooses among (:func:`gpu_chunk`): powers of 4 from 1024
+#: up to :data:`GPU_CHUNK`. Each size is one compiled program (a JAX compilation the first
+#: time: 7-27 s cold on an H100, 0.5-2 s from the persistent cache), so the set is small.
+GPU_CHUNKS = tuple(1024 * 4**k for k in range(8) if 1024 * 4**k <= GPU_CHUNK)
+#: Seconds of work that one chunk on the GPU backend may take: one XLA call cannot be
+#: interrupted, so an interrupt loses at most about this much.
+CHUNK_BUDGET_S = 2.0
 #: What starting one worker process costs here (import, loading compiled code), s: a run
 #: starts only as many workers as its estimated work pays for.
 WORKER_START_S = 3.0
@@ -73,15 +83,19 @@ class LaneWork:
             chunk over the threads; ``interrupt`` is the flag array of
             :func:`~jointplay.execution.interrupts.interrupts_watched` (or ``None``).
         stopped: whether an output of ``here`` was cut short by an interrupt.
-        device: ``device(chunk, chunk_size)`` on the accelerator (JAX), or ``None`` where the
-            engine has no device kernel.
+        device: ``device(chunk, chunk_size, timings)`` on the accelerator (JAX), or ``None``
+            where the engine has no device kernel: one uninterruptible call that runs the
+            chunk's lanes in compiled chunks of ``chunk_size`` and puts the seconds spent
+            running them (compilation left out) in ``timings["run_s"]`` and the lanes that
+            ran then, padding included, in ``timings["lanes"]``. On the device a
+            chunk and its output are tuples of arrays with the lanes along the first axis.
     """
 
     task: Callable[[Any, Any], Any]
     shared: Any
     here: Callable[[Any, bool, Any], Any]
     stopped: Callable[[Any], bool]
-    device: Callable[[Any, int], Any] | None = None
+    device: Callable[[Any, int, dict[str, float]], Any] | None = None
 
 
 @dataclass(frozen=True)
@@ -434,29 +448,103 @@ class Dask(Executor):
             client.close()
 
 
+def gpu_chunk(
+    rate: float | None, budget: float = CHUNK_BUDGET_S, sizes: tuple[int, ...] = GPU_CHUNKS
+) -> int:
+    """Lanes in the next chunk on the GPU backend: the largest of ``sizes`` (ascending) that
+    the measured ``rate`` (lanes/s of the chunk before; ``None`` before the first) runs in
+    ``budget`` seconds, and the smallest when none does or nothing is measured yet.
+
+    The rate of a small chunk understates a device's (a GPU runs a larger batch at more
+    lanes/s), so the chunk chosen errs short of the budget, and grows chunk by chunk."""
+    if rate is None or not rate > 0 or not math.isfinite(rate):
+        return sizes[0]
+    fitting = [size for size in sizes if size / rate <= budget]
+    return max(fitting) if fitting else sizes[0]
+
+
+def _lanes_of(item: Any) -> int:
+    return len(item[0])
+
+
+def _joined(items: list[Any]) -> Any:
+    """Chunks (tuples of arrays, lanes first) as one."""
+    import numpy as np
+
+    if len(items) == 1:
+        return items[0]
+    return tuple(np.concatenate(columns) for columns in zip(*items, strict=True))
+
+
+def _padded(item: Any, size: int) -> Any:
+    """A chunk filled up to ``size`` lanes with copies of its first lane."""
+    import numpy as np
+
+    missing = size - _lanes_of(item)
+    if missing <= 0:
+        return item
+    return tuple(np.concatenate([a, np.repeat(a[:1], missing, axis=0)]) for a in item)
+
+
+def _cut(output: Any, start: int, stop: int) -> Any:
+    """Lanes ``start:stop`` of a device output (a named tuple of arrays, lanes first)."""
+    return type(output)(*(a[start:stop] for a in output))
+
+
 class Gpu(Executor):
-    """The engine's device kernel (JAX) from this process; other tasks run here."""
+    """The engine's device kernel (JAX) from this process; other tasks run here.
+
+    One call on the device cannot be interrupted, so the lanes go in chunks that take at
+    most :data:`CHUNK_BUDGET_S` each (:func:`gpu_chunk`, from the rate the chunk before ran
+    at; the first is the smallest of :data:`GPU_CHUNKS`): an interrupt keeps the chunks that
+    finished and loses at most the one in flight. A ``chunk_size`` given is used as it is.
+    Every chunk but a lone first one is padded to its size, so the compiled programs are
+    those of the sizes only."""
 
     kind = "gpu"
     on_device = True
 
+    def sizes(self) -> tuple[int, ...]:
+        """The chunk sizes this run chooses among."""
+        return (self.backend.chunk_size,) if self.backend.chunk_size else GPU_CHUNKS
+
     def lane_chunk(self, n: int, slots: int) -> int:
-        return self.backend.chunk_size or GPU_CHUNK
+        return self.sizes()[0]
 
     def block(self, default: int) -> int:
         return self.backend.chunk_size or GPU_CHUNK
 
-    def lane_parts(self, n: int, chunk: int) -> int:
-        # the JAX kernel cuts its own chunks and pads the last one, so that one compilation
-        # serves them all: it is given every lane at once
-        return max(n, 1)
-
     def run_lanes(self, lanes: Lanes) -> None:
+        """Run the parts (``lanes.chunk`` lanes each, the smallest size) grouped into chunks
+        of the sizes that :func:`gpu_chunk` chooses; ``done`` is called part by part."""
+        import itertools
+        import time
+
         device = lanes.work.device
         if device is None:
             raise ConfigError("the gpu backend runs the batch engine only")
-        for k, item in enumerate(lanes.chunks):
-            lanes.done(k, device(item, lanes.chunk))
+        sizes = self.sizes()
+        parts = iter(lanes.chunks)
+        rate: float | None = None
+        k = 0
+        while True:
+            size = gpu_chunk(rate, CHUNK_BUDGET_S, sizes)
+            group = list(itertools.islice(parts, max(1, size // lanes.chunk)))
+            if not group:
+                return
+            item = _joined(group)
+            timings: dict[str, float] = {}
+            clock = time.perf_counter()
+            output = device(item if k == 0 else _padded(item, size), size, timings)
+            wall = time.perf_counter() - clock
+            run_s = timings.get("run_s") or wall
+            ran = timings.get("lanes") or size  # a padded chunk costs its whole size
+            rate = ran / run_s if run_s > 0 else None
+            start = 0
+            for part in group:
+                stop = start + _lanes_of(part)
+                lanes.done(k, _cut(output, start, stop))
+                start, k = stop, k + 1
 
     def for_tasks(self, n: int) -> Executor:
         return Local(Backend("local"))

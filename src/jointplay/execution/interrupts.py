@@ -1,6 +1,9 @@
-"""Interrupts in compiled loops: flags that the C-level signal handler writes.
+"""Interrupts in compiled loops (flags that the C-level signal handler writes), and interrupts
+noted while finished work is being put together.
 
-:func:`interrupts_watched` lends a compiled loop (the Radau kernel, the batch kernels) a
+:func:`interrupts_noted` holds SIGINT and SIGTERM back while finished work is put together
+(a block's results after its lanes ran): the caller sees that one came and returns the work
+as interrupted instead of losing it. :func:`interrupts_watched` lends a compiled loop (the Radau kernel, the batch kernels) a
 uint8 array that becomes non-zero when SIGINT or SIGTERM arrives, and raises
 :class:`KeyboardInterrupt` when the loop has returned, so that callers see an interrupt
 exactly as in plain Python code.
@@ -19,7 +22,7 @@ from contextlib import contextmanager
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["interrupts_watched"]
+__all__ = ["interrupts_noted", "interrupts_watched"]
 
 
 class _InterruptFlags:
@@ -90,3 +93,26 @@ def interrupts_watched() -> Iterator[npt.NDArray[np.uint8] | None]:
             signal.signal(s, handler)
     if noted:
         raise KeyboardInterrupt(f"signal {noted[0]}")
+
+
+@contextmanager
+def interrupts_noted() -> Iterator[list[int]]:
+    """Note SIGINT and SIGTERM instead of raising them, for a stretch that puts finished work
+    together (the list yielded receives their numbers); the caller then returns that work
+    marked interrupted, so that an interrupt there never loses it.
+
+    Only in the main thread and for signals with a Python handler (elsewhere the list stays
+    empty and a signal acts as before). The handlers in place are put back on exit, where
+    nothing is raised: acting on the signals is the caller's.
+    """
+    noted: list[int] = []
+    if threading.current_thread() is not threading.main_thread():
+        yield noted
+        return
+    watched = [s for s in (signal.SIGINT, signal.SIGTERM) if callable(signal.getsignal(s))]
+    previous = {s: signal.signal(s, lambda number, frame: noted.append(number)) for s in watched}
+    try:
+        yield noted
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)

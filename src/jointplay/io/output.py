@@ -120,9 +120,11 @@ def _foreign(path: Path) -> bool:
 
 def _completeness(path: Path) -> float | None:
     """How complete the jointplay result at ``path`` is (1: complete), ``None`` if none."""
-    try:
-        record = json.loads((path / MARKER).read_text(encoding="utf-8"))
-    except (OSError, ValueError):
+    from jointplay.io.config import read_text_file  # the one bounded reader
+
+    try:  # a FIFO or device in its place is refused, never read (it would hang)
+        record = json.loads(read_text_file(path / MARKER, "result marker"))
+    except (OSError, ValueError):  # ConfigError is a ValueError
         return None if not path.is_dir() or _foreign(path) else 0.0
     share = record.get("complete", 1.0) if isinstance(record, dict) else 1.0
     return float(share) if isinstance(share, int | float) else 1.0
@@ -185,7 +187,7 @@ def output_dir(
             _check_target(path, force, given)  # again, just before the swap
             _publish(staging, path)
     finally:
-        with signals_held():
+        with signals_held():  # also ends a hold_signals() that no writing took over
             shutil.rmtree(staging, ignore_errors=True)
 
 
@@ -261,17 +263,22 @@ def signals_held() -> Iterator[None]:
         finally:
             signal.pthread_sigmask(signal.SIG_SETMASK, previous_mask)
         return
+    global _held_over
     pending: list[int] = []
 
     def record(signum: int, frame: object) -> None:
         pending.append(signum)
 
     # a handler set outside Python (None) could not be put back: such a signal is not held
-    previous = {
+    previous: dict[signal.Signals, Any] = {
         number: signal.signal(number, record)
         for number in (signal.SIGINT, signal.SIGTERM)
         if signal.getsignal(number) is not None
     }
+    if _held_over is not None:  # take over what hold_signals() held: delivered at our end
+        held, _held_over = _held_over, None
+        previous = {**previous, **held[0]}
+        pending[:0] = held[1]
     try:
         yield
     finally:
@@ -279,6 +286,45 @@ def signals_held() -> Iterator[None]:
             signal.signal(number, handler)
         if pending:
             signal.raise_signal(pending[0])
+
+
+#: What :func:`hold_signals` holds: the handlers it replaced and the signals it noted.
+_held_over: tuple[dict[signal.Signals, Any], list[int]] | None = None
+
+
+def hold_signals() -> None:
+    """Hold SIGINT and SIGTERM back from now until a result's data have been written: the
+    next :func:`signals_held` (the writing of the data files) takes them over and delivers
+    them when it ends, or :func:`release_signals` does. For the stretch between a study's
+    end and the writing of its results, where an interrupt would lose every finished sample.
+    In the main thread only (elsewhere nothing is held)."""
+    global _held_over
+    if _held_over is not None or threading.current_thread() is not threading.main_thread():
+        return
+    pending: list[int] = []
+
+    def record(signum: int, frame: object) -> None:
+        pending.append(signum)
+
+    previous = {
+        number: signal.signal(number, record)
+        for number in (signal.SIGINT, signal.SIGTERM)
+        if signal.getsignal(number) is not None
+    }
+    _held_over = (previous, pending)
+
+
+def release_signals() -> None:
+    """End :func:`hold_signals`'s hold if no :func:`signals_held` took it over: the handlers
+    are put back and the first signal held is delivered."""
+    global _held_over
+    if _held_over is None or threading.current_thread() is not threading.main_thread():
+        return
+    (previous, pending), _held_over = _held_over, None
+    for number, handler in previous.items():
+        signal.signal(number, handler)
+    if pending:
+        signal.raise_signal(pending[0])
 
 
 def _publish(staging: Path, target: Path) -> None:

@@ -42,6 +42,7 @@ from numpy.typing import NDArray
 from jointplay.errors import ConfigError
 from jointplay.execution.backends import BACKENDS, Backend
 from jointplay.execution.executors import WORKER_START_S, executor
+from jointplay.execution.interrupts import interrupts_noted
 from jointplay.execution.tasks import FAILED, NOT_RUN, OK, STATUS, TaskRun, run_tasks
 from jointplay.tolerance.responses import CheckedModel, Evaluation, ResponseModel
 
@@ -167,33 +168,36 @@ def run(
         progress=progress,
         description=description,
     )
-    values = np.full((n, len(model.response_names)), np.nan)
-    check_names = tuple(model.check_names) if isinstance(model, CheckedModel) else ()
-    checks = np.full((n, len(check_names)), np.nan)
-    status = np.full(n, NOT_RUN, dtype=np.int8)
-    errors = ["not run (interrupted)"] * n
-    for start, block, code, error, evaluation in zip(
-        starts, blocks, tasks.status, tasks.errors, tasks.results, strict=True
-    ):
-        stop = start + len(block)
-        if evaluation is not None:  # finished, or partly (an interrupted block)
-            values[start:stop] = evaluation.values
-            status[start:stop] = np.where(evaluation.ok, OK, FAILED)
-            if evaluation.finished is not None:
-                status[start:stop][~evaluation.finished] = NOT_RUN
-            errors[start:stop] = evaluation.errors
-            if check_names and evaluation.checks is not None:
-                checks[start:stop] = evaluation.checks
-        elif code == FAILED:
-            status[start:stop] = FAILED
-            errors[start:stop] = [error] * len(block)
-    checks[status != OK] = np.nan
+    # the tasks are over: an interrupt while their results are put together is noted and
+    # makes the run interrupted, and those results are kept
+    with interrupts_noted() as noted:
+        values = np.full((n, len(model.response_names)), np.nan)
+        check_names = tuple(model.check_names) if isinstance(model, CheckedModel) else ()
+        checks = np.full((n, len(check_names)), np.nan)
+        status = np.full(n, NOT_RUN, dtype=np.int8)
+        errors = ["not run (interrupted)"] * n
+        for start, block, code, error, evaluation in zip(
+            starts, blocks, tasks.status, tasks.errors, tasks.results, strict=True
+        ):
+            stop = start + len(block)
+            if evaluation is not None:  # finished, or partly (an interrupted block)
+                values[start:stop] = evaluation.values
+                status[start:stop] = np.where(evaluation.ok, OK, FAILED)
+                if evaluation.finished is not None:
+                    status[start:stop][~evaluation.finished] = NOT_RUN
+                errors[start:stop] = evaluation.errors
+                if check_names and evaluation.checks is not None:
+                    checks[start:stop] = evaluation.checks
+            elif code == FAILED:
+                status[start:stop] = FAILED
+                errors[start:stop] = [error] * len(block)
+        checks[status != OK] = np.nan
     lanes = _lanes_backend(model)  # a batch model spreads its blocks itself
     return RunResult(
         values=values,
         status=status,
         errors=tuple(errors),
-        interrupted=tasks.interrupted,
+        interrupted=tasks.interrupted or bool(noted),
         backend=tasks.backend if lanes is None else lanes.kind,
         workers=tasks.workers if lanes is None else executor(lanes).lane_workers(),
         chunk_size=chunk,

@@ -18,6 +18,7 @@ from numpy.typing import NDArray
 from jointplay.dynamics.cycles import DEFAULT_SETTLE, analysed_revolutions, settle_revolutions
 from jointplay.errors import ConfigError, PartialInterrupt
 from jointplay.execution.backends import Backend
+from jointplay.execution.interrupts import interrupts_noted
 from jointplay.model.mechanism import Mechanism
 from jointplay.model.templates import TemplateSpec, template_of
 
@@ -418,8 +419,14 @@ class DynamicResponses:
             )
         except BatchInterrupted as stopped:  # the finished samples go on with the interrupt
             finished = stopped.result.status != IntegrationStatus.INTERRUPTED
-            raise PartialInterrupt(self._evaluation(x, stopped.result, finished)) from None
-        return self._evaluation(x, result)
+            with interrupts_noted():  # a second Ctrl-C here must not lose them
+                evaluation = self._evaluation(x, stopped.result, finished)
+            raise PartialInterrupt(evaluation) from None
+        with interrupts_noted() as noted:  # the block ran: an interrupt now keeps it
+            evaluation = self._evaluation(x, result)
+        if noted:
+            raise PartialInterrupt(evaluation)
+        return evaluation
 
     def _evaluation(
         self, x: FloatArray, result: Any, finished: BoolArray | None = None
