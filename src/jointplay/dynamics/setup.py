@@ -313,6 +313,32 @@ class ContactModel:
         }
 
 
+#: The name of the paper's conventional contact set: its method ``ifm-conventional`` (the
+#: command line's ``--method ifm-conventional``), the IMPACT law :data:`DEFAULT_IMPACT`
+#: without friction. Not the default: a tuned convenience, one argument away
+#: (``contact="ifm-conventional"`` in the Python API).
+CONVENTIONAL = "ifm-conventional"
+
+
+def conventional_contact() -> ContactModel:
+    """The paper's conventional contact set :data:`CONVENTIONAL` as a :class:`ContactModel`:
+    :data:`DEFAULT_IMPACT` for every joint, no friction (as ``--method ifm-conventional``)."""
+    return ContactModel(friction=FrictionSettings(), law=DEFAULT_IMPACT, method=CONVENTIONAL)
+
+
+def resolve_contact(contact: str | ContactLaw | ContactModel | None) -> ContactModel | ContactLaw:
+    """The contact a Python API call means: ``None`` the physical default ``ContactModel()``
+    (as every command), :data:`CONVENTIONAL` the paper's conventional set
+    (:func:`conventional_contact`), another name the contact law of that name with its default
+    parameters (frictionless), an object itself."""
+    if contact is None:
+        return ContactModel()
+    if isinstance(contact, str):
+        named = contact.strip().lower().replace("_", "-").replace(" ", "-")
+        return conventional_contact() if named == CONVENTIONAL else get_law(contact)
+    return contact
+
+
 def make_law(
     settings: ContactSettings, *, stiffness: float | None = None, exponent: float | None = None
 ) -> ContactLaw:
@@ -378,6 +404,9 @@ def clearance_joints(
     The clearance and the journal radius come from each joint's fit data (diameter / 2) unless
     given; a joint with neither gets a clear error. ``law`` (a ready contact-law object, e.g.
     one of the paper's methods) takes the place of ``contact``.
+    ``contact`` and ``friction`` are the bare settings (``None``: the default law,
+    frictionless); the physical default of every command, friction included, is
+    ``ContactModel().joints(mechanism)``.
     """
     contact = contact or ContactSettings()
     friction = friction or FrictionSettings()

@@ -878,9 +878,10 @@ def design_study(
         clearance_limit: radial clearance limit for ``life``, m (one for all, or per joint).
         clearance_allowance: instead: the fit's largest radial clearance plus this, m.
         wear: Archard parameters (default steel on steel, :mod:`jointplay.dynamics.wear`).
-        contact: dynamic: a :class:`~jointplay.dynamics.setup.ContactModel` (the physical
-            default: ``ContactModel()``), a contact law, or ``None``: the conventional IFM set
-            (:func:`jointplay.tolerance.analysis.study_contact`).
+        contact: dynamic: a :class:`~jointplay.dynamics.setup.ContactModel`; ``None``
+            (default): the physical default ``ContactModel()``, as every command;
+            ``"ifm-conventional"``: the paper's conventional IFM set, frictionless; a contact
+            law: that law (:func:`jointplay.tolerance.analysis.study_contact`).
         settle, revolutions: dynamic: start-up revolutions left out, analysed revolutions.
         solver: dynamic: integration settings (default :class:`SolverOptions`).
         process: how the parts are made (default: hole and pin apart, normal ±3σ at their

@@ -479,10 +479,12 @@ def tolerance_study(
             and contact pressure, Archard wear rates).
         limits: specification limits per response name (SI).
         contact: dynamic: a :class:`~jointplay.dynamics.setup.ContactModel` (its stiffness
-            from each joint's geometry is refitted to every sample's clearance; the physical
-            default of docs/contact.md is ``ContactModel()``), a contact law instance or name,
-            or ``None``: the paper's conventional IFM,
-            :data:`jointplay.dynamics.setup.DEFAULT_IMPACT`.
+            from each joint's geometry is refitted to every sample's clearance); ``None``
+            (default): the physical default ``ContactModel()`` of docs/contact.md, as every
+            command (Liu stiffness per joint, Hunt–Crossley e = 0.8, friction 0.1);
+            ``"ifm-conventional"``: the paper's conventional IFM set
+            (:data:`jointplay.dynamics.setup.DEFAULT_IMPACT`), frictionless; a contact law
+            instance or name: that law, frictionless.
         friction: dynamic: a friction law, or ``None`` (with a ContactModel: its friction).
         start: dynamic: ``"steady"`` (default: the mechanism as it runs), ``"rest"`` (the
             paper's start-up), ``"impulsive"``, ``"ramp"`` or a
@@ -609,16 +611,17 @@ def study_contact(
     mechanism: Mechanism, contact: str | ContactLaw | ContactModel | None
 ) -> dict[str, Any]:
     """``law``, ``friction`` and ``stiffness_from`` of a dynamic study's response model
-    (:func:`jointplay.tolerance.responses.contact_parts`); a law or a name: that law,
-    frictionless; ``None``: :data:`jointplay.dynamics.setup.DEFAULT_IMPACT`, frictionless."""
-    from jointplay.contact.laws import get_law
-    from jointplay.dynamics.setup import DEFAULT_IMPACT, ContactModel
+    (:func:`jointplay.tolerance.responses.contact_parts`) for ``contact``, as
+    :func:`jointplay.dynamics.setup.resolve_contact` reads it: ``None`` the physical default
+    ``ContactModel()``; ``"ifm-conventional"`` the paper's conventional IFM set,
+    frictionless; a law or a law's name: that law, frictionless."""
+    from jointplay.dynamics.setup import ContactModel, resolve_contact
     from jointplay.tolerance.responses import contact_parts
 
-    if isinstance(contact, ContactModel):
-        return contact_parts(mechanism, contact)
-    law = DEFAULT_IMPACT if contact is None else get_law(contact)
-    return {"law": law, "friction": None, "stiffness_from": {}}
+    resolved = resolve_contact(contact)
+    if isinstance(resolved, ContactModel):
+        return contact_parts(mechanism, resolved)
+    return {"law": resolved, "friction": None, "stiffness_from": {}}
 
 
 def response_units(
