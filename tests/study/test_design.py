@@ -268,6 +268,8 @@ def test_the_answer_names_cheaper_schemes_left_undecided(paper_fourbar) -> None:
         "H9/d9 / m after 4,000 samples (about 9,000 would decide it at its observed defect "
         "rate: max_samples 9000)"
     )
+    shown = result.what_decides({"max_samples": "--max-samples"})
+    assert shown is not None and shown.endswith("observed defect rate: --max-samples 9000)")
 
 
 def test_rare_defects_give_the_same_estimate_on_every_backend(paper_fourbar) -> None:

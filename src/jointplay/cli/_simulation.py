@@ -120,8 +120,15 @@ CONTACT_KEYS = ("contact", "k", "exponent", "cmax", "depth", "damping", "stiffne
 #: Every contact option, by its key in ``values`` (and in ``[simulation]``).
 CONTACT_OPTIONS = (*CONTACT_KEYS, "restitution", "friction", "friction_law", "method", "ecs_source")
 #: The option of each setting that the layers below name in their errors
-#: (:class:`~jointplay.errors.SettingError`): the command line shows these names.
+#: (:class:`~jointplay.errors.SettingError`) and in the diagnostics' advice
+#: (:meth:`~jointplay.dynamics.diagnostics.Diagnostic.named`): the command line shows these
+#: names.
 SETTING_OPTIONS = {
+    "start": "--start",
+    "settle": "--settle",
+    "revolutions": "--revolutions",
+    "rtol": "--rtol",
+    "max_samples": "--max-samples",
     "law": "--contact",
     "stiffness": "--k",
     "exponent": "--exponent",

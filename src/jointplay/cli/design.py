@@ -48,6 +48,7 @@ from jointplay.cli._common import (
     writing_study,
 )
 from jointplay.cli._simulation import (
+    SETTING_OPTIONS,
     CmaxOption,
     ContactOption,
     DampingOption,
@@ -571,6 +572,6 @@ def _print(result: DesignResult, units: dict[str, str]) -> None:
     if best is None:
         console.print(result.verdict)
     elif result.to_decide is not None:
-        console.print(f"cheaper, {result.to_decide}")
+        console.print(f"cheaper, {result.what_decides(SETTING_OPTIONS)}")
     for finding in result.diagnostics:  # one line each, on stderr, as `jointplay tolerance`
-        print(f"jointplay: {finding.line()}", file=sys.stderr)
+        print(f"jointplay: {finding.line(SETTING_OPTIONS)}", file=sys.stderr)

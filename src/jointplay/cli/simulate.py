@@ -33,6 +33,7 @@ from jointplay.cli._common import (
     whole_headers,
 )
 from jointplay.cli._simulation import (
+    SETTING_OPTIONS,
     ClearanceOption,
     CmaxOption,
     ContactOption,
@@ -397,7 +398,7 @@ def _print(result: Any, findings: list[Any], out: Path) -> None:
             "deepest penetration over the analysed revolutions, at the accepted steps: " + deepest
         )
     for finding in findings:  # one line each, on stderr
-        print(f"jointplay: {finding.line()}", file=sys.stderr)
+        print(f"jointplay: {finding.line(SETTING_OPTIONS)}", file=sys.stderr)
     stats = result.solver_stats
     stdout.print(
         f"{stats['steps']} steps ({stats['rejected_steps']} rejected), {stats['rhs_evaluations']} evaluations, "

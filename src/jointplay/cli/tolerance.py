@@ -36,6 +36,7 @@ from jointplay.cli._common import (
     writing_study,
 )
 from jointplay.cli._simulation import (
+    SETTING_OPTIONS,
     CmaxOption,
     ContactOption,
     DampingOption,
@@ -534,4 +535,4 @@ def _print(study: ToleranceStudyResult) -> None:
         if len(failures) > 5:
             console.print(f"  … and {len(failures) - 5} more")
     for finding in study.diagnostics:  # one line each, on stderr, as `jointplay simulate`
-        print(f"jointplay: {finding.line()}", file=sys.stderr)
+        print(f"jointplay: {finding.line(SETTING_OPTIONS)}", file=sys.stderr)

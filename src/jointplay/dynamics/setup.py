@@ -23,7 +23,7 @@ from jointplay.contact.friction import FrictionLaw, get_friction
 from jointplay.contact.laws import CONTACT_LAWS, ContactLaw, ImpactLaw, get_law
 from jointplay.contact.stiffness import STIFFNESS_LAWS
 from jointplay.dynamics.clearance import FIT_DEPTH, ClearanceJoint, JointStiffness
-from jointplay.errors import ConfigError, SettingError
+from jointplay.errors import ConfigError, QuantityError, SettingError
 from jointplay.model.mechanism import Mechanism, RevoluteJoint
 from jointplay.units import parse_quantity
 
@@ -92,9 +92,10 @@ def _quantity(value: Any, unit: str, setting: str, hint: str = "") -> float:
     SettingError about ``setting`` (``hint`` added to its message)."""
     try:
         return parse_quantity(value, unit, field=setting)
-    except ConfigError as exc:
-        detail = str(exc).removeprefix(f"{setting}: ")  # the setting is named by the template
-        raise SettingError(f"{{{setting}}}: {{detail}}{{hint}}", detail=detail, hint=hint) from None
+    except QuantityError as exc:  # the setting is named by the template, the rest is detail
+        raise SettingError(
+            f"{{{setting}}}: {{detail}}{{hint}}", detail=exc.detail, hint=hint
+        ) from None
 
 
 @dataclass(frozen=True)

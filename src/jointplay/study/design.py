@@ -71,7 +71,7 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from jointplay.dynamics.cycles import DEFAULT_SETTLE
-from jointplay.errors import ConfigError, PartialInterrupt, SettingError
+from jointplay.errors import ConfigError, PartialInterrupt, SettingError, name_settings
 from jointplay.model.mechanism import Mechanism, RevoluteJoint
 from jointplay.study.requirements import Requirement, parse_requirement
 from jointplay.tolerance import iso286, iso2768
@@ -683,13 +683,22 @@ class DesignResult:
     @property
     def to_decide(self) -> str | None:
         """What would decide the undecided schemes that could change the answer, or ``None``."""
+        return self.what_decides()
+
+    def what_decides(self, names: Mapping[str, str] | None = None) -> str | None:
+        """:attr:`to_decide`, the settings it advises on called by ``names`` (setting →
+        name, :func:`~jointplay.errors.name_settings`; the command line its options')."""
         rows = self.undecided
         if not len(rows):
             return None
         row = rows.iloc[0]
         m = row["samples_to_decide"]
         text = f"undecided: {row['scheme']} after {row['samples']:,} samples (" + (
-            f"about {int(m):,} would decide it at its observed defect rate: max_samples {int(m)})"
+            name_settings(
+                f"about {int(m):,} would decide it at its observed defect rate: "
+                f"{{max_samples}} {int(m)})",
+                names,
+            )
             if not pd.isna(m)
             else "its observed defect rate sits at the level: more samples may not decide it)"
         )

@@ -109,9 +109,9 @@ class StudyDiagnostic:
         """``count / out_of``."""
         return self.count / self.out_of if self.out_of else 0.0
 
-    def line(self) -> str:
-        """One console line (as :meth:`Diagnostic.line`)."""
-        return self.diagnostic.line()
+    def line(self, names: Mapping[str, str] | None = None) -> str:
+        """One console line (as :meth:`Diagnostic.line`, ``names`` too)."""
+        return self.diagnostic.line(names)
 
     def as_dict(self) -> dict[str, Any]:
         """JSON-ready: the diagnostic's record plus ``count``, ``out_of``, ``share``,
@@ -317,9 +317,9 @@ def convergence_finding(
             f"up to {np.nanmax(change[:, j]):.3g} {model.units.get(name, '')}, "
             f"{100 * share[j]:.0f} % of its spread over the study (std {spread[j]:.3g}): part "
             "of the scatter is the integrator's, not the tolerances'; tighten the integration "
-            "(rtol) or use a contact law that converges"
+            "({rtol}) or use a contact law that converges"
         )
-        warning = Diagnostic(
+        warning = Diagnostic.advising(
             "warning", "peaks-not-converged", None, float(share[j]), CONVERGENCE_LIMIT, message
         )
         finding = StudyDiagnostic(
