@@ -15,6 +15,7 @@ from jointplay.cli._app import CONTACT_PANEL, RUN_PANEL
 from jointplay.errors import ConfigError
 
 if TYPE_CHECKING:  # the dynamics import Numba: loaded when a command runs
+    from jointplay.dynamics.settings import RunSettings
     from jointplay.dynamics.setup import ContactModel
 
 
@@ -182,6 +183,32 @@ def contact_model(
     if law is not None:
         return ContactModel(friction=friction, law=law, method=str(values["method"]), record=record)
     return ContactModel(settings=contact_from_strings(values), friction=friction)
+
+
+def run_settings(
+    contact: ContactModel,
+    *,
+    start: str | None = None,
+    ramp_time: float = 0.0,
+    settle: int | None = None,
+    revolutions: float | None = None,
+    rtol: float | None = None,
+) -> RunSettings:
+    """The :class:`~jointplay.dynamics.settings.RunSettings` of a simulating command, built
+    once from its options (``None``: not given, the default): the contact of
+    :func:`contact_from_options`, ``--start`` (and ``--ramp-time``, s), ``--settle``,
+    ``--revolutions`` and ``--rtol``. Its checks raise SettingErrors that name settings;
+    the command line shows their options (:data:`SETTING_OPTIONS`)."""
+    from jointplay.dynamics.settings import RunSettings
+    from jointplay.dynamics.simulate import SolverOptions, Start
+
+    return RunSettings.of(
+        contact=contact,
+        start=None if start is None else Start(start, ramp_time),  # type: ignore[arg-type]
+        settle=settle,
+        revolutions=revolutions,
+        solver=None if rtol is None else SolverOptions(rtol=rtol),
+    )
 
 
 def contact_from_options(

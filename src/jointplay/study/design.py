@@ -70,7 +70,6 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from jointplay.dynamics.cycles import DEFAULT_SETTLE
 from jointplay.errors import ConfigError, PartialInterrupt, SettingError, name_settings
 from jointplay.model.mechanism import Mechanism, RevoluteJoint
 from jointplay.study.requirements import Requirement, parse_requirement
@@ -80,7 +79,6 @@ from jointplay.tolerance.analysis import (
     StudyDiagnostic,
     convergence_finding,
     penetration_warning,
-    study_contact,
 )
 from jointplay.tolerance.confidence import YieldEstimate, quantile_value, verdict
 from jointplay.tolerance.cost import CostModel, fit_cost, length_class_cost
@@ -96,6 +94,7 @@ from jointplay.tolerance.responses import (
     PeakResponses,
     ResponseModel,
     RunningResponses,
+    contact_parts,
     dynamic_model,
     kinematic_model,
 )
@@ -111,6 +110,7 @@ from jointplay.tolerance.spec import (
 
 if TYPE_CHECKING:
     from jointplay.contact.laws import ContactLaw
+    from jointplay.dynamics.settings import RunSettings
     from jointplay.dynamics.setup import ContactModel
     from jointplay.dynamics.simulate import SolverOptions
     from jointplay.dynamics.wear import WearSettings
@@ -857,9 +857,10 @@ def design_study(
     clearance_limit: Mapping[str, float] | float | None = None,
     clearance_allowance: float | None = None,
     wear: WearSettings | None = None,
+    run_settings: RunSettings | None = None,
     contact: str | ContactLaw | ContactModel | None = None,
-    settle: int = DEFAULT_SETTLE,
-    revolutions: float = 1.0,
+    settle: int | None = None,
+    revolutions: float | None = None,
     solver: SolverOptions | None = None,
     process: Process | None = None,
     truncate: bool = True,
@@ -887,11 +888,16 @@ def design_study(
         clearance_limit: radial clearance limit for ``life``, m (one for all, or per joint).
         clearance_allowance: instead: the fit's largest radial clearance plus this, m.
         wear: Archard parameters (default steel on steel, :mod:`jointplay.dynamics.wear`).
+        run_settings: dynamic: how the clearance dynamics run
+            (:class:`~jointplay.dynamics.settings.RunSettings`: contact, start, settle,
+            revolutions, solver), as the command line builds it; or, in its place, the loose
+            keywords below (giving both is an error).
         contact: dynamic: a :class:`~jointplay.dynamics.setup.ContactModel`; ``None``
             (default): the physical default ``ContactModel()``, as every command;
             ``"ifm-conventional"``: the paper's conventional IFM set, frictionless; a contact
             law: that law (:func:`jointplay.tolerance.analysis.study_contact`).
-        settle, revolutions: dynamic: start-up revolutions left out, analysed revolutions.
+        settle, revolutions: dynamic: start-up revolutions left out (default 2), analysed
+            revolutions (default 1).
         solver: dynamic: integration settings (default :class:`SolverOptions`).
         process: how the parts are made (default: hole and pin apart, normal ±3σ at their
             limits; :class:`~jointplay.tolerance.parts.Process`).
@@ -943,8 +949,8 @@ def design_study(
     names, _ = model_inputs(feature_names, np.empty((0, len(feature_names))))
     model = _response_model(
         mechanism, names, parsed, responses, dynamic_units,
-        contact=contact, settle=settle, revolutions=revolutions, solver=solver, wear=wear,
-        backend=backend,
+        run=run_settings, contact=contact, settle=settle, revolutions=revolutions, solver=solver,
+        wear=wear, backend=backend,
     )  # fmt: skip
     # evaluation key of each scheme: fits do not move ideal joints, so a kinematic study
     # evaluates each length class once
@@ -1185,27 +1191,32 @@ def _response_model(
     responses: str,
     dynamic_units: Mapping[str, str],
     *,
+    run: RunSettings | None,
     contact: str | ContactLaw | ContactModel | None,
-    settle: int,
-    revolutions: float,
+    settle: int | None,
+    revolutions: float | None,
     solver: SolverOptions | None,
     wear: WearSettings | None,
     backend: Backend | None,
 ) -> ResponseModel:
-    """The response model of a design study over the inputs ``names``."""
+    """The response model of a design study over the inputs ``names``; dynamic: the run
+    settings built once here (:meth:`RunSettings.of`) from ``run`` or the loose keywords."""
     if responses == "kinematic":
         return kinematic_model(mechanism, names)
-    from jointplay.dynamics.simulate import SolverOptions, Start
+    from jointplay.dynamics.settings import RunSettings
     from jointplay.dynamics.wear import OutputSpeedReference, WearSettings
 
+    settings = RunSettings.of(
+        run, contact=contact, settle=settle, revolutions=revolutions, solver=solver
+    )
     base = dynamic_model(
         mechanism,
         names,
-        **study_contact(mechanism, contact),
-        start=Start("steady"),
-        settle=settle,
-        revolutions=revolutions,
-        solver=solver or SolverOptions(),
+        **contact_parts(mechanism, settings.contact),
+        start=settings.start,
+        settle=settings.settle,
+        revolutions=settings.revolutions,
+        solver=settings.solver,
     )
     lengths = [n for n in names if n.startswith("length_")]
     mixed = any(r.response not in dynamic_units for r in parsed)  # a kinematic one too

@@ -31,7 +31,6 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from jointplay.dynamics.cycles import DEFAULT_SETTLE
 from jointplay.dynamics.diagnostics import Diagnostic
 from jointplay.errors import ConfigError, PartialInterrupt
 from jointplay.model.mechanism import Mechanism
@@ -50,6 +49,7 @@ from jointplay.tolerance.responses import (
     DynamicResponses,
     ResponseModel,
     RunningResponses,
+    contact_parts,
     dynamic_model,
     kinematic_model,
 )
@@ -58,6 +58,7 @@ from jointplay.tolerance.spec import JointTolerance, ToleranceSpec
 if TYPE_CHECKING:  # the dynamics import Numba: loaded only by dynamic studies
     from jointplay.contact.friction import FrictionLaw
     from jointplay.contact.laws import ContactLaw
+    from jointplay.dynamics.settings import RunSettings
     from jointplay.dynamics.setup import ContactModel
     from jointplay.dynamics.simulate import SolverOptions, Start
 
@@ -455,11 +456,12 @@ def tolerance_study(
     method: str | ToleranceMethod = "monte-carlo",
     responses: ResponseKind = "kinematic",
     limits: Mapping[str, SpecLimits] | None = None,
+    run_settings: RunSettings | None = None,
     contact: str | ContactLaw | ContactModel | None = None,
     friction: FrictionLaw | None = None,
-    start: str | Start = "steady",
-    settle: int = DEFAULT_SETTLE,
-    revolutions: float = 1.0,
+    start: str | Start | None = None,
+    settle: int | None = None,
+    revolutions: float | None = None,
     solver: SolverOptions | None = None,
     backend: Backend | None = None,
     progress: bool = False,
@@ -478,6 +480,11 @@ def tolerance_study(
             or ``"running"`` (the dynamic peaks plus rocker-speed error, largest joint force
             and contact pressure, Archard wear rates).
         limits: specification limits per response name (SI).
+        run_settings: dynamic: how the clearance dynamics run
+            (:class:`~jointplay.dynamics.settings.RunSettings`: contact, start, settle,
+            revolutions, solver), as the command line builds it; or, in its place, the loose
+            keywords ``contact``, ``start``, ``settle``, ``revolutions``, ``solver`` (giving
+            both is an error).
         contact: dynamic: a :class:`~jointplay.dynamics.setup.ContactModel` (its stiffness
             from each joint's geometry is refitted to every sample's clearance); ``None``
             (default): the physical default ``ContactModel()`` of docs/contact.md, as every
@@ -519,6 +526,7 @@ def tolerance_study(
             mechanism,
             spec,
             responses,
+            run_settings=run_settings,
             contact=contact,
             friction=friction,
             start=start,
@@ -547,17 +555,19 @@ def build_model(
     spec: ToleranceSpec,
     responses: ResponseKind,
     *,
+    run_settings: RunSettings | None = None,
     contact: str | ContactLaw | ContactModel | None = None,
     friction: FrictionLaw | None = None,
-    start: str | Start = "steady",
-    settle: int = DEFAULT_SETTLE,
-    revolutions: float = 1.0,
+    start: str | Start | None = None,
+    settle: int | None = None,
+    revolutions: float | None = None,
     solver: SolverOptions | None = None,
 ) -> tuple[ResponseModel, ToleranceSpec]:
     """The response model of a study and the part of ``spec`` it varies.
 
     Kinematic studies vary the length inputs; dynamic and running studies lengths and
-    clearances (see :func:`tolerance_study` for the arguments). ``"running"`` adds to the
+    clearances (see :func:`tolerance_study` for the arguments; the run settings are built
+    once here, :meth:`~jointplay.dynamics.settings.RunSettings.of`). ``"running"`` adds to the
     dynamic peaks the rocker-speed error, the largest joint force and contact pressure and the
     Archard wear rates (:class:`~jointplay.tolerance.responses.RunningResponses`, default steel
     wear data).
@@ -572,14 +582,22 @@ def build_model(
         return kinematic_model(mechanism, spec.names), spec
     if responses not in ("dynamic", "running"):
         raise ConfigError(f"responses must be kinematic, dynamic or running, got {responses!r}")
-    from jointplay.dynamics.simulate import SolverOptions, Start
+    from jointplay.dynamics.settings import RunSettings
 
     spec = spec.only("length", "clearance")
     if len(spec) == 0:
         raise ConfigError(
             f"mechanism {mechanism.name!r} has no length or clearance tolerances to study"
         )
-    parts = study_contact(mechanism, contact)
+    settings = RunSettings.of(
+        run_settings,
+        contact=contact,
+        start=start,
+        settle=settle,
+        revolutions=revolutions,
+        solver=solver,
+    )
+    parts = contact_parts(mechanism, settings.contact)
     if friction is not None:
         parts["friction"] = friction
     radius = {
@@ -589,10 +607,10 @@ def build_model(
         mechanism,
         spec.names,
         journal_radius=radius,
-        start=Start(start) if isinstance(start, str) else start,  # type: ignore[arg-type]
-        settle=settle,
-        revolutions=revolutions,
-        solver=solver or SolverOptions(),
+        start=settings.start,
+        settle=settings.settle,
+        revolutions=settings.revolutions,
+        solver=settings.solver,
         **parts,
     )
     if not model.clearance_joints:
@@ -616,7 +634,6 @@ def study_contact(
     ``ContactModel()``; ``"ifm-conventional"`` the paper's conventional IFM set,
     frictionless; a law or a law's name: that law, frictionless."""
     from jointplay.dynamics.setup import ContactModel, resolve_contact
-    from jointplay.tolerance.responses import contact_parts
 
     resolved = resolve_contact(contact)
     if isinstance(resolved, ContactModel):
