@@ -90,3 +90,23 @@ def test_the_command_line_and_the_api_build_equal_settings(monkeypatch, tmp_path
     )
     assert seen["run_settings"] == expected
     assert not {"contact", "start", "settle", "revolutions", "solver"} & set(seen)
+
+
+def test_simulate_run_is_simulate_with_the_settings(paper_fourbar) -> None:
+    """The simulate-level helper: the run's contact on the fitted joints, its start, settle,
+    revolutions and solver; the same numbers as simulate given them one by one."""
+    from jointplay.dynamics.settings import simulate_run
+    from jointplay.dynamics.simulate import simulate
+
+    run = RunSettings.of(contact="ifm-conventional", start="rest", settle=0, revolutions=0.02)
+    helped = simulate_run(paper_fourbar, None, run)
+    direct = simulate(
+        paper_fourbar,
+        conventional_contact().joints(paper_fourbar),
+        revolutions=0.02,
+        settle=0,
+        start=Start("rest"),
+        solver=SolverOptions(),
+    )
+    assert helped.peaks == direct.peaks
+    assert helped.timeseries.equals(direct.timeseries)

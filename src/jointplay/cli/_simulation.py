@@ -211,6 +211,49 @@ def run_settings(
     )
 
 
+def run_settings_of(
+    values: dict[str, Any],
+    mechanism: Any,
+    contact: ContactModel,
+    *,
+    revolutions: float = 1.0,
+    settle: int | None = None,
+    max_step: bool = False,
+) -> RunSettings:
+    """:func:`run_settings` of the run options in ``values`` (options over the
+    ``[simulation]`` table): ``start`` (default steady), ``ramp_time`` (default a quarter of
+    the crank period with the ramp start), ``settle`` (default ``settle``, else 2 with the
+    steady start and 0 with the others, whose start-up is what they show), ``rtol`` and,
+    with ``max_step``, ``max_step``; the one reader of simulate's and animate's."""
+    from jointplay.dynamics.cycles import DEFAULT_SETTLE
+    from jointplay.dynamics.settings import RunSettings
+    from jointplay.dynamics.simulate import SolverOptions, Start
+    from jointplay.units import parse_quantity
+
+    mode = str(values.get("start", "steady"))
+    ramp = (
+        0.0
+        if values.get("ramp_time") is None
+        else parse_quantity(values["ramp_time"], "s", field="--ramp-time")
+    )
+    if mode == "ramp" and ramp == 0.0:
+        ramp = mechanism.driver.period / 4
+    solver = SolverOptions(
+        rtol=finite_number(values, "rtol", 1e-6),
+        max_step=None
+        if not max_step or values.get("max_step") is None
+        else parse_quantity(values["max_step"], "s", field="--max-step"),
+    )
+    default = settle if settle is not None else DEFAULT_SETTLE if mode == "steady" else 0
+    return RunSettings(
+        contact=contact,
+        start=Start(mode, ramp),  # type: ignore[arg-type]  # validated by Start
+        settle=values.get("settle", default),
+        revolutions=revolutions,
+        solver=solver,
+    )
+
+
 def contact_from_options(
     config: Any, mechanism: Any, method_option: str = "--method", **given: Any
 ) -> ContactModel:

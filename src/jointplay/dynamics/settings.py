@@ -27,9 +27,14 @@ from jointplay.dynamics.simulate import SolverOptions, Start
 from jointplay.errors import SettingError
 
 if TYPE_CHECKING:
-    from jointplay.contact.laws import ContactLaw
+    from collections.abc import Sequence
 
-__all__ = ["RunSettings"]
+    from jointplay.contact.laws import ContactLaw
+    from jointplay.dynamics.clearance import ClearanceJoint
+    from jointplay.dynamics.simulate import SimulationResult
+    from jointplay.model.mechanism import Mechanism
+
+__all__ = ["RunSettings", "simulate_run"]
 
 
 def _steady() -> Start:
@@ -129,3 +134,27 @@ class RunSettings:
             "revolutions": self.revolutions,
             "solver": dataclasses.asdict(self.solver),
         }
+
+
+def simulate_run(
+    mechanism: Mechanism,
+    clearances: Sequence[ClearanceJoint] | None,
+    run: RunSettings,
+    **options: Any,
+) -> SimulationResult:
+    """:func:`~jointplay.dynamics.simulate.simulate` with ``run``'s start, settle,
+    revolutions and solver; ``clearances``: the clearance joints (``None``: ``run``'s
+    contact on every joint with a clearance in its fit, ``run.contact.joints(mechanism)``);
+    ``options``: simulate's others (``output_step``, ``sample_deg``, ``nominal``, …)."""
+    from jointplay.dynamics.simulate import simulate
+
+    joints = run.contact.joints(mechanism) if clearances is None else clearances
+    return simulate(
+        mechanism,
+        joints,
+        revolutions=run.revolutions,
+        settle=run.settle,
+        start=run.start,
+        solver=run.solver,
+        **options,
+    )
