@@ -315,7 +315,7 @@ class ContactModel:
 
 
 #: The name of the paper's conventional contact set: its method ``ifm-conventional`` (the
-#: command line's ``--method ifm-conventional``), the IMPACT law :data:`DEFAULT_IMPACT`
+#: command line's method option takes the same name), the IMPACT law :data:`DEFAULT_IMPACT`
 #: without friction. Not the default: a tuned convenience, one argument away
 #: (``contact="ifm-conventional"`` in the Python API).
 CONVENTIONAL = "ifm-conventional"
@@ -323,7 +323,7 @@ CONVENTIONAL = "ifm-conventional"
 
 def conventional_contact() -> ContactModel:
     """The paper's conventional contact set :data:`CONVENTIONAL` as a :class:`ContactModel`:
-    :data:`DEFAULT_IMPACT` for every joint, no friction (as ``--method ifm-conventional``)."""
+    :data:`DEFAULT_IMPACT` for every joint, no friction (as the method ``ifm-conventional`` on the command line)."""
     return ContactModel(friction=FrictionSettings(), law=DEFAULT_IMPACT, method=CONVENTIONAL)
 
 
