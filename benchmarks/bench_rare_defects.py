@@ -44,7 +44,7 @@ def brute_force(
     if dynamic:
         result = design_study(
             mechanism, [FIT], [CLASS], [requirement], samples=n, seed=1, confidence=0.5,
-            backend=backend, settle=0, revolutions=0.25,
+            backend=backend, settle=0, revolutions=0.25, contact="ifm-conventional",
         )  # fmt: skip
         row = result.table.iloc[0]
         return YieldEstimate(int(row[f"failures_{requirement}"]), int(row["samples"]))

@@ -63,7 +63,9 @@ def main() -> None:
 
     if args.skip_dynamic:
         return
-    dynamic = {"responses": "dynamic", "start": "rest", "revolutions": 1.0}
+    dynamic = {
+        "responses": "dynamic", "contact": "ifm-conventional", "start": "rest", "revolutions": 1.0
+    }  # fmt: skip
     _time(
         "warm-up (dynamic, compiles in this process)",
         method=MonteCarlo(2, seed=0),

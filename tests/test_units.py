@@ -71,3 +71,25 @@ def test_loading_a_preset_does_not_import_pint() -> None:
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert done.stdout.strip() == "False"
+
+
+def test_a_bad_quantity_names_its_field_and_its_detail_apart() -> None:
+    """parse_quantity's error carries the field and the bare message, so callers that name
+    the field their own way (a setting, an option) take the detail without string editing."""
+    import pickle
+
+    from jointplay.dynamics.setup import contact_from_strings
+    from jointplay.errors import ConfigError, QuantityError, SettingError
+    from jointplay.units import parse_quantity
+
+    with pytest.raises(QuantityError) as caught:
+        parse_quantity("0.1 kg", "m", field="depth: of the bearing")
+    error = caught.value
+    assert isinstance(error, ConfigError)
+    assert error.field == "depth: of the bearing" and error.detail.startswith("'0.1 kg' has units")
+    assert str(error) == f"depth: of the bearing: {error.detail}"
+    assert pickle.loads(pickle.dumps(error)).detail == error.detail
+    with pytest.raises(SettingError) as setting:
+        contact_from_strings({"contact": "impact", "depth": "0.1 kg"})
+    assert str(setting.value).startswith("depth: '0.1 kg' has units")
+    assert str(setting.value.named({"depth": "--depth"})).startswith("--depth: '0.1 kg' has")

@@ -20,6 +20,36 @@ class ConfigError(JointplayError, ValueError):
     """A configuration value, file or unit is malformed or out of range."""
 
 
+class QuantityError(ConfigError):
+    """A value is not a quantity in the unit asked for (:func:`jointplay.units.parse_quantity`).
+
+    Its message is ``"<field>: <detail>"``; :attr:`field` and :attr:`detail` are the two
+    parts, for callers that name the field their own way (:class:`SettingError`).
+    """
+
+    def __init__(self, field: str, detail: str) -> None:
+        super().__init__(f"{field}: {detail}")
+        self.field, self.detail = field, detail
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return QuantityError, (self.field, self.detail)
+
+
+def name_settings(template: str, names: Mapping[str, str] | None = None, /, **values: Any) -> str:
+    """``template`` (:meth:`str.format` syntax) with each ``{setting}`` field called by its
+    name in ``names`` (setting → name; a setting not in it by its own name) and the other
+    fields from ``values``: how :class:`SettingError` and the diagnostics' advice
+    (:class:`jointplay.dynamics.diagnostics.Diagnostic`) name settings, so that each caller
+    shows its own names for them (the command line its options')."""
+    known = names or {}
+
+    class _Names(dict[str, Any]):
+        def __missing__(self, key: str) -> str:
+            return known.get(key, key)
+
+    return template.format_map(_Names(values))
+
+
 class SettingError(ConfigError):
     """A setting is out of range; the message names the settings it is about by their names
     in a template, and each caller shows its own name for them (:meth:`named`): the Python
@@ -39,13 +69,7 @@ class SettingError(ConfigError):
         super().__init__(self._render())
 
     def _render(self) -> str:
-        names = self.names
-
-        class _Names(dict[str, Any]):
-            def __missing__(self, key: str) -> str:
-                return names.get(key, key)
-
-        return self.template.format_map(_Names(self.values))
+        return name_settings(self.template, self.names, **self.values)
 
     def named(self, names: Mapping[str, str]) -> SettingError:
         """The same error, its settings called by ``names`` (setting → name) where given."""

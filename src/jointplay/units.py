@@ -12,7 +12,7 @@ import math
 import re
 from typing import Any
 
-from jointplay.errors import ConfigError
+from jointplay.errors import QuantityError
 
 #: SI target unit of each physical kind that a configuration may contain.
 SI_UNITS: dict[str, str] = {
@@ -86,16 +86,17 @@ def parse_quantity(
             ``unit``, e.g. ``"rpm"`` for ``"rad/s"``).
 
     Raises:
-        ConfigError: the value has no unit, an unknown unit or the wrong dimension.
+        QuantityError: (a ConfigError, its ``field`` and ``detail`` apart) the value has no
+            unit, an unknown unit or the wrong dimension.
     """
     if isinstance(value, bool):
-        raise ConfigError(f"{field}: expected a quantity in {unit}, got {value!r}")
+        raise QuantityError(field, f"expected a quantity in {unit}, got {value!r}")
     if isinstance(value, int | float):
         if allow_bare or unit in ("", "1", "dimensionless"):
             return _finite(float(value), field)
-        raise ConfigError(
-            f'{field}: {value!r} has no unit; write it with one, e.g. "{value} '
-            f'{example or _example(unit)}"'
+        raise QuantityError(
+            field,
+            f'{value!r} has no unit; write it with one, e.g. "{value} {example or _example(unit)}"',
         )
     if isinstance(value, str) and unit in _SIMPLE_UNITS:
         simple = _SIMPLE_QUANTITY.fullmatch(value)
@@ -106,35 +107,38 @@ def parse_quantity(
     if isinstance(value, str):
         text = value.strip()
         if not text:
-            raise ConfigError(f"{field}: empty value; expected a quantity in {unit}")
+            raise QuantityError(field, f"empty value; expected a quantity in {unit}")
         if len(text) > _MAX_QUANTITY_CHARS:
-            raise ConfigError(
-                f"{field}: {text[:40]!r}... is too long for a quantity (at most "
-                f"{_MAX_QUANTITY_CHARS} characters); expected e.g. '1.5 {_example(unit)}'"
+            raise QuantityError(
+                field,
+                f"{text[:40]!r}... is too long for a quantity (at most "
+                f"{_MAX_QUANTITY_CHARS} characters); expected e.g. '1.5 {_example(unit)}'",
             )
         if _NUMBER_POWER.search(text):
-            raise ConfigError(
-                f"{field}: cannot read {value!r}: write numbers out (e.g. '1e10'), powers go "
-                f"on units only (e.g. 'N/mm^1.5')"
+            raise QuantityError(
+                field,
+                f"cannot read {value!r}: write numbers out (e.g. '1e10'), powers go "
+                f"on units only (e.g. 'N/mm^1.5')",
             )
         try:
             quantity = registry.Quantity(text)
         except Exception as exc:  # pint raises several unrelated types
-            raise ConfigError(f"{field}: cannot read {value!r} as a quantity ({exc})") from None
+            raise QuantityError(field, f"cannot read {value!r} as a quantity ({exc})") from None
     else:
         quantity = value
     if not hasattr(quantity, "to"):
-        raise ConfigError(f"{field}: expected a quantity in {unit}, got {value!r}")
+        raise QuantityError(field, f"expected a quantity in {unit}, got {value!r}")
     if quantity.unitless and unit not in ("", "1", "dimensionless") and not allow_bare:
-        raise ConfigError(
-            f"{field}: {value!r} has no unit; write it with one, e.g. "
-            f'"{quantity.magnitude} {example or _example(unit)}"'
+        raise QuantityError(
+            field,
+            f"{value!r} has no unit; write it with one, e.g. "
+            f'"{quantity.magnitude} {example or _example(unit)}"',
         )
     try:
         magnitude = float(quantity.to(unit).magnitude)
     except Exception:
-        raise ConfigError(
-            f"{field}: {value!r} has units of {quantity.units:~}, which cannot be converted to {unit}"
+        raise QuantityError(
+            field, f"{value!r} has units of {quantity.units:~}, which cannot be converted to {unit}"
         ) from None
     return _finite(magnitude, field, value)
 
@@ -142,7 +146,7 @@ def parse_quantity(
 def _finite(value: float, field: str, given: Any = None) -> float:
     if not math.isfinite(value):
         shown = f"{given!r} is {value} in SI" if given is not None else f"got {value}"
-        raise ConfigError(f"{field}: value must be finite, {shown}")
+        raise QuantityError(field, f"value must be finite, {shown}")
     return value
 
 

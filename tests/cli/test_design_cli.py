@@ -211,3 +211,26 @@ def test_h7_h6_is_tried_only_when_named_with_a_note(tmp_path, capsys) -> None:
         "its samples near the lower limit leave the pin almost no room, where the "
         "clearance-joint model is least reliable"
     ]
+
+
+def test_the_design_command_hands_the_study_one_run_settings(tmp_path, monkeypatch) -> None:
+    """``jointplay design`` builds its RunSettings once from its options: equal to the Python
+    API's for the same inputs, and the study gets no loose run keyword beside it."""
+    from jointplay.dynamics.settings import RunSettings
+    from jointplay.dynamics.setup import ContactModel
+    from jointplay.dynamics.simulate import SolverOptions
+    from jointplay.study import design
+
+    seen = {}
+
+    def capture(*args, **kwargs):
+        seen.update(kwargs)
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(design, "design_study", capture)
+    run([*FAST_DYNAMIC, "--rtol", "1e-7", "--out", str(tmp_path / "out")])
+    expected = RunSettings.of(
+        contact=ContactModel(), settle=0, revolutions=0.25, solver=SolverOptions(rtol=1e-7)
+    )
+    assert seen["run_settings"] == expected
+    assert not {"contact", "start", "settle", "revolutions", "solver"} & set(seen)

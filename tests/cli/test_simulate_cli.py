@@ -216,3 +216,20 @@ def test_the_slider_crank_console_table_shows_the_slider(tmp_path, capsys) -> No
     analysed = steps[turned >= 360.0 - 1e-9]  # after the one start-up revolution
     assert float(rows["slider_v*"][1]) == pytest.approx(analysed["slider_v"].abs().max(), rel=1e-4)
     assert float(rows["slider_a*"][1]) == pytest.approx(analysed["slider_a"].abs().max(), rel=1e-4)
+
+
+def test_the_diagnostics_advice_names_the_options(tmp_path, capsys) -> None:
+    """The layers below name the setting (settle, for the Python API); the command line
+    shows its option: the advice on stderr says --settle, summary.json keeps the setting."""
+    out = tmp_path / "advice"
+    assert run([*PAPER_ARGS, "--no-plots", "--out", str(out)]) == 0
+    lines = [
+        line for line in capsys.readouterr().err.splitlines() if "start-transient-dominates" in line
+    ]
+    assert lines and all(
+        line.endswith("simulate more start-up revolutions (--settle)") for line in lines
+    )
+    written = json.loads((out / "summary.json").read_text())["diagnostics"]
+    advice = [d["message"] for d in written if d["code"] == "start-transient-dominates"]
+    assert advice and all(m.endswith("(settle)") and "--" not in m for m in advice)
+    assert all("template" not in d for d in written)

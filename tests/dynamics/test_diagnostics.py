@@ -173,3 +173,22 @@ def test_the_slider_crank_says_its_soft_contact_is_not_elastic(slider_crank) -> 
     assert "penetration-exceeds-elastic" in codes["soft"]
     assert "penetration-exceeds-clearance" not in codes["soft"]
     assert not {"penetration-exceeds-elastic", "penetration-exceeds-clearance"} & codes["default"]
+
+
+def test_advice_names_settings_as_each_caller_calls_them() -> None:
+    """The Python API's words in the message and the record; the command line's options
+    through ``named``/``line(names)``; the template survives pickling (worker processes)."""
+    import pickle
+
+    from jointplay.dynamics.diagnostics import check_energy, check_settled
+
+    energy = check_energy(0.5)
+    assert energy is not None and energy.message.endswith("tighten rtol")
+    assert energy.line({"rtol": "--rtol"}).endswith("tighten --rtol")
+    assert energy.named({"rtol": "--rtol"}).message.endswith("tighten --rtol")
+    assert "template" not in energy.as_dict() and energy.as_dict()["message"] == energy.message
+    assert pickle.loads(pickle.dumps(energy)).line({"rtol": "--rtol"}) == energy.line(
+        {"rtol": "--rtol"}
+    )
+    settled = check_settled("omega4", [10.0, 12.0, 12.1, 12.05])
+    assert settled is not None and settled.line({"settle": "--settle"}).endswith("raise --settle")

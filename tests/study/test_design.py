@@ -129,7 +129,7 @@ def test_dynamic_design_reports_wear_and_life(paper_fourbar) -> None:
     result = design_study(
         paper_fourbar, ["H7/g6", "H11/c11"], ["m"],
         ["rocker_speed_error <= 50 %", "joint_force <= 1 kN", "life >= 0.01 h"],
-        samples=2, clearance_allowance=20e-6, backend=SERIAL,
+        samples=2, clearance_allowance=20e-6, contact="ifm-conventional", backend=SERIAL,
     )  # fmt: skip
     table = result.table.set_index("fit")
     assert result.responses == "dynamic" and table["ok"].tolist() == [2, 2]
@@ -157,7 +157,7 @@ def test_requirements_may_mix_kinematic_and_dynamic_responses(paper_fourbar) -> 
     result = design_study(
         paper_fourbar, ["H8/g7"], ["c"],
         ["rocker_swing <= 60 deg", "joint_force <= 1 kN"],
-        samples=2, backend=SERIAL,
+        samples=2, contact="ifm-conventional", backend=SERIAL,
     )  # fmt: skip
     assert result.responses == "dynamic"
     row = result.table.iloc[0]
@@ -268,6 +268,8 @@ def test_the_answer_names_cheaper_schemes_left_undecided(paper_fourbar) -> None:
         "H9/d9 / m after 4,000 samples (about 9,000 would decide it at its observed defect "
         "rate: max_samples 9000)"
     )
+    shown = result.what_decides({"max_samples": "--max-samples"})
+    assert shown is not None and shown.endswith("observed defect rate: --max-samples 9000)")
 
 
 def test_rare_defects_give_the_same_estimate_on_every_backend(paper_fourbar) -> None:
@@ -284,3 +286,33 @@ def test_rare_defects_give_the_same_estimate_on_every_backend(paper_fourbar) -> 
         return row["dpm_rare"], row["dpm_rare_low"], row["dpm_rare_high"]
 
     assert estimate(SERIAL) == estimate(Backend("processes", workers=2))
+
+
+def test_dynamic_designs_default_to_the_physical_contact(paper_fourbar, monkeypatch) -> None:
+    """No contact given: the study's clearance joints get the physical default
+    ``ContactModel()`` (as ``jointplay design``), not the paper's conventional set."""
+    from jointplay.dynamics.setup import ContactModel
+    from jointplay.study import design
+    from jointplay.tolerance.analysis import study_contact
+
+    class Built(Exception):
+        pass
+
+    def capture(*args, **kwargs):
+        raise Built(kwargs)
+
+    monkeypatch.setattr(design, "dynamic_model", capture)
+    given = {}
+    for contact in (None, ContactModel(), "ifm-conventional"):
+        with pytest.raises(Built) as built:
+            design_study(
+                paper_fourbar, ["H8/g7"], ["m"], ["joint_force <= 1 kN"], samples=2,
+                contact=contact, backend=SERIAL,
+            )  # fmt: skip
+        given[contact] = built.value.args[0]
+    physical = study_contact(paper_fourbar, ContactModel())
+    assert given[None]["law"] == physical["law"] and given[None]["law"].name == "restitution"
+    assert given[None]["stiffness_from"] == physical["stiffness_from"] != {}
+    assert given[None]["friction"] == physical["friction"] is not None
+    assert given["ifm-conventional"]["law"].name == "impact"
+    assert given["ifm-conventional"]["friction"] is None

@@ -14,7 +14,10 @@ from jointplay.study.requirements import parse_requirement
 from jointplay.tolerance.execution import Backend
 
 LOCAL = Backend("local")
-SHORT = {"settle": 1, "revolutions": 0.5, "samples": 4, "seed": 3}
+#: The paper's conventional set, as before the physical default (these tests compare engines).
+SHORT = {
+    "settle": 1, "revolutions": 0.5, "samples": 4, "seed": 3, "contact": "ifm-conventional"
+}  # fmt: skip
 PEAKS = ["omega4_peak", "F_A_peak", "F_B_peak", "joint_force", "contact_pressure"]
 #: ω peaks of the two engines at the default tolerances (rtol 1e-6), in design conditions
 #: (fits up to H11/c11, a start-up revolution left out): measured against a converged
@@ -144,6 +147,7 @@ def test_an_unconverged_design_says_so(paper_fourbar: Mechanism, tmp_path) -> No
     result = design_study(
         paper_fourbar, ["H8/g7"], ["c"], ["joint_force <= 1 kN"], samples=40, seed=1,
         settle=0, revolutions=1.0, backend=LOCAL, solver=SolverOptions(rtol=1e-3),
+        contact="ifm-conventional",
     )  # fmt: skip
     check = result.convergence
     assert check is not None and check.share > check.limit and check.finding is not None

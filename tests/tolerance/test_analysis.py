@@ -20,6 +20,8 @@ from jointplay.tolerance.responses import FourBarKinematics
 from jointplay.tolerance.spec import LinkTolerance, ToleranceSpec
 
 SERIAL = Backend("serial")
+#: The paper's conventional contact set (fast); the default is the physical contact.
+CONVENTIONAL = "ifm-conventional"
 LENGTHS = ("length_crank", "length_coupler", "length_rocker", "length_ground")
 
 
@@ -185,6 +187,7 @@ def test_dynamic_study_spreads_peaks_and_forces(paper_fourbar: Mechanism, tmp_pa
     study = tolerance_study(
         paper_fourbar,
         responses="dynamic",
+        contact=CONVENTIONAL,
         samples=2,
         seed=3,
         start="rest",
@@ -216,7 +219,10 @@ def test_dynamic_study_spreads_peaks_and_forces(paper_fourbar: Mechanism, tmp_pa
 def test_dynamic_studies_default_to_the_running_mechanism(paper_fourbar: Mechanism) -> None:
     """Steady start, two start-up revolutions left out: the forces are the running ones, a
     few per cent above the ideal joints' (not the kilonewton start-up impacts)."""
-    study = tolerance_study(paper_fourbar, responses="dynamic", samples=2, seed=3, backend=SERIAL)
+    study = tolerance_study(
+        paper_fourbar, responses="dynamic", contact=CONVENTIONAL, samples=2, seed=3,
+        backend=SERIAL,
+    )  # fmt: skip
     assert (study.model["start"], study.model["settle_revolutions"]) == ("steady", 2)
     ideal = study.ideal
     assert ideal is not None
@@ -230,7 +236,10 @@ def test_running_responses_add_speed_error_force_pressure_and_wear(
 ) -> None:
     """responses="running": the dynamic peaks and the design study's running responses, so a
     tolerance study knows contact pressure and wear rate too."""
-    study = tolerance_study(paper_fourbar, responses="running", samples=2, seed=3, backend=SERIAL)
+    study = tolerance_study(
+        paper_fourbar, responses="running", contact=CONVENTIONAL, samples=2, seed=3,
+        backend=SERIAL,
+    )  # fmt: skip
     names = set(study.summaries)
     assert {
         "F_A_peak",
@@ -256,7 +265,10 @@ def test_dynamic_study_gives_the_same_samples_and_bits_on_every_cpu_backend(
     """Sampling happens before dispatch and the batch engine's lanes are independent: the
     same seed gives the same samples and the same responses in this process (threads) and on
     worker processes, in any block size."""
-    options = {"responses": "dynamic", "samples": 6, "seed": 8, "settle": 0, "revolutions": 0.2}
+    options = {
+        "responses": "dynamic", "contact": CONVENTIONAL, "samples": 6, "seed": 8, "settle": 0,
+        "revolutions": 0.2,
+    }  # fmt: skip
     local = tolerance_study(paper_fourbar, backend=Backend("local"), **options)
     spread = tolerance_study(
         paper_fourbar, backend=Backend("processes", workers=2, chunk_size=4), **options
@@ -265,3 +277,25 @@ def test_dynamic_study_gives_the_same_samples_and_bits_on_every_cpu_backend(
     np.testing.assert_array_equal(local.result.x, spread.result.x)
     np.testing.assert_array_equal(local.result.run.values, spread.result.run.values)
     assert local.model["method"] == "explicit" and "Dormand" in local.model["method_reason"]
+
+
+def test_dynamic_studies_default_to_the_physical_contact(paper_fourbar: Mechanism) -> None:
+    """No contact given: the physical default ``ContactModel()``, as every command (Liu
+    stiffness from each joint's geometry, Hunt–Crossley e = 0.8, friction 0.1); the paper's
+    conventional IFM set is one argument away."""
+    from jointplay.dynamics.setup import ContactModel
+    from jointplay.tolerance.analysis import build_model
+
+    spec = ToleranceSpec.from_mechanism(paper_fourbar)
+    default, _ = build_model(paper_fourbar, spec, "dynamic")
+    physical, _ = build_model(paper_fourbar, spec, "dynamic", contact=ContactModel())
+    assert default.describe() == physical.describe()
+    described = default.describe()
+    assert described["contact_law"]["name"] == "restitution"
+    assert set(described["stiffness_from_geometry"]) == {"O2", "A", "B", "O4"}
+    assert {rule["law"] for rule in described["stiffness_from_geometry"].values()} == {"liu"}
+    assert described["friction"] is not None and described["friction"]["mu"] == 0.1
+    conventional, _ = build_model(paper_fourbar, spec, "dynamic", contact=CONVENTIONAL)
+    described = conventional.describe()
+    assert described["contact_law"]["name"] == "impact" and described["friction"] is None
+    assert described["stiffness_from_geometry"] == {}

@@ -15,6 +15,7 @@ from jointplay.cli._app import CONTACT_PANEL, RUN_PANEL
 from jointplay.errors import ConfigError
 
 if TYPE_CHECKING:  # the dynamics import Numba: loaded when a command runs
+    from jointplay.dynamics.settings import RunSettings
     from jointplay.dynamics.setup import ContactModel
 
 
@@ -120,8 +121,15 @@ CONTACT_KEYS = ("contact", "k", "exponent", "cmax", "depth", "damping", "stiffne
 #: Every contact option, by its key in ``values`` (and in ``[simulation]``).
 CONTACT_OPTIONS = (*CONTACT_KEYS, "restitution", "friction", "friction_law", "method", "ecs_source")
 #: The option of each setting that the layers below name in their errors
-#: (:class:`~jointplay.errors.SettingError`): the command line shows these names.
+#: (:class:`~jointplay.errors.SettingError`) and in the diagnostics' advice
+#: (:meth:`~jointplay.dynamics.diagnostics.Diagnostic.named`): the command line shows these
+#: names.
 SETTING_OPTIONS = {
+    "start": "--start",
+    "settle": "--settle",
+    "revolutions": "--revolutions",
+    "rtol": "--rtol",
+    "max_samples": "--max-samples",
     "law": "--contact",
     "stiffness": "--k",
     "exponent": "--exponent",
@@ -175,6 +183,75 @@ def contact_model(
     if law is not None:
         return ContactModel(friction=friction, law=law, method=str(values["method"]), record=record)
     return ContactModel(settings=contact_from_strings(values), friction=friction)
+
+
+def run_settings(
+    contact: ContactModel,
+    *,
+    start: str | None = None,
+    ramp_time: float = 0.0,
+    settle: int | None = None,
+    revolutions: float | None = None,
+    rtol: float | None = None,
+) -> RunSettings:
+    """The :class:`~jointplay.dynamics.settings.RunSettings` of a simulating command, built
+    once from its options (``None``: not given, the default): the contact of
+    :func:`contact_from_options`, ``--start`` (and ``--ramp-time``, s), ``--settle``,
+    ``--revolutions`` and ``--rtol``. Its checks raise SettingErrors that name settings;
+    the command line shows their options (:data:`SETTING_OPTIONS`)."""
+    from jointplay.dynamics.settings import RunSettings
+    from jointplay.dynamics.simulate import SolverOptions, Start
+
+    return RunSettings.of(
+        contact=contact,
+        start=None if start is None else Start(start, ramp_time),  # type: ignore[arg-type]
+        settle=settle,
+        revolutions=revolutions,
+        solver=None if rtol is None else SolverOptions(rtol=rtol),
+    )
+
+
+def run_settings_of(
+    values: dict[str, Any],
+    mechanism: Any,
+    contact: ContactModel,
+    *,
+    revolutions: float = 1.0,
+    settle: int | None = None,
+    max_step: bool = False,
+) -> RunSettings:
+    """:func:`run_settings` of the run options in ``values`` (options over the
+    ``[simulation]`` table): ``start`` (default steady), ``ramp_time`` (default a quarter of
+    the crank period with the ramp start), ``settle`` (default ``settle``, else 2 with the
+    steady start and 0 with the others, whose start-up is what they show), ``rtol`` and,
+    with ``max_step``, ``max_step``; the one reader of simulate's and animate's."""
+    from jointplay.dynamics.cycles import DEFAULT_SETTLE
+    from jointplay.dynamics.settings import RunSettings
+    from jointplay.dynamics.simulate import SolverOptions, Start
+    from jointplay.units import parse_quantity
+
+    mode = str(values.get("start", "steady"))
+    ramp = (
+        0.0
+        if values.get("ramp_time") is None
+        else parse_quantity(values["ramp_time"], "s", field="--ramp-time")
+    )
+    if mode == "ramp" and ramp == 0.0:
+        ramp = mechanism.driver.period / 4
+    solver = SolverOptions(
+        rtol=finite_number(values, "rtol", 1e-6),
+        max_step=None
+        if not max_step or values.get("max_step") is None
+        else parse_quantity(values["max_step"], "s", field="--max-step"),
+    )
+    default = settle if settle is not None else DEFAULT_SETTLE if mode == "steady" else 0
+    return RunSettings(
+        contact=contact,
+        start=Start(mode, ramp),  # type: ignore[arg-type]  # validated by Start
+        settle=values.get("settle", default),
+        revolutions=revolutions,
+        solver=solver,
+    )
 
 
 def contact_from_options(

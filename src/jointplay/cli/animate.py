@@ -43,8 +43,8 @@ from jointplay.cli._simulation import (
     StiffnessLawOption,
     StiffnessOption,
     contact_model,
-    finite_number,
     joint_list,
+    run_settings_of,
 )
 from jointplay.errors import ConfigError
 
@@ -153,8 +153,8 @@ def _simulate(
     progress: bool,
 ) -> Any:
     """Simulate the settle revolutions and the animated one, with the options of simulate."""
-    from jointplay.dynamics.cycles import DEFAULT_SETTLE, settle_revolutions
-    from jointplay.dynamics.simulate import SolverOptions, Start, simulate
+    from jointplay.dynamics.cycles import DEFAULT_SETTLE
+    from jointplay.dynamics.settings import simulate_run
     from jointplay.io.config import simulation_settings
     from jointplay.units import parse_quantity
 
@@ -178,15 +178,8 @@ def _simulate(
             else parse_quantity(values["clearance"], "m", field="--clearance"),
         )
     )
-    mode = str(values.get("start", "steady"))
-    ramp = (
-        0.0
-        if values.get("ramp_time") is None
-        else parse_quantity(values["ramp_time"], "s", field="--ramp-time")
-    )
-    if mode == "ramp" and ramp == 0.0:
-        ramp = mechanism.driver.period / 4
-    settle = settle_revolutions(values.get("settle", DEFAULT_SETTLE), "--settle")
+    run = run_settings_of(values, mechanism, contact_used, settle=DEFAULT_SETTLE)
+    settle = run.settle
     where = ", ".join(c.joint for c in clear) or "no joint (ideal joints)"
     with (
         compiling_kernels(),
@@ -195,14 +188,7 @@ def _simulate(
             f"simulating {settle + 1} revolution(s) of {mechanism.name} with clearance in {where}",
         ),
     ):
-        return simulate(
-            mechanism,
-            clear,
-            revolutions=1.0,
-            settle=settle,
-            start=Start(mode, ramp),  # type: ignore[arg-type]  # validated by Start
-            solver=SolverOptions(rtol=finite_number(values, "rtol", 1e-6)),
-        )
+        return simulate_run(mechanism, clear, run)
 
 
 def _check_target(target: Path, force: bool) -> None:

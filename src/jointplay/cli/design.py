@@ -48,6 +48,7 @@ from jointplay.cli._common import (
     writing_study,
 )
 from jointplay.cli._simulation import (
+    SETTING_OPTIONS,
     CmaxOption,
     ContactOption,
     DampingOption,
@@ -62,11 +63,11 @@ from jointplay.cli._simulation import (
     StiffnessLawOption,
     StiffnessOption,
     contact_from_options,
+    run_settings,
 )
 from jointplay.cli.tolerance import (
     BackendOption,
     backend_from_options,
-    solver_options,
 )
 from jointplay.errors import ConfigError, JointplayError
 from jointplay.units import parse_quantity
@@ -443,10 +444,13 @@ def design_command(
         options: dict[str, Any] = {
             "samples": count, "max_samples": max_samples, "seed": seed, "process": process,
             "truncate": truncate, "cost": cost, "clearance_limit": limit,
-            "clearance_allowance": allowance, "wear": wear, "settle": settle,
-            "revolutions": revolutions, "solver": solver_options(rtol), "backend": where,
+            "clearance_allowance": allowance, "wear": wear, "backend": where,
             "progress": progress,
         }  # fmt: skip
+        if dynamic:  # the run settings, built once (kinematic designs run no dynamics)
+            options["run_settings"] = run_settings(
+                contact_used, settle=settle, revolutions=revolutions, rtol=rtol
+            )
         sensitivity = None
 
         def compute() -> DesignResult:
@@ -460,7 +464,6 @@ def design_command(
                     rare=RareDefects() if rare_defects else None,
                     confidence=level,
                     responses=kind,  # type: ignore[arg-type]
-                    contact=contact_used,
                     **options,
                 )
                 sensitivity = (
@@ -571,6 +574,6 @@ def _print(result: DesignResult, units: dict[str, str]) -> None:
     if best is None:
         console.print(result.verdict)
     elif result.to_decide is not None:
-        console.print(f"cheaper, {result.to_decide}")
+        console.print(f"cheaper, {result.what_decides(SETTING_OPTIONS)}")
     for finding in result.diagnostics:  # one line each, on stderr, as `jointplay tolerance`
-        print(f"jointplay: {finding.line()}", file=sys.stderr)
+        print(f"jointplay: {finding.line(SETTING_OPTIONS)}", file=sys.stderr)

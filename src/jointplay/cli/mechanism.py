@@ -27,6 +27,7 @@ from jointplay.cli._common import (
     quantity_option,
     whole_headers,
 )
+from jointplay.cli._simulation import SETTING_OPTIONS
 from jointplay.errors import ConfigError
 
 console = Console()
@@ -118,7 +119,7 @@ def kinematics_command(
             kinematics_plots(result.table, folder, mechanism.name, figure_format=figure_format)
     _print_summary(result.summary, out)
     for finding in findings:  # one line each, on stderr, as simulate's diagnostics
-        print(f"jointplay: {finding.line()}", file=sys.stderr)
+        print(f"jointplay: {finding.line(SETTING_OPTIONS)}", file=sys.stderr)
 
 
 def _print_summary(summary: dict, out: object) -> None:

@@ -33,6 +33,7 @@ from jointplay.cli._common import (
     whole_headers,
 )
 from jointplay.cli._simulation import (
+    SETTING_OPTIONS,
     ClearanceOption,
     CmaxOption,
     ContactOption,
@@ -53,6 +54,7 @@ from jointplay.cli._simulation import (
     contact_model,
     finite_number,
     joint_list,
+    run_settings_of,
 )
 from jointplay.errors import ConfigError
 from jointplay.units import parse_quantity
@@ -138,8 +140,7 @@ def simulate_command(
     per-revolution statistics, periodicity, diagnostics, solver statistics, provenance) and
     PNG plots. Options override the [simulation] table of a --config file.
     """
-    from jointplay.dynamics.cycles import DEFAULT_SETTLE, settle_revolutions
-    from jointplay.dynamics.simulate import SolverOptions, Start, simulate
+    from jointplay.dynamics.settings import simulate_run
     from jointplay.io.config import simulation_settings
     from jointplay.io.output import output_dir, write_json
     from jointplay.io.results import simulation_summary, write_table
@@ -170,20 +171,6 @@ def simulate_command(
         clear = contact_used.joints(
             mechanism, joint_list(values.get("joints")), clearance=clearance_value
         )
-        mode = str(values.get("start", "steady"))
-        ramp = (
-            0.0
-            if values.get("ramp_time") is None
-            else parse_quantity(values["ramp_time"], "s", field="--ramp-time")
-        )
-        if mode == "ramp" and ramp == 0.0:
-            ramp = mechanism.driver.period / 4
-        solver = SolverOptions(
-            rtol=finite_number(values, "rtol", 1e-6),
-            max_step=None
-            if values.get("max_step") is None
-            else parse_quantity(values["max_step"], "s", field="--max-step"),
-        )
         step = (
             None
             if values.get("output_step") is None
@@ -194,9 +181,8 @@ def simulate_command(
             raise ConfigError(f"--format must be csv or parquet, got {fmt_value!r}")
         turns = finite_number(values, "revolutions", 1.0)
         check_revolutions(turns)
-        settle_turns = settle_revolutions(
-            values.get("settle", DEFAULT_SETTLE if mode == "steady" else 0), "--settle"
-        )
+        run = run_settings_of(values, mechanism, contact_used, revolutions=turns, max_step=True)
+        settle_turns = run.settle
         sample = _sample_step(values.get("sample_deg"))
         with (
             compiling_kernels(lambda line: console.print(line, markup=False, highlight=False)),
@@ -205,13 +191,10 @@ def simulate_command(
                 f"simulating {settle_turns + turns:g} revolution(s) of {mechanism.name} with clearance in {', '.join(c.joint for c in clear)}",
             ),
         ):
-            result = simulate(
+            result = simulate_run(
                 mechanism,
                 clear,
-                revolutions=turns,
-                settle=settle_turns,
-                start=Start(mode, ramp),  # type: ignore[arg-type]  # validated by Start
-                solver=solver,
+                run,
                 output_step=step,
                 sample_deg=sample,
                 nominal=True,
@@ -397,7 +380,7 @@ def _print(result: Any, findings: list[Any], out: Path) -> None:
             "deepest penetration over the analysed revolutions, at the accepted steps: " + deepest
         )
     for finding in findings:  # one line each, on stderr
-        print(f"jointplay: {finding.line()}", file=sys.stderr)
+        print(f"jointplay: {finding.line(SETTING_OPTIONS)}", file=sys.stderr)
     stats = result.solver_stats
     stdout.print(
         f"{stats['steps']} steps ({stats['rejected_steps']} rejected), {stats['rhs_evaluations']} evaluations, "

@@ -36,6 +36,7 @@ from jointplay.cli._common import (
     writing_study,
 )
 from jointplay.cli._simulation import (
+    SETTING_OPTIONS,
     CmaxOption,
     ContactOption,
     DampingOption,
@@ -49,6 +50,7 @@ from jointplay.cli._simulation import (
     StiffnessLawOption,
     StiffnessOption,
     contact_from_options,
+    run_settings,
 )
 from jointplay.errors import ConfigError
 from jointplay.units import parse_quantity
@@ -339,7 +341,14 @@ def tolerance_command(
         where = backend_from_options(backend, workers, dask_scheduler)
         if where.kind == "gpu" and not dynamic:
             raise ConfigError("--backend gpu runs the dynamics: use it with --responses dynamic")
-        units = response_units(mechanism, spec, responses.value, contact=law)
+        run = (
+            None
+            if law is None
+            else run_settings(
+                law, start=start.value, settle=settle, revolutions=revolutions, rtol=rtol
+            )
+        )
+        units = response_units(mechanism, spec, responses.value, run_settings=run)
         limits = parse_spec_limits(spec_limit or [], units)
         if spec_limit:  # after parsing: a malformed one is still one error line
             print(
@@ -367,11 +376,7 @@ def tolerance_command(
                     method=analysis,
                     responses=responses.value,
                     limits=limits,
-                    contact=law,
-                    start=start.value,
-                    settle=settle,
-                    revolutions=revolutions,
-                    solver=solver_options(rtol),
+                    run_settings=run,
                     backend=where,
                     progress=progress,
                 )
@@ -410,15 +415,6 @@ def _check_lengths(spec: Any) -> None:
                 f"of a {item.nominal * 1e3:g} mm length are impossible geometry (a length stays "
                 f"positive and below {MAX_LENGTH:g} m); check the deviations"
             )
-
-
-def solver_options(rtol: float | None) -> Any:
-    """The integration settings of --rtol (``None``: the defaults)."""
-    if rtol is None:
-        return None
-    from jointplay.dynamics.simulate import SolverOptions
-
-    return SolverOptions(rtol=rtol)
 
 
 def limits_from_requirements(texts: list[str], units: dict[str, str]) -> dict[str, SpecLimits]:
@@ -534,4 +530,4 @@ def _print(study: ToleranceStudyResult) -> None:
         if len(failures) > 5:
             console.print(f"  … and {len(failures) - 5} more")
     for finding in study.diagnostics:  # one line each, on stderr, as `jointplay simulate`
-        print(f"jointplay: {finding.line()}", file=sys.stderr)
+        print(f"jointplay: {finding.line(SETTING_OPTIONS)}", file=sys.stderr)

@@ -27,12 +27,12 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NoReturn
 
 import numpy as np
 from numpy.typing import NDArray
 
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, SettingError
 
 FloatArray = NDArray[np.float64]
 
@@ -50,12 +50,13 @@ def analysed_revolutions(value: Any, name: str = "revolutions") -> float:
 
     Raises:
         ConfigError: it is not a number, or not > 0 — the one check of every engine, study
-            and command.
+            and command; a :class:`~jointplay.errors.SettingError` when ``name`` is a
+            setting's (an identifier, as the default), which each caller names its own way.
     """
     if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
-        raise ConfigError(f"{name} must be a number, got {value!r}")
+        _refuse(name, "{name} must be a number, got {got!r}", value)
     if not (math.isfinite(value) and value > 0):
-        raise ConfigError(f"{name} must be > 0, got {value:g}")
+        _refuse(name, "{name} must be > 0, got {got:g}", value)
     return float(value)
 
 
@@ -68,11 +69,20 @@ def settle_revolutions(value: Any, name: str = "settle") -> int:
 
     Raises:
         ConfigError: it is not a whole number >= 0 — the one check of every engine, study,
-            command and configuration file.
+            command and configuration file; a :class:`~jointplay.errors.SettingError` when
+            ``name`` is a setting's (an identifier, as the default).
     """
     if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 0:
-        raise ConfigError(f"{name} must be a whole number of revolutions >= 0, got {value!r}")
+        _refuse(name, "{name} must be a whole number of revolutions >= 0, got {got!r}", value)
     return int(value)
+
+
+def _refuse(name: str, template: str, value: Any) -> NoReturn:
+    """Raise the error of ``template`` about ``name``: a SettingError that names the setting
+    ``name`` (an identifier), else a ConfigError with ``name`` as given."""
+    if name.isidentifier():
+        raise SettingError(template.replace("{name}", "{" + name + "}"), got=value)
+    raise ConfigError(template.format(name=name, got=value))
 
 
 #: Largest normalised distance between section points that counts as "the same point".

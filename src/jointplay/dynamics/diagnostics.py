@@ -63,7 +63,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field, replace
 from typing import Any, Literal
 
 from jointplay.contact.hertz import (
@@ -72,6 +72,7 @@ from jointplay.contact.hertz import (
     line_contact_half_width,
     point_contact_stiffness,
 )
+from jointplay.errors import name_settings
 from jointplay.kinematics import fourbar
 from jointplay.model.mechanism import Material, Mechanism
 from jointplay.model.templates import FourBarGeometry, TemplateSpec
@@ -108,7 +109,12 @@ class Diagnostic:
         joint: the joint concerned, or ``None`` for the whole mechanism.
         value: the offending value (the unit is in the message).
         limit: the limit it was compared with (same unit).
-        message: one sentence saying what is wrong and what to do.
+        message: one sentence saying what is wrong and what to do; the settings it advises
+            on by their names in the Python API (``settle``, ``rtol``).
+        template: the message with each setting it names as a ``{setting}`` field
+            (:func:`~jointplay.errors.name_settings`), ``None`` when it names none: each
+            caller shows its own names for them (:meth:`named`; the command line its
+            options'), as :class:`~jointplay.errors.SettingError`.
     """
 
     level: Level
@@ -117,14 +123,31 @@ class Diagnostic:
     value: float
     limit: float
     message: str
+    template: str | None = field(default=None, compare=False, repr=False)
+
+    @classmethod
+    def advising(
+        cls, level: Level, code: str, joint: str | None, value: float, limit: float, template: str
+    ) -> Diagnostic:
+        """A finding whose advice names settings: ``template`` with ``{setting}`` fields."""
+        return cls(level, code, joint, value, limit, name_settings(template), template)
+
+    def named(self, names: Mapping[str, str]) -> Diagnostic:
+        """The same finding, its settings called by ``names`` (setting → name) where given."""
+        if self.template is None:
+            return self
+        return replace(self, message=name_settings(self.template, names))
 
     def as_dict(self) -> dict[str, Any]:
-        return asdict(self)
+        record = asdict(self)
+        del record["template"]
+        return record
 
-    def line(self) -> str:
-        """One console line."""
+    def line(self, names: Mapping[str, str] | None = None) -> str:
+        """One console line; ``names``: what to call the settings it advises on."""
         where = f" [{self.joint}]" if self.joint else ""
-        return f"{self.level}: {self.code}{where}: {self.message}"
+        message = self.named(names).message if names else self.message
+        return f"{self.level}: {self.code}{where}: {message}"
 
 
 def line_contact_pressure(
@@ -297,7 +320,7 @@ def check_start_transient(
     if len(per_revolution) >= 2:
         first, later = per_revolution[0], max(per_revolution[1:])
         if later > 0.0 and first > TRANSIENT_RATIO * later:
-            return Diagnostic(
+            return Diagnostic.advising(
                 "warning",
                 "start-transient-dominates",
                 None,
@@ -305,7 +328,7 @@ def check_start_transient(
                 TRANSIENT_RATIO * later,
                 f"{quantity} peaks at {first:.4g} in the first revolution, "
                 f"{first / later:.3g} times its later peaks ({later:.4g}): a start-up "
-                "artefact; read the steady-running statistics (settle)",
+                "artefact; read the steady-running statistics ({settle})",
             )
         return None
     if (
@@ -313,14 +336,15 @@ def check_start_transient(
         and first_peak_crank_deg is not None
         and first_peak_crank_deg < START_WINDOW_DEG
     ):
-        return Diagnostic(
+        return Diagnostic.advising(
             "warning",
             "start-transient-dominates",
             None,
             first_peak_crank_deg,
             START_WINDOW_DEG,
             f"{quantity} peaks {first_peak_crank_deg:.3g}° after the start of a single "
-            "revolution: likely a start-up artefact; simulate more start-up revolutions (settle)",
+            "revolution: likely a start-up artefact; simulate more start-up revolutions "
+            "({settle})",
         )
     return None
 
@@ -342,7 +366,7 @@ def check_settled(quantity: str, per_revolution: Sequence[float]) -> Diagnostic 
     change = outside / max(abs(mean), 1e-300)
     if change <= SETTLED_CHANGE:
         return None
-    return Diagnostic(
+    return Diagnostic.advising(
         "warning",
         "not-settled",
         None,
@@ -350,7 +374,7 @@ def check_settled(quantity: str, per_revolution: Sequence[float]) -> Diagnostic 
         SETTLED_CHANGE,
         f"{quantity}'s peak in the first analysed revolution ({first:.4g}) lies "
         f"{change:.1%} outside the range of the later ones ({low:.4g} to {high:.4g}): the "
-        "motion is still changing from its start; raise settle",
+        "motion is still changing from its start; raise {settle}",
     )
 
 
@@ -377,18 +401,18 @@ def check_periodic(
     if settles_after is not None:
         reason = (
             f"it repeats from revolution {settles_after + 1} on: a start-up transient, not "
-            f"rattling; raise settle by {settles_after}"
+            f"rattling; raise {{settle}} by {settles_after}"
         )
     elif converging:
         reason = (
             "its steps shrink from revolution to revolution: a start-up transient still "
-            "settling, not rattling; raise settle"
+            "settling, not rattling; raise {settle}"
         )
     else:
         reason = (
             "the pins rattle differently every revolution; read peaks as ranges across revolutions"
         )
-    return Diagnostic(
+    return Diagnostic.advising(
         "info", "not-periodic", None, float(revolutions), math.nan, f"{where}: {reason}"
     )
 
@@ -397,14 +421,14 @@ def check_energy(residual: float) -> Diagnostic | None:
     """``energy-drift`` when the energy balance drifts (relative to the largest energy)."""
     if not residual > ENERGY_TOLERANCE:
         return None
-    return Diagnostic(
+    return Diagnostic.advising(
         "warning",
         "energy-drift",
         None,
         residual,
         ENERGY_TOLERANCE,
         f"the energy balance drifts by {residual:.2e} of the largest energy: the "
-        "integration is not accurate enough; tighten rtol",
+        "integration is not accurate enough; tighten {rtol}",
     )
 
 

@@ -23,7 +23,7 @@ from jointplay.contact.friction import FrictionLaw, get_friction
 from jointplay.contact.laws import CONTACT_LAWS, ContactLaw, ImpactLaw, get_law
 from jointplay.contact.stiffness import STIFFNESS_LAWS
 from jointplay.dynamics.clearance import FIT_DEPTH, ClearanceJoint, JointStiffness
-from jointplay.errors import ConfigError, SettingError
+from jointplay.errors import ConfigError, QuantityError, SettingError
 from jointplay.model.mechanism import Mechanism, RevoluteJoint
 from jointplay.units import parse_quantity
 
@@ -92,9 +92,10 @@ def _quantity(value: Any, unit: str, setting: str, hint: str = "") -> float:
     SettingError about ``setting`` (``hint`` added to its message)."""
     try:
         return parse_quantity(value, unit, field=setting)
-    except ConfigError as exc:
-        detail = str(exc).removeprefix(f"{setting}: ")  # the setting is named by the template
-        raise SettingError(f"{{{setting}}}: {{detail}}{{hint}}", detail=detail, hint=hint) from None
+    except QuantityError as exc:  # the setting is named by the template, the rest is detail
+        raise SettingError(
+            f"{{{setting}}}: {{detail}}{{hint}}", detail=exc.detail, hint=hint
+        ) from None
 
 
 @dataclass(frozen=True)
@@ -313,6 +314,32 @@ class ContactModel:
         }
 
 
+#: The name of the paper's conventional contact set: its method ``ifm-conventional`` (the
+#: command line's method option takes the same name), the IMPACT law :data:`DEFAULT_IMPACT`
+#: without friction. Not the default: a tuned convenience, one argument away
+#: (``contact="ifm-conventional"`` in the Python API).
+CONVENTIONAL = "ifm-conventional"
+
+
+def conventional_contact() -> ContactModel:
+    """The paper's conventional contact set :data:`CONVENTIONAL` as a :class:`ContactModel`:
+    :data:`DEFAULT_IMPACT` for every joint, no friction (as the method ``ifm-conventional`` on the command line)."""
+    return ContactModel(friction=FrictionSettings(), law=DEFAULT_IMPACT, method=CONVENTIONAL)
+
+
+def resolve_contact(contact: str | ContactLaw | ContactModel | None) -> ContactModel | ContactLaw:
+    """The contact a Python API call means: ``None`` the physical default ``ContactModel()``
+    (as every command), :data:`CONVENTIONAL` the paper's conventional set
+    (:func:`conventional_contact`), another name the contact law of that name with its default
+    parameters (frictionless), an object itself."""
+    if contact is None:
+        return ContactModel()
+    if isinstance(contact, str):
+        named = contact.strip().lower().replace("_", "-").replace(" ", "-")
+        return conventional_contact() if named == CONVENTIONAL else get_law(contact)
+    return contact
+
+
 def make_law(
     settings: ContactSettings, *, stiffness: float | None = None, exponent: float | None = None
 ) -> ContactLaw:
@@ -378,6 +405,9 @@ def clearance_joints(
     The clearance and the journal radius come from each joint's fit data (diameter / 2) unless
     given; a joint with neither gets a clear error. ``law`` (a ready contact-law object, e.g.
     one of the paper's methods) takes the place of ``contact``.
+    ``contact`` and ``friction`` are the bare settings (``None``: the default law,
+    frictionless); the physical default of every command, friction included, is
+    ``ContactModel().joints(mechanism)``.
     """
     contact = contact or ContactSettings()
     friction = friction or FrictionSettings()

@@ -157,6 +157,7 @@ def model_sensitivity(
     cases = model_cases(contact)
     if row is None or result.responses != "dynamic" or not cases:
         return None
+    run = options.pop("run_settings", None)  # the study's run settings: each case's contact
     joints = [key.removeprefix("fit_") for key in row if key.startswith("fit_")]
     fits = {joint: str(row[f"fit_{joint}"]) for joint in joints}
     base = result.table[result.table["scheme"] == result.best].reset_index(drop=True)
@@ -169,7 +170,11 @@ def model_sensitivity(
             result.requirements,
             confidence=result.confidence,
             responses="dynamic",
-            contact=case.contact,
+            **(
+                {"contact": case.contact}
+                if run is None
+                else {"run_settings": dataclasses.replace(run, contact=case.contact)}
+            ),
             **options,
         )
         if again.interrupted or again.table.empty:

@@ -31,7 +31,6 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from jointplay.dynamics.cycles import DEFAULT_SETTLE
 from jointplay.dynamics.diagnostics import Diagnostic
 from jointplay.errors import ConfigError, PartialInterrupt
 from jointplay.model.mechanism import Mechanism
@@ -50,6 +49,7 @@ from jointplay.tolerance.responses import (
     DynamicResponses,
     ResponseModel,
     RunningResponses,
+    contact_parts,
     dynamic_model,
     kinematic_model,
 )
@@ -58,6 +58,7 @@ from jointplay.tolerance.spec import JointTolerance, ToleranceSpec
 if TYPE_CHECKING:  # the dynamics import Numba: loaded only by dynamic studies
     from jointplay.contact.friction import FrictionLaw
     from jointplay.contact.laws import ContactLaw
+    from jointplay.dynamics.settings import RunSettings
     from jointplay.dynamics.setup import ContactModel
     from jointplay.dynamics.simulate import SolverOptions, Start
 
@@ -109,9 +110,9 @@ class StudyDiagnostic:
         """``count / out_of``."""
         return self.count / self.out_of if self.out_of else 0.0
 
-    def line(self) -> str:
-        """One console line (as :meth:`Diagnostic.line`)."""
-        return self.diagnostic.line()
+    def line(self, names: Mapping[str, str] | None = None) -> str:
+        """One console line (as :meth:`Diagnostic.line`, ``names`` too)."""
+        return self.diagnostic.line(names)
 
     def as_dict(self) -> dict[str, Any]:
         """JSON-ready: the diagnostic's record plus ``count``, ``out_of``, ``share``,
@@ -317,9 +318,9 @@ def convergence_finding(
             f"up to {np.nanmax(change[:, j]):.3g} {model.units.get(name, '')}, "
             f"{100 * share[j]:.0f} % of its spread over the study (std {spread[j]:.3g}): part "
             "of the scatter is the integrator's, not the tolerances'; tighten the integration "
-            "(rtol) or use a contact law that converges"
+            "({rtol}) or use a contact law that converges"
         )
-        warning = Diagnostic(
+        warning = Diagnostic.advising(
             "warning", "peaks-not-converged", None, float(share[j]), CONVERGENCE_LIMIT, message
         )
         finding = StudyDiagnostic(
@@ -455,11 +456,12 @@ def tolerance_study(
     method: str | ToleranceMethod = "monte-carlo",
     responses: ResponseKind = "kinematic",
     limits: Mapping[str, SpecLimits] | None = None,
+    run_settings: RunSettings | None = None,
     contact: str | ContactLaw | ContactModel | None = None,
     friction: FrictionLaw | None = None,
-    start: str | Start = "steady",
-    settle: int = DEFAULT_SETTLE,
-    revolutions: float = 1.0,
+    start: str | Start | None = None,
+    settle: int | None = None,
+    revolutions: float | None = None,
     solver: SolverOptions | None = None,
     backend: Backend | None = None,
     progress: bool = False,
@@ -478,11 +480,18 @@ def tolerance_study(
             or ``"running"`` (the dynamic peaks plus rocker-speed error, largest joint force
             and contact pressure, Archard wear rates).
         limits: specification limits per response name (SI).
+        run_settings: dynamic: how the clearance dynamics run
+            (:class:`~jointplay.dynamics.settings.RunSettings`: contact, start, settle,
+            revolutions, solver), as the command line builds it; or, in its place, the loose
+            keywords ``contact``, ``start``, ``settle``, ``revolutions``, ``solver`` (giving
+            both is an error).
         contact: dynamic: a :class:`~jointplay.dynamics.setup.ContactModel` (its stiffness
-            from each joint's geometry is refitted to every sample's clearance; the physical
-            default of docs/contact.md is ``ContactModel()``), a contact law instance or name,
-            or ``None``: the paper's conventional IFM,
-            :data:`jointplay.dynamics.setup.DEFAULT_IMPACT`.
+            from each joint's geometry is refitted to every sample's clearance); ``None``
+            (default): the physical default ``ContactModel()`` of docs/contact.md, as every
+            command (Liu stiffness per joint, Hunt–Crossley e = 0.8, friction 0.1);
+            ``"ifm-conventional"``: the paper's conventional IFM set
+            (:data:`jointplay.dynamics.setup.DEFAULT_IMPACT`), frictionless; a contact law
+            instance or name: that law, frictionless.
         friction: dynamic: a friction law, or ``None`` (with a ContactModel: its friction).
         start: dynamic: ``"steady"`` (default: the mechanism as it runs), ``"rest"`` (the
             paper's start-up), ``"impulsive"``, ``"ramp"`` or a
@@ -517,6 +526,7 @@ def tolerance_study(
             mechanism,
             spec,
             responses,
+            run_settings=run_settings,
             contact=contact,
             friction=friction,
             start=start,
@@ -545,17 +555,19 @@ def build_model(
     spec: ToleranceSpec,
     responses: ResponseKind,
     *,
+    run_settings: RunSettings | None = None,
     contact: str | ContactLaw | ContactModel | None = None,
     friction: FrictionLaw | None = None,
-    start: str | Start = "steady",
-    settle: int = DEFAULT_SETTLE,
-    revolutions: float = 1.0,
+    start: str | Start | None = None,
+    settle: int | None = None,
+    revolutions: float | None = None,
     solver: SolverOptions | None = None,
 ) -> tuple[ResponseModel, ToleranceSpec]:
     """The response model of a study and the part of ``spec`` it varies.
 
     Kinematic studies vary the length inputs; dynamic and running studies lengths and
-    clearances (see :func:`tolerance_study` for the arguments). ``"running"`` adds to the
+    clearances (see :func:`tolerance_study` for the arguments; the run settings are built
+    once here, :meth:`~jointplay.dynamics.settings.RunSettings.of`). ``"running"`` adds to the
     dynamic peaks the rocker-speed error, the largest joint force and contact pressure and the
     Archard wear rates (:class:`~jointplay.tolerance.responses.RunningResponses`, default steel
     wear data).
@@ -570,14 +582,22 @@ def build_model(
         return kinematic_model(mechanism, spec.names), spec
     if responses not in ("dynamic", "running"):
         raise ConfigError(f"responses must be kinematic, dynamic or running, got {responses!r}")
-    from jointplay.dynamics.simulate import SolverOptions, Start
+    from jointplay.dynamics.settings import RunSettings
 
     spec = spec.only("length", "clearance")
     if len(spec) == 0:
         raise ConfigError(
             f"mechanism {mechanism.name!r} has no length or clearance tolerances to study"
         )
-    parts = study_contact(mechanism, contact)
+    settings = RunSettings.of(
+        run_settings,
+        contact=contact,
+        start=start,
+        settle=settle,
+        revolutions=revolutions,
+        solver=solver,
+    )
+    parts = contact_parts(mechanism, settings.contact)
     if friction is not None:
         parts["friction"] = friction
     radius = {
@@ -587,10 +607,10 @@ def build_model(
         mechanism,
         spec.names,
         journal_radius=radius,
-        start=Start(start) if isinstance(start, str) else start,  # type: ignore[arg-type]
-        settle=settle,
-        revolutions=revolutions,
-        solver=solver or SolverOptions(),
+        start=settings.start,
+        settle=settings.settle,
+        revolutions=settings.revolutions,
+        solver=settings.solver,
         **parts,
     )
     if not model.clearance_joints:
@@ -609,16 +629,16 @@ def study_contact(
     mechanism: Mechanism, contact: str | ContactLaw | ContactModel | None
 ) -> dict[str, Any]:
     """``law``, ``friction`` and ``stiffness_from`` of a dynamic study's response model
-    (:func:`jointplay.tolerance.responses.contact_parts`); a law or a name: that law,
-    frictionless; ``None``: :data:`jointplay.dynamics.setup.DEFAULT_IMPACT`, frictionless."""
-    from jointplay.contact.laws import get_law
-    from jointplay.dynamics.setup import DEFAULT_IMPACT, ContactModel
-    from jointplay.tolerance.responses import contact_parts
+    (:func:`jointplay.tolerance.responses.contact_parts`) for ``contact``, as
+    :func:`jointplay.dynamics.setup.resolve_contact` reads it: ``None`` the physical default
+    ``ContactModel()``; ``"ifm-conventional"`` the paper's conventional IFM set,
+    frictionless; a law or a law's name: that law, frictionless."""
+    from jointplay.dynamics.setup import ContactModel, resolve_contact
 
-    if isinstance(contact, ContactModel):
-        return contact_parts(mechanism, contact)
-    law = DEFAULT_IMPACT if contact is None else get_law(contact)
-    return {"law": law, "friction": None, "stiffness_from": {}}
+    resolved = resolve_contact(contact)
+    if isinstance(resolved, ContactModel):
+        return contact_parts(mechanism, resolved)
+    return {"law": resolved, "friction": None, "stiffness_from": {}}
 
 
 def response_units(
