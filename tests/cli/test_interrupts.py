@@ -12,6 +12,7 @@ from __future__ import annotations
 import json
 import os
 import random
+import re
 import signal
 import subprocess
 import sys
@@ -180,7 +181,10 @@ def test_interrupts_at_random_moments_never_lose_a_result(tmp_path: Path, backen
         "tolerance": ["tolerance", "--responses", "dynamic", "--revolutions", "1"],
         "design": ["design", "--fits", "H7/g6,H8/f7,H11/c11", "--classes", "m", "--require"],
     }
-    runs["design"] += ["omega4_peak <= 30 rad/s", "--revolutions", "1"]
+    # dynamic: the 4000-sample runs are still going when the signal comes, in the batch
+    # engine's blocks (an interrupted block of the design's peak model lost its derived
+    # responses and made the run fail before)
+    runs["design"] += ["omega4_peak <= 30 rad/s", "--responses", "dynamic", "--revolutions", "1"]
     common = ["--settle", "0", "--no-progress", "--no-plots", "--backend", backend]
     common += ["--workers", "2"] if backend == "processes" else []
     for command, arguments in runs.items():
@@ -223,7 +227,10 @@ def test_interrupts_at_random_moments_never_lose_a_result(tmp_path: Path, backen
         process.send_signal(signal.SIGINT)
         _, err = process.communicate(timeout=120)
         first = _state(target)
-        assert first is None or first[0] < 1.0, err
+        # a quick (kinematic) design can finish every scheme between the readiness and the
+        # signal: then the result is written whole, and the run says that all finished
+        whole = re.search(r"\b(\d+) of \1 \w+ finished", err)
+        assert first is None or first[0] < 1.0 or (first[0] == 1.0 and whole), err
         done = subprocess.run(
             [sys.executable, "-m", "jointplay", *arguments, *common, "--samples", small,
              "--out", str(target)],

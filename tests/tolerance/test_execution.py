@@ -345,3 +345,40 @@ def test_ctrl_c_while_a_dynamic_block_is_post_processed_keeps_the_block(
     kept = stopped.value.partial
     assert kept.ok.all() and kept.finished is None
     np.testing.assert_array_equal(kept.values, expected.values)
+
+
+def test_an_interrupted_block_of_the_design_model_keeps_whole_rows(
+    paper_fourbar: Mechanism, monkeypatch
+) -> None:
+    """The design's peak model adds the joint force and contact pressure to the batch
+    engine's peaks: an interrupted block's finished samples carry them too, so that run()
+    can keep the block (the base peaks alone, 9 columns of 11, made run() fail with a
+    broadcast error when Ctrl-C came during a dynamic design)."""
+    from jointplay.contact.laws import get_law
+    from jointplay.tolerance.response_dynamic import DynamicResponses, PeakResponses
+    from jointplay.tolerance.responses import dynamic_model
+
+    spec = ToleranceSpec.from_mechanism(paper_fourbar)
+    law = get_law("impact", stiffness=3.16e8, exponent=1.5, c_max=1e4, d_max=1e-4)
+    base = dynamic_model(paper_fourbar, spec.names, law, revolutions=0.25, settle=0)
+    fields = {f.name: getattr(base, f.name) for f in dataclasses.fields(base)}
+    model = PeakResponses(**fields)
+    x = sample(spec, 6, 3).values
+    finished = np.array([True, True, True, False, False, False])
+
+    def interrupted(self, x):
+        m, r = len(x), len(self.peak_keys)
+        values = np.where(finished[:, None], 100.0, np.nan) * np.ones((m, r))
+        checks = np.zeros((m, len(self.check_names)))
+        errors = tuple("" if f else "not run (interrupted)" for f in finished)
+        raise PartialInterrupt(Evaluation(values, finished.copy(), errors, checks, finished))
+
+    monkeypatch.setattr(DynamicResponses, "evaluate", interrupted)
+    with pytest.raises(PartialInterrupt) as stopped:
+        model.evaluate(x)
+    partial = stopped.value.partial
+    assert partial.values.shape == (6, len(model.response_names))
+    np.testing.assert_array_equal(partial.finished, finished)
+    assert (partial.values[:3, model.response_names.index("joint_force")] == 100.0).all()
+    result = run(model, x, backend=Backend("serial"))
+    assert result.interrupted and result.n_ok == 3

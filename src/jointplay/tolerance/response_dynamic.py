@@ -570,7 +570,9 @@ def _add_kinematic(
         error or ("" if result.ok[i] else result.errors[i])
         for i, error in enumerate(evaluation.errors)
     )
-    return Evaluation(values, evaluation.ok & result.ok, errors, evaluation.checks)
+    return Evaluation(
+        values, evaluation.ok & result.ok, errors, evaluation.checks, evaluation.finished
+    )
 
 
 #: Responses :class:`RunningResponses` adds to the dynamic peaks, with SI units.
@@ -622,9 +624,18 @@ class PeakResponses(DynamicResponses):
 
     def evaluate(self, x: FloatArray) -> Evaluation:
         """The batch engine's peaks of the block (:meth:`DynamicResponses.evaluate`), the
-        joint force and contact pressure from them, then the kinematic responses."""
+        joint force and contact pressure from them, then the kinematic responses; an
+        interrupted block's finished samples get them too (its
+        :class:`~jointplay.errors.PartialInterrupt` carries the whole row of responses)."""
         x = _check_inputs(x, len(self.input_names))
-        peaks = super().evaluate(x)
+        try:
+            peaks = super().evaluate(x)
+        except PartialInterrupt as stopped:
+            raise PartialInterrupt(self._with_derived(x, stopped.partial)) from None
+        return self._with_derived(x, peaks)
+
+    def _with_derived(self, x: FloatArray, peaks: Any) -> Evaluation:
+        """``peaks`` (the base evaluation of the block ``x``) with the derived responses."""
         joints = self.clearance_joints
         keys = list(self.peak_keys)
         forces = peaks.values[:, [keys.index(f"F_{j}") for j in joints]]
@@ -646,7 +657,7 @@ class PeakResponses(DynamicResponses):
         values = np.column_stack(
             [peaks.values, derived, np.full((len(x), len(self.kinematic_names)), np.nan)]
         )
-        evaluation = Evaluation(values, peaks.ok, peaks.errors, peaks.checks)
+        evaluation = Evaluation(values, peaks.ok, peaks.errors, peaks.checks, peaks.finished)
         return _add_kinematic(self.kinematic, self.kinematic_names, self.input_names, x, evaluation)
 
 
