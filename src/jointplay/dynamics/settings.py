@@ -11,7 +11,7 @@ out (``settle``), the analysed revolutions and the integrator's options
 option's name instead). The command line builds one from its options
 (``jointplay.cli._simulation.run_settings``); the Python API's
 :func:`~jointplay.tolerance.analysis.tolerance_study` and
-:func:`~jointplay.study.design.design_study` take one as ``run``, or build it from their loose
+:func:`~jointplay.study.design.design_study` take one as ``run_settings``, or build it from their loose
 keywords (:meth:`RunSettings.of`).
 """
 
