@@ -32,6 +32,7 @@ FILE.npz`` keeps the raw peaks.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import os
 import time
 from collections.abc import Callable, Sequence
@@ -49,6 +50,7 @@ from jointplay.io.config import load_preset
 from jointplay.tolerance.analysis import tolerance_study
 from jointplay.tolerance.execution import Backend
 from jointplay.tolerance.methods import MonteCarlo
+from jointplay.tolerance.spec import JointTolerance, ToleranceSpec
 
 FloatArray = NDArray[np.float64]
 JOINTS = ("O2", "A", "B", "O4")
@@ -205,10 +207,31 @@ class CountingBatch:
         return result
 
 
+def fixed_clearance_spec(mechanism: Any, clearance: float | None) -> ToleranceSpec | None:
+    """The paper four-bar's tolerances with every clearance drawn within ±1 % of
+    ``clearance`` (m) instead of its fit (``None``: the fits)."""
+    if clearance is None:
+        return None
+    spec = ToleranceSpec.from_mechanism(mechanism)
+    narrow = (0.99 * clearance, 1.01 * clearance)
+    inputs = tuple(
+        dataclasses.replace(i, tolerance=dataclasses.replace(i.tolerance, limits=narrow))
+        if isinstance(i, JointTolerance)
+        else i
+        for i in spec.inputs
+    )
+    return dataclasses.replace(spec, inputs=inputs)
+
+
 def run_study(
-    samples: int, seed: int, contact: Any, tolerances: tuple[float, float, float]
+    samples: int,
+    seed: int,
+    contact: Any,
+    tolerances: tuple[float, float, float],
+    clearance: float | None = None,
 ) -> dict[str, Any]:
     mechanism = load_preset("paper-fourbar")
+    spec = fixed_clearance_spec(mechanism, clearance)
     counting = CountingBatch(batch_module.simulate_batch)
     batch_module.simulate_batch = counting  # type: ignore[assignment]
     before = load()
@@ -216,6 +239,7 @@ def run_study(
     try:
         study = tolerance_study(
             mechanism,
+            spec,
             responses="dynamic",
             method=MonteCarlo(samples, seed=seed),
             contact=contact,
@@ -364,7 +388,7 @@ def check_rules(run: dict[str, Any], reference: dict[str, Any], name: str) -> No
         )
 
 
-def study(samples: int, seed: int, saved: dict[str, Any]) -> None:
+def study(samples: int, seed: int, clearance: float | None, saved: dict[str, Any]) -> None:
     runs: dict[str, dict[str, Any]] = {}
     configurations: Sequence[tuple[str, Any, tuple[float, float, float]]] = (
         ("warm-up (not timed)", "ifm-conventional", DEFAULT),
@@ -374,7 +398,7 @@ def study(samples: int, seed: int, saved: dict[str, Any]) -> None:
     )
     for name, contact, tolerances in configurations:
         n = 16 if name.startswith("warm-up") else samples
-        runs[name] = run_study(n, seed, contact, tolerances)
+        runs[name] = run_study(n, seed, contact, tolerances, clearance)
         r = runs[name]
         print(f"{name}: {r['wall']:.1f} s ({r['run_wall']:.1f} s sampling), load {r['load']}",
               flush=True)  # fmt: skip
@@ -440,6 +464,12 @@ def main() -> None:
     )
     parser.add_argument("--samples", type=int, default=200, help="study: Monte Carlo samples")
     parser.add_argument("--seed", type=int, default=1, help="study: Monte Carlo seed")
+    parser.add_argument(
+        "--clearance-um",
+        type=float,
+        default=None,
+        help="study: every clearance within ±1 %% of this (µm) instead of its fit",
+    )
     parser.add_argument("--save", default=None, help="keep the raw peaks in this .npz")
     args = parser.parse_args()
     print(f"load {load()}, {os.cpu_count()} CPUs")
@@ -447,7 +477,8 @@ def main() -> None:
     if args.part in ("scatter", "all"):
         scatter(args.revolutions, args.settle, args.sets.split(","), args.control, saved)
     if args.part in ("study", "all"):
-        study(args.samples, args.seed, saved)
+        clearance = None if args.clearance_um is None else args.clearance_um * 1e-6
+        study(args.samples, args.seed, clearance, saved)
     if args.part == "timing":
         timing(args.samples, args.seed, args.rounds)
     if args.save:
