@@ -200,10 +200,12 @@ class CountingBatch:
     def __init__(self, original: Callable[..., Any]) -> None:
         self.original = original
         self.counters: list[Any] = []
+        self.placement: list[str] = []
 
     def __call__(self, *args: Any, **kwargs: Any) -> Any:
         result = self.original(*args, **kwargs)
         self.counters.append(result.counters)
+        self.placement.append(f"{result.backend}×{result.workers}/{result.chunk_size}")
         return result
 
 
@@ -269,6 +271,7 @@ def run_study(
         "load": f"{before} -> {load()}",
         "steps": steps,
         "rhs": rhs,
+        "placement": ", ".join(counting.placement),
         "check": "none"
         if check is None
         else (
@@ -388,13 +391,24 @@ def check_rules(run: dict[str, Any], reference: dict[str, Any], name: str) -> No
         )
 
 
-def study(samples: int, seed: int, clearance: float | None, saved: dict[str, Any]) -> None:
+def study(
+    samples: int,
+    seed: int,
+    clearance: float | None,
+    saved: dict[str, Any],
+    reference_tolerances: tuple[float, float, float] = REFERENCE,
+) -> None:
+    """``reference_tolerances`` other than :data:`REFERENCE`: that is the reference, and the
+    usual reference is compared with it like the loose tolerances."""
     runs: dict[str, dict[str, Any]] = {}
+    compared = STUDY_TOLERANCES
+    if reference_tolerances != REFERENCE:
+        compared = (*STUDY_TOLERANCES, REFERENCE)
     configurations: Sequence[tuple[str, Any, tuple[float, float, float]]] = (
         ("warm-up (not timed)", "ifm-conventional", DEFAULT),
         ("conventional, default tolerances", "ifm-conventional", DEFAULT),
-        *((f"physical, rtol {t[0]:g}", None, t) for t in STUDY_TOLERANCES),
-        (f"physical, reference {label_of(REFERENCE)}", None, REFERENCE),
+        *((f"physical, rtol {t[0]:g}", None, t) for t in compared),
+        (f"physical, reference {label_of(reference_tolerances)}", None, reference_tolerances),
     )
     for name, contact, tolerances in configurations:
         n = 16 if name.startswith("warm-up") else samples
@@ -415,7 +429,7 @@ def study(samples: int, seed: int, clearance: float | None, saved: dict[str, Any
             f"{samples / r['run_wall']:.1f} | {r['steps']:.0f} | {r['rhs']:.0f} | {r['load']} | "
             f"{r['check']} |"
         )
-    reference = runs[f"physical, reference {label_of(REFERENCE)}"]
+    reference = runs[f"physical, reference {label_of(reference_tolerances)}"]
     names = list(runs)
     for name in names:
         if name.startswith("physical, rtol"):
@@ -441,7 +455,9 @@ def timing(samples: int, seed: int, rounds: int) -> None:
         cells = []
         for _, contact, tolerances in configurations:
             r = run_study(samples, seed, contact, tolerances)
-            cells.append(f"{r['wall']:.1f} ({r['run_wall']:.1f}), load {r['load']}")
+            cells.append(
+                f"{r['wall']:.1f} ({r['run_wall']:.1f}), load {r['load']}, blocks {r['placement']}"
+            )
         print(f"| {k + 1} | " + " | ".join(cells) + " |", flush=True)
 
 
@@ -465,6 +481,12 @@ def main() -> None:
     parser.add_argument("--samples", type=int, default=200, help="study: Monte Carlo samples")
     parser.add_argument("--seed", type=int, default=1, help="study: Monte Carlo seed")
     parser.add_argument(
+        "--reference",
+        default=",".join(f"{v:g}" for v in REFERENCE),
+        help="study: the reference's rtol,atol_position,atol_velocity (another one: the "
+        "usual reference is compared with it too)",
+    )
+    parser.add_argument(
         "--clearance-um",
         type=float,
         default=None,
@@ -478,7 +500,8 @@ def main() -> None:
         scatter(args.revolutions, args.settle, args.sets.split(","), args.control, saved)
     if args.part in ("study", "all"):
         clearance = None if args.clearance_um is None else args.clearance_um * 1e-6
-        study(args.samples, args.seed, clearance, saved)
+        reference = tuple(float(v) for v in args.reference.split(","))
+        study(args.samples, args.seed, clearance, saved, reference)  # type: ignore[arg-type]
     if args.part == "timing":
         timing(args.samples, args.seed, args.rounds)
     if args.save:
