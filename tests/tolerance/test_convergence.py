@@ -25,6 +25,7 @@ from jointplay.tolerance.analysis import (
     CONVERGENCE_MIN_POINTS,
     CONVERGENCE_SAMPLES,
     CONVERGENCE_TIGHTENING,
+    _mean_shift,
     tolerance_study,
 )
 from jointplay.tolerance.execution import OK, Backend
@@ -72,6 +73,13 @@ def test_the_rm_set_converges_within_its_limit_or_warns(
     codes = {d.diagnostic.code for d in study.diagnostics}
     assert ("peaks-not-converged" not in codes) is converges
     assert study.summary()["convergence_check"]["converged"] is converges
+    if not converges:
+        # one sample of eight moved (its impact sequence changed), the mean shift's interval
+        # holds zero (measured: +0.19, interval -0.58 to +0.97 of the spread): the warning
+        # reads the motion as sensitive, not the integration as biased
+        low, high = check.mean_shift_interval
+        assert low < 0.0 < high
+        assert check.finding is not None and "sensitive" in check.finding.line()
 
 
 def test_a_coarse_integration_warns_with_the_share_recomputed_here(
@@ -111,6 +119,30 @@ def test_a_coarse_integration_warns_with_the_share_recomputed_here(
     share = np.max(np.abs(again.values[:, j] - r.run.values[rows, j])) / spread
     assert check.share == pytest.approx(share, rel=1e-9)
     assert check.share > CONVERGENCE_LIMIT
+    # the coarse integration shifts the mean too (measured: -0.60 of the spread, interval -0.97
+    # to -0.23): the warning advises tightening, as the interval excludes zero
+    signed = (again.values[:, j] - r.run.values[rows, j]) / spread
+    assert check.mean_shift == pytest.approx(np.mean(signed), rel=1e-9)
+    assert check.mean_shift_interval[1] < 0.0
+    assert "tighten the integration" in check.finding.line()
+    record = study.summary()["convergence_check"]
+    assert record["mean_change_over_spread"] == check.mean_shift
+    assert record["mean_change_interval_over_spread"] == list(check.mean_shift_interval)
+
+
+def test_the_mean_shift_is_a_bonferroni_t_interval_over_the_spread() -> None:
+    """Changes 1, 2, 3, 4 (mean 2.5, standard deviation 1.2910) over a spread of 2: with one
+    response compared the interval is ±t(0.975, 3) s/√4 = ±3.1824·1.2910/2; with ten it is
+    ±t(0.9975, 3)·1.2910/2 (t table: 3.1824463, 7.4533185); a failed sample (NaN) is left out."""
+    changes = np.array([1.0, 2.0, 3.0, 4.0, np.nan])
+    shift, (low, high) = _mean_shift(changes, 2.0, 1)
+    half = 3.1824463053 * 1.2909944487 / 2
+    assert shift == pytest.approx(1.25)
+    assert (low, high) == pytest.approx(((2.5 - half) / 2, (2.5 + half) / 2), rel=1e-9)
+    _, (low10, high10) = _mean_shift(changes, 2.0, 10)
+    half10 = 7.4533185052 * 1.2909944487 / 2
+    assert (low10, high10) == pytest.approx(((2.5 - half10) / 2, (2.5 + half10) / 2), rel=1e-9)
+    assert np.isnan(_mean_shift(np.array([1.0, np.nan]), 2.0, 1)[0])
 
 
 def test_kinematic_and_small_studies_are_not_checked(paper_fourbar: Mechanism) -> None:
