@@ -88,6 +88,8 @@ from jointplay._kernels.common import (
     all_finite,
     interrupt_pending,
 )
+from jointplay._kernels.lanes import build as lane_build
+from jointplay._kernels.lanes import cpu as lane_cpu
 from jointplay._kernels.radau import MAX_CHECK_REJECTIONS, radau_integrate
 
 __all__ = [
@@ -706,7 +708,17 @@ def run_batch(
     counts = np.zeros((lanes, 3), dtype=np.int64)
     flags = _NO_INTERRUPT if interrupt is None else interrupt
     if lanes:
-        if method == "explicit":
+        if method == "explicit" and lane_build.supported(ipar_a):
+            # every joint clear: the lane of the single source (jointplay._kernels.lanes)
+            lanes_kernel: Any = (
+                lane_cpu.explicit_lanes_parallel if parallel else lane_cpu.explicit_lanes
+            )
+            lanes_kernel(
+                ipar_a, rpar_a, lane_build.lane_layout(ipar_a), y0_a, settle_a, end_a, step_a,
+                float(rtol), atol_a, int(max_steps), flags,
+                peaks, stats, status, t_reached, counts,
+            )  # fmt: skip
+        elif method == "explicit":
             kernel: Any = _explicit_parallel if parallel else _explicit_serial
             kernel(
                 ipar_a, rpar_a, y0_a, settle_a, end_a, step_a, float(rtol), atol_a,

@@ -1,0 +1,156 @@
+"""The single-source lanes (:mod:`jointplay._kernels.lanes`) on the CPU.
+
+* The source's copies of the kernels' constants equal their homes (law and friction ids,
+  settings columns, statuses, the DOPRI5 tableau and dense output, the peak rule's margin and
+  the onset retries), and its layout finds every field where :func:`eom.unpack` does.
+* Compiled for the CPU, the explicit lane gives the same bits as the explicit lane of
+  :mod:`jointplay._kernels.batch` that it replaces for all-clear mechanisms (kept for the
+  mechanisms with ideal joints): every law id, every friction law, a window that opens
+  after t = 0 and a lane that fails, compared field by field with ``assert_array_equal``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from jointplay._kernels import batch as kb
+from jointplay._kernels import common as kcommon
+from jointplay._kernels import contact as kc
+from jointplay._kernels import eom, radau
+from jointplay._kernels.lanes import build, cpu, source
+from jointplay.contact.friction import AdamsFriction, AmbrosioFriction, FrictionLaw
+from jointplay.contact.laws import CONTACT_LAWS, ContactLaw, get_law
+from jointplay.dynamics.clearance import ClearanceJoint
+from jointplay.dynamics.simulate import Start, initial_state
+from jointplay.dynamics.system import System, build_system
+from jointplay.model.mechanism import Mechanism
+
+JOINTS = ("O2", "A", "B", "O4")
+LAW_PARAMETERS: dict[str, dict[str, float]] = {
+    "impact": {"stiffness": 1e10, "exponent": 1.5, "c_max": 1e4, "d_max": 3e-4},
+    "hertz": {"stiffness": 1e10, "exponent": 1.5},
+    "kelvin-voigt": {"stiffness": 1e7, "damping": 1e3},
+    "restitution": {"penalty": 1e9, "restitution": 0.6, "exponent": 1.0},
+}
+FRICTIONS: tuple[FrictionLaw | None, ...] = (
+    None,
+    AmbrosioFriction(mu=0.1, v0=1e-4, v1=1e-3),
+    AdamsFriction(mu_static=0.15, mu_dynamic=0.1, v_static=1e-3, v_dynamic=1e-2),
+)
+
+
+def _law(name: str) -> ContactLaw:
+    return get_law(name, **LAW_PARAMETERS.get(name, {"stiffness": 1e10, "restitution": 0.8}))
+
+
+def _system(mechanism: Mechanism, laws: list[str], shift: int) -> System:
+    joints = [
+        ClearanceJoint(j, 2e-5, 5e-3, _law(name), FRICTIONS[(k + shift) % len(FRICTIONS)])
+        for k, (j, name) in enumerate(zip(JOINTS, laws, strict=True))
+    ]
+    return build_system(mechanism, joints)
+
+
+def test_the_sources_constants_are_the_kernels() -> None:
+    assert (source.LAW_IMPACT, source.LAW_HERTZ, source.LAW_KELVIN_VOIGT) == (
+        kc.LAW_IMPACT, kc.LAW_HERTZ, kc.LAW_KELVIN_VOIGT,
+    )  # fmt: skip
+    assert (source.HC_FIRST, source.HC_LAST) == (kc.HC_FIRST, kc.HC_LAST)
+    assert (source.FRICTION_NONE, source.FRICTION_AMBROSIO, source.FRICTION_ADAMS) == (
+        kc.FRICTION_NONE, kc.FRICTION_AMBROSIO, kc.FRICTION_ADAMS,
+    )  # fmt: skip
+    assert (source.N_GEOM, source.G_R_BEARING, source.G_R_JOURNAL, source.G_CLEARANCE) == (
+        eom.N_GEOM, eom.G_R_BEARING, eom.G_R_JOURNAL, eom.G_CLEARANCE,
+    )  # fmt: skip
+    assert (source.S_ONSET_TOL, source.S_PROJ_TOL, source.S_V_MARK) == (
+        eom.S_ONSET_TOL, eom.S_PROJ_TOL, eom.S_V_MARK,
+    )  # fmt: skip
+    for name in ("SUCCESS", "STEP_TOO_SMALL", "TOO_MANY_STEPS", "NON_FINITE", "INTERRUPTED",
+                 "RUNNING"):  # fmt: skip
+        assert getattr(source, f"STATUS_{name}") == getattr(kcommon, f"STATUS_{name}")
+    assert (source.SIGINT, source.SIGTERM) == kcommon.INTERRUPT_SIGNALS
+    assert (source.K_STEPS, source.K_REJECTED, source.K_RHS) == (
+        kb.K_STEPS, kb.K_REJECTED, kb.K_RHS,
+    )  # fmt: skip
+    assert source.MAX_CHECK_REJECTIONS == radau.MAX_CHECK_REJECTIONS
+    assert source.REFINE_MARGIN == kb.REFINE_MARGIN
+    np.testing.assert_array_equal(np.arange(1, source.N_REFINE + 1) / 8.0, kb.REFINE_POINTS)
+    np.testing.assert_array_equal(np.reshape(source.DENSE, (7, 4)), kb.DENSE)
+    for name in ("C2", "C3", "C4", "C5", "A21", "A31", "A32", "A41", "A42", "A43", "A51", "A52",
+                 "A53", "A54", "A61", "A62", "A63", "A64", "A65", "B1", "B3", "B4", "B5", "B6",
+                 "E1", "E3", "E4", "E5", "E6", "E7", "SAFETY", "MIN_FACTOR", "MAX_FACTOR"):  # fmt: skip
+        assert getattr(source, name) == getattr(kb, name), name
+
+
+def test_the_layout_finds_every_field_where_unpack_does(paper_fourbar: Mechanism) -> None:
+    system = _system(paper_fourbar, ["impact", "hertz", "flores", "lee-wang"], 1)
+    rpar, ipar = eom.pack(system.model)
+    model = eom.unpack(rpar, ipar)
+    lay = build.lane_layout(ipar)
+    floats = {"mass": source.LY_MASS, "gravity": source.LY_GRAVITY, "joint_f": source.LY_JOINT_F,
+              "driver": source.LY_DRIVER, "geom": source.LY_GEOM, "law_p": source.LY_LAW_P,
+              "fric_p": source.LY_FRIC_P, "settings": source.LY_SETTINGS}  # fmt: skip
+    for name, slot in floats.items():
+        field = getattr(model, name)
+        np.testing.assert_array_equal(rpar[lay[slot] : lay[slot] + len(field)], field, name)
+    ints = {"joint_int": source.LY_JOINT_INT, "active": source.LY_ACTIVE,
+            "clear_joint": source.LY_CLEAR, "law_id": source.LY_LAW_ID,
+            "fric_id": source.LY_FRIC_ID}  # fmt: skip
+    for name, slot in ints.items():
+        field = getattr(model, name)
+        np.testing.assert_array_equal(ipar[lay[slot] : lay[slot] + len(field)], field, name)
+    nb, nj, nc, size = kb.layout(ipar)
+    assert (lay[source.LY_N], lay[source.LY_NJ], lay[source.LY_NC]) == (3 * nb, nj, nc)
+    assert lay[source.LY_SIZE] == size and lay[source.LY_NQ] == 2 * nb + nj + 1
+    assert lay[source.LY_NIDEAL] == 0 and build.supported(ipar)
+
+
+def test_a_mechanism_with_ideal_joints_is_not_the_sources(paper_fourbar: Mechanism) -> None:
+    system = build_system(paper_fourbar, [ClearanceJoint("A", 2e-5, 5e-3, _law("impact"))])
+    _, ipar = eom.pack(system.model)
+    assert not build.supported(ipar)
+
+
+def _old_explicit(args: tuple, lanes: int, n_q: int, n_stats: int) -> kb.BatchKernelOutput:
+    """The explicit lane of :mod:`jointplay._kernels.batch` (the general one)."""
+    peaks, stats = np.full((lanes, n_q), np.nan), np.full((lanes, n_stats), np.nan)
+    status, t_reached = np.zeros(lanes, np.int64), np.zeros(lanes)
+    counts = np.zeros((lanes, 3), np.int64)
+    kb._explicit_serial(*args, peaks, stats, status, t_reached, counts)
+    return kb.BatchKernelOutput(peaks, stats, status, t_reached, *counts.T)
+
+
+@pytest.mark.parametrize("group", range(0, len(CONTACT_LAWS), 4))
+def test_the_cpu_lanes_give_the_old_lanes_bits(paper_fourbar: Mechanism, group: int) -> None:
+    names = list(CONTACT_LAWS)
+    laws = (names[group : group + 4] * 4)[:4]
+    system = _system(paper_fourbar, laws, group // 4)
+    rpar, ipar = eom.pack(system.model)
+    y0 = initial_state(system, Start("steady"))
+    n = system.n_coordinates
+    atol = np.concatenate([np.full(n, 1e-10), np.full(n, 1e-6), np.full(2, 1e-6), np.ones(4)])
+    period = paper_fourbar.driver.period
+    lanes = 3
+    rp = np.ascontiguousarray(np.tile(rpar, (lanes, 1)))
+    ys = np.tile(y0, (lanes, 1))
+    ys[1, n : 2 * n] *= 1.01  # another start
+    ys[2, 0] = np.nan  # a lane that fails at once
+    settle = np.array([0.0, 0.3 * period, 0.0])
+    end = settle + 0.6 * period
+    step = np.full(lanes, period / 360.0)
+    flags = np.zeros(1, np.uint8)
+    args = (ipar, rp, ys, settle, end, step, 1e-6, atol, 200_000, flags)
+    nb, nj, nc, _ = kb.layout(ipar)
+    old = _old_explicit(args, lanes, 2 * nb + nj + 1, 2 * nb + nc)
+    new = kb.run_batch(*args[:9], "explicit", parallel=False)
+    assert list(old.status) == [0, 0, kcommon.STATUS_NON_FINITE]
+    for name in kb.BatchKernelOutput._fields:
+        np.testing.assert_array_equal(getattr(new, name), getattr(old, name), err_msg=name)
+    threads = kb.run_batch(*args[:9], "explicit", parallel=True)
+    for name in kb.BatchKernelOutput._fields:
+        np.testing.assert_array_equal(getattr(threads, name), getattr(old, name), err_msg=name)
+
+
+def test_the_cpu_lane_is_the_sources_compilation() -> None:
+    assert cpu.explicit_lane.py_func.__code__ is source.explicit_lane.__code__
