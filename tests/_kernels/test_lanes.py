@@ -103,13 +103,13 @@ def test_the_layout_finds_every_field_where_unpack_does(paper_fourbar: Mechanism
     nb, nj, nc, size = kb.layout(ipar)
     assert (lay[source.LY_N], lay[source.LY_NJ], lay[source.LY_NC]) == (3 * nb, nj, nc)
     assert lay[source.LY_SIZE] == size and lay[source.LY_NQ] == 2 * nb + nj + 1
-    assert lay[source.LY_NIDEAL] == 0 and build.supported(ipar)
+    assert lay[source.LY_NIDEAL] == 0 and build.all_clear(ipar)
 
 
-def test_a_mechanism_with_ideal_joints_is_not_the_sources(paper_fourbar: Mechanism) -> None:
+def test_a_mechanism_with_ideal_joints_is_not_all_clear(paper_fourbar: Mechanism) -> None:
     system = build_system(paper_fourbar, [ClearanceJoint("A", 2e-5, 5e-3, _law("impact"))])
     _, ipar = eom.pack(system.model)
-    assert not build.supported(ipar)
+    assert build.lane_layout(ipar)[source.LY_NIDEAL] == 3 and not build.all_clear(ipar)
 
 
 def _old_explicit(args: tuple, lanes: int, n_q: int, n_stats: int) -> kb.BatchKernelOutput:
@@ -121,16 +121,12 @@ def _old_explicit(args: tuple, lanes: int, n_q: int, n_stats: int) -> kb.BatchKe
     return kb.BatchKernelOutput(peaks, stats, status, t_reached, *counts.T)
 
 
-@pytest.mark.parametrize("group", range(0, len(CONTACT_LAWS), 4))
-def test_the_cpu_lanes_give_the_old_lanes_bits(paper_fourbar: Mechanism, group: int) -> None:
-    names = list(CONTACT_LAWS)
-    laws = (names[group : group + 4] * 4)[:4]
-    system = _system(paper_fourbar, laws, group // 4)
+def _same_bits_as_the_old_lane(system: System, period: float) -> None:
     rpar, ipar = eom.pack(system.model)
     y0 = initial_state(system, Start("steady"))
     n = system.n_coordinates
-    atol = np.concatenate([np.full(n, 1e-10), np.full(n, 1e-6), np.full(2, 1e-6), np.ones(4)])
-    period = paper_fourbar.driver.period
+    nc = len(system.clearances)
+    atol = np.concatenate([np.full(n, 1e-10), np.full(n, 1e-6), np.full(2, 1e-6), np.ones(nc)])
     lanes = 3
     rp = np.ascontiguousarray(np.tile(rpar, (lanes, 1)))
     ys = np.tile(y0, (lanes, 1))
@@ -150,6 +146,32 @@ def test_the_cpu_lanes_give_the_old_lanes_bits(paper_fourbar: Mechanism, group: 
     threads = kb.run_batch(*args[:9], "explicit", parallel=True)
     for name in kb.BatchKernelOutput._fields:
         np.testing.assert_array_equal(getattr(threads, name), getattr(old, name), err_msg=name)
+    assert (old.n_steps[:2] > 100).all()
+
+
+@pytest.mark.parametrize("group", range(0, len(CONTACT_LAWS), 4))
+def test_the_cpu_lanes_give_the_old_lanes_bits(paper_fourbar: Mechanism, group: int) -> None:
+    names = list(CONTACT_LAWS)
+    laws = (names[group : group + 4] * 4)[:4]
+    system = _system(paper_fourbar, laws, group // 4)
+    _same_bits_as_the_old_lane(system, paper_fourbar.driver.period)
+
+
+@pytest.mark.parametrize("joints", [("A",), ("O2", "B")])
+def test_the_cpu_lanes_give_the_old_lanes_bits_with_ideal_joints(
+    paper_fourbar: Mechanism, joints: tuple[str, ...]
+) -> None:
+    """Ideal revolute joints left: the constrained accelerations (Schur complement,
+    Cholesky) and the projection onto the ideal constraints after every step."""
+    clear = [ClearanceJoint(j, 2e-5, 5e-3, _law("impact"), FRICTIONS[1]) for j in joints]
+    _same_bits_as_the_old_lane(build_system(paper_fourbar, clear), paper_fourbar.driver.period)
+
+
+def test_the_cpu_lanes_give_the_old_lanes_bits_on_a_slider_crank(slider_crank: Mechanism):
+    """A prismatic joint: its constraint rows and its normal force as a peak quantity."""
+    joint = slider_crank.joints[1].name
+    clear = [ClearanceJoint(joint, 2e-5, 5e-3, _law("hunt-crossley"), FRICTIONS[2])]
+    _same_bits_as_the_old_lane(build_system(slider_crank, clear), slider_crank.driver.period)
 
 
 def test_the_cpu_lane_is_the_sources_compilation() -> None:

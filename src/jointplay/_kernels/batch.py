@@ -708,8 +708,7 @@ def run_batch(
     counts = np.zeros((lanes, 3), dtype=np.int64)
     flags = _NO_INTERRUPT if interrupt is None else interrupt
     if lanes:
-        if method == "explicit" and lane_build.supported(ipar_a):
-            # every joint clear: the lane of the single source (jointplay._kernels.lanes)
+        if method == "explicit":  # the lane of the single source (jointplay._kernels.lanes)
             lanes_kernel: Any = (
                 lane_cpu.explicit_lanes_parallel if parallel else lane_cpu.explicit_lanes
             )

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 import types
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import numpy as np
@@ -24,13 +24,15 @@ import numpy.typing as npt
 
 from jointplay._kernels.lanes import source
 
-__all__ = ["FUNCTIONS", "build", "lane_layout", "supported"]
+__all__ = ["FUNCTIONS", "all_clear", "build", "lane_layout"]
 
 #: The source's functions, compiled for every target.
 FUNCTIONS = (
     "step3", "power", "normal_force", "friction_force", "driver_acceleration", "driver_angle",
-    "driver_speed", "push", "contact_forces", "rhs", "rhs_and_quantities", "quantities",
-    "onset_fraction", "onset_check", "impact_rate", "contact_memory", "project_driver",
+    "driver_speed", "rot", "point_global", "constraint_rows", "constraint_jacobian",
+    "acceleration_rhs", "cholesky_solve", "constrained_accelerations", "push",
+    "contact_forces", "rhs", "rhs_and_quantities", "quantities", "onset_fraction",
+    "onset_check", "impact_rate", "contact_memory", "project_driver", "project",
     "all_finite", "interrupt_pending", "dense", "triggers", "wants_refinement",
     "refine_peaks", "open_window", "accumulate", "close_window", "explicit_lane",
 )  # fmt: skip
@@ -44,19 +46,37 @@ _FLOATS = ("mass", "gravity", "joint_f", "driver", "geom", "law_p", "fric_p", "s
 _INTS = ("joint_int", "active", "clear_joint", "law_id", "fric_id")
 
 
-def build(decorate: Callable[[Callable[..., Any]], Any]) -> dict[str, Any]:
+def build(
+    decorate: Callable[[Callable[..., Any]], Any],
+    hooks: Mapping[str, Callable[..., Any]] | None = None,
+    extras: Mapping[str, Any] | None = None,
+) -> dict[str, Any]:
     """Every function of :data:`FUNCTIONS`, compiled with ``decorate``, in a namespace of its
-    own (returned: name → compiled function, with the source's constants beside them)."""
+    own (returned: name → compiled function, with the source's constants beside them).
+
+    Args:
+        decorate: the target's decorator.
+        hooks: the target's own version of a hook the lane calls, by the name the lane calls
+            it (``project``: default :func:`source.project`), in place of the source's; compiled like the
+            source's functions, in the same namespace.
+        extras: more names for that namespace (what a hook calls: compiled functions).
+    """
     namespace: dict[str, Any] = {
         name: value for name, value in vars(source).items() if name.isupper()
     }
     namespace["math"] = math
-    for name in FUNCTIONS:
-        original = getattr(source, name)
+    namespace.update(extras or {})
+    chosen = dict(hooks or {})
+    if set(chosen) - set(FUNCTIONS):
+        raise ValueError(
+            f"no function of the lane source is called {sorted(set(chosen) - set(FUNCTIONS))}"
+        )
+    functions = [(name, chosen.get(name, getattr(source, name))) for name in FUNCTIONS]
+    for name, original in functions:
         copy = types.FunctionType(
             original.__code__, namespace, name, original.__defaults__, original.__closure__
         )
-        copy.__module__ = source.__name__
+        copy.__module__ = original.__module__
         copy.__qualname__ = original.__qualname__
         copy.__doc__ = original.__doc__
         namespace[name] = decorate(copy)
@@ -92,7 +112,7 @@ def lane_layout(ipar: npt.NDArray[np.int64]) -> npt.NDArray[np.int64]:
     return lay
 
 
-def supported(ipar: npt.NDArray[np.int64]) -> bool:
-    """Whether the source's lane covers the model packed in ``ipar``: every joint a
-    clearance joint (the driver the only constraint; the paper's mechanisms)."""
+def all_clear(ipar: npt.NDArray[np.int64]) -> bool:
+    """Whether every joint of the model packed in ``ipar`` is a clearance joint (the driver
+    the only constraint; the paper's mechanisms): the GPU lanes' mechanisms so far."""
     return int(lane_layout(ipar)[source.LY_NIDEAL]) == 0

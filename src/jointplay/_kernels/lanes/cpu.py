@@ -12,10 +12,22 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from jointplay._kernels import eom
 from jointplay._kernels.lanes.build import build
-from jointplay._kernels.lanes.source import LY_NC
+from jointplay._kernels.lanes.source import LY_N, LY_NC, LY_NIDEAL
 
-_CPU = build(numba.njit(cache=True, error_model="numpy"))
+
+def _project(t, y, rp, ip, lay, scratch):
+    """The CPU lane's ``project`` hook: :func:`eom.project` (projection onto the ideal
+    constraints, LAPACK's solve; ``scratch`` receives its statistics), the single engine's."""
+    return eom.project(t, y, eom.unpack(rp, ip), scratch)
+
+
+_CPU = build(
+    numba.njit(cache=True, error_model="numpy"),
+    hooks={"project": _project},
+    extras={"eom": eom},
+)
 #: The explicit lane, compiled for the CPU.
 explicit_lane = _CPU["explicit_lane"]
 
@@ -37,11 +49,16 @@ def _one(
     samples = np.empty((9, n_q))
     pen = np.empty(nc)
     records = np.empty((3, 7 * nc))
+    rows = 2 * lay[LY_NIDEAL] + 1
+    phi_q = np.empty((rows, lay[LY_N]))
+    schur = np.empty((rows, rows))
+    lam = np.empty(rows)
+    scratch = np.zeros(eom.N_WORK)
     code, t = explicit_lane(
         ipar, rpar[lane], lay, y0[lane], t_settle[lane], t_end[lane], max_step[lane], rtol,
         atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask, k,
         work[0], work[1], work[2], work[3], work[4], work[5], q[0], q[1], samples, pen,
-        records[0], records[1], records[2],
+        records[0], records[1], records[2], phi_q, schur, lam, scratch,
     )  # fmt: skip
     status[lane] = code
     t_reached[lane] = t

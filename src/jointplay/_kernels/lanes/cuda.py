@@ -28,11 +28,11 @@ import numpy.typing as npt
 from jointplay._kernels.batch import BatchKernelOutput
 from jointplay._kernels.common import STATUS_RUNNING, STATUS_SUCCESS
 from jointplay._kernels.lanes import source
-from jointplay._kernels.lanes.build import lane_layout, supported
+from jointplay._kernels.lanes.build import all_clear, lane_layout
 from jointplay._kernels.lanes.limits import MAX_CLEAR, MAX_Q, MAX_STATE
 from jointplay.errors import ConfigError
 
-__all__ = ["THREADS_PER_BLOCK", "available", "run_batch"]
+__all__ = ["THREADS_PER_BLOCK", "available", "raise_unless_available", "run_batch", "simulated"]
 
 #: Threads per block of a launch.
 THREADS_PER_BLOCK = 128
@@ -55,6 +55,12 @@ def _cuda() -> Any:
             "NUMBA_ENABLE_CUDASIM=1 runs numba-cuda's simulator instead (slow: tests only)"
         )
     return cuda
+
+
+def raise_unless_available() -> None:
+    """Raise :class:`~jointplay.errors.ConfigError`, saying what is missing, unless
+    numba-cuda and a GPU (or the simulator) are there."""
+    _cuda()
 
 
 def available() -> bool:
@@ -109,7 +115,7 @@ def run_batch(
             "(the implicit lanes run on the CPU backends and on --backend gpu)"
         )
     ipar_a = np.ascontiguousarray(np.asarray(ipar, dtype=np.int64))
-    if not supported(ipar_a):
+    if not all_clear(ipar_a):
         raise ConfigError(
             "the cuda batch backend covers mechanisms whose joints are all clearance joints; "
             "this one has ideal joints (run it on a CPU backend or on --backend gpu)"

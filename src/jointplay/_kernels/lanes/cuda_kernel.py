@@ -16,7 +16,7 @@ import numpy as np
 from numba import cuda
 
 from jointplay._kernels.lanes.build import build
-from jointplay._kernels.lanes.limits import MAX_CLEAR, MAX_Q, MAX_STATE
+from jointplay._kernels.lanes.limits import MAX_CLEAR, MAX_Q, MAX_ROWS, MAX_STATE
 
 _GPU = build(cuda.jit(device=True))
 _explicit_lane = _GPU["explicit_lane"]
@@ -49,10 +49,15 @@ def explicit_kernel(
     record = cuda.local.array(_RECORD, np.float64)
     record_new = cuda.local.array(_RECORD, np.float64)
     record_mid = cuda.local.array(_RECORD, np.float64)
+    phi_q = cuda.local.array((MAX_ROWS, MAX_STATE), np.float64)
+    schur = cuda.local.array((MAX_ROWS, MAX_ROWS), np.float64)
+    lam = cuda.local.array(MAX_ROWS, np.float64)
+    scratch = cuda.local.array(3, np.float64)
     code, t = _explicit_lane(
         ipar, rpar[lane], lay, y0[lane], t_settle[lane], t_end[lane], max_step[lane], rtol,
         atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask, k, y, y_new,
-        ys, y_mid, f, f_mid, qa, qb, samples, pen, record, record_new, record_mid,
+        ys, y_mid, f, f_mid, qa, qb, samples, pen, record, record_new, record_mid, phi_q,
+        schur, lam, scratch,
     )  # fmt: skip
     status[lane] = code
     t_reached[lane] = t

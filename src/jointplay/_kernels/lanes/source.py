@@ -137,6 +137,198 @@ def driver_acceleration(t, rp, o):
     return omega / ramp * 30.0 * u * u * (1.0 - u) ** 2
 
 
+# --- ideal joints and the driver (jointplay._kernels.constraints; Nikravesh 1988, ch. 4-5) -----
+def rot(phi, sx, sy):
+    """A(φ) (sx, sy): a body's local vector in the global frame."""
+    c = math.cos(phi)
+    s = math.sin(phi)
+    return c * sx - s * sy, s * sx + c * sy
+
+
+def point_global(y, body, sx, sy):
+    """Global position of the local point (sx, sy) of ``body`` (the ground's are global)."""
+    if body < 0:
+        return sx, sy
+    ax, ay = rot(y[3 * body + 2], sx, sy)
+    return y[3 * body] + ax, y[3 * body + 1] + ay
+
+
+def constraint_rows(rp, lay):
+    """Rows of Φ: 2 per ideal joint, 1 for the driver unless it is off."""
+    return 2 * lay[LY_NIDEAL] + (1 if rp[lay[LY_DRIVER]] >= 0 else 0)
+
+
+def constraint_jacobian(y, rp, ip, lay, out):
+    """Φ_q (rows × 3 nb) into ``out`` (:func:`constraints.jacobian`): revolute
+    Φ = r_a + A_a s_a − r_b − A_b s_b, prismatic φ_b − φ_a − θ0 and n_a·d, driver φ_k − φ_d."""
+    n = lay[LY_N]
+    o_ji = lay[LY_JOINT_INT]
+    o_jf = lay[LY_JOINT_F]
+    for r in range(constraint_rows(rp, lay)):
+        for i in range(n):
+            out[r, i] = 0.0
+    row = 0
+    for j in range(lay[LY_NJ]):
+        if ip[lay[LY_ACTIVE] + j] == 0:
+            continue
+        kind = ip[o_ji + 3 * j]
+        a = ip[o_ji + 3 * j + 1]
+        b = ip[o_ji + 3 * j + 2]
+        if kind == 0:
+            for side in range(2):
+                body = a if side == 0 else b
+                sign = 1.0 if side == 0 else -1.0
+                if body < 0:
+                    continue
+                ax, ay = rot(y[3 * body + 2], rp[o_jf + 6 * j + 2 * side],
+                             rp[o_jf + 6 * j + 2 * side + 1])  # fmt: skip
+                out[row, 3 * body] += sign
+                out[row + 1, 3 * body + 1] += sign
+                out[row, 3 * body + 2] += -sign * ay
+                out[row + 1, 3 * body + 2] += sign * ax
+        else:
+            phi_a = y[3 * a + 2] if a >= 0 else 0.0
+            pax, pay = point_global(y, a, rp[o_jf + 6 * j], rp[o_jf + 6 * j + 1])
+            pbx, pby = point_global(y, b, rp[o_jf + 6 * j + 2], rp[o_jf + 6 * j + 3])
+            nx, ny = rot(phi_a + rp[o_jf + 6 * j + 4], 0.0, 1.0)
+            dx, dy = pbx - pax, pby - pay
+            if a >= 0:
+                out[row, 3 * a + 2] = -1.0
+                sax, say = rot(phi_a, rp[o_jf + 6 * j], rp[o_jf + 6 * j + 1])
+                out[row + 1, 3 * a] = -nx
+                out[row + 1, 3 * a + 1] = -ny
+                out[row + 1, 3 * a + 2] = (-ny * dx + nx * dy) - (nx * -say + ny * sax)
+            if b >= 0:
+                out[row, 3 * b + 2] = 1.0
+                sbx, sby = rot(y[3 * b + 2], rp[o_jf + 6 * j + 2], rp[o_jf + 6 * j + 3])
+                out[row + 1, 3 * b] = nx
+                out[row + 1, 3 * b + 1] = ny
+                out[row + 1, 3 * b + 2] = nx * -sby + ny * sbx
+        row += 2
+    crank = int(rp[lay[LY_DRIVER]])
+    if crank >= 0:
+        out[row, 3 * crank + 2] = 1.0
+
+
+def acceleration_rhs(t, y, rp, ip, lay, out):
+    """γ with Φ_q q̈ = γ into ``out`` (:func:`constraints.acceleration_rhs`): the quadratic
+    velocity terms and the driver's φ̈_d."""
+    n = lay[LY_N]
+    o_ji = lay[LY_JOINT_INT]
+    o_jf = lay[LY_JOINT_F]
+    for r in range(constraint_rows(rp, lay)):
+        out[r] = 0.0
+    row = 0
+    for j in range(lay[LY_NJ]):
+        if ip[lay[LY_ACTIVE] + j] == 0:
+            continue
+        kind = ip[o_ji + 3 * j]
+        a = ip[o_ji + 3 * j + 1]
+        b = ip[o_ji + 3 * j + 2]
+        if kind == 0:
+            # γ = A_a s_a φ̇_a² − A_b s_b φ̇_b²
+            for side in range(2):
+                body = a if side == 0 else b
+                sign = 1.0 if side == 0 else -1.0
+                if body < 0:
+                    continue
+                ax, ay = rot(y[3 * body + 2], rp[o_jf + 6 * j + 2 * side],
+                             rp[o_jf + 6 * j + 2 * side + 1])  # fmt: skip
+                w2 = y[n + 3 * body + 2] ** 2
+                out[row] += sign * ax * w2
+                out[row + 1] += sign * ay * w2
+        else:
+            phi_a = y[3 * a + 2] if a >= 0 else 0.0
+            wa = y[n + 3 * a + 2] if a >= 0 else 0.0
+            wb = y[n + 3 * b + 2] if b >= 0 else 0.0
+            nx, ny = rot(phi_a + rp[o_jf + 6 * j + 4], 0.0, 1.0)
+            pax, pay = point_global(y, a, rp[o_jf + 6 * j], rp[o_jf + 6 * j + 1])
+            pbx, pby = point_global(y, b, rp[o_jf + 6 * j + 2], rp[o_jf + 6 * j + 3])
+            dx, dy = pbx - pax, pby - pay
+            if a < 0:
+                sax, say = 0.0, 0.0
+            else:
+                sax, say = rot(phi_a, rp[o_jf + 6 * j], rp[o_jf + 6 * j + 1])
+            if b < 0:
+                sbx, sby = 0.0, 0.0
+            else:
+                sbx, sby = rot(y[3 * b + 2], rp[o_jf + 6 * j + 2], rp[o_jf + 6 * j + 3])
+            vax = (y[n + 3 * a] if a >= 0 else 0.0) - say * wa
+            vay = (y[n + 3 * a + 1] if a >= 0 else 0.0) + sax * wa
+            vbx = (y[n + 3 * b] if b >= 0 else 0.0) - sby * wb
+            vby = (y[n + 3 * b + 1] if b >= 0 else 0.0) + sbx * wb
+            ddx, ddy = vbx - vax, vby - vay
+            # γ2 = n·d φ̇_a² − 2 φ̇_a (B_a n')·ḋ + n·(A_b s_b φ̇_b² − A_a s_a φ̇_a²)
+            bnx, bny = -ny, nx
+            out[row + 1] = (
+                (nx * dx + ny * dy) * wa * wa
+                - 2.0 * wa * (bnx * ddx + bny * ddy)
+                + nx * (sbx * wb * wb - sax * wa * wa)
+                + ny * (sby * wb * wb - say * wa * wa)
+            )
+        row += 2
+    if rp[lay[LY_DRIVER]] >= 0:
+        out[row] = driver_acceleration(t, rp, lay[LY_DRIVER])
+
+
+def cholesky_solve(a, b, m):
+    """Solve a x = b in place for the symmetric positive definite leading m × m block of
+    ``a`` (its lower triangle read, overwritten by the Cholesky factor; b by x); a singular
+    ``a`` gives inf/NaN (:func:`eom._cholesky_solve`)."""
+    for k in range(m):
+        d = a[k, k]
+        for p in range(k):
+            d -= a[k, p] * a[k, p]
+        d = math.sqrt(d)
+        a[k, k] = d
+        for i in range(k + 1, m):
+            s = a[i, k]
+            for p in range(k):
+                s -= a[i, p] * a[k, p]
+            a[i, k] = s / d
+    for i in range(m):
+        s = b[i]
+        for p in range(i):
+            s -= a[i, p] * b[p]
+        b[i] = s / a[i, i]
+    for i in range(m - 1, -1, -1):
+        s = b[i]
+        for p in range(i + 1, m):
+            s -= a[p, i] * b[p]
+        b[i] = s / a[i, i]
+
+
+def constrained_accelerations(t, y, rp, ip, lay, f, phi_q, schur, lam):
+    """Turn the generalised forces Q in ``f[n:2n]`` into q̈ (:func:`eom.constrained_accelerations`):
+    (Φ_q M⁻¹ Φ_qᵀ) λ = Φ_q M⁻¹ Q − γ, q̈ = M⁻¹ (Q − Φ_qᵀ λ) (Nikravesh 1988, §6; M diagonal);
+    λ (the ideal joints' rows, then the driver's) into ``lam``. Returns the motor torque
+    −λ_driver (N·m). Work arrays: ``phi_q`` (rows × 3 nb), ``schur`` (rows × rows)."""
+    n = lay[LY_N]
+    o_mass = lay[LY_MASS]
+    rows = constraint_rows(rp, lay)
+    constraint_jacobian(y, rp, ip, lay, phi_q)
+    acceleration_rhs(t, y, rp, ip, lay, lam)
+    for r in range(rows):
+        for p in range(rows):
+            schur[r, p] = 0.0
+    for r in range(rows):  # lam ← Φ_q M⁻¹ Q − γ ; schur ← Φ_q M⁻¹ Φ_qᵀ
+        s = -lam[r]
+        for i in range(n):
+            w = phi_q[r, i] / rp[o_mass + i]
+            s += w * f[n + i]
+            if w != 0.0:
+                for p in range(r + 1):
+                    schur[r, p] += w * phi_q[p, i]
+        lam[r] = s
+    cholesky_solve(schur, lam, rows)
+    for i in range(n):
+        s = f[n + i]
+        for r in range(rows):
+            s -= phi_q[r, i] * lam[r]
+        f[n + i] = s / rp[o_mass + i]
+    return -lam[rows - 1] if rp[lay[LY_DRIVER]] >= 0 else 0.0
+
+
 # --- right-hand side (jointplay._kernels.eom) ---------------------------------------------
 def push(f, n, body, rx, ry, fx, fy):
     """Add the force (fx, fy) at arm (rx, ry) from the centre of mass of ``body`` to the
@@ -239,11 +431,13 @@ def contact_forces(y, rp, ip, lay, f, record, recording):
     return pw
 
 
-def rhs(t, y, rp, ip, lay, f, record, recording):
+def rhs(t, y, rp, ip, lay, f, record, recording, phi_q, schur, lam):
     """ẏ into ``f`` (state layout of :mod:`jointplay._kernels.eom`), the contact records into
-    ``record`` when ``recording``; returns the motor torque τ (N·m). Every joint clear: the
-    driver's row is the only constraint, λ = Q_φk − I_k φ̈_d, q̈_φk = φ̈_d, q̈ = M⁻¹ Q elsewhere
-    (:func:`eom._driver_only_accelerations`); W_motor' = τ ω_k, W_contact' = contact power."""
+    ``record`` when ``recording``, the multipliers λ into ``lam`` (ideal joints only); returns
+    the motor torque τ (N·m). Every joint clear: the driver's row is the only constraint,
+    λ = Q_φk − I_k φ̈_d, q̈_φk = φ̈_d, q̈ = M⁻¹ Q elsewhere (no matrix:
+    :func:`eom._driver_only_accelerations`); else :func:`constrained_accelerations` (work
+    arrays ``phi_q``, ``schur``). W_motor' = τ ω_k, W_contact' = the contact power."""
     n = lay[LY_N]
     o_mass = lay[LY_MASS]
     o_gravity = lay[LY_GRAVITY]
@@ -254,43 +448,56 @@ def rhs(t, y, rp, ip, lay, f, record, recording):
     f[2 * n + 1] = contact_forces(y, rp, ip, lay, f, record, recording)
     crank = int(rp[o_driver])
     torque = 0.0
-    if crank >= 0:
-        k = 3 * crank + 2
-        multiplier = f[n + k] - rp[o_mass + k] * driver_acceleration(t, rp, o_driver)
-        f[n + k] -= multiplier
-        torque = -multiplier
-    for i in range(n):
-        f[n + i] /= rp[o_mass + i]
+    if lay[LY_NIDEAL] > 0:
+        torque = constrained_accelerations(t, y, rp, ip, lay, f, phi_q, schur, lam)
+    else:
+        if crank >= 0:
+            k = 3 * crank + 2
+            multiplier = f[n + k] - rp[o_mass + k] * driver_acceleration(t, rp, o_driver)
+            f[n + k] -= multiplier
+            torque = -multiplier
+        for i in range(n):
+            f[n + i] /= rp[o_mass + i]
     f[2 * n] = torque * y[n + 3 * crank + 2] if crank >= 0 else 0.0
     for i in range(2 * n + 2, lay[LY_SIZE]):
         f[i] = 0.0
     return torque
 
 
-def rhs_and_quantities(t, y, rp, ip, lay, f, record, qty, pen):
+def rhs_and_quantities(t, y, rp, ip, lay, f, record, qty, pen, phi_q, schur, lam):
     """:func:`rhs` recording the contacts, then the quantities in QUANTITY ORDER into ``qty``
     (ω_b rad/s, α_b rad/s², |F_N n + F_T t| of every joint N, torque N·m) and δ of every
-    clearance joint into ``pen`` (m) (:func:`eom.rhs_and_quantities`)."""
+    clearance joint into ``pen`` (m) (:func:`eom.rhs_and_quantities`): an ideal revolute
+    joint's force is |λ| of its two rows, a prismatic joint's |λ| of its normal row."""
     n = lay[LY_N]
     nb = n // 3
     nc = lay[LY_NC]
     nj = lay[LY_NJ]
-    torque = rhs(t, y, rp, ip, lay, f, record, True)
+    torque = rhs(t, y, rp, ip, lay, f, record, True, phi_q, schur, lam)
     for b in range(nb):
         qty[b] = y[n + 3 * b + 2]
         qty[nb + b] = f[n + 3 * b + 2]
+    row = 0
     for j in range(nj):
-        for c in range(nc):
-            if ip[lay[LY_CLEAR] + c] == j:
-                qty[2 * nb + j] = math.hypot(record[7 * c], record[7 * c + 1])
+        if ip[lay[LY_ACTIVE] + j] == 1:
+            if ip[lay[LY_JOINT_INT] + 3 * j] == 0:
+                qty[2 * nb + j] = math.hypot(lam[row], lam[row + 1])
+            else:
+                qty[2 * nb + j] = abs(lam[row + 1])
+            row += 2
+        else:
+            for c in range(nc):
+                if ip[lay[LY_CLEAR] + c] == j:
+                    qty[2 * nb + j] = math.hypot(record[7 * c], record[7 * c + 1])
     qty[2 * nb + nj] = torque
     for c in range(nc):
         pen[c] = record[7 * c + 2]
 
 
-def quantities(t, y, rp, ip, lay, f, record, qty, pen):
-    """:func:`rhs_and_quantities` for the peak search (``f`` and ``record``: work arrays)."""
-    rhs_and_quantities(t, y, rp, ip, lay, f, record, qty, pen)
+def quantities(t, y, rp, ip, lay, f, record, qty, pen, phi_q, schur, lam):
+    """:func:`rhs_and_quantities` for the peak search (``f``, ``record`` and the constraint
+    arrays: work arrays)."""
+    rhs_and_quantities(t, y, rp, ip, lay, f, record, qty, pen, phi_q, schur, lam)
 
 
 # --- the hooks after a step (jointplay._kernels.eom) ---------------------------------------
@@ -394,6 +601,14 @@ def project_driver(t, y, rp, lay):
     drift = y[n + k] - driver_speed(t, rp, o)
     y[n + k] -= inv * (drift / inv)
     return True
+
+
+def project(t, y, rp, ip, lay, scratch):
+    """The lane's projection hook, after each accepted step: returns whether it changed the
+    state. This one, the GPU's, is :func:`project_driver` (its lanes run all-clear
+    mechanisms only); the CPU's is :func:`eom.project` itself, LAPACK's solve included, for
+    every mechanism (:mod:`jointplay._kernels.lanes.cpu`, through :func:`build`'s ``hooks``)."""
+    return project_driver(t, y, rp, lay)
 
 
 def all_finite(x, size):
@@ -563,14 +778,16 @@ def close_window(stats, nb, span):
 def explicit_lane(
     ip, rp, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
     peaks, stats, counts, mask, k, y, y_new, ys, y_mid, f, f_mid, qa, qb, samples, pen,
-    record, record_new, record_mid,
+    record, record_new, record_mid, phi_q, schur, lam, scratch,
 ):  # fmt: skip
     """One lane of the explicit method (the contract: :mod:`jointplay._kernels.batch`);
     fills ``peaks`` (P), ``stats`` (M) and ``counts`` (steps, rejections, rhs evaluations).
 
     Work arrays (the caller's, any contents): ``mask`` (P, int), ``k`` (7, S), ``y``,
     ``y_new``, ``ys``, ``y_mid``, ``f``, ``f_mid`` (S), ``qa``, ``qb`` (P), ``samples``
-    (9, P), ``pen`` (nc), ``record``, ``record_new``, ``record_mid`` (7 nc).
+    (9, P), ``pen`` (nc), ``record``, ``record_new``, ``record_mid`` (7 nc), ``phi_q``
+    (rows × 3 nb), ``schur`` (rows × rows), ``lam`` (rows), ``scratch`` (3: the target's
+    :func:`project`'s).
 
     Returns:
         ``(status, t_reached)``: a ``STATUS_*`` code and the time reached, s.
@@ -592,7 +809,7 @@ def explicit_lane(
     t = 0.0
     for i in range(size):
         y[i] = y0[i]
-    rhs_and_quantities(t, y, rp, ip, lay, f, record, qa, pen)
+    rhs_and_quantities(t, y, rp, ip, lay, f, record, qa, pen, phi_q, schur, lam)
     counts[K_RHS] += 1
     if not (all_finite(y, size) and all_finite(f, size)):
         return STATUS_NON_FINITE, t
@@ -630,28 +847,30 @@ def explicit_lane(
                 k[0, i] = f[i]
             for i in range(size):
                 ys[i] = y[i] + h * (A21 * k[0, i])
-            rhs(t + C2 * h, ys, rp, ip, lay, k[1], record_mid, False)
+            rhs(t + C2 * h, ys, rp, ip, lay, k[1], record_mid, False, phi_q, schur, lam)
             for i in range(size):
                 ys[i] = y[i] + h * (A31 * k[0, i] + A32 * k[1, i])
-            rhs(t + C3 * h, ys, rp, ip, lay, k[2], record_mid, False)
+            rhs(t + C3 * h, ys, rp, ip, lay, k[2], record_mid, False, phi_q, schur, lam)
             for i in range(size):
                 ys[i] = y[i] + h * (A41 * k[0, i] + A42 * k[1, i] + A43 * k[2, i])
-            rhs(t + C4 * h, ys, rp, ip, lay, k[3], record_mid, False)
+            rhs(t + C4 * h, ys, rp, ip, lay, k[3], record_mid, False, phi_q, schur, lam)
             for i in range(size):
                 ys[i] = y[i] + h * (A51 * k[0, i] + A52 * k[1, i] + A53 * k[2, i] + A54 * k[3, i])
-            rhs(t + C5 * h, ys, rp, ip, lay, k[4], record_mid, False)
+            rhs(t + C5 * h, ys, rp, ip, lay, k[4], record_mid, False, phi_q, schur, lam)
             for i in range(size):
                 ys[i] = y[i] + h * (
                     A61 * k[0, i] + A62 * k[1, i] + A63 * k[2, i] + A64 * k[3, i]
                     + A65 * k[4, i]
                 )  # fmt: skip
-            rhs(t + h, ys, rp, ip, lay, k[5], record_mid, False)
+            rhs(t + h, ys, rp, ip, lay, k[5], record_mid, False, phi_q, schur, lam)
             for i in range(size):
                 y_new[i] = y[i] + h * (
                     B1 * k[0, i] + B3 * k[2, i] + B4 * k[3, i] + B5 * k[4, i] + B6 * k[5, i]
                 )
             # the last stage also gives the contact records and the quantities at the step's end
-            rhs_and_quantities(t_new, y_new, rp, ip, lay, k[6], record_new, qb, pen)
+            rhs_and_quantities(
+                t_new, y_new, rp, ip, lay, k[6], record_new, qb, pen, phi_q, schur, lam
+            )
             counts[K_RHS] += 6
             total = 0.0
             for i in range(n_active):
@@ -681,9 +900,9 @@ def explicit_lane(
         if had_rejection:
             factor = min(factor, 1.0)
         changed = contact_memory(y_new, rp, lay, record_new, record)
-        changed = project_driver(t_new, y_new, rp, lay) or changed
+        changed = project(t_new, y_new, rp, ip, lay, scratch) or changed
         if changed:
-            rhs_and_quantities(t_new, y_new, rp, ip, lay, f, record, qb, pen)
+            rhs_and_quantities(t_new, y_new, rp, ip, lay, f, record, qb, pen, phi_q, schur, lam)
             counts[K_RHS] += 1
         else:
             for i in range(size):
@@ -702,7 +921,7 @@ def explicit_lane(
                     theta = (r + 1) / 8.0
                     dense(y, k, h, theta, y_mid, size)
                     quantities(t + theta * h, y_mid, rp, ip, lay, f_mid, record_mid,
-                               samples[r + 1], pen)  # fmt: skip
+                               samples[r + 1], pen, phi_q, schur, lam)  # fmt: skip
                 refine_peaks(samples, peaks, n_q)
             qa, qb = qb, qa
         elif t_new == t_settle:
