@@ -122,3 +122,46 @@ def test_what_the_gpu_lanes_do_not_cover_yet_is_a_clear_error(paper_fourbar: Mec
     with pytest.raises(ConfigError, match="ideal joints"):
         lanes_cuda.run_batch(ipar, rpar, initial_state(system, Start()), 0.0, 0.1, 1e-3, 1e-6,
                              np.ones(len(initial_state(system, Start()))), 10, "explicit")  # fmt: skip
+
+
+_ENGINE_SIDE = """
+import sys
+import numpy as np
+from jointplay.dynamics.batch import BatchSamples, simulate_batch
+from jointplay.dynamics.clearance import ClearanceJoint
+from jointplay.dynamics.setup import DEFAULT_IMPACT
+from jointplay.io.config import load_preset
+
+mechanism = load_preset("paper-fourbar")
+joints = [ClearanceJoint(j, 11.75e-6, 0.005, DEFAULT_IMPACT) for j in ("O2", "A", "B", "O4")]
+samples = BatchSamples(clearances={j: np.array([10e-6, 14e-6]) for j in ("O2", "A", "B", "O4")})
+for backend in ("cuda", "local"):
+    result = simulate_batch(mechanism, joints, samples, backend=backend, method="explicit",
+                            settle=0, revolutions=0.3)
+    assert result.ok.all(), result.backend
+    assert result.backend == backend
+    np.save(f"{sys.argv[1]}/{backend}.npy", result.peaks.to_numpy())
+"""
+
+
+def test_the_cuda_backend_runs_the_batch_engine_on_the_simulator(tmp_path: Path) -> None:
+    """``simulate_batch(backend="cuda")``, through the executor's chunks, on the simulator:
+    the CPU backend's peaks (bound as above; measured: equal bits)."""
+    env = {**os.environ, "NUMBA_ENABLE_CUDASIM": "1"}
+    subprocess.run([sys.executable, "-c", _ENGINE_SIDE, str(tmp_path)], env=env, check=True,
+                   timeout=SIMULATOR_TIMEOUT_S)  # fmt: skip
+    cuda, local = np.load(tmp_path / "cuda.npy"), np.load(tmp_path / "local.npy")
+    assert cuda.shape == local.shape == (2, 9) and np.isfinite(local).all()
+    np.testing.assert_allclose(cuda, local, rtol=SAME_ALGORITHM_RTOL, atol=0.0)
+
+
+def test_the_cuda_backend_without_a_gpu_says_so_before_building(
+    paper_fourbar: Mechanism,
+) -> None:
+    from jointplay.dynamics.batch import BatchSamples, simulate_batch
+
+    if lanes_cuda.available():
+        pytest.skip("a GPU (or the simulator) is present")
+    joints = [ClearanceJoint(j, 11.75e-6, 0.005, DEFAULT_IMPACT) for j in JOINTS]
+    with pytest.raises(ConfigError, match="no usable NVIDIA GPU"):
+        simulate_batch(paper_fourbar, joints, BatchSamples(size=1), backend="cuda", settle=0)

@@ -96,6 +96,8 @@ class LaneWork:
     here: Callable[[Any, bool, Any], Any]
     stopped: Callable[[Any], bool]
     device: Callable[[Any, int, dict[str, float]], Any] | None = None
+    #: ``device``'s interface on the numba-cuda kernel (the ``"cuda"`` backend), or ``None``.
+    cuda: Callable[[Any, int, dict[str, float]], Any] | None = None
 
 
 @dataclass(frozen=True)
@@ -501,7 +503,7 @@ class Gpu(Executor):
     Every chunk but a lone first one is padded to its size, so the compiled programs are
     those of the sizes only."""
 
-    kind = "gpu"
+    kind: ClassVar[BackendKind] = "gpu"
     on_device = True
 
     def sizes(self) -> tuple[int, ...]:
@@ -520,9 +522,9 @@ class Gpu(Executor):
         import itertools
         import time
 
-        device = lanes.work.device
+        device = self.device_of(lanes.work)
         if device is None:
-            raise ConfigError("the gpu backend runs the batch engine only")
+            raise ConfigError(f"the {self.kind} backend runs the batch engine only")
         sizes = self.sizes()
         parts = iter(lanes.chunks)
         rate: float | None = None
@@ -549,8 +551,24 @@ class Gpu(Executor):
     def for_tasks(self, n: int) -> Executor:
         return Local(Backend("local"))
 
+    def device_of(self, work: LaneWork) -> Callable[[Any, int, dict[str, float]], Any] | None:
+        """The engine's device kernel this executor runs (:attr:`LaneWork.device`: JAX)."""
+        return work.device
 
-_EXECUTORS: dict[str, type[Executor]] = {cls.kind: cls for cls in (Local, Processes, Dask, Gpu)}
+
+class Cuda(Gpu):
+    """:class:`Gpu` on the engine's numba-cuda kernel (:attr:`LaneWork.cuda`), one GPU thread
+    per lane: the same chunks, sized for an interrupt as there (experimental, issue 26)."""
+
+    kind: ClassVar[BackendKind] = "cuda"
+
+    def device_of(self, work: LaneWork) -> Callable[[Any, int, dict[str, float]], Any] | None:
+        return work.cuda
+
+
+_EXECUTORS: dict[str, type[Executor]] = {
+    cls.kind: cls for cls in (Local, Processes, Dask, Gpu, Cuda)
+}
 
 
 def executor(backend: Backend | str) -> Executor:
