@@ -23,15 +23,16 @@ def _project(t, y, rp, ip, lay, scratch):
     return eom.project(t, y, eom.unpack(rp, ip), scratch)
 
 
-_CPU = build(
+#: Every function of the source, compiled for the CPU, by name.
+compiled = build(
     numba.njit(cache=True, error_model="numpy"),
     hooks={"project": _project},
     extras={"eom": eom},
 )
 #: The explicit lane, compiled for the CPU.
-explicit_lane = _CPU["explicit_lane"]
+explicit_lane = compiled["explicit_lane"]
 
-__all__ = ["explicit_lanes", "explicit_lanes_parallel"]
+__all__ = ["compiled", "explicit_lane", "explicit_lanes", "explicit_lanes_parallel"]
 
 
 @numba.njit(cache=True, error_model="numpy")
