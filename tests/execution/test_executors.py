@@ -104,7 +104,9 @@ def test_an_executor_is_chosen_from_the_backend_alone() -> None:
     assert chosen.block(64) == 5 and executor(Backend("local")).block(64) == 64
 
 
-def test_the_cuda_executor_runs_the_engines_numba_cuda_kernel_and_nothing_else() -> None:
+def test_the_cuda_executor_runs_the_engines_numba_cuda_kernel_and_nothing_else(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
     """``cuda`` is the gpu executor's chunking on :attr:`LaneWork.cuda`: the JAX kernel
     (``device``) is never called, and an engine without a numba-cuda kernel is refused."""
     import numpy as np
@@ -127,6 +129,19 @@ def test_the_cuda_executor_runs_the_engines_numba_cuda_kernel_and_nothing_else()
     got: dict[int, np.ndarray] = {}
     runner.run_lanes(Lanes(work, [(np.arange(3),)], 1, 3, lambda k, o: got.__setitem__(k, o.lanes)))
     np.testing.assert_array_equal(got[0], np.arange(3))
+    calls: list[int] = []
+
+    def counted(chunk, size, timings):
+        calls.append(len(chunk[0]))
+        return cuda(chunk, size, timings)
+
+    from jointplay.execution import executors as ex
+
+    monkeypatch.setattr(ex, "GPU_CHUNKS", (2, 8, 32))
+    parts = [(np.arange(i, min(i + 2, 7)),) for i in range(0, 7, 2)]  # 7 lanes in 4 parts
+    runner.run_lanes(Lanes(LaneWork(print, None, print, lambda o: False, cuda=counted), parts,
+                           1, 2, lambda k, o: got.__setitem__(k, o.lanes)))  # fmt: skip
+    assert calls == [2, 5]  # 2, then the other 5 unpadded (gpu pads them to 32)
     jax_only = LaneWork(print, None, print, lambda o: False, device=jax)
     with pytest.raises(ConfigError, match="cuda backend runs the batch engine only"):
         runner.run_lanes(Lanes(jax_only, [()], 1, 1, lambda k, o: None))

@@ -505,6 +505,8 @@ class Gpu(Executor):
 
     kind: ClassVar[BackendKind] = "gpu"
     on_device = True
+    #: Whether chunks are padded to their size (one compiled program per size: JAX's).
+    pads: ClassVar[bool] = True
 
     def sizes(self) -> tuple[int, ...]:
         """The chunk sizes this run chooses among."""
@@ -537,7 +539,7 @@ class Gpu(Executor):
             item = _joined(group)
             timings: dict[str, float] = {}
             clock = time.perf_counter()
-            output = device(item if k == 0 else _padded(item, size), size, timings)
+            output = device(item if k == 0 or not self.pads else _padded(item, size), size, timings)
             wall = time.perf_counter() - clock
             run_s = timings.get("run_s") or wall
             ran = timings.get("lanes") or size  # a padded chunk costs its whole size
@@ -558,9 +560,11 @@ class Gpu(Executor):
 
 class Cuda(Gpu):
     """:class:`Gpu` on the engine's numba-cuda kernel (:attr:`LaneWork.cuda`), one GPU thread
-    per lane: the same chunks, sized for an interrupt as there (experimental, issue 26)."""
+    per lane: the same chunks, sized for an interrupt as there, not padded (one compiled
+    kernel serves every size; experimental, issue 26)."""
 
     kind: ClassVar[BackendKind] = "cuda"
+    pads = False
 
     def device_of(self, work: LaneWork) -> Callable[[Any, int, dict[str, float]], Any] | None:
         return work.cuda

@@ -32,7 +32,8 @@ FUNCTIONS = (
     "driver_speed", "rot", "point_global", "constraint_rows", "constraint_jacobian",
     "acceleration_rhs", "cholesky_solve", "constrained_accelerations", "push",
     "contact_forces", "rhs", "rhs_and_quantities", "quantities", "onset_fraction",
-    "onset_check", "impact_rate", "contact_memory", "project_driver", "project",
+    "onset_check", "impact_rate", "contact_memory", "project_driver", "constraint_residual",
+    "max_abs", "schur_solve", "project_constraints", "project",
     "all_finite", "interrupt_pending", "dense", "triggers", "wants_refinement",
     "refine_peaks", "open_window", "accumulate", "close_window", "explicit_lane",
 )  # fmt: skip

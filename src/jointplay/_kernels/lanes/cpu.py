@@ -17,7 +17,7 @@ from jointplay._kernels.lanes.build import build
 from jointplay._kernels.lanes.source import LY_N, LY_NC, LY_NIDEAL
 
 
-def _project(t, y, rp, ip, lay, scratch):
+def _project(t, y, rp, ip, lay, scratch, phi_q, schur, lam):
     """The CPU lane's ``project`` hook: :func:`eom.project` (projection onto the ideal
     constraints, LAPACK's solve; ``scratch`` receives its statistics), the single engine's."""
     return eom.project(t, y, eom.unpack(rp, ip), scratch)

@@ -7,10 +7,13 @@ source as the CPU lanes (:mod:`jointplay._kernels.lanes.source`), in float64. Bu
 tested on numba-cuda's CUDA simulator (``NUMBA_ENABLE_CUDASIM=1``, set before numba is
 imported), where it gives the CPU lanes' results; not yet measured on a GPU.
 
+Mechanisms with ideal joints run too; their projection onto the ideal constraints is the
+GPU's own (Cholesky, :func:`~jointplay._kernels.lanes.source.project_constraints`) where the
+CPU's calls LAPACK, so those lanes agree with the CPU's to round-off, not bit for bit.
+
 What it does not do yet: the implicit method (Radau IIA with a per-thread LU), mechanisms
-with ideal joints (the single source covers the all-clear mechanisms: the driver is then the
-only constraint), mechanisms larger than the per-thread arrays (:mod:`.limits`), and an
-interrupt inside a launch (the caller's chunks bound how much one interrupt loses).
+larger than the per-thread arrays (:mod:`.limits`), and an interrupt inside a launch (the
+caller's chunks bound how much one interrupt loses).
 
 numba-cuda is imported by this module only, when a batch is run; without it, or without a
 GPU, :func:`run_batch` raises :class:`~jointplay.errors.ConfigError` saying what to install.
@@ -28,8 +31,8 @@ import numpy.typing as npt
 from jointplay._kernels.batch import BatchKernelOutput
 from jointplay._kernels.common import STATUS_RUNNING, STATUS_SUCCESS
 from jointplay._kernels.lanes import source
-from jointplay._kernels.lanes.build import all_clear, lane_layout
-from jointplay._kernels.lanes.limits import MAX_CLEAR, MAX_Q, MAX_STATE
+from jointplay._kernels.lanes.build import lane_layout
+from jointplay._kernels.lanes.limits import MAX_CLEAR, MAX_Q, MAX_ROWS, MAX_STATE
 from jointplay.errors import ConfigError
 
 __all__ = ["THREADS_PER_BLOCK", "available", "raise_unless_available", "run_batch", "simulated"]
@@ -105,8 +108,8 @@ def run_batch(
             0 when this process had it), ``run_s`` (launch, copies included) and ``lanes``.
 
     Raises:
-        ConfigError: numba-cuda or a GPU is missing, the method or the mechanism is one the
-            GPU lanes do not cover yet, or an input is malformed.
+        ConfigError: numba-cuda or a GPU is missing, the method is one the GPU lanes do not
+            cover yet, the mechanism exceeds their arrays, or an input is malformed.
     """
     del chunk_size
     if method not in METHODS:
@@ -115,16 +118,12 @@ def run_batch(
             "(the implicit lanes run on the CPU backends and on --backend gpu)"
         )
     ipar_a = np.ascontiguousarray(np.asarray(ipar, dtype=np.int64))
-    if not all_clear(ipar_a):
-        raise ConfigError(
-            "the cuda batch backend covers mechanisms whose joints are all clearance joints; "
-            "this one has ideal joints (run it on a CPU backend or on --backend gpu)"
-        )
     lay = lane_layout(ipar_a)
     size, n_q, nc = (int(lay[i]) for i in (source.LY_SIZE, source.LY_NQ, source.LY_NC))
+    rows = 2 * int(lay[source.LY_NIDEAL]) + 1
     for name, value, limit in (
         ("state size", size, MAX_STATE), ("quantities", n_q, MAX_Q),
-        ("clearance joints", nc, MAX_CLEAR),
+        ("clearance joints", nc, MAX_CLEAR), ("constraint rows", rows, MAX_ROWS),
     ):  # fmt: skip
         if value > limit:
             raise ConfigError(

@@ -9,6 +9,6 @@ MAX_STATE = 40
 MAX_Q = 24
 #: Largest number of clearance joints.
 MAX_CLEAR = 8
-#: Largest number of constraint rows (2 per ideal joint, 1 for the driver): the GPU lanes
-#: run all-clear mechanisms only so far, whose one constraint is the driver.
-MAX_ROWS = 1
+#: Largest number of constraint rows (2 per ideal joint, 1 for the driver): a four-bar's four
+#: joints all ideal and its driver.
+MAX_ROWS = 9

@@ -12,14 +12,16 @@ The model is the packed pair of :func:`jointplay._kernels.eom.pack`: ``rp`` (one
 ``rpar`` row, float64) and ``ip`` (``ipar``, int64), read through ``lay``, an int64 array of
 offsets and sizes made once per batch by :func:`jointplay._kernels.lanes.build.lane_layout`
 (``LY_*`` below). The equations are those of :mod:`jointplay._kernels.eom` (state layout,
-clearance joint kinematics and forces: its module docstring; Flores et al. 2008), restricted
-to mechanisms whose joints are all clearance joints (the driver is then the only constraint:
-no matrix, :func:`jointplay._kernels.eom._driver_only_accelerations`); the contact laws are
-those of :mod:`jointplay._kernels.contact` (same ids and packed parameters); the lane is the
-explicit lane of :mod:`jointplay._kernels.batch` (its module docstring is the contract:
-DOPRI5 of Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.5, Table 5.2, step control,
-contact-onset control, contact memory, the peak rule, the statistics and the statuses), with
-the same arithmetic in the same order, so that the CPU compilation gives the same bits.
+clearance joint kinematics and forces: its module docstring; Flores et al. 2008), with the
+ideal joints and the driver as constraints (:mod:`jointplay._kernels.constraints`; Nikravesh
+1988) — no matrix when every joint is clear, the driver then the only constraint; the
+contact laws are those of :mod:`jointplay._kernels.contact` (same ids and packed
+parameters); the lane is the explicit lane of the batch contract
+(:mod:`jointplay._kernels.batch`'s module docstring: DOPRI5 of Hairer, Nørsett & Wanner,
+*Solving ODEs I*, §II.5, Table 5.2, step control, contact-onset control, contact memory, the
+peak rule, the statistics and the statuses), written with the arithmetic of the lane it
+replaced, in the same order, so that its CPU compilation gave that lane's bits. The one hook
+a target replaces is :func:`project` (the projection onto the ideal constraints).
 
 Units are SI throughout (m, rad, s, kg, N).
 """
@@ -603,12 +605,111 @@ def project_driver(t, y, rp, lay):
     return True
 
 
-def project(t, y, rp, ip, lay, scratch):
+def constraint_residual(t, y, rp, ip, lay, out):
+    """Φ(q, t) into ``out`` (:func:`constraints.residual`): m for the joint rows, rad for
+    the angle rows."""
+    o_ji = lay[LY_JOINT_INT]
+    o_jf = lay[LY_JOINT_F]
+    row = 0
+    for j in range(lay[LY_NJ]):
+        if ip[lay[LY_ACTIVE] + j] == 0:
+            continue
+        kind = ip[o_ji + 3 * j]
+        a = ip[o_ji + 3 * j + 1]
+        b = ip[o_ji + 3 * j + 2]
+        pax, pay = point_global(y, a, rp[o_jf + 6 * j], rp[o_jf + 6 * j + 1])
+        pbx, pby = point_global(y, b, rp[o_jf + 6 * j + 2], rp[o_jf + 6 * j + 3])
+        if kind == 0:
+            out[row] = pax - pbx
+            out[row + 1] = pay - pby
+        else:
+            phi_a = y[3 * a + 2] if a >= 0 else 0.0
+            phi_b = y[3 * b + 2] if b >= 0 else 0.0
+            out[row] = phi_b - phi_a - rp[o_jf + 6 * j + 5]
+            nx, ny = rot(phi_a + rp[o_jf + 6 * j + 4], 0.0, 1.0)
+            out[row + 1] = nx * (pbx - pax) + ny * (pby - pay)
+        row += 2
+    crank = int(rp[lay[LY_DRIVER]])
+    if crank >= 0:
+        out[row] = y[3 * crank + 2] - driver_angle(t, rp, lay[LY_DRIVER])
+
+
+def max_abs(x, m):
+    """max |x[:m]| (0 for none)."""
+    largest = 0.0
+    for i in range(m):
+        largest = max(largest, abs(x[i]))
+    return largest
+
+
+def schur_solve(rp, lay, phi_q, schur, vec, rows):
+    """Solve (Φ_q M⁻¹ Φ_qᵀ) x = vec in place (Cholesky: the matrix is symmetric positive
+    definite for independent constraints)."""
+    n = lay[LY_N]
+    o_mass = lay[LY_MASS]
+    for r in range(rows):
+        for p in range(r + 1):
+            s = 0.0
+            for i in range(n):
+                s += phi_q[r, i] * phi_q[p, i] / rp[o_mass + i]
+            schur[r, p] = s
+    cholesky_solve(schur, vec, rows)
+
+
+def project_constraints(t, y, rp, ip, lay, phi_q, schur, vec):
+    """Mass-weighted projection of q and q̇ onto the ideal constraints and the driver when
+    they are violated beyond the projection tolerance (:func:`eom.project`: at most three
+    Newton steps q ← q − M⁻¹ Φ_qᵀ (Φ_q M⁻¹ Φ_qᵀ)⁻¹ Φ, until max |Φ| ≤ 10⁻³ of the tolerance,
+    then q̇ ← q̇ − M⁻¹ Φ_qᵀ (Φ_q M⁻¹ Φ_qᵀ)⁻¹ (Φ_q q̇ − ν); Hairer, Lubich & Wanner,
+    *Geometric Numerical Integration*, §IV.4), solved by Cholesky where :func:`eom.project`
+    calls LAPACK's LU (the same projection to round-off). ``vec`` (rows): work.
+    Returns: the state changed."""
+    n = lay[LY_N]
+    o_mass = lay[LY_MASS]
+    rows = constraint_rows(rp, lay)
+    if rows == 0:
+        return False
+    tolerance = rp[lay[LY_SETTINGS] + S_PROJ_TOL]
+    constraint_residual(t, y, rp, ip, lay, vec)
+    if max_abs(vec, rows) <= tolerance:
+        return False
+    for _ in range(3):
+        constraint_jacobian(y, rp, ip, lay, phi_q)
+        schur_solve(rp, lay, phi_q, schur, vec, rows)
+        for i in range(n):
+            s = 0.0
+            for r in range(rows):
+                s += phi_q[r, i] * vec[r]
+            y[i] -= s / rp[o_mass + i]
+        constraint_residual(t, y, rp, ip, lay, vec)
+        if max_abs(vec, rows) <= 1e-3 * tolerance:
+            break
+    constraint_jacobian(y, rp, ip, lay, phi_q)
+    for r in range(rows):
+        s = 0.0
+        for i in range(n):
+            s += phi_q[r, i] * y[n + i]
+        vec[r] = s
+    if rp[lay[LY_DRIVER]] >= 0:
+        vec[rows - 1] -= driver_speed(t, rp, lay[LY_DRIVER])
+    schur_solve(rp, lay, phi_q, schur, vec, rows)
+    for i in range(n):
+        s = 0.0
+        for r in range(rows):
+            s += phi_q[r, i] * vec[r]
+        y[n + i] -= s / rp[o_mass + i]
+    return True
+
+
+def project(t, y, rp, ip, lay, scratch, phi_q, schur, lam):
     """The lane's projection hook, after each accepted step: returns whether it changed the
-    state. This one, the GPU's, is :func:`project_driver` (its lanes run all-clear
-    mechanisms only); the CPU's is :func:`eom.project` itself, LAPACK's solve included, for
-    every mechanism (:mod:`jointplay._kernels.lanes.cpu`, through :func:`build`'s ``hooks``)."""
-    return project_driver(t, y, rp, lay)
+    state. This one is the GPU's: :func:`project_driver` for an all-clear mechanism, else
+    :func:`project_constraints` (``phi_q``, ``schur``, ``lam``: work). The CPU's is
+    :func:`eom.project` itself, LAPACK's solve included (:mod:`jointplay._kernels.lanes.cpu`,
+    through :func:`build`'s ``hooks``), so that its lanes keep the old lane's bits."""
+    if lay[LY_NIDEAL] == 0:
+        return project_driver(t, y, rp, lay)
+    return project_constraints(t, y, rp, ip, lay, phi_q, schur, lam)
 
 
 def all_finite(x, size):
@@ -900,7 +1001,7 @@ def explicit_lane(
         if had_rejection:
             factor = min(factor, 1.0)
         changed = contact_memory(y_new, rp, lay, record_new, record)
-        changed = project(t_new, y_new, rp, ip, lay, scratch) or changed
+        changed = project(t_new, y_new, rp, ip, lay, scratch, phi_q, schur, lam) or changed
         if changed:
             rhs_and_quantities(t_new, y_new, rp, ip, lay, f, record, qb, pen, phi_q, schur, lam)
             counts[K_RHS] += 1
