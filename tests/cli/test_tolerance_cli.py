@@ -224,7 +224,7 @@ def test_dynamic_worst_case_with_a_paper_method_and_fixed_clearances(tmp_path) -
         ),
         (["--responses", "dynamic", "--ecs-source", "paper"], "give --paper-method"),
         (["--dask-scheduler", "tcp://127.0.0.1:1", "--workers", "2"], "--workers applies"),
-        (["--backend", "threads"], "--backend must be local, processes, dask or gpu"),
+        (["--backend", "threads"], "--backend must be local, processes, dask, gpu or cuda"),
         (["--backend", "dask"], "give --dask-scheduler"),
         (["--backend", "local", "--workers", "2"], "--workers applies to --backend processes"),
         (["--backend", "gpu"], "use it with --responses dynamic"),

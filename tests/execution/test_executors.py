@@ -102,3 +102,46 @@ def test_an_executor_is_chosen_from_the_backend_alone() -> None:
     chosen = executor(Backend("local", chunk_size=5))
     assert isinstance(chosen, Executor) and chosen.kind == "local"
     assert chosen.block(64) == 5 and executor(Backend("local")).block(64) == 64
+
+
+def test_the_cuda_executor_runs_the_engines_numba_cuda_kernel_and_nothing_else(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """``cuda`` is the gpu executor's chunking on :attr:`LaneWork.cuda`: the JAX kernel
+    (``device``) is never called, and an engine without a numba-cuda kernel is refused."""
+    import numpy as np
+
+    from jointplay.execution.executors import Lanes, LaneWork
+
+    class Out(NamedTuple):
+        lanes: np.ndarray
+
+    def jax(chunk, size, timings):
+        raise AssertionError("the cuda backend called the JAX kernel")
+
+    def cuda(chunk, size, timings):
+        timings["run_s"] = 1e-3
+        return Out(chunk[0].copy())
+
+    runner = executor(Backend("cuda"))
+    assert runner.on_device and runner.for_tasks(10).kind == "local"
+    work = LaneWork(print, None, print, lambda o: False, device=jax, cuda=cuda)
+    got: dict[int, np.ndarray] = {}
+    runner.run_lanes(Lanes(work, [(np.arange(3),)], 1, 3, lambda k, o: got.__setitem__(k, o.lanes)))
+    np.testing.assert_array_equal(got[0], np.arange(3))
+    calls: list[int] = []
+
+    def counted(chunk, size, timings):
+        calls.append(len(chunk[0]))
+        return cuda(chunk, size, timings)
+
+    from jointplay.execution import executors as ex
+
+    monkeypatch.setattr(ex, "GPU_CHUNKS", (2, 8, 32))
+    parts = [(np.arange(i, min(i + 2, 7)),) for i in range(0, 7, 2)]  # 7 lanes in 4 parts
+    runner.run_lanes(Lanes(LaneWork(print, None, print, lambda o: False, cuda=counted), parts,
+                           1, 2, lambda k, o: got.__setitem__(k, o.lanes)))  # fmt: skip
+    assert calls == [2, 5]  # 2, then the other 5 unpadded (gpu pads them to 32)
+    jax_only = LaneWork(print, None, print, lambda o: False, device=jax)
+    with pytest.raises(ConfigError, match="cuda backend runs the batch engine only"):
+        runner.run_lanes(Lanes(jax_only, [()], 1, 1, lambda k, o: None))

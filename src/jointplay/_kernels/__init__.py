@@ -13,17 +13,20 @@ import os
 import sys
 from pathlib import Path
 
-#: The kernel modules a dynamic run compiles first (their index files name them).
-FIRST_COMPILED = ("radau", "eom")
+#: The kernel modules a dynamic run compiles first (their index files name them): the
+#: batch engine's lanes (``lanes/source.py``) among them.
+FIRST_COMPILED = ("radau", "eom", "source")
 
 
 def cache_folders() -> list[Path]:
     """Where Numba keeps the kernels' cache: ``NUMBA_CACHE_DIR`` when set, else
-    ``__pycache__`` beside the sources, or the user-wide cache where that is read-only."""
+    ``__pycache__`` beside the sources (this package's and ``lanes``'), or the user-wide cache
+    where that is read-only."""
     custom = os.environ.get("NUMBA_CACHE_DIR")
     if custom:
         return [Path(custom)]
-    return [Path(__file__).parent / "__pycache__", Path.home() / ".cache" / "numba"]
+    here = Path(__file__).parent
+    return [here / "__pycache__", here / "lanes" / "__pycache__", Path.home() / ".cache" / "numba"]
 
 
 def compiled_cache_present() -> bool:

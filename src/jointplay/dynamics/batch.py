@@ -18,8 +18,10 @@ The work is split in three, each in its own module:
    :class:`~jointplay.execution.backends.Backend` (:mod:`jointplay.execution`): ``"local"``
    (this process, compiled loop, threads over the cores), ``"processes"`` (worker processes,
    each running the compiled loop on one thread over large chunks), ``"dask"`` (the same on a
-   Dask cluster) or ``"gpu"`` (:mod:`jointplay._kernels.jax_batch`, the optional
-   ``jointplay[gpu]`` extra); the results come back per sample, failures as data.
+   Dask cluster), ``"gpu"`` (:mod:`jointplay._kernels.jax_batch`, the optional
+   ``jointplay[gpu]`` extra) or ``"cuda"`` (:mod:`jointplay._kernels.lanes.cuda`: the explicit
+   lanes of the CPU's single source on numba-cuda, one GPU thread per sample; experimental,
+   not yet measured on a GPU); the results come back per sample, failures as data.
 
 This module re-exports what the other two define, so ``jointplay.dynamics.batch`` stays the
 one import path of the engine.
@@ -236,6 +238,15 @@ def _gpu_kernel() -> Callable[..., Any]:
     return kernel
 
 
+def _cuda_kernel() -> Callable[..., Any]:
+    """numba-cuda's batch kernel (:mod:`jointplay._kernels.lanes.cuda`), checked usable."""
+    from jointplay._kernels.lanes import cuda as lanes_cuda
+
+    lanes_cuda.raise_unless_available()
+    kernel: Callable[..., Any] = lanes_cuda.run_batch
+    return kernel
+
+
 def _lane_work(problem: BatchProblem, method: str) -> LaneWork:
     """How a chunk ``(rpar, y0, t_settle, t_end, max_step)`` of ``problem``'s lanes runs: the
     compiled kernels in a worker or in this process, the JAX kernel on a device."""
@@ -250,12 +261,15 @@ def _lane_work(problem: BatchProblem, method: str) -> LaneWork:
         outputs = _gpu_kernel()(problem.ipar, *chunk, *constants, chunk_size=size, timings=timings)
         return kb.BatchKernelOutput(*(np.asarray(a) for a in outputs))
 
+    def cuda(chunk: Chunk, size: int, timings: dict[str, float]) -> kb.BatchKernelOutput:
+        return _cuda_kernel()(problem.ipar, *chunk, *constants, chunk_size=size, timings=timings)
+
     def stopped(output: kb.BatchKernelOutput) -> bool:
         return bool(np.any(output.status == kc.STATUS_INTERRUPTED))
 
     return LaneWork(
         task=kb.run_chunk, shared=(problem.ipar, *constants), here=here, stopped=stopped,
-        device=device,
+        device=device, cuda=cuda,
     )  # fmt: skip
 
 
@@ -373,7 +387,8 @@ def simulate_batch(
         method: ``"explicit"``, ``"implicit"`` or ``"auto"`` (:func:`choose_method`).
         backend: where the lanes run: a :class:`~jointplay.execution.backends.Backend`, or
             its name: ``"local"`` (threads in this process), ``"processes"``, ``"dask"``
-            (give ``scheduler``) or ``"gpu"`` (JAX; ``pip install 'jointplay[gpu]'``).
+            (give ``scheduler``), ``"gpu"`` (JAX; ``pip install 'jointplay[gpu]'``) or
+            ``"cuda"`` (numba-cuda, explicit lanes of all-clear mechanisms; experimental).
         workers: worker processes (``"processes"`` given by name; default one per CPU).
         chunk_size: lanes per task (default: 4096 local, ≤ 32 per process task so each
             worker gets ~4, 200 000 on the GPU). Never changes the results.
@@ -392,7 +407,9 @@ def simulate_batch(
     if method not in ("auto", *kb.METHODS):
         raise ConfigError(f"method must be auto, explicit or implicit, got {method!r}")
     runner = executor(_where(backend, workers, chunk_size, scheduler))
-    if runner.on_device:
+    if runner.kind == "cuda":
+        _cuda_kernel()  # fail early, before building
+    elif runner.on_device:
         _gpu_kernel()  # fail early, before building
     start = start or Start("steady")
     if settle is None:

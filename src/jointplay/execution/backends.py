@@ -16,11 +16,13 @@ from jointplay.errors import ConfigError
 __all__ = ["ALIASES", "BACKENDS", "Backend", "BackendKind", "backend_kind"]
 
 #: A backend's name (``"serial"`` is another name of ``"local"``, :data:`ALIASES`).
-BackendKind = Literal["local", "serial", "processes", "dask", "gpu"]
+BackendKind = Literal["local", "serial", "processes", "dask", "gpu", "cuda"]
 
 #: The execution backends: ``"local"`` (this process), ``"processes"`` (local worker
-#: processes), ``"dask"`` (a Dask cluster) and ``"gpu"`` (the batch engine on JAX).
-BACKENDS: tuple[BackendKind, ...] = ("local", "processes", "dask", "gpu")
+#: processes), ``"dask"`` (a Dask cluster), ``"gpu"`` (the batch engine on JAX) and ``"cuda"``
+#: (the batch engine's explicit lanes on numba-cuda, one GPU thread per sample: experimental,
+#: not yet measured on a GPU; issue 26).
+BACKENDS: tuple[BackendKind, ...] = ("local", "processes", "dask", "gpu", "cuda")
 #: Other names accepted for a backend.
 ALIASES: dict[str, BackendKind] = {"serial": "local"}
 
@@ -53,8 +55,8 @@ class Backend:
     """Where the work runs: the one setting a study or a batch is given.
 
     Attributes:
-        kind: ``"local"`` (``"serial"`` is the same), ``"processes"``, ``"dask"`` or ``"gpu"``
-            (:data:`BACKENDS`).
+        kind: ``"local"`` (``"serial"`` is the same), ``"processes"``, ``"dask"``, ``"gpu"``
+            or ``"cuda"`` (:data:`BACKENDS`).
         workers: local worker processes (default: the number of CPUs); processes only.
         scheduler: address of the Dask scheduler, e.g. ``"tcp://10.0.0.5:8786"``; dask only.
         chunk_size: samples per task (default: the caller's own).

@@ -96,6 +96,8 @@ class LaneWork:
     here: Callable[[Any, bool, Any], Any]
     stopped: Callable[[Any], bool]
     device: Callable[[Any, int, dict[str, float]], Any] | None = None
+    #: ``device``'s interface on the numba-cuda kernel (the ``"cuda"`` backend), or ``None``.
+    cuda: Callable[[Any, int, dict[str, float]], Any] | None = None
 
 
 @dataclass(frozen=True)
@@ -501,8 +503,10 @@ class Gpu(Executor):
     Every chunk but a lone first one is padded to its size, so the compiled programs are
     those of the sizes only."""
 
-    kind = "gpu"
+    kind: ClassVar[BackendKind] = "gpu"
     on_device = True
+    #: Whether chunks are padded to their size (one compiled program per size: JAX's).
+    pads: ClassVar[bool] = True
 
     def sizes(self) -> tuple[int, ...]:
         """The chunk sizes this run chooses among."""
@@ -520,9 +524,9 @@ class Gpu(Executor):
         import itertools
         import time
 
-        device = lanes.work.device
+        device = self.device_of(lanes.work)
         if device is None:
-            raise ConfigError("the gpu backend runs the batch engine only")
+            raise ConfigError(f"the {self.kind} backend runs the batch engine only")
         sizes = self.sizes()
         parts = iter(lanes.chunks)
         rate: float | None = None
@@ -535,7 +539,7 @@ class Gpu(Executor):
             item = _joined(group)
             timings: dict[str, float] = {}
             clock = time.perf_counter()
-            output = device(item if k == 0 else _padded(item, size), size, timings)
+            output = device(item if k == 0 or not self.pads else _padded(item, size), size, timings)
             wall = time.perf_counter() - clock
             run_s = timings.get("run_s") or wall
             ran = timings.get("lanes") or size  # a padded chunk costs its whole size
@@ -549,8 +553,26 @@ class Gpu(Executor):
     def for_tasks(self, n: int) -> Executor:
         return Local(Backend("local"))
 
+    def device_of(self, work: LaneWork) -> Callable[[Any, int, dict[str, float]], Any] | None:
+        """The engine's device kernel this executor runs (:attr:`LaneWork.device`: JAX)."""
+        return work.device
 
-_EXECUTORS: dict[str, type[Executor]] = {cls.kind: cls for cls in (Local, Processes, Dask, Gpu)}
+
+class Cuda(Gpu):
+    """:class:`Gpu` on the engine's numba-cuda kernel (:attr:`LaneWork.cuda`), one GPU thread
+    per lane: the same chunks, sized for an interrupt as there, not padded (one compiled
+    kernel serves every size; experimental, issue 26)."""
+
+    kind: ClassVar[BackendKind] = "cuda"
+    pads = False
+
+    def device_of(self, work: LaneWork) -> Callable[[Any, int, dict[str, float]], Any] | None:
+        return work.cuda
+
+
+_EXECUTORS: dict[str, type[Executor]] = {
+    cls.kind: cls for cls in (Local, Processes, Dask, Gpu, Cuda)
+}
 
 
 def executor(backend: Backend | str) -> Executor:

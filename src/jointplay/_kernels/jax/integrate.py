@@ -18,7 +18,7 @@ largest penetrations live in the loop carry.
 - Error norm: RMS over the first 2·n_coordinates components of err_i / (atol_i +
   rtol·max(|y_i|, |y_new,i|)) (the work integrals and the impact memory v0 excluded).
 - Explicit: DOPRI5 of Hairer, Nørsett & Wanner (*Solving ODEs I*, §II.5, Table 5.2), FSAL,
-  exactly as :func:`jointplay._kernels.batch._explicit_lane`: a step attempt below
+  exactly as :func:`jointplay._kernels.lanes.source.explicit_lane`: a step attempt below
   ``min_step`` stops the lane (``STATUS_STEP_TOO_SMALL``); a rejected step is retried with
   ``h·max(0.2, 0.9·err^(−1/5))``; an accepted one proposes ``h·clamp(0.9·err^(−1/5), 0.2,
   10)`` (10 when err = 0), at most h when the step had an error rejection.

@@ -1,0 +1,12 @@
+"""The batch lanes written once for the CPU (Numba ``njit``) and NVIDIA GPUs (numba-cuda).
+
+- :mod:`~jointplay._kernels.lanes.source`: the per-lane equations (contact laws, friction,
+  ideal joints, driver) and the explicit lane, in the subset of Python both targets compile;
+- :mod:`~jointplay._kernels.lanes.build`: compiles that source for one target;
+- :mod:`~jointplay._kernels.lanes.cpu`: the CPU compilation and its batch drivers
+  (what :func:`jointplay._kernels.batch.run_batch` runs for ``method="explicit"``);
+- :mod:`~jointplay._kernels.lanes.cuda_kernel`, :mod:`~jointplay._kernels.lanes.cuda`: the
+  CUDA kernel, one thread per lane, and its ``run_batch`` (experimental: built and tested on
+  numba-cuda's simulator, not yet measured on a GPU); :mod:`~jointplay._kernels.lanes.limits`
+  the sizes of its per-thread arrays.
+"""

@@ -1,0 +1,119 @@
+"""Compile the lane source (:mod:`jointplay._kernels.lanes.source`) for one target.
+
+The single-source pattern: the source module holds plain Python functions written in the
+subset both Numba targets compile (scalars and caller-provided arrays, no allocation).
+:func:`build` makes a fresh namespace for a target — the source's constants and ``math`` —
+and compiles every function of :data:`FUNCTIONS` into it with the target's decorator
+(``numba.njit(cache=True, error_model="numpy")`` for the CPU,
+``numba.cuda.jit(device=True)`` for NVIDIA GPUs), each function's body looking the others up
+by name in that namespace. Compilation is lazy (on the first call, or when a kernel that
+calls it is compiled), so the order does not matter.
+
+Standard library and NumPy only at import: the targets' decorators are the caller's.
+"""
+
+from __future__ import annotations
+
+import math
+import types
+from collections.abc import Callable, Mapping
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from jointplay._kernels.lanes import source
+
+__all__ = ["FUNCTIONS", "all_clear", "build", "lane_layout"]
+
+#: The source's functions, compiled for every target.
+FUNCTIONS = (
+    "step3", "power", "normal_force", "friction_force", "driver_acceleration", "driver_angle",
+    "driver_speed", "rot", "point_global", "constraint_rows", "constraint_jacobian",
+    "acceleration_rhs", "cholesky_solve", "constrained_accelerations", "push",
+    "contact_forces", "rhs", "rhs_and_quantities", "quantities", "onset_fraction",
+    "onset_check", "impact_rate", "contact_memory", "project_driver", "constraint_residual",
+    "max_abs", "schur_solve", "project_constraints", "project",
+    "all_finite", "interrupt_pending", "dense", "triggers", "wants_refinement",
+    "refine_peaks", "open_window", "accumulate", "close_window", "explicit_lane",
+)  # fmt: skip
+
+#: ``eom.EomModel`` field order of the ``ipar`` header (lengths), as :func:`eom.pack` writes it.
+_HEADER = (
+    "mass", "gravity", "joint_int", "joint_f", "active", "driver", "clear_joint", "geom",
+    "law_id", "law_p", "fric_id", "fric_p", "settings",
+)  # fmt: skip
+_FLOATS = ("mass", "gravity", "joint_f", "driver", "geom", "law_p", "fric_p", "settings")
+_INTS = ("joint_int", "active", "clear_joint", "law_id", "fric_id")
+
+
+def build(
+    decorate: Callable[[Callable[..., Any]], Any],
+    hooks: Mapping[str, Callable[..., Any]] | None = None,
+    extras: Mapping[str, Any] | None = None,
+) -> dict[str, Any]:
+    """Every function of :data:`FUNCTIONS`, compiled with ``decorate``, in a namespace of its
+    own (returned: name → compiled function, with the source's constants beside them).
+
+    Args:
+        decorate: the target's decorator.
+        hooks: the target's own version of a hook the lane calls, by the name the lane calls
+            it (``project``: default :func:`source.project`), in place of the source's; compiled like the
+            source's functions, in the same namespace.
+        extras: more names for that namespace (what a hook calls: compiled functions).
+    """
+    namespace: dict[str, Any] = {
+        name: value for name, value in vars(source).items() if name.isupper()
+    }
+    namespace["math"] = math
+    namespace.update(extras or {})
+    chosen = dict(hooks or {})
+    if set(chosen) - set(FUNCTIONS):
+        raise ValueError(
+            f"no function of the lane source is called {sorted(set(chosen) - set(FUNCTIONS))}"
+        )
+    functions = [(name, chosen.get(name, getattr(source, name))) for name in FUNCTIONS]
+    for name, original in functions:
+        copy = types.FunctionType(
+            original.__code__, namespace, name, original.__defaults__, original.__closure__
+        )
+        copy.__module__ = original.__module__
+        copy.__qualname__ = original.__qualname__
+        copy.__doc__ = original.__doc__
+        namespace[name] = decorate(copy)
+    return namespace
+
+
+def lane_layout(ipar: npt.NDArray[np.int64]) -> npt.NDArray[np.int64]:
+    """The ``lay`` array of the source (``LY_*``): where each field of the packed model starts
+    in ``rpar`` (floats) or ``ipar`` (integers), and the model's sizes."""
+    lengths = {name: int(ipar[i]) for i, name in enumerate(_HEADER)}
+    lay = np.zeros(source.N_LAY, dtype=np.int64)
+    offset = 0
+    for name, slot in zip(_FLOATS, range(source.LY_MASS, source.LY_SETTINGS + 1), strict=True):
+        lay[slot] = offset
+        offset += lengths[name]
+    offset = len(_HEADER)
+    ints = range(source.LY_JOINT_INT, source.LY_FRIC_ID + 1)
+    for name, slot in zip(_INTS, ints, strict=True):
+        lay[slot] = offset
+        offset += lengths[name]
+    n = lengths["mass"]
+    nj = lengths["active"]
+    nc = lengths["clear_joint"]
+    active = ipar[lay[source.LY_ACTIVE] : lay[source.LY_ACTIVE] + nj]
+    lay[source.LY_N] = n
+    lay[source.LY_NJ] = nj
+    lay[source.LY_NC] = nc
+    lay[source.LY_PLAW] = lengths["law_p"] // max(nc, 1)
+    lay[source.LY_PFRIC] = lengths["fric_p"] // max(nc, 1)
+    lay[source.LY_NIDEAL] = int(np.sum(active))
+    lay[source.LY_SIZE] = 2 * n + 2 + nc
+    lay[source.LY_NQ] = 2 * (n // 3) + nj + 1
+    return lay
+
+
+def all_clear(ipar: npt.NDArray[np.int64]) -> bool:
+    """Whether every joint of the model packed in ``ipar`` is a clearance joint (the driver
+    the only constraint; the paper's mechanisms): the GPU lanes' mechanisms so far."""
+    return int(lane_layout(ipar)[source.LY_NIDEAL]) == 0

@@ -1,0 +1,92 @@
+"""The lane source compiled for the CPU, and the batch drivers over lanes.
+
+:data:`explicit_lane` is :func:`jointplay._kernels.lanes.source.explicit_lane` compiled by
+``numba.njit(cache=True, error_model="numpy")`` (so a division by zero gives inf/NaN, as in
+the rest of the kernels); the drivers allocate each lane's work arrays and run the lanes
+serially or on Numba's threads (``prange``). Lanes are independent: a lane's result does not
+depend on the other lanes or on the thread that runs it.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from jointplay._kernels import eom
+from jointplay._kernels.lanes.build import build
+from jointplay._kernels.lanes.source import LY_N, LY_NC, LY_NIDEAL
+
+
+def _project(t, y, rp, ip, lay, scratch, phi_q, schur, lam):
+    """The CPU lane's ``project`` hook: :func:`eom.project` (projection onto the ideal
+    constraints, LAPACK's solve; ``scratch`` receives its statistics), the single engine's."""
+    return eom.project(t, y, eom.unpack(rp, ip), scratch)
+
+
+#: Every function of the source, compiled for the CPU, by name.
+compiled = build(
+    numba.njit(cache=True, error_model="numpy"),
+    hooks={"project": _project},
+    extras={"eom": eom},
+)
+#: The explicit lane, compiled for the CPU.
+explicit_lane = compiled["explicit_lane"]
+
+__all__ = ["compiled", "explicit_lane", "explicit_lanes", "explicit_lanes_parallel"]
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _one(
+    ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
+    peaks, stats, status, t_reached, counts, lane,
+):  # fmt: skip
+    size = y0.shape[1]
+    n_q = peaks.shape[1]
+    nc = max(lay[LY_NC], 1)
+    mask = np.empty(n_q, dtype=np.int64)
+    k = np.empty((7, size))
+    work = np.empty((6, size))
+    q = np.empty((2, n_q))
+    samples = np.empty((9, n_q))
+    pen = np.empty(nc)
+    records = np.empty((3, 7 * nc))
+    rows = 2 * lay[LY_NIDEAL] + 1
+    phi_q = np.empty((rows, lay[LY_N]))
+    schur = np.empty((rows, rows))
+    lam = np.empty(rows)
+    scratch = np.zeros(eom.N_WORK)
+    code, t = explicit_lane(
+        ipar, rpar[lane], lay, y0[lane], t_settle[lane], t_end[lane], max_step[lane], rtol,
+        atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask, k,
+        work[0], work[1], work[2], work[3], work[4], work[5], q[0], q[1], samples, pen,
+        records[0], records[1], records[2], phi_q, schur, lam, scratch,
+    )  # fmt: skip
+    status[lane] = code
+    t_reached[lane] = t
+
+
+@numba.njit(cache=True, error_model="numpy")
+def explicit_lanes(
+    ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
+    peaks, stats, status, t_reached, counts,
+):  # fmt: skip
+    """Every lane, one after the other (arguments: :func:`jointplay._kernels.batch.run_batch`,
+    plus ``lay`` of :func:`jointplay._kernels.lanes.build.lane_layout`; outputs in place)."""
+    for lane in range(y0.shape[0]):
+        _one(
+            ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
+            peaks, stats, status, t_reached, counts, lane,
+        )  # fmt: skip
+
+
+@numba.njit(cache=True, error_model="numpy", parallel=True)
+def explicit_lanes_parallel(
+    ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
+    peaks, stats, status, t_reached, counts,
+):  # fmt: skip
+    """:func:`explicit_lanes` on Numba's threads (``prange`` over lanes)."""
+    for lane in numba.prange(y0.shape[0]):
+        _one(
+            ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
+            peaks, stats, status, t_reached, counts, lane,
+        )  # fmt: skip

@@ -1,0 +1,1039 @@
+"""The explicit batch lane, written once for two compilers (Numba's CPU ``njit`` and
+numba-cuda's ``cuda.jit(device=True)``).
+
+Every function here is plain Python in the subset that both targets compile: scalars and
+caller-provided arrays in, scalars (or small tuples of scalars) out; no allocation, no slicing
+into new arrays, no NumPy calls but indexing, ``math`` for the elementary functions. Calls
+between the functions are resolved by name when :mod:`jointplay._kernels.lanes.build`
+compiles the whole set for one target (each target gets its own namespace), so the same
+source serves both. Nothing here is decorated and nothing here is called from Python.
+
+The model is the packed pair of :func:`jointplay._kernels.eom.pack`: ``rp`` (one lane's
+``rpar`` row, float64) and ``ip`` (``ipar``, int64), read through ``lay``, an int64 array of
+offsets and sizes made once per batch by :func:`jointplay._kernels.lanes.build.lane_layout`
+(``LY_*`` below). The equations are those of :mod:`jointplay._kernels.eom` (state layout,
+clearance joint kinematics and forces: its module docstring; Flores et al. 2008), with the
+ideal joints and the driver as constraints (:mod:`jointplay._kernels.constraints`; Nikravesh
+1988) — no matrix when every joint is clear, the driver then the only constraint; the
+contact laws are those of :mod:`jointplay._kernels.contact` (same ids and packed
+parameters); the lane is the explicit lane of the batch contract
+(:mod:`jointplay._kernels.batch`'s module docstring: DOPRI5 of Hairer, Nørsett & Wanner,
+*Solving ODEs I*, §II.5, Table 5.2, step control, contact-onset control, contact memory, the
+peak rule, the statistics and the statuses), written with the arithmetic of the lane it
+replaced, in the same order, so that its CPU compilation gave that lane's bits. The one hook
+a target replaces is :func:`project` (the projection onto the ideal constraints).
+
+Units are SI throughout (m, rad, s, kg, N).
+"""
+
+from __future__ import annotations
+
+import math
+
+# --- lay: offsets (into rp for floats, into ip for integers) and sizes ----------------------
+LY_MASS, LY_GRAVITY, LY_JOINT_F, LY_DRIVER, LY_GEOM, LY_LAW_P, LY_FRIC_P, LY_SETTINGS = range(8)
+LY_JOINT_INT, LY_ACTIVE, LY_CLEAR, LY_LAW_ID, LY_FRIC_ID = range(8, 13)
+#: 3 nb, joints, clearance joints, law and friction parameter widths, ideal joints, state size,
+#: quantities.
+LY_N, LY_NJ, LY_NC, LY_PLAW, LY_PFRIC, LY_NIDEAL, LY_SIZE, LY_NQ = range(13, 21)
+N_LAY = 21
+
+# --- copies of the constants the source reads (kept equal to their homes by a test) ---------
+# contact laws (jointplay._kernels.contact)
+LAW_IMPACT, LAW_HERTZ, LAW_KELVIN_VOIGT, HC_FIRST, HC_LAST = 0, 1, 2, 3, 11
+FRICTION_NONE, FRICTION_AMBROSIO, FRICTION_ADAMS = 0, 1, 2
+# eom: clearance geometry columns, settings
+N_GEOM, G_R_BEARING, G_R_JOURNAL, G_CLEARANCE = 3, 0, 1, 2
+S_ONSET_TOL, S_PROJ_TOL, S_V_MARK = 0, 1, 2
+# statuses (jointplay._kernels.common)
+STATUS_SUCCESS, STATUS_STEP_TOO_SMALL, STATUS_TOO_MANY_STEPS = 0, -1, -2
+STATUS_NON_FINITE, STATUS_INTERRUPTED, STATUS_RUNNING = -3, -4, 1
+SIGINT, SIGTERM = 2, 15
+# counters per lane (jointplay._kernels.batch)
+K_STEPS, K_REJECTED, K_RHS = 0, 1, 2
+
+
+# --- contact laws (jointplay._kernels.contact; docs/contact-laws.md) -------------------------
+def step3(x, x0, h0, x1, h1):
+    """ADAMS cubic STEP: ``h0`` for x ≤ x0, ``h1`` for x ≥ x1, ``h0 + (h1 − h0) u² (3 − 2u)``
+    with ``u = (x − x0)/(x1 − x0)`` in between (docs/contact-laws.md §1.1)."""
+    if x <= x0:
+        return h0
+    if x >= x1:
+        return h1
+    u = (x - x0) / (x1 - x0)
+    return h0 + (h1 - h0) * u * u * (3.0 - 2.0 * u)
+
+
+def power(delta, exponent):
+    """δ^e, as δ√δ for e = 3/2."""
+    return delta * math.sqrt(delta) if exponent == 1.5 else delta**exponent
+
+
+def normal_force(law_id, p, o, delta, delta_dot, v0):
+    """Normal force F_N ≥ 0 (N) of law ``law_id`` with parameters ``p[o:]`` at penetration δ
+    (m), rate δ̇ (m/s) and event entry rate v0 (m/s); NaN for an unknown id
+    (:func:`jointplay._kernels.contact.normal_force`)."""
+    if not delta > 0.0:
+        return 0.0
+    if law_id == LAW_IMPACT:
+        damping = step3(delta, 0.0, 0.0, p[o + 3], p[o + 2])
+        force = p[o] * power(delta, p[o + 1]) + damping * delta_dot
+    elif law_id == LAW_HERTZ:
+        force = p[o] * power(delta, p[o + 1])
+    elif law_id == LAW_KELVIN_VOIGT:
+        force = p[o] * delta + p[o + 1] * delta_dot
+    elif HC_FIRST <= law_id <= HC_LAST:
+        v_ref = v0 if v0 > 0.0 else delta_dot
+        v_floor = p[o + 3]
+        v_eff = v_ref if v_ref > v_floor else v_floor
+        force = p[o] * power(delta, p[o + 1]) * (1.0 + p[o + 2] * delta_dot / v_eff)
+    else:
+        return math.nan
+    return force if force > 0.0 else 0.0
+
+
+def friction_force(law_id, p, o, v_t, f_n):
+    """Signed friction force F_T (N) at slip v_T (m/s) under F_N (N); parameters ``p[o:]``
+    (:func:`jointplay._kernels.contact.friction_force`)."""
+    if law_id == FRICTION_NONE:
+        return 0.0
+    sign = 1.0 if v_t > 0.0 else (-1.0 if v_t < 0.0 else 0.0)
+    speed = abs(v_t)
+    if law_id == FRICTION_AMBROSIO:
+        v_lo = p[o + 1]
+        v_hi = p[o + 2]
+        if speed <= v_lo:
+            correction = 0.0
+        elif speed >= v_hi:
+            correction = 1.0
+        else:
+            correction = (speed - v_lo) / (v_hi - v_lo)
+        return p[o] * correction * f_n * sign
+    if law_id == FRICTION_ADAMS:
+        mu_s = p[o]
+        mu_d = p[o + 1]
+        v_s = p[o + 2]
+        v_d = p[o + 3]
+        if speed <= v_s:
+            coefficient = step3(v_t, -v_s, -mu_s, v_s, mu_s)
+        elif speed < v_d:
+            coefficient = sign * step3(speed, v_s, mu_s, v_d, mu_d)
+        else:
+            coefficient = sign * mu_d
+        return coefficient * f_n
+    return math.nan
+
+
+# --- driver (jointplay._kernels.constraints.driver_motion) -----------------------------------
+def driver_acceleration(t, rp, o):
+    """φ̈_d(t), rad/s², of the driver at ``rp[o:o + 4]`` (driven body, φ0, ω, ramp time):
+    0 at constant speed, the quintic STEP5 ramp's ω/T · 30 u² (1 − u)² during the ramp."""
+    omega = rp[o + 2]
+    ramp = rp[o + 3]
+    if ramp <= 0.0 or t >= ramp:
+        return 0.0
+    if t <= 0.0:
+        return 0.0
+    u = t / ramp
+    return omega / ramp * 30.0 * u * u * (1.0 - u) ** 2
+
+
+# --- ideal joints and the driver (jointplay._kernels.constraints; Nikravesh 1988, ch. 4-5) -----
+def rot(phi, sx, sy):
+    """A(φ) (sx, sy): a body's local vector in the global frame."""
+    c = math.cos(phi)
+    s = math.sin(phi)
+    return c * sx - s * sy, s * sx + c * sy
+
+
+def point_global(y, body, sx, sy):
+    """Global position of the local point (sx, sy) of ``body`` (the ground's are global)."""
+    if body < 0:
+        return sx, sy
+    ax, ay = rot(y[3 * body + 2], sx, sy)
+    return y[3 * body] + ax, y[3 * body + 1] + ay
+
+
+def constraint_rows(rp, lay):
+    """Rows of Φ: 2 per ideal joint, 1 for the driver unless it is off."""
+    return 2 * lay[LY_NIDEAL] + (1 if rp[lay[LY_DRIVER]] >= 0 else 0)
+
+
+def constraint_jacobian(y, rp, ip, lay, out):
+    """Φ_q (rows × 3 nb) into ``out`` (:func:`constraints.jacobian`): revolute
+    Φ = r_a + A_a s_a − r_b − A_b s_b, prismatic φ_b − φ_a − θ0 and n_a·d, driver φ_k − φ_d."""
+    n = lay[LY_N]
+    o_ji = lay[LY_JOINT_INT]
+    o_jf = lay[LY_JOINT_F]
+    for r in range(constraint_rows(rp, lay)):
+        for i in range(n):
+            out[r, i] = 0.0
+    row = 0
+    for j in range(lay[LY_NJ]):
+        if ip[lay[LY_ACTIVE] + j] == 0:
+            continue
+        kind = ip[o_ji + 3 * j]
+        a = ip[o_ji + 3 * j + 1]
+        b = ip[o_ji + 3 * j + 2]
+        if kind == 0:
+            for side in range(2):
+                body = a if side == 0 else b
+                sign = 1.0 if side == 0 else -1.0
+                if body < 0:
+                    continue
+                ax, ay = rot(y[3 * body + 2], rp[o_jf + 6 * j + 2 * side],
+                             rp[o_jf + 6 * j + 2 * side + 1])  # fmt: skip
+                out[row, 3 * body] += sign
+                out[row + 1, 3 * body + 1] += sign
+                out[row, 3 * body + 2] += -sign * ay
+                out[row + 1, 3 * body + 2] += sign * ax
+        else:
+            phi_a = y[3 * a + 2] if a >= 0 else 0.0
+            pax, pay = point_global(y, a, rp[o_jf + 6 * j], rp[o_jf + 6 * j + 1])
+            pbx, pby = point_global(y, b, rp[o_jf + 6 * j + 2], rp[o_jf + 6 * j + 3])
+            nx, ny = rot(phi_a + rp[o_jf + 6 * j + 4], 0.0, 1.0)
+            dx, dy = pbx - pax, pby - pay
+            if a >= 0:
+                out[row, 3 * a + 2] = -1.0
+                sax, say = rot(phi_a, rp[o_jf + 6 * j], rp[o_jf + 6 * j + 1])
+                out[row + 1, 3 * a] = -nx
+                out[row + 1, 3 * a + 1] = -ny
+                out[row + 1, 3 * a + 2] = (-ny * dx + nx * dy) - (nx * -say + ny * sax)
+            if b >= 0:
+                out[row, 3 * b + 2] = 1.0
+                sbx, sby = rot(y[3 * b + 2], rp[o_jf + 6 * j + 2], rp[o_jf + 6 * j + 3])
+                out[row + 1, 3 * b] = nx
+                out[row + 1, 3 * b + 1] = ny
+                out[row + 1, 3 * b + 2] = nx * -sby + ny * sbx
+        row += 2
+    crank = int(rp[lay[LY_DRIVER]])
+    if crank >= 0:
+        out[row, 3 * crank + 2] = 1.0
+
+
+def acceleration_rhs(t, y, rp, ip, lay, out):
+    """γ with Φ_q q̈ = γ into ``out`` (:func:`constraints.acceleration_rhs`): the quadratic
+    velocity terms and the driver's φ̈_d."""
+    n = lay[LY_N]
+    o_ji = lay[LY_JOINT_INT]
+    o_jf = lay[LY_JOINT_F]
+    for r in range(constraint_rows(rp, lay)):
+        out[r] = 0.0
+    row = 0
+    for j in range(lay[LY_NJ]):
+        if ip[lay[LY_ACTIVE] + j] == 0:
+            continue
+        kind = ip[o_ji + 3 * j]
+        a = ip[o_ji + 3 * j + 1]
+        b = ip[o_ji + 3 * j + 2]
+        if kind == 0:
+            # γ = A_a s_a φ̇_a² − A_b s_b φ̇_b²
+            for side in range(2):
+                body = a if side == 0 else b
+                sign = 1.0 if side == 0 else -1.0
+                if body < 0:
+                    continue
+                ax, ay = rot(y[3 * body + 2], rp[o_jf + 6 * j + 2 * side],
+                             rp[o_jf + 6 * j + 2 * side + 1])  # fmt: skip
+                w2 = y[n + 3 * body + 2] ** 2
+                out[row] += sign * ax * w2
+                out[row + 1] += sign * ay * w2
+        else:
+            phi_a = y[3 * a + 2] if a >= 0 else 0.0
+            wa = y[n + 3 * a + 2] if a >= 0 else 0.0
+            wb = y[n + 3 * b + 2] if b >= 0 else 0.0
+            nx, ny = rot(phi_a + rp[o_jf + 6 * j + 4], 0.0, 1.0)
+            pax, pay = point_global(y, a, rp[o_jf + 6 * j], rp[o_jf + 6 * j + 1])
+            pbx, pby = point_global(y, b, rp[o_jf + 6 * j + 2], rp[o_jf + 6 * j + 3])
+            dx, dy = pbx - pax, pby - pay
+            if a < 0:
+                sax, say = 0.0, 0.0
+            else:
+                sax, say = rot(phi_a, rp[o_jf + 6 * j], rp[o_jf + 6 * j + 1])
+            if b < 0:
+                sbx, sby = 0.0, 0.0
+            else:
+                sbx, sby = rot(y[3 * b + 2], rp[o_jf + 6 * j + 2], rp[o_jf + 6 * j + 3])
+            vax = (y[n + 3 * a] if a >= 0 else 0.0) - say * wa
+            vay = (y[n + 3 * a + 1] if a >= 0 else 0.0) + sax * wa
+            vbx = (y[n + 3 * b] if b >= 0 else 0.0) - sby * wb
+            vby = (y[n + 3 * b + 1] if b >= 0 else 0.0) + sbx * wb
+            ddx, ddy = vbx - vax, vby - vay
+            # γ2 = n·d φ̇_a² − 2 φ̇_a (B_a n')·ḋ + n·(A_b s_b φ̇_b² − A_a s_a φ̇_a²)
+            bnx, bny = -ny, nx
+            out[row + 1] = (
+                (nx * dx + ny * dy) * wa * wa
+                - 2.0 * wa * (bnx * ddx + bny * ddy)
+                + nx * (sbx * wb * wb - sax * wa * wa)
+                + ny * (sby * wb * wb - say * wa * wa)
+            )
+        row += 2
+    if rp[lay[LY_DRIVER]] >= 0:
+        out[row] = driver_acceleration(t, rp, lay[LY_DRIVER])
+
+
+def cholesky_solve(a, b, m):
+    """Solve a x = b in place for the symmetric positive definite leading m × m block of
+    ``a`` (its lower triangle read, overwritten by the Cholesky factor; b by x); a singular
+    ``a`` gives inf/NaN (:func:`eom._cholesky_solve`)."""
+    for k in range(m):
+        d = a[k, k]
+        for p in range(k):
+            d -= a[k, p] * a[k, p]
+        d = math.sqrt(d)
+        a[k, k] = d
+        for i in range(k + 1, m):
+            s = a[i, k]
+            for p in range(k):
+                s -= a[i, p] * a[k, p]
+            a[i, k] = s / d
+    for i in range(m):
+        s = b[i]
+        for p in range(i):
+            s -= a[i, p] * b[p]
+        b[i] = s / a[i, i]
+    for i in range(m - 1, -1, -1):
+        s = b[i]
+        for p in range(i + 1, m):
+            s -= a[p, i] * b[p]
+        b[i] = s / a[i, i]
+
+
+def constrained_accelerations(t, y, rp, ip, lay, f, phi_q, schur, lam):
+    """Turn the generalised forces Q in ``f[n:2n]`` into q̈ (:func:`eom.constrained_accelerations`):
+    (Φ_q M⁻¹ Φ_qᵀ) λ = Φ_q M⁻¹ Q − γ, q̈ = M⁻¹ (Q − Φ_qᵀ λ) (Nikravesh 1988, §6; M diagonal);
+    λ (the ideal joints' rows, then the driver's) into ``lam``. Returns the motor torque
+    −λ_driver (N·m). Work arrays: ``phi_q`` (rows × 3 nb), ``schur`` (rows × rows)."""
+    n = lay[LY_N]
+    o_mass = lay[LY_MASS]
+    rows = constraint_rows(rp, lay)
+    constraint_jacobian(y, rp, ip, lay, phi_q)
+    acceleration_rhs(t, y, rp, ip, lay, lam)
+    for r in range(rows):
+        for p in range(rows):
+            schur[r, p] = 0.0
+    for r in range(rows):  # lam ← Φ_q M⁻¹ Q − γ ; schur ← Φ_q M⁻¹ Φ_qᵀ
+        s = -lam[r]
+        for i in range(n):
+            w = phi_q[r, i] / rp[o_mass + i]
+            s += w * f[n + i]
+            if w != 0.0:
+                for p in range(r + 1):
+                    schur[r, p] += w * phi_q[p, i]
+        lam[r] = s
+    cholesky_solve(schur, lam, rows)
+    for i in range(n):
+        s = f[n + i]
+        for r in range(rows):
+            s -= phi_q[r, i] * lam[r]
+        f[n + i] = s / rp[o_mass + i]
+    return -lam[rows - 1] if rp[lay[LY_DRIVER]] >= 0 else 0.0
+
+
+# --- right-hand side (jointplay._kernels.eom) ---------------------------------------------
+def push(f, n, body, rx, ry, fx, fy):
+    """Add the force (fx, fy) at arm (rx, ry) from the centre of mass of ``body`` to the
+    generalised forces ``f[n:2n]``."""
+    if body < 0:
+        return
+    f[n + 3 * body] += fx
+    f[n + 3 * body + 1] += fy
+    f[n + 3 * body + 2] += rx * fy - ry * fx
+
+
+def contact_forces(y, rp, ip, lay, f, record, recording):
+    """Add every clearance joint's contact force to ``f[n:2n]`` (:func:`eom.add_contact_forces`:
+    δ = |e| − c, δ̇ = ė·n, v_T = ė·t + R_J ω_b − R_B ω_a; −F_N n − F_T t on the journal at
+    r_J + R_J n, the opposite on the bearing at r_B + R_B n); when ``recording``,
+    (F_N, F_T, δ, δ̇, v_T, e_x, e_y) of joint c into ``record[7c:7c + 7]``.
+    Returns the contact power Σ (F_N δ̇ + F_T v_T), W."""
+    n = lay[LY_N]
+    nc = lay[LY_NC]
+    o_ji = lay[LY_JOINT_INT]
+    o_jf = lay[LY_JOINT_F]
+    o_geom = lay[LY_GEOM]
+    plaw = lay[LY_PLAW]
+    pfric = lay[LY_PFRIC]
+    pw = 0.0
+    for c in range(nc):
+        j = ip[lay[LY_CLEAR] + c]
+        a = ip[o_ji + 3 * j + 1]
+        b = ip[o_ji + 3 * j + 2]
+        # bearing centre on a, journal centre on b, and their arms from the centres of mass
+        sx = rp[o_jf + 6 * j]
+        sy = rp[o_jf + 6 * j + 1]
+        if a < 0:
+            bx, by, rax, ray = sx, sy, 0.0, 0.0
+        else:
+            ca = math.cos(y[3 * a + 2])
+            sa = math.sin(y[3 * a + 2])
+            rax = ca * sx - sa * sy
+            ray = sa * sx + ca * sy
+            bx, by = y[3 * a] + rax, y[3 * a + 1] + ray
+        sx = rp[o_jf + 6 * j + 2]
+        sy = rp[o_jf + 6 * j + 3]
+        if b < 0:
+            jx, jy, rbx, rby = sx, sy, 0.0, 0.0
+        else:
+            cb = math.cos(y[3 * b + 2])
+            sb = math.sin(y[3 * b + 2])
+            rbx = cb * sx - sb * sy
+            rby = sb * sx + cb * sy
+            jx, jy = y[3 * b] + rbx, y[3 * b + 1] + rby
+        ex = jx - bx
+        ey = jy - by
+        emag = math.sqrt(ex * ex + ey * ey)
+        delta = emag - rp[o_geom + N_GEOM * c + G_CLEARANCE]
+        f_n = 0.0
+        f_t = 0.0
+        delta_dot = 0.0
+        v_t = 0.0
+        if delta > 0.0 or recording:
+            if emag > 0.0:
+                nx, ny = ex / emag, ey / emag
+            else:
+                nx, ny = 1.0, 0.0
+            wa = y[n + 3 * a + 2] if a >= 0 else 0.0
+            wb = y[n + 3 * b + 2] if b >= 0 else 0.0
+            # ė = v(journal centre on b) − v(bearing centre on a)
+            edx = -wb * rby + wa * ray
+            edy = wb * rbx - wa * rax
+            if b >= 0:
+                edx += y[n + 3 * b]
+                edy += y[n + 3 * b + 1]
+            if a >= 0:
+                edx -= y[n + 3 * a]
+                edy -= y[n + 3 * a + 1]
+            delta_dot = edx * nx + edy * ny
+            r_j = rp[o_geom + N_GEOM * c + G_R_JOURNAL]
+            r_b = rp[o_geom + N_GEOM * c + G_R_BEARING]
+            v_t = -edx * ny + edy * nx + r_j * wb - r_b * wa
+            if delta > 0.0:
+                v0 = y[2 * n + 2 + c]
+                f_n = normal_force(
+                    ip[lay[LY_LAW_ID] + c], rp, lay[LY_LAW_P] + plaw * c, delta, delta_dot, v0
+                )
+                fric = ip[lay[LY_FRIC_ID] + c]
+                if fric != FRICTION_NONE:
+                    f_t = friction_force(fric, rp, lay[LY_FRIC_P] + pfric * c, v_t, f_n)
+                fx = -f_n * nx + f_t * ny
+                fy = -f_n * ny - f_t * nx
+                push(f, n, b, rbx + r_j * nx, rby + r_j * ny, fx, fy)
+                push(f, n, a, rax + r_b * nx, ray + r_b * ny, -fx, -fy)
+                pw += f_n * delta_dot + f_t * v_t
+        if recording:
+            record[7 * c] = f_n
+            record[7 * c + 1] = f_t
+            record[7 * c + 2] = delta
+            record[7 * c + 3] = delta_dot
+            record[7 * c + 4] = v_t
+            record[7 * c + 5] = ex
+            record[7 * c + 6] = ey
+    return pw
+
+
+def rhs(t, y, rp, ip, lay, f, record, recording, phi_q, schur, lam):
+    """ẏ into ``f`` (state layout of :mod:`jointplay._kernels.eom`), the contact records into
+    ``record`` when ``recording``, the multipliers λ into ``lam`` (ideal joints only); returns
+    the motor torque τ (N·m). Every joint clear: the driver's row is the only constraint,
+    λ = Q_φk − I_k φ̈_d, q̈_φk = φ̈_d, q̈ = M⁻¹ Q elsewhere (no matrix:
+    :func:`eom._driver_only_accelerations`); else :func:`constrained_accelerations` (work
+    arrays ``phi_q``, ``schur``). W_motor' = τ ω_k, W_contact' = the contact power."""
+    n = lay[LY_N]
+    o_mass = lay[LY_MASS]
+    o_gravity = lay[LY_GRAVITY]
+    o_driver = lay[LY_DRIVER]
+    for i in range(n):
+        f[i] = y[n + i]
+        f[n + i] = rp[o_gravity + i]
+    f[2 * n + 1] = contact_forces(y, rp, ip, lay, f, record, recording)
+    crank = int(rp[o_driver])
+    torque = 0.0
+    if lay[LY_NIDEAL] > 0:
+        torque = constrained_accelerations(t, y, rp, ip, lay, f, phi_q, schur, lam)
+    else:
+        if crank >= 0:
+            k = 3 * crank + 2
+            multiplier = f[n + k] - rp[o_mass + k] * driver_acceleration(t, rp, o_driver)
+            f[n + k] -= multiplier
+            torque = -multiplier
+        for i in range(n):
+            f[n + i] /= rp[o_mass + i]
+    f[2 * n] = torque * y[n + 3 * crank + 2] if crank >= 0 else 0.0
+    for i in range(2 * n + 2, lay[LY_SIZE]):
+        f[i] = 0.0
+    return torque
+
+
+def rhs_and_quantities(t, y, rp, ip, lay, f, record, qty, pen, phi_q, schur, lam):
+    """:func:`rhs` recording the contacts, then the quantities in QUANTITY ORDER into ``qty``
+    (ω_b rad/s, α_b rad/s², |F_N n + F_T t| of every joint N, torque N·m) and δ of every
+    clearance joint into ``pen`` (m) (:func:`eom.rhs_and_quantities`): an ideal revolute
+    joint's force is |λ| of its two rows, a prismatic joint's |λ| of its normal row."""
+    n = lay[LY_N]
+    nb = n // 3
+    nc = lay[LY_NC]
+    nj = lay[LY_NJ]
+    torque = rhs(t, y, rp, ip, lay, f, record, True, phi_q, schur, lam)
+    for b in range(nb):
+        qty[b] = y[n + 3 * b + 2]
+        qty[nb + b] = f[n + 3 * b + 2]
+    row = 0
+    for j in range(nj):
+        if ip[lay[LY_ACTIVE] + j] == 1:
+            if ip[lay[LY_JOINT_INT] + 3 * j] == 0:
+                qty[2 * nb + j] = math.hypot(lam[row], lam[row + 1])
+            else:
+                qty[2 * nb + j] = abs(lam[row + 1])
+            row += 2
+        else:
+            for c in range(nc):
+                if ip[lay[LY_CLEAR] + c] == j:
+                    qty[2 * nb + j] = math.hypot(record[7 * c], record[7 * c + 1])
+    qty[2 * nb + nj] = torque
+    for c in range(nc):
+        pen[c] = record[7 * c + 2]
+
+
+def quantities(t, y, rp, ip, lay, f, record, qty, pen, phi_q, schur, lam):
+    """:func:`rhs_and_quantities` for the peak search (``f``, ``record`` and the constraint
+    arrays: work arrays)."""
+    rhs_and_quantities(t, y, rp, ip, lay, f, record, qty, pen, phi_q, schur, lam)
+
+
+# --- the hooks after a step (jointplay._kernels.eom) ---------------------------------------
+def onset_fraction(old, new, tolerance):
+    """The step's fraction ending at half the onset tolerance (secant) for a joint free at the
+    step's start and deeper than ``tolerance`` at its end; 1 otherwise."""
+    if new > tolerance:
+        return (0.5 * tolerance - old) / (new - old)
+    return 1.0
+
+
+def onset_check(old, new, rp, lay):
+    """Contact-onset control from the two ends' records (:func:`eom.onset_check_recorded`,
+    Flores & Ambrósio 2010): the smallest fraction of the step to retry, 1 for none."""
+    tolerance = rp[lay[LY_SETTINGS] + S_ONSET_TOL]
+    theta = 1.0
+    for c in range(lay[LY_NC]):
+        if old[7 * c + 2] <= 0.0:
+            theta = min(theta, onset_fraction(old[7 * c + 2], new[7 * c + 2], tolerance))
+    return theta
+
+
+def impact_rate(delta_0, rate_0, delta_1, rate_1):
+    """δ̇ (m/s) at δ = 0 between the step's ends, linear in δ (:func:`eom.impact_rate`)."""
+    if delta_0 <= 0.0 and delta_1 > delta_0:
+        return rate_0 + (rate_1 - rate_0) * (-delta_0 / (delta_1 - delta_0))
+    return rate_1
+
+
+def contact_memory(y, rp, lay, record, before):
+    """Each joint's contact-event memory v0 (state slot 2n + 2 + c) from its records at the
+    step's end (``record``) and start (``before``) (:func:`eom.contact_memory`): a new event
+    stores max(δ̇ at δ = 0, v_mark), an ended one 0. Returns: a slot changed."""
+    n = lay[LY_N]
+    v_mark = rp[lay[LY_SETTINGS] + S_V_MARK]
+    changed = False
+    for c in range(lay[LY_NC]):
+        delta = record[7 * c + 2]
+        delta_dot = record[7 * c + 3]
+        slot = 2 * n + 2 + c
+        if delta > 0.0 and y[slot] <= 0.0:
+            rate = impact_rate(before[7 * c + 2], before[7 * c + 3], delta, delta_dot)
+            y[slot] = max(rate, v_mark)
+            changed = True
+        elif delta <= 0.0 and y[slot] > 0.0:
+            y[slot] = 0.0
+            changed = True
+    return changed
+
+
+def driver_angle(t, rp, o):
+    """φ_d(t), rad, of the driver at ``rp[o:o + 4]`` (:func:`constraints.driver_motion`)."""
+    phi0 = rp[o + 1]
+    omega = rp[o + 2]
+    ramp = rp[o + 3]
+    if ramp <= 0.0 or t >= ramp:
+        shift = 0.5 * omega * ramp if ramp > 0.0 else 0.0
+        return phi0 + shift + omega * (t - max(ramp, 0.0))
+    if t <= 0.0:
+        return phi0
+    u = t / ramp
+    return phi0 + omega * ramp * u**4 * (2.5 - 3.0 * u + u * u)
+
+
+def driver_speed(t, rp, o):
+    """φ̇_d(t), rad/s (:func:`constraints.driver_motion`)."""
+    omega = rp[o + 2]
+    ramp = rp[o + 3]
+    if ramp <= 0.0 or t >= ramp:
+        return omega
+    if t <= 0.0:
+        return 0.0
+    u = t / ramp
+    return omega * u**3 * (10.0 - 15.0 * u + 6.0 * u * u)
+
+
+def project_driver(t, y, rp, lay):
+    """Mass-weighted projection onto the one constraint of an all-clear mechanism,
+    φ_k − φ_d(t) = 0, when it is violated beyond the projection tolerance
+    (:func:`eom.project`; Hairer, Lubich & Wanner, *Geometric Numerical Integration*, §IV.4):
+    with one row the Schur complement is 1/I_k, so the position step is Φ and the velocity
+    step the drift φ̇_k − φ̇_d (written as :func:`eom.project`'s solve, x = Φ / (1/I_k), whose
+    LAPACK division may differ in the last bit; never seen to run: φ̈_k is prescribed, so φ_k
+    drifts by round-off only). Returns: the state changed."""
+    o = lay[LY_DRIVER]
+    crank = int(rp[o])
+    if crank < 0:
+        return False
+    k = 3 * crank + 2
+    n = lay[LY_N]
+    tolerance = rp[lay[LY_SETTINGS] + S_PROJ_TOL]
+    phi = y[k] - driver_angle(t, rp, o)
+    if abs(phi) <= tolerance:
+        return False
+    inv = 1.0 / rp[lay[LY_MASS] + k]
+    for _ in range(3):
+        y[k] -= inv * (phi / inv)
+        phi = y[k] - driver_angle(t, rp, o)
+        if abs(phi) <= 1e-3 * tolerance:
+            break
+    drift = y[n + k] - driver_speed(t, rp, o)
+    y[n + k] -= inv * (drift / inv)
+    return True
+
+
+def constraint_residual(t, y, rp, ip, lay, out):
+    """Φ(q, t) into ``out`` (:func:`constraints.residual`): m for the joint rows, rad for
+    the angle rows."""
+    o_ji = lay[LY_JOINT_INT]
+    o_jf = lay[LY_JOINT_F]
+    row = 0
+    for j in range(lay[LY_NJ]):
+        if ip[lay[LY_ACTIVE] + j] == 0:
+            continue
+        kind = ip[o_ji + 3 * j]
+        a = ip[o_ji + 3 * j + 1]
+        b = ip[o_ji + 3 * j + 2]
+        pax, pay = point_global(y, a, rp[o_jf + 6 * j], rp[o_jf + 6 * j + 1])
+        pbx, pby = point_global(y, b, rp[o_jf + 6 * j + 2], rp[o_jf + 6 * j + 3])
+        if kind == 0:
+            out[row] = pax - pbx
+            out[row + 1] = pay - pby
+        else:
+            phi_a = y[3 * a + 2] if a >= 0 else 0.0
+            phi_b = y[3 * b + 2] if b >= 0 else 0.0
+            out[row] = phi_b - phi_a - rp[o_jf + 6 * j + 5]
+            nx, ny = rot(phi_a + rp[o_jf + 6 * j + 4], 0.0, 1.0)
+            out[row + 1] = nx * (pbx - pax) + ny * (pby - pay)
+        row += 2
+    crank = int(rp[lay[LY_DRIVER]])
+    if crank >= 0:
+        out[row] = y[3 * crank + 2] - driver_angle(t, rp, lay[LY_DRIVER])
+
+
+def max_abs(x, m):
+    """max |x[:m]| (0 for none)."""
+    largest = 0.0
+    for i in range(m):
+        largest = max(largest, abs(x[i]))
+    return largest
+
+
+def schur_solve(rp, lay, phi_q, schur, vec, rows):
+    """Solve (Φ_q M⁻¹ Φ_qᵀ) x = vec in place (Cholesky: the matrix is symmetric positive
+    definite for independent constraints)."""
+    n = lay[LY_N]
+    o_mass = lay[LY_MASS]
+    for r in range(rows):
+        for p in range(r + 1):
+            s = 0.0
+            for i in range(n):
+                s += phi_q[r, i] * phi_q[p, i] / rp[o_mass + i]
+            schur[r, p] = s
+    cholesky_solve(schur, vec, rows)
+
+
+def project_constraints(t, y, rp, ip, lay, phi_q, schur, vec):
+    """Mass-weighted projection of q and q̇ onto the ideal constraints and the driver when
+    they are violated beyond the projection tolerance (:func:`eom.project`: at most three
+    Newton steps q ← q − M⁻¹ Φ_qᵀ (Φ_q M⁻¹ Φ_qᵀ)⁻¹ Φ, until max |Φ| ≤ 10⁻³ of the tolerance,
+    then q̇ ← q̇ − M⁻¹ Φ_qᵀ (Φ_q M⁻¹ Φ_qᵀ)⁻¹ (Φ_q q̇ − ν); Hairer, Lubich & Wanner,
+    *Geometric Numerical Integration*, §IV.4), solved by Cholesky where :func:`eom.project`
+    calls LAPACK's LU (the same projection to round-off). ``vec`` (rows): work.
+    Returns: the state changed."""
+    n = lay[LY_N]
+    o_mass = lay[LY_MASS]
+    rows = constraint_rows(rp, lay)
+    if rows == 0:
+        return False
+    tolerance = rp[lay[LY_SETTINGS] + S_PROJ_TOL]
+    constraint_residual(t, y, rp, ip, lay, vec)
+    if max_abs(vec, rows) <= tolerance:
+        return False
+    for _ in range(3):
+        constraint_jacobian(y, rp, ip, lay, phi_q)
+        schur_solve(rp, lay, phi_q, schur, vec, rows)
+        for i in range(n):
+            s = 0.0
+            for r in range(rows):
+                s += phi_q[r, i] * vec[r]
+            y[i] -= s / rp[o_mass + i]
+        constraint_residual(t, y, rp, ip, lay, vec)
+        if max_abs(vec, rows) <= 1e-3 * tolerance:
+            break
+    constraint_jacobian(y, rp, ip, lay, phi_q)
+    for r in range(rows):
+        s = 0.0
+        for i in range(n):
+            s += phi_q[r, i] * y[n + i]
+        vec[r] = s
+    if rp[lay[LY_DRIVER]] >= 0:
+        vec[rows - 1] -= driver_speed(t, rp, lay[LY_DRIVER])
+    schur_solve(rp, lay, phi_q, schur, vec, rows)
+    for i in range(n):
+        s = 0.0
+        for r in range(rows):
+            s += phi_q[r, i] * vec[r]
+        y[n + i] -= s / rp[o_mass + i]
+    return True
+
+
+def project(t, y, rp, ip, lay, scratch, phi_q, schur, lam):
+    """The lane's projection hook, after each accepted step: returns whether it changed the
+    state. This one is the GPU's: :func:`project_driver` for an all-clear mechanism, else
+    :func:`project_constraints` (``phi_q``, ``schur``, ``lam``: work). The CPU's is
+    :func:`eom.project` itself, LAPACK's solve included (:mod:`jointplay._kernels.lanes.cpu`,
+    through :func:`build`'s ``hooks``), so that its lanes keep the old lane's bits."""
+    if lay[LY_NIDEAL] == 0:
+        return project_driver(t, y, rp, lay)
+    return project_constraints(t, y, rp, ip, lay, phi_q, schur, lam)
+
+
+def all_finite(x, size):
+    """Whether ``x[:size]`` is all finite."""
+    for j in range(size):  # noqa: SIM110 (a generator does not compile for the GPU)
+        if not math.isfinite(x[j]):
+            return False
+    return True
+
+
+def interrupt_pending(flags):
+    """Whether ``flags`` holds SIGINT or SIGTERM (:func:`jointplay._kernels.common.interrupt_pending`)."""
+    for j in range(flags.shape[0]):
+        code = flags[j]
+        if code == 0:
+            return False
+        if code == SIGINT or code == SIGTERM:  # noqa: SIM109
+            return True
+    return False
+
+
+# --- DOPRI5 (Hairer, Nørsett & Wanner, Solving ODEs I, §II.5, Table 5.2) ---------------------
+C2, C3, C4, C5 = 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0
+A21 = 1.0 / 5.0
+A31, A32 = 3.0 / 40.0, 9.0 / 40.0
+A41, A42, A43 = 44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0
+A51, A52, A53, A54 = 19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0
+A61, A62, A63, A64, A65 = (
+    9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0,
+)  # fmt: skip
+#: 5th-order weights (b2 = b7 = 0).
+B1, B3, B4, B5, B6 = 35.0 / 384.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0
+#: Error weights E = b − b̂ (e2 = 0).
+E1, E3, E4, E5, E6, E7 = (
+    71.0 / 57600.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0, 22.0 / 525.0,
+    -1.0 / 40.0,
+)  # fmt: skip
+#: Dense output (SciPy's ``RK45.P``, 7 × 4, row-major): y(t + θh) = y + h Σ_j k_j Σ_m P[j, m] θ^(m+1).
+DENSE = (
+    1.0, -8048581381.0 / 2820520608.0, 8663915743.0 / 2820520608.0,
+    -12715105075.0 / 11282082432.0,
+    0.0, 0.0, 0.0, 0.0,
+    0.0, 131558114200.0 / 32700410799.0, -68118460800.0 / 10900136933.0,
+    87487479700.0 / 32700410799.0,
+    0.0, -1754552775.0 / 470086768.0, 14199869525.0 / 1410260304.0,
+    -10690763975.0 / 1880347072.0,
+    0.0, 127303824393.0 / 49829197408.0, -318862633887.0 / 49829197408.0,
+    701980252875.0 / 199316789632.0,
+    0.0, -282668133.0 / 205662961.0, 2019193451.0 / 616988883.0,
+    -1453857185.0 / 822651844.0,
+    0.0, 40617522.0 / 29380423.0, -110615467.0 / 29380423.0, 69997945.0 / 29380423.0,
+)  # fmt: skip
+SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0
+#: The peak rule (:mod:`jointplay._kernels.batch`): refinement margin, interior points θ = r/8.
+REFINE_MARGIN = 0.01
+N_REFINE = 7
+#: Contact-onset retries of one step (:data:`jointplay._kernels.radau.MAX_CHECK_REJECTIONS`).
+MAX_CHECK_REJECTIONS = 64
+
+
+def dense(y, k, h, theta, out, size):
+    """DOPRI5's free interpolant at t + θh (SciPy's RK45 dense output) into ``out``."""
+    t1 = theta
+    t2 = theta * theta
+    t3 = t2 * theta
+    t4 = t3 * theta
+    for i in range(size):
+        s = 0.0
+        for j in range(7):
+            w = (
+                DENSE[4 * j] * t1 + DENSE[4 * j + 1] * t2 + DENSE[4 * j + 2] * t3
+                + DENSE[4 * j + 3] * t4
+            )  # fmt: skip
+            s += k[j, i] * w
+        out[i] = y[i] + h * s
+
+
+def triggers(ip, rp, lay, mask):
+    """``mask[p]`` = 1 where quantity p may trigger a refinement: all but ω and α of the
+    driven body and of bodies held by an ideal prismatic joint to the ground."""
+    nb = lay[LY_N] // 3
+    nj = lay[LY_NJ]
+    o_ji = lay[LY_JOINT_INT]
+    for p in range(lay[LY_NQ]):
+        mask[p] = 1
+    crank = int(rp[lay[LY_DRIVER]])
+    for b in range(nb):
+        fixed = b == crank
+        for j in range(nj):
+            if (
+                ip[lay[LY_ACTIVE] + j] == 1
+                and ip[o_ji + 3 * j] == 1
+                and ip[o_ji + 3 * j + 1] < 0
+                and ip[o_ji + 3 * j + 2] == b
+            ):
+                fixed = True
+        if fixed:
+            mask[b] = 0
+            mask[nb + b] = 0
+
+
+def wants_refinement(qa, qb, peaks, mask, n_q):
+    """Whether a step whose ends have the quantities ``qa``, ``qb`` comes within the margin of
+    a running peak of a triggering quantity."""
+    for p in range(n_q):
+        if mask[p] == 0:
+            continue
+        high = max(abs(qa[p]), abs(qb[p]))
+        if peaks[p] > 0.0 and high >= (1.0 - REFINE_MARGIN) * peaks[p]:
+            return True
+    return False
+
+
+def refine_peaks(samples, peaks, n_q):
+    """Raise ``peaks`` to the parabolic vertex through the largest sample of |Q| at θ = 0,
+    1/8, …, 1 (rows of ``samples``) and its two neighbours."""
+    last = N_REFINE + 1
+    for p in range(n_q):
+        m = 0
+        for i in range(1, last + 1):
+            if abs(samples[i, p]) > abs(samples[m, p]):
+                m = i
+        best = abs(samples[m, p])
+        if 0 < m < last:
+            low = abs(samples[m - 1, p])
+            high = abs(samples[m + 1, p])
+            curvature = low - 2.0 * best + high
+            if curvature < 0.0:
+                offset = 0.5 * (low - high) / curvature
+                offset = min(max(offset, -0.5), 0.5)
+                best = best - 0.25 * (low - high) * offset
+        if best > peaks[p]:
+            peaks[p] = best
+
+
+def open_window(q, pen, peaks, stats, nb, n_q, nc):
+    """Start the window's running values from its first point."""
+    for p in range(n_q):
+        peaks[p] = abs(q[p])
+    for k in range(2 * nb):
+        stats[k] = 0.0
+    for c in range(nc):
+        stats[2 * nb + c] = pen[c]
+
+
+def accumulate(qa, qb, pen, h, peaks, stats, nb, n_q, nc):
+    """Add one step to the trapezoidal sums of ω and ω², the deepest penetrations and the
+    end-point peaks."""
+    for b in range(nb):
+        stats[b] += 0.5 * h * (qa[b] + qb[b])
+        stats[nb + b] += 0.5 * h * (qa[b] * qa[b] + qb[b] * qb[b])
+    for c in range(nc):
+        if pen[c] > stats[2 * nb + c]:
+            stats[2 * nb + c] = pen[c]
+    for p in range(n_q):
+        if abs(qb[p]) > peaks[p]:
+            peaks[p] = abs(qb[p])
+
+
+def close_window(stats, nb, span):
+    """Turn the trapezoidal sums into the mean and the RMS of ω."""
+    for b in range(nb):
+        stats[b] /= span
+        stats[nb + b] = math.sqrt(max(stats[nb + b] / span, 0.0))
+
+
+def explicit_lane(
+    ip, rp, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
+    peaks, stats, counts, mask, k, y, y_new, ys, y_mid, f, f_mid, qa, qb, samples, pen,
+    record, record_new, record_mid, phi_q, schur, lam, scratch,
+):  # fmt: skip
+    """One lane of the explicit method (the contract: :mod:`jointplay._kernels.batch`);
+    fills ``peaks`` (P), ``stats`` (M) and ``counts`` (steps, rejections, rhs evaluations).
+
+    Work arrays (the caller's, any contents): ``mask`` (P, int), ``k`` (7, S), ``y``,
+    ``y_new``, ``ys``, ``y_mid``, ``f``, ``f_mid`` (S), ``qa``, ``qb`` (P), ``samples``
+    (9, P), ``pen`` (nc), ``record``, ``record_new``, ``record_mid`` (7 nc), ``phi_q``
+    (rows × 3 nb), ``schur`` (rows × rows), ``lam`` (rows), ``scratch`` (3: the target's
+    :func:`project`'s).
+
+    Returns:
+        ``(status, t_reached)``: a ``STATUS_*`` code and the time reached, s.
+    """
+    n = lay[LY_N]
+    nb = n // 3
+    nc = lay[LY_NC]
+    n_active = 2 * n
+    size = lay[LY_SIZE]
+    n_q = lay[LY_NQ]
+    triggers(ip, rp, lay, mask)
+    for p in range(n_q):
+        peaks[p] = math.nan
+    for m in range(2 * nb + nc):
+        stats[m] = math.nan
+    for m in range(3):
+        counts[m] = 0
+
+    t = 0.0
+    for i in range(size):
+        y[i] = y0[i]
+    rhs_and_quantities(t, y, rp, ip, lay, f, record, qa, pen, phi_q, schur, lam)
+    counts[K_RHS] += 1
+    if not (all_finite(y, size) and all_finite(f, size)):
+        return STATUS_NON_FINITE, t
+    in_window = t_settle <= 0.0
+    if in_window:
+        open_window(qa, pen, peaks, stats, nb, n_q, nc)
+    h = max_step / 10.0
+    status = STATUS_RUNNING
+    while status == STATUS_RUNNING:
+        if t >= t_end:
+            status = STATUS_SUCCESS
+            break
+        if counts[K_STEPS] >= max_steps:
+            status = STATUS_TOO_MANY_STEPS
+            break
+        if interrupt_pending(interrupt):
+            status = STATUS_INTERRUPTED
+            break
+        target = t_settle if t < t_settle else t_end
+        min_step = 10.0 * abs(math.nextafter(t, math.inf) - t)
+        h = min(h, max_step)
+        had_rejection = False
+        n_check = 0
+        err = 0.0
+        t_new = t
+        while True:
+            if h < min_step:
+                status = STATUS_STEP_TOO_SMALL
+                break
+            t_new = t + h
+            if t_new >= target:
+                t_new = target
+                h = target - t
+            for i in range(size):
+                k[0, i] = f[i]
+            for i in range(size):
+                ys[i] = y[i] + h * (A21 * k[0, i])
+            rhs(t + C2 * h, ys, rp, ip, lay, k[1], record_mid, False, phi_q, schur, lam)
+            for i in range(size):
+                ys[i] = y[i] + h * (A31 * k[0, i] + A32 * k[1, i])
+            rhs(t + C3 * h, ys, rp, ip, lay, k[2], record_mid, False, phi_q, schur, lam)
+            for i in range(size):
+                ys[i] = y[i] + h * (A41 * k[0, i] + A42 * k[1, i] + A43 * k[2, i])
+            rhs(t + C4 * h, ys, rp, ip, lay, k[3], record_mid, False, phi_q, schur, lam)
+            for i in range(size):
+                ys[i] = y[i] + h * (A51 * k[0, i] + A52 * k[1, i] + A53 * k[2, i] + A54 * k[3, i])
+            rhs(t + C5 * h, ys, rp, ip, lay, k[4], record_mid, False, phi_q, schur, lam)
+            for i in range(size):
+                ys[i] = y[i] + h * (
+                    A61 * k[0, i] + A62 * k[1, i] + A63 * k[2, i] + A64 * k[3, i]
+                    + A65 * k[4, i]
+                )  # fmt: skip
+            rhs(t + h, ys, rp, ip, lay, k[5], record_mid, False, phi_q, schur, lam)
+            for i in range(size):
+                y_new[i] = y[i] + h * (
+                    B1 * k[0, i] + B3 * k[2, i] + B4 * k[3, i] + B5 * k[4, i] + B6 * k[5, i]
+                )
+            # the last stage also gives the contact records and the quantities at the step's end
+            rhs_and_quantities(
+                t_new, y_new, rp, ip, lay, k[6], record_new, qb, pen, phi_q, schur, lam
+            )
+            counts[K_RHS] += 6
+            total = 0.0
+            for i in range(n_active):
+                e = h * (
+                    E1 * k[0, i] + E3 * k[2, i] + E4 * k[3, i] + E5 * k[4, i] + E6 * k[5, i]
+                    + E7 * k[6, i]
+                )  # fmt: skip
+                scale = atol[i] + rtol * max(abs(y[i]), abs(y_new[i]))
+                total += (e / scale) ** 2
+            err = math.sqrt(total / n_active)
+            if err > 1.0:
+                h *= max(MIN_FACTOR, SAFETY * err**-0.2)
+                had_rejection = True
+                counts[K_REJECTED] += 1
+                continue
+            theta = onset_check(record, record_new, rp, lay)
+            h_try = h * theta
+            if theta < 1.0 and min_step <= h_try < h and n_check < MAX_CHECK_REJECTIONS:
+                h = h_try
+                n_check += 1
+                counts[K_REJECTED] += 1
+                continue
+            break
+        if status != STATUS_RUNNING:
+            break
+        factor = MAX_FACTOR if err == 0.0 else min(MAX_FACTOR, max(MIN_FACTOR, SAFETY * err**-0.2))
+        if had_rejection:
+            factor = min(factor, 1.0)
+        changed = contact_memory(y_new, rp, lay, record_new, record)
+        changed = project(t_new, y_new, rp, ip, lay, scratch, phi_q, schur, lam) or changed
+        if changed:
+            rhs_and_quantities(t_new, y_new, rp, ip, lay, f, record, qb, pen, phi_q, schur, lam)
+            counts[K_RHS] += 1
+        else:
+            for i in range(size):
+                f[i] = k[6, i]
+            record, record_new = record_new, record  # the end's records become the start's
+        if not (all_finite(y_new, size) and all_finite(f, size)):
+            status = STATUS_NON_FINITE
+            break
+        if in_window:
+            accumulate(qa, qb, pen, h, peaks, stats, nb, n_q, nc)
+            if wants_refinement(qa, qb, peaks, mask, n_q):
+                for p in range(n_q):
+                    samples[0, p] = qa[p]
+                    samples[N_REFINE + 1, p] = qb[p]
+                for r in range(N_REFINE):
+                    theta = (r + 1) / 8.0
+                    dense(y, k, h, theta, y_mid, size)
+                    quantities(t + theta * h, y_mid, rp, ip, lay, f_mid, record_mid,
+                               samples[r + 1], pen, phi_q, schur, lam)  # fmt: skip
+                refine_peaks(samples, peaks, n_q)
+            qa, qb = qb, qa
+        elif t_new == t_settle:
+            in_window = True
+            for p in range(n_q):
+                qa[p] = qb[p]
+            open_window(qa, pen, peaks, stats, nb, n_q, nc)
+        t = t_new
+        y, y_new = y_new, y
+        counts[K_STEPS] += 1
+        h = h * factor
+    if status == STATUS_SUCCESS:
+        close_window(stats, nb, t_end - t_settle)
+    return status, t

@@ -1,0 +1,110 @@
+"""The single-source lanes (:mod:`jointplay._kernels.lanes`) on the CPU.
+
+* The source's copies of the kernels' constants equal their homes (law and friction ids,
+  settings columns, statuses, the DOPRI5 tableau and dense output, the peak rule's margin and
+  the onset retries), and its layout finds every field where :func:`eom.unpack` does.
+* The CPU's explicit lanes are the source's compilation. (Before the old explicit lane of
+  :mod:`jointplay._kernels.batch` was deleted, the source's gave its bits, field by field:
+  every law id and friction law all-clear, a late window, a failing lane, ideal joints left
+  on the four-bar and the slider-crank; see the history of this file.)
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from jointplay._kernels import batch as kb
+from jointplay._kernels import common as kcommon
+from jointplay._kernels import contact as kc
+from jointplay._kernels import eom, radau
+from jointplay._kernels.lanes import build, cpu, source
+from jointplay.contact.friction import AdamsFriction, AmbrosioFriction, FrictionLaw
+from jointplay.contact.laws import ContactLaw, get_law
+from jointplay.dynamics.clearance import ClearanceJoint
+from jointplay.dynamics.system import System, build_system
+from jointplay.model.mechanism import Mechanism
+
+JOINTS = ("O2", "A", "B", "O4")
+LAW_PARAMETERS: dict[str, dict[str, float]] = {
+    "impact": {"stiffness": 1e10, "exponent": 1.5, "c_max": 1e4, "d_max": 3e-4},
+    "hertz": {"stiffness": 1e10, "exponent": 1.5},
+    "kelvin-voigt": {"stiffness": 1e7, "damping": 1e3},
+    "restitution": {"penalty": 1e9, "restitution": 0.6, "exponent": 1.0},
+}
+FRICTIONS: tuple[FrictionLaw | None, ...] = (
+    None,
+    AmbrosioFriction(mu=0.1, v0=1e-4, v1=1e-3),
+    AdamsFriction(mu_static=0.15, mu_dynamic=0.1, v_static=1e-3, v_dynamic=1e-2),
+)
+
+
+def _law(name: str) -> ContactLaw:
+    return get_law(name, **LAW_PARAMETERS.get(name, {"stiffness": 1e10, "restitution": 0.8}))
+
+
+def _system(mechanism: Mechanism, laws: list[str], shift: int) -> System:
+    joints = [
+        ClearanceJoint(j, 2e-5, 5e-3, _law(name), FRICTIONS[(k + shift) % len(FRICTIONS)])
+        for k, (j, name) in enumerate(zip(JOINTS, laws, strict=True))
+    ]
+    return build_system(mechanism, joints)
+
+
+def test_the_sources_constants_are_the_kernels() -> None:
+    assert (source.LAW_IMPACT, source.LAW_HERTZ, source.LAW_KELVIN_VOIGT) == (
+        kc.LAW_IMPACT, kc.LAW_HERTZ, kc.LAW_KELVIN_VOIGT,
+    )  # fmt: skip
+    assert (source.HC_FIRST, source.HC_LAST) == (kc.HC_FIRST, kc.HC_LAST)
+    assert (source.FRICTION_NONE, source.FRICTION_AMBROSIO, source.FRICTION_ADAMS) == (
+        kc.FRICTION_NONE, kc.FRICTION_AMBROSIO, kc.FRICTION_ADAMS,
+    )  # fmt: skip
+    assert (source.N_GEOM, source.G_R_BEARING, source.G_R_JOURNAL, source.G_CLEARANCE) == (
+        eom.N_GEOM, eom.G_R_BEARING, eom.G_R_JOURNAL, eom.G_CLEARANCE,
+    )  # fmt: skip
+    assert (source.S_ONSET_TOL, source.S_PROJ_TOL, source.S_V_MARK) == (
+        eom.S_ONSET_TOL, eom.S_PROJ_TOL, eom.S_V_MARK,
+    )  # fmt: skip
+    for name in ("SUCCESS", "STEP_TOO_SMALL", "TOO_MANY_STEPS", "NON_FINITE", "INTERRUPTED",
+                 "RUNNING"):  # fmt: skip
+        assert getattr(source, f"STATUS_{name}") == getattr(kcommon, f"STATUS_{name}")
+    assert (source.SIGINT, source.SIGTERM) == kcommon.INTERRUPT_SIGNALS
+    assert (source.K_STEPS, source.K_REJECTED, source.K_RHS) == (
+        kb.K_STEPS, kb.K_REJECTED, kb.K_RHS,
+    )  # fmt: skip
+    assert source.MAX_CHECK_REJECTIONS == radau.MAX_CHECK_REJECTIONS
+    assert source.REFINE_MARGIN == kb.REFINE_MARGIN
+    np.testing.assert_array_equal(np.arange(1, source.N_REFINE + 1) / 8.0, kb.REFINE_POINTS)
+    np.testing.assert_array_equal(np.reshape(source.DENSE, (7, 4)), kb.DENSE)
+
+
+def test_the_layout_finds_every_field_where_unpack_does(paper_fourbar: Mechanism) -> None:
+    system = _system(paper_fourbar, ["impact", "hertz", "flores", "lee-wang"], 1)
+    rpar, ipar = eom.pack(system.model)
+    model = eom.unpack(rpar, ipar)
+    lay = build.lane_layout(ipar)
+    floats = {"mass": source.LY_MASS, "gravity": source.LY_GRAVITY, "joint_f": source.LY_JOINT_F,
+              "driver": source.LY_DRIVER, "geom": source.LY_GEOM, "law_p": source.LY_LAW_P,
+              "fric_p": source.LY_FRIC_P, "settings": source.LY_SETTINGS}  # fmt: skip
+    for name, slot in floats.items():
+        field = getattr(model, name)
+        np.testing.assert_array_equal(rpar[lay[slot] : lay[slot] + len(field)], field, name)
+    ints = {"joint_int": source.LY_JOINT_INT, "active": source.LY_ACTIVE,
+            "clear_joint": source.LY_CLEAR, "law_id": source.LY_LAW_ID,
+            "fric_id": source.LY_FRIC_ID}  # fmt: skip
+    for name, slot in ints.items():
+        field = getattr(model, name)
+        np.testing.assert_array_equal(ipar[lay[slot] : lay[slot] + len(field)], field, name)
+    nb, nj, nc, size = kb.layout(ipar)
+    assert (lay[source.LY_N], lay[source.LY_NJ], lay[source.LY_NC]) == (3 * nb, nj, nc)
+    assert lay[source.LY_SIZE] == size and lay[source.LY_NQ] == 2 * nb + nj + 1
+    assert lay[source.LY_NIDEAL] == 0 and build.all_clear(ipar)
+
+
+def test_a_mechanism_with_ideal_joints_is_not_all_clear(paper_fourbar: Mechanism) -> None:
+    system = build_system(paper_fourbar, [ClearanceJoint("A", 2e-5, 5e-3, _law("impact"))])
+    _, ipar = eom.pack(system.model)
+    assert build.lane_layout(ipar)[source.LY_NIDEAL] == 3 and not build.all_clear(ipar)
+
+
+def test_the_cpu_lane_is_the_sources_compilation() -> None:
+    assert cpu.explicit_lane.py_func.__code__ is source.explicit_lane.__code__

@@ -1,0 +1,215 @@
+"""The numba-cuda batch kernel (:mod:`jointplay._kernels.lanes.cuda`) on numba-cuda's CUDA
+simulator, against the CPU lanes.
+
+The simulator must be switched on before numba's CUDA target is imported, so the GPU side
+runs in a subprocess with ``NUMBA_ENABLE_CUDASIM=1``: one thread per lane, the kernel's
+local arrays and launch exactly as on a GPU, the device functions executed as Python. Three
+lanes of the paper four-bar (conventional contact, explicit): the nominal one over a
+revolution from t = 0, another start whose window opens at 0.3 of a revolution, and a lane
+that fails at once (a NaN state).
+
+Bounds: the simulator runs the same source with the same float64 operations and libm as the
+CPU compilation, so it gives the CPU's steps exactly (counters equal) and its peaks and
+statistics to ``SAME_ALGORITHM_RTOL`` (``tests/_tolerances.py``: the bound for two
+implementations of one algorithm taking the same steps; measured here: equal bits). On a GPU,
+libdevice's sin/cos/pow differ from libm in the last bit: that bound, or the contract for a
+lane where round-off tips a step's acceptance, applies there.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from _tolerances import SAME_ALGORITHM_RTOL
+from jointplay._kernels import batch as kb
+from jointplay._kernels import common as kc
+from jointplay._kernels import eom
+from jointplay._kernels.lanes import cuda as lanes_cuda
+from jointplay.dynamics.clearance import ClearanceJoint
+from jointplay.dynamics.setup import DEFAULT_IMPACT
+from jointplay.dynamics.simulate import Start, initial_state
+from jointplay.dynamics.system import build_system
+from jointplay.errors import ConfigError
+from jointplay.model.mechanism import Mechanism
+
+pytest.importorskip("numba_cuda")
+
+JOINTS = ("O2", "A", "B", "O4")
+#: The simulator's Python runs each device function call; three lanes of a revolution take
+#: about 15 s on a 2-core machine.
+SIMULATOR_TIMEOUT_S = 240
+
+_GPU_SIDE = """
+import sys
+import numpy as np
+from jointplay._kernels.lanes import cuda as lanes_cuda
+assert lanes_cuda.simulated() and lanes_cuda.available()
+args = np.load(sys.argv[1], allow_pickle=False)
+timings = {}
+out = lanes_cuda.run_batch(
+    args["ipar"], args["rpar"], args["y0"], args["t_settle"], args["t_end"], args["max_step"],
+    float(args["rtol"]), args["atol"], int(args["max_steps"]), "explicit", timings=timings,
+)
+np.savez(sys.argv[2], **out._asdict())
+"""
+
+
+def _problem(paper_fourbar: Mechanism) -> dict[str, np.ndarray]:
+    joints = [ClearanceJoint(j, 11.75e-6, 0.005, DEFAULT_IMPACT) for j in JOINTS]
+    system = build_system(paper_fourbar, joints)
+    rpar, ipar = eom.pack(system.model)
+    y0 = initial_state(system, Start("steady"))
+    n = system.n_coordinates
+    atol = np.concatenate([np.full(n, 1e-10), np.full(n, 1e-6), np.full(2, 1e-6), np.ones(4)])
+    period = paper_fourbar.driver.period
+    ys = np.tile(y0, (3, 1))
+    ys[1, n : 2 * n] *= 1.01
+    ys[2, 0] = np.nan
+    settle = np.array([0.0, 0.3 * period, 0.0])
+    return {
+        "ipar": ipar, "rpar": np.tile(rpar, (3, 1)), "y0": ys, "t_settle": settle,
+        "t_end": settle + period, "max_step": np.full(3, period / 360.0),
+        "rtol": np.array(1e-6), "atol": atol, "max_steps": np.array(200_000),
+    }  # fmt: skip
+
+
+def test_the_simulated_gpu_lanes_are_the_cpu_lanes(paper_fourbar: Mechanism, tmp_path: Path):
+    problem = _problem(paper_fourbar)
+    np.savez(tmp_path / "in.npz", **problem)
+    env = {**os.environ, "NUMBA_ENABLE_CUDASIM": "1"}
+    subprocess.run(
+        [sys.executable, "-c", _GPU_SIDE, str(tmp_path / "in.npz"), str(tmp_path / "out.npz")],
+        env=env, check=True, timeout=SIMULATOR_TIMEOUT_S,
+    )  # fmt: skip
+    gpu = np.load(tmp_path / "out.npz")
+    cpu = kb.run_batch(
+        problem["ipar"], problem["rpar"], problem["y0"], problem["t_settle"], problem["t_end"],
+        problem["max_step"], 1e-6, problem["atol"], 200_000, "explicit", parallel=False,
+    )  # fmt: skip
+    assert list(cpu.status) == [kc.STATUS_SUCCESS, kc.STATUS_SUCCESS, kc.STATUS_NON_FINITE]
+    for name in ("status", "n_steps", "n_rejected", "n_rhs"):
+        np.testing.assert_array_equal(gpu[name], getattr(cpu, name), err_msg=name)
+    for name in ("peaks", "stats", "t_reached"):
+        np.testing.assert_allclose(
+            gpu[name], getattr(cpu, name), rtol=SAME_ALGORITHM_RTOL, atol=0.0, err_msg=name
+        )
+    assert np.isnan(gpu["peaks"][2]).all() and np.isnan(gpu["stats"][2]).all()
+    assert (cpu.n_steps[:2] > 1000).all()  # a revolution, not a stub
+
+
+#: Penetrations |e| − c (m): |e| is a difference of positions ~0.3 m, so round-off carried
+#: through the steps (measured ≤ 1.4e-14 m here, as tests/_kernels/test_jax_batch.py's bound).
+PENETRATION_ATOL = 1e-12
+
+
+def test_the_simulated_gpu_lanes_with_ideal_joints_agree_with_the_cpu_lanes(
+    paper_fourbar: Mechanism, tmp_path: Path
+) -> None:
+    """The four-bar with one clearance joint (A) and three ideal ones: the GPU projects onto
+    the ideal constraints by its own Cholesky solve where the CPU calls LAPACK, so the lanes
+    agree to round-off (measured: the same steps, peaks ≤ 1.2e-9 relative, mean ω ≤ 1e-11
+    rad/s of an RMS of 7 rad/s, penetrations ≤ 1.4e-14 m), not bit for bit."""
+    system = build_system(paper_fourbar, [ClearanceJoint("A", 11.75e-6, 0.005, DEFAULT_IMPACT)])
+    rpar, ipar = eom.pack(system.model)
+    y0 = initial_state(system, Start("steady"))
+    n = system.n_coordinates
+    atol = np.concatenate([np.full(n, 1e-10), np.full(n, 1e-6), np.full(2, 1e-6), np.ones(1)])
+    period = paper_fourbar.driver.period
+    ys = np.tile(y0, (2, 1))
+    ys[1, n : 2 * n] *= 1.01
+    settle = np.array([0.0, 0.3 * period])
+    problem = {
+        "ipar": ipar, "rpar": np.tile(rpar, (2, 1)), "y0": ys, "t_settle": settle,
+        "t_end": settle + period, "max_step": np.full(2, period / 360.0),
+        "rtol": np.array(1e-6), "atol": atol, "max_steps": np.array(200_000),
+    }  # fmt: skip
+    np.savez(tmp_path / "in.npz", **problem)
+    env = {**os.environ, "NUMBA_ENABLE_CUDASIM": "1"}
+    subprocess.run(
+        [sys.executable, "-c", _GPU_SIDE, str(tmp_path / "in.npz"), str(tmp_path / "out.npz")],
+        env=env, check=True, timeout=SIMULATOR_TIMEOUT_S,
+    )  # fmt: skip
+    gpu = np.load(tmp_path / "out.npz")
+    cpu = kb.run_batch(
+        ipar, problem["rpar"], ys, settle, problem["t_end"], problem["max_step"], 1e-6, atol,
+        200_000, "explicit", parallel=False,
+    )  # fmt: skip
+    assert (cpu.status == kc.STATUS_SUCCESS).all() and (cpu.n_steps > 1000).all()
+    for name in ("status", "n_steps", "n_rejected", "n_rhs"):
+        np.testing.assert_array_equal(gpu[name], getattr(cpu, name), err_msg=name)
+    np.testing.assert_allclose(gpu["peaks"], cpu.peaks, rtol=SAME_ALGORITHM_RTOL, atol=0.0)
+    nb = n // 3
+    rms = cpu.stats[:, nb : 2 * nb]
+    np.testing.assert_allclose(gpu["stats"][:, : 2 * nb], cpu.stats[:, : 2 * nb],
+                               rtol=SAME_ALGORITHM_RTOL, atol=SAME_ALGORITHM_RTOL * rms.max())  # fmt: skip
+    np.testing.assert_allclose(gpu["stats"][:, 2 * nb :], cpu.stats[:, 2 * nb :],
+                               rtol=SAME_ALGORITHM_RTOL, atol=PENETRATION_ATOL)  # fmt: skip
+
+
+def test_without_a_gpu_the_backend_says_what_is_missing(paper_fourbar: Mechanism) -> None:
+    if lanes_cuda.available():
+        pytest.skip("a GPU (or the simulator) is present")
+    p = _problem(paper_fourbar)
+    args = [p[k] for k in ("ipar", "rpar", "y0", "t_settle", "t_end", "max_step")]
+    with pytest.raises(ConfigError, match="no usable NVIDIA GPU"):
+        lanes_cuda.run_batch(*args, 1e-6, p["atol"], 200_000, "explicit")
+
+
+def test_what_the_gpu_lanes_do_not_cover_yet_is_a_clear_error(paper_fourbar: Mechanism):
+    p = _problem(paper_fourbar)
+    args = [p[k] for k in ("ipar", "rpar", "y0", "t_settle", "t_end", "max_step")]
+    with pytest.raises(ConfigError, match="explicit' only"):
+        lanes_cuda.run_batch(*args, 1e-6, p["atol"], 200_000, "implicit")
+    with pytest.raises(ConfigError, match="at most 8 clearance joints"):
+        ipar = p["ipar"].copy()
+        ipar[eom.L_CLEAR_JOINT] = 9
+        lanes_cuda.run_batch(ipar, *args[1:], 1e-6, p["atol"], 200_000, "explicit")
+
+
+_ENGINE_SIDE = """
+import sys
+import numpy as np
+from jointplay.dynamics.batch import BatchSamples, simulate_batch
+from jointplay.dynamics.clearance import ClearanceJoint
+from jointplay.dynamics.setup import DEFAULT_IMPACT
+from jointplay.io.config import load_preset
+
+mechanism = load_preset("paper-fourbar")
+joints = [ClearanceJoint(j, 11.75e-6, 0.005, DEFAULT_IMPACT) for j in ("O2", "A", "B", "O4")]
+samples = BatchSamples(clearances={j: np.array([10e-6, 14e-6]) for j in ("O2", "A", "B", "O4")})
+for backend in ("cuda", "local"):
+    result = simulate_batch(mechanism, joints, samples, backend=backend, method="explicit",
+                            settle=0, revolutions=0.3)
+    assert result.ok.all(), result.backend
+    assert result.backend == backend
+    np.save(f"{sys.argv[1]}/{backend}.npy", result.peaks.to_numpy())
+"""
+
+
+def test_the_cuda_backend_runs_the_batch_engine_on_the_simulator(tmp_path: Path) -> None:
+    """``simulate_batch(backend="cuda")``, through the executor's chunks, on the simulator:
+    the CPU backend's peaks (bound as above; measured: equal bits)."""
+    env = {**os.environ, "NUMBA_ENABLE_CUDASIM": "1"}
+    subprocess.run([sys.executable, "-c", _ENGINE_SIDE, str(tmp_path)], env=env, check=True,
+                   timeout=SIMULATOR_TIMEOUT_S)  # fmt: skip
+    cuda, local = np.load(tmp_path / "cuda.npy"), np.load(tmp_path / "local.npy")
+    assert cuda.shape == local.shape == (2, 9) and np.isfinite(local).all()
+    np.testing.assert_allclose(cuda, local, rtol=SAME_ALGORITHM_RTOL, atol=0.0)
+
+
+def test_the_cuda_backend_without_a_gpu_says_so_before_building(
+    paper_fourbar: Mechanism,
+) -> None:
+    from jointplay.dynamics.batch import BatchSamples, simulate_batch
+
+    if lanes_cuda.available():
+        pytest.skip("a GPU (or the simulator) is present")
+    joints = [ClearanceJoint(j, 11.75e-6, 0.005, DEFAULT_IMPACT) for j in JOINTS]
+    with pytest.raises(ConfigError, match="no usable NVIDIA GPU"):
+        simulate_batch(paper_fourbar, joints, BatchSamples(size=1), backend="cuda", settle=0)
