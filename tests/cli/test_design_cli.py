@@ -77,13 +77,15 @@ def test_design_errors_are_one_line(tmp_path, capsys, args: list[str], message: 
         ),
     ],
 )
+@pytest.mark.parametrize("device", ["gpu", "cuda"])
 def test_the_gpu_backend_is_refused_where_the_batch_engine_cannot_answer(
-    tmp_path, capsys, requirement: str, message: str
+    tmp_path, capsys, requirement: str, message: str, device: str
 ) -> None:
     out = tmp_path / "x"
-    args = ["design", "--preset", "paper-fourbar", "--require", requirement, "--backend", "gpu"]
+    args = ["design", "--preset", "paper-fourbar", "--require", requirement, "--backend", device]
     assert run([*args, "--out", str(out), "--no-progress", "--no-plots"]) == 2
-    assert message in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert message in err and device in err
     assert not out.exists()
 
 

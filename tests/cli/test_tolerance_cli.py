@@ -227,7 +227,11 @@ def test_dynamic_worst_case_with_a_paper_method_and_fixed_clearances(tmp_path) -
         (["--backend", "threads"], "--backend must be local, processes, dask, gpu or cuda"),
         (["--backend", "dask"], "give --dask-scheduler"),
         (["--backend", "local", "--workers", "2"], "--workers applies to --backend processes"),
-        (["--backend", "gpu"], "use it with --responses dynamic"),
+        (["--backend", "gpu"], "--backend gpu runs the dynamics: use it with --responses dynamic"),
+        (
+            ["--backend", "cuda"],
+            "--backend cuda runs the dynamics: use it with --responses dynamic",
+        ),
         (["--preset", "nope"], "unknown preset"),
     ],
 )

@@ -436,8 +436,10 @@ def design_command(
     cost = CostModel.from_table(data.get("cost", {}))
     wear = wear_settings(data, wear_coefficient, hardness)
     where = backend_from_options(backend, workers, dask_scheduler)
-    if where.kind == "gpu" and not dynamic:
-        raise ConfigError("--backend gpu runs the dynamics: use it with --responses dynamic")
+    if where.on_device and not dynamic:
+        raise ConfigError(
+            f"--backend {where.kind} runs the dynamics: use it with --responses dynamic"
+        )
     figure_format = check_figure_format(figure_format)
     # the output folder is checked before the study runs
     with output_dir(out, force=force, inputs=(config, table)) as folder:

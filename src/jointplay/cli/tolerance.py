@@ -339,8 +339,10 @@ def tolerance_command(
         if rtol is not None and not dynamic:
             raise ConfigError("--rtol applies to --responses dynamic or running only")
         where = backend_from_options(backend, workers, dask_scheduler)
-        if where.kind == "gpu" and not dynamic:
-            raise ConfigError("--backend gpu runs the dynamics: use it with --responses dynamic")
+        if where.on_device and not dynamic:
+            raise ConfigError(
+                f"--backend {where.kind} runs the dynamics: use it with --responses dynamic"
+            )
         run = (
             None
             if law is None

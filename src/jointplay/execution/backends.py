@@ -13,7 +13,7 @@ from typing import Literal
 
 from jointplay.errors import ConfigError
 
-__all__ = ["ALIASES", "BACKENDS", "Backend", "BackendKind", "backend_kind"]
+__all__ = ["ALIASES", "BACKENDS", "DEVICE_BACKENDS", "Backend", "BackendKind", "backend_kind"]
 
 #: A backend's name (``"serial"`` is another name of ``"local"``, :data:`ALIASES`).
 BackendKind = Literal["local", "serial", "processes", "dask", "gpu", "cuda"]
@@ -23,6 +23,8 @@ BackendKind = Literal["local", "serial", "processes", "dask", "gpu", "cuda"]
 #: (the batch engine's explicit lanes on numba-cuda, one GPU thread per sample: experimental,
 #: not yet measured on a GPU; issue 26).
 BACKENDS: tuple[BackendKind, ...] = ("local", "processes", "dask", "gpu", "cuda")
+#: The backends that run the batch engine on a device, and nothing else.
+DEVICE_BACKENDS: tuple[BackendKind, ...] = ("gpu", "cuda")
 #: Other names accepted for a backend.
 ALIASES: dict[str, BackendKind] = {"serial": "local"}
 
@@ -85,6 +87,11 @@ class Backend:
             )
         if self.kind != "dask" and self.scheduler:
             raise ConfigError("a scheduler address applies to the dask backend only")
+
+    @property
+    def on_device(self) -> bool:
+        """Whether this backend runs the batch engine on a device (:data:`DEVICE_BACKENDS`)."""
+        return self.kind in DEVICE_BACKENDS
 
     @classmethod
     def dask(cls, scheduler: str, *, chunk_size: int | None = None) -> Backend:

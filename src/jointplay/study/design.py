@@ -559,9 +559,9 @@ def _response_model(
     kinematic = kinematic_model(mechanism, lengths) if lengths and mixed else None
     need_trajectories = trajectory_requirements(parsed)
     if need_trajectories:
-        if backend is not None and backend.kind == "gpu":
+        if backend is not None and backend.on_device:
             raise ConfigError(
-                f"backend gpu: {', '.join(repr(t) for t in need_trajectories)} need(s) each "
+                f"backend {backend.kind}: {', '.join(repr(t) for t in need_trajectories)} need(s) each "
                 "sample's trajectory, which the GPU's batch engine does not keep (it gives "
                 "peaks: omega, alpha, forces, torque, joint_force, contact_pressure); use "
                 "local, processes or dask"

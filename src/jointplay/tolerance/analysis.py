@@ -315,7 +315,7 @@ def convergence_finding(
         if isinstance(model, RunningResponses)
         else tight_dynamic
     )
-    where = Backend("local") if backend is None or backend.kind == "gpu" else backend
+    where = Backend("local") if backend is None or backend.on_device else backend
     again = run(tightened, x[rows], backend=where)
     if again.interrupted:  # a check of some samples is no check
         raise KeyboardInterrupt("interrupted during the convergence check")

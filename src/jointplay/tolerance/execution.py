@@ -246,8 +246,10 @@ def _placed(model: ResponseModel, backend: Backend, n: int) -> tuple[ResponseMod
     cores never make a cheap (e.g. vectorised kinematic) study slower.
     """
     lanes = _lanes_backend(model)
-    if backend.kind == "gpu" and lanes is None:
-        raise ConfigError("the gpu backend runs the batch engine only: use dynamic responses")
+    if backend.on_device and lanes is None:
+        raise ConfigError(
+            f"the {backend.kind} backend runs the batch engine only: use dynamic responses"
+        )
     placed = executor(backend).affordable(n, getattr(model, "seconds_per_sample", None))
     if lanes is None:
         return model, placed
