@@ -22,6 +22,7 @@ import os
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -79,15 +80,21 @@ def _problem(paper_fourbar: Mechanism) -> dict[str, np.ndarray]:
     }  # fmt: skip
 
 
-def test_the_simulated_gpu_lanes_are_the_cpu_lanes(paper_fourbar: Mechanism, tmp_path: Path):
-    problem = _problem(paper_fourbar)
+def _on_the_simulator(problem: dict[str, np.ndarray], tmp_path: Path) -> Any:
+    """The GPU kernel's outputs for ``problem``, run on numba-cuda's simulator in a
+    subprocess (the simulator must be on before numba.cuda is imported)."""
     np.savez(tmp_path / "in.npz", **problem)
     env = {**os.environ, "NUMBA_ENABLE_CUDASIM": "1"}
     subprocess.run(
         [sys.executable, "-c", _GPU_SIDE, str(tmp_path / "in.npz"), str(tmp_path / "out.npz")],
         env=env, check=True, timeout=SIMULATOR_TIMEOUT_S,
     )  # fmt: skip
-    gpu = np.load(tmp_path / "out.npz")
+    return np.load(tmp_path / "out.npz")
+
+
+def test_the_simulated_gpu_lanes_are_the_cpu_lanes(paper_fourbar: Mechanism, tmp_path: Path):
+    problem = _problem(paper_fourbar)
+    gpu = _on_the_simulator(problem, tmp_path)
     cpu = kb.run_batch(
         problem["ipar"], problem["rpar"], problem["y0"], problem["t_settle"], problem["t_end"],
         problem["max_step"], 1e-6, problem["atol"], 200_000, "explicit", parallel=False,
@@ -129,13 +136,7 @@ def test_the_simulated_gpu_lanes_with_ideal_joints_agree_with_the_cpu_lanes(
         "t_end": settle + period, "max_step": np.full(2, period / 360.0),
         "rtol": np.array(1e-6), "atol": atol, "max_steps": np.array(200_000),
     }  # fmt: skip
-    np.savez(tmp_path / "in.npz", **problem)
-    env = {**os.environ, "NUMBA_ENABLE_CUDASIM": "1"}
-    subprocess.run(
-        [sys.executable, "-c", _GPU_SIDE, str(tmp_path / "in.npz"), str(tmp_path / "out.npz")],
-        env=env, check=True, timeout=SIMULATOR_TIMEOUT_S,
-    )  # fmt: skip
-    gpu = np.load(tmp_path / "out.npz")
+    gpu = _on_the_simulator(problem, tmp_path)
     cpu = kb.run_batch(
         ipar, problem["rpar"], ys, settle, problem["t_end"], problem["max_step"], 1e-6, atol,
         200_000, "explicit", parallel=False,
