@@ -17,9 +17,11 @@ autocorrelation (is the settled motion still chaotic?).
 ``convergence``: mode on, settle 2 + 1 revolution at rtol 1e-6, 1e-7 and 1e-8: the settled
 revolution's peaks.
 
-``modes``: at states of the analysed revolution where all four pins are locked, the
-largest eigenvalues of the difference Jacobian ∂(q̇, q̈)/∂(q, q̇) of the locked system (Hz):
-the frequencies that set the step once the radial contact stiffness is gone.
+``modes``: at states of the analysed revolution where all four pins are locked (mode on;
+Jacobian by central differences) or all four in compliant contact (mode off; the
+closed-form Jacobian), the largest eigenvalues of ∂(q̇, q̈)/∂(q, q̇) (Hz, decay rate): the
+compliant model's damped radial contact modes (kHz) and, in both, the pins' lightly damped
+pendular modes around their bearings (100–1000 Hz), which set the step.
 
 Run ``python benchmarks/bench_sustained_contact.py`` (about 3 minutes on a quiet machine);
 ``--part timing`` (or scatter, convergence, modes) for one part.
@@ -151,32 +153,52 @@ def convergence() -> None:
         )
 
 
+def _frequencies(jac: FloatArray, count: int = 5) -> str:
+    """The ``count`` largest eigenvalues of ``jac`` (one of each conjugate pair), in Hz."""
+    values = np.linalg.eigvals(jac) / (2 * np.pi)
+    values = values[values.imag >= 0]
+    top = values[np.argsort(-np.abs(values))][:count]
+    return ", ".join(f"{v.imag:.0f} Hz (decay {-2 * np.pi * v.real:+.0f}/s)" for v in top)
+
+
 def modes(states: int) -> None:
-    print("== modes of the locked system (all four pins locked, analysed revolution)")
-    result = run(True)
-    n = result.system.n_coordinates
-    args = result.system.kernel_args()
-    t, y = result.t, result.y
-    every = np.nonzero((memory(result) < 0).all(axis=1) & (t > 2 * PERIOD))[0]
-    print(f"all four locked at the end of {len(every)} of {len(t)} steps")
-    for i in every[:: max(1, len(every) // states)][:states]:
-        y0 = np.array(y[i])
-        jac = np.zeros((2 * n, 2 * n))
-        for k in range(2 * n):
-            h = 1e-7 * max(1e-3, abs(y0[k])) if k < n else 1e-6
-            up, down = y0.copy(), y0.copy()
-            up[k] += h
-            down[k] -= h
-            jac[:, k] = (eom.rhs(t[i], up, args)[: 2 * n] - eom.rhs(t[i], down, args)[: 2 * n]) / (
-                2 * h
-            )
-        values = np.linalg.eigvals(jac) / (2 * np.pi)
-        values = values[values.imag >= 0]  # one of each conjugate pair
-        top = values[np.argsort(-np.abs(values))][:5]
+    print("== modes: eigenvalues of d(qdot, qddot)/d(q, qdot), analysed revolution")
+    for on in (True, False):
+        result = run(on)
+        n = result.system.n_coordinates
+        args = result.system.kernel_args()
+        t, y = result.t, result.y
+        if on:  # all four pins locked; the Jacobian by central differences
+            every = np.nonzero((memory(result) < 0).all(axis=1) & (t > 2 * PERIOD))[0]
+        else:  # all four pins in compliant contact; the closed-form Jacobian
+            inside = np.zeros(len(t), dtype=bool)
+            contacts = np.zeros((len(JOINTS), 7))
+            for i in range(len(t)):
+                eom.evaluate(t[i], np.array(y[i]), result.system.model, contacts)
+                inside[i] = bool(np.all(contacts[:, 2] > 0))
+            every = np.nonzero(inside & (t > 2 * PERIOD))[0]
+        what = "locked" if on else "in compliant contact"
         print(
-            f"t = {t[i]:.4f} s, step {t[i + 1] - t[i]:.1e} s: frequencies "
-            + ", ".join(f"{v.imag:.0f} Hz (decay {-2 * np.pi * v.real:+.0f}/s)" for v in top)
+            f"mode {'on' if on else 'off'}: all four {what} at the end of {len(every)} of {len(t)} steps"
         )
+        for i in every[:: max(1, len(every) // states)][:states]:
+            y0 = np.array(y[i])
+            if on:
+                jac = np.zeros((2 * n, 2 * n))
+                for k in range(2 * n):
+                    h = 1e-7 * max(1e-3, abs(y0[k])) if k < n else 1e-6
+                    up, down = y0.copy(), y0.copy()
+                    up[k] += h
+                    down[k] -= h
+                    difference = eom.rhs(t[i], up, args) - eom.rhs(t[i], down, args)
+                    jac[:, k] = difference[: 2 * n] / (2 * h)
+            else:
+                full = np.zeros((y0.size, y0.size))
+                eom.jacobian_state(t[i], y0, eom.rhs(t[i], y0, args), args, full)
+                jac = full[: 2 * n, : 2 * n]
+            print(
+                f"  t = {t[i]:.4f} s, step {t[i + 1] - t[i]:.1e} s: {_frequencies(jac, 8 if not on else 5)}"
+            )
 
 
 def main() -> None:

@@ -69,6 +69,8 @@ def test_the_mode_on_without_a_capture_gives_the_same_bits(
     assert not np.any(_memory(never) < 0)
     np.testing.assert_array_equal(never.t, compliant.t)
     np.testing.assert_array_equal(never.y, compliant.y)
+    assert "sustained_contact" not in compliant.solver_stats
+    assert never.solver_stats["sustained_contact"]["captures"] == dict.fromkeys(JOINTS, 0)
 
 
 def test_the_first_revolution_agrees_with_the_compliant_model(
@@ -96,6 +98,10 @@ def test_joints_are_captured_and_released_at_a_vanishing_normal_force(
     captures = locked[1:] & ~locked[:-1]
     releases = ~locked[1:] & locked[:-1]
     assert captures.sum() >= 4 and releases.sum() >= 2  # measured: 9 and 7
+    stats = result.solver_stats["sustained_contact"]
+    assert [stats["captures"][j] for j in JOINTS] == list(captures.sum(axis=0))
+    assert [stats["releases"][j] for j in JOINTS] == list(releases.sum(axis=0))
+    assert all(0.9 < stats["locked_share"][j] <= 1.0 for j in JOINTS)  # measured 0.96-0.99
     n = result.system.n_coordinates
     model = result.system.model
     for i, c in zip(*np.nonzero(releases), strict=True):
