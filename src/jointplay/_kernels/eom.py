@@ -722,11 +722,15 @@ def _energy(y: np.ndarray, model: EomModel) -> float:
 
 
 @njit(cache=True)
-def project_locked(t: float, y: np.ndarray, model: EomModel, work: np.ndarray) -> bool:
+def project_locked(
+    t: float, y: np.ndarray, model: EomModel, work: np.ndarray, drift: bool = True
+) -> bool:
     """Mass-weighted projection of q onto Φ = 0 and |e| = c of every locked joint, and of q̇
     onto Φ_q q̇ = ν, G_c q̇ = 0 (as :func:`project`, with the rows of :func:`locked_row`);
     the mechanical energy it removes (KE + V before minus after, J) is added to W_contact,
-    so that the energy balance still closes. Returns: the positions moved by more than the
+    so that the energy balance still closes. ``drift``: the violation is drift, recorded
+    in the workspace as the largest violation (``False`` at a capture, where it is the
+    penetration the capture removes). Returns: the positions moved by more than the
     projection tolerance."""
     active, driver, mass = model.active, model.driver, model.mass
     n = mass.shape[0]
@@ -763,21 +767,22 @@ def project_locked(t: float, y: np.ndarray, model: EomModel, work: np.ndarray) -
                 r += 1
         violation = np.max(np.abs(value))
         if iteration == 0:
-            work[W_MAX_VIOLATION] = max(work[W_MAX_VIOLATION], violation)
+            if drift:
+                work[W_MAX_VIOLATION] = max(work[W_MAX_VIOLATION], violation)
             moved = violation > tolerance
         if violation <= 1e-3 * tolerance or iteration == 3:
             break
         weighted = a * inv_mass
         q -= inv_mass * (a.T @ np.linalg.solve(weighted @ a.T, value))
-    drift = np.zeros(k)
+    rate = np.zeros(k)
     nu = velocity_rhs(t, active, driver)
     for r in range(k):
         s = -nu[r] if r < rows else 0.0
         for i in range(n):
             s += a[r, i] * qd[i]
-        drift[r] = s
+        rate[r] = s
     weighted = a * inv_mass
-    qd -= inv_mass * (a.T @ np.linalg.solve(weighted @ a.T, drift))
+    qd -= inv_mass * (a.T @ np.linalg.solve(weighted @ a.T, rate))
     y[2 * n + 1] += before - _energy(y, model)
     work[W_PROJECTIONS] += 1.0
     return moved
@@ -797,8 +802,9 @@ def switch_contacts(
     (v0 = :data:`LOCKED`). Both ends: the turning point of an impact (δ̇ = 0 at the
     deepest penetration) passes within a step, so it is not captured, and its rebound
     is kept; a pressed pin whose radial oscillation has a speed amplitude of a few capture
-    speeds is. Then, with any joint locked, :func:`project_locked` puts it on |e| = c with
-    δ̇ = 0 (at a capture: removing the small penetration and normal speed). Returns: a
+    speeds is. The joints locked before the step are projected onto |e| = c with δ̇ = 0
+    (:func:`project_locked`, drift) before the capture test, and again after a capture
+    (removing the captured pin's small penetration and normal speed). Returns: a
     joint switched or the positions moved beyond the tolerance.
     """
     n = model.mass.shape[0]
@@ -811,12 +817,15 @@ def switch_contacts(
             if _locked(y[2 * n + 2 + c]) and record[c, 0] < 0.0:
                 y[2 * n + 2 + c] = 0.0
                 changed = True
+    if any_locked(y, model) and project_locked(t, y, model, work):
+        changed = True
     capture = model.settings[S_CAPTURE]
     q = y[:n]
     qd = y[n : 2 * n]
     rot = _rotations(q)
     memory = y[2 * n + 2 :].copy()
     captured = False
+    captured_one = False
     for c in range(nc):
         if not y[2 * n + 2 + c] > 0.0:
             continue
@@ -837,9 +846,10 @@ def switch_contacts(
                 if record[c, 0] < 0.0:
                     y[2 * n + 2 + c] = memory[c]
                 else:
-                    changed = True
-    if any_locked(y, model) and project_locked(t, y, model, work):
-        changed = True
+                    captured_one = True
+        if captured_one:
+            project_locked(t, y, model, work, False)
+            changed = True
     return changed
 
 
