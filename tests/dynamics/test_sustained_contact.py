@@ -159,10 +159,29 @@ def test_joints_of_one_simulation_share_one_capture_speed(paper_fourbar: Mechani
         build_system(paper_fourbar, joints)
 
 
-def test_the_batch_engine_refuses_the_mode(paper_fourbar: Mechanism) -> None:
-    samples = BatchSamples(clearances={"O2": np.array([21e-6, 15e-6])})
-    with pytest.raises(SettingError, match="sustained-contact mode"):
-        simulate_batch(paper_fourbar, _joints(paper_fourbar, sustained_contact=True), samples)
+def test_the_batch_engine_runs_the_mode_on_its_implicit_lanes(paper_fourbar: Mechanism) -> None:
+    """The implicit lanes run the single engine's integration and hooks: the same steps as
+    simulate() per sample; the explicit lanes and the GPU backends refuse the mode."""
+    clearances = np.array([21e-6, 15e-6])
+    samples = BatchSamples(clearances=dict.fromkeys(JOINTS, clearances))
+    joints = _joints(paper_fourbar, sustained_contact=True)
+    result = simulate_batch(paper_fourbar, joints, samples, settle=0)
+    assert result.method == "implicit" and "sustained-contact" in result.method_reason
+    assert result.ok.all()
+    for i, clearance in enumerate(clearances):
+        single = simulate(
+            paper_fourbar,
+            ContactModel(sustained_contact=True).joints(paper_fourbar, JOINTS, clearance=clearance),
+            revolutions=1,
+            settle=0,
+            start=Start("steady"),
+        )
+        assert result.counters.loc[i, "n_steps"] == single.solver_stats["steps"]
+    with pytest.raises(SettingError, match="explicit lanes integrate compliant contacts only"):
+        simulate_batch(paper_fourbar, joints, samples, method="explicit")
+    for backend in ("gpu", "cuda"):
+        with pytest.raises(SettingError, match="GPU backends integrate compliant contacts only"):
+            simulate_batch(paper_fourbar, joints, samples, backend=backend)
 
 
 @pytest.mark.parametrize(

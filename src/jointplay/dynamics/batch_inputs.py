@@ -31,7 +31,7 @@ from jointplay.dynamics.clearance import MIN_CLEARANCE, ClearanceJoint, stiffnes
 from jointplay.dynamics.cycles import analysed_revolutions, settle_revolutions
 from jointplay.dynamics.simulate import SolverOptions, Start, initial_state
 from jointplay.dynamics.system import PARAMS_WIDTH, System, build_system
-from jointplay.errors import ConfigError, JointplayError, SettingError
+from jointplay.errors import ConfigError, JointplayError
 from jointplay.kinematics import fourbar, slidercrank
 from jointplay.kinematics.solver import revolute_tree
 from jointplay.model.flat import DRV_OMEGA
@@ -237,12 +237,6 @@ def build_batch(
     clearances = tuple(clearances)
     if not clearances:
         raise ConfigError("the batch engine needs at least one clearance joint")
-    if any(c.capture_speed > 0 for c in clearances):
-        raise SettingError(
-            "the batch engine does not take the sustained-contact mode ({sustained_contact}): "
-            "its explicit lanes and GPU backends integrate compliant contacts only; turn the "
-            "mode off, or simulate the samples one by one"
-        )
     names = [c.joint for c in clearances]
     for joint in samples.clearances:
         if joint not in names:
