@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from jointplay._kernels import eom
-from jointplay.dynamics.batch import BatchSamples, simulate_batch
+from jointplay.dynamics.batch import BatchSamples, choose_method, simulate_batch
 from jointplay.dynamics.clearance import ClearanceJoint
 from jointplay.dynamics.setup import DEFAULT_CAPTURE_SPEED, ContactModel
 from jointplay.dynamics.simulate import SimulationResult, Start, simulate
@@ -167,6 +167,7 @@ def test_the_batch_engine_runs_the_mode_on_its_implicit_lanes(paper_fourbar: Mec
     joints = _joints(paper_fourbar, sustained_contact=True)
     result = simulate_batch(paper_fourbar, joints, samples, settle=0)
     assert result.method == "implicit" and "sustained-contact" in result.method_reason
+    assert choose_method(paper_fourbar, joints).method == "implicit"
     assert result.ok.all()
     for i, clearance in enumerate(clearances):
         single = simulate(

@@ -440,9 +440,7 @@ def simulate_batch(
         solver=solver,
     )  # fmt: skip
     build_time = time.perf_counter() - wall
-    if sustained and method == "auto":
-        chosen, reason = "implicit", "implicit: the sustained-contact mode needs the Radau lanes"
-    elif method == "auto":
+    if method == "auto":
         choice = choose_method(mechanism, clearances, samples=samples, solver=solver)
         chosen, reason = choice.method, choice.reason
     else:
