@@ -538,8 +538,8 @@ def locked_row(
 
         γ_c = −[(ė·t)² / |e| + n·(ω_a² r_a − ω_b² r_b)]
 
-    (δ̈ = n·ë + ṅ·ė, ṅ = t (ė·t)/|e|, ë = G-part + ω_a² r_a − ω_b² r_b with a's velocity
-    terms entering with a minus sign).
+    (δ̈ = n·ë + ṅ·ė with ṅ = t (ė·t)/|e|, and n·ë = G_c q̈ + n·(ω_a² r_a − ω_b² r_b)
+    since a centre at arm r accelerates as ẍ + φ̈ ẑ×r − ω² r).
 
     Returns:
         (γ_c in m/s², δ = |e| − c in m, δ̇ in m/s, v_T in m/s, μ = F_T / F_N).
@@ -858,7 +858,8 @@ def evaluate(t: float, y: np.ndarray, model: EomModel, contact_out: np.ndarray):
     """q̈, motor torque, contact power and multipliers λ (ideal joints' rows, then the driver's).
 
     Per clearance joint, (F_N, F_T, δ, δ̇, v_T, e_x, e_y) is written into ``contact_out``
-    (nc, 7), a C-contiguous array.
+    (nc, 7), a C-contiguous array (a locked joint's F_N is its multiplier, F_T = μ(v_T) F_N:
+    :func:`sustained_accelerations`).
     """
     acc = model.gravity.copy()
     contact_power = add_contact_forces(y, model, acc, contact_out.reshape(contact_out.size))
@@ -1023,7 +1024,8 @@ def _law_slopes(
 
 @njit(jacobian_signature, cache=True)
 def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: np.ndarray) -> bool:
-    """∂ẏ/∂y in closed form when every joint is clear; ``False`` (nothing written) otherwise.
+    """∂ẏ/∂y in closed form when every joint is clear and none is locked (sustained
+    contact); ``False`` (nothing written, the integrator differences) otherwise.
 
     Every joint clear leaves the driver as the only constraint (or none): q̈ = M⁻¹ Q with
     the crank's row replaced by φ̈_d(t) (see :func:`constrained_accelerations`), so
@@ -1225,7 +1227,9 @@ def step_check(
     args: EomArgs,
 ) -> float:
     """Contact-onset control: a step that enters contact deeper than the onset tolerance is
-    retried, shortened by the secant estimate of the crossing (Flores & Ambrósio 2010).
+    retried, shortened by the secant estimate of the crossing (Flores & Ambrósio 2010); in
+    the sustained-contact mode, likewise a step at whose end a locked joint's normal force
+    has turned tensile beyond the release tolerance (:func:`release_check`).
 
     Endpoint checks suffice: the free region |e| <= c is convex, so a pin cannot pass into and
     back out of the wall along a (locally straight) step without ending in contact.
@@ -1385,8 +1389,10 @@ after_step_signature = types.boolean(types.float64, types.float64[::1], ARGS_TYP
 
 @njit(after_step_signature, cache=True)
 def after_step(t: float, y: np.ndarray, args: EomArgs) -> bool:
-    """Update each joint's contact-event memory v0 and project onto the ideal constraints;
-    record the largest violation and the projections in the workspace (``args[1]``)."""
+    """Update each joint's contact-event memory v0, capture and release joints in the
+    sustained-contact mode (:func:`switch_contacts`) and project onto the ideal (and locked)
+    constraints; record the largest violation and the projections in the workspace
+    (``args[2]``)."""
     rpar, ipar, work = args
     return contact_memory_and_projection(t, y, unpack(rpar, ipar), work)
 
