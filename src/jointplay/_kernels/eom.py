@@ -17,6 +17,12 @@ statistics (``W_*``). State vector::
   (m/s, 0 while free); it has zero time derivative and is set by :func:`after_step`: after
   the step in which the contact begins, at δ̇ interpolated to the instant δ = 0 between the
   step's ends (linear in δ), so that it does not depend on where the step happened to end.
+  In the sustained-contact mode (``settings[S_CAPTURE] > 0``) a negative v0
+  (:data:`LOCKED`) marks a joint locked onto its bearing's wall: |e| = c is then a
+  constraint whose multiplier is the normal force (:func:`sustained_accelerations`); the
+  joint is captured and released by :func:`switch_contacts` (after a step) and
+  :func:`release_check` (which shortens a step to the release). With the mode off (the
+  default) no slot is ever negative and each kernel pays one comparison for the mode.
 
 Ideal joints and the driver are constraints Φ(q, t) = 0 (see :mod:`constraints`); with the
 diagonal mass matrix M the accelerations follow from the Schur complement
@@ -55,10 +61,14 @@ from jointplay._kernels.constraints import (
     velocity_rhs,
 )
 from jointplay._kernels.contact import FRICTION_NONE, friction_force, normal_force
+from jointplay._kernels.linalg import lu_factor, lu_solve_in_place
 
 # settings block of :attr:`EomModel.settings`
-S_ONSET_TOL, S_PROJ_TOL, S_V_MARK = 0, 1, 2
+S_ONSET_TOL, S_PROJ_TOL, S_V_MARK, S_CAPTURE = 0, 1, 2, 3
 N_SETTINGS = 4
+#: The v0 slot of a clearance joint in sustained contact (locked onto |e| = c, see
+#: :func:`sustained_accelerations`); any negative value reads as locked (:func:`_locked`).
+LOCKED = -1.0
 # clearance geometry columns of :attr:`EomModel.geom`
 G_R_BEARING, G_R_JOURNAL, G_CLEARANCE = 0, 1, 2
 N_GEOM = 3
@@ -88,8 +98,9 @@ class EomModel(NamedTuple):
         law_p: (w nc) its parameters, SI.
         fric_id: (nc) int64: friction law (``FRICTION_NONE``: frictionless).
         fric_p: (w nc) its parameters, SI.
-        settings: (N_SETTINGS) onset tolerance (m), projection tolerance (m or rad) and the
-            entry rate marking a contact event entered at a rate <= 0 (m/s), at ``S_*``.
+        settings: (N_SETTINGS) onset tolerance (m), projection tolerance (m or rad), the
+            entry rate marking a contact event entered at a rate <= 0 (m/s) and the capture
+            speed of the sustained-contact mode (m/s; 0: the mode is off), at ``S_*``.
     """
 
     mass: np.ndarray
@@ -370,8 +381,8 @@ def add_contact_forces(
             r_j = geom[N_GEOM * c + G_R_JOURNAL]
             r_b = geom[N_GEOM * c + G_R_BEARING]
             v_t = -edx * ny + edy * nx + r_j * wb - r_b * wa
-            if delta > 0.0:
-                v0 = y[2 * n + 2 + c]
+            v0 = y[2 * n + 2 + c]
+            if delta > 0.0 and v0 >= 0.0:  # v0 < 0: locked, F_N is a multiplier
                 f_n = normal_force(
                     law_id[c], law_p[plaw * c : plaw * (c + 1)], delta, delta_dot, v0
                 )
@@ -491,17 +502,375 @@ def constrained_accelerations(
     return -multipliers[rows - 1] if crank >= 0 else 0.0
 
 
+# --- sustained contact: a locked clearance joint is the bilateral constraint |e| = c --------
+
+
+@njit(cache=True, inline="always")
+def _locked(v0: float) -> bool:
+    """Whether a clearance joint whose v0 slot holds ``v0`` is locked (:data:`LOCKED`)."""
+    return v0 < 0.0
+
+
+@njit(cache=True)
+def any_locked(y: np.ndarray, model: EomModel) -> bool:
+    """Whether the sustained-contact mode is on (``settings[S_CAPTURE] > 0``) and some
+    clearance joint is locked at ``y``; ``False`` at the cost of one comparison when off."""
+    if not model.settings[S_CAPTURE] > 0.0:
+        return False
+    base = 2 * model.mass.shape[0] + 2
+    for c in range(model.clear_joint.shape[0]):  # noqa: SIM110 (a plain loop compiles best)
+        if _locked(y[base + c]):
+            return True
+    return False
+
+
+@njit(cache=True)
+def locked_row(
+    q: np.ndarray, qd: np.ndarray, model: EomModel, c: int, g_row: np.ndarray, h_col: np.ndarray
+) -> tuple[float, float, float, float, float]:
+    """The constraint |e| = c of locked clearance joint ``c`` at (q, q̇).
+
+    Writes ``g_row`` (3 nb) = G_c = ∂δ/∂q = nᵀ ∂e/∂q: +[n_x, n_y, n·(ẑ×r_b)] on the
+    journal's body b, −[n_x, n_y, n·(ẑ×r_a)] on the bearing's body a; and ``h_col`` (3 nb),
+    the generalised force of a unit normal force F_N = 1 N with its friction F_T = μ(v_T):
+    −(n + μ t) on the journal at r_b + R_J n, its opposite on the bearing at r_a + R_B n
+    (as :func:`add_contact_forces`; its normal part is −G_cᵀ). δ̈ = 0 reads G_c q̈ = γ_c with
+
+        γ_c = −[(ė·t)² / |e| + n·(ω_a² r_a − ω_b² r_b)]
+
+    (δ̈ = n·ë + ṅ·ė with ṅ = t (ė·t)/|e|, and n·ë = G_c q̈ + n·(ω_a² r_a − ω_b² r_b)
+    since a centre at arm r accelerates as ẍ + φ̈ ẑ×r − ω² r).
+
+    Returns:
+        (γ_c in m/s², δ = |e| − c in m, δ̇ in m/s, v_T in m/s, μ = F_T / F_N).
+    """
+    joint_int, joint_f, geom = model.joint_int, model.joint_f, model.geom
+    j = model.clear_joint[c]
+    a, b = joint_int[3 * j + 1], joint_int[3 * j + 2]
+    bx, by, rax, ray = _arm_of(q, a, joint_f[6 * j], joint_f[6 * j + 1])
+    jx, jy, rbx, rby = _arm_of(q, b, joint_f[6 * j + 2], joint_f[6 * j + 3])
+    ex, ey = jx - bx, jy - by
+    length = np.sqrt(ex * ex + ey * ey)
+    nx, ny = (ex / length, ey / length) if length > 0.0 else (1.0, 0.0)
+    tx, ty = -ny, nx
+    wa = qd[3 * a + 2] if a >= 0 else 0.0
+    wb = qd[3 * b + 2] if b >= 0 else 0.0
+    edx, edy = _eccentricity_rate(qd, a, b, rax, ray, rbx, rby)
+    delta_dot = edx * nx + edy * ny
+    slide = edx * tx + edy * ty
+    r_j = geom[N_GEOM * c + G_R_JOURNAL]
+    r_b = geom[N_GEOM * c + G_R_BEARING]
+    v_t = slide + r_j * wb - r_b * wa
+    mu = 0.0
+    fric = model.fric_id[c]
+    if fric != FRICTION_NONE:
+        width = model.fric_p.shape[0] // model.clear_joint.shape[0]
+        mu = friction_force(fric, model.fric_p[width * c : width * (c + 1)], v_t, 1.0)
+    for i in range(g_row.shape[0]):
+        g_row[i] = 0.0
+        h_col[i] = 0.0
+    if b >= 0:
+        g_row[3 * b] = nx
+        g_row[3 * b + 1] = ny
+        g_row[3 * b + 2] = -nx * rby + ny * rbx
+    if a >= 0:
+        g_row[3 * a] -= nx
+        g_row[3 * a + 1] -= ny
+        g_row[3 * a + 2] -= -nx * ray + ny * rax
+    fx = -nx - mu * tx
+    fy = -ny - mu * ty
+    _push(h_col, b, rbx + r_j * nx, rby + r_j * ny, fx, fy)
+    _push(h_col, a, rax + r_b * nx, ray + r_b * ny, -fx, -fy)
+    centripetal = nx * (wa * wa * rax - wb * wb * rbx) + ny * (wa * wa * ray - wb * wb * rby)
+    gamma = -(slide * slide / length + centripetal)
+    return gamma, length - geom[N_GEOM * c + G_CLEARANCE], delta_dot, v_t, mu
+
+
+@njit(cache=True)
+def sustained_accelerations(
+    t: float, y: np.ndarray, model: EomModel, acc: np.ndarray, lam: np.ndarray,
+    contacts: np.ndarray,
+) -> tuple[float, float]:  # fmt: skip
+    """:func:`constrained_accelerations` with the locked clearance joints as constraints.
+
+    Unknowns x = [λ (ideal joints' rows, then the driver's), F_N of every locked joint];
+    rows A = [Φ_q; G_c], force columns B = [Φ_qᵀ, −h_c] (:func:`locked_row`):
+
+        q̈ = M⁻¹ (Q − B x),   (A M⁻¹ B) x = A M⁻¹ Q − [γ; γ_c],
+
+    solved by LU with partial pivoting (A M⁻¹ B is not symmetric with friction). The
+    normal force of a locked joint is its multiplier F_N (tensile if < 0: the joint is
+    released after the step, :func:`release_check`), its friction F_T = μ(v_T) F_N.
+
+    Args:
+        acc: (3 nb) Q on entry (without the locked joints' forces), q̈ on return.
+        lam: receives λ unless empty.
+        contacts: the records of :func:`add_contact_forces` (7 per joint), whose F_N and F_T
+            of the locked joints are written here, unless empty.
+
+    Returns:
+        (motor torque, N·m; the power absorbed by the locked contacts Σ F_N δ̇ + F_T v_T, W).
+    """
+    joint_int, joint_f, active = model.joint_int, model.joint_f, model.active
+    driver, mass = model.driver, model.mass
+    n = mass.shape[0]
+    nc = model.clear_joint.shape[0]
+    q = y[:n]
+    qd = y[n : 2 * n]
+    nj = active.shape[0]
+    joints = joint_int.reshape((nj, 3))
+    joint_floats = joint_f.reshape((nj, 6))
+    phi_q = jacobian(q, joints, joint_floats, active, driver)
+    gamma = acceleration_rhs(q, qd, t, joints, joint_floats, active, driver)
+    rows = phi_q.shape[0]
+    m = 0
+    for c in range(nc):
+        if _locked(y[2 * n + 2 + c]):
+            m += 1
+    k = rows + m
+    rows_a = np.zeros((k, n))
+    cols_b = np.zeros((k, n))  # B transposed
+    rhs = np.empty(k)
+    state = np.empty((m, 3))  # δ̇, v_T, μ of each locked joint
+    which = np.empty(m, dtype=np.int64)
+    for r in range(rows):
+        for i in range(n):
+            rows_a[r, i] = phi_q[r, i]
+            cols_b[r, i] = phi_q[r, i]
+        rhs[r] = gamma[r]
+    r = rows
+    for c in range(nc):
+        if not _locked(y[2 * n + 2 + c]):
+            continue
+        g, _, rate, slip, mu = locked_row(q, qd, model, c, rows_a[r], cols_b[r])
+        for i in range(n):
+            cols_b[r, i] = -cols_b[r, i]
+        rhs[r] = g
+        state[r - rows, 0] = rate
+        state[r - rows, 1] = slip
+        state[r - rows, 2] = mu
+        which[r - rows] = c
+        r += 1
+    system = np.zeros((k, k))
+    for p in range(k):
+        s = -rhs[p]
+        for i in range(n):
+            w = rows_a[p, i] / mass[i]
+            if w != 0.0:
+                s += w * acc[i]
+                for s2 in range(k):
+                    system[p, s2] += w * cols_b[s2, i]
+        rhs[p] = s
+    lu, piv = lu_factor(system)
+    lu_solve_in_place(lu, piv, rhs)
+    for i in range(n):
+        s = acc[i]
+        for p in range(k):
+            s -= cols_b[p, i] * rhs[p]
+        acc[i] = s / mass[i]
+    for p in range(min(lam.shape[0], rows)):
+        lam[p] = rhs[p]
+    power = 0.0
+    for i in range(m):
+        f_n = rhs[rows + i]
+        f_t = state[i, 2] * f_n
+        power += f_n * state[i, 0] + f_t * state[i, 1]
+        if contacts.shape[0] > 0:
+            contacts[7 * which[i]] = f_n
+            contacts[7 * which[i] + 1] = f_t
+    torque = -rhs[rows - 1] if int(driver[0]) >= 0 and rows > 0 else 0.0
+    return torque, power
+
+
+#: Tolerance of the release control: a step whose end has a locked joint's F_N below
+#: −RELEASE_TOL · max(F_N at its start, 1 N) is retried, shortened to the sign change.
+RELEASE_TOL = 1e-3
+
+
+@njit(cache=True)
+def release_check(
+    t_old: float, y_old: np.ndarray, t_new: float, y_new: np.ndarray, model: EomModel
+) -> float:
+    """The step's fraction that ends where the first locked joint's multiplier F_N turns
+    tensile (secant between the step's ends, aiming at −RELEASE_TOL/2 · max(F_N, 1 N)); 1 if
+    none turns tensile beyond the tolerance. As :func:`onset_check` for an onset."""
+    nc = model.clear_joint.shape[0]
+    old = np.zeros((nc, 7))
+    new = np.zeros((nc, 7))
+    evaluate(t_old, y_old, model, old)
+    evaluate(t_new, y_new, model, new)
+    n = model.mass.shape[0]
+    theta = 1.0
+    for c in range(nc):
+        if not _locked(y_new[2 * n + 2 + c]):
+            continue
+        f_old, f_new = old[c, 0], new[c, 0]
+        tolerance = RELEASE_TOL * max(f_old, 1.0)
+        if f_old > 0.0 and f_new < -tolerance:
+            theta = min(theta, (f_old + 0.5 * tolerance) / (f_old - f_new))
+    return theta
+
+
+@njit(cache=True)
+def _energy(y: np.ndarray, model: EomModel) -> float:
+    """KE + V_gravity at ``y``, J (V = −Σ Q_gravity,i q_i: gravity is constant)."""
+    n = model.mass.shape[0]
+    e = 0.0
+    for i in range(n):
+        e += 0.5 * model.mass[i] * y[n + i] * y[n + i] - model.gravity[i] * y[i]
+    return e
+
+
+@njit(cache=True)
+def project_locked(
+    t: float, y: np.ndarray, model: EomModel, work: np.ndarray, drift: bool = True
+) -> bool:
+    """Mass-weighted projection of q onto Φ = 0 and |e| = c of every locked joint, and of q̇
+    onto Φ_q q̇ = ν, G_c q̇ = 0 (as :func:`project`, with the rows of :func:`locked_row`);
+    the mechanical energy it removes (KE + V before minus after, J) is added to W_contact,
+    so that the energy balance still closes. ``drift``: the violation is drift, recorded
+    in the workspace as the largest violation (``False`` at a capture, where it is the
+    penetration the capture removes). Returns: the positions moved by more than the
+    projection tolerance."""
+    active, driver, mass = model.active, model.driver, model.mass
+    n = mass.shape[0]
+    nc = model.clear_joint.shape[0]
+    nj = active.shape[0]
+    joints = model.joint_int.reshape((nj, 3))
+    joint_floats = model.joint_f.reshape((nj, 6))
+    q = y[:n]
+    qd = y[n : 2 * n]
+    tolerance = model.settings[S_PROJ_TOL]
+    before = _energy(y, model)
+    rows = count_rows(active, driver)
+    m = 0
+    for c in range(nc):
+        if _locked(y[2 * n + 2 + c]):
+            m += 1
+    k = rows + m
+    a = np.empty((k, n))
+    h = np.empty(n)
+    value = np.empty(k)
+    inv_mass = 1.0 / mass
+    moved = False
+    for iteration in range(4):
+        phi_q = jacobian(q, joints, joint_floats, active, driver)
+        phi = residual(q, t, joints, joint_floats, active, driver)
+        r = 0
+        for r in range(rows):
+            a[r] = phi_q[r]
+            value[r] = phi[r]
+        r = rows
+        for c in range(nc):
+            if _locked(y[2 * n + 2 + c]):
+                value[r] = locked_row(q, qd, model, c, a[r], h)[1]
+                r += 1
+        violation = np.max(np.abs(value))
+        if iteration == 0:
+            if drift:
+                work[W_MAX_VIOLATION] = max(work[W_MAX_VIOLATION], violation)
+            moved = violation > tolerance
+        if violation <= 1e-3 * tolerance or iteration == 3:
+            break
+        weighted = a * inv_mass
+        q -= inv_mass * (a.T @ np.linalg.solve(weighted @ a.T, value))
+    rate = np.zeros(k)
+    nu = velocity_rhs(t, active, driver)
+    for r in range(k):
+        s = -nu[r] if r < rows else 0.0
+        for i in range(n):
+            s += a[r, i] * qd[i]
+        rate[r] = s
+    weighted = a * inv_mass
+    qd -= inv_mass * (a.T @ np.linalg.solve(weighted @ a.T, rate))
+    y[2 * n + 1] += before - _energy(y, model)
+    work[W_PROJECTIONS] += 1.0
+    return moved
+
+
+@njit(cache=True)
+def switch_contacts(
+    t: float, y: np.ndarray, model: EomModel, work: np.ndarray, before: np.ndarray
+) -> bool:
+    """The sustained-contact mode's switches after an accepted step (mode on only).
+
+    Release: a locked joint whose multiplier F_N is negative (tensile) at ``y`` becomes a
+    free compliant joint (v0 = 0). Capture: a compliant contact in progress (v0 > 0, δ > 0)
+    whose normal relative speed |δ̇| is below the capture speed ``settings[S_CAPTURE]`` at
+    both ends of the step (``before``: δ and δ̇ at its start, 7 per joint as
+    :func:`add_contact_forces` records them; empty: the end only) becomes locked
+    (v0 = :data:`LOCKED`). Both ends: the turning point of an impact (δ̇ = 0 at the
+    deepest penetration) passes within a step, so it is not captured, and its rebound
+    is kept; a pressed pin whose radial oscillation has a speed amplitude of a few capture
+    speeds is. The joints locked before the step are projected onto |e| = c with δ̇ = 0
+    (:func:`project_locked`, drift) before the capture test, and again after a capture
+    (removing the captured pin's small penetration and normal speed). Returns: a
+    joint switched or the positions moved beyond the tolerance.
+    """
+    n = model.mass.shape[0]
+    nc = model.clear_joint.shape[0]
+    changed = False
+    if any_locked(y, model):
+        record = np.zeros((nc, 7))
+        evaluate(t, y, model, record)
+        for c in range(nc):
+            if _locked(y[2 * n + 2 + c]) and record[c, 0] < 0.0:
+                y[2 * n + 2 + c] = 0.0
+                changed = True
+    if any_locked(y, model) and project_locked(t, y, model, work):
+        changed = True
+    capture = model.settings[S_CAPTURE]
+    q = y[:n]
+    qd = y[n : 2 * n]
+    rot = _rotations(q)
+    memory = y[2 * n + 2 :].copy()
+    captured = False
+    captured_one = False
+    for c in range(nc):
+        if not y[2 * n + 2 + c] > 0.0:
+            continue
+        delta, delta_dot = _contact_state(
+            q, qd, rot, model.joint_int, model.joint_f, model.clear_joint[c], model.geom, c
+        )[:2]
+        slow = abs(delta_dot) < capture
+        if before.shape[0] > 0:
+            slow = slow and before[7 * c + 2] > 0.0 and abs(before[7 * c + 3]) < capture
+        if delta > 0.0 and slow:
+            y[2 * n + 2 + c] = LOCKED
+            captured = True
+    if captured:  # a joint whose multiplier would be tensile at once is left compliant
+        record = np.zeros((nc, 7))
+        evaluate(t, y, model, record)
+        for c in range(nc):
+            if _locked(y[2 * n + 2 + c]) and memory[c] > 0.0:
+                if record[c, 0] < 0.0:
+                    y[2 * n + 2 + c] = memory[c]
+                else:
+                    captured_one = True
+        if captured_one:
+            project_locked(t, y, model, work, False)
+            changed = True
+    return changed
+
+
 @njit(cache=True)
 def evaluate(t: float, y: np.ndarray, model: EomModel, contact_out: np.ndarray):
     """q̈, motor torque, contact power and multipliers λ (ideal joints' rows, then the driver's).
 
     Per clearance joint, (F_N, F_T, δ, δ̇, v_T, e_x, e_y) is written into ``contact_out``
-    (nc, 7), a C-contiguous array.
+    (nc, 7), a C-contiguous array (a locked joint's F_N is its multiplier, F_T = μ(v_T) F_N:
+    :func:`sustained_accelerations`).
     """
     acc = model.gravity.copy()
     contact_power = add_contact_forces(y, model, acc, contact_out.reshape(contact_out.size))
     lam = np.zeros(count_rows(model.active, model.driver))
-    torque = constrained_accelerations(t, y, model, acc, lam)
+    if any_locked(y, model):
+        torque, locked_power = sustained_accelerations(
+            t, y, model, acc, lam, contact_out.reshape(contact_out.size)
+        )
+        contact_power += locked_power
+    else:
+        torque = constrained_accelerations(t, y, model, acc, lam)
     return acc, torque, contact_power, lam
 
 
@@ -592,7 +961,10 @@ def _rhs(
     n_ideal = 0
     for j in range(model.active.shape[0]):
         n_ideal += model.active[j]
-    if n_ideal == 0:  # called directly: measured twice as fast as through the general function
+    if any_locked(y, model):  # the sustained-contact mode, with a joint locked
+        torque, locked_power = sustained_accelerations(t, y, model, acc, lam, contacts)
+        out[2 * n + 1] += locked_power
+    elif n_ideal == 0:  # called directly: measured twice as fast as through the general function
         torque = _driver_only_accelerations(t, model, acc, lam)
     else:
         torque = constrained_accelerations(t, y, model, acc, lam)
@@ -652,7 +1024,8 @@ def _law_slopes(
 
 @njit(jacobian_signature, cache=True)
 def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: np.ndarray) -> bool:
-    """∂ẏ/∂y in closed form when every joint is clear; ``False`` (nothing written) otherwise.
+    """∂ẏ/∂y in closed form when every joint is clear and none is locked (sustained
+    contact); ``False`` (nothing written, the integrator differences) otherwise.
 
     Every joint clear leaves the driver as the only constraint (or none): q̈ = M⁻¹ Q with
     the crank's row replaced by φ̈_d(t) (see :func:`constrained_accelerations`), so
@@ -688,6 +1061,8 @@ def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: n
     for j in range(active.shape[0]):
         if active[j] != 0:
             return False
+    if any_locked(y, model):  # locked joints are constraints: the integrator differences
+        return False
     q = y[:n]
     qd = y[n : 2 * n]
     out[:, :] = 0.0
@@ -806,7 +1181,7 @@ def onset_check(
         j = clear_joint[c]
         clearance = geom[N_GEOM * c + G_CLEARANCE]
         old = _penetration(y_old[:n], rot_old, joint_int, joint_f, j, clearance)
-        if old > 0.0:
+        if old > 0.0 or _locked(y_old[2 * n + 2 + c]):
             continue
         new = _penetration(y_new[:n], rot_new, joint_int, joint_f, j, clearance)
         theta = min(theta, _onset_fraction(old, new, tolerance))
@@ -852,12 +1227,18 @@ def step_check(
     args: EomArgs,
 ) -> float:
     """Contact-onset control: a step that enters contact deeper than the onset tolerance is
-    retried, shortened by the secant estimate of the crossing (Flores & Ambrósio 2010).
+    retried, shortened by the secant estimate of the crossing (Flores & Ambrósio 2010); in
+    the sustained-contact mode, likewise a step at whose end a locked joint's normal force
+    has turned tensile beyond the release tolerance (:func:`release_check`).
 
     Endpoint checks suffice: the free region |e| <= c is convex, so a pin cannot pass into and
     back out of the wall along a (locally straight) step without ending in contact.
     """
-    return onset_check(t_old, y_old, t_new, y_new, unpack(args[0], args[1]))
+    model = unpack(args[0], args[1])
+    theta = onset_check(t_old, y_old, t_new, y_new, model)
+    if any_locked(y_new, model):  # the locked set is constant over a step
+        theta = min(theta, release_check(t_old, y_old, t_new, y_new, model))
+    return theta
 
 
 @njit(cache=True)
@@ -873,6 +1254,9 @@ def contact_memory_and_projection(
         before[7 * c + 2] = work[N_WORK + 2 * c]
         before[7 * c + 3] = work[N_WORK + 2 * c + 1]
     changed = contact_memory(y, model, record, before)
+    if model.settings[S_CAPTURE] > 0.0 and switch_contacts(t, y, model, work, before):
+        changed = True
+        record = _contact_records(y, model)
     if project(t, y, model, work):
         changed = True
         record = _contact_records(y, model)
@@ -932,7 +1316,7 @@ def contact_memory(y: np.ndarray, model: EomModel, record: np.ndarray, before: n
     for c in range(model.clear_joint.shape[0]):
         delta, delta_dot = record[7 * c + 2], record[7 * c + 3]
         slot = 2 * n + 2 + c
-        if delta > 0.0 and y[slot] <= 0.0:  # a new contact event begins
+        if delta > 0.0 and y[slot] == 0.0:  # a new contact event begins (not locked)
             rate = (
                 impact_rate(before[7 * c + 2], before[7 * c + 3], delta, delta_dot)
                 if known
@@ -1005,8 +1389,10 @@ after_step_signature = types.boolean(types.float64, types.float64[::1], ARGS_TYP
 
 @njit(after_step_signature, cache=True)
 def after_step(t: float, y: np.ndarray, args: EomArgs) -> bool:
-    """Update each joint's contact-event memory v0 and project onto the ideal constraints;
-    record the largest violation and the projections in the workspace (``args[1]``)."""
+    """Update each joint's contact-event memory v0, capture and release joints in the
+    sustained-contact mode (:func:`switch_contacts`) and project onto the ideal (and locked)
+    constraints; record the largest violation and the projections in the workspace
+    (``args[2]``)."""
     rpar, ipar, work = args
     return contact_memory_and_projection(t, y, unpack(rpar, ipar), work)
 

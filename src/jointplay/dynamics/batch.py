@@ -61,7 +61,7 @@ from jointplay.dynamics.cycles import DEFAULT_SETTLE
 from jointplay.dynamics.integrate import IntegrationStatus
 from jointplay.dynamics.simulate import SolverOptions, Start
 from jointplay.dynamics.system import System, build_system
-from jointplay.errors import ConfigError, PartialInterrupt
+from jointplay.errors import ConfigError, PartialInterrupt, SettingError
 from jointplay.execution import progress as _progress
 from jointplay.execution.backends import BACKENDS, Backend, backend_kind
 from jointplay.execution.dask import ClusterLost
@@ -354,6 +354,23 @@ def _merged(
 
 
 # --- the entry point --------------------------------------------------------------------------------
+def _check_sustained(method: str, runner: Any) -> None:
+    """The sustained-contact mode runs on the implicit lanes (the single engine's Radau
+    integration and hooks) on the CPU backends only: refuse the rest, saying what to do."""
+    if method == "explicit":
+        raise SettingError(
+            "the explicit lanes integrate compliant contacts only: the sustained-contact mode "
+            "({sustained_contact}) needs the implicit method; give method 'implicit' or "
+            "'auto', or turn the mode off"
+        )
+    if runner.on_device or runner.kind == "cuda":
+        raise SettingError(
+            "the GPU backends integrate compliant contacts only: the sustained-contact mode "
+            "({sustained_contact}) runs on the CPU backends (local, threads, processes, "
+            "dask); choose one, or turn the mode off"
+        )
+
+
 def simulate_batch(
     mechanism: Mechanism,
     clearances: Sequence[ClearanceJoint],
@@ -407,6 +424,9 @@ def simulate_batch(
     if method not in ("auto", *kb.METHODS):
         raise ConfigError(f"method must be auto, explicit or implicit, got {method!r}")
     runner = executor(_where(backend, workers, chunk_size, scheduler))
+    sustained = any(c.capture_speed > 0 for c in clearances)
+    if sustained:
+        _check_sustained(method, runner)
     if runner.kind == "cuda":
         _cuda_kernel()  # fail early, before building
     elif runner.on_device:

@@ -124,11 +124,19 @@ def choose_method(
     Dormand–Prince 5(4), whose steps then follow the accuracy it is asked for. With samples,
     the stiffest combination of the sampled law parameters (each at its extremes) decides.
     A heuristic: both methods solve every set; the choice only decides which is faster.
+    The sustained-contact mode (a clearance joint with a capture speed) runs on Radau only.
     """
     solver = solver or SolverOptions()
     driver = mechanism.driver
     period = driver.period
     max_step = solver.max_step if solver.max_step is not None else period / 360.0
+    if any(c.capture_speed > 0 for c in clearances):
+        return MethodChoice(
+            "implicit",
+            "implicit: the sustained-contact mode runs on the Radau lanes only",
+            math.nan,
+            max_step,
+        )
     spec = mechanism.template
     crank_pin = (
         (float(getattr(spec.geometry, "crank", 0.0)) if isinstance(spec, TemplateSpec) else 0.0)

@@ -105,6 +105,11 @@ class ClearanceJoint:
         friction: friction law, or ``None`` (frictionless, the default).
         stiffness_from: the law's stiffness and exponent follow the joint's geometry this
             way (:meth:`with_clearance` refits them), or ``None``: they are fixed.
+        capture_speed: the sustained-contact mode (docs/contact.md): a compliant contact
+            whose normal relative speed |δ̇| falls below this speed (m/s) is locked onto
+            |e| = c, its normal force a constraint multiplier, until that force turns
+            tensile; 0 (the default): the compliant law throughout. Every clearance joint
+            of one simulation takes the same value.
     """
 
     joint: str
@@ -113,9 +118,21 @@ class ClearanceJoint:
     law: ContactLaw
     friction: FrictionLaw | None = None
     stiffness_from: JointStiffness | None = None
+    capture_speed: float = 0.0
 
     def __post_init__(self) -> None:
         where = f"clearance joint {self.joint!r}"
+        speed = self.capture_speed
+        if (
+            isinstance(speed, bool)
+            or not isinstance(speed, int | float)
+            or not (math.isfinite(speed) and speed >= 0)
+        ):
+            raise ConfigError(
+                f"{where}: capture_speed must be a speed >= 0 m/s (0: no sustained-contact "
+                f"mode), got {speed!r}"
+            )
+        object.__setattr__(self, "capture_speed", float(speed))
         if not isinstance(self.joint, str) or not self.joint:
             raise ConfigError(f"ClearanceJoint.joint must be a joint name, got {self.joint!r}")
         for field in ("clearance", "journal_radius"):

@@ -44,6 +44,11 @@ DEFAULT_LAW = "restitution"
 DEFAULT_STIFFNESS_LAW = "liu"
 DEFAULT_RESTITUTION = 0.8
 DEFAULT_FRICTION = 0.1
+#: The default capture speed of the sustained-contact mode, m/s (0.1 mm/s): a pin locked at
+#: this normal speed rather than left to rebound with e·v would fly at most
+#: (e v)² / (2 a) ≈ 3e-10 m from the wall under a relative acceleration a >= 10 m/s², far
+#: below the ~6e-8 m Hertz approach of the pressed pins (docs/performance.md, issue 22).
+DEFAULT_CAPTURE_SPEED = 1e-4
 
 _HC_FAMILY = {name for name, cls in CONTACT_LAWS.items() if hasattr(cls, "chi_of")}
 
@@ -264,6 +269,12 @@ class ContactModel:
     The default is the physical contact of docs/contact.md, with dry friction
     :data:`DEFAULT_FRICTION` (with a ``law`` too: give ``FrictionSettings()`` for none, as
     the command line does with its method option).
+
+    ``sustained_contact`` (off by default) turns on the sustained-contact mode
+    (docs/contact.md): a compliant contact whose normal speed falls below
+    ``capture_speed`` (m/s, or text with a unit such as ``"0.1 mm/s"``; default
+    :data:`DEFAULT_CAPTURE_SPEED`) is locked onto the bearing wall, its normal force a
+    constraint multiplier, until that force turns tensile.
     """
 
     settings: ContactSettings = dataclasses.field(default_factory=ContactSettings)
@@ -273,6 +284,33 @@ class ContactModel:
     law: ContactLaw | None = None
     method: str | None = None
     record: Mapping[str, Any] | None = None
+    sustained_contact: bool = False
+    capture_speed: float | str = DEFAULT_CAPTURE_SPEED
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.sustained_contact, bool):
+            raise SettingError(
+                "{sustained_contact} must be true or false, got {got!r}",
+                got=self.sustained_contact,
+            )
+        speed = (
+            _quantity(self.capture_speed, "m/s", "capture_speed")
+            if isinstance(self.capture_speed, str)
+            else _real(self.capture_speed, "capture_speed")
+        )
+        if not speed > 0:
+            raise SettingError(
+                "{capture_speed} must be > 0 m/s (turn the mode off with "
+                "{sustained_contact} instead), got {got!r}",
+                got=self.capture_speed,
+            )
+        object.__setattr__(self, "capture_speed", speed)
+
+    @property
+    def capture(self) -> float:
+        """The clearance joints' capture speed, m/s: :attr:`capture_speed` with the
+        sustained-contact mode on, 0 (off) otherwise."""
+        return float(self.capture_speed) if self.sustained_contact else 0.0
 
     def joints(
         self,
@@ -282,7 +320,7 @@ class ContactModel:
         clearance: float | None = None,
     ) -> list[ClearanceJoint]:
         """The clearance joints of ``mechanism`` with this contact (:func:`clearance_joints`)."""
-        return clearance_joints(
+        joints = clearance_joints(
             mechanism,
             names,
             contact=self.settings,
@@ -290,6 +328,9 @@ class ContactModel:
             clearance=clearance,
             law=self.law,
         )
+        if not self.sustained_contact:
+            return joints
+        return [dataclasses.replace(joint, capture_speed=self.capture) for joint in joints]
 
     def describe(self) -> dict[str, Any]:
         """The contact used, for ``summary.json`` and the reports: ``text`` in words, the
@@ -304,14 +345,19 @@ class ContactModel:
             if friction.enabled
             else "; no friction"
         )
+        if self.sustained_contact:
+            text += f"; sustained contact (captured below {self.capture * 1e3:g} mm/s)"
         settings = {k: v for k, v in vars(self.settings).items() if v is not None}
-        return {
+        described: dict[str, Any] = {
             "text": text,
             "method": self.method,
             "settings": None if self.law is not None else settings,
             "stiffness_from_geometry": None if self.law is not None else self.settings.geometry_law,
             "friction": {"law": friction.law, "coefficient": friction.coefficient},
         }
+        if self.sustained_contact:
+            described["capture_speed_m_s"] = self.capture
+        return described
 
 
 #: The name of the paper's conventional contact set: its method ``ifm-conventional`` (the

@@ -160,7 +160,9 @@ class SimulationResult:
         nominal_peaks: largest |value| of each quantity in the nominal (ideal-joint) steady
             motion (empty unless ``simulate(..., nominal=True)``).
         solver_stats: method, steps, rejections, evaluations, impacts per joint, maximum
-            penetration, energy residual, constraint violation, wall time.
+            penetration, energy residual, constraint violation, wall time; with the
+            sustained-contact mode on, ``sustained_contact``: per joint the share of the
+            simulated time spent locked, the captures and the releases.
         revolutions: the analysed time asked for, in crank periods (after ``settle``).
         settle: start-up revolutions simulated first and left out of the statistics.
         sample_deg: sampling interval of the sampled peaks, deg of crank (``None``: none).
@@ -734,7 +736,7 @@ def _solver_stats(
         memory = y[:, 2 * n + 2 + c]
         impacts[clearance.joint] = int(np.sum((memory[1:] > 0) & (memory[:-1] <= 0)))
         max_pen[clearance.joint] = float(max(0.0, np.max(columns[f"pen_{clearance.joint}"])))
-    return {
+    stats = {
         "method": "Radau IIA (order 5), compiled; contact-onset step control; constraint projection",
         "steps": run.n_steps,
         "rejected_steps": run.n_rejected,
@@ -752,4 +754,23 @@ def _solver_stats(
         "max_constraint_violation": float(work[eom.W_MAX_VIOLATION]),
         "projections": int(work[eom.W_PROJECTIONS]),
         "wall_s": wall,
+    }
+    if system.model.settings[eom.S_CAPTURE] > 0:
+        stats["sustained_contact"] = _sustained_stats(system, run.t, y)
+    return stats
+
+
+def _sustained_stats(system: System, t: FloatArray, y: FloatArray) -> dict[str, Any]:
+    """Per clearance joint, with the sustained-contact mode on: the share of the simulated
+    time it spent locked (a step's mode is the one its start records), its captures and
+    its releases."""
+    n = system.n_coordinates
+    locked = y[:, 2 * n + 2 :] < 0
+    dt = np.diff(t)
+    total = max(float(dt.sum()), 1e-300)
+    names = [c.joint for c in system.clearances]
+    return {
+        "locked_share": {j: float(dt @ locked[:-1, c]) / total for c, j in enumerate(names)},
+        "captures": {j: int(np.sum(locked[1:, c] & ~locked[:-1, c])) for c, j in enumerate(names)},
+        "releases": {j: int(np.sum(~locked[1:, c] & locked[:-1, c])) for c, j in enumerate(names)},
     }

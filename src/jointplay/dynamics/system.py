@@ -120,12 +120,19 @@ def build_system(
         geom[c, eom.G_R_BEARING] = clearance.bearing_radius
         geom[c, eom.G_R_JOURNAL] = clearance.journal_radius
         geom[c, eom.G_CLEARANCE] = clearance.clearance
+    speeds = {c.capture_speed for c in clearances}
+    if len(speeds) > 1:
+        raise ConfigError(
+            "the clearance joints of one simulation share one capture speed (the "
+            f"sustained-contact mode); got {sorted(speeds)} m/s"
+        )
     if onset_tolerance is None:
         onset_tolerance = 0.01 * min((c.clearance for c in clearances), default=1e-5)
     settings = np.zeros(eom.N_SETTINGS)
     settings[eom.S_ONSET_TOL] = onset_tolerance
     settings[eom.S_PROJ_TOL] = projection_tolerance
     settings[eom.S_V_MARK] = 1e-12  # marks an active contact event whose entry rate was <= 0
+    settings[eom.S_CAPTURE] = speeds.pop() if speeds else 0.0  # 0: sustained contact off
     model = eom.EomModel(
         mass=_frozen(flat.mass_vector(), np.float64),
         gravity=_frozen(flat.gravity_forces(), np.float64),

@@ -86,6 +86,9 @@ class DynamicResponses:
         stiffness_from: joint → how its contact stiffness follows its geometry
             (:class:`~jointplay.dynamics.clearance.JointStiffness`): the law's stiffness and
             exponent are refitted to every sample's clearance of those joints.
+        capture_speed: the sustained-contact mode's capture speed of every clearance joint,
+            m/s (0, the default: the mode is off; :class:`ContactModel`'s
+            ``sustained_contact``). The batch engine then runs the implicit lanes.
     """
 
     mechanism: Mechanism
@@ -102,6 +105,7 @@ class DynamicResponses:
     backend: Backend = field(default_factory=lambda: Backend("local"))
     chunk_size: int = 64
     stiffness_from: Mapping[str, JointStiffness] = field(default_factory=dict)
+    capture_speed: float = 0.0
 
     #: Rough cost of one sample on one core (the conventional four-bar, one revolution), s:
     #: the execution backend starts worker processes only when they pay for themselves.
@@ -238,6 +242,7 @@ class DynamicResponses:
             "friction": None
             if self.friction is None
             else {"name": self.friction.name, **fields_of(self.friction)},
+            **({"capture_speed_m_s": self.capture_speed} if self.capture_speed > 0 else {}),
             "start": self.start.mode,
             "settle_revolutions": self.settle,
             "revolutions": self.revolutions,
@@ -340,6 +345,7 @@ class DynamicResponses:
             law=law,
             friction=self.friction,
             stiffness_from=rule,
+            capture_speed=self.capture_speed,
         )
 
     def batch_samples(self, x: FloatArray) -> Any:
@@ -662,13 +668,19 @@ class PeakResponses(DynamicResponses):
 
 
 def contact_parts(mechanism: Mechanism, contact: ContactModel) -> dict[str, Any]:
-    """The ``law``, ``friction`` and ``stiffness_from`` of :class:`DynamicResponses` for the
-    contact ``contact``: with a stiffness from the geometry, the law's stiffness and exponent
-    are placeholders that every joint refits to its clearance (:meth:`DynamicResponses._joint`)."""
+    """The ``law``, ``friction``, ``stiffness_from`` and ``capture_speed`` of
+    :class:`DynamicResponses` for the contact ``contact``: with a stiffness from the
+    geometry, the law's stiffness and exponent are placeholders that every joint refits to
+    its clearance (:meth:`DynamicResponses._joint`)."""
     from jointplay.dynamics.setup import joint_stiffness, make_law
 
     if contact.law is not None:
-        return {"law": contact.law, "friction": contact.friction.build(), "stiffness_from": {}}
+        return {
+            "law": contact.law,
+            "friction": contact.friction.build(),
+            "stiffness_from": {},
+            "capture_speed": contact.capture,
+        }
     geometric = contact.settings.geometry_law is not None
     return {
         "law": make_law(contact.settings, stiffness=1.0 if geometric else None),
@@ -678,6 +690,7 @@ def contact_parts(mechanism: Mechanism, contact: ContactModel) -> dict[str, Any]
             for joint in mechanism.revolute_joints
             if (rule := joint_stiffness(mechanism, joint.name, contact.settings)) is not None
         },
+        "capture_speed": contact.capture,
     }
 
 
