@@ -14,6 +14,9 @@ statistics to ``SAME_ALGORITHM_RTOL`` (``tests/_tolerances.py``: the bound for t
 implementations of one algorithm taking the same steps; measured here: equal bits). On a GPU,
 libdevice's sin/cos/pow differ from libm in the last bit: that bound, or the contract for a
 lane where round-off tips a step's acceptance, applies there.
+
+Interrupts: a child process running a launch on the simulator with the flags of
+``interrupts_watched`` is sent SIGINT; the launch must stop within a bound, not run on.
 """
 
 from __future__ import annotations
