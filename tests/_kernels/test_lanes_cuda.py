@@ -14,13 +14,18 @@ statistics to ``SAME_ALGORITHM_RTOL`` (``tests/_tolerances.py``: the bound for t
 implementations of one algorithm taking the same steps; measured here: equal bits). On a GPU,
 libdevice's sin/cos/pow differ from libm in the last bit: that bound, or the contract for a
 lane where round-off tips a step's acceptance, applies there.
+
+Interrupts: a child process running a launch on the simulator with the flags of
+``interrupts_watched`` is sent SIGINT; the launch must stop within a bound, not run on.
 """
 
 from __future__ import annotations
 
 import os
+import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 from typing import Any
 
@@ -214,3 +219,80 @@ def test_the_cuda_backend_without_a_gpu_says_so_before_building(
     joints = [ClearanceJoint(j, 11.75e-6, 0.005, DEFAULT_IMPACT) for j in JOINTS]
     with pytest.raises(ConfigError, match="no usable NVIDIA GPU"):
         simulate_batch(paper_fourbar, joints, BatchSamples(size=1), backend="cuda", settle=0)
+
+
+_INTERRUPTED_SIDE = """
+import sys
+import numpy as np
+from jointplay._kernels.lanes import cuda as lanes_cuda
+from jointplay.execution.interrupts import interrupts_watched
+assert lanes_cuda.simulated() and lanes_cuda.available()
+lanes_cuda.MAP_HOST_FLAGS = sys.argv[3] == "mapped"
+args = np.load(sys.argv[1], allow_pickle=False)
+raised = False
+print("launching", flush=True)
+try:
+    with interrupts_watched() as flags:
+        assert flags is not None
+        out = lanes_cuda.run_batch(
+            args["ipar"], args["rpar"], args["y0"], args["t_settle"], args["t_end"],
+            args["max_step"], float(args["rtol"]), args["atol"], int(args["max_steps"]),
+            "explicit", interrupt=flags,
+        )
+except KeyboardInterrupt:
+    raised = True
+np.savez(sys.argv[2], raised=raised, **out._asdict())
+"""
+#: Seconds between the child's "launching" and the SIGINT: the short lane (a few dozen steps,
+#: ~0.2 s on the simulator) has finished, the long ones (5 revolutions, over a minute) run.
+SIGNAL_AFTER_S = 3.0
+#: Seconds the child may take from the SIGINT to its exit (measured: well under 1 s; a flag
+#: the kernel cannot see lets the long lanes run on, over a minute).
+RETURN_BOUND_S = 15.0
+
+
+@pytest.mark.parametrize("flags", ["mapped", "copied"])
+def test_ctrl_c_stops_the_simulated_gpu_lanes_inside_the_launch(
+    paper_fourbar: Mechanism, tmp_path: Path, flags: str
+) -> None:
+    """SIGINT to a process running the kernel (on the simulator) with the flags of
+    ``interrupts_watched``: the launch returns at once, the lanes still running end
+    ``STATUS_INTERRUPTED`` after some steps (they were stopped inside the launch, not before
+    it), the lane that had finished keeps the CPU's result, and KeyboardInterrupt reaches the
+    caller. ``mapped``: the flags' own page is the kernel's; ``copied``: the fallback, a copy
+    that a host thread refreshes."""
+    problem = _problem(paper_fourbar)
+    period = paper_fourbar.driver.period
+    problem["y0"][2] = problem["y0"][0]
+    problem["t_settle"] = np.zeros(3)
+    problem["t_end"] = np.array([0.01, 5.0, 5.0]) * period
+    np.savez(tmp_path / "in.npz", **problem)
+    env = {**os.environ, "NUMBA_ENABLE_CUDASIM": "1"}
+    command = [sys.executable, "-c", _INTERRUPTED_SIDE, str(tmp_path / "in.npz"),
+               str(tmp_path / "out.npz"), flags]  # fmt: skip
+    with subprocess.Popen(command, env=env, stdout=subprocess.PIPE, text=True) as child:
+        try:
+            assert child.stdout is not None and child.stdout.readline().strip() == "launching"
+            time.sleep(SIGNAL_AFTER_S)
+            child.send_signal(signal.SIGINT)
+            sent = time.perf_counter()
+            code = child.wait(timeout=RETURN_BOUND_S)
+        finally:
+            child.kill()
+    assert code == 0 and time.perf_counter() - sent < RETURN_BOUND_S
+    gpu = np.load(tmp_path / "out.npz")
+    assert bool(gpu["raised"])  # KeyboardInterrupt reached the caller
+    assert list(gpu["status"]) == [kc.STATUS_SUCCESS, kc.STATUS_INTERRUPTED, kc.STATUS_INTERRUPTED]
+    assert (gpu["n_steps"][1:] > 0).all()  # stopped during the launch
+    assert (gpu["t_reached"][1:] < problem["t_end"][1:]).all()
+    assert np.isnan(gpu["peaks"][1:]).all() and np.isnan(gpu["stats"][1:]).all()
+    cpu = kb.run_batch(
+        problem["ipar"], problem["rpar"][:1], problem["y0"][:1], problem["t_settle"][:1],
+        problem["t_end"][:1], problem["max_step"][:1], 1e-6, problem["atol"], 200_000,
+        "explicit", parallel=False,
+    )  # fmt: skip
+    for name in ("status", "n_steps", "n_rejected", "n_rhs"):
+        np.testing.assert_array_equal(gpu[name][:1], getattr(cpu, name), err_msg=name)
+    for name in ("peaks", "stats", "t_reached"):
+        np.testing.assert_allclose(gpu[name][:1], getattr(cpu, name), rtol=SAME_ALGORITHM_RTOL,
+                                   atol=0.0, err_msg=name)  # fmt: skip

@@ -145,3 +145,37 @@ def test_the_cuda_executor_runs_the_engines_numba_cuda_kernel_and_nothing_else(
     jax_only = LaneWork(print, None, print, lambda o: False, device=jax)
     with pytest.raises(ConfigError, match="cuda backend runs the batch engine only"):
         runner.run_lanes(Lanes(jax_only, [()], 1, 1, lambda k, o: None))
+
+
+def test_the_cuda_executor_lends_a_kernel_that_takes_them_the_interrupt_flags() -> None:
+    """A kernel with an ``interrupt`` keyword gets the flags of ``interrupts_watched``; a
+    SIGINT during its launch is in them at once (the kernel ends its lanes interrupted), the
+    chunk's lanes are kept, the next chunk is not started and KeyboardInterrupt reaches the
+    caller."""
+    import os
+    import signal
+
+    import numpy as np
+
+    from jointplay.execution.executors import Lanes, LaneWork
+
+    class Out(NamedTuple):
+        status: np.ndarray
+
+    seen: list[int] = []
+
+    def cuda(chunk, size, timings, interrupt=None):
+        assert interrupt is not None and interrupt.dtype == np.uint8 and interrupt[0] == 0
+        os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C while the launch runs
+        seen.append(int(interrupt[0]))  # written by the C-level handler, before Python's
+        return Out(np.where(chunk[0] == 0, 0, -4))  # lane 0 finished, the others stopped
+
+    got: dict[int, np.ndarray] = {}
+    work = LaneWork(print, None, print, lambda o: bool((o.status == -4).any()), cuda=cuda)
+    parts = [(np.arange(3),), (np.arange(3, 6),)]
+    runner = executor(Backend("cuda", chunk_size=3))
+    with pytest.raises(KeyboardInterrupt):
+        runner.run_lanes(Lanes(work, parts, 1, 3, lambda k, o: got.__setitem__(k, o.status)))
+    assert seen == [signal.SIGINT]  # one launch: the second chunk never started
+    np.testing.assert_array_equal(got[0], [0, -4, -4])
+    assert list(got) == [0]

@@ -23,6 +23,7 @@ import multiprocessing
 import os
 import signal
 from collections.abc import Callable, Iterable
+from contextlib import AbstractContextManager, nullcontext
 from dataclasses import dataclass
 from typing import Any, ClassVar, Protocol
 
@@ -96,8 +97,11 @@ class LaneWork:
     here: Callable[[Any, bool, Any], Any]
     stopped: Callable[[Any], bool]
     device: Callable[[Any, int, dict[str, float]], Any] | None = None
-    #: ``device``'s interface on the numba-cuda kernel (the ``"cuda"`` backend), or ``None``.
-    cuda: Callable[[Any, int, dict[str, float]], Any] | None = None
+    #: ``device``'s interface on the numba-cuda kernel (the ``"cuda"`` backend), or ``None``;
+    #: where it takes an ``interrupt`` keyword too (the flag array of
+    #: :func:`~jointplay.execution.interrupts.interrupts_watched`), an interrupt stops the
+    #: chunk in flight (:class:`Cuda`).
+    cuda: Callable[..., Any] | None = None
 
 
 @dataclass(frozen=True)
@@ -531,43 +535,67 @@ class Gpu(Executor):
         parts = iter(lanes.chunks)
         rate: float | None = None
         k = 0
-        while True:
-            size = gpu_chunk(rate, CHUNK_BUDGET_S, sizes)
-            group = list(itertools.islice(parts, max(1, size // lanes.chunk)))
-            if not group:
-                return
-            item = _joined(group)
-            timings: dict[str, float] = {}
-            clock = time.perf_counter()
-            output = device(item if k == 0 or not self.pads else _padded(item, size), size, timings)
-            wall = time.perf_counter() - clock
-            run_s = timings.get("run_s") or wall
-            ran = timings.get("lanes") or size  # a padded chunk costs its whole size
-            rate = ran / run_s if run_s > 0 else None
-            start = 0
-            for part in group:
-                stop = start + _lanes_of(part)
-                lanes.done(k, _cut(output, start, stop))
-                start, k = stop, k + 1
+        with self.watched(device) as flags:
+            while True:
+                size = gpu_chunk(rate, CHUNK_BUDGET_S, sizes)
+                group = list(itertools.islice(parts, max(1, size // lanes.chunk)))
+                if not group:
+                    return
+                item = _joined(group)
+                timings: dict[str, float] = {}
+                clock = time.perf_counter()
+                chunk = item if k == 0 or not self.pads else _padded(item, size)
+                if flags is None:
+                    output = device(chunk, size, timings)
+                else:
+                    output = device(chunk, size, timings, interrupt=flags)
+                wall = time.perf_counter() - clock
+                run_s = timings.get("run_s") or wall
+                ran = timings.get("lanes") or size  # a padded chunk costs its whole size
+                rate = ran / run_s if run_s > 0 else None
+                start = 0
+                for part in group:
+                    stop = start + _lanes_of(part)
+                    lanes.done(k, _cut(output, start, stop))
+                    start, k = stop, k + 1
+                if flags is not None and lanes.work.stopped(output):
+                    return  # interrupted: the context raises KeyboardInterrupt
+
+    def watched(self, device: Callable[..., Any]) -> AbstractContextManager[Any]:
+        """The interrupt flags ``device`` is given (``None``: none; the JAX kernel's calls
+        cannot be interrupted, the chunks bound what an interrupt loses)."""
+        return nullcontext(None)
 
     def for_tasks(self, n: int) -> Executor:
         return Local(Backend("local"))
 
-    def device_of(self, work: LaneWork) -> Callable[[Any, int, dict[str, float]], Any] | None:
+    def device_of(self, work: LaneWork) -> Callable[..., Any] | None:
         """The engine's device kernel this executor runs (:attr:`LaneWork.device`: JAX)."""
         return work.device
 
 
 class Cuda(Gpu):
     """:class:`Gpu` on the engine's numba-cuda kernel (:attr:`LaneWork.cuda`), one GPU thread
-    per lane: the same chunks, sized for an interrupt as there, not padded (one compiled
-    kernel serves every size; experimental, issue 26)."""
+    per lane: the same chunks, not padded (one compiled kernel serves every size;
+    experimental, issue 26). Where the kernel takes the interrupt flags (:meth:`watched`),
+    an interrupt stops the launch in flight too, not only the chunks after it."""
 
     kind: ClassVar[BackendKind] = "cuda"
     pads = False
 
-    def device_of(self, work: LaneWork) -> Callable[[Any, int, dict[str, float]], Any] | None:
+    def device_of(self, work: LaneWork) -> Callable[..., Any] | None:
         return work.cuda
+
+    def watched(self, device: Callable[..., Any]) -> AbstractContextManager[Any]:
+        """:func:`~jointplay.execution.interrupts.interrupts_watched`'s flags, where the
+        engine's kernel takes them (an ``interrupt`` keyword): the kernel's threads read them
+        during the launch, an interrupt stops the chunk in flight (its finished lanes kept)
+        and the chunks after it are not started."""
+        import inspect
+
+        if "interrupt" not in inspect.signature(device).parameters:
+            return nullcontext(None)
+        return interrupts_watched()
 
 
 _EXECUTORS: dict[str, type[Executor]] = {

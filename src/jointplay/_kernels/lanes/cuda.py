@@ -11,9 +11,17 @@ Mechanisms with ideal joints run too; their projection onto the ideal constraint
 GPU's own (Cholesky, :func:`~jointplay._kernels.lanes.source.project_constraints`) where the
 CPU's calls LAPACK, so those lanes agree with the CPU's to round-off, not bit for bit.
 
-What it does not do yet: the implicit method (Radau IIA with a per-thread LU), mechanisms
-larger than the per-thread arrays (:mod:`.limits`), and an interrupt inside a launch (the
-caller's chunks bound how much one interrupt loses).
+An interrupt stops a launch: the ``interrupt`` flags of
+:func:`~jointplay.execution.interrupts.interrupts_watched` (host memory that Python's C-level
+signal handler writes at once) reach the kernel as a device view of that same memory,
+zero-copy (:func:`_device_flags`: the page pinned and mapped into the GPU's address space by
+``cuda.mapped``; where the driver refuses to map it, a mapped copy that a host thread
+refreshes every :data:`FLAG_COPY_S`). Each thread reads them once per step, volatile
+(:mod:`.cuda_kernel`), so every lane still running ends with ``STATUS_INTERRUPTED`` within
+one step of the signal and finished lanes keep their results, as on the CPU.
+
+What it does not do yet: the implicit method (Radau IIA with a per-thread LU) and mechanisms
+larger than the per-thread arrays (:mod:`.limits`).
 
 numba-cuda is imported by this module only, when a batch is run; without it, or without a
 GPU, :func:`run_batch` raises :class:`~jointplay.errors.ConfigError` saying what to install.
@@ -22,7 +30,10 @@ GPU, :func:`run_batch` raises :class:`~jointplay.errors.ConfigError` saying what
 from __future__ import annotations
 
 import os
+import threading
 import time
+from collections.abc import Iterator
+from contextlib import ExitStack, contextmanager
 from typing import Any
 
 import numpy as np
@@ -39,6 +50,13 @@ __all__ = ["THREADS_PER_BLOCK", "available", "raise_unless_available", "run_batc
 
 #: Threads per block of a launch.
 THREADS_PER_BLOCK = 128
+#: Whether the interrupt flags' own page is mapped into the GPU (``False``: the fallback, a
+#: mapped copy refreshed by a host thread; tests switch it to run that path).
+MAP_HOST_FLAGS = True
+#: How often the fallback's thread copies the flags to the mapped copy, s.
+FLAG_COPY_S = 0.01
+#: How often the host looks whether a launch has finished, s.
+LAUNCH_POLL_S = 0.001
 METHODS = ("explicit",)
 
 
@@ -94,6 +112,7 @@ def run_batch(
     *,
     chunk_size: int | None = None,
     timings: dict[str, float] | None = None,
+    interrupt: npt.NDArray[np.uint8] | None = None,
 ) -> BatchKernelOutput:
     """Integrate every lane on the GPU, one thread per lane (the batch contract:
     :func:`jointplay._kernels.batch.run_batch`).
@@ -106,6 +125,9 @@ def run_batch(
             device interface.
         timings: if given, receives ``compile_s`` (numba-cuda's compilation or cache load,
             0 when this process had it), ``run_s`` (launch, copies included) and ``lanes``.
+        interrupt: uint8 flags that stop every lane still running with
+            ``STATUS_INTERRUPTED`` once they hold SIGINT or SIGTERM, read by the GPU's
+            threads during the launch (:func:`_device_flags`); ``None``: not watched.
 
     Raises:
         ConfigError: numba-cuda or a GPU is missing, the method is one the GPU lanes do not
@@ -158,12 +180,13 @@ def run_batch(
         compile_s = time.perf_counter() - clock
         clock = time.perf_counter()
         inputs = [cuda.to_device(a) for a in (ipar_a, rpar_a, lay, y0_a, settle_a, end_a, step_a)]
-        flags = cuda.to_device(np.zeros(1, dtype=np.uint8))
         outputs = [cuda.to_device(a) for a in (peaks, stats, status, t_reached, counts)]
         blocks = (lanes + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
-        explicit_kernel[blocks, THREADS_PER_BLOCK](
-            *inputs[:7], float(rtol), cuda.to_device(atol_a), int(max_steps), flags, *outputs
-        )
+        with _device_flags(cuda, interrupt) as flags:
+            explicit_kernel[blocks, THREADS_PER_BLOCK](
+                *inputs[:7], float(rtol), cuda.to_device(atol_a), int(max_steps), flags, *outputs
+            )
+            _finish(cuda)
         peaks, stats, status, t_reached, counts = (d.copy_to_host() for d in outputs)
         run_s = time.perf_counter() - clock
     if timings is not None:
@@ -180,3 +203,69 @@ def run_batch(
         n_rejected=counts[:, 1].copy(),
         n_rhs=counts[:, 2].copy(),
     )
+
+
+@contextmanager
+def _device_flags(cuda: Any, interrupt: npt.NDArray[np.uint8] | None) -> Iterator[Any]:
+    """The kernel's view of ``interrupt`` while a launch runs: device memory that is the
+    host's flags, so that the host's writes during the launch reach the running threads.
+
+    - ``None``: one zero byte on the device (nothing watched).
+    - On a GPU: the flags' own page (the memfd page that the signal handler writes) pinned
+      and mapped into the device's address space (``cuda.mapped``: ``cuMemHostRegister``
+      with ``DEVICEMAP``), read by the threads over the bus, zero-copy. If the driver refuses
+      to register that memory, a mapped pinned copy (``cuda.mapped_array``) that a host
+      thread refreshes from the flags every :data:`FLAG_COPY_S` while the launch runs (the
+      main thread waits in :func:`_finish`, sleeping, so that thread runs).
+    - On the simulator: the host array itself (the simulator's device arrays wrap NumPy
+      arrays; ``cuda.to_device`` would copy it).
+    """
+    if interrupt is None:
+        yield cuda.to_device(np.zeros(1, dtype=np.uint8))
+        return
+    if interrupt.dtype != np.uint8 or interrupt.ndim != 1 or not interrupt.flags.c_contiguous:
+        raise ConfigError("run_batch: interrupt must be a contiguous 1-d uint8 array")
+    if simulated():
+        if MAP_HOST_FLAGS:
+            from numba.cuda.simulator.cudadrv.devicearray import FakeCUDAArray
+
+            yield FakeCUDAArray(interrupt)
+            return
+    elif MAP_HOST_FLAGS:
+        from numba.cuda.cudadrv.driver import CudaAPIError
+
+        with ExitStack() as stack:
+            try:
+                view = stack.enter_context(cuda.mapped(interrupt))
+            except CudaAPIError:  # the driver cannot register this memory: the copy below
+                view = None
+            if view is not None:
+                yield view
+                return
+    mirror = cuda.mapped_array(interrupt.shape, dtype=np.uint8)
+    mirror[:] = interrupt
+    stop = threading.Event()
+
+    def refresh() -> None:
+        while not stop.wait(FLAG_COPY_S):
+            mirror[:] = interrupt
+
+    copier = threading.Thread(target=refresh, name="jointplay-cuda-flags", daemon=True)
+    copier.start()
+    try:
+        yield mirror
+    finally:
+        stop.set()
+        copier.join()
+
+
+def _finish(cuda: Any) -> None:
+    """Wait for the launch, sleeping :data:`LAUNCH_POLL_S` between looks (not blocked in the
+    driver), so that the fallback's thread and Python's signal handlers run meanwhile. The
+    simulator's launches return when done."""
+    if simulated():
+        return
+    done = cuda.event()
+    done.record()
+    while not done.query():
+        time.sleep(LAUNCH_POLL_S)

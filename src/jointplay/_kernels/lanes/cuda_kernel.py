@@ -8,17 +8,82 @@ every work array in its own local memory (``cuda.local.array``, sizes fixed at c
 time reached and counters into the output arrays' rows; nothing is shared between threads.
 The kernel is cached on disk by numba-cuda (``cache=True``, beside this file's
 ``__pycache__``).
+
+The interrupt flags (:func:`_interrupt_pending`) are host memory that the host writes while
+the kernel runs, so every step reads them with ``ld.volatile.global.u8`` (inline PTX marked
+as having side effects and clobbering memory): the compiler may neither hoist it out of the
+step loop nor reuse an earlier value, and the load is not served from a cache. A plain load
+of memory the kernel never writes may be hoisted: in a small loop that only polls, NVVM
+moved the plain ``ld.global.u8`` before the loop (``compile_ptx`` for sm_90); in this
+kernel's PTX both the plain and the volatile load sit inside the step loop (its one back
+edge jumps above the load), but only the volatile one is guaranteed to stay there. On the
+simulator the device functions run as Python over NumPy arrays, so a plain read is always
+fresh and is used there.
 """
 
 from __future__ import annotations
+
+from typing import Any
 
 import numpy as np
 from numba import cuda
 
 from jointplay._kernels.lanes.build import build
+from jointplay._kernels.lanes.cuda import simulated
 from jointplay._kernels.lanes.limits import MAX_CLEAR, MAX_Q, MAX_ROWS, MAX_STATE
 
-_GPU = build(cuda.jit(device=True))
+
+def _volatile_byte() -> Any:
+    """``read_flag(flags, j)``: ``flags[j]`` (uint8) loaded by ``ld.volatile.global.u8``,
+    which the compiler neither hoists out of a loop nor merges with an earlier load."""
+    from llvmlite import ir
+    from numba import types
+    from numba.cuda import cgutils  # type: ignore[attr-defined]
+    from numba.cuda.extending import intrinsic
+
+    @intrinsic
+    def read_flag(typingctx: Any, flags: Any, index: Any) -> Any:
+        def codegen(context: Any, builder: Any, sig: Any, args: Any) -> Any:
+            array_type = sig.args[0]
+            array = context.make_array(array_type)(context, builder, value=args[0])
+            pointer = cgutils.get_item_pointer(
+                context, builder, array_type, array, [args[1]], wraparound=False
+            )
+            load = ir.InlineAsm(
+                ir.FunctionType(ir.IntType(16), [pointer.type]),
+                "ld.volatile.global.u8 $0, [$1];",
+                "=h,l,~{memory}",
+                side_effect=True,
+            )
+            return builder.trunc(builder.call(load, [pointer]), ir.IntType(8))
+
+        return types.uint8(flags, index), codegen
+
+    return read_flag
+
+
+def _plain_byte(flags, j):
+    """``flags[j]``: the simulator's read (Python over the host's NumPy array)."""
+    return flags[j]
+
+
+def _interrupt_pending(flags):
+    """The GPU's :func:`jointplay._kernels.lanes.source.interrupt_pending`: the same test,
+    every byte read by ``read_flag`` (volatile: the host writes ``flags`` during the launch)."""
+    for j in range(flags.shape[0]):
+        code = read_flag(flags, j)  # type: ignore[name-defined]  # noqa: F821 (build's namespace)
+        if code == 0:
+            return False
+        if code == SIGINT or code == SIGTERM:  # type: ignore[name-defined]  # noqa: F821, SIM109
+            return True
+    return False
+
+
+_GPU = build(
+    cuda.jit(device=True),
+    hooks={"interrupt_pending": _interrupt_pending},
+    extras={"read_flag": cuda.jit(device=True)(_plain_byte) if simulated() else _volatile_byte()},
+)
 _explicit_lane = _GPU["explicit_lane"]
 _RECORD = 7 * MAX_CLEAR
 _SAMPLES = 9
