@@ -296,3 +296,48 @@ def test_ctrl_c_stops_the_simulated_gpu_lanes_inside_the_launch(
     for name in ("peaks", "stats", "t_reached"):
         np.testing.assert_allclose(gpu[name][:1], getattr(cpu, name), rtol=SAME_ALGORITHM_RTOL,
                                    atol=0.0, err_msg=name)  # fmt: skip
+
+
+_ENGINE_INTERRUPTED_SIDE = """
+import sys
+import time
+import numpy as np
+from jointplay.dynamics.batch import BatchInterrupted, BatchSamples, simulate_batch
+from jointplay.dynamics.clearance import ClearanceJoint
+from jointplay.dynamics.setup import DEFAULT_IMPACT
+from jointplay.io.config import load_preset
+
+mechanism = load_preset("paper-fourbar")
+joints = [ClearanceJoint(j, 11.75e-6, 0.005, DEFAULT_IMPACT) for j in ("O2", "A", "B", "O4")]
+samples = BatchSamples(clearances={j: np.array([10e-6, 14e-6]) for j in ("O2", "A", "B", "O4")})
+print("launching", flush=True)
+try:
+    simulate_batch(mechanism, joints, samples, backend="cuda", method="explicit", settle=0,
+                   revolutions=5.0)
+    statuses = np.array([], dtype="U16")
+except BatchInterrupted as stopped:
+    statuses = np.array(stopped.result.to_frame()["status"], dtype="U16")
+np.save(sys.argv[1], statuses)
+"""
+
+
+def test_ctrl_c_stops_the_cuda_backend_of_the_batch_engine_inside_its_launch(
+    tmp_path: Path,
+) -> None:
+    """``simulate_batch(backend="cuda")`` on the simulator, SIGINT during its one launch
+    (two samples of 5 revolutions: over a minute on the simulator): the engine hands the
+    kernel the interrupt flags, so it stops within the bound and raises BatchInterrupted with
+    every sample's status kept (interrupted), instead of running the launch to its end."""
+    env = {**os.environ, "NUMBA_ENABLE_CUDASIM": "1"}
+    command = [sys.executable, "-c", _ENGINE_INTERRUPTED_SIDE, str(tmp_path / "status.npy")]
+    with subprocess.Popen(command, env=env, stdout=subprocess.PIPE, text=True) as child:
+        try:
+            assert child.stdout is not None and child.stdout.readline().strip() == "launching"
+            time.sleep(SIGNAL_AFTER_S + 2.0)  # the engine's imports and set-up come first
+            child.send_signal(signal.SIGINT)
+            sent = time.perf_counter()
+            code = child.wait(timeout=RETURN_BOUND_S)
+        finally:
+            child.kill()
+    assert code == 0 and time.perf_counter() - sent < RETURN_BOUND_S
+    assert list(np.load(tmp_path / "status.npy")) == ["interrupted", "interrupted"]

@@ -119,7 +119,7 @@ def test_the_cuda_executor_runs_the_engines_numba_cuda_kernel_and_nothing_else(
     def jax(chunk, size, timings):
         raise AssertionError("the cuda backend called the JAX kernel")
 
-    def cuda(chunk, size, timings):
+    def cuda(chunk, size, timings, interrupt=None):
         timings["run_s"] = 1e-3
         return Out(chunk[0].copy())
 
@@ -131,7 +131,7 @@ def test_the_cuda_executor_runs_the_engines_numba_cuda_kernel_and_nothing_else(
     np.testing.assert_array_equal(got[0], np.arange(3))
     calls: list[int] = []
 
-    def counted(chunk, size, timings):
+    def counted(chunk, size, timings, interrupt=None):
         calls.append(len(chunk[0]))
         return cuda(chunk, size, timings)
 

@@ -261,8 +261,12 @@ def _lane_work(problem: BatchProblem, method: str) -> LaneWork:
         outputs = _gpu_kernel()(problem.ipar, *chunk, *constants, chunk_size=size, timings=timings)
         return kb.BatchKernelOutput(*(np.asarray(a) for a in outputs))
 
-    def cuda(chunk: Chunk, size: int, timings: dict[str, float]) -> kb.BatchKernelOutput:
-        return _cuda_kernel()(problem.ipar, *chunk, *constants, chunk_size=size, timings=timings)
+    def cuda(
+        chunk: Chunk, size: int, timings: dict[str, float], interrupt: Any = None
+    ) -> kb.BatchKernelOutput:
+        return _cuda_kernel()(
+            problem.ipar, *chunk, *constants, chunk_size=size, timings=timings, interrupt=interrupt
+        )
 
     def stopped(output: kb.BatchKernelOutput) -> bool:
         return bool(np.any(output.status == kc.STATUS_INTERRUPTED))

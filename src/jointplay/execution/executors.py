@@ -98,9 +98,9 @@ class LaneWork:
     stopped: Callable[[Any], bool]
     device: Callable[[Any, int, dict[str, float]], Any] | None = None
     #: ``device``'s interface on the numba-cuda kernel (the ``"cuda"`` backend), or ``None``;
-    #: where it takes an ``interrupt`` keyword too (the flag array of
-    #: :func:`~jointplay.execution.interrupts.interrupts_watched`), an interrupt stops the
-    #: chunk in flight (:class:`Cuda`).
+    #: it takes an ``interrupt`` keyword too (the flag array of
+    #: :func:`~jointplay.execution.interrupts.interrupts_watched`, or ``None``), so that an
+    #: interrupt stops the chunk in flight (:class:`Cuda`).
     cuda: Callable[..., Any] | None = None
 
 
@@ -577,8 +577,8 @@ class Gpu(Executor):
 class Cuda(Gpu):
     """:class:`Gpu` on the engine's numba-cuda kernel (:attr:`LaneWork.cuda`), one GPU thread
     per lane: the same chunks, not padded (one compiled kernel serves every size;
-    experimental, issue 26). Where the kernel takes the interrupt flags (:meth:`watched`),
-    an interrupt stops the launch in flight too, not only the chunks after it."""
+    experimental, issue 26). The kernel takes the interrupt flags (:meth:`watched`): an
+    interrupt stops the launch in flight too, not only the chunks after it."""
 
     kind: ClassVar[BackendKind] = "cuda"
     pads = False
@@ -587,14 +587,10 @@ class Cuda(Gpu):
         return work.cuda
 
     def watched(self, device: Callable[..., Any]) -> AbstractContextManager[Any]:
-        """:func:`~jointplay.execution.interrupts.interrupts_watched`'s flags, where the
-        engine's kernel takes them (an ``interrupt`` keyword): the kernel's threads read them
-        during the launch, an interrupt stops the chunk in flight (its finished lanes kept)
-        and the chunks after it are not started."""
-        import inspect
-
-        if "interrupt" not in inspect.signature(device).parameters:
-            return nullcontext(None)
+        """:func:`~jointplay.execution.interrupts.interrupts_watched`'s flags, which the
+        kernel (:attr:`LaneWork.cuda`) takes as ``interrupt``: its threads read them during the
+        launch, an interrupt stops the chunk in flight (its finished lanes kept) and the chunks
+        after it are not started."""
         return interrupts_watched()
 
 
