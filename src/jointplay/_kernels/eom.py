@@ -43,6 +43,11 @@ Joints*, 2008; docs/contact-laws.md §5): bearing on body a, journal on body b,
 eccentricity e = r_J − r_B, penetration δ = |e| − c, normal n = e/|e|, δ̇ = ė·n,
 v_T = ė·t + R_J ω_b − R_B ω_a with t = ẑ × n. The force on the journal, −F_N n − F_T t, acts
 at Q_J = r_J + R_J n; its opposite acts on the bearing at Q_B = r_B + R_B n.
+
+Film damping (opt-in, ``settings[S_FILM] = c_e > 0``; docs/contact.md): a lubricant film's
+squeeze damping lumped into −c_e ė on the journal at its centre and +c_e ė on the bearing at
+its centre, in contact or not; its power c_e |ė|² is added to W_contact. Off (0, the
+default), each kernel pays one comparison for it and its results are unchanged.
 """
 
 from __future__ import annotations
@@ -64,8 +69,8 @@ from jointplay._kernels.contact import FRICTION_NONE, friction_force, normal_for
 from jointplay._kernels.linalg import lu_factor, lu_solve_in_place
 
 # settings block of :attr:`EomModel.settings`
-S_ONSET_TOL, S_PROJ_TOL, S_V_MARK, S_CAPTURE = 0, 1, 2, 3
-N_SETTINGS = 4
+S_ONSET_TOL, S_PROJ_TOL, S_V_MARK, S_CAPTURE, S_FILM = 0, 1, 2, 3, 4
+N_SETTINGS = 5
 #: The v0 slot of a clearance joint in sustained contact (locked onto |e| = c, see
 #: :func:`sustained_accelerations`); any negative value reads as locked (:func:`_locked`).
 LOCKED = -1.0
@@ -99,8 +104,10 @@ class EomModel(NamedTuple):
         fric_id: (nc) int64: friction law (``FRICTION_NONE``: frictionless).
         fric_p: (w nc) its parameters, SI.
         settings: (N_SETTINGS) onset tolerance (m), projection tolerance (m or rad), the
-            entry rate marking a contact event entered at a rate <= 0 (m/s) and the capture
-            speed of the sustained-contact mode (m/s; 0: the mode is off), at ``S_*``.
+            entry rate marking a contact event entered at a rate <= 0 (m/s), the capture
+            speed of the sustained-contact mode (m/s; 0: the mode is off) and the film
+            damping c_e of every clearance joint (N·s/m; 0: off; :func:`add_contact_forces`),
+            at ``S_*``.
     """
 
     mass: np.ndarray
@@ -337,7 +344,10 @@ def add_contact_forces(
 
     Per joint (module docstring): δ = |e| − c, δ̇ = ė·n, v_T = ė·t + R_J ω_b − R_B ω_a; when
     δ > 0, F_N from the normal law, F_T from the friction law; −F_N n − F_T t acts on the
-    journal at Q_J = r_J + R_J n, its opposite on the bearing at Q_B = r_B + R_B n. Tables
+    journal at Q_J = r_J + R_J n, its opposite on the bearing at Q_B = r_B + R_B n. With
+    film damping (``settings[S_FILM] = c_e > 0``), −c_e ė acts on the journal at its centre
+    and +c_e ė on the bearing at its centre, whether in contact or not (not in the record's
+    F_N and F_T, which stay the contact law's: :func:`film_components`). Tables
     are flat (:class:`EomModel`); nothing is allocated. (:func:`_contact_state` computes
     the same kinematics for the Jacobian and the hooks; written out here, the right-hand
     side was measured a third faster.)
@@ -347,7 +357,7 @@ def add_contact_forces(
             array records nothing.
 
     Returns:
-        The power absorbed by the contacts, Σ (F_N δ̇ + F_T v_T), W.
+        The power absorbed by the contacts, Σ (F_N δ̇ + F_T v_T + c_e |ė|²), W.
     """
     joint_int, joint_f, geom = model.joint_int, model.joint_f, model.geom
     clear_joint, law_id, law_p = model.clear_joint, model.law_id, model.law_p
@@ -359,6 +369,7 @@ def add_contact_forces(
     plaw = law_p.shape[0] // max(nc, 1)
     pfric = fric_p.shape[0] // max(nc, 1)
     recording = record.shape[0] > 0
+    film = model.settings[S_FILM]
     power = 0.0
     for c in range(nc):
         j = clear_joint[c]
@@ -372,6 +383,11 @@ def add_contact_forces(
         f_t = 0.0
         delta_dot = 0.0
         v_t = 0.0
+        if film > 0.0:  # the film's damping −c_e ė on the journal's centre, in contact or not
+            fdx, fdy = _eccentricity_rate(qd, a, b, rax, ray, rbx, rby)
+            _push(force, b, rbx, rby, -film * fdx, -film * fdy)
+            _push(force, a, rax, ray, film * fdx, film * fdy)
+            power += film * (fdx * fdx + fdy * fdy)
         if delta > 0.0 or recording:
             nx, ny = (ex / emag, ey / emag) if emag > 0.0 else (1.0, 0.0)
             wa = qd[3 * a + 2] if a >= 0 else 0.0
@@ -929,10 +945,41 @@ def rhs_and_quantities(
         else:
             for c in range(nc):
                 if model.clear_joint[c] == j:
-                    out[2 * nb + j] = np.hypot(contacts[7 * c], contacts[7 * c + 1])
+                    out[2 * nb + j] = transmitted_force(y, model, contacts, c)
     out[2 * nb + nj] = torque
     for c in range(nc):
         penetration[c] = contacts[7 * c + 2]
+
+
+@njit(cache=True)
+def film_components(y: np.ndarray, model: EomModel, contacts: np.ndarray, c: int):
+    """The film force c_e ė of clearance joint ``c`` in its contact frame, (c_e ė·n, c_e ė·t)
+    (N; the journal feels minus this), from its record in ``contacts`` (7 per joint:
+    :func:`add_contact_forces`; ė·n = δ̇, ė·t = v_T − R_J ω_b + R_B ω_a); (0, 0) with the film
+    off."""
+    film = model.settings[S_FILM]
+    if not film > 0.0:
+        return 0.0, 0.0
+    n = model.mass.shape[0]
+    j = model.clear_joint[c]
+    a, b = model.joint_int[3 * j + 1], model.joint_int[3 * j + 2]
+    wa = y[n + 3 * a + 2] if a >= 0 else 0.0
+    wb = y[n + 3 * b + 2] if b >= 0 else 0.0
+    slide = (
+        contacts[7 * c + 4]
+        - model.geom[N_GEOM * c + G_R_JOURNAL] * wb
+        + model.geom[N_GEOM * c + G_R_BEARING] * wa
+    )
+    return film * contacts[7 * c + 3], film * slide
+
+
+@njit(cache=True)
+def transmitted_force(y: np.ndarray, model: EomModel, contacts: np.ndarray, c: int) -> float:
+    """The magnitude of the force clearance joint ``c`` transmits, |F_N n + F_T t + c_e ė|
+    (N): the contact law's forces and the film's (:func:`film_components`; |F_N n + F_T t|
+    with the film off), from its record in ``contacts`` (7 per joint)."""
+    film_n, film_t = film_components(y, model, contacts, c)
+    return np.hypot(contacts[7 * c] + film_n, contacts[7 * c + 1] + film_t)
 
 
 @njit(cache=True)
@@ -1022,6 +1069,53 @@ def _law_slopes(
     return slope_delta, slope_rate, slope_slip, per_newton
 
 
+@njit(cache=True)
+def _film_jacobian(
+    out: np.ndarray, film: float, qd: np.ndarray, mass: np.ndarray, a: int, b: int,
+    rax: float, ray: float, rbx: float, rby: float, wa: float, wb: float,
+) -> None:  # fmt: skip
+    """Add one clearance joint's film damping to ∂ẏ/∂y (``out``, :func:`jacobian_state`):
+    f = −c_e ė on the journal's body b at its arm r_b, −f on the bearing's body a at r_a,
+    power c_e |ė|² into the W_contact row."""
+    n = mass.shape[0]
+    edx, edy = _eccentricity_rate(qd, a, b, rax, ray, rbx, rby)
+    fx, fy = -film * edx, -film * edy
+    for side in range(2):
+        body = b if side == 0 else a
+        if body < 0:
+            continue
+        sign = 1.0 if side == 0 else -1.0
+        rx, ry = (rbx, rby) if side == 0 else (rax, ray)
+        w = wb if side == 0 else wa
+        for k in range(2, 6):  # φ, ẋ, ẏ, ω of this body (ė does not depend on x, y)
+            dvx = dvy = 0.0
+            if k == 2:
+                dvx, dvy = -sign * w * rx, -sign * w * ry
+            elif k < 5:
+                if k == 3:
+                    dvx = sign
+                else:
+                    dvy = sign
+            else:
+                dvx, dvy = -sign * ry, sign * rx
+            dfx, dfy = -film * dvx, -film * dvy
+            column = 3 * body + k if k < 3 else n + 3 * body + k - 3
+            # ∂r of this body's own arm (φ only): ẑ×r
+            drbx, drby = (-rby, rbx) if (k == 2 and side == 0) else (0.0, 0.0)
+            drax, dray = (-ray, rax) if (k == 2 and side == 1) else (0.0, 0.0)
+            if b >= 0:
+                out[n + 3 * b, column] += dfx / mass[3 * b]
+                out[n + 3 * b + 1, column] += dfy / mass[3 * b + 1]
+                moment = drbx * fy - drby * fx + rbx * dfy - rby * dfx
+                out[n + 3 * b + 2, column] += moment / mass[3 * b + 2]
+            if a >= 0:
+                out[n + 3 * a, column] -= dfx / mass[3 * a]
+                out[n + 3 * a + 1, column] -= dfy / mass[3 * a + 1]
+                moment = drax * fy - dray * fx + rax * dfy - ray * dfx
+                out[n + 3 * a + 2, column] -= moment / mass[3 * a + 2]
+            out[2 * n + 1, column] += 2.0 * film * (edx * dvx + edy * dvy)
+
+
 @njit(jacobian_signature, cache=True)
 def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: np.ndarray) -> bool:
     """∂ẏ/∂y in closed form when every joint is clear and none is locked (sustained
@@ -1042,8 +1136,15 @@ def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: n
       p_b × f, p_b = r_b + R_J n, has ∂(p_b × f) = ∂p_b × f + p_b × ∂f (the opposite force
       at p_a = r_a + R_B n on a).
 
+    With film damping c_e (``settings[S_FILM] > 0``), every clearance joint, in contact or
+    not, adds f = −c_e ė on the journal at r_b and −f at r_a on the bearing:
+    ∂f = −c_e ∂ė (∂ė as above: ∂ė/∂φ_b = −ω_b r_b, ∂ė/∂v_b = I, ∂ė/∂ω_b = ẑ×r_b, the
+    negatives with r_a, ω_a for a; ė does not depend on x), moments ∂(r_b × f) =
+    ∂r_b × f + r_b × ∂f with ∂r_b/∂φ_b = ẑ×r_b (and −(∂r_a × f + r_a × ∂f) on a), power
+    ∂(c_e |ė|²) = 2 c_e ė·∂ė (:func:`_film_jacobian`).
+
     The work rows follow from W_motor' = τ ω_k, τ = I_k φ̈_d − Q_k, and
-    W_contact' = Σ F_N δ̇ + F_T v_T. The impact-velocity columns are left zero: those
+    W_contact' = Σ F_N δ̇ + F_T v_T (+ c_e |ė|²). The impact-velocity columns are left zero: those
     components are constant in the ODE, so the integrator never uses their columns (see
     ``n_active`` in :func:`jointplay._kernels.radau.radau_integrate`).
 
@@ -1071,6 +1172,7 @@ def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: n
     plaw = law_p.shape[0] // max(nc, 1)
     pfric = fric_p.shape[0] // max(nc, 1)
     power_row = 2 * n + 1
+    film = model.settings[S_FILM]
     rot = _rotations(q)
     de = np.empty(2)
     dv = np.empty(2)
@@ -1079,6 +1181,8 @@ def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: n
         a, b = joint_int[3 * j + 1], joint_int[3 * j + 2]
         (delta, delta_dot, v_t, length, _, _, nx, ny, slide,
          (rax, ray), (rbx, rby), wa, wb) = _contact_state(q, qd, rot, joint_int, joint_f, j, geom, c)  # fmt: skip
+        if film > 0.0:
+            _film_jacobian(out, film, qd, mass, a, b, rax, ray, rbx, rby, wa, wb)
         if not delta > 0.0:
             continue
         tx, ty = -ny, nx

@@ -358,20 +358,35 @@ def _merged(
 
 
 # --- the entry point --------------------------------------------------------------------------------
-def _check_sustained(method: str, runner: Any) -> None:
-    """The sustained-contact mode runs on the implicit lanes (the single engine's Radau
+def implicit_only_options(clearances: Sequence[ClearanceJoint]) -> list[str]:
+    """The settings of ``clearances`` that only the implicit lanes on the CPU integrate, by
+    their setting names: the sustained-contact mode (a capture speed) and film damping."""
+    options = []
+    if any(c.capture_speed > 0 for c in clearances):
+        options.append("sustained_contact")
+    if any(c.film_damping > 0 for c in clearances):
+        options.append("film_damping")
+    return options
+
+
+def _check_implicit_only(options: Sequence[str], method: str, runner: Any) -> None:
+    """The sustained-contact mode and film damping (``options``, setting names:
+    :func:`implicit_only_options`) run on the implicit lanes (the single engine's Radau
     integration and hooks) on the CPU backends only: refuse the rest, saying what to do."""
+    if not options:
+        return
+    named = " and ".join(f"{{{option}}}" for option in options)
     if method == "explicit":
         raise SettingError(
-            "the explicit lanes integrate compliant contacts only: the sustained-contact mode "
-            "({sustained_contact}) needs the implicit method; give method 'implicit' or "
-            "'auto', or turn the mode off"
+            "the explicit lanes integrate compliant contacts only (no sustained contact, no "
+            f"film damping): {named} needs the implicit method; give method 'implicit' or "
+            "'auto', or turn it off"
         )
     if runner.on_device or runner.kind == "cuda":
         raise SettingError(
-            "the GPU backends integrate compliant contacts only: the sustained-contact mode "
-            "({sustained_contact}) runs on the CPU backends (local, threads, processes, "
-            "dask); choose one, or turn the mode off"
+            "the GPU backends integrate compliant contacts only (no sustained contact, no "
+            f"film damping): {named} runs on the CPU backends (local, threads, processes, "
+            "dask); choose one, or turn it off"
         )
 
 
@@ -428,9 +443,7 @@ def simulate_batch(
     if method not in ("auto", *kb.METHODS):
         raise ConfigError(f"method must be auto, explicit or implicit, got {method!r}")
     runner = executor(_where(backend, workers, chunk_size, scheduler))
-    sustained = any(c.capture_speed > 0 for c in clearances)
-    if sustained:
-        _check_sustained(method, runner)
+    _check_implicit_only(implicit_only_options(clearances), method, runner)
     if runner.kind == "cuda":
         _cuda_kernel()  # fail early, before building
     elif runner.on_device:

@@ -124,7 +124,8 @@ def choose_method(
     Dormand–Prince 5(4), whose steps then follow the accuracy it is asked for. With samples,
     the stiffest combination of the sampled law parameters (each at its extremes) decides.
     A heuristic: both methods solve every set; the choice only decides which is faster.
-    The sustained-contact mode (a clearance joint with a capture speed) runs on Radau only.
+    The sustained-contact mode (a clearance joint with a capture speed) and film damping run
+    on Radau only.
     """
     solver = solver or SolverOptions()
     driver = mechanism.driver
@@ -136,6 +137,10 @@ def choose_method(
             "implicit: the sustained-contact mode runs on the Radau lanes only",
             math.nan,
             max_step,
+        )
+    if any(c.film_damping > 0 for c in clearances):
+        return MethodChoice(
+            "implicit", "implicit: film damping runs on the Radau lanes only", math.nan, max_step
         )
     spec = mechanism.template
     crank_pin = (

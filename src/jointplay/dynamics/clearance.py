@@ -110,6 +110,11 @@ class ClearanceJoint:
             |e| = c, its normal force a constraint multiplier, until that force turns
             tensile; 0 (the default): the compliant law throughout. Every clearance joint
             of one simulation takes the same value.
+        film_damping: the film damping c_e (N·s/m, docs/contact.md): a lubricant film's
+            squeeze damping lumped into −c_e ė on the journal's centre (ė: its velocity
+            relative to the bearing's centre) and +c_e ė on the bearing's, in contact or
+            not; 0 (the default): off. Every clearance joint of one simulation takes the
+            same value; not with the sustained-contact mode.
     """
 
     joint: str
@@ -119,9 +124,26 @@ class ClearanceJoint:
     friction: FrictionLaw | None = None
     stiffness_from: JointStiffness | None = None
     capture_speed: float = 0.0
+    film_damping: float = 0.0
 
     def __post_init__(self) -> None:
         where = f"clearance joint {self.joint!r}"
+        film = self.film_damping
+        if (
+            isinstance(film, bool)
+            or not isinstance(film, int | float)
+            or not (math.isfinite(film) and film >= 0)
+        ):
+            raise ConfigError(
+                f"{where}: film_damping must be a damping coefficient >= 0 N*s/m (0: no "
+                f"film), got {film!r}"
+            )
+        object.__setattr__(self, "film_damping", float(film))
+        if film > 0 and self.capture_speed > 0:
+            raise ConfigError(
+                f"{where}: film damping does not combine with the sustained-contact mode "
+                "(capture_speed > 0): use one of the two"
+            )
         speed = self.capture_speed
         if (
             isinstance(speed, bool)

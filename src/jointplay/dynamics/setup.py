@@ -275,6 +275,12 @@ class ContactModel:
     ``capture_speed`` (m/s, or text with a unit such as ``"0.1 mm/s"``; default
     :data:`DEFAULT_CAPTURE_SPEED`) is locked onto the bearing wall, its normal force a
     constraint multiplier, until that force turns tensile.
+
+    ``film_damping`` (off by default: ``None`` or 0) is the film damping c_e of every
+    clearance joint (N·s/m, or text with a unit such as ``"100 N*s/m"``; docs/contact.md
+    "Film damping (opt-in)"): a lubricant film's squeeze damping lumped into −c_e ė on the
+    journal's centre, ė its velocity relative to the bearing's centre, in contact or not.
+    Not with ``sustained_contact``.
     """
 
     settings: ContactSettings = dataclasses.field(default_factory=ContactSettings)
@@ -286,6 +292,7 @@ class ContactModel:
     record: Mapping[str, Any] | None = None
     sustained_contact: bool = False
     capture_speed: float | str = DEFAULT_CAPTURE_SPEED
+    film_damping: float | str | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.sustained_contact, bool):
@@ -305,6 +312,27 @@ class ContactModel:
                 got=self.capture_speed,
             )
         object.__setattr__(self, "capture_speed", speed)
+        if self.film_damping is not None:
+            film = (
+                _quantity(self.film_damping, "N*s/m", "film_damping")
+                if isinstance(self.film_damping, str)
+                else _real(self.film_damping, "film_damping")
+            )
+            if film < 0:
+                raise SettingError(
+                    "{film_damping} must be >= 0 N*s/m (0 or None: no film), got {got!r}",
+                    got=self.film_damping,
+                )
+            if film > 0 and self.sustained_contact:
+                raise SettingError(
+                    "{film_damping} does not combine with {sustained_contact}: use one of the two"
+                )
+            object.__setattr__(self, "film_damping", film)
+
+    @property
+    def film(self) -> float:
+        """The clearance joints' film damping c_e, N·s/m (0: off)."""
+        return float(self.film_damping or 0.0)
 
     @property
     def capture(self) -> float:
@@ -328,6 +356,8 @@ class ContactModel:
             clearance=clearance,
             law=self.law,
         )
+        if self.film > 0:
+            joints = [dataclasses.replace(joint, film_damping=self.film) for joint in joints]
         if not self.sustained_contact:
             return joints
         return [dataclasses.replace(joint, capture_speed=self.capture) for joint in joints]
@@ -347,6 +377,8 @@ class ContactModel:
         )
         if self.sustained_contact:
             text += f"; sustained contact (captured below {self.capture * 1e3:g} mm/s)"
+        if self.film > 0:
+            text += f"; film damping {self.film:g} N*s/m"
         settings = {k: v for k, v in vars(self.settings).items() if v is not None}
         described: dict[str, Any] = {
             "text": text,
@@ -357,6 +389,8 @@ class ContactModel:
         }
         if self.sustained_contact:
             described["capture_speed_m_s"] = self.capture
+        if self.film > 0:
+            described["film_damping_N_s_m"] = self.film
         return described
 
 

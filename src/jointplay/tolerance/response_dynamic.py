@@ -89,6 +89,9 @@ class DynamicResponses:
         capture_speed: the sustained-contact mode's capture speed of every clearance joint,
             m/s (0, the default: the mode is off; :class:`ContactModel`'s
             ``sustained_contact``). The batch engine then runs the implicit lanes.
+        film_damping: the film damping c_e of every clearance joint, N·s/m (0, the
+            default: off; :class:`ContactModel`'s ``film_damping``). The batch engine then
+            runs the implicit lanes.
     """
 
     mechanism: Mechanism
@@ -106,6 +109,7 @@ class DynamicResponses:
     chunk_size: int = 64
     stiffness_from: Mapping[str, JointStiffness] = field(default_factory=dict)
     capture_speed: float = 0.0
+    film_damping: float = 0.0
 
     #: Rough cost of one sample on one core (the conventional four-bar, one revolution), s:
     #: the execution backend starts worker processes only when they pay for themselves.
@@ -243,6 +247,7 @@ class DynamicResponses:
             if self.friction is None
             else {"name": self.friction.name, **fields_of(self.friction)},
             **({"capture_speed_m_s": self.capture_speed} if self.capture_speed > 0 else {}),
+            **({"film_damping_N_s_m": self.film_damping} if self.film_damping > 0 else {}),
             "start": self.start.mode,
             "settle_revolutions": self.settle,
             "revolutions": self.revolutions,
@@ -346,6 +351,7 @@ class DynamicResponses:
             friction=self.friction,
             stiffness_from=rule,
             capture_speed=self.capture_speed,
+            film_damping=self.film_damping,
         )
 
     def batch_samples(self, x: FloatArray) -> Any:
@@ -668,7 +674,7 @@ class PeakResponses(DynamicResponses):
 
 
 def contact_parts(mechanism: Mechanism, contact: ContactModel) -> dict[str, Any]:
-    """The ``law``, ``friction``, ``stiffness_from`` and ``capture_speed`` of
+    """The ``law``, ``friction``, ``stiffness_from``, ``capture_speed`` and ``film_damping`` of
     :class:`DynamicResponses` for the contact ``contact``: with a stiffness from the
     geometry, the law's stiffness and exponent are placeholders that every joint refits to
     its clearance (:meth:`DynamicResponses._joint`)."""
@@ -680,6 +686,7 @@ def contact_parts(mechanism: Mechanism, contact: ContactModel) -> dict[str, Any]
             "friction": contact.friction.build(),
             "stiffness_from": {},
             "capture_speed": contact.capture,
+            "film_damping": contact.film,
         }
     geometric = contact.settings.geometry_law is not None
     return {
@@ -691,6 +698,7 @@ def contact_parts(mechanism: Mechanism, contact: ContactModel) -> dict[str, Any]
             if (rule := joint_stiffness(mechanism, joint.name, contact.settings)) is not None
         },
         "capture_speed": contact.capture,
+        "film_damping": contact.film,
     }
 
 

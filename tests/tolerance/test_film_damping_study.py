@@ -1,0 +1,35 @@
+"""A dynamic tolerance study carries the film damping of its contact
+(:func:`jointplay.tolerance.responses.contact_parts`) to every sample's clearance joints,
+and runs it on the batch engine's implicit lanes."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from jointplay.dynamics.setup import ContactModel
+from jointplay.model.mechanism import Mechanism
+from jointplay.tolerance.execution import Backend
+from jointplay.tolerance.responses import contact_parts, dynamic_model
+from jointplay.tolerance.spec import ToleranceSpec
+
+
+def test_a_dynamic_study_runs_the_film_on_the_implicit_lanes(paper_fourbar: Mechanism) -> None:
+    spec = ToleranceSpec.from_mechanism(paper_fourbar)
+    models = {}
+    for film in (None, 100.0):
+        parts = contact_parts(paper_fourbar, ContactModel(film_damping=film))
+        assert parts["film_damping"] == (film or 0.0)
+        model = dynamic_model(paper_fourbar, spec.names, revolutions=0.5, settle=0, **parts)
+        models[film] = dataclasses.replace(model, backend=Backend("local"))
+    on = models[100.0]
+    assert {j.film_damping for j in on._nominal_joints(None)} == {100.0}
+    x = np.repeat(spec.nominal[None, :], 2, axis=0)
+    assert {j.film_damping for j in on._nominal_joints(None)} == {100.0}
+    assert on.method_choice().method == "implicit"
+    assert on.describe()["film_damping_N_s_m"] == 100.0
+    assert "film_damping_N_s_m" not in models[None].describe()
+    with_film, without = on.evaluate(x), models[None].evaluate(x)
+    assert with_film.ok.all() and without.ok.all()
+    assert not np.array_equal(with_film.values, without.values)  # the film took effect
