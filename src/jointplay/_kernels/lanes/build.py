@@ -25,7 +25,9 @@ import numpy.typing as npt
 
 from jointplay._kernels.lanes import source, source_radau
 
-__all__ = ["FUNCTIONS", "IMPLICIT_FUNCTIONS", "all_clear", "build", "lane_layout"]
+__all__ = [
+    "FUNCTIONS", "IMPLICIT_FUNCTIONS", "all_clear", "build", "implicit_refusal", "lane_layout",
+]  # fmt: skip
 
 #: The source's functions, compiled for every target.
 FUNCTIONS = (
@@ -133,3 +135,20 @@ def all_clear(ipar: npt.NDArray[np.int64]) -> bool:
     """Whether every joint of the model packed in ``ipar`` is a clearance joint (the driver
     the only constraint; the paper's mechanisms): the GPU lanes' mechanisms so far."""
     return int(lane_layout(ipar)[source.LY_NIDEAL]) == 0
+
+
+def implicit_refusal(ipar: npt.NDArray[np.int64], rpar: npt.NDArray[np.float64]) -> str | None:
+    """Why the implicit lane of the single source
+    (:func:`jointplay._kernels.lanes.source_radau.implicit_lane`) cannot run these lanes, or
+    ``None``: it covers mechanisms whose joints are all clear (closed-form Jacobian) outside
+    the sustained-contact mode."""
+    lay = lane_layout(ipar)
+    if int(lay[source.LY_NIDEAL]) > 0:
+        return (
+            "the implicit lane on the single source runs mechanisms whose joints are all "
+            "clearance joints (the Jacobian with ideal joints is differenced: not built yet)"
+        )
+    capture = np.atleast_2d(rpar)[:, int(lay[source.LY_SETTINGS]) + source_radau.S_CAPTURE]
+    if np.any(capture > 0.0):
+        return "the implicit lane on the single source has no sustained-contact mode yet"
+    return None

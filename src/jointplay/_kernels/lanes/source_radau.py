@@ -121,6 +121,8 @@ RP = (
     1.0 / 3.0, -8.0 / 3.0, 10.0 / 3.0,
 )  # fmt: skip
 NEWTON_MAXITER = 6
+#: eom.S_CAPTURE: the settings' capture speed (the sustained-contact mode, not handled here).
+S_CAPTURE = 3
 R_MIN_FACTOR, R_MAX_FACTOR = 0.2, 10.0
 EPS = 2.220446049250313e-16
 #: eom._LAW_STEP and eom._RATE_FLOOR: the law slopes' relative step and the rates' floor.
