@@ -15,6 +15,9 @@ implementations of one algorithm taking the same steps; measured here: equal bit
 libdevice's sin/cos/pow differ from libm in the last bit: that bound, or the contract for a
 lane where round-off tips a step's acceptance, applies there.
 
+The implicit (Radau IIA) kernel likewise: two short lanes of the stiff physical default
+against the CPU compilation of the same source (the same steps; peaks to round-off).
+
 Interrupts: a child process running a launch on the simulator with the flags of
 ``interrupts_watched`` is sent SIGINT; the launch must stop within a bound, not run on.
 """
@@ -60,7 +63,8 @@ args = np.load(sys.argv[1], allow_pickle=False)
 timings = {}
 out = lanes_cuda.run_batch(
     args["ipar"], args["rpar"], args["y0"], args["t_settle"], args["t_end"], args["max_step"],
-    float(args["rtol"]), args["atol"], int(args["max_steps"]), "explicit", timings=timings,
+    float(args["rtol"]), args["atol"], int(args["max_steps"]),
+    str(args["method"]) if "method" in args.files else "explicit", timings=timings,
 )
 np.savez(sys.argv[2], **out._asdict())
 """
@@ -167,11 +171,68 @@ def test_without_a_gpu_the_backend_says_what_is_missing(paper_fourbar: Mechanism
         lanes_cuda.run_batch(*args, 1e-6, p["atol"], 200_000, "explicit")
 
 
+def test_the_simulated_gpu_implicit_lanes_are_the_cpu_lanes(
+    paper_fourbar: Mechanism, tmp_path: Path
+) -> None:
+    """The implicit (Radau IIA) kernel on the simulator against the CPU compilation of the
+    same source (:mod:`jointplay._kernels.lanes.source_radau`, itself equal to the production
+    implicit lanes: ``test_lanes_radau.py``): the stiff physical default contact, 0.02 of a
+    revolution from the steady start (the contacts' first transient: ~530 steps, ~110
+    rejections), the window opening inside a step; and a lane that fails at once. Measured:
+    the same steps, rejections and evaluations, statistics equal, peaks ≤ 1.8e-12 relative
+    (the simulator's Python ``**`` in the Hermite interpolant is not Numba's)."""
+    from jointplay._kernels.lanes import build, cpu
+    from jointplay.dynamics.setup import ContactModel
+
+    system = build_system(paper_fourbar, ContactModel().joints(paper_fourbar))
+    rpar, ipar = eom.pack(system.model)
+    y0 = initial_state(system, Start("steady"))
+    n = system.n_coordinates
+    atol = np.concatenate([np.full(n, 1e-10), np.full(n, 1e-6), np.full(2, 1e-6), np.ones(4)])
+    period = paper_fourbar.driver.period
+    ys = np.tile(y0, (2, 1))
+    ys[1, 0] = np.nan
+    settle = np.array([0.006 * period, 0.0])
+    problem = {
+        "ipar": ipar, "rpar": np.tile(rpar, (2, 1)), "y0": ys, "t_settle": settle,
+        "t_end": settle + 0.02 * period, "max_step": np.full(2, period / 360.0),
+        "rtol": np.array(1e-6), "atol": atol, "max_steps": np.array(200_000),
+        "method": np.array("implicit"),
+    }  # fmt: skip
+    gpu = _on_the_simulator(problem, tmp_path)
+    peaks = np.full((2, 11), np.nan)
+    stats = np.full((2, 10), np.nan)
+    status = np.full(2, kc.STATUS_RUNNING, dtype=np.int64)
+    t_reached = np.zeros(2)
+    counts = np.zeros((2, 3), dtype=np.int64)
+    cpu.implicit_lanes(
+        ipar, problem["rpar"], build.lane_layout(ipar), ys, settle, problem["t_end"],
+        problem["max_step"], 1e-6, atol, 200_000, np.zeros(1, dtype=np.uint8), peaks, stats,
+        status, t_reached, counts,
+    )  # fmt: skip
+    assert list(status) == [kc.STATUS_SUCCESS, kc.STATUS_NON_FINITE]
+    assert counts[0, 0] > 300 and counts[0, 1] > 50  # the contacts' transient, not a stub
+    np.testing.assert_array_equal(gpu["status"], status)
+    for column, name in enumerate(("n_steps", "n_rejected", "n_rhs")):
+        np.testing.assert_array_equal(gpu[name], counts[:, column], err_msg=name)
+    np.testing.assert_allclose(gpu["peaks"][0], peaks[0], rtol=SAME_ALGORITHM_RTOL, atol=0.0)
+    np.testing.assert_allclose(gpu["stats"][0], stats[0], rtol=SAME_ALGORITHM_RTOL, atol=0.0)
+    np.testing.assert_array_equal(gpu["t_reached"], t_reached)
+    assert np.isnan(gpu["peaks"][1]).all() and np.isnan(gpu["stats"][1]).all()
+
+
 def test_what_the_gpu_lanes_do_not_cover_yet_is_a_clear_error(paper_fourbar: Mechanism):
     p = _problem(paper_fourbar)
     args = [p[k] for k in ("ipar", "rpar", "y0", "t_settle", "t_end", "max_step")]
-    with pytest.raises(ConfigError, match="explicit' only"):
-        lanes_cuda.run_batch(*args, 1e-6, p["atol"], 200_000, "implicit")
+    with pytest.raises(ConfigError, match="methods are"):
+        lanes_cuda.run_batch(*args, 1e-6, p["atol"], 200_000, "rodas")
+    system = build_system(paper_fourbar, [ClearanceJoint("A", 11.75e-6, 0.005, DEFAULT_IMPACT)])
+    rpar, ipar = eom.pack(system.model)
+    with pytest.raises(ConfigError, match="all clearance joints"):
+        lanes_cuda.run_batch(
+            ipar, rpar, initial_state(system, Start("steady")), 0.0, 0.1, 1e-3, 1e-6,
+            np.ones(21), 200_000, "implicit",
+        )  # fmt: skip
     with pytest.raises(ConfigError, match="at most 8 clearance joints"):
         ipar = p["ipar"].copy()
         ipar[eom.L_CLEAR_JOINT] = 9

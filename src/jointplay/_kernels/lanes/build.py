@@ -88,7 +88,10 @@ def build(
             f"no function of the lane source is called {sorted(set(chosen) - set(FUNCTIONS))}"
         )
     functions = [
-        (name, chosen.get(name, getattr(source_radau if name in IMPLICIT_FUNCTIONS else source, name)))
+        (
+            name,
+            chosen.get(name, getattr(source_radau if name in IMPLICIT_FUNCTIONS else source, name)),
+        )
         for name in FUNCTIONS
     ]
     for name, original in functions:
