@@ -270,6 +270,38 @@ def test_the_cuda_backend_runs_the_batch_engine_on_the_simulator(tmp_path: Path)
     np.testing.assert_allclose(cuda, local, rtol=SAME_ALGORITHM_RTOL, atol=0.0)
 
 
+_ENGINE_IMPLICIT_SIDE = """
+import sys
+import numpy as np
+from jointplay.dynamics.batch import BatchSamples, simulate_batch
+from jointplay.dynamics.setup import ContactModel
+from jointplay.io.config import load_preset
+
+mechanism = load_preset("paper-fourbar")
+joints = ContactModel().joints(mechanism)
+samples = BatchSamples(clearances={j: np.array([10e-6, 14e-6]) for j in ("O2", "A", "B", "O4")})
+for backend in ("cuda", "local"):
+    result = simulate_batch(mechanism, joints, samples, backend=backend, method="implicit",
+                            settle=0, revolutions=0.01)
+    assert result.ok.all(), result.backend
+    assert result.backend == backend
+    np.save(f"{sys.argv[1]}/{backend}.npy", result.peaks.to_numpy())
+"""
+
+
+def test_the_cuda_backend_runs_the_implicit_method_on_the_simulator(tmp_path: Path) -> None:
+    """``simulate_batch(backend="cuda", method="implicit")`` with the stiff physical default,
+    two samples of 0.01 of a revolution, on the simulator: the implicit kernel against the
+    CPU backend's production implicit lanes (bound as above; measured ≤ 7.1e-11 relative:
+    the simulator's Python arithmetic in the interpolant, as in the test above)."""
+    env = {**os.environ, "NUMBA_ENABLE_CUDASIM": "1"}
+    subprocess.run([sys.executable, "-c", _ENGINE_IMPLICIT_SIDE, str(tmp_path)], env=env,
+                   check=True, timeout=SIMULATOR_TIMEOUT_S)  # fmt: skip
+    cuda, local = np.load(tmp_path / "cuda.npy"), np.load(tmp_path / "local.npy")
+    assert cuda.shape == local.shape == (2, 9) and np.isfinite(local).all()
+    np.testing.assert_allclose(cuda, local, rtol=SAME_ALGORITHM_RTOL, atol=0.0)
+
+
 def test_the_cuda_backend_without_a_gpu_says_so_before_building(
     paper_fourbar: Mechanism,
 ) -> None:
