@@ -41,7 +41,8 @@ FUNCTIONS = (
     "refine_peaks", "open_window", "accumulate", "close_window", "explicit_lane",
     *(
         "pmin", "pmax", "cdiv", "lu_real", "lu_complex", "lu_solve_real", "lu_solve_complex",
-        "law_slopes", "arm", "jacobian_clear", "factor_newton", "solve_real", "solve_complex",
+        "law_slopes", "arm", "jacobian_clear", "column_difference", "jacobian_differences",
+        "jacobian", "factor_newton", "solve_real", "solve_complex",
         "stage_norm", "rms", "mat3", "predict", "initial_step", "collocation", "hermite",
         "implicit_lane",
     ),
@@ -143,14 +144,8 @@ def all_clear(ipar: npt.NDArray[np.int64]) -> bool:
 def implicit_refusal(ipar: npt.NDArray[np.int64], rpar: npt.NDArray[np.float64]) -> str | None:
     """Why the implicit lane of the single source
     (:func:`jointplay._kernels.lanes.source_radau.implicit_lane`) cannot run these lanes, or
-    ``None``: it covers mechanisms whose joints are all clear (closed-form Jacobian) outside
-    the sustained-contact mode."""
+    ``None``: it covers every mechanism outside the sustained-contact mode."""
     lay = lane_layout(ipar)
-    if int(lay[source.LY_NIDEAL]) > 0:
-        return (
-            "the implicit lane on the single source runs mechanisms whose joints are all "
-            "clearance joints (the Jacobian with ideal joints is differenced: not built yet)"
-        )
     capture = np.atleast_2d(rpar)[:, int(lay[source.LY_SETTINGS]) + source_radau.S_CAPTURE]
     if np.any(capture > 0.0):
         return "the implicit lane on the single source has no sustained-contact mode yet"

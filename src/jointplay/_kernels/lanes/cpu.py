@@ -112,7 +112,7 @@ def _one_implicit(
     n_q = peaks.shape[1]
     nc = max(lay[LY_NC], 1)
     mask = np.empty(n_q, dtype=np.int64)
-    vec = np.empty((15, size))
+    vec = np.empty((16, size))
     small = np.empty((3, n))
     stages = np.empty((5, 3, size))
     jac = np.empty((size - n, 2 * n))
@@ -131,7 +131,7 @@ def _one_implicit(
         ipar, rpar[lane], lay, y0[lane], t_settle[lane], t_end[lane], max_step[lane], rtol,
         atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask,
         vec[0], vec[1], vec[2], vec[3], vec[4], vec[5], vec[6], vec[7], vec[8], vec[9],
-        vec[10], vec[11], vec[12], vec[13], vec[14], small[0], small[1], small[2],
+        vec[10], vec[11], vec[12], vec[13], vec[14], vec[15], small[0], small[1], small[2],
         stages[0], stages[1], stages[2], stages[3], stages[4], jac, mats[0], pivots[0],
         mats[1], mats[2], pivots[1], q[0], q[1], samples, pen[0], pen[1],
         records[0], records[1], records[2], phi_q, schur, lam, scratch,
@@ -146,8 +146,8 @@ def implicit_lanes(
     peaks, stats, status, t_reached, counts,
 ):  # fmt: skip
     """Every lane of the implicit method on the single source, one after the other
-    (arguments and outputs: :func:`explicit_lanes`; every joint must be clear:
-    :func:`jointplay._kernels.lanes.build.all_clear`)."""
+    (arguments and outputs: :func:`explicit_lanes`; not in the sustained-contact mode:
+    :func:`jointplay._kernels.lanes.build.implicit_refusal`)."""
     for lane in range(y0.shape[0]):
         _one_implicit(
             ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,

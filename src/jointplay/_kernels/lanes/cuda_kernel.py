@@ -129,7 +129,7 @@ def explicit_kernel(
 
 
 _implicit_lane = _GPU["implicit_lane"]
-_VECTORS = 15
+_VECTORS = 16
 #: Columns of the Jacobian block the Newton systems read: positions and velocities.
 _JAC_COLUMNS = 2 * MAX_COORDS
 
@@ -176,7 +176,7 @@ def implicit_kernel(
         ipar, rpar[lane], lay, y0[lane], t_settle[lane], t_end[lane], max_step[lane], rtol,
         atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask,
         v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9], v[10], v[11], v[12],
-        v[13], v[14], small[0], small[1], small[2], z, w, fst, dw, cq, jac, a_re, piv_re,
+        v[13], v[14], v[15], small[0], small[1], small[2], z, w, fst, dw, cq, jac, a_re, piv_re,
         c_re, c_im, piv_c, qa, qb, samples, pen, pen_open, record, record_new, record_mid,
         phi_q, schur, lam, scratch,
     )  # fmt: skip

@@ -20,10 +20,10 @@ small fixed-size arrays: the LU with partial pivoting of :mod:`jointplay._kernel
 and CPython's quotient, :func:`cdiv`); so that the CPU compilation takes the steps of the
 production lane.
 
-Scope: every joint a clearance joint (the paper's mechanisms: the driver the only
-constraint), where the Jacobian has the closed form of :func:`eom.jacobian_state`
-(:func:`jacobian_clear`); ideal joints (which need finite differences) and the
-sustained-contact mode (locked joints) are refused by the drivers, not handled here.
+The Jacobian is the closed form of :func:`eom.jacobian_state` (:func:`jacobian_clear`) when
+every joint is clear (the paper's mechanisms: the driver the only constraint), else SciPy's
+finite differences as the Radau kernel takes them (:func:`jacobian_differences`). The
+sustained-contact mode (locked joints) is refused by the drivers, not handled here.
 
 Where the production lane records every step and reduces the trajectory afterwards
 (:func:`jointplay._kernels.batch._trajectory_reduce`), this lane reduces each accepted step
@@ -63,6 +63,7 @@ from jointplay._kernels.lanes.source import (
     LY_MASS,
     LY_N,
     LY_NC,
+    LY_NIDEAL,
     LY_NQ,
     LY_PFRIC,
     LY_PLAW,
@@ -125,6 +126,14 @@ NEWTON_MAXITER = 6
 S_CAPTURE = 3
 R_MIN_FACTOR, R_MAX_FACTOR = 0.2, 10.0
 EPS = 2.220446049250313e-16
+#: SciPy's num_jac constants (:mod:`jointplay._kernels.common`: NUM_JAC_*).
+NUM_JAC_DIFF_REJECT = EPS**0.875
+NUM_JAC_DIFF_SMALL = EPS**0.75
+NUM_JAC_DIFF_BIG = EPS**0.25
+NUM_JAC_MIN_FACTOR = 1e3 * EPS
+NUM_JAC_FACTOR_INCREASE = 10.0
+NUM_JAC_FACTOR_DECREASE = 0.1
+NUM_JAC_MAX_FACTOR = 1.0
 #: eom._LAW_STEP and eom._RATE_FLOOR: the law slopes' relative step and the rates' floor.
 LAW_STEP = 1.4901161193847656e-08
 RATE_FLOOR = 1e-3
@@ -443,6 +452,81 @@ def jacobian_clear(t, y, rp, ip, lay, jac, force, record):
         jac[n, n + k] += torque
 
 
+def column_difference(f, f_col, diff, size):
+    """``diff = f_col − f``; returns its largest |entry| (the first) and the scale of that
+    entry, max(|f|, |f_col|) there (:func:`common._column_difference`)."""
+    for i in range(size):
+        diff[i] = f_col[i] - f[i]
+    imax = 0
+    vmax = abs(diff[0])
+    for i in range(1, size):
+        v = abs(diff[i])
+        if v > vmax:
+            vmax = v
+            imax = i
+    return vmax, max(abs(f[imax]), abs(f_col[imax]))
+
+
+def jacobian_differences(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, diff,
+                         diff_new, record, phi_q, schur, lam):  # fmt: skip
+    """The columns 0 … 2n − 1 of ∂ẏ/∂y by SciPy's ``num_jac`` (:func:`common.num_jac`: forward
+    differences with adaptive relative steps ``factor`` (S, kept from call to call), a column
+    drowned in round-off retried with a 10x step), rows n … S − 1 into ``jac`` as
+    :func:`jacobian_clear` writes them: the Jacobian of a mechanism with ideal joints, as
+    the Radau kernel differences it there. ``ytmp``, ``f_col``, ``diff``, ``diff_new`` (S):
+    work. Its evaluations of f are not counted (as SciPy's ``njev``)."""
+    n = lay[LY_N]
+    size = lay[LY_SIZE]
+    for i in range(size):
+        ytmp[i] = y[i]
+    for j in range(2 * n):
+        f_sign = 1.0 if f[j] >= 0 else -1.0
+        y_scale = f_sign * max(atol[j], abs(y[j]))
+        h = (y[j] + factor[j] * y_scale) - y[j]
+        while h == 0:
+            factor[j] *= 10.0
+            h = (y[j] + factor[j] * y_scale) - y[j]
+        ytmp[j] = y[j] + h
+        rhs(t, ytmp, rp, ip, lay, f_col, record, False, phi_q, schur, lam)
+        ytmp[j] = y[j]
+        max_diff, scale = column_difference(f, f_col, diff, size)
+        if not max_diff < NUM_JAC_DIFF_REJECT * scale:
+            pass
+        else:
+            new_factor = NUM_JAC_FACTOR_INCREASE * factor[j]
+            h_new = (y[j] + new_factor * y_scale) - y[j]
+            ytmp[j] = y[j] + h_new
+            rhs(t, ytmp, rp, ip, lay, f_col, record, False, phi_q, schur, lam)
+            ytmp[j] = y[j]
+            max_diff_new, scale_new = column_difference(f, f_col, diff_new, size)
+            if max_diff * scale_new < max_diff_new * scale:
+                factor[j] = new_factor
+                h = h_new
+                for i in range(size):
+                    diff[i] = diff_new[i]
+                scale = scale_new
+                max_diff = max_diff_new
+        for i in range(n, size):
+            jac[i - n, j] = diff[i] / h
+        if max_diff < NUM_JAC_DIFF_SMALL * scale:
+            factor[j] *= NUM_JAC_FACTOR_INCREASE
+        elif max_diff > NUM_JAC_DIFF_BIG * scale:
+            factor[j] *= NUM_JAC_FACTOR_DECREASE
+        factor[j] = min(max(factor[j], NUM_JAC_MIN_FACTOR), NUM_JAC_MAX_FACTOR)
+
+
+def jacobian(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, diff, diff_new, record,
+             phi_q, schur, lam):  # fmt: skip
+    """The Radau kernel's Jacobian as the batch engine asks for it: the closed form of
+    :func:`eom.jacobian_state` (:func:`jacobian_clear`) when every joint is clear, else
+    SciPy's differences (:func:`jacobian_differences`)."""
+    if lay[LY_NIDEAL] == 0:
+        jacobian_clear(t, y, rp, ip, lay, jac, f_col, record)
+    else:
+        jacobian_differences(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, diff,
+                             diff_new, record, phi_q, schur, lam)  # fmt: skip
+
+
 # --- the Newton systems (jointplay._kernels.radau, n_second = n, n_active = 2n) --------------
 def factor_newton(jac, h, a_re, piv_re, c_re, c_im, piv_c, n):
     """LU factors of the reduced Newton matrices MU_REAL/h·I − J and MU_COMPLEX/h·I − J
@@ -690,7 +774,7 @@ def hermite(t0, y0, f0, t1, y1, f1, n, size, tau, out):
 def implicit_lane(
     ip, rp, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
     peaks, stats, counts, mask, ya, yb, yc, fa, fb, y_open, f_open, y_mid, f_mid, ytmp,
-    scale, escale, xr, xcr, xci, wk, wkr, wki, z, w, fst, dw, cq, jac, a_re, piv_re, c_re,
+    scale, escale, xr, xcr, xci, jfactor, wk, wkr, wki, z, w, fst, dw, cq, jac, a_re, piv_re, c_re,
     c_im, piv_c, qa, qb, samples, pen, pen_open, record, record_new, record_mid,
     phi_q, schur, lam, scratch,
 ):  # fmt: skip
@@ -700,12 +784,12 @@ def implicit_lane(
 
     Work arrays (the caller's, any contents): ``mask`` (P, int); ``ya``, ``yb``, ``yc``,
     ``fa``, ``fb``, ``y_open``, ``f_open``, ``y_mid``, ``f_mid``, ``ytmp``, ``scale``,
-    ``escale``, ``xr``, ``xcr``, ``xci`` (S); ``wk``, ``wkr``, ``wki`` (n = 3 nb); ``z``,
+    ``escale``, ``xr``, ``xcr``, ``xci``, ``jfactor`` (S); ``wk``, ``wkr``, ``wki`` (n = 3 nb); ``z``,
     ``w``, ``fst``, ``dw``, ``cq`` (3, S); ``jac`` (S − n, 2n); ``a_re``, ``c_re``, ``c_im``
     (n, n); ``piv_re``, ``piv_c`` (n, int); ``qa``, ``qb`` (P); ``samples`` (9, P); ``pen``,
     ``pen_open`` (nc); ``record``, ``record_new``, ``record_mid`` (7 nc); ``phi_q``,
-    ``schur``, ``lam``, ``scratch``: the target's :func:`project`'s. Every joint must be a
-    clearance joint (the module docstring).
+    ``schur``, ``lam``, ``scratch``: the target's :func:`project`'s (and the constrained
+    right-hand side's). Not in the sustained-contact mode (the module docstring).
 
     Returns:
         ``(status, t_reached)``: a ``STATUS_*`` code and the last accepted time, s.
@@ -745,7 +829,10 @@ def implicit_lane(
     h_abs_old_state = math.nan
     error_norm_old_state = math.nan
     newton_tol = max(10.0 * EPS / rtol, min(0.03, rtol**0.5))
-    jacobian_clear(t, y, rp, ip, lay, jac, f_mid, record_mid)
+    for j in range(size):
+        jfactor[j] = EPS**0.5
+    jacobian(t, y, f, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid, xr, xcr, record_mid,
+             phi_q, schur, lam)  # fmt: skip
     current_jac = True
     lu_valid = False
     has_sol = False
@@ -809,7 +896,8 @@ def implicit_lane(
                 if not converged:
                     if current_jac:
                         break
-                    jacobian_clear(t, y, rp, ip, lay, jac, f_mid, record_mid)
+                    jacobian(t, y, f, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid, xr, xcr,
+                             record_mid, phi_q, schur, lam)  # fmt: skip
                     current_jac = True
                     lu_valid = False
             if not converged:
@@ -877,7 +965,8 @@ def implicit_lane(
             status = STATUS_NON_FINITE
             break
         if recompute_jac:
-            jacobian_clear(t_new, y_new, rp, ip, lay, jac, f_mid, record_mid)
+            jacobian(t_new, y_new, f_new, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid, xr,
+                     xcr, record_mid, phi_q, schur, lam)  # fmt: skip
             current_jac = True
         else:
             current_jac = False
