@@ -126,6 +126,10 @@ def _assert_same(new: dict[str, Any], old: kb.BatchKernelOutput) -> None:
         )
 
 
+def test_the_cpu_implicit_lane_is_the_sources_compilation() -> None:
+    assert cpu.implicit_lane.py_func.__code__ is source_radau.implicit_lane.__code__
+
+
 def test_the_sources_method_constants_are_the_radau_kernels() -> None:
     np.testing.assert_array_equal([source_radau.RC1, source_radau.RC2, source_radau.RC3], radau.C)
     np.testing.assert_array_equal([source_radau.RE1, source_radau.RE2, source_radau.RE3], radau.E)

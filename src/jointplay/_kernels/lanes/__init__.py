@@ -4,7 +4,7 @@
   ideal joints, driver) and the explicit lane, in the subset of Python both targets compile;
 - :mod:`~jointplay._kernels.lanes.source_radau`: the implicit lane (Radau IIA, the
   production Radau kernel's algorithm and hooks, with a small LU per lane) in the same
-  subset, for mechanisms whose joints are all clear;
+  subset (every mechanism, outside the sustained-contact mode);
 - :mod:`~jointplay._kernels.lanes.build`: compiles that source for one target;
 - :mod:`~jointplay._kernels.lanes.cpu`: the CPU compilation and its batch drivers
   (what :func:`jointplay._kernels.batch.run_batch` runs for ``method="explicit"``; its

@@ -22,10 +22,9 @@ refreshes every :data:`FLAG_COPY_S`). Each thread reads them once per step, vola
 (:mod:`.cuda_kernel`), so every lane still running ends with ``STATUS_INTERRUPTED`` within
 one step of the signal and finished lanes keep their results, as on the CPU.
 
-What it does not do yet: the implicit method for mechanisms with ideal joints (their
-Jacobian is differenced on the CPU) or in the sustained-contact mode
-(:func:`~jointplay._kernels.lanes.build.implicit_refusal` says which), and mechanisms
-larger than the per-thread arrays (:mod:`.limits`).
+What it does not do yet: the sustained-contact mode (locked joints; implicit only, as on the
+CPU: :func:`~jointplay._kernels.lanes.build.implicit_refusal`), and mechanisms larger than
+the per-thread arrays (:mod:`.limits`).
 
 numba-cuda is imported by this module only, when a batch is run; without it, or without a
 GPU, :func:`run_batch` raises :class:`~jointplay.errors.ConfigError` saying what to install.
@@ -61,8 +60,8 @@ MAP_HOST_FLAGS = True
 FLAG_COPY_S = 0.01
 #: How often the host looks whether a launch has finished, s.
 LAUNCH_POLL_S = 0.001
-#: The methods of :func:`run_batch`: both, the implicit one for all-clear mechanisms outside
-#: the sustained-contact mode (:func:`~jointplay._kernels.lanes.build.implicit_refusal`).
+#: The methods of :func:`run_batch`: both, the implicit one outside the sustained-contact
+#: mode (:func:`~jointplay._kernels.lanes.build.implicit_refusal`).
 METHODS = ("explicit", "implicit")
 
 
@@ -127,8 +126,7 @@ def run_batch(
         ipar, rpar, y0, t_settle, t_end, max_step, rtol, atol, max_steps: as
             :func:`jointplay._kernels.batch.run_batch` (s, SI units).
         method: ``"explicit"`` (Dormand–Prince 5(4)) or ``"implicit"`` (Radau IIA,
-            :mod:`~jointplay._kernels.lanes.source_radau`: mechanisms whose joints are all
-            clear, outside the sustained-contact mode).
+            :mod:`~jointplay._kernels.lanes.source_radau`; not the sustained-contact mode).
         chunk_size: unused (one launch runs every lane given); accepted for the executor's
             device interface.
         timings: if given, receives ``compile_s`` (numba-cuda's compilation or cache load,
@@ -138,8 +136,9 @@ def run_batch(
             threads during the launch (:func:`_device_flags`); ``None``: not watched.
 
     Raises:
-        ConfigError: numba-cuda or a GPU is missing, the method (or, implicit, the mechanism)
-            is one the GPU lanes do not cover yet, the mechanism exceeds their arrays, or an input is malformed.
+        ConfigError: numba-cuda or a GPU is missing, the method (or, implicit, the
+            sustained-contact mode) is one the GPU lanes do not cover yet, the mechanism
+            exceeds their arrays, or an input is malformed.
     """
     del chunk_size
     if method not in METHODS:
