@@ -19,7 +19,8 @@ The implicit (Radau IIA) kernel likewise: two short lanes of the stiff physical 
 against the CPU compilation of the same source (the same steps; peaks to round-off).
 
 Interrupts: a child process running a launch on the simulator with the flags of
-``interrupts_watched`` is sent SIGINT; the launch must stop within a bound, not run on.
+``interrupts_watched`` is sent SIGINT; the launch must stop within a bound, not run on
+(the explicit kernel, and the implicit one on the mapped flags).
 """
 
 from __future__ import annotations
@@ -368,7 +369,7 @@ try:
         out = lanes_cuda.run_batch(
             args["ipar"], args["rpar"], args["y0"], args["t_settle"], args["t_end"],
             args["max_step"], float(args["rtol"]), args["atol"], int(args["max_steps"]),
-            "explicit", interrupt=flags,
+            sys.argv[4], interrupt=flags,
         )
 except KeyboardInterrupt:
     raised = True
@@ -382,16 +383,19 @@ SIGNAL_AFTER_S = 3.0
 RETURN_BOUND_S = 15.0
 
 
-@pytest.mark.parametrize("flags", ["mapped", "copied"])
+@pytest.mark.parametrize(
+    ("flags", "method"), [("mapped", "explicit"), ("copied", "explicit"), ("mapped", "implicit")]
+)
 def test_ctrl_c_stops_the_simulated_gpu_lanes_inside_the_launch(
-    paper_fourbar: Mechanism, tmp_path: Path, flags: str
+    paper_fourbar: Mechanism, tmp_path: Path, flags: str, method: str
 ) -> None:
     """SIGINT to a process running the kernel (on the simulator) with the flags of
     ``interrupts_watched``: the launch returns at once, the lanes still running end
     ``STATUS_INTERRUPTED`` after some steps (they were stopped inside the launch, not before
     it), the lane that had finished keeps the CPU's result, and KeyboardInterrupt reaches the
     caller. ``mapped``: the flags' own page is the kernel's; ``copied``: the fallback, a copy
-    that a host thread refreshes."""
+    that a host thread refreshes. ``implicit``: the Radau kernel, which polls the same flags
+    once per step."""
     problem = _problem(paper_fourbar)
     period = paper_fourbar.driver.period
     problem["y0"][2] = problem["y0"][0]
@@ -400,7 +404,7 @@ def test_ctrl_c_stops_the_simulated_gpu_lanes_inside_the_launch(
     np.savez(tmp_path / "in.npz", **problem)
     env = {**os.environ, "NUMBA_ENABLE_CUDASIM": "1"}
     command = [sys.executable, "-c", _INTERRUPTED_SIDE, str(tmp_path / "in.npz"),
-               str(tmp_path / "out.npz"), flags]  # fmt: skip
+               str(tmp_path / "out.npz"), flags, method]  # fmt: skip
     with subprocess.Popen(command, env=env, stdout=subprocess.PIPE, text=True) as child:
         try:
             assert child.stdout is not None and child.stdout.readline().strip() == "launching"
@@ -420,7 +424,7 @@ def test_ctrl_c_stops_the_simulated_gpu_lanes_inside_the_launch(
     cpu = kb.run_batch(
         problem["ipar"], problem["rpar"][:1], problem["y0"][:1], problem["t_settle"][:1],
         problem["t_end"][:1], problem["max_step"][:1], 1e-6, problem["atol"], 200_000,
-        "explicit", parallel=False,
+        method, parallel=False,
     )  # fmt: skip
     for name in ("status", "n_steps", "n_rejected", "n_rhs"):
         np.testing.assert_array_equal(gpu[name][:1], getattr(cpu, name), err_msg=name)
