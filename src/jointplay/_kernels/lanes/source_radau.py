@@ -23,7 +23,9 @@ production lane.
 The Jacobian is the closed form of :func:`eom.jacobian_state` (:func:`jacobian_clear`) when
 every joint is clear (the paper's mechanisms: the driver the only constraint), else SciPy's
 finite differences as the Radau kernel takes them (:func:`jacobian_differences`). The
-sustained-contact mode (locked joints) is refused by the drivers, not handled here.
+sustained-contact mode (locked joints) is not handled here: the GPU's ``run_batch`` refuses
+it (:func:`jointplay._kernels.lanes.build.implicit_refusal`); the CPU's drivers, used by
+tests only, expect their callers to.
 
 Where the production lane records every step and reduces the trajectory afterwards
 (:func:`jointplay._kernels.batch._trajectory_reduce`), this lane reduces each accepted step
