@@ -276,6 +276,10 @@ def test_what_the_gpu_lanes_do_not_cover_yet_is_a_clear_error(paper_fourbar: Mec
         ipar = p["ipar"].copy()
         ipar[eom.L_CLEAR_JOINT] = 9
         lanes_cuda.run_batch(ipar, *args[1:], 1e-6, p["atol"], 200_000, "explicit")
+    with pytest.raises(ConfigError, match="at most 12 coordinates"):  # the Newton matrices
+        ipar = p["ipar"].copy()
+        ipar[eom.L_MASS] = 15  # five bodies
+        lanes_cuda.run_batch(ipar, *args[1:], 1e-6, p["atol"], 200_000, "implicit")
 
 
 _ENGINE_SIDE = """

@@ -152,9 +152,6 @@ def run_batch(
         ("clearance joints", nc, MAX_CLEAR), ("constraint rows", rows, MAX_ROWS),
     ]  # fmt: skip
     if method == "implicit":
-        refusal = implicit_refusal(ipar_a, np.asarray(rpar, dtype=np.float64))
-        if refusal is not None:
-            raise ConfigError(f"the cuda batch backend: {refusal}")
         limits.append(("coordinates (the Newton matrices' order)", int(lay[source.LY_N]),
                        MAX_COORDS))  # fmt: skip
     for name, value, limit in limits:
@@ -176,6 +173,9 @@ def run_batch(
             f"run_batch: y0 must be (n, {size}) and atol ({size},), rpar (n, R); got y0 "
             f"{y0_a.shape}, atol {atol_a.shape}, rpar {rpar_a.shape}"
         )
+    refusal = implicit_refusal(ipar_a, rpar_a) if method == "implicit" else None
+    if refusal is not None:
+        raise ConfigError(f"the cuda batch backend: {refusal}")
     nb = int(lay[source.LY_N]) // 3
     peaks = np.full((lanes, n_q), np.nan)
     stats = np.full((lanes, 2 * nb + nc), np.nan)
