@@ -15,8 +15,12 @@ implementations of one algorithm taking the same steps; measured here: equal bit
 libdevice's sin/cos/pow differ from libm in the last bit: that bound, or the contract for a
 lane where round-off tips a step's acceptance, applies there.
 
+The implicit (Radau IIA) kernel likewise: two short lanes of the stiff physical default
+against the CPU compilation of the same source (the same steps; peaks to round-off).
+
 Interrupts: a child process running a launch on the simulator with the flags of
-``interrupts_watched`` is sent SIGINT; the launch must stop within a bound, not run on.
+``interrupts_watched`` is sent SIGINT; the launch must stop within a bound, not run on
+(the explicit kernel, and the implicit one on the mapped flags).
 """
 
 from __future__ import annotations
@@ -37,6 +41,8 @@ from jointplay._kernels import batch as kb
 from jointplay._kernels import common as kc
 from jointplay._kernels import eom
 from jointplay._kernels.lanes import cuda as lanes_cuda
+from jointplay._kernels.lanes.build import lane_layout
+from jointplay._kernels.lanes.source import LY_SETTINGS
 from jointplay.dynamics.clearance import ClearanceJoint
 from jointplay.dynamics.setup import DEFAULT_IMPACT
 from jointplay.dynamics.simulate import Start, initial_state
@@ -60,7 +66,8 @@ args = np.load(sys.argv[1], allow_pickle=False)
 timings = {}
 out = lanes_cuda.run_batch(
     args["ipar"], args["rpar"], args["y0"], args["t_settle"], args["t_end"], args["max_step"],
-    float(args["rtol"]), args["atol"], int(args["max_steps"]), "explicit", timings=timings,
+    float(args["rtol"]), args["atol"], int(args["max_steps"]),
+    str(args["method"]) if "method" in args.files else "explicit", timings=timings,
 )
 np.savez(sys.argv[2], **out._asdict())
 """
@@ -167,15 +174,112 @@ def test_without_a_gpu_the_backend_says_what_is_missing(paper_fourbar: Mechanism
         lanes_cuda.run_batch(*args, 1e-6, p["atol"], 200_000, "explicit")
 
 
+def _implicit_on_both(
+    mechanism: Mechanism, joints: list[ClearanceJoint], revolutions: float, tmp_path: Path
+) -> tuple[Any, dict[str, np.ndarray]]:
+    """Two implicit lanes (the steady start, its window opening inside a step; a NaN state)
+    on the simulated GPU and on the CPU compilation of the same source."""
+    from jointplay._kernels.lanes import cpu
+
+    system = build_system(mechanism, joints)
+    rpar, ipar = eom.pack(system.model)
+    y0 = initial_state(system, Start("steady"))
+    n = system.n_coordinates
+    atol = np.concatenate(
+        [np.full(n, 1e-10), np.full(n, 1e-6), np.full(2, 1e-6), np.ones(len(joints))]
+    )
+    period = mechanism.driver.period
+    ys = np.tile(y0, (2, 1))
+    ys[1, 0] = np.nan
+    settle = np.array([0.3 * revolutions * period, 0.0])
+    problem = {
+        "ipar": ipar, "rpar": np.tile(rpar, (2, 1)), "y0": ys, "t_settle": settle,
+        "t_end": settle + revolutions * period, "max_step": np.full(2, period / 360.0),
+        "rtol": np.array(1e-6), "atol": atol, "max_steps": np.array(200_000),
+        "method": np.array("implicit"),
+    }  # fmt: skip
+    gpu = _on_the_simulator(problem, tmp_path)
+    nb, nj, nc, _ = kb.layout(ipar)
+    cpu_out = {
+        "peaks": np.full((2, 2 * nb + nj + 1), np.nan), "stats": np.full((2, 2 * nb + nc), np.nan),
+        "status": np.full(2, kc.STATUS_RUNNING, dtype=np.int64), "t_reached": np.zeros(2),
+        "counts": np.zeros((2, 3), dtype=np.int64),
+    }  # fmt: skip
+    cpu.implicit_lanes(
+        ipar, problem["rpar"], lane_layout(ipar), ys, settle, problem["t_end"],
+        problem["max_step"], 1e-6, atol, 200_000, np.zeros(1, dtype=np.uint8),
+        *cpu_out.values(),
+    )  # fmt: skip
+    assert list(cpu_out["status"]) == [kc.STATUS_SUCCESS, kc.STATUS_NON_FINITE]
+    np.testing.assert_array_equal(gpu["status"], cpu_out["status"])
+    for column, name in enumerate(("n_steps", "n_rejected", "n_rhs")):
+        np.testing.assert_array_equal(gpu[name], cpu_out["counts"][:, column], err_msg=name)
+    assert np.isnan(gpu["peaks"][1]).all() and np.isnan(gpu["stats"][1]).all()
+    np.testing.assert_array_equal(gpu["t_reached"], cpu_out["t_reached"])
+    return gpu, cpu_out
+
+
+def test_the_simulated_gpu_implicit_lanes_are_the_cpu_lanes(
+    paper_fourbar: Mechanism, tmp_path: Path
+) -> None:
+    """The implicit (Radau IIA) kernel on the simulator against the CPU compilation of the
+    same source (:mod:`jointplay._kernels.lanes.source_radau`, itself equal to the production
+    implicit lanes: ``test_lanes_radau.py``): the stiff physical default contact, 0.02 of a
+    revolution from the steady start (the contacts' first transient: ~530 steps, ~110
+    rejections), the window opening inside a step; and a lane that fails at once. Measured:
+    the same steps, rejections and evaluations, statistics equal, peaks ≤ 1.8e-12 relative
+    (the simulator's Python ``**`` in the Hermite interpolant is not Numba's)."""
+    from jointplay.dynamics.setup import ContactModel
+
+    joints = ContactModel().joints(paper_fourbar)
+    gpu, cpu_out = _implicit_on_both(paper_fourbar, joints, 0.02, tmp_path)
+    assert cpu_out["counts"][0, 0] > 300 and cpu_out["counts"][0, 1] > 50  # not a stub
+    for name in ("peaks", "stats"):
+        np.testing.assert_allclose(
+            gpu[name][0], cpu_out[name][0], rtol=SAME_ALGORITHM_RTOL, atol=0.0, err_msg=name
+        )
+
+
+def test_the_simulated_gpu_implicit_lanes_with_ideal_joints_agree_with_the_cpu_lanes(
+    paper_fourbar: Mechanism, tmp_path: Path
+) -> None:
+    """The implicit kernel with ideal joints (the four-bar with one conventional clearance
+    joint, A): the Jacobian differenced, the GPU's projection by Cholesky where the CPU's
+    calls LAPACK (as the explicit lanes'), 0.1 of a revolution. Measured: the same steps
+    (287), rejections and evaluations; peaks ≤ 3.2e-9 relative, mean ω ≤ 6e-9 rad/s (of
+    11 rad/s), penetration 7e-14 m (bounds: ``SAME_ALGORITHM_RTOL``, ``PENETRATION_ATOL``)."""
+    joints = [ClearanceJoint("A", 11.75e-6, 0.005, DEFAULT_IMPACT)]
+    gpu, cpu_out = _implicit_on_both(paper_fourbar, joints, 0.1, tmp_path)
+    assert cpu_out["counts"][0, 0] > 100
+    # the driven crank's α is prescribed 0: its peak is round-off (~6e-12 rad/s²), compared
+    # absolutely
+    np.testing.assert_allclose(
+        gpu["peaks"][0], cpu_out["peaks"][0], rtol=SAME_ALGORITHM_RTOL, atol=1e-9
+    )
+    np.testing.assert_allclose(
+        gpu["stats"][0][:-1], cpu_out["stats"][0][:-1], rtol=SAME_ALGORITHM_RTOL, atol=1e-9
+    )
+    np.testing.assert_allclose(gpu["stats"][0][-1], cpu_out["stats"][0][-1], rtol=0.0,
+                               atol=PENETRATION_ATOL)  # fmt: skip
+
+
 def test_what_the_gpu_lanes_do_not_cover_yet_is_a_clear_error(paper_fourbar: Mechanism):
     p = _problem(paper_fourbar)
     args = [p[k] for k in ("ipar", "rpar", "y0", "t_settle", "t_end", "max_step")]
-    with pytest.raises(ConfigError, match="explicit' only"):
-        lanes_cuda.run_batch(*args, 1e-6, p["atol"], 200_000, "implicit")
+    with pytest.raises(ConfigError, match="methods are"):
+        lanes_cuda.run_batch(*args, 1e-6, p["atol"], 200_000, "rodas")
+    captured = p["rpar"].copy()
+    captured[:, int(lane_layout(p["ipar"])[LY_SETTINGS]) + eom.S_CAPTURE] = 1e-4
+    with pytest.raises(ConfigError, match="sustained-contact"):
+        lanes_cuda.run_batch(p["ipar"], captured, *args[2:], 1e-6, p["atol"], 200_000, "implicit")
     with pytest.raises(ConfigError, match="at most 8 clearance joints"):
         ipar = p["ipar"].copy()
         ipar[eom.L_CLEAR_JOINT] = 9
         lanes_cuda.run_batch(ipar, *args[1:], 1e-6, p["atol"], 200_000, "explicit")
+    with pytest.raises(ConfigError, match="at most 12 coordinates"):  # the Newton matrices
+        ipar = p["ipar"].copy()
+        ipar[eom.L_MASS] = 15  # five bodies
+        lanes_cuda.run_batch(ipar, *args[1:], 1e-6, p["atol"], 200_000, "implicit")
 
 
 _ENGINE_SIDE = """
@@ -209,6 +313,38 @@ def test_the_cuda_backend_runs_the_batch_engine_on_the_simulator(tmp_path: Path)
     np.testing.assert_allclose(cuda, local, rtol=SAME_ALGORITHM_RTOL, atol=0.0)
 
 
+_ENGINE_IMPLICIT_SIDE = """
+import sys
+import numpy as np
+from jointplay.dynamics.batch import BatchSamples, simulate_batch
+from jointplay.dynamics.setup import ContactModel
+from jointplay.io.config import load_preset
+
+mechanism = load_preset("paper-fourbar")
+joints = ContactModel().joints(mechanism)
+samples = BatchSamples(clearances={j: np.array([10e-6, 14e-6]) for j in ("O2", "A", "B", "O4")})
+for backend in ("cuda", "local"):
+    result = simulate_batch(mechanism, joints, samples, backend=backend, method="implicit",
+                            settle=0, revolutions=0.01)
+    assert result.ok.all(), result.backend
+    assert result.backend == backend
+    np.save(f"{sys.argv[1]}/{backend}.npy", result.peaks.to_numpy())
+"""
+
+
+def test_the_cuda_backend_runs_the_implicit_method_on_the_simulator(tmp_path: Path) -> None:
+    """``simulate_batch(backend="cuda", method="implicit")`` with the stiff physical default,
+    two samples of 0.01 of a revolution, on the simulator: the implicit kernel against the
+    CPU backend's production implicit lanes (bound as above; measured ≤ 7.1e-11 relative:
+    the simulator's Python arithmetic in the interpolant, as in the test above)."""
+    env = {**os.environ, "NUMBA_ENABLE_CUDASIM": "1"}
+    subprocess.run([sys.executable, "-c", _ENGINE_IMPLICIT_SIDE, str(tmp_path)], env=env,
+                   check=True, timeout=SIMULATOR_TIMEOUT_S)  # fmt: skip
+    cuda, local = np.load(tmp_path / "cuda.npy"), np.load(tmp_path / "local.npy")
+    assert cuda.shape == local.shape == (2, 9) and np.isfinite(local).all()
+    np.testing.assert_allclose(cuda, local, rtol=SAME_ALGORITHM_RTOL, atol=0.0)
+
+
 def test_the_cuda_backend_without_a_gpu_says_so_before_building(
     paper_fourbar: Mechanism,
 ) -> None:
@@ -237,7 +373,7 @@ try:
         out = lanes_cuda.run_batch(
             args["ipar"], args["rpar"], args["y0"], args["t_settle"], args["t_end"],
             args["max_step"], float(args["rtol"]), args["atol"], int(args["max_steps"]),
-            "explicit", interrupt=flags,
+            sys.argv[4], interrupt=flags,
         )
 except KeyboardInterrupt:
     raised = True
@@ -251,16 +387,19 @@ SIGNAL_AFTER_S = 3.0
 RETURN_BOUND_S = 15.0
 
 
-@pytest.mark.parametrize("flags", ["mapped", "copied"])
+@pytest.mark.parametrize(
+    ("flags", "method"), [("mapped", "explicit"), ("copied", "explicit"), ("mapped", "implicit")]
+)
 def test_ctrl_c_stops_the_simulated_gpu_lanes_inside_the_launch(
-    paper_fourbar: Mechanism, tmp_path: Path, flags: str
+    paper_fourbar: Mechanism, tmp_path: Path, flags: str, method: str
 ) -> None:
     """SIGINT to a process running the kernel (on the simulator) with the flags of
     ``interrupts_watched``: the launch returns at once, the lanes still running end
     ``STATUS_INTERRUPTED`` after some steps (they were stopped inside the launch, not before
     it), the lane that had finished keeps the CPU's result, and KeyboardInterrupt reaches the
     caller. ``mapped``: the flags' own page is the kernel's; ``copied``: the fallback, a copy
-    that a host thread refreshes."""
+    that a host thread refreshes. ``implicit``: the Radau kernel, which polls the same flags
+    once per step."""
     problem = _problem(paper_fourbar)
     period = paper_fourbar.driver.period
     problem["y0"][2] = problem["y0"][0]
@@ -269,7 +408,7 @@ def test_ctrl_c_stops_the_simulated_gpu_lanes_inside_the_launch(
     np.savez(tmp_path / "in.npz", **problem)
     env = {**os.environ, "NUMBA_ENABLE_CUDASIM": "1"}
     command = [sys.executable, "-c", _INTERRUPTED_SIDE, str(tmp_path / "in.npz"),
-               str(tmp_path / "out.npz"), flags]  # fmt: skip
+               str(tmp_path / "out.npz"), flags, method]  # fmt: skip
     with subprocess.Popen(command, env=env, stdout=subprocess.PIPE, text=True) as child:
         try:
             assert child.stdout is not None and child.stdout.readline().strip() == "launching"
@@ -289,7 +428,7 @@ def test_ctrl_c_stops_the_simulated_gpu_lanes_inside_the_launch(
     cpu = kb.run_batch(
         problem["ipar"], problem["rpar"][:1], problem["y0"][:1], problem["t_settle"][:1],
         problem["t_end"][:1], problem["max_step"][:1], 1e-6, problem["atol"], 200_000,
-        "explicit", parallel=False,
+        method, parallel=False,
     )  # fmt: skip
     for name in ("status", "n_steps", "n_rejected", "n_rhs"):
         np.testing.assert_array_equal(gpu[name][:1], getattr(cpu, name), err_msg=name)

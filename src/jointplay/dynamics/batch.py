@@ -20,8 +20,8 @@ The work is split in three, each in its own module:
    each running the compiled loop on one thread over large chunks), ``"dask"`` (the same on a
    Dask cluster), ``"gpu"`` (:mod:`jointplay._kernels.jax_batch`, the optional
    ``jointplay[gpu]`` extra) or ``"cuda"`` (:mod:`jointplay._kernels.lanes.cuda`: the explicit
-   lanes of the CPU's single source on numba-cuda, one GPU thread per sample; experimental,
-   not yet measured on a GPU); the results come back per sample, failures as data.
+   and implicit lanes of the CPU's single source on numba-cuda, one GPU thread per sample;
+   experimental, not yet measured on a GPU); the results come back per sample, failures as data.
 
 This module re-exports what the other two define, so ``jointplay.dynamics.batch`` stays the
 one import path of the engine.
@@ -424,7 +424,7 @@ def simulate_batch(
         backend: where the lanes run: a :class:`~jointplay.execution.backends.Backend`, or
             its name: ``"local"`` (threads in this process), ``"processes"``, ``"dask"``
             (give ``scheduler``), ``"gpu"`` (JAX; ``pip install 'jointplay[gpu]'``) or
-            ``"cuda"`` (numba-cuda, explicit lanes of all-clear mechanisms; experimental).
+            ``"cuda"`` (numba-cuda; experimental).
         workers: worker processes (``"processes"`` given by name; default one per CPU).
         chunk_size: lanes per task (default: 4096 local, ≤ 32 per process task so each
             worker gets ~4, 200 000 on the GPU). Never changes the results.

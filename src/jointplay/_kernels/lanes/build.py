@@ -1,6 +1,7 @@
 """Compile the lane source (:mod:`jointplay._kernels.lanes.source`) for one target.
 
-The single-source pattern: the source module holds plain Python functions written in the
+The single-source pattern: the source modules (:mod:`~jointplay._kernels.lanes.source`, and
+:mod:`~jointplay._kernels.lanes.source_radau` for the implicit lane) hold plain Python functions written in the
 subset both Numba targets compile (scalars and caller-provided arrays, no allocation).
 :func:`build` makes a fresh namespace for a target — the source's constants and ``math`` —
 and compiles every function of :data:`FUNCTIONS` into it with the target's decorator
@@ -22,9 +23,11 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from jointplay._kernels.lanes import source
+from jointplay._kernels.lanes import source, source_radau
 
-__all__ = ["FUNCTIONS", "all_clear", "build", "lane_layout"]
+__all__ = [
+    "FUNCTIONS", "IMPLICIT_FUNCTIONS", "all_clear", "build", "implicit_refusal", "lane_layout",
+]  # fmt: skip
 
 #: The source's functions, compiled for every target.
 FUNCTIONS = (
@@ -36,7 +39,17 @@ FUNCTIONS = (
     "max_abs", "schur_solve", "project_constraints", "project",
     "all_finite", "interrupt_pending", "dense", "triggers", "wants_refinement",
     "refine_peaks", "open_window", "accumulate", "close_window", "explicit_lane",
+    *(
+        "pmin", "pmax", "cdiv", "lu_real", "lu_complex", "lu_solve_real", "lu_solve_complex",
+        "law_slopes", "arm", "jacobian_clear", "column_difference", "jacobian_differences",
+        "jacobian", "factor_newton", "solve_real", "solve_complex",
+        "stage_norm", "rms", "mat3", "predict", "initial_step", "collocation", "hermite",
+        "implicit_lane",
+    ),
 )  # fmt: skip
+#: Those of :data:`FUNCTIONS` that :mod:`jointplay._kernels.lanes.source_radau` holds (the
+#: implicit lane); the others are :mod:`jointplay._kernels.lanes.source`'s.
+IMPLICIT_FUNCTIONS = FUNCTIONS[FUNCTIONS.index("pmin") :]
 
 #: ``eom.EomModel`` field order of the ``ipar`` header (lengths), as :func:`eom.pack` writes it.
 _HEADER = (
@@ -63,7 +76,10 @@ def build(
         extras: more names for that namespace (what a hook calls: compiled functions).
     """
     namespace: dict[str, Any] = {
-        name: value for name, value in vars(source).items() if name.isupper()
+        name: value
+        for module in (source, source_radau)
+        for name, value in vars(module).items()
+        if name.isupper()
     }
     namespace["math"] = math
     namespace.update(extras or {})
@@ -72,7 +88,13 @@ def build(
         raise ValueError(
             f"no function of the lane source is called {sorted(set(chosen) - set(FUNCTIONS))}"
         )
-    functions = [(name, chosen.get(name, getattr(source, name))) for name in FUNCTIONS]
+    functions = [
+        (
+            name,
+            chosen.get(name, getattr(source_radau if name in IMPLICIT_FUNCTIONS else source, name)),
+        )
+        for name in FUNCTIONS
+    ]
     for name, original in functions:
         copy = types.FunctionType(
             original.__code__, namespace, name, original.__defaults__, original.__closure__
@@ -117,3 +139,14 @@ def all_clear(ipar: npt.NDArray[np.int64]) -> bool:
     """Whether every joint of the model packed in ``ipar`` is a clearance joint (the driver
     the only constraint; the paper's mechanisms): the GPU lanes' mechanisms so far."""
     return int(lane_layout(ipar)[source.LY_NIDEAL]) == 0
+
+
+def implicit_refusal(ipar: npt.NDArray[np.int64], rpar: npt.NDArray[np.float64]) -> str | None:
+    """Why the implicit lane of the single source
+    (:func:`jointplay._kernels.lanes.source_radau.implicit_lane`) cannot run these lanes, or
+    ``None``: it covers every mechanism outside the sustained-contact mode."""
+    lay = lane_layout(ipar)
+    capture = np.atleast_2d(rpar)[:, int(lay[source.LY_SETTINGS]) + source_radau.S_CAPTURE]
+    if np.any(capture > 0.0):
+        return "the implicit lane on the single source has no sustained-contact mode yet"
+    return None

@@ -14,7 +14,7 @@ import numpy as np
 
 from jointplay._kernels import eom
 from jointplay._kernels.lanes.build import build
-from jointplay._kernels.lanes.source import LY_N, LY_NC, LY_NIDEAL
+from jointplay._kernels.lanes.source import LY_N, LY_NC, LY_NIDEAL, LY_SIZE
 
 
 def _project(t, y, rp, ip, lay, scratch, phi_q, schur, lam):
@@ -31,8 +31,18 @@ compiled = build(
 )
 #: The explicit lane, compiled for the CPU.
 explicit_lane = compiled["explicit_lane"]
+#: The implicit lane (:mod:`jointplay._kernels.lanes.source_radau`), compiled for the CPU.
+implicit_lane = compiled["implicit_lane"]
 
-__all__ = ["compiled", "explicit_lane", "explicit_lanes", "explicit_lanes_parallel"]
+__all__ = [
+    "compiled",
+    "explicit_lane",
+    "explicit_lanes",
+    "explicit_lanes_parallel",
+    "implicit_lane",
+    "implicit_lanes",
+    "implicit_lanes_parallel",
+]
 
 
 @numba.njit(cache=True, error_model="numpy")
@@ -87,6 +97,72 @@ def explicit_lanes_parallel(
     """:func:`explicit_lanes` on Numba's threads (``prange`` over lanes)."""
     for lane in numba.prange(y0.shape[0]):
         _one(
+            ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
+            peaks, stats, status, t_reached, counts, lane,
+        )  # fmt: skip
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _one_implicit(
+    ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
+    peaks, stats, status, t_reached, counts, lane,
+):  # fmt: skip
+    size = lay[LY_SIZE]
+    n = lay[LY_N]
+    n_q = peaks.shape[1]
+    nc = max(lay[LY_NC], 1)
+    mask = np.empty(n_q, dtype=np.int64)
+    vec = np.empty((16, size))
+    small = np.empty((3, n))
+    stages = np.empty((5, 3, size))
+    jac = np.empty((size - n, 2 * n))
+    mats = np.empty((3, n, n))
+    pivots = np.empty((2, n), dtype=np.int64)
+    q = np.empty((2, n_q))
+    samples = np.empty((9, n_q))
+    pen = np.empty((2, nc))
+    records = np.empty((3, 7 * nc))
+    rows = 2 * lay[LY_NIDEAL] + 1
+    phi_q = np.empty((rows, n))
+    schur = np.empty((rows, rows))
+    lam = np.empty(rows)
+    scratch = np.zeros(eom.N_WORK)
+    code, t = implicit_lane(
+        ipar, rpar[lane], lay, y0[lane], t_settle[lane], t_end[lane], max_step[lane], rtol,
+        atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask,
+        vec[0], vec[1], vec[2], vec[3], vec[4], vec[5], vec[6], vec[7], vec[8], vec[9],
+        vec[10], vec[11], vec[12], vec[13], vec[14], vec[15], small[0], small[1], small[2],
+        stages[0], stages[1], stages[2], stages[3], stages[4], jac, mats[0], pivots[0],
+        mats[1], mats[2], pivots[1], q[0], q[1], samples, pen[0], pen[1],
+        records[0], records[1], records[2], phi_q, schur, lam, scratch,
+    )  # fmt: skip
+    status[lane] = code
+    t_reached[lane] = t
+
+
+@numba.njit(cache=True, error_model="numpy")
+def implicit_lanes(
+    ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
+    peaks, stats, status, t_reached, counts,
+):  # fmt: skip
+    """Every lane of the implicit method on the single source, one after the other
+    (arguments and outputs: :func:`explicit_lanes`; not in the sustained-contact mode:
+    :func:`jointplay._kernels.lanes.build.implicit_refusal`)."""
+    for lane in range(y0.shape[0]):
+        _one_implicit(
+            ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
+            peaks, stats, status, t_reached, counts, lane,
+        )  # fmt: skip
+
+
+@numba.njit(cache=True, error_model="numpy", parallel=True)
+def implicit_lanes_parallel(
+    ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
+    peaks, stats, status, t_reached, counts,
+):  # fmt: skip
+    """:func:`implicit_lanes` on Numba's threads (``prange`` over lanes)."""
+    for lane in numba.prange(y0.shape[0]):
+        _one_implicit(
             ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
             peaks, stats, status, t_reached, counts, lane,
         )  # fmt: skip

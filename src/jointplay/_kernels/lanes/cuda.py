@@ -2,8 +2,10 @@
 
 :func:`run_batch` has the batch-kernel contract of :func:`jointplay._kernels.batch.run_batch`
 (arguments, :class:`~jointplay._kernels.batch.BatchKernelOutput`, a failed lane's NaN peaks
-and statistics): each GPU thread runs one lane of the explicit method, compiled from the same
-source as the CPU lanes (:mod:`jointplay._kernels.lanes.source`), in float64. Built and
+and statistics): each GPU thread runs one lane of the explicit method, or of the implicit one
+(Radau IIA, :mod:`jointplay._kernels.lanes.source_radau`, its Newton matrices' LU in the
+thread's local memory), compiled from the same source as the CPU lanes
+(:mod:`jointplay._kernels.lanes.source`), in float64. Built and
 tested on numba-cuda's CUDA simulator (``NUMBA_ENABLE_CUDASIM=1``, set before numba is
 imported), where it gives the CPU lanes' results; not yet measured on a GPU.
 
@@ -20,8 +22,9 @@ refreshes every :data:`FLAG_COPY_S`). Each thread reads them once per step, vola
 (:mod:`.cuda_kernel`), so every lane still running ends with ``STATUS_INTERRUPTED`` within
 one step of the signal and finished lanes keep their results, as on the CPU.
 
-What it does not do yet: the implicit method (Radau IIA with a per-thread LU) and mechanisms
-larger than the per-thread arrays (:mod:`.limits`).
+What it does not do yet: the sustained-contact mode (locked joints; implicit only, as on the
+CPU: :func:`~jointplay._kernels.lanes.build.implicit_refusal`), and mechanisms larger than
+the per-thread arrays (:mod:`.limits`).
 
 numba-cuda is imported by this module only, when a batch is run; without it, or without a
 GPU, :func:`run_batch` raises :class:`~jointplay.errors.ConfigError` saying what to install.
@@ -42,8 +45,8 @@ import numpy.typing as npt
 from jointplay._kernels.batch import BatchKernelOutput
 from jointplay._kernels.common import STATUS_RUNNING, STATUS_SUCCESS
 from jointplay._kernels.lanes import source
-from jointplay._kernels.lanes.build import lane_layout
-from jointplay._kernels.lanes.limits import MAX_CLEAR, MAX_Q, MAX_ROWS, MAX_STATE
+from jointplay._kernels.lanes.build import implicit_refusal, lane_layout
+from jointplay._kernels.lanes.limits import MAX_CLEAR, MAX_COORDS, MAX_Q, MAX_ROWS, MAX_STATE
 from jointplay.errors import ConfigError
 
 __all__ = ["THREADS_PER_BLOCK", "available", "raise_unless_available", "run_batch", "simulated"]
@@ -57,7 +60,9 @@ MAP_HOST_FLAGS = True
 FLAG_COPY_S = 0.01
 #: How often the host looks whether a launch has finished, s.
 LAUNCH_POLL_S = 0.001
-METHODS = ("explicit",)
+#: The methods of :func:`run_batch`: both, the implicit one outside the sustained-contact
+#: mode (:func:`~jointplay._kernels.lanes.build.implicit_refusal`).
+METHODS = ("explicit", "implicit")
 
 
 def _cuda() -> Any:
@@ -120,7 +125,8 @@ def run_batch(
     Args:
         ipar, rpar, y0, t_settle, t_end, max_step, rtol, atol, max_steps: as
             :func:`jointplay._kernels.batch.run_batch` (s, SI units).
-        method: ``"explicit"`` (Dormand–Prince 5(4)); the implicit method is not built yet.
+        method: ``"explicit"`` (Dormand–Prince 5(4)) or ``"implicit"`` (Radau IIA,
+            :mod:`~jointplay._kernels.lanes.source_radau`; not the sustained-contact mode).
         chunk_size: unused (one launch runs every lane given); accepted for the executor's
             device interface.
         timings: if given, receives ``compile_s`` (numba-cuda's compilation or cache load,
@@ -130,23 +136,25 @@ def run_batch(
             threads during the launch (:func:`_device_flags`); ``None``: not watched.
 
     Raises:
-        ConfigError: numba-cuda or a GPU is missing, the method is one the GPU lanes do not
-            cover yet, the mechanism exceeds their arrays, or an input is malformed.
+        ConfigError: numba-cuda or a GPU is missing, the method (or, implicit, the
+            sustained-contact mode) is one the GPU lanes do not cover yet, the mechanism
+            exceeds their arrays, or an input is malformed.
     """
     del chunk_size
     if method not in METHODS:
-        raise ConfigError(
-            f"the cuda batch backend runs method='explicit' only so far, got {method!r} "
-            "(the implicit lanes run on the CPU backends and on --backend gpu)"
-        )
+        raise ConfigError(f"the cuda batch backend's methods are {METHODS}, got {method!r}")
     ipar_a = np.ascontiguousarray(np.asarray(ipar, dtype=np.int64))
     lay = lane_layout(ipar_a)
     size, n_q, nc = (int(lay[i]) for i in (source.LY_SIZE, source.LY_NQ, source.LY_NC))
     rows = 2 * int(lay[source.LY_NIDEAL]) + 1
-    for name, value, limit in (
+    limits = [
         ("state size", size, MAX_STATE), ("quantities", n_q, MAX_Q),
         ("clearance joints", nc, MAX_CLEAR), ("constraint rows", rows, MAX_ROWS),
-    ):  # fmt: skip
+    ]  # fmt: skip
+    if method == "implicit":
+        limits.append(("coordinates (the Newton matrices' order)", int(lay[source.LY_N]),
+                       MAX_COORDS))  # fmt: skip
+    for name, value, limit in limits:
         if value > limit:
             raise ConfigError(
                 f"the cuda batch backend's lanes hold at most {limit} {name}, this mechanism "
@@ -165,6 +173,9 @@ def run_batch(
             f"run_batch: y0 must be (n, {size}) and atol ({size},), rpar (n, R); got y0 "
             f"{y0_a.shape}, atol {atol_a.shape}, rpar {rpar_a.shape}"
         )
+    refusal = implicit_refusal(ipar_a, rpar_a) if method == "implicit" else None
+    if refusal is not None:
+        raise ConfigError(f"the cuda batch backend: {refusal}")
     nb = int(lay[source.LY_N]) // 3
     peaks = np.full((lanes, n_q), np.nan)
     stats = np.full((lanes, 2 * nb + nc), np.nan)
@@ -175,7 +186,9 @@ def run_batch(
     if lanes:
         cuda = _cuda()
         clock = time.perf_counter()
-        from jointplay._kernels.lanes.cuda_kernel import explicit_kernel
+        from jointplay._kernels.lanes.cuda_kernel import explicit_kernel, implicit_kernel
+
+        kernel = explicit_kernel if method == "explicit" else implicit_kernel
 
         compile_s = time.perf_counter() - clock
         clock = time.perf_counter()
@@ -183,7 +196,7 @@ def run_batch(
         outputs = [cuda.to_device(a) for a in (peaks, stats, status, t_reached, counts)]
         blocks = (lanes + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
         with _device_flags(cuda, interrupt) as flags:
-            explicit_kernel[blocks, THREADS_PER_BLOCK](
+            kernel[blocks, THREADS_PER_BLOCK](
                 *inputs[:7], float(rtol), cuda.to_device(atol_a), int(max_steps), flags, *outputs
             )
             _finish(cuda)

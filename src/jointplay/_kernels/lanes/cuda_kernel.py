@@ -30,7 +30,7 @@ from numba import cuda
 
 from jointplay._kernels.lanes.build import build
 from jointplay._kernels.lanes.cuda import simulated
-from jointplay._kernels.lanes.limits import MAX_CLEAR, MAX_Q, MAX_ROWS, MAX_STATE
+from jointplay._kernels.lanes.limits import MAX_CLEAR, MAX_COORDS, MAX_Q, MAX_ROWS, MAX_STATE
 
 
 def _volatile_byte() -> Any:
@@ -123,6 +123,62 @@ def explicit_kernel(
         atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask, k, y, y_new,
         ys, y_mid, f, f_mid, qa, qb, samples, pen, record, record_new, record_mid, phi_q,
         schur, lam, scratch,
+    )  # fmt: skip
+    status[lane] = code
+    t_reached[lane] = t
+
+
+_implicit_lane = _GPU["implicit_lane"]
+_VECTORS = 16
+#: Columns of the Jacobian block the Newton systems read: positions and velocities.
+_JAC_COLUMNS = 2 * MAX_COORDS
+
+
+@cuda.jit(cache=True)
+def implicit_kernel(
+    ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
+    peaks, stats, status, t_reached, counts,
+):  # fmt: skip
+    """Lane ``cuda.grid(1)`` of the implicit method, Radau IIA
+    (:func:`jointplay._kernels.lanes.source_radau.implicit_lane`; arguments and outputs:
+    :func:`jointplay._kernels.lanes.cpu.implicit_lanes`): its Newton matrices and their LU
+    factors (MAX_COORDS²) in the thread's local memory, like every other work array."""
+    lane: int = cuda.grid(1)  # type: ignore[call-arg]
+    if lane >= y0.shape[0]:
+        return
+    mask = cuda.local.array(MAX_Q, np.int64)
+    v = cuda.local.array((_VECTORS, MAX_STATE), np.float64)
+    small = cuda.local.array((3, MAX_COORDS), np.float64)
+    z = cuda.local.array((3, MAX_STATE), np.float64)
+    w = cuda.local.array((3, MAX_STATE), np.float64)
+    fst = cuda.local.array((3, MAX_STATE), np.float64)
+    dw = cuda.local.array((3, MAX_STATE), np.float64)
+    cq = cuda.local.array((3, MAX_STATE), np.float64)
+    jac = cuda.local.array((MAX_STATE, _JAC_COLUMNS), np.float64)
+    a_re = cuda.local.array((MAX_COORDS, MAX_COORDS), np.float64)
+    c_re = cuda.local.array((MAX_COORDS, MAX_COORDS), np.float64)
+    c_im = cuda.local.array((MAX_COORDS, MAX_COORDS), np.float64)
+    piv_re = cuda.local.array(MAX_COORDS, np.int64)
+    piv_c = cuda.local.array(MAX_COORDS, np.int64)
+    qa = cuda.local.array(MAX_Q, np.float64)
+    qb = cuda.local.array(MAX_Q, np.float64)
+    samples = cuda.local.array((_SAMPLES, MAX_Q), np.float64)
+    pen = cuda.local.array(MAX_CLEAR, np.float64)
+    pen_open = cuda.local.array(MAX_CLEAR, np.float64)
+    record = cuda.local.array(_RECORD, np.float64)
+    record_new = cuda.local.array(_RECORD, np.float64)
+    record_mid = cuda.local.array(_RECORD, np.float64)
+    phi_q = cuda.local.array((MAX_ROWS, MAX_STATE), np.float64)
+    schur = cuda.local.array((MAX_ROWS, MAX_ROWS), np.float64)
+    lam = cuda.local.array(MAX_ROWS, np.float64)
+    scratch = cuda.local.array(3, np.float64)
+    code, t = _implicit_lane(
+        ipar, rpar[lane], lay, y0[lane], t_settle[lane], t_end[lane], max_step[lane], rtol,
+        atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask,
+        v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9], v[10], v[11], v[12],
+        v[13], v[14], v[15], small[0], small[1], small[2], z, w, fst, dw, cq, jac, a_re, piv_re,
+        c_re, c_im, piv_c, qa, qb, samples, pen, pen_open, record, record_new, record_mid,
+        phi_q, schur, lam, scratch,
     )  # fmt: skip
     status[lane] = code
     t_reached[lane] = t

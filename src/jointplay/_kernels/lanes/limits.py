@@ -1,7 +1,7 @@
 """Compile-time sizes of the GPU lane's per-thread work arrays (``cuda.local.array`` needs
 constants): a mechanism must fit them (:func:`jointplay._kernels.lanes.cuda.run_batch`
 checks and says which one it exceeds). The paper's four-bar with four clearance joints uses
-a state of 24, 11 quantities and 4 clearance joints."""
+a state of 24, 11 quantities, 4 clearance joints and 9 coordinates."""
 
 #: Largest state size 2·3nb + 2 + nc.
 MAX_STATE = 40
@@ -12,3 +12,6 @@ MAX_CLEAR = 8
 #: Largest number of constraint rows (2 per ideal joint, 1 for the driver): a four-bar's four
 #: joints all ideal and its driver.
 MAX_ROWS = 9
+#: Largest number of coordinates 3 nb: the implicit lane's Newton matrices are that square
+#: (the positions eliminated, RADAU5's M1): a four-bar's 9, a mechanism of four moving bodies.
+MAX_COORDS = 12

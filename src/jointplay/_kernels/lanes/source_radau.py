@@ -1,0 +1,1030 @@
+"""The implicit batch lane (Radau IIA, order 5), written once for two compilers (Numba's CPU
+``njit`` and numba-cuda's ``cuda.jit(device=True)``), in the subset of
+:mod:`jointplay._kernels.lanes.source` (its module docstring: scalars and caller-provided
+arrays, no allocation, ``math`` only); :mod:`jointplay._kernels.lanes.build` compiles these
+functions into the same namespace as that module's, so that they call its equations
+(:func:`rhs`, :func:`rhs_and_quantities`, :func:`contact_forces`, :func:`project`, …) by name.
+
+The algorithm is :func:`jointplay._kernels.radau._radau_core` with the options the batch
+engine passes it (:func:`jointplay._kernels.batch._implicit_lane`): SciPy's Radau IIA
+([HW96] §IV.8: simplified Newton on the eigen-decomposed systems, one real and one complex,
+started from the last step's collocation polynomial; the embedded error estimate,
+re-estimated after a rejection; the predictive controller; SciPy's initial step), positions
+eliminated from the Newton systems (``n_second = n``, RADAU5's ``M1``: n × n matrices), the
+work integrals and the contact memory passive (``n_active = 2n``), RADAU5's growth limit
+after a failure (``hold_after_failure``), and the hooks of :mod:`jointplay._kernels.eom`:
+the contact-onset control (``step_check``) and, after each accepted step, the contact memory
+v0 and the projection (``after_step``). The same arithmetic in the same order, written for
+small fixed-size arrays: the LU with partial pivoting of :mod:`jointplay._kernels.linalg`
+(largest ``|re| + |im|``) and complex numbers as pairs of floats (Numba's complex product
+and CPython's quotient, :func:`cdiv`); so that the CPU compilation takes the steps of the
+production lane.
+
+The Jacobian is the closed form of :func:`eom.jacobian_state` (:func:`jacobian_clear`) when
+every joint is clear (the paper's mechanisms: the driver the only constraint), else SciPy's
+finite differences as the Radau kernel takes them (:func:`jacobian_differences`). The
+sustained-contact mode (locked joints) is not handled here: the GPU's ``run_batch`` refuses
+it (:func:`jointplay._kernels.lanes.build.implicit_refusal`); the CPU's drivers, used by
+tests only, expect their callers to.
+
+Where the production lane records every step and reduces the trajectory afterwards
+(:func:`jointplay._kernels.batch._trajectory_reduce`), this lane reduces each accepted step
+as it is taken (a GPU thread cannot keep its trajectory), with the same cubic Hermite
+interpolant (:func:`hermite`) and the same peak rule; the window opens at ``t_settle``
+inside the step that crosses it, as there.
+
+References:
+    .. [HW96] E. Hairer, G. Wanner, *Solving Ordinary Differential Equations II*, 2nd ed.,
+       Springer, 1996, §IV.8; SciPy's ``scipy/integrate/_ivp/radau.py``.
+"""
+
+from __future__ import annotations
+
+import math
+
+# These names are resolved in the namespace build.py makes (the source's functions and
+# constants); imported here only so that a reader (and the linters) can find them.
+from jointplay._kernels.lanes.source import (
+    FRICTION_NONE,
+    G_CLEARANCE,
+    G_R_BEARING,
+    G_R_JOURNAL,
+    K_REJECTED,
+    K_RHS,
+    K_STEPS,
+    LY_CLEAR,
+    LY_DRIVER,
+    LY_FRIC_ID,
+    LY_FRIC_P,
+    LY_GEOM,
+    LY_GRAVITY,
+    LY_JOINT_F,
+    LY_JOINT_INT,
+    LY_LAW_ID,
+    LY_LAW_P,
+    LY_MASS,
+    LY_N,
+    LY_NC,
+    LY_NIDEAL,
+    LY_NQ,
+    LY_PFRIC,
+    LY_PLAW,
+    LY_SIZE,
+    MAX_CHECK_REJECTIONS,
+    N_GEOM,
+    N_REFINE,
+    STATUS_INTERRUPTED,
+    STATUS_NON_FINITE,
+    STATUS_RUNNING,
+    STATUS_STEP_TOO_SMALL,
+    STATUS_SUCCESS,
+    STATUS_TOO_MANY_STEPS,
+    accumulate,
+    all_finite,
+    close_window,
+    contact_forces,
+    contact_memory,
+    driver_acceleration,
+    friction_force,
+    interrupt_pending,
+    normal_force,
+    onset_check,
+    open_window,
+    project,
+    quantities,
+    refine_peaks,
+    rhs,
+    rhs_and_quantities,
+    triggers,
+    wants_refinement,
+)
+
+# --- method constants (jointplay._kernels.radau, verbatim from SciPy; a test keeps them equal)
+S6 = 6.0**0.5
+RC1, RC2, RC3 = (4.0 - S6) / 10.0, (4.0 + S6) / 10.0, 1.0
+RE1, RE2, RE3 = (-13.0 - 7.0 * S6) / 3.0, (-13.0 + 7.0 * S6) / 3.0, -1.0 / 3.0
+MU_REAL = 3.0 + 3.0 ** (2.0 / 3.0) - 3.0 ** (1.0 / 3.0)
+MU_COMPLEX_RE = 3.0 + 0.5 * (3.0 ** (1.0 / 3.0) - 3.0 ** (2.0 / 3.0))
+MU_COMPLEX_IM = -0.5 * (3.0 ** (5.0 / 6.0) + 3.0 ** (7.0 / 6.0))
+#: T and TI of the eigen-decomposition A = T Λ T⁻¹ (row-major, 3 × 3).
+RT = (
+    0.09443876248897524, -0.14125529502095421, 0.03002919410514742,
+    0.25021312296533332, 0.20412935229379994, -0.38294211275726192,
+    1.0, 1.0, 0.0,
+)  # fmt: skip
+RTI = (
+    4.17871859155190428, 0.32768282076106237, 0.52337644549944951,
+    -4.17871859155190428, -0.32768282076106237, 0.47662355450055044,
+    0.50287263494578682, -2.57192694985560522, 0.59603920482822492,
+)  # fmt: skip
+#: Coefficients of the collocation polynomial (row-major, 3 × 3).
+RP = (
+    13.0 / 3.0 + 7.0 * S6 / 3.0, -23.0 / 3.0 - 22.0 * S6 / 3.0, 10.0 / 3.0 + 5.0 * S6,
+    13.0 / 3.0 - 7.0 * S6 / 3.0, -23.0 / 3.0 + 22.0 * S6 / 3.0, 10.0 / 3.0 - 5.0 * S6,
+    1.0 / 3.0, -8.0 / 3.0, 10.0 / 3.0,
+)  # fmt: skip
+NEWTON_MAXITER = 6
+#: eom.S_CAPTURE: the settings' capture speed (the sustained-contact mode, not handled here).
+S_CAPTURE = 3
+R_MIN_FACTOR, R_MAX_FACTOR = 0.2, 10.0
+EPS = 2.220446049250313e-16
+#: SciPy's num_jac constants (:mod:`jointplay._kernels.common`: NUM_JAC_*).
+NUM_JAC_DIFF_REJECT = EPS**0.875
+NUM_JAC_DIFF_SMALL = EPS**0.75
+NUM_JAC_DIFF_BIG = EPS**0.25
+NUM_JAC_MIN_FACTOR = 1e3 * EPS
+NUM_JAC_FACTOR_INCREASE = 10.0
+NUM_JAC_FACTOR_DECREASE = 0.1
+NUM_JAC_MAX_FACTOR = 1.0
+#: eom._LAW_STEP and eom._RATE_FLOOR: the law slopes' relative step and the rates' floor.
+LAW_STEP = 1.4901161193847656e-08
+RATE_FLOOR = 1e-3
+
+
+def pmin(a, b):
+    """Python's ``min(a, b)`` (:func:`common.py_min`: ``min(1, nan) == 1``, as in SciPy)."""
+    return b if b < a else a
+
+
+def pmax(a, b):
+    """Python's ``max(a, b)`` (:func:`common.py_max`)."""
+    return b if b > a else a
+
+
+# --- complex numbers as pairs of floats ------------------------------------------------------
+def cdiv(ar, ai, br, bi):
+    """(ar + i ai) / (br + i bi) by CPython's algorithm (``_Py_c_quot``), as Numba divides
+    complex numbers; NaN for a zero divisor (Numba raises there; the lane never divides by a
+    zero pivot: a singular factor is left to give inf/NaN)."""
+    abs_br = abs(br)
+    abs_bi = abs(bi)
+    if abs_br >= abs_bi:
+        if abs_br == 0.0:
+            return math.nan, math.nan
+        ratio = bi / br
+        denom = br + bi * ratio
+        return (ar + ai * ratio) / denom, (ai - ar * ratio) / denom
+    if abs_bi >= abs_br:
+        ratio = br / bi
+        denom = br * ratio + bi
+        return (ar * ratio + ai) / denom, (ai * ratio - ar) / denom
+    return math.nan, math.nan
+
+
+# --- LU with partial pivoting (jointplay._kernels.linalg) -------------------------------------
+def lu_real(a, piv, m):
+    """LU of the leading m × m block of ``a`` in place, row interchanges into ``piv``
+    (:func:`linalg.lu_factor`: LAPACK's pivots; a zero pivot left in place)."""
+    for k in range(m):
+        p = k
+        amax = abs(a[k, k])
+        for i in range(k + 1, m):
+            v = abs(a[i, k])
+            if v > amax:
+                amax = v
+                p = i
+        piv[k] = p
+        if p != k:
+            for j in range(m):
+                tmp = a[k, j]
+                a[k, j] = a[p, j]
+                a[p, j] = tmp
+        pivot = a[k, k]
+        if pivot != 0:
+            for i in range(k + 1, m):
+                a[i, k] = a[i, k] / pivot
+            for i in range(k + 1, m):
+                lik = a[i, k]
+                if lik != 0:
+                    for j in range(k + 1, m):
+                        a[i, j] -= lik * a[k, j]
+
+
+def lu_complex(re, im, piv, m):
+    """:func:`lu_real` for the complex matrix ``re + i im`` (pivot: largest |re| + |im|)."""
+    for k in range(m):
+        p = k
+        amax = abs(re[k, k]) + abs(im[k, k])
+        for i in range(k + 1, m):
+            v = abs(re[i, k]) + abs(im[i, k])
+            if v > amax:
+                amax = v
+                p = i
+        piv[k] = p
+        if p != k:
+            for j in range(m):
+                tmp = re[k, j]
+                re[k, j] = re[p, j]
+                re[p, j] = tmp
+                tmp = im[k, j]
+                im[k, j] = im[p, j]
+                im[p, j] = tmp
+        pr = re[k, k]
+        pi = im[k, k]
+        if pr != 0.0 or pi != 0.0:
+            for i in range(k + 1, m):
+                re[i, k], im[i, k] = cdiv(re[i, k], im[i, k], pr, pi)
+            for i in range(k + 1, m):
+                lr = re[i, k]
+                li = im[i, k]
+                if lr != 0.0 or li != 0.0:
+                    for j in range(k + 1, m):
+                        ur = re[k, j]
+                        ui = im[k, j]
+                        re[i, j] -= lr * ur - li * ui
+                        im[i, j] -= lr * ui + li * ur
+
+
+def lu_solve_real(a, piv, x, m):
+    """Solve from :func:`lu_real`'s factors, ``x`` (m) overwritten by the solution."""
+    for k in range(m):
+        p = piv[k]
+        if p != k:
+            tmp = x[k]
+            x[k] = x[p]
+            x[p] = tmp
+    for i in range(m):
+        s = x[i]
+        for j in range(i):
+            s -= a[i, j] * x[j]
+        x[i] = s
+    for i in range(m - 1, -1, -1):
+        s = x[i]
+        for j in range(i + 1, m):
+            s -= a[i, j] * x[j]
+        x[i] = s / a[i, i]
+
+
+def lu_solve_complex(re, im, piv, xr, xi, m):
+    """Solve from :func:`lu_complex`'s factors, ``xr + i xi`` (m) overwritten."""
+    for k in range(m):
+        p = piv[k]
+        if p != k:
+            tmp = xr[k]
+            xr[k] = xr[p]
+            xr[p] = tmp
+            tmp = xi[k]
+            xi[k] = xi[p]
+            xi[p] = tmp
+    for i in range(m):
+        sr = xr[i]
+        si = xi[i]
+        for j in range(i):
+            sr -= re[i, j] * xr[j] - im[i, j] * xi[j]
+            si -= re[i, j] * xi[j] + im[i, j] * xr[j]
+        xr[i] = sr
+        xi[i] = si
+    for i in range(m - 1, -1, -1):
+        sr = xr[i]
+        si = xi[i]
+        for j in range(i + 1, m):
+            sr -= re[i, j] * xr[j] - im[i, j] * xi[j]
+            si -= re[i, j] * xi[j] + im[i, j] * xr[j]
+        xr[i], xi[i] = cdiv(sr, si, re[i, i], im[i, i])
+
+
+# --- the Jacobian (eom.jacobian_state, every joint clear) -------------------------------------
+def law_slopes(law, rp, o_law, fric, o_fric, delta, delta_dot, v_t, v0, f_n):
+    """∂F_N/∂δ, ∂F_N/∂δ̇, ∂F_T/∂v_T, ∂F_T/∂F_N (:func:`eom._law_slopes`: forward
+    differences, relative step √eps)."""
+    h = max(LAW_STEP * delta, 1e-300)
+    slope_delta = (normal_force(law, rp, o_law, delta + h, delta_dot, v0) - f_n) / h
+    h = LAW_STEP * max(abs(delta_dot), RATE_FLOOR)
+    slope_rate = (normal_force(law, rp, o_law, delta, delta_dot + h, v0) - f_n) / h
+    if fric == FRICTION_NONE:
+        return slope_delta, slope_rate, 0.0, 0.0
+    per_newton = friction_force(fric, rp, o_fric, v_t, 1.0)
+    h = LAW_STEP * max(abs(v_t), RATE_FLOOR)
+    slope_slip = (friction_force(fric, rp, o_fric, v_t + h, f_n) - per_newton * f_n) / h
+    return slope_delta, slope_rate, slope_slip, per_newton
+
+
+def arm(y, body, sx, sy):
+    """(x, y, r_x, r_y) of the local point (sx, sy) of ``body`` (:func:`eom._arm`)."""
+    if body < 0:
+        return sx, sy, 0.0, 0.0
+    c = math.cos(y[3 * body + 2])
+    s = math.sin(y[3 * body + 2])
+    rx = c * sx - s * sy
+    ry = s * sx + c * sy
+    return y[3 * body] + rx, y[3 * body + 1] + ry, rx, ry
+
+
+def jacobian_clear(t, y, rp, ip, lay, jac, force, record):
+    """Rows n … S − 1, columns 0 … 2n − 1 of ∂ẏ/∂y (the rows and columns the Newton systems
+    read) into ``jac`` ((S − n) × 2n: row r of ∂ẏ/∂y is ``jac[r − n]``), for a mechanism whose
+    joints are all clear (:func:`eom.jacobian_state`, the same arithmetic; its docstring for
+    the derivation). ``force`` (S), ``record`` (7 nc): work."""
+    n = lay[LY_N]
+    nc = lay[LY_NC]
+    size = lay[LY_SIZE]
+    o_ji = lay[LY_JOINT_INT]
+    o_jf = lay[LY_JOINT_F]
+    o_geom = lay[LY_GEOM]
+    o_mass = lay[LY_MASS]
+    plaw = lay[LY_PLAW]
+    pfric = lay[LY_PFRIC]
+    for r in range(size - n):
+        for col in range(2 * n):
+            jac[r, col] = 0.0
+    power_row = n + 1  # 2n + 1 − n
+    for c in range(nc):
+        j = ip[lay[LY_CLEAR] + c]
+        a = ip[o_ji + 3 * j + 1]
+        b = ip[o_ji + 3 * j + 2]
+        bx, by, rax, ray = arm(y, a, rp[o_jf + 6 * j], rp[o_jf + 6 * j + 1])
+        jx, jy, rbx, rby = arm(y, b, rp[o_jf + 6 * j + 2], rp[o_jf + 6 * j + 3])
+        ex = jx - bx
+        ey = jy - by
+        length = math.sqrt(ex * ex + ey * ey)
+        if length > 0.0:
+            nx, ny = ex / length, ey / length
+        else:
+            nx, ny = 1.0, 0.0
+        wa = y[n + 3 * a + 2] if a >= 0 else 0.0
+        wb = y[n + 3 * b + 2] if b >= 0 else 0.0
+        edx = -wb * rby + wa * ray
+        edy = wb * rbx - wa * rax
+        if b >= 0:
+            edx += y[n + 3 * b]
+            edy += y[n + 3 * b + 1]
+        if a >= 0:
+            edx -= y[n + 3 * a]
+            edy -= y[n + 3 * a + 1]
+        delta = length - rp[o_geom + N_GEOM * c + G_CLEARANCE]
+        delta_dot = edx * nx + edy * ny
+        slide = -edx * ny + edy * nx
+        r_j = rp[o_geom + N_GEOM * c + G_R_JOURNAL]
+        r_b = rp[o_geom + N_GEOM * c + G_R_BEARING]
+        v_t = slide + r_j * wb - r_b * wa
+        if not delta > 0.0:
+            continue
+        tx, ty = -ny, nx
+        law = ip[lay[LY_LAW_ID] + c]
+        fric = ip[lay[LY_FRIC_ID] + c]
+        o_law = lay[LY_LAW_P] + plaw * c
+        o_fric = lay[LY_FRIC_P] + pfric * c
+        v0 = y[2 * n + 2 + c]
+        f_n = normal_force(law, rp, o_law, delta, delta_dot, v0)
+        f_t = 0.0
+        if fric != FRICTION_NONE:
+            f_t = friction_force(fric, rp, o_fric, v_t, f_n)
+        n_delta, n_rate, t_slip, t_normal = law_slopes(
+            law, rp, o_law, fric, o_fric, delta, delta_dot, v_t, v0, f_n
+        )
+        fx = -f_n * nx - f_t * tx
+        fy = -f_n * ny - f_t * ty
+        pbx, pby = rbx + r_j * nx, rby + r_j * ny
+        pax, pay = rax + r_b * nx, ray + r_b * ny
+        for side in range(2):
+            body = b if side == 0 else a
+            if body < 0:
+                continue
+            sign = 1.0 if side == 0 else -1.0
+            if side == 0:
+                rx, ry = rbx, rby
+            else:
+                rx, ry = rax, ray
+            w = wb if side == 0 else wa
+            for k in range(6):
+                de0 = 0.0
+                de1 = 0.0
+                dv0 = 0.0
+                dv1 = 0.0
+                dw_b = 0.0
+                dw_a = 0.0
+                if k == 0:
+                    de0 = sign
+                elif k == 1:
+                    de1 = sign
+                elif k == 2:
+                    de0, de1 = -sign * ry, sign * rx
+                    dv0, dv1 = -sign * w * rx, -sign * w * ry
+                elif k == 3:
+                    dv0 = sign
+                elif k == 4:
+                    dv1 = sign
+                else:
+                    dv0, dv1 = -sign * ry, sign * rx
+                    if side == 0:
+                        dw_b = 1.0
+                    else:
+                        dw_a = 1.0
+                tangential = (tx * de0 + ty * de1) / length
+                d_delta = nx * de0 + ny * de1
+                d_rate = nx * dv0 + ny * dv1 + slide * tangential
+                d_slip = tx * dv0 + ty * dv1 - delta_dot * tangential + r_j * dw_b - r_b * dw_a
+                d_fn = n_delta * d_delta + n_rate * d_rate
+                d_ft = t_slip * d_slip + t_normal * d_fn
+                dfx = -d_fn * nx - d_ft * tx + (-f_n * tx + f_t * nx) * tangential
+                dfy = -d_fn * ny - d_ft * ty + (-f_n * ty + f_t * ny) * tangential
+                dpbx, dpby = r_j * tx * tangential, r_j * ty * tangential
+                dpax, dpay = r_b * tx * tangential, r_b * ty * tangential
+                if k == 2 and side == 0:
+                    dpbx -= rby
+                    dpby += rbx
+                elif k == 2:
+                    dpax -= ray
+                    dpay += rax
+                column = 3 * body + k if k < 3 else n + 3 * body + k - 3
+                if b >= 0:
+                    jac[3 * b, column] += dfx / rp[o_mass + 3 * b]
+                    jac[3 * b + 1, column] += dfy / rp[o_mass + 3 * b + 1]
+                    moment = dpbx * fy - dpby * fx + pbx * dfy - pby * dfx
+                    jac[3 * b + 2, column] += moment / rp[o_mass + 3 * b + 2]
+                if a >= 0:
+                    jac[3 * a, column] -= dfx / rp[o_mass + 3 * a]
+                    jac[3 * a + 1, column] -= dfy / rp[o_mass + 3 * a + 1]
+                    moment = dpax * fy - dpay * fx + pax * dfy - pay * dfx
+                    jac[3 * a + 2, column] -= moment / rp[o_mass + 3 * a + 2]
+                jac[power_row, column] += (
+                    d_fn * delta_dot + f_n * d_rate + d_ft * v_t + f_t * d_slip
+                )
+    crank = int(rp[lay[LY_DRIVER]])
+    if crank >= 0:
+        k = 3 * crank + 2
+        omega = y[n + k]
+        for i in range(n):
+            force[n + i] = rp[lay[LY_GRAVITY] + i]
+        contact_forces(y, rp, ip, lay, force, record, False)
+        torque = rp[o_mass + k] * driver_acceleration(t, rp, lay[LY_DRIVER]) - force[n + k]
+        for column in range(2 * n):
+            jac[n, column] = -omega * rp[o_mass + k] * jac[k, column]
+            jac[k, column] = 0.0
+        jac[n, n + k] += torque
+
+
+def column_difference(f, f_col, diff, size):
+    """``diff = f_col − f``; returns its largest |entry| (the first) and the scale of that
+    entry, max(|f|, |f_col|) there (:func:`common._column_difference`)."""
+    for i in range(size):
+        diff[i] = f_col[i] - f[i]
+    imax = 0
+    vmax = abs(diff[0])
+    for i in range(1, size):
+        v = abs(diff[i])
+        if v > vmax:
+            vmax = v
+            imax = i
+    return vmax, max(abs(f[imax]), abs(f_col[imax]))
+
+
+def jacobian_differences(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, diff,
+                         diff_new, record, phi_q, schur, lam):  # fmt: skip
+    """The columns 0 … 2n − 1 of ∂ẏ/∂y by SciPy's ``num_jac`` (:func:`common.num_jac`: forward
+    differences with adaptive relative steps ``factor`` (S, kept from call to call), a column
+    drowned in round-off retried with a 10x step), rows n … S − 1 into ``jac`` as
+    :func:`jacobian_clear` writes them: the Jacobian of a mechanism with ideal joints, as
+    the Radau kernel differences it there. ``ytmp``, ``f_col``, ``diff``, ``diff_new`` (S):
+    work. Its evaluations of f are not counted (as SciPy's ``njev``)."""
+    n = lay[LY_N]
+    size = lay[LY_SIZE]
+    for i in range(size):
+        ytmp[i] = y[i]
+    for j in range(2 * n):
+        f_sign = 1.0 if f[j] >= 0 else -1.0
+        y_scale = f_sign * max(atol[j], abs(y[j]))
+        h = (y[j] + factor[j] * y_scale) - y[j]
+        while h == 0:
+            factor[j] *= 10.0
+            h = (y[j] + factor[j] * y_scale) - y[j]
+        ytmp[j] = y[j] + h
+        rhs(t, ytmp, rp, ip, lay, f_col, record, False, phi_q, schur, lam)
+        ytmp[j] = y[j]
+        max_diff, scale = column_difference(f, f_col, diff, size)
+        if not max_diff < NUM_JAC_DIFF_REJECT * scale:
+            pass
+        else:
+            new_factor = NUM_JAC_FACTOR_INCREASE * factor[j]
+            h_new = (y[j] + new_factor * y_scale) - y[j]
+            ytmp[j] = y[j] + h_new
+            rhs(t, ytmp, rp, ip, lay, f_col, record, False, phi_q, schur, lam)
+            ytmp[j] = y[j]
+            max_diff_new, scale_new = column_difference(f, f_col, diff_new, size)
+            if max_diff * scale_new < max_diff_new * scale:
+                factor[j] = new_factor
+                h = h_new
+                for i in range(size):
+                    diff[i] = diff_new[i]
+                scale = scale_new
+                max_diff = max_diff_new
+        for i in range(n, size):
+            jac[i - n, j] = diff[i] / h
+        if max_diff < NUM_JAC_DIFF_SMALL * scale:
+            factor[j] *= NUM_JAC_FACTOR_INCREASE
+        elif max_diff > NUM_JAC_DIFF_BIG * scale:
+            factor[j] *= NUM_JAC_FACTOR_DECREASE
+        factor[j] = min(max(factor[j], NUM_JAC_MIN_FACTOR), NUM_JAC_MAX_FACTOR)
+
+
+def jacobian(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, diff, diff_new, record,
+             phi_q, schur, lam):  # fmt: skip
+    """The Radau kernel's Jacobian as the batch engine asks for it: the closed form of
+    :func:`eom.jacobian_state` (:func:`jacobian_clear`) when every joint is clear, else
+    SciPy's differences (:func:`jacobian_differences`)."""
+    if lay[LY_NIDEAL] == 0:
+        jacobian_clear(t, y, rp, ip, lay, jac, f_col, record)
+    else:
+        jacobian_differences(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, diff,
+                             diff_new, record, phi_q, schur, lam)  # fmt: skip
+
+
+# --- the Newton systems (jointplay._kernels.radau, n_second = n, n_active = 2n) --------------
+def factor_newton(jac, h, a_re, piv_re, c_re, c_im, piv_c, n):
+    """LU factors of the reduced Newton matrices MU_REAL/h·I − J and MU_COMPLEX/h·I − J
+    (:func:`radau._factor_newton_matrices`): the velocities' block, the positions' columns
+    folded in (n × n)."""
+    m_real = MU_REAL / h
+    mcr = MU_COMPLEX_RE / h
+    mci = MU_COMPLEX_IM / h
+    for i in range(n):
+        for j in range(n):
+            a_re[i, j] = -jac[i, n + j]
+            c_re[i, j] = -jac[i, n + j]
+            c_im[i, j] = 0.0
+        a_re[i, i] += m_real
+        c_re[i, i] += mcr
+        c_im[i, i] += mci
+        for j in range(n):
+            a_re[i, j] -= jac[i, j] / m_real
+            qr, qi = cdiv(jac[i, j], 0.0, mcr, mci)
+            c_re[i, j] -= qr
+            c_im[i, j] -= qi
+    lu_real(a_re, piv_re, n)
+    lu_complex(c_re, c_im, piv_c, n)
+
+
+def solve_real(a_re, piv_re, jac, mu_over_h, x, work, n, size):
+    """(γ/h·I − J) x = b for the real γ, ``x`` (S) b on entry
+    (:func:`radau._newton_solve_in_place`: dx = h/γ (b_x + dv), the passive components
+    h/γ (b_p + J_p x))."""
+    h_over_mu = 1.0 / mu_over_h
+    for i in range(n):
+        s = x[n + i]
+        for j in range(n):
+            s += h_over_mu * jac[i, j] * x[j]
+        work[i] = s
+    lu_solve_real(a_re, piv_re, work, n)
+    for j in range(n):
+        x[j] = h_over_mu * (x[j] + work[j])
+    for i in range(n):
+        x[n + i] = work[i]
+    for p in range(2 * n, size):
+        s = x[p]
+        for j in range(2 * n):
+            s += jac[p - n, j] * x[j]
+        x[p] = h_over_mu * s
+
+
+def solve_complex(c_re, c_im, piv_c, jac, mr, mi, xr, xi, wr, wi, n, size):
+    """:func:`solve_real` for the complex γ/h = mr + i mi, ``xr + i xi``."""
+    hr, hi = cdiv(1.0, 0.0, mr, mi)
+    for i in range(n):
+        sr = xr[n + i]
+        si = xi[n + i]
+        for j in range(n):
+            ar = hr * jac[i, j]
+            ai = hi * jac[i, j]
+            sr += ar * xr[j] - ai * xi[j]
+            si += ar * xi[j] + ai * xr[j]
+        wr[i] = sr
+        wi[i] = si
+    lu_solve_complex(c_re, c_im, piv_c, wr, wi, n)
+    for j in range(n):
+        sr = xr[j] + wr[j]
+        si = xi[j] + wi[j]
+        xr[j] = hr * sr - hi * si
+        xi[j] = hr * si + hi * sr
+    for i in range(n):
+        xr[n + i] = wr[i]
+        xi[n + i] = wi[i]
+    for p in range(2 * n, size):
+        sr = xr[p]
+        si = xi[p]
+        for j in range(2 * n):
+            sr += jac[p - n, j] * xr[j]
+            si += jac[p - n, j] * xi[j]
+        xr[p] = hr * sr - hi * si
+        xi[p] = hr * si + hi * sr
+
+
+def stage_norm(x, scale, size):
+    """SciPy's norm(x / scale) of the stages (3, S) (:func:`radau._rms_norm_stages`)."""
+    s = 0.0
+    for i in range(3):
+        for j in range(size):
+            v = x[i, j] / scale[j]
+            s += v * v
+    return math.sqrt(s) / math.sqrt(3 * size)
+
+
+def rms(x, scale, size):
+    """SciPy's norm(x / scale) (:func:`common.rms_norm`)."""
+    s = 0.0
+    for j in range(size):
+        v = x[j] / scale[j]
+        s += v * v
+    return math.sqrt(s) / math.sqrt(size)
+
+
+def mat3(m, z, out, size):
+    """``out = m @ z`` for m (9, row-major) and (3, S) stages (:func:`radau._mat3_dot_into`)."""
+    for i in range(3):
+        for j in range(size):
+            out[i, j] = 0.0
+        for k in range(3):
+            mik = m[3 * i + k]
+            for j in range(size):
+                out[i, j] += mik * z[k, j]
+
+
+def predict(h_abs, h_abs_old, error_norm, error_norm_old):
+    """The predictive controller's factor (:func:`common.predict_factor`; NaN: none)."""
+    if math.isnan(error_norm_old) or math.isnan(h_abs_old) or error_norm == 0.0:
+        multiplier = 1.0
+    else:
+        multiplier = h_abs / h_abs_old * (error_norm_old / error_norm) ** 0.25
+    return pmin(1.0, multiplier) * error_norm**-0.25
+
+
+def initial_step(t0, y0, t_bound, max_step, f0, rtol, atol, rp, ip, lay, y1, f1, scale,
+                 record, phi_q, schur, lam):  # fmt: skip
+    """SciPy's ``select_initial_step`` for order 3 (:func:`common.select_initial_step`);
+    one evaluation of f (``y1``, ``f1``, ``scale``: work)."""
+    size = lay[LY_SIZE]
+    interval_length = abs(t_bound - t0)
+    if interval_length == 0.0:
+        return 0.0
+    for j in range(size):
+        scale[j] = atol[j] + abs(y0[j]) * rtol
+    d0 = rms(y0, scale, size)
+    d1 = rms(f0, scale, size)
+    h0 = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
+    h0 = min(h0, interval_length)
+    for j in range(size):
+        y1[j] = y0[j] + h0 * 1.0 * f0[j]
+    rhs(t0 + h0 * 1.0, y1, rp, ip, lay, f1, record, False, phi_q, schur, lam)
+    for j in range(size):
+        y1[j] = f1[j] - f0[j]
+    d2 = rms(y1, scale, size) / h0
+    if d1 <= 1e-15 and d2 <= 1e-15:
+        h1 = max(1e-6, h0 * 1e-3)
+    else:
+        h1 = (0.01 / max(d1, d2)) ** (1.0 / (3 + 1))
+    return min(100.0 * h0, h1, interval_length, max_step)
+
+
+def collocation(t, y, h, has_sol, cq, t_old, y_old, scale, tol, rp, ip, lay, jac, a_re,
+                piv_re, c_re, c_im, piv_c, w, z, fst, dw, ytmp, xr, xcr, xci, wk, wkr, wki,
+                record, phi_q, schur, lam):  # fmt: skip
+    """The simplified Newton iteration of the collocation system
+    (:func:`radau._solve_collocation_system`), started from the last step's collocation
+    polynomial (:func:`radau._extrapolate`: ``cq`` (3, S) its coefficients, ``y_old`` its
+    start) or from zero. Returns ``(converged, iterations, rate, evaluations of f)``; the
+    stage increments Z in ``z``."""
+    n = lay[LY_N]
+    size = lay[LY_SIZE]
+    m_real = MU_REAL / h
+    mcr = MU_COMPLEX_RE / h
+    mci = MU_COMPLEX_IM / h
+    if has_sol:
+        h_prev = t - t_old
+        for i in range(3):
+            ci = RC1 if i == 0 else (RC2 if i == 1 else RC3)
+            x = (t + h * ci - t_old) / h_prev
+            x2 = x * x
+            x3 = x2 * x
+            for j in range(size):
+                z[i, j] = (cq[0, j] * x + cq[1, j] * x2 + cq[2, j] * x3) + y_old[j] - y[j]
+    else:
+        for i in range(3):
+            for j in range(size):
+                z[i, j] = 0.0
+    mat3(RTI, z, w, size)
+    dw_norm_old = 0.0
+    has_old = False
+    rate = math.nan
+    converged = False
+    finite = True
+    nfev = 0
+    k = 0
+    for k in range(NEWTON_MAXITER):
+        for i in range(3):
+            ci = RC1 if i == 0 else (RC2 if i == 1 else RC3)
+            for j in range(size):
+                ytmp[j] = y[j] + z[i, j]
+            rhs(t + h * ci, ytmp, rp, ip, lay, fst[i], record, False, phi_q, schur, lam)
+            nfev += 1
+            for j in range(size):
+                finite = finite and math.isfinite(fst[i, j])
+        if not finite:
+            break
+        # the Newton increment (radau._newton_increment)
+        for j in range(size):
+            fr = 0.0
+            fcr = 0.0
+            fci = 0.0
+            for i in range(3):
+                fr += fst[i, j] * RTI[i]
+                fcr += fst[i, j] * RTI[3 + i]
+                fci += fst[i, j] * RTI[6 + i]
+            xr[j] = fr - m_real * w[0, j]
+            xcr[j] = fcr - (mcr * w[1, j] - mci * w[2, j])
+            xci[j] = fci - (mcr * w[2, j] + mci * w[1, j])
+        solve_real(a_re, piv_re, jac, m_real, xr, wk, n, size)
+        solve_complex(c_re, c_im, piv_c, jac, mcr, mci, xcr, xci, wkr, wki, n, size)
+        for j in range(size):
+            dw[0, j] = xr[j]
+            dw[1, j] = xcr[j]
+            dw[2, j] = xci[j]
+        dw_norm = stage_norm(dw, scale, size)
+        if has_old:
+            rate = dw_norm / dw_norm_old
+        if has_old and (rate >= 1 or rate ** (NEWTON_MAXITER - k) / (1 - rate) * dw_norm > tol):
+            break
+        for i in range(3):
+            for j in range(size):
+                w[i, j] += dw[i, j]
+        mat3(RT, w, z, size)
+        if dw_norm == 0 or (has_old and rate / (1 - rate) * dw_norm < tol):
+            converged = True
+            break
+        dw_norm_old = dw_norm
+        has_old = True
+    return converged, k + 1, rate, nfev
+
+
+def hermite(t0, y0, f0, t1, y1, f1, n, size, tau, out):
+    """The single engine's interpolant (:func:`jointplay._kernels.batch._hermite`): cubic
+    Hermite on q (with q̇) and on q̇ (with q̈ = ``f[n:2n]``); the work integrals linear, the
+    impact memory held at the step's start."""
+    h = t1 - t0
+    s = (tau - t0) / h
+    h00 = 2 * s**3 - 3 * s**2 + 1
+    h10 = s**3 - 2 * s**2 + s
+    h01 = -2 * s**3 + 3 * s**2
+    h11 = s**3 - s**2
+    for i in range(n):
+        out[i] = h00 * y0[i] + h10 * h * y0[n + i] + h01 * y1[i] + h11 * h * y1[n + i]
+        out[n + i] = h00 * y0[n + i] + h10 * h * f0[n + i] + h01 * y1[n + i] + h11 * h * f1[n + i]
+    for i in range(2 * n, 2 * n + 2):
+        out[i] = (1 - s) * y0[i] + s * y1[i]
+    for i in range(2 * n + 2, size):
+        out[i] = y0[i]
+
+
+def implicit_lane(
+    ip, rp, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
+    peaks, stats, counts, mask, ya, yb, yc, fa, fb, y_open, f_open, y_mid, f_mid, ytmp,
+    scale, escale, xr, xcr, xci, jfactor, wk, wkr, wki, z, w, fst, dw, cq, jac, a_re, piv_re, c_re,
+    c_im, piv_c, qa, qb, samples, pen, pen_open, record, record_new, record_mid,
+    phi_q, schur, lam, scratch,
+):  # fmt: skip
+    """One lane of the implicit method (the contract: :mod:`jointplay._kernels.batch`; the
+    algorithm: this module's docstring); fills ``peaks`` (P), ``stats`` (M) and ``counts``
+    (steps, rejections of all three kinds, evaluations of f as Radau counts them).
+
+    Work arrays (the caller's, any contents): ``mask`` (P, int); ``ya``, ``yb``, ``yc``,
+    ``fa``, ``fb``, ``y_open``, ``f_open``, ``y_mid``, ``f_mid``, ``ytmp``, ``scale``,
+    ``escale``, ``xr``, ``xcr``, ``xci``, ``jfactor`` (S); ``wk``, ``wkr``, ``wki`` (n = 3 nb); ``z``,
+    ``w``, ``fst``, ``dw``, ``cq`` (3, S); ``jac`` (S − n, 2n); ``a_re``, ``c_re``, ``c_im``
+    (n, n); ``piv_re``, ``piv_c`` (n, int); ``qa``, ``qb`` (P); ``samples`` (9, P); ``pen``,
+    ``pen_open`` (nc); ``record``, ``record_new``, ``record_mid`` (7 nc); ``phi_q``,
+    ``schur``, ``lam``, ``scratch``: the target's :func:`project`'s (and the constrained
+    right-hand side's). Not in the sustained-contact mode (the module docstring).
+
+    Returns:
+        ``(status, t_reached)``: a ``STATUS_*`` code and the last accepted time, s.
+    """
+    n = lay[LY_N]
+    nb = n // 3
+    nc = lay[LY_NC]
+    size = lay[LY_SIZE]
+    n_q = lay[LY_NQ]
+    triggers(ip, rp, lay, mask)
+    for p in range(n_q):
+        peaks[p] = math.nan
+    for m in range(2 * nb + nc):
+        stats[m] = math.nan
+    for m in range(3):
+        counts[m] = 0
+    t = 0.0
+    if interrupt_pending(interrupt):
+        return STATUS_INTERRUPTED, t
+    rtol = max(rtol, 100.0 * EPS)
+    y = ya
+    y_new = yb
+    y_old = yc
+    f = fa
+    f_new = fb
+    for i in range(size):
+        y[i] = y0[i]
+    if t_end == 0.0:
+        return STATUS_SUCCESS, t
+    rhs_and_quantities(t, y, rp, ip, lay, f, record, qa, pen, phi_q, schur, lam)
+    counts[K_RHS] += 1
+    if not (all_finite(y, size) and all_finite(f, size)):
+        return STATUS_NON_FINITE, t
+    h_abs_state = initial_step(t, y, t_end, max_step, f, rtol, atol, rp, ip, lay, ytmp,
+                               f_mid, scale, record_mid, phi_q, schur, lam)  # fmt: skip
+    counts[K_RHS] += 1
+    h_abs_old_state = math.nan
+    error_norm_old_state = math.nan
+    newton_tol = max(10.0 * EPS / rtol, min(0.03, rtol**0.5))
+    for j in range(size):
+        jfactor[j] = EPS**0.5
+    jacobian(t, y, f, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid, xr, xcr, record_mid,
+             phi_q, schur, lam)  # fmt: skip
+    current_jac = True
+    lu_valid = False
+    has_sol = False
+    t_old = t
+    in_window = False
+    t_a = t
+    status = STATUS_RUNNING
+    while status == STATUS_RUNNING:
+        if counts[K_STEPS] >= max_steps:
+            status = STATUS_TOO_MANY_STEPS
+            break
+        if interrupt_pending(interrupt):
+            status = STATUS_INTERRUPTED
+            break
+        min_step = 10.0 * abs(math.nextafter(t, math.inf) - t)
+        if h_abs_state > max_step:
+            h_abs = max_step
+            h_abs_old = math.nan
+            error_norm_old = math.nan
+        elif h_abs_state < min_step:
+            h_abs = min_step
+            h_abs_old = math.nan
+            error_norm_old = math.nan
+        else:
+            h_abs = h_abs_state
+            h_abs_old = h_abs_old_state
+            error_norm_old = error_norm_old_state
+        for j in range(size):
+            scale[j] = atol[j] + abs(y[j]) * rtol
+        rejected = False
+        failed = False
+        step_accepted = False
+        n_check = 0
+        t_new = t
+        n_iter = 0
+        rate = math.nan
+        error_norm = 0.0
+        safety = 0.0
+        h = h_abs
+        while not step_accepted:
+            if h_abs < min_step:
+                status = STATUS_STEP_TOO_SMALL
+                break
+            h = h_abs
+            t_new = t + h
+            if t_new - t_end > 0:
+                t_new = t_end
+            h = t_new - t
+            h_abs = abs(h)
+            converged = False
+            while not converged:
+                if not lu_valid:
+                    factor_newton(jac, h, a_re, piv_re, c_re, c_im, piv_c, n)
+                    lu_valid = True
+                converged, n_iter, rate, nfev = collocation(
+                    t, y, h, has_sol, cq, t_old, y_old, scale, newton_tol, rp, ip, lay, jac,
+                    a_re, piv_re, c_re, c_im, piv_c, w, z, fst, dw, ytmp, xr, xcr, xci, wk,
+                    wkr, wki, record_mid, phi_q, schur, lam,
+                )  # fmt: skip
+                counts[K_RHS] += nfev
+                if not converged:
+                    if current_jac:
+                        break
+                    jacobian(t, y, f, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid, xr, xcr,
+                             record_mid, phi_q, schur, lam)  # fmt: skip
+                    current_jac = True
+                    lu_valid = False
+            if not converged:
+                h_abs *= 0.5
+                lu_valid = False
+                failed = True
+                counts[K_REJECTED] += 1
+                continue
+            for j in range(size):
+                y_new[j] = y[j] + z[2, j]
+            # the error estimate (radau._error_estimate): (MU_REAL/h·I − J)⁻¹ (f + ZE)
+            for j in range(size):
+                f_open[j] = (z[0, j] * RE1 + z[1, j] * RE2 + z[2, j] * RE3) / h  # ZE
+                xr[j] = f[j] + f_open[j]
+            solve_real(a_re, piv_re, jac, MU_REAL / h, xr, wk, n, size)
+            for j in range(size):
+                escale[j] = atol[j] + max(abs(y[j]), abs(y_new[j])) * rtol
+            error_norm = rms(xr, escale, size)
+            safety = 0.9 * (2 * NEWTON_MAXITER + 1) / (2 * NEWTON_MAXITER + n_iter)
+            if rejected and error_norm > 1:
+                for j in range(size):
+                    ytmp[j] = y[j] + xr[j]
+                rhs(t, ytmp, rp, ip, lay, f_mid, record_mid, False, phi_q, schur, lam)
+                counts[K_RHS] += 1
+                for j in range(size):
+                    xr[j] = f_mid[j] + f_open[j]
+                solve_real(a_re, piv_re, jac, MU_REAL / h, xr, wk, n, size)
+                error_norm = rms(xr, escale, size)
+            if error_norm > 1:
+                factor = predict(h_abs, h_abs_old, error_norm, error_norm_old)
+                h_abs *= pmax(R_MIN_FACTOR, safety * factor)
+                lu_valid = False
+                rejected = True
+                failed = True
+                counts[K_REJECTED] += 1
+                continue
+            # the contact-onset control (eom.step_check) on the two ends' penetrations
+            contact_forces(y_new, rp, ip, lay, f_mid, record_new, True)
+            theta = onset_check(record, record_new, rp, lay)
+            h_try = h_abs * theta
+            if theta < 1.0 and min_step <= h_try < h_abs and n_check < MAX_CHECK_REJECTIONS:
+                h_abs = h_try
+                lu_valid = False
+                n_check += 1
+                counts[K_REJECTED] += 1
+                continue
+            step_accepted = True
+        if status != STATUS_RUNNING:
+            break
+        recompute_jac = n_iter > 2 and rate > 1e-3
+        factor = predict(h_abs, h_abs_old, error_norm, error_norm_old)
+        factor = pmin(R_MAX_FACTOR, safety * factor)
+        if failed:
+            factor = pmin(factor, 1.0)  # RADAU5: IF (REJECT) HNEW = MIN(HNEW, H)
+        if not recompute_jac and factor < 1.2:
+            factor = 1.0
+        else:
+            lu_valid = False
+        # eom.after_step: the contact memory from the two ends' records, then the projection
+        changed = contact_memory(y_new, rp, lay, record_new, record)
+        changed = project(t_new, y_new, rp, ip, lay, scratch, phi_q, schur, lam) or changed
+        rhs_and_quantities(t_new, y_new, rp, ip, lay, f_new, record, qb, pen, phi_q, schur, lam)
+        counts[K_RHS] += 1
+        if not (all_finite(y_new, size) and all_finite(f_new, size)):
+            status = STATUS_NON_FINITE
+            break
+        if recompute_jac:
+            jacobian(t_new, y_new, f_new, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid, xr,
+                     xcr, record_mid, phi_q, schur, lam)  # fmt: skip
+            current_jac = True
+        else:
+            current_jac = False
+        h_abs_old_state = h_abs_state
+        error_norm_old_state = error_norm
+        h_abs_state = h_abs * factor
+        # the peaks and statistics of this step (batch._trajectory_reduce, streamed)
+        if not in_window and t_new > t_settle:
+            in_window = True
+            if t < t_settle:  # the window opens inside this step
+                hermite(t, y, f, t_new, y_new, f_new, n, size, t_settle, y_open)
+                t_a = t_settle
+                quantities(t_a, y_open, rp, ip, lay, f_open, record_mid, qa, pen_open,
+                           phi_q, schur, lam)  # fmt: skip
+                y_start = y_open
+                f_start = f_open
+            else:
+                t_a = t
+                quantities(t_a, y, rp, ip, lay, f_open, record_mid, qa, pen_open,
+                           phi_q, schur, lam)  # fmt: skip
+                y_start = y
+                f_start = f_open
+            open_window(qa, pen_open, peaks, stats, nb, n_q, nc)
+        else:
+            y_start = y
+            f_start = f
+        if in_window:
+            accumulate(qa, qb, pen, t_new - t_a, peaks, stats, nb, n_q, nc)
+            if wants_refinement(qa, qb, peaks, mask, n_q):
+                hw = t_new - t_a
+                for p in range(n_q):
+                    samples[0, p] = qa[p]
+                    samples[N_REFINE + 1, p] = qb[p]
+                for r in range(N_REFINE):
+                    tau = t_a + ((r + 1) / 8.0) * hw
+                    hermite(t_a, y_start, f_start, t_new, y_new, f_new, n, size, tau, y_mid)
+                    quantities(tau, y_mid, rp, ip, lay, f_mid, record_mid, samples[r + 1],
+                               pen_open, phi_q, schur, lam)  # fmt: skip
+                refine_peaks(samples, peaks, n_q)
+            qa, qb = qb, qa
+        t_a = t_new
+        # the step's collocation polynomial, for the next Newton start (radau: Q = Zᵀ P)
+        for j in range(size):
+            for kk in range(3):
+                s = 0.0
+                for i in range(3):
+                    s += z[i, j] * RP[3 * i + kk]
+                cq[kk, j] = s
+        has_sol = not changed
+        t_old = t
+        t = t_new
+        y_old, y, y_new = y, y_new, y_old
+        f, f_new = f_new, f
+        counts[K_STEPS] += 1
+        if t - t_end >= 0:
+            status = STATUS_SUCCESS
+    if status == STATUS_SUCCESS:
+        close_window(stats, nb, t_end - t_settle)
+    return status, t

@@ -1,0 +1,291 @@
+"""The implicit lane on the single source (:mod:`jointplay._kernels.lanes.source_radau`),
+compiled for the CPU (:mod:`jointplay._kernels.lanes.cpu`), against the production implicit
+lanes (:func:`jointplay._kernels.batch.run_batch` with ``method="implicit"``: the Radau
+kernel of :mod:`jointplay._kernels.radau` recording every step, then
+``_trajectory_reduce``).
+
+The lane reproduces that algorithm operation for operation (complex numbers as pairs of
+floats, the same LU, the hooks and the peak rule streamed per step), so the bound is the one
+for two implementations of one algorithm taking the same steps: equal statuses and counters
+(steps, rejections, evaluations of f), peaks and statistics to ``SAME_ALGORITHM_RTOL``
+(``tests/_tolerances.py``). Measured: **equal bits**, every field, on the paper four-bar with
+the conventional contact (``DEFAULT_IMPACT``) and with the stiff physical default
+(``ContactModel()``: dry friction), 0.3 of a revolution, a lane from t = 0 and a perturbed one
+whose window opens inside a step; every contact and friction law; and mechanisms with ideal
+joints (the Jacobian then differenced as SciPy's ``num_jac``, the projection
+:func:`eom.project`'s).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import pytest
+
+from _tolerances import SAME_ALGORITHM_RTOL
+from jointplay._kernels import batch as kb
+from jointplay._kernels import common as kcommon
+from jointplay._kernels import eom, radau
+from jointplay._kernels.lanes import build, cpu, source, source_radau
+from jointplay.contact.friction import AdamsFriction, AmbrosioFriction, FrictionLaw
+from jointplay.contact.laws import CONTACT_LAWS, ContactLaw, get_law
+from jointplay.dynamics.clearance import ClearanceJoint
+from jointplay.dynamics.setup import DEFAULT_IMPACT, ContactModel
+from jointplay.dynamics.simulate import Start, initial_state
+from jointplay.dynamics.system import build_system
+from jointplay.model.mechanism import Mechanism
+
+JOINTS = ("O2", "A", "B", "O4")
+FIELDS = ("peaks", "stats", "status", "t_reached", "n_steps", "n_rejected", "n_rhs")
+#: Parameters of the laws that need more than a stiffness and a restitution (as
+#: tests/_kernels/test_lanes.py gives them).
+LAW_PARAMETERS: dict[str, dict[str, float]] = {
+    "impact": {"stiffness": 1e10, "exponent": 1.5, "c_max": 1e4, "d_max": 3e-4},
+    "hertz": {"stiffness": 1e10, "exponent": 1.5},
+    "kelvin-voigt": {"stiffness": 1e7, "damping": 1e3},
+    "restitution": {"penalty": 1e9, "restitution": 0.6, "exponent": 1.0},
+}
+FRICTIONS: tuple[FrictionLaw | None, ...] = (
+    None,
+    AmbrosioFriction(mu=0.1, v0=1e-4, v1=1e-3),
+    AdamsFriction(mu_static=0.15, mu_dynamic=0.1, v_static=1e-3, v_dynamic=1e-2),
+)
+
+
+def _law(name: str) -> ContactLaw:
+    return get_law(name, **LAW_PARAMETERS.get(name, {"stiffness": 1e10, "restitution": 0.8}))
+
+
+def _problem(mechanism: Mechanism, contact: str, revolutions: float = 0.3) -> dict[str, Any]:
+    """Three lanes: the steady start from t = 0, a perturbed start whose window opens at 0.1
+    of a revolution (inside a step), and a lane with a NaN state (fails at once)."""
+    if contact == "impact":
+        joints = [ClearanceJoint(j, 11.75e-6, 0.005, DEFAULT_IMPACT) for j in JOINTS]
+    else:
+        joints = ContactModel().joints(mechanism)
+    system = build_system(mechanism, joints)
+    rpar, ipar = eom.pack(system.model)
+    y0 = initial_state(system, Start("steady"))
+    n = system.n_coordinates
+    atol = np.concatenate([np.full(n, 1e-10), np.full(n, 1e-6), np.full(2, 1e-6), np.ones(4)])
+    period = mechanism.driver.period
+    ys = np.tile(y0, (3, 1))
+    ys[1, n : 2 * n] *= 1.01
+    ys[2, 0] = np.nan
+    settle = np.array([0.0, 0.1 * period, 0.0])
+    return {
+        "ipar": ipar, "rpar": np.tile(rpar, (3, 1)), "y0": ys, "t_settle": settle,
+        "t_end": settle + revolutions * period, "max_step": np.full(3, period / 360.0),
+        "rtol": 1e-6, "atol": atol, "max_steps": 200_000,
+    }  # fmt: skip
+
+
+def _production(p: dict[str, Any], **kw: Any) -> kb.BatchKernelOutput:
+    args = {**p, **kw}
+    return kb.run_batch(
+        args["ipar"], args["rpar"], args["y0"], args["t_settle"], args["t_end"],
+        args["max_step"], args["rtol"], args["atol"], args["max_steps"], "implicit",
+        parallel=False, interrupt=args.get("interrupt"),
+    )  # fmt: skip
+
+
+def _single_source(p: dict[str, Any], parallel: bool = False, **kw: Any) -> dict[str, Any]:
+    args = {**p, **kw}
+    lanes, n_q = args["y0"].shape[0], kb.layout(args["ipar"])
+    nb, nj, nc, _ = n_q
+    out = {
+        "peaks": np.full((lanes, 2 * nb + nj + 1), np.nan),
+        "stats": np.full((lanes, 2 * nb + nc), np.nan),
+        "status": np.full(lanes, kcommon.STATUS_RUNNING, dtype=np.int64),
+        "t_reached": np.zeros(lanes),
+        "counts": np.zeros((lanes, 3), dtype=np.int64),
+    }
+    interrupt = args.get("interrupt")
+    kernel = cpu.implicit_lanes_parallel if parallel else cpu.implicit_lanes
+    kernel(
+        args["ipar"], args["rpar"], build.lane_layout(args["ipar"]), args["y0"],
+        args["t_settle"], args["t_end"], args["max_step"], args["rtol"], args["atol"],
+        args["max_steps"], np.zeros(1, dtype=np.uint8) if interrupt is None else interrupt,
+        out["peaks"], out["stats"], out["status"], out["t_reached"], out["counts"],
+    )  # fmt: skip
+    failed = out["status"] != kcommon.STATUS_SUCCESS  # the contract: as run_batch does
+    out["peaks"][failed] = np.nan
+    out["stats"][failed] = np.nan
+    counts = out.pop("counts")
+    out.update(n_steps=counts[:, 0], n_rejected=counts[:, 1], n_rhs=counts[:, 2])
+    return out
+
+
+def _assert_same(new: dict[str, Any], old: kb.BatchKernelOutput) -> None:
+    for name in ("status", "n_steps", "n_rejected", "n_rhs"):
+        np.testing.assert_array_equal(new[name], getattr(old, name), err_msg=name)
+    for name in ("peaks", "stats", "t_reached"):
+        np.testing.assert_allclose(
+            new[name], getattr(old, name), rtol=SAME_ALGORITHM_RTOL, atol=0.0, err_msg=name
+        )
+
+
+def test_the_cpu_implicit_lane_is_the_sources_compilation() -> None:
+    assert cpu.implicit_lane.py_func.__code__ is source_radau.implicit_lane.__code__
+
+
+def test_the_sources_method_constants_are_the_radau_kernels() -> None:
+    np.testing.assert_array_equal([source_radau.RC1, source_radau.RC2, source_radau.RC3], radau.C)
+    np.testing.assert_array_equal([source_radau.RE1, source_radau.RE2, source_radau.RE3], radau.E)
+    assert source_radau.MU_REAL == radau.MU_REAL
+    assert complex(source_radau.MU_COMPLEX_RE, source_radau.MU_COMPLEX_IM) == radau.MU_COMPLEX
+    np.testing.assert_array_equal(np.reshape(source_radau.RT, (3, 3)), radau.T)
+    np.testing.assert_array_equal(np.reshape(source_radau.RTI, (3, 3)), radau.TI)
+    np.testing.assert_array_equal(np.reshape(source_radau.RP, (3, 3)), radau.P)
+    assert source_radau.NEWTON_MAXITER == radau.NEWTON_MAXITER
+    assert (source_radau.R_MIN_FACTOR, source_radau.R_MAX_FACTOR) == (
+        radau.MIN_FACTOR, radau.MAX_FACTOR,
+    )  # fmt: skip
+    assert source_radau.EPS == kcommon.EPS
+    assert source_radau.S_CAPTURE == eom.S_CAPTURE
+    assert (source_radau.LAW_STEP, source_radau.RATE_FLOOR) == (
+        eom._LAW_STEP, eom._RATE_FLOOR,
+    )  # fmt: skip
+
+
+@pytest.mark.parametrize("contact", ["impact", "physical"])
+def test_the_single_source_implicit_lane_is_the_production_lane(
+    paper_fourbar: Mechanism, contact: str
+) -> None:
+    p = _problem(paper_fourbar, contact)
+    old = _production(p)
+    new = _single_source(p)
+    assert list(old.status) == [
+        kcommon.STATUS_SUCCESS, kcommon.STATUS_SUCCESS, kcommon.STATUS_NON_FINITE,
+    ]  # fmt: skip
+    assert (old.n_steps[:2] > 500).all() and (old.n_rejected[:2] > 50).all()  # contact work
+    _assert_same(new, old)
+    assert np.isnan(new["peaks"][2]).all() and np.isnan(new["stats"][2]).all()
+
+
+def test_the_implicit_lanes_on_threads_are_the_serial_ones(paper_fourbar: Mechanism) -> None:
+    p = _problem(paper_fourbar, "physical", revolutions=0.05)
+    one = _single_source(p)
+    threads = _single_source(p, parallel=True)
+    for name in FIELDS:
+        np.testing.assert_array_equal(threads[name], one[name], err_msg=name)
+
+
+def test_too_many_steps_and_interrupts_end_the_lanes_as_in_production(
+    paper_fourbar: Mechanism,
+) -> None:
+    p = _problem(paper_fourbar, "impact", revolutions=0.05)
+    few = _single_source(p, max_steps=40)
+    _assert_same(few, _production(p, max_steps=40))
+    assert list(few["status"][:2]) == [kcommon.STATUS_TOO_MANY_STEPS] * 2
+    flags = np.array([2], dtype=np.uint8)  # SIGINT
+    stopped = _single_source(p, interrupt=flags)
+    assert (stopped["status"] == kcommon.STATUS_INTERRUPTED).all()
+    assert (stopped["n_steps"] == 0).all() and np.isnan(stopped["peaks"]).all()
+    # the production's serial loop stops at its first interrupted lane (the others stay
+    # STATUS_RUNNING): the same for that lane
+    old = _production(p, interrupt=flags)
+    assert old.status[0] == kcommon.STATUS_INTERRUPTED and old.n_steps[0] == 0
+
+
+def test_the_closed_form_jacobian_is_eoms(paper_fourbar: Mechanism) -> None:
+    """At states in contact (every joint pressed by a shifted pin), the rows and columns the
+    Newton systems read are :func:`eom.jacobian_state`'s, bit for bit."""
+    p = _problem(paper_fourbar, "physical")
+    ipar, rpar = p["ipar"], p["rpar"][0]
+    lay = build.lane_layout(ipar)
+    n = int(lay[source.LY_N])
+    size = int(lay[source.LY_SIZE])
+    compiled = cpu.compiled["jacobian_clear"]
+    rng = np.random.default_rng(26)
+    for _ in range(5):
+        y = p["y0"][0].copy()
+        y[:n] += rng.normal(scale=2e-4, size=n)
+        y[n : 2 * n] += rng.normal(scale=0.05, size=n)
+        y[2 * n + 2 :] = rng.uniform(0.0, 0.2, size=size - 2 * n - 2)
+        full = np.zeros((size, size))
+        args = (rpar, ipar, eom.new_workspace(4))
+        assert eom.jacobian_state(0.01, y, np.zeros(size), args, full)
+        jac = np.full((size - n, 2 * n), np.nan)
+        compiled(0.01, y, rpar, ipar, lay, jac, np.empty(size), np.empty(28))
+        np.testing.assert_array_equal(jac, full[n:, : 2 * n])
+        assert np.count_nonzero(full[n : 2 * n, :n]) > 0  # some joint in contact
+
+
+def test_what_the_implicit_lane_does_not_cover_is_named(paper_fourbar: Mechanism) -> None:
+    p = _problem(paper_fourbar, "physical")
+    assert build.implicit_refusal(p["ipar"], p["rpar"]) is None
+    captured = p["rpar"].copy()
+    settings = int(build.lane_layout(p["ipar"])[source.LY_SETTINGS])
+    captured[1, settings + eom.S_CAPTURE] = 1e-4
+    assert "sustained-contact" in str(build.implicit_refusal(p["ipar"], captured))
+
+
+@pytest.mark.parametrize("case", ["fourbar-A", "fourbar-AB-physical", "slider-crank-physical"])
+def test_with_ideal_joints_the_differenced_jacobian_gives_the_production_lanes_results(
+    paper_fourbar: Mechanism, slider_crank: Mechanism, case: str
+) -> None:
+    """Ideal joints left (the driver and the ideal joints' constraints, projection after
+    every step, the Jacobian differenced as SciPy's num_jac): the four-bar with one
+    conventional clearance joint, with two physical ones, and the slider-crank (a prismatic
+    joint) with the physical default; 0.3 of a revolution, two lanes. Measured: equal bits
+    (462/431, 1 257/1 270 and 498/575 steps)."""
+    mechanism = slider_crank if case.startswith("slider") else paper_fourbar
+    if case == "fourbar-A":
+        joints = [ClearanceJoint("A", 11.75e-6, 0.005, DEFAULT_IMPACT)]
+    elif case == "fourbar-AB-physical":
+        joints = ContactModel().joints(mechanism, ["A", "B"])
+    else:
+        joints = ContactModel().joints(mechanism)
+    system = build_system(mechanism, joints)
+    rpar, ipar = eom.pack(system.model)
+    assert not build.all_clear(ipar)
+    y0 = initial_state(system, Start("steady"))
+    n = system.n_coordinates
+    period = mechanism.driver.period
+    ys = np.tile(y0, (2, 1))
+    ys[1, n : 2 * n] *= 1.01
+    settle = np.array([0.0, 0.1 * period])
+    p = {
+        "ipar": ipar, "rpar": np.tile(rpar, (2, 1)), "y0": ys, "t_settle": settle,
+        "t_end": settle + 0.3 * period, "max_step": np.full(2, period / 360.0), "rtol": 1e-6,
+        "atol": np.concatenate(
+            [np.full(n, 1e-10), np.full(n, 1e-6), np.full(2, 1e-6), np.ones(len(joints))]
+        ),
+        "max_steps": 200_000,
+    }  # fmt: skip
+    old = _production(p)
+    assert (old.status == kcommon.STATUS_SUCCESS).all() and (old.n_steps > 300).all()
+    _assert_same(_single_source(p), old)
+
+
+@pytest.mark.parametrize("group", range(3))
+def test_every_contact_and_friction_law_gives_the_production_lanes_results(
+    paper_fourbar: Mechanism, group: int
+) -> None:
+    """Every contact law (four per mechanism, one per joint) with the three friction choices
+    rotating over the joints, 0.1 of a revolution, two lanes: the same counters and (measured)
+    equal bits."""
+    names = list(CONTACT_LAWS)[4 * group : 4 * group + 4]
+    joints = [
+        ClearanceJoint(j, 2e-5, 5e-3, _law(name), FRICTIONS[(k + group) % len(FRICTIONS)])
+        for k, (j, name) in enumerate(zip(JOINTS, names, strict=True))
+    ]
+    system = build_system(paper_fourbar, joints)
+    rpar, ipar = eom.pack(system.model)
+    y0 = initial_state(system, Start("steady"))
+    n = system.n_coordinates
+    period = paper_fourbar.driver.period
+    ys = np.tile(y0, (2, 1))
+    ys[1, n : 2 * n] *= 1.01
+    p = {
+        "ipar": ipar, "rpar": np.tile(rpar, (2, 1)), "y0": ys,
+        "t_settle": np.array([0.0, 0.03 * period]), "t_end": np.full(2, 0.1 * period),
+        "max_step": np.full(2, period / 360.0), "rtol": 1e-6,
+        "atol": np.concatenate([np.full(n, 1e-10), np.full(n, 1e-6), np.full(2, 1e-6), np.ones(4)]),
+        "max_steps": 200_000,
+    }  # fmt: skip
+    old = _production(p)
+    assert (old.status == kcommon.STATUS_SUCCESS).all() and (old.n_steps > 50).all()
+    _assert_same(_single_source(p), old)
