@@ -270,8 +270,13 @@ def test_what_the_gpu_lanes_do_not_cover_yet_is_a_clear_error(paper_fourbar: Mec
         lanes_cuda.run_batch(*args, 1e-6, p["atol"], 200_000, "rodas")
     captured = p["rpar"].copy()
     captured[:, int(lane_layout(p["ipar"])[LY_SETTINGS]) + eom.S_CAPTURE] = 1e-4
-    with pytest.raises(ConfigError, match="sustained-contact"):
-        lanes_cuda.run_batch(p["ipar"], captured, *args[2:], 1e-6, p["atol"], 200_000, "implicit")
+    for method in lanes_cuda.METHODS:
+        with pytest.raises(ConfigError, match="sustained-contact"):
+            lanes_cuda.run_batch(p["ipar"], captured, *args[2:], 1e-6, p["atol"], 200_000, method)
+    damped = p["rpar"].copy()
+    damped[:, int(lane_layout(p["ipar"])[LY_SETTINGS]) + eom.S_FILM] = 100.0
+    with pytest.raises(ConfigError, match="film damping"):
+        lanes_cuda.run_batch(p["ipar"], damped, *args[2:], 1e-6, p["atol"], 200_000, "explicit")
     with pytest.raises(ConfigError, match="at most 8 clearance joints"):
         ipar = p["ipar"].copy()
         ipar[eom.L_CLEAR_JOINT] = 9

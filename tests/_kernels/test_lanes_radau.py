@@ -143,7 +143,7 @@ def test_the_sources_method_constants_are_the_radau_kernels() -> None:
         radau.MIN_FACTOR, radau.MAX_FACTOR,
     )  # fmt: skip
     assert source_radau.EPS == kcommon.EPS
-    assert source_radau.S_CAPTURE == eom.S_CAPTURE
+    assert (source_radau.S_CAPTURE, source_radau.S_FILM) == (eom.S_CAPTURE, eom.S_FILM)
     assert (source_radau.LAW_STEP, source_radau.RATE_FLOOR) == (
         eom._LAW_STEP, eom._RATE_FLOOR,
     )  # fmt: skip
@@ -215,11 +215,14 @@ def test_the_closed_form_jacobian_is_eoms(paper_fourbar: Mechanism) -> None:
 
 def test_what_the_implicit_lane_does_not_cover_is_named(paper_fourbar: Mechanism) -> None:
     p = _problem(paper_fourbar, "physical")
-    assert build.implicit_refusal(p["ipar"], p["rpar"]) is None
-    captured = p["rpar"].copy()
+    assert build.lanes_refusal(p["ipar"], p["rpar"]) is None
     settings = int(build.lane_layout(p["ipar"])[source.LY_SETTINGS])
+    captured = p["rpar"].copy()
     captured[1, settings + eom.S_CAPTURE] = 1e-4
-    assert "sustained-contact" in str(build.implicit_refusal(p["ipar"], captured))
+    assert "sustained-contact" in str(build.lanes_refusal(p["ipar"], captured))
+    damped = p["rpar"].copy()
+    damped[1, settings + eom.S_FILM] = 100.0
+    assert "film damping" in str(build.lanes_refusal(p["ipar"], damped))
 
 
 @pytest.mark.parametrize("case", ["fourbar-A", "fourbar-AB-physical", "slider-crank-physical"])

@@ -26,7 +26,7 @@ import numpy.typing as npt
 from jointplay._kernels.lanes import source, source_radau
 
 __all__ = [
-    "FUNCTIONS", "IMPLICIT_FUNCTIONS", "all_clear", "build", "implicit_refusal", "lane_layout",
+    "FUNCTIONS", "IMPLICIT_FUNCTIONS", "all_clear", "build", "lane_layout", "lanes_refusal",
 ]  # fmt: skip
 
 #: The source's functions, compiled for every target.
@@ -141,12 +141,14 @@ def all_clear(ipar: npt.NDArray[np.int64]) -> bool:
     return int(lane_layout(ipar)[source.LY_NIDEAL]) == 0
 
 
-def implicit_refusal(ipar: npt.NDArray[np.int64], rpar: npt.NDArray[np.float64]) -> str | None:
-    """Why the implicit lane of the single source
-    (:func:`jointplay._kernels.lanes.source_radau.implicit_lane`) cannot run these lanes, or
-    ``None``: it covers every mechanism outside the sustained-contact mode."""
+def lanes_refusal(ipar: npt.NDArray[np.int64], rpar: npt.NDArray[np.float64]) -> str | None:
+    """Why the lanes of the single source (explicit and implicit) cannot run these lanes, or
+    ``None``: they cover every mechanism outside the contact options of :mod:`eom` they do
+    not implement, the sustained-contact mode and film damping."""
     lay = lane_layout(ipar)
-    capture = np.atleast_2d(rpar)[:, int(lay[source.LY_SETTINGS]) + source_radau.S_CAPTURE]
-    if np.any(capture > 0.0):
-        return "the implicit lane on the single source has no sustained-contact mode yet"
+    settings = np.atleast_2d(rpar)[:, int(lay[source.LY_SETTINGS]) :]
+    if np.any(settings[:, source_radau.S_CAPTURE] > 0.0):
+        return "the lanes of the single source have no sustained-contact mode yet"
+    if settings.shape[1] > source_radau.S_FILM and np.any(settings[:, source_radau.S_FILM] > 0.0):
+        return "the lanes of the single source have no film damping yet"
     return None

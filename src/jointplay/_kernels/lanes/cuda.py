@@ -22,8 +22,8 @@ refreshes every :data:`FLAG_COPY_S`). Each thread reads them once per step, vola
 (:mod:`.cuda_kernel`), so every lane still running ends with ``STATUS_INTERRUPTED`` within
 one step of the signal and finished lanes keep their results, as on the CPU.
 
-What it does not do yet: the sustained-contact mode (locked joints; implicit only, as on the
-CPU: :func:`~jointplay._kernels.lanes.build.implicit_refusal`), and mechanisms larger than
+What it does not do yet: the sustained-contact mode and film damping (the CPU's implicit
+lanes only: :func:`~jointplay._kernels.lanes.build.lanes_refusal`), and mechanisms larger than
 the per-thread arrays (:mod:`.limits`).
 
 numba-cuda is imported by this module only, when a batch is run; without it, or without a
@@ -45,7 +45,7 @@ import numpy.typing as npt
 from jointplay._kernels.batch import BatchKernelOutput
 from jointplay._kernels.common import STATUS_RUNNING, STATUS_SUCCESS
 from jointplay._kernels.lanes import source
-from jointplay._kernels.lanes.build import implicit_refusal, lane_layout
+from jointplay._kernels.lanes.build import lane_layout, lanes_refusal
 from jointplay._kernels.lanes.limits import MAX_CLEAR, MAX_COORDS, MAX_Q, MAX_ROWS, MAX_STATE
 from jointplay.errors import ConfigError
 
@@ -60,8 +60,8 @@ MAP_HOST_FLAGS = True
 FLAG_COPY_S = 0.01
 #: How often the host looks whether a launch has finished, s.
 LAUNCH_POLL_S = 0.001
-#: The methods of :func:`run_batch`: both, the implicit one outside the sustained-contact
-#: mode (:func:`~jointplay._kernels.lanes.build.implicit_refusal`).
+#: The methods of :func:`run_batch` (both outside the sustained-contact mode and film
+#: damping: :func:`~jointplay._kernels.lanes.build.lanes_refusal`).
 METHODS = ("explicit", "implicit")
 
 
@@ -173,7 +173,7 @@ def run_batch(
             f"run_batch: y0 must be (n, {size}) and atol ({size},), rpar (n, R); got y0 "
             f"{y0_a.shape}, atol {atol_a.shape}, rpar {rpar_a.shape}"
         )
-    refusal = implicit_refusal(ipar_a, rpar_a) if method == "implicit" else None
+    refusal = lanes_refusal(ipar_a, rpar_a)
     if refusal is not None:
         raise ConfigError(f"the cuda batch backend: {refusal}")
     nb = int(lay[source.LY_N]) // 3

@@ -23,9 +23,9 @@ production lane.
 The Jacobian is the closed form of :func:`eom.jacobian_state` (:func:`jacobian_clear`) when
 every joint is clear (the paper's mechanisms: the driver the only constraint), else SciPy's
 finite differences as the Radau kernel takes them (:func:`jacobian_differences`). The
-sustained-contact mode (locked joints) is not handled here: the GPU's ``run_batch`` refuses
-it (:func:`jointplay._kernels.lanes.build.implicit_refusal`); the CPU's drivers, used by
-tests only, expect their callers to.
+sustained-contact mode (locked joints) and film damping are not handled here: the GPU's
+``run_batch`` refuses them (:func:`jointplay._kernels.lanes.build.lanes_refusal`); the CPU's
+drivers, used by tests only, expect their callers to.
 
 Where the production lane records every step and reduces the trajectory afterwards
 (:func:`jointplay._kernels.batch._trajectory_reduce`), this lane reduces each accepted step
@@ -124,8 +124,9 @@ RP = (
     1.0 / 3.0, -8.0 / 3.0, 10.0 / 3.0,
 )  # fmt: skip
 NEWTON_MAXITER = 6
-#: eom.S_CAPTURE: the settings' capture speed (the sustained-contact mode, not handled here).
-S_CAPTURE = 3
+#: eom.S_CAPTURE, eom.S_FILM: the settings' capture speed (the sustained-contact mode) and
+#: film damping, neither handled here.
+S_CAPTURE, S_FILM = 3, 4
 R_MIN_FACTOR, R_MAX_FACTOR = 0.2, 10.0
 EPS = 2.220446049250313e-16
 #: SciPy's num_jac constants (:mod:`jointplay._kernels.common`: NUM_JAC_*).
