@@ -1069,6 +1069,30 @@ def _law_slopes(
     return slope_delta, slope_rate, slope_slip, per_newton
 
 
+@njit(cache=True, inline="always")
+def _add_force_column(
+    out: np.ndarray, mass: np.ndarray, column: int, a: int, b: int, fx: float, fy: float,
+    dfx: float, dfy: float, on_a: tuple[float, float, float, float],
+    on_b: tuple[float, float, float, float],
+) -> None:  # fmt: skip
+    """Add to column ``column`` of ∂ẏ/∂y the derivative ∂f of a force f acting on body b at the
+    arm p_b from its centre of mass (and −f on body a at p_a): ∂q̈ = M⁻¹ (∂f, ∂(p × f)) with
+    ∂(p × f) = ∂p × f + p × ∂f; ``on_a`` and ``on_b`` are (p_x, p_y, ∂p_x, ∂p_y)."""
+    n = mass.shape[0]
+    if b >= 0:
+        pbx, pby, dpbx, dpby = on_b
+        out[n + 3 * b, column] += dfx / mass[3 * b]
+        out[n + 3 * b + 1, column] += dfy / mass[3 * b + 1]
+        moment = dpbx * fy - dpby * fx + pbx * dfy - pby * dfx
+        out[n + 3 * b + 2, column] += moment / mass[3 * b + 2]
+    if a >= 0:
+        pax, pay, dpax, dpay = on_a
+        out[n + 3 * a, column] -= dfx / mass[3 * a]
+        out[n + 3 * a + 1, column] -= dfy / mass[3 * a + 1]
+        moment = dpax * fy - dpay * fx + pax * dfy - pay * dfx
+        out[n + 3 * a + 2, column] -= moment / mass[3 * a + 2]
+
+
 @njit(cache=True)
 def _film_jacobian(
     out: np.ndarray, film: float, qd: np.ndarray, mass: np.ndarray, a: int, b: int,
@@ -1103,16 +1127,8 @@ def _film_jacobian(
             # ∂r of this body's own arm (φ only): ẑ×r
             drbx, drby = (-rby, rbx) if (k == 2 and side == 0) else (0.0, 0.0)
             drax, dray = (-ray, rax) if (k == 2 and side == 1) else (0.0, 0.0)
-            if b >= 0:
-                out[n + 3 * b, column] += dfx / mass[3 * b]
-                out[n + 3 * b + 1, column] += dfy / mass[3 * b + 1]
-                moment = drbx * fy - drby * fx + rbx * dfy - rby * dfx
-                out[n + 3 * b + 2, column] += moment / mass[3 * b + 2]
-            if a >= 0:
-                out[n + 3 * a, column] -= dfx / mass[3 * a]
-                out[n + 3 * a + 1, column] -= dfy / mass[3 * a + 1]
-                moment = drax * fy - dray * fx + rax * dfy - ray * dfx
-                out[n + 3 * a + 2, column] -= moment / mass[3 * a + 2]
+            _add_force_column(out, mass, column, a, b, fx, fy, dfx, dfy,
+                              (rax, ray, drax, dray), (rbx, rby, drbx, drby))  # fmt: skip
             out[2 * n + 1, column] += 2.0 * film * (edx * dvx + edy * dvy)
 
 
@@ -1240,16 +1256,8 @@ def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: n
                     dpax -= ray
                     dpay += rax
                 column = 3 * body + k if k < 3 else n + 3 * body + k - 3
-                if b >= 0:
-                    out[n + 3 * b, column] += dfx / mass[3 * b]
-                    out[n + 3 * b + 1, column] += dfy / mass[3 * b + 1]
-                    moment = dpbx * fy - dpby * fx + pbx * dfy - pby * dfx
-                    out[n + 3 * b + 2, column] += moment / mass[3 * b + 2]
-                if a >= 0:
-                    out[n + 3 * a, column] -= dfx / mass[3 * a]
-                    out[n + 3 * a + 1, column] -= dfy / mass[3 * a + 1]
-                    moment = dpax * fy - dpay * fx + pax * dfy - pay * dfx
-                    out[n + 3 * a + 2, column] -= moment / mass[3 * a + 2]
+                _add_force_column(out, mass, column, a, b, fx, fy, dfx, dfy,
+                                  (pax, pay, dpax, dpay), (pbx, pby, dpbx, dpby))  # fmt: skip
                 out[power_row, column] += (
                     d_fn * delta_dot + f_n * d_rate + d_ft * v_t + f_t * d_slip
                 )
