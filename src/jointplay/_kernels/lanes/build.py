@@ -34,7 +34,7 @@ FUNCTIONS = (
     "step3", "power", "normal_force", "friction_force", "driver_acceleration", "driver_angle",
     "driver_speed", "rot", "point_global", "constraint_rows", "constraint_jacobian",
     "acceleration_rhs", "cholesky_solve", "constrained_accelerations", "push",
-    "contact_forces", "rhs", "rhs_and_quantities", "quantities", "onset_fraction",
+    "eccentricity_rate", "contact_forces", "rhs", "rhs_and_quantities", "quantities", "onset_fraction",
     "onset_check", "impact_rate", "contact_memory", "project_driver", "constraint_residual",
     "max_abs", "schur_solve", "project_constraints", "project",
     "all_finite", "interrupt_pending", "dense", "triggers", "wants_refinement",

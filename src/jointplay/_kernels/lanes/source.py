@@ -342,6 +342,21 @@ def push(f, n, body, rx, ry, fx, fy):
     f[n + 3 * body + 2] += rx * fy - ry * fx
 
 
+def eccentricity_rate(y, n, a, b, wa, wb, rax, ray, rbx, rby):
+    """ė = v(journal centre on b) − v(bearing centre on a), v = v_com + ω ẑ × r, with the arms
+    r of the two centres from their bodies' centres of mass and the bodies' rates ω
+    (:func:`jointplay._kernels.eom._eccentricity_rate`; the ground, −1, does not move)."""
+    edx = -wb * rby + wa * ray
+    edy = wb * rbx - wa * rax
+    if b >= 0:
+        edx += y[n + 3 * b]
+        edy += y[n + 3 * b + 1]
+    if a >= 0:
+        edx -= y[n + 3 * a]
+        edy -= y[n + 3 * a + 1]
+    return edx, edy
+
+
 def contact_forces(y, rp, ip, lay, f, record, recording):
     """Add every clearance joint's contact force to ``f[n:2n]`` (:func:`eom.add_contact_forces`:
     δ = |e| − c, δ̇ = ė·n, v_T = ė·t + R_J ω_b − R_B ω_a; −F_N n − F_T t on the journal at
@@ -396,15 +411,7 @@ def contact_forces(y, rp, ip, lay, f, record, recording):
                 nx, ny = 1.0, 0.0
             wa = y[n + 3 * a + 2] if a >= 0 else 0.0
             wb = y[n + 3 * b + 2] if b >= 0 else 0.0
-            # ė = v(journal centre on b) − v(bearing centre on a)
-            edx = -wb * rby + wa * ray
-            edy = wb * rbx - wa * rax
-            if b >= 0:
-                edx += y[n + 3 * b]
-                edy += y[n + 3 * b + 1]
-            if a >= 0:
-                edx -= y[n + 3 * a]
-                edy -= y[n + 3 * a + 1]
+            edx, edy = eccentricity_rate(y, n, a, b, wa, wb, rax, ray, rbx, rby)
             delta_dot = edx * nx + edy * ny
             r_j = rp[o_geom + N_GEOM * c + G_R_JOURNAL]
             r_b = rp[o_geom + N_GEOM * c + G_R_BEARING]

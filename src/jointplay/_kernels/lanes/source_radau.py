@@ -85,6 +85,7 @@ from jointplay._kernels.lanes.source import (
     contact_forces,
     contact_memory,
     driver_acceleration,
+    eccentricity_rate,
     friction_force,
     interrupt_pending,
     normal_force,
@@ -344,14 +345,7 @@ def jacobian_clear(t, y, rp, ip, lay, jac, force, record):
             nx, ny = 1.0, 0.0
         wa = y[n + 3 * a + 2] if a >= 0 else 0.0
         wb = y[n + 3 * b + 2] if b >= 0 else 0.0
-        edx = -wb * rby + wa * ray
-        edy = wb * rbx - wa * rax
-        if b >= 0:
-            edx += y[n + 3 * b]
-            edy += y[n + 3 * b + 1]
-        if a >= 0:
-            edx -= y[n + 3 * a]
-            edy -= y[n + 3 * a + 1]
+        edx, edy = eccentricity_rate(y, n, a, b, wa, wb, rax, ray, rbx, rby)
         delta = length - rp[o_geom + N_GEOM * c + G_CLEARANCE]
         delta_dot = edx * nx + edy * ny
         slide = -edx * ny + edy * nx
