@@ -883,6 +883,19 @@ def close_window(stats, nb, span):
         stats[nb + b] = math.sqrt(max(stats[nb + b] / span, 0.0))
 
 
+def start_outputs(ip, rp, lay, mask, peaks, stats, counts):
+    """A lane's outputs before its first step: the triggering quantities in ``mask``
+    (:func:`triggers`), peaks and statistics NaN (a lane that fails leaves them so), counters
+    zero."""
+    triggers(ip, rp, lay, mask)
+    for p in range(lay[LY_NQ]):
+        peaks[p] = math.nan
+    for m in range(2 * (lay[LY_N] // 3) + lay[LY_NC]):
+        stats[m] = math.nan
+    for m in range(3):
+        counts[m] = 0
+
+
 def explicit_lane(
     ip, rp, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
     peaks, stats, counts, mask, k, y, y_new, ys, y_mid, f, f_mid, qa, qb, samples, pen,
@@ -906,13 +919,7 @@ def explicit_lane(
     n_active = 2 * n
     size = lay[LY_SIZE]
     n_q = lay[LY_NQ]
-    triggers(ip, rp, lay, mask)
-    for p in range(n_q):
-        peaks[p] = math.nan
-    for m in range(2 * nb + nc):
-        stats[m] = math.nan
-    for m in range(3):
-        counts[m] = 0
+    start_outputs(ip, rp, lay, mask, peaks, stats, counts)
 
     t = 0.0
     for i in range(size):

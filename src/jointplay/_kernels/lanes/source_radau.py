@@ -96,7 +96,7 @@ from jointplay._kernels.lanes.source import (
     refine_peaks,
     rhs,
     rhs_and_quantities,
-    triggers,
+    start_outputs,
     wants_refinement,
 )
 
@@ -796,13 +796,7 @@ def implicit_lane(
     nc = lay[LY_NC]
     size = lay[LY_SIZE]
     n_q = lay[LY_NQ]
-    triggers(ip, rp, lay, mask)
-    for p in range(n_q):
-        peaks[p] = math.nan
-    for m in range(2 * nb + nc):
-        stats[m] = math.nan
-    for m in range(3):
-        counts[m] = 0
+    start_outputs(ip, rp, lay, mask, peaks, stats, counts)
     t = 0.0
     if interrupt_pending(interrupt):
         return STATUS_INTERRUPTED, t
