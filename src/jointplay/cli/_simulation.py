@@ -93,6 +93,14 @@ FrictionOption = Annotated[
         "--friction",
     ),
 ]
+FilmDampingOption = Annotated[
+    str | None,
+    _opt(
+        "Lubricant film damping of every clearance joint, e.g. '1e5 N*s/m' (default 1e5: "
+        "lubricated pins; 0: dry joints; --method: 0). See docs/contact.md.",
+        "--film-damping",
+    ),
+]
 FrictionLawOption = Annotated[
     str | None,
     _opt(
@@ -119,7 +127,9 @@ RtolOption = Annotated[
 #: Options that set the contact law (refused together with --method).
 CONTACT_KEYS = ("contact", "k", "exponent", "cmax", "depth", "damping", "stiffness_law")
 #: Every contact option, by its key in ``values`` (and in ``[simulation]``).
-CONTACT_OPTIONS = (*CONTACT_KEYS, "restitution", "friction", "friction_law", "method", "ecs_source")
+CONTACT_OPTIONS = (
+    *CONTACT_KEYS, "restitution", "friction", "friction_law", "film_damping", "method", "ecs_source"
+)  # fmt: skip
 #: The option of each setting that the layers below name in their errors
 #: (:class:`~jointplay.errors.SettingError`) and in the diagnostics' advice
 #: (:meth:`~jointplay.dynamics.diagnostics.Diagnostic.named`): the command line shows these
@@ -141,6 +151,7 @@ SETTING_OPTIONS = {
     "fit_depth": "--fit-depth",
     "friction": "--friction",
     "friction_law": "--friction-law",
+    "film_damping": "--film-damping",
     "joints": "--joints",
     "clearance": "--clearance",
     "output folder": "--out",
@@ -167,7 +178,8 @@ def contact_model(
 ) -> ContactModel:
     """The :class:`~jointplay.dynamics.setup.ContactModel` of the contact options in
     ``values`` (strings with units, ``None`` or absent where not given): the physical default
-    without any; ``--method`` one of the paper's six (frictionless unless --friction)."""
+    without any; ``--method`` one of the paper's six (frictionless and dry unless --friction,
+    --film-damping)."""
     from jointplay.dynamics.setup import (
         DEFAULT_FRICTION,
         ContactModel,
@@ -180,9 +192,13 @@ def contact_model(
         law=str(values.get("friction_law") or "ambrosio"),
         coefficient=finite_number(values, "friction", 0.0 if law is not None else DEFAULT_FRICTION),
     )
+    film = values.get("film_damping")
     if law is not None:
-        return ContactModel(friction=friction, law=law, method=str(values["method"]), record=record)
-    return ContactModel(settings=contact_from_strings(values), friction=friction)
+        return ContactModel(
+            friction=friction, law=law, method=str(values["method"]), record=record,
+            film_damping=film,
+        )  # fmt: skip
+    return ContactModel(settings=contact_from_strings(values), friction=friction, film_damping=film)
 
 
 def run_settings(

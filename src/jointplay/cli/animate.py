@@ -32,6 +32,7 @@ from jointplay.cli._simulation import (
     DepthOption,
     EcsSourceOption,
     ExponentOption,
+    FilmDampingOption,
     FrictionLawOption,
     FrictionOption,
     JointsOption,
@@ -86,6 +87,7 @@ def animate_command(
     joints: JointsOption = None,
     friction: FrictionOption = None,
     friction_law: FrictionLawOption = None,
+    film_damping: FilmDampingOption = None,
     start: StartOption = None,
     ramp_time: RampTimeOption = None,
     settle: Annotated[
@@ -125,7 +127,7 @@ def animate_command(
             "contact": contact, "k": k, "exponent": exponent, "cmax": cmax, "depth": depth,
             "restitution": restitution, "damping": damping, "stiffness_law": stiffness_law,
             "clearance": clearance, "joints": joints, "friction": friction,
-            "friction_law": friction_law, "method": method, "ecs_source": ecs_source,
+            "friction_law": friction_law, "film_damping": film_damping, "method": method, "ecs_source": ecs_source,
             "start": start, "ramp_time": ramp_time, "start_angle": start_angle,
             "settle": settle, "rtol": rtol,
         }  # fmt: skip

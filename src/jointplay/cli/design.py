@@ -55,6 +55,7 @@ from jointplay.cli._simulation import (
     DepthOption,
     EcsSourceOption,
     ExponentOption,
+    FilmDampingOption,
     FrictionLawOption,
     FrictionOption,
     MethodOption,
@@ -340,6 +341,7 @@ def design_command(
     stiffness_law: StiffnessLawOption = None,
     friction: FrictionOption = None,
     friction_law: FrictionLawOption = None,
+    film_damping: FilmDampingOption = None,
     rtol: RtolOption = None,
     model_check: Annotated[
         bool,
@@ -411,7 +413,7 @@ def design_command(
         "method": method, "ecs_source": ecs_source, "contact": contact, "k": k,
         "exponent": exponent, "cmax": cmax, "depth": depth, "restitution": restitution,
         "damping": damping, "stiffness_law": stiffness_law, "friction": friction,
-        "friction_law": friction_law,
+        "friction_law": friction_law, "film_damping": film_damping,
     }  # fmt: skip
     given = [f"--{key.replace('_', '-')}" for key, v in contact_options.items() if v is not None]
     dynamic = resolve_responses(mechanism, requirements, kind) == "dynamic"  # type: ignore[arg-type]

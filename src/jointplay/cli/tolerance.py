@@ -43,6 +43,7 @@ from jointplay.cli._simulation import (
     DepthOption,
     EcsSourceOption,
     ExponentOption,
+    FilmDampingOption,
     FrictionLawOption,
     FrictionOption,
     RestitutionOption,
@@ -205,6 +206,7 @@ def tolerance_command(
     stiffness_law: StiffnessLawOption = None,
     friction: FrictionOption = None,
     friction_law: FrictionLawOption = None,
+    film_damping: FilmDampingOption = None,
     rtol: RtolOption = None,
     paper_method: Annotated[
         str | None,
@@ -329,7 +331,7 @@ def tolerance_command(
             "method": paper_method, "ecs_source": ecs_source, "contact": contact, "k": k,
             "exponent": exponent, "cmax": cmax, "depth": depth, "restitution": restitution,
             "damping": damping, "stiffness_law": stiffness_law, "friction": friction,
-            "friction_law": friction_law,
+            "friction_law": friction_law, "film_damping": film_damping,
         }  # fmt: skip
         law = None
         if dynamic:

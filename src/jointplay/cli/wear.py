@@ -36,6 +36,7 @@ from jointplay.cli._simulation import (
     DepthOption,
     EcsSourceOption,
     ExponentOption,
+    FilmDampingOption,
     FrictionLawOption,
     FrictionOption,
     MethodOption,
@@ -101,6 +102,7 @@ def wear_command(
     stiffness_law: StiffnessLawOption = None,
     friction: FrictionOption = None,
     friction_law: FrictionLawOption = None,
+    film_damping: FilmDampingOption = None,
     plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
     force: ForceOption = False,
     figure_format: FigureFormatOption = "png",
@@ -132,6 +134,7 @@ def wear_command(
         config, mechanism, method=method, ecs_source=ecs_source, contact=contact, k=k,
         exponent=exponent, cmax=cmax, depth=depth, restitution=restitution, damping=damping,
         stiffness_law=stiffness_law, friction=friction, friction_law=friction_law,
+        film_damping=film_damping,
     )  # fmt: skip
     joints = []
     limits: dict[str, float] = {}

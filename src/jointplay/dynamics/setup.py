@@ -3,9 +3,10 @@
 Shared by the Python API, the TOML ``[simulation]`` table and every command that simulates.
 The default contact is physical (docs/contact.md): per joint, a stiffness from the joint's
 radii and materials (:data:`DEFAULT_STIFFNESS_LAW`), Hunt–Crossley damping with exactly the
-coefficient of restitution :data:`DEFAULT_RESTITUTION` (the ``restitution`` law) and, on the
-command line, dry friction :data:`DEFAULT_FRICTION`. The paper's conventional IMPACT set,
-:data:`DEFAULT_IMPACT`, is the method ``ifm-conventional``.
+coefficient of restitution :data:`DEFAULT_RESTITUTION` (the ``restitution`` law), friction
+:data:`DEFAULT_FRICTION` at the wall, and lubricated pins: a lumped film damping
+:data:`DEFAULT_FILM_DAMPING` (``film_damping=0``: dry joints). The paper's conventional
+IMPACT set, :data:`DEFAULT_IMPACT`, is the method ``ifm-conventional``.
 
 Errors about a setting are :class:`~jointplay.errors.SettingError`: they call it by its
 setting name (``stiffness``, ``c_max``, …), and the command line by its option.
@@ -49,6 +50,13 @@ DEFAULT_FRICTION = 0.1
 #: (e v)² / (2 a) ≈ 3e-10 m from the wall under a relative acceleration a >= 10 m/s², far
 #: below the ~6e-8 m Hertz approach of the pressed pins (docs/performance.md, issue 22).
 DEFAULT_CAPTURE_SPEED = 1e-4
+#: The film damping c_e of the physical default's lubricated pins, N·s/m (docs/contact.md,
+#: "Lubricated by default"): the order of the short-bearing squeeze-film coefficient
+#: π μ R L³ / c³ of an oiled Ø10 mm steel pin (μ = 0.05 Pa·s, L = 10 mm, c = 21 µm: 8.5e4 at
+#: ε = 0, more at smaller clearance and as the pin nears the wall); the settled peaks move by
+#: < 0.1 % from 1e5 to 1e8 (docs/performance.md), so the lower end of that order is enough.
+#: 0 (``--film-damping 0``): dry joints.
+DEFAULT_FILM_DAMPING = 1e5
 
 _HC_FAMILY = {name for name, cls in CONTACT_LAWS.items() if hasattr(cls, "chi_of")}
 
@@ -90,6 +98,14 @@ def _real(value: Any, setting: str, *, text: bool = False) -> float:
     if not math.isfinite(number):
         raise SettingError(f"{{{setting}}} must be a finite number, got {{got!r}}", got=value)
     return number
+
+
+def _is_zero(text: str) -> bool:
+    """``text`` is a plain zero (``"0"``, ``"0.0"``): a quantity that needs no unit."""
+    try:
+        return float(text) == 0.0
+    except ValueError:
+        return False
 
 
 def _quantity(value: Any, unit: str, setting: str, hint: str = "") -> float:
@@ -276,11 +292,13 @@ class ContactModel:
     :data:`DEFAULT_CAPTURE_SPEED`) is locked onto the bearing wall, its normal force a
     constraint multiplier, until that force turns tensile.
 
-    ``film_damping`` (off by default: ``None`` or 0) is the film damping c_e of every
-    clearance joint (N·s/m, or text with a unit such as ``"100 N*s/m"``; docs/contact.md
-    "Film damping (opt-in)"): a lubricant film's squeeze damping lumped into −c_e ė on the
-    journal's centre, ė its velocity relative to the bearing's centre, in contact or not.
-    Not with ``sustained_contact``.
+    ``film_damping`` is the film damping c_e of every clearance joint (N·s/m, or text with a
+    unit such as ``"100 N*s/m"``; docs/contact.md "Lubricated by default"): a lubricant
+    film's squeeze damping lumped into −c_e ė on the journal's centre, ė its velocity
+    relative to the bearing's centre, in contact or not. ``None`` (the default) takes
+    :data:`DEFAULT_FILM_DAMPING` (lubricated pins) for the physical contact and none for a
+    ready ``law`` (the paper's methods) or the sustained-contact mode; 0: dry joints. Not
+    with ``sustained_contact``.
     """
 
     settings: ContactSettings = dataclasses.field(default_factory=ContactSettings)
@@ -312,15 +330,18 @@ class ContactModel:
                 got=self.capture_speed,
             )
         object.__setattr__(self, "capture_speed", speed)
-        if self.film_damping is not None:
+        if self.film_damping is None:
+            lubricated = self.law is None and not self.sustained_contact
+            object.__setattr__(self, "film_damping", DEFAULT_FILM_DAMPING if lubricated else 0.0)
+        else:
             film = (
                 _quantity(self.film_damping, "N*s/m", "film_damping")
-                if isinstance(self.film_damping, str)
-                else _real(self.film_damping, "film_damping")
+                if isinstance(self.film_damping, str) and not _is_zero(self.film_damping)
+                else _real(self.film_damping, "film_damping", text=True)
             )
             if film < 0:
                 raise SettingError(
-                    "{film_damping} must be >= 0 N*s/m (0 or None: no film), got {got!r}",
+                    "{film_damping} must be >= 0 N*s/m (0: dry joints), got {got!r}",
                     got=self.film_damping,
                 )
             if film > 0 and self.sustained_contact:
@@ -331,7 +352,7 @@ class ContactModel:
 
     @property
     def film(self) -> float:
-        """The clearance joints' film damping c_e, N·s/m (0: off)."""
+        """The clearance joints' film damping c_e, N·s/m (0: dry joints)."""
         return float(self.film_damping or 0.0)
 
     @property
@@ -377,8 +398,11 @@ class ContactModel:
         )
         if self.sustained_contact:
             text += f"; sustained contact (captured below {self.capture * 1e3:g} mm/s)"
-        if self.film > 0:
-            text += f"; film damping {self.film:g} N*s/m"
+        text += (
+            f"; lubricated pins, film damping {self.film:g} N*s/m"
+            if self.film > 0
+            else "; dry joints (no film damping)"
+        )
         settings = {k: v for k, v in vars(self.settings).items() if v is not None}
         described: dict[str, Any] = {
             "text": text,
@@ -389,8 +413,7 @@ class ContactModel:
         }
         if self.sustained_contact:
             described["capture_speed_m_s"] = self.capture
-        if self.film > 0:
-            described["film_damping_N_s_m"] = self.film
+        described["film_damping_N_s_m"] = self.film
         return described
 
 
