@@ -1,7 +1,8 @@
 """Film damping (:class:`~jointplay.dynamics.setup.ContactModel`'s ``film_damping``) on the
 paper's four-bar: the physical default contact, 21 µm in all four joints, steady start.
 
-- off (``None``, 0) the model and every result are those of the contact without it;
+- the physical default lubricates (``None``: :data:`DEFAULT_FILM_DAMPING`), the paper's
+  methods do not; 0 gives dry joints;
 - on, the energy balance still closes (the film's power c_e |ė|² is in W_contact);
 - the reported joint force is what the joint transmits, |F_N n + F_T t + c_e ė|, checked
   against ė from the states (``dex_*``, ``dey_*``) and n, t from the eccentricity;
@@ -17,7 +18,7 @@ import pytest
 from jointplay._kernels import eom
 from jointplay.dynamics.batch import BatchSamples, choose_method, simulate_batch
 from jointplay.dynamics.clearance import ClearanceJoint
-from jointplay.dynamics.setup import ContactModel
+from jointplay.dynamics.setup import DEFAULT_FILM_DAMPING, DEFAULT_IMPACT, ContactModel
 from jointplay.dynamics.simulate import SimulationResult, Start, simulate
 from jointplay.dynamics.system import build_system
 from jointplay.errors import SettingError
@@ -48,11 +49,18 @@ def with_film(paper_fourbar: Mechanism) -> SimulationResult:
 
 
 def test_the_setting_parses_and_is_described() -> None:
-    assert ContactModel().film == 0.0 and ContactModel(film_damping=0).film == 0.0
+    # the physical default lubricates; the paper's methods and the sustained mode stay dry
+    assert ContactModel().film == DEFAULT_FILM_DAMPING == 1e5
+    assert ContactModel(law=DEFAULT_IMPACT, method="ifm-conventional").film == 0.0
+    assert ContactModel(sustained_contact=True).film == 0.0
+    assert ContactModel(film_damping=0).film == 0.0 and ContactModel(film_damping="0").film == 0.0
     assert ContactModel(film_damping="0.1 kN*s/m").film == pytest.approx(100.0)
     described = ContactModel(film_damping=100).describe()
     assert described["film_damping_N_s_m"] == 100.0 and "film damping 100" in described["text"]
-    assert "film_damping_N_s_m" not in ContactModel().describe()
+    dry = ContactModel(film_damping=0).describe()
+    assert dry["film_damping_N_s_m"] == 0.0 and "dry joints" in dry["text"]
+    with pytest.raises(SettingError, match="has no unit"):
+        ContactModel(film_damping="5")  # only a zero goes without a unit
     with pytest.raises(SettingError, match="film_damping must be >= 0"):
         ContactModel(film_damping=-1.0)
     with pytest.raises(SettingError, match="film_damping does not combine"):
@@ -60,9 +68,9 @@ def test_the_setting_parses_and_is_described() -> None:
 
 
 def test_off_is_the_contact_without_it(paper_fourbar: Mechanism) -> None:
-    joints = _joints(paper_fourbar)
+    joints = _joints(paper_fourbar, film_damping=0.0)
     assert all(j.film_damping == 0.0 for j in joints)
-    assert _joints(paper_fourbar, film_damping=0.0) == joints
+    assert all(j.film_damping == DEFAULT_FILM_DAMPING for j in _joints(paper_fourbar))
     assert build_system(paper_fourbar, joints).model.settings[eom.S_FILM] == 0.0
 
 

@@ -10,6 +10,7 @@ from jointplay.dynamics.setup import DEFAULT_IMPACT, ContactModel, ContactSettin
 from jointplay.model.mechanism import Mechanism
 from jointplay.study.design import design_study
 from jointplay.study.sensitivity import (
+    FILM_DAMPING_RANGE,
     FRICTION_RANGE,
     RESTITUTION_RANGE,
     ModelSensitivity,
@@ -33,6 +34,9 @@ def test_each_case_changes_one_parameter_to_an_end_of_its_range() -> None:
         ("restitution", RESTITUTION_RANGE[1]),
         ("friction", FRICTION_RANGE[0]),
         ("friction", FRICTION_RANGE[1]),
+        ("film_damping", "dry"),
+        ("film_damping", FILM_DAMPING_RANGE[0]),
+        ("film_damping", FILM_DAMPING_RANGE[1]),
         ("stiffness_law", "hertz"),
     ]
     for case in cases:
@@ -42,11 +46,19 @@ def test_each_case_changes_one_parameter_to_an_end_of_its_range() -> None:
             for name, value in vars(getattr(case.contact, part)).items()
             if value != getattr(getattr(default, part), name)
         }
-        expected = {"stiffness_law": {"stiffness_law"}, "friction": {"coefficient"}}
+        if case.contact.film != default.film:
+            changed.add("film_damping")
+        expected = {
+            "stiffness_law": {"stiffness_law"},
+            "friction": {"coefficient"},
+            "film_damping": {"film_damping"},
+        }
         assert changed == expected.get(case.parameter, {"restitution"}), case
+    dry = next(c.contact for c in cases if c.value == "dry")
+    assert dry.film == 0.0 and "dry joints" in dry.describe()["text"]
     assert model_cases(ContactModel(law=DEFAULT_IMPACT, method="ifm-conventional")) == ()
     impact = ContactModel(ContactSettings(law="impact"))  # no restitution, a fixed stiffness
-    assert [c.parameter for c in model_cases(impact)] == ["friction", "friction"]
+    assert [c.parameter for c in model_cases(impact)] == ["friction"] * 2 + ["film_damping"] * 3
 
 
 def test_the_chosen_scheme_is_re_evaluated_under_each_case(paper_fourbar: Mechanism) -> None:

@@ -1,7 +1,8 @@
 """Is a design's choice robust to the contact model? (issue 22, item 4)
 
 The contact's uncertain parameters — the coefficient of restitution, the friction
-coefficient and the pin-in-hole stiffness law — are inputs with documented ranges
+coefficient, the pin-in-hole stiffness law and the lubricant film's damping (dry joints
+included) — are inputs with documented ranges
 (docs/contact.md). :func:`model_sensitivity` re-evaluates the scheme a design study chose
 with each of them, one at a time, at the ends of its range (the others as the study had
 them), with the study's samples and seed, and says whether the choice holds: the scheme
@@ -26,6 +27,9 @@ FRICTION_RANGE = (0.01, 0.2)
 #: The stiffness laws for conformal pin-in-hole contact valid at every clearance: the default
 #: (Liu's) and Hertz's point-contact convention of the revolute-clearance literature.
 STIFFNESS_LAWS = ("liu", "hertz")
+#: The film damping of a lubricated pin, N·s/m: a thin film to the squeeze film of an oiled
+#: pin at ε = 0 (docs/contact.md); the table also runs the joints dry (0).
+FILM_DAMPING_RANGE = (1e4, 1e6)
 
 
 @dataclass(frozen=True)
@@ -39,8 +43,9 @@ class ModelCase:
 
 def model_cases(contact: ContactModel) -> tuple[ModelCase, ...]:
     """Each uncertain parameter of ``contact`` at the ends of its range, one at a time: the
-    restitution (laws that take one), the friction coefficient, and the other stiffness law
-    (a stiffness from the geometry). None for one of the paper's methods (fixed by name)."""
+    restitution (laws that take one), the friction coefficient, the film damping (and dry
+    joints) and the other stiffness law (a stiffness from the geometry). None for one of the
+    paper's methods (fixed by name)."""
     from jointplay.dynamics.setup import DEFAULT_RESTITUTION
 
     if contact.law is not None:
@@ -61,6 +66,11 @@ def model_cases(contact: ContactModel) -> tuple[ModelCase, ...]:
             cases.append(
                 ModelCase("friction", mu, dataclasses.replace(contact, friction=changed_friction))
             )
+    for film in (0.0, *FILM_DAMPING_RANGE):
+        if film != contact.film:
+            value: float | str = "dry" if film == 0 else film
+            changed_contact = dataclasses.replace(contact, film_damping=film)
+            cases.append(ModelCase("film_damping", value, changed_contact))
     if settings.geometry_law is not None:
         for law in STIFFNESS_LAWS:
             if law != settings.geometry_law:
@@ -112,7 +122,7 @@ class ModelSensitivity:
         if self.holds:
             return (
                 f"the choice {self.scheme} holds at the ends of the contact model's ranges "
-                "(restitution, friction, stiffness law)"
+                "(restitution, friction, stiffness law, film damping and dry joints)"
             )
         failing = ", ".join(f"{r.parameter} = {r.value}" for r in self.rows if not r.meets)
         return f"the choice {self.scheme} does not hold with {failing}"
@@ -126,6 +136,7 @@ class ModelSensitivity:
                 "restitution": list(RESTITUTION_RANGE),
                 "friction": list(FRICTION_RANGE),
                 "stiffness_law": list(STIFFNESS_LAWS),
+                "film_damping_N_s_m": [0.0, *FILM_DAMPING_RANGE],
             },
             "rows": [row.as_dict() for row in self.rows],
         }
