@@ -93,11 +93,18 @@ FrictionOption = Annotated[
         "--friction",
     ),
 ]
+ViscosityOption = Annotated[
+    str | None,
+    _opt(
+        "The pins' lubricant, e.g. '0.05 Pa*s' (the default; each joint's film damping "
+        "follows from it and its geometry); 0: dry joints; --method: 0. See docs/contact.md.",
+        "--lubricant-viscosity",
+    ),
+]
 FilmDampingOption = Annotated[
     str | None,
     _opt(
-        "Lubricant film damping of every clearance joint, e.g. '1e5 N*s/m' (default 1e5: "
-        "lubricated pins; 0: dry joints; --method: 0). See docs/contact.md.",
+        "A fixed film damping for every clearance joint instead, e.g. '1e4 N*s/m'; 0: dry.",
         "--film-damping",
     ),
 ]
@@ -128,7 +135,8 @@ RtolOption = Annotated[
 CONTACT_KEYS = ("contact", "k", "exponent", "cmax", "depth", "damping", "stiffness_law")
 #: Every contact option, by its key in ``values`` (and in ``[simulation]``).
 CONTACT_OPTIONS = (
-    *CONTACT_KEYS, "restitution", "friction", "friction_law", "film_damping", "method", "ecs_source"
+    *CONTACT_KEYS, "restitution", "friction", "friction_law", "lubricant_viscosity", "film_damping",
+    "method", "ecs_source",
 )  # fmt: skip
 #: The option of each setting that the layers below name in their errors
 #: (:class:`~jointplay.errors.SettingError`) and in the diagnostics' advice
@@ -152,6 +160,7 @@ SETTING_OPTIONS = {
     "friction": "--friction",
     "friction_law": "--friction-law",
     "film_damping": "--film-damping",
+    "lubricant_viscosity": "--lubricant-viscosity",
     "joints": "--joints",
     "clearance": "--clearance",
     "output folder": "--out",
@@ -179,7 +188,7 @@ def contact_model(
     """The :class:`~jointplay.dynamics.setup.ContactModel` of the contact options in
     ``values`` (strings with units, ``None`` or absent where not given): the physical default
     without any; ``--method`` one of the paper's six (frictionless and dry unless --friction,
-    --film-damping)."""
+    --lubricant-viscosity, --film-damping)."""
     from jointplay.dynamics.setup import (
         DEFAULT_FRICTION,
         ContactModel,
@@ -192,13 +201,21 @@ def contact_model(
         law=str(values.get("friction_law") or "ambrosio"),
         coefficient=finite_number(values, "friction", 0.0 if law is not None else DEFAULT_FRICTION),
     )
-    film = values.get("film_damping")
+    film, viscosity = values.get("film_damping"), values.get("lubricant_viscosity")
+    if film is not None and viscosity is not None:
+        raise ConfigError(
+            "--film-damping fixes the film's damping and --lubricant-viscosity derives it from "
+            "the joints' geometry: give one of the two"
+        )
     if law is not None:
         return ContactModel(
             friction=friction, law=law, method=str(values["method"]), record=record,
-            film_damping=film,
+            film_damping=film, lubricant_viscosity=viscosity,
         )  # fmt: skip
-    return ContactModel(settings=contact_from_strings(values), friction=friction, film_damping=film)
+    return ContactModel(
+        settings=contact_from_strings(values), friction=friction, film_damping=film,
+        lubricant_viscosity=viscosity,
+    )  # fmt: skip
 
 
 def run_settings(

@@ -63,6 +63,7 @@ from jointplay.cli._simulation import (
     RtolOption,
     StiffnessLawOption,
     StiffnessOption,
+    ViscosityOption,
     contact_from_options,
     run_settings,
 )
@@ -341,6 +342,7 @@ def design_command(
     stiffness_law: StiffnessLawOption = None,
     friction: FrictionOption = None,
     friction_law: FrictionLawOption = None,
+    lubricant_viscosity: ViscosityOption = None,
     film_damping: FilmDampingOption = None,
     rtol: RtolOption = None,
     model_check: Annotated[
@@ -413,7 +415,7 @@ def design_command(
         "method": method, "ecs_source": ecs_source, "contact": contact, "k": k,
         "exponent": exponent, "cmax": cmax, "depth": depth, "restitution": restitution,
         "damping": damping, "stiffness_law": stiffness_law, "friction": friction,
-        "friction_law": friction_law, "film_damping": film_damping,
+        "friction_law": friction_law, "lubricant_viscosity": lubricant_viscosity, "film_damping": film_damping,
     }  # fmt: skip
     given = [f"--{key.replace('_', '-')}" for key, v in contact_options.items() if v is not None]
     dynamic = resolve_responses(mechanism, requirements, kind) == "dynamic"  # type: ignore[arg-type]

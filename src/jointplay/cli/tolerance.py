@@ -50,6 +50,7 @@ from jointplay.cli._simulation import (
     RtolOption,
     StiffnessLawOption,
     StiffnessOption,
+    ViscosityOption,
     contact_from_options,
     run_settings,
 )
@@ -206,6 +207,7 @@ def tolerance_command(
     stiffness_law: StiffnessLawOption = None,
     friction: FrictionOption = None,
     friction_law: FrictionLawOption = None,
+    lubricant_viscosity: ViscosityOption = None,
     film_damping: FilmDampingOption = None,
     rtol: RtolOption = None,
     paper_method: Annotated[
@@ -331,7 +333,7 @@ def tolerance_command(
             "method": paper_method, "ecs_source": ecs_source, "contact": contact, "k": k,
             "exponent": exponent, "cmax": cmax, "depth": depth, "restitution": restitution,
             "damping": damping, "stiffness_law": stiffness_law, "friction": friction,
-            "friction_law": friction_law, "film_damping": film_damping,
+            "friction_law": friction_law, "lubricant_viscosity": lubricant_viscosity, "film_damping": film_damping,
         }  # fmt: skip
         law = None
         if dynamic:

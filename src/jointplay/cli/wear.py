@@ -43,6 +43,7 @@ from jointplay.cli._simulation import (
     RestitutionOption,
     StiffnessLawOption,
     StiffnessOption,
+    ViscosityOption,
     contact_from_options,
 )
 from jointplay.errors import ConfigError
@@ -102,6 +103,7 @@ def wear_command(
     stiffness_law: StiffnessLawOption = None,
     friction: FrictionOption = None,
     friction_law: FrictionLawOption = None,
+    lubricant_viscosity: ViscosityOption = None,
     film_damping: FilmDampingOption = None,
     plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
     force: ForceOption = False,
@@ -134,7 +136,7 @@ def wear_command(
         config, mechanism, method=method, ecs_source=ecs_source, contact=contact, k=k,
         exponent=exponent, cmax=cmax, depth=depth, restitution=restitution, damping=damping,
         stiffness_law=stiffness_law, friction=friction, friction_law=friction_law,
-        film_damping=film_damping,
+        lubricant_viscosity=lubricant_viscosity, film_damping=film_damping,
     )  # fmt: skip
     joints = []
     limits: dict[str, float] = {}

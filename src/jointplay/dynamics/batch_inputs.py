@@ -571,12 +571,19 @@ def _build_vectorised(
     nc = len(system0.clearances)
     geom = np.zeros((n, nc, eom.N_GEOM))
     law_p = np.zeros((n, nc, PARAMS_WIDTH))
+    films = np.zeros((n, nc))
     for c, clear in enumerate(system0.clearances):
         clearance = (
             np.array(samples.clearances[clear.joint], dtype=float)
             if clear.joint in samples.clearances
             else np.full(n, clear.clearance)
         )
+        with np.errstate(invalid="ignore", divide="ignore"):  # bad clearances fail below
+            films[:, c] = (
+                clear.film_damping
+                if clear.film_from is None
+                else clear.film_from.damping(clear.journal_radius, clearance)
+            )
         geom[:, c, eom.G_R_BEARING] = clear.journal_radius + clearance
         geom[:, c, eom.G_R_JOURNAL] = clear.journal_radius
         geom[:, c, eom.G_CLEARANCE] = clearance
@@ -594,6 +601,8 @@ def _build_vectorised(
                 except JointplayError as exc:
                     ok[i], errors[i] = False, f"{type(exc).__name__}: {exc}"
     settings = np.tile(system0.model.settings, (n, 1))
+    if nc:  # the smallest of the joints' film dampings, as build_system takes it
+        settings[:, eom.S_FILM] = films.min(axis=1)
     if solver.onset_tolerance is None:
         settings[:, eom.S_ONSET_TOL] = 0.01 * geom[:, :, eom.G_CLEARANCE].min(axis=1)
     mass_vector = np.stack([mass, mass, inertia], axis=2).reshape(n, 3 * nb)

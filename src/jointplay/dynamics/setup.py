@@ -4,9 +4,9 @@ Shared by the Python API, the TOML ``[simulation]`` table and every command that
 The default contact is physical (docs/contact.md): per joint, a stiffness from the joint's
 radii and materials (:data:`DEFAULT_STIFFNESS_LAW`), Hunt–Crossley damping with exactly the
 coefficient of restitution :data:`DEFAULT_RESTITUTION` (the ``restitution`` law), friction
-:data:`DEFAULT_FRICTION` at the wall, and lubricated pins: a lumped film damping
-:data:`DEFAULT_FILM_DAMPING` (``film_damping=0``: dry joints). The paper's conventional
-IMPACT set, :data:`DEFAULT_IMPACT`, is the method ``ifm-conventional``.
+:data:`DEFAULT_FRICTION` at the wall, and lubricated pins: each joint's film damping from its
+geometry and a lubricant of viscosity :data:`DEFAULT_VISCOSITY` (0: dry joints). The paper's
+conventional IMPACT set, :data:`DEFAULT_IMPACT`, is the method ``ifm-conventional``.
 
 Errors about a setting are :class:`~jointplay.errors.SettingError`: they call it by its
 setting name (``stiffness``, ``c_max``, …), and the command line by its option.
@@ -23,7 +23,13 @@ from typing import Any
 from jointplay.contact.friction import FrictionLaw, get_friction
 from jointplay.contact.laws import CONTACT_LAWS, ContactLaw, ImpactLaw, get_law
 from jointplay.contact.stiffness import STIFFNESS_LAWS
-from jointplay.dynamics.clearance import FIT_DEPTH, ClearanceJoint, JointStiffness
+from jointplay.dynamics.clearance import (
+    FILM_DAMPING_CAP,
+    FIT_DEPTH,
+    ClearanceJoint,
+    JointFilm,
+    JointStiffness,
+)
 from jointplay.errors import ConfigError, QuantityError, SettingError
 from jointplay.model.mechanism import Mechanism, RevoluteJoint
 from jointplay.units import parse_quantity
@@ -50,13 +56,11 @@ DEFAULT_FRICTION = 0.1
 #: (e v)² / (2 a) ≈ 3e-10 m from the wall under a relative acceleration a >= 10 m/s², far
 #: below the ~6e-8 m Hertz approach of the pressed pins (docs/performance.md, issue 22).
 DEFAULT_CAPTURE_SPEED = 1e-4
-#: The film damping c_e of the physical default's lubricated pins, N·s/m (docs/contact.md,
-#: "Lubricated by default"): the order of the short-bearing squeeze-film coefficient
-#: π μ R L³ / c³ of an oiled Ø10 mm steel pin (μ = 0.05 Pa·s, L = 10 mm, c = 21 µm: 8.5e4 at
-#: ε = 0, more at smaller clearance and as the pin nears the wall); the settled peaks move by
-#: < 0.1 % from 1e5 to 1e8 (docs/performance.md), so the lower end of that order is enough.
-#: 0 (``--film-damping 0``): dry joints.
-DEFAULT_FILM_DAMPING = 1e5
+#: The lubricant of the physical default's pins, its dynamic viscosity in Pa·s
+#: (docs/contact.md, "Lubricated by default"): a light machine oil at its working temperature
+#: (ISO VG 46–68 at 40 °C, 0.04–0.06 Pa·s). Each joint's film damping follows from it and the
+#: joint's geometry (:class:`~jointplay.dynamics.clearance.JointFilm`); 0: dry joints.
+DEFAULT_VISCOSITY = 0.05
 
 _HC_FAMILY = {name for name, cls in CONTACT_LAWS.items() if hasattr(cls, "chi_of")}
 
@@ -100,12 +104,17 @@ def _real(value: Any, setting: str, *, text: bool = False) -> float:
     return number
 
 
-def _is_zero(text: str) -> bool:
-    """``text`` is a plain zero (``"0"``, ``"0.0"``): a quantity that needs no unit."""
+def _zero_or_quantity(value: Any, unit: str, setting: str) -> float:
+    """``value`` in ``unit``: a number, or text with a unit (:func:`_quantity`); a plain zero
+    (``"0"``) needs no unit."""
+    if not isinstance(value, str):
+        return _real(value, setting)
     try:
-        return float(text) == 0.0
+        if float(value) == 0.0:
+            return 0.0
     except ValueError:
-        return False
+        pass
+    return _quantity(value, unit, setting)
 
 
 def _quantity(value: Any, unit: str, setting: str, hint: str = "") -> float:
@@ -292,13 +301,15 @@ class ContactModel:
     :data:`DEFAULT_CAPTURE_SPEED`) is locked onto the bearing wall, its normal force a
     constraint multiplier, until that force turns tensile.
 
-    ``film_damping`` is the film damping c_e of every clearance joint (N·s/m, or text with a
-    unit such as ``"100 N*s/m"``; docs/contact.md "Lubricated by default"): a lubricant
-    film's squeeze damping lumped into −c_e ė on the journal's centre, ė its velocity
-    relative to the bearing's centre, in contact or not. ``None`` (the default) takes
-    :data:`DEFAULT_FILM_DAMPING` (lubricated pins) for the physical contact and none for a
-    ready ``law`` (the paper's methods) or the sustained-contact mode; 0: dry joints. Not
-    with ``sustained_contact``.
+    The pins are lubricated (docs/contact.md, "Lubricated by default"): a film damps each
+    journal's motion relative to its bearing, −c_e ė on the journal's centre, in contact or
+    not. ``lubricant_viscosity`` (Pa·s, or text with a unit such as ``"0.05 Pa*s"``) gives
+    c_e per joint from its geometry (:class:`~jointplay.dynamics.clearance.JointFilm`,
+    recomputed for every sample's clearance); ``None`` takes :data:`DEFAULT_VISCOSITY` for
+    the physical contact and none for a ready ``law`` (the paper's methods) or the
+    sustained-contact mode; 0: dry joints. ``film_damping`` (N·s/m, or text such as
+    ``"100 N*s/m"``) instead fixes c_e for every joint (the viscosity is then not used; 0:
+    dry joints). Neither with ``sustained_contact``.
     """
 
     settings: ContactSettings = dataclasses.field(default_factory=ContactSettings)
@@ -311,6 +322,7 @@ class ContactModel:
     sustained_contact: bool = False
     capture_speed: float | str = DEFAULT_CAPTURE_SPEED
     film_damping: float | str | None = None
+    lubricant_viscosity: float | str | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.sustained_contact, bool):
@@ -331,29 +343,58 @@ class ContactModel:
             )
         object.__setattr__(self, "capture_speed", speed)
         if self.film_damping is None:
-            lubricated = self.law is None and not self.sustained_contact
-            object.__setattr__(self, "film_damping", DEFAULT_FILM_DAMPING if lubricated else 0.0)
+            viscosity = self._viscosity()
+            object.__setattr__(self, "lubricant_viscosity", viscosity)
+            if viscosity == 0:
+                object.__setattr__(self, "film_damping", 0.0)
         else:
-            film = (
-                _quantity(self.film_damping, "N*s/m", "film_damping")
-                if isinstance(self.film_damping, str) and not _is_zero(self.film_damping)
-                else _real(self.film_damping, "film_damping", text=True)
-            )
+            film = _zero_or_quantity(self.film_damping, "N*s/m", "film_damping")
             if film < 0:
                 raise SettingError(
                     "{film_damping} must be >= 0 N*s/m (0: dry joints), got {got!r}",
                     got=self.film_damping,
                 )
-            if film > 0 and self.sustained_contact:
-                raise SettingError(
-                    "{film_damping} does not combine with {sustained_contact}: use one of the two"
-                )
             object.__setattr__(self, "film_damping", film)
+            object.__setattr__(self, "lubricant_viscosity", 0.0)  # not used
+        if self.lubricated and self.sustained_contact:
+            raise SettingError(
+                "{sustained_contact} runs dry joints: give {film_damping} 0 (or no "
+                "{lubricant_viscosity}) with it"
+            )
+
+    def _viscosity(self) -> float:
+        """The lubricant's viscosity, Pa·s: as given, else the default's (the physical
+        contact lubricated, the paper's methods and the sustained-contact mode dry)."""
+        if self.lubricant_viscosity is None:
+            dry = self.law is not None or self.sustained_contact
+            return 0.0 if dry else DEFAULT_VISCOSITY
+        viscosity = _zero_or_quantity(self.lubricant_viscosity, "Pa*s", "lubricant_viscosity")
+        if viscosity < 0:
+            raise SettingError(
+                "{lubricant_viscosity} must be >= 0 Pa*s (0: dry joints), got {got!r}",
+                got=self.lubricant_viscosity,
+            )
+        return viscosity
 
     @property
-    def film(self) -> float:
-        """The clearance joints' film damping c_e, N·s/m (0: dry joints)."""
-        return float(self.film_damping or 0.0)
+    def fixed_film(self) -> float | None:
+        """The fixed film damping of every joint, N·s/m (0: dry joints), or ``None``: each
+        joint's follows its geometry (:meth:`film_of`)."""
+        return None if self.film_damping is None else float(self.film_damping)
+
+    @property
+    def lubricated(self) -> bool:
+        """The pins run in a film: a film damping from the geometry or a fixed one > 0."""
+        return self.fixed_film is None or self.fixed_film > 0
+
+    def film_of(self, mechanism: Mechanism, joint: str) -> JointFilm | None:
+        """How joint ``joint``'s film damping follows its geometry (``None``: a fixed
+        ``film_damping``, or dry): the lubricant and the bearing's width
+        (:meth:`Mechanism.bearing_width`, else 10 mm, as the stiffness takes it)."""
+        if self.film_damping is not None:
+            return None
+        width = mechanism.bearing_width(joint)
+        return JointFilm(float(self.lubricant_viscosity or 0.0), width or 0.01)
 
     @property
     def capture(self) -> float:
@@ -377,8 +418,14 @@ class ContactModel:
             clearance=clearance,
             law=self.law,
         )
-        if self.film > 0:
-            joints = [dataclasses.replace(joint, film_damping=self.film) for joint in joints]
+        fixed = self.fixed_film
+        if fixed is None:  # from each joint's geometry
+            joints = [
+                dataclasses.replace(joint, film_from=self.film_of(mechanism, joint.joint))
+                for joint in joints
+            ]
+        elif fixed > 0:
+            joints = [dataclasses.replace(joint, film_damping=fixed) for joint in joints]
         if not self.sustained_contact:
             return joints
         return [dataclasses.replace(joint, capture_speed=self.capture) for joint in joints]
@@ -398,11 +445,16 @@ class ContactModel:
         )
         if self.sustained_contact:
             text += f"; sustained contact (captured below {self.capture * 1e3:g} mm/s)"
-        text += (
-            f"; lubricated pins, film damping {self.film:g} N*s/m"
-            if self.film > 0
-            else "; dry joints (no film damping)"
-        )
+        fixed = self.fixed_film
+        if fixed is None:
+            text += (
+                f"; lubricated pins, a {self.lubricant_viscosity:g} Pa*s lubricant: film damping "
+                f"from each joint's geometry (squeeze film, at most {FILM_DAMPING_CAP:g} N*s/m)"
+            )
+        elif fixed > 0:
+            text += f"; lubricated pins, film damping {fixed:g} N*s/m"
+        else:
+            text += "; dry joints (no film damping)"
         settings = {k: v for k, v in vars(self.settings).items() if v is not None}
         described: dict[str, Any] = {
             "text": text,
@@ -413,7 +465,11 @@ class ContactModel:
         }
         if self.sustained_contact:
             described["capture_speed_m_s"] = self.capture
-        described["film_damping_N_s_m"] = self.film
+        described["lubrication"] = {
+            "lubricated": self.lubricated,
+            "lubricant_viscosity_Pa_s": self.lubricant_viscosity or None,
+            "film_damping_N_s_m": "from each joint's geometry" if fixed is None else fixed,
+        }
         return described
 
 

@@ -696,9 +696,8 @@ def _split_ref(ref: str, joint: str) -> tuple[str, str]:
 #: Keys of the ``[simulation]`` table (the same names as the ``jointplay simulate`` options).
 SIMULATION_KEYS = (
     "method", "ecs_source", "contact", "k", "exponent", "cmax", "depth", "restitution", "damping",
-    "stiffness_law", "fit_depth", "clearance", "joints", "friction", "friction_law", "film_damping",
-    "start",
-    "ramp_time", "start_angle", "revolutions", "settle", "sample_deg", "output_step", "rtol",
+    "stiffness_law", "fit_depth", "clearance", "joints", "friction", "friction_law",
+    "lubricant_viscosity", "film_damping", "start", "ramp_time", "start_angle", "revolutions", "settle", "sample_deg", "output_step", "rtol",
     "max_step", "format",
 )  # fmt: skip
 

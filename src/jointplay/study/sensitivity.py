@@ -1,8 +1,8 @@
 """Is a design's choice robust to the contact model? (issue 22, item 4)
 
 The contact's uncertain parameters — the coefficient of restitution, the friction
-coefficient, the pin-in-hole stiffness law and the lubricant film's damping (dry joints
-included) — are inputs with documented ranges
+coefficient, the pin-in-hole stiffness law and the lubricant (its viscosity, and dry
+joints) — are inputs with documented ranges
 (docs/contact.md). :func:`model_sensitivity` re-evaluates the scheme a design study chose
 with each of them, one at a time, at the ends of its range (the others as the study had
 them), with the study's samples and seed, and says whether the choice holds: the scheme
@@ -27,8 +27,9 @@ FRICTION_RANGE = (0.01, 0.2)
 #: The stiffness laws for conformal pin-in-hole contact valid at every clearance: the default
 #: (Liu's) and Hertz's point-contact convention of the revolute-clearance literature.
 STIFFNESS_LAWS = ("liu", "hertz")
-#: The film damping of a lubricated pin, N·s/m: a thin film to the squeeze film of an oiled
-#: pin at ε = 0 (docs/contact.md); the table also runs the joints dry (0).
+#: The lubricant's viscosity, Pa·s (docs/contact.md): a thin, hot oil to a grease's base oil;
+#: the table also runs the joints dry (0). A fixed film damping takes FILM_DAMPING_RANGE.
+VISCOSITY_RANGE = (0.005, 0.5)
 FILM_DAMPING_RANGE = (1e4, 1e6)
 
 
@@ -43,8 +44,8 @@ class ModelCase:
 
 def model_cases(contact: ContactModel) -> tuple[ModelCase, ...]:
     """Each uncertain parameter of ``contact`` at the ends of its range, one at a time: the
-    restitution (laws that take one), the friction coefficient, the film damping (and dry
-    joints) and the other stiffness law (a stiffness from the geometry). None for one of the
+    restitution (laws that take one), the friction coefficient, dry joints and the lubricant's
+    viscosity (or a fixed film damping) and the other stiffness law (a stiffness from the geometry). None for one of the
     paper's methods (fixed by name)."""
     from jointplay.dynamics.setup import DEFAULT_RESTITUTION
 
@@ -66,11 +67,19 @@ def model_cases(contact: ContactModel) -> tuple[ModelCase, ...]:
             cases.append(
                 ModelCase("friction", mu, dataclasses.replace(contact, friction=changed_friction))
             )
-    for film in (0.0, *FILM_DAMPING_RANGE):
-        if film != contact.film:
-            value: float | str = "dry" if film == 0 else film
-            changed_contact = dataclasses.replace(contact, film_damping=film)
-            cases.append(ModelCase("film_damping", value, changed_contact))
+    if contact.lubricated:
+        dry = dataclasses.replace(contact, film_damping=0.0)
+        cases.append(ModelCase("lubrication", "dry", dry))
+    if contact.fixed_film is None:  # from the geometry: the lubricant's range
+        for viscosity in VISCOSITY_RANGE:
+            if viscosity != contact.lubricant_viscosity:
+                changed_contact = dataclasses.replace(contact, lubricant_viscosity=viscosity)
+                cases.append(ModelCase("lubricant_viscosity", viscosity, changed_contact))
+    else:
+        for film in FILM_DAMPING_RANGE:
+            if film != contact.fixed_film:
+                changed_contact = dataclasses.replace(contact, film_damping=film)
+                cases.append(ModelCase("film_damping", film, changed_contact))
     if settings.geometry_law is not None:
         for law in STIFFNESS_LAWS:
             if law != settings.geometry_law:
@@ -122,7 +131,7 @@ class ModelSensitivity:
         if self.holds:
             return (
                 f"the choice {self.scheme} holds at the ends of the contact model's ranges "
-                "(restitution, friction, stiffness law, film damping and dry joints)"
+                "(restitution, friction, stiffness law, lubricant and dry joints)"
             )
         failing = ", ".join(f"{r.parameter} = {r.value}" for r in self.rows if not r.meets)
         return f"the choice {self.scheme} does not hold with {failing}"
@@ -136,7 +145,9 @@ class ModelSensitivity:
                 "restitution": list(RESTITUTION_RANGE),
                 "friction": list(FRICTION_RANGE),
                 "stiffness_law": list(STIFFNESS_LAWS),
-                "film_damping_N_s_m": [0.0, *FILM_DAMPING_RANGE],
+                "lubricant_viscosity_Pa_s": list(VISCOSITY_RANGE),
+                "film_damping_N_s_m": list(FILM_DAMPING_RANGE),
+                "lubrication": ["lubricated", "dry"],
             },
             "rows": [row.as_dict() for row in self.rows],
         }

@@ -25,7 +25,7 @@ from jointplay.model.templates import TemplateSpec, template_of
 if TYPE_CHECKING:  # the dynamics import Numba: loaded only by dynamic studies
     from jointplay.contact.friction import FrictionLaw
     from jointplay.contact.laws import ContactLaw
-    from jointplay.dynamics.clearance import ClearanceJoint, JointStiffness
+    from jointplay.dynamics.clearance import ClearanceJoint, JointFilm, JointStiffness
     from jointplay.dynamics.setup import ContactModel
     from jointplay.dynamics.simulate import SimulationResult, SolverOptions, Start
 from jointplay.tolerance.response_base import (
@@ -89,9 +89,11 @@ class DynamicResponses:
         capture_speed: the sustained-contact mode's capture speed of every clearance joint,
             m/s (0, the default: the mode is off; :class:`ContactModel`'s
             ``sustained_contact``). The batch engine then runs the implicit lanes.
-        film_damping: the film damping c_e of every clearance joint, N·s/m (0, the
-            default: off; :class:`ContactModel`'s ``film_damping``). The batch engine then
-            runs the implicit lanes.
+        film_damping: a fixed film damping c_e of every clearance joint, N·s/m (0, the
+            default: dry, unless ``film_from``; :class:`ContactModel`'s ``film_damping``).
+        film_from: joint → how its film damping follows its geometry and lubricant
+            (:class:`~jointplay.dynamics.clearance.JointFilm`), recomputed for every
+            sample's clearance. With a film the batch engine runs the implicit lanes.
     """
 
     mechanism: Mechanism
@@ -110,6 +112,7 @@ class DynamicResponses:
     stiffness_from: Mapping[str, JointStiffness] = field(default_factory=dict)
     capture_speed: float = 0.0
     film_damping: float = 0.0
+    film_from: Mapping[str, JointFilm] = field(default_factory=dict)
 
     #: Rough cost of one sample on one core (the conventional four-bar, one revolution), s:
     #: the execution backend starts worker processes only when they pay for themselves.
@@ -132,6 +135,7 @@ class DynamicResponses:
         object.__setattr__(self, "journal_radius", dict(self.journal_radius))
         object.__setattr__(self, "fixed_clearances", dict(self.fixed_clearances))
         object.__setattr__(self, "stiffness_from", dict(self.stiffness_from))
+        object.__setattr__(self, "film_from", dict(self.film_from))
         if not isinstance(self.law, ContactLaw):
             raise ConfigError(
                 f"dynamic responses: law must be a ContactLaw instance, got {type(self.law).__name__}"
@@ -248,6 +252,11 @@ class DynamicResponses:
             else {"name": self.friction.name, **fields_of(self.friction)},
             **({"capture_speed_m_s": self.capture_speed} if self.capture_speed > 0 else {}),
             **({"film_damping_N_s_m": self.film_damping} if self.film_damping > 0 else {}),
+            **(
+                {"film_from_geometry": {j: fields_of(r) for j, r in self.film_from.items()}}
+                if self.film_from
+                else {}
+            ),
             "start": self.start.mode,
             "settle_revolutions": self.settle,
             "revolutions": self.revolutions,
@@ -352,6 +361,7 @@ class DynamicResponses:
             stiffness_from=rule,
             capture_speed=self.capture_speed,
             film_damping=self.film_damping,
+            film_from=self.film_from.get(joint),
         )
 
     def batch_samples(self, x: FloatArray) -> Any:
@@ -674,10 +684,10 @@ class PeakResponses(DynamicResponses):
 
 
 def contact_parts(mechanism: Mechanism, contact: ContactModel) -> dict[str, Any]:
-    """The ``law``, ``friction``, ``stiffness_from``, ``capture_speed`` and ``film_damping`` of
-    :class:`DynamicResponses` for the contact ``contact``: with a stiffness from the
-    geometry, the law's stiffness and exponent are placeholders that every joint refits to
-    its clearance (:meth:`DynamicResponses._joint`)."""
+    """The ``law``, ``friction``, ``stiffness_from``, ``capture_speed``, ``film_damping`` and
+    ``film_from`` of :class:`DynamicResponses` for the contact ``contact``: with a stiffness
+    from the geometry, the law's stiffness and exponent are placeholders that every joint
+    refits to its clearance (:meth:`DynamicResponses._joint`)."""
     from jointplay.dynamics.setup import joint_stiffness, make_law
 
     if contact.law is not None:
@@ -685,8 +695,7 @@ def contact_parts(mechanism: Mechanism, contact: ContactModel) -> dict[str, Any]
             "law": contact.law,
             "friction": contact.friction.build(),
             "stiffness_from": {},
-            "capture_speed": contact.capture,
-            "film_damping": contact.film,
+            **_film_parts(mechanism, contact),
         }
     geometric = contact.settings.geometry_law is not None
     return {
@@ -697,8 +706,17 @@ def contact_parts(mechanism: Mechanism, contact: ContactModel) -> dict[str, Any]
             for joint in mechanism.revolute_joints
             if (rule := joint_stiffness(mechanism, joint.name, contact.settings)) is not None
         },
+        **_film_parts(mechanism, contact),
+    }
+
+
+def _film_parts(mechanism: Mechanism, contact: ContactModel) -> dict[str, Any]:
+    """The ``capture_speed``, ``film_damping`` and ``film_from`` of ``contact``."""
+    films = {j.name: contact.film_of(mechanism, j.name) for j in mechanism.revolute_joints}
+    return {
         "capture_speed": contact.capture,
-        "film_damping": contact.film,
+        "film_damping": contact.fixed_film or 0.0,
+        "film_from": {name: rule for name, rule in films.items() if rule is not None},
     }
 
 
