@@ -1,8 +1,8 @@
 """Film damping (:class:`~jointplay.dynamics.setup.ContactModel`'s ``film_damping``) on the
 paper's four-bar: the physical default contact, 21 µm in all four joints, steady start.
 
-- the physical default lubricates (``None``: :data:`DEFAULT_FILM_DAMPING`), the paper's
-  methods do not; 0 gives dry joints;
+- the physical default lubricates (each joint's c_e from its geometry and
+  :data:`DEFAULT_VISCOSITY`), the paper's methods do not; 0 gives dry joints;
 - on, the energy balance still closes (the film's power c_e |ė|² is in W_contact);
 - the reported joint force is what the joint transmits, |F_N n + F_T t + c_e ė|, checked
   against ė from the states (``dex_*``, ``dey_*``) and n, t from the eccentricity;
@@ -18,7 +18,8 @@ import pytest
 from jointplay._kernels import eom
 from jointplay.dynamics.batch import BatchSamples, choose_method, simulate_batch
 from jointplay.dynamics.clearance import ClearanceJoint
-from jointplay.dynamics.setup import DEFAULT_FILM_DAMPING, DEFAULT_IMPACT, ContactModel
+from jointplay.dynamics.clearance import FILM_DAMPING_CAP, JointFilm
+from jointplay.dynamics.setup import DEFAULT_IMPACT, DEFAULT_VISCOSITY, ContactModel
 from jointplay.dynamics.simulate import SimulationResult, Start, simulate
 from jointplay.dynamics.system import build_system
 from jointplay.errors import SettingError
@@ -50,27 +51,54 @@ def with_film(paper_fourbar: Mechanism) -> SimulationResult:
 
 def test_the_setting_parses_and_is_described() -> None:
     # the physical default lubricates; the paper's methods and the sustained mode stay dry
-    assert ContactModel().film == DEFAULT_FILM_DAMPING == 1e5
-    assert ContactModel(law=DEFAULT_IMPACT, method="ifm-conventional").film == 0.0
-    assert ContactModel(sustained_contact=True).film == 0.0
-    assert ContactModel(film_damping=0).film == 0.0 and ContactModel(film_damping="0").film == 0.0
-    assert ContactModel(film_damping="0.1 kN*s/m").film == pytest.approx(100.0)
+    default = ContactModel()
+    assert default.lubricated and default.fixed_film is None
+    assert default.lubricant_viscosity == DEFAULT_VISCOSITY
+    assert not ContactModel(law=DEFAULT_IMPACT, method="ifm-conventional").lubricated
+    assert not ContactModel(sustained_contact=True).lubricated
+    assert ContactModel(film_damping=0).fixed_film == 0.0
+    assert not ContactModel(film_damping="0").lubricated
+    assert not ContactModel(lubricant_viscosity="0").lubricated
+    assert ContactModel(lubricant_viscosity="50 mPa*s").lubricant_viscosity == pytest.approx(0.05)
+    assert ContactModel(film_damping="0.1 kN*s/m").fixed_film == pytest.approx(100.0)
     described = ContactModel(film_damping=100).describe()
-    assert described["film_damping_N_s_m"] == 100.0 and "film damping 100" in described["text"]
+    assert described["lubrication"]["film_damping_N_s_m"] == 100.0
+    assert "film damping 100" in described["text"]
+    assert "0.05 Pa*s lubricant" in default.describe()["text"]
     dry = ContactModel(film_damping=0).describe()
-    assert dry["film_damping_N_s_m"] == 0.0 and "dry joints" in dry["text"]
+    assert dry["lubrication"]["lubricated"] is False and "dry joints" in dry["text"]
     with pytest.raises(SettingError, match="has no unit"):
         ContactModel(film_damping="5")  # only a zero goes without a unit
     with pytest.raises(SettingError, match="film_damping must be >= 0"):
         ContactModel(film_damping=-1.0)
-    with pytest.raises(SettingError, match="film_damping does not combine"):
+    with pytest.raises(SettingError, match="lubricant_viscosity must be >= 0"):
+        ContactModel(lubricant_viscosity=-1.0)
+    with pytest.raises(SettingError, match="sustained_contact runs dry joints"):
         ContactModel(film_damping=1.0, sustained_contact=True)
+
+
+def test_the_default_film_follows_each_joints_geometry(paper_fourbar: Mechanism) -> None:
+    """c_e = π μ R L³ / c³ (the short-bearing squeeze film at ε = 0), capped: computed by
+    hand for the paper's pins (R = 5 mm, L = 10 mm, μ = 0.05 Pa·s), and recomputed with the
+    clearance."""
+    joints = ContactModel().joints(paper_fourbar, JOINTS, clearance=CLEARANCE)
+    by_hand = 3.141592653589793 * 0.05 * 0.005 * 0.01**3 / CLEARANCE**3  # 8.48e4 N·s/m
+    for joint in joints:
+        assert joint.film_from == JointFilm(0.05, 0.01)
+        assert joint.film_damping == pytest.approx(by_hand, rel=1e-12)
+        assert joint.with_clearance(2 * CLEARANCE).film_damping == pytest.approx(by_hand / 8)
+        assert joint.with_clearance(1e-6).film_damping == FILM_DAMPING_CAP
+    # one value per simulation: the smallest of its joints'
+    mixed = [joints[0].with_clearance(2 * CLEARANCE), *joints[1:]]
+    assert build_system(paper_fourbar, mixed).model.settings[eom.S_FILM] == pytest.approx(
+        by_hand / 8
+    )
 
 
 def test_off_is_the_contact_without_it(paper_fourbar: Mechanism) -> None:
     joints = _joints(paper_fourbar, film_damping=0.0)
-    assert all(j.film_damping == 0.0 for j in joints)
-    assert all(j.film_damping == DEFAULT_FILM_DAMPING for j in _joints(paper_fourbar))
+    assert all(j.film_damping == 0.0 and j.film_from is None for j in joints)
+    assert _joints(paper_fourbar, lubricant_viscosity=0.0) == joints
     assert build_system(paper_fourbar, joints).model.settings[eom.S_FILM] == 0.0
 
 

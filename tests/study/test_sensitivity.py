@@ -12,6 +12,7 @@ from jointplay.study.design import design_study
 from jointplay.study.sensitivity import (
     FILM_DAMPING_RANGE,
     FRICTION_RANGE,
+    VISCOSITY_RANGE,
     RESTITUTION_RANGE,
     ModelSensitivity,
     SensitivityRow,
@@ -34,9 +35,9 @@ def test_each_case_changes_one_parameter_to_an_end_of_its_range() -> None:
         ("restitution", RESTITUTION_RANGE[1]),
         ("friction", FRICTION_RANGE[0]),
         ("friction", FRICTION_RANGE[1]),
-        ("film_damping", "dry"),
-        ("film_damping", FILM_DAMPING_RANGE[0]),
-        ("film_damping", FILM_DAMPING_RANGE[1]),
+        ("lubrication", "dry"),
+        ("lubricant_viscosity", VISCOSITY_RANGE[0]),
+        ("lubricant_viscosity", VISCOSITY_RANGE[1]),
         ("stiffness_law", "hertz"),
     ]
     for case in cases:
@@ -46,19 +47,31 @@ def test_each_case_changes_one_parameter_to_an_end_of_its_range() -> None:
             for name, value in vars(getattr(case.contact, part)).items()
             if value != getattr(getattr(default, part), name)
         }
-        if case.contact.film != default.film:
-            changed.add("film_damping")
+        changed |= {
+            name
+            for name in ("film_damping", "lubricant_viscosity")
+            if getattr(case.contact, name) != getattr(default, name)
+        }
         expected = {
             "stiffness_law": {"stiffness_law"},
             "friction": {"coefficient"},
-            "film_damping": {"film_damping"},
+            "lubrication": {"film_damping", "lubricant_viscosity"},  # fixed at 0: dry
+            "lubricant_viscosity": {"lubricant_viscosity"},
         }
         assert changed == expected.get(case.parameter, {"restitution"}), case
     dry = next(c.contact for c in cases if c.value == "dry")
-    assert dry.film == 0.0 and "dry joints" in dry.describe()["text"]
+    assert not dry.lubricated and "dry joints" in dry.describe()["text"]
+    fixed = ContactModel(film_damping="1e5 N*s/m")  # a fixed film: its own range
+    assert [(c.parameter, c.value) for c in model_cases(fixed) if "film" in c.parameter] == [
+        ("film_damping", FILM_DAMPING_RANGE[0]),
+        ("film_damping", FILM_DAMPING_RANGE[1]),
+    ]
     assert model_cases(ContactModel(law=DEFAULT_IMPACT, method="ifm-conventional")) == ()
     impact = ContactModel(ContactSettings(law="impact"))  # no restitution, a fixed stiffness
-    assert [c.parameter for c in model_cases(impact)] == ["friction"] * 2 + ["film_damping"] * 3
+    assert [c.parameter for c in model_cases(impact)] == [
+        *("friction", "friction"),
+        *("lubrication", "lubricant_viscosity", "lubricant_viscosity"),
+    ]
 
 
 def test_the_chosen_scheme_is_re_evaluated_under_each_case(paper_fourbar: Mechanism) -> None:

@@ -399,9 +399,9 @@ def _sobol_matrix(x: FloatArray, y: FloatArray) -> FloatArray:
     """(r, k) first-order indices of the r columns of ``y`` (see :func:`sobol_first_order`)."""
     n, k = x.shape
     out = np.zeros((y.shape[1], k))
-    var = y.var(axis=0)
-    if n < 20:
+    if n < 20:  # too few samples to bin (none at all when every sample failed)
         return out
+    var = y.var(axis=0)
     bins = int(min(100, max(2, math.isqrt(n))))
     edges = np.linspace(0, n, bins + 1).astype(np.intp)
     sizes = np.diff(edges).astype(float)[:, None]

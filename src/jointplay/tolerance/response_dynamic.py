@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from jointplay.dynamics.cycles import DEFAULT_SETTLE, analysed_revolutions, settle_revolutions
-from jointplay.errors import ConfigError, PartialInterrupt
+from jointplay.errors import ConfigError, PartialInterrupt, SettingError
 from jointplay.execution.backends import Backend
 from jointplay.execution.interrupts import interrupts_noted
 from jointplay.model.mechanism import Mechanism
@@ -136,6 +136,12 @@ class DynamicResponses:
         object.__setattr__(self, "fixed_clearances", dict(self.fixed_clearances))
         object.__setattr__(self, "stiffness_from", dict(self.stiffness_from))
         object.__setattr__(self, "film_from", dict(self.film_from))
+        if self.backend.kind == "gpu" and (self.film_damping > 0 or self.film_from):
+            raise SettingError(
+                "the gpu backend (JAX) integrates dry joints only: the pins' lubricant film "
+                "runs on the CPU backends (local, processes, dask); choose one, or run the "
+                "joints dry with {lubricant_viscosity} 0"
+            )
         if not isinstance(self.law, ContactLaw):
             raise ConfigError(
                 f"dynamic responses: law must be a ContactLaw instance, got {type(self.law).__name__}"
@@ -306,9 +312,19 @@ class DynamicResponses:
             text += f", stiffness {k:.4g} N/m^{getattr(law, 'exponent', 1.0):g}"
         friction = self.friction
         if friction is None:
-            return text + "; no friction"
-        mu = getattr(friction, "mu", getattr(friction, "mu_static", math.nan))
-        return text + f"; {friction.name} friction, coefficient {mu:g}"
+            text += "; no friction"
+        else:
+            mu = getattr(friction, "mu", getattr(friction, "mu_static", math.nan))
+            text += f"; {friction.name} friction, coefficient {mu:g}"
+        viscosities = {rule.viscosity for rule in self.film_from.values()}
+        if viscosities:
+            return text + (
+                f"; lubricated pins, a {', '.join(f'{v:g}' for v in sorted(viscosities))} Pa*s "
+                "lubricant: film damping from each joint's geometry and every sample's clearance"
+            )
+        if self.film_damping > 0:
+            return text + f"; lubricated pins, film damping {self.film_damping:g} N*s/m"
+        return text + "; dry joints"
 
     def method_choice(self) -> Any:
         """The batch engine's method for this model (the nominal contact laws decide, so
