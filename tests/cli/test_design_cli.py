@@ -102,7 +102,8 @@ def test_design_warns_on_stderr_when_pins_sink_deeper_than_the_clearance(tmp_pat
     one warning line per clearance joint on stderr, as `jointplay tolerance` prints them,
     with the counts of samples.parquet; a stiff one (1e6 N/mm^1.5) prints none."""
     soft = tmp_path / "soft"
-    impact = ["--contact", "impact"]  # the IMPACT law (not the default) with these --k
+    # the IMPACT law (not the default) with these --k, and dry pins (a film would hold them)
+    impact = ["--contact", "impact", "--lubricant-viscosity", "0"]
     assert run([*FAST_DYNAMIC, *impact, "--k", "1e2 N/mm^1.5", "--out", str(soft)]) == 0
     err = capsys.readouterr().err
     lines = [line for line in err.splitlines() if "penetration-exceeds-clearance" in line]
@@ -176,7 +177,8 @@ def test_wear_and_cost_tables_sit_in_the_mechanism_config(tmp_path, capsys) -> N
     def lives(config, *extra: str) -> dict[str, float]:
         out = tmp_path / f"wear-{config.stem}-{len(extra)}"
         args = ["wear", "--config", str(config), "--hours", "1 h", "--update-hours", "60 min",
-                "--clearance-limit", "+20 um", "--fit", "H7/g6", "--no-plots", "--out", str(out)]  # fmt: skip
+                "--clearance-limit", "+20 um", "--fit", "H7/g6", "--lubricant-viscosity", "0",
+                "--no-plots", "--out", str(out)]  # fmt: skip
         assert run([*args, *extra]) == 0
         return json.loads((out / "summary.json").read_text())["life_hours"]
 

@@ -17,8 +17,7 @@ import pytest
 
 from jointplay._kernels import eom
 from jointplay.dynamics.batch import BatchSamples, choose_method, simulate_batch
-from jointplay.dynamics.clearance import ClearanceJoint
-from jointplay.dynamics.clearance import FILM_DAMPING_CAP, JointFilm
+from jointplay.dynamics.clearance import FILM_DAMPING_CAP, ClearanceJoint, JointFilm
 from jointplay.dynamics.setup import DEFAULT_IMPACT, DEFAULT_VISCOSITY, ContactModel
 from jointplay.dynamics.simulate import SimulationResult, Start, simulate
 from jointplay.dynamics.system import build_system

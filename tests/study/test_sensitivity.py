@@ -12,8 +12,8 @@ from jointplay.study.design import design_study
 from jointplay.study.sensitivity import (
     FILM_DAMPING_RANGE,
     FRICTION_RANGE,
-    VISCOSITY_RANGE,
     RESTITUTION_RANGE,
+    VISCOSITY_RANGE,
     ModelSensitivity,
     SensitivityRow,
     model_cases,

@@ -27,7 +27,7 @@ def _opt(help_text: str, *names: str, panel: str = CONTACT_PANEL) -> Any:
 MethodOption = Annotated[
     str | None,
     _opt(
-        "A method of the paper's Table 2 instead of the contact options: ifm- or rm- with conventional, ecs-cylindrical or ecs-spherical.",
+        "A method of the paper's Table 2 instead: ifm- or rm- with conventional, ecs-cylindrical or ecs-spherical.",
         "--method",
     ),
 ]
@@ -41,7 +41,7 @@ EcsSourceOption = Annotated[
 ContactOption = Annotated[
     str | None,
     _opt(
-        "Contact law: restitution (default), impact, hertz, flores or another of docs/contact-laws.md.",
+        "Contact law (docs/contact-laws.md): restitution (default), impact, hertz, ...",
         "--contact",
     ),
 ]
@@ -96,15 +96,14 @@ FrictionOption = Annotated[
 ViscosityOption = Annotated[
     str | None,
     _opt(
-        "The pins' lubricant, e.g. '0.05 Pa*s' (the default; each joint's film damping "
-        "follows from it and its geometry); 0: dry joints; --method: 0. See docs/contact.md.",
+        "Lubricant, '0.05 Pa*s' (default; sets each joint's film damping); 0: dry.",
         "--lubricant-viscosity",
     ),
 ]
 FilmDampingOption = Annotated[
     str | None,
     _opt(
-        "A fixed film damping for every clearance joint instead, e.g. '1e4 N*s/m'; 0: dry.",
+        "Or a fixed film damping ('1e4 N*s/m').",
         "--film-damping",
     ),
 ]
