@@ -16,7 +16,8 @@ libdevice's sin/cos/pow differ from libm in the last bit: that bound, or the con
 lane where round-off tips a step's acceptance, applies there.
 
 The implicit (Radau IIA) kernel likewise: two short lanes of the stiff physical default
-against the CPU compilation of the same source (the same steps; peaks to round-off).
+against the CPU compilation of the same source (the same steps; peaks to round-off), also
+with film damping (c_e = 1e5 N·s/m), which the explicit kernel refuses.
 
 Interrupts: a child process running a launch on the simulator with the flags of
 ``interrupts_watched`` is sent SIGINT; the launch must stop within a bound, not run on
