@@ -359,8 +359,9 @@ def _merged(
 
 # --- the entry point --------------------------------------------------------------------------------
 def implicit_only_options(clearances: Sequence[ClearanceJoint]) -> list[str]:
-    """The settings of ``clearances`` that only the implicit lanes on the CPU integrate, by
-    their setting names: the sustained-contact mode (a capture speed) and film damping."""
+    """The settings of ``clearances`` that only the implicit lanes integrate, by their setting
+    names: the sustained-contact mode (a capture speed; on the CPU backends only) and film
+    damping (on the CPU backends and the ``cuda`` backend)."""
     options = []
     if any(c.capture_speed > 0 for c in clearances):
         options.append("sustained_contact")
@@ -371,8 +372,10 @@ def implicit_only_options(clearances: Sequence[ClearanceJoint]) -> list[str]:
 
 def _check_implicit_only(options: Sequence[str], method: str, runner: Any) -> None:
     """The sustained-contact mode and film damping (``options``, setting names:
-    :func:`implicit_only_options`) run on the implicit lanes (the single engine's Radau
-    integration and hooks) on the CPU backends only: refuse the rest, saying what to do."""
+    :func:`implicit_only_options`) run on the implicit lanes only: the sustained-contact mode
+    on the CPU backends (the single engine's Radau integration and hooks), film damping there
+    and on the ``cuda`` backend's implicit lanes (the JAX ``gpu`` backend has none): refuse
+    the rest, saying what to do."""
     if not options:
         return
     named = " and ".join(f"{{{option}}}" for option in options)
@@ -382,11 +385,16 @@ def _check_implicit_only(options: Sequence[str], method: str, runner: Any) -> No
             f"film damping): {named} needs the implicit method; give method 'implicit' or "
             "'auto', or turn it off"
         )
-    if runner.on_device or runner.kind == "cuda":
+    refused = options
+    if runner.kind == "cuda":  # its implicit lanes run the film
+        refused = [option for option in options if option != "film_damping"]
+    if refused and (runner.on_device or runner.kind == "cuda"):
+        named = " and ".join(f"{{{option}}}" for option in refused)
+        also = ", film damping also on the cuda backend" if "film_damping" in refused else ""
         raise SettingError(
-            "the GPU backends integrate compliant contacts only (no sustained contact, no "
-            f"film damping): {named} runs on the CPU backends (local, threads, processes, "
-            "dask); choose one, or turn it off"
+            "the GPU backends integrate compliant contacts only (no sustained contact; film "
+            f"damping on the cuda backend's implicit lanes only): {named} runs on the CPU "
+            f"backends (local, threads, processes, dask){also}; choose one, or turn it off"
         )
 
 

@@ -34,7 +34,7 @@ FUNCTIONS = (
     "step3", "power", "normal_force", "friction_force", "driver_acceleration", "driver_angle",
     "driver_speed", "rot", "point_global", "constraint_rows", "constraint_jacobian",
     "acceleration_rhs", "cholesky_solve", "constrained_accelerations", "push",
-    "eccentricity_rate", "contact_forces", "rhs", "rhs_and_quantities", "quantities", "onset_fraction",
+    "eccentricity_rate", "contact_forces", "film_components", "rhs", "rhs_and_quantities", "quantities", "onset_fraction",
     "onset_check", "impact_rate", "contact_memory", "project_driver", "constraint_residual",
     "max_abs", "schur_solve", "project_constraints", "project",
     "all_finite", "interrupt_pending", "dense", "triggers", "wants_refinement",
@@ -42,7 +42,7 @@ FUNCTIONS = (
     "explicit_lane",
     *(
         "pmin", "pmax", "cdiv", "lu_real", "lu_complex", "lu_solve_real", "lu_solve_complex",
-        "law_slopes", "arm", "jacobian_clear", "column_difference", "jacobian_differences",
+        "law_slopes", "arm", "film_jacobian", "jacobian_clear", "column_difference", "jacobian_differences",
         "jacobian", "factor_newton", "solve_real", "solve_complex",
         "stage_norm", "rms", "mat3", "predict", "initial_step", "collocation", "hermite",
         "implicit_lane",
@@ -142,14 +142,26 @@ def all_clear(ipar: npt.NDArray[np.int64]) -> bool:
     return int(lane_layout(ipar)[source.LY_NIDEAL]) == 0
 
 
-def lanes_refusal(ipar: npt.NDArray[np.int64], rpar: npt.NDArray[np.float64]) -> str | None:
-    """Why the lanes of the single source (explicit and implicit) cannot run these lanes, or
-    ``None``: they cover every mechanism outside the contact options of :mod:`eom` they do
-    not implement, the sustained-contact mode and film damping."""
+def lanes_refusal(
+    ipar: npt.NDArray[np.int64], rpar: npt.NDArray[np.float64], method: str
+) -> str | None:
+    """Why the lanes of the single source of ``method`` (``"explicit"`` or ``"implicit"``)
+    cannot run these lanes, or ``None``: they cover every mechanism outside the contact
+    options of :mod:`eom` they do not implement: the sustained-contact mode (neither
+    method), film damping (the implicit method only: at a c_e of the order of 1e5 N·s/m the
+    film's time constant m/c_e is microseconds, and an explicit method's steps with it)."""
     lay = lane_layout(ipar)
     settings = np.atleast_2d(rpar)[:, int(lay[source.LY_SETTINGS]) :]
     if np.any(settings[:, source_radau.S_CAPTURE] > 0.0):
         return "the lanes of the single source have no sustained-contact mode yet"
-    if settings.shape[1] > source_radau.S_FILM and np.any(settings[:, source_radau.S_FILM] > 0.0):
-        return "the lanes of the single source have no film damping yet"
+    if (
+        method != "implicit"
+        and settings.shape[1] > source.S_FILM
+        and np.any(settings[:, source.S_FILM] > 0.0)
+    ):
+        return (
+            "the explicit lanes of the single source do not integrate film damping (stiff: "
+            "the film's time constant m/c_e would make their steps microseconds); the implicit "
+            "method runs it"
+        )
     return None

@@ -146,8 +146,8 @@ def implicit_lanes(
     peaks, stats, status, t_reached, counts,
 ):  # fmt: skip
     """Every lane of the implicit method on the single source, one after the other
-    (arguments and outputs: :func:`explicit_lanes`; not in the sustained-contact mode nor with
-    film damping: :func:`jointplay._kernels.lanes.build.lanes_refusal`)."""
+    (arguments and outputs: :func:`explicit_lanes`; not in the sustained-contact mode:
+    :func:`jointplay._kernels.lanes.build.lanes_refusal`)."""
     for lane in range(y0.shape[0]):
         _one_implicit(
             ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,

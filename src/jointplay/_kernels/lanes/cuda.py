@@ -22,8 +22,9 @@ refreshes every :data:`FLAG_COPY_S`). Each thread reads them once per step, vola
 (:mod:`.cuda_kernel`), so every lane still running ends with ``STATUS_INTERRUPTED`` within
 one step of the signal and finished lanes keep their results, as on the CPU.
 
-What it does not do yet: the sustained-contact mode and film damping (the CPU's implicit
-lanes only: :func:`~jointplay._kernels.lanes.build.lanes_refusal`), and mechanisms larger than
+What it does not do yet: the sustained-contact mode (the CPU's implicit lanes only), film
+damping on the explicit method (the implicit one runs it;
+:func:`~jointplay._kernels.lanes.build.lanes_refusal` for both), and mechanisms larger than
 the per-thread arrays (:mod:`.limits`).
 
 numba-cuda is imported by this module only, when a batch is run; without it, or without a
@@ -60,8 +61,8 @@ MAP_HOST_FLAGS = True
 FLAG_COPY_S = 0.01
 #: How often the host looks whether a launch has finished, s.
 LAUNCH_POLL_S = 0.001
-#: The methods of :func:`run_batch` (both outside the sustained-contact mode and film
-#: damping: :func:`~jointplay._kernels.lanes.build.lanes_refusal`).
+#: The methods of :func:`run_batch` (both outside the sustained-contact mode, the explicit one
+#: without film damping: :func:`~jointplay._kernels.lanes.build.lanes_refusal`).
 METHODS = ("explicit", "implicit")
 
 
@@ -126,7 +127,8 @@ def run_batch(
         ipar, rpar, y0, t_settle, t_end, max_step, rtol, atol, max_steps: as
             :func:`jointplay._kernels.batch.run_batch` (s, SI units).
         method: ``"explicit"`` (Dormand–Prince 5(4)) or ``"implicit"`` (Radau IIA,
-            :mod:`~jointplay._kernels.lanes.source_radau`; not the sustained-contact mode).
+            :mod:`~jointplay._kernels.lanes.source_radau`: film damping too; not the
+            sustained-contact mode).
         chunk_size: unused (one launch runs every lane given); accepted for the executor's
             device interface.
         timings: if given, receives ``compile_s`` (numba-cuda's compilation or cache load,
@@ -136,8 +138,8 @@ def run_batch(
             threads during the launch (:func:`_device_flags`); ``None``: not watched.
 
     Raises:
-        ConfigError: numba-cuda or a GPU is missing, the method (or, implicit, the
-            sustained-contact mode) is one the GPU lanes do not cover yet, the mechanism
+        ConfigError: numba-cuda or a GPU is missing, the method (or the sustained-contact
+            mode, or film damping on the explicit method) is one the GPU lanes do not cover, the mechanism
             exceeds their arrays, or an input is malformed.
     """
     del chunk_size
@@ -173,7 +175,7 @@ def run_batch(
             f"run_batch: y0 must be (n, {size}) and atol ({size},), rpar (n, R); got y0 "
             f"{y0_a.shape}, atol {atol_a.shape}, rpar {rpar_a.shape}"
         )
-    refusal = lanes_refusal(ipar_a, rpar_a)
+    refusal = lanes_refusal(ipar_a, rpar_a, method)
     if refusal is not None:
         raise ConfigError(f"the cuda batch backend: {refusal}")
     nb = int(lay[source.LY_N]) // 3

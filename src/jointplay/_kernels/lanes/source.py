@@ -45,6 +45,8 @@ FRICTION_NONE, FRICTION_AMBROSIO, FRICTION_ADAMS = 0, 1, 2
 # eom: clearance geometry columns, settings
 N_GEOM, G_R_BEARING, G_R_JOURNAL, G_CLEARANCE = 3, 0, 1, 2
 S_ONSET_TOL, S_PROJ_TOL, S_V_MARK = 0, 1, 2
+#: eom.S_FILM: the film damping c_e (N·s/m; 0: off) of every clearance joint.
+S_FILM = 4
 # statuses (jointplay._kernels.common)
 STATUS_SUCCESS, STATUS_STEP_TOO_SMALL, STATUS_TOO_MANY_STEPS = 0, -1, -2
 STATUS_NON_FINITE, STATUS_INTERRUPTED, STATUS_RUNNING = -3, -4, 1
@@ -360,9 +362,13 @@ def eccentricity_rate(y, n, a, b, wa, wb, rax, ray, rbx, rby):
 def contact_forces(y, rp, ip, lay, f, record, recording):
     """Add every clearance joint's contact force to ``f[n:2n]`` (:func:`eom.add_contact_forces`:
     δ = |e| − c, δ̇ = ė·n, v_T = ė·t + R_J ω_b − R_B ω_a; −F_N n − F_T t on the journal at
-    r_J + R_J n, the opposite on the bearing at r_B + R_B n); when ``recording``,
-    (F_N, F_T, δ, δ̇, v_T, e_x, e_y) of joint c into ``record[7c:7c + 7]``.
-    Returns the contact power Σ (F_N δ̇ + F_T v_T), W."""
+    r_J + R_J n, the opposite on the bearing at r_B + R_B n); with film damping
+    (``rp``'s setting ``S_FILM`` = c_e > 0), −c_e ė on the journal at its centre and +c_e ė on
+    the bearing at its centre, in contact or not, first (not in the record's F_N, F_T:
+    :func:`film_components`); when ``recording``, (F_N, F_T, δ, δ̇, v_T, e_x, e_y) of joint c
+    into ``record[7c:7c + 7]``. Returns the contact power Σ (F_N δ̇ + F_T v_T + c_e |ė|²), W.
+    (Only the implicit lane runs the film: the explicit one is refused it,
+    :func:`jointplay._kernels.lanes.build.lanes_refusal`.)"""
     n = lay[LY_N]
     nc = lay[LY_NC]
     o_ji = lay[LY_JOINT_INT]
@@ -370,6 +376,7 @@ def contact_forces(y, rp, ip, lay, f, record, recording):
     o_geom = lay[LY_GEOM]
     plaw = lay[LY_PLAW]
     pfric = lay[LY_PFRIC]
+    film = rp[lay[LY_SETTINGS] + S_FILM]
     pw = 0.0
     for c in range(nc):
         j = ip[lay[LY_CLEAR] + c]
@@ -404,6 +411,13 @@ def contact_forces(y, rp, ip, lay, f, record, recording):
         f_t = 0.0
         delta_dot = 0.0
         v_t = 0.0
+        if film > 0.0:  # the film's damping −c_e ė on the journal's centre, in contact or not
+            wa = y[n + 3 * a + 2] if a >= 0 else 0.0
+            wb = y[n + 3 * b + 2] if b >= 0 else 0.0
+            fdx, fdy = eccentricity_rate(y, n, a, b, wa, wb, rax, ray, rbx, rby)
+            push(f, n, b, rbx, rby, -film * fdx, -film * fdy)
+            push(f, n, a, rax, ray, film * fdx, film * fdy)
+            pw += film * (fdx * fdx + fdy * fdy)
         if delta > 0.0 or recording:
             if emag > 0.0:
                 nx, ny = ex / emag, ey / emag
@@ -438,6 +452,28 @@ def contact_forces(y, rp, ip, lay, f, record, recording):
             record[7 * c + 5] = ex
             record[7 * c + 6] = ey
     return pw
+
+
+def film_components(y, rp, ip, lay, record, c):
+    """The film force c_e ė of clearance joint ``c`` in its contact frame, (c_e ė·n, c_e ė·t)
+    (N; the journal feels minus this), from its record (:func:`contact_forces`: ė·n = δ̇,
+    ė·t = v_T − R_J ω_b + R_B ω_a); (0, 0) with the film off (:func:`eom.film_components`)."""
+    film = rp[lay[LY_SETTINGS] + S_FILM]
+    if not film > 0.0:
+        return 0.0, 0.0
+    n = lay[LY_N]
+    j = ip[lay[LY_CLEAR] + c]
+    a = ip[lay[LY_JOINT_INT] + 3 * j + 1]
+    b = ip[lay[LY_JOINT_INT] + 3 * j + 2]
+    wa = y[n + 3 * a + 2] if a >= 0 else 0.0
+    wb = y[n + 3 * b + 2] if b >= 0 else 0.0
+    o_geom = lay[LY_GEOM]
+    slide = (
+        record[7 * c + 4]
+        - rp[o_geom + N_GEOM * c + G_R_JOURNAL] * wb
+        + rp[o_geom + N_GEOM * c + G_R_BEARING] * wa
+    )
+    return film * record[7 * c + 3], film * slide
 
 
 def rhs(t, y, rp, ip, lay, f, record, recording, phi_q, schur, lam):
@@ -475,7 +511,8 @@ def rhs(t, y, rp, ip, lay, f, record, recording, phi_q, schur, lam):
 
 def rhs_and_quantities(t, y, rp, ip, lay, f, record, qty, pen, phi_q, schur, lam):
     """:func:`rhs` recording the contacts, then the quantities in QUANTITY ORDER into ``qty``
-    (ω_b rad/s, α_b rad/s², |F_N n + F_T t| of every joint N, torque N·m) and δ of every
+    (ω_b rad/s, α_b rad/s², |F_N n + F_T t| of every joint N (+ c_e ė with film damping:
+    :func:`film_components`), torque N·m) and δ of every
     clearance joint into ``pen`` (m) (:func:`eom.rhs_and_quantities`): an ideal revolute
     joint's force is |λ| of its two rows, a prismatic joint's |λ| of its normal row."""
     n = lay[LY_N]
@@ -497,7 +534,13 @@ def rhs_and_quantities(t, y, rp, ip, lay, f, record, qty, pen, phi_q, schur, lam
         else:
             for c in range(nc):
                 if ip[lay[LY_CLEAR] + c] == j:
-                    qty[2 * nb + j] = math.hypot(record[7 * c], record[7 * c + 1])
+                    if rp[lay[LY_SETTINGS] + S_FILM] > 0.0:  # what the joint transmits
+                        film_n, film_t = film_components(y, rp, ip, lay, record, c)
+                        qty[2 * nb + j] = math.hypot(
+                            record[7 * c] + film_n, record[7 * c + 1] + film_t
+                        )
+                    else:
+                        qty[2 * nb + j] = math.hypot(record[7 * c], record[7 * c + 1])
     qty[2 * nb + nj] = torque
     for c in range(nc):
         pen[c] = record[7 * c + 2]

@@ -22,9 +22,12 @@ production lane.
 
 The Jacobian is the closed form of :func:`eom.jacobian_state` (:func:`jacobian_clear`) when
 every joint is clear (the paper's mechanisms: the driver the only constraint), else SciPy's
-finite differences as the Radau kernel takes them (:func:`jacobian_differences`). The
-sustained-contact mode (locked joints) and film damping are not handled here: the GPU's
-``run_batch`` refuses them (:func:`jointplay._kernels.lanes.build.lanes_refusal`); the CPU's
+finite differences as the Radau kernel takes them (:func:`jacobian_differences`). Film
+damping (``S_FILM``) is handled: its force and power in :func:`contact_forces`, its terms in
+the closed-form Jacobian (:func:`film_jacobian`), its part of the reported joint force
+(:func:`film_components`), and the velocities between steps from the positions' interpolant
+(:func:`hermite`). The sustained-contact mode (locked joints) is not: the GPU's
+``run_batch`` refuses it (:func:`jointplay._kernels.lanes.build.lanes_refusal`); the CPU's
 drivers, used by tests only, expect their callers to.
 
 Where the production lane records every step and reduces the trajectory afterwards
@@ -69,10 +72,12 @@ from jointplay._kernels.lanes.source import (
     LY_NQ,
     LY_PFRIC,
     LY_PLAW,
+    LY_SETTINGS,
     LY_SIZE,
     MAX_CHECK_REJECTIONS,
     N_GEOM,
     N_REFINE,
+    S_FILM,
     STATUS_INTERRUPTED,
     STATUS_NON_FINITE,
     STATUS_RUNNING,
@@ -125,9 +130,9 @@ RP = (
     1.0 / 3.0, -8.0 / 3.0, 10.0 / 3.0,
 )  # fmt: skip
 NEWTON_MAXITER = 6
-#: eom.S_CAPTURE, eom.S_FILM: the settings' capture speed (the sustained-contact mode) and
-#: film damping, neither handled here.
-S_CAPTURE, S_FILM = 3, 4
+#: eom.S_CAPTURE: the settings' capture speed (the sustained-contact mode), not handled here
+#: (film damping's ``S_FILM`` is the explicit source's, imported above).
+S_CAPTURE = 3
 R_MIN_FACTOR, R_MAX_FACTOR = 0.2, 10.0
 EPS = 2.220446049250313e-16
 #: SciPy's num_jac constants (:mod:`jointplay._kernels.common`: NUM_JAC_*).
@@ -312,11 +317,64 @@ def arm(y, body, sx, sy):
     return y[3 * body] + rx, y[3 * body + 1] + ry, rx, ry
 
 
+def film_jacobian(jac, film, rp, o_mass, n, a, b, rax, ray, rbx, rby, wa, wb, edx, edy):
+    """Add one clearance joint's film damping to ``jac`` (:func:`jacobian_clear`'s rows and
+    columns; :func:`eom._film_jacobian`, the same arithmetic): f = −c_e ė on the journal's
+    body b at its arm r_b, −f on the bearing's body a at r_a, power c_e |ė|² into the
+    W_contact row; ė = (``edx``, ``edy``), the bodies' rates ``wa``, ``wb``."""
+    fx = -film * edx
+    fy = -film * edy
+    for side in range(2):
+        body = b if side == 0 else a
+        if body < 0:
+            continue
+        sign = 1.0 if side == 0 else -1.0
+        if side == 0:
+            rx, ry = rbx, rby
+        else:
+            rx, ry = rax, ray
+        w = wb if side == 0 else wa
+        for k in range(2, 6):  # φ, ẋ, ẏ, ω of this body (ė does not depend on x, y)
+            dvx = 0.0
+            dvy = 0.0
+            if k == 2:
+                dvx, dvy = -sign * w * rx, -sign * w * ry
+            elif k == 3:
+                dvx = sign
+            elif k == 4:
+                dvy = sign
+            else:
+                dvx, dvy = -sign * ry, sign * rx
+            dfx = -film * dvx
+            dfy = -film * dvy
+            column = 3 * body + k if k < 3 else n + 3 * body + k - 3
+            # ∂r of this body's own arm (φ only): ẑ×r
+            drbx = 0.0
+            drby = 0.0
+            drax = 0.0
+            dray = 0.0
+            if k == 2 and side == 0:
+                drbx, drby = -rby, rbx
+            elif k == 2:
+                drax, dray = -ray, rax
+            if b >= 0:
+                jac[3 * b, column] += dfx / rp[o_mass + 3 * b]
+                jac[3 * b + 1, column] += dfy / rp[o_mass + 3 * b + 1]
+                moment = drbx * fy - drby * fx + rbx * dfy - rby * dfx
+                jac[3 * b + 2, column] += moment / rp[o_mass + 3 * b + 2]
+            if a >= 0:
+                jac[3 * a, column] -= dfx / rp[o_mass + 3 * a]
+                jac[3 * a + 1, column] -= dfy / rp[o_mass + 3 * a + 1]
+                moment = drax * fy - dray * fx + rax * dfy - ray * dfx
+                jac[3 * a + 2, column] -= moment / rp[o_mass + 3 * a + 2]
+            jac[n + 1, column] += 2.0 * film * (edx * dvx + edy * dvy)
+
+
 def jacobian_clear(t, y, rp, ip, lay, jac, force, record):
     """Rows n … S − 1, columns 0 … 2n − 1 of ∂ẏ/∂y (the rows and columns the Newton systems
     read) into ``jac`` ((S − n) × 2n: row r of ∂ẏ/∂y is ``jac[r − n]``), for a mechanism whose
-    joints are all clear (:func:`eom.jacobian_state`, the same arithmetic; its docstring for
-    the derivation). ``force`` (S), ``record`` (7 nc): work."""
+    joints are all clear (:func:`eom.jacobian_state`, the same arithmetic, film damping's
+    terms included: :func:`film_jacobian`; its docstring for the derivation). ``force`` (S), ``record`` (7 nc): work."""
     n = lay[LY_N]
     nc = lay[LY_NC]
     size = lay[LY_SIZE]
@@ -326,6 +384,7 @@ def jacobian_clear(t, y, rp, ip, lay, jac, force, record):
     o_mass = lay[LY_MASS]
     plaw = lay[LY_PLAW]
     pfric = lay[LY_PFRIC]
+    film = rp[lay[LY_SETTINGS] + S_FILM]
     for r in range(size - n):
         for col in range(2 * n):
             jac[r, col] = 0.0
@@ -352,6 +411,8 @@ def jacobian_clear(t, y, rp, ip, lay, jac, force, record):
         r_j = rp[o_geom + N_GEOM * c + G_R_JOURNAL]
         r_b = rp[o_geom + N_GEOM * c + G_R_BEARING]
         v_t = slide + r_j * wb - r_b * wa
+        if film > 0.0:
+            film_jacobian(jac, film, rp, o_mass, n, a, b, rax, ray, rbx, rby, wa, wb, edx, edy)
         if not delta > 0.0:
             continue
         tx, ty = -ny, nx
@@ -749,19 +810,32 @@ def collocation(t, y, h, has_sol, cq, t_old, y_old, scale, tol, rp, ip, lay, jac
     return converged, k + 1, rate, nfev
 
 
-def hermite(t0, y0, f0, t1, y1, f1, n, size, tau, out):
+def hermite(t0, y0, f0, t1, y1, f1, n, size, tau, out, film):
     """The single engine's interpolant (:func:`jointplay._kernels.batch._hermite`): cubic
     Hermite on q (with q̇) and on q̇ (with q̈ = ``f[n:2n]``); the work integrals linear, the
-    impact memory held at the step's start."""
+    impact memory held at the step's start. With film damping (``film``: ``S_FILM`` > 0) the
+    velocities are the time derivative of the positions' cubic Hermite instead (the film's
+    force c_e ė turns the q̇ interpolant's error in a step where q̈ jumps into a spurious
+    force: docs/performance.md, "A 200-sample dynamic tolerance study")."""
     h = t1 - t0
     s = (tau - t0) / h
     h00 = 2 * s**3 - 3 * s**2 + 1
     h10 = s**3 - 2 * s**2 + s
     h01 = -2 * s**3 + 3 * s**2
     h11 = s**3 - s**2
-    for i in range(n):
-        out[i] = h00 * y0[i] + h10 * h * y0[n + i] + h01 * y1[i] + h11 * h * y1[n + i]
-        out[n + i] = h00 * y0[n + i] + h10 * h * f0[n + i] + h01 * y1[n + i] + h11 * h * f1[n + i]
+    if film:
+        dh10 = 3 * s**2 - 4 * s + 1
+        dh01 = -6 * s**2 + 6 * s
+        dh11 = 3 * s**2 - 2 * s
+        for i in range(n):
+            out[i] = h00 * y0[i] + h10 * h * y0[n + i] + h01 * y1[i] + h11 * h * y1[n + i]
+            out[n + i] = dh01 * (y1[i] - y0[i]) / h + dh10 * y0[n + i] + dh11 * y1[n + i]
+    else:
+        for i in range(n):
+            out[i] = h00 * y0[i] + h10 * h * y0[n + i] + h01 * y1[i] + h11 * h * y1[n + i]
+            out[n + i] = (
+                h00 * y0[n + i] + h10 * h * f0[n + i] + h01 * y1[n + i] + h11 * h * f1[n + i]
+            )
     for i in range(2 * n, 2 * n + 2):
         out[i] = (1 - s) * y0[i] + s * y1[i]
     for i in range(2 * n + 2, size):
@@ -796,6 +870,7 @@ def implicit_lane(
     nc = lay[LY_NC]
     size = lay[LY_SIZE]
     n_q = lay[LY_NQ]
+    film = rp[lay[LY_SETTINGS] + S_FILM] > 0.0  # the interpolant's velocities (hermite)
     start_outputs(ip, rp, lay, mask, peaks, stats, counts)
     t = 0.0
     if interrupt_pending(interrupt):
@@ -968,7 +1043,7 @@ def implicit_lane(
         if not in_window and t_new > t_settle:
             in_window = True
             if t < t_settle:  # the window opens inside this step
-                hermite(t, y, f, t_new, y_new, f_new, n, size, t_settle, y_open)
+                hermite(t, y, f, t_new, y_new, f_new, n, size, t_settle, y_open, film)
                 t_a = t_settle
                 quantities(t_a, y_open, rp, ip, lay, f_open, record_mid, qa, pen_open,
                            phi_q, schur, lam)  # fmt: skip
@@ -993,7 +1068,7 @@ def implicit_lane(
                     samples[N_REFINE + 1, p] = qb[p]
                 for r in range(N_REFINE):
                     tau = t_a + ((r + 1) / 8.0) * hw
-                    hermite(t_a, y_start, f_start, t_new, y_new, f_new, n, size, tau, y_mid)
+                    hermite(t_a, y_start, f_start, t_new, y_new, f_new, n, size, tau, y_mid, film)
                     quantities(tau, y_mid, rp, ip, lay, f_mid, record_mid, samples[r + 1],
                                pen_open, phi_q, schur, lam)  # fmt: skip
                 refine_peaks(samples, peaks, n_q)
