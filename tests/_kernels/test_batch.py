@@ -202,7 +202,7 @@ def test_the_implicit_lanes_interpolate_as_the_single_engine(
 ) -> None:
     """``_hermite`` (the implicit lanes' interpolant) is the single engine's ``_interpolate``:
     q̇ the Hermite of q̇ with q̈ without the film, the derivative of q's cubic with it
-    (docs/performance.md, "Peak location with a film (fixed)"). To round-off (measured: a
+    (docs/performance.md, "Peak location with a film"). To round-off (measured: a
     few ulps where NumPy's ``s**3`` is ``pow`` and Numba's a product); with the film the
     velocities, whose weights take only ``s**2`` (exact in both), bit for bit."""
     joints = ContactModel(film_damping=film).joints(paper_fourbar, JOINTS, clearance=21e-6)

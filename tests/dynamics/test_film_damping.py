@@ -6,7 +6,10 @@ paper's four-bar: the physical default contact, 21 µm in all four joints, stead
 - the reported joint force is what the joint transmits, |F_N n + F_T t + c_e ė|, checked
   against ė from the states (``dex_*``, ``dey_*``) and n, t from the eccentricity;
 - the batch engine runs it on its implicit lanes, with the same steps as simulate(); the
-  explicit lanes and the GPU backends refuse it.
+  explicit lanes and the GPU backends refuse it;
+- between steps the velocities are the derivative of the positions' cubic (a contact onset
+  inside a step no longer makes a spurious α peak, on both engines); off, the Hermite of q̇
+  with q̈, bit for bit.
 """
 
 from __future__ import annotations
