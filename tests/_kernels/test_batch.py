@@ -25,8 +25,8 @@ from jointplay._kernels import batch as kb
 from jointplay._kernels import common as kc
 from jointplay._kernels import eom
 from jointplay.dynamics.clearance import ClearanceJoint
-from jointplay.dynamics.setup import DEFAULT_IMPACT
-from jointplay.dynamics.simulate import Start, initial_state, simulate
+from jointplay.dynamics.setup import DEFAULT_IMPACT, ContactModel
+from jointplay.dynamics.simulate import Start, _interpolate, initial_state, simulate
 from jointplay.dynamics.system import build_system
 from jointplay.model.mechanism import Mechanism
 from jointplay.model.templates import with_lengths
@@ -194,3 +194,30 @@ def test_the_parabolic_refinement_finds_a_parabolas_vertex() -> None:
     peaks = np.array([0.0])
     kb.lanes_refine_peaks(samples, peaks, peaks.shape[0])
     assert peaks[0] == pytest.approx(5.0, rel=1e-15)
+
+
+@pytest.mark.parametrize("film", [0.0, 1e5])
+def test_the_implicit_lanes_interpolate_as_the_single_engine(
+    paper_fourbar: Mechanism, film: float
+) -> None:
+    """``_hermite`` (the implicit lanes' interpolant) is the single engine's ``_interpolate``:
+    q̇ the Hermite of q̇ with q̈ without the film, the derivative of q's cubic with it
+    (docs/performance.md, "Peak location with a film"). To round-off (measured: a
+    few ulps where NumPy's ``s**3`` is ``pow`` and Numba's a product); with the film the
+    velocities, whose weights take only ``s**2`` (exact in both), bit for bit."""
+    joints = ContactModel(film_damping=film).joints(paper_fourbar, JOINTS, clearance=21e-6)
+    system = build_system(paper_fourbar, joints)
+    n = system.n_coordinates
+    rng = np.random.default_rng(7)
+    t = np.cumsum(rng.uniform(1e-4, 1e-3, 6))
+    y = rng.standard_normal((t.size, 2 * n + 2 + len(JOINTS)))
+    qdd = rng.standard_normal((t.size, n))
+    samples = np.sort(rng.uniform(t[0], t[-1], 40))
+    expected = _interpolate(system, t, y, qdd, samples)
+    got = np.empty(y.shape[1])
+    for k, tau in enumerate(samples):
+        i = min(int(np.searchsorted(t, tau, side="right")) - 1, t.size - 2)
+        kb._hermite(t[i], y[i], qdd[i], t[i + 1], y[i + 1], qdd[i + 1], n, tau, got, film > 0)
+        np.testing.assert_allclose(got, expected[k], rtol=1e-13, atol=1e-13)
+        if film > 0:
+            np.testing.assert_array_equal(got[n : 2 * n], expected[k][n : 2 * n])

@@ -50,7 +50,8 @@ Table 5.2: the DOPRI5 tableau, FSAL), propagating the 5th-order solution; the la
 **"implicit"** — the Radau IIA kernel of :mod:`jointplay._kernels.radau`, one lane at a time,
 with exactly the settings of :func:`jointplay.dynamics.simulate.simulate`; its accepted steps
 are then reduced by :func:`_trajectory_reduce` (compiled), the interpolant being the cubic
-Hermite one of the single engine (q with q̇, q̇ with q̈).
+Hermite one of the single engine (q with q̇, q̇ with q̈; with film damping, q̇ the derivative
+of q's cubic).
 
 **Peak rule** (both methods; the JAX backend applies the same one). Let ``Q_a``, ``Q_b`` be the
 quantities at the two ends of an accepted step inside the window (``Q_b`` after
@@ -184,20 +185,28 @@ def layout(ipar: npt.NDArray[np.int64]) -> tuple[int, int, int, int]:
 @jit
 def _hermite(
     t0: float, y0: np.ndarray, a0: np.ndarray, t1: float, y1: np.ndarray, a1: np.ndarray,
-    n: int, tau: float, out: np.ndarray,
+    n: int, tau: float, out: np.ndarray, film: bool,
 ) -> None:  # fmt: skip
     """The single engine's interpolant (:func:`jointplay.dynamics.simulate._interpolate`):
-    cubic Hermite on q (with q̇) and on q̇ (with q̈); the other components linear, except the
-    impact memory, held at the step's start."""
+    cubic Hermite on q (with q̇) and on q̇ (with q̈) — with film damping (``film``), q̇ the
+    derivative of q's cubic instead (a contact onset makes q̈ jump inside a step, where the
+    Hermite of q̇ then swings, and the film turns that into a force); the other components
+    linear, except the impact memory, held at the step's start."""
     h = t1 - t0
     s = (tau - t0) / h
     h00 = 2 * s**3 - 3 * s**2 + 1
     h10 = s**3 - 2 * s**2 + s
     h01 = -2 * s**3 + 3 * s**2
     h11 = s**3 - s**2
+    dh10 = 3 * s**2 - 4 * s + 1
+    dh01 = -6 * s**2 + 6 * s
+    dh11 = 3 * s**2 - 2 * s
     for i in range(n):
         out[i] = h00 * y0[i] + h10 * h * y0[n + i] + h01 * y1[i] + h11 * h * y1[n + i]
-        out[n + i] = h00 * y0[n + i] + h10 * h * a0[i] + h01 * y1[n + i] + h11 * h * a1[i]
+        if film:
+            out[n + i] = dh01 * (y1[i] - y0[i]) / h + dh10 * y0[n + i] + dh11 * y1[n + i]
+        else:
+            out[n + i] = h00 * y0[n + i] + h10 * h * a0[i] + h01 * y1[n + i] + h11 * h * a1[i]
     for i in range(2 * n, 2 * n + 2):
         out[i] = (1 - s) * y0[i] + s * y1[i]
     for i in range(2 * n + 2, y0.shape[0]):
@@ -225,6 +234,7 @@ def _trajectory_reduce(ipar, rpar, lay, ts, ys, t_settle, t_end, peaks, stats):
     samples = np.empty((n_points + 2, n_q))
     pen = np.empty(model.clear_joint.shape[0])
     y_mid = np.empty(ys.shape[1])
+    film = model.settings[eom.S_FILM] > 0
     m = ts.shape[0]
     acc = np.empty((m, n))
     for i in range(m):
@@ -236,7 +246,7 @@ def _trajectory_reduce(ipar, rpar, lay, ts, ys, t_settle, t_end, peaks, stats):
     y_a = ys[first].copy()
     if t_a < t_settle and first < m - 1:  # the window opens inside this step
         _hermite(ts[first], ys[first], acc[first], ts[first + 1], ys[first + 1], acc[first + 1],
-                 n, t_settle, y_a)  # fmt: skip
+                 n, t_settle, y_a, film)  # fmt: skip
         t_a = t_settle
     a_a = eom.quantities(t_a, y_a, model, qa, pen)
     lanes_open_window(qa, pen, peaks, stats, nb, n_q, nc)
@@ -251,7 +261,7 @@ def _trajectory_reduce(ipar, rpar, lay, ts, ys, t_settle, t_end, peaks, stats):
             samples[n_points + 1] = qb
             for r in range(n_points):
                 tau = t_a + REFINE_POINTS[r] * h
-                _hermite(t_a, y_a, a_a, t_b, y_b, acc[i], n, tau, y_mid)
+                _hermite(t_a, y_a, a_a, t_b, y_b, acc[i], n, tau, y_mid, film)
                 eom.quantities(tau, y_mid, model, samples[r + 1], pen)
             lanes_refine_peaks(samples, peaks, n_q)
         qa, qb = qb, qa

@@ -614,16 +614,47 @@ def hermite(
     )
 
 
+def hermite_derivative(
+    t: FloatArray, values: FloatArray, rates: FloatArray, samples: FloatArray
+) -> FloatArray:
+    """Time derivative at ``samples`` of :func:`hermite`'s interpolant of ``values`` (with
+    ``rates``): uses only the values and their rates at the step's ends, one order less
+    accurate than a Hermite interpolant of the rates themselves."""
+    index = np.clip(np.searchsorted(t, samples, side="right") - 1, 0, len(t) - 2)
+    t0, t1 = t[index], t[index + 1]
+    h = (t1 - t0)[:, None]
+    s = ((samples - t0) / (t1 - t0))[:, None]
+    dh10, dh01, dh11 = 3 * s**2 - 4 * s + 1, -6 * s**2 + 6 * s, 3 * s**2 - 2 * s
+    return (
+        dh01 * (values[index + 1] - values[index]) / h
+        + dh10 * rates[index]
+        + dh11 * rates[index + 1]
+    )
+
+
 def _interpolate(
     system: System, t: FloatArray, y: FloatArray, qdd: FloatArray, samples: FloatArray
 ) -> FloatArray:
-    """Cubic Hermite interpolation of q (with q̇) and q̇ (with q̈) between accepted steps."""
+    """Cubic Hermite interpolation of q (with q̇) between accepted steps; q̇ the cubic
+    Hermite of q̇ (with q̈), or, with film damping, the derivative of q's interpolant.
+
+    Why the film changes the velocities' rule: the Hermite of q̇ with q̈ assumes q̈ smooth
+    inside a step, which a contact onset breaks (q̈ jumps there, and the interpolated q̇
+    swings away from both ends' values); the film turns a velocity error into a force,
+    −c_e ė, so at c_e = 1e5 N·s/m such a swing made spurious α peaks (docs/performance.md,
+    "Peak location with a film"). The derivative of q's cubic uses q and q̇ only; it is one
+    order less accurate where the motion is smooth (located force peaks ~1e-3 high at
+    c_e = 1e5 and the default tolerances, measured there).
+    """
     n = system.n_coordinates
     index = np.clip(np.searchsorted(t, samples, side="right") - 1, 0, len(t) - 2)
     t0, t1 = t[index], t[index + 1]
     out = y[index].copy()  # work and impact-velocity memory: value at the step's start
     out[:, :n] = hermite(t, y[:, :n], y[:, n : 2 * n], samples)
-    out[:, n : 2 * n] = hermite(t, y[:, n : 2 * n], qdd, samples)
+    if system.model.settings[eom.S_FILM] > 0:
+        out[:, n : 2 * n] = hermite_derivative(t, y[:, :n], y[:, n : 2 * n], samples)
+    else:
+        out[:, n : 2 * n] = hermite(t, y[:, n : 2 * n], qdd, samples)
     w = (samples - t0) / (t1 - t0)
     out[:, 2 * n : 2 * n + 2] = (1 - w)[:, None] * y[index, 2 * n : 2 * n + 2] + w[:, None] * y[
         index + 1, 2 * n : 2 * n + 2
