@@ -307,9 +307,12 @@ class SimulationResult:
                     "friction": None
                     if c.friction is None
                     else {"law": c.friction.name, **_law_fields(c.friction)},
+                    "film_damping_N_s_m": c.film_damping,  # the joint's own; 0: dry
                 }
                 for c in self.system.clearances
             },
+            # the engines take one film damping: the smallest of the joints' (docs/contact.md)
+            "film_damping_applied_N_s_m": float(self.system.model.settings[eom.S_FILM]),
         }
 
 
