@@ -343,10 +343,7 @@ class ContactModel:
             )
         object.__setattr__(self, "capture_speed", speed)
         if self.film_damping is None:
-            viscosity = self._viscosity()
-            object.__setattr__(self, "lubricant_viscosity", viscosity)
-            if viscosity == 0:
-                object.__setattr__(self, "film_damping", 0.0)
+            object.__setattr__(self, "lubricant_viscosity", self._viscosity())
         else:
             film = _zero_or_quantity(self.film_damping, "N*s/m", "film_damping")
             if film < 0:
@@ -379,19 +376,20 @@ class ContactModel:
     @property
     def fixed_film(self) -> float | None:
         """The fixed film damping of every joint, N·s/m (0: dry joints), or ``None``: each
-        joint's follows its geometry (:meth:`film_of`)."""
+        joint's follows its geometry and the lubricant (:meth:`film_of`)."""
         return None if self.film_damping is None else float(self.film_damping)
 
     @property
     def lubricated(self) -> bool:
-        """The pins run in a film: a film damping from the geometry or a fixed one > 0."""
-        return self.fixed_film is None or self.fixed_film > 0
+        """The pins run in a film: a lubricant, or a fixed film damping > 0."""
+        fixed = self.fixed_film
+        return float(self.lubricant_viscosity or 0.0) > 0 if fixed is None else fixed > 0
 
     def film_of(self, mechanism: Mechanism, joint: str) -> JointFilm | None:
         """How joint ``joint``'s film damping follows its geometry (``None``: a fixed
         ``film_damping``, or dry): the lubricant and the bearing's width
         (:meth:`Mechanism.bearing_width`, else 10 mm, as the stiffness takes it)."""
-        if self.film_damping is not None:
+        if self.fixed_film is not None or not self.lubricated:
             return None
         width = mechanism.bearing_width(joint)
         return JointFilm(float(self.lubricant_viscosity or 0.0), width or 0.01)
@@ -419,7 +417,7 @@ class ContactModel:
             law=self.law,
         )
         fixed = self.fixed_film
-        if fixed is None:  # from each joint's geometry
+        if fixed is None:  # from each joint's geometry and the lubricant (None: dry)
             joints = [
                 dataclasses.replace(joint, film_from=self.film_of(mechanism, joint.joint))
                 for joint in joints
@@ -446,15 +444,15 @@ class ContactModel:
         if self.sustained_contact:
             text += f"; sustained contact (captured below {self.capture * 1e3:g} mm/s)"
         fixed = self.fixed_film
-        if fixed is None:
+        if not self.lubricated:
+            text += "; dry joints (no film damping)"
+        elif fixed is None:
             text += (
                 f"; lubricated pins, a {self.lubricant_viscosity:g} Pa*s lubricant: film damping "
                 f"from each joint's geometry (squeeze film, at most {FILM_DAMPING_CAP:g} N*s/m)"
             )
-        elif fixed > 0:
-            text += f"; lubricated pins, film damping {fixed:g} N*s/m"
         else:
-            text += "; dry joints (no film damping)"
+            text += f"; lubricated pins, film damping {fixed:g} N*s/m"
         settings = {k: v for k, v in vars(self.settings).items() if v is not None}
         described: dict[str, Any] = {
             "text": text,
@@ -468,7 +466,9 @@ class ContactModel:
         described["lubrication"] = {
             "lubricated": self.lubricated,
             "lubricant_viscosity_Pa_s": self.lubricant_viscosity or None,
-            "film_damping_N_s_m": "from each joint's geometry" if fixed is None else fixed,
+            "film_damping_N_s_m": "from each joint's geometry"
+            if fixed is None and self.lubricated
+            else float(fixed or 0.0),
         }
         return described
 
