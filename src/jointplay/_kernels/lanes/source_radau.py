@@ -317,6 +317,14 @@ def arm(y, body, sx, sy):
     return y[3 * body] + rx, y[3 * body + 1] + ry, rx, ry
 
 
+def side_of(side, a, b, rax, ray, rbx, rby, wa, wb):
+    """Side ``side`` of a clearance joint's force in the Jacobian: 0 the journal's body b, 1
+    the bearing's body a; (body, the force's sign on it, its arm x, y, the body's rate)."""
+    if side == 0:
+        return b, 1.0, rbx, rby, wb
+    return a, -1.0, rax, ray, wa
+
+
 def film_jacobian(jac, film, rp, o_mass, n, a, b, rax, ray, rbx, rby, wa, wb, edx, edy):
     """Add one clearance joint's film damping to ``jac`` (:func:`jacobian_clear`'s rows and
     columns; :func:`eom._film_jacobian`, the same arithmetic): f = −c_e ė on the journal's
@@ -325,15 +333,9 @@ def film_jacobian(jac, film, rp, o_mass, n, a, b, rax, ray, rbx, rby, wa, wb, ed
     fx = -film * edx
     fy = -film * edy
     for side in range(2):
-        body = b if side == 0 else a
+        body, sign, rx, ry, w = side_of(side, a, b, rax, ray, rbx, rby, wa, wb)
         if body < 0:
             continue
-        sign = 1.0 if side == 0 else -1.0
-        if side == 0:
-            rx, ry = rbx, rby
-        else:
-            rx, ry = rax, ray
-        w = wb if side == 0 else wa
         for k in range(2, 6):  # φ, ẋ, ẏ, ω of this body (ė does not depend on x, y)
             dvx = 0.0
             dvy = 0.0
@@ -433,15 +435,9 @@ def jacobian_clear(t, y, rp, ip, lay, jac, force, record):
         pbx, pby = rbx + r_j * nx, rby + r_j * ny
         pax, pay = rax + r_b * nx, ray + r_b * ny
         for side in range(2):
-            body = b if side == 0 else a
+            body, sign, rx, ry, w = side_of(side, a, b, rax, ray, rbx, rby, wa, wb)
             if body < 0:
                 continue
-            sign = 1.0 if side == 0 else -1.0
-            if side == 0:
-                rx, ry = rbx, rby
-            else:
-                rx, ry = rax, ray
-            w = wb if side == 0 else wa
             for k in range(6):
                 de0 = 0.0
                 de1 = 0.0
