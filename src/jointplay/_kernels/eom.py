@@ -1132,6 +1132,33 @@ def _film_jacobian(
             out[2 * n + 1, column] += 2.0 * film * (edx * dvx + edy * dvy)
 
 
+#: Relative step (√eps) and floor of the steps of :func:`_fixed_differences`: m or rad for
+#: positions, m/s or rad/s for rates.
+_DIFF_STEP = 1.4901161193847656e-08
+_DIFF_FLOOR = 1e-3
+
+
+@njit(cache=True)
+def _fixed_differences(
+    t: float, y: np.ndarray, f: np.ndarray, model: EomModel, out: np.ndarray
+) -> None:
+    """∂ẏ/∂y by forward differences of ẏ (``f`` at (t, y)) with the fixed step
+    √eps·max(|y_j|, floor) in each of the 2n coordinates and rates (the other columns zero:
+    passive components, see :func:`jacobian_state`)."""
+    n = model.mass.shape[0]
+    size = y.shape[0]
+    work = y.copy()
+    column = np.empty(size)
+    out[:, :] = 0.0
+    for j in range(2 * n):
+        h = (y[j] + _DIFF_STEP * max(abs(y[j]), _DIFF_FLOOR)) - y[j]
+        work[j] = y[j] + h
+        rhs_into(t, work, model, column)
+        work[j] = y[j]
+        for i in range(size):
+            out[i, j] = (column[i] - f[i]) / h
+
+
 @njit(jacobian_signature, cache=True)
 def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: np.ndarray) -> bool:
     """∂ẏ/∂y in closed form when every joint is clear and none is locked (sustained
@@ -1175,11 +1202,14 @@ def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: n
     law_p, fric_p = model.law_p, model.fric_p
     n = mass.shape[0]
     nc = clear_joint.shape[0]
-    for j in range(active.shape[0]):
-        if active[j] != 0:
-            return False
     if any_locked(y, model):  # locked joints are constraints: the integrator differences
         return False
+    for j in range(active.shape[0]):
+        if active[j] != 0:
+            if model.settings[S_FILM] > 0.0:  # steady steps, not the integrator's adaptive
+                _fixed_differences(t, y, f, model, out)
+                return True
+            return False
     q = y[:n]
     qd = y[n : 2 * n]
     out[:, :] = 0.0
