@@ -161,6 +161,39 @@ def test_closed_form_jacobian_with_the_film_equals_differences(film: float, fric
     assert touching and free  # both branches seen
 
 
+@pytest.mark.parametrize("film", [0.0, 1000.0])
+def test_with_ideal_joints_and_the_film_the_jacobian_is_differenced_with_fixed_steps(
+    film: float,
+) -> None:
+    """O2 and O4 ideal, A and B clear: with the film, :func:`eom.jacobian_state` differences
+    ẏ itself with fixed steps (√eps·max(|y_j|, 1e-3)), equal to central differences; off, it
+    leaves the Jacobian to the integrator (``False``: SciPy's adaptive differences, whose
+    steps on a free pin's zero columns grow until they reach the wall; issue 22)."""
+    mechanism = load_preset("paper-fourbar").with_gravity((0.0, -9.81))
+    law = get_law("restitution", penalty=1e9, restitution=0.6, exponent=1.0)
+    fric = AmbrosioFriction(mu=0.1, v0=1e-4, v1=1e-3)
+    system = build_system(
+        mechanism,
+        [ClearanceJoint(j, 1e-4, 5e-3, law, fric, film_damping=film) for j in ("A", "B")],
+    )
+    assert system.model.active.sum() == 2
+    n = system.n_coordinates
+    size = system.n_state
+    args = system.kernel_args()
+    for i, y in enumerate(_states(system, seed=11)):
+        t = 1e-3 * i
+        jac = np.full((size, size), np.nan)
+        done = eom.jacobian_state(t, y, eom.rhs(t, y, args), args, jac)
+        assert done == (film > 0)
+        if not done:
+            assert np.isnan(jac).all()  # nothing written
+            continue
+        expected = _central_differences(system, t, y)
+        scale = np.maximum(np.max(np.abs(expected), axis=0), 1e-300)
+        np.testing.assert_array_less(np.abs(jac[:, : 2 * n] - expected) / scale, JACOBIAN_RTOL)
+        np.testing.assert_array_equal(jac[:, 2 * n :], 0.0)
+
+
 def test_the_film_adds_exactly_its_force_moment_and_power() -> None:
     on, off = _fourbar(FILM), _fourbar(0.0)
     n = on.n_coordinates

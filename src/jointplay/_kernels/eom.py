@@ -1132,10 +1132,51 @@ def _film_jacobian(
             out[2 * n + 1, column] += 2.0 * film * (edx * dvx + edy * dvy)
 
 
+#: Relative step (√eps) and floor of the steps of :func:`_fixed_differences`: m or rad for
+#: positions, m/s or rad/s for rates.
+_DIFF_STEP = 1.4901161193847656e-08
+_DIFF_FLOOR = 1e-3
+
+
+@njit(cache=True)
+def _fixed_differences(
+    t: float, y: np.ndarray, f: np.ndarray, model: EomModel, out: np.ndarray
+) -> None:
+    """∂ẏ/∂y by forward differences of ẏ (``f`` at (t, y)) with the fixed step
+    √eps·max(|y_j|, floor) in each of the 2n coordinates and rates (the other columns zero:
+    passive components, see :func:`jacobian_state`): a step of at most ~10⁻⁸ m or rad that
+    never grows, so a free pin's zero columns stay zero (unless it is within that of its
+    wall, where the column is the contact's one-sided slope). Its 2n evaluations of ẏ are
+    not counted (as the integrator's differences, in ``njev``)."""
+    n = model.mass.shape[0]
+    size = y.shape[0]
+    work = y.copy()
+    column = np.empty(size)
+    out[:, :] = 0.0
+    for j in range(2 * n):
+        h = (y[j] + _DIFF_STEP * max(abs(y[j]), _DIFF_FLOOR)) - y[j]
+        work[j] = y[j] + h
+        rhs_into(t, work, model, column)
+        work[j] = y[j]
+        for i in range(size):
+            out[i, j] = (column[i] - f[i]) / h
+
+
 @njit(jacobian_signature, cache=True)
 def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: np.ndarray) -> bool:
     """∂ẏ/∂y in closed form when every joint is clear and none is locked (sustained
-    contact); ``False`` (nothing written, the integrator differences) otherwise.
+    contact); by forward differences with fixed steps (:func:`_fixed_differences`) when some
+    joints are ideal and the film damps the clear ones; ``False`` (nothing written, the
+    integrator differences) otherwise.
+
+    Why the film beside ideal joints is differenced here: the integrator's differences
+    (SciPy's ``num_jac``) adapt each column's step from call to call, growing it tenfold
+    whenever the column's difference is lost in round-off. A lubricated pin floats free of
+    its wall, so its bodies' x, y columns are exactly zero, and their steps grew (to 10⁻⁵ of
+    the coordinate, and beyond) until a difference pushed the pin into the wall: entries of
+    ~4·10¹⁰ s⁻² where the derivative is 0, the simplified Newton iteration failing on
+    almost every step (issue 22: 23 465 steps, 31 476 Newton failures for the paper
+    four-bar with A and B clear, settle 2 + 1 revolution; 1 368 and 211 with fixed steps).
 
     Every joint clear leaves the driver as the only constraint (or none): q̈ = M⁻¹ Q with
     the crank's row replaced by φ̈_d(t) (see :func:`constrained_accelerations`), so
@@ -1175,11 +1216,14 @@ def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: n
     law_p, fric_p = model.law_p, model.fric_p
     n = mass.shape[0]
     nc = clear_joint.shape[0]
-    for j in range(active.shape[0]):
-        if active[j] != 0:
-            return False
     if any_locked(y, model):  # locked joints are constraints: the integrator differences
         return False
+    for j in range(active.shape[0]):
+        if active[j] != 0:
+            if model.settings[S_FILM] > 0.0:  # steady steps, not the integrator's adaptive
+                _fixed_differences(t, y, f, model, out)
+                return True
+            return False
     q = y[:n]
     qd = y[n : 2 * n]
     out[:, :] = 0.0

@@ -21,8 +21,10 @@ and CPython's quotient, :func:`cdiv`); so that the CPU compilation takes the ste
 production lane.
 
 The Jacobian is the closed form of :func:`eom.jacobian_state` (:func:`jacobian_clear`) when
-every joint is clear (the paper's mechanisms: the driver the only constraint), else SciPy's
-finite differences as the Radau kernel takes them (:func:`jacobian_differences`). Film
+every joint is clear (the paper's mechanisms: the driver the only constraint), fixed-step
+differences (:func:`jacobian_fixed`, :func:`eom._fixed_differences`) with ideal joints and
+film damping, else SciPy's finite differences as the Radau kernel takes them
+(:func:`jacobian_differences`). Film
 damping (``S_FILM``) is handled: its force and power in :func:`contact_forces`, its terms in
 the closed-form Jacobian (:func:`film_jacobian`), its part of the reported joint force
 (:func:`film_components`), and the velocities between steps from the positions' interpolant
@@ -146,6 +148,10 @@ NUM_JAC_MAX_FACTOR = 1.0
 #: eom._LAW_STEP and eom._RATE_FLOOR: the law slopes' relative step and the rates' floor.
 LAW_STEP = 1.4901161193847656e-08
 RATE_FLOOR = 1e-3
+#: eom._DIFF_STEP and eom._DIFF_FLOOR: the fixed steps of the Jacobian with film damping and
+#: ideal joints (:func:`jacobian_fixed`).
+DIFF_STEP = 1.4901161193847656e-08
+DIFF_FLOOR = 1e-3
 
 
 def pmin(a, b):
@@ -569,13 +575,34 @@ def jacobian_differences(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, d
         factor[j] = min(max(factor[j], NUM_JAC_MIN_FACTOR), NUM_JAC_MAX_FACTOR)
 
 
+def jacobian_fixed(t, y, f, rp, ip, lay, jac, ytmp, f_col, record, phi_q, schur, lam):
+    """The columns 0 … 2n − 1 of ∂ẏ/∂y by forward differences with the fixed step
+    √eps·max(|y_j|, floor) (:func:`eom._fixed_differences`, the same arithmetic), rows
+    n … S − 1 into ``jac``: the Jacobian of a mechanism with ideal joints and film damping.
+    ``ytmp``, ``f_col`` (S): work."""
+    n = lay[LY_N]
+    size = lay[LY_SIZE]
+    for i in range(size):
+        ytmp[i] = y[i]
+    for j in range(2 * n):
+        h = (y[j] + DIFF_STEP * pmax(abs(y[j]), DIFF_FLOOR)) - y[j]
+        ytmp[j] = y[j] + h
+        rhs(t, ytmp, rp, ip, lay, f_col, record, False, phi_q, schur, lam)
+        ytmp[j] = y[j]
+        for i in range(n, size):
+            jac[i - n, j] = (f_col[i] - f[i]) / h
+
+
 def jacobian(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, diff, diff_new, record,
              phi_q, schur, lam):  # fmt: skip
     """The Radau kernel's Jacobian as the batch engine asks for it: the closed form of
-    :func:`eom.jacobian_state` (:func:`jacobian_clear`) when every joint is clear, else
-    SciPy's differences (:func:`jacobian_differences`)."""
+    :func:`eom.jacobian_state` (:func:`jacobian_clear`) when every joint is clear, fixed-step
+    differences (:func:`jacobian_fixed`) with ideal joints and film damping, else SciPy's
+    differences (:func:`jacobian_differences`)."""
     if lay[LY_NIDEAL] == 0:
         jacobian_clear(t, y, rp, ip, lay, jac, f_col, record)
+    elif rp[lay[LY_SETTINGS] + S_FILM] > 0.0:
+        jacobian_fixed(t, y, f, rp, ip, lay, jac, ytmp, f_col, record, phi_q, schur, lam)
     else:
         jacobian_differences(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, diff,
                              diff_new, record, phi_q, schur, lam)  # fmt: skip
