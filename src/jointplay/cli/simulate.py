@@ -145,6 +145,7 @@ def simulate_command(
     PNG plots. Options override the [simulation] table of a --config file.
     """
     from jointplay.dynamics.settings import simulate_run
+    from jointplay.dynamics.simulate import check_outputs
     from jointplay.io.config import simulation_settings
     from jointplay.io.output import output_dir, write_json
     from jointplay.io.results import simulation_summary, write_table
@@ -188,6 +189,7 @@ def simulate_command(
         run = run_settings_of(values, mechanism, contact_used, revolutions=turns, max_step=True)
         settle_turns = run.settle
         sample = _sample_step(values.get("sample_deg"))
+        check_outputs(mechanism, turns, settle_turns, step, sample)  # before compiling
         with (
             compiling_kernels(lambda line: console.print(line, markup=False, highlight=False)),
             status(

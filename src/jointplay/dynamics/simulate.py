@@ -404,6 +404,32 @@ def _check_arguments(
         _real(sample_deg, "sample_deg")
 
 
+def check_outputs(
+    mechanism: Mechanism,
+    revolutions: float,
+    settle: int,
+    output_step: float | None,
+    sample_deg: float | None,
+) -> float:
+    """The output step (s; default half a degree of crank) after checking the revolutions and
+    the outputs asked of :func:`simulate`, before any work (the command line calls it before
+    it compiles the kernels, so that bad input stays one line).
+
+    Raises:
+        ConfigError, SettingError: a setting out of range, or outputs too large to hold.
+    """
+    analysed_revolutions(revolutions)
+    settle_revolutions(settle)
+    if sample_deg is not None and not (math.isfinite(sample_deg) and 0 < sample_deg <= 360):
+        raise ConfigError(f"sample_deg must lie in (0, 360] degrees, got {sample_deg}")
+    period = mechanism.driver.period
+    output_step = output_step if output_step is not None else period / 720.0
+    if not output_step > 0:
+        raise ConfigError(f"output step must be > 0 s, got {output_step}")
+    _check_output_size(period, int(settle) + revolutions, output_step, sample_deg)
+    return output_step
+
+
 def _check_output_size(
     period: float, turns: float, output_step: float, sample_deg: float | None
 ) -> None:
@@ -473,15 +499,8 @@ def simulate(
     if settle is None:
         settle = DEFAULT_SETTLE if start.mode == "steady" else 0
     solver = solver or SolverOptions()
-    analysed_revolutions(revolutions)
-    settle_revolutions(settle)
-    if sample_deg is not None and not (math.isfinite(sample_deg) and 0 < sample_deg <= 360):
-        raise ConfigError(f"sample_deg must lie in (0, 360] degrees, got {sample_deg}")
+    output_step = check_outputs(mechanism, revolutions, settle, output_step, sample_deg)
     period = mechanism.driver.period
-    output_step = output_step if output_step is not None else period / 720.0
-    if not output_step > 0:
-        raise ConfigError(f"output step must be > 0 s, got {output_step}")
-    _check_output_size(period, int(settle) + revolutions, output_step, sample_deg)
     if solver.max_step is not None:
         fewest = (int(settle) + revolutions) * period / solver.max_step
         if fewest > solver.max_steps:
