@@ -42,8 +42,8 @@ FUNCTIONS = (
     "explicit_lane",
     *(
         "pmin", "pmax", "cdiv", "lu_real", "lu_complex", "lu_solve_real", "lu_solve_complex",
-        "law_slopes", "arm", "side_of", "film_jacobian", "jacobian_clear", "column_difference",
-        "jacobian_differences", "jacobian_fixed",
+        "law_slopes", "arm", "force_column", "side_of", "film_jacobian", "jacobian_clear",
+        "column_difference", "jacobian_differences", "jacobian_fixed",
         "jacobian", "factor_newton", "solve_real", "solve_complex",
         "stage_norm", "rms", "mat3", "predict", "initial_step", "collocation", "hermite",
         "implicit_lane",

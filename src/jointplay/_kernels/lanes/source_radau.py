@@ -323,6 +323,24 @@ def arm(y, body, sx, sy):
     return y[3 * body] + rx, y[3 * body + 1] + ry, rx, ry
 
 
+def force_column(
+    jac, rp, o_mass, column, a, b, fx, fy, dfx, dfy, pax, pay, dpax, dpay, pbx, pby, dpbx, dpby
+):  # fmt: skip
+    """Add to column ``column`` of the Jacobian the derivative (``dfx``, ``dfy``) of a force
+    (``fx``, ``fy``) on body b at the arm p_b and of its opposite on body a at p_a, with the
+    arms' derivatives dp (eom's ``_add_force_column``, the same arithmetic)."""
+    if b >= 0:
+        jac[3 * b, column] += dfx / rp[o_mass + 3 * b]
+        jac[3 * b + 1, column] += dfy / rp[o_mass + 3 * b + 1]
+        moment = dpbx * fy - dpby * fx + pbx * dfy - pby * dfx
+        jac[3 * b + 2, column] += moment / rp[o_mass + 3 * b + 2]
+    if a >= 0:
+        jac[3 * a, column] -= dfx / rp[o_mass + 3 * a]
+        jac[3 * a + 1, column] -= dfy / rp[o_mass + 3 * a + 1]
+        moment = dpax * fy - dpay * fx + pax * dfy - pay * dfx
+        jac[3 * a + 2, column] -= moment / rp[o_mass + 3 * a + 2]
+
+
 def side_of(side, a, b, rax, ray, rbx, rby, wa, wb):
     """Side ``side`` of a clearance joint's force in the Jacobian: 0 the journal's body b, 1
     the bearing's body a; (body, the force's sign on it, its arm x, y, the body's rate)."""
@@ -365,16 +383,10 @@ def film_jacobian(jac, film, rp, o_mass, n, a, b, rax, ray, rbx, rby, wa, wb, ed
                 drbx, drby = -rby, rbx
             elif k == 2:
                 drax, dray = -ray, rax
-            if b >= 0:
-                jac[3 * b, column] += dfx / rp[o_mass + 3 * b]
-                jac[3 * b + 1, column] += dfy / rp[o_mass + 3 * b + 1]
-                moment = drbx * fy - drby * fx + rbx * dfy - rby * dfx
-                jac[3 * b + 2, column] += moment / rp[o_mass + 3 * b + 2]
-            if a >= 0:
-                jac[3 * a, column] -= dfx / rp[o_mass + 3 * a]
-                jac[3 * a + 1, column] -= dfy / rp[o_mass + 3 * a + 1]
-                moment = drax * fy - dray * fx + rax * dfy - ray * dfx
-                jac[3 * a + 2, column] -= moment / rp[o_mass + 3 * a + 2]
+            force_column(
+                jac, rp, o_mass, column, a, b, fx, fy, dfx, dfy,
+                rax, ray, drax, dray, rbx, rby, drbx, drby,
+            )  # fmt: skip
             jac[n + 1, column] += 2.0 * film * (edx * dvx + edy * dvy)
 
 
@@ -485,16 +497,10 @@ def jacobian_clear(t, y, rp, ip, lay, jac, force, record):
                     dpax -= ray
                     dpay += rax
                 column = 3 * body + k if k < 3 else n + 3 * body + k - 3
-                if b >= 0:
-                    jac[3 * b, column] += dfx / rp[o_mass + 3 * b]
-                    jac[3 * b + 1, column] += dfy / rp[o_mass + 3 * b + 1]
-                    moment = dpbx * fy - dpby * fx + pbx * dfy - pby * dfx
-                    jac[3 * b + 2, column] += moment / rp[o_mass + 3 * b + 2]
-                if a >= 0:
-                    jac[3 * a, column] -= dfx / rp[o_mass + 3 * a]
-                    jac[3 * a + 1, column] -= dfy / rp[o_mass + 3 * a + 1]
-                    moment = dpax * fy - dpay * fx + pax * dfy - pay * dfx
-                    jac[3 * a + 2, column] -= moment / rp[o_mass + 3 * a + 2]
+                force_column(
+                    jac, rp, o_mass, column, a, b, fx, fy, dfx, dfy,
+                    pax, pay, dpax, dpay, pbx, pby, dpbx, dpby,
+                )  # fmt: skip
                 jac[power_row, column] += (
                     d_fn * delta_dot + f_n * d_rate + d_ft * v_t + f_t * d_slip
                 )
