@@ -503,3 +503,16 @@ def test_no_arguments_shows_the_help(capsys: pytest.CaptureFixture[str]) -> None
     assert run([]) == 0
     captured = capsys.readouterr()
     assert "Usage" in captured.out and captured.err == ""
+
+
+def test_outputs_are_checked_before_the_kernels_compile(monkeypatch, tmp_path, capsys) -> None:
+    """On a fresh install (no compiled kernels cached) a too-fine --output-step is still one
+    error line: the outputs are checked before the compile notice is printed."""
+    import jointplay._kernels
+
+    monkeypatch.setattr(jointplay._kernels, "compiled_cache_present", lambda: False)
+    out = tmp_path / "out"
+    assert run(["simulate", "--output-step", "1 ns", "--out", str(out), "--no-progress"]) == 2
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1 and "--output-step" in lines[0], lines
+    assert not out.exists()

@@ -328,3 +328,13 @@ def test_lubricated_pins_beside_ideal_joints_cost_no_more_than_dry_ones(
         assert lubricated.peaks[key]["value"] == pytest.approx(
             peak["value"], rel=PEAKS_AGAINST_TIGHT
         ), key
+
+
+def test_the_summary_gives_each_joints_film_and_the_one_applied(paper_fourbar: Mechanism) -> None:
+    joints = ContactModel().joints(paper_fourbar, JOINTS, clearance=CLEARANCE)
+    joints[0] = joints[0].with_clearance(2 * CLEARANCE)  # a looser O2: a weaker film
+    result = simulate(paper_fourbar, joints, revolutions=0.05, settle=0, start=Start("steady"))
+    summary = result.summary()
+    films = {j: summary["clearance_joints"][j]["film_damping_N_s_m"] for j in JOINTS}
+    assert films == {j.joint: j.film_damping for j in joints}
+    assert summary["film_damping_applied_N_s_m"] == min(films.values()) == films["O2"]

@@ -7,6 +7,7 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+import pytest
 
 from jointplay.dynamics.setup import ContactModel
 from jointplay.model.mechanism import Mechanism
@@ -33,3 +34,18 @@ def test_a_dynamic_study_runs_the_film_on_the_implicit_lanes(paper_fourbar: Mech
     with_film, without = on.evaluate(x), models[0.0].evaluate(x)
     assert with_film.ok.all() and without.ok.all()
     assert not np.array_equal(with_film.values, without.values)  # the film took effect
+
+
+def test_the_jax_gpu_backend_refuses_a_lubricated_study_up_front(paper_fourbar: Mechanism) -> None:
+    """One clear error before any sample runs (it used to fail every sample), naming the
+    option that runs the joints dry; dry joints are accepted."""
+    from jointplay.errors import SettingError
+
+    spec = ToleranceSpec.from_mechanism(paper_fourbar)
+    lubricated = contact_parts(paper_fourbar, ContactModel())
+    assert lubricated["film_from"]
+    with pytest.raises(SettingError, match="lubricant_viscosity"):
+        dynamic_model(paper_fourbar, spec.names, backend=Backend("gpu"), **lubricated)
+    dry = contact_parts(paper_fourbar, ContactModel(lubricant_viscosity=0))
+    assert not dry["film_from"] and dry["film_damping"] == 0.0
+    dynamic_model(paper_fourbar, spec.names, backend=Backend("gpu"), **dry)
