@@ -200,24 +200,33 @@ def test_the_parabolic_refinement_finds_a_parabolas_vertex() -> None:
 def test_the_implicit_lanes_interpolate_as_the_single_engine(
     paper_fourbar: Mechanism, film: float
 ) -> None:
-    """``_hermite`` (the implicit lanes' interpolant) is the single engine's ``_interpolate``:
-    q̇ the Hermite of q̇ with q̈ without the film, the derivative of q's cubic with it
-    (docs/performance.md, "Peak location with a film"). To round-off (measured: a
-    few ulps where NumPy's ``s**3`` is ``pow`` and Numba's a product); with the film the
-    velocities, whose weights take only ``s**2`` (exact in both), bit for bit."""
+    """``_hermite`` with ``interpolation_rule`` (the implicit lanes' interpolant) is the
+    single engine's ``_interpolate``: q̇ the Hermite of q̇ with q̈ without the film; with it
+    the quintic through q and q̇ at three step ends in steps away from a contact's start or
+    end, and the derivative of q's cubic in the others and the first (``smooth_steps``: here
+    a joint starts touching in step 2, so steps 0, 2 and 3 take the cubic's derivative). To round-off (measured: a few ulps where NumPy's ``s**3`` is
+    ``pow`` and Numba's a product)."""
     joints = ContactModel(film_damping=film).joints(paper_fourbar, JOINTS, clearance=21e-6)
     system = build_system(paper_fourbar, joints)
     n = system.n_coordinates
     rng = np.random.default_rng(7)
-    t = np.cumsum(rng.uniform(1e-4, 1e-3, 6))
+    t = np.cumsum(rng.uniform(1e-4, 1e-3, 7))
     y = rng.standard_normal((t.size, 2 * n + 2 + len(JOINTS)))
     qdd = rng.standard_normal((t.size, n))
-    samples = np.sort(rng.uniform(t[0], t[-1], 40))
-    expected = _interpolate(system, t, y, qdd, samples)
+    touching = np.zeros((t.size, len(JOINTS)), dtype=bool)
+    touching[3:, 1] = True
+    bits = [kb.touching_bits(np.where(row, 1e-7, -1e-7)) for row in touching]
+    samples = np.sort(rng.uniform(t[0], t[-1], 60))
+    expected = _interpolate(system, t, y, qdd, touching, samples)
     got = np.empty(y.shape[1])
+    rules = set()
     for k, tau in enumerate(samples):
         i = min(int(np.searchsorted(t, tau, side="right")) - 1, t.size - 2)
-        kb._hermite(t[i], y[i], qdd[i], t[i + 1], y[i + 1], qdd[i + 1], n, tau, got, film > 0)
+        b = max(i - 1, 0)
+        rule = kb.interpolation_rule(film > 0, i >= 1, bits[b], bits[i], bits[i + 1])
+        rules.add(rule)
+        kb._hermite(t[b], y[b], t[i], y[i], qdd[i], t[i + 1], y[i + 1], qdd[i + 1], n, tau, got,
+                    rule)  # fmt: skip
         np.testing.assert_allclose(got, expected[k], rtol=1e-13, atol=1e-13)
-        if film > 0:
-            np.testing.assert_array_equal(got[n : 2 * n], expected[k][n : 2 * n])
+    expected_rules = {kb.RULE_QUINTIC, kb.RULE_CUBIC_DERIVATIVE} if film > 0 else {kb.RULE_RATES}
+    assert rules == expected_rules

@@ -6,8 +6,8 @@ peaks at 74.53 N on the steps against 74.89 N converged). :func:`locate_peaks` s
 continuous solution between the steps instead: the caller gives an ``evaluate(times)``
 function that returns every quantity at arbitrary times (the simulation evaluates its
 interpolant of the state — cubic Hermite on positions and velocities, 4th-order accurate like
-the integrator's own dense output; with film damping the velocities are the derivative of
-the positions' cubic, :func:`jointplay.dynamics.simulate._interpolate` — and the exact force
+the integrator's own dense output; with film damping the quintic through q and q̇ at three
+step ends, :func:`jointplay.dynamics.simulate._interpolate` — and the exact force
 laws at that state). The search:
 
 1. candidates: in each window (a crank revolution, say), the intervals on both sides of the

@@ -184,10 +184,12 @@ class SimulationResult:
     sample_deg: float | None
     output_step: float
     nominal: pd.DataFrame | None = field(repr=False)
-    #: The columns of :attr:`steps` and the accelerations q̈ at the steps (for the
-    #: interpolation of :attr:`timeseries`), kept to build the tables when first read.
+    #: The columns of :attr:`steps`, the accelerations q̈ and the joints' contacts at the
+    #: steps (for the interpolation of :attr:`timeseries`), kept to build the tables when
+    #: first read.
     _step_columns: dict[str, FloatArray] = field(repr=False)
     _step_accelerations: FloatArray = field(repr=False)
+    _step_touching: NDArray[np.bool_] = field(repr=False)
 
     @property
     def success(self) -> bool:
@@ -251,7 +253,9 @@ class SimulationResult:
 
     def evaluate(self, times: FloatArray) -> dict[str, FloatArray]:
         """Every documented column at ``times`` on the continuous solution."""
-        states = _interpolate(self.system, self.t, self.y, self._step_accelerations, times)
+        states = _interpolate(
+            self.system, self.t, self.y, self._step_accelerations, self._step_touching, times
+        )
         columns, _ = _columns(self.system, times, states)
         return columns
 
@@ -270,7 +274,9 @@ class SimulationResult:
         if t.shape[0] < 2:  # stopped at the initial state: nothing to interpolate
             states = np.ascontiguousarray(y[: samples.shape[0]])
         else:
-            states = _interpolate(self.system, t, y, self._step_accelerations, samples)
+            states = _interpolate(
+                self.system, t, y, self._step_accelerations, self._step_touching, samples
+            )
         columns, _ = _columns(self.system, samples, states)
         return pd.DataFrame(columns)
 
@@ -583,6 +589,10 @@ def simulate(
         nominal=table,
         _step_columns=columns,
         _step_accelerations=qdd,
+        _step_touching=np.column_stack(
+            [columns[f"pen_{c.joint}"] > 0 for c in system.clearances]
+            or [np.zeros(len(run.t), dtype=bool)]
+        ),
     )
 
 
@@ -654,19 +664,87 @@ def hermite_derivative(
     )
 
 
-def _interpolate(
-    system: System, t: FloatArray, y: FloatArray, qdd: FloatArray, samples: FloatArray
-) -> FloatArray:
-    """Cubic Hermite interpolation of q (with q̇) between accepted steps; q̇ the cubic
-    Hermite of q̇ (with q̈), or, with film damping, the derivative of q's interpolant.
+def hermite_three_points(
+    t: FloatArray,
+    values: FloatArray,
+    rates: FloatArray,
+    samples: FloatArray,
+    index: NDArray[np.intp],
+) -> tuple[FloatArray, FloatArray]:
+    """The quintic through ``values`` and ``rates`` at the three step ends ``t[index − 1]``,
+    ``t[index]``, ``t[index + 1]`` (confluent Hermite, Newton's divided-difference form),
+    and its time derivative, at ``samples`` (each inside its step ``index >= 1``).
 
-    Why the film changes the velocities' rule: the Hermite of q̇ with q̈ assumes q̈ smooth
-    inside a step, which a contact onset breaks (q̈ jumps there, and the interpolated q̇
-    swings away from both ends' values); the film turns a velocity error into a force,
-    −c_e ė, so at c_e = 1e5 N·s/m such a swing made spurious α peaks (docs/performance.md,
-    "Peak location with a film"). The derivative of q's cubic uses q and q̇ only; it is one
-    order less accurate where the motion is smooth (located force peaks ~1e-3 high at
-    c_e = 1e5 and the default tolerances, measured there).
+    Where the motion is smooth the rates are 5th-order accurate (the cubic's derivative on
+    one step, 3rd); unlike a Hermite that takes q̈, they take no acceleration, which a stiff
+    film or contact turns from a small velocity error into a large one."""
+    t0, t1, t2 = t[index - 1][:, None], t[index][:, None], t[index + 1][:, None]
+    q0, q1, q2 = values[index - 1], values[index], values[index + 1]
+    v0, v1, v2 = rates[index - 1], rates[index], rates[index + 1]
+    c = _divided_differences(t0, t1, t2, q0, q1, q2, v0, v1, v2)
+    nodes = (t0, t0, t1, t1, t2)
+    tau = samples[:, None]
+    value, rate = c[5], np.zeros_like(c[5])
+    for k in range(4, -1, -1):  # Horner on the Newton form, with its derivative
+        rate = rate * (tau - nodes[k]) + value
+        value = value * (tau - nodes[k]) + c[k]
+    return value, rate
+
+
+def _divided_differences(t0, t1, t2, q0, q1, q2, v0, v1, v2):
+    """Newton's coefficients of the quintic through (q, v) at t0, t1, t2 (nodes t0, t0, t1,
+    t1, t2, t2); the arithmetic of ``_kernels.batch._hermite``'s quintic."""
+    s01 = (q1 - q0) / (t1 - t0)
+    s12 = (q2 - q1) / (t2 - t1)
+    f012 = (s01 - v0) / (t1 - t0)
+    f123 = (v1 - s01) / (t1 - t0)
+    f234 = (s12 - v1) / (t2 - t1)
+    f345 = (v2 - s12) / (t2 - t1)
+    f0123 = (f123 - f012) / (t1 - t0)
+    f1234 = (f234 - f123) / (t2 - t0)
+    f2345 = (f345 - f234) / (t2 - t1)
+    f01234 = (f1234 - f0123) / (t2 - t0)
+    f12345 = (f2345 - f1234) / (t2 - t0)
+    return q0, v0, f012, f0123, f01234, (f12345 - f01234) / (t2 - t0)
+
+
+def smooth_steps(touching: NDArray[np.bool_]) -> NDArray[np.bool_]:
+    """Which accepted steps the three-point quintic may take (with film damping): those
+    over which no joint starts or ends its contact, and whose preceding step did not either
+    (the first step has none before it: no).
+
+    ``touching`` (m, nc): whether each clearance joint's pin touches (δ > 0) at each step.
+    Returns (m − 1,) booleans.
+    """
+    change = np.any(touching[1:] != touching[:-1], axis=1)
+    before = np.concatenate([[True], change[:-1]])
+    return ~(change | before)
+
+
+def _interpolate(
+    system: System,
+    t: FloatArray,
+    y: FloatArray,
+    qdd: FloatArray,
+    touching: NDArray[np.bool_],
+    samples: FloatArray,
+) -> FloatArray:
+    """The state at ``samples`` between accepted steps (``qdd`` q̈ and ``touching`` the
+    joints' contacts at the steps): q by cubic Hermite (with q̇), q̇ by cubic Hermite (with
+    q̈); with film damping, q and q̇ from the quintic through q and q̇ at the step's ends and
+    the step end before it (:func:`hermite_three_points`) where :func:`smooth_steps`
+    allows, else q̇ the derivative of q's cubic.
+
+    Why the film changes the rule: it turns a velocity error into a force, c_e ė (c_e up to
+    1e6 N·s/m), so the interpolant's error in q̇ decides the located force and α peaks.
+    The cubic Hermite of q̇ with q̈ swings where q̈ changes fast inside a step (a contact
+    onset: spurious α peaks of 5× at c_e = 1e5), and any rule that takes q̈ at the steps
+    carries its noise (q̈ is c_e/m times the velocities' error). The derivative of q's
+    cubic uses q and q̇ only but is 3rd-order (peaks ~1e-3 off at the default tolerances);
+    the three-point quintic is 5th-order (peaks ~1e-6 off, docs/performance.md, "Peak
+    location with a film"). Next to a contact's start or end the motion is not smooth over
+    three step ends, so those steps keep the cubic's derivative. The work integrals are
+    linear, the impact memory held at the step's start.
     """
     n = system.n_coordinates
     index = np.clip(np.searchsorted(t, samples, side="right") - 1, 0, len(t) - 2)
@@ -675,6 +753,11 @@ def _interpolate(
     out[:, :n] = hermite(t, y[:, :n], y[:, n : 2 * n], samples)
     if system.model.settings[eom.S_FILM] > 0:
         out[:, n : 2 * n] = hermite_derivative(t, y[:, :n], y[:, n : 2 * n], samples)
+        quintic = smooth_steps(touching)[index]
+        if quintic.any():
+            out[quintic, :n], out[quintic, n : 2 * n] = hermite_three_points(
+                t, y[:, :n], y[:, n : 2 * n], samples[quintic], index[quintic]
+            )
     else:
         out[:, n : 2 * n] = hermite(t, y[:, n : 2 * n], qdd, samples)
     w = (samples - t0) / (t1 - t0)

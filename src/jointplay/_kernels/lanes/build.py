@@ -45,7 +45,8 @@ FUNCTIONS = (
         "law_slopes", "arm", "force_column", "side_of", "film_jacobian", "jacobian_clear",
         "column_difference", "jacobian_differences", "jacobian_fixed",
         "jacobian", "factor_newton", "solve_real", "solve_complex",
-        "stage_norm", "rms", "mat3", "predict", "initial_step", "collocation", "hermite",
+        "stage_norm", "rms", "mat3", "predict", "initial_step", "collocation", "touching",
+        "interpolation_rule", "hermite",
         "implicit_lane",
     ),
 )  # fmt: skip

@@ -27,15 +27,14 @@ film damping, else SciPy's finite differences as the Radau kernel takes them
 (:func:`jacobian_differences`). Film
 damping (``S_FILM``) is handled: its force and power in :func:`contact_forces`, its terms in
 the closed-form Jacobian (:func:`film_jacobian`), its part of the reported joint force
-(:func:`film_components`), and the velocities between steps from the positions' interpolant
-(:func:`hermite`). The sustained-contact mode (locked joints) is not: the GPU's
+(:func:`film_components`), and the interpolant's rule between steps (:func:`hermite`). The sustained-contact mode (locked joints) is not: the GPU's
 ``run_batch`` refuses it (:func:`jointplay._kernels.lanes.build.lanes_refusal`); the CPU's
 drivers, used by tests only, expect their callers to.
 
 Where the production lane records every step and reduces the trajectory afterwards
 (:func:`jointplay._kernels.batch._trajectory_reduce`), this lane reduces each accepted step
-as it is taken (a GPU thread cannot keep its trajectory), with the same cubic Hermite
-interpolant (:func:`hermite`) and the same peak rule; the window opens at ``t_settle``
+as it is taken (a GPU thread cannot keep its trajectory), with the same interpolant
+(:func:`hermite`, on the step and the step end before it) and the same peak rule; the window opens at ``t_settle``
 inside the step that crosses it, as there.
 
 References:
@@ -132,6 +131,10 @@ RP = (
     1.0 / 3.0, -8.0 / 3.0, 10.0 / 3.0,
 )  # fmt: skip
 NEWTON_MAXITER = 6
+#: batch.RULE_*: the interpolant's rules for the velocities between steps (:func:`hermite`).
+RULE_RATES = 0
+RULE_CUBIC_DERIVATIVE = 1
+RULE_QUINTIC = 2
 #: eom.S_CAPTURE: the settings' capture speed (the sustained-contact mode), not handled here
 #: (film damping's ``S_FILM`` is the explicit source's, imported above).
 S_CAPTURE = 3
@@ -839,32 +842,76 @@ def collocation(t, y, h, has_sol, cq, t_old, y_old, scale, tol, rp, ip, lay, jac
     return converged, k + 1, rate, nfev
 
 
-def hermite(t0, y0, f0, t1, y1, f1, n, size, tau, out, film):
-    """The single engine's interpolant (:func:`jointplay._kernels.batch._hermite`): cubic
-    Hermite on q (with q̇) and on q̇ (with q̈ = ``f[n:2n]``); the work integrals linear, the
-    impact memory held at the step's start. With film damping (``film``: ``S_FILM`` > 0) the
-    velocities are the time derivative of the positions' cubic Hermite instead (the film's
-    force c_e ė turns the q̇ interpolant's error in a step where q̈ jumps into a spurious
-    force: docs/performance.md, "A 200-sample dynamic tolerance study")."""
+def touching(pen, nc):
+    """Which clearance joints touch (δ > 0), one bit each (:func:`batch.touching_bits`)."""
+    bits = 0
+    for c in range(nc):
+        if pen[c] > 0.0:
+            bits |= 1 << c
+    return bits
+
+
+def interpolation_rule(film, has_before, bits_before, bits_start, bits_end):
+    """:func:`jointplay._kernels.batch.interpolation_rule`."""
+    if not film:
+        return RULE_RATES
+    if has_before and bits_before == bits_start and bits_start == bits_end:
+        return RULE_QUINTIC
+    return RULE_CUBIC_DERIVATIVE
+
+
+def hermite(tp, yp, t0, y0, f0, t1, y1, f1, n, size, tau, out, rule):
+    """The single engine's interpolant (:func:`jointplay._kernels.batch._hermite`, the same
+    arithmetic) in the step from ``t0`` to ``t1``, ``tp``, ``yp`` the step end before it, q̈
+    = ``f[n:2n]``, with the velocities' ``rule``: the cubic Hermite of q̇ with q̈
+    (``RULE_RATES``, no film), the derivative of q's cubic (``RULE_CUBIC_DERIVATIVE``), or q
+    and q̇ from the quintic through q and q̇ at the three step ends (``RULE_QUINTIC``); the
+    work integrals linear, the impact memory held at the step's start."""
     h = t1 - t0
     s = (tau - t0) / h
-    h00 = 2 * s**3 - 3 * s**2 + 1
-    h10 = s**3 - 2 * s**2 + s
-    h01 = -2 * s**3 + 3 * s**2
-    h11 = s**3 - s**2
-    if film:
+    if rule == RULE_QUINTIC:
+        for i in range(n):
+            s01 = (y0[i] - yp[i]) / (t0 - tp)
+            s12 = (y1[i] - y0[i]) / (t1 - t0)
+            f012 = (s01 - yp[n + i]) / (t0 - tp)
+            f123 = (y0[n + i] - s01) / (t0 - tp)
+            f234 = (s12 - y0[n + i]) / (t1 - t0)
+            f345 = (y1[n + i] - s12) / (t1 - t0)
+            f0123 = (f123 - f012) / (t0 - tp)
+            f1234 = (f234 - f123) / (t1 - tp)
+            f2345 = (f345 - f234) / (t1 - t0)
+            f01234 = (f1234 - f0123) / (t1 - tp)
+            f12345 = (f2345 - f1234) / (t1 - tp)
+            value = (f12345 - f01234) / (t1 - tp)
+            rate = 0.0
+            rate = rate * (tau - t1) + value
+            value = value * (tau - t1) + f01234
+            rate = rate * (tau - t0) + value
+            value = value * (tau - t0) + f0123
+            rate = rate * (tau - t0) + value
+            value = value * (tau - t0) + f012
+            rate = rate * (tau - tp) + value
+            value = value * (tau - tp) + yp[n + i]
+            rate = rate * (tau - tp) + value
+            value = value * (tau - tp) + yp[i]
+            out[i] = value
+            out[n + i] = rate
+    else:
+        h00 = 2 * s**3 - 3 * s**2 + 1
+        h10 = s**3 - 2 * s**2 + s
+        h01 = -2 * s**3 + 3 * s**2
+        h11 = s**3 - s**2
         dh10 = 3 * s**2 - 4 * s + 1
         dh01 = -6 * s**2 + 6 * s
         dh11 = 3 * s**2 - 2 * s
         for i in range(n):
             out[i] = h00 * y0[i] + h10 * h * y0[n + i] + h01 * y1[i] + h11 * h * y1[n + i]
-            out[n + i] = dh01 * (y1[i] - y0[i]) / h + dh10 * y0[n + i] + dh11 * y1[n + i]
-    else:
-        for i in range(n):
-            out[i] = h00 * y0[i] + h10 * h * y0[n + i] + h01 * y1[i] + h11 * h * y1[n + i]
-            out[n + i] = (
-                h00 * y0[n + i] + h10 * h * f0[n + i] + h01 * y1[n + i] + h11 * h * f1[n + i]
-            )
+            if rule == RULE_CUBIC_DERIVATIVE:
+                out[n + i] = dh01 * (y1[i] - y0[i]) / h + dh10 * y0[n + i] + dh11 * y1[n + i]
+            else:
+                out[n + i] = (
+                    h00 * y0[n + i] + h10 * h * f0[n + i] + h01 * y1[n + i] + h11 * h * f1[n + i]
+                )
     for i in range(2 * n, 2 * n + 2):
         out[i] = (1 - s) * y0[i] + s * y1[i]
     for i in range(2 * n + 2, size):
@@ -899,7 +946,7 @@ def implicit_lane(
     nc = lay[LY_NC]
     size = lay[LY_SIZE]
     n_q = lay[LY_NQ]
-    film = rp[lay[LY_SETTINGS] + S_FILM] > 0.0  # the interpolant's velocities (hermite)
+    film = rp[lay[LY_SETTINGS] + S_FILM] > 0.0  # the interpolant's rule (hermite)
     start_outputs(ip, rp, lay, mask, peaks, stats, counts)
     t = 0.0
     if interrupt_pending(interrupt):
@@ -918,6 +965,8 @@ def implicit_lane(
     counts[K_RHS] += 1
     if not (all_finite(y, size) and all_finite(f, size)):
         return STATUS_NON_FINITE, t
+    bits_old = touching(pen, nc)  # the joints touching at t_old, t and t_new
+    bits = bits_old
     h_abs_state = initial_step(t, y, t_end, max_step, f, rtol, atol, rp, ip, lay, ytmp,
                                f_mid, scale, record_mid, phi_q, schur, lam)  # fmt: skip
     counts[K_RHS] += 1
@@ -1069,25 +1118,21 @@ def implicit_lane(
         error_norm_old_state = error_norm
         h_abs_state = h_abs * factor
         # the peaks and statistics of this step (batch._trajectory_reduce, streamed)
+        bits_new = touching(pen, nc)
+        rule = interpolation_rule(film, counts[K_STEPS] >= 1, bits_old, bits, bits_new)
         if not in_window and t_new > t_settle:
             in_window = True
             if t < t_settle:  # the window opens inside this step
-                hermite(t, y, f, t_new, y_new, f_new, n, size, t_settle, y_open, film)
+                hermite(t_old, y_old, t, y, f, t_new, y_new, f_new, n, size, t_settle, y_open,
+                        rule)  # fmt: skip
                 t_a = t_settle
                 quantities(t_a, y_open, rp, ip, lay, f_open, record_mid, qa, pen_open,
                            phi_q, schur, lam)  # fmt: skip
-                y_start = y_open
-                f_start = f_open
             else:
                 t_a = t
                 quantities(t_a, y, rp, ip, lay, f_open, record_mid, qa, pen_open,
                            phi_q, schur, lam)  # fmt: skip
-                y_start = y
-                f_start = f_open
             open_window(qa, pen_open, peaks, stats, nb, n_q, nc)
-        else:
-            y_start = y
-            f_start = f
         if in_window:
             accumulate(qa, qb, pen, t_new - t_a, peaks, stats, nb, n_q, nc)
             if wants_refinement(qa, qb, peaks, mask, n_q):
@@ -1097,7 +1142,8 @@ def implicit_lane(
                     samples[N_REFINE + 1, p] = qb[p]
                 for r in range(N_REFINE):
                     tau = t_a + ((r + 1) / 8.0) * hw
-                    hermite(t_a, y_start, f_start, t_new, y_new, f_new, n, size, tau, y_mid, film)
+                    hermite(t_old, y_old, t, y, f, t_new, y_new, f_new, n, size, tau, y_mid,
+                            rule)  # fmt: skip
                     quantities(tau, y_mid, rp, ip, lay, f_mid, record_mid, samples[r + 1],
                                pen_open, phi_q, schur, lam)  # fmt: skip
                 refine_peaks(samples, peaks, n_q)
@@ -1111,6 +1157,8 @@ def implicit_lane(
                     s += z[i, j] * RP[3 * i + kk]
                 cq[kk, j] = s
         has_sol = not changed
+        bits_old = bits
+        bits = bits_new
         t_old = t
         t = t_new
         y_old, y, y_new = y, y_new, y_old
