@@ -24,6 +24,7 @@ from _tolerances import contract_rtol
 from jointplay._kernels import batch as kb
 from jointplay._kernels import common as kc
 from jointplay._kernels import eom
+from jointplay._kernels.lanes.source_radau import RULE_CUBIC_DERIVATIVE, RULE_QUINTIC, RULE_RATES
 from jointplay.dynamics.clearance import ClearanceJoint
 from jointplay.dynamics.setup import DEFAULT_IMPACT, ContactModel
 from jointplay.dynamics.simulate import Start, _interpolate, initial_state, simulate
@@ -200,7 +201,7 @@ def test_the_parabolic_refinement_finds_a_parabolas_vertex() -> None:
 def test_the_implicit_lanes_interpolate_as_the_single_engine(
     paper_fourbar: Mechanism, film: float
 ) -> None:
-    """``_hermite`` with ``interpolation_rule`` (the implicit lanes' interpolant) is the
+    """``lanes_hermite`` with its rule (the implicit lanes' interpolant) is the
     single engine's ``_interpolate``: q̇ the Hermite of q̇ with q̈ without the film; with it
     the quintic through q and q̇ at three step ends in steps away from a contact's start or
     end, and the derivative of q's cubic in the others and the first (``smooth_steps``: here
@@ -215,7 +216,9 @@ def test_the_implicit_lanes_interpolate_as_the_single_engine(
     qdd = rng.standard_normal((t.size, n))
     touching = np.zeros((t.size, len(JOINTS)), dtype=bool)
     touching[3:, 1] = True
-    bits = [kb.touching_bits(np.where(row, 1e-7, -1e-7)) for row in touching]
+    bits = [kb.lanes_touching(np.where(row, 1e-7, -1e-7), len(JOINTS)) for row in touching]
+    f = np.zeros_like(y)  # the lane source takes q̈ in f[n:2n]
+    f[:, n : 2 * n] = qdd
     samples = np.sort(rng.uniform(t[0], t[-1], 60))
     expected = _interpolate(system, t, y, qdd, touching, samples)
     got = np.empty(y.shape[1])
@@ -223,10 +226,10 @@ def test_the_implicit_lanes_interpolate_as_the_single_engine(
     for k, tau in enumerate(samples):
         i = min(int(np.searchsorted(t, tau, side="right")) - 1, t.size - 2)
         b = max(i - 1, 0)
-        rule = kb.interpolation_rule(film > 0, i >= 1, bits[b], bits[i], bits[i + 1])
+        rule = kb.lanes_interpolation_rule(film > 0, i >= 1, bits[b], bits[i], bits[i + 1])
         rules.add(rule)
-        kb._hermite(t[b], y[b], t[i], y[i], qdd[i], t[i + 1], y[i + 1], qdd[i + 1], n, tau, got,
-                    rule)  # fmt: skip
+        kb.lanes_hermite(t[b], y[b], t[i], y[i], f[i], t[i + 1], y[i + 1], f[i + 1], n, y.shape[1],
+                         tau, got, rule)  # fmt: skip
         np.testing.assert_allclose(got, expected[k], rtol=1e-13, atol=1e-13)
-    expected_rules = {kb.RULE_QUINTIC, kb.RULE_CUBIC_DERIVATIVE} if film > 0 else {kb.RULE_RATES}
+    expected_rules = {RULE_QUINTIC, RULE_CUBIC_DERIVATIVE} if film > 0 else {RULE_RATES}
     assert rules == expected_rules

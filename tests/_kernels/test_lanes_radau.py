@@ -16,10 +16,10 @@ joints (the Jacobian then differenced as SciPy's ``num_jac``, the projection
 :func:`eom.project`'s).
 
 Film damping (``ContactModel(film_damping=c_e)``): the lane's film force, power, Jacobian
-terms and reported joint force are :mod:`eom`'s arithmetic; between steps its velocities are
-the derivative of the positions' Hermite interpolant (:func:`source_radau.hermite`), the rule
-the production lanes' ``batch._hermite`` takes with the film on. Measured: with that rule in
-both (and with the old q̇ interpolant in both), equal bits in every field; the steps,
+terms and reported joint force are :mod:`eom`'s arithmetic; between steps the interpolant
+is :func:`source_radau.hermite`'s (with the film on, the three-point quintic or, next to a
+contact's start or end, the positions' cubic derivative), which the production lanes
+compile too. Measured: equal bits in every field; the steps,
 rejections, evaluations and the statistics of a window opening at an accepted step do not
 depend on the interpolant.
 """
@@ -387,10 +387,9 @@ def test_with_film_damping_the_implicit_lane_takes_the_production_lanes_steps(
 def test_with_film_damping_the_single_source_implicit_lane_is_the_production_lane(
     paper_fourbar: Mechanism, case: str
 ) -> None:
-    """Every field, the peaks too (located between steps on the interpolant whose velocities
-    are the positions' Hermite derivative with the film on, in both), and the window opening
-    inside a step. Measured: equal bits (with the production lanes' ``batch._hermite``
-    taking that rule)."""
+    """Every field, the peaks too (located between steps on the same interpolant, its rule
+    chosen step by step from the joints' contacts), and the window opening inside a step.
+    Measured: equal bits."""
     p = _film_problem(paper_fourbar, case)
     old = _production(p)
     assert (old.status == kcommon.STATUS_SUCCESS).all() and (old.n_steps > 100).all()

@@ -50,7 +50,7 @@ Table 5.2: the DOPRI5 tableau, FSAL), propagating the 5th-order solution; the la
 **"implicit"** — the Radau IIA kernel of :mod:`jointplay._kernels.radau`, one lane at a time,
 with exactly the settings of :func:`jointplay.dynamics.simulate.simulate`; its accepted steps
 are then reduced by :func:`_trajectory_reduce` (compiled), the interpolant being the single
-engine's (:func:`_hermite`: cubic Hermite of q with q̇ and of q̇ with q̈; with film damping
+engine's (:data:`lanes_hermite`: cubic Hermite of q with q̇ and of q̇ with q̈; with film damping
 the quintic through q and q̇ at three step ends, or next to a contact's start or end q̇ the
 derivative of q's cubic).
 
@@ -61,7 +61,7 @@ quantities at the two ends of an accepted step inside the window (``Q_b`` after
 driven body and of bodies held by an ideal prismatic joint to the ground),
 ``max(|Q_a,p|, |Q_b,p|) >= (1 − REFINE_MARGIN)·peak_p > 0``. A refined step evaluates the
 method's interpolant at the seven ``REFINE_POINTS`` θ = 1/8, 2/8, …, 7/8 (DOPRI5: SciPy's
-free 4th-order dense output ``P`` below; Radau: :func:`_hermite`), the quantities at those
+free 4th-order dense output ``P`` below; Radau: :data:`lanes_hermite`), the quantities at those
 states, and for every quantity takes ``s_0..s_8 = |Q|`` at θ = 0, 1/8, …, 7/8, 1: with ``m``
 the first index of the largest, ``0 < m < 8`` and ``c = s_{m−1} − 2 s_m + s_{m+1} < 0``, the
 vertex of the parabola through the three points, ``s_m − (s_{m−1} − s_{m+1})² / (8 c)``
@@ -183,103 +183,21 @@ def layout(ipar: npt.NDArray[np.int64]) -> tuple[int, int, int, int]:
 
 
 # --- implicit: Radau IIA per lane, then a compiled reduction of its steps -------------------------
-#: The interpolant's rules for the velocities between steps (the single engine's
-#: ``simulate._interpolate``): q̇ the cubic Hermite of q̇ with q̈ (no film), the derivative of
-#: q's cubic (film, a step next to a contact's start or end, or the first), q and q̇ the
-#: quintic through q and q̇ at the step's ends and the end before (film, elsewhere:
-#: ``simulate.smooth_steps``).
-RULE_RATES, RULE_CUBIC_DERIVATIVE, RULE_QUINTIC = 0, 1, 2
+#: The single engine's interpolant between steps (``simulate._interpolate``), from the lane
+#: source (:func:`jointplay._kernels.lanes.source_radau.hermite`, its rules ``RULE_*``).
+lanes_hermite = lane_cpu.compiled["hermite"]
+lanes_touching = lane_cpu.compiled["touching"]
+lanes_interpolation_rule = lane_cpu.compiled["interpolation_rule"]
 
 
 @jit
-def touching_bits(pen: np.ndarray) -> int:
-    """Which clearance joints touch (δ > 0), one bit each."""
-    bits = 0
-    for c in range(pen.shape[0]):
-        if pen[c] > 0.0:
-            bits |= 1 << c
-    return bits
-
-
-@jit
-def interpolation_rule(
-    film: bool, has_before: bool, bits_before: int, bits_start: int, bits_end: int
-) -> int:
-    """The rule of a step whose ends touch as ``bits_start``, ``bits_end`` and whose
-    preceding step (if ``has_before``) started as ``bits_before`` (``simulate.smooth_steps``)."""
-    if not film:
-        return RULE_RATES
-    if has_before and bits_before == bits_start and bits_start == bits_end:
-        return RULE_QUINTIC
-    return RULE_CUBIC_DERIVATIVE
-
-
-@jit
-def _hermite(
-    tp: float, yp: np.ndarray, t0: float, y0: np.ndarray, a0: np.ndarray, t1: float,
-    y1: np.ndarray, a1: np.ndarray, n: int, tau: float, out: np.ndarray, rule: int,
-) -> None:  # fmt: skip
-    """The single engine's interpolant (:func:`jointplay.dynamics.simulate._interpolate`) in
-    the step from ``t0`` to ``t1`` (``tp``, ``yp``: the step end before it) with the
-    velocities' ``rule`` (``RULE_*``); the work integrals linear, the impact memory held at
-    the step's start."""
-    h = t1 - t0
-    s = (tau - t0) / h
-    if rule == RULE_QUINTIC:  # simulate.hermite_three_points, the same arithmetic
-        for i in range(n):
-            s01 = (y0[i] - yp[i]) / (t0 - tp)
-            s12 = (y1[i] - y0[i]) / (t1 - t0)
-            f012 = (s01 - yp[n + i]) / (t0 - tp)
-            f123 = (y0[n + i] - s01) / (t0 - tp)
-            f234 = (s12 - y0[n + i]) / (t1 - t0)
-            f345 = (y1[n + i] - s12) / (t1 - t0)
-            f0123 = (f123 - f012) / (t0 - tp)
-            f1234 = (f234 - f123) / (t1 - tp)
-            f2345 = (f345 - f234) / (t1 - t0)
-            f01234 = (f1234 - f0123) / (t1 - tp)
-            f12345 = (f2345 - f1234) / (t1 - tp)
-            value = (f12345 - f01234) / (t1 - tp)
-            rate = 0.0
-            rate = rate * (tau - t1) + value
-            value = value * (tau - t1) + f01234
-            rate = rate * (tau - t0) + value
-            value = value * (tau - t0) + f0123
-            rate = rate * (tau - t0) + value
-            value = value * (tau - t0) + f012
-            rate = rate * (tau - tp) + value
-            value = value * (tau - tp) + yp[n + i]
-            rate = rate * (tau - tp) + value
-            value = value * (tau - tp) + yp[i]
-            out[i] = value
-            out[n + i] = rate
-    else:
-        h00 = 2 * s**3 - 3 * s**2 + 1
-        h10 = s**3 - 2 * s**2 + s
-        h01 = -2 * s**3 + 3 * s**2
-        h11 = s**3 - s**2
-        dh10 = 3 * s**2 - 4 * s + 1
-        dh01 = -6 * s**2 + 6 * s
-        dh11 = 3 * s**2 - 2 * s
-        for i in range(n):
-            out[i] = h00 * y0[i] + h10 * h * y0[n + i] + h01 * y1[i] + h11 * h * y1[n + i]
-            if rule == RULE_CUBIC_DERIVATIVE:
-                out[n + i] = dh01 * (y1[i] - y0[i]) / h + dh10 * y0[n + i] + dh11 * y1[n + i]
-            else:
-                out[n + i] = h00 * y0[n + i] + h10 * h * a0[i] + h01 * y1[n + i] + h11 * h * a1[i]
-    for i in range(2 * n, 2 * n + 2):
-        out[i] = (1 - s) * y0[i] + s * y1[i]
-    for i in range(2 * n + 2, y0.shape[0]):
-        out[i] = y0[i]
-
-
-@jit
-def _step_state(film, ts, ys, acc, bits, i, tau, n, out):  # fmt: skip
-    """The interpolated state at ``tau`` inside the recorded step ``i − 1`` → ``i``, by the
-    rule that step takes (:func:`interpolation_rule`)."""
+def _step_state(film, ts, ys, fs, bits, i, tau, n, out):  # fmt: skip
+    """The interpolated state at ``tau`` inside the recorded step ``i − 1`` → ``i`` (``fs``:
+    q̈ at the steps in ``[n:2n]``), by the rule that step takes (``interpolation_rule``)."""
     before = max(i - 2, 0)
-    rule = interpolation_rule(film, i >= 2, bits[before], bits[i - 1], bits[i])
-    _hermite(ts[before], ys[before], ts[i - 1], ys[i - 1], acc[i - 1], ts[i], ys[i], acc[i],
-             n, tau, out, rule)  # fmt: skip
+    rule = lanes_interpolation_rule(film, i >= 2, bits[before], bits[i - 1], bits[i])
+    lanes_hermite(ts[before], ys[before], ts[i - 1], ys[i - 1], fs[i - 1], ts[i], ys[i], fs[i],
+                  n, ys.shape[1], tau, out, rule)  # fmt: skip
 
 
 @jit
@@ -288,7 +206,7 @@ def _trajectory_reduce(ipar, rpar, lay, ts, ys, t_settle, t_end, peaks, stats):
 
     The window opens at ``t_settle`` (interpolated inside its step when it falls there);
     every later step is reduced with the peak rule of the module docstring, the single
-    engine's interpolant (:func:`_hermite`) standing in for the method's dense output, always
+    engine's interpolant (:data:`lanes_hermite`) standing in for the method's dense output, always
     on the recorded step (the window's first too).
     """
     model = eom.unpack(rpar, ipar)
@@ -306,18 +224,18 @@ def _trajectory_reduce(ipar, rpar, lay, ts, ys, t_settle, t_end, peaks, stats):
     y_mid = np.empty(ys.shape[1])
     film = model.settings[eom.S_FILM] > 0
     m = ts.shape[0]
-    acc = np.empty((m, n))
+    fs = np.zeros((m, ys.shape[1]))  # q̈ in [n:2n], as the lane source's interpolant takes it
     bits = np.empty(m, dtype=np.int64)
     for i in range(m):
-        acc[i] = eom.quantities(ts[i], ys[i], model, qb, pen)
-        bits[i] = touching_bits(pen)
+        fs[i, n : 2 * n] = eom.quantities(ts[i], ys[i], model, qb, pen)
+        bits[i] = lanes_touching(pen, nc)
     first = 0
     while first < m - 1 and ts[first + 1] <= t_settle:
         first += 1
     t_a = ts[first]
     y_a = ys[first].copy()
     if t_a < t_settle and first < m - 1:  # the window opens inside this step
-        _step_state(film, ts, ys, acc, bits, first + 1, t_settle, n, y_a)
+        _step_state(film, ts, ys, fs, bits, first + 1, t_settle, n, y_a)
         t_a = t_settle
     eom.quantities(t_a, y_a, model, qa, pen)
     lanes_open_window(qa, pen, peaks, stats, nb, n_q, nc)
@@ -331,7 +249,7 @@ def _trajectory_reduce(ipar, rpar, lay, ts, ys, t_settle, t_end, peaks, stats):
             samples[n_points + 1] = qb
             for r in range(n_points):
                 tau = t_a + REFINE_POINTS[r] * h
-                _step_state(film, ts, ys, acc, bits, i, tau, n, y_mid)
+                _step_state(film, ts, ys, fs, bits, i, tau, n, y_mid)
                 eom.quantities(tau, y_mid, model, samples[r + 1], pen)
             lanes_refine_peaks(samples, peaks, n_q)
         qa, qb = qb, qa

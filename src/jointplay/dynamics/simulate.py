@@ -693,7 +693,7 @@ def hermite_three_points(
 
 def _divided_differences(t0, t1, t2, q0, q1, q2, v0, v1, v2):
     """Newton's coefficients of the quintic through (q, v) at t0, t1, t2 (nodes t0, t0, t1,
-    t1, t2, t2); the arithmetic of ``_kernels.batch._hermite``'s quintic."""
+    t1, t2, t2); the arithmetic of the lanes' ``source_radau.hermite``."""
     s01 = (q1 - q0) / (t1 - t0)
     s12 = (q2 - q1) / (t2 - t1)
     f012 = (s01 - v0) / (t1 - t0)

@@ -843,7 +843,7 @@ def collocation(t, y, h, has_sol, cq, t_old, y_old, scale, tol, rp, ip, lay, jac
 
 
 def touching(pen, nc):
-    """Which clearance joints touch (δ > 0), one bit each (:func:`batch.touching_bits`)."""
+    """Which of the ``nc`` clearance joints touch (δ > 0, ``pen``), one bit each."""
     bits = 0
     for c in range(nc):
         if pen[c] > 0.0:
@@ -852,7 +852,9 @@ def touching(pen, nc):
 
 
 def interpolation_rule(film, has_before, bits_before, bits_start, bits_end):
-    """:func:`jointplay._kernels.batch.interpolation_rule`."""
+    """The :func:`hermite` rule of a step whose ends touch as ``bits_start``, ``bits_end``
+    (:func:`touching`) and whose preceding step (if ``has_before``) started as
+    ``bits_before``: :func:`jointplay.dynamics.simulate.smooth_steps`."""
     if not film:
         return RULE_RATES
     if has_before and bits_before == bits_start and bits_start == bits_end:
@@ -861,8 +863,8 @@ def interpolation_rule(film, has_before, bits_before, bits_start, bits_end):
 
 
 def hermite(tp, yp, t0, y0, f0, t1, y1, f1, n, size, tau, out, rule):
-    """The single engine's interpolant (:func:`jointplay._kernels.batch._hermite`, the same
-    arithmetic) in the step from ``t0`` to ``t1``, ``tp``, ``yp`` the step end before it, q̈
+    """The single engine's interpolant (:func:`jointplay.dynamics.simulate._interpolate`;
+    the production implicit lanes compile this one too, ``batch.lanes_hermite``) in the step from ``t0`` to ``t1``, ``tp``, ``yp`` the step end before it, q̈
     = ``f[n:2n]``, with the velocities' ``rule``: the cubic Hermite of q̇ with q̈
     (``RULE_RATES``, no film), the derivative of q's cubic (``RULE_CUBIC_DERIVATIVE``), or q
     and q̇ from the quintic through q and q̇ at the three step ends (``RULE_QUINTIC``); the
