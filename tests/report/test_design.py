@@ -11,6 +11,7 @@ import pytest
 
 from jointplay.dynamics.wear import WearHistory
 from jointplay.report.design import (
+    binding_requirement,
     csv_table,
     design_plots,
     wear_plots,
@@ -130,3 +131,27 @@ def test_wear_plots_give_both_figures(text_overlaps) -> None:
     images = wear_plots(history())
     assert list(images) == ["wear_history.png", "wear_profiles.png"]
     assert not any(text_overlaps.values()), text_overlaps
+
+
+def test_the_binding_requirement_of_a_scheme_meeting_both_is_the_one_nearer_its_limit() -> None:
+    """Every sample meets both requirements (equal yield bounds): the binding one is the
+    requirement whose value at the confidence level is nearer its limit, relative to it —
+    the paper four-bar's H9/d9 / c: 63.5 N against 150 N, 1.8 % against 3 %."""
+    from types import SimpleNamespace
+
+    from jointplay.study.requirements import Requirement
+
+    force = Requirement("joint_force", "<=", 150.0, "N", text="joint_force <= 150 N")
+    speed = Requirement("rocker_speed_error", "<=", 0.03, "1", text="rocker_speed_error <= 3 %")
+    row = {
+        f"yield_low_{force.text}": 99.77,
+        f"yield_low_{speed.text}": 99.77,
+        "joint_force_at_confidence": 63.5,
+        "rocker_speed_error_at_confidence": 0.018,
+    }
+    result = SimpleNamespace(requirements=(force, speed))
+    assert binding_requirement(result, row) is speed  # type: ignore[arg-type]
+    row["rocker_speed_error_at_confidence"] = 0.009  # now the force is nearer its limit
+    assert binding_requirement(result, row) is force  # type: ignore[arg-type]
+    row[f"yield_low_{force.text}"] = 99.9  # a lower yield bound binds first
+    assert binding_requirement(result, row) is speed  # type: ignore[arg-type]

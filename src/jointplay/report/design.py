@@ -91,10 +91,19 @@ def _unit_tag(unit: str) -> str:
 
 def binding_requirement(result: DesignResult, row: Mapping[Any, Any]) -> Requirement | None:
     """The requirement of a scheme closest to failing: the lowest lower bound of its
-    yield's 95 % interval."""
+    yield's 95 % interval; among equal bounds (every sample meeting every requirement, say)
+    the smallest margin of the response at the confidence level to its limit, relative to
+    the limit."""
     if not result.requirements:
         return None
-    return min(result.requirements, key=lambda r: row[f"yield_low_{r.text}"])
+
+    def margin(r: Requirement) -> float:
+        value = float(row.get(f"{r.response}_at_confidence", math.nan))
+        if not (math.isfinite(value) and r.limit != 0):
+            return math.inf
+        return (r.limit - value if r.upper else value - r.limit) / abs(r.limit)
+
+    return min(result.requirements, key=lambda r: (row[f"yield_low_{r.text}"], margin(r)))
 
 
 def evidence_line(result: DesignResult, row: Mapping[Any, Any]) -> str:
