@@ -206,8 +206,8 @@ def _trajectory_reduce(ipar, rpar, lay, ts, ys, t_settle, t_end, peaks, stats):
 
     The window opens at ``t_settle`` (interpolated inside its step when it falls there);
     every later step is reduced with the peak rule of the module docstring, the single
-    engine's interpolant (:data:`lanes_hermite`) standing in for the method's dense output, always
-    on the recorded step (the window's first too).
+    engine's interpolant (:data:`lanes_hermite`) standing in for the method's dense output,
+    always on the recorded step (the window's first too).
     """
     model = eom.unpack(rpar, ipar)
     n = model.mass.shape[0]

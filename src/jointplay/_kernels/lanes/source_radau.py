@@ -27,15 +27,16 @@ film damping, else SciPy's finite differences as the Radau kernel takes them
 (:func:`jacobian_differences`). Film
 damping (``S_FILM``) is handled: its force and power in :func:`contact_forces`, its terms in
 the closed-form Jacobian (:func:`film_jacobian`), its part of the reported joint force
-(:func:`film_components`), and the interpolant's rule between steps (:func:`hermite`). The sustained-contact mode (locked joints) is not: the GPU's
+(:func:`film_components`), and the interpolant's rule between steps (:func:`hermite`). The
+sustained-contact mode (locked joints) is not: the GPU's
 ``run_batch`` refuses it (:func:`jointplay._kernels.lanes.build.lanes_refusal`); the CPU's
 drivers, used by tests only, expect their callers to.
 
 Where the production lane records every step and reduces the trajectory afterwards
 (:func:`jointplay._kernels.batch._trajectory_reduce`), this lane reduces each accepted step
 as it is taken (a GPU thread cannot keep its trajectory), with the same interpolant
-(:func:`hermite`, on the step and the step end before it) and the same peak rule; the window opens at ``t_settle``
-inside the step that crosses it, as there.
+(:func:`hermite`, on the step and the step end before it) and the same peak rule; the
+window opens at ``t_settle`` inside the step that crosses it, as there.
 
 References:
     .. [HW96] E. Hairer, G. Wanner, *Solving Ordinary Differential Equations II*, 2nd ed.,
@@ -131,7 +132,7 @@ RP = (
     1.0 / 3.0, -8.0 / 3.0, 10.0 / 3.0,
 )  # fmt: skip
 NEWTON_MAXITER = 6
-#: batch.RULE_*: the interpolant's rules for the velocities between steps (:func:`hermite`).
+#: The interpolant's rules for the velocities between steps (:func:`hermite`).
 RULE_RATES = 0
 RULE_CUBIC_DERIVATIVE = 1
 RULE_QUINTIC = 2
@@ -864,8 +865,9 @@ def interpolation_rule(film, has_before, bits_before, bits_start, bits_end):
 
 def hermite(tp, yp, t0, y0, f0, t1, y1, f1, n, size, tau, out, rule):
     """The single engine's interpolant (:func:`jointplay.dynamics.simulate._interpolate`;
-    the production implicit lanes compile this one too, ``batch.lanes_hermite``) in the step from ``t0`` to ``t1``, ``tp``, ``yp`` the step end before it, q̈
-    = ``f[n:2n]``, with the velocities' ``rule``: the cubic Hermite of q̇ with q̈
+    the production implicit lanes compile this one too, ``batch.lanes_hermite``) in the
+    step from ``t0`` to ``t1``, ``tp``, ``yp`` the step end before it, q̈ = ``f[n:2n]``,
+    with the velocities' ``rule``: the cubic Hermite of q̇ with q̈
     (``RULE_RATES``, no film), the derivative of q's cubic (``RULE_CUBIC_DERIVATIVE``), or q
     and q̇ from the quintic through q and q̇ at the three step ends (``RULE_QUINTIC``); the
     work integrals linear, the impact memory held at the step's start."""
@@ -967,7 +969,7 @@ def implicit_lane(
     counts[K_RHS] += 1
     if not (all_finite(y, size) and all_finite(f, size)):
         return STATUS_NON_FINITE, t
-    bits_old = touching(pen, nc)  # the joints touching at t_old, t and t_new
+    bits_old = touching(pen, nc)  # the joints touching at t_old and t (bits_new: t_new)
     bits = bits_old
     h_abs_state = initial_step(t, y, t_end, max_step, f, rtol, atol, rp, ip, lay, ytmp,
                                f_mid, scale, record_mid, phi_q, schur, lam)  # fmt: skip
