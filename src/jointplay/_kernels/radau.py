@@ -874,24 +874,79 @@ def _core_signature(args_type: Any) -> tuple[Any, ...]:
     )
 
 
-def _specialised_core(args_type: Any) -> Any:
-    """The driver compiled (or loaded from Numba's on-disk cache) for this type of ``args``.
+def _specialised_core(args_type: Any, driver: Any = None) -> Any:
+    """A driver (:func:`_radau_core` by default) compiled, or loaded from Numba's on-disk
+    cache, for this type of ``args``.
 
-    One dispatcher per ``args`` type, each compiled only for its explicit signature, so
-    that Numba, unable to compile at call time, converts each jitted function passed in
-    to its first-class function type (compiling it for that signature if needed) instead
-    of specialising the driver on the function object, which could not be cached.
+    One dispatcher per driver and ``args`` type, each compiled only for its explicit
+    signature, so that Numba, unable to compile at call time, converts each jitted function
+    passed in to its first-class function type (compiling it for that signature if needed)
+    instead of specialising the driver on the function object, which could not be cached.
     """
-    core = _specialisations.get(args_type)
+    driver = _radau_core if driver is None else driver
+    key = (driver.__module__, driver.__name__, args_type)
+    core = _specialisations.get(key)
     if core is None:
         with _compile_lock:
-            core = _specialisations.get(args_type)
+            core = _specialisations.get(key)
             if core is None:
                 core = numba.njit(
                     [_core_signature(args_type)], cache=True, error_model="numpy", nogil=True
-                )(_radau_core)  # nogil: the batch engine runs implicit lanes on threads
-                _specialisations[args_type] = core
+                )(driver)  # nogil: the batch engine runs implicit lanes on threads
+                _specialisations[key] = core
     return core
+
+
+def run_core(
+    driver: Any,
+    fun: Any,
+    step_check: Any,
+    after_step: Any,
+    t0: float,
+    y0: npt.NDArray[np.float64],
+    t_bound: float,
+    args: tuple[npt.NDArray[Any], ...],
+    rtol: float,
+    atol: npt.NDArray[np.float64],
+    max_step: float,
+    first_step: float,
+    max_steps: int,
+    n_second: int,
+    n_active: int | None,
+    hold_after_failure: bool,
+    jac: Any,
+    interrupt: npt.NDArray[np.uint8] | None,
+) -> tuple[int, npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.int64]]:
+    """Run a driver with :func:`_radau_core`'s signature (Radau here, RODAS4 in
+    :mod:`jointplay._kernels.rodas`): coerce the scalars and arrays to the compiled types and
+    call its specialisation for ``numba.typeof(args)``. See :func:`radau_integrate`."""
+    core = _specialised_core(numba.typeof(args), driver)
+    n = np.shape(y0)[0]
+    n_active = n if n_active is None else int(n_active)
+    if not 0 <= 2 * n_second <= n_active <= n:
+        raise ValueError(
+            f"need 0 <= 2·n_second <= n_active <= n = {n}, got {n_second} and {n_active}"
+        )
+    status, t_out, y_out, counters = core(
+        fun,
+        step_check,
+        after_step,
+        finite_differences if jac is None else jac,
+        float(t0),
+        np.array(y0, dtype=np.float64, order="C"),
+        float(t_bound),
+        args,
+        float(rtol),
+        np.array(atol, dtype=np.float64, order="C"),
+        float(max_step),
+        float(first_step),
+        int(max_steps),
+        int(n_second),
+        n_active,
+        bool(hold_after_failure),
+        _NO_INTERRUPT if interrupt is None else interrupt,
+    )
+    return int(status), t_out, y_out, counters
 
 
 def radau_integrate(
@@ -982,30 +1037,8 @@ def radau_integrate(
         ValueError: ``n_second`` and ``n_active`` do not satisfy
             ``0 <= 2·n_second <= n_active <= n``.
     """
-    core = _specialised_core(numba.typeof(args))
-    n = np.shape(y0)[0]
-    n_active = n if n_active is None else int(n_active)
-    if not 0 <= 2 * n_second <= n_active <= n:
-        raise ValueError(
-            f"need 0 <= 2·n_second <= n_active <= n = {n}, got {n_second} and {n_active}"
-        )
-    status, t_out, y_out, counters = core(
-        fun,
-        step_check,
-        after_step,
-        finite_differences if jac is None else jac,
-        float(t0),
-        np.array(y0, dtype=np.float64, order="C"),
-        float(t_bound),
-        args,
-        float(rtol),
-        np.array(atol, dtype=np.float64, order="C"),
-        float(max_step),
-        float(first_step),
-        int(max_steps),
-        int(n_second),
-        n_active,
-        bool(hold_after_failure),
-        _NO_INTERRUPT if interrupt is None else interrupt,
-    )
-    return int(status), t_out, y_out, counters
+    return run_core(
+        _radau_core, fun, step_check, after_step, t0, y0, t_bound, args, rtol, atol,
+        max_step, first_step, max_steps, n_second, n_active, hold_after_failure, jac,
+        interrupt,
+    )  # fmt: skip

@@ -1,0 +1,358 @@
+"""Compiled variable-step RODAS4: a linearly implicit (Rosenbrock) method for stiff ODEs.
+
+RODAS4 of Hairer & Wanner [HW96]_ §IV.7 (the coefficients of Hairer's ``rodas.f``, its
+first method): six stages, order 4 with an embedded order-3 solution, stiffly accurate and
+L-stable. Per step: the Jacobian ``J`` at the step's start (the user's closed form where
+``jac`` gives one, else SciPy's ``num_jac`` started afresh from its initial step at every
+call: a Rosenbrock method needs the Jacobian itself, and ``num_jac``'s steps, adapted from
+call to call, can grow across a kink of ``f``), ``∂f/∂t`` by one forward difference (as
+``rodas.f``), **one** LU of ``1/(γh)·I − J`` (reduced to the velocities as Radau's Newton matrices are,
+:func:`jointplay._kernels.radau._factor_newton_matrices`), five evaluations of ``f`` and
+six solves. There is no Newton iteration, hence no Newton failure.
+
+Why the contact simulator has it beside Radau IIA (issue 22, docs/performance.md, "From
+rest: a Rosenbrock method for the paper's ECS sets"): on the paper's IFM ECS contact sets,
+whose damping (25 and 2 423 N·s/mm) is full at a negligible penetration, Radau's simplified
+Newton iteration, its Jacobian frozen at the step's start, fails on most steps (1 253 and
+24 241 failures in a revolution from rest). Our reading: the damping force ``c δ̇ n`` of a
+pin whirling round its bearing turns with the contact normal ``n``, and the frozen
+Jacobian's error ``c·Δθ`` (``Δθ`` the normal's turn within the step) outgrows the Newton
+matrix's inertia term ``m/(γh)`` at steps of ~1e-5 s, the steps Radau ends up taking. A
+Rosenbrock method linearises once per step and lets its error estimate set the step: on
+those sets it takes as many steps as Radau or fewer, at about half the cost each. Elsewhere
+Radau's higher order wins, and at the same tolerance RODAS4's global error is larger.
+
+Interface and results as :func:`jointplay._kernels.radau.radau_integrate` (the same
+arguments, hooks, statuses and counters; ``n_rejected_newton`` stays 0):
+
+* ``step_check`` is called on every step that passed the error test and may shorten it
+  (contact onset), as in the Radau driver;
+* ``after_step`` is called on every accepted step and may modify ``y`` and ``args``; its
+  return value (a discontinuity) changes nothing here, as the method starts every step
+  afresh from ``(t, y)``;
+* step-size control as ``rodas.f`` with its predictive (Gustafsson) controller: the factor
+  ``0.9·err^(−1/4)``, after an accepted step also at most
+  ``0.9·(h/h_prev)·(err_prev/err²)^(1/4)``, within [1/5, 5] (five measured variants of the
+  bounds and the safety factor took 24 700–33 400 steps on the cylindrical set; these took
+  the fewest); a rejected step retried with that factor, and with ``hold_after_failure`` no
+  growth right after a rejection (``rodas.f`` always holds);
+* a non-finite stage is a rejection with ``h/5``; a non-finite state or ``f`` after a step
+  ends the integration with status −3.
+
+References:
+    .. [HW96] E. Hairer, G. Wanner, *Solving Ordinary Differential Equations II: Stiff and
+       Differential-Algebraic Problems*, 2nd ed., Springer, 1996, §IV.7 (Table 7.2 and
+       Hairer's ``rodas.f``, ``ROCOEF`` method 1).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from jointplay._kernels.common import (
+    EPS,
+    NFEV,
+    NJEV,
+    NLU,
+    NREJ_CHECK,
+    NREJ_ERROR,
+    NSTEPS,
+    STATUS_INTERRUPTED,
+    STATUS_NON_FINITE,
+    STATUS_RUNNING,
+    STATUS_STEP_TOO_SMALL,
+    STATUS_SUCCESS,
+    STATUS_TOO_MANY_STEPS,
+    all_finite,
+    error_scale,
+    interrupt_pending,
+    jit,
+    num_jac,
+    py_max,
+    py_min,
+    rms_norm,
+    select_initial_step,
+)
+from jointplay._kernels.linalg import lu_factor
+from jointplay._kernels.radau import (
+    MAX_CHECK_REJECTIONS,
+    _newton_solve_in_place,
+    _record,
+    run_core,
+)
+
+__all__ = ["rodas_integrate"]
+
+# ---------------------------------------------------------------------------------------
+# Method constants: Hairer's rodas.f, ROCOEF method 1 ([HW96] §IV.7, Table 7.2).
+# ---------------------------------------------------------------------------------------
+GAMMA = 0.25
+#: a_ij: stage s is evaluated at y + Σ_i A[s, i] k_i (stage 6 adds k_5 to stage 5's point).
+A = np.zeros((6, 6))
+A[1, 0] = 1.544
+A[2, :2] = (0.9466785280815826, 0.2557011698983284)
+A[3, :3] = (3.314825187068521, 2.896124015972201, 0.9986419139977817)
+A[4, :4] = (1.221224509226641, 6.019134481288629, 12.53708332932087, -0.6878860361058950)
+A[5, :4] = A[4, :4]
+A[5, 4] = 1.0
+#: C_ij / h couple the earlier stages into stage s's right-hand side.
+CC = np.zeros((6, 6))
+CC[1, 0] = -5.6688
+CC[2, :2] = (-2.430093356833875, -0.2063599157091915)
+CC[3, :3] = (-0.1073529058151375, -9.594562251023355, -20.47028614809616)
+CC[4, :4] = (7.496443313967647, -10.24680431464352, -33.99990352819905, 11.70890893206160)
+CC[5, :5] = (
+    8.083246795921522,
+    -7.981132988064893,
+    -31.52159432874371,
+    16.31930543123136,
+    -6.058818238834054,
+)
+#: Nodes c_s and the coefficients d_s = γ_s of the ∂f/∂t term.
+NODES = np.array([0.0, 0.386, 0.21, 0.63, 1.0, 1.0])
+D = np.array([0.25, -0.1043, 0.1035, -0.0362, 0.0, 0.0])
+
+SAFETY = 0.9
+MIN_FACTOR = 0.2  # shortest step factor
+MAX_FACTOR = 5.0  # longest step factor
+
+
+@jit
+def _factor(jac, alpha, n_second, n_active):
+    """LU of ``α·I − J`` reduced to the kept block, as Radau's real Newton matrix."""
+    m2 = n_second
+    nk = n_active - m2
+    a = np.empty((nk, nk))
+    for i in range(nk):
+        for j in range(nk):
+            a[i, j] = -jac[m2 + i, m2 + j]
+        a[i, i] += alpha
+        for j in range(m2):  # dx = (b_x + dv)/α: the positions' columns fold into dv's
+            a[i, j] -= jac[m2 + i, j] / alpha
+    return lu_factor(a)
+
+
+@jit
+def _stages(fun, args, t, y, f, ft, h, jac, lu, piv, n_second, n_active, k, stage, x, work):
+    """The six stages of one step from ``(t, y)``; ``stage + k[5]`` is the new state and
+    ``k[5]`` its error estimate. Returns the number of evaluations and whether every stage
+    was finite."""
+    n = y.shape[0]
+    alpha = 1.0 / (h * GAMMA)
+    nfev = 0
+    for s in range(6):
+        if s == 0:
+            fs = f
+        else:
+            for j in range(n):
+                acc = y[j]
+                for i in range(s):
+                    acc += A[s, i] * k[i, j]
+                stage[j] = acc
+            fs = fun(t + NODES[s] * h, stage, args)
+            nfev += 1
+        finite = True
+        for j in range(n):
+            acc = fs[j] + D[s] * h * ft[j]
+            for i in range(s):
+                acc += CC[s, i] / h * k[i, j]
+            x[j] = acc
+            finite = finite and math.isfinite(acc)
+        if not finite:
+            return nfev, False
+        _newton_solve_in_place(lu, piv, jac, alpha, x, work, n_second, n_active)
+        for j in range(n):
+            k[s, j] = x[j]
+    return nfev, True
+
+
+def _rodas_core(
+    fun,
+    step_check,
+    after_step,
+    jac_fun,
+    t0,
+    y0,
+    t_bound,
+    args,
+    rtol,
+    atol,
+    max_step,
+    first_step,
+    max_steps,
+    n_second,
+    n_active,
+    hold_after_failure,
+    interrupt,
+):
+    """The integrator; see :func:`rodas_integrate` (same arguments and results as
+    :func:`jointplay._kernels.radau._radau_core`)."""
+    n = y0.shape[0]
+    counters = np.zeros(7, dtype=np.int64)
+    rtol = max(rtol, 100.0 * EPS)
+    direction = 1.0 if t_bound >= t0 else -1.0
+
+    ts = np.empty(64)
+    ys = np.empty((64, n))
+    t = t0
+    y = y0.copy()
+    ts, ys = _record(ts, ys, 0, t, y)
+    m = 1
+    if n == 0 or t0 == t_bound:
+        if n == 0 and t0 != t_bound:
+            ts, ys = _record(ts, ys, m, t_bound, y)
+            m += 1
+        return STATUS_SUCCESS, ts[:m].copy(), ys[:m].copy(), counters
+
+    f = fun(t, y, args).copy()
+    counters[NFEV] += 1
+    if not (all_finite(y) and all_finite(f)):
+        return STATUS_NON_FINITE, ts[:m].copy(), ys[:m].copy(), counters
+    if first_step > 0:
+        h_abs = first_step
+    else:
+        h_abs, nfev_initial = select_initial_step(
+            fun, args, t, y, t_bound, max_step, f, direction, rtol, atol
+        )
+        counters[NFEV] += nfev_initial
+
+    jac_factor = np.full(n, EPS**0.5)
+    jac_out = np.empty((n, n))
+    ft = np.empty(n)
+    k = np.empty((6, n))
+    stage = np.empty(n)
+    x = np.empty(n)
+    work = np.empty(n_active - n_second)
+    y_new = np.empty(n)
+    h_accepted = 0.0
+    error_accepted = 1.0
+
+    status = STATUS_RUNNING
+    while status == STATUS_RUNNING:
+        if counters[NSTEPS] >= max_steps:
+            status = STATUS_TOO_MANY_STEPS
+            break
+        if interrupt_pending(interrupt):
+            status = STATUS_INTERRUPTED
+            break
+
+        # The linearisation at (t, y), kept for every retry of this step.
+        if jac_fun(t, y, f, args, jac_out):
+            jac = jac_out
+        else:  # SciPy's differences, each call from the initial relative step √eps
+            for j in range(n):
+                jac_factor[j] = EPS**0.5
+            jac = num_jac(fun, args, t, y, f, atol, jac_factor, n_active)
+        counters[NJEV] += 1
+        dt = direction * math.sqrt(EPS * py_max(1e-5, abs(t)))  # rodas.f's DELT
+        f_later = fun(t + dt, y, args)
+        counters[NFEV] += 1
+        for j in range(n):
+            ft[j] = (f_later[j] - f[j]) / dt
+
+        failed = False
+        n_check = 0
+        error_norm = 0.0
+        t_new = t
+        while True:
+            min_step = 10.0 * abs(np.nextafter(t, direction * np.inf) - t)
+            h_abs = py_min(h_abs, max_step)
+            if h_abs < min_step:
+                status = STATUS_STEP_TOO_SMALL
+                break
+            h = h_abs * direction
+            t_new = t + h
+            if direction * (t_new - t_bound) > 0:
+                t_new = t_bound
+            h = t_new - t
+            h_abs = abs(h)
+
+            lu, piv = _factor(jac, 1.0 / (h * GAMMA), n_second, n_active)
+            counters[NLU] += 1
+            nfev, finite = _stages(
+                fun, args, t, y, f, ft, h, jac, lu, piv, n_second, n_active, k, stage, x, work
+            )
+            counters[NFEV] += nfev
+            if finite:
+                for j in range(n):
+                    y_new[j] = stage[j] + k[5, j]
+                error_norm = rms_norm(k[5], error_scale(y, y_new, atol, rtol))
+            if not (finite and error_norm <= 1.0):  # NaN fails too
+                shrink = SAFETY * error_norm**-0.25 if finite else 0.2
+                h_abs *= py_max(MIN_FACTOR, py_min(1.0, shrink))
+                failed = True
+                counters[NREJ_ERROR] += 1
+                continue
+
+            theta = step_check(t, y, t_new, y_new, args)  # land a step on contact onset
+            h_try = h_abs * theta
+            if theta < 1.0 and min_step <= h_try < h_abs and n_check < MAX_CHECK_REJECTIONS:
+                h_abs = h_try
+                n_check += 1
+                counters[NREJ_CHECK] += 1
+                continue
+            break
+        if status != STATUS_RUNNING:
+            break
+
+        y_step = y_new.copy()
+        after_step(t_new, y_step, args)
+        f_new = fun(t_new, y_step, args).copy()
+        counters[NFEV] += 1
+        if not (all_finite(y_step) and all_finite(f_new)):
+            status = STATUS_NON_FINITE
+            break
+        t = t_new
+        y = y_step
+        f = f_new
+        counters[NSTEPS] += 1
+        ts, ys = _record(ts, ys, m, t, y)
+        m += 1
+
+        grow = MAX_FACTOR if error_norm == 0.0 else SAFETY * error_norm**-0.25
+        if h_accepted > 0.0 and error_norm > 0.0:  # Gustafsson's predictive controller
+            gus = SAFETY * (h_abs / h_accepted) * (error_accepted / error_norm**2) ** 0.25
+            grow = py_min(grow, gus)
+        grow = py_max(MIN_FACTOR, py_min(MAX_FACTOR, grow))
+        h_accepted = h_abs
+        error_accepted = py_max(1e-2, error_norm)
+        if hold_after_failure and failed:
+            grow = py_min(grow, 1.0)
+        h_abs *= grow
+        if direction * (t - t_bound) >= 0:
+            status = STATUS_SUCCESS
+
+    return status, ts[:m].copy(), ys[:m].copy(), counters
+
+
+def rodas_integrate(
+    fun: Any,
+    step_check: Any,
+    after_step: Any,
+    t0: float,
+    y0: npt.NDArray[np.float64],
+    t_bound: float,
+    args: tuple[npt.NDArray[Any], ...],
+    rtol: float,
+    atol: npt.NDArray[np.float64],
+    max_step: float,
+    first_step: float,
+    max_steps: int,
+    n_second: int = 0,
+    n_active: int | None = None,
+    hold_after_failure: bool = False,
+    jac: Any = None,
+    interrupt: npt.NDArray[np.uint8] | None = None,
+) -> tuple[int, npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.int64]]:
+    """Integrate ``y' = fun(t, y, args)`` with RODAS4; arguments, hooks and results as
+    :func:`jointplay._kernels.radau.radau_integrate` (``jac`` is used at every step's start;
+    ``n_rejected_newton`` is always 0)."""
+    return run_core(
+        _rodas_core, fun, step_check, after_step, t0, y0, t_bound, args, rtol, atol,
+        max_step, first_step, max_steps, n_second, n_active, hold_after_failure, jac,
+        interrupt,
+    )  # fmt: skip
