@@ -1,8 +1,9 @@
-"""Stiff time integration: the Python face of the compiled Radau IIA kernel.
+"""Stiff time integration: the Python face of the compiled Radau IIA and RODAS4 kernels.
 
 :func:`integrate` checks its inputs (raising :class:`~jointplay.errors.ConfigError` that
-names the argument and the fix), runs :func:`jointplay._kernels.radau.radau_integrate`,
-and returns a frozen :class:`IntegrationResult`. Failure is data, as in diffrax: the
+names the argument and the fix), runs :func:`jointplay._kernels.radau.radau_integrate`
+(or, with ``method="rodas4"``, :func:`jointplay._kernels.rodas.rodas_integrate`), and
+returns a frozen :class:`IntegrationResult`. Failure is data, as in diffrax: the
 result carries its :class:`IntegrationStatus` (each member says what it means) and a
 message saying what to change; with ``throw=True`` (the default) a failure raises
 :class:`~jointplay.errors.IntegrationError` with that message instead, with ``throw=False``
@@ -13,7 +14,10 @@ The method is SciPy's ``solve_ivp(method="Radau")`` (Radau IIA of order 5; Haire
 Wanner, *Solving ODEs II*, §IV.8) compiled with Numba, plus two hooks for contact
 simulation: ``step_check`` (retry a step with a shorter one, to land on contact onset)
 and ``after_step`` (project the state, update contact memory). See the kernel module for
-the algorithm. Time is in seconds when the dynamics engine calls this; the integrator
+the algorithm. ``method="rodas4"`` is a linearly implicit method (Rosenbrock, order 4,
+Hairer & Wanner §IV.7) with the same hooks and results: one LU per step and no Newton
+iteration, faster where the simplified Newton iteration of Radau keeps failing (contact
+whose damping dominates, see :mod:`jointplay._kernels.rodas`). Time is in seconds when the dynamics engine calls this; the integrator
 itself is unit-agnostic.
 
 Example:
@@ -41,13 +45,17 @@ from numba.core.dispatcher import Dispatcher
 
 from jointplay._kernels import common as _common
 from jointplay._kernels import radau as _radau
+from jointplay._kernels import rodas as _rodas
 from jointplay.errors import ConfigError, IntegrationError
 from jointplay.execution.interrupts import interrupts_watched as _interrupts_watched
 
 if TYPE_CHECKING:
     import pandas as pd
 
-__all__ = ["IntegrationResult", "IntegrationStatus", "integrate"]
+__all__ = ["METHODS", "IntegrationResult", "IntegrationStatus", "integrate"]
+
+#: The integration methods by name: Radau IIA (order 5) and RODAS4 (order 4).
+METHODS = {"radau": _radau.radau_integrate, "rodas4": _rodas.rodas_integrate}
 
 _EPS = float(np.finfo(np.float64).eps)
 _SMALLEST_RTOL = 100.0 * _EPS
@@ -163,8 +171,10 @@ def integrate(
     hold_after_failure: bool = False,
     jac: Any = None,
     throw: bool = True,
+    method: str = "radau",
 ) -> IntegrationResult:
-    """Integrate ``y' = fun(t, y, args)`` over ``t_span`` with compiled Radau IIA (order 5).
+    """Integrate ``y' = fun(t, y, args)`` over ``t_span`` with compiled Radau IIA (order 5)
+    or RODAS4.
 
     Args:
         fun: Numba-jitted right-hand side ``fun(t, y, args) -> float64[:]`` returning a
@@ -202,6 +212,9 @@ def integrate(
             kernel difference ``fun``. ``None``: always difference.
         throw: Raise :class:`~jointplay.errors.IntegrationError` when the integration
             fails (default); with ``False``, return the partial result with its status.
+        method: ``"radau"`` (Radau IIA, order 5; default) or ``"rodas4"`` (RODAS4, order
+            4, linearly implicit: ``jac`` at every step's start, no Newton iteration, so
+            ``n_rejected_newton`` is 0).
 
     Returns:
         The recorded steps, the status and the counters.
@@ -210,6 +223,10 @@ def integrate(
         ConfigError: An argument is malformed or out of range (the message names it).
         IntegrationError: The integration failed and ``throw`` is true.
     """
+    if method not in METHODS:
+        raise ConfigError(
+            f"unknown integration method {method!r}; choose one of {', '.join(METHODS)}"
+        )
     t0, t_bound = _check_span(t_span)
     y0_array = _check_state(y0)
     n = y0_array.shape[0]
@@ -225,7 +242,7 @@ def integrate(
     _check_functions(fun, step_check, after_step, jac, t0, y0_array, args)
 
     with _interrupts_watched() as flags:
-        status_code, t, y, counters = _radau.radau_integrate(
+        status_code, t, y, counters = METHODS[method](
             fun,
             step_check,
             after_step,

@@ -30,6 +30,7 @@ from jointplay._kernels import eom
 from jointplay.dynamics.clearance import ClearanceJoint
 from jointplay.dynamics.cycles import DEFAULT_SETTLE, analysed_revolutions, settle_revolutions
 from jointplay.dynamics.diagnostics import Diagnostic
+from jointplay.dynamics.integrate import METHODS as INTEGRATION_METHODS
 from jointplay.dynamics.integrate import IntegrationResult, IntegrationStatus, integrate
 from jointplay.dynamics.nominal import nominal_analysis
 from jointplay.dynamics.running import PEAK_KEYS, RunningBehaviour, characterise
@@ -92,7 +93,7 @@ class Start:
 
 @dataclass(frozen=True)
 class SolverOptions:
-    """Integration settings (Radau IIA order 5 with contact-onset control).
+    """Integration settings (Radau IIA order 5 or RODAS4, with contact-onset control).
 
     Attributes:
         rtol: relative error tolerance.
@@ -102,6 +103,15 @@ class SolverOptions:
         onset_tolerance: largest penetration accepted in the step where a contact begins, m
             (default: 1 % of the smallest clearance).
         max_steps: give up after this many accepted steps.
+        integrator: ``"radau"`` (Radau IIA, order 5) or ``"rodas4"`` (RODAS4, order 4,
+            linearly implicit: one LU per step and no Newton iteration); ``None`` (the
+            default): Radau IIA, or the one the paper method of a run's contact names
+            (:func:`jointplay.dynamics.settings.simulate_run`). RODAS4 is measured 1.6–2.8× faster on the paper's IFM ECS contact
+            sets, whose damping, full at a negligible penetration, defeats Radau's simplified
+            Newton iteration, and slower or no faster on the other contacts measured; at the
+            same rtol its global error is larger (docs/performance.md, "From rest: a
+            Rosenbrock method for the paper's ECS sets"). The paper's methods name theirs
+            (:attr:`jointplay.study.methods.Method.integrator`).
     """
 
     rtol: float = 1e-6
@@ -110,8 +120,14 @@ class SolverOptions:
     max_step: float | None = None
     onset_tolerance: float | None = None
     max_steps: int = 2_000_000
+    integrator: str | None = None
 
     def __post_init__(self) -> None:
+        if self.integrator is not None and self.integrator not in INTEGRATION_METHODS:
+            raise ConfigError(
+                f"solver option integrator must be {' or '.join(INTEGRATION_METHODS)},"
+                f" got {self.integrator!r}"
+            )
         for name in ("rtol", "atol_position", "atol_velocity", "max_step", "onset_tolerance"):
             if getattr(self, name) is not None:
                 _real(getattr(self, name), f"solver option {name}")
@@ -139,6 +155,7 @@ class SolverOptions:
             max_step=self.max_step,
             onset_tolerance=None if self.onset_tolerance is None else self.onset_tolerance / factor,
             max_steps=self.max_steps,
+            integrator=self.integrator,
         )
 
 
@@ -552,6 +569,7 @@ def simulate(
         hold_after_failure=True,  # RADAU5's step control after Newton failures at contacts
         jac=eom.jacobian_state,  # closed form when every joint is clear, else differences
         throw=False,
+        method=solver.integrator or "radau",
     )
     wall = time.perf_counter() - wall
     message = _message(run, t_end, solver)
@@ -581,7 +599,9 @@ def simulate(
         status=run.status,
         message=message,
         nominal_peaks=nominal_peaks,
-        solver_stats=_solver_stats(system, run, columns, args[2], wall),
+        solver_stats=_solver_stats(
+            system, run, columns, args[2], wall, solver.integrator or "radau"
+        ),
         revolutions=revolutions,
         settle=int(settle),
         sample_deg=sample_deg,
@@ -871,12 +891,19 @@ def _eccentricity_rate(flat: Any, row: int, y: FloatArray, n: int) -> FloatArray
     )
 
 
+_INTEGRATOR_NAMES = {
+    "radau": "Radau IIA (order 5)",
+    "rodas4": "RODAS4 (order 4, linearly implicit)",
+}
+
+
 def _solver_stats(
     system: System,
     run: IntegrationResult,
     columns: dict[str, FloatArray],
     work: FloatArray,
     wall: float,
+    integrator: str,
 ) -> dict[str, Any]:
     n = system.n_coordinates
     flat = system.flat
@@ -894,7 +921,9 @@ def _solver_stats(
         impacts[clearance.joint] = int(np.sum((memory[1:] > 0) & (memory[:-1] <= 0)))
         max_pen[clearance.joint] = float(max(0.0, np.max(columns[f"pen_{clearance.joint}"])))
     stats = {
-        "method": "Radau IIA (order 5), compiled; contact-onset step control; constraint projection",
+        "method": f"{_INTEGRATOR_NAMES[integrator]}, compiled; contact-onset step control;"
+        " constraint projection",
+        "integrator": integrator,
         "steps": run.n_steps,
         "rejected_steps": run.n_rejected,
         "rejected_by_error": run.n_rejected_error,
