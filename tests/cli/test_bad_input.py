@@ -172,6 +172,10 @@ CASES: dict[str, tuple[list[str], str]] = {
     "simulate sample-deg zero": (["simulate", "--sample-deg", "0 deg"], "--sample-deg"),
     "simulate rtol nan": (["simulate", "--rtol", "nan"], "rtol"),
     "simulate rtol large": (["simulate", "--rtol", "0.5"], "rtol"),
+    "simulate integrator unknown": (
+        ["simulate", "--integrator", "euler"],
+        "--integrator must be radau or rodas4, got 'euler'",
+    ),
     "simulate revolutions zero": (["simulate", "--revolutions", "0"], "--revolutions"),
     "simulate revolutions inf": (["simulate", "--revolutions", "inf"], "--revolutions"),
     "simulate revolutions text": (["simulate", "--revolutions", "abc"], "--revolutions"),

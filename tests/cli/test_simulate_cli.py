@@ -233,3 +233,25 @@ def test_the_diagnostics_advice_names_the_options(tmp_path, capsys) -> None:
     advice = [d["message"] for d in written if d["code"] == "start-transient-dominates"]
     assert advice and all(m.endswith("(settle)") and "--" not in m for m in advice)
     assert all("template" not in d for d in written)
+
+
+def test_the_integrator_is_the_methods_unless_named(tmp_path) -> None:
+    """--method ifm-ecs-spherical runs RODAS4 (the method's own), --integrator overrides it,
+    and the physical default runs Radau; summary.json says which."""
+    ecs = ["simulate", "--method", "ifm-ecs-spherical", "--ecs-source", "paper", "--start",
+           "rest", "--revolutions", "0.01", "--no-plots"]  # fmt: skip
+    cases = {
+        "rodas4": [*ecs, "--out", str(tmp_path / "ecs")],
+        "radau": [*ecs, "--integrator", "radau", "--out", str(tmp_path / "named")],
+    }
+    for integrator, args in cases.items():
+        assert run(args) == 0
+        summary = json.loads((tmp_path / args[-1].rsplit("/", 1)[-1] / "summary.json").read_text())
+        assert summary["solver"]["integrator"] == integrator
+        assert summary["solver"]["method"].startswith(
+            {"rodas4": "RODAS4", "radau": "Radau"}[integrator]
+        )
+    physical = tmp_path / "physical"
+    assert run([*PAPER_ARGS[:3], "--revolutions", "0.01", "--settle", "0", "--no-plots",
+                "--out", str(physical)]) == 0  # fmt: skip
+    assert json.loads((physical / "summary.json").read_text())["solver"]["integrator"] == "radau"

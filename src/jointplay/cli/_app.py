@@ -224,7 +224,7 @@ OPTION_PANELS = {
          "--friction-law", "--clearance", "--joints", "--model-sensitivity"),
         CONTACT_PANEL),
     **dict.fromkeys(
-        ("--start", "--ramp-time", "--settle", "--revolutions", "--rtol", "--max-step",
+        ("--start", "--ramp-time", "--settle", "--revolutions", "--rtol", "--integrator", "--max-step",
          "--output-step", "--sample-deg", "--experiment-revolutions"),
         RUN_PANEL),
     **dict.fromkeys(

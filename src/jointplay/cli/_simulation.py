@@ -129,6 +129,15 @@ RampTimeOption = Annotated[
 RtolOption = Annotated[
     float | None, _opt("Integrator's relative tolerance (default 1e-6).", "--rtol", panel=RUN_PANEL)
 ]
+IntegratorOption = Annotated[
+    str | None,
+    _opt(
+        "Integrator: radau (Radau IIA, order 5) or rodas4 (linearly implicit, order 4); default"
+        " radau, rodas4 for the paper's IFM ECS methods (docs/cli.md).",
+        "--integrator",
+        panel=RUN_PANEL,
+    ),
+]
 
 #: Options that set the contact law (refused together with --method).
 CONTACT_KEYS = ("contact", "k", "exponent", "cmax", "depth", "damping", "stiffness_law")
@@ -146,6 +155,7 @@ SETTING_OPTIONS = {
     "settle": "--settle",
     "revolutions": "--revolutions",
     "rtol": "--rtol",
+    "integrator": "--integrator",
     "max_samples": "--max-samples",
     "law": "--contact",
     "stiffness": "--k",
@@ -255,8 +265,9 @@ def run_settings_of(
     """:func:`run_settings` of the run options in ``values`` (options over the
     ``[simulation]`` table): ``start`` (default steady), ``ramp_time`` (default a quarter of
     the crank period with the ramp start), ``settle`` (default ``settle``, else 2 with the
-    steady start and 0 with the others, whose start-up is what they show), ``rtol`` and,
-    with ``max_step``, ``max_step``; the one reader of simulate's and animate's."""
+    steady start and 0 with the others, whose start-up is what they show), ``rtol``,
+    ``integrator`` and, with ``max_step``, ``max_step``; the one reader of simulate's and
+    animate's."""
     from jointplay.dynamics.cycles import DEFAULT_SETTLE
     from jointplay.dynamics.settings import RunSettings
     from jointplay.dynamics.simulate import SolverOptions, Start
@@ -275,6 +286,7 @@ def run_settings_of(
         max_step=None
         if not max_step or values.get("max_step") is None
         else parse_quantity(values["max_step"], "s", field="--max-step"),
+        integrator=integrator_of(values),
     )
     default = settle if settle is not None else DEFAULT_SETTLE if mode == "steady" else 0
     return RunSettings(
@@ -333,6 +345,19 @@ def method_law_of(
         if restitution is None
         else finite_number(values, "restitution", 0.0),
     )
+
+
+def integrator_of(values: dict[str, Any]) -> str | None:
+    """``--integrator`` (or ``integrator`` of ``[simulation]``), checked; ``None``: not given
+    (Radau IIA, or the paper method's own)."""
+    from jointplay.dynamics.integrate import METHODS
+
+    value = values.get("integrator")
+    if value is None:
+        return None
+    if value not in METHODS:
+        raise ConfigError(f"--integrator must be {' or '.join(METHODS)}, got {str(value)[:40]!r}")
+    return str(value)
 
 
 def finite_number(values: dict[str, Any], key: str, default: float) -> float:

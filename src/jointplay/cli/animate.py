@@ -35,6 +35,7 @@ from jointplay.cli._simulation import (
     FilmDampingOption,
     FrictionLawOption,
     FrictionOption,
+    IntegratorOption,
     JointsOption,
     MethodOption,
     RampTimeOption,
@@ -101,6 +102,7 @@ def animate_command(
         ),
     ] = None,
     rtol: RtolOption = None,
+    integrator: IntegratorOption = None,
     magnification: Annotated[
         float | None,
         _opt(
@@ -131,7 +133,7 @@ def animate_command(
             "clearance": clearance, "joints": joints, "friction": friction,
             "friction_law": friction_law, "lubricant_viscosity": lubricant_viscosity, "film_damping": film_damping, "method": method, "ecs_source": ecs_source,
             "start": start, "ramp_time": ramp_time, "start_angle": start_angle,
-            "settle": settle, "rtol": rtol,
+            "settle": settle, "rtol": rtol, "integrator": integrator,
         }  # fmt: skip
         result = _simulate(preset, config, rpm, direction, gravity, given, progress)
         from jointplay.report.animation import write_animation

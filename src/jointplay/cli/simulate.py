@@ -44,6 +44,7 @@ from jointplay.cli._simulation import (
     FilmDampingOption,
     FrictionLawOption,
     FrictionOption,
+    IntegratorOption,
     JointsOption,
     MethodOption,
     RampTimeOption,
@@ -127,6 +128,7 @@ def simulate_command(
         ),
     ] = None,
     rtol: RtolOption = None,
+    integrator: IntegratorOption = None,
     max_step: Annotated[
         str | None,
         _opt("Largest integration step, e.g. '1 ms' (default: 1° of crank).", "--max-step"),
@@ -161,7 +163,7 @@ def simulate_command(
             "lubricant_viscosity": lubricant_viscosity, "film_damping": film_damping, "method": method, "ecs_source": ecs_source, "start": start, "ramp_time": ramp_time,
             "start_angle": start_angle, "revolutions": revolutions, "settle": settle,
             "sample_deg": sample_deg,
-            "output_step": output_step, "rtol": rtol, "max_step": max_step, "format": fmt,
+            "output_step": output_step, "rtol": rtol, "integrator": integrator, "max_step": max_step, "format": fmt,
         }  # fmt: skip
         values = {**table, **{key: value for key, value in given.items() if value is not None}}
         mechanism = mechanism_from_options(

@@ -143,18 +143,22 @@ def simulate_run(
     **options: Any,
 ) -> SimulationResult:
     """:func:`~jointplay.dynamics.simulate.simulate` with ``run``'s start, settle,
-    revolutions and solver; ``clearances``: the clearance joints (``None``: ``run``'s
+    revolutions and solver (its integrator, where not chosen, the one the paper method of
+    ``run``'s contact names: :attr:`ContactModel.integrator`); ``clearances``: the clearance joints (``None``: ``run``'s
     contact on every joint with a clearance in its fit, ``run.contact.joints(mechanism)``);
     ``options``: simulate's others (``output_step``, ``sample_deg``, ``nominal``, …)."""
     from jointplay.dynamics.simulate import simulate
 
     joints = run.contact.joints(mechanism) if clearances is None else clearances
+    solver = run.solver
+    if solver.integrator is None and run.contact.integrator is not None:
+        solver = dataclasses.replace(solver, integrator=run.contact.integrator)
     return simulate(
         mechanism,
         joints,
         revolutions=run.revolutions,
         settle=run.settle,
         start=run.start,
-        solver=run.solver,
+        solver=solver,
         **options,
     )

@@ -374,6 +374,13 @@ class ContactModel:
         return viscosity
 
     @property
+    def integrator(self) -> str | None:
+        """The integrator the paper method of this contact names (its parameter record's
+        ``"integrator"``, :attr:`jointplay.study.methods.Method.integrator`); ``None``: no
+        method, the solver's choice."""
+        return None if self.record is None else self.record.get("integrator")
+
+    @property
     def fixed_film(self) -> float | None:
         """The fixed film damping of every joint, N·s/m (0: dry joints), or ``None``: each
         joint's follows its geometry and the lubricant (:meth:`film_of`)."""

@@ -698,7 +698,7 @@ SIMULATION_KEYS = (
     "method", "ecs_source", "contact", "k", "exponent", "cmax", "depth", "restitution", "damping",
     "stiffness_law", "fit_depth", "clearance", "joints", "friction", "friction_law",
     "lubricant_viscosity", "film_damping", "start", "ramp_time", "start_angle", "revolutions", "settle", "sample_deg", "output_step", "rtol",
-    "max_step", "format",
+    "integrator", "max_step", "format",
 )  # fmt: skip
 
 

@@ -349,8 +349,10 @@ def _solver_section(
             ],
             text_columns=(0, 1),
             groups=groups,
-            note="Integrator: Radau IIA of order 5 (compiled), contact onset located by step "
-            "control, ideal constraints projected after every step. Energy residual: "
+            note="Integrator: Radau IIA of order 5 (compiled), RODAS4 (linearly implicit, order "
+            "4) for the two IFM ECS methods, on whose damping Radau's Newton iteration keeps "
+            "failing; contact onset located by step control, ideal constraints projected "
+            "after every step. Energy residual: "
             "|KE + V − W_motor + W_contact − E0| / max(KE, W_motor), dimensionless. Wall time: "
             "of the simulation alone, in its worker.",
         )

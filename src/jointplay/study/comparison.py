@@ -50,7 +50,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -239,7 +239,7 @@ def steady_cycle(
     if method == NOMINAL:
         return nominal_cycle(mechanism, quantity=quantity)
     from jointplay.dynamics.setup import ContactModel, clearance_joints
-    from jointplay.dynamics.simulate import Start, simulate
+    from jointplay.dynamics.simulate import SolverOptions, Start, simulate
     from jointplay.study.methods import METHODS, get_method, method_law
 
     if method not in METHODS and method != PHYSICAL:
@@ -262,6 +262,8 @@ def steady_cycle(
         if uses_ecs:
             record = {**record, "ecs_source": ecs_source}
         clear = clearance_joints(mechanism, joints, clearance=clearance, law=law)
+    if method != PHYSICAL and (solver is None or solver.integrator is None):
+        solver = replace(solver or SolverOptions(), integrator=get_method(method).integrator)
     result = simulate(
         mechanism, clear, revolutions=revolutions, settle=0, start=Start("steady"), solver=solver
     )
@@ -286,7 +288,14 @@ def steady_cycle(
         "clearance_m": {c.joint: c.clearance for c in clear},
         "solver": {
             key: result.solver_stats.get(key)
-            for key in ("steps", "rejected_steps", "impacts", "max_penetration_m", "wall_s")
+            for key in (
+                "integrator",
+                "steps",
+                "rejected_steps",
+                "impacts",
+                "max_penetration_m",
+                "wall_s",
+            )
         },
         "cycle_change_rad_s": _cycle_change(t, crank, values, t_start, period, mechanism),
     }

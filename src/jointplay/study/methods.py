@@ -13,6 +13,13 @@ name                        contact law and parameters
 ``rm-ecs-spherical``        RM with penalty p = ECS spherical K, ε = 0.8
 ==========================  =====================================================================
 
+Each method also names the integrator it runs with (:attr:`Method.integrator`): RODAS4 for the
+two IFM ECS methods, whose damping, full at a negligible penetration (δ of 3.7e-5 mm and
+2.7e-10 mm against a 0.021 mm clearance), keeps failing Radau's simplified Newton iteration;
+Radau IIA for the others. Measured on the paper four-bar (docs/performance.md, "From rest: a
+Rosenbrock method for the paper's ECS sets"): RODAS4 runs the IFM ECS methods 1.6–2.8× faster
+from rest and steady, and the other four no faster or slower.
+
 Table 3 is :data:`jointplay.study.published.TABLE3_IMPACT`. ECS parameters come from
 :func:`jointplay.study.ecs.ecs_parameters` with ``source="computed"`` (our ECS estimate for the
 mechanism at its crank speed) or ``"paper"`` (the published Tables 4 and 5). In IMPACT the ECS
@@ -47,6 +54,12 @@ class Method:
     title: str
     family: str  # "IFM" or "RM"
     parameters: str  # "conventional", "cylindrical" or "spherical"
+
+    @property
+    def integrator(self) -> str:
+        """The integrator this method runs with (``SolverOptions.integrator``): ``"rodas4"``
+        for IFM with ECS parameters, ``"radau"`` otherwise (module docstring)."""
+        return "rodas4" if self.family == "IFM" and self.uses_ecs else "radau"
 
     @property
     def uses_ecs(self) -> bool:
@@ -93,7 +106,11 @@ def method_law(
     method = get_method(name)
     if method.uses_ecs and ecs_source not in ECS_SOURCES:
         raise SettingError("{ecs_source} must be computed or paper, got {got!r}", got=ecs_source)
-    record: dict[str, Any] = {"method": method.name, "title": method.title}
+    record: dict[str, Any] = {
+        "method": method.name,
+        "title": method.title,
+        "integrator": method.integrator,
+    }
     law: ContactLaw
     if not method.uses_ecs:
         record["parameters"] = (

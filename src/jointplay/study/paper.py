@@ -219,7 +219,7 @@ def simulate_task(shared: None, task: SimTask) -> SimOutcome:
             revolutions=task.revolutions,
             settle=task.settle,
             start=Start(task.start),  # type: ignore[arg-type]  # "rest" or "steady"
-            solver=SolverOptions(),
+            solver=SolverOptions(integrator=METHODS[task.method].integrator),
             nominal=True,  # the summary's increase_percent feeds the report
         )
     except JointplayError as exc:
@@ -547,7 +547,12 @@ def running_example(mechanism: Mechanism, options: PaperStudyOptions) -> Simulat
         )
         joints = clearance_joints(mechanism, list(JOINTS), clearance=PAPER_CLEARANCE, law=law)
         result = simulate(
-            mechanism, joints, revolutions=1.0, settle=DEFAULT_SETTLE, start=Start("steady")
+            mechanism,
+            joints,
+            revolutions=1.0,
+            settle=DEFAULT_SETTLE,
+            start=Start("steady"),
+            solver=SolverOptions(integrator=METHODS[options.tolerance_method].integrator),
         )
     except JointplayError:
         return None
