@@ -348,3 +348,12 @@ def test_empty_interval_records_only_the_initial_point() -> None:
     result = run(decay, (2.0, 2.0), [1.0], [1.0], rtol=1e-6, atol=1e-9)
     assert result.status == common.STATUS_SUCCESS
     assert result.t.tolist() == [2.0] and result.y.tolist() == [[1.0]]
+
+
+def test_an_interrupt_stops_with_a_status() -> None:
+    """The C-level signal handler's bytes, read before every step (as the Radau driver)."""
+    flags = np.zeros(4, dtype=np.uint8)
+    flags[0] = common.INTERRUPT_SIGNALS[0]
+    result = run(decay, (0.0, 1.0), [1.0], [1.0], rtol=1e-6, atol=1e-9, interrupt=flags)
+    assert result.status == common.STATUS_INTERRUPTED
+    assert result.counts["n_steps"] == 0 and result.t.tolist() == [0.0]
