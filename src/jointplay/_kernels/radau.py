@@ -911,15 +911,16 @@ def run_core(
     max_step: float,
     first_step: float,
     max_steps: int,
-    n_second: int,
-    n_active: int | None,
-    hold_after_failure: bool,
-    jac: Any,
-    interrupt: npt.NDArray[np.uint8] | None,
+    n_second: int = 0,
+    n_active: int | None = None,
+    hold_after_failure: bool = False,
+    jac: Any = None,
+    interrupt: npt.NDArray[np.uint8] | None = None,
 ) -> tuple[int, npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.int64]]:
     """Run a driver with :func:`_radau_core`'s signature (Radau here, RODAS4 in
     :mod:`jointplay._kernels.rodas`): coerce the scalars and arrays to the compiled types and
-    call its specialisation for ``numba.typeof(args)``. See :func:`radau_integrate`."""
+    call its specialisation for ``numba.typeof(args)``. The arguments after ``driver`` are
+    :func:`radau_integrate`'s."""
     core = _specialised_core(numba.typeof(args), driver)
     n = np.shape(y0)[0]
     n_active = n if n_active is None else int(n_active)
@@ -950,23 +951,7 @@ def run_core(
 
 
 def radau_integrate(
-    fun: Any,
-    step_check: Any,
-    after_step: Any,
-    t0: float,
-    y0: npt.NDArray[np.float64],
-    t_bound: float,
-    args: tuple[npt.NDArray[Any], ...],
-    rtol: float,
-    atol: npt.NDArray[np.float64],
-    max_step: float,
-    first_step: float,
-    max_steps: int,
-    n_second: int = 0,
-    n_active: int | None = None,
-    hold_after_failure: bool = False,
-    jac: Any = None,
-    interrupt: npt.NDArray[np.uint8] | None = None,
+    *args: Any, **kwargs: Any
 ) -> tuple[int, npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.int64]]:
     """Integrate ``y' = fun(t, y, args)`` from ``t0`` to ``t_bound`` with Radau IIA (order 5).
 
@@ -1037,8 +1022,4 @@ def radau_integrate(
         ValueError: ``n_second`` and ``n_active`` do not satisfy
             ``0 <= 2·n_second <= n_active <= n``.
     """
-    return run_core(
-        _radau_core, fun, step_check, after_step, t0, y0, t_bound, args, rtol, atol,
-        max_step, first_step, max_steps, n_second, n_active, hold_after_failure, jac,
-        interrupt,
-    )  # fmt: skip
+    return run_core(_radau_core, *args, **kwargs)

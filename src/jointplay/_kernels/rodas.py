@@ -330,29 +330,9 @@ def _rodas_core(
 
 
 def rodas_integrate(
-    fun: Any,
-    step_check: Any,
-    after_step: Any,
-    t0: float,
-    y0: npt.NDArray[np.float64],
-    t_bound: float,
-    args: tuple[npt.NDArray[Any], ...],
-    rtol: float,
-    atol: npt.NDArray[np.float64],
-    max_step: float,
-    first_step: float,
-    max_steps: int,
-    n_second: int = 0,
-    n_active: int | None = None,
-    hold_after_failure: bool = False,
-    jac: Any = None,
-    interrupt: npt.NDArray[np.uint8] | None = None,
+    *args: Any, **kwargs: Any
 ) -> tuple[int, npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.int64]]:
     """Integrate ``y' = fun(t, y, args)`` with RODAS4; arguments, hooks and results as
     :func:`jointplay._kernels.radau.radau_integrate` (``jac`` is used at every step's start;
     ``n_rejected_newton`` is always 0)."""
-    return run_core(
-        _rodas_core, fun, step_check, after_step, t0, y0, t_bound, args, rtol, atol,
-        max_step, first_step, max_steps, n_second, n_active, hold_after_failure, jac,
-        interrupt,
-    )  # fmt: skip
+    return run_core(_rodas_core, *args, **kwargs)
