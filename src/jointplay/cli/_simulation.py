@@ -133,7 +133,7 @@ IntegratorOption = Annotated[
     str | None,
     _opt(
         "Integrator: radau (Radau IIA, order 5) or rodas4 (linearly implicit, order 4); default"
-        " radau, rodas4 for the paper's IFM ECS methods (docs/cli.md).",
+        " radau, rodas4 for the paper's IFM ECS methods with every joint clear (docs/cli.md).",
         "--integrator",
         panel=RUN_PANEL,
     ),

@@ -144,15 +144,17 @@ def simulate_run(
 ) -> SimulationResult:
     """:func:`~jointplay.dynamics.simulate.simulate` with ``run``'s start, settle,
     revolutions and solver (its integrator, where not chosen, the one the paper method of
-    ``run``'s contact names: :attr:`ContactModel.integrator`); ``clearances``: the clearance joints (``None``: ``run``'s
+    ``run``'s contact names, where it holds: :attr:`ContactModel.integrator`,
+    :func:`~jointplay.dynamics.simulate.preferred_integrator`); ``clearances``: the clearance joints (``None``: ``run``'s
     contact on every joint with a clearance in its fit, ``run.contact.joints(mechanism)``);
     ``options``: simulate's others (``output_step``, ``sample_deg``, ``nominal``, …)."""
-    from jointplay.dynamics.simulate import simulate
+    from jointplay.dynamics.simulate import preferred_integrator, simulate
 
     joints = run.contact.joints(mechanism) if clearances is None else clearances
     solver = run.solver
-    if solver.integrator is None and run.contact.integrator is not None:
-        solver = dataclasses.replace(solver, integrator=run.contact.integrator)
+    if solver.integrator is None:
+        preferred = preferred_integrator(run.contact.integrator, mechanism, joints)
+        solver = dataclasses.replace(solver, integrator=preferred)
     return simulate(
         mechanism,
         joints,

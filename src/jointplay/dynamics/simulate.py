@@ -105,10 +105,12 @@ class SolverOptions:
         max_steps: give up after this many accepted steps.
         integrator: ``"radau"`` (Radau IIA, order 5) or ``"rodas4"`` (RODAS4, order 4,
             linearly implicit: one LU per step and no Newton iteration); ``None`` (the
-            default): Radau IIA, or the one the paper method of a run's contact names
-            (:func:`jointplay.dynamics.settings.simulate_run`). RODAS4 is measured 1.6–2.8× faster on the paper's IFM ECS contact
-            sets, whose damping, full at a negligible penetration, defeats Radau's simplified
-            Newton iteration, and slower or no faster on the other contacts measured; at the
+            default): Radau IIA, or the one the paper method of a run's contact names where
+            it holds (:func:`jointplay.dynamics.settings.simulate_run`,
+            :func:`preferred_integrator`). RODAS4 is measured 1.6–2.8× faster on the paper's
+            IFM ECS contact sets with every joint clear, whose damping, full at a negligible
+            penetration, defeats Radau's simplified Newton iteration, and slower or no
+            faster on the other contacts measured, and 2–30× slower with ideal joints; at the
             same rtol its global error is larger (docs/performance.md, "From rest: a
             Rosenbrock method for the paper's ECS sets"). The paper's methods name theirs
             (:attr:`jointplay.study.methods.Method.integrator`).
@@ -157,6 +159,21 @@ class SolverOptions:
             max_steps=self.max_steps,
             integrator=self.integrator,
         )
+
+
+def preferred_integrator(
+    preferred: str | None, mechanism: Mechanism, clearances: Sequence[ClearanceJoint]
+) -> str | None:
+    """``preferred`` (a paper method's :attr:`jointplay.study.methods.Method.integrator`)
+    where it holds, else ``None`` (Radau IIA): RODAS4 only when every joint of ``mechanism``
+    is a clearance joint. With ideal joints beside (their constraints projected, the
+    Jacobian differenced) RODAS4 was measured 2–30× slower than Radau on the very contact
+    sets it is chosen for (docs/performance.md, "From rest: a Rosenbrock method for the
+    paper's ECS sets")."""
+    clear = {c.joint for c in clearances}
+    if preferred == "rodas4" and any(j.name not in clear for j in mechanism.joints):
+        return None
+    return preferred
 
 
 @dataclass(frozen=True)

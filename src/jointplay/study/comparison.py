@@ -239,7 +239,7 @@ def steady_cycle(
     if method == NOMINAL:
         return nominal_cycle(mechanism, quantity=quantity)
     from jointplay.dynamics.setup import ContactModel, clearance_joints
-    from jointplay.dynamics.simulate import SolverOptions, Start, simulate
+    from jointplay.dynamics.simulate import SolverOptions, Start, preferred_integrator, simulate
     from jointplay.study.methods import METHODS, get_method, method_law
 
     if method not in METHODS and method != PHYSICAL:
@@ -263,7 +263,8 @@ def steady_cycle(
             record = {**record, "ecs_source": ecs_source}
         clear = clearance_joints(mechanism, joints, clearance=clearance, law=law)
     if method != PHYSICAL and (solver is None or solver.integrator is None):
-        solver = replace(solver or SolverOptions(), integrator=get_method(method).integrator)
+        preferred = preferred_integrator(get_method(method).integrator, mechanism, clear)
+        solver = replace(solver or SolverOptions(), integrator=preferred)
     result = simulate(
         mechanism, clear, revolutions=revolutions, settle=0, start=Start("steady"), solver=solver
     )

@@ -18,7 +18,9 @@ two IFM ECS methods, whose damping, full at a negligible penetration (δ of 3.7e
 2.7e-10 mm against a 0.021 mm clearance), keeps failing Radau's simplified Newton iteration;
 Radau IIA for the others. Measured on the paper four-bar (docs/performance.md, "From rest: a
 Rosenbrock method for the paper's ECS sets"): RODAS4 runs the IFM ECS methods 1.6–2.8× faster
-from rest and steady, and the other four no faster or slower.
+from rest and steady, and the other four no faster or slower. It holds only with every joint
+clear (:func:`jointplay.dynamics.simulate.preferred_integrator`: with ideal joints beside it
+is 2–30× slower).
 
 Table 3 is :data:`jointplay.study.published.TABLE3_IMPACT`. ECS parameters come from
 :func:`jointplay.study.ecs.ecs_parameters` with ``source="computed"`` (our ECS estimate for the

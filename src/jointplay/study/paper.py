@@ -35,7 +35,13 @@ from jointplay.contact.ecs import EcsConventions
 from jointplay.dynamics.cycles import DEFAULT_SETTLE
 from jointplay.dynamics.nominal import nominal_analysis
 from jointplay.dynamics.setup import clearance_joints
-from jointplay.dynamics.simulate import SimulationResult, SolverOptions, Start, simulate
+from jointplay.dynamics.simulate import (
+    SimulationResult,
+    SolverOptions,
+    Start,
+    preferred_integrator,
+    simulate,
+)
 from jointplay.errors import JointplayError
 from jointplay.io.config import load_preset
 from jointplay.io.measurements import paper_table7
@@ -219,7 +225,9 @@ def simulate_task(shared: None, task: SimTask) -> SimOutcome:
             revolutions=task.revolutions,
             settle=task.settle,
             start=Start(task.start),  # type: ignore[arg-type]  # "rest" or "steady"
-            solver=SolverOptions(integrator=METHODS[task.method].integrator),
+            solver=SolverOptions(
+                integrator=preferred_integrator(METHODS[task.method].integrator, mechanism, joints)
+            ),
             nominal=True,  # the summary's increase_percent feeds the report
         )
     except JointplayError as exc:
@@ -560,7 +568,11 @@ def running_example(mechanism: Mechanism, options: PaperStudyOptions) -> Simulat
             revolutions=1.0,
             settle=DEFAULT_SETTLE,
             start=Start("steady"),
-            solver=SolverOptions(integrator=METHODS[options.tolerance_method].integrator),
+            solver=SolverOptions(
+                integrator=preferred_integrator(
+                    METHODS[options.tolerance_method].integrator, mechanism, joints
+                )
+            ),
         )
     except JointplayError:
         return None
