@@ -88,6 +88,7 @@ def simulate_settings(base: Base, settings: Settings) -> Run:
     from jointplay.cli._common import check_revolutions, mechanism_from_options
     from jointplay.cli._simulation import contact_model, finite_number, joint_list
     from jointplay.cli.simulate import _diagnostics
+    from jointplay.dynamics.simulate import preferred_integrator
     from jointplay.io.config import simulation_settings
 
     with tempfile.TemporaryDirectory(prefix="jointplay-explore-") as folder:
@@ -98,10 +99,12 @@ def simulate_settings(base: Base, settings: Settings) -> Run:
     key = nominal_key(base, settings)
     nominal = _NOMINAL.get(key, True)  # True: simulate computes it
     names = joint_list(values.get("joints"))
+    integrator = None  # Radau; a paper method's own where it holds, as simulate's
     if settings.uniform() is not None or names is None:
         contact = contact_model(values, mechanism)
         clear = contact.joints(mechanism, names)
         described = contact.describe()["text"]
+        integrator = preferred_integrator(contact.integrator, mechanism, clear)
     else:  # joints of their own contact or friction: each its contact model, as simulate's
         clear, texts = [], []
         for name in names:
@@ -125,7 +128,7 @@ def simulate_settings(base: Base, settings: Settings) -> Run:
         revolutions=turns,
         settle=int(values.get("settle", 2)),
         start=Start(mode, ramp),  # type: ignore[arg-type]  # validated by Start
-        solver=SolverOptions(rtol=finite_number(values, "rtol", 1e-6)),
+        solver=SolverOptions(rtol=finite_number(values, "rtol", 1e-6), integrator=integrator),
         nominal=nominal,
     )
     if result.nominal is not None:
