@@ -60,6 +60,9 @@ def files(tmp_path: Path) -> dict[str, str]:
         "branch_half": _config(tmp_path, "branch_half.toml", branch="1.5"),
         "huge_crank": _config(tmp_path, "huge.toml", crank="1e30 mm"),
         "rtol_abc": _config(tmp_path, "rtol.toml", extra='[simulation]\nrtol = "abc"\n'),
+        "integrator_euler": _config(
+            tmp_path, "integrator.toml", extra='[simulation]\nintegrator = "euler"\n'
+        ),
         "revolutions_abc": _config(
             tmp_path, "revs.toml", extra='[simulation]\nrevolutions = "abc"\n'
         ),
@@ -224,6 +227,10 @@ CASES: dict[str, tuple[list[str], str]] = {
     "config absurd length": (["kinematics", "--config", "{huge_crank}"], "geometry.crank"),
     "config absurd length tolerance": (["tolerance", "--config", "{huge_crank}"], "geometry"),
     "config rtol text": (["simulate", "--config", "{rtol_abc}"], "simulation.rtol"),
+    "config integrator unknown": (
+        ["simulate", "--config", "{integrator_euler}"],
+        "--integrator must be radau or rodas4, got 'euler'",
+    ),
     "config revolutions text": (["simulate", "--config", "{revolutions_abc}"], "revolutions"),
     "config friction text": (["simulate", "--config", "{friction_abc}"], "friction"),
     "config stiffness list": (["simulate", "--config", "{simulation_list}"], "simulation.k"),

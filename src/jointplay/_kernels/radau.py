@@ -209,6 +209,22 @@ def _rms_norm_stages(x, scale):
 # Newton matrices (reduced to the active, non-position components).
 # ---------------------------------------------------------------------------------------
 @jit
+def reduced_newton_matrix(jac, mu_over_h, a, n_second, n_active):
+    """Fill ``a`` (float64 or complex128, the dtype of ``mu_over_h``) with the kept block of
+    ``γ/h·I − J`` for ``mu_over_h = γ/h``, the positions' columns folded in (see
+    :func:`_factor_newton_matrices`); RODAS4's matrix too (:mod:`jointplay._kernels.rodas`)."""
+    m2 = n_second
+    nk = n_active - m2
+    for i in range(nk):
+        for j in range(nk):
+            a[i, j] = -jac[m2 + i, m2 + j]
+        a[i, i] += mu_over_h
+        for j in range(m2):  # dx = h/γ (b_x + dv): the positions' columns fold into dv's
+            a[i, j] -= jac[m2 + i, j] / mu_over_h
+    return a
+
+
+@jit
 def _factor_newton_matrices(jac, h, n_second, n_active):
     """LU factors of the Newton matrices ``MU_REAL/h·I − J`` and ``MU_COMPLEX/h·I − J``,
     reduced to the components that :func:`_newton_solve` keeps.
@@ -219,21 +235,11 @@ def _factor_newton_matrices(jac, h, n_second, n_active):
     the ``M1`` option of RADAU5). With ``n_second = 0`` and ``n_active = n`` this is the
     full matrix, as in SciPy.
     """
-    m2 = n_second
-    nk = n_active - m2
-    a_real = np.empty((nk, nk))
-    a_complex = np.empty((nk, nk), dtype=np.complex128)
-    m_real = MU_REAL / h
-    m_complex = MU_COMPLEX / h
-    for i in range(nk):
-        for j in range(nk):
-            a_real[i, j] = -jac[m2 + i, m2 + j]
-            a_complex[i, j] = -jac[m2 + i, m2 + j]
-        a_real[i, i] += m_real
-        a_complex[i, i] += m_complex
-        for j in range(m2):  # dx = h/γ (b_x + dv): the positions' columns fold into dv's
-            a_real[i, j] -= jac[m2 + i, j] / m_real
-            a_complex[i, j] -= jac[m2 + i, j] / m_complex
+    nk = n_active - n_second
+    a_real = reduced_newton_matrix(jac, MU_REAL / h, np.empty((nk, nk)), n_second, n_active)
+    a_complex = reduced_newton_matrix(
+        jac, MU_COMPLEX / h, np.empty((nk, nk), dtype=np.complex128), n_second, n_active
+    )
     lu_real, piv_real = lu_factor(a_real)
     lu_complex, piv_complex = lu_factor(a_complex)
     return lu_real, piv_real, lu_complex, piv_complex

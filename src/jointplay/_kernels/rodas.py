@@ -7,7 +7,7 @@ L-stable. Per step: the Jacobian ``J`` at the step's start (the user's closed fo
 call: a Rosenbrock method needs the Jacobian itself, and ``num_jac``'s steps, adapted from
 call to call, can grow across a kink of ``f``), ``∂f/∂t`` by one forward difference (as
 ``rodas.f``), **one** LU of ``1/(γh)·I − J`` (reduced to the velocities as Radau's Newton matrices are,
-:func:`jointplay._kernels.radau._factor_newton_matrices`), five evaluations of ``f`` and
+:func:`jointplay._kernels.radau.reduced_newton_matrix`), five evaluations of ``f`` and
 six solves. There is no Newton iteration, hence no Newton failure.
 
 Why the contact simulator has it beside Radau IIA (issue 22, docs/performance.md, "From
@@ -82,6 +82,7 @@ from jointplay._kernels.radau import (
     MAX_CHECK_REJECTIONS,
     _newton_solve_in_place,
     _record,
+    reduced_newton_matrix,
     run_core,
 )
 
@@ -124,16 +125,8 @@ MAX_FACTOR = 5.0  # longest step factor
 @jit
 def _factor(jac, alpha, n_second, n_active):
     """LU of ``α·I − J`` reduced to the kept block, as Radau's real Newton matrix."""
-    m2 = n_second
-    nk = n_active - m2
-    a = np.empty((nk, nk))
-    for i in range(nk):
-        for j in range(nk):
-            a[i, j] = -jac[m2 + i, m2 + j]
-        a[i, i] += alpha
-        for j in range(m2):  # dx = (b_x + dv)/α: the positions' columns fold into dv's
-            a[i, j] -= jac[m2 + i, j] / alpha
-    return lu_factor(a)
+    nk = n_active - n_second
+    return lu_factor(reduced_newton_matrix(jac, alpha, np.empty((nk, nk)), n_second, n_active))
 
 
 @jit

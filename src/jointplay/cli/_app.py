@@ -224,8 +224,8 @@ OPTION_PANELS = {
          "--friction-law", "--clearance", "--joints", "--model-sensitivity"),
         CONTACT_PANEL),
     **dict.fromkeys(
-        ("--start", "--ramp-time", "--settle", "--revolutions", "--rtol", "--integrator", "--max-step",
-         "--output-step", "--sample-deg", "--experiment-revolutions"),
+        ("--start", "--ramp-time", "--settle", "--revolutions", "--rtol", "--integrator",
+         "--max-step", "--output-step", "--sample-deg", "--experiment-revolutions"),
         RUN_PANEL),
     **dict.fromkeys(
         ("--clearance-limit", "--table", "--wear-coefficient", "--hardness", "--hours",

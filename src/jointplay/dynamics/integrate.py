@@ -17,8 +17,8 @@ and ``after_step`` (project the state, update contact memory). See the kernel mo
 the algorithm. ``method="rodas4"`` is a linearly implicit method (Rosenbrock, order 4,
 Hairer & Wanner §IV.7) with the same hooks and results: one LU per step and no Newton
 iteration, faster where the simplified Newton iteration of Radau keeps failing (contact
-whose damping dominates, see :mod:`jointplay._kernels.rodas`). Time is in seconds when the dynamics engine calls this; the integrator
-itself is unit-agnostic.
+whose damping dominates, see :mod:`jointplay._kernels.rodas`). Time is in seconds when the
+dynamics engine calls this; the integrator itself is unit-agnostic.
 
 Example:
     >>> import numba, numpy as np

@@ -145,15 +145,16 @@ def simulate_run(
     """:func:`~jointplay.dynamics.simulate.simulate` with ``run``'s start, settle,
     revolutions and solver (its integrator, where not chosen, the one the paper method of
     ``run``'s contact names, where it holds: :attr:`ContactModel.integrator`,
-    :func:`~jointplay.dynamics.simulate.preferred_integrator`); ``clearances``: the clearance joints (``None``: ``run``'s
-    contact on every joint with a clearance in its fit, ``run.contact.joints(mechanism)``);
-    ``options``: simulate's others (``output_step``, ``sample_deg``, ``nominal``, …)."""
+    :func:`~jointplay.dynamics.simulate.preferred_integrator`); ``clearances``: the
+    clearance joints (``None``: ``run``'s contact on every joint with a clearance in its fit,
+    ``run.contact.joints(mechanism)``); ``options``: simulate's others (``output_step``,
+    ``sample_deg``, ``nominal``, …)."""
     from jointplay.dynamics.simulate import preferred_integrator, simulate
 
     joints = run.contact.joints(mechanism) if clearances is None else clearances
     solver = run.solver
-    if solver.integrator is None:
-        preferred = preferred_integrator(run.contact.integrator, mechanism, joints)
+    preferred = preferred_integrator(run.contact.integrator, mechanism, joints)
+    if solver.integrator is None and preferred is not None:
         solver = dataclasses.replace(solver, integrator=preferred)
     return simulate(
         mechanism,

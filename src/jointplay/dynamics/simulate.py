@@ -126,9 +126,9 @@ class SolverOptions:
 
     def __post_init__(self) -> None:
         if self.integrator is not None and self.integrator not in INTEGRATION_METHODS:
-            raise ConfigError(
-                f"solver option integrator must be {' or '.join(INTEGRATION_METHODS)},"
-                f" got {self.integrator!r}"
+            raise SettingError(
+                "{integrator} must be " + " or ".join(INTEGRATION_METHODS) + ", got {got!r}",
+                got=self.integrator,
             )
         for name in ("rtol", "atol_position", "atol_velocity", "max_step", "onset_tolerance"):
             if getattr(self, name) is not None:
