@@ -1,5 +1,6 @@
-"""What both compiled integrators (Radau IIA, RODAS4) share: they never raise; a failure
-is a status, and a hook that misbehaves cannot hang them."""
+"""What both compiled integrators (Radau IIA, RODAS4) share: the hooks land steps on events
+and project the state; they never raise, a failure is a status, and a hook that misbehaves
+cannot hang them."""
 
 from __future__ import annotations
 
@@ -10,10 +11,15 @@ import pytest
 
 from _ode_problems import (
     always_halve,
+    bounce,
+    cartesian_pendulum,
     decay,
+    free_fall,
+    land_on_ground,
     nan_rhs,
     odd_theta,
     poison_state,
+    project_on_circle,
     run_kernel,
     square,
     van_der_pol,
@@ -26,6 +32,56 @@ INTEGRATORS = {"radau": radau.radau_integrate, "rodas4": rodas.rodas_integrate}
 @pytest.fixture(params=list(INTEGRATORS))
 def integrator(request: pytest.FixtureRequest) -> Any:
     return INTEGRATORS[request.param]
+
+
+def test_bouncing_ball_steps_land_on_each_impact(integrator: Any) -> None:
+    g, e, h0, tol = 9.81, 0.8, 1.0, 1e-10
+    p = np.array([g, e, tol])
+    run = run_kernel(
+        free_fall,
+        (0.0, 2.0),
+        [h0, 0.0],
+        p,
+        rtol=1e-8,
+        atol=1e-10,
+        step_check=land_on_ground,
+        after_step=bounce,
+        integrator=integrator,
+    )
+    assert run.status == common.STATUS_SUCCESS
+    assert run.counts["n_rejected_check"] > 0
+    # Impact k at t_k: t_1 = √(2h/g), then flights of 2·e^k·v_1/g with v_1 = √(2gh).
+    v1 = np.sqrt(2 * g * h0)
+    impacts = [np.sqrt(2 * h0 / g)]
+    while impacts[-1] + 2 * e ** len(impacts) * v1 / g < 2.0:
+        impacts.append(impacts[-1] + 2 * e ** len(impacts) * v1 / g)
+    bounced = np.flatnonzero((run.y[:, 0] == 0.0) & (run.y[:, 1] > 0.0))
+    assert len(bounced) == len(impacts)
+    # A landing overshoots by at most tol in height, i.e. tol/|v| in time; the flights
+    # themselves are exact (quadratic solution), so 1e-8 s is a loose bound.
+    np.testing.assert_allclose(run.t[bounced], impacts, atol=1e-8)
+    # Each rebound leaves with e times the impact speed.
+    np.testing.assert_allclose(
+        run.y[bounced, 1], e ** np.arange(1, len(impacts) + 1) * v1, rtol=1e-7
+    )
+
+
+def test_after_step_projection_keeps_pendulum_on_its_circle(integrator: Any) -> None:
+    p = np.array([9.81, 0.5])
+    y0 = [0.5, 0.0, 0.0, 0.0]  # horizontal, at rest
+    options: dict[str, Any] = {"rtol": 1e-4, "atol": 1e-7, "integrator": integrator}
+    free = run_kernel(cartesian_pendulum, (0.0, 10.0), y0, p, **options)
+    projected = run_kernel(
+        cartesian_pendulum, (0.0, 10.0), y0, p, after_step=project_on_circle, **options
+    )
+    assert free.status == projected.status == common.STATUS_SUCCESS
+    radius_free = np.hypot(free.y[:, 0], free.y[:, 1])
+    radius = np.hypot(projected.y[:, 0], projected.y[:, 1])
+    assert np.max(np.abs(radius_free - 0.5)) > 1e-6  # drift without the hook
+    np.testing.assert_allclose(radius, 0.5, rtol=4 * np.finfo(float).eps)
+    # Energy m(g z + |v|²/2) stays at its initial 0 within the tolerance scale.
+    energy = 9.81 * projected.y[:, 1] + 0.5 * (projected.y[:, 2] ** 2 + projected.y[:, 3] ** 2)
+    assert np.max(np.abs(energy)) < 1e-2
 
 
 def test_step_check_that_never_accepts_cannot_loop_forever(integrator: Any) -> None:

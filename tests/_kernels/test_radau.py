@@ -28,18 +28,13 @@ from _ode_problems import (
     TWO_MASSES,
     TWO_MASSES_Y0,
     assert_counts_close,
-    bounce,
-    cartesian_pendulum,
     contact_drop_reference,
     decay,
     decline_jacobian,
     flag_contact_change,
-    free_fall,
     harmonic,
     land_on_contact,
-    land_on_ground,
     mass_on_floor,
-    project_on_circle,
     robertson,
     run_kernel,
     run_scipy,
@@ -317,55 +312,6 @@ def test_fixed_step_order_is_five() -> None:
 # ---------------------------------------------------------------------------------------
 # Hooks.
 # ---------------------------------------------------------------------------------------
-def test_bouncing_ball_steps_land_on_each_impact() -> None:
-    g, e, h0, tol = 9.81, 0.8, 1.0, 1e-10
-    p = np.array([g, e, tol])
-    run = run_kernel(
-        free_fall,
-        (0.0, 2.0),
-        [h0, 0.0],
-        p,
-        rtol=1e-8,
-        atol=1e-10,
-        step_check=land_on_ground,
-        after_step=bounce,
-    )
-    assert run.status == common.STATUS_SUCCESS
-    assert run.counts["n_rejected_check"] > 0
-    # Impact k at t_k: t_1 = √(2h/g), then flights of 2·e^k·v_1/g with v_1 = √(2gh).
-    v1 = np.sqrt(2 * g * h0)
-    impacts = [np.sqrt(2 * h0 / g)]
-    while impacts[-1] + 2 * e ** len(impacts) * v1 / g < 2.0:
-        impacts.append(impacts[-1] + 2 * e ** len(impacts) * v1 / g)
-    bounced = np.flatnonzero((run.y[:, 0] == 0.0) & (run.y[:, 1] > 0.0))
-    assert len(bounced) == len(impacts)
-    # A landing overshoots by at most tol in height, i.e. tol/|v| in time; the flights
-    # themselves are exact (quadratic solution), so 1e-8 s is a loose bound.
-    np.testing.assert_allclose(run.t[bounced], impacts, atol=1e-8)
-    # Each rebound leaves with e times the impact speed.
-    np.testing.assert_allclose(
-        run.y[bounced, 1], e ** np.arange(1, len(impacts) + 1) * v1, rtol=1e-7
-    )
-
-
-def test_after_step_projection_keeps_pendulum_on_its_circle() -> None:
-    p = np.array([9.81, 0.5])
-    y0 = [0.5, 0.0, 0.0, 0.0]  # horizontal, at rest
-    options: dict[str, Any] = {"rtol": 1e-4, "atol": 1e-7}
-    free = run_kernel(cartesian_pendulum, (0.0, 10.0), y0, p, **options)
-    projected = run_kernel(
-        cartesian_pendulum, (0.0, 10.0), y0, p, after_step=project_on_circle, **options
-    )
-    assert free.status == projected.status == common.STATUS_SUCCESS
-    radius_free = np.hypot(free.y[:, 0], free.y[:, 1])
-    radius = np.hypot(projected.y[:, 0], projected.y[:, 1])
-    assert np.max(np.abs(radius_free - 0.5)) > 1e-6  # drift without the hook
-    np.testing.assert_allclose(radius, 0.5, rtol=4 * np.finfo(float).eps)
-    # Energy m(g z + |v|²/2) stays at its initial 0 within the tolerance scale.
-    energy = 9.81 * projected.y[:, 1] + 0.5 * (projected.y[:, 2] ** 2 + projected.y[:, 3] ** 2)
-    assert np.max(np.abs(energy)) < 1e-2
-
-
 @pytest.mark.parametrize("rtol", [1e-4, 1e-7])
 def test_second_order_and_passive_structure_give_the_same_solution(rtol: float) -> None:
     """n_second and n_active change the linear algebra, not the method: the same steps up

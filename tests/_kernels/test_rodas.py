@@ -19,18 +19,13 @@ from _ode_problems import (
     CONTACT_PARAMETERS,
     TWO_MASSES,
     TWO_MASSES_Y0,
-    bounce,
-    cartesian_pendulum,
     contact_drop_reference,
     decay,
     decline_jacobian,
     flag_contact_change,
-    free_fall,
     harmonic,
     land_on_contact,
-    land_on_ground,
     mass_on_floor,
-    project_on_circle,
     robertson,
     run_kernel,
     run_scipy,
@@ -240,33 +235,6 @@ def test_contact_without_location_keeps_the_accuracy(
 # ---------------------------------------------------------------------------------------
 # Hooks and structure.
 # ---------------------------------------------------------------------------------------
-def test_bouncing_ball_steps_land_on_each_impact() -> None:
-    g, e, h0, tol = 9.81, 0.8, 1.0, 1e-10
-    result = run(
-        free_fall, (0.0, 2.0), [h0, 0.0], np.array([g, e, tol]), rtol=1e-8, atol=1e-10,
-        step_check=land_on_ground, after_step=bounce,
-    )  # fmt: skip
-    assert result.status == common.STATUS_SUCCESS
-    v1 = np.sqrt(2 * g * h0)
-    impacts = [np.sqrt(2 * h0 / g)]
-    while impacts[-1] + 2 * e ** len(impacts) * v1 / g < 2.0:
-        impacts.append(impacts[-1] + 2 * e ** len(impacts) * v1 / g)
-    bounced = np.flatnonzero((result.y[:, 0] == 0.0) & (result.y[:, 1] > 0.0))
-    assert len(bounced) == len(impacts)
-    np.testing.assert_allclose(result.t[bounced], impacts, atol=1e-8)
-
-
-def test_after_step_projection_keeps_pendulum_on_its_circle() -> None:
-    p = np.array([9.81, 0.5])
-    projected = run(
-        cartesian_pendulum, (0.0, 10.0), [0.5, 0.0, 0.0, 0.0], p, rtol=1e-4, atol=1e-7,
-        after_step=project_on_circle,
-    )  # fmt: skip
-    assert projected.status == common.STATUS_SUCCESS
-    radius = np.hypot(projected.y[:, 0], projected.y[:, 1])
-    np.testing.assert_allclose(radius, 0.5, rtol=4 * np.finfo(float).eps)
-
-
 @pytest.mark.parametrize("rtol", [1e-4, 1e-7])
 def test_second_order_and_passive_structure_give_the_same_solution(rtol: float) -> None:
     options: dict[str, Any] = {"rtol": rtol, "atol": 1e-9}
