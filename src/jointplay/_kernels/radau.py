@@ -566,6 +566,43 @@ def _jacobian(fun, jac, args, t, y, f, threshold, factor, n_active):
 # ---------------------------------------------------------------------------------------
 # The driver.
 # ---------------------------------------------------------------------------------------
+@jit
+def driver_start(fun, args, t0, y0, t_bound, max_step, first_step, direction, rtol, atol):
+    """What every driver does before its first step (Radau's, RODAS4's): record ``(t0, y0)``;
+    an empty interval or system ends at once (SciPy: an empty system jumps to ``t_bound``);
+    ``f(t0, y0)``, a non-finite one ends with status −3; the first step, ``first_step`` or
+    SciPy's choice.
+
+    Returns:
+        ``(status, counters, ts, ys, m, f, h_abs)``: ``STATUS_RUNNING`` to go on, else the
+        final status of an integration that ends here; the recording arrays and their
+        length ``m``.
+    """
+    n = y0.shape[0]
+    counters = np.zeros(7, dtype=np.int64)
+    ts = np.empty(_INITIAL_CAPACITY)
+    ys = np.empty((_INITIAL_CAPACITY, n))
+    ts, ys = _record(ts, ys, 0, t0, y0)
+    m = 1
+    f = np.zeros(n)
+    if n == 0 or t0 == t_bound:
+        if n == 0 and t0 != t_bound:  # SciPy: an empty system jumps to t_bound.
+            ts, ys = _record(ts, ys, m, t_bound, y0)
+            m += 1
+        return STATUS_SUCCESS, counters, ts, ys, m, f, 0.0
+    f = copy_vector(fun(t0, y0, args))
+    counters[NFEV] += 1
+    if not (all_finite(y0) and all_finite(f)):
+        return STATUS_NON_FINITE, counters, ts, ys, m, f, 0.0
+    h_abs = first_step
+    if not first_step > 0:
+        h_abs, nfev_initial = select_initial_step(
+            fun, args, t0, y0, t_bound, max_step, f, direction, rtol, atol
+        )
+        counters[NFEV] += nfev_initial
+    return STATUS_RUNNING, counters, ts, ys, m, f, h_abs
+
+
 def _radau_core(
     fun,
     step_check,
@@ -592,35 +629,15 @@ def _radau_core(
     follows SciPy's ``solve_ivp`` loop around ``Radau._step_impl``.
     """
     n = y0.shape[0]
-    counters = np.zeros(7, dtype=np.int64)
     rtol = max(rtol, 100.0 * EPS)
     direction = 1.0 if t_bound >= t0 else -1.0
-
-    ts = np.empty(_INITIAL_CAPACITY)
-    ys = np.empty((_INITIAL_CAPACITY, n))
     t = t0
     y = y0.copy()
-    ts, ys = _record(ts, ys, 0, t, y)
-    m = 1
-
-    if n == 0 or t0 == t_bound:
-        if n == 0 and t0 != t_bound:  # SciPy: an empty system jumps to t_bound.
-            ts, ys = _record(ts, ys, m, t_bound, y)
-            m += 1
-        return STATUS_SUCCESS, ts[:m].copy(), ys[:m].copy(), counters
-
-    f = copy_vector(fun(t, y, args))
-    counters[NFEV] += 1
-    if not (all_finite(y) and all_finite(f)):
-        return STATUS_NON_FINITE, ts[:m].copy(), ys[:m].copy(), counters
-
-    if first_step > 0:
-        h_abs_state = first_step
-    else:
-        h_abs_state, nfev_initial = select_initial_step(
-            fun, args, t, y, t_bound, max_step, f, direction, rtol, atol
-        )
-        counters[NFEV] += nfev_initial
+    status, counters, ts, ys, m, f, h_abs_state = driver_start(
+        fun, args, t0, y, t_bound, max_step, first_step, direction, rtol, atol
+    )
+    if status != STATUS_RUNNING:
+        return status, ts[:m].copy(), ys[:m].copy(), counters
     h_abs_old_state = np.nan  # NaN stands for SciPy's None.
     error_norm_old_state = np.nan
     newton_tol = max(10.0 * EPS / rtol, min(0.03, rtol**0.5))

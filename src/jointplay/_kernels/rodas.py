@@ -75,13 +75,13 @@ from jointplay._kernels.common import (
     py_max,
     py_min,
     rms_norm,
-    select_initial_step,
 )
 from jointplay._kernels.linalg import lu_factor
 from jointplay._kernels.radau import (
     MAX_CHECK_REJECTIONS,
     _newton_solve_in_place,
     _record,
+    driver_start,
     reduced_newton_matrix,
     run_core,
 )
@@ -185,33 +185,15 @@ def _rodas_core(
     """The integrator; see :func:`rodas_integrate` (same arguments and results as
     :func:`jointplay._kernels.radau._radau_core`)."""
     n = y0.shape[0]
-    counters = np.zeros(7, dtype=np.int64)
     rtol = max(rtol, 100.0 * EPS)
     direction = 1.0 if t_bound >= t0 else -1.0
-
-    ts = np.empty(64)
-    ys = np.empty((64, n))
     t = t0
     y = y0.copy()
-    ts, ys = _record(ts, ys, 0, t, y)
-    m = 1
-    if n == 0 or t0 == t_bound:
-        if n == 0 and t0 != t_bound:
-            ts, ys = _record(ts, ys, m, t_bound, y)
-            m += 1
-        return STATUS_SUCCESS, ts[:m].copy(), ys[:m].copy(), counters
-
-    f = fun(t, y, args).copy()
-    counters[NFEV] += 1
-    if not (all_finite(y) and all_finite(f)):
-        return STATUS_NON_FINITE, ts[:m].copy(), ys[:m].copy(), counters
-    if first_step > 0:
-        h_abs = first_step
-    else:
-        h_abs, nfev_initial = select_initial_step(
-            fun, args, t, y, t_bound, max_step, f, direction, rtol, atol
-        )
-        counters[NFEV] += nfev_initial
+    status, counters, ts, ys, m, f, h_abs = driver_start(
+        fun, args, t0, y, t_bound, max_step, first_step, direction, rtol, atol
+    )
+    if status != STATUS_RUNNING:
+        return status, ts[:m].copy(), ys[:m].copy(), counters
 
     jac_factor = np.full(n, EPS**0.5)
     jac_out = np.empty((n, n))
@@ -224,7 +206,6 @@ def _rodas_core(
     h_accepted = 0.0
     error_accepted = 1.0
 
-    status = STATUS_RUNNING
     while status == STATUS_RUNNING:
         if counters[NSTEPS] >= max_steps:
             status = STATUS_TOO_MANY_STEPS
