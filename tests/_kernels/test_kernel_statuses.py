@@ -1,4 +1,4 @@
-"""What both compiled integrators (Radau IIA, RODAS4) share: the hooks land steps on events
+"""What the compiled integrators (Radau IIA, RODAS4, DOPRI5) share: the hooks land steps on events
 and project the state; they never raise, a failure is a status, and a hook that misbehaves
 cannot hang them."""
 
@@ -24,9 +24,13 @@ from _ode_problems import (
     square,
     van_der_pol,
 )
-from jointplay._kernels import common, radau, rodas
+from jointplay._kernels import common, dopri, radau, rodas
 
-INTEGRATORS = {"radau": radau.radau_integrate, "rodas4": rodas.rodas_integrate}
+INTEGRATORS = {
+    "radau": radau.radau_integrate,
+    "rodas4": rodas.rodas_integrate,
+    "dopri5": dopri.dopri_integrate,
+}
 
 
 @pytest.fixture(params=list(INTEGRATORS))

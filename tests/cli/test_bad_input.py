@@ -177,7 +177,7 @@ CASES: dict[str, tuple[list[str], str]] = {
     "simulate rtol large": (["simulate", "--rtol", "0.5"], "rtol"),
     "simulate integrator unknown": (
         ["simulate", "--integrator", "euler"],
-        "--integrator must be radau or rodas4, got 'euler'",
+        "--integrator must be radau, rodas4 or dopri5, got 'euler'",
     ),
     "simulate revolutions zero": (["simulate", "--revolutions", "0"], "--revolutions"),
     "simulate revolutions inf": (["simulate", "--revolutions", "inf"], "--revolutions"),
@@ -229,7 +229,7 @@ CASES: dict[str, tuple[list[str], str]] = {
     "config rtol text": (["simulate", "--config", "{rtol_abc}"], "simulation.rtol"),
     "config integrator unknown": (
         ["simulate", "--config", "{integrator_euler}"],
-        "--integrator must be radau or rodas4, got 'euler'",
+        "--integrator must be radau, rodas4 or dopri5, got 'euler'",
     ),
     "config revolutions text": (["simulate", "--config", "{revolutions_abc}"], "revolutions"),
     "config friction text": (["simulate", "--config", "{friction_abc}"], "friction"),

@@ -172,7 +172,7 @@ def _readonly(array: np.ndarray) -> np.ndarray:
     return array
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def unpack(rpar: np.ndarray, ipar: np.ndarray) -> EomModel:
     """The :class:`EomModel` packed by :func:`pack`, as views (no copies)."""
     o = HEADER
@@ -223,7 +223,7 @@ EomArgs = tuple[np.ndarray, np.ndarray, np.ndarray]
 rhs_signature = types.float64[::1](types.float64, types.float64[::1], ARGS_TYPE)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _rotations(q: np.ndarray) -> np.ndarray:
     """(cos φ_k, sin φ_k) of every body k, flat: one sine and cosine per body and call."""
     nb = q.shape[0] // 3
@@ -234,7 +234,7 @@ def _rotations(q: np.ndarray) -> np.ndarray:
     return rot
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _arm(
     q: np.ndarray, rot: np.ndarray, body: int, sx: float, sy: float
 ) -> tuple[float, float, float, float]:
@@ -249,7 +249,7 @@ def _arm(
     return q[3 * body] + rx, q[3 * body + 1] + ry, rx, ry
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _arm_of(q: np.ndarray, body: int, sx: float, sy: float) -> tuple[float, float, float, float]:
     """:func:`_arm` computing the body's rotation itself (the right-hand side's variant:
     measured faster there than sharing :func:`_rotations` between the joints)."""
@@ -262,7 +262,7 @@ def _arm_of(q: np.ndarray, body: int, sx: float, sy: float) -> tuple[float, floa
     return q[3 * body] + rx, q[3 * body + 1] + ry, rx, ry
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _penetration(
     q: np.ndarray,
     rot: np.ndarray,
@@ -295,7 +295,7 @@ def _eccentricity_rate(
     return edx, edy
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _contact_state(
     q: np.ndarray, qd: np.ndarray, rot: np.ndarray, joint_int: np.ndarray, joint_f: np.ndarray,
     j: int, geom: np.ndarray, c: int,
@@ -326,7 +326,7 @@ def _contact_state(
     )  # fmt: skip
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _push(force: np.ndarray, body: int, rx: float, ry: float, fx: float, fy: float) -> None:
     """Add the force (fx, fy) acting at arm (rx, ry) from the centre of mass of ``body``."""
     if body < 0:
@@ -336,7 +336,7 @@ def _push(force: np.ndarray, body: int, rx: float, ry: float, fx: float, fy: flo
     force[3 * body + 2] += rx * fy - ry * fx
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def add_contact_forces(
     y: np.ndarray, model: EomModel, force: np.ndarray, record: np.ndarray
 ) -> float:
@@ -443,7 +443,7 @@ def _cholesky_solve(a: np.ndarray, b: np.ndarray) -> None:
         b[i] = s / a[i, i]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _driver_only_accelerations(
     t: float, model: EomModel, acc: np.ndarray, lam: np.ndarray
 ) -> float:
@@ -527,7 +527,7 @@ def _locked(v0: float) -> bool:
     return v0 < 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def any_locked(y: np.ndarray, model: EomModel) -> bool:
     """Whether the sustained-contact mode is on (``settings[S_CAPTURE] > 0``) and some
     clearance joint is locked at ``y``; ``False`` at the cost of one comparison when off."""
@@ -982,7 +982,7 @@ def transmitted_force(y: np.ndarray, model: EomModel, contacts: np.ndarray, c: i
     return np.hypot(contacts[7 * c] + film_n, contacts[7 * c + 1] + film_t)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def rhs_into(t: float, y: np.ndarray, model: EomModel, out: np.ndarray) -> None:
     """:func:`rhs` writing ẏ into ``out`` (the batch engine's form: no allocation, the model
     already unpacked); the same arithmetic."""
@@ -1319,7 +1319,7 @@ def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: n
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def onset_check(
     t_old: float, y_old: np.ndarray, t_new: float, y_new: np.ndarray, model: EomModel
 ) -> float:
@@ -1397,7 +1397,7 @@ def step_check(
     return theta
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def contact_memory_and_projection(
     t: float, y: np.ndarray, model: EomModel, work: np.ndarray
 ) -> bool:
@@ -1420,7 +1420,7 @@ def contact_memory_and_projection(
     return changed
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _remember(record: np.ndarray, work: np.ndarray) -> None:
     """Keep δ and δ̇ of every joint (``record``, 7 per joint) in the workspace, if it has room,
     as the start of the next step."""
@@ -1440,7 +1440,7 @@ def start_workspace(y: np.ndarray, args: EomArgs) -> None:
     _remember(_contact_records(y, unpack(args[0], args[1])), args[2])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _contact_records(y: np.ndarray, model: EomModel) -> np.ndarray:
     """δ and δ̇ of every clearance joint at ``y``, in a record of :func:`add_contact_forces`'s
     layout (7 per joint; the other entries are not set)."""
@@ -1459,7 +1459,7 @@ def _contact_records(y: np.ndarray, model: EomModel) -> np.ndarray:
     return record
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def contact_memory(y: np.ndarray, model: EomModel, record: np.ndarray, before: np.ndarray) -> bool:
     """Update each joint's contact-event memory v0 (state slot ``2n + 2 + c``) after a step
     from the penetration δ and its rate δ̇ at the step's end (``record``) and start
@@ -1495,7 +1495,7 @@ def impact_rate(delta_0: float, rate_0: float, delta_1: float, rate_1: float) ->
     return rate_1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def project(t: float, y: np.ndarray, model: EomModel, work: np.ndarray) -> bool:
     """Project q and q̇ onto the ideal constraints when they are violated beyond the
     projection tolerance; record the largest violation and the projections in ``work``.

@@ -132,8 +132,9 @@ RtolOption = Annotated[
 IntegratorOption = Annotated[
     str | None,
     _opt(
-        "Integrator: radau (Radau IIA, order 5) or rodas4 (linearly implicit, order 4); default"
-        " radau, rodas4 for the paper's IFM ECS methods with every joint clear (docs/cli.md).",
+        "Integrator: radau (Radau IIA, order 5), rodas4 (linearly implicit, order 4) or dopri5"
+        " (explicit, order 5, for soft contact); default radau, rodas4 for the paper's IFM ECS"
+        " methods with every joint clear, dopri5 for ifm-conventional (docs/cli.md).",
         "--integrator",
         panel=RUN_PANEL,
     ),

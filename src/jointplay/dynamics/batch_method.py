@@ -17,7 +17,11 @@ from numpy.typing import NDArray
 from jointplay._kernels.contact import normal_force
 from jointplay.dynamics.batch_inputs import BatchSamples
 from jointplay.dynamics.clearance import ClearanceJoint
-from jointplay.dynamics.simulate import SolverOptions
+from jointplay.dynamics.simulate import (
+    EXPLICIT_TOLERANCE_SCALE,
+    EXPLICIT_TOLERANCES,
+    SolverOptions,
+)
 from jointplay.dynamics.system import PARAMS_WIDTH
 from jointplay.errors import JointplayError
 from jointplay.model.mechanism import Mechanism
@@ -43,17 +47,6 @@ DOPRI5_STABILITY = 3.3
 #: The explicit method is chosen when its stability limit allows steps of at least this
 #: fraction of the largest (accuracy) step; below it the contact is stiff at that step.
 STIFFNESS_RATIO = 1.0 / 10.0
-#: The explicit method runs at this fraction of the solver's rtol and velocity atol. For the
-#: same tolerances Dormand–Prince 5(4) lands ~2.5 times further from the exact solution than
-#: the single engine's Radau IIA (its error estimate is less conservative: on random samples
-#: of the paper's four-bar, ω peaks off a converged solution by up to 2.9e-5 against Radau's
-#: 1.2e-5, α peaks by 5.7e-3 against 7e-4); at a fifth of them by 7.1e-6 and 1.2e-3, for
-#: ~30 % more steps (docs/performance.md, "Against a converged solution").
-EXPLICIT_TOLERANCE_SCALE = 0.2
-EXPLICIT_TOLERANCES = (
-    f"at {EXPLICIT_TOLERANCE_SCALE:g} times the solver's rtol and velocity atol, as close to "
-    "the exact solution as Radau IIA at them"
-)
 
 
 @dataclass(frozen=True)

@@ -44,6 +44,7 @@ import numpy.typing as npt
 from numba.core.dispatcher import Dispatcher
 
 from jointplay._kernels import common as _common
+from jointplay._kernels import dopri as _dopri
 from jointplay._kernels import radau as _radau
 from jointplay._kernels import rodas as _rodas
 from jointplay.errors import ConfigError, IntegrationError
@@ -54,8 +55,13 @@ if TYPE_CHECKING:
 
 __all__ = ["METHODS", "IntegrationResult", "IntegrationStatus", "integrate"]
 
-#: The integration methods by name: Radau IIA (order 5) and RODAS4 (order 4).
-METHODS = {"radau": _radau.radau_integrate, "rodas4": _rodas.rodas_integrate}
+#: The integration methods by name: Radau IIA (order 5), RODAS4 (order 4) and DOPRI5 (order
+#: 5, explicit).
+METHODS = {
+    "radau": _radau.radau_integrate,
+    "rodas4": _rodas.rodas_integrate,
+    "dopri5": _dopri.dopri_integrate,
+}
 
 _EPS = float(np.finfo(np.float64).eps)
 _SMALLEST_RTOL = 100.0 * _EPS

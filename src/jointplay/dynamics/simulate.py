@@ -91,6 +91,23 @@ class Start:
             raise ConfigError("a ramp duration applies only to the 'ramp' start")
 
 
+#: The explicit method (DOPRI5: the batch engine's explicit lanes, the single engine's
+#: ``integrator="dopri5"``) runs at this fraction of the solver's rtol and velocity atol. For
+#: the same tolerances Dormand–Prince 5(4) lands ~2.5 times further from the exact solution than
+#: the single engine's Radau IIA (its error estimate is less conservative: on random samples
+#: of the paper's four-bar, ω peaks off a converged solution by up to 2.9e-5 against Radau's
+#: 1.2e-5, α peaks by 5.7e-3 against 7e-4); at a fifth of them by 7.1e-6 and 1.2e-3, for
+#: ~30 % more steps (docs/performance.md, "Against a converged solution"). The single engine,
+#: measured on the paper's conventional set: at the solver's own tolerances ω peaks off by up
+#: to 2.3e-5 (steady running, A clear), at a fifth of them by up to 8.8e-6 (docs/performance.md,
+#: "From rest: DOPRI5 for the conventional set").
+EXPLICIT_TOLERANCE_SCALE = 0.2
+EXPLICIT_TOLERANCES = (
+    f"at {EXPLICIT_TOLERANCE_SCALE:g} times the solver's rtol and velocity atol, as close to "
+    "the exact solution as Radau IIA at them"
+)
+
+
 @dataclass(frozen=True)
 class SolverOptions:
     """Integration settings (Radau IIA order 5 or RODAS4, with contact-onset control).
@@ -103,16 +120,21 @@ class SolverOptions:
         onset_tolerance: largest penetration accepted in the step where a contact begins, m
             (default: 1 % of the smallest clearance).
         max_steps: give up after this many accepted steps.
-        integrator: ``"radau"`` (Radau IIA, order 5) or ``"rodas4"`` (RODAS4, order 4,
-            linearly implicit: one LU per step and no Newton iteration); ``None`` (the
-            default): Radau IIA, or the one the paper method of a run's contact names where
-            it holds (:func:`jointplay.dynamics.settings.simulate_run`,
-            :func:`preferred_integrator`). RODAS4 is measured 1.6–2.8× faster on the paper's
-            IFM ECS contact sets with every joint clear, whose damping, full at a negligible
-            penetration, defeats Radau's simplified Newton iteration, and slower or no
-            faster on the other contacts measured, and 2–30× slower with ideal joints; at the
-            same rtol its global error is larger (docs/performance.md, "From rest: a
-            Rosenbrock method for the paper's ECS sets"). The paper's methods name theirs
+        integrator: ``"radau"`` (Radau IIA, order 5), ``"rodas4"`` (RODAS4, order 4,
+            linearly implicit: one LU per step and no Newton iteration) or ``"dopri5"``
+            (Dormand–Prince 5(4), explicit, run at ``EXPLICIT_TOLERANCE_SCALE`` of rtol and
+            atol_velocity); ``None`` (the default): Radau IIA, or the one the paper method
+            of a run's contact names where it holds
+            (:func:`jointplay.dynamics.settings.simulate_run`, :func:`preferred_integrator`).
+            RODAS4 is measured 1.6–2.8× faster on the paper's IFM ECS contact sets with
+            every joint clear, whose damping, full at a negligible penetration, defeats
+            Radau's simplified Newton iteration, and slower or no faster on the other
+            contacts measured, and 2–30× slower with ideal joints; at the same rtol its
+            global error is larger (docs/performance.md, "From rest: a Rosenbrock method for
+            the paper's ECS sets"). DOPRI5 is measured 1.7–3× faster on the paper's
+            conventional IMPACT set, which is not stiff at the accuracy step, and useless on
+            stiff contact (its steps then limited by stability: docs/performance.md, "From
+            rest: DOPRI5 for the conventional set"). The paper's methods name theirs
             (:attr:`jointplay.study.methods.Method.integrator`).
     """
 
@@ -126,8 +148,9 @@ class SolverOptions:
 
     def __post_init__(self) -> None:
         if self.integrator is not None and self.integrator not in INTEGRATION_METHODS:
+            *first, last = INTEGRATION_METHODS
             raise SettingError(
-                "{integrator} must be " + " or ".join(INTEGRATION_METHODS) + ", got {got!r}",
+                "{integrator} must be " + ", ".join(first) + f" or {last}, got {{got!r}}",
                 got=self.integrator,
             )
         for name in ("rtol", "atol_position", "atol_velocity", "max_step", "onset_tolerance"):
@@ -169,7 +192,8 @@ def preferred_integrator(
     is a clearance joint. With ideal joints beside (their constraints projected, the
     Jacobian differenced) RODAS4 was measured 2–30× slower than Radau on the very contact
     sets it is chosen for (docs/performance.md, "From rest: a Rosenbrock method for the
-    paper's ECS sets")."""
+    paper's ECS sets"). DOPRI5 holds with ideal joints too (no Jacobian: measured 2.1–2.4×
+    faster than Radau with one or two joints clear)."""
     clear = {c.joint for c in clearances}
     if preferred == "rodas4" and any(j.name not in clear for j in mechanism.joints):
         return None
@@ -558,10 +582,13 @@ def simulate(
     )
     y0 = initial_state(system, start)
     n = system.n_coordinates
+    # the explicit method at a fifth of the tolerances, as close to the exact solution as Radau
+    explicit = solver.integrator == "dopri5"
+    scale = EXPLICIT_TOLERANCE_SCALE if explicit else 1.0
     atol = np.concatenate(
         [
             np.full(n, solver.atol_position),
-            np.full(n, solver.atol_velocity),
+            np.full(n, scale * solver.atol_velocity),
             np.full(2, 1e-6),  # energy quadratures, J
             np.full(len(clearances), 1.0),  # impact-velocity memory: piecewise constant
         ]
@@ -575,7 +602,7 @@ def simulate(
         (0.0, t_end),
         y0,
         args=args,
-        rtol=solver.rtol,
+        rtol=scale * solver.rtol,
         atol=atol,
         max_step=solver.max_step if solver.max_step is not None else period / 360.0,
         max_steps=solver.max_steps,
@@ -911,6 +938,7 @@ def _eccentricity_rate(flat: Any, row: int, y: FloatArray, n: int) -> FloatArray
 _INTEGRATOR_NAMES = {
     "radau": "Radau IIA (order 5)",
     "rodas4": "RODAS4 (order 4, linearly implicit)",
+    "dopri5": "DOPRI5 (order 5, explicit)",
 }
 
 
@@ -939,7 +967,8 @@ def _solver_stats(
         max_pen[clearance.joint] = float(max(0.0, np.max(columns[f"pen_{clearance.joint}"])))
     stats = {
         "method": f"{_INTEGRATOR_NAMES[integrator]}, compiled; contact-onset step control;"
-        " constraint projection",
+        " constraint projection"
+        + (f"; {EXPLICIT_TOLERANCES}" if integrator == "dopri5" else ""),
         "integrator": integrator,
         "steps": run.n_steps,
         "rejected_steps": run.n_rejected,

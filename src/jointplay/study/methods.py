@@ -16,11 +16,15 @@ name                        contact law and parameters
 Each method also names the integrator it runs with (:attr:`Method.integrator`): RODAS4 for the
 two IFM ECS methods, whose damping, full at a negligible penetration (δ of 3.7e-5 mm and
 2.7e-10 mm against a 0.021 mm clearance), keeps failing Radau's simplified Newton iteration;
-Radau IIA for the others. Measured on the paper four-bar (docs/performance.md, "From rest: a
-Rosenbrock method for the paper's ECS sets"): RODAS4 runs the IFM ECS methods 1.6–2.8× faster
-from rest and steady, and the other four no faster or slower. It holds only with every joint
-clear (:func:`jointplay.dynamics.simulate.preferred_integrator`: with ideal joints beside it
-is 2–30× slower).
+DOPRI5 (explicit) for the IFM conventional method, whose soft contact is not stiff at the
+accuracy step; Radau IIA for the three RM methods, whose damping divided by the impact
+velocity makes slow contacts stiff. Measured on the paper four-bar (docs/performance.md,
+"From rest: a Rosenbrock method for the paper's ECS sets" and "From rest: DOPRI5 for the
+conventional set"): RODAS4 runs the IFM ECS methods 1.6–2.8× faster from rest and steady,
+DOPRI5 the IFM conventional one 1.7–3× faster, each at the accuracy contract; neither is
+faster on the RM methods. RODAS4 holds only with every joint clear
+(:func:`jointplay.dynamics.simulate.preferred_integrator`: with ideal joints beside it is
+2–30× slower); DOPRI5 holds with ideal joints too.
 
 Table 3 is :data:`jointplay.study.published.TABLE3_IMPACT`. ECS parameters come from
 :func:`jointplay.study.ecs.ecs_parameters` with ``source="computed"`` (our ECS estimate for the
@@ -60,8 +64,11 @@ class Method:
     @property
     def integrator(self) -> str:
         """The integrator this method runs with (``SolverOptions.integrator``): ``"rodas4"``
-        for IFM with ECS parameters, ``"radau"`` otherwise (module docstring)."""
-        return "rodas4" if self.family == "IFM" and self.uses_ecs else "radau"
+        for IFM with ECS parameters, ``"dopri5"`` for IFM with the conventional set,
+        ``"radau"`` for RM (module docstring)."""
+        if self.family != "IFM":
+            return "radau"
+        return "rodas4" if self.uses_ecs else "dopri5"
 
     @property
     def uses_ecs(self) -> bool:

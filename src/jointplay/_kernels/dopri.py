@@ -1,0 +1,231 @@
+"""Compiled variable-step DOPRI5: the explicit Dormand–Prince 5(4) pair for non-stiff ODEs.
+
+The method of Dormand & Prince [DP80]_ as tabulated in [HNW93]_ §II.5, Table 5.2 (the
+coefficients are the batch engine's explicit lane's, :mod:`jointplay._kernels.lanes.source`):
+seven stages, six evaluations of ``f`` per step (the last stage is ``f`` at the new point,
+reused as the next step's first), order 5 propagated, the embedded order-4 solution for
+the error estimate. No Jacobian, no linear algebra.
+
+Why the contact simulator has it beside Radau IIA and RODAS4 (issue 22, docs/performance.md,
+"From rest: DOPRI5 for the conventional set"): on the paper's *conventional* IMPACT set
+(k = 1e4 N/mm^1.5, c_max = 10 N·s/mm reached at 0.1 mm) the contact is soft enough that an
+explicit step's stability limit (~1.5e-4 s on the paper's four-bar) lies above the steps the
+accuracy asks for, so the equations are not stiff there and Radau's implicit stages buy
+nothing: a revolution from rest takes about as many DOPRI5 steps as Radau steps, each at
+about half the cost. On the stiff sets (the ECS sets, the joints' own Hertz stiffness) its
+steps would be set by stability, hundreds of times more of them: those keep Radau IIA or
+RODAS4 (the same rule as the batch engine's, :func:`jointplay.dynamics.batch_method.choose_method`).
+
+Interface and results as :func:`jointplay._kernels.radau.radau_integrate` (the same
+arguments, hooks, statuses and counters; ``jac``, ``n_second`` and ``hold_after_failure``
+are accepted and not needed; ``n_rejected_newton``, ``n_jac`` and ``n_lu`` stay 0):
+
+* ``step_check`` is called on every step that passed the error test and may shorten it
+  (contact onset), as in the Radau driver;
+* ``after_step`` is called on every accepted step and may modify ``y`` and ``args``; when it
+  returns True (a discontinuity: a projection, a change of contact memory) ``f`` is
+  evaluated afresh at the new point, otherwise the last stage's is kept (first same as last);
+* step-size control as ``dopri5.f`` without its PI term ([HNW93] §II.4): the factor
+  ``0.9·err^(−1/5)`` within [1/5, 10], no growth right after a rejection; a non-finite
+  stage is a rejection with ``h/5``; a non-finite state or ``f`` after a step ends the
+  integration with status −3.
+
+References:
+    .. [DP80] J. R. Dormand, P. J. Prince, "A family of embedded Runge-Kutta formulae",
+       *J. Comput. Appl. Math.* 6 (1980) 19–26.
+    .. [HNW93] E. Hairer, S. P. Nørsett, G. Wanner, *Solving Ordinary Differential Equations
+       I: Nonstiff Problems*, 2nd ed., Springer, 1993, §II.4–II.5.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from jointplay._kernels.common import (
+    EPS,
+    NFEV,
+    NREJ_CHECK,
+    NREJ_ERROR,
+    NSTEPS,
+    STATUS_INTERRUPTED,
+    STATUS_NON_FINITE,
+    STATUS_RUNNING,
+    STATUS_STEP_TOO_SMALL,
+    STATUS_SUCCESS,
+    STATUS_TOO_MANY_STEPS,
+    all_finite,
+    interrupt_pending,
+    jit,
+    py_max,
+    py_min,
+)
+from jointplay._kernels.lanes.source import (
+    A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61, A62, A63, A64, A65,
+    B1, B3, B4, B5, B6, C2, C3, C4, C5, E1, E3, E4, E5, E6, E7,
+    MAX_FACTOR, MIN_FACTOR, SAFETY,
+)  # fmt: skip
+from jointplay._kernels.radau import MAX_CHECK_REJECTIONS, _record, driver_start, run_core
+
+__all__ = ["dopri_integrate"]
+
+
+@jit
+def _step(fun, args, t, y, h, k, stage, y_new, atol, rtol):
+    """One DOPRI5 step of size ``h`` from ``(t, y)`` with ``k[0] = f(t, y)``: the stages
+    ``k[1..6]`` (``k[6]`` = f at the new point), ``y_new``. Returns the RMS error norm in
+    units of ``atol + rtol·max(|y|, |y_new|)`` (NaN when a stage is not finite)."""
+    n = y.shape[0]
+    for j in range(n):
+        stage[j] = y[j] + h * (A21 * k[0, j])
+    k[1, :] = fun(t + C2 * h, stage, args)
+    for j in range(n):
+        stage[j] = y[j] + h * (A31 * k[0, j] + A32 * k[1, j])
+    k[2, :] = fun(t + C3 * h, stage, args)
+    for j in range(n):
+        stage[j] = y[j] + h * (A41 * k[0, j] + A42 * k[1, j] + A43 * k[2, j])
+    k[3, :] = fun(t + C4 * h, stage, args)
+    for j in range(n):
+        stage[j] = y[j] + h * (A51 * k[0, j] + A52 * k[1, j] + A53 * k[2, j] + A54 * k[3, j])
+    k[4, :] = fun(t + C5 * h, stage, args)
+    for j in range(n):
+        stage[j] = y[j] + h * (
+            A61 * k[0, j] + A62 * k[1, j] + A63 * k[2, j] + A64 * k[3, j] + A65 * k[4, j]
+        )
+    k[5, :] = fun(t + h, stage, args)
+    for j in range(n):
+        y_new[j] = y[j] + h * (
+            B1 * k[0, j] + B3 * k[2, j] + B4 * k[3, j] + B5 * k[4, j] + B6 * k[5, j]
+        )
+    k[6, :] = fun(t + h, y_new, args)
+    total = 0.0
+    for j in range(n):
+        e = h * (
+            E1 * k[0, j] + E3 * k[2, j] + E4 * k[3, j] + E5 * k[4, j] + E6 * k[5, j]
+            + E7 * k[6, j]
+        )  # fmt: skip
+        scale = atol[j] + rtol * py_max(abs(y[j]), abs(y_new[j]))
+        total += (e / scale) ** 2
+    if not (all_finite(y_new) and all_finite(k[6])):
+        return math.nan
+    return math.sqrt(total / n)
+
+
+def _dopri_core(
+    fun,
+    step_check,
+    after_step,
+    jac_fun,
+    t0,
+    y0,
+    t_bound,
+    args,
+    rtol,
+    atol,
+    max_step,
+    first_step,
+    max_steps,
+    n_second,
+    n_active,
+    hold_after_failure,
+    interrupt,
+):
+    """The integrator; see :func:`dopri_integrate` (same arguments and results as
+    :func:`jointplay._kernels.radau._radau_core`)."""
+    n = y0.shape[0]
+    rtol = max(rtol, 100.0 * EPS)
+    direction = 1.0 if t_bound >= t0 else -1.0
+    t = t0
+    y = y0.copy()
+    status, counters, ts, ys, m, f, h_abs = driver_start(
+        fun, args, t0, y, t_bound, max_step, first_step, direction, rtol, atol
+    )
+    if status != STATUS_RUNNING:
+        return status, ts[:m].copy(), ys[:m].copy(), counters
+
+    k = np.empty((7, n))
+    stage = np.empty(n)
+    y_new = np.empty(n)
+
+    while status == STATUS_RUNNING:
+        if counters[NSTEPS] >= max_steps:
+            status = STATUS_TOO_MANY_STEPS
+            break
+        if interrupt_pending(interrupt):
+            status = STATUS_INTERRUPTED
+            break
+
+        failed = False
+        n_check = 0
+        error_norm = 0.0
+        t_new = t
+        while True:
+            min_step = 10.0 * abs(np.nextafter(t, direction * np.inf) - t)
+            h_abs = py_min(h_abs, max_step)
+            if h_abs < min_step:
+                status = STATUS_STEP_TOO_SMALL
+                break
+            h = h_abs * direction
+            t_new = t + h
+            if direction * (t_new - t_bound) > 0:
+                t_new = t_bound
+            h = t_new - t
+            h_abs = abs(h)
+
+            k[0, :] = f
+            error_norm = _step(fun, args, t, y, h, k, stage, y_new, atol, rtol)
+            counters[NFEV] += 6
+            if not error_norm <= 1.0:  # NaN fails too
+                shrink = SAFETY * error_norm**-0.2 if math.isfinite(error_norm) else 0.2
+                h_abs *= py_max(MIN_FACTOR, py_min(1.0, shrink))
+                failed = True
+                counters[NREJ_ERROR] += 1
+                continue
+
+            theta = step_check(t, y, t_new, y_new, args)  # land a step on contact onset
+            h_try = h_abs * theta
+            if theta < 1.0 and min_step <= h_try < h_abs and n_check < MAX_CHECK_REJECTIONS:
+                h_abs = h_try
+                n_check += 1
+                counters[NREJ_CHECK] += 1
+                continue
+            break
+        if status != STATUS_RUNNING:
+            break
+
+        if after_step(t_new, y_new, args):
+            f[:] = fun(t_new, y_new, args)
+            counters[NFEV] += 1
+        else:  # first same as last
+            f[:] = k[6]
+        if not (all_finite(y_new) and all_finite(f)):
+            status = STATUS_NON_FINITE
+            break
+        t = t_new
+        y, y_new = y_new, y
+        counters[NSTEPS] += 1
+        ts, ys = _record(ts, ys, m, t, y)
+        m += 1
+
+        grow = MAX_FACTOR if error_norm == 0.0 else SAFETY * error_norm**-0.2
+        grow = py_max(MIN_FACTOR, py_min(MAX_FACTOR, grow))
+        if failed:
+            grow = py_min(grow, 1.0)
+        h_abs *= grow
+        if direction * (t - t_bound) >= 0:
+            status = STATUS_SUCCESS
+
+    return status, ts[:m].copy(), ys[:m].copy(), counters
+
+
+def dopri_integrate(
+    *args: Any, **kwargs: Any
+) -> tuple[int, npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.int64]]:
+    """Integrate ``y' = fun(t, y, args)`` with DOPRI5; arguments, hooks and results as
+    :func:`jointplay._kernels.radau.radau_integrate` (``jac``, ``n_second`` and
+    ``hold_after_failure`` unused: an explicit method; ``n_rejected_newton``, ``n_jac`` and
+    ``n_lu`` are always 0)."""
+    return run_core(_dopri_core, *args, **kwargs)
