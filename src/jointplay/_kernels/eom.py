@@ -250,13 +250,38 @@ def _arm(
 
 
 @njit(cache=True, inline="always")
+def _rotation_of(
+    q: np.ndarray, body: int, last: tuple[int, float, float, int, float, float]
+) -> tuple[float, float]:
+    """(cos φ, sin φ) of ``body``: from ``last`` (the two bodies of the joint before, with
+    theirs) when it is one of them, else computed. Joints listed along a chain share a body
+    with the one before (the four-bar's O2, A, B, O4: three rotations instead of six), and the
+    values are the same bits either way. The right-hand side's variant of :func:`_rotations`,
+    which allocates."""
+    if body == last[0]:
+        return last[1], last[2]
+    if body == last[3]:
+        return last[4], last[5]
+    if body < 0:
+        return 1.0, 0.0
+    return np.cos(q[3 * body + 2]), np.sin(q[3 * body + 2])
+
+
+@njit(cache=True, inline="always")
 def _arm_of(q: np.ndarray, body: int, sx: float, sy: float) -> tuple[float, float, float, float]:
-    """:func:`_arm` computing the body's rotation itself (the right-hand side's variant:
-    measured faster there than sharing :func:`_rotations` between the joints)."""
+    """:func:`_arm` computing the body's rotation itself."""
     if body < 0:
         return sx, sy, 0.0, 0.0
-    c = np.cos(q[3 * body + 2])
-    s = np.sin(q[3 * body + 2])
+    return _arm_rotated(q, body, np.cos(q[3 * body + 2]), np.sin(q[3 * body + 2]), sx, sy)
+
+
+@njit(cache=True, inline="always")
+def _arm_rotated(
+    q: np.ndarray, body: int, c: float, s: float, sx: float, sy: float
+) -> tuple[float, float, float, float]:
+    """:func:`_arm` with the body's (cos φ, sin φ) given."""
+    if body < 0:
+        return sx, sy, 0.0, 0.0
     rx = c * sx - s * sy
     ry = s * sx + c * sy
     return q[3 * body] + rx, q[3 * body + 1] + ry, rx, ry
@@ -371,11 +396,15 @@ def add_contact_forces(
     recording = record.shape[0] > 0
     film = model.settings[S_FILM]
     power = 0.0
+    last = (-2, 1.0, 0.0, -2, 1.0, 0.0)  # no body yet (-1 is the ground)
     for c in range(nc):
         j = clear_joint[c]
         a, b = joint_int[3 * j + 1], joint_int[3 * j + 2]
-        bx, by, rax, ray = _arm_of(q, a, joint_f[6 * j], joint_f[6 * j + 1])
-        jx, jy, rbx, rby = _arm_of(q, b, joint_f[6 * j + 2], joint_f[6 * j + 3])
+        cos_a, sin_a = _rotation_of(q, a, last)
+        cos_b, sin_b = _rotation_of(q, b, last)
+        last = (a, cos_a, sin_a, b, cos_b, sin_b)
+        bx, by, rax, ray = _arm_rotated(q, a, cos_a, sin_a, joint_f[6 * j], joint_f[6 * j + 1])
+        jx, jy, rbx, rby = _arm_rotated(q, b, cos_b, sin_b, joint_f[6 * j + 2], joint_f[6 * j + 3])
         ex, ey = jx - bx, jy - by
         emag = np.sqrt(ex * ex + ey * ey)
         delta = emag - geom[N_GEOM * c + G_CLEARANCE]
@@ -1321,24 +1350,36 @@ def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: n
 
 @njit(cache=True, inline="always")
 def onset_check(
-    t_old: float, y_old: np.ndarray, t_new: float, y_new: np.ndarray, model: EomModel
-) -> float:
-    """:func:`step_check` on an unpacked model (the batch engine's form)."""
+    t_old: float, y_old: np.ndarray, t_new: float, y_new: np.ndarray, model: EomModel,
+    work: np.ndarray,
+) -> float:  # fmt: skip
+    """:func:`step_check` on an unpacked model. δ at the step's start is the one the
+    workspace ``work`` keeps from the last accepted step's end (:func:`_remember`: the same
+    arithmetic, so the same bits) when it holds one, else computed from ``y_old``; δ at its
+    end only for the joints free at its start."""
     joint_int, joint_f, clear_joint, geom = (
         model.joint_int, model.joint_f, model.clear_joint, model.geom,
     )  # fmt: skip
     n = model.mass.shape[0]
     nc = clear_joint.shape[0]
     tolerance = model.settings[S_ONSET_TOL]
+    remembered = work.shape[0] >= N_WORK + 2 * nc and work[W_HAS_PREVIOUS] > 0.0
     theta = 1.0
-    rot_old = _rotations(y_old[:n])
-    rot_new = _rotations(y_new[:n])
+    rot_old = y_old[:0]  # computed when first needed
+    rot_new = y_new[:0]
     for c in range(nc):
         j = clear_joint[c]
         clearance = geom[N_GEOM * c + G_CLEARANCE]
-        old = _penetration(y_old[:n], rot_old, joint_int, joint_f, j, clearance)
+        if remembered:
+            old = work[N_WORK + 2 * c]
+        else:
+            if rot_old.shape[0] == 0:
+                rot_old = _rotations(y_old[:n])
+            old = _penetration(y_old[:n], rot_old, joint_int, joint_f, j, clearance)
         if old > 0.0 or _locked(y_old[2 * n + 2 + c]):
             continue
+        if rot_new.shape[0] == 0:
+            rot_new = _rotations(y_new[:n])
         new = _penetration(y_new[:n], rot_new, joint_int, joint_f, j, clearance)
         theta = min(theta, _onset_fraction(old, new, tolerance))
     return theta
@@ -1391,7 +1432,7 @@ def step_check(
     back out of the wall along a (locally straight) step without ending in contact.
     """
     model = unpack(args[0], args[1])
-    theta = onset_check(t_old, y_old, t_new, y_new, model)
+    theta = onset_check(t_old, y_old, t_new, y_new, model, args[2])
     if any_locked(y_new, model):  # the locked set is constant over a step
         theta = min(theta, release_check(t_old, y_old, t_new, y_new, model))
     return theta
