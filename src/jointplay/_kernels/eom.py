@@ -1263,8 +1263,6 @@ def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: n
     power_row = 2 * n + 1
     film = model.settings[S_FILM]
     rot = _rotations(q)
-    de = np.empty(2)
-    dv = np.empty(2)
     for c in range(nc):
         j = clear_joint[c]
         a, b = joint_int[3 * j + 1], joint_int[3 * j + 2]
@@ -1298,23 +1296,27 @@ def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: n
             sign = 1.0 if side == 0 else -1.0
             rx, ry = (rbx, rby) if side == 0 else (rax, ray)
             w = wb if side == 0 else wa
-            for k in range(6):  # x, y, φ, ẋ, ẏ, ω of this body
-                de[0] = de[1] = dv[0] = dv[1] = 0.0
+            for k in range(6):  # x, y, φ, ẋ, ẏ, ω of this body; ∂e = de, ∂ė = dv
+                de_x = de_y = dv_x = dv_y = 0.0
                 dw_b = dw_a = 0.0
-                if k < 2:
-                    de[k] = sign
+                if k == 0:
+                    de_x = sign
+                elif k == 1:
+                    de_y = sign
                 elif k == 2:
-                    de[0], de[1] = -sign * ry, sign * rx
-                    dv[0], dv[1] = -sign * w * rx, -sign * w * ry
-                elif k < 5:
-                    dv[k - 3] = sign
+                    de_x, de_y = -sign * ry, sign * rx
+                    dv_x, dv_y = -sign * w * rx, -sign * w * ry
+                elif k == 3:
+                    dv_x = sign
+                elif k == 4:
+                    dv_y = sign
                 else:
-                    dv[0], dv[1] = -sign * ry, sign * rx
+                    dv_x, dv_y = -sign * ry, sign * rx
                     dw_b, dw_a = (1.0, 0.0) if side == 0 else (0.0, 1.0)
-                tangential = (tx * de[0] + ty * de[1]) / length  # (t·∂e)/|e|
-                d_delta = nx * de[0] + ny * de[1]
-                d_rate = nx * dv[0] + ny * dv[1] + slide * tangential
-                d_slip = tx * dv[0] + ty * dv[1] - delta_dot * tangential + r_j * dw_b - r_b * dw_a
+                tangential = (tx * de_x + ty * de_y) / length  # (t·∂e)/|e|
+                d_delta = nx * de_x + ny * de_y
+                d_rate = nx * dv_x + ny * dv_y + slide * tangential
+                d_slip = tx * dv_x + ty * dv_y - delta_dot * tangential + r_j * dw_b - r_b * dw_a
                 d_fn = n_delta * d_delta + n_rate * d_rate
                 d_ft = t_slip * d_slip + t_normal * d_fn
                 dfx = -d_fn * nx - d_ft * tx + (-f_n * tx + f_t * nx) * tangential

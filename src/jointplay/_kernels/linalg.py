@@ -13,7 +13,7 @@ import numpy as np
 
 from jointplay._kernels.common import jit
 
-__all__ = ["lu_factor", "lu_solve", "lu_solve_in_place"]
+__all__ = ["lu_factor", "lu_factor_in_place", "lu_solve", "lu_solve_in_place"]
 
 
 @jit
@@ -29,9 +29,17 @@ def lu_factor(a):
         A zero pivot is left in place (the matrix is singular): solving then gives
         inf/NaN, which the integrator treats as a failed Newton iteration.
     """
-    n = a.shape[0]
     lu = a.copy()
-    piv = np.empty(n, dtype=np.int64)
+    piv = np.empty(a.shape[0], dtype=np.int64)
+    lu_factor_in_place(lu, piv)
+    return lu, piv
+
+
+@jit
+def lu_factor_in_place(lu, piv):
+    """:func:`lu_factor` overwriting ``lu`` (the matrix on entry) with its factors and
+    ``piv`` (int64, (n,)) with the row interchanges: no allocation."""
+    n = lu.shape[0]
     for k in range(n):
         p = k
         amax = abs(lu[k, k].real) + abs(lu[k, k].imag)
@@ -55,7 +63,6 @@ def lu_factor(a):
                 if lik != 0:
                     for j in range(k + 1, n):
                         lu[i, j] -= lik * lu[k, j]
-    return lu, piv
 
 
 @jit

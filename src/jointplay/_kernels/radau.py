@@ -620,6 +620,7 @@ def _radau_core(
     n_second,
     n_active,
     hold_after_failure,
+    autonomous,
     interrupt,
 ):
     """The integrator itself; see :func:`radau_integrate` (same arguments and results).
@@ -893,6 +894,7 @@ def _core_signature(args_type: Any) -> tuple[Any, ...]:
         numba.types.int64,
         numba.types.int64,
         numba.types.boolean,
+        numba.types.boolean,
         numba.types.uint8[::1],
     )
 
@@ -938,6 +940,7 @@ def run_core(
     n_active: int | None = None,
     hold_after_failure: bool = False,
     jac: Any = None,
+    autonomous: bool = False,
     interrupt: npt.NDArray[np.uint8] | None = None,
 ) -> tuple[int, npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.int64]]:
     """Run a driver with :func:`_radau_core`'s signature (Radau here, RODAS4 in
@@ -968,6 +971,7 @@ def run_core(
         int(n_second),
         n_active,
         bool(hold_after_failure),
+        bool(autonomous),
         _NO_INTERRUPT if interrupt is None else interrupt,
     )
     return int(status), t_out, y_out, counters
@@ -1025,6 +1029,11 @@ def radau_integrate(
             ``(t, y)`` (``f = fun(t, y, args)``) into ``out`` (n, n) and returning
             ``True``, or returning ``False`` to let the kernel difference ``fun`` as SciPy
             does. ``None`` (default): always difference. Counted in ``njev`` either way.
+        autonomous: ``fun`` does not depend on ``t`` (``∂f/∂t = 0``): RODAS4 then leaves out
+            the difference of ``fun`` in ``t`` it takes at every step's start (one
+            evaluation of the 7–8 a step; the same result to the bit, as that difference is
+            exactly 0 then). Radau IIA and DOPRI5 need no ``∂f/∂t``. ``False`` (default):
+            RODAS4 differences.
         interrupt: uint8 C-contiguous flags read before every step (see
             :func:`jointplay._kernels.common.interrupt_pending`): once they hold SIGINT or
             SIGTERM the integration stops with status ``-4``. ``None`` (default): never.

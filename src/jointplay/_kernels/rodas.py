@@ -6,7 +6,8 @@ L-stable. Per step: the Jacobian ``J`` at the step's start (the user's closed fo
 ``jac`` gives one, else SciPy's ``num_jac`` started afresh from its initial step at every
 call: a Rosenbrock method needs the Jacobian itself, and ``num_jac``'s steps, adapted from
 call to call, can grow across a kink of ``f``), ``∂f/∂t`` by one forward difference (as
-``rodas.f``), **one** LU of ``1/(γh)·I − J`` (reduced to the velocities as Radau's Newton matrices are,
+``rodas.f``; none when the caller declares ``fun`` autonomous), **one** LU of
+``1/(γh)·I − J`` (reduced to the velocities as Radau's Newton matrices are,
 :func:`jointplay._kernels.radau.reduced_newton_matrix`), five evaluations of ``f`` and
 six solves. There is no Newton iteration, hence no Newton failure.
 
@@ -68,15 +69,13 @@ from jointplay._kernels.common import (
     STATUS_SUCCESS,
     STATUS_TOO_MANY_STEPS,
     all_finite,
-    error_scale,
     interrupt_pending,
     jit,
     num_jac,
     py_max,
     py_min,
-    rms_norm,
 )
-from jointplay._kernels.linalg import lu_factor
+from jointplay._kernels.linalg import lu_factor_in_place
 from jointplay._kernels.radau import (
     MAX_CHECK_REJECTIONS,
     _newton_solve_in_place,
@@ -123,10 +122,10 @@ MAX_FACTOR = 5.0  # longest step factor
 
 
 @jit
-def _factor(jac, alpha, n_second, n_active):
-    """LU of ``α·I − J`` reduced to the kept block, as Radau's real Newton matrix."""
-    nk = n_active - n_second
-    return lu_factor(reduced_newton_matrix(jac, alpha, np.empty((nk, nk)), n_second, n_active))
+def _factor(jac, alpha, n_second, n_active, lu, piv):
+    """LU of ``α·I − J`` reduced to the kept block, as Radau's real Newton matrix, into
+    ``lu`` (nk, nk) and ``piv`` (nk,), ``nk = n_active − n_second``."""
+    lu_factor_in_place(reduced_newton_matrix(jac, alpha, lu, n_second, n_active), piv)
 
 
 @jit
@@ -180,6 +179,7 @@ def _rodas_core(
     n_second,
     n_active,
     hold_after_failure,
+    autonomous,
     interrupt,
 ):
     """The integrator; see :func:`rodas_integrate` (same arguments and results as
@@ -203,6 +203,8 @@ def _rodas_core(
     x = np.empty(n)
     work = np.empty(n_active - n_second)
     y_new = np.empty(n)
+    lu = np.empty((n_active - n_second, n_active - n_second))
+    piv = np.empty(n_active - n_second, dtype=np.int64)
     h_accepted = 0.0
     error_accepted = 1.0
 
@@ -222,11 +224,14 @@ def _rodas_core(
                 jac_factor[j] = EPS**0.5
             jac = num_jac(fun, args, t, y, f, atol, jac_factor, n_active)
         counters[NJEV] += 1
-        dt = direction * math.sqrt(EPS * py_max(1e-5, abs(t)))  # rodas.f's DELT
-        f_later = fun(t + dt, y, args)
-        counters[NFEV] += 1
-        for j in range(n):
-            ft[j] = (f_later[j] - f[j]) / dt
+        if autonomous:
+            ft[:] = 0.0
+        else:
+            dt = direction * math.sqrt(EPS * py_max(1e-5, abs(t)))  # rodas.f's DELT
+            f_later = fun(t + dt, y, args)
+            counters[NFEV] += 1
+            for j in range(n):
+                ft[j] = (f_later[j] - f[j]) / dt
 
         failed = False
         n_check = 0
@@ -245,16 +250,19 @@ def _rodas_core(
             h = t_new - t
             h_abs = abs(h)
 
-            lu, piv = _factor(jac, 1.0 / (h * GAMMA), n_second, n_active)
+            _factor(jac, 1.0 / (h * GAMMA), n_second, n_active, lu, piv)
             counters[NLU] += 1
             nfev, finite = _stages(
                 fun, args, t, y, f, ft, h, jac, lu, piv, n_second, n_active, k, stage, x, work
             )
             counters[NFEV] += nfev
             if finite:
+                total = 0.0
                 for j in range(n):
                     y_new[j] = stage[j] + k[5, j]
-                error_norm = rms_norm(k[5], error_scale(y, y_new, atol, rtol))
+                    scaled = k[5, j] / (atol[j] + py_max(abs(y[j]), abs(y_new[j])) * rtol)
+                    total += scaled * scaled
+                error_norm = math.sqrt(total) / math.sqrt(n)  # common.rms_norm's arithmetic
             if not (finite and error_norm <= 1.0):  # NaN fails too
                 shrink = SAFETY * error_norm**-0.25 if finite else 0.2
                 h_abs *= py_max(MIN_FACTOR, py_min(1.0, shrink))
@@ -273,16 +281,14 @@ def _rodas_core(
         if status != STATUS_RUNNING:
             break
 
-        y_step = y_new.copy()
-        after_step(t_new, y_step, args)
-        f_new = fun(t_new, y_step, args).copy()
+        after_step(t_new, y_new, args)
+        f[:] = fun(t_new, y_new, args)
         counters[NFEV] += 1
-        if not (all_finite(y_step) and all_finite(f_new)):
+        if not (all_finite(y_new) and all_finite(f)):
             status = STATUS_NON_FINITE
             break
         t = t_new
-        y = y_step
-        f = f_new
+        y, y_new = y_new, y
         counters[NSTEPS] += 1
         ts, ys = _record(ts, ys, m, t, y)
         m += 1

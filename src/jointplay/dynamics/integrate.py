@@ -1,4 +1,4 @@
-"""Stiff time integration: the Python face of the compiled Radau IIA and RODAS4 kernels.
+"""Time integration: the Python face of the compiled Radau IIA, RODAS4 and DOPRI5 kernels.
 
 :func:`integrate` checks its inputs (raising :class:`~jointplay.errors.ConfigError` that
 names the argument and the fix), runs :func:`jointplay._kernels.radau.radau_integrate`
@@ -17,7 +17,9 @@ and ``after_step`` (project the state, update contact memory). See the kernel mo
 the algorithm. ``method="rodas4"`` is a linearly implicit method (Rosenbrock, order 4,
 Hairer & Wanner §IV.7) with the same hooks and results: one LU per step and no Newton
 iteration, faster where the simplified Newton iteration of Radau keeps failing (contact
-whose damping dominates, see :mod:`jointplay._kernels.rodas`). Time is in seconds when the
+whose damping dominates, see :mod:`jointplay._kernels.rodas`); ``method="dopri5"`` is the
+explicit Dormand–Prince 5(4) pair with the same hooks, for equations that are not stiff at
+the accuracy step (:mod:`jointplay._kernels.dopri`). Time is in seconds when the
 dynamics engine calls this; the integrator itself is unit-agnostic.
 
 Example:
@@ -178,6 +180,7 @@ def integrate(
     jac: Any = None,
     throw: bool = True,
     method: str = "radau",
+    autonomous: bool = False,
 ) -> IntegrationResult:
     """Integrate ``y' = fun(t, y, args)`` over ``t_span`` with compiled Radau IIA (order 5)
     or RODAS4.
@@ -218,9 +221,13 @@ def integrate(
             kernel difference ``fun``. ``None``: always difference.
         throw: Raise :class:`~jointplay.errors.IntegrationError` when the integration
             fails (default); with ``False``, return the partial result with its status.
-        method: ``"radau"`` (Radau IIA, order 5; default) or ``"rodas4"`` (RODAS4, order
+        method: ``"radau"`` (Radau IIA, order 5; default), ``"rodas4"`` (RODAS4, order
             4, linearly implicit: ``jac`` at every step's start, no Newton iteration, so
-            ``n_rejected_newton`` is 0).
+            ``n_rejected_newton`` is 0) or ``"dopri5"`` (Dormand–Prince 5(4), explicit: no
+            Jacobian, ``njev`` and ``nlu`` are 0).
+        autonomous: ``fun`` does not depend on ``t``: RODAS4 then takes no difference of
+            ``fun`` in ``t`` (one evaluation a step saved; the same result, that difference
+            being exactly zero); the other methods need none.
 
     Returns:
         The recorded steps, the status and the counters.
@@ -265,6 +272,7 @@ def integrate(
             n_active=n_active,
             hold_after_failure=hold_after_failure,
             jac=jac,
+            autonomous=bool(autonomous),
             interrupt=flags,
         )
     status = IntegrationStatus(status_code)

@@ -614,6 +614,7 @@ def simulate(
         jac=eom.jacobian_state,  # closed form when every joint is clear, else differences
         throw=False,
         method=solver.integrator or "radau",
+        autonomous=not start.ramp_time > 0,  # t enters only through the driver's ramp
     )
     wall = time.perf_counter() - wall
     message = _message(run, t_end, solver)
@@ -967,8 +968,7 @@ def _solver_stats(
         max_pen[clearance.joint] = float(max(0.0, np.max(columns[f"pen_{clearance.joint}"])))
     stats = {
         "method": f"{_INTEGRATOR_NAMES[integrator]}, compiled; contact-onset step control;"
-        " constraint projection"
-        + (f"; {EXPLICIT_TOLERANCES}" if integrator == "dopri5" else ""),
+        " constraint projection" + (f"; {EXPLICIT_TOLERANCES}" if integrator == "dopri5" else ""),
         "integrator": integrator,
         "steps": run.n_steps,
         "rejected_steps": run.n_rejected,
