@@ -1074,7 +1074,7 @@ _LAW_STEP = 1.4901161193847656e-08
 _RATE_FLOOR = 1e-3
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _law_slopes(
     law: int, law_row: np.ndarray, fric: int, fric_row: np.ndarray,
     delta: float, delta_dot: float, v_t: float, v0: float, f_n: float,

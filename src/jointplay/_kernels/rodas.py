@@ -136,6 +136,7 @@ def _stages(fun, args, t, y, f, ft, h, jac, lu, piv, n_second, n_active, k, stag
     n = y.shape[0]
     alpha = 1.0 / (h * GAMMA)
     nfev = 0
+    coupling = np.empty(6)  # C_si / h of this stage, once (not once per component)
     for s in range(6):
         if s == 0:
             fs = f
@@ -148,10 +149,12 @@ def _stages(fun, args, t, y, f, ft, h, jac, lu, piv, n_second, n_active, k, stag
             fs = fun(t + NODES[s] * h, stage, args)
             nfev += 1
         finite = True
+        for i in range(s):
+            coupling[i] = CC[s, i] / h
         for j in range(n):
             acc = fs[j] + D[s] * h * ft[j]
             for i in range(s):
-                acc += CC[s, i] / h * k[i, j]
+                acc += coupling[i] * k[i, j]
             x[j] = acc
             finite = finite and math.isfinite(acc)
         if not finite:
