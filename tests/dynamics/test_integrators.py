@@ -143,7 +143,7 @@ def test_a_run_takes_its_methods_integrator_unless_one_is_chosen(paper_fourbar) 
     only_a = contact.joints(paper_fourbar, ["A"])
     assert preferred_integrator("rodas4", paper_fourbar, only_a) is None
     assert preferred_integrator("rodas4", paper_fourbar, contact.joints(paper_fourbar)) == "rodas4"
-    # DOPRI5 needs no Jacobian: it holds with ideal joints beside (measured 2.1-2.4x faster).
+    # DOPRI5 needs no Jacobian: it holds with ideal joints beside (measured 1.8-2.5x faster).
     assert preferred_integrator("dopri5", paper_fourbar, only_a) == "dopri5"
     partial = simulate_run(paper_fourbar, only_a, RunSettings(**short))
     assert partial.solver_stats["integrator"] == "radau"

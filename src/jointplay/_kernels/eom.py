@@ -37,6 +37,11 @@ only constraint), :func:`jacobian_state` (∂ẏ/∂y in closed form in that cas
 :func:`step_check` (contact onset) and :func:`after_step` (contact memory, projection).
 The integrator is told that q̇ = d/dt q (``n_second``) and that W_motor, W_contact and v0
 do not feed back (``n_active``), see :func:`jointplay._kernels.radau.radau_integrate`.
+The small helpers those four call are inlined by Numba (``inline="always"``): a compiled call
+that takes the unpacked model (13 arrays) cost 100–150 ns however little it did, several
+times a step (docs/performance.md, "From rest: DOPRI5 for the conventional set"). After
+editing one of them, delete the on-disk caches of the functions that inline it (the README's
+``find src -name "*.nb[ic]" -delete``): Numba does not follow that dependency.
 
 Clearance joint (Flores et al., *Kinematics and Dynamics of Multibody Systems with Imperfect
 Joints*, 2008; docs/contact-laws.md §5): bearing on body a, journal on body b,

@@ -131,7 +131,7 @@ class SolverOptions:
             Radau's simplified Newton iteration, and slower or no faster on the other
             contacts measured, and 2–30× slower with ideal joints; at the same rtol its
             global error is larger (docs/performance.md, "From rest: a Rosenbrock method for
-            the paper's ECS sets"). DOPRI5 is measured 1.7–3× faster on the paper's
+            the paper's ECS sets"). DOPRI5 is measured 1.4–2.5× faster on the paper's
             conventional IMPACT set, which is not stiff at the accuracy step, and useless on
             stiff contact (its steps then limited by stability: docs/performance.md, "From
             rest: DOPRI5 for the conventional set"). The paper's methods name theirs
@@ -192,8 +192,8 @@ def preferred_integrator(
     is a clearance joint. With ideal joints beside (their constraints projected, the
     Jacobian differenced) RODAS4 was measured 2–30× slower than Radau on the very contact
     sets it is chosen for (docs/performance.md, "From rest: a Rosenbrock method for the
-    paper's ECS sets"). DOPRI5 holds with ideal joints too (no Jacobian: measured 2.1–2.4×
-    faster than Radau with one or two joints clear)."""
+    paper's ECS sets"). DOPRI5 holds with ideal joints too (no Jacobian: measured 1.8× and
+    2.5× faster than Radau from rest with A, or B and O4, clear)."""
     clear = {c.joint for c in clearances}
     if preferred == "rodas4" and any(j.name not in clear for j in mechanism.joints):
         return None

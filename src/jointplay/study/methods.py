@@ -21,7 +21,7 @@ accuracy step; Radau IIA for the three RM methods, whose damping divided by the 
 velocity makes slow contacts stiff. Measured on the paper four-bar (docs/performance.md,
 "From rest: a Rosenbrock method for the paper's ECS sets" and "From rest: DOPRI5 for the
 conventional set"): RODAS4 runs the IFM ECS methods 1.6–2.8× faster from rest and steady,
-DOPRI5 the IFM conventional one 1.7–3× faster, each at the accuracy contract; neither is
+DOPRI5 the IFM conventional one 1.4–2.5× faster, each at the accuracy contract; neither is
 faster on the RM methods. RODAS4 holds only with every joint clear
 (:func:`jointplay.dynamics.simulate.preferred_integrator`: with ideal joints beside it is
 2–30× slower); DOPRI5 holds with ideal joints too.
