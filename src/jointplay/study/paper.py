@@ -472,7 +472,8 @@ def run_paper_study(
         law=method_law("ifm-conventional", mechanism)[0],
     )
     kernels = time.perf_counter()
-    for integrator in ("radau", "rodas4"):  # the IFM ECS methods run RODAS4
+    # the IFM ECS methods run RODAS4, the IFM conventional one DOPRI5, the others Radau
+    for integrator in ("radau", "rodas4", "dopri5"):
         simulate(
             mechanism,
             warm,
