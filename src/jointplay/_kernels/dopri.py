@@ -98,7 +98,7 @@ from jointplay._kernels.lanes.source import (
     MIN_FACTOR,
     SAFETY,
 )  # fmt: skip
-from jointplay._kernels.radau import MAX_CHECK_REJECTIONS, _record, driver_start, run_core
+from jointplay._kernels.radau import _record, driver_start, next_try, onset_retry, run_core
 
 __all__ = ["dopri_integrate"]
 
@@ -194,17 +194,10 @@ def _dopri_core(
         error_norm = 0.0
         t_new = t
         while True:
-            min_step = 10.0 * abs(np.nextafter(t, direction * np.inf) - t)
-            h_abs = py_min(h_abs, max_step)
-            if h_abs < min_step:
+            too_small, min_step, h, t_new, h_abs = next_try(t, h_abs, max_step, direction, t_bound)
+            if too_small:
                 status = STATUS_STEP_TOO_SMALL
                 break
-            h = h_abs * direction
-            t_new = t + h
-            if direction * (t_new - t_bound) > 0:
-                t_new = t_bound
-            h = t_new - t
-            h_abs = abs(h)
 
             k[0, :] = f
             error_norm = _step(fun, args, t, y, h, k, stage, y_new, atol, rtol)
@@ -216,9 +209,8 @@ def _dopri_core(
                 counters[NREJ_ERROR] += 1
                 continue
 
-            theta = step_check(t, y, t_new, y_new, args)  # land a step on contact onset
-            h_try = h_abs * theta
-            if theta < 1.0 and min_step <= h_try < h_abs and n_check < MAX_CHECK_REJECTIONS:
+            h_try = onset_retry(step_check, args, t, y, t_new, y_new, h_abs, min_step, n_check)
+            if h_try > 0.0:  # land a step on contact onset
                 h_abs = h_try
                 n_check += 1
                 counters[NREJ_CHECK] += 1

@@ -566,6 +566,39 @@ def _jacobian(fun, jac, args, t, y, f, threshold, factor, n_active):
 # ---------------------------------------------------------------------------------------
 # The driver.
 # ---------------------------------------------------------------------------------------
+@numba.njit(cache=True, error_model="numpy", inline="always")  # in the drivers' loops
+def next_try(t, h_abs, max_step, direction, t_bound):
+    """The next try of a step from ``t`` for the one-step drivers (RODAS4's, DOPRI5's):
+    ``h_abs`` capped at ``max_step``, then the step cut to end on ``t_bound``.
+
+    Returns:
+        ``(too_small, min_step, h, t_new, h_abs)``: ``too_small`` when the capped step is
+        below ``min_step = 10·spacing(t)`` (the driver stops with ``STATUS_STEP_TOO_SMALL``;
+        the other values are then not meant for use); the signed step, its end and its size.
+    """
+    min_step = 10.0 * abs(np.nextafter(t, direction * np.inf) - t)
+    h_abs = py_min(h_abs, max_step)
+    if h_abs < min_step:
+        return True, min_step, 0.0, t, h_abs
+    t_new = t + h_abs * direction
+    if direction * (t_new - t_bound) > 0:
+        t_new = t_bound
+    h = t_new - t
+    return False, min_step, h, t_new, abs(h)
+
+
+@numba.njit(cache=True, error_model="numpy", inline="always")  # in the drivers' loops
+def onset_retry(step_check, args, t, y, t_new, y_new, h_abs, min_step, n_check):
+    """``step_check``'s verdict on a step that passed the error test: the shorter step to
+    retry it with (it asks for ``h·θ``, ``θ < 1``, not below ``min_step``, and this step has
+    been retried fewer than ``MAX_CHECK_REJECTIONS`` times), else 0 (accept)."""
+    theta = step_check(t, y, t_new, y_new, args)
+    h_try = h_abs * theta
+    if theta < 1.0 and min_step <= h_try < h_abs and n_check < MAX_CHECK_REJECTIONS:
+        return h_try
+    return 0.0
+
+
 @jit
 def driver_start(fun, args, t0, y0, t_bound, max_step, first_step, direction, rtol, atol):
     """What every driver does before its first step (Radau's, RODAS4's): record ``(t0, y0)``;

@@ -77,10 +77,11 @@ from jointplay._kernels.common import (
 )
 from jointplay._kernels.linalg import lu_factor_in_place
 from jointplay._kernels.radau import (
-    MAX_CHECK_REJECTIONS,
     _newton_solve_in_place,
     _record,
     driver_start,
+    next_try,
+    onset_retry,
     reduced_newton_matrix,
     run_core,
 )
@@ -241,17 +242,10 @@ def _rodas_core(
         error_norm = 0.0
         t_new = t
         while True:
-            min_step = 10.0 * abs(np.nextafter(t, direction * np.inf) - t)
-            h_abs = py_min(h_abs, max_step)
-            if h_abs < min_step:
+            too_small, min_step, h, t_new, h_abs = next_try(t, h_abs, max_step, direction, t_bound)
+            if too_small:
                 status = STATUS_STEP_TOO_SMALL
                 break
-            h = h_abs * direction
-            t_new = t + h
-            if direction * (t_new - t_bound) > 0:
-                t_new = t_bound
-            h = t_new - t
-            h_abs = abs(h)
 
             _factor(jac, 1.0 / (h * GAMMA), n_second, n_active, lu, piv)
             counters[NLU] += 1
@@ -273,9 +267,8 @@ def _rodas_core(
                 counters[NREJ_ERROR] += 1
                 continue
 
-            theta = step_check(t, y, t_new, y_new, args)  # land a step on contact onset
-            h_try = h_abs * theta
-            if theta < 1.0 and min_step <= h_try < h_abs and n_check < MAX_CHECK_REJECTIONS:
+            h_try = onset_retry(step_check, args, t, y, t_new, y_new, h_abs, min_step, n_check)
+            if h_try > 0.0:  # land a step on contact onset
                 h_abs = h_try
                 n_check += 1
                 counters[NREJ_CHECK] += 1
