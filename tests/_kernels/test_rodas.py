@@ -85,7 +85,7 @@ def test_stages_are_consistent() -> None:
         rodas._factor(jac, 1.0 / (h * rodas.GAMMA), 0, 2, lu, piv)
         nfev, finite = rodas._stages(
             constant_field, (np.zeros(1),), 0.0, np.zeros(2), f, np.zeros(2), h, jac, lu,
-            piv, 0, 2, k, stage, x, work,
+            piv, 0, 2, k, stage, x, work, np.empty(6),
         )  # fmt: skip
         assert finite and nfev == 5
         np.testing.assert_allclose(stage + k[5], h * f, rtol=1e-14)

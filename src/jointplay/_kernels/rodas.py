@@ -130,14 +130,16 @@ def _factor(jac, alpha, n_second, n_active, lu, piv):
 
 
 @jit
-def _stages(fun, args, t, y, f, ft, h, jac, lu, piv, n_second, n_active, k, stage, x, work):
+def _stages(
+    fun, args, t, y, f, ft, h, jac, lu, piv, n_second, n_active, k, stage, x, work, coupling
+):
     """The six stages of one step from ``(t, y)``; ``stage + k[5]`` is the new state and
-    ``k[5]`` its error estimate. Returns the number of evaluations and whether every stage
+    ``k[5]`` its error estimate; ``coupling`` (6) is scratch for a stage's C_si / h, divided
+    once, not once per component. Returns the number of evaluations and whether every stage
     was finite."""
     n = y.shape[0]
     alpha = 1.0 / (h * GAMMA)
     nfev = 0
-    coupling = np.empty(6)  # C_si / h of this stage, once (not once per component)
     for s in range(6):
         if s == 0:
             fs = f
@@ -206,6 +208,7 @@ def _rodas_core(
     stage = np.empty(n)
     x = np.empty(n)
     work = np.empty(n_active - n_second)
+    coupling = np.empty(6)
     y_new = np.empty(n)
     lu = np.empty((n_active - n_second, n_active - n_second))
     piv = np.empty(n_active - n_second, dtype=np.int64)
@@ -250,7 +253,23 @@ def _rodas_core(
             _factor(jac, 1.0 / (h * GAMMA), n_second, n_active, lu, piv)
             counters[NLU] += 1
             nfev, finite = _stages(
-                fun, args, t, y, f, ft, h, jac, lu, piv, n_second, n_active, k, stage, x, work
+                fun,
+                args,
+                t,
+                y,
+                f,
+                ft,
+                h,
+                jac,
+                lu,
+                piv,
+                n_second,
+                n_active,
+                k,
+                stage,
+                x,
+                work,
+                coupling,
             )
             counters[NFEV] += nfev
             if finite:
