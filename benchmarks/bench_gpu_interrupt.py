@@ -38,8 +38,7 @@ from typing import Any
 
 import numpy as np
 
-from jointplay._kernels import common as kc
-from jointplay._kernels import eom
+from jointplay._kernels import eom, ids
 from jointplay._kernels.lanes import cuda as lanes_cuda
 from jointplay.dynamics.clearance import ClearanceJoint
 from jointplay.dynamics.setup import DEFAULT_IMPACT
@@ -133,8 +132,8 @@ def main() -> None:
         row["keyboard_interrupt"] = True
     row["launch_s"] = returned - clock
     row["signal_to_return_s"] = returned - sent[0] if sent else None
-    row["finished"] = int(np.sum(out.status == kc.STATUS_SUCCESS))
-    row["interrupted"] = int(np.sum(out.status == kc.STATUS_INTERRUPTED))
+    row["finished"] = int(np.sum(out.status == ids.STATUS_SUCCESS))
+    row["interrupted"] = int(np.sum(out.status == ids.STATUS_INTERRUPTED))
     row["other"] = args.samples - row["finished"] - row["interrupted"]
     row["median_steps"] = float(np.median(out.n_steps))
     for key, value in row.items():

@@ -23,7 +23,7 @@ import numba
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from jointplay._kernels import common
+from jointplay._kernels import ids
 from jointplay._kernels import radau as kernel
 
 # ---------------------------------------------------------------------------------------
@@ -156,10 +156,10 @@ def bench(problem: Problem, repeat: int) -> list[tuple[str, int, int, int, float
     run_kernel()  # warm-up: compile, or load from Numba's cache
     warm_up = time.perf_counter() - start
     kernel_time, (status, _, _, counters) = best_time(run_kernel, max(repeat, 10))
-    assert status == common.STATUS_SUCCESS
+    assert status == ids.STATUS_SUCCESS
     scipy_time, sol = best_time(run_scipy, repeat)
     assert sol.status == 0
-    counts = dict(zip(common.COUNTER_NAMES, counters.tolist(), strict=True))
+    counts = dict(zip(ids.COUNTER_NAMES, counters.tolist(), strict=True))
     print(f"  (kernel warm-up call: {warm_up:.2f} s)")
     return [
         ("kernel", counts["n_steps"], counts["nfev"], counts["njev"], kernel_time),

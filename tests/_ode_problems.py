@@ -13,7 +13,7 @@ import numpy as np
 import numpy.typing as npt
 from scipy.integrate import solve_ivp
 
-from jointplay._kernels import common
+from jointplay._kernels import ids
 from jointplay._kernels import radau as radau_kernel
 
 
@@ -257,7 +257,7 @@ def run_kernel(
         max_steps,
         **structure,
     )
-    return Run(status, t, y, dict(zip(common.COUNTER_NAMES, counters.tolist(), strict=True)))
+    return Run(status, t, y, dict(zip(ids.COUNTER_NAMES, counters.tolist(), strict=True)))
 
 
 def run_scipy(

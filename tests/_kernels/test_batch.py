@@ -22,8 +22,8 @@ import pytest
 
 from _tolerances import contract_rtol
 from jointplay._kernels import batch as kb
-from jointplay._kernels import common as kc
-from jointplay._kernels import eom
+from jointplay._kernels import eom, ids
+from jointplay._kernels.lanes import source as lane_source
 from jointplay._kernels.lanes.source_radau import RULE_CUBIC_DERIVATIVE, RULE_QUINTIC, RULE_RATES
 from jointplay.dynamics.clearance import ClearanceJoint
 from jointplay.dynamics.setup import DEFAULT_IMPACT, ContactModel
@@ -80,7 +80,7 @@ def _relative(value: float, reference: float) -> float:
 def test_explicit_lanes_agree_with_the_single_engine(lanes) -> None:
     args, references = lanes
     out = kb.run_batch(*args, "explicit")
-    assert (out.status == kc.STATUS_SUCCESS).all()
+    assert (out.status == ids.STATUS_SUCCESS).all()
     for lane, reference in enumerate(references):
         for key, column in zip(KEYS, COLUMNS, strict=True):
             got = out.peaks[lane, column]
@@ -149,10 +149,10 @@ def test_a_failing_lane_does_not_stop_the_others(lanes) -> None:
     offset = int(np.flatnonzero(np.isin(law, model.law_p))[0])  # first law parameter: k
     broken[1, offset] = 1e308  # an absurd stiffness: the force overflows
     out = kb.run_batch(ipar, broken, y0, *rest, "explicit")
-    assert out.status.tolist() == [kc.STATUS_SUCCESS, kc.STATUS_NON_FINITE, kc.STATUS_SUCCESS]
+    assert out.status.tolist() == [ids.STATUS_SUCCESS, ids.STATUS_NON_FINITE, ids.STATUS_SUCCESS]
     assert np.isnan(out.peaks[1]).all() and np.isfinite(out.peaks[[0, 2]]).all()
     few = kb.run_batch(ipar, rpar, y0, *rest[:-1], 50, "explicit")
-    assert (few.status == kc.STATUS_TOO_MANY_STEPS).all() and (few.n_steps == 50).all()
+    assert (few.status == ids.STATUS_TOO_MANY_STEPS).all() and (few.n_steps == 50).all()
 
 
 def test_dopri5_tableau_satisfies_the_order_conditions() -> None:
@@ -175,9 +175,25 @@ def test_dopri5_tableau_satisfies_the_order_conditions() -> None:
          Fraction(-17253, 339200), Fraction(22, 525), Fraction(-1, 40)]  # fmt: skip
     for row, node in zip(a[1:], c[1:6], strict=True):
         assert sum(row) == node
-    floats = [kb.B1, 0.0, kb.B3, kb.B4, kb.B5, kb.B6, 0.0]
+    floats = [
+        lane_source.B1,
+        0.0,
+        lane_source.B3,
+        lane_source.B4,
+        lane_source.B5,
+        lane_source.B6,
+        0.0,
+    ]
     assert floats == [float(v) for v in b]
-    assert [float(v) for v in e] == [kb.E1, 0.0, kb.E3, kb.E4, kb.E5, kb.E6, kb.E7]
+    assert [float(v) for v in e] == [
+        lane_source.E1,
+        0.0,
+        lane_source.E3,
+        lane_source.E4,
+        lane_source.E5,
+        lane_source.E6,
+        lane_source.E7,
+    ]
     hat = [bi - ei for bi, ei in zip(b, e, strict=True)]
     for weights, order in ((b, 5), (hat, 4)):
         for p in range(1, order + 1):

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from jointplay._kernels import contact as kc
+from jointplay._kernels import ids
 from jointplay.contact.friction import (
     FRICTION_LAWS,
     AdamsFriction,
@@ -85,7 +86,7 @@ def test_normal_force_kernel_equals_reference(name: str) -> None:
         params = law.params()
         kernel = np.array(
             [
-                kc.normal_force(law.law_id, params, d, r, v)
+                kc.normal_force(law.law_id, params, 0, d, r, v)
                 for d, r, v in zip(delta, delta_dot, v0, strict=True)
             ]
         )
@@ -94,14 +95,14 @@ def test_normal_force_kernel_equals_reference(name: str) -> None:
 
 def test_normal_force_kernel_unknown_id_is_nan_not_an_exception() -> None:
     params = np.ones(4)
-    assert math.isnan(kc.normal_force(99, params, 1e-6, 0.1, 0.1))
-    assert kc.normal_force(99, params, -1e-6, 0.1, 0.1) == 0.0
+    assert math.isnan(kc.normal_force(99, params, 0, 1e-6, 0.1, 0.1))
+    assert kc.normal_force(99, params, 0, -1e-6, 0.1, 0.1) == 0.0
 
 
 def test_normal_force_kernel_tolerates_non_finite_inputs() -> None:
     law = ImpactLaw(stiffness=1e10, exponent=1.5, c_max=1e3, d_max=1e-5)
-    assert kc.normal_force(law.law_id, law.params(), math.nan, 0.1, 0.1) == 0.0
-    assert math.isinf(kc.normal_force(law.law_id, law.params(), math.inf, 0.1, 0.1))
+    assert kc.normal_force(law.law_id, law.params(), 0, math.nan, 0.1, 0.1) == 0.0
+    assert math.isinf(kc.normal_force(law.law_id, law.params(), 0, math.inf, 0.1, 0.1))
 
 
 def friction_examples(name: str) -> list[FrictionLaw]:
@@ -125,13 +126,13 @@ def test_friction_force_kernel_equals_reference(name: str) -> None:
     for law in friction_examples(name):
         params = law.params()
         kernel = np.array(
-            [kc.friction_force(law.law_id, params, v, f) for v, f in zip(v_t, f_n, strict=True)]
+            [kc.friction_force(law.law_id, params, 0, v, f) for v, f in zip(v_t, f_n, strict=True)]
         )
         assert_kernel_matches(kernel, law.force(v_t, f_n))
 
 
 def test_friction_kernel_unknown_id_is_nan() -> None:
-    assert math.isnan(kc.friction_force(42, np.ones(4), 1.0, 1.0))
+    assert math.isnan(kc.friction_force(42, np.ones(4), 0, 1.0, 1.0))
 
 
 def test_step3_kernel_documented_example_and_reference() -> None:
@@ -150,21 +151,21 @@ def test_step3_kernel_never_divides_by_zero() -> None:
 
 def test_layouts_match_the_parameter_arrays() -> None:
     sizes = {
-        kc.LAW_IMPACT: kc.IMPACT_SIZE,
-        kc.LAW_HERTZ: kc.HERTZ_SIZE,
-        kc.LAW_KELVIN_VOIGT: kc.KV_SIZE,
+        ids.LAW_IMPACT: ids.IMPACT_SIZE,
+        ids.LAW_HERTZ: ids.HERTZ_SIZE,
+        ids.LAW_KELVIN_VOIGT: ids.KV_SIZE,
     }
     for name in CONTACT_LAWS:
         for law in normal_examples(name):
-            expected = sizes.get(law.law_id, kc.HC_SIZE)
+            expected = sizes.get(law.law_id, ids.HC_SIZE)
             assert law.params().shape == (expected,)
             assert np.all(np.isfinite(law.params()))
-            if kc.HC_FIRST <= law.law_id <= kc.HC_LAST:
-                assert law.params()[kc.HC_CHI] == law.chi  # type: ignore[attr-defined]
+            if ids.HC_FIRST <= law.law_id <= ids.HC_LAST:
+                assert law.params()[ids.HC_CHI] == law.chi  # type: ignore[attr-defined]
     friction_sizes = {
-        kc.FRICTION_NONE: kc.NONE_SIZE,
-        kc.FRICTION_AMBROSIO: kc.AMBROSIO_SIZE,
-        kc.FRICTION_ADAMS: kc.ADAMS_SIZE,
+        ids.FRICTION_NONE: ids.NONE_SIZE,
+        ids.FRICTION_AMBROSIO: ids.AMBROSIO_SIZE,
+        ids.FRICTION_ADAMS: ids.ADAMS_SIZE,
     }
     for name in FRICTION_LAWS:
         for friction in friction_examples(name):

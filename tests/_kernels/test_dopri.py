@@ -29,7 +29,7 @@ from _ode_problems import (
     tolerance_units,
     van_der_pol,
 )
-from jointplay._kernels import common, dopri
+from jointplay._kernels import dopri, ids
 
 #: Global error against an exact or reference solution, in units of ``atol + rtol·|y|``:
 #: the error estimate is the embedded order-4 solution's, the solution propagated is of order
@@ -79,7 +79,7 @@ def test_exponential_decay_matches_exact_solution() -> None:
     lam = np.array([1.0, 10.0, 100.0])
     rtol, atol = 1e-6, 1e-9
     result = run(decay, (0.0, 10.0), np.ones(3), lam, rtol=rtol, atol=atol)
-    assert result.status == common.STATUS_SUCCESS and result.t[-1] == 10.0
+    assert result.status == ids.STATUS_SUCCESS and result.t[-1] == 10.0
     assert tolerance_units(result.y, np.exp(-np.outer(result.t, lam)), rtol, atol) < (
         GLOBAL_ERROR_UNITS
     )
@@ -115,7 +115,7 @@ def test_a_state_changed_by_the_hook_is_evaluated_afresh() -> None:
     rtol, atol = 1e-9, 1e-12
     result = run(harmonic, (0.0, 3.0), [1.0, 0.0], [0.0], rtol=rtol, atol=atol,
                  after_step=kick_at_one)  # fmt: skip
-    assert result.status == common.STATUS_SUCCESS
+    assert result.status == ids.STATUS_SUCCESS
     kicked = int(np.argmax(result.t >= 1.0))
     t_kick = result.t[kicked]
     x0, v0 = np.cos(t_kick), -2.0 * np.sin(t_kick)
@@ -152,7 +152,7 @@ def test_steps_are_scipys_rk45(fun: Any, p: Any) -> None:
     rtol, atol = 1e-6, 1e-9
     ours = run(fun, (0.0, 0.5 if fun is mass_on_floor else 10.0), y0, p, rtol=rtol, atol=atol)
     scipy = run_scipy(fun, (0.0, ours.t[-1]), y0, p, method="RK45", rtol=rtol, atol=atol)
-    assert ours.status == common.STATUS_SUCCESS
+    assert ours.status == ids.STATUS_SUCCESS
     assert ours.t.shape == scipy.t.shape
     np.testing.assert_allclose(ours.t, scipy.t, rtol=1e-7)
     assert tolerance_units(ours.y, scipy.y.T, rtol, atol) < 1.0
@@ -177,7 +177,7 @@ def test_contact_onset_located_by_step_check(
         mass_on_floor, (0.0, 0.5), [0.1, 0.0], p, rtol=rtol, atol=atol,
         step_check=land_on_contact, after_step=flag_contact_change,
     )  # fmt: skip
-    assert result.status == common.STATUS_SUCCESS
+    assert result.status == ids.STATUS_SUCCESS
     assert result.counts["n_rejected_check"] >= 1
     on_floor = np.abs(result.y[:, 0]) <= atol
     assert np.any(on_floor & (np.abs(result.t - np.sqrt(2 * 0.1 / 9.81)) < 1e-6))

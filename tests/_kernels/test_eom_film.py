@@ -1,4 +1,4 @@
-"""Film damping in :mod:`jointplay._kernels.eom` (``settings[S_FILM] = c_e``): −c_e ė on the
+"""Film damping in :mod:`jointplay._kernels.eom` (each joint's ``geom`` column ``G_FILM`` = c_e): −c_e ė on the
 journal's centre, +c_e ė on the bearing's, in contact or not, its power c_e |ė|² in W_contact.
 
 Checked against a closed form and differences:
@@ -10,8 +10,9 @@ Checked against a closed form and differences:
   compiled rhs with the film on, in and out of contact, with friction;
 * the rhs with the film on minus the rhs with it off is exactly the film's force, its moment
   and its power (the film is added, nothing else changes);
-* the film off: ``settings[S_FILM] = 0``, the rhs bit-identical to a model without the slot
-  set.
+* the film off: every ``G_FILM = 0``, the rhs bit-identical to a model without the column
+  set;
+* two joints with different films: each joint's own c_e acts on it.
 """
 
 from __future__ import annotations
@@ -68,7 +69,7 @@ def _joint(film: float, friction: bool = False) -> ClearanceJoint:
 
 def test_a_free_pin_decays_exponentially_with_the_film() -> None:
     system = build_system(_spinner(), [_joint(FILM)])
-    assert system.model.settings[eom.S_FILM] == FILM
+    assert system.film_dampings.tolist() == [FILM]
     n = system.n_coordinates
     v0 = (1e-3, -0.5e-3)  # m/s: drifts at most |v0| m / c_e = 17 µm < c, never touches
     y0 = np.zeros(system.n_state)
@@ -275,17 +276,55 @@ def test_the_reported_joint_force_includes_the_film() -> None:
 
 def test_the_film_off_is_the_model_without_it() -> None:
     system = _fourbar(0.0)
-    assert system.model.settings[eom.S_FILM] == 0.0
-    assert eom.N_SETTINGS == 5 and eom.S_FILM == 4
+    assert system.film_dampings.tolist() == [0.0] * 4 and not system.lubricated
 
 
-def test_joints_of_one_simulation_share_one_film() -> None:
+def test_each_joint_keeps_its_own_film() -> None:
     law = get_law("restitution", penalty=1e9, restitution=0.6, exponent=1.0)
     clearances = [ClearanceJoint("O2", 1e-4, 5e-3, law, film_damping=10.0),
                   ClearanceJoint("A", 1e-4, 5e-3, law, film_damping=20.0)]  # fmt: skip
-    # one film damping per simulation: the smallest of the joints' (errs on the dry side)
-    assert build_system(load_preset("paper-fourbar"), clearances).model.settings[eom.S_FILM] == 10.0
+    system = build_system(load_preset("paper-fourbar"), clearances)
+    assert system.film_dampings.tolist() == [10.0, 20.0]  # not one value for every joint
     with pytest.raises(ConfigError, match="film_damping must be"):
         ClearanceJoint("O2", 1e-4, 5e-3, law, film_damping=-1.0)
     with pytest.raises(ConfigError, match="does not combine with the sustained-contact"):
         ClearanceJoint("O2", 1e-4, 5e-3, law, capture_speed=1e-4, film_damping=1.0)
+
+
+def test_two_joints_with_different_films_each_feel_their_own() -> None:
+    """Four joints, each its own c_e (10, 40, 160, 640 N·s/m), pins centred (no contact) and
+    moving: the film's power c_e |ė|² is summed joint by joint with each joint's own c_e,
+    the force on each journal is −c_e ė (:func:`eom.film_components`, ė from the record), and
+    the rhs changes when one joint's c_e changes alone. (The kernels once took the smallest
+    c_e for every joint: this fails there.)"""
+    mechanism = load_preset("paper-fourbar").with_gravity((0.0, 0.0))
+    law = get_law("restitution", penalty=1e9, restitution=0.6, exponent=1.0)
+    films = (10.0, 40.0, 160.0, 640.0)
+    system = build_system(
+        mechanism,
+        [ClearanceJoint(j, 1e-4, 5e-3, law, film_damping=f) for j, f in zip(FOURBAR_JOINTS, films, strict=True)],
+    )  # fmt: skip
+    n = system.n_coordinates
+    y = initial_state(system, Start("steady"))
+    rng = np.random.default_rng(39)
+    y[n : 2 * n] += rng.normal(scale=1e-3, size=n)  # relative velocities at every joint
+    record = np.zeros((4, 7))
+    _, _, power, _ = eom.evaluate(0.0, y, system.model, record)
+    assert np.all(record[:, 2] < 0.0)  # out of contact: the film alone
+    e_dot_sq = np.empty(4)
+    for c in range(4):
+        film_n, film_t = eom.film_components(y, system.model, record.ravel(), c)
+        e_n = record[c, 3]
+        assert film_n == pytest.approx(films[c] * e_n, rel=1e-14)
+        e_dot_sq[c] = (film_n**2 + film_t**2) / films[c] ** 2
+    assert np.all(e_dot_sq > 0)
+    assert power == pytest.approx(float(np.dot(films, e_dot_sq)), rel=1e-12)
+    assert power != pytest.approx(min(films) * float(e_dot_sq.sum()), rel=1e-3)
+    heavier = build_system(
+        mechanism,
+        [ClearanceJoint(j, 1e-4, 5e-3, law, film_damping=2 * f if j == "B" else f)
+         for j, f in zip(FOURBAR_JOINTS, films, strict=True)],
+    )  # fmt: skip
+    assert not np.array_equal(
+        eom.rhs(0.0, y, heavier.kernel_args()), eom.rhs(0.0, y, system.kernel_args())
+    )

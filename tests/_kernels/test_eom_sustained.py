@@ -152,11 +152,11 @@ def test_the_constraint_row_and_its_acceleration_term_equal_differences() -> Non
 
 
 def test_with_the_mode_off_no_joint_reads_as_locked(paper_fourbar: Mechanism) -> None:
-    """With the capture speed 0 the settings slot is 0, no joint is ever read as locked,
+    """With every joint's capture speed 0, no joint is ever read as locked,
     and the closed-form Jacobian stays available."""
     joints = ContactModel().joints(paper_fourbar, ("O2", "A", "B", "O4"), clearance=CLEARANCE)
     system = build_system(paper_fourbar, joints)
-    assert system.model.settings[eom.S_CAPTURE] == 0.0
+    assert not system.sustained_mode
     y = initial_state(system, Start("steady"))
     y[2 * system.n_coordinates + 2 :] = eom.LOCKED  # even a negative slot is not "locked"
     assert not eom.any_locked(y, system.model)

@@ -42,9 +42,8 @@ from _tolerances import CONTRACT_OTHER_RTOL, SAME_ALGORITHM_RTOL, contract_rtol
 
 jax = pytest.importorskip("jax")
 
-from jointplay._kernels import contact as kc  # noqa: E402
-from jointplay._kernels import eom  # noqa: E402
-from jointplay._kernels.common import STATUS_NON_FINITE, STATUS_SUCCESS  # noqa: E402
+from jointplay._kernels import eom, ids  # noqa: E402
+from jointplay._kernels.ids import STATUS_NON_FINITE, STATUS_SUCCESS  # noqa: E402
 from jointplay._kernels.jax.eom import JaxModel, read_layout  # noqa: E402
 from jointplay._kernels.jax_batch import cache_dir, padded_size, run_batch  # noqa: E402
 from jointplay.contact.friction import AdamsFriction, AmbrosioFriction, FrictionLaw  # noqa: E402
@@ -159,8 +158,8 @@ def test_every_law_is_covered() -> None:
     """The random-state tests below meet every normal-force and friction law id."""
     laws = {int(i) for _, s in SYSTEMS for i in s.model.law_id}
     frictions = {int(i) for _, s in SYSTEMS for i in s.model.fric_id}
-    assert laws == set(range(kc.HC_LAST + 1))
-    assert frictions == {kc.FRICTION_NONE, kc.FRICTION_AMBROSIO, kc.FRICTION_ADAMS}
+    assert laws == set(range(ids.HC_LAST + 1))
+    assert frictions == {ids.FRICTION_NONE, ids.FRICTION_AMBROSIO, ids.FRICTION_ADAMS}
     assert any(s.model.active.sum() > 0 for _, s in SYSTEMS)  # ideal joints left
 
 

@@ -24,7 +24,7 @@ from _ode_problems import (
     square,
     van_der_pol,
 )
-from jointplay._kernels import common, dopri, radau, rodas
+from jointplay._kernels import dopri, ids, radau, rodas
 
 INTEGRATORS = {
     "radau": radau.radau_integrate,
@@ -52,7 +52,7 @@ def test_bouncing_ball_steps_land_on_each_impact(integrator: Any) -> None:
         after_step=bounce,
         integrator=integrator,
     )
-    assert run.status == common.STATUS_SUCCESS
+    assert run.status == ids.STATUS_SUCCESS
     assert run.counts["n_rejected_check"] > 0
     # Impact k at t_k: t_1 = √(2h/g), then flights of 2·e^k·v_1/g with v_1 = √(2gh).
     v1 = np.sqrt(2 * g * h0)
@@ -78,7 +78,7 @@ def test_after_step_projection_keeps_pendulum_on_its_circle(integrator: Any) -> 
     projected = run_kernel(
         cartesian_pendulum, (0.0, 10.0), y0, p, after_step=project_on_circle, **options
     )
-    assert free.status == projected.status == common.STATUS_SUCCESS
+    assert free.status == projected.status == ids.STATUS_SUCCESS
     radius_free = np.hypot(free.y[:, 0], free.y[:, 1])
     radius = np.hypot(projected.y[:, 0], projected.y[:, 1])
     assert np.max(np.abs(radius_free - 0.5)) > 1e-6  # drift without the hook
@@ -93,7 +93,7 @@ def test_step_check_that_never_accepts_cannot_loop_forever(integrator: Any) -> N
         decay, (0.0, 1.0), [1.0], [1.0], rtol=1e-6, atol=1e-9, step_check=always_halve,
         max_steps=20, integrator=integrator,
     )  # fmt: skip
-    assert result.status == common.STATUS_TOO_MANY_STEPS
+    assert result.status == ids.STATUS_TOO_MANY_STEPS
     assert result.counts["n_steps"] == 20
     assert 0 < result.counts["n_rejected_check"] <= radau.MAX_CHECK_REJECTIONS * 20
 
@@ -103,7 +103,7 @@ def test_step_check_nan_zero_or_negative_accepts(integrator: Any) -> None:
         decay, (0.0, 1.0), [1.0], [1.0], rtol=1e-6, atol=1e-9, step_check=odd_theta,
         integrator=integrator,
     )  # fmt: skip
-    assert result.status == common.STATUS_SUCCESS
+    assert result.status == ids.STATUS_SUCCESS
     assert result.counts["n_rejected_check"] == 0
 
 
@@ -111,7 +111,7 @@ def test_blow_up_gives_step_too_small(integrator: Any) -> None:
     result = run_kernel(
         square, (0.0, 2.0), [1.0], [0.0], rtol=1e-6, atol=1e-9, integrator=integrator
     )
-    assert result.status == common.STATUS_STEP_TOO_SMALL
+    assert result.status == ids.STATUS_STEP_TOO_SMALL
     assert result.t[-1] == pytest.approx(1.0, abs=1e-5)  # the blow-up time 1/y(0)
 
 
@@ -120,7 +120,7 @@ def test_step_limit_gives_too_many_steps(integrator: Any) -> None:
         van_der_pol, (0.0, 3000.0), [2.0, 0.0], [1000.0], rtol=1e-6, atol=1e-6, max_steps=10,
         integrator=integrator,
     )  # fmt: skip
-    assert result.status == common.STATUS_TOO_MANY_STEPS
+    assert result.status == ids.STATUS_TOO_MANY_STEPS
     assert result.counts["n_steps"] == 10 and result.t.shape[0] == 11
 
 
@@ -128,7 +128,7 @@ def test_non_finite_right_hand_side_gives_non_finite(integrator: Any) -> None:
     result = run_kernel(
         nan_rhs, (0.0, 1.0), [1.0, 2.0], [0.0], rtol=1e-6, atol=1e-9, integrator=integrator
     )
-    assert result.status == common.STATUS_NON_FINITE
+    assert result.status == ids.STATUS_NON_FINITE
     assert result.t.shape[0] == 1 and result.counts["nfev"] == 1
 
 
@@ -137,7 +137,7 @@ def test_non_finite_state_from_after_step_gives_non_finite(integrator: Any) -> N
         decay, (0.0, 1.0), [1.0], [0.5], rtol=1e-6, atol=1e-9, after_step=poison_state,
         integrator=integrator,
     )  # fmt: skip
-    assert result.status == common.STATUS_NON_FINITE
+    assert result.status == ids.STATUS_NON_FINITE
     assert np.all(np.isfinite(result.y)) and result.t[-1] <= 0.5
 
 
@@ -145,17 +145,17 @@ def test_empty_interval_records_only_the_initial_point(integrator: Any) -> None:
     result = run_kernel(
         decay, (2.0, 2.0), [1.0], [1.0], rtol=1e-6, atol=1e-9, integrator=integrator
     )
-    assert result.status == common.STATUS_SUCCESS
+    assert result.status == ids.STATUS_SUCCESS
     assert result.t.tolist() == [2.0] and result.y.tolist() == [[1.0]]
 
 
 def test_an_interrupt_stops_with_a_status(integrator: Any) -> None:
     """The C-level signal handler's bytes, read before every step."""
     flags = np.zeros(4, dtype=np.uint8)
-    flags[0] = common.INTERRUPT_SIGNALS[0]
+    flags[0] = ids.INTERRUPT_SIGNALS[0]
     result = run_kernel(
         decay, (0.0, 1.0), [1.0], [1.0], rtol=1e-6, atol=1e-9, interrupt=flags,
         integrator=integrator,
     )  # fmt: skip
-    assert result.status == common.STATUS_INTERRUPTED
+    assert result.status == ids.STATUS_INTERRUPTED
     assert result.counts["n_steps"] == 0 and result.t.tolist() == [0.0]

@@ -39,11 +39,10 @@ import pytest
 
 from _tolerances import SAME_ALGORITHM_RTOL
 from jointplay._kernels import batch as kb
-from jointplay._kernels import common as kc
-from jointplay._kernels import eom
+from jointplay._kernels import eom, ids
 from jointplay._kernels.lanes import cuda as lanes_cuda
 from jointplay._kernels.lanes.build import lane_layout
-from jointplay._kernels.lanes.source import LY_SETTINGS
+from jointplay._kernels.lanes.source import LY_GEOM
 from jointplay.dynamics.clearance import ClearanceJoint
 from jointplay.dynamics.setup import DEFAULT_IMPACT
 from jointplay.dynamics.simulate import Start, initial_state
@@ -112,7 +111,7 @@ def test_the_simulated_gpu_lanes_are_the_cpu_lanes(paper_fourbar: Mechanism, tmp
         problem["ipar"], problem["rpar"], problem["y0"], problem["t_settle"], problem["t_end"],
         problem["max_step"], 1e-6, problem["atol"], 200_000, "explicit", parallel=False,
     )  # fmt: skip
-    assert list(cpu.status) == [kc.STATUS_SUCCESS, kc.STATUS_SUCCESS, kc.STATUS_NON_FINITE]
+    assert list(cpu.status) == [ids.STATUS_SUCCESS, ids.STATUS_SUCCESS, ids.STATUS_NON_FINITE]
     for name in ("status", "n_steps", "n_rejected", "n_rhs"):
         np.testing.assert_array_equal(gpu[name], getattr(cpu, name), err_msg=name)
     for name in ("peaks", "stats", "t_reached"):
@@ -154,7 +153,7 @@ def test_the_simulated_gpu_lanes_with_ideal_joints_agree_with_the_cpu_lanes(
         ipar, problem["rpar"], ys, settle, problem["t_end"], problem["max_step"], 1e-6, atol,
         200_000, "explicit", parallel=False,
     )  # fmt: skip
-    assert (cpu.status == kc.STATUS_SUCCESS).all() and (cpu.n_steps > 1000).all()
+    assert (cpu.status == ids.STATUS_SUCCESS).all() and (cpu.n_steps > 1000).all()
     for name in ("status", "n_steps", "n_rejected", "n_rhs"):
         np.testing.assert_array_equal(gpu[name], getattr(cpu, name), err_msg=name)
     np.testing.assert_allclose(gpu["peaks"], cpu.peaks, rtol=SAME_ALGORITHM_RTOL, atol=0.0)
@@ -203,7 +202,7 @@ def _implicit_on_both(
     nb, nj, nc, _ = kb.layout(ipar)
     cpu_out = {
         "peaks": np.full((2, 2 * nb + nj + 1), np.nan), "stats": np.full((2, 2 * nb + nc), np.nan),
-        "status": np.full(2, kc.STATUS_RUNNING, dtype=np.int64), "t_reached": np.zeros(2),
+        "status": np.full(2, ids.STATUS_RUNNING, dtype=np.int64), "t_reached": np.zeros(2),
         "counts": np.zeros((2, 3), dtype=np.int64),
     }  # fmt: skip
     cpu.implicit_lanes(
@@ -211,7 +210,7 @@ def _implicit_on_both(
         problem["max_step"], 1e-6, atol, 200_000, np.zeros(1, dtype=np.uint8),
         *cpu_out.values(),
     )  # fmt: skip
-    assert list(cpu_out["status"]) == [kc.STATUS_SUCCESS, kc.STATUS_NON_FINITE]
+    assert list(cpu_out["status"]) == [ids.STATUS_SUCCESS, ids.STATUS_NON_FINITE]
     np.testing.assert_array_equal(gpu["status"], cpu_out["status"])
     for column, name in enumerate(("n_steps", "n_rejected", "n_rhs")):
         np.testing.assert_array_equal(gpu[name], cpu_out["counts"][:, column], err_msg=name)
@@ -291,12 +290,13 @@ def test_what_the_gpu_lanes_do_not_cover_yet_is_a_clear_error(paper_fourbar: Mec
     with pytest.raises(ConfigError, match="methods are"):
         lanes_cuda.run_batch(*args, 1e-6, p["atol"], 200_000, "rodas")
     captured = p["rpar"].copy()
-    captured[:, int(lane_layout(p["ipar"])[LY_SETTINGS]) + eom.S_CAPTURE] = 1e-4
+    lay = lane_layout(p["ipar"])
+    captured[:, int(lay[LY_GEOM]) + ids.G_CAPTURE] = 1e-4  # the first joint's
     for method in lanes_cuda.METHODS:
         with pytest.raises(ConfigError, match="sustained-contact"):
             lanes_cuda.run_batch(p["ipar"], captured, *args[2:], 1e-6, p["atol"], 200_000, method)
     damped = p["rpar"].copy()
-    damped[:, int(lane_layout(p["ipar"])[LY_SETTINGS]) + eom.S_FILM] = 100.0
+    damped[:, int(lay[LY_GEOM]) + ids.G_FILM] = 100.0
     with pytest.raises(ConfigError, match="film damping"):
         lanes_cuda.run_batch(p["ipar"], damped, *args[2:], 1e-6, p["atol"], 200_000, "explicit")
     with pytest.raises(ConfigError, match="at most 8 clearance joints"):
@@ -448,7 +448,11 @@ def test_ctrl_c_stops_the_simulated_gpu_lanes_inside_the_launch(
     assert code == 0 and time.perf_counter() - sent < RETURN_BOUND_S
     gpu = np.load(tmp_path / "out.npz")
     assert bool(gpu["raised"])  # KeyboardInterrupt reached the caller
-    assert list(gpu["status"]) == [kc.STATUS_SUCCESS, kc.STATUS_INTERRUPTED, kc.STATUS_INTERRUPTED]
+    assert list(gpu["status"]) == [
+        ids.STATUS_SUCCESS,
+        ids.STATUS_INTERRUPTED,
+        ids.STATUS_INTERRUPTED,
+    ]
     assert (gpu["n_steps"][1:] > 0).all()  # stopped during the launch
     assert (gpu["t_reached"][1:] < problem["t_end"][1:]).all()
     assert np.isnan(gpu["peaks"][1:]).all() and np.isnan(gpu["stats"][1:]).all()

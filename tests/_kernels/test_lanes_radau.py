@@ -33,8 +33,7 @@ import pytest
 
 from _tolerances import SAME_ALGORITHM_RTOL
 from jointplay._kernels import batch as kb
-from jointplay._kernels import common as kcommon
-from jointplay._kernels import eom, radau
+from jointplay._kernels import eom, ids, radau
 from jointplay._kernels.lanes import build, cpu, source, source_radau
 from jointplay.contact.friction import AdamsFriction, AmbrosioFriction, FrictionLaw
 from jointplay.contact.laws import CONTACT_LAWS, ContactLaw, get_law
@@ -59,6 +58,14 @@ FRICTIONS: tuple[FrictionLaw | None, ...] = (
     AmbrosioFriction(mu=0.1, v0=1e-4, v1=1e-3),
     AdamsFriction(mu_static=0.15, mu_dynamic=0.1, v_static=1e-3, v_dynamic=1e-2),
 )
+
+
+def _joint_slots(ipar: np.ndarray, column: int) -> np.ndarray:
+    """Where column ``column`` (``ids.G_*``) of each clearance joint's ``geom`` row sits in a
+    lane's ``rpar``."""
+    lay = build.lane_layout(ipar)
+    nc = int(lay[source.LY_NC])
+    return int(lay[source.LY_GEOM]) + ids.N_GEOM * np.arange(nc) + column
 
 
 def _law(name: str) -> ContactLaw:
@@ -110,7 +117,7 @@ def _single_source(p: dict[str, Any], parallel: bool = False, **kw: Any) -> dict
     out = {
         "peaks": np.full((lanes, 2 * nb + nj + 1), np.nan),
         "stats": np.full((lanes, 2 * nb + nc), np.nan),
-        "status": np.full(lanes, kcommon.STATUS_RUNNING, dtype=np.int64),
+        "status": np.full(lanes, ids.STATUS_RUNNING, dtype=np.int64),
         "t_reached": np.zeros(lanes),
         "counts": np.zeros((lanes, 3), dtype=np.int64),
     }
@@ -122,7 +129,7 @@ def _single_source(p: dict[str, Any], parallel: bool = False, **kw: Any) -> dict
         args["max_steps"], np.zeros(1, dtype=np.uint8) if interrupt is None else interrupt,
         out["peaks"], out["stats"], out["status"], out["t_reached"], out["counts"],
     )  # fmt: skip
-    failed = out["status"] != kcommon.STATUS_SUCCESS  # the contract: as run_batch does
+    failed = out["status"] != ids.STATUS_SUCCESS  # the contract: as run_batch does
     out["peaks"][failed] = np.nan
     out["stats"][failed] = np.nan
     counts = out.pop("counts")
@@ -155,14 +162,6 @@ def test_the_sources_method_constants_are_the_radau_kernels() -> None:
     assert (source_radau.R_MIN_FACTOR, source_radau.R_MAX_FACTOR) == (
         radau.MIN_FACTOR, radau.MAX_FACTOR,
     )  # fmt: skip
-    assert source_radau.EPS == kcommon.EPS
-    assert (source_radau.S_CAPTURE, source_radau.S_FILM) == (eom.S_CAPTURE, eom.S_FILM)
-    assert (source_radau.LAW_STEP, source_radau.RATE_FLOOR) == (
-        eom._LAW_STEP, eom._RATE_FLOOR,
-    )  # fmt: skip
-    assert (source_radau.DIFF_STEP, source_radau.DIFF_FLOOR) == (
-        eom._DIFF_STEP, eom._DIFF_FLOOR,
-    )  # fmt: skip
 
 
 @pytest.mark.parametrize("contact", ["impact", "physical"])
@@ -173,7 +172,7 @@ def test_the_single_source_implicit_lane_is_the_production_lane(
     old = _production(p)
     new = _single_source(p)
     assert list(old.status) == [
-        kcommon.STATUS_SUCCESS, kcommon.STATUS_SUCCESS, kcommon.STATUS_NON_FINITE,
+        ids.STATUS_SUCCESS, ids.STATUS_SUCCESS, ids.STATUS_NON_FINITE,
     ]  # fmt: skip
     assert (old.n_steps[:2] > 500).all() and (old.n_rejected[:2] > 50).all()  # contact work
     _assert_same(new, old)
@@ -194,15 +193,15 @@ def test_too_many_steps_and_interrupts_end_the_lanes_as_in_production(
     p = _problem(paper_fourbar, "impact", revolutions=0.05)
     few = _single_source(p, max_steps=40)
     _assert_same(few, _production(p, max_steps=40))
-    assert list(few["status"][:2]) == [kcommon.STATUS_TOO_MANY_STEPS] * 2
+    assert list(few["status"][:2]) == [ids.STATUS_TOO_MANY_STEPS] * 2
     flags = np.array([2], dtype=np.uint8)  # SIGINT
     stopped = _single_source(p, interrupt=flags)
-    assert (stopped["status"] == kcommon.STATUS_INTERRUPTED).all()
+    assert (stopped["status"] == ids.STATUS_INTERRUPTED).all()
     assert (stopped["n_steps"] == 0).all() and np.isnan(stopped["peaks"]).all()
     # the production's serial loop stops at its first interrupted lane (the others stay
     # STATUS_RUNNING): the same for that lane
     old = _production(p, interrupt=flags)
-    assert old.status[0] == kcommon.STATUS_INTERRUPTED and old.n_steps[0] == 0
+    assert old.status[0] == ids.STATUS_INTERRUPTED and old.n_steps[0] == 0
 
 
 @pytest.mark.parametrize("film", [0.0, 1e5])
@@ -211,8 +210,7 @@ def test_the_closed_form_jacobian_is_eoms(paper_fourbar: Mechanism, film: float)
     Newton systems read are :func:`eom.jacobian_state`'s, bit for bit; without and with film
     damping (its terms: :func:`source_radau.film_jacobian`, :func:`eom._film_jacobian`)."""
     p = _problem(paper_fourbar, "physical", film=film)
-    settings = int(build.lane_layout(p["ipar"])[source.LY_SETTINGS])
-    assert p["rpar"][0, settings + eom.S_FILM] == film
+    assert np.all(p["rpar"][0, _joint_slots(p["ipar"], ids.G_FILM)] == film)
     ipar, rpar = p["ipar"], p["rpar"][0]
     lay = build.lane_layout(ipar)
     n = int(lay[source.LY_N])
@@ -237,11 +235,10 @@ def test_what_the_lanes_do_not_cover_is_named(paper_fourbar: Mechanism) -> None:
     """Neither method runs the sustained-contact mode; film damping runs on the implicit
     lanes only (the explicit ones would take microsecond steps at a c_e of 1e5 N·s/m)."""
     p = _problem(paper_fourbar, "physical", film=0.0)
-    settings = int(build.lane_layout(p["ipar"])[source.LY_SETTINGS])
     captured = p["rpar"].copy()
-    captured[1, settings + eom.S_CAPTURE] = 1e-4
+    captured[1, _joint_slots(p["ipar"], ids.G_CAPTURE)[2]] = 1e-4  # one joint of one lane
     damped = p["rpar"].copy()
-    damped[1, settings + eom.S_FILM] = 100.0
+    damped[1, _joint_slots(p["ipar"], ids.G_FILM)[2]] = 100.0
     for method in ("explicit", "implicit"):
         assert build.lanes_refusal(p["ipar"], p["rpar"], method) is None
         assert "sustained-contact" in str(build.lanes_refusal(p["ipar"], captured, method))
@@ -289,7 +286,7 @@ def test_with_ideal_joints_the_differenced_jacobian_gives_the_production_lanes_r
         "max_steps": 200_000,
     }  # fmt: skip
     old = _production(p)
-    assert (old.status == kcommon.STATUS_SUCCESS).all() and (old.n_steps > 100).all()
+    assert (old.status == ids.STATUS_SUCCESS).all() and (old.n_steps > 100).all()
     _assert_same(_single_source(p), old)
 
 
@@ -320,7 +317,7 @@ def test_every_contact_and_friction_law_gives_the_production_lanes_results(
         "max_steps": 200_000,
     }  # fmt: skip
     old = _production(p)
-    assert (old.status == kcommon.STATUS_SUCCESS).all() and (old.n_steps > 50).all()
+    assert (old.status == ids.STATUS_SUCCESS).all() and (old.n_steps > 50).all()
     _assert_same(_single_source(p), old)
 
 
@@ -346,7 +343,7 @@ def _film_problem(mechanism: Mechanism, case: str) -> dict[str, Any]:
     ]
     system = build_system(mechanism, joints)
     rpar, ipar = eom.pack(system.model)
-    assert rpar[int(build.lane_layout(ipar)[source.LY_SETTINGS]) + eom.S_FILM] == film
+    assert np.all(rpar[_joint_slots(ipar, ids.G_FILM)] == film)
     y0 = initial_state(system, Start("steady"))
     n = system.n_coordinates
     period = mechanism.driver.period
@@ -377,7 +374,7 @@ def test_with_film_damping_the_implicit_lane_takes_the_production_lanes_steps(
     p = _film_problem(paper_fourbar, case)
     old = _production(p)
     new = _single_source(p)
-    assert (old.status == kcommon.STATUS_SUCCESS).all() and (old.n_steps > 100).all()
+    assert (old.status == ids.STATUS_SUCCESS).all() and (old.n_steps > 100).all()
     for name in ("status", "n_steps", "n_rejected", "n_rhs", "t_reached"):
         np.testing.assert_array_equal(new[name], getattr(old, name), err_msg=name)
     np.testing.assert_array_equal(new["stats"][0], old.stats[0])
@@ -392,5 +389,5 @@ def test_with_film_damping_the_single_source_implicit_lane_is_the_production_lan
     Measured: equal bits."""
     p = _film_problem(paper_fourbar, case)
     old = _production(p)
-    assert (old.status == kcommon.STATUS_SUCCESS).all() and (old.n_steps > 100).all()
+    assert (old.status == ids.STATUS_SUCCESS).all() and (old.n_steps > 100).all()
     _assert_same(_single_source(p), old)

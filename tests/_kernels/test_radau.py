@@ -44,7 +44,7 @@ from _ode_problems import (
     van_der_pol,
     van_der_pol_with_idle_component,
 )
-from jointplay._kernels import common, linalg
+from jointplay._kernels import common, ids, linalg
 from jointplay._kernels import radau as kernel
 
 # ---------------------------------------------------------------------------------------
@@ -162,7 +162,7 @@ def test_exponential_decay_matches_exact_solution_and_scipy() -> None:
     rtol, atol = 1e-6, 1e-9
     run = run_kernel(decay, (0.0, 10.0), np.ones(3), lam, rtol=rtol, atol=atol)
     sol = run_scipy(decay, (0.0, 10.0), np.ones(3), lam, rtol=rtol, atol=atol)
-    assert run.status == common.STATUS_SUCCESS
+    assert run.status == ids.STATUS_SUCCESS
     assert run.t[-1] == 10.0
     exact = np.exp(-np.outer(run.t, lam))
     assert tolerance_units(run.y, exact, rtol, atol) < GLOBAL_ERROR_UNITS
@@ -181,7 +181,7 @@ def test_stiff_van_der_pol_matches_scipy_and_reference() -> None:
     reference = run_scipy(
         van_der_pol, (0.0, 3000.0), y0, mu, method="LSODA", rtol=1e-12, atol=1e-12
     ).y[:, -1]
-    assert run.status == common.STATUS_SUCCESS
+    assert run.status == ids.STATUS_SUCCESS
     assert run.t.shape[0] > 64  # the recording arrays grew
     assert tolerance_units(run.y[-1], sol.y[:, -1], rtol, atol) < SMOOTH_AGREEMENT_UNITS
     assert tolerance_units(run.y[-1], reference, rtol, atol) < GLOBAL_ERROR_UNITS
@@ -197,7 +197,7 @@ def test_robertson_matches_scipy_and_published_values() -> None:
     # significant digits as published: rounding (≤ 2e-7 relative) plus this run's global
     # error (measured ≤ 2e-7 relative) stay well inside 2e-6.
     published = np.array([0.7158271, 0.9185535e-5, 0.2841637])
-    assert run.status == common.STATUS_SUCCESS
+    assert run.status == ids.STATUS_SUCCESS
     np.testing.assert_allclose(run.y[-1], published, rtol=2e-6)
     # Mass conservation y1 + y2 + y3 = 1: Runge–Kutta methods keep linear invariants,
     # and so do the Newton increments up to the finite-difference Jacobian's error in
@@ -212,7 +212,7 @@ def test_backward_integration_with_first_and_max_step_matches_scipy() -> None:
     options: dict[str, Any] = {"rtol": 1e-6, "atol": 1e-9, "max_step": 0.05, "first_step": 1e-3}
     run = run_kernel(decay, (1.0, -1.0), np.ones(2), lam, **options)
     sol = run_scipy(decay, (1.0, -1.0), np.ones(2), lam, **options)
-    assert run.status == common.STATUS_SUCCESS
+    assert run.status == ids.STATUS_SUCCESS
     assert run.t[1] == pytest.approx(1.0 - 1e-3, rel=1e-15)
     assert np.all(np.diff(run.t) < 0) and np.all(-np.diff(run.t) <= 0.05 + 1e-15)
     assert tolerance_units(run.y[-1], sol.y[:, -1], 1e-6, 1e-9) < SMOOTH_AGREEMENT_UNITS
@@ -230,7 +230,7 @@ def test_contact_drop_matches_scipy(contact_reference: npt.NDArray[np.float64]) 
         mass_on_floor, (0.0, 0.5), [0.1, 0.0], CONTACT_PARAMETERS, rtol=rtol, atol=atol
     )
     sol = run_scipy(mass_on_floor, (0.0, 0.5), [0.1, 0.0], CONTACT_PARAMETERS, rtol=rtol, atol=atol)
-    assert run.status == common.STATUS_SUCCESS
+    assert run.status == ids.STATUS_SUCCESS
     # Identical up to the step that first reaches the floor (free fall is integrated
     # exactly, so the error estimate there is pure round-off and tips the next decision).
     before = run.t < 0.14
@@ -259,7 +259,7 @@ def test_contact_onset_located_by_step_check(
         step_check=land_on_contact,
         after_step=flag_contact_change,
     )
-    assert run.status == common.STATUS_SUCCESS
+    assert run.status == ids.STATUS_SUCCESS
     assert run.counts["n_rejected_check"] >= 1
     # A recorded step lands on the floor (|x| <= δ_tol) at the free-fall impact time.
     on_floor = np.abs(run.y[:, 0]) <= atol
@@ -323,7 +323,7 @@ def test_second_order_and_passive_structure_give_the_same_solution(rtol: float) 
         two_masses, (0.0, 0.05), TWO_MASSES_Y0, TWO_MASSES, n_second=2, n_active=4, **options
     )
     sol = run_scipy(two_masses, (0.0, 0.05), TWO_MASSES_Y0, TWO_MASSES, **options)
-    assert full.status == reduced.status == common.STATUS_SUCCESS
+    assert full.status == reduced.status == ids.STATUS_SUCCESS
     assert tolerance_units(reduced.y[-1], full.y[-1], rtol, atol) < SMOOTH_AGREEMENT_UNITS
     assert tolerance_units(reduced.y[-1], sol.y[:, -1], rtol, atol) < SMOOTH_AGREEMENT_UNITS
     assert_counts_close(reduced, sol, SMOOTH_COUNT_RATIO, steps_only=True)
@@ -344,7 +344,7 @@ def test_jacobian_function_replaces_the_differences() -> None:
         two_masses, (0.0, 0.05), TWO_MASSES_Y0, TWO_MASSES, rtol=rtol, atol=atol,
         jac=decline_jacobian, **structure,
     )  # fmt: skip
-    assert exact.status == common.STATUS_SUCCESS
+    assert exact.status == ids.STATUS_SUCCESS
     # The exact Jacobian changes the Newton iterates (not what they converge to).
     assert tolerance_units(exact.y[-1], differenced.y[-1], rtol, atol) < SMOOTH_AGREEMENT_UNITS
     # A jac that declines leaves the differences, bit for bit.
@@ -371,7 +371,7 @@ def test_hold_after_failure_on_contact_keeps_the_accuracy(
         mass_on_floor, (0.0, 0.5), [0.1, 0.0], CONTACT_PARAMETERS, rtol=rtol, atol=atol,
         hold_after_failure=True,
     )  # fmt: skip
-    assert held.status == common.STATUS_SUCCESS
+    assert held.status == ids.STATUS_SUCCESS
     assert held.counts["n_rejected_error"] + held.counts["n_rejected_newton"] > 0
     assert tolerance_units(held.y[-1], contact_reference, rtol, atol) < CONTACT_UNLOCATED_UNITS
 
@@ -384,4 +384,4 @@ def test_difference_factor_of_an_idle_component_stays_finite() -> None:
         rtol=1e-8, atol=1e-6,
     )  # fmt: skip
     assert run.counts["njev"] > 400
-    assert run.status == common.STATUS_SUCCESS
+    assert run.status == ids.STATUS_SUCCESS

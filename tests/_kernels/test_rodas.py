@@ -34,7 +34,7 @@ from _ode_problems import (
     two_masses_jacobian,
     van_der_pol,
 )
-from jointplay._kernels import common, rodas
+from jointplay._kernels import ids, rodas
 
 # ---------------------------------------------------------------------------------------
 # Named tolerances.
@@ -138,7 +138,7 @@ def test_exponential_decay_matches_exact_solution() -> None:
     lam = np.array([1.0, 10.0, 100.0])
     rtol, atol = 1e-6, 1e-9
     result = run(decay, (0.0, 10.0), np.ones(3), lam, rtol=rtol, atol=atol)
-    assert result.status == common.STATUS_SUCCESS and result.t[-1] == 10.0
+    assert result.status == ids.STATUS_SUCCESS and result.t[-1] == 10.0
     assert tolerance_units(result.y, np.exp(-np.outer(result.t, lam)), rtol, atol) < (
         GLOBAL_ERROR_UNITS
     )
@@ -152,7 +152,7 @@ def test_time_dependent_stiff_problem_follows_its_solution(rtol: float) -> None:
     """Prothero–Robinson: the ∂f/∂t term of the stages keeps the solution on sin t (a
     method that left it out would lag behind the forcing by ~1/|λ|·cos t each step)."""
     result = run(prothero_robinson, (0.0, 10.0), [0.0], [-1e4], rtol=rtol, atol=rtol)
-    assert result.status == common.STATUS_SUCCESS
+    assert result.status == ids.STATUS_SUCCESS
     assert tolerance_units(result.y[:, 0], np.sin(result.t), rtol, rtol) < GLOBAL_ERROR_UNITS
 
 
@@ -164,7 +164,7 @@ def test_stiff_van_der_pol_matches_reference_in_as_many_steps_as_radau() -> None
     reference = run_scipy(
         van_der_pol, (0.0, 3000.0), [2.0, 0.0], mu, method="LSODA", rtol=1e-12, atol=1e-12
     ).y[:, -1]
-    assert result.status == common.STATUS_SUCCESS
+    assert result.status == ids.STATUS_SUCCESS
     assert tolerance_units(result.y[-1], reference, rtol, atol) < GLOBAL_ERROR_UNITS
     # Measured 905 against Radau's 919 steps: a stiff problem both resolve alike.
     assert 0.67 < result.counts["n_steps"] / radau_run.counts["n_steps"] < 1.5
@@ -174,7 +174,7 @@ def test_robertson_matches_published_values() -> None:
     rtol, atol = 1e-6, np.array([1e-8, 1e-12, 1e-8])
     result = run(robertson, (0.0, 40.0), [1.0, 0.0, 0.0], [0.0], rtol=rtol, atol=atol)
     published = np.array([0.7158271, 0.9185535e-5, 0.2841637])  # as in test_radau.py
-    assert result.status == common.STATUS_SUCCESS
+    assert result.status == ids.STATUS_SUCCESS
     np.testing.assert_allclose(result.y[-1], published, rtol=2e-6)  # measured 2.6e-7
     # A linear invariant stays: every stage solve is linear (measured 2e-15).
     np.testing.assert_allclose(result.y.sum(axis=1), 1.0, atol=1e-12)
@@ -187,7 +187,7 @@ def test_backward_integration_with_first_and_max_step() -> None:
         decay, (1.0, -1.0), np.ones(2), lam, rtol=rtol, atol=atol, max_step=0.05,
         first_step=1e-3,
     )  # fmt: skip
-    assert result.status == common.STATUS_SUCCESS
+    assert result.status == ids.STATUS_SUCCESS
     assert result.t[1] == pytest.approx(1.0 - 1e-3, rel=1e-15)
     assert np.all(np.diff(result.t) < 0) and np.all(-np.diff(result.t) <= 0.05 + 1e-15)
     exact = np.exp(-np.outer(result.t - 1.0, lam))
@@ -210,7 +210,7 @@ def test_contact_onset_located_by_step_check(
         mass_on_floor, (0.0, 0.5), [0.1, 0.0], p, rtol=rtol, atol=atol,
         step_check=land_on_contact, after_step=flag_contact_change,
     )  # fmt: skip
-    assert result.status == common.STATUS_SUCCESS
+    assert result.status == ids.STATUS_SUCCESS
     assert result.counts["n_rejected_check"] >= 1
     on_floor = np.abs(result.y[:, 0]) <= atol
     assert np.any(on_floor & (np.abs(result.t - np.sqrt(2 * 0.1 / 9.81)) < 1e-6))
@@ -228,7 +228,7 @@ def test_contact_without_location_keeps_the_accuracy(
         mass_on_floor, (0.0, 0.5), [0.1, 0.0], CONTACT_PARAMETERS, rtol=rtol, atol=atol,
         hold_after_failure=True,
     )  # fmt: skip
-    assert result.status == common.STATUS_SUCCESS
+    assert result.status == ids.STATUS_SUCCESS
     assert result.counts["n_steps"] < 1000
     assert tolerance_units(result.y[-1], contact_reference, rtol, atol) < CONTACT_UNLOCATED_UNITS
 
@@ -243,7 +243,7 @@ def test_second_order_and_passive_structure_give_the_same_solution(rtol: float) 
     reduced = run(
         two_masses, (0.0, 0.05), TWO_MASSES_Y0, TWO_MASSES, n_second=2, n_active=4, **options
     )
-    assert full.status == reduced.status == common.STATUS_SUCCESS
+    assert full.status == reduced.status == ids.STATUS_SUCCESS
     assert tolerance_units(reduced.y[-1], full.y[-1], rtol, 1e-9) < SAME_METHOD_UNITS
     np.testing.assert_array_equal(reduced.y[:, 5], 2.0)  # the constant component stays put
 
@@ -258,7 +258,7 @@ def test_jacobian_function_replaces_the_differences() -> None:
     declined = run(
         two_masses, (0.0, 0.05), TWO_MASSES_Y0, TWO_MASSES, jac=decline_jacobian, **options
     )
-    assert exact.status == common.STATUS_SUCCESS
+    assert exact.status == ids.STATUS_SUCCESS
     assert tolerance_units(exact.y[-1], differenced.y[-1], rtol, atol) < SAME_METHOD_UNITS
     np.testing.assert_array_equal(declined.y, differenced.y)
     assert declined.counts == differenced.counts

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from jointplay._kernels import contact as kc
+from jointplay._kernels import ids
 from jointplay.contact.laws import (
     CONTACT_LAWS,
     DEFAULT_V_FLOOR,
@@ -96,8 +96,8 @@ def test_examples_cover_the_registry() -> None:
     # an id from HC_FIRST to HC_LAST (one form, which family members may share) inside it
     for cls in CONTACT_LAWS.values():
         family = issubclass(cls, HuntCrossleyTypeLaw | RestitutionLaw)
-        assert family == (kc.HC_FIRST <= cls.law_id <= kc.HC_LAST), cls.name
-    others = [cls.law_id for cls in CONTACT_LAWS.values() if cls.law_id < kc.HC_FIRST]
+        assert family == (ids.HC_FIRST <= cls.law_id <= ids.HC_LAST), cls.name
+    others = [cls.law_id for cls in CONTACT_LAWS.values() if cls.law_id < ids.HC_FIRST]
     assert len(set(others)) == len(others)
 
 

@@ -12,7 +12,12 @@ import numpy as np
 import pytest
 
 from jointplay._kernels import radau
-from jointplay._kernels.common import STATUS_INTERRUPTED, interrupt_pending
+from jointplay._kernels.common import (
+    interrupt_pending,
+)
+from jointplay._kernels.ids import (
+    STATUS_INTERRUPTED,
+)
 from jointplay.contact.laws import get_law
 from jointplay.dynamics.clearance import ClearanceJoint
 from jointplay.dynamics.integrate import IntegrationStatus, integrate

@@ -82,53 +82,24 @@ import numpy.typing as npt
 
 from jointplay._kernels import eom
 from jointplay._kernels.common import (
+    interrupt_pending,
+)
+from jointplay._kernels.ids import (
+    K_REJECTED,
+    K_RHS,
+    K_STEPS,
     STATUS_INTERRUPTED,
     STATUS_RUNNING,
     STATUS_SUCCESS,
-    interrupt_pending,
 )
 from jointplay._kernels.lanes import build as lane_build
 from jointplay._kernels.lanes import cpu as lane_cpu
 from jointplay._kernels.lanes import source as lane_source
-from jointplay._kernels.lanes.source import (  # noqa: F401 (re-exported: the tableau)
-    A21,
-    A31,
-    A32,
-    A41,
-    A42,
-    A43,
-    A51,
-    A52,
-    A53,
-    A54,
-    A61,
-    A62,
-    A63,
-    A64,
-    A65,
-    B1,
-    B3,
-    B4,
-    B5,
-    B6,
-    C2,
-    C3,
-    C4,
-    C5,
-    E1,
-    E3,
-    E4,
-    E5,
-    E6,
-    E7,
-    MAX_FACTOR,
-    MIN_FACTOR,
-    SAFETY,
-)  # fmt: skip
 from jointplay._kernels.radau import radau_integrate
 
 # the peak rule's pieces, compiled from the lane source (shared with the explicit lanes)
 lanes_triggers = lane_cpu.compiled["triggers"]
+lanes_any_film = lane_cpu.compiled["any_film"]
 lanes_wants_refinement = lane_cpu.compiled["wants_refinement"]
 lanes_refine_peaks = lane_cpu.compiled["refine_peaks"]
 lanes_open_window = lane_cpu.compiled["open_window"]
@@ -147,17 +118,15 @@ __all__ = [
 #: Integration methods of :func:`run_batch`.
 METHODS = ("explicit", "implicit")
 
-#: The peak rule's margin and the DOPRI5 tableau (Hairer, Nørsett & Wanner, Solving ODEs I,
-#: Table II.5.2) with its dense output, as the lanes' source holds them
-#: (:mod:`jointplay._kernels.lanes.source`; re-exported here).
+#: The peak rule's margin and the DOPRI5 dense output (Hairer, Nørsett & Wanner, Solving ODEs
+#: I, §II.6), as arrays, from the lane source that holds them with the tableau
+#: (:mod:`jointplay._kernels.lanes.source`).
 REFINE_MARGIN = lane_source.REFINE_MARGIN
 #: Interior points of a refined step, as fractions of the step.
 REFINE_POINTS = np.arange(1, lane_source.N_REFINE + 1) / 8.0
 #: Dense output (SciPy's ``RK45.P``, 7 × 4): y(t + θh) = y + h Σ_j k_j Σ_m P[j, m] θ^(m+1).
 DENSE = np.reshape(np.array(lane_source.DENSE), (7, 4))
 
-# counters per lane
-K_STEPS, K_REJECTED, K_RHS = 0, 1, 2
 
 jit = numba.njit(cache=True, error_model="numpy")
 
@@ -222,7 +191,7 @@ def _trajectory_reduce(ipar, rpar, lay, ts, ys, t_settle, t_end, peaks, stats):
     samples = np.empty((n_points + 2, n_q))
     pen = np.empty(model.clear_joint.shape[0])
     y_mid = np.empty(ys.shape[1])
-    film = model.settings[eom.S_FILM] > 0
+    film = lanes_any_film(rpar, lay)
     m = ts.shape[0]
     fs = np.zeros((m, ys.shape[1]))  # q̈ in [n:2n], as the lane source's interpolant takes it
     bits = np.empty(m, dtype=np.int64)

@@ -16,19 +16,22 @@ References:
 from __future__ import annotations
 
 import math
-import signal
 
 import numba
 import numpy as np
 
+from jointplay._kernels.ids import (
+    NUM_JAC_DIFF_BIG,
+    NUM_JAC_DIFF_REJECT,
+    NUM_JAC_DIFF_SMALL,
+    NUM_JAC_FACTOR_DECREASE,
+    NUM_JAC_FACTOR_INCREASE,
+    NUM_JAC_MAX_FACTOR,
+    NUM_JAC_MIN_FACTOR,
+)
+from jointplay._kernels.shared import compiled as _shared
+
 __all__ = [
-    "COUNTER_NAMES",
-    "EPS",
-    "STATUS_INTERRUPTED",
-    "STATUS_NON_FINITE",
-    "STATUS_STEP_TOO_SMALL",
-    "STATUS_SUCCESS",
-    "STATUS_TOO_MANY_STEPS",
     "all_finite",
     "copy_vector",
     "error_scale",
@@ -44,42 +47,6 @@ __all__ = [
     "tolerance_scale",
 ]
 
-EPS = float(np.finfo(np.float64).eps)
-
-# Finite-difference Jacobian constants, verbatim from SciPy's common.py.
-NUM_JAC_DIFF_REJECT = EPS**0.875
-NUM_JAC_DIFF_SMALL = EPS**0.75
-NUM_JAC_DIFF_BIG = EPS**0.25
-NUM_JAC_MIN_FACTOR = 1e3 * EPS
-NUM_JAC_FACTOR_INCREASE = 10.0
-NUM_JAC_FACTOR_DECREASE = 0.1
-#: Not in SciPy: the largest relative difference step. SciPy multiplies a column's factor by
-#: 10 at every Jacobian in which the column's difference is small, without bound, so a
-#: component on which f (nearly) does not depend gets an infinite step after ~300
-#: Jacobians and the Jacobian turns NaN (seen on a slider-crank: its slider angle is held
-#: by a constraint). A step as large as the component itself (or its atol) is the cap.
-NUM_JAC_MAX_FACTOR = 1.0
-
-#: Statuses an integration ends with (``STATUS_RUNNING`` while it goes on).
-STATUS_SUCCESS = 0
-STATUS_STEP_TOO_SMALL = -1
-STATUS_TOO_MANY_STEPS = -2
-STATUS_NON_FINITE = -3
-#: A SIGINT or SIGTERM arrived during the integration (see :func:`interrupt_pending`).
-STATUS_INTERRUPTED = -4
-STATUS_RUNNING = 1
-
-#: Meaning of the entries of the returned ``counters`` array.
-COUNTER_NAMES = (
-    "nfev",
-    "njev",
-    "nlu",
-    "n_steps",
-    "n_rejected_error",
-    "n_rejected_newton",
-    "n_rejected_check",
-)
-NFEV, NJEV, NLU, NSTEPS, NREJ_ERROR, NREJ_NEWTON, NREJ_CHECK = range(7)
 
 # error_model="numpy": a division by zero gives inf/NaN (as in SciPy) instead of raising.
 jit = numba.njit(cache=True, error_model="numpy")
@@ -100,34 +67,14 @@ def py_max(a, b):
     return b if b > a else a
 
 
-@jit
-def all_finite(x):
-    """Whether every entry of the 1-D array ``x`` is finite."""
-    for j in range(x.shape[0]):  # noqa: SIM110 (an explicit loop compiles faster than all())
-        if not math.isfinite(x[j]):
-            return False
-    return True
-
-
-#: The signals that stop an integration (SIGINT, SIGTERM), as the bytes Python's C-level
-#: signal handler writes to its wakeup file descriptor.
-INTERRUPT_SIGNALS = (int(signal.SIGINT), int(signal.SIGTERM))
-_SIGINT, _SIGTERM = INTERRUPT_SIGNALS
-
-
-@jit
-def interrupt_pending(flags):
-    """Whether ``flags`` (uint8, the signal numbers received so far, then zeros) holds
-    SIGINT or SIGTERM. ``flags`` is memory that Python's C-level signal handler writes
-    (see :func:`jointplay.dynamics.integrate.integrate`); read between steps, it lets a
-    compiled integration stop on Ctrl-C with a status instead of raising."""
-    for j in range(flags.shape[0]):
-        code = flags[j]
-        if code == 0:
-            return False
-        if code == _SIGINT or code == _SIGTERM:  # noqa: SIM109 (compiled: no tuple)
-            return True
-    return False
+#: ``all_finite(x, size)``: whether ``x[:size]`` is all finite (the lane source's).
+all_finite = _shared["all_finite"]
+#: ``interrupt_pending(flags)``: whether ``flags`` (uint8, the signal numbers received so far,
+#: then zeros) holds SIGINT or SIGTERM. ``flags`` is memory that Python's C-level signal
+#: handler writes (see :func:`jointplay.dynamics.integrate.integrate`); read between steps, it
+#: lets a compiled integration stop on Ctrl-C with a status instead of raising (the lane
+#: source's).
+interrupt_pending = _shared["interrupt_pending"]
 
 
 @jit

@@ -19,6 +19,15 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from jointplay._kernels.shared import compiled
+
+#: The driver's prescribed motion, written once in the lane source
+#: (:func:`jointplay._kernels.lanes.source.driver_angle`, ``driver_speed``,
+#: ``driver_acceleration``).
+_driver_angle = compiled["driver_angle"]
+_driver_speed = compiled["driver_speed"]
+_driver_acceleration = compiled["driver_acceleration"]
+
 
 @njit(cache=True)
 def driver_motion(t: float, driver: np.ndarray) -> tuple[float, float, float]:
@@ -28,19 +37,11 @@ def driver_motion(t: float, driver: np.ndarray) -> tuple[float, float, float]:
     which ω(t) = ω·h(t/T) with the quintic STEP5 h(u) = u³(10 − 15u + 6u²) (MSC ADAMS STEP5),
     so the angle is φ0 + ωT·u⁴(2.5 − 3u + u²) and, after the ramp, φ0 + ωT/2 + ω(t − T).
     """
-    phi0 = driver[1]
-    omega = driver[2]
-    ramp = driver[3]
-    if ramp <= 0.0 or t >= ramp:
-        shift = 0.5 * omega * ramp if ramp > 0.0 else 0.0
-        return phi0 + shift + omega * (t - max(ramp, 0.0)), omega, 0.0
-    if t <= 0.0:
-        return phi0, 0.0, 0.0
-    u = t / ramp
-    angle = phi0 + omega * ramp * u**4 * (2.5 - 3.0 * u + u * u)
-    speed = omega * u**3 * (10.0 - 15.0 * u + 6.0 * u * u)
-    accel = omega / ramp * 30.0 * u * u * (1.0 - u) ** 2
-    return angle, speed, accel
+    return (
+        _driver_angle(t, driver, 0),
+        _driver_speed(t, driver, 0),
+        _driver_acceleration(t, driver, 0),
+    )
 
 
 @njit(cache=True)

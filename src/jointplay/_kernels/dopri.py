@@ -49,6 +49,13 @@ import numpy as np
 import numpy.typing as npt
 
 from jointplay._kernels.common import (
+    all_finite,
+    interrupt_pending,
+    jit,
+    py_max,
+    py_min,
+)
+from jointplay._kernels.ids import (
     EPS,
     NFEV,
     NREJ_CHECK,
@@ -60,11 +67,6 @@ from jointplay._kernels.common import (
     STATUS_STEP_TOO_SMALL,
     STATUS_SUCCESS,
     STATUS_TOO_MANY_STEPS,
-    all_finite,
-    interrupt_pending,
-    jit,
-    py_max,
-    py_min,
 )
 from jointplay._kernels.lanes.source import (
     A21,
@@ -142,7 +144,7 @@ def _step(fun, args, t, y, h, k, stage, y_new, atol, rtol):
         )  # fmt: skip
         scale = atol[j] + rtol * py_max(abs(y[j]), abs(y_new[j]))
         total += (e / scale) ** 2
-    if not (all_finite(y_new) and all_finite(k[6])):
+    if not (all_finite(y_new, y_new.shape[0]) and all_finite(k[6], k[6].shape[0])):
         return math.nan
     return math.sqrt(total / n)
 
@@ -227,7 +229,7 @@ def _dopri_core(
             counters[NFEV] += 1
         else:  # first same as last
             f[:] = k[6]
-        if not (all_finite(y_new) and all_finite(f)):
+        if not (all_finite(y_new, y_new.shape[0]) and all_finite(f, f.shape[0])):
             status = STATUS_NON_FINITE
             break
         t = t_new

@@ -17,7 +17,7 @@ statistics (``W_*``). State vector::
   (m/s, 0 while free); it has zero time derivative and is set by :func:`after_step`: after
   the step in which the contact begins, at δ̇ interpolated to the instant δ = 0 between the
   step's ends (linear in δ), so that it does not depend on where the step happened to end.
-  In the sustained-contact mode (``settings[S_CAPTURE] > 0``) a negative v0
+  In the sustained-contact mode (a joint's ``geom`` column ``G_CAPTURE`` > 0) a negative v0
   (:data:`LOCKED`) marks a joint locked onto its bearing's wall: |e| = c is then a
   constraint whose multiplier is the normal force (:func:`sustained_accelerations`); the
   joint is captured and released by :func:`switch_contacts` (after a step) and
@@ -49,7 +49,8 @@ eccentricity e = r_J − r_B, penetration δ = |e| − c, normal n = e/|e|, δ̇
 v_T = ė·t + R_J ω_b − R_B ω_a with t = ẑ × n. The force on the journal, −F_N n − F_T t, acts
 at Q_J = r_J + R_J n; its opposite acts on the bearing at Q_B = r_B + R_B n.
 
-Film damping (``settings[S_FILM] = c_e > 0``, the lubricated default; docs/contact.md): a
+Film damping (a joint's ``geom`` column ``G_FILM`` = c_e > 0, the lubricated default;
+docs/contact.md): a
 lubricant film's squeeze damping lumped into −c_e ė on the journal at its centre and +c_e ė
 on the bearing at its centre, in contact or not; its power c_e |ė|² is added to W_contact.
 Off (0: dry joints), each kernel pays one comparison for it and its results are unchanged.
@@ -70,18 +71,27 @@ from jointplay._kernels.constraints import (
     residual,
     velocity_rhs,
 )
-from jointplay._kernels.contact import FRICTION_NONE, friction_force, normal_force
+from jointplay._kernels.contact import friction_force, law_slopes, normal_force
+from jointplay._kernels.ids import (
+    DIFF_FLOOR,
+    DIFF_STEP,
+    FRICTION_NONE,
+    G_CAPTURE,
+    G_CLEARANCE,
+    G_FILM,
+    G_R_BEARING,
+    G_R_JOURNAL,
+    LOCKED,
+    N_GEOM,
+    S_ONSET_TOL,
+    S_PROJ_TOL,
+    S_V_MARK,
+)
 from jointplay._kernels.linalg import lu_factor, lu_solve_in_place
+from jointplay._kernels.shared import compiled as _shared
 
-# settings block of :attr:`EomModel.settings`
-S_ONSET_TOL, S_PROJ_TOL, S_V_MARK, S_CAPTURE, S_FILM = 0, 1, 2, 3, 4
-N_SETTINGS = 5
-#: The v0 slot of a clearance joint in sustained contact (locked onto |e| = c, see
-#: :func:`sustained_accelerations`); any negative value reads as locked (:func:`_locked`).
-LOCKED = -1.0
-# clearance geometry columns of :attr:`EomModel.geom`
-G_R_BEARING, G_R_JOURNAL, G_CLEARANCE = 0, 1, 2
-N_GEOM = 3
+#: The Schur solve, the lane source's (:func:`jointplay._kernels.lanes.source.cholesky_solve`).
+cholesky_solve = _shared["cholesky_solve"]
 
 
 class EomModel(NamedTuple):
@@ -103,16 +113,16 @@ class EomModel(NamedTuple):
         driver: (4) driven body (−1: none), φ at t = 0 (rad), signed ω (rad/s), ramp time (s).
         clear_joint: (nc) int64: joint row of each clearance joint.
         geom: (N_GEOM nc) per clearance joint: bearing radius, journal radius, radial
-            clearance (columns ``G_R_BEARING``, ``G_R_JOURNAL``, ``G_CLEARANCE``), m.
+            clearance (columns ``G_R_BEARING``, ``G_R_JOURNAL``, ``G_CLEARANCE``), m; its
+            film damping c_e (``G_FILM``, N·s/m; 0: dry; :func:`add_contact_forces`) and the
+            capture speed of its sustained-contact mode (``G_CAPTURE``, m/s; 0: off).
         law_id: (nc) int64: normal-force law (:mod:`jointplay._kernels.contact` ids).
         law_p: (w nc) its parameters, SI.
         fric_id: (nc) int64: friction law (``FRICTION_NONE``: frictionless).
         fric_p: (w nc) its parameters, SI.
-        settings: (N_SETTINGS) onset tolerance (m), projection tolerance (m or rad), the
-            entry rate marking a contact event entered at a rate <= 0 (m/s), the capture
-            speed of the sustained-contact mode (m/s; 0: the mode is off) and the film
-            damping c_e of every clearance joint (N·s/m; 0: off; :func:`add_contact_forces`),
-            at ``S_*``.
+        settings: (N_SETTINGS) onset tolerance (m), projection tolerance (m or rad) and the
+            entry rate marking a contact event entered at a rate <= 0 (m/s), at ``S_*``.
+    The ids, slots and columns (``S_*``, ``G_*``) are :mod:`jointplay._kernels.ids`'.
     """
 
     mass: np.ndarray
@@ -375,7 +385,7 @@ def add_contact_forces(
     Per joint (module docstring): δ = |e| − c, δ̇ = ė·n, v_T = ė·t + R_J ω_b − R_B ω_a; when
     δ > 0, F_N from the normal law, F_T from the friction law; −F_N n − F_T t acts on the
     journal at Q_J = r_J + R_J n, its opposite on the bearing at Q_B = r_B + R_B n. With
-    film damping (``settings[S_FILM] = c_e > 0``), −c_e ė acts on the journal at its centre
+    film damping (the joint's ``G_FILM`` = c_e > 0), −c_e ė acts on the journal at its centre
     and +c_e ė on the bearing at its centre, whether in contact or not (not in the record's
     F_N and F_T, which stay the contact law's: :func:`film_components`). Tables
     are flat (:class:`EomModel`); nothing is allocated. (:func:`_contact_state` computes
@@ -399,10 +409,10 @@ def add_contact_forces(
     plaw = law_p.shape[0] // max(nc, 1)
     pfric = fric_p.shape[0] // max(nc, 1)
     recording = record.shape[0] > 0
-    film = model.settings[S_FILM]
     power = 0.0
     last = (-2, 1.0, 0.0, -2, 1.0, 0.0)  # no body yet (-1 is the ground)
     for c in range(nc):
+        film = geom[N_GEOM * c + G_FILM]  # this joint's c_e; 0: dry
         j = clear_joint[c]
         a, b = joint_int[3 * j + 1], joint_int[3 * j + 2]
         cos_a, sin_a = _rotation_of(q, a, last)
@@ -433,11 +443,9 @@ def add_contact_forces(
             v_t = -edx * ny + edy * nx + r_j * wb - r_b * wa
             v0 = y[2 * n + 2 + c]
             if delta > 0.0 and v0 >= 0.0:  # v0 < 0: locked, F_N is a multiplier
-                f_n = normal_force(
-                    law_id[c], law_p[plaw * c : plaw * (c + 1)], delta, delta_dot, v0
-                )
+                f_n = normal_force(law_id[c], law_p, plaw * c, delta, delta_dot, v0)
                 if fric_id[c] != FRICTION_NONE:
-                    f_t = friction_force(fric_id[c], fric_p[pfric * c : pfric * (c + 1)], v_t, f_n)
+                    f_t = friction_force(fric_id[c], fric_p, pfric * c, v_t, f_n)
                 fx = -f_n * nx + f_t * ny
                 fy = -f_n * ny - f_t * nx
                 _push(force, b, rbx + r_j * nx, rby + r_j * ny, fx, fy)
@@ -447,34 +455,6 @@ def add_contact_forces(
             for k, value in enumerate((f_n, f_t, delta, delta_dot, v_t, ex, ey)):
                 record[7 * c + k] = value
     return power
-
-
-@njit(cache=True)
-def _cholesky_solve(a: np.ndarray, b: np.ndarray) -> None:
-    """Solve a x = b in place for a symmetric positive definite ``a`` (overwritten by its
-    Cholesky factor, b by x). A singular ``a`` gives inf/NaN, never an exception."""
-    m = a.shape[0]
-    for k in range(m):
-        d = a[k, k]
-        for p in range(k):
-            d -= a[k, p] * a[k, p]
-        d = np.sqrt(d)
-        a[k, k] = d
-        for i in range(k + 1, m):
-            s = a[i, k]
-            for p in range(k):
-                s -= a[i, p] * a[k, p]
-            a[i, k] = s / d
-    for i in range(m):
-        s = b[i]
-        for p in range(i):
-            s -= a[i, p] * b[p]
-        b[i] = s / a[i, i]
-    for i in range(m - 1, -1, -1):
-        s = b[i]
-        for p in range(i + 1, m):
-            s -= a[p, i] * b[p]
-        b[i] = s / a[i, i]
 
 
 @njit(cache=True, inline="always")
@@ -541,7 +521,7 @@ def constrained_accelerations(
                 for p in range(r + 1):
                     schur[r, p] += w * phi_q[p, i]
         multipliers[r] = s
-    _cholesky_solve(schur, multipliers)
+    cholesky_solve(schur, multipliers, schur.shape[0])
     for i in range(n):
         s = acc[i]
         for r in range(rows):
@@ -562,10 +542,19 @@ def _locked(v0: float) -> bool:
 
 
 @njit(cache=True, inline="always")
+def sustained_mode(model: EomModel) -> bool:
+    """Whether some clearance joint has the sustained-contact mode (its ``G_CAPTURE`` > 0)."""
+    for c in range(model.clear_joint.shape[0]):  # noqa: SIM110 (a plain loop compiles best)
+        if model.geom[N_GEOM * c + G_CAPTURE] > 0.0:
+            return True
+    return False
+
+
+@njit(cache=True, inline="always")
 def any_locked(y: np.ndarray, model: EomModel) -> bool:
-    """Whether the sustained-contact mode is on (``settings[S_CAPTURE] > 0``) and some
-    clearance joint is locked at ``y``; ``False`` at the cost of one comparison when off."""
-    if not model.settings[S_CAPTURE] > 0.0:
+    """Whether some clearance joint is locked at ``y`` (in the sustained-contact mode, the
+    only one that writes a negative v0: :data:`LOCKED`); ``False`` with the mode off."""
+    if not sustained_mode(model):
         return False
     base = 2 * model.mass.shape[0] + 2
     for c in range(model.clear_joint.shape[0]):  # noqa: SIM110 (a plain loop compiles best)
@@ -615,7 +604,7 @@ def locked_row(
     fric = model.fric_id[c]
     if fric != FRICTION_NONE:
         width = model.fric_p.shape[0] // model.clear_joint.shape[0]
-        mu = friction_force(fric, model.fric_p[width * c : width * (c + 1)], v_t, 1.0)
+        mu = friction_force(fric, model.fric_p, width * c, v_t, 1.0)
     for i in range(g_row.shape[0]):
         g_row[i] = 0.0
         h_col[i] = 0.0
@@ -846,7 +835,7 @@ def switch_contacts(
 
     Release: a locked joint whose multiplier F_N is negative (tensile) at ``y`` becomes a
     free compliant joint (v0 = 0). Capture: a compliant contact in progress (v0 > 0, δ > 0)
-    whose normal relative speed |δ̇| is below the capture speed ``settings[S_CAPTURE]`` at
+    whose normal relative speed |δ̇| is below its capture speed (``geom`` column ``G_CAPTURE``) at
     both ends of the step (``before``: δ and δ̇ at its start, 7 per joint as
     :func:`add_contact_forces` records them; empty: the end only) becomes locked
     (v0 = :data:`LOCKED`). Both ends: the turning point of an impact (δ̇ = 0 at the
@@ -869,7 +858,6 @@ def switch_contacts(
                 changed = True
     if any_locked(y, model) and project_locked(t, y, model, work):
         changed = True
-    capture = model.settings[S_CAPTURE]
     q = y[:n]
     qd = y[n : 2 * n]
     rot = _rotations(q)
@@ -877,7 +865,8 @@ def switch_contacts(
     captured = False
     captured_one = False
     for c in range(nc):
-        if not y[2 * n + 2 + c] > 0.0:
+        capture = model.geom[N_GEOM * c + G_CAPTURE]
+        if not (y[2 * n + 2 + c] > 0.0 and capture > 0.0):
             continue
         delta, delta_dot = _contact_state(
             q, qd, rot, model.joint_int, model.joint_f, model.clear_joint[c], model.geom, c
@@ -991,7 +980,7 @@ def film_components(y: np.ndarray, model: EomModel, contacts: np.ndarray, c: int
     (N; the journal feels minus this), from its record in ``contacts`` (7 per joint:
     :func:`add_contact_forces`; ė·n = δ̇, ė·t = v_T − R_J ω_b + R_B ω_a); (0, 0) with the film
     off."""
-    film = model.settings[S_FILM]
+    film = model.geom[N_GEOM * c + G_FILM]
     if not film > 0.0:
         return 0.0, 0.0
     n = model.mass.shape[0]
@@ -1075,32 +1064,6 @@ jacobian_signature = types.boolean(
 
 #: Relative step of the one-dimensional differences of the contact and friction laws
 #: (√eps, as a forward difference wants), and the floor of the rates it scales, m/s.
-_LAW_STEP = 1.4901161193847656e-08
-_RATE_FLOOR = 1e-3
-
-
-@njit(cache=True, inline="always")
-def _law_slopes(
-    law: int, law_row: np.ndarray, fric: int, fric_row: np.ndarray,
-    delta: float, delta_dot: float, v_t: float, v0: float, f_n: float,
-)-> tuple[float, float, float, float]:  # fmt: skip
-    """∂F_N/∂δ, ∂F_N/∂δ̇, ∂F_T/∂v_T, ∂F_T/∂F_N of the compiled laws at one contact state.
-
-    The laws are scalar functions of one or two variables, differenced forward with a
-    relative step √eps (the laws are piecewise smooth; a kink, such as F_N clipped at 0,
-    gets a one-sided slope, as the integrator's own difference quotient would). F_T is
-    linear in F_N for every friction law, so ∂F_T/∂F_N = F_T(v_T, 1).
-    """
-    h = max(_LAW_STEP * delta, 1e-300)  # δ > 0; never a zero step, even for a subnormal δ
-    slope_delta = (normal_force(law, law_row, delta + h, delta_dot, v0) - f_n) / h
-    h = _LAW_STEP * max(abs(delta_dot), _RATE_FLOOR)
-    slope_rate = (normal_force(law, law_row, delta, delta_dot + h, v0) - f_n) / h
-    if fric == FRICTION_NONE:
-        return slope_delta, slope_rate, 0.0, 0.0
-    per_newton = friction_force(fric, fric_row, v_t, 1.0)
-    h = _LAW_STEP * max(abs(v_t), _RATE_FLOOR)
-    slope_slip = (friction_force(fric, fric_row, v_t + h, f_n) - per_newton * f_n) / h
-    return slope_delta, slope_rate, slope_slip, per_newton
 
 
 @njit(cache=True, inline="always")
@@ -1168,8 +1131,6 @@ def _film_jacobian(
 
 #: Relative step (√eps) and floor of the steps of :func:`_fixed_differences`: m or rad for
 #: positions, m/s or rad/s for rates.
-_DIFF_STEP = 1.4901161193847656e-08
-_DIFF_FLOOR = 1e-3
 
 
 @njit(cache=True)
@@ -1188,7 +1149,7 @@ def _fixed_differences(
     column = np.empty(size)
     out[:, :] = 0.0
     for j in range(2 * n):
-        h = (y[j] + _DIFF_STEP * max(abs(y[j]), _DIFF_FLOOR)) - y[j]
+        h = (y[j] + DIFF_STEP * max(abs(y[j]), DIFF_FLOOR)) - y[j]
         work[j] = y[j] + h
         rhs_into(t, work, model, column)
         work[j] = y[j]
@@ -1221,13 +1182,13 @@ def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: n
       the negatives with r_a for the bearing's body a);
     - ∂δ = n·∂e, ∂n = t (t·∂e)/|e|, ∂t = −n (t·∂e)/|e|;
     - ∂δ̇ = n·∂ė + (ė·t)(t·∂e)/|e|, ∂v_T = t·∂ė − δ̇ (t·∂e)/|e| + R_J ∂ω_b − R_B ∂ω_a;
-    - ∂F_N = F_N,δ ∂δ + F_N,δ̇ ∂δ̇, ∂F_T = F_T,v ∂v_T + F_T,F ∂F_N (:func:`_law_slopes`);
+    - ∂F_N = F_N,δ ∂δ + F_N,δ̇ ∂δ̇, ∂F_T = F_T,v ∂v_T + F_T,F ∂F_N (:func:`jointplay._kernels.contact.law_slopes`);
     - the force on the journal f = −F_N n − F_T t has
       ∂f = −∂F_N n − ∂F_T t + (−F_N t + F_T n)(t·∂e)/|e|, and its moment about b's centre
       p_b × f, p_b = r_b + R_J n, has ∂(p_b × f) = ∂p_b × f + p_b × ∂f (the opposite force
       at p_a = r_a + R_B n on a).
 
-    With film damping c_e (``settings[S_FILM] > 0``), every clearance joint, in contact or
+    With film damping c_e (a joint's ``G_FILM`` > 0), every such clearance joint, in contact or
     not, adds f = −c_e ė on the journal at r_b and −f at r_a on the bearing:
     ∂f = −c_e ∂ė (∂ė as above: ∂ė/∂φ_b = −ω_b r_b, ∂ė/∂v_b = I, ∂ė/∂ω_b = ẑ×r_b, the
     negatives with r_a, ω_a for a; ė does not depend on x), moments ∂(r_b × f) =
@@ -1248,13 +1209,20 @@ def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: n
     law_id, fric_id, mass, gravity = model.law_id, model.fric_id, model.mass, model.gravity
     joint_f, driver, geom = model.joint_f, model.driver, model.geom
     law_p, fric_p = model.law_p, model.fric_p
+    rpar, ipar = args[0], args[1]  # the laws read their parameters from rpar at offsets
+    o_law = (
+        ipar[L_MASS] + ipar[L_GRAVITY] + ipar[L_JOINT_F] + ipar[L_DRIVER] + ipar[L_GEOM]
+    )  # where law_p starts in rpar (pack's order of the float fields)
+    o_fric = o_law + ipar[L_LAW_P]
     n = mass.shape[0]
     nc = clear_joint.shape[0]
     if any_locked(y, model):  # locked joints are constraints: the integrator differences
         return False
     for j in range(active.shape[0]):
         if active[j] != 0:
-            if model.settings[S_FILM] > 0.0:  # steady steps, not the integrator's adaptive
+            if np.any(
+                geom[G_FILM::N_GEOM] > 0.0
+            ):  # a film: steady steps, not the integrator's adaptive
                 _fixed_differences(t, y, f, model, out)
                 return True
             return False
@@ -1266,13 +1234,13 @@ def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: n
     plaw = law_p.shape[0] // max(nc, 1)
     pfric = fric_p.shape[0] // max(nc, 1)
     power_row = 2 * n + 1
-    film = model.settings[S_FILM]
     rot = _rotations(q)
     for c in range(nc):
         j = clear_joint[c]
         a, b = joint_int[3 * j + 1], joint_int[3 * j + 2]
         (delta, delta_dot, v_t, length, _, _, nx, ny, slide,
          (rax, ray), (rbx, rby), wa, wb) = _contact_state(q, qd, rot, joint_int, joint_f, j, geom, c)  # fmt: skip
+        film = geom[N_GEOM * c + G_FILM]  # this joint's c_e; 0: dry
         if film > 0.0:
             _film_jacobian(out, film, qd, mass, a, b, rax, ray, rbx, rby, wa, wb)
         if not delta > 0.0:
@@ -1280,16 +1248,15 @@ def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: n
         tx, ty = -ny, nx
         r_j = geom[N_GEOM * c + G_R_JOURNAL]
         r_b = geom[N_GEOM * c + G_R_BEARING]
-        law_row = law_p[plaw * c : plaw * (c + 1)]
-        fric_row = fric_p[pfric * c : pfric * (c + 1)]
         v0 = y[2 * n + 2 + c]
-        f_n = normal_force(law_id[c], law_row, delta, delta_dot, v0)
+        f_n = normal_force(law_id[c], rpar, o_law + plaw * c, delta, delta_dot, v0)
         f_t = 0.0
         if fric_id[c] != FRICTION_NONE:
-            f_t = friction_force(fric_id[c], fric_row, v_t, f_n)
-        n_delta, n_rate, t_slip, t_normal = _law_slopes(
-            law_id[c], law_row, fric_id[c], fric_row, delta, delta_dot, v_t, v0, f_n
-        )
+            f_t = friction_force(fric_id[c], rpar, o_fric + pfric * c, v_t, f_n)
+        n_delta, n_rate, t_slip, t_normal = law_slopes(
+            law_id[c], rpar, o_law + plaw * c, fric_id[c], o_fric + pfric * c,
+            delta, delta_dot, v_t, v0, f_n,
+        )  # fmt: skip
         fx = -f_n * nx - f_t * tx
         fy = -f_n * ny - f_t * ty
         pbx, pby = rbx + r_j * nx, rby + r_j * ny  # arms of the contact points
@@ -1458,7 +1425,7 @@ def contact_memory_and_projection(
         before[7 * c + 2] = work[N_WORK + 2 * c]
         before[7 * c + 3] = work[N_WORK + 2 * c + 1]
     changed = contact_memory(y, model, record, before)
-    if model.settings[S_CAPTURE] > 0.0 and switch_contacts(t, y, model, work, before):
+    if sustained_mode(model) and switch_contacts(t, y, model, work, before):
         changed = True
         record = _contact_records(y, model)
     if project(t, y, model, work):

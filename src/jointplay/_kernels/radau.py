@@ -99,6 +99,21 @@ import numpy as np
 import numpy.typing as npt
 
 from jointplay._kernels.common import (
+    all_finite,
+    copy_vector,
+    error_scale,
+    interrupt_pending,
+    jit,
+    num_jac,
+    plus,
+    predict_factor,
+    py_max,
+    py_min,
+    rms_norm,
+    select_initial_step,
+    tolerance_scale,
+)
+from jointplay._kernels.ids import (
     EPS,
     NFEV,
     NJEV,
@@ -113,19 +128,6 @@ from jointplay._kernels.common import (
     STATUS_STEP_TOO_SMALL,
     STATUS_SUCCESS,
     STATUS_TOO_MANY_STEPS,
-    all_finite,
-    copy_vector,
-    error_scale,
-    interrupt_pending,
-    jit,
-    num_jac,
-    plus,
-    predict_factor,
-    py_max,
-    py_min,
-    rms_norm,
-    select_initial_step,
-    tolerance_scale,
 )
 from jointplay._kernels.linalg import lu_factor, lu_solve_in_place
 
@@ -625,7 +627,7 @@ def driver_start(fun, args, t0, y0, t_bound, max_step, first_step, direction, rt
         return STATUS_SUCCESS, counters, ts, ys, m, f, 0.0
     f = copy_vector(fun(t0, y0, args))
     counters[NFEV] += 1
-    if not (all_finite(y0) and all_finite(f)):
+    if not (all_finite(y0, y0.shape[0]) and all_finite(f, f.shape[0])):
         return STATUS_NON_FINITE, counters, ts, ys, m, f, 0.0
     h_abs = first_step
     if not first_step > 0:
@@ -842,7 +844,7 @@ def _radau_core(
         changed = after_step(t_new, y_new, args)
         f_new = copy_vector(fun(t_new, y_new, args))
         counters[NFEV] += 1
-        if not (all_finite(y_new) and all_finite(f_new)):
+        if not (all_finite(y_new, y_new.shape[0]) and all_finite(f_new, f_new.shape[0])):
             status = STATUS_NON_FINITE
             break
 

@@ -55,6 +55,14 @@ import numpy as np
 import numpy.typing as npt
 
 from jointplay._kernels.common import (
+    all_finite,
+    interrupt_pending,
+    jit,
+    num_jac,
+    py_max,
+    py_min,
+)
+from jointplay._kernels.ids import (
     EPS,
     NFEV,
     NJEV,
@@ -68,12 +76,6 @@ from jointplay._kernels.common import (
     STATUS_STEP_TOO_SMALL,
     STATUS_SUCCESS,
     STATUS_TOO_MANY_STEPS,
-    all_finite,
-    interrupt_pending,
-    jit,
-    num_jac,
-    py_max,
-    py_min,
 )
 from jointplay._kernels.linalg import lu_factor_in_place
 from jointplay._kernels.radau import (
@@ -299,7 +301,7 @@ def _rodas_core(
         after_step(t_new, y_new, args)
         f[:] = fun(t_new, y_new, args)
         counters[NFEV] += 1
-        if not (all_finite(y_new) and all_finite(f)):
+        if not (all_finite(y_new, y_new.shape[0]) and all_finite(f, f.shape[0])):
             status = STATUS_NON_FINITE
             break
         t = t_new

@@ -21,7 +21,7 @@ from typing import Any, ClassVar
 import numpy as np
 import numpy.typing as npt
 
-from jointplay._kernels import contact as kc
+from jointplay._kernels import ids
 from jointplay.contact.laws import FloatArray, _Packed, _resolve, _Validated, layout, step3
 
 
@@ -54,8 +54,8 @@ class NoFriction(FrictionLaw):
     """Frictionless joint: F_T = 0."""
 
     name: ClassVar[str] = "none"
-    law_id: ClassVar[int] = kc.FRICTION_NONE
-    packing: ClassVar[tuple[str, ...]] = layout(kc.NONE_SIZE, {})
+    law_id: ClassVar[int] = ids.FRICTION_NONE
+    packing: ClassVar[tuple[str, ...]] = layout(ids.NONE_SIZE, {})
     citation: ClassVar[str] = "frictionless contact"
     equation: ClassVar[str] = "F_T = 0"
 
@@ -87,9 +87,9 @@ class AmbrosioFriction(FrictionLaw):
     """
 
     name: ClassVar[str] = "ambrosio"
-    law_id: ClassVar[int] = kc.FRICTION_AMBROSIO
+    law_id: ClassVar[int] = ids.FRICTION_AMBROSIO
     packing: ClassVar[tuple[str, ...]] = layout(
-        kc.AMBROSIO_SIZE, {kc.AMBROSIO_MU: "mu", kc.AMBROSIO_V0: "v0", kc.AMBROSIO_V1: "v1"}
+        ids.AMBROSIO_SIZE, {ids.AMBROSIO_MU: "mu", ids.AMBROSIO_V0: "v0", ids.AMBROSIO_V1: "v1"}
     )
     citation: ClassVar[str] = (
         "Ambrósio (2003), Impact of rigid and flexible multibody systems; Flores et al.; "
@@ -151,14 +151,14 @@ class AdamsFriction(FrictionLaw):
     """
 
     name: ClassVar[str] = "adams"
-    law_id: ClassVar[int] = kc.FRICTION_ADAMS
+    law_id: ClassVar[int] = ids.FRICTION_ADAMS
     packing: ClassVar[tuple[str, ...]] = layout(
-        kc.ADAMS_SIZE,
+        ids.ADAMS_SIZE,
         {
-            kc.ADAMS_MU_STATIC: "mu_static",
-            kc.ADAMS_MU_DYNAMIC: "mu_dynamic",
-            kc.ADAMS_V_STATIC: "v_static",
-            kc.ADAMS_V_DYNAMIC: "v_dynamic",
+            ids.ADAMS_MU_STATIC: "mu_static",
+            ids.ADAMS_MU_DYNAMIC: "mu_dynamic",
+            ids.ADAMS_V_STATIC: "v_static",
+            ids.ADAMS_V_DYNAMIC: "v_dynamic",
         },
     )
     citation: ClassVar[str] = (

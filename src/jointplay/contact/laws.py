@@ -40,7 +40,7 @@ from typing import Any, ClassVar, TypeVar, cast
 import numpy as np
 import numpy.typing as npt
 
-from jointplay._kernels import contact as kc
+from jointplay._kernels import ids
 from jointplay.contact.restitution import chi_for_restitution
 from jointplay.errors import ConfigError
 
@@ -266,14 +266,14 @@ class ImpactLaw(ContactLaw):
     """
 
     name: ClassVar[str] = "impact"
-    law_id: ClassVar[int] = kc.LAW_IMPACT
+    law_id: ClassVar[int] = ids.LAW_IMPACT
     packing: ClassVar[tuple[str, ...]] = layout(
-        kc.IMPACT_SIZE,
+        ids.IMPACT_SIZE,
         {
-            kc.IMPACT_STIFFNESS: "stiffness",
-            kc.IMPACT_EXPONENT: "exponent",
-            kc.IMPACT_C_MAX: "c_max",
-            kc.IMPACT_D_MAX: "d_max",
+            ids.IMPACT_STIFFNESS: "stiffness",
+            ids.IMPACT_EXPONENT: "exponent",
+            ids.IMPACT_C_MAX: "c_max",
+            ids.IMPACT_D_MAX: "d_max",
         },
     )
     citation: ClassVar[str] = (
@@ -326,9 +326,9 @@ class HertzLaw(ContactLaw):
     """
 
     name: ClassVar[str] = "hertz"
-    law_id: ClassVar[int] = kc.LAW_HERTZ
+    law_id: ClassVar[int] = ids.LAW_HERTZ
     packing: ClassVar[tuple[str, ...]] = layout(
-        kc.HERTZ_SIZE, {kc.HERTZ_STIFFNESS: "stiffness", kc.HERTZ_EXPONENT: "exponent"}
+        ids.HERTZ_SIZE, {ids.HERTZ_STIFFNESS: "stiffness", ids.HERTZ_EXPONENT: "exponent"}
     )
     citation: ClassVar[str] = (
         "Hertz (1882); Johnson (1985) Contact Mechanics; docs/contact-laws.md §2.1"
@@ -371,9 +371,9 @@ class KelvinVoigtLaw(ContactLaw):
     """
 
     name: ClassVar[str] = "kelvin-voigt"
-    law_id: ClassVar[int] = kc.LAW_KELVIN_VOIGT
+    law_id: ClassVar[int] = ids.LAW_KELVIN_VOIGT
     packing: ClassVar[tuple[str, ...]] = layout(
-        kc.KV_SIZE, {kc.KV_STIFFNESS: "stiffness", kc.KV_DAMPING: "damping"}
+        ids.KV_SIZE, {ids.KV_STIFFNESS: "stiffness", ids.KV_DAMPING: "damping"}
     )
     citation: ClassVar[str] = "Kelvin–Voigt viscoelastic element; docs/contact-laws.md §2.1"
     equation: ClassVar[str] = "F = max(0, K δ + D δ̇)"
@@ -441,11 +441,11 @@ class RestitutionLaw(ContactLaw):
     """
 
     name: ClassVar[str] = "restitution"
-    law_id: ClassVar[int] = kc.LAW_RESTITUTION
+    law_id: ClassVar[int] = ids.LAW_RESTITUTION
     packing: ClassVar[tuple[str, ...]] = layout(
-        kc.HC_SIZE,
-        {kc.HC_STIFFNESS: "penalty", kc.HC_EXPONENT: "exponent", kc.HC_CHI: "chi",
-         kc.HC_V_FLOOR: "v_floor"},
+        ids.HC_SIZE,
+        {ids.HC_STIFFNESS: "penalty", ids.HC_EXPONENT: "exponent", ids.HC_CHI: "chi",
+         ids.HC_V_FLOOR: "v_floor"},
     )  # fmt: skip
     stiffness_name: ClassVar[str] = "penalty"
     needs_impact_velocity: ClassVar[bool] = True
@@ -516,11 +516,11 @@ class HuntCrossleyTypeLaw(ContactLaw):
     #: The kernel evaluates every id from ``HC_FIRST`` to ``HC_LAST`` as this one force form;
     #: the registered laws carry their own ids only to be told apart, and a new χ(e) law may
     #: keep this inherited one (docs/contact-laws.md, "Adding a law").
-    law_id: ClassVar[int] = kc.LAW_HUNT_CROSSLEY
+    law_id: ClassVar[int] = ids.LAW_HUNT_CROSSLEY
     packing: ClassVar[tuple[str, ...]] = layout(
-        kc.HC_SIZE,
-        {kc.HC_STIFFNESS: "stiffness", kc.HC_EXPONENT: "exponent", kc.HC_CHI: "chi",
-         kc.HC_V_FLOOR: "v_floor"},
+        ids.HC_SIZE,
+        {ids.HC_STIFFNESS: "stiffness", ids.HC_EXPONENT: "exponent", ids.HC_CHI: "chi",
+         ids.HC_V_FLOOR: "v_floor"},
     )  # fmt: skip
     needs_impact_velocity: ClassVar[bool] = True
     aliases: ClassVar[Mapping[str, str]] = MappingProxyType(
@@ -579,7 +579,7 @@ class HuntCrossleyLaw(HuntCrossleyTypeLaw):
     """
 
     name: ClassVar[str] = "hunt-crossley"
-    law_id: ClassVar[int] = kc.LAW_HUNT_CROSSLEY
+    law_id: ClassVar[int] = ids.LAW_HUNT_CROSSLEY
     citation: ClassVar[str] = "Hunt & Crossley (1975), J. Appl. Mech. 42:440–445; §2.2"
     equation: ClassVar[str] = "F = K δ^n (1 + 3(1-e)/2 · δ̇/v0)"
 
@@ -597,7 +597,7 @@ class LankaraniNikraveshLaw(HuntCrossleyTypeLaw):
     """
 
     name: ClassVar[str] = "lankarani-nikravesh"
-    law_id: ClassVar[int] = kc.LAW_LANKARANI_NIKRAVESH
+    law_id: ClassVar[int] = ids.LAW_LANKARANI_NIKRAVESH
     citation: ClassVar[str] = "Lankarani & Nikravesh (1990), J. Mech. Des. 112:369–376; §2.2"
     equation: ClassVar[str] = "F = K δ^n (1 + 3(1-e²)/4 · δ̇/v0)"
 
@@ -615,7 +615,7 @@ class FloresLaw(HuntCrossleyTypeLaw):
     """
 
     name: ClassVar[str] = "flores"
-    law_id: ClassVar[int] = kc.LAW_FLORES
+    law_id: ClassVar[int] = ids.LAW_FLORES
     citation: ClassVar[str] = "Flores et al. (2011), Multibody Syst. Dyn. 25:357–375; §2.2"
     equation: ClassVar[str] = "F = K δ^n (1 + 8(1-e)/(5e) · δ̇/v0)"
 
@@ -633,7 +633,7 @@ class GonthierLaw(HuntCrossleyTypeLaw):
     """
 
     name: ClassVar[str] = "gonthier"
-    law_id: ClassVar[int] = kc.LAW_GONTHIER
+    law_id: ClassVar[int] = ids.LAW_GONTHIER
     citation: ClassVar[str] = "Gonthier et al. (2004), Multibody Syst. Dyn. 11:209–233; §2.2"
     equation: ClassVar[str] = "F = K δ^n (1 + (1-e²)/e · δ̇/v0)"
 
@@ -653,7 +653,7 @@ class HuGuoLaw(HuntCrossleyTypeLaw):
     """
 
     name: ClassVar[str] = "hu-guo"
-    law_id: ClassVar[int] = kc.LAW_HU_GUO
+    law_id: ClassVar[int] = ids.LAW_HU_GUO
     citation: ClassVar[str] = (
         "Hu & Guo (2015), Multibody Syst. Dyn. 35:131–151 (DOI 10.1007/s11044-015-9453-z); "
         "constant UNCONFIRMED, §2.2"
@@ -674,7 +674,7 @@ class HerbertMcWhannellLaw(HuntCrossleyTypeLaw):
     """
 
     name: ClassVar[str] = "herbert-mcwhannell"
-    law_id: ClassVar[int] = kc.LAW_HERBERT_MCWHANNELL
+    law_id: ClassVar[int] = ids.LAW_HERBERT_MCWHANNELL
     citation: ClassVar[str] = "Herbert & McWhannell (1977), J. Eng. Ind. 99:513–518; §2.2"
     equation: ClassVar[str] = "F = K δ^n (1 + 6(1-e)/((2e-1)²+3) · δ̇/v0)"
 
@@ -692,7 +692,7 @@ class LeeWangLaw(HuntCrossleyTypeLaw):
     """
 
     name: ClassVar[str] = "lee-wang"
-    law_id: ClassVar[int] = kc.LAW_LEE_WANG
+    law_id: ClassVar[int] = ids.LAW_LEE_WANG
     citation: ClassVar[str] = "Lee & Wang (1983), J. Mech. Transm. Autom. Des. 105:534–540; §2.2"
     equation: ClassVar[str] = "F = K δ^n (1 + 3(1-e)/4 · δ̇/v0)"
 
@@ -710,7 +710,7 @@ class ZhiyingQishaoLaw(HuntCrossleyTypeLaw):
     """
 
     name: ClassVar[str] = "zhiying-qishao"
-    law_id: ClassVar[int] = kc.LAW_ZHIYING_QISHAO
+    law_id: ClassVar[int] = ids.LAW_ZHIYING_QISHAO
     citation: ClassVar[str] = "Zhiying & Qishao (2006), J. Dyn. Control 4:294–298 (Chinese); §2.2"
     equation: ClassVar[str] = "F = K δ^n (1 + 3(1-e²) exp(2(1-e))/4 · δ̇/v0)"
 

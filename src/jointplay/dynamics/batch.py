@@ -48,7 +48,7 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from jointplay._kernels import batch as kb
-from jointplay._kernels import common as kc
+from jointplay._kernels import ids
 from jointplay.dynamics.batch_inputs import BatchProblem, BatchSamples, build_batch
 from jointplay.dynamics.batch_method import (
     EXPLICIT_TOLERANCE_SCALE,
@@ -269,7 +269,7 @@ def _lane_work(problem: BatchProblem, method: str) -> LaneWork:
         )
 
     def stopped(output: kb.BatchKernelOutput) -> bool:
-        return bool(np.any(output.status == kc.STATUS_INTERRUPTED))
+        return bool(np.any(output.status == ids.STATUS_INTERRUPTED))
 
     return LaneWork(
         task=kb.run_chunk, shared=(problem.ipar, *constants), here=here, stopped=stopped,
@@ -319,7 +319,7 @@ def _dispatch(
     except ClusterLost as error:
         lost = f"ClusterLost: {error}"
     merged = _merged(problem, parts, outputs)
-    if interrupted or lost or np.any(merged.status == kc.STATUS_INTERRUPTED):
+    if interrupted or lost or np.any(merged.status == ids.STATUS_INTERRUPTED):
         raise _PartialDispatch(merged, threads, chunk, lost)
     return merged, threads, chunk
 
@@ -340,7 +340,7 @@ def _merged(
         return kb.BatchKernelOutput(
             peaks=np.full((m, 2 * nb + nj + 1), np.nan),
             stats=np.full((m, 2 * nb + nc), np.nan),
-            status=np.full(m, kc.STATUS_INTERRUPTED, dtype=np.int64),
+            status=np.full(m, ids.STATUS_INTERRUPTED, dtype=np.int64),
             t_reached=np.zeros(m),
             n_steps=np.zeros(m, dtype=np.int64),
             n_rejected=np.zeros(m, dtype=np.int64),
@@ -489,7 +489,7 @@ def simulate_batch(
         peak_names, stat_names = _names(mechanism, system)
         peaks = np.full((n, len(peak_names)), np.nan)
         stats = np.full((n, len(stat_names)), np.nan)
-        status = np.full(n, kc.STATUS_NON_FINITE, dtype=np.int64)
+        status = np.full(n, ids.STATUS_NON_FINITE, dtype=np.int64)
         counters = np.zeros((n, 4))
         counters[:, 3] = np.nan
         peaks[lanes] = output.peaks[:, [k for k, _, _ in peak_names]]
@@ -500,14 +500,14 @@ def simulate_batch(
         )
         errors = list(problem.errors)
         for row, lane in enumerate(lanes):
-            if output.status[row] == kc.STATUS_INTERRUPTED:
+            if output.status[row] == ids.STATUS_INTERRUPTED:
                 errors[lane] = lost or NOT_RUN
-            elif output.status[row] != kc.STATUS_SUCCESS:
+            elif output.status[row] != ids.STATUS_SUCCESS:
                 errors[lane] = _lane_message(
                     int(output.status[row]), float(output.t_reached[row]),
                     float(problem.t_end[lane]), problem.max_steps,
                 )  # fmt: skip
-        ok = status == kc.STATUS_SUCCESS
+        ok = status == ids.STATUS_SUCCESS
         units = {name: unit for _, name, unit in (*peak_names, *stat_names)}
         index = pd.RangeIndex(n, name="sample")
         result = BatchResult(

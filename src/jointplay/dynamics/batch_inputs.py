@@ -25,7 +25,7 @@ from numpy.typing import NDArray
 
 from jointplay._kernels import batch as kb
 from jointplay._kernels import constraints as ck
-from jointplay._kernels import eom
+from jointplay._kernels import eom, ids
 from jointplay.contact.laws import ContactLaw
 from jointplay.dynamics.clearance import MIN_CLEARANCE, ClearanceJoint, stiffness_field
 from jointplay.dynamics.cycles import analysed_revolutions, settle_revolutions
@@ -569,7 +569,7 @@ def _build_vectorised(
     driver[:, DRV_OMEGA] = omega
     # clearances, laws, settings
     nc = len(system0.clearances)
-    geom = np.zeros((n, nc, eom.N_GEOM))
+    geom = np.zeros((n, nc, ids.N_GEOM))
     law_p = np.zeros((n, nc, PARAMS_WIDTH))
     films = np.zeros((n, nc))
     for c, clear in enumerate(system0.clearances):
@@ -584,9 +584,11 @@ def _build_vectorised(
                 if clear.film_from is None
                 else clear.film_from.damping(clear.journal_radius, clearance)
             )
-        geom[:, c, eom.G_R_BEARING] = clear.journal_radius + clearance
-        geom[:, c, eom.G_R_JOURNAL] = clear.journal_radius
-        geom[:, c, eom.G_CLEARANCE] = clearance
+        geom[:, c, ids.G_R_BEARING] = clear.journal_radius + clearance
+        geom[:, c, ids.G_R_JOURNAL] = clear.journal_radius
+        geom[:, c, ids.G_CLEARANCE] = clearance
+        geom[:, c, ids.G_FILM] = films[:, c]  # each joint its own c_e, as build_system
+        geom[:, c, ids.G_CAPTURE] = clear.capture_speed
         law_p[:, c], law_ok, law_errors = _law_columns(
             clear.law, _geometric_changes(clear, samples, clearance), n
         )
@@ -601,10 +603,8 @@ def _build_vectorised(
                 except JointplayError as exc:
                     ok[i], errors[i] = False, f"{type(exc).__name__}: {exc}"
     settings = np.tile(system0.model.settings, (n, 1))
-    if nc:  # the smallest of the joints' film dampings, as build_system takes it
-        settings[:, eom.S_FILM] = films.min(axis=1)
     if solver.onset_tolerance is None:
-        settings[:, eom.S_ONSET_TOL] = 0.01 * geom[:, :, eom.G_CLEARANCE].min(axis=1)
+        settings[:, ids.S_ONSET_TOL] = 0.01 * geom[:, :, ids.G_CLEARANCE].min(axis=1)
     mass_vector = np.stack([mass, mass, inertia], axis=2).reshape(n, 3 * nb)
     gravity = np.zeros((n, nb, 3))
     gravity[:, :, 0] = mass * flat0.gravity[0]

@@ -73,11 +73,11 @@ def _contact_rate(law: Any, friction: Any, delta: float, rate: float, mass: floa
     params = np.zeros(PARAMS_WIDTH)
     packed = law.params()
     params[: len(packed)] = packed
-    force = normal_force(law.law_id, params, delta, rate, rate)
+    force = normal_force(law.law_id, params, 0, delta, rate, rate)
     h = 1e-6 * delta
-    stiffness = (normal_force(law.law_id, params, delta + h, rate, rate) - force) / h
+    stiffness = (normal_force(law.law_id, params, 0, delta + h, rate, rate) - force) / h
     h = 1e-6 * abs(rate)
-    damping = (normal_force(law.law_id, params, delta, rate + h, rate) - force) / h
+    damping = (normal_force(law.law_id, params, 0, delta, rate + h, rate) - force) / h
     if friction is not None:
         from jointplay._kernels.contact import friction_force
 
@@ -87,8 +87,8 @@ def _contact_rate(law: Any, friction: Any, delta: float, rate: float, mass: floa
         slip = 1e-6 * abs(rate)
         slope = max(
             abs(
-                friction_force(friction.law_id, fparams, v, force)
-                - friction_force(friction.law_id, fparams, v - slip, force)
+                friction_force(friction.law_id, fparams, 0, v, force)
+                - friction_force(friction.law_id, fparams, 0, v - slip, force)
             )
             / slip
             for v in (slip, abs(rate))

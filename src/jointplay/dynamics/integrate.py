@@ -45,8 +45,8 @@ import numpy as np
 import numpy.typing as npt
 from numba.core.dispatcher import Dispatcher
 
-from jointplay._kernels import common as _common
 from jointplay._kernels import dopri as _dopri
+from jointplay._kernels import ids
 from jointplay._kernels import radau as _radau
 from jointplay._kernels import rodas as _rodas
 from jointplay.errors import ConfigError, IntegrationError
@@ -77,11 +77,11 @@ class IntegrationStatus(enum.IntEnum):
     from it and add where it happened and what to change.
     """
 
-    SUCCESS = _common.STATUS_SUCCESS
-    STEP_TOO_SMALL = _common.STATUS_STEP_TOO_SMALL
-    TOO_MANY_STEPS = _common.STATUS_TOO_MANY_STEPS
-    NON_FINITE = _common.STATUS_NON_FINITE
-    INTERRUPTED = _common.STATUS_INTERRUPTED
+    SUCCESS = ids.STATUS_SUCCESS
+    STEP_TOO_SMALL = ids.STATUS_STEP_TOO_SMALL
+    TOO_MANY_STEPS = ids.STATUS_TOO_MANY_STEPS
+    NON_FINITE = ids.STATUS_NON_FINITE
+    INTERRUPTED = ids.STATUS_INTERRUPTED
 
     @property
     def summary(self) -> str:
@@ -283,7 +283,7 @@ def integrate(
         raise IntegrationError(message)
     t.flags.writeable = False
     y.flags.writeable = False
-    counts = dict(zip(_common.COUNTER_NAMES, (int(c) for c in counters), strict=True))
+    counts = dict(zip(ids.COUNTER_NAMES, (int(c) for c in counters), strict=True))
     return IntegrationResult(
         t=t,
         y=y,

@@ -375,8 +375,6 @@ class SimulationResult:
                 }
                 for c in self.system.clearances
             },
-            # the engines take one film damping: the smallest of the joints' (docs/contact.md)
-            "film_damping_applied_N_s_m": float(self.system.model.settings[eom.S_FILM]),
         }
 
 
@@ -816,7 +814,7 @@ def _interpolate(
     t0, t1 = t[index], t[index + 1]
     out = y[index].copy()  # work and impact-velocity memory: value at the step's start
     out[:, :n] = hermite(t, y[:, :n], y[:, n : 2 * n], samples)
-    if system.model.settings[eom.S_FILM] > 0:
+    if system.lubricated:
         out[:, n : 2 * n] = hermite_derivative(t, y[:, :n], y[:, n : 2 * n], samples)
         quintic = smooth_steps(touching)[index]
         if quintic.any():
@@ -904,7 +902,7 @@ def _film_components(
     """The film force c_e ė of clearance joint ``c`` in its contact frame, (c_e ė·n, c_e ė·t)
     per state (N; :func:`jointplay._kernels.eom.film_components`, whose arithmetic this
     is): the joint transmits F_N n + F_T t + c_e ė. Zeros with the film off."""
-    film = float(system.model.settings[eom.S_FILM])
+    film = float(system.film_dampings[c])
     count = y.shape[0]
     if not film > 0:
         return np.zeros(count), np.zeros(count)
@@ -987,7 +985,7 @@ def _solver_stats(
         "projections": int(work[eom.W_PROJECTIONS]),
         "wall_s": wall,
     }
-    if system.model.settings[eom.S_CAPTURE] > 0:
+    if system.sustained_mode:
         stats["sustained_contact"] = _sustained_stats(system, run.t, y)
     return stats
 

@@ -18,8 +18,8 @@ from dataclasses import dataclass, fields
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from jointplay._kernels import eom
-from jointplay._kernels.contact import FRICTION_NONE
+from jointplay._kernels import eom, ids
+from jointplay._kernels.ids import FRICTION_NONE
 from jointplay.dynamics.clearance import ClearanceJoint
 from jointplay.errors import ConfigError
 from jointplay.model.flat import FlatModel, flatten
@@ -56,6 +56,21 @@ class System:
     def n_state(self) -> int:
         """q, q̇, motor work, contact work, one impact-velocity slot per clearance joint."""
         return 2 * self.n_coordinates + 2 + len(self.clearances)
+
+    @property
+    def film_dampings(self) -> FloatArray:
+        """Each clearance joint's film damping c_e as the kernels read it (N·s/m; 0: dry)."""
+        return self.model.geom[ids.G_FILM :: ids.N_GEOM]
+
+    @property
+    def lubricated(self) -> bool:
+        """Whether some clearance joint has film damping."""
+        return bool(np.any(self.film_dampings > 0.0))
+
+    @property
+    def sustained_mode(self) -> bool:
+        """Whether some clearance joint has the sustained-contact mode (capture speed > 0)."""
+        return bool(np.any(self.model.geom[ids.G_CAPTURE :: ids.N_GEOM] > 0.0))
 
     def kernel_args(self) -> eom.EomArgs:
         """The kernels' ``args`` for one integration: the model packed for the integrator's
@@ -108,7 +123,7 @@ def build_system(
     fric_p = np.zeros((nc, PARAMS_WIDTH))
     law_id = np.zeros(nc, dtype=np.int64)
     fric_id = np.full(nc, FRICTION_NONE, dtype=np.int64)
-    geom = np.zeros((nc, eom.N_GEOM))
+    geom = np.zeros((nc, ids.N_GEOM))
     for c, clearance in enumerate(clearances):
         params = clearance.law.params()
         law_p[c, : len(params)] = params
@@ -117,25 +132,17 @@ def build_system(
             fparams = clearance.friction.params()
             fric_p[c, : len(fparams)] = fparams
             fric_id[c] = clearance.friction.law_id
-        geom[c, eom.G_R_BEARING] = clearance.bearing_radius
-        geom[c, eom.G_R_JOURNAL] = clearance.journal_radius
-        geom[c, eom.G_CLEARANCE] = clearance.clearance
-    speeds = {c.capture_speed for c in clearances}
-    if len(speeds) > 1:
-        raise ConfigError(
-            "the clearance joints of one simulation share one capture speed (the "
-            f"sustained-contact mode); got {sorted(speeds)} m/s"
-        )
+        geom[c, ids.G_R_BEARING] = clearance.bearing_radius
+        geom[c, ids.G_R_JOURNAL] = clearance.journal_radius
+        geom[c, ids.G_CLEARANCE] = clearance.clearance
+        geom[c, ids.G_FILM] = clearance.film_damping  # each joint its own c_e; 0: dry
+        geom[c, ids.G_CAPTURE] = clearance.capture_speed  # 0: sustained contact off
     if onset_tolerance is None:
         onset_tolerance = 0.01 * min((c.clearance for c in clearances), default=1e-5)
-    settings = np.zeros(eom.N_SETTINGS)
-    settings[eom.S_ONSET_TOL] = onset_tolerance
-    settings[eom.S_PROJ_TOL] = projection_tolerance
-    settings[eom.S_V_MARK] = 1e-12  # marks an active contact event whose entry rate was <= 0
-    settings[eom.S_CAPTURE] = speeds.pop() if speeds else 0.0  # 0: sustained contact off
-    # one film damping for every joint (the kernels take one): the smallest of the joints',
-    # which errs on the side of the dry joint (docs/contact.md); 0: dry
-    settings[eom.S_FILM] = min((c.film_damping for c in clearances), default=0.0)
+    settings = np.zeros(ids.N_SETTINGS)
+    settings[ids.S_ONSET_TOL] = onset_tolerance
+    settings[ids.S_PROJ_TOL] = projection_tolerance
+    settings[ids.S_V_MARK] = 1e-12  # marks an active contact event whose entry rate was <= 0
     model = eom.EomModel(
         mass=_frozen(flat.mass_vector(), np.float64),
         gravity=_frozen(flat.gravity_forces(), np.float64),

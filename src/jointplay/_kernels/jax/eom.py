@@ -38,24 +38,23 @@ from typing import Any
 import jax.numpy as jnp
 import numpy as np
 
-from jointplay._kernels import contact as kc
-from jointplay._kernels import eom
+from jointplay._kernels import eom, ids
 from jointplay.errors import ConfigError
 
 Scalar = Any  # a traced float64 scalar (one lane)
 
 #: Normal-force laws the port knows, by id.
 NORMAL_LAWS = {
-    kc.LAW_IMPACT: "impact",
-    kc.LAW_HERTZ: "hertz",
-    kc.LAW_KELVIN_VOIGT: "kelvin-voigt",
-    **{law: "hunt-crossley family" for law in range(kc.HC_FIRST, kc.HC_LAST + 1)},
+    ids.LAW_IMPACT: "impact",
+    ids.LAW_HERTZ: "hertz",
+    ids.LAW_KELVIN_VOIGT: "kelvin-voigt",
+    **{law: "hunt-crossley family" for law in range(ids.HC_FIRST, ids.HC_LAST + 1)},
 }
 #: Friction laws the port knows, by id.
 FRICTION_LAWS = {
-    kc.FRICTION_NONE: "none",
-    kc.FRICTION_AMBROSIO: "ambrosio",
-    kc.FRICTION_ADAMS: "adams",
+    ids.FRICTION_NONE: "none",
+    ids.FRICTION_AMBROSIO: "ambrosio",
+    ids.FRICTION_ADAMS: "adams",
 }
 
 #: Joint kinds of joint_int column 0 (jointplay.model.flat).
@@ -206,21 +205,21 @@ def normal_force(law: int, p: Any, delta: Scalar, delta_dot: Scalar, v0: Scalar)
     contact). ``p`` holds the law's packed parameters."""
     inside = delta > 0.0
     d = jnp.where(inside, delta, 1.0)  # a safe penetration outside contact
-    if law == kc.LAW_IMPACT:
-        damping = step3(d, 0.0, 0.0, p[kc.IMPACT_D_MAX], p[kc.IMPACT_C_MAX])
-        force = p[kc.IMPACT_STIFFNESS] * power(d, p[kc.IMPACT_EXPONENT]) + damping * delta_dot
-    elif law == kc.LAW_HERTZ:
-        force = p[kc.HERTZ_STIFFNESS] * power(d, p[kc.HERTZ_EXPONENT])
-    elif law == kc.LAW_KELVIN_VOIGT:
-        force = p[kc.KV_STIFFNESS] * d + p[kc.KV_DAMPING] * delta_dot
-    elif kc.HC_FIRST <= law <= kc.HC_LAST:
+    if law == ids.LAW_IMPACT:
+        damping = step3(d, 0.0, 0.0, p[ids.IMPACT_D_MAX], p[ids.IMPACT_C_MAX])
+        force = p[ids.IMPACT_STIFFNESS] * power(d, p[ids.IMPACT_EXPONENT]) + damping * delta_dot
+    elif law == ids.LAW_HERTZ:
+        force = p[ids.HERTZ_STIFFNESS] * power(d, p[ids.HERTZ_EXPONENT])
+    elif law == ids.LAW_KELVIN_VOIGT:
+        force = p[ids.KV_STIFFNESS] * d + p[ids.KV_DAMPING] * delta_dot
+    elif ids.HC_FIRST <= law <= ids.HC_LAST:
         v_ref = jnp.where(v0 > 0.0, v0, delta_dot)
-        v_floor = p[kc.HC_V_FLOOR]
+        v_floor = p[ids.HC_V_FLOOR]
         v_eff = jnp.where(v_ref > v_floor, v_ref, v_floor)
         force = (
-            p[kc.HC_STIFFNESS]
-            * power(d, p[kc.HC_EXPONENT])
-            * (1.0 + p[kc.HC_CHI] * delta_dot / v_eff)
+            p[ids.HC_STIFFNESS]
+            * power(d, p[ids.HC_EXPONENT])
+            * (1.0 + p[ids.HC_CHI] * delta_dot / v_eff)
         )
     else:  # read_layout refuses unknown ids
         raise ConfigError(f"normal-force law id {law} is not ported to JAX")
@@ -229,20 +228,20 @@ def normal_force(law: int, p: Any, delta: Scalar, delta_dot: Scalar, v0: Scalar)
 
 def friction_force(law: int, p: Any, v_t: Scalar, f_n: Scalar) -> Scalar:
     """:func:`jointplay._kernels.contact.friction_force` for the static ``law`` (signed F_T, N)."""
-    if law == kc.FRICTION_NONE:
+    if law == ids.FRICTION_NONE:
         return jnp.zeros_like(v_t)
     sign = jnp.sign(v_t)
     speed = jnp.abs(v_t)
-    if law == kc.FRICTION_AMBROSIO:
-        v_lo, v_hi = p[kc.AMBROSIO_V0], p[kc.AMBROSIO_V1]
+    if law == ids.FRICTION_AMBROSIO:
+        v_lo, v_hi = p[ids.AMBROSIO_V0], p[ids.AMBROSIO_V1]
         span = jnp.where(v_hi > v_lo, v_hi - v_lo, 1.0)
         correction = jnp.where(
             speed <= v_lo, 0.0, jnp.where(speed >= v_hi, 1.0, (speed - v_lo) / span)
         )
-        return p[kc.AMBROSIO_MU] * correction * f_n * sign
-    if law == kc.FRICTION_ADAMS:
-        mu_s, mu_d = p[kc.ADAMS_MU_STATIC], p[kc.ADAMS_MU_DYNAMIC]
-        v_s, v_d = p[kc.ADAMS_V_STATIC], p[kc.ADAMS_V_DYNAMIC]
+        return p[ids.AMBROSIO_MU] * correction * f_n * sign
+    if law == ids.FRICTION_ADAMS:
+        mu_s, mu_d = p[ids.ADAMS_MU_STATIC], p[ids.ADAMS_MU_DYNAMIC]
+        v_s, v_d = p[ids.ADAMS_V_STATIC], p[ids.ADAMS_V_DYNAMIC]
         coefficient = jnp.where(
             speed <= v_s,
             step3(v_t, -v_s, -mu_s, v_s, mu_s),

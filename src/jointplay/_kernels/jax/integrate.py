@@ -66,7 +66,8 @@ import numpy as np
 from jax import lax
 
 from jointplay._kernels.batch import DENSE, REFINE_MARGIN, REFINE_POINTS
-from jointplay._kernels.common import (
+from jointplay._kernels.ids import (
+    EPS,
     STATUS_NON_FINITE,
     STATUS_RUNNING,
     STATUS_STEP_TOO_SMALL,
@@ -133,7 +134,6 @@ RADAU_P = np.array(
     ]
 )
 NEWTON_MAXITER = 6
-EPS = float(np.finfo(np.float64).eps)
 
 Lane = dict[str, Any]
 

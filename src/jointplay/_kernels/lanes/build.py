@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from jointplay._kernels import ids
 from jointplay._kernels.lanes import source, source_radau
 
 __all__ = [
@@ -34,7 +35,7 @@ FUNCTIONS = (
     "step3", "power", "normal_force", "friction_force", "driver_acceleration", "driver_angle",
     "driver_speed", "rot", "point_global", "constraint_rows", "constraint_jacobian",
     "acceleration_rhs", "cholesky_solve", "constrained_accelerations", "push",
-    "eccentricity_rate", "contact_forces", "film_components", "rhs", "rhs_and_quantities", "quantities", "onset_fraction",
+    "eccentricity_rate", "contact_forces", "any_film", "film_components", "rhs", "rhs_and_quantities", "quantities", "onset_fraction",
     "onset_check", "impact_rate", "contact_memory", "project_driver", "constraint_residual",
     "max_abs", "schur_solve", "project_constraints", "project",
     "all_finite", "interrupt_pending", "dense", "triggers", "wants_refinement",
@@ -67,6 +68,7 @@ def build(
     decorate: Callable[[Callable[..., Any]], Any],
     hooks: Mapping[str, Callable[..., Any]] | None = None,
     extras: Mapping[str, Any] | None = None,
+    only: tuple[str, ...] = FUNCTIONS,
 ) -> dict[str, Any]:
     """Every function of :data:`FUNCTIONS`, compiled with ``decorate``, in a namespace of its
     own (returned: name → compiled function, with the source's constants beside them).
@@ -77,6 +79,8 @@ def build(
             it (``project``: default :func:`source.project`), in place of the source's; compiled like the
             source's functions, in the same namespace.
         extras: more names for that namespace (what a hook calls: compiled functions).
+        only: the functions to compile (a subset closed under the calls among them: the
+            single engine's contact laws, :mod:`jointplay._kernels.contact`); all by default.
     """
     namespace: dict[str, Any] = {
         name: value
@@ -87,9 +91,10 @@ def build(
     namespace["math"] = math
     namespace.update(extras or {})
     chosen = dict(hooks or {})
-    if set(chosen) - set(FUNCTIONS):
+    if set(chosen) - set(FUNCTIONS) or set(only) - set(FUNCTIONS):
         raise ValueError(
-            f"no function of the lane source is called {sorted(set(chosen) - set(FUNCTIONS))}"
+            "no function of the lane source is called "
+            f"{sorted((set(chosen) | set(only)) - set(FUNCTIONS))}"
         )
     functions = [
         (
@@ -97,6 +102,7 @@ def build(
             chosen.get(name, getattr(source_radau if name in IMPLICIT_FUNCTIONS else source, name)),
         )
         for name in FUNCTIONS
+        if name in only
     ]
     for name, original in functions:
         copy = types.FunctionType(
@@ -153,14 +159,12 @@ def lanes_refusal(
     method), film damping (the implicit method only: at a c_e of the order of 1e5 N·s/m the
     film's time constant m/c_e is microseconds, and an explicit method's steps with it)."""
     lay = lane_layout(ipar)
-    settings = np.atleast_2d(rpar)[:, int(lay[source.LY_SETTINGS]) :]
-    if np.any(settings[:, source_radau.S_CAPTURE] > 0.0):
+    nc = int(lay[source.LY_NC])
+    start = int(lay[source.LY_GEOM])
+    geom = np.atleast_2d(rpar)[:, start : start + ids.N_GEOM * nc]
+    if np.any(geom[:, ids.G_CAPTURE :: ids.N_GEOM] > 0.0):
         return "the lanes of the single source have no sustained-contact mode yet"
-    if (
-        method != "implicit"
-        and settings.shape[1] > source.S_FILM
-        and np.any(settings[:, source.S_FILM] > 0.0)
-    ):
+    if method != "implicit" and np.any(geom[:, ids.G_FILM :: ids.N_GEOM] > 0.0):
         return (
             "the explicit lanes of the single source do not integrate film damping (stiff: "
             "the film's time constant m/c_e would make their steps microseconds); the implicit "

@@ -44,7 +44,10 @@ import numpy as np
 import numpy.typing as npt
 
 from jointplay._kernels.batch import BatchKernelOutput
-from jointplay._kernels.common import STATUS_RUNNING, STATUS_SUCCESS
+from jointplay._kernels.ids import (
+    STATUS_RUNNING,
+    STATUS_SUCCESS,
+)
 from jointplay._kernels.lanes import source
 from jointplay._kernels.lanes.build import lane_layout, lanes_refusal
 from jointplay._kernels.lanes.limits import MAX_CLEAR, MAX_COORDS, MAX_Q, MAX_ROWS, MAX_STATE

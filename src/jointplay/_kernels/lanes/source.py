@@ -30,6 +30,57 @@ from __future__ import annotations
 
 import math
 
+# The shared ids, slots, statuses and counters (one home: jointplay._kernels.ids; build.py
+# puts the source's upper-case globals, these included, into every target's namespace).
+from jointplay._kernels.ids import (
+    ADAMS_MU_DYNAMIC,
+    ADAMS_MU_STATIC,
+    ADAMS_V_DYNAMIC,
+    ADAMS_V_STATIC,
+    AMBROSIO_MU,
+    AMBROSIO_V0,
+    AMBROSIO_V1,
+    FRICTION_ADAMS,
+    FRICTION_AMBROSIO,
+    FRICTION_NONE,
+    G_CLEARANCE,
+    G_FILM,
+    G_R_BEARING,
+    G_R_JOURNAL,
+    HC_CHI,
+    HC_EXPONENT,
+    HC_FIRST,
+    HC_LAST,
+    HC_STIFFNESS,
+    HC_V_FLOOR,
+    HERTZ_EXPONENT,
+    HERTZ_STIFFNESS,
+    IMPACT_C_MAX,
+    IMPACT_D_MAX,
+    IMPACT_EXPONENT,
+    IMPACT_STIFFNESS,
+    K_REJECTED,
+    K_RHS,
+    K_STEPS,
+    KV_DAMPING,
+    KV_STIFFNESS,
+    LAW_HERTZ,
+    LAW_IMPACT,
+    LAW_KELVIN_VOIGT,
+    N_GEOM,
+    S_ONSET_TOL,
+    S_PROJ_TOL,
+    S_V_MARK,
+    SIGINT,
+    SIGTERM,
+    STATUS_INTERRUPTED,
+    STATUS_NON_FINITE,
+    STATUS_RUNNING,
+    STATUS_STEP_TOO_SMALL,
+    STATUS_SUCCESS,
+    STATUS_TOO_MANY_STEPS,
+)
+
 # --- lay: offsets (into rp for floats, into ip for integers) and sizes ----------------------
 LY_MASS, LY_GRAVITY, LY_JOINT_F, LY_DRIVER, LY_GEOM, LY_LAW_P, LY_FRIC_P, LY_SETTINGS = range(8)
 LY_JOINT_INT, LY_ACTIVE, LY_CLEAR, LY_LAW_ID, LY_FRIC_ID = range(8, 13)
@@ -37,22 +88,6 @@ LY_JOINT_INT, LY_ACTIVE, LY_CLEAR, LY_LAW_ID, LY_FRIC_ID = range(8, 13)
 #: quantities.
 LY_N, LY_NJ, LY_NC, LY_PLAW, LY_PFRIC, LY_NIDEAL, LY_SIZE, LY_NQ = range(13, 21)
 N_LAY = 21
-
-# --- copies of the constants the source reads (kept equal to their homes by a test) ---------
-# contact laws (jointplay._kernels.contact)
-LAW_IMPACT, LAW_HERTZ, LAW_KELVIN_VOIGT, HC_FIRST, HC_LAST = 0, 1, 2, 3, 11
-FRICTION_NONE, FRICTION_AMBROSIO, FRICTION_ADAMS = 0, 1, 2
-# eom: clearance geometry columns, settings
-N_GEOM, G_R_BEARING, G_R_JOURNAL, G_CLEARANCE = 3, 0, 1, 2
-S_ONSET_TOL, S_PROJ_TOL, S_V_MARK = 0, 1, 2
-#: eom.S_FILM: the film damping c_e (N·s/m; 0: off) of every clearance joint.
-S_FILM = 4
-# statuses (jointplay._kernels.common)
-STATUS_SUCCESS, STATUS_STEP_TOO_SMALL, STATUS_TOO_MANY_STEPS = 0, -1, -2
-STATUS_NON_FINITE, STATUS_INTERRUPTED, STATUS_RUNNING = -3, -4, 1
-SIGINT, SIGTERM = 2, 15
-# counters per lane (jointplay._kernels.batch)
-K_STEPS, K_REJECTED, K_RHS = 0, 1, 2
 
 
 # --- contact laws (jointplay._kernels.contact; docs/contact-laws.md) -------------------------
@@ -73,50 +108,68 @@ def power(delta, exponent):
 
 
 def normal_force(law_id, p, o, delta, delta_dot, v0):
-    """Normal force F_N ≥ 0 (N) of law ``law_id`` with parameters ``p[o:]`` at penetration δ
-    (m), rate δ̇ (m/s) and event entry rate v0 (m/s); NaN for an unknown id
-    (:func:`jointplay._kernels.contact.normal_force`)."""
+    """Normal contact force magnitude F_N ≥ 0, N (0 without penetration), of law ``law_id``
+    (an ``ids.LAW_*``) with its packed parameters at ``p[o:]`` (docs/contact-laws.md §1–2;
+    the layouts: :mod:`jointplay._kernels.contact`).
+
+    Args:
+        delta: penetration δ, m (> 0 in contact).
+        delta_dot: penetration rate δ̇, m/s (> 0 while approaching).
+        v0: penetration rate at the start of the current contact event, m/s. Used by the
+            Hunt–Crossley family only: ``v_eff = max(v0, v_floor)``, or
+            ``max(delta_dot, v_floor)`` when ``v0 <= 0`` (not known yet).
+
+    Returns:
+        The force in N, or NaN for an unknown ``law_id``.
+    """
     if not delta > 0.0:
         return 0.0
-    if law_id == LAW_IMPACT:
-        damping = step3(delta, 0.0, 0.0, p[o + 3], p[o + 2])
-        force = p[o] * power(delta, p[o + 1]) + damping * delta_dot
-    elif law_id == LAW_HERTZ:
-        force = p[o] * power(delta, p[o + 1])
-    elif law_id == LAW_KELVIN_VOIGT:
-        force = p[o] * delta + p[o + 1] * delta_dot
-    elif HC_FIRST <= law_id <= HC_LAST:
+    if law_id == LAW_IMPACT:  # ADAMS IMPACT: k δ^e + STEP(δ, 0, 0, d_max, c_max) δ̇
+        damping = step3(delta, 0.0, 0.0, p[o + IMPACT_D_MAX], p[o + IMPACT_C_MAX])
+        force = p[o + IMPACT_STIFFNESS] * power(delta, p[o + IMPACT_EXPONENT]) + damping * delta_dot
+    elif law_id == LAW_HERTZ:  # K δ^n
+        force = p[o + HERTZ_STIFFNESS] * power(delta, p[o + HERTZ_EXPONENT])
+    elif law_id == LAW_KELVIN_VOIGT:  # K δ + D δ̇
+        force = p[o + KV_STIFFNESS] * delta + p[o + KV_DAMPING] * delta_dot
+    elif HC_FIRST <= law_id <= HC_LAST:  # K δ^n (1 + χ δ̇ / v_eff)
         v_ref = v0 if v0 > 0.0 else delta_dot
-        v_floor = p[o + 3]
+        v_floor = p[o + HC_V_FLOOR]
         v_eff = v_ref if v_ref > v_floor else v_floor
-        force = p[o] * power(delta, p[o + 1]) * (1.0 + p[o + 2] * delta_dot / v_eff)
+        force = (
+            p[o + HC_STIFFNESS]
+            * power(delta, p[o + HC_EXPONENT])
+            * (1.0 + p[o + HC_CHI] * delta_dot / v_eff)
+        )
     else:
         return math.nan
     return force if force > 0.0 else 0.0
 
 
 def friction_force(law_id, p, o, v_t, f_n):
-    """Signed friction force F_T (N) at slip v_T (m/s) under F_N (N); parameters ``p[o:]``
-    (:func:`jointplay._kernels.contact.friction_force`)."""
+    """Signed tangential friction force F_T, N, of friction law ``law_id`` (an
+    ``ids.FRICTION_*``) with its packed parameters at ``p[o:]``: ``F_T = μ(v_T) F_N sgn(v_T)``
+    in the sign convention of docs/contact-laws.md §5 (on the journal ``−F_T t``, on the
+    bearing ``+F_T t``), at slip v_T (m/s, journal relative to bearing) under F_N (N); NaN for
+    an unknown id."""
     if law_id == FRICTION_NONE:
         return 0.0
     sign = 1.0 if v_t > 0.0 else (-1.0 if v_t < 0.0 else 0.0)
     speed = abs(v_t)
     if law_id == FRICTION_AMBROSIO:
-        v_lo = p[o + 1]
-        v_hi = p[o + 2]
+        v_lo = p[o + AMBROSIO_V0]
+        v_hi = p[o + AMBROSIO_V1]
         if speed <= v_lo:
             correction = 0.0
         elif speed >= v_hi:
             correction = 1.0
         else:
             correction = (speed - v_lo) / (v_hi - v_lo)
-        return p[o] * correction * f_n * sign
+        return p[o + AMBROSIO_MU] * correction * f_n * sign
     if law_id == FRICTION_ADAMS:
-        mu_s = p[o]
-        mu_d = p[o + 1]
-        v_s = p[o + 2]
-        v_d = p[o + 3]
+        mu_s = p[o + ADAMS_MU_STATIC]
+        mu_d = p[o + ADAMS_MU_DYNAMIC]
+        v_s = p[o + ADAMS_V_STATIC]
+        v_d = p[o + ADAMS_V_DYNAMIC]
         if speed <= v_s:
             coefficient = step3(v_t, -v_s, -mu_s, v_s, mu_s)
         elif speed < v_d:
@@ -363,7 +416,7 @@ def contact_forces(y, rp, ip, lay, f, record, recording):
     """Add every clearance joint's contact force to ``f[n:2n]`` (:func:`eom.add_contact_forces`:
     δ = |e| − c, δ̇ = ė·n, v_T = ė·t + R_J ω_b − R_B ω_a; −F_N n − F_T t on the journal at
     r_J + R_J n, the opposite on the bearing at r_B + R_B n); with film damping
-    (``rp``'s setting ``S_FILM`` = c_e > 0), −c_e ė on the journal at its centre and +c_e ė on
+    (the joint's ``G_FILM`` column c_e > 0), −c_e ė on the journal at its centre and +c_e ė on
     the bearing at its centre, in contact or not, first (not in the record's F_N, F_T:
     :func:`film_components`); when ``recording``, (F_N, F_T, δ, δ̇, v_T, e_x, e_y) of joint c
     into ``record[7c:7c + 7]``. Returns the contact power Σ (F_N δ̇ + F_T v_T + c_e |ė|²), W.
@@ -376,9 +429,9 @@ def contact_forces(y, rp, ip, lay, f, record, recording):
     o_geom = lay[LY_GEOM]
     plaw = lay[LY_PLAW]
     pfric = lay[LY_PFRIC]
-    film = rp[lay[LY_SETTINGS] + S_FILM]
     pw = 0.0
     for c in range(nc):
+        film = rp[o_geom + N_GEOM * c + G_FILM]  # this joint's c_e; 0: dry
         j = ip[lay[LY_CLEAR] + c]
         a = ip[o_ji + 3 * j + 1]
         b = ip[o_ji + 3 * j + 2]
@@ -454,11 +507,19 @@ def contact_forces(y, rp, ip, lay, f, record, recording):
     return pw
 
 
+def any_film(rp, lay):
+    """Whether some clearance joint of the model has film damping (its ``G_FILM`` > 0)."""
+    for c in range(lay[LY_NC]):  # noqa: SIM110 (the subset both compilers take: no any())
+        if rp[lay[LY_GEOM] + N_GEOM * c + G_FILM] > 0.0:
+            return True
+    return False
+
+
 def film_components(y, rp, ip, lay, record, c):
     """The film force c_e ė of clearance joint ``c`` in its contact frame, (c_e ė·n, c_e ė·t)
     (N; the journal feels minus this), from its record (:func:`contact_forces`: ė·n = δ̇,
     ė·t = v_T − R_J ω_b + R_B ω_a); (0, 0) with the film off (:func:`eom.film_components`)."""
-    film = rp[lay[LY_SETTINGS] + S_FILM]
+    film = rp[lay[LY_GEOM] + N_GEOM * c + G_FILM]
     if not film > 0.0:
         return 0.0, 0.0
     n = lay[LY_N]
@@ -534,7 +595,7 @@ def rhs_and_quantities(t, y, rp, ip, lay, f, record, qty, pen, phi_q, schur, lam
         else:
             for c in range(nc):
                 if ip[lay[LY_CLEAR] + c] == j:
-                    if rp[lay[LY_SETTINGS] + S_FILM] > 0.0:  # what the joint transmits
+                    if rp[lay[LY_GEOM] + N_GEOM * c + G_FILM] > 0.0:  # what it transmits
                         film_n, film_t = film_components(y, rp, ip, lay, record, c)
                         qty[2 * nb + j] = math.hypot(
                             record[7 * c] + film_n, record[7 * c + 1] + film_t

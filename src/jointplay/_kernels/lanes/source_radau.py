@@ -25,7 +25,7 @@ every joint is clear (the paper's mechanisms: the driver the only constraint), f
 differences (:func:`jacobian_fixed`, :func:`eom._fixed_differences`) with ideal joints and
 film damping, else SciPy's finite differences as the Radau kernel takes them
 (:func:`jacobian_differences`). Film
-damping (``S_FILM``) is handled: its force and power in :func:`contact_forces`, its terms in
+damping (each joint's ``G_FILM``) is handled: its force and power in :func:`contact_forces`, its terms in
 the closed-form Jacobian (:func:`film_jacobian`), its part of the reported joint force
 (:func:`film_components`), and the interpolant's rule between steps (:func:`hermite`). The
 sustained-contact mode (locked joints) is not: the GPU's
@@ -49,6 +49,21 @@ import math
 
 # These names are resolved in the namespace build.py makes (the source's functions and
 # constants); imported here only so that a reader (and the linters) can find them.
+from jointplay._kernels.ids import (
+    DIFF_FLOOR,
+    DIFF_STEP,
+    EPS,
+    G_FILM,
+    LAW_STEP,
+    NUM_JAC_DIFF_BIG,
+    NUM_JAC_DIFF_REJECT,
+    NUM_JAC_DIFF_SMALL,
+    NUM_JAC_FACTOR_DECREASE,
+    NUM_JAC_FACTOR_INCREASE,
+    NUM_JAC_MAX_FACTOR,
+    NUM_JAC_MIN_FACTOR,
+    RATE_FLOOR,
+)
 from jointplay._kernels.lanes.source import (
     FRICTION_NONE,
     G_CLEARANCE,
@@ -74,12 +89,10 @@ from jointplay._kernels.lanes.source import (
     LY_NQ,
     LY_PFRIC,
     LY_PLAW,
-    LY_SETTINGS,
     LY_SIZE,
     MAX_CHECK_REJECTIONS,
     N_GEOM,
     N_REFINE,
-    S_FILM,
     STATUS_INTERRUPTED,
     STATUS_NON_FINITE,
     STATUS_RUNNING,
@@ -88,6 +101,7 @@ from jointplay._kernels.lanes.source import (
     STATUS_TOO_MANY_STEPS,
     accumulate,
     all_finite,
+    any_film,
     close_window,
     contact_forces,
     contact_memory,
@@ -136,26 +150,7 @@ NEWTON_MAXITER = 6
 RULE_RATES = 0
 RULE_CUBIC_DERIVATIVE = 1
 RULE_QUINTIC = 2
-#: eom.S_CAPTURE: the settings' capture speed (the sustained-contact mode), not handled here
-#: (film damping's ``S_FILM`` is the explicit source's, imported above).
-S_CAPTURE = 3
 R_MIN_FACTOR, R_MAX_FACTOR = 0.2, 10.0
-EPS = 2.220446049250313e-16
-#: SciPy's num_jac constants (:mod:`jointplay._kernels.common`: NUM_JAC_*).
-NUM_JAC_DIFF_REJECT = EPS**0.875
-NUM_JAC_DIFF_SMALL = EPS**0.75
-NUM_JAC_DIFF_BIG = EPS**0.25
-NUM_JAC_MIN_FACTOR = 1e3 * EPS
-NUM_JAC_FACTOR_INCREASE = 10.0
-NUM_JAC_FACTOR_DECREASE = 0.1
-NUM_JAC_MAX_FACTOR = 1.0
-#: eom._LAW_STEP and eom._RATE_FLOOR: the law slopes' relative step and the rates' floor.
-LAW_STEP = 1.4901161193847656e-08
-RATE_FLOOR = 1e-3
-#: eom._DIFF_STEP and eom._DIFF_FLOOR: the fixed steps of the Jacobian with film damping and
-#: ideal joints (:func:`jacobian_fixed`).
-DIFF_STEP = 1.4901161193847656e-08
-DIFF_FLOOR = 1e-3
 
 
 def pmin(a, b):
@@ -408,7 +403,6 @@ def jacobian_clear(t, y, rp, ip, lay, jac, force, record):
     o_mass = lay[LY_MASS]
     plaw = lay[LY_PLAW]
     pfric = lay[LY_PFRIC]
-    film = rp[lay[LY_SETTINGS] + S_FILM]
     for r in range(size - n):
         for col in range(2 * n):
             jac[r, col] = 0.0
@@ -435,6 +429,7 @@ def jacobian_clear(t, y, rp, ip, lay, jac, force, record):
         r_j = rp[o_geom + N_GEOM * c + G_R_JOURNAL]
         r_b = rp[o_geom + N_GEOM * c + G_R_BEARING]
         v_t = slide + r_j * wb - r_b * wa
+        film = rp[o_geom + N_GEOM * c + G_FILM]  # this joint's c_e; 0: dry
         if film > 0.0:
             film_jacobian(jac, film, rp, o_mass, n, a, b, rax, ray, rbx, rby, wa, wb, edx, edy)
         if not delta > 0.0:
@@ -611,7 +606,7 @@ def jacobian(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, diff, diff_ne
     differences (:func:`jacobian_differences`)."""
     if lay[LY_NIDEAL] == 0:
         jacobian_clear(t, y, rp, ip, lay, jac, f_col, record)
-    elif rp[lay[LY_SETTINGS] + S_FILM] > 0.0:
+    elif any_film(rp, lay):
         jacobian_fixed(t, y, f, rp, ip, lay, jac, ytmp, f_col, record, phi_q, schur, lam)
     else:
         jacobian_differences(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, diff,
@@ -950,7 +945,7 @@ def implicit_lane(
     nc = lay[LY_NC]
     size = lay[LY_SIZE]
     n_q = lay[LY_NQ]
-    film = rp[lay[LY_SETTINGS] + S_FILM] > 0.0  # the interpolant's rule (hermite)
+    film = any_film(rp, lay)  # the interpolant's rule (hermite)
     start_outputs(ip, rp, lay, mask, peaks, stats, counts)
     t = 0.0
     if interrupt_pending(interrupt):

@@ -1,0 +1,107 @@
+"""The numbers every kernel dialect shares, defined once: contact-law and friction-law ids and
+their packed parameter layouts, the packed model's slots, integration statuses, counters and
+the numerical constants of the step and Jacobian rules.
+
+Plain Python, no Numba: the single engine (:mod:`jointplay._kernels.eom`,
+:mod:`~jointplay._kernels.contact`, :mod:`~jointplay._kernels.common`), the lane source
+(:mod:`jointplay._kernels.lanes.source`, compiled for the CPU and CUDA by
+:mod:`jointplay._kernels.lanes.build`, which reads the source's upper-case globals, so these
+names reach every target) and the JAX dialect import them from here; nothing copies them.
+
+Units are SI where a constant has one (m, s, N).
+"""
+
+from __future__ import annotations
+
+import signal
+import sys
+
+# --- normal-force law ids (jointplay._kernels.contact; docs/contact-laws.md) ------------------
+LAW_IMPACT = 0
+LAW_HERTZ = 1
+LAW_KELVIN_VOIGT = 2
+LAW_RESTITUTION = 3
+LAW_HUNT_CROSSLEY = 4
+LAW_LANKARANI_NIKRAVESH = 5
+LAW_FLORES = 6
+LAW_GONTHIER = 7
+LAW_HU_GUO = 8
+LAW_HERBERT_MCWHANNELL = 9
+LAW_LEE_WANG = 10
+LAW_ZHIYING_QISHAO = 11
+#: First and last id of the Hunt–Crossley family (shared layout ``HC_*``).
+HC_FIRST = LAW_RESTITUTION
+HC_LAST = LAW_ZHIYING_QISHAO
+
+# --- packed layouts of the normal-force laws ---------------------------------------------------
+IMPACT_STIFFNESS, IMPACT_EXPONENT, IMPACT_C_MAX, IMPACT_D_MAX, IMPACT_SIZE = 0, 1, 2, 3, 4
+HERTZ_STIFFNESS, HERTZ_EXPONENT, HERTZ_SIZE = 0, 1, 2
+KV_STIFFNESS, KV_DAMPING, KV_SIZE = 0, 1, 2
+HC_STIFFNESS, HC_EXPONENT, HC_CHI, HC_V_FLOOR, HC_SIZE = 0, 1, 2, 3, 4
+
+# --- friction law ids and layouts --------------------------------------------------------------
+FRICTION_NONE = 0
+FRICTION_AMBROSIO = 1
+FRICTION_ADAMS = 2
+NONE_SIZE = 0
+AMBROSIO_MU, AMBROSIO_V0, AMBROSIO_V1, AMBROSIO_SIZE = 0, 1, 2, 3
+ADAMS_MU_STATIC, ADAMS_MU_DYNAMIC, ADAMS_V_STATIC, ADAMS_V_DYNAMIC, ADAMS_SIZE = 0, 1, 2, 3, 4
+
+# --- the packed model (jointplay._kernels.eom.EomModel) ----------------------------------------
+#: Slots of the ``settings`` block: the contact-onset tolerance (m), the projection tolerance
+#: (m or rad) and the entry rate that marks a contact event entered at a rate <= 0 (m/s).
+S_ONSET_TOL, S_PROJ_TOL, S_V_MARK = 0, 1, 2
+N_SETTINGS = 3
+#: Columns of the ``geom`` table, one row per clearance joint: bearing radius, journal radius,
+#: radial clearance (m); the joint's film damping c_e (N·s/m; 0: dry) and the capture speed of
+#: its sustained-contact mode (m/s; 0: the mode off for this joint).
+G_R_BEARING, G_R_JOURNAL, G_CLEARANCE, G_FILM, G_CAPTURE = 0, 1, 2, 3, 4
+N_GEOM = 5
+#: The v0 slot of a clearance joint in sustained contact (locked onto |e| = c); any negative
+#: value reads as locked.
+LOCKED = -1.0
+
+# --- integration statuses and counters ---------------------------------------------------------
+#: Statuses an integration ends with (``STATUS_RUNNING`` while it goes on).
+STATUS_SUCCESS = 0
+STATUS_STEP_TOO_SMALL = -1
+STATUS_TOO_MANY_STEPS = -2
+STATUS_NON_FINITE = -3
+#: A SIGINT or SIGTERM arrived during the integration.
+STATUS_INTERRUPTED = -4
+STATUS_RUNNING = 1
+#: The signals that stop an integration, as the bytes Python's C-level signal handler writes
+#: to its wakeup file descriptor.
+SIGINT, SIGTERM = int(signal.SIGINT), int(signal.SIGTERM)
+INTERRUPT_SIGNALS = (SIGINT, SIGTERM)
+#: Meaning of the entries of a single-engine integration's ``counters`` array.
+COUNTER_NAMES = (
+    "nfev", "njev", "nlu", "n_steps", "n_rejected_error", "n_rejected_newton", "n_rejected_check",
+)  # fmt: skip
+NFEV, NJEV, NLU, NSTEPS, NREJ_ERROR, NREJ_NEWTON, NREJ_CHECK = range(7)
+#: Counters per batch lane: accepted steps, rejected steps, right-hand side evaluations.
+K_STEPS, K_REJECTED, K_RHS = 0, 1, 2
+
+# --- numerical constants of the step and Jacobian rules ----------------------------------------
+EPS = sys.float_info.epsilon
+#: SciPy's finite-difference Jacobian constants (``_ivp/common.py``, ``num_jac``).
+NUM_JAC_DIFF_REJECT = EPS**0.875
+NUM_JAC_DIFF_SMALL = EPS**0.75
+NUM_JAC_DIFF_BIG = EPS**0.25
+NUM_JAC_MIN_FACTOR = 1e3 * EPS
+NUM_JAC_FACTOR_INCREASE = 10.0
+NUM_JAC_FACTOR_DECREASE = 0.1
+#: Not in SciPy: the largest relative difference step. SciPy multiplies a column's factor by
+#: 10 at every Jacobian in which the column's difference is small, without bound, so a
+#: component on which f (nearly) does not depend gets an infinite step after ~300 Jacobians
+#: and the Jacobian turns NaN (seen on a slider-crank: its slider angle is held by a
+#: constraint). A step as large as the component itself (or its atol) is the cap.
+NUM_JAC_MAX_FACTOR = 1.0
+#: The contact laws' slopes in the closed-form Jacobian: relative step in δ, and the floor of
+#: the rates (m/s) whose relative step is taken.
+LAW_STEP = 1.4901161193847656e-08
+RATE_FLOOR = 1e-3
+#: The fixed-step differences of the Jacobian with ideal joints and film damping: relative
+#: step and floor of the state component.
+DIFF_STEP = 1.4901161193847656e-08
+DIFF_FLOOR = 1e-3
