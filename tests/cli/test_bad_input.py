@@ -458,6 +458,31 @@ def test_a_parent_nobody_may_write_is_refused(
     assert blocker.read_text(encoding="utf-8") == "not a folder"
 
 
+def test_force_refuses_a_folder_outside_the_users_own_work(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``--force`` on a foreign folder that is not inside the current folder, the home folder
+    or a temp folder (here a stand-in for /var/lib/app: the temp folders moved away) is one
+    line, exit 2, the folder whole; the system folders themselves are refused outright."""
+    from jointplay.io import output
+
+    home, work, elsewhere = tmp_path / "home", tmp_path / "work", tmp_path / "var" / "app"
+    for folder in (home, work, elsewhere):
+        folder.mkdir(parents=True)
+    (elsewhere / "state.db").write_text("precious", encoding="utf-8")
+    monkeypatch.setenv("HOME", str(home))
+    monkeypatch.chdir(work)
+    monkeypatch.setattr(output, "_temp_folders", lambda: [tmp_path / "tmp"])
+    assert run(["kinematics", "--no-plots", "--force", "--out", str(elsewhere)]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "--force replaces such a folder" in err, err
+    assert sorted(p.name for p in elsewhere.iterdir()) == ["state.db"]
+    for system in ("/var/jointplay-absent", "/opt/jointplay-absent", "/srv/jointplay-absent"):
+        assert run(["kinematics", "--no-plots", "--force", "--out", system]) == 2
+        err = capsys.readouterr().err
+        assert len(err.strip().splitlines()) == 1 and "is a system folder" in err, err
+
+
 def test_foreign_folder_needs_force(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / "mine"
     out.mkdir()
