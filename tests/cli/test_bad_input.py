@@ -165,6 +165,23 @@ CASES: dict[str, tuple[list[str], str]] = {
     "simulate clearance negative": (["simulate", "--clearance", "-1 um"], "clearance"),
     "simulate clearance text": (["simulate", "--clearance", "wide"], "--clearance"),
     "simulate clearance power": (["simulate", "--clearance", "10**10**10 mm"], "--clearance"),
+    "kinematics rpm decimal comma": (
+        ["kinematics", "--no-plots", "--rpm", "200,5 rpm"],
+        "--rpm: cannot read '200,5 rpm' as a quantity: ',' at character 4: decimal comma? "
+        "write '200.5 rpm'",
+    ),
+    "kinematics gravity decimal comma": (
+        ["kinematics", "--no-plots", "--gravity", "9,81 m/s^2"],
+        "decimal comma? write '9.81 m/s^2'",
+    ),
+    "kinematics rpm comparison": (
+        ["kinematics", "--no-plots", "--rpm", "200 rpm > 5"],
+        "--rpm: cannot read '200 rpm > 5' as a quantity: '>' (character 9)",
+    ),
+    "kinematics rpm two numbers": (
+        ["kinematics", "--no-plots", "--rpm", "2 00 rpm"],
+        "a second number '00' (character 3)",
+    ),
     "simulate output step 1 ns": (["simulate", "--output-step", "1 ns"], "--output-step"),
     "simulate output step zero": (["simulate", "--output-step", "0 s"], "output step"),
     "simulate sample-deg tiny": (["simulate", "--sample-deg", "1e-9 deg"], "--sample-deg"),
