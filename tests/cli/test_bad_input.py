@@ -318,6 +318,14 @@ CASES: dict[str, tuple[list[str], str]] = {
     "paper revolutions nan": (["paper", "--revolutions", "nan"], "--revolutions"),
     "paper ecs source": (["paper", "--ecs-source", "guess"], "--ecs-source"),
     "paper revolutions 1e9": (["paper", "--revolutions", "1e9"], "more than 10000 revolutions"),
+    "design require two comparisons": (
+        ["design", "--fits", "H8/g7", "--classes", "c", "-r", "joint_force <= <= 150 N"],
+        "requirement 'joint_force <= <= 150 N': one comparison only, found '<=' and then '<='",
+    ),
+    "tolerance require flipped": (
+        ["tolerance", "--samples", "10", "--require", "joint_force >= <= 150 N"],
+        "one comparison only, found '>=' and then '<='",
+    ),
     "design clearance limit negative": (
         ["design", "-r", "life >= 200 h", "--clearance-limit", "-20 um"],
         "a radial clearance is > 0",
