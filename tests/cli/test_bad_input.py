@@ -165,6 +165,22 @@ CASES: dict[str, tuple[list[str], str]] = {
     "simulate clearance negative": (["simulate", "--clearance", "-1 um"], "clearance"),
     "simulate clearance text": (["simulate", "--clearance", "wide"], "--clearance"),
     "simulate clearance power": (["simulate", "--clearance", "10**10**10 mm"], "--clearance"),
+    "kinematics gravity 1e300": (
+        ["kinematics", "--no-plots", "--gravity", "1e300 m/s^2"],
+        "--gravity must be at most 1000 m/s²",
+    ),
+    "kinematics start angle 1e300": (
+        ["kinematics", "--no-plots", "--start-angle", "1e300 deg"],
+        "--start-angle must lie within ±720°",
+    ),
+    "simulate start angle 721 deg": (
+        ["simulate", "--start-angle", "721 deg"],
+        "--start-angle must lie within ±720°",
+    ),
+    "tolerance gravity 1e300": (
+        ["tolerance", "--samples", "10", "--gravity", "1e300 m/s^2"],
+        "--gravity must be at most 1000 m/s²",
+    ),
     "kinematics rpm decimal comma": (
         ["kinematics", "--no-plots", "--rpm", "200,5 rpm"],
         "--rpm: cannot read '200,5 rpm' as a quantity: ',' at character 4: decimal comma? "
