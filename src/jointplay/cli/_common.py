@@ -134,7 +134,8 @@ ForceOption = Annotated[
     bool,
     typer.Option(
         "--force",
-        help="Replace --out though jointplay did not write it (never home or a system folder).",
+        help="Replace --out though jointplay did not write it: only inside the current, home or "
+        "a temp folder; never a system folder or a mount point (docs/cli.md).",
         rich_help_panel=OUTPUT_PANEL,
     ),
 ]

@@ -96,7 +96,7 @@ def _forbidden(resolved: Path, inputs: Sequence[Path]) -> str:
         and str(resolved.parent) in SYSTEM_TOPS
         and not any(folder in resolved.parents for folder in (home, *temps))
     ):
-        return f"is a system folder (directly under {resolved.parent})"
+        return f"is a system folder or another user's (directly under {resolved.parent})"
     for item in inputs:
         if resolved in item.parents:
             return f"holds {item.name!r}, an input of this run"
