@@ -134,8 +134,7 @@ ForceOption = Annotated[
     bool,
     typer.Option(
         "--force",
-        help="Replace --out though jointplay did not write it: only inside the current, home or "
-        "a temp folder; never a system folder or a mount point (docs/cli.md).",
+        help="Replace --out jointplay did not write, inside the current, home or a temp folder.",
         rich_help_panel=OUTPUT_PANEL,
     ),
 ]
