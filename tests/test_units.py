@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import subprocess
 import sys
 from typing import Any
@@ -11,7 +12,7 @@ import pint
 import pytest
 
 from jointplay import units
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, QuantityError
 
 
 @pytest.fixture
@@ -93,3 +94,66 @@ def test_a_bad_quantity_names_its_field_and_its_detail_apart() -> None:
         contact_from_strings({"contact": "impact", "depth": "0.1 kg"})
     assert str(setting.value).startswith("depth: '0.1 kg' has units")
     assert str(setting.value.named({"depth": "--depth"})).startswith("--depth: '0.1 kg' has")
+
+
+# --- one strict grammar: nothing dropped, nothing multiplied in silently --------------------------
+
+
+@pytest.mark.parametrize(
+    ("text", "unit", "message"),
+    [
+        ("200,5 rpm", "rad/s", r"',' at character 4: decimal comma\? write '200\.5 rpm'"),
+        ("9,81 m/s^2", "m/s^2", r"decimal comma\? write '9\.81 m/s\^2'"),
+        ("200 rpm > 5", "rad/s", r"'>' \(character 9\) is not part of a quantity"),
+        ("200 rpm;", "rad/s", r"';' \(character 8\)"),
+        ("200 rpm # 5", "rad/s", r"'#' \(character 9\)"),
+        ("1_000 rpm", "rad/s", r"'_' \(character 2\)"),
+        ("200 [rpm]", "rad/s", r"'\[' \(character 5\)"),
+        ("2 00 rpm", "rad/s", r"a second number '00' \(character 3\)"),
+        ("200 rpm 5", "rad/s", r"a second number '5' \(character 9\)"),
+        ("200 rpm-5", "rad/s", r"'-' \(character 8\) is not part of a quantity: a sign"),
+        ("0.05 Pa*s, 1 mm", "Pa*s", r"',' \(character 10\)"),
+    ],
+)
+def test_a_quantity_with_anything_beyond_the_grammar_is_refused(
+    text: str, unit: str, message: str
+) -> None:
+    """pint's tokenizer drops such characters and multiplies what is left: "200,5 rpm" was
+    2005 rpm, "9,81 m/s^2" 981 m/s², "200 rpm > 5" 1000 rpm, "2 00 rpm" 0."""
+    with pytest.raises(QuantityError, match=message):
+        units.parse_quantity(text, unit, field="x")
+
+
+@pytest.mark.parametrize(
+    ("text", "unit", "expected"),
+    [
+        ("270.5 mm", "m", 0.2705),
+        ("+20 um", "m", 20e-6),
+        ("21 µm", "m", 21e-6),
+        ("-2.5 mm", "m", -2.5e-3),
+        (".5 mm", "m", 0.5e-3),
+        ("600 h", "s", 2.16e6),
+        ("60 min", "s", 3600.0),
+        ("10 %", "", 0.1),
+        ("0.01 percent", "", 1e-4),
+        ("1e-6", "", 1e-6),
+        ("0.05 Pa*s", "Pa*s", 0.05),
+        ("50 mPa*s", "Pa*s", 0.05),
+        ("9.81 m/s^2", "m/s^2", 9.81),
+        ("1e4 N/mm^1.5", "N/m^1.5", 1e4 * 1000**1.5),
+        ("2.07e5 N/mm^2", "Pa", 2.07e11),
+        ("10 N*s/mm", "N*s/m", 1e4),
+        ("0.1 kN*s/m", "N*s/m", 100.0),
+        ("200 rev/min", "rad/s", 200 * 2 * math.pi / 60),
+        ("3 rev/s", "rad/s", 6 * math.pi),
+        ("5 1/s", "1/s", 5.0),
+        ("2 m^-1", "1/m", 2.0),
+        ("2 m**-1", "1/m", 2.0),
+        ("3 kg·m²", "kg*m^2", 3.0),
+        ("4 N.m", "N*m", 4.0),
+        ("90 °", "rad", math.pi / 2),
+        ("200rpm", "rad/s", 200 * 2 * math.pi / 60),
+    ],
+)
+def test_every_quantity_the_docs_write_still_reads(text: str, unit: str, expected: float) -> None:
+    assert units.parse_quantity(text, unit, field="x") == pytest.approx(expected, rel=1e-12)

@@ -58,6 +58,74 @@ _SIMPLE_QUANTITY = re.compile(r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s
 _NUMBER_POWER = re.compile(r"[\d.)]\s*(\*\*|\^)")
 _MAX_QUANTITY_CHARS = 200
 
+#: The tokens of a quantity (:func:`check_quantity_text`): blanks, a number, a unit name
+#: (letters and underscores: ``mm``, ``µm``, ``um``, ``rev``, ``percent``; or ``%``, ``°``),
+#: a superscript exponent (``m²``), an operator (``**``, ``* / ^ ( ) . · + -``).
+_TOKEN = re.compile(
+    r"(?P<blank>\s+)"
+    r"|(?P<number>(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)"
+    r"|(?P<name>[^\W\d_][^\W\d]*|%|°)"
+    r"|(?P<superscript>⁻?[⁰¹²³⁴⁵⁶⁷⁸⁹]+)"
+    r"|(?P<op>\*\*|[*/^().·+-])"
+)
+_DECIMAL_COMMA = re.compile(r"(\d),(\d)")
+
+
+def check_quantity_text(text: str) -> str:
+    """Why ``text`` is not a quantity of jointplay's grammar, or ``""``.
+
+    The grammar: an optional number (``270.5``, ``+20``, ``-2.5``, ``.5``, ``1e-6``) and an
+    optional unit expression made of unit names, ``* / ^ ** ( ) . ·`` and blanks, where
+    digits (and a sign) appear only in exponents (``N/mm^1.5``, ``m^-1``, ``m²``) or as the
+    ``1`` of ``1/s``. Anything else, which pint would drop or multiply in silently
+    (``"200,5 rpm"`` is 2005 rpm to it, ``"200 rpm > 5"`` 1000 rpm, ``"2 00 rpm"`` 0), is
+    refused, the message naming the first offending character.
+    """
+    if comma := _DECIMAL_COMMA.search(text):
+        fixed = _DECIMAL_COMMA.sub(r"\1.\2", text)
+        return (
+            f"',' at character {comma.start(0) + 2}: decimal comma? write {fixed!r} "
+            f"(a point, and no thousands separators)"
+        )
+    tokens: list[tuple[str, str, int]] = []  # (kind, text, 1-based character)
+    position = 0
+    while position < len(text):
+        match = _TOKEN.match(text, position)
+        if match is None:
+            character = text[position]
+            return (
+                f"{character!r} (character {position + 1}) is not part of a quantity; write a "
+                f"number and a unit of letters, * / ^ ( ), e.g. '200.5 rpm' or '0.05 Pa*s'"
+            )
+        kind = match.lastgroup or ""
+        if kind != "blank":
+            tokens.append((kind, match[0], position + 1))
+        position = match.end()
+    for index, (kind, token, at) in enumerate(tokens):
+        before = tokens[index - 1][1] if index else ""
+        after = tokens[index + 1][1] if index + 1 < len(tokens) else ""
+        exponent = before in ("^", "**") or (
+            before in ("+", "-") and index >= 2 and tokens[index - 2][1] in ("^", "**")
+        )
+        if kind == "number":
+            first = index == 0 or (index == 1 and before in ("+", "-"))
+            if not (first or exponent or (token == "1" and after == "/")):
+                return (
+                    f"a second number {token!r} (character {at}): write one number, then "
+                    f"the unit; digits go in exponents only (e.g. 'N/mm^1.5')"
+                )
+        elif kind == "op" and token in ("+", "-"):
+            if not (index == 0 or before in ("^", "**")):
+                return (
+                    f"{token!r} (character {at}) is not part of a quantity: a sign goes "
+                    f"before the number or an exponent only (e.g. '-2.5 mm', 'm^-1')"
+                )
+        elif kind == "superscript" and not (
+            index and (tokens[index - 1][0] == "name" or before == ")")
+        ):
+            return f"{token!r} (character {at}) is an exponent without a unit before it"
+    return ""
+
 
 @functools.cache
 def _registry() -> Any:
@@ -114,6 +182,8 @@ def parse_quantity(
                 f"{text[:40]!r}... is too long for a quantity (at most "
                 f"{_MAX_QUANTITY_CHARS} characters); expected e.g. '1.5 {_example(unit)}'",
             )
+        if why := check_quantity_text(text):
+            raise QuantityError(field, f"cannot read {value!r} as a quantity: {why}")
         if _NUMBER_POWER.search(text):
             raise QuantityError(
                 field,

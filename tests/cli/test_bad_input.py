@@ -165,6 +165,39 @@ CASES: dict[str, tuple[list[str], str]] = {
     "simulate clearance negative": (["simulate", "--clearance", "-1 um"], "clearance"),
     "simulate clearance text": (["simulate", "--clearance", "wide"], "--clearance"),
     "simulate clearance power": (["simulate", "--clearance", "10**10**10 mm"], "--clearance"),
+    "kinematics gravity 1e300": (
+        ["kinematics", "--no-plots", "--gravity", "1e300 m/s^2"],
+        "--gravity must be at most 1000 m/s²",
+    ),
+    "kinematics start angle 1e300": (
+        ["kinematics", "--no-plots", "--start-angle", "1e300 deg"],
+        "--start-angle must lie within ±720°",
+    ),
+    "simulate start angle 721 deg": (
+        ["simulate", "--start-angle", "721 deg"],
+        "--start-angle must lie within ±720°",
+    ),
+    "tolerance gravity 1e300": (
+        ["tolerance", "--samples", "10", "--gravity", "1e300 m/s^2"],
+        "--gravity must be at most 1000 m/s²",
+    ),
+    "kinematics rpm decimal comma": (
+        ["kinematics", "--no-plots", "--rpm", "200,5 rpm"],
+        "--rpm: cannot read '200,5 rpm' as a quantity: ',' at character 4: decimal comma? "
+        "write '200.5 rpm'",
+    ),
+    "kinematics gravity decimal comma": (
+        ["kinematics", "--no-plots", "--gravity", "9,81 m/s^2"],
+        "decimal comma? write '9.81 m/s^2'",
+    ),
+    "kinematics rpm comparison": (
+        ["kinematics", "--no-plots", "--rpm", "200 rpm > 5"],
+        "--rpm: cannot read '200 rpm > 5' as a quantity: '>' (character 9)",
+    ),
+    "kinematics rpm two numbers": (
+        ["kinematics", "--no-plots", "--rpm", "2 00 rpm"],
+        "a second number '00' (character 3)",
+    ),
     "simulate output step 1 ns": (["simulate", "--output-step", "1 ns"], "--output-step"),
     "simulate output step zero": (["simulate", "--output-step", "0 s"], "output step"),
     "simulate sample-deg tiny": (["simulate", "--sample-deg", "1e-9 deg"], "--sample-deg"),
@@ -301,6 +334,14 @@ CASES: dict[str, tuple[list[str], str]] = {
     "paper revolutions nan": (["paper", "--revolutions", "nan"], "--revolutions"),
     "paper ecs source": (["paper", "--ecs-source", "guess"], "--ecs-source"),
     "paper revolutions 1e9": (["paper", "--revolutions", "1e9"], "more than 10000 revolutions"),
+    "design require two comparisons": (
+        ["design", "--fits", "H8/g7", "--classes", "c", "-r", "joint_force <= <= 150 N"],
+        "requirement 'joint_force <= <= 150 N': one comparison only, found '<=' and then '<='",
+    ),
+    "tolerance require flipped": (
+        ["tolerance", "--samples", "10", "--require", "joint_force >= <= 150 N"],
+        "one comparison only, found '>=' and then '<='",
+    ),
     "design clearance limit negative": (
         ["design", "-r", "life >= 200 h", "--clearance-limit", "-20 um"],
         "a radial clearance is > 0",
@@ -456,6 +497,31 @@ def test_a_parent_nobody_may_write_is_refused(
     err = capsys.readouterr().err
     assert "cannot write the output folder" in err and len(err.strip().splitlines()) == 1, err
     assert blocker.read_text(encoding="utf-8") == "not a folder"
+
+
+def test_force_refuses_a_folder_outside_the_users_own_work(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``--force`` on a foreign folder that is not inside the current folder, the home folder
+    or a temp folder (here a stand-in for /var/lib/app: the temp folders moved away) is one
+    line, exit 2, the folder whole; the system folders themselves are refused outright."""
+    from jointplay.io import output
+
+    home, work, elsewhere = tmp_path / "home", tmp_path / "work", tmp_path / "var" / "app"
+    for folder in (home, work, elsewhere):
+        folder.mkdir(parents=True)
+    (elsewhere / "state.db").write_text("precious", encoding="utf-8")
+    monkeypatch.setenv("HOME", str(home))
+    monkeypatch.chdir(work)
+    monkeypatch.setattr(output, "_temp_folders", lambda: [tmp_path / "tmp"])
+    assert run(["kinematics", "--no-plots", "--force", "--out", str(elsewhere)]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "--force replaces such a folder" in err, err
+    assert sorted(p.name for p in elsewhere.iterdir()) == ["state.db"]
+    for system in ("/var/jointplay-absent", "/opt/jointplay-absent", "/srv/jointplay-absent"):
+        assert run(["kinematics", "--no-plots", "--force", "--out", system]) == 2
+        err = capsys.readouterr().err
+        assert len(err.strip().splitlines()) == 1 and "is a system folder" in err, err
 
 
 def test_foreign_folder_needs_force(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -116,6 +116,56 @@ def test_bad_configurations_name_the_problem(edit, message) -> None:
         parse_config(data)
 
 
+@pytest.mark.parametrize(
+    ("edit", "message"),
+    [
+        (
+            lambda d: d["mechanism"].update(gravity="1e300 m/s^2"),
+            r"mechanism\.gravity must be at most 1000 m/s² .*got '1e300 m/s\^2'",
+        ),
+        (lambda d: d["mechanism"].update(gravity="9.81 km/s^2"), "at most 1000 m/s²"),
+        (
+            lambda d: d["mechanism"].update(gravity=["0 m/s^2", "-2000 m/s^2"]),
+            "mechanism.gravity must be at most 1000 m/s²",
+        ),
+        (
+            lambda d: d["driver"].update(start_angle="1e300 deg"),
+            r"driver\.start_angle = '1e300 deg' is not a plausible angle: .* within ±720°",
+        ),
+        (lambda d: d["driver"].update(start_angle="721 deg"), "within ±720°"),
+        (lambda d: d["driver"].update(start_angle="-13 rad"), "within ±720°"),
+        (lambda d: d["driver"].update(start_angle="1e300 rad"), "within ±720°"),
+    ],
+)
+def test_physical_inputs_beyond_their_bounds_are_refused(edit, message) -> None:
+    """Each was accepted and run (1e300 m/s² of gravity, a start angle of 1e300°)."""
+    data = _paper()
+    edit(data)
+    with pytest.raises(ConfigError, match=message) as info:
+        parse_config(data)
+    assert "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize(
+    ("edit", "check"),
+    [
+        (lambda d: d["mechanism"].update(gravity="1000 m/s^2"), lambda m: m.gravity[1] == -1000),
+        (
+            lambda d: d["driver"].update(start_angle="-720 deg"),
+            lambda m: m.driver.start_angle == pytest.approx(-4 * math.pi),
+        ),
+        (
+            lambda d: d["driver"].update(start_angle="450 deg"),
+            lambda m: m.driver.start_angle == pytest.approx(2.5 * math.pi),
+        ),
+    ],
+)
+def test_physical_inputs_at_their_bounds_are_taken(edit, check) -> None:
+    data = _paper()
+    edit(data)
+    assert check(parse_config(data))
+
+
 def test_malformed_and_missing_files(tmp_path) -> None:
     bad = tmp_path / "bad.toml"
     bad.write_text("[mechanism\nname = 1")

@@ -219,6 +219,130 @@ def test_force_never_replaces_a_system_folder(target: str) -> None:
         pass
 
 
+#: (target, why it is never replaced, or "" for a folder the guard lets through). HOME is
+#: /home/alice and the current folder is a temp folder's subfolder in this table.
+GUARD_TABLE = [
+    ("/var/lib", "system folder"),
+    ("/var/log", "system folder"),
+    ("/var", "root or a folder directly under it"),
+    ("/opt/vendor", "system folder"),
+    ("/srv", "root or a folder directly under it"),
+    ("/srv/www", "system folder"),
+    ("/mnt/disk", "system folder"),
+    ("/media/usb", "system folder"),
+    ("/nix/store", "system folder"),
+    ("/snap/core", "system folder"),
+    ("/usr/local", "system folder"),
+    ("/usr/local/share/out", "system folder"),
+    ("/home", "root or a folder directly under it"),
+    ("/home/bob", "system folder"),
+    ("/home/alice", "home folder"),
+    ("/root", "root or a folder directly under it"),
+    ("/tmp", "root or a folder directly under it"),
+    ("/var/tmp", "temp folder itself"),
+    ("/dev/shm", "system folder"),
+    ("/tmp/out", ""),
+    ("/var/tmp/out", ""),
+    ("/home/alice/out", ""),
+    ("/data/results", ""),
+    ("/var/lib/app/data", ""),  # not never: --force's own-work rule refuses it (below)
+]
+
+
+@pytest.mark.parametrize(("target", "why"), GUARD_TABLE, ids=[row[0] for row in GUARD_TABLE])
+def test_the_guard_refuses_system_and_top_two_level_folders(
+    target: str, why: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv("HOME", "/home/alice")
+    monkeypatch.chdir(tmp_path)
+    reason = output._forbidden(Path(target), [])
+    assert (why in reason) if why else reason == "", reason
+
+
+@pytest.mark.parametrize(
+    ("target", "outside"),
+    [("/var/lib/app/data", True), ("/data/results", True), ("/opt/vendor/lib", True),
+     ("/home/alice/out", False), ("/tmp/out", False), ("/var/tmp/x/out", False)],
+)  # fmt: skip
+def test_force_replaces_only_inside_the_users_own_work(
+    target: str, outside: bool, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Inside the current folder, the home folder or a temp folder, nowhere else."""
+    monkeypatch.setenv("HOME", "/home/alice")
+    monkeypatch.chdir(tmp_path)
+    assert output._outside_own_work(Path(target)) is outside
+    assert output._outside_own_work(tmp_path / "out") is False  # inside the current folder
+
+
+def test_force_refuses_a_foreign_folder_outside_the_users_own_work(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A real folder elsewhere (as /var/lib/app would be): refused with ``force``, kept whole;
+    the same folder inside the current folder is replaced."""
+    home, work, elsewhere = tmp_path / "home", tmp_path / "work", tmp_path / "srv" / "app"
+    for folder in (home, work, elsewhere):
+        folder.mkdir(parents=True)
+    (elsewhere / "db.sqlite").write_text("data", encoding="utf-8")
+    monkeypatch.setenv("HOME", str(home))
+    monkeypatch.chdir(work)
+    monkeypatch.setattr(output, "_temp_folders", lambda: [tmp_path / "tmp"])
+    with (
+        pytest.raises(ConfigError, match="only inside one of them") as refused,
+        output_dir(elsewhere, force=True),
+    ):
+        pass
+    assert "--force" in str(refused.value.named({"force=True": "--force"}))
+    assert (elsewhere / "db.sqlite").read_text(encoding="utf-8") == "data"
+    monkeypatch.chdir(tmp_path / "srv")
+    with output_dir(elsewhere, force=True) as folder:
+        (folder / "a.txt").write_text("a", encoding="utf-8")
+    assert sorted(p.name for p in elsewhere.iterdir()) == [MARKER, "a.txt"]
+
+
+def test_force_never_replaces_a_mount_point(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    disk = tmp_path / "disk"
+    disk.mkdir()
+    (disk / "photos").mkdir()
+    real_ismount = os.path.ismount
+    monkeypatch.setattr(os.path, "ismount", lambda p: Path(p) == disk or real_ismount(p))
+    with pytest.raises(ConfigError, match="mount point"), output_dir(disk, force=True):
+        pass
+    assert (disk / "photos").is_dir()
+
+
+def test_out_under_a_file_says_the_file_is_in_the_way(tmp_path: Path) -> None:
+    blocker = tmp_path / "good.csv"
+    blocker.write_text("a,b\n", encoding="utf-8")
+    for target in (blocker / "sub", blocker / "a" / "b"):
+        with (
+            pytest.raises(ConfigError, match=r"good\.csv' is a file, not a folder; move"),
+            output_dir(target),
+        ):
+            pass
+    with (
+        pytest.raises(ConfigError, match=r"is a file, not a folder; give a new folder"),
+        output_dir(blocker, force=True),
+    ):
+        pass
+    assert blocker.read_text(encoding="utf-8") == "a,b\n"
+
+
+def test_out_a_symbolic_link_says_so_and_names_the_folder(tmp_path: Path) -> None:
+    real = tmp_path / "real"
+    real.mkdir()
+    link = tmp_path / "link"
+    link.symlink_to(real)
+    with (
+        pytest.raises(ConfigError, match=r"is a symbolic link .*give the folder itself") as error,
+        output_dir(link, force=True),
+    ):
+        pass
+    assert str(real) in str(error.value)
+    assert link.is_symlink() and real.is_dir()
+
+
 def test_force_never_replaces_a_folder_holding_an_input(tmp_path: Path) -> None:
     project = tmp_path / "proj"
     project.mkdir()

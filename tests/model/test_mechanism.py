@@ -89,3 +89,18 @@ def test_four_bar_builder_rejects_fits_of_unknown_joints() -> None:
             bodies={"crank": LinkBody(1.0)},
             fits={"Q": JointFit(0.01)},
         )
+
+
+def test_the_model_bounds_gravity_and_the_start_angle(paper_fourbar) -> None:
+    """The Python API as the options and the configuration: |g| <= 1000 m/s², the start
+    angle within two turns either way (both were taken at 1e300)."""
+    with pytest.raises(ConfigError, match=r"Driver: start_angle must lie within ±720°"):
+        Driver("crank", "O2", 20.0, 1, 1e300)
+    with pytest.raises(ConfigError, match="within ±720°"):
+        Driver("crank", "O2", 20.0, 1, -4.0 * math.pi - 1e-9)
+    assert Driver("crank", "O2", 20.0, 1, -4.0 * math.pi).start_angle == -4.0 * math.pi
+    with pytest.raises(ConfigError, match=r"Mechanism: gravity must be at most 1000 m/s²"):
+        paper_fourbar.with_gravity((0.0, -1e300))
+    with pytest.raises(ConfigError, match="at most 1000 m/s²"):
+        paper_fourbar.with_gravity((800.0, -800.0))  # 1131 m/s² in all
+    assert paper_fourbar.with_gravity((0.0, -1000.0)).gravity == (0.0, -1000.0)

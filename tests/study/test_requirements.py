@@ -69,6 +69,33 @@ def test_malformed_requirements_are_one_line_errors(text: str, expected: str) ->
 
 
 @pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        (
+            "joint_force <= <= 150 N",
+            r"one comparison only, found '<=' and then '<=' \(character 16\)",
+        ),
+        ("joint_force >= <= 150 N", r"found '>=' and then '<=' \(character 16\)"),
+        ("joint_force <= >= 150 N", r"found '<=' and then '>=' \(character 16\)"),
+        ("joint_force < = 150 N", r"found '<' and then '=' \(character 15\)"),
+        ("joint_force <= 150 N >= 100 N", r"found '<=' and then '>=' \(character 22\)"),
+        ("rocker_speed_error <= <= 3 %", r"one comparison only"),
+        ("joint_force == 150 N", r"'==' \(character 13\) is not a comparison; write one of"),
+        ("joint_force =< 150 N", r"'=<' \(character 13\) is not a comparison"),
+        ("joint_force !<= 150 N", r"'!<=' \(character 13\) is not a comparison"),
+    ],
+)
+def test_a_requirement_has_exactly_one_comparison(text: str, expected: str) -> None:
+    """Checked token by token: ``>= <=`` would flip a requirement; each stray comparison is
+    one line naming it (they were read as the value, or ``== 150 N`` as a malformed whole)."""
+    with pytest.raises(ConfigError, match=expected) as info:
+        parse_requirement(text, UNITS)
+    assert "\n" not in str(info.value)
+    assert parse_requirement("joint_force<=150N@99.73", UNITS).limit == 150.0  # spaces optional
+    assert parse_requirement("joint_force >= -5 N", UNITS).limit == -5.0  # a sign is no comparison
+
+
+@pytest.mark.parametrize(
     ("text", "suggestion"),
     [
         ("rocker_speed_error <= 3", "did you mean 'rocker_speed_error <= 3 %'?"),

@@ -134,7 +134,7 @@ ForceOption = Annotated[
     bool,
     typer.Option(
         "--force",
-        help="Replace --out though jointplay did not write it (never home or a system folder).",
+        help="Replace --out jointplay did not write, inside the current, home or a temp folder.",
         rich_help_panel=OUTPUT_PANEL,
     ),
 ]
@@ -165,6 +165,7 @@ def mechanism_from_options(
 ) -> Mechanism:
     """Load the mechanism and apply command-line overrides (validated, SI inside)."""
     from jointplay.io.config import load_mechanism
+    from jointplay.model.mechanism import check_start_angle
 
     mechanism = load_mechanism(preset, config)
     changes: dict[str, Any] = {}
@@ -175,7 +176,9 @@ def mechanism_from_options(
             raise ConfigError(f"--direction must be ccw or cw, got {direction!r}")
         changes["direction"] = 1 if direction.lower() == "ccw" else -1
     if start_angle is not None:
-        changes["start_angle"] = parse_quantity(start_angle, "rad", field="--start-angle")
+        changes["start_angle"] = check_start_angle(
+            parse_quantity(start_angle, "rad", field="--start-angle"), "--start-angle", start_angle
+        )
     if changes:
         mechanism = mechanism.with_driver(**changes)
     if gravity is not None:
@@ -228,12 +231,21 @@ def crank_speed(rpm: str) -> float:
 
 
 def parse_gravity(text: str) -> tuple[float, float]:
+    """``--gravity``: ``off``, ``on`` (9.80665 m/s² towards -y) or a magnitude towards -y,
+    at most :data:`jointplay.model.mechanism.MAX_GRAVITY` (1000 m/s²).
+
+    Raises:
+        ConfigError: not a quantity of acceleration, or beyond the bound.
+    """
+    from jointplay.model.mechanism import check_gravity
+
     value = text.strip().lower()
     if value in ("off", "none", "0"):
         return (0.0, 0.0)
     if value == "on":
         return (0.0, -9.80665)
-    return (0.0, -abs(parse_quantity(text, "m/s^2", field="--gravity")))
+    magnitude = abs(parse_quantity(text, "m/s^2", field="--gravity"))
+    return check_gravity((0.0, -magnitude), "--gravity", text)
 
 
 def provenance(configuration: Any) -> dict[str, Any]:

@@ -28,6 +28,7 @@ from jointplay.errors import ConfigError, JointplayError
 from jointplay.io.keys import option_keys, unknown_keys_message
 from jointplay.model.mechanism import (
     GROUND,
+    MAX_START_ANGLE,
     STEEL,
     Driver,
     Ground,
@@ -38,6 +39,7 @@ from jointplay.model.mechanism import (
     Mechanism,
     PrismaticJoint,
     RevoluteJoint,
+    check_gravity,
 )
 from jointplay.model.templates import (
     FourBarGeometry,
@@ -61,11 +63,19 @@ MAX_SPEED = 1e5
 
 
 def _plausible(value: float, unit: str, field: str, given: Any) -> float:
-    """``value``, unless it is a length beyond :data:`MAX_LENGTH` (blamed on the geometry)."""
+    """``value``, unless it is a length beyond :data:`MAX_LENGTH` (blamed on the geometry), a
+    speed beyond :data:`MAX_SPEED` or an angle (the driver's start angle, a link's initial
+    angle, a prismatic joint's axis) beyond two turns either way
+    (:data:`jointplay.model.mechanism.MAX_START_ANGLE`)."""
     if unit == "rad/s" and abs(value) > MAX_SPEED:
         raise ConfigError(
             f"{field} = {given!r} is not a plausible crank speed (at most {MAX_SPEED:g} rad/s, "
             "about 1e6 rpm)"
+        )
+    if unit == "rad" and not abs(value) <= MAX_START_ANGLE:
+        raise ConfigError(
+            f"{field} = {given!r} is not a plausible angle: it must lie within ±720° (two "
+            "turns; every position is within one); write it within one turn, e.g. '30 deg'"
         )
     if unit == "m" and abs(value) > MAX_LENGTH:
         raise ConfigError(
@@ -449,12 +459,13 @@ def _gravity(head: _Table) -> tuple[float, float]:
         return (0.0, -STANDARD_GRAVITY)
     if isinstance(value, str):
         g = parse_quantity(value, "m/s^2", field="mechanism.gravity")
-        return (0.0, -abs(g))
+        return check_gravity((0.0, -abs(g)), "mechanism.gravity", value)
     if isinstance(value, list) and len(value) == 2:
-        return (
+        vector = (
             parse_quantity(value[0], "m/s^2", field="mechanism.gravity[0]"),
             parse_quantity(value[1], "m/s^2", field="mechanism.gravity[1]"),
         )
+        return check_gravity(vector, "mechanism.gravity", value)
     raise ConfigError(
         f"mechanism.gravity must be 'off', a magnitude like '9.81 m/s^2' (towards -y) or a "
         f"vector [gx, gy] with units, got {value!r}"

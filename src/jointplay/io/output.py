@@ -5,9 +5,13 @@ fresh staging folder beside the target, under a short name (``.jointplay-PID-XXX
 that an unwritable output folder is reported at once and a long name still fits. Every
 result folder carries a marker file (:data:`MARKER`) saying whether it is complete; an
 existing non-empty folder without one is not a jointplay result and is refused unless
-``force``. Some folders are never replaced, ``force`` or not: the root and every top-level
-folder, the system trees (``/usr``, ``/etc``, ...), the home folder and the folders above it
-and above the working folder, and any folder that holds an input of the run.
+``force``, and even then replaced only if it lies inside the working folder, the home folder
+or a temp folder (:func:`_outside_own_work`). Some folders are never replaced, ``force`` or
+not (:func:`_forbidden`): the root and every top-level folder, the system trees (``/usr``,
+``/etc``, ...), a folder directly under a system top-level folder (:data:`SYSTEM_TOPS`:
+``/var/lib``, ``/opt/x``, ``/home/bob``), a mount point, a temp folder itself, the home
+folder and the folders above it and above the working folder, and any folder that holds an
+input of the run.
 
 How a run ends:
 
@@ -56,24 +60,55 @@ _STAGING = re.compile(r"^\.jointplay-(\d+)-[0-9a-f]{8}\.(partial|old)$")
 #: Trees no result ever replaces (with the root and every folder directly under it).
 SYSTEM_TREES = ("/bin", "/boot", "/dev", "/etc", "/lib", "/lib32", "/lib64", "/libx32", "/proc",
                 "/run", "/sbin", "/sys", "/usr")  # fmt: skip
+#: Top-level folders whose own children are system or other users' folders (``/var/lib``,
+#: ``/opt/x``, ``/home/bob``, ``/mnt/disk``): no result replaces a folder directly under one,
+#: unless it lies inside the home folder (``/root/out`` for root) or a temp folder (``/tmp/x``).
+SYSTEM_TOPS = ("/home", "/media", "/mnt", "/nix", "/opt", "/private", "/root", "/snap", "/srv",
+               "/tmp", "/var", "/Applications", "/Library", "/System", "/Users", "/Volumes")  # fmt: skip
+
+
+def _temp_folders() -> list[Path]:
+    """The temp folders: Python's (``$TMPDIR``, ...), ``/tmp`` and ``/var/tmp``, resolved."""
+    import tempfile
+
+    return [Path(folder).resolve() for folder in (tempfile.gettempdir(), "/tmp", "/var/tmp")]
 
 
 def _forbidden(resolved: Path, inputs: Sequence[Path]) -> str:
-    """Why ``resolved`` may never be replaced, or ``""``."""
+    """Why ``resolved`` may never be replaced, ``force`` or not, or ``""``."""
     home = Path.home().resolve()
     here = Path.cwd().resolve()
+    temps = _temp_folders()
     if len(resolved.parts) <= 2:
         return "is the root or a folder directly under it"
     if any(resolved == Path(tree) or Path(tree) in resolved.parents for tree in SYSTEM_TREES):
         return "is a system folder"
+    if os.path.ismount(resolved):
+        return "is a mount point (the top folder of a file system)"
+    if resolved in temps:
+        return "is a temp folder itself"
     if resolved == home or resolved in home.parents:
         return "is the home folder or one above it"
     if resolved == here or resolved in here.parents:
         return "is the current folder or one above it"
+    if (
+        len(resolved.parts) == 3
+        and str(resolved.parent) in SYSTEM_TOPS
+        and not any(folder in resolved.parents for folder in (home, *temps))
+    ):
+        return f"is a system folder or another user's (directly under {resolved.parent})"
     for item in inputs:
         if resolved in item.parents:
             return f"holds {item.name!r}, an input of this run"
     return ""
+
+
+def _outside_own_work(resolved: Path) -> bool:
+    """Whether ``resolved`` lies outside the user's own work: not inside the current folder,
+    the home folder or a temp folder. ``force`` replaces a folder jointplay did not write
+    only inside one of them."""
+    own = (Path.cwd().resolve(), Path.home().resolve(), *_temp_folders())
+    return not any(folder in resolved.parents for folder in own)
 
 
 def _check_target(target: Path | str, force: bool, inputs: Sequence[Path | str] = ()) -> Path:
@@ -96,15 +131,55 @@ def _check_target(target: Path | str, force: bool, inputs: Sequence[Path | str] 
         raise SettingError(
             "{output folder} {got!r} {why}; give a new folder to write into", got=text, why=why
         )
-    if path.is_symlink() or (path.exists() and not path.is_dir()):
-        raise SettingError("{output folder} {got!r} exists and is not a folder", got=text)
-    if path.is_dir() and not force and _foreign(path):
+    if path.is_symlink():
         raise SettingError(
-            "{output folder} {got!r} is a non-empty folder that jointplay did not write; "
-            "give a new folder, or {force=True} to replace it",
+            "{output folder} {got!r} is a symbolic link (to {to!r}), which is never replaced; "
+            "give the folder itself ({real!r}) or a new folder",
             got=text,
+            to=os.readlink(path),
+            real=str(resolved),
         )
+    if path.exists() and not path.is_dir():
+        raise SettingError(
+            "{output folder} {got!r} is a file, not a folder; give a new folder to write the "
+            "results into (e.g. {example!r})",
+            got=text,
+            example=f"{path.with_suffix('')}-results",
+        )
+    blocker = _file_above(path)
+    if blocker is not None:
+        raise SettingError(
+            "cannot write the output folder {got!r}: {blocker!r} is a file, not a folder; "
+            "move that file, or give an {output folder} that is not inside it",
+            got=text,
+            blocker=str(blocker),
+        )
+    if path.is_dir() and _foreign(path):
+        if not force:
+            raise SettingError(
+                "{output folder} {got!r} is a non-empty folder that jointplay did not write; "
+                "give a new folder, or {force=True} to replace it",
+                got=text,
+            )
+        if _outside_own_work(resolved):
+            raise SettingError(
+                "{output folder} {got!r} is a non-empty folder that jointplay did not write, "
+                "outside the current folder, the home folder and the temp folders; "
+                "{force=True} replaces such a folder only inside one of them: give a new "
+                "folder, or empty this one by hand",
+                got=text,
+            )
     return path
+
+
+def _file_above(path: Path) -> Path | None:
+    """The first of ``path``'s parents that exists and is not a folder, or ``None``."""
+    for parent in reversed(path.absolute().parents):
+        if parent.exists() and not parent.is_dir():
+            return parent
+        if not parent.exists():
+            return None
+    return None
 
 
 def _foreign(path: Path) -> bool:

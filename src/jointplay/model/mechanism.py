@@ -21,6 +21,52 @@ from jointplay.errors import ConfigError
 Point = tuple[float, float]
 GROUND = "ground"
 
+#: Largest magnitude of the gravitational acceleration a mechanism takes, m/s²: about 100 g,
+#: ten times a centrifuge test rig's 10 g; beyond it a value is a slip of the unit
+#: ("9.81 km/s^2") or of the exponent, not a mechanism (Earth's: 9.80665 m/s²).
+MAX_GRAVITY = 1000.0
+#: Largest crank start angle either way, rad: two turns (±720°). Every crank position lies
+#: within one turn; two leave room for writing it either way (-90° or 270°, 450°). Beyond,
+#: it is a typo, and far beyond the angle's float loses the position (at 1e17 rad one step
+#: of the float is 16 rad, more than two turns).
+MAX_START_ANGLE = 4.0 * math.pi
+
+
+def check_gravity(gravity: Point, field: str, given: object = None) -> Point:
+    """``gravity`` (m/s², a vector) if its magnitude is at most :data:`MAX_GRAVITY`.
+
+    Args:
+        gravity: the vector, m/s².
+        field: what the message names (``"--gravity"``, ``"mechanism.gravity"``).
+        given: the value as written, shown in the message (default: the magnitude).
+
+    Raises:
+        ConfigError: one line: the bound, why, and the value.
+    """
+    magnitude = math.hypot(*gravity)
+    if not magnitude <= MAX_GRAVITY:
+        shown = repr(given) if given is not None else f"{magnitude:.6g} m/s²"
+        raise ConfigError(
+            f"{field} must be at most {MAX_GRAVITY:g} m/s² (about 100 g; Earth's is 9.81 "
+            f"m/s²), got {shown}; check the unit and the exponent"
+        )
+    return gravity
+
+
+def check_start_angle(angle: float, field: str, given: object = None) -> float:
+    """``angle`` (rad) if finite and within ±:data:`MAX_START_ANGLE` (two turns).
+
+    Raises:
+        ConfigError: one line: the range, why, and the value.
+    """
+    if not (math.isfinite(angle) and abs(angle) <= MAX_START_ANGLE):
+        shown = repr(given) if given is not None else f"{math.degrees(angle):.6g}°"
+        raise ConfigError(
+            f"{field} must lie within ±720° (two turns; every crank position is within one), "
+            f"got {shown}; write it within one turn, e.g. '30 deg'"
+        )
+    return angle
+
 
 class FrozenMap(dict[str, Any]):
     """A read-only dict: the mappings inside frozen model objects (picklable, unlike
@@ -305,6 +351,7 @@ class Driver:
 
     def __post_init__(self) -> None:
         _positive("Driver", "speed", self.speed)
+        check_start_angle(self.start_angle, "Driver: start_angle")
         if self.direction not in (1, -1):
             raise ConfigError(
                 f"Driver: direction must be +1 (ccw) or -1 (cw), got {self.direction}"
@@ -375,6 +422,7 @@ class Mechanism:
         object.__setattr__(self, "materials", FrozenMap(dict(self.materials)))
         object.__setattr__(self, "initial_angles", FrozenMap(dict(self.initial_angles)))
         object.__setattr__(self, "gravity", _point("Mechanism", "gravity", self.gravity))
+        check_gravity(self.gravity, "Mechanism: gravity")
         names = [link.name for link in self.links]
         if len(set(names)) != len(names):
             raise ConfigError(f"Mechanism {self.name!r}: duplicate link names in {names}")

@@ -126,6 +126,7 @@ def parse_requirement(text: str, units: Mapping[str, str]) -> Requirement:
     """
     from jointplay.units import parse_quantity
 
+    _check_comparisons(text or "")
     match = _PATTERN.match(text or "")
     if match is None:
         raise ConfigError(f"requirement {text!r}: {_EXPECTED}")
@@ -185,6 +186,38 @@ def parse_confidence(text: str, field: str = "confidence") -> float:
             f"(write '{value} %' if you mean {value} %)"
         )
     return percent / 100.0
+
+
+#: A run of comparison characters: each must be one of :data:`COMPARISONS`, and there is one.
+_COMPARISON_RUN = re.compile(r"[<>=!]+")
+
+
+def _check_comparisons(text: str) -> None:
+    """Token by token: a response name, then exactly one comparison, then the value.
+
+    A second comparison (``"joint_force <= <= 150 N"``, ``">= <="``, ``"< ="``, or one after
+    the value) would leave which side is bounded to a guess, so it is refused, naming it.
+
+    Raises:
+        ConfigError: one line naming the stray comparison and the form to write.
+    """
+    name = re.match(r"\s*[A-Za-z_][A-Za-z0-9_]*\s*", text)
+    runs = list(_COMPARISON_RUN.finditer(text))
+    if name is None or not runs:
+        return  # the pattern's own message: expected RESPONSE <=|<|>=|> VALUE ...
+    first = runs[0]
+    if first[0] not in COMPARISONS:
+        raise ConfigError(
+            f"requirement {text!r}: {first[0]!r} (character {first.start() + 1}) is not a "
+            f"comparison; write one of <=, <, >=, >, e.g. 'joint_force <= 150 N'"
+        )
+    if len(runs) > 1:
+        second = runs[1]
+        raise ConfigError(
+            f"requirement {text!r}: one comparison only, found {first[0]!r} and then "
+            f"{second[0]!r} (character {second.start() + 1}); write RESPONSE <=|<|>=|> VALUE "
+            f"UNIT, e.g. 'joint_force <= 150 N'"
+        )
 
 
 def _is_number(text: str) -> bool:
