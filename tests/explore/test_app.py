@@ -172,3 +172,60 @@ def test_a_waiting_run_is_superseded() -> None:
         runner.run(waiting, lambda: "stale")
     assert runner.run(newest, lambda: "newest") == "newest"
     assert results == ["first"] and runner.runs == 2
+
+
+def _fake_download(release: threading.Event, counts: dict[str, int]):
+    """A stand-in for :func:`engine.download` that holds its slot until ``release`` (at most
+    10 s) and counts how many run at once."""
+    lock = threading.Lock()
+
+    def download(base, settings) -> bytes:
+        with lock:
+            counts["running"] += 1
+            counts["most"] = max(counts["most"], counts["running"])
+            counts["calls"] += 1
+        try:
+            release.wait(10)
+            return b"PK\x05\x06" + bytes(18)  # an empty ZIP archive
+        finally:
+            with lock:
+                counts["running"] -= 1
+
+    return download
+
+
+def test_downloads_run_one_at_a_time_and_the_rest_are_refused(monkeypatch) -> None:
+    """Ten downloads at once (what any web page could fire at the server): one runs, nine are
+    answered 429 at once, without starting anything; after it the next one runs."""
+    import asyncio
+
+    import httpx
+
+    from jointplay.explore import engine
+
+    release = threading.Event()
+    counts = {"running": 0, "most": 0, "calls": 0}
+    monkeypatch.setattr(engine, "download", _fake_download(release, counts))
+    app = create_app(load_base("paper-fourbar"))
+
+    async def main() -> tuple[httpx.Response, list[httpx.Response], httpx.Response]:
+        transport = httpx.ASGITransport(app=app)
+        async with httpx.AsyncClient(transport=transport, base_url="http://127.0.0.1") as web:
+            first = asyncio.create_task(web.get("/api/download", params=QUICK))
+            deadline = time.monotonic() + 10
+            while counts["running"] == 0 and time.monotonic() < deadline:
+                await asyncio.sleep(0.01)
+            asyncio.get_running_loop().call_later(2.0, release.set)  # old code: all ten wait
+            others = await asyncio.gather(
+                *(web.get("/api/download", params={**QUICK, "c.A": str(k + 5)}) for k in range(9))
+            )
+            done = await first
+            after = await web.get("/api/download", params=QUICK)
+            return done, others, after
+
+    done, others, after = asyncio.run(main())
+    assert counts["most"] == 1
+    assert [reply.status_code for reply in others] == [429] * 9
+    assert all("already running" in reply.json()["error"] for reply in others)
+    assert done.status_code == 200 and after.status_code == 200
+    assert counts["calls"] == 2 and app.state.runner.downloads == 2

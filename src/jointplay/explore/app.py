@@ -11,9 +11,11 @@ Routes, and nothing else:
 =====================  ===========================================================
 
 A query is read by :func:`jointplay.explore.settings.parse_query`: an unknown, repeated or bad
-parameter is answered ``400`` with ``{"error": ...}`` in one line. Simulations run one at a
-time in a worker thread; a request that is still waiting when a newer one arrives is not run
-(``409``, superseded) — the page has moved on and discards it too.
+parameter is answered ``400`` with ``{"error": ...}`` in one line. Views run one at a time in a
+worker thread; a request that is still waiting when a newer one arrives is not run (``409``,
+superseded) — the page has moved on and discards it too. Downloads run beside them, at most
+:data:`MAX_DOWNLOADS` at a time; one more is answered ``429`` at once (nothing queues, so no
+page can pile up work on the server).
 """
 
 from __future__ import annotations
@@ -55,18 +57,47 @@ HEADERS = {
 }
 
 
+#: Downloads (each a ``jointplay simulate`` process) that may run at once, beside the one view.
+MAX_DOWNLOADS = 1
+
+
+#: The answer to a download beyond :data:`MAX_DOWNLOADS`.
+BUSY = (
+    "a download is already running (jointplay simulate, one at a time): wait for it to "
+    "finish, then download again"
+)
+
+
 class Superseded(Exception):
     """A newer request arrived before this one ran."""
 
 
-class Runner:
-    """Runs one simulation at a time; a waiting run that a newer one supersedes is skipped."""
+class Busy(Exception):
+    """Every download slot is taken."""
 
-    def __init__(self) -> None:
+
+class Runner:
+    """Runs one view at a time (a waiting run that a newer one supersedes is skipped) and at
+    most ``downloads`` downloads beside it (one more is refused at once, :class:`Busy`)."""
+
+    def __init__(self, downloads: int = MAX_DOWNLOADS) -> None:
         self._lock = threading.Lock()
         self._tickets = itertools.count(1)
         self._latest = 0
+        self._slots = threading.BoundedSemaphore(downloads)
         self.runs = 0  # simulations run (for tests and the log)
+        self.downloads = 0  # downloads run
+
+    def slot(self) -> None:
+        """Take a download slot, or raise :class:`Busy` when none is free (never waits: a
+        refused download costs nothing). Give it back with :meth:`release`."""
+        if not self._slots.acquire(blocking=False):
+            raise Busy
+        self.downloads += 1
+
+    def release(self) -> None:
+        """Give back the download slot that :meth:`slot` took."""
+        self._slots.release()
 
     def ticket(self) -> int:
         """A number for a new request; it supersedes every earlier one still waiting."""
@@ -137,11 +168,19 @@ def create_app(base: Base, *, hosts: tuple[str, ...] = HOSTS) -> Starlette:
     async def download(request: Request) -> Response:
         try:
             settings = parse_query(base, request.query_params)
+            runner.slot()
+        except Busy:
+            return _error(BUSY, 429)
+        except JointplayError as exc:
+            return _error(_line(exc))
+        try:
             archive = await run_in_threadpool(engine.download, base, settings)
         except JointplayError as exc:
             return _error(_line(exc))
         except Exception as exc:
             return _bug(exc)
+        finally:
+            runner.release()
         name = f"jointplay-{base.name}.zip"
         return Response(
             archive,
