@@ -229,3 +229,82 @@ def test_downloads_run_one_at_a_time_and_the_rest_are_refused(monkeypatch) -> No
     assert all("already running" in reply.json()["error"] for reply in others)
     assert done.status_code == 200 and after.status_code == 200
     assert counts["calls"] == 2 and app.state.runner.downloads == 2
+
+
+@pytest.fixture
+def stub_app(monkeypatch):
+    """The app with the engine stubbed out (a view or a download costs nothing and is
+    counted): what matters is whether a request reaches it."""
+    from jointplay.explore import engine
+
+    calls: list[str] = []
+    monkeypatch.setattr(engine, "simulate_settings", lambda base, settings: calls.append("view"))
+    monkeypatch.setattr(engine, "view", lambda run: {"peaks": {}})
+    monkeypatch.setattr(
+        engine, "download", lambda base, settings: calls.append("download") or b"PK\x05\x06"
+    )
+    app = create_app(load_base("paper-fourbar"))
+    with TestClient(app, base_url="http://127.0.0.1") as test_client:
+        yield test_client, calls
+
+
+FOREIGN = [
+    {"sec-fetch-site": "cross-site", "sec-fetch-mode": "no-cors", "sec-fetch-dest": "image"},
+    {"sec-fetch-site": "same-site", "sec-fetch-mode": "cors", "sec-fetch-dest": "empty"},
+    {"sec-fetch-site": "cross-site", "sec-fetch-mode": "navigate", "sec-fetch-dest": "document"},
+    {"origin": "http://evil.example"},
+    {"origin": "null"},
+    {"origin": "http://127.0.0.1:9999"},
+    {"referer": "https://evil.example/page.html"},
+]
+
+
+@pytest.mark.parametrize(
+    "headers", FOREIGN, ids=lambda h: "+".join(f"{k}={v}" for k, v in h.items())
+)
+@pytest.mark.parametrize(
+    "path",
+    ["/api/view?settle=1", "/api/download?settle=1", "/api/spec", "/assets/explore.js"],
+)
+def test_another_sites_page_is_refused(stub_app, path, headers) -> None:
+    """What ``<img src="http://127.0.0.1:PORT/api/download?...">`` on any site sends: refused
+    with 403 and one line, before anything runs."""
+    client, calls = stub_app
+    reply = client.get(path, headers=headers)
+    assert reply.status_code == 403
+    error = reply.json()["error"]
+    assert error.startswith("refused: another site's page made this request")
+    assert "\n" not in error and calls == []
+
+
+@pytest.mark.parametrize(
+    "headers",
+    [
+        {},  # curl, a script
+        {"sec-fetch-site": "same-origin", "sec-fetch-mode": "cors", "sec-fetch-dest": "empty"},
+        {"sec-fetch-site": "same-origin", "origin": "http://127.0.0.1"},
+        {"sec-fetch-site": "none", "sec-fetch-mode": "navigate"},  # typed in the address bar
+        {"referer": "http://127.0.0.1/?rpm=200"},
+    ],
+)
+@pytest.mark.parametrize("path", ["/api/view?settle=1", "/api/download?settle=1", "/api/spec"])
+def test_the_pages_own_requests_are_answered(stub_app, path, headers) -> None:
+    client, calls = stub_app
+    assert client.get(path, headers=headers).status_code == 200
+    assert len(calls) == (0 if path == "/api/spec" else 1)  # it ran
+
+
+def test_a_shared_link_from_another_site_opens_the_page(stub_app) -> None:
+    client, calls = stub_app
+    link = {
+        "sec-fetch-site": "cross-site",
+        "sec-fetch-mode": "navigate",
+        "sec-fetch-dest": "document",
+    }
+    page = client.get("/?rpm=200", headers={**link, "referer": "https://chat.example/"})
+    assert page.status_code == 200 and "text/html" in page.headers["content-type"]
+    # but not as an image, a script or a frame of another site's page
+    for dest in ("image", "script", "iframe"):
+        headers = {**link, "sec-fetch-mode": "no-cors", "sec-fetch-dest": dest}
+        assert client.get("/", headers=headers).status_code == 403
+    assert calls == []

@@ -10,6 +10,12 @@ Routes, and nothing else:
 ``GET /api/download``  a ZIP of ``jointplay simulate``'s files for ``Q``
 =====================  ===========================================================
 
+Only the page's own requests are answered (:class:`SameOrigin`): a request that another
+site's page made — ``Sec-Fetch-Site: cross-site`` or ``same-site``, an ``Origin`` or a
+``Referer`` of another origin — is refused ``403``, except a link to the page ``/`` itself
+followed from elsewhere (a shared link); a request without those headers (curl, a script)
+is answered.
+
 A query is read by :func:`jointplay.explore.settings.parse_query`: an unknown, repeated or bad
 parameter is answered ``400`` with ``{"error": ...}`` in one line. Views run one at a time in a
 worker thread; a request that is still waiting when a newer one arrives is not run (``409``,
@@ -34,6 +40,7 @@ from starlette.middleware.trustedhost import TrustedHostMiddleware
 from starlette.requests import Request
 from starlette.responses import JSONResponse, Response
 from starlette.routing import Route
+from starlette.types import ASGIApp, Receive, Scope, Send
 
 from jointplay.errors import JointplayError
 from jointplay.explore.settings import Base, Settings, parse_query
@@ -111,6 +118,72 @@ class Runner:
                 raise Superseded
             self.runs += 1
             return work()
+
+
+#: ``Sec-Fetch-Site`` values of a request that another site's page made.
+FOREIGN_SITES = ("cross-site", "same-site")
+
+
+def foreign(scope: Scope) -> str | None:
+    """Why an HTTP request comes from another site's page (in words), or ``None`` when it
+    may be answered: from the page itself, typed into the address bar, or without the
+    browser's headers (curl, a script).
+
+    A top-level navigation to the page ``/`` from another site (a shared link clicked in a
+    chat or mail) is answered: the page starts nothing, and its own requests are checked.
+    """
+    headers = {
+        key.decode("latin-1").lower(): value.decode("latin-1") for key, value in scope["headers"]
+    }
+    own = f"{scope.get('scheme', 'http')}://{headers.get('host', '')}".lower()
+    page = scope.get("path") == "/"
+    site = headers.get("sec-fetch-site", "").strip().lower()
+    if site in FOREIGN_SITES:
+        navigation = (
+            headers.get("sec-fetch-mode", "").lower() == "navigate"
+            and headers.get("sec-fetch-dest", "document").lower() == "document"
+        )
+        if not (page and navigation):
+            return f"Sec-Fetch-Site: {site}"
+    origin = headers.get("origin")
+    if origin is not None and origin.strip().lower() != own:
+        return f"Origin: {origin.strip()[:80]}"
+    referer = headers.get("referer")
+    if referer and not page and _origin_of(referer) != own:
+        return f"Referer from {_origin_of(referer)[:80]}"
+    return None
+
+
+def _origin_of(url: str) -> str:
+    """``scheme://host[:port]`` of ``url``, lower case."""
+    from urllib.parse import urlsplit
+
+    try:
+        parts = urlsplit(url.strip())
+    except ValueError:
+        return "?"
+    return f"{parts.scheme}://{parts.netloc}".lower()
+
+
+class SameOrigin:
+    """ASGI middleware: refuses (``403``, one line) a request that another site's page made
+    (:func:`foreign`), before any route runs."""
+
+    def __init__(self, app: ASGIApp) -> None:
+        self.app = app
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        if scope["type"] == "http":
+            why = foreign(scope)
+            if why is not None:
+                reply = _error(
+                    f"refused: another site's page made this request ({why}); jointplay "
+                    "explore answers only its own page: open its address in the browser",
+                    403,
+                )
+                await reply(scope, receive, send)
+                return
+        await self.app(scope, receive, send)
 
 
 def _read(package: str, path: str) -> bytes:
@@ -196,7 +269,10 @@ def create_app(base: Base, *, hosts: tuple[str, ...] = HOSTS) -> Starlette:
             Route("/api/view", view, methods=["GET"]),
             Route("/api/download", download, methods=["GET"]),
         ],
-        middleware=[Middleware(TrustedHostMiddleware, allowed_hosts=list(hosts))],
+        middleware=[
+            Middleware(TrustedHostMiddleware, allowed_hosts=list(hosts)),
+            Middleware(SameOrigin),
+        ],
     )
     app.state.runner = runner
     return app
