@@ -179,7 +179,7 @@ def _fake_download(release: threading.Event, counts: dict[str, int]):
     10 s) and counts how many run at once."""
     lock = threading.Lock()
 
-    def download(base, settings) -> bytes:
+    def download(base, settings, children=None) -> bytes:
         with lock:
             counts["running"] += 1
             counts["most"] = max(counts["most"], counts["running"])
@@ -241,7 +241,9 @@ def stub_app(monkeypatch):
     monkeypatch.setattr(engine, "simulate_settings", lambda base, settings: calls.append("view"))
     monkeypatch.setattr(engine, "view", lambda run: {"peaks": {}})
     monkeypatch.setattr(
-        engine, "download", lambda base, settings: calls.append("download") or b"PK\x05\x06"
+        engine,
+        "download",
+        lambda base, settings, children=None: calls.append("download") or b"PK\x05\x06",
     )
     app = create_app(load_base("paper-fourbar"))
     with TestClient(app, base_url="http://127.0.0.1") as test_client:

@@ -26,10 +26,11 @@ page can pile up work on the server).
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import AsyncIterator, Callable
 from importlib import resources
 from typing import Any, TypeVar
 
@@ -199,6 +200,7 @@ def create_app(base: Base, *, hosts: tuple[str, ...] = HOSTS) -> Starlette:
     from jointplay.explore import engine
 
     runner = Runner()
+    children = engine.Children()  # the downloads' processes, ended with the server
     files = {name: _read(package, path) for name, (package, path, _) in ASSETS.items()}
     index = _read("jointplay.explore", "static/index.html")
 
@@ -247,7 +249,7 @@ def create_app(base: Base, *, hosts: tuple[str, ...] = HOSTS) -> Starlette:
         except JointplayError as exc:
             return _error(_line(exc))
         try:
-            archive = await run_in_threadpool(engine.download, base, settings)
+            archive = await run_in_threadpool(engine.download, base, settings, children)
         except JointplayError as exc:
             return _error(_line(exc))
         except Exception as exc:
@@ -261,7 +263,15 @@ def create_app(base: Base, *, hosts: tuple[str, ...] = HOSTS) -> Starlette:
             headers={**HEADERS, "Content-Disposition": f'attachment; filename="{name}"'},
         )
 
+    @contextlib.asynccontextmanager
+    async def lifespan(app: Starlette) -> AsyncIterator[None]:
+        try:
+            yield
+        finally:  # the server stops: no download's simulate outlives it
+            await run_in_threadpool(children.end)
+
     app = Starlette(
+        lifespan=lifespan,
         routes=[
             Route("/", page, methods=["GET"]),
             Route("/assets/{name}", asset, methods=["GET"]),
@@ -275,6 +285,7 @@ def create_app(base: Base, *, hosts: tuple[str, ...] = HOSTS) -> Starlette:
         ],
     )
     app.state.runner = runner
+    app.state.children = children
     return app
 
 

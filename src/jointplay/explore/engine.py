@@ -18,6 +18,8 @@ import os
 import subprocess
 import sys
 import tempfile
+import threading
+import time
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path
@@ -246,12 +248,94 @@ def view(run: Run) -> dict[str, Any]:
     return out
 
 
-def download(base: Base, settings: Settings) -> bytes:
+#: How long :meth:`Children.end` waits for a stopped ``jointplay simulate`` before killing it, s.
+END_WAIT_S = 2.0
+
+
+class Children:
+    """The ``jointplay simulate`` processes of a server's downloads, so that they end with it.
+
+    Each runs in the server's process group (Ctrl-C in its terminal reaches it too);
+    :meth:`end`, called when the server stops (SIGTERM, SIGINT), stops those still running
+    and refuses new ones.
+    """
+
+    def __init__(self) -> None:
+        self._lock = threading.RLock()  # RLock: end() may run in a signal handler
+        self._running: set[subprocess.Popen[str]] = set()
+        self._ended = False
+
+    @property
+    def running(self) -> int:
+        """How many run now."""
+        with self._lock:
+            return len(self._running)
+
+    def run(self, args: list[str], *, cwd: Path, timeout: float) -> tuple[int, str]:
+        """Run ``args`` in ``cwd`` to its end (its exit status and standard error).
+
+        Raises:
+            ConfigError: the server is stopping (:meth:`end` was called).
+            subprocess.TimeoutExpired: it ran past ``timeout`` seconds (it is killed).
+        """
+        environment = {**os.environ, "MPLBACKEND": "Agg"}
+        with self._lock:
+            if self._ended:
+                raise ConfigError(STOPPING)
+            process = subprocess.Popen(
+                args,
+                cwd=cwd,
+                env=environment,
+                stdin=subprocess.DEVNULL,
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.PIPE,
+                text=True,
+            )
+            self._running.add(process)
+        try:
+            _, stderr = process.communicate(timeout=timeout)
+        except BaseException:
+            process.kill()
+            process.communicate()
+            raise
+        finally:
+            with self._lock:
+                self._running.discard(process)
+        if self._ended:
+            raise ConfigError(STOPPING)
+        return process.returncode, stderr
+
+    def end(self, wait: float = END_WAIT_S) -> None:
+        """Stop every child (SIGTERM; SIGKILL for one still running after ``wait`` s) and
+        refuse new ones. With ``wait=0`` it only signals (quick enough for a signal handler)."""
+        with self._lock:
+            self._ended = True
+            running = list(self._running)
+        for process in running:
+            if process.poll() is None:
+                process.terminate()
+        if wait <= 0:
+            return
+        deadline = time.monotonic() + wait
+        for process in running:
+            try:
+                process.wait(max(deadline - time.monotonic(), 0.01))
+            except subprocess.TimeoutExpired:
+                process.kill()
+                process.wait()
+
+
+#: The error of a download that the server's stopping ended.
+STOPPING = "the server is stopping: jointplay simulate was stopped; nothing to download"
+
+
+def download(base: Base, settings: Settings, children: Children | None = None) -> bytes:
     """A ZIP archive of what ``jointplay simulate --config settings.toml --no-plots`` writes
-    (summary.json, timeseries.csv, steps.csv) and that ``settings.toml``.
+    (summary.json, timeseries.csv, steps.csv) and that ``settings.toml``; the command runs
+    as one of ``children`` (default: a set of its own).
 
     Raises:
-        ConfigError: the command failed (its one-line message).
+        ConfigError: the command failed (its one-line message), or ``children`` were ended.
     """
     if settings.uniform() is None:
         raise ConfigError(
@@ -263,26 +347,19 @@ def download(base: Base, settings: Settings) -> bytes:
     with tempfile.TemporaryDirectory(prefix="jointplay-explore-") as folder:
         work = Path(folder)
         (work / "settings.toml").write_text(text, encoding="utf-8")
-        environment = {**os.environ, "MPLBACKEND": "Agg"}
         try:
-            done = subprocess.run(
+            status, stderr = (children or Children()).run(
                 [sys.executable, "-m", "jointplay", "simulate", *COMMAND],
                 cwd=work,
-                env=environment,
-                capture_output=True,
-                text=True,
                 timeout=DOWNLOAD_TIMEOUT_S,
-                check=False,
             )
         except subprocess.TimeoutExpired:
             raise ConfigError(
                 f"jointplay simulate took longer than {DOWNLOAD_TIMEOUT_S:g} s; nothing to download"
             ) from None
-        if done.returncode != 0:
-            lines = [line for line in done.stderr.splitlines() if line.startswith("jointplay:")]
-            raise ConfigError(
-                lines[-1] if lines else f"jointplay simulate failed ({done.returncode})"
-            )
+        if status != 0:
+            lines = [line for line in stderr.splitlines() if line.startswith("jointplay:")]
+            raise ConfigError(lines[-1] if lines else f"jointplay simulate failed ({status})")
         buffer = io.BytesIO()
         with zipfile.ZipFile(buffer, "w", zipfile.ZIP_DEFLATED) as archive:
             archive.writestr("settings.toml", text)
