@@ -310,3 +310,43 @@ def test_a_shared_link_from_another_site_opens_the_page(stub_app) -> None:
         headers = {**link, "sec-fetch-mode": "no-cors", "sec-fetch-dest": dest}
         assert client.get("/", headers=headers).status_code == 403
     assert calls == []
+
+
+@pytest.mark.parametrize("route", ["/api/view", "/api/download"])
+def test_an_interference_fit_is_one_plain_line(client, route) -> None:
+    """No temporary path of the server's and no class name: what is wrong and what to do."""
+    reply = client.get(route, params={"c.A": "H7/s6:max"})
+    assert reply.status_code == 400
+    error = reply.json()["error"]
+    assert "H7/s6 is an interference fit" in error and "choose a clearance fit" in error
+    assert "/tmp" not in error and "jointplay-explore-" not in error
+    assert "JointFit" not in error and "settings.toml" not in error
+
+
+def test_errors_leave_out_internal_paths_and_class_names(stub_app, monkeypatch) -> None:
+    """Whatever the readers behind the page say, the page gets no server path and no class."""
+    from jointplay.errors import ConfigError
+    from jointplay.explore import engine
+
+    client, _ = stub_app
+
+    def refuse(base, settings):
+        raise ConfigError(
+            "/tmp/jointplay-explore-zjwe9irt/settings.toml: JointFit: clearance must be "
+            "finite and >= 0, got -4e-06"
+        )
+
+    monkeypatch.setattr(engine, "simulate_settings", refuse)
+    reply = client.get("/api/view")
+    assert reply.status_code == 400
+    assert reply.json()["error"] == "settings.toml: clearance must be finite and >= 0, got -4e-06"
+
+    def bug(base, settings):
+        raise ZeroDivisionError("float division by zero")
+
+    monkeypatch.setattr(engine, "simulate_settings", bug)
+    reply = client.get("/api/view")
+    assert reply.status_code == 500
+    error = reply.json()["error"]
+    assert error.startswith("internal error (a bug): float division by zero; please report")
+    assert "ZeroDivisionError" not in error

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import contextlib
 import itertools
+import re
 import threading
 import time
 from collections.abc import AsyncIterator, Callable
@@ -297,16 +298,25 @@ def _bug(exc: Exception) -> JSONResponse:
     import traceback
 
     line = (
-        f"internal error (a bug): {type(exc).__name__}: {_line(exc)}; please report it to the "
-        "jointplay maintainers with the page's address"
+        f"internal error (a bug): {_line(exc)}; please report it to the jointplay maintainers "
+        "with the page's address"
     )
-    print(f"jointplay explore: {line}", file=sys.stderr)
+    # the console, the user's own, also gets the exception's class
+    print(f"jointplay explore: {line} ({type(exc).__name__})", file=sys.stderr)
     if os.environ.get("JOINTPLAY_DEBUG"):
         traceback.print_exception(exc)
     return _error(line, 500)
 
 
+#: A path into a folder of the server's own (the configuration file it writes for a run).
+_INTERNAL_PATH = re.compile(r"""(?:[A-Za-z]:)?[^\s'"]*jointplay-explore-[^\s'"/\\]*[/\\]""")
+#: A class name that starts an error message (``JointFit: ...``), Python's own or ours.
+_CLASS_NAME = re.compile(r"\b(?:[A-Z][a-z0-9]+){2,}: ")
+
+
 def _line(exc: BaseException) -> str:
-    """An error in one line (at most 600 characters)."""
+    """An error in one line (at most 600 characters), without the server's internal paths
+    (its temporary folders) or the class names of the code that raised it."""
     text = " ".join(str(exc).split())
+    text = _CLASS_NAME.sub("", _INTERNAL_PATH.sub("", text))
     return text if len(text) <= 600 else text[:597] + "..."
