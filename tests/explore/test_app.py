@@ -350,3 +350,32 @@ def test_errors_leave_out_internal_paths_and_class_names(stub_app, monkeypatch) 
     error = reply.json()["error"]
     assert error.startswith("internal error (a bug): float division by zero; please report")
     assert "ZeroDivisionError" not in error
+
+
+def test_a_view_past_its_step_budget_is_one_line(client, monkeypatch) -> None:
+    """The budget's line, not simulate's advice about SolverOptions; the next view runs."""
+    from jointplay.explore import engine
+
+    monkeypatch.setattr(engine, "VIEW_MAX_STEPS", 2000)  # the conventional set needs ~4 000
+    reply = client.get("/api/view", params={"contact": "ifm-conventional", "settle": "1"})
+    assert reply.status_code == 400
+    error = reply.json()["error"]
+    assert error.startswith("this view needs more than 2 000 integration steps, the budget")
+    assert "fewer start-up revolutions" in error and "SolverOptions" not in error
+    assert client.get("/api/view", params={"settle": "0"}).status_code == 200
+
+
+@pytest.mark.slow  # ~15 s of integration
+def test_the_slowest_view_stops_at_its_budget(client) -> None:
+    """From rest at 1 rev/min with ten start-up revolutions on the IFM ECS cylindrical set:
+    93 s of the runner before the budget; now refused within it."""
+    from jointplay.explore.engine import VIEW_MAX_STEPS
+
+    query = {"rpm": "1", "start": "rest", "settle": "10", "contact": "ifm-ecs-cylindrical"}
+    started = time.monotonic()
+    reply = client.get("/api/view", params=query)
+    seconds = time.monotonic() - started
+    print(f"\nthe slowest view: refused after {seconds:.1f} s")
+    assert reply.status_code == 400
+    assert f"more than {VIEW_MAX_STEPS:,}".replace(",", " ") in reply.json()["error"]
+    assert seconds < 60

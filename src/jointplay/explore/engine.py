@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, IntegrationError
 from jointplay.explore.settings import PHYSICAL, Base, Settings, config_data
 
 #: Frames of the mechanism's animation over the analysed revolution.
@@ -36,6 +36,12 @@ FRAMES = 90
 NOMINAL_STRIDE = 5
 #: The arguments of the download's ``jointplay simulate`` (run in a fresh folder).
 COMMAND = ("--config", "settings.toml", "--out", "results", "--no-plots", "--no-progress")
+#: The integration steps one view may take (accepted steps, start-up revolutions included):
+#: ``SolverOptions.max_steps`` of the page's runs. A view past it is refused with a line that
+#: says so, rather than holding the one-at-a-time runner for minutes (measured: 300 000 RODAS4
+#: steps take about 12 s and DOPRI5's about 8 s on the 2-core machine; a common view needs
+#: 1 000–6 000, the slowest start from rest with ten start-up revolutions 230 000–290 000).
+VIEW_MAX_STEPS = 300_000
 #: The longest the download's ``jointplay simulate`` may take, s.
 DOWNLOAD_TIMEOUT_S = 300.0
 
@@ -124,21 +130,46 @@ def simulate_settings(base: Base, settings: Settings) -> Run:
     ramp = mechanism.driver.period / 4 if mode == "ramp" else 0.0
     turns = finite_number(values, "revolutions", 1.0)
     check_revolutions(turns)
-    result = simulate(
-        mechanism,
-        clear,
-        revolutions=turns,
-        settle=int(values.get("settle", 2)),
-        start=Start(mode, ramp),  # type: ignore[arg-type]  # validated by Start
-        solver=SolverOptions(rtol=finite_number(values, "rtol", 1e-6), integrator=integrator),
-        nominal=nominal,
-    )
+    started = time.perf_counter()
+    try:
+        result = simulate(
+            mechanism,
+            clear,
+            revolutions=turns,
+            settle=int(values.get("settle", 2)),
+            start=Start(mode, ramp),  # type: ignore[arg-type]  # validated by Start
+            solver=SolverOptions(
+                rtol=finite_number(values, "rtol", 1e-6),
+                integrator=integrator,
+                max_steps=VIEW_MAX_STEPS,
+            ),
+            nominal=nominal,
+        )
+    except IntegrationError as exc:
+        over = _over_budget(exc, time.perf_counter() - started)
+        if over is None:
+            raise
+        raise over from None
     if result.nominal is not None:
         _NOMINAL.pop(key, None)
         _NOMINAL[key] = result.nominal
         while len(_NOMINAL) > NOMINAL_CACHE:
             _NOMINAL.pop(next(iter(_NOMINAL)))
     return Run(result, mechanism, described, _diagnostics(result, mechanism))
+
+
+def _over_budget(error: Exception, seconds: float) -> ConfigError | None:
+    """The page's line for an integration that ran past :data:`VIEW_MAX_STEPS` (``error``
+    is ``simulate``'s, after ``seconds``), or ``None`` for any other failure."""
+    if f"SolverOptions.max_steps = {VIEW_MAX_STEPS})" not in str(error):
+        return None
+    budget = f"{VIEW_MAX_STEPS:,}".replace(",", " ")
+    return ConfigError(
+        f"this view needs more than {budget} integration steps, the budget of one view "
+        f"(stopped after {seconds:.0f} s): take fewer start-up revolutions, a higher crank "
+        "speed or another contact law; the download's jointplay simulate is not held to "
+        "this budget"
+    )
 
 
 def _list(values: Any, digits: int = 6) -> list[float | None]:
