@@ -1,6 +1,7 @@
 """``jointplay explore`` as a process: when the server is stopped (SIGTERM, or Ctrl-C sent
 to it alone), the ``jointplay simulate`` of a download in progress ends with it rather than
-running on under pid 1. Linux only (it reads /proc); only 127.0.0.1 is contacted."""
+running on under pid 1, and a view in progress costs at most the 5 s grace, without a
+traceback. Linux only (it reads /proc); only 127.0.0.1 is contacted."""
 
 from __future__ import annotations
 
@@ -90,4 +91,37 @@ def test_stopping_the_server_ends_its_simulate_children(stop) -> None:
         for pid in [server.pid, *children]:
             with contextlib.suppress(ProcessLookupError, PermissionError):
                 os.kill(pid, signal.SIGKILL)
+        server.wait(timeout=10)
+
+
+def test_stopping_the_server_during_a_view_prints_no_traceback() -> None:
+    """SIGTERM while a view computes (it cannot be interrupted; it runs to its step budget):
+    the server stops once its 5 s grace has passed, with its one line and no traceback."""
+    server = subprocess.Popen(
+        [sys.executable, "-m", "jointplay", "explore", "--no-browser", "--port", "0"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "MPLBACKEND": "Agg"},
+    )
+    try:
+        assert server.stdout is not None
+        line = server.stdout.readline()
+        assert "http://127.0.0.1:" in line, line
+        url = line[line.index("http://") :].split()[0]
+
+        def view() -> None:
+            with contextlib.suppress(OSError):
+                urllib.request.urlopen(f"{url}api/view?{LONG}", timeout=60).read()
+
+        threading.Thread(target=view, daemon=True).start()
+        time.sleep(1.0)  # the view is under way (it takes 5-12 s to its budget)
+        started = time.monotonic()
+        server.send_signal(signal.SIGTERM)
+        _, stderr = server.communicate(timeout=30)
+        assert time.monotonic() - started < 15
+        assert server.returncode == 0
+        assert "Traceback" not in stderr and "jointplay explore: stopped" in stderr, stderr
+    finally:
+        server.kill()
         server.wait(timeout=10)

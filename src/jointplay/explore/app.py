@@ -26,6 +26,7 @@ page can pile up work on the server).
 
 from __future__ import annotations
 
+import asyncio
 import contextlib
 import itertools
 import re
@@ -75,6 +76,11 @@ BUSY = (
     "a download is already running (jointplay simulate, one at a time): wait for it to "
     "finish, then download again"
 )
+
+
+#: The answer to a request still running when the server stops (Ctrl-C, SIGTERM) and its
+#: grace (``timeout_graceful_shutdown``) has run out.
+STOPPING = "the server is stopping: start jointplay explore again"
 
 
 class Superseded(Exception):
@@ -239,6 +245,8 @@ def create_app(base: Base, *, hosts: tuple[str, ...] = HOSTS) -> Starlette:
             return _error(_line(exc))
         except Exception as exc:  # a bug: one line to the page and the console
             return _bug(exc)
+        except asyncio.CancelledError:  # stopping, past the grace: no traceback on the console
+            return _error(STOPPING, 503)
         return JSONResponse(data, headers=HEADERS)
 
     async def download(request: Request) -> Response:
@@ -255,6 +263,8 @@ def create_app(base: Base, *, hosts: tuple[str, ...] = HOSTS) -> Starlette:
             return _error(_line(exc))
         except Exception as exc:
             return _bug(exc)
+        except asyncio.CancelledError:
+            return _error(STOPPING, 503)
         finally:
             runner.release()
         name = f"jointplay-{base.name}.zip"
