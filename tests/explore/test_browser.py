@@ -207,6 +207,47 @@ def test_a_bad_value_shows_a_message_and_keeps_the_view(page, server) -> None:
     assert not page.is_visible("#message")
 
 
+def test_a_bad_shared_link_shows_the_defaults_and_the_error(page, server) -> None:
+    """A link with a value the server refuses: the defaults' view under the message, not a
+    blank page; the field keeps the link's value, and correcting it draws that view."""
+    page.goto(f"{server}?contact=ifm-conventional&c.A=-3")
+    page.wait_for_function("document.body.dataset.shown === 'defaults'", timeout=WAIT_MS)
+    message = page.text_content("#message")
+    assert page.is_visible("#message")
+    assert "clearance of joint A must lie within" in message and "defaults" in message
+    assert page.input_value("#clr-A") == "-3" and page.input_value("#contact") == "ifm-conventional"
+    assert len(_peaks(page)) > 4  # the peaks table is filled
+    assert max(_orbit(page, "A")["circle"]) == pytest.approx(21)  # the default clearance
+    assert page.get_attribute("#mechanism", "viewBox") is not None
+    page.fill("#clr-A", "30")
+    _views(page, 2)
+    assert not page.is_visible("#message")
+    assert max(_orbit(page, "A")["circle"]) == pytest.approx(30)
+
+
+def test_the_toolbar_is_off_the_titles(page, server) -> None:
+    """Plotly's toolbar (the modebar, top right) overlaps no figure title."""
+    page.goto(f"{server}?contact=ifm-conventional")
+    _views(page, 1)
+    for figure in ("orbits", "curves"):
+        page.hover(f"#{figure}")  # the toolbar shows while the pointer is over the figure
+        boxes = page.evaluate(
+            f"""(() => {{
+                const box = (e) => {{ const r = e.getBoundingClientRect();
+                    return [r.left, r.top, r.right, r.bottom]; }};
+                const root = document.getElementById('{figure}');
+                return {{ bar: box(root.querySelector('.modebar')),
+                    titles: [...root.querySelectorAll('.annotation-text')].map(box) }}; }})()"""
+        )
+        bar, titles = boxes["bar"], boxes["titles"]
+        assert bar[2] > bar[0] and bar[3] > bar[1] and titles, boxes
+        for title in titles:
+            apart = (
+                title[2] <= bar[0] or title[0] >= bar[2] or title[3] <= bar[1] or title[1] >= bar[3]
+            )
+            assert apart, (figure, bar, title)
+
+
 def test_the_url_reproduces_the_view(page, browser, server) -> None:
     page.goto(f"{server}?contact=ifm-conventional")
     _views(page, 1)

@@ -73,3 +73,40 @@ def test_joints_of_their_own_contact_are_simulated_with_it(base) -> None:
     assert {k: p["value"] for k, p in run.result.peaks.items()} == pytest.approx(
         {k: p["value"] for k, p in expected.peaks.items()}, rel=1e-12
     )
+
+
+def test_ended_children_stop_and_no_new_one_starts(tmp_path) -> None:
+    """What the server's stopping does to a download's ``jointplay simulate`` (here a process
+    that would sleep 60 s): it is stopped at once, and no new one starts."""
+    import sys
+    import threading
+    import time
+
+    from jointplay.errors import ConfigError
+
+    children = engine.Children()
+    outcome: list[object] = []
+
+    def run() -> None:
+        try:
+            outcome.append(
+                children.run(
+                    [sys.executable, "-c", "import time; time.sleep(60)"], cwd=tmp_path, timeout=90
+                )
+            )
+        except ConfigError as exc:
+            outcome.append(exc)
+
+    worker = threading.Thread(target=run, daemon=True)
+    worker.start()
+    deadline = time.monotonic() + 10
+    while children.running == 0 and time.monotonic() < deadline:
+        time.sleep(0.01)
+    assert children.running == 1
+    started = time.monotonic()
+    children.end()
+    worker.join(10)
+    assert time.monotonic() - started < 5 and children.running == 0
+    assert len(outcome) == 1 and str(outcome[0]) == engine.STOPPING
+    with pytest.raises(ConfigError, match="the server is stopping"):
+        children.run([sys.executable, "-c", "pass"], cwd=tmp_path, timeout=10)

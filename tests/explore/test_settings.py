@@ -48,6 +48,9 @@ def test_the_defaults_parse_and_round_trip(base) -> None:
         ({"c.A": "abc"}, "clearance of joint A (µm) must be a number"),
         ({"c.A": "H8/g7:most"}, "min, mean or max"),
         ({"c.A": "Q99/z1:max"}, "clearance of joint A"),
+        ({"c.A": "H7/s6:max"}, "H7/s6 is an interference fit at Ø10 mm"),
+        ({"c.A": "H7/s6:mean"}, "so its mean leaves no clearance"),
+        ({"c.B": "H7/k6:min"}, "H7/k6 is a transition fit"),
         ({"contact": "glue"}, "unknown contact 'glue'"),
         ({"mu": "2"}, "friction coefficient must lie within 0–1"),
         ({"start": "sideways"}, "the start must be one of"),
@@ -159,3 +162,9 @@ def test_bad_joint_contacts_are_refused(base, query, words) -> None:
     with pytest.raises(ConfigError) as caught:
         parse_query(base, query)
     assert words in str(caught.value)
+
+
+def test_a_transition_fits_clearance_is_taken_where_it_has_one(base) -> None:
+    # H7/k6 at 10 mm: radial clearance -5 to +4.5 µm; its max is a clearance
+    settings = parse_query(base, {"c.B": "H7/k6:max"})
+    assert settings.clearances["B"].fit == "H7/k6"

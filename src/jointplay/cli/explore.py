@@ -5,6 +5,7 @@ from __future__ import annotations
 import socket
 import sys
 import threading
+from types import FrameType
 from typing import Annotated
 
 import typer
@@ -69,6 +70,7 @@ def explore_command(
     from jointplay.explore.settings import load_base, parse_query
 
     base = load_base(preset, None if config is None else str(config))
+    children = None
     sock = socket.socket(socket.AF_INET6 if ":" in host else socket.AF_INET)
     try:
         sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
@@ -95,12 +97,19 @@ def explore_command(
             hosts = HOSTS
         else:
             hosts = (*HOSTS, host, shown)
-        server = uvicorn.Server(
-            uvicorn.Config(
-                create_app(base, hosts=tuple(hosts)),
-                log_level="warning",
-                timeout_graceful_shutdown=5,
-            )
+        application = create_app(base, hosts=tuple(hosts))
+        children = application.state.children
+
+        class Server(uvicorn.Server):
+            """uvicorn's server that, the moment SIGTERM or SIGINT arrives, also stops the
+            downloads' ``jointplay simulate`` processes (else they would run on, orphaned)."""
+
+            def handle_exit(self, sig: int, frame: FrameType | None) -> None:
+                application.state.children.end(wait=0)
+                super().handle_exit(sig, frame)
+
+        server = Server(
+            uvicorn.Config(application, log_level="warning", timeout_graceful_shutdown=5)
         )
         where = f"{base.name} at {url}"
         announce = (server, where, url if browser else None)
@@ -110,6 +119,8 @@ def explore_command(
         pass  # uvicorn has shut down; it raises the signal it caught again
     finally:
         sock.close()
+        if children is not None:
+            children.end()  # those that SIGTERM did not end within the wait: killed
     print("jointplay explore: stopped", file=sys.stderr)
 
 

@@ -18,6 +18,8 @@ import os
 import subprocess
 import sys
 import tempfile
+import threading
+import time
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path
@@ -25,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, IntegrationError
 from jointplay.explore.settings import PHYSICAL, Base, Settings, config_data
 
 #: Frames of the mechanism's animation over the analysed revolution.
@@ -34,6 +36,12 @@ FRAMES = 90
 NOMINAL_STRIDE = 5
 #: The arguments of the download's ``jointplay simulate`` (run in a fresh folder).
 COMMAND = ("--config", "settings.toml", "--out", "results", "--no-plots", "--no-progress")
+#: The integration steps one view may take (accepted steps, start-up revolutions included):
+#: ``SolverOptions.max_steps`` of the page's runs. A view past it is refused with a line that
+#: says so, rather than holding the one-at-a-time runner for minutes (measured: 300 000 RODAS4
+#: steps take about 12 s and DOPRI5's about 8 s on the 2-core machine; a common view needs
+#: 1 000–6 000, the slowest start from rest with ten start-up revolutions 230 000–290 000).
+VIEW_MAX_STEPS = 300_000
 #: The longest the download's ``jointplay simulate`` may take, s.
 DOWNLOAD_TIMEOUT_S = 300.0
 
@@ -122,21 +130,46 @@ def simulate_settings(base: Base, settings: Settings) -> Run:
     ramp = mechanism.driver.period / 4 if mode == "ramp" else 0.0
     turns = finite_number(values, "revolutions", 1.0)
     check_revolutions(turns)
-    result = simulate(
-        mechanism,
-        clear,
-        revolutions=turns,
-        settle=int(values.get("settle", 2)),
-        start=Start(mode, ramp),  # type: ignore[arg-type]  # validated by Start
-        solver=SolverOptions(rtol=finite_number(values, "rtol", 1e-6), integrator=integrator),
-        nominal=nominal,
-    )
+    started = time.perf_counter()
+    try:
+        result = simulate(
+            mechanism,
+            clear,
+            revolutions=turns,
+            settle=int(values.get("settle", 2)),
+            start=Start(mode, ramp),  # type: ignore[arg-type]  # validated by Start
+            solver=SolverOptions(
+                rtol=finite_number(values, "rtol", 1e-6),
+                integrator=integrator,
+                max_steps=VIEW_MAX_STEPS,
+            ),
+            nominal=nominal,
+        )
+    except IntegrationError as exc:
+        over = _over_budget(exc, time.perf_counter() - started)
+        if over is None:
+            raise
+        raise over from None
     if result.nominal is not None:
         _NOMINAL.pop(key, None)
         _NOMINAL[key] = result.nominal
         while len(_NOMINAL) > NOMINAL_CACHE:
             _NOMINAL.pop(next(iter(_NOMINAL)))
     return Run(result, mechanism, described, _diagnostics(result, mechanism))
+
+
+def _over_budget(error: Exception, seconds: float) -> ConfigError | None:
+    """The page's line for an integration that ran past :data:`VIEW_MAX_STEPS` (``error``
+    is ``simulate``'s, after ``seconds``), or ``None`` for any other failure."""
+    if f"SolverOptions.max_steps = {VIEW_MAX_STEPS})" not in str(error):
+        return None
+    budget = f"{VIEW_MAX_STEPS:,}".replace(",", " ")
+    return ConfigError(
+        f"this view needs more than {budget} integration steps, the budget of one view "
+        f"(stopped after {seconds:.0f} s): take fewer start-up revolutions, a higher crank "
+        "speed or another contact law; the download's jointplay simulate is not held to "
+        "this budget"
+    )
 
 
 def _list(values: Any, digits: int = 6) -> list[float | None]:
@@ -246,12 +279,94 @@ def view(run: Run) -> dict[str, Any]:
     return out
 
 
-def download(base: Base, settings: Settings) -> bytes:
+#: How long :meth:`Children.end` waits for a stopped ``jointplay simulate`` before killing it, s.
+END_WAIT_S = 2.0
+
+
+class Children:
+    """The ``jointplay simulate`` processes of a server's downloads, so that they end with it.
+
+    Each runs in the server's process group (Ctrl-C in its terminal reaches it too);
+    :meth:`end`, called when the server stops (SIGTERM, SIGINT), stops those still running
+    and refuses new ones.
+    """
+
+    def __init__(self) -> None:
+        self._lock = threading.RLock()  # RLock: end() may run in a signal handler
+        self._running: set[subprocess.Popen[str]] = set()
+        self._ended = False
+
+    @property
+    def running(self) -> int:
+        """How many run now."""
+        with self._lock:
+            return len(self._running)
+
+    def run(self, args: list[str], *, cwd: Path, timeout: float) -> tuple[int, str]:
+        """Run ``args`` in ``cwd`` to its end (its exit status and standard error).
+
+        Raises:
+            ConfigError: the server is stopping (:meth:`end` was called).
+            subprocess.TimeoutExpired: it ran past ``timeout`` seconds (it is killed).
+        """
+        environment = {**os.environ, "MPLBACKEND": "Agg"}
+        with self._lock:
+            if self._ended:
+                raise ConfigError(STOPPING)
+            process = subprocess.Popen(
+                args,
+                cwd=cwd,
+                env=environment,
+                stdin=subprocess.DEVNULL,
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.PIPE,
+                text=True,
+            )
+            self._running.add(process)
+        try:
+            _, stderr = process.communicate(timeout=timeout)
+        except BaseException:
+            process.kill()
+            process.communicate()
+            raise
+        finally:
+            with self._lock:
+                self._running.discard(process)
+        if self._ended:
+            raise ConfigError(STOPPING)
+        return process.returncode, stderr
+
+    def end(self, wait: float = END_WAIT_S) -> None:
+        """Stop every child (SIGTERM; SIGKILL for one still running after ``wait`` s) and
+        refuse new ones. With ``wait=0`` it only signals (quick enough for a signal handler)."""
+        with self._lock:
+            self._ended = True
+            running = list(self._running)
+        for process in running:
+            if process.poll() is None:
+                process.terminate()
+        if wait <= 0:
+            return
+        deadline = time.monotonic() + wait
+        for process in running:
+            try:
+                process.wait(max(deadline - time.monotonic(), 0.01))
+            except subprocess.TimeoutExpired:
+                process.kill()
+                process.wait()
+
+
+#: The error of a download that the server's stopping ended.
+STOPPING = "the server is stopping: jointplay simulate was stopped; nothing to download"
+
+
+def download(base: Base, settings: Settings, children: Children | None = None) -> bytes:
     """A ZIP archive of what ``jointplay simulate --config settings.toml --no-plots`` writes
-    (summary.json, timeseries.csv, steps.csv) and that ``settings.toml``.
+    (summary.json, timeseries.csv, steps.csv) and that ``settings.toml``; the command runs
+    as one of ``children`` (default: a set of its own).
 
     Raises:
-        ConfigError: the command failed (its one-line message).
+        ConfigError: the command failed (its one-line message), or ``children`` were ended.
     """
     if settings.uniform() is None:
         raise ConfigError(
@@ -263,26 +378,19 @@ def download(base: Base, settings: Settings) -> bytes:
     with tempfile.TemporaryDirectory(prefix="jointplay-explore-") as folder:
         work = Path(folder)
         (work / "settings.toml").write_text(text, encoding="utf-8")
-        environment = {**os.environ, "MPLBACKEND": "Agg"}
         try:
-            done = subprocess.run(
+            status, stderr = (children or Children()).run(
                 [sys.executable, "-m", "jointplay", "simulate", *COMMAND],
                 cwd=work,
-                env=environment,
-                capture_output=True,
-                text=True,
                 timeout=DOWNLOAD_TIMEOUT_S,
-                check=False,
             )
         except subprocess.TimeoutExpired:
             raise ConfigError(
                 f"jointplay simulate took longer than {DOWNLOAD_TIMEOUT_S:g} s; nothing to download"
             ) from None
-        if done.returncode != 0:
-            lines = [line for line in done.stderr.splitlines() if line.startswith("jointplay:")]
-            raise ConfigError(
-                lines[-1] if lines else f"jointplay simulate failed ({done.returncode})"
-            )
+        if status != 0:
+            lines = [line for line in stderr.splitlines() if line.startswith("jointplay:")]
+            raise ConfigError(lines[-1] if lines else f"jointplay simulate failed ({status})")
         buffer = io.BytesIO()
         with zipfile.ZipFile(buffer, "w", zipfile.ZIP_DEFLATED) as archive:
             archive.writestr("settings.toml", text)

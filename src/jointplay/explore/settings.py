@@ -409,9 +409,18 @@ def _clearance(joint: JointControl, text: str) -> Clearance:
         from jointplay.tolerance.iso286 import fit as iso_fit
 
         try:
-            iso_fit(fit, joint.diameter)
+            limits = iso_fit(fit, joint.diameter)
         except JointplayError as exc:
             raise ConfigError(f"{what}: {exc}") from None
+        low_um, high_um = limits.radial_clearance_min * 1e6, limits.radial_clearance_max * 1e6
+        value = {"min": low_um, "mean": (low_um + high_um) / 2, "max": high_um}[pick]
+        if value < CLEARANCE_RANGE_UM[0]:
+            kind = "an interference fit" if high_um <= 0 else "a transition fit"
+            raise ConfigError(
+                f"{what}: {fit} is {kind} at Ø{joint.diameter * 1e3:g} mm (radial clearance "
+                f"{low_um:g} to {high_um:g} µm), so its {pick} leaves no clearance "
+                f"({value:g} µm); choose a clearance fit such as H7/g6, or a clearance in µm"
+            )
         return Clearance(fit=fit, pick=pick)
     value = _finite(text, f"{what} (µm)")
     low, high = CLEARANCE_RANGE_UM

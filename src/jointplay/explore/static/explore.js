@@ -215,12 +215,15 @@ async function update() {
   if (reply.status === 409) { update(); return; } // superseded by another tab's change: again
   if (!reply.ok) {
     resumeAnimation();
+    const error = body.error || `error ${reply.status}`;
+    if (views === 0 && reply.status === 400) { showDefaults(mine, error); return; }
     setStatus("error", "last good view kept");
-    showMessage(body.error || `error ${reply.status}`);
+    showMessage(error);
     return;
   }
   showMessage(notice);
   notice = "";
+  delete document.body.dataset.shown;
   const received = performance.now();
   render(body);
   views += 1;
@@ -234,6 +237,29 @@ async function update() {
     views: String(views),
   });
   setStatus("ready", `updated in ${seconds.toFixed(2)} s (server ${body.server_s.toFixed(2)} s, of which integration ${body.solver.wall_s.toFixed(2)} s, ${body.solver.steps} steps)`);
+}
+
+// A bad first query (a shared link with a value this server refuses): the view of the
+// defaults, under the server's message, rather than an empty page; the controls keep the
+// link's values, so that the bad one can be corrected.
+async function showDefaults(mine, error) {
+  setStatus("error", "the link was refused: the defaults are shown");
+  showMessage(`${error} (the view shows the defaults until this is corrected)`);
+  const params = new URLSearchParams();
+  for (const [key, value] of Object.entries(spec.defaults)) params.set(key, value);
+  let reply;
+  let body;
+  try {
+    reply = await fetch("/api/view?" + params.toString(), { signal: controller.signal });
+    body = await reply.json();
+  } catch (failure) {
+    return; // aborted by a newer change, or no answer: the message stays
+  }
+  if (mine !== sequence || !reply.ok) return;
+  render(body);
+  views += 1;
+  document.body.dataset.views = String(views);
+  document.body.dataset.shown = "defaults";
 }
 
 function render(view) {
@@ -326,6 +352,9 @@ function drawMechanism(mechanism) {
 }
 
 const CONFIG = { displaylogo: false, responsive: true };
+// The top margin of the figures, px: Plotly's toolbar (the modebar, about 30 px high, at the
+// top right) above the titles of the first row, not over them.
+const TOP = 62;
 
 // One figure of every joint's orbit (a subplot each, equal axes) and one of the curves:
 // Plotly's cost is mostly per figure, and the page must redraw within ~0.1 s.
@@ -334,7 +363,7 @@ function drawOrbits(orbits) {
   const columns = Math.min(joints.length, 4);
   const rows = Math.ceil(joints.length / columns);
   const traces = [];
-  const layout = { showlegend: false, margin: { l: 40, r: 10, t: 25, b: 35 }, annotations: [], height: 270 * rows };
+  const layout = { showlegend: false, margin: { l: 40, r: 10, t: TOP, b: 35 }, annotations: [], height: 270 * rows + TOP - 25 };
   const angles = Array.from({ length: 121 }, (_, k) => (2 * Math.PI * k) / 120);
   joints.forEach((joint, k) => {
     const orbit = orbits[joint];
@@ -373,7 +402,7 @@ function drawCurves(curves) {
   ];
   const traces = [];
   const layout = {
-    height: 760, margin: { l: 55, r: 10, t: 25, b: 40 }, annotations: [],
+    height: 760 + TOP - 25, margin: { l: 55, r: 10, t: TOP, b: 40 }, annotations: [],
     legend: { orientation: "v", x: 1.01, y: 1 },
   };
   let colour = 0;
