@@ -570,3 +570,21 @@ def test_a_marker_that_is_a_fifo_is_not_read(tmp_path: Path) -> None:
         raise Interrupted(1, 2, "points")
     assert stopped.value.written_to is not None
     assert (stopped.value.written_to / "a.txt").read_text() == "x"
+
+
+@pytest.mark.parametrize(
+    ("target", "why"),
+    [("/etc/hosts", "system folder"), ("/usr/bin/python3", "system folder"),
+     ("/var/lib/app/mechanism.gif", "outside your own work"), ("/home/alice/m.gif", ""),
+     ("/tmp/m.gif", "")],
+)  # fmt: skip
+def test_force_replaces_a_file_only_where_it_would_replace_a_folder(
+    target: str, why: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The file outputs (``animate --out FILE``) follow the folders' rule: as root, ``--out
+    /etc/hosts --force`` once replaced the file."""
+    monkeypatch.setenv("HOME", "/home/alice")
+    monkeypatch.chdir(tmp_path)
+    reason = output.file_refusal(Path(target))
+    assert (why in reason) if why else reason == "", reason
+    assert output.file_refusal(tmp_path / "mechanism.gif") == ""

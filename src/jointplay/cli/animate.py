@@ -208,6 +208,10 @@ def _check_target(target: Path, force: bool) -> None:
         )
     if (target.exists() or target.is_symlink()) and not force:
         raise ConfigError(f"--out {text!r} exists; give another file, or --force to replace it")
+    from jointplay.io.output import file_refusal
+
+    if target.exists() and (reason := file_refusal(target)):
+        raise ConfigError(f"--out {text!r} {reason}; give another file")
 
 
 @contextmanager

@@ -111,6 +111,21 @@ def _outside_own_work(resolved: Path) -> bool:
     return not any(folder in resolved.parents for folder in own)
 
 
+def file_refusal(target: Path) -> str:
+    """Why ``--force`` may not replace the existing file ``target`` (the file outputs, such as
+    ``animate --out``), or ``""``: the folders' rule (docs/cli.md) for the file's folder — never
+    in a system folder, and only inside the current, home or a temp folder."""
+    resolved = target.resolve()
+    if any(resolved == Path(tree) or Path(tree) in resolved.parents for tree in SYSTEM_TREES):
+        return "is in a system folder"
+    if _outside_own_work(resolved):
+        return (
+            "is outside your own work: --force replaces an existing file only inside the "
+            "current folder, the home folder or a temp folder"
+        )
+    return ""
+
+
 def _check_target(target: Path | str, force: bool, inputs: Sequence[Path | str] = ()) -> Path:
     """``target`` as a path that may be replaced, or a ConfigError saying why not."""
     text = str(target)
