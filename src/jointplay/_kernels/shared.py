@@ -29,4 +29,11 @@ SHARED = (
 )  # fmt: skip
 
 #: Each of :data:`SHARED`, compiled, by name.
-compiled: dict[str, Any] = build(numba.njit(cache=True, error_model="numpy"), only=SHARED)
+#: ``inline="always"``: Numba inlines each into its caller, as the single engine's own helpers
+#: are (a compiled call that passes an array costs ~100 ns of reference counting, several
+#: times per right-hand side; measured 6–12 % of ``bench_clearance.py``'s times without it).
+#: Numba's on-disk cache does not follow inlined functions: after editing the lane source,
+#: clear the caches (the README's ``find src -name "*.nb[ic]" -delete``).
+compiled: dict[str, Any] = build(
+    numba.njit(cache=True, error_model="numpy", inline="always"), only=SHARED
+)
