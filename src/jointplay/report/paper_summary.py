@@ -216,18 +216,18 @@ def _running_answer(page: _Page, study: PaperStudy) -> None:
         else:
             verdict = "within the clearance" if depth > 0 else "no contact"
         name = joint.removeprefix("F_")
-        force = flag_force(forces[joint], study.nominal_peaks[joint], f"the peak force at {name}")
-        if isinstance(force, Flagged):
-            force = Flagged(f"{number(forces[joint])} ({name})", force.reason)
-        else:
-            force = f"{number(forces[joint])} ({name})"
+        marked = flag_force(forces[joint], study.nominal_peaks[joint], f"the peak force at {name}")
+        shown = f"{number(forces[joint])} ({name})"
+        force: str | Flagged = (
+            Flagged(shown, marked.reason) if isinstance(marked, Flagged) else shown
+        )
         rows.append(
             (
                 words,
                 flag_unsettled(speed, unsettled(outcome.summary)),
                 100.0 * (speed / study.nominal_peaks["omega4"] - 1.0),
                 force,
-                flag_ratio(forces[joint] / study.nominal_peaks[joint], force),
+                flag_ratio(forces[joint] / study.nominal_peaks[joint], marked),
                 flag_penetration(max(depth, 0.0) * 1e6, PAPER_CLEARANCE),
                 verdict,
                 rms.get(method, math.nan),
