@@ -49,6 +49,7 @@ _DISPLAY: Mapping[str, tuple[str, float]] = {
     "m/s": ("µm/h", 3.6e9),
     "s": ("h", 1.0 / 3600.0),
     "m": ("µm", 1e6),
+    "rad": ("deg", 180.0 / math.pi),
 }
 
 
