@@ -1,11 +1,13 @@
 """A small builder for self-contained HTML reports (figures embedded as base64 data).
 
 The page reads at 1400 px without scrolling sideways: the body is at most 1100 px wide, every
-table sits in its own box that scrolls on its own if it must (``overflow-x: auto``), long
-words in cells wrap, and images shrink to the column. On a narrow screen (a phone, up to
-800 px) no column is squeezed below 8 characters (the table's box scrolls instead), and a
+table sits in its own box that scrolls on its own if it must (``overflow-x: auto``), text
+cells wrap between words but never inside one (a response's name, ``transmission_angle_min``,
+stays whole: the table's box scrolls instead), and images shrink to the column. On a narrow
+screen (a phone, up to 800 px) no column is squeezed below 8 characters, and a
 table written as cards (``table(..., cards=True)``) stacks each row's cells, each under its
-header, so that long text reads at the screen's width. Headings with an anchor are listed in a
+header, so that long text reads at the screen's width (there, words longer than the screen
+may break). Headings with an anchor are listed in a
 table of contents at the top. Numbers in tables are written by the one number format of
 :mod:`jointplay.report.format`. A cell may be :class:`Flagged` (an implausible value): it is
 shaded and carries a numbered mark that links to the reason, written as a footnote under its
@@ -41,7 +43,7 @@ th, td { border: 1px solid #ccc; padding: .25em .6em; text-align: right; vertica
 td { white-space: nowrap; }
 th { background: #f0f0f0; font-weight: 600; }
 td.text, th.text { text-align: left; }
-td.text { white-space: normal; overflow-wrap: anywhere; }
+td.text { white-space: normal; }
 td.flag { background: #fde4e1; }
 a.flag { color: #a01010; font-weight: 700; text-decoration: none; margin-left: .25em; }
 ol.flags { font-size: 0.85em; color: #5a1010; margin: -1em 0 1.4em; padding-left: 2.2em; }
@@ -69,7 +71,8 @@ dl.defs dt { font-weight: 600; } dl.defs dd { margin: 0 0 .4em 1.4em; }
   table.cards, table.cards tbody, table.cards tr, table.cards td { display: block; }
   table.cards tr.head { display: none; }
   table.cards tr { border-bottom: 1px solid #ccc; padding: .3em 0; }
-  table.cards td { border: none; text-align: left; white-space: normal; min-width: 0; }
+  table.cards td { border: none; text-align: left; white-space: normal; min-width: 0;
+                   overflow-wrap: anywhere; }
   table.cards td[data-label]::before { content: attr(data-label) ": "; font-weight: 600; }
 }
 """
