@@ -181,7 +181,7 @@ def test_the_warning_ends_with_a_verdict_by_the_stated_rule(
     if np.isfinite(shift):
         assert f"{100 * shift:+.0f} % of the spread" in sentence
     if not usable and interval[1] < 0:
-        assert "--rtol 1e-08" in sentence
+        assert "({rtol} 1e-08)" in sentence  # the caller names the setting (--rtol)
 
 
 def test_kinematic_and_small_studies_are_not_checked(paper_fourbar: Mechanism) -> None:

@@ -36,7 +36,7 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from jointplay.dynamics.diagnostics import Diagnostic
-from jointplay.errors import ConfigError, PartialInterrupt
+from jointplay.errors import ConfigError, PartialInterrupt, name_settings
 from jointplay.model.mechanism import Mechanism
 from jointplay.tolerance.execution import OK, STATUS, Backend, RunResult, prepare
 from jointplay.tolerance.methods import (
@@ -359,7 +359,7 @@ def convergence_finding(
         )
         usable, sentence = convergence_verdict(shift, interval, len(rows), tight.rtol)
         message += sentence
-        verdict = sentence[sentence.index("Verdict: ") + len("Verdict: ") :]
+        verdict = name_settings(sentence[sentence.index("Verdict: ") + len("Verdict: ") :])
         warning = Diagnostic.advising(
             "warning", "peaks-not-converged", None, float(share[j]), CONVERGENCE_LIMIT, message
         )
@@ -420,7 +420,8 @@ def convergence_verdict(
         tight_rtol: the tightened relative tolerance (for the advice).
 
     Returns:
-        ``(usable, sentence)``.
+        ``(usable, sentence)``; the sentence names the setting it advises on as a
+        ``{rtol}`` field (:func:`~jointplay.errors.name_settings`).
     """
     low, high = interval
     moved = (
@@ -436,7 +437,7 @@ def convergence_verdict(
     if high < 0.0 or low > 0.0:
         return False, (
             f"{moved}. Verdict: not usable: the integration biases the study (the interval "
-            f"excludes zero); tighten the integration (--rtol {tight_rtol:.0e})"
+            f"excludes zero); tighten the integration ({{rtol}} {tight_rtol:.0e})"
         )
     if max(-low, high) <= CONVERGENCE_LIMIT:
         return True, (
