@@ -135,6 +135,12 @@ def test_a_coarse_integration_warns_with_the_share_recomputed_here(
     assert "tighten the integration" in check.finding.line()
     assert check.finding.line().endswith("Verdict: " + check.verdict) and not check.usable
     assert check.verdict.startswith("not usable: the integration biases the study")
+    # the verdict is the worst response's; where the others stand, recomputed here
+    spreads = np.std(r.run.values[ok], axis=0, ddof=1)
+    shares = np.max(np.abs(again.values - r.run.values[rows]), axis=0) / spreads
+    others = [k for k in range(len(shares)) if k != j and np.isfinite(shares[k])]
+    within = sum(int(shares[k] <= CONVERGENCE_LIMIT) for k in others)
+    assert f"of the other {len(others)} responses, {within} moved within" in check.verdict
     record = study.summary()["convergence_check"]
     assert record["mean_change_over_spread"] == check.mean_shift
     assert record["mean_change_interval_over_spread"] == list(check.mean_shift_interval)

@@ -358,6 +358,13 @@ def convergence_finding(
             f"{100 * share[j]:.0f} % of its spread over the study (std {spread[j]:.3g}); "
         )
         usable, sentence = convergence_verdict(shift, interval, len(rows), tight.rtol)
+        others = [k for k in range(len(share)) if k != j and np.isfinite(share[k])]
+        if others:  # the verdict is the worst response's; say where the others stand
+            within = sum(int(share[k] <= CONVERGENCE_LIMIT) for k in others)
+            sentence += (
+                f"; of the other {len(others)} responses, {within} moved within "
+                f"±{100 * CONVERGENCE_LIMIT:.0f} % of their spread (usable)"
+            )
         message += sentence
         verdict = name_settings(sentence[sentence.index("Verdict: ") + len("Verdict: ") :])
         warning = Diagnostic.advising(
