@@ -2,7 +2,7 @@
 reason one click away (a footnote the mark links to), and names every claim that does not hold
 with its error. Built from a small hand-made study (no simulation): the numbers are the
 shape of the full study's (the IFM cylindrical ECS run with the paper's values peaks at
-71 942 N at A, 2 969x the ideal joint's 24.23 N)."""
+71 942 N at O4, 2 969x the ideal joint's 24.23 N)."""
 
 from __future__ import annotations
 
@@ -17,7 +17,7 @@ from jointplay.report.paper_summary import _Page, _summary_section
 from jointplay.study.claims import Claim
 from jointplay.study.paper import PAPER_CLEARANCE, PEAK_KEYS, SimOutcome, SimTask
 
-NOMINAL = {q: 10.0 for q in PEAK_KEYS} | {"F_A": 24.23, "omega4": 16.0}
+NOMINAL = {q: 10.0 for q in PEAK_KEYS} | {"F_O4": 24.23, "omega4": 16.0}
 
 
 def outcome(method: str, source: str, peaks: dict[str, float], depth: float, **kw: Any) -> Any:
@@ -55,10 +55,10 @@ def cell(text: str, content: str) -> str:
 def test_a_force_far_above_ideal_and_a_deep_penetration_are_marked_with_a_reason(
     tmp_path: Path,
 ) -> None:
-    cylindrical = outcome("ifm-ecs-cylindrical", "paper", {"F_A": 71942.0}, 0.5 * PAPER_CLEARANCE)
-    soft = outcome("ifm-conventional", "-", {"F_A": 9.0 * 24.23}, 3.0 * PAPER_CLEARANCE)
+    cylindrical = outcome("ifm-ecs-cylindrical", "paper", {"F_O4": 71942.0}, 0.5 * PAPER_CLEARANCE)
+    soft = outcome("ifm-conventional", "-", {"F_O4": 9.0 * 24.23}, 3.0 * PAPER_CLEARANCE)
     text = first_screen(tmp_path, study(cylindrical, soft), [])
-    force = cell(text, "71,942 (A)")
+    force = cell(text, "71,942 (O4)")
     assert 'class="text flag"' in force
     link = re.search(r'href="#(flag-\d+)"', force)
     assert link, force
@@ -67,7 +67,7 @@ def test_a_force_far_above_ideal_and_a_deep_penetration_are_marked_with_a_reason
     assert note and "2,969× the ideal" in note.group(1) and "above 10×" in note.group(1)
     assert 'class="flag"' in cell(text, "2,969")  # the multiple carries the same mark
     # 9x the ideal peak is not marked; its penetration, 3x the clearance, is
-    assert "flag" not in cell(text, "218.1 (A)")
+    assert "flag" not in cell(text, "218.1 (O4)")
     deep = cell(text, "63.00")
     assert "flag" in deep and "deeper than the 21 µm radial clearance" in text
     # the rules are stated under the table
