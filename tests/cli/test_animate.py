@@ -25,6 +25,21 @@ def test_writes_a_gif_with_the_frames_asked_for(tmp_path, capsys) -> None:
     assert [p.name for p in tmp_path.iterdir()] == ["fourbar.gif"]  # no partial file left
 
 
+@pytest.mark.parametrize(
+    ("size", "pixels"),
+    [(None, (960, 640)), ("1280x720", (1280, 720)), ("1200", (1200, 800)), ("640X480", (640, 480))],
+)
+def test_the_gif_is_960_px_wide_by_default_and_sized_by_size(tmp_path, size, pixels) -> None:
+    """At the old 480 x 320 the paper four-bar's x500 clearance circles were about 10 px
+    across; the default is 960 x 640 now, and --size asks for another (a width alone keeps
+    the 3:2 aspect)."""
+    out = tmp_path / "a.gif"
+    extra = [] if size is None else ["--size", size]
+    assert run([*QUICK, "--preset", "paper-fourbar", *extra, "--out", str(out)]) == 0
+    with Image.open(out) as image:
+        assert image.size == pixels
+
+
 def test_slider_crank_with_ideal_joints_and_a_stated_factor(tmp_path, capsys) -> None:
     out = tmp_path / "slider.gif"
     args = [*QUICK, "--preset", "flores-slider-crank", "--joints", "none", "--out", str(out)]
@@ -64,6 +79,11 @@ def test_an_existing_file_needs_force(tmp_path, capsys) -> None:
         (["--out", "{tmp}/a.gif", "--start", "sideways"], "start mode"),
         (["--out", "{tmp}/a.gif", "--settle", "-1"], "--settle"),
         (["--out", "{tmp}/a.gif", "--clearance", "-0.01 mm"], "must be positive"),
+        (["--out", "{tmp}/a.gif", "--size", "1280x"], "--size"),
+        (["--out", "{tmp}/a.gif", "--size", "big"], "WIDTHxHEIGHT"),
+        (["--out", "{tmp}/a.gif", "--size", "100x100"], "from 160 to 4000"),
+        (["--out", "{tmp}/a.gif", "--size", "99999"], "from 160 to 4000"),
+        (["--out", "{tmp}/a.gif", "--size", "1280x720x3"], "--size"),
     ],
 )
 def test_bad_input(tmp_path, capsys, args, message) -> None:

@@ -238,3 +238,46 @@ def test_the_design_command_hands_the_study_one_run_settings(tmp_path, monkeypat
     )
     assert seen["run_settings"] == expected
     assert not {"contact", "start", "settle", "revolutions", "solver"} & set(seen)
+
+
+def test_the_scheme_tables_read_at_80_columns(tmp_path, capsys, monkeypatch) -> None:
+    """At 80 columns each scheme is one line in each table: its label whole (a fit per joint
+    printed as S1, S2, ... with its key) and its yield's interval on one line, every response
+    with its unit (a kinematic study of three requirements and two fixed-joint schemes)."""
+    from rich.console import Console
+
+    import jointplay.cli.design as design
+
+    monkeypatch.setattr(design, "console", Console(width=80, soft_wrap=True, highlight=False))
+    out = tmp_path / "design"
+    code = run(
+        ["design", "--preset", "paper-fourbar", "--fits", "H8/f7,H11/c11", "--fit", "O2=H7/g6",
+         "--classes", "m,c", "--samples", "200", "--require", "omega4_peak <= 13.75 rad/s",
+         "--require", "transmission_angle_min >= 36.8 deg", "--require", "rocker_swing >= 52 deg",
+         "--out", str(out), *QUIET]
+    )  # fmt: skip
+    assert code == 0
+    printed = capsys.readouterr().out
+    table = pd.read_parquet(out / "design.parquet").sort_values("cost")
+    lines = printed.splitlines()
+    tables = lines[: next(i for i, line in enumerate(lines) if line.startswith("S1: "))]
+    assert max(len(line) for line in tables) <= 80, printed
+    for n, (_, row) in enumerate(table.iterrows(), start=1):
+        label = f"S{n}"  # every scheme fixes O2: no label is short
+        assert f"{label}: {row['scheme']}" in lines
+        interval = f"{row['yield_low']:.2f}–{row['yield_high']:.2f}"
+        mine = [line for line in lines if line.split()[:1] == [label]]
+        assert len(mine) == 2, mine  # one line in each table
+        assert interval in mine[0].split() and row["verdict"] in mine[0].split()
+    # the responses' table: every header with its unit, the angles in degrees
+    assert "(rad/s)" in printed and printed.count("(deg)") == 2
+    assert "()" not in printed
+
+
+def test_a_short_scheme_label_is_printed_whole() -> None:
+    from jointplay.cli.design import scheme_labels
+
+    long = "O2=H7/g6,A=H8/f7,B=H8/f7,O4=H8/f7 / m"
+    assert scheme_labels(["H11/c11 / m", long, "H8/f7 / c", long + "x"]) == {
+        "H11/c11 / m": "H11/c11 / m", long: "S1", "H8/f7 / c": "H8/f7 / c", long + "x": "S2",
+    }  # fmt: skip

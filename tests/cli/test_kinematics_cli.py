@@ -136,3 +136,23 @@ def test_an_unknown_figure_format_is_refused_before_anything_is_written(tmp_path
     assert run(["kinematics", "--out", str(out), "--figure-format", "jpg"]) == 2
     assert "--figure-format must be one of png, svg, pdf" in capsys.readouterr().err
     assert not out.exists()
+
+
+@pytest.mark.parametrize(
+    ("preset", "units"),
+    [
+        ("paper-fourbar", {"theta4_deg": "deg", "omega4": "rad/s", "F_A": "N", "torque": "N·m"}),
+        ("flores-slider-crank", {"slider_x": "m", "slider_a": "m/s²", "alpha3": "rad/s²"}),
+    ],
+)
+def test_the_printed_table_gives_every_quantity_its_unit(tmp_path, capsys, preset, units) -> None:
+    out = tmp_path / "k"
+    assert run(["kinematics", "-p", preset, "--out", str(out), "--no-plots"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0].split()[:2] == ["quantity", "unit"]
+    rows = {line.split()[0]: line.split()[1] for line in lines[1:] if line.startswith(" ")}
+    rows = {name: unit for name, unit in rows.items() if name != "results"}
+    for name, unit in units.items():
+        assert rows[name] == unit
+    columns = json.loads((out / "summary.json").read_text())["columns"]
+    assert set(rows) == set(columns) - {"crank_deg"}  # every column printed, with a unit

@@ -4,8 +4,11 @@ column squeezed on a phone, and the paper report's answer on its first screen.
 The page is rendered by headless Chromium (Debian's ``chromium`` package) with a small probe
 script that writes, once the page has loaded, what the browser measured into an attribute of
 ``<body>``: the document's scroll width and height, the images that failed to decode, where
-the first image starts, and every visible table cell (of one column) whose text area is
-narrower than 8 characters (the width of "00000000" in the cell's own font);
+the first image starts, every visible table cell (of one column) whose text area is
+narrower than 8 characters (the width of "00000000" in the cell's own font), and every cell
+squeezed narrower than the longest piece of its text a line cannot break (a word between
+spaces, or up to a hyphen, dash or slash: "transmission_angle_min" broke into
+"transmission_a"/"ngle_min" at 500 px while text cells could break anywhere);
 ``--dump-dom`` returns the DOM after the load, so the test reads what the browser measured.
 Skipped, with the reason, when no Chromium is on PATH, except in CI (``tests/_programs.py``).
 """
@@ -33,6 +36,8 @@ PROBE = """<script>window.addEventListener('load', function () {
   eight.textContent = '00000000';
   eight.style.whiteSpace = 'nowrap';
   var narrow = [];
+  var squeezed = [];
+  function word_of(text) { return text.trim().slice(0, 40); }
   document.querySelectorAll('td, th').forEach(function (cell) {
     if (cell.colSpan > 1 || cell.offsetParent === null) return;  // group rows, hidden cells
     cell.appendChild(eight);
@@ -43,6 +48,21 @@ PROBE = """<script>window.addEventListener('load', function () {
     if (width < least - 0.5) {
       narrow.push(cell.textContent.trim().slice(0, 40));
     }
+    // the longest piece of its text no line may break (between spaces, after - – /)
+    var longest = 0;
+    cell.textContent.trim().split(/\\s+|(?<=[-\u2013\\/])/).forEach(function (word) {
+      if (!word) return;
+      var piece = document.createElement('span');
+      piece.textContent = word;
+      piece.style.whiteSpace = 'nowrap';
+      cell.appendChild(piece);
+      longest = Math.max(longest, piece.getBoundingClientRect().width);
+      cell.removeChild(piece);
+    });
+    if (width < longest - 1) {
+      squeezed.push(word_of(cell.textContent) + ' (' + Math.round(width) + ' < ' +
+                    Math.round(longest) + ' px)');
+    }
   });
   var first = images[0];
   document.body.setAttribute('data-probe', JSON.stringify({
@@ -52,7 +72,8 @@ PROBE = """<script>window.addEventListener('load', function () {
     images: images.length,
     broken: broken.map(function (i) { return i.alt; }),
     firstImageTop: first ? first.getBoundingClientRect().top + window.scrollY : null,
-    narrow: narrow
+    narrow: narrow,
+    squeezed: squeezed
   }));
 });</script>"""
 
@@ -153,7 +174,7 @@ def test_on_a_phone_no_column_is_squeezed_and_claims_read_as_cards(
     tmp_path: Path, browser: str
 ) -> None:
     seen = measure(claims_page(cards=True).write(tmp_path / "cards.html"), tmp_path, browser, PHONE)
-    assert seen["narrow"] == [], seen
+    assert seen["narrow"] == [] and seen["squeezed"] == [], seen
     assert seen["scrollWidth"] <= PHONE, seen  # wide tables scroll in their own box
 
 
@@ -166,6 +187,25 @@ def test_a_squeezed_column_is_caught(tmp_path: Path, browser: str) -> None:
     path.write_text(page, encoding="utf-8")
     seen = measure(path, tmp_path, browser, PHONE)
     assert seen["narrow"], seen
+
+
+def test_a_word_broken_inside_a_cell_is_caught(tmp_path: Path, browser: str) -> None:
+    """The check can fail: text cells that may break anywhere (the CSS before, overflow-wrap:
+    anywhere) let a narrow window split a response's name, which the probe reports."""
+    page = HtmlReport("Names", toc=False)
+    page.table(
+        [(f"transmission_angle_min_{i}", "rad", *[1.234567e4] * 6) for i in range(3)],
+        ["response", "unit", *[f"value {j}" for j in range(6)]],
+        text_columns=(0, 1),
+    )
+    fine = measure(page.write(tmp_path / "names.html"), tmp_path, browser, PHONE)
+    assert fine["squeezed"] == [], fine
+    old = page.render().replace("td.text { white-space: normal; }",
+                                "td.text { white-space: normal; overflow-wrap: anywhere; }")  # fmt: skip
+    assert old != page.render()
+    path = tmp_path / "names-anywhere.html"
+    path.write_text(old, encoding="utf-8")
+    assert measure(path, tmp_path, browser, PHONE)["squeezed"]
 
 
 def test_a_page_that_overflows_is_caught(tmp_path: Path, browser: str) -> None:
@@ -219,6 +259,45 @@ def test_the_paper_report_fits_1400_px_and_its_images_load(
     assert seen["firstImageTop"] <= 2 * SCREEN, seen
     assert seen["scrollHeight"] <= 12_000, seen
     assert (tmp_path / "report.html").stat().st_size <= 2_000_000
+    assert seen["squeezed"] == [], seen
     phone = measure(tmp_path / "report.html", tmp_path, browser, PHONE)
-    assert phone["narrow"] == [], phone
+    assert phone["narrow"] == [] and phone["squeezed"] == [], phone
     assert phone["scrollWidth"] <= PHONE, phone
+    # the marks of implausible values each link to their reason on the page
+    text = (tmp_path / "report.html").read_text(encoding="utf-8")
+    for target in re.findall(r'<a class="flag" href="#(flag-\d+)"', text):
+        assert f'<li id="{target}"' in text
+
+
+def test_the_design_and_tolerance_pages_squeeze_no_column_on_a_phone(
+    tmp_path: Path, browser: str, paper_fourbar: Any
+) -> None:
+    """The other reports html.py builds, 500 px wide (their folded parts included: Chromium
+    lays out a closed <details>' content): no cell narrower than 8 characters (none
+    zero-wide), nothing wider than the window, every image loads. A kinematic design with a
+    long scheme label (a fit per joint) and a kinematic tolerance study."""
+    from jointplay.report.design import write_design
+    from jointplay.report.tolerance import write_study
+    from jointplay.study.design import design_study, design_units
+    from jointplay.tolerance.analysis import tolerance_study
+    from jointplay.tolerance.execution import Backend
+
+    serial = Backend("serial")
+    design = design_study(
+        paper_fourbar,
+        ["H11/c11", {"O2": "H7/g6", "A": "H8/f7", "B": "H8/f7", "O4": "H8/f7"}],
+        ["m", "c"],
+        ["omega4_peak <= 13.75 rad/s", "transmission_angle_min >= 36.8 deg"],
+        samples=200,
+        backend=serial,
+    )
+    (tmp_path / "design").mkdir()
+    write_design(design, tmp_path / "design", design_units(paper_fourbar, "kinematic"))
+    study = tolerance_study(paper_fourbar, samples=200, seed=1, backend=serial)
+    (tmp_path / "tolerance").mkdir()
+    write_study(study, tmp_path / "tolerance")
+    for page in ("design", "tolerance"):
+        seen = measure(tmp_path / page / "report.html", tmp_path, browser, PHONE)
+        assert seen["narrow"] == [] and seen["squeezed"] == [], (page, seen)
+        assert seen["scrollWidth"] <= PHONE, (page, seen)
+        assert seen["broken"] == [] and seen["images"] >= 2, (page, seen)

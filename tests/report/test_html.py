@@ -136,3 +136,18 @@ def test_number_keeps_the_digits_it_promises() -> None:
         assert digits == 4, (value, text)
         last = 10.0 ** (math.floor(math.log10(abs(float(text)))) - 3)
         assert abs(float(text) - value) <= 0.5 * last * (1 + 1e-9), (value, text)
+
+
+def test_a_flagged_cell_is_marked_and_links_to_its_reason_once_per_table() -> None:
+    from jointplay.report.html import Flagged
+
+    page = HtmlReport("t")
+    why = "Implausible: a < b"
+    page.table([("x", Flagged(1234.5678, why)), ("y", Flagged(2.0, why)), ("z", 3.0)], ["k", "v"])
+    page.table([("w", Flagged(5.0, "another"))], ["k", "v"])
+    text = page.render()
+    # both cells of the first table link to its one footnote, the second table to its own
+    assert text.count('href="#flag-1"') == 2 and text.count('href="#flag-2"') == 1
+    assert '<li id="flag-1" value="1">⚠ Implausible: a &lt; b</li>' in text
+    assert '<td class="flag" title="Implausible: a &lt; b">1,235<a' in text
+    assert "<td>3.000</td>" in text  # an unflagged cell as before

@@ -26,6 +26,7 @@ from jointplay.tolerance.analysis import (
     CONVERGENCE_SAMPLES,
     CONVERGENCE_TIGHTENING,
     _mean_shift,
+    convergence_verdict,
     tolerance_study,
 )
 from jointplay.tolerance.execution import OK, Backend
@@ -80,6 +81,13 @@ def test_the_rm_set_converges_within_its_limit_or_warns(
         low, high = check.mean_shift_interval
         assert low < 0.0 < high
         assert check.finding is not None and "sensitive" in check.finding.line()
+        # eight samples bound the mean's move only to ~97 % of the spread: not shown usable
+        assert check.finding.line().endswith(check.verdict) and not check.usable
+        assert check.verdict.startswith("not usable as it stands")
+    else:
+        assert check.usable and check.verdict.startswith("usable: the peaks moved")
+    record = study.summary()["convergence_check"]
+    assert record["usable"] is check.usable and record["verdict"] == check.verdict
 
 
 def test_a_coarse_integration_warns_with_the_share_recomputed_here(
@@ -125,6 +133,14 @@ def test_a_coarse_integration_warns_with_the_share_recomputed_here(
     assert check.mean_shift == pytest.approx(np.mean(signed), rel=1e-9)
     assert check.mean_shift_interval[1] < 0.0
     assert "tighten the integration" in check.finding.line()
+    assert check.finding.line().endswith("Verdict: " + check.verdict) and not check.usable
+    assert check.verdict.startswith("not usable: the integration biases the study")
+    # the verdict is the worst response's; where the others stand, recomputed here
+    spreads = np.std(r.run.values[ok], axis=0, ddof=1)
+    shares = np.max(np.abs(again.values - r.run.values[rows]), axis=0) / spreads
+    others = [k for k in range(len(shares)) if k != j and np.isfinite(shares[k])]
+    within = sum(int(shares[k] <= CONVERGENCE_LIMIT) for k in others)
+    assert f"of the other {len(others)} responses, {within} moved within" in check.verdict
     record = study.summary()["convergence_check"]
     assert record["mean_change_over_spread"] == check.mean_shift
     assert record["mean_change_interval_over_spread"] == list(check.mean_shift_interval)
@@ -143,6 +159,35 @@ def test_the_mean_shift_is_a_bonferroni_t_interval_over_the_spread() -> None:
     half10 = 7.4533185052 * 1.2909944487 / 2
     assert (low10, high10) == pytest.approx(((2.5 - half10) / 2, (2.5 + half10) / 2), rel=1e-9)
     assert np.isnan(_mean_shift(np.array([1.0, np.nan]), 2.0, 1)[0])
+
+
+@pytest.mark.parametrize(
+    ("shift", "interval", "usable", "start"),
+    [
+        # the coarse integration's measured shift: the interval excludes zero
+        (-0.60, (-0.97, -0.23), False, "not usable: the integration biases the study"),
+        # the physical default's measured shift (docs/cli.md): zero inside, but +-62 %
+        (0.06, (-0.49, 0.62), False, "not usable as it stands: 8 samples bound"),
+        # zero inside and the whole interval within the limit: the statistics hold
+        (0.02, (-CONVERGENCE_LIMIT + 0.01, CONVERGENCE_LIMIT - 0.01), True, "usable for its"),
+        # just beyond the limit on one side
+        (0.02, (-0.05, CONVERGENCE_LIMIT + 0.01), False, "not usable as it stands"),
+        # too few samples ran again for an interval
+        (float("nan"), (float("nan"), float("nan")), False, "not usable as it stands"),
+    ],
+)
+def test_the_warning_ends_with_a_verdict_by_the_stated_rule(
+    shift: float, interval: tuple[float, float], usable: bool, start: str
+) -> None:
+    """Usable only where the mean change's interval lies within +-CONVERGENCE_LIMIT of the
+    spread (docs/cli.md, "Converged?"); the sentence ends the warning and names the verdict."""
+    verdict_usable, sentence = convergence_verdict(shift, interval, 8, 1e-8)
+    assert verdict_usable is usable
+    assert sentence[sentence.index("Verdict: ") + len("Verdict: ") :].startswith(start)
+    if np.isfinite(shift):
+        assert f"{100 * shift:+.0f} % of the spread" in sentence
+    if not usable and interval[1] < 0:
+        assert "({rtol} 1e-08)" in sentence  # the caller names the setting (--rtol)
 
 
 def test_kinematic_and_small_studies_are_not_checked(paper_fourbar: Mechanism) -> None:

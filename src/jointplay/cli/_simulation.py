@@ -189,6 +189,7 @@ SETTING_OPTIONS = {
     "fps": "--fps",
     "frames": "--frames",
     "magnification": "--magnification",
+    "size": "--size",
 }
 
 

@@ -113,6 +113,14 @@ def animate_command(
     ] = None,
     fps: Annotated[int, _opt("Frames per second.", "--fps")] = 20,
     frames: Annotated[int, _opt("Frames over the revolution.", "--frames")] = 72,
+    size: Annotated[
+        str,
+        _opt(
+            "Size in pixels, WIDTHxHEIGHT (e.g. 1280x720) or a width (the height at 3:2); "
+            "the drawing scales with it.",
+            "--size",
+        ),
+    ] = "960x640",
 ) -> None:
     """Animate the mechanism over its steady cycle with each pin's play magnified.
 
@@ -125,7 +133,7 @@ def animate_command(
     from jointplay.report.animation import check_animation_settings
 
     _check_target(out, force)
-    check_animation_settings(out, magnification=magnification, fps=fps, frames=frames)
+    check_animation_settings(out, magnification=magnification, fps=fps, frames=frames, size=size)
     with _output_file(out) as partial:
         given = {
             "contact": contact, "k": k, "exponent": exponent, "cmax": cmax, "depth": depth,
@@ -145,6 +153,7 @@ def animate_command(
                 magnification=magnification,
                 fps=fps,
                 frames=frames,
+                size=size,
             )
     _print(info, out, result)
 

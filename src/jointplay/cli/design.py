@@ -480,7 +480,11 @@ def design_command(
             return result
 
         result, missing = run_study(compute)
-        units = design_units(mechanism, result.responses)  # type: ignore[arg-type]
+        # a dynamic study's samples carry the kinematic responses too (mixed requirements)
+        units = {
+            **design_units(mechanism, "kinematic"),
+            **design_units(mechanism, result.responses),  # type: ignore[arg-type]
+        }
         summary = result.summary()
         finished = (len(result.table), int(summary["settings"]["schemes"]), "schemes")
         with writing_study(finished, missing):
@@ -528,42 +532,82 @@ def _fit_joints(mechanism: Any) -> list[str]:
     return [j.name for j in mechanism.revolute_joints if j.fit is not None]
 
 
+#: The longest scheme label a terminal table prints as it is; longer ones (a fit per joint)
+#: are printed as S1, S2, ... with a key under the table.
+SHORT_LABEL = 12
+
+
+def scheme_labels(schemes: list[str]) -> dict[str, str]:
+    """Each scheme's label in the terminal tables: itself where at most
+    :data:`SHORT_LABEL` characters, else ``S<n>`` (numbered in the tables' order)."""
+    labels: dict[str, str] = {}
+    long = 0
+    for scheme in schemes:
+        if len(scheme) <= SHORT_LABEL:
+            labels[scheme] = scheme
+        else:
+            long += 1
+            labels[scheme] = f"S{long}"
+    return labels
+
+
+def _one_line(table: Any, *columns: int) -> Any:
+    """``table`` with the given columns never wrapped: each as wide as its widest cell."""
+    for i in columns:
+        column = table.columns[i]
+        cells = [str(getattr(cell, "plain", cell)) for cell in column.cells]
+        column.min_width = max([column.min_width or 0, *map(len, cells)])
+    return table
+
+
 def _print(result: DesignResult, units: dict[str, str]) -> None:
+    """The schemes in two tables that read at 80 columns: the yields (all requirements, with
+    their exact 95 % interval on one line) and the requirements' responses at the level, each
+    with its unit; long scheme labels as S1, S2, ... with their key."""
     from rich.table import Table
 
-    from jointplay.report.design import display, evidence_line
+    from jointplay.report.design import YIELD_ALL, display, evidence_line
 
     table = result.table
     level = f"{100 * result.confidence:g} %"
-    grid = Table(box=None)
-    headers = ["scheme", "cost", "samples", "yield % [95 % CI]", "DPM [95 % CI]"]
-    required = list(dict.fromkeys(r.response for r in result.requirements))
-    for name in required:
-        unit, _ = display(units.get(name, ""))
-        headers.append(f"{name} @{level} ({unit})")
+    ordered = table.sort_values("cost") if len(table) else table
+    labels = scheme_labels([str(s) for s in ordered["scheme"]]) if len(table) else {}
+    grid = Table(box=None, title="schemes by cost", title_justify="left")
+    headers = ["scheme", "cost", "samples", f"{YIELD_ALL}, %", "95 % CI, %", "DPM, 95 % upper"]
     headers.append("verdict")
     for header in headers:
-        grid.add_column(header, justify="left" if header == "scheme" else "right")
+        grid.add_column(header, justify="left" if header in ("scheme", "verdict") else "right")
+    required = list(dict.fromkeys(r.response for r in result.requirements))
+    values = Table(box=None, title=f"responses at {level}", title_justify="left")
+    values.add_column("scheme", justify="left")
+    for name in required:
+        unit, _ = display(units.get(name, ""))
+        values.add_column(f"{name} ({unit or '1'})", justify="right")
     modelled = False
-    if len(table):
-        for _, row in table.sort_values("cost").iterrows():
-            cells = [
-                str(row["scheme"]),
-                f"{row['cost']:.3g}",
-                f"{row['samples']:,}",
-                f"{row['yield']:.2f} [{row['yield_low']:.2f}, {row['yield_high']:.2f}]",
-                f"{row['dpm']:,.0f} [{row['dpm_low']:,.0f}, {row['dpm_high']:,.0f}]",
-            ]
-            for name in required:
-                _, scale = display(units.get(name, ""))
-                model = row[f"{name}_at_confidence_basis"] == "normal-model"
-                modelled |= model
-                cells.append(
-                    f"{row[f'{name}_at_confidence'] * scale:.4g}" + (" *" if model else "")
-                )
-            cells.append(str(row["verdict"]))
-            grid.add_row(*cells)
-    console.print(whole_headers(grid))
+    for _, row in ordered.iterrows():
+        label = labels[str(row["scheme"])]
+        grid.add_row(
+            label,
+            f"{row['cost']:.3g}",
+            f"{row['samples']:,}",
+            f"{row['yield']:.2f}",
+            f"{row['yield_low']:.2f}–{row['yield_high']:.2f}",
+            f"{row['dpm_high']:,.0f}",
+            str(row["verdict"]),
+        )
+        cells = [label]
+        for name in required:
+            _, scale = display(units.get(name, ""))
+            model = row[f"{name}_at_confidence_basis"] == "normal-model"
+            modelled |= model
+            cells.append(f"{row[f'{name}_at_confidence'] * scale:.4g}" + (" *" if model else ""))
+        values.add_row(*cells)
+    console.print(_one_line(whole_headers(grid), 0, 4))
+    if required and len(table):
+        console.print(_one_line(whole_headers(values), 0))
+    for scheme, label in labels.items():
+        if label != scheme:
+            console.print(f"{label}: {scheme}")
     if modelled:
         console.print(
             f"* normal-model estimate (mean + z·std), not a bound: fewer samples than a "

@@ -122,13 +122,34 @@ def kinematics_command(
         print(f"jointplay: {finding.line(SETTING_OPTIONS)}", file=sys.stderr)
 
 
+#: The unit of each column of kinematics.csv, by prefix (SI, as the file and summary.json).
+COLUMN_UNITS = (
+    ("theta", "deg"),
+    ("omega", "rad/s"),
+    ("alpha", "rad/s²"),
+    ("F_", "N"),
+    ("M_", "N·m"),
+    ("torque", "N·m"),
+    ("slider_x", "m"),
+    ("slider_v", "m/s"),
+    ("slider_a", "m/s²"),
+)
+
+
+def column_unit(name: str) -> str | None:
+    """The unit of a kinematics.csv column (``None``: not printed)."""
+    return next((unit for prefix, unit in COLUMN_UNITS if name.startswith(prefix)), None)
+
+
 def _print_summary(summary: dict, out: object) -> None:
     columns = summary["columns"]
-    table = Table("quantity", "min", "max", "peak |value|", "at crank (deg)", box=None)
+    table = Table("quantity", "unit", "min", "max", "peak |value|", "at crank (deg)", box=None)
     for name, stats in columns.items():
-        if name.startswith(("omega", "alpha", "F_", "torque", "theta")):
+        unit = column_unit(name)
+        if unit is not None:
             table.add_row(
                 name,
+                unit,
                 f"{stats['min']:.4g}",
                 f"{stats['max']:.4g}",
                 f"{stats['peak_abs']:.4g}",

@@ -54,6 +54,14 @@ MAX_FPS = 100
 MAX_GIF_FPS = 50
 MAX_FIGURE_INCHES = 30.0
 DPI_RANGE = (20, 400)
+#: The animation's default size in pixels (width, height): at 960 px the paper four-bar's
+#: ×500 clearance circles are about 20 px across, and the labels are legible.
+DEFAULT_SIZE = (960, 640)
+#: A size in pixels lays the drawing out on a figure this wide (inches), its dpi the width
+#: over it: every size shows the same drawing, scaled (text included).
+LAYOUT_WIDTH = 6.0
+#: Each side of a size in pixels lies in this range; a width alone gets the default aspect.
+SIZE_RANGE = (160, 4000)
 
 _MM = 1e3  # the axes are in millimetres
 
@@ -159,6 +167,50 @@ def _check_magnification(value: Any) -> float:
     return float(value)
 
 
+def parse_size(value: Any) -> tuple[int, int]:
+    """A size in pixels: ``"1280x720"`` (width x height), ``"1280"`` or ``1280`` (a width:
+    the height follows :data:`DEFAULT_SIZE`'s aspect), or a ``(width, height)`` pair; each
+    side a whole number in :data:`SIZE_RANGE`.
+
+    Raises:
+        SettingError: naming the setting ``{size}`` and what it must be.
+    """
+    low, high = SIZE_RANGE
+    bad = SettingError(
+        "the animation size ({size}) must be WIDTHxHEIGHT or a WIDTH in pixels, each side a "
+        "whole number from {low} to {high} (e.g. 1280x720), got {got!r}",
+        low=low,
+        high=high,
+        got=value,
+    )
+    if isinstance(value, str):
+        parts = value.strip().lower().replace("×", "x").split("x")
+        if not (1 <= len(parts) <= 2 and all(p.strip().isdigit() for p in parts)):
+            raise bad
+        sides = [int(p) for p in parts]
+    elif isinstance(value, int | np.integer) and not isinstance(value, bool):
+        sides = [int(value)]
+    elif isinstance(value, tuple | list) and len(value) == 2:
+        if not all(isinstance(v, int | np.integer) and not isinstance(v, bool) for v in value):
+            raise bad
+        sides = [int(v) for v in value]
+    else:
+        raise bad
+    if len(sides) == 1:
+        sides.append(round(sides[0] * DEFAULT_SIZE[1] / DEFAULT_SIZE[0]))
+    if not all(low <= side <= high for side in sides):
+        raise bad
+    return sides[0], sides[1]
+
+
+def size_layout(size: tuple[int, int]) -> tuple[tuple[float, float], float]:
+    """The figure size (inches) and dpi that draw exactly ``size`` pixels: the layout
+    :data:`LAYOUT_WIDTH` inches wide, scaled."""
+    width, height = size
+    dpi = width / LAYOUT_WIDTH
+    return (LAYOUT_WIDTH, height / dpi), dpi
+
+
 def animation_writer(path: Path | str) -> str:
     """The matplotlib writer for ``path`` (by its suffix), or a ConfigError saying what to do.
 
@@ -191,8 +243,9 @@ def check_animation_settings(
     magnification: float | None = None,
     fps: int = 20,
     frames: int = 72,
-    figure_size: tuple[float, float] = (6.0, 4.0),
-    dpi: int = 80,
+    figure_size: tuple[float, float] | None = None,
+    dpi: int | None = None,
+    size: Any = None,
 ) -> str:
     """Check the settings of :func:`write_animation` before any work; return the writer's
     name (``"pillow"`` or ``"ffmpeg"``).
@@ -205,8 +258,12 @@ def check_animation_settings(
         _check_magnification(magnification)
     _whole(fps, "frames per second ({fps})", 1, MAX_GIF_FPS if name == "pillow" else MAX_FPS)
     _whole(frames, "the number of frames ({frames})", 2, MAX_FRAMES)
-    _figure_size(figure_size)
-    _whole(dpi, "dpi", *DPI_RANGE)
+    if size is not None:
+        parse_size(size)
+    if figure_size is not None:
+        _figure_size(figure_size)
+    if dpi is not None:
+        _whole(dpi, "dpi", *DPI_RANGE)
     return name
 
 
@@ -367,7 +424,7 @@ class MechanismAnimation:
         magnification: float,
         *,
         figure_size: tuple[float, float] = (6.0, 4.0),
-        dpi: int = 80,
+        dpi: float = 80,
         title: str | None = None,
     ) -> None:
         from matplotlib.patches import Circle, Polygon
@@ -596,8 +653,9 @@ def write_animation(
     fps: int = 20,
     frames: int = 72,
     revolution: int | None = None,
-    figure_size: tuple[float, float] = (6.0, 4.0),
-    dpi: int = 80,
+    size: Any = None,
+    figure_size: tuple[float, float] | None = None,
+    dpi: int | None = None,
     title: str | None = None,
 ) -> AnimationInfo:
     """Write an animation of ``result`` over one revolution to ``path`` (.gif or .mp4).
@@ -615,8 +673,11 @@ def write_animation(
         frames: number of frames over the revolution (2 to :data:`MAX_FRAMES`).
         revolution: the revolution to animate, counted from 1 over the simulated time,
             start-up revolutions included (default: the last complete one, the steady cycle).
-        figure_size: width and height, inches.
-        dpi: pixels per inch.
+        size: width and height in pixels (``"1280x720"``, a width ``1280`` with the default
+            aspect, or a pair; :func:`parse_size`); default :data:`DEFAULT_SIZE` (960 x 640)
+            unless ``figure_size`` or ``dpi`` is given.
+        figure_size: width and height, inches (instead of ``size``; default 6 x 4).
+        dpi: pixels per inch (instead of ``size``; default 160 with ``figure_size``).
         title: the title of every frame (default: the mechanism's name and the revolution).
 
     Returns:
@@ -635,10 +696,17 @@ def write_animation(
         frames=frames,
         figure_size=figure_size,
         dpi=dpi,
+        size=size,
     )
     if magnification is not None:
         magnification = float(magnification)
-    size = _figure_size(figure_size)
+    inches: tuple[float, float]
+    pixels_per_inch: float
+    if size is not None or (figure_size is None and dpi is None):
+        inches, pixels_per_inch = size_layout(DEFAULT_SIZE if size is None else parse_size(size))
+    else:
+        inches = _figure_size((6.0, 4.0) if figure_size is None else figure_size)
+        pixels_per_inch = 160 if dpi is None else dpi
     geometry = mechanism_frames(result, frames=frames, revolution=revolution)
     if magnification is None:
         magnification = (
@@ -648,12 +716,14 @@ def write_animation(
             if geometry.bearings
             else 1.0
         )
-    drawing = MechanismAnimation(geometry, magnification, figure_size=size, dpi=dpi, title=title)
+    drawing = MechanismAnimation(
+        geometry, magnification, figure_size=inches, dpi=pixels_per_inch, title=title
+    )
     try:
         if writer_name == "pillow":
             _write_gif(drawing, path, fps)
         else:
-            _write_movie(drawing, path, writer_name, fps, dpi)
+            _write_movie(drawing, path, writer_name, fps, pixels_per_inch)
     finally:
         drawing.close()
     return AnimationInfo(
@@ -693,7 +763,7 @@ def _write_gif(drawing: MechanismAnimation, path: Path, fps: int) -> None:
 
 
 def _write_movie(
-    drawing: MechanismAnimation, path: Path, writer_name: str, fps: int, dpi: int
+    drawing: MechanismAnimation, path: Path, writer_name: str, fps: int, dpi: float
 ) -> None:
     """Every frame drawn in full and piped to matplotlib's movie writer (ffmpeg)."""
     from matplotlib import animation

@@ -30,6 +30,7 @@ from jointplay.study.requirements import Requirement
 from jointplay.study.sensitivity import ModelSensitivity
 
 __all__ = [
+    "YIELD_ALL",
     "binding_requirement",
     "design_plots",
     "design_section",
@@ -48,6 +49,7 @@ _DISPLAY: Mapping[str, tuple[str, float]] = {
     "m/s": ("µm/h", 3.6e9),
     "s": ("h", 1.0 / 3600.0),
     "m": ("µm", 1e6),
+    "rad": ("deg", 180.0 / math.pi),
 }
 
 
@@ -106,19 +108,31 @@ def binding_requirement(result: DesignResult, row: Mapping[Any, Any]) -> Require
     return min(result.requirements, key=lambda r: (row[f"yield_low_{r.text}"], margin(r)))
 
 
+#: The label of a scheme's yield over all its requirements, the same in the evidence line,
+#: the report's table, the terminal table and the cost-yield plot.
+YIELD_ALL = "yield (all requirements)"
+
+
 def evidence_line(result: DesignResult, row: Mapping[Any, Any]) -> str:
-    """The evidence for a scheme in one line: its binding requirement, failures in samples,
-    the yield with its exact 95 % interval and the DPM bound."""
+    """The evidence for a scheme in one line: its yield over all requirements (the quantity
+    and label of the scheme tables) with its exact 95 % interval and DPM bound, then its
+    binding requirement: failures in samples and that requirement's own yield, labelled as
+    such."""
+    overall = (
+        f"{YIELD_ALL} {row['yield']:.2f} % (95 % CI {row['yield_low']:.2f}-"
+        f"{row['yield_high']:.2f} %), at most {row['dpm_high']:,.0f} DPM"
+    )
     r = binding_requirement(result, row)
     if r is None:
         return f"{row['samples']:,} samples"
     t = r.text
     level = r.confidence if r.confidence is not None else result.confidence
     return (
-        f"binding requirement {t!r} at {100 * level:g} %: {row[f'failures_{t}']:,} failures in "
-        f"{row['samples']:,} samples, yield {row[f'yield_{t}']:.2f} % (95 % CI "
-        f"{row[f'yield_low_{t}']:.3f}-{row[f'yield_high_{t}']:.3f} %), at most "
-        f"{row[f'dpm_high_{t}']:,.0f} DPM ({row[f'verdict_{t}']})"
+        f"{overall}; binding requirement {t!r} at {100 * level:g} %: "
+        f"{row[f'failures_{t}']:,} failures in {row['samples']:,} samples, yield of {t!r} "
+        f"{row[f'yield_{t}']:.2f} % (95 % CI {row[f'yield_low_{t}']:.3f}-"
+        f"{row[f'yield_high_{t}']:.3f} %), at most {row[f'dpm_high_{t}']:,.0f} DPM "
+        f"({row[f'verdict_{t}']})"
     )
 
 
@@ -164,7 +178,7 @@ def design_plots(
             fontsize=6,
         )
     ax.set_xlabel("relative cost")
-    ax.set_ylabel("yield (all requirements), %")
+    ax.set_ylabel(f"{YIELD_ALL}, %")
     ax.set_title(f"{result.mechanism.name}: cost against yield (exact 95 % intervals)")
     ax.legend(fontsize=7)
     images.update(_encode(fig, "design_pareto", figure_format))
@@ -246,8 +260,8 @@ def design_section(
             "cost": "relative cost",
             "verdict": "verdict",
             "samples": "samples",
-            "yield": "yield (%)",
-            "yield_low": "yield, 95 % lower bound (%)",
+            "yield": f"{YIELD_ALL} (%)",
+            "yield_low": f"{YIELD_ALL}, 95 % lower bound (%)",
             "dpm_high": "DPM, 95 % upper bound",
             "failed": "failed simulations",
         }

@@ -1,13 +1,17 @@
 """A small builder for self-contained HTML reports (figures embedded as base64 data).
 
 The page reads at 1400 px without scrolling sideways: the body is at most 1100 px wide, every
-table sits in its own box that scrolls on its own if it must (``overflow-x: auto``), long
-words in cells wrap, and images shrink to the column. On a narrow screen (a phone, up to
-800 px) no column is squeezed below 8 characters (the table's box scrolls instead), and a
+table sits in its own box that scrolls on its own if it must (``overflow-x: auto``), text
+cells wrap between words but never inside one (a response's name, ``transmission_angle_min``,
+stays whole: the table's box scrolls instead), and images shrink to the column. On a narrow
+screen (a phone, up to 800 px) no column is squeezed below 8 characters, and a
 table written as cards (``table(..., cards=True)``) stacks each row's cells, each under its
-header, so that long text reads at the screen's width. Headings with an anchor are listed in a
+header, so that long text reads at the screen's width (there, words longer than the screen
+may break). Headings with an anchor are listed in a
 table of contents at the top. Numbers in tables are written by the one number format of
-:mod:`jointplay.report.format`.
+:mod:`jointplay.report.format`. A cell may be :class:`Flagged` (an implausible value): it is
+shaded and carries a numbered mark that links to the reason, written as a footnote under its
+table (and as the cell's tooltip), so the reason is one click away from the value.
 """
 
 from __future__ import annotations
@@ -16,6 +20,7 @@ import base64
 import html
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -38,7 +43,11 @@ th, td { border: 1px solid #ccc; padding: .25em .6em; text-align: right; vertica
 td { white-space: nowrap; }
 th { background: #f0f0f0; font-weight: 600; }
 td.text, th.text { text-align: left; }
-td.text { white-space: normal; overflow-wrap: anywhere; }
+td.text { white-space: normal; }
+td.flag { background: #fde4e1; }
+a.flag { color: #a01010; font-weight: 700; text-decoration: none; margin-left: .25em; }
+ol.flags { font-size: 0.85em; color: #5a1010; margin: -1em 0 1.4em; padding-left: 2.2em; }
+ol.flags li:target { background: #fde4e1; }
 tr.group td { background: #eef3f8; text-align: left; white-space: normal; }
 caption { caption-side: top; text-align: left; font-weight: bold; padding-bottom: .3em; }
 .tablenote { font-size: 0.85em; color: #555; margin: -1em 0 1.4em; }
@@ -62,10 +71,25 @@ dl.defs dt { font-weight: 600; } dl.defs dd { margin: 0 0 .4em 1.4em; }
   table.cards, table.cards tbody, table.cards tr, table.cards td { display: block; }
   table.cards tr.head { display: none; }
   table.cards tr { border-bottom: 1px solid #ccc; padding: .3em 0; }
-  table.cards td { border: none; text-align: left; white-space: normal; min-width: 0; }
+  table.cards td { border: none; text-align: left; white-space: normal; min-width: 0;
+                   overflow-wrap: anywhere; }
   table.cards td[data-label]::before { content: attr(data-label) ": "; font-weight: 600; }
 }
 """
+
+
+@dataclass(frozen=True)
+class Flagged:
+    """A table cell whose value is implausible: shown as usual, shaded, with a numbered mark
+    (⚠) that links to ``reason`` (a footnote under the table, also the cell's tooltip).
+
+    Attributes:
+        value: the cell's value (a number, written in the report's format, or text).
+        reason: why the value is marked, and the rule that marked it, in words.
+    """
+
+    value: Any
+    reason: str
 
 
 def _fmt(value: Any) -> str:
@@ -101,6 +125,7 @@ class HtmlReport:
         self.contents_before = contents_before
         self.parts: list[str] = []
         self._headings: list[tuple[int, str, str]] = []
+        self._flags = 0  # footnotes of flagged cells written so far (their ids are unique)
 
     def heading(self, text: str, level: int = 2, anchor: str | None = None) -> None:
         ident = f' id="{html.escape(anchor)}"' if anchor else ""
@@ -112,11 +137,20 @@ class HtmlReport:
         klass = f' class="{css}"' if css else ""
         self.parts.append(f"<p{klass}>{html.escape(text)}</p>")
 
-    def bullets(self, items: Iterable[str], css: str | None = None) -> None:
+    def bullets(
+        self, items: Iterable[str | tuple[str, Sequence[str]]], css: str | None = None
+    ) -> None:
+        """A bulleted list; an item ``(text, sub_items)`` carries a nested list."""
         klass = f' class="{css}"' if css else ""
-        self.parts.append(
-            f"<ul{klass}>" + "".join(f"<li>{html.escape(i)}</li>" for i in items) + "</ul>"
-        )
+
+        def item(i: str | tuple[str, Sequence[str]]) -> str:
+            if isinstance(i, str):
+                return f"<li>{html.escape(i)}</li>"
+            text, sub = i
+            inner = "".join(f"<li>{html.escape(s)}</li>" for s in sub)
+            return f"<li>{html.escape(text)}<ul>{inner}</ul></li>" if sub else item(text)
+
+        self.parts.append(f"<ul{klass}>" + "".join(map(item, items)) + "</ul>")
 
     def definitions(self, items: Mapping[str, str] | Iterable[tuple[str, str]]) -> None:
         """A definition list: each term (e.g. a response) with what it means."""
@@ -158,6 +192,9 @@ class HtmlReport:
             widths: CSS widths of the first columns (e.g. ``"25%"``; ``None``: automatic).
             cards: on a narrow screen, each row a card: its cells stacked, each after its
                 header (for a table of long text, e.g. claims with notes).
+
+        A cell given as :class:`Flagged` is shaded and marked ⚠ with the number of its
+        footnote (the reason; one footnote per distinct reason in the table).
         """
         if isinstance(rows, pd.DataFrame):
             headers = list(headers) if headers is not None else [str(c) for c in rows.columns]
@@ -189,6 +226,7 @@ class HtmlReport:
                 )
                 + "</tr>"
             )
+        reasons: dict[str, int] = {}  # this table's footnotes, by reason
         for index, row in enumerate(body):
             if index in starts:
                 title, detail = starts[index]
@@ -202,9 +240,32 @@ class HtmlReport:
                 css = ' class="text"' if i in text_columns else ""
                 if cards and headers and i < len(headers):
                     css += f' data-label="{html.escape(headers[i])}"'
+                if isinstance(value, Flagged):
+                    if value.reason not in reasons:
+                        self._flags += 1
+                        reasons[value.reason] = self._flags
+                    n = reasons[value.reason]
+                    reason = html.escape(value.reason)
+                    css = css.replace(' class="text"', "")
+                    klass = "text flag" if i in text_columns else "flag"
+                    cells.append(
+                        f'<td class="{klass}"{css} title="{reason}">'
+                        f"{html.escape(_fmt(value.value))}"
+                        f'<a class="flag" href="#flag-{n}" title="{reason}">⚠{n}</a></td>'
+                    )
+                    continue
                 cells.append(f"<td{css}>{html.escape(_fmt(value))}</td>")
             out.append("<tr>" + "".join(cells) + "</tr>")
         out.append("</table></div>")
+        if reasons:
+            out.append(
+                '<ol class="flags">'
+                + "".join(
+                    f'<li id="flag-{n}" value="{n}">⚠ {html.escape(reason)}</li>'
+                    for reason, n in reasons.items()
+                )
+                + "</ol>"
+            )
         if note:
             out.append(f'<p class="tablenote">{html.escape(note)}</p>')
         out.append("</div>")

@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from jointplay.dynamics.diagnostics import IDEAL_FORCE_FACTOR
 from jointplay.report.format import number
 from jointplay.report.html import HtmlReport
 from jointplay.report.paper_figures import (
@@ -28,7 +29,7 @@ from jointplay.report.paper_results import (
     _settle,
     _start_up_vs_running,
 )
-from jointplay.report.paper_summary import _Page
+from jointplay.report.paper_summary import _Page, flag_force
 from jointplay.report.plots import ecs_sweep_plots
 from jointplay.study.methods import METHODS
 from jointplay.study.paper import (
@@ -369,7 +370,12 @@ def _methods_section(page: _Page, study: PaperStudy) -> None:
         rows.append(
             [
                 method_words(outcome.task.method, outcome.task.ecs_source),
-                *[outcome.peak(q) if outcome.ok else math.nan for q in quantities],
+                *[
+                    flag_force(outcome.peak(q), study.nominal_peaks[q], start_up=True)
+                    if q.startswith("F_")
+                    else outcome.peak(q)
+                    for q in quantities
+                ],
             ]
         )
     rows.append(["nominal (ideal joints)", *[study.nominal_peaks[q] for q in quantities]])
@@ -390,7 +396,8 @@ def _methods_section(page: _Page, study: PaperStudy) -> None:
             rows,
             ["method (ECS source)", *[LABELS[q] for q in quantities]],
             caption="Peaks from rest",
-            note=PEAK_DEFINITION,
+            note=PEAK_DEFINITION + f" ⚠: a joint force above {IDEAL_FORCE_FACTOR:g}× the ideal "
+            "joint's peak (the footnote says why).",
         )
         report.table(
             increases,
@@ -483,13 +490,16 @@ def _running_subsection(page: _Page, study: PaperStudy) -> None:
         method, source = label.split("/")
         groups.append((len(rows), method_words(method, source)))
         for setting in ("from_rest", "running"):
+            cells: list[Any] = []
+            for q in quantities:
+                value = math.nan if values[q][setting] is None else values[q][setting]
+                if q.startswith("F_"):
+                    value = flag_force(value, values[q]["nominal"], start_up=setting == "from_rest")
+                cells.append(value)
             rows.append(
                 [
                     "from rest (the paper)" if setting == "from_rest" else "running steadily",
-                    *[
-                        math.nan if values[q][setting] is None else values[q][setting]
-                        for q in quantities
-                    ],
+                    *cells,
                 ]
             )
     groups.append((len(rows), "ideal joints"))
@@ -501,7 +511,8 @@ def _running_subsection(page: _Page, study: PaperStudy) -> None:
         groups=groups,
         note=PEAK_DEFINITION
         + f" Running steadily: the revolution after {_settle(study)} revolutions to settle, "
-        "started on the nominal motion.",
+        "started on the nominal motion. ⚠: a joint force above "
+        f"{IDEAL_FORCE_FACTOR:g}× the ideal joint's peak (the footnote says why).",
     )
     findings: dict[tuple[str, str], list[str]] = {}
     for key, outcome in study.outcomes.items():

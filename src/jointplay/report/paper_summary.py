@@ -13,8 +13,9 @@ from pathlib import Path
 from typing import Any
 
 from jointplay import __version__
+from jointplay.dynamics.diagnostics import IDEAL_FORCE_FACTOR
 from jointplay.report.format import number, quantity
-from jointplay.report.html import HtmlReport
+from jointplay.report.html import Flagged, HtmlReport
 from jointplay.report.overlays import overlay_plots
 from jointplay.report.paper_results import (
     AGREEMENT_PCT,
@@ -74,9 +75,9 @@ def _summary_section(page: _Page, study: PaperStudy, claims: list[Claim]) -> Non
         for verdict, members in counts.items()
         if verdict in ("no paper value", "not computed") and members
     ]
-    sections: dict[str, int] = {}
+    failing: dict[str, list[str]] = {}  # each failing claim and its error, by section
     for c in differs:
-        sections[c.section] = sections.get(c.section, 0) + 1
+        failing.setdefault(c.section, []).append(f"{c.claim}: {_difference(c)}")
     report.bullets(
         [
             f"Of the paper's {len(claims)} quantitative claims, {len(holds)} hold (within "
@@ -84,10 +85,15 @@ def _summary_section(page: _Page, study: PaperStudy, claims: list[Claim]) -> Non
             + "".join(f", {other}" for other in others)
             + ".",
             "Holds: " + ("; ".join(f"{c.claim} ({c.section})" for c in holds) or "none") + ".",
-            "Does not hold: "
-            + "; ".join(f"{section} ({n})" for section, n in sections.items())
-            + ". The ECS values because no reading of eqs. 9-13 gives Tables 4 and 5; the peaks "
-            "because the paper takes them from rest, where they are the start-up impact.",
+            (
+                "Does not hold: none."
+                if not differs
+                else "Does not hold (ours against the paper's, in % of its number or in points "
+                "for a claim in %): the ECS values because no reading of eqs. 9-13 gives "
+                "Tables 4 and 5; the peaks because the paper takes them from rest, where they "
+                "are the start-up impact.",
+                [f"{section}: " + "; ".join(items) + "." for section, items in failing.items()],
+            ),
         ],
         css="summary",
     )
@@ -99,6 +105,85 @@ def _summary_section(page: _Page, study: PaperStudy, claims: list[Claim]) -> Non
             "colour and the nominal (dashed), like the paper's Figs. 17–20; the statistics "
             "are under Comparison with the experiment.",
         )
+
+
+#: The rules by which a value in the paper report is marked implausible (docs/cli.md, "Reports mark the implausible").
+IMPLAUSIBLE_RULES = (
+    f"a joint force above {IDEAL_FORCE_FACTOR:g}× the ideal joint's peak (the simulation's own "
+    "force-far-above-ideal finding); a penetration deeper than the radial clearance; a peak "
+    "of a run that warned it has not settled or that its start-up transient dominates"
+)
+
+
+def flag_force(
+    value: float, ideal: float, what: str | None = None, *, start_up: bool = False
+) -> float | Flagged:
+    """``value`` (N), marked where it is above :data:`IDEAL_FORCE_FACTOR` times ``ideal``.
+
+    ``what`` (e.g. "the peak force at A") makes the reason name the value and its multiple;
+    without it the reason is the table's shared footnote. ``start_up``: a peak from rest,
+    whose reason is the start-up impact."""
+    if not (math.isfinite(value) and ideal > 0) or value <= IDEAL_FORCE_FACTOR * ideal:
+        return value
+    rule = f"(marked above {IDEAL_FORCE_FACTOR:g}× the ideal joint's peak)"
+    if start_up:
+        return Flagged(
+            value,
+            f"Implausible as a load: a joint force far above the ideal joint's {rule}, the "
+            "impact of the start from rest with centred pins (the paper's setting), not the "
+            "running mechanism.",
+        )
+    if what is None:
+        return Flagged(
+            value,
+            f"Implausible: a joint force far above the ideal joint's {rule}: impacts in the "
+            "clearance dominate it, not the running load; read it as the contact law's "
+            "artefact, not as a design load.",
+        )
+    return Flagged(
+        value,
+        f"Implausible: {what} {number(value)} N is {number(value / ideal, 3)}× the ideal "
+        f"joint's peak of {number(ideal)} N {rule}: impacts in the clearance dominate it, not "
+        "the running load; read it as this contact law's artefact, not as a design load.",
+    )
+
+
+def flag_ratio(ratio: float, value: float | Flagged) -> float | Flagged:
+    """The force's multiple of the ideal peak, marked with the force's reason."""
+    return Flagged(ratio, value.reason) if isinstance(value, Flagged) else ratio
+
+
+def flag_penetration(depth_um: float, clearance: float) -> float | Flagged:
+    """A deepest penetration (µm), marked where it goes deeper than ``clearance`` (m)."""
+    if not (math.isfinite(depth_um) and depth_um > clearance * 1e6):
+        return depth_um
+    return Flagged(
+        depth_um,
+        f"Not physical: the pin sinks {number(depth_um)} µm into its bearing, deeper than the "
+        f"{clearance * 1e6:g} µm radial clearance (marked beyond the clearance): the contact "
+        "is far too soft for the load, and this run's forces are not physical.",
+    )
+
+
+def unsettled(summary: dict[str, Any] | None) -> str:
+    """The warning of a run whose peaks have not settled (``not-settled`` or
+    ``start-transient-dominates``), or an empty string."""
+    for finding in (summary or {}).get("diagnostics", []):
+        if finding.get("level") == "warning" and finding.get("code") in (
+            "not-settled",
+            "start-transient-dominates",
+        ):
+            return str(finding.get("message", finding["code"]))
+    return ""
+
+
+def flag_unsettled(value: float, warning: str) -> float | Flagged:
+    """A peak of a run that warned it has not settled: marked with that warning."""
+    if not warning or not math.isfinite(value):
+        return value
+    return Flagged(
+        value, f"Not converged: the run warned that its peaks have not settled: {warning}."
+    )
 
 
 def _running_answer(page: _Page, study: PaperStudy) -> None:
@@ -130,14 +215,20 @@ def _running_answer(page: _Page, study: PaperStudy) -> None:
             verdict = f"non-physical: deeper than the {PAPER_CLEARANCE * 1e6:g} µm clearance"
         else:
             verdict = "within the clearance" if depth > 0 else "no contact"
+        name = joint.removeprefix("F_")
+        marked = flag_force(forces[joint], study.nominal_peaks[joint], f"the peak force at {name}")
+        shown = f"{number(forces[joint])} ({name})"
+        force: str | Flagged = (
+            Flagged(shown, marked.reason) if isinstance(marked, Flagged) else shown
+        )
         rows.append(
             (
                 words,
-                speed,
+                flag_unsettled(speed, unsettled(outcome.summary)),
                 100.0 * (speed / study.nominal_peaks["omega4"] - 1.0),
-                f"{number(forces[joint])} ({joint.removeprefix('F_')})",
-                forces[joint] / study.nominal_peaks[joint],
-                max(depth, 0.0) * 1e6,
+                force,
+                flag_ratio(forces[joint] / study.nominal_peaks[joint], marked),
+                flag_penetration(max(depth, 0.0) * 1e6, PAPER_CLEARANCE),
                 verdict,
                 rms.get(method, math.nan),
             )
@@ -164,7 +255,8 @@ def _running_answer(page: _Page, study: PaperStudy) -> None:
         "penetration |e| − c at the integrator's accepted steps (sampled); RMS error = "
         "(measured − simulated) / simulated over Table 7's points. From rest — the paper's "
         "setting — the same methods' peaks are the start-up impact, not the running mechanism: "
-        "they are shown as such under From rest and running steadily.",
+        "they are shown as such under From rest and running steadily. ⚠ marks an implausible "
+        f"value, its reason in the footnote it links to: {IMPLAUSIBLE_RULES}.",
     )
 
 

@@ -18,7 +18,9 @@ check that the scatter they report is the mechanism's, not the integrator's
 tighter, and a ``peaks-not-converged`` warning names the response whose values moved by more
 than a tenth of their spread over the study, with the shift of their mean and its interval:
 a shift says the integration biases the study, single samples moving about an unshifted mean
-say the motion is sensitive (a settled peak is one draw of its scatter).
+say the motion is sensitive (a settled peak is one draw of its scatter). The warning ends with
+a verdict (:func:`convergence_verdict`): usable only where the mean is shown to stay within
+the same tenth of the spread.
 """
 
 from __future__ import annotations
@@ -34,7 +36,7 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from jointplay.dynamics.diagnostics import Diagnostic
-from jointplay.errors import ConfigError, PartialInterrupt
+from jointplay.errors import ConfigError, PartialInterrupt, name_settings
 from jointplay.model.mechanism import Mechanism
 from jointplay.tolerance.execution import OK, STATUS, Backend, RunResult, prepare
 from jointplay.tolerance.methods import (
@@ -238,6 +240,9 @@ class ConvergenceCheck:
         mean_shift_interval: its confidence interval (Student t over the samples run again,
             :data:`CONVERGENCE_CONFIDENCE` family-wise over the responses compared, Bonferroni),
             over the spread; a shift beyond it would have shown.
+        usable: whether the study's statistics are usable by the rule of
+            :func:`convergence_verdict` (always when it converged).
+        verdict: that verdict in words (how far the peaks, or their mean, moved).
     """
 
     samples: int
@@ -248,6 +253,8 @@ class ConvergenceCheck:
     finding: StudyDiagnostic | None
     mean_shift: float = float("nan")
     mean_shift_interval: tuple[float, float] = (float("nan"), float("nan"))
+    usable: bool = True
+    verdict: str = ""
 
     def as_dict(self) -> dict[str, Any]:
         return {
@@ -263,6 +270,8 @@ class ConvergenceCheck:
             ),
             "limit": self.limit,
             "converged": self.finding is None,
+            "usable": self.usable,
+            "verdict": self.verdict,
             "mean_change_over_spread": self.mean_shift,
             "mean_change_interval_over_spread": list(self.mean_shift_interval),
             "mean_change_taken": (
@@ -332,28 +341,32 @@ def convergence_finding(
     name = model.response_names[j]
     shift, interval = _mean_shift(signed[:, j], spread[j], int(np.sum(~np.isnan(share))))
     finding = None
+    usable, verdict = (
+        True,
+        (
+            f"usable: the peaks moved at most {100 * share[j]:.0f} % of their spread ({name}), "
+            f"within the ±{100 * CONVERGENCE_LIMIT:.0f} % limit"
+        ),
+    )
     if share[j] > CONVERGENCE_LIMIT:
         worst = int(rows[int(np.nanargmax(change[:, j]))])
         count = int(np.sum(change[:, j] > CONVERGENCE_LIMIT * spread[j]))
-        unshifted = interval[0] <= 0.0 <= interval[1]
-        reading = (
-            "the mean did not shift beyond that interval, so the study's statistics may hold "
-            "where single samples do not: the motion is sensitive to small perturbations "
-            "(pins rattling in their bearings, docs/contact.md), a sample's peak one draw of "
-            "its scatter, which tighter tolerances do not remove; more samples run again "
-            "would narrow the interval"
-            if unshifted
-            else "part of the scatter is the integrator's, not the tolerances'; tighten the "
-            "integration ({rtol}) or use a contact law that converges"
-        )
         message = (
-            f"{name}: run again with tolerances {CONVERGENCE_TIGHTENING:g}x tighter (rtol "
-            f"{loose.rtol:.0e} -> {tight.rtol:.0e}), {count} of {len(rows)} samples moved by "
-            f"up to {np.nanmax(change[:, j]):.3g} {model.units.get(name, '')}, "
+            f"{name}: {count} of {len(rows)} samples run again with tolerances "
+            f"{CONVERGENCE_TIGHTENING:g}x tighter (rtol {loose.rtol:.0e} -> {tight.rtol:.0e}) "
+            f"moved by up to {np.nanmax(change[:, j]):.3g} {model.units.get(name, '')}, "
             f"{100 * share[j]:.0f} % of its spread over the study (std {spread[j]:.3g}); "
-            f"their mean by {100 * shift:+.0f} % of the spread ({100 * CONVERGENCE_CONFIDENCE:.0f} % "
-            f"interval {100 * interval[0]:+.0f} to {100 * interval[1]:+.0f} %): {reading}"
         )
+        usable, sentence = convergence_verdict(shift, interval, len(rows), tight.rtol)
+        others = [k for k in range(len(share)) if k != j and np.isfinite(share[k])]
+        if others:  # the verdict is the worst response's; say where the others stand
+            within = sum(int(share[k] <= CONVERGENCE_LIMIT) for k in others)
+            sentence += (
+                f"; of the other {len(others)} responses, {within} moved within "
+                f"±{100 * CONVERGENCE_LIMIT:.0f} % of their spread (usable)"
+            )
+        message += sentence
+        verdict = name_settings(sentence[sentence.index("Verdict: ") + len("Verdict: ") :])
         warning = Diagnostic.advising(
             "warning", "peaks-not-converged", None, float(share[j]), CONVERGENCE_LIMIT, message
         )
@@ -366,7 +379,7 @@ def convergence_finding(
         )
     return ConvergenceCheck(
         len(rows), CONVERGENCE_TIGHTENING, name, float(share[j]), CONVERGENCE_LIMIT, finding,
-        shift, interval,
+        shift, interval, usable, verdict,
     )  # fmt: skip
 
 
@@ -390,6 +403,61 @@ def _mean_shift(
     )
     mean = float(np.mean(d))
     return mean / spread, ((mean - half) / spread, (mean + half) / spread)
+
+
+def convergence_verdict(
+    shift: float, interval: tuple[float, float], samples: int, tight_rtol: float
+) -> tuple[bool, str]:
+    """Whether a study that warns ``peaks-not-converged`` is usable, and the sentence that
+    ends its warning with that verdict.
+
+    The rule (docs/cli.md, "Converged?"): single samples moved by more than
+    :data:`CONVERGENCE_LIMIT` of the spread, so the study is usable only for its statistics
+    (mean, spread, quantiles, yield), and only where the tightened run showed that their mean
+    did not move: the mean change's interval (``interval``, over the spread,
+    :func:`_mean_shift`) lies within ±:data:`CONVERGENCE_LIMIT`, the same share single samples
+    are held to. An interval that excludes zero is a bias of the integration (not usable:
+    tighten it); one that holds zero but reaches beyond the limit leaves the statistics
+    unproven (not usable as it stands).
+
+    Args:
+        shift: the mean change over the spread.
+        interval: its confidence interval over the spread.
+        samples: the samples run again.
+        tight_rtol: the tightened relative tolerance (for the advice).
+
+    Returns:
+        ``(usable, sentence)``; the sentence names the setting it advises on as a
+        ``{rtol}`` field (:func:`~jointplay.errors.name_settings`).
+    """
+    low, high = interval
+    moved = (
+        f"their mean moved {100 * shift:+.0f} % of the spread "
+        f"({100 * CONVERGENCE_CONFIDENCE:.0f} % interval {100 * low:+.0f} to {100 * high:+.0f} %)"
+    )
+    limit = f"±{100 * CONVERGENCE_LIMIT:.0f} %"
+    if not (np.isfinite(low) and np.isfinite(high)):
+        return False, (
+            f"too few of the {samples} samples ran again to bound their mean. Verdict: not "
+            f"usable as it stands (the rule: the mean within {limit} of the spread)"
+        )
+    if high < 0.0 or low > 0.0:
+        return False, (
+            f"{moved}. Verdict: not usable: the integration biases the study (the interval "
+            f"excludes zero); tighten the integration ({{rtol}} {tight_rtol:.0e})"
+        )
+    if max(-low, high) <= CONVERGENCE_LIMIT:
+        return True, (
+            f"{moved}. Verdict: usable for its statistics (mean, spread, yield), not sample by "
+            f"sample: the mean stayed within {limit} of the spread (the motion is sensitive, "
+            "docs/contact.md)"
+        )
+    return False, (
+        f"{moved}. Verdict: not usable as it stands: {samples} samples bound the mean's move "
+        f"only to {100 * max(-low, high):.0f} % of the spread, beyond the {limit} that would "
+        "show the statistics hold (the motion is sensitive, docs/contact.md: tighter "
+        "tolerances do not remove that scatter)"
+    )
 
 
 @dataclass(frozen=True)
