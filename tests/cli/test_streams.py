@@ -63,3 +63,57 @@ def test_an_unwritable_stdout_is_an_error_said_on_stderr() -> None:
     lines = done.stderr.decode().strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("jointplay: error: "), lines
     assert "No space left on device" in lines[0]
+
+
+# --- the progress bar: on a terminal, or where asked for -------------------------------------------
+
+#: A quick study with a progress bar (kinematic Monte Carlo, ~2 s).
+STUDY = ["tolerance", "--samples", "50", "--no-plots", "--force"]
+BAR = b"Monte Carlo samples"
+
+
+def _stderr_on_a_terminal(arguments: list[str]) -> bytes:
+    """What ``jointplay ARGS`` writes to stderr when stderr is a terminal (a pseudo-terminal)."""
+    import pty
+
+    master, slave = pty.openpty()
+    try:
+        process = subprocess.Popen(
+            [sys.executable, "-m", "jointplay", *arguments],
+            stdout=subprocess.DEVNULL,
+            stderr=slave,
+        )
+        os.close(slave)
+        said = b""
+        while True:
+            try:
+                chunk = os.read(master, 65536)
+            except OSError:  # EIO: the terminal's other end closed
+                break
+            if not chunk:
+                break
+            said += chunk
+        assert process.wait(timeout=120) == 0, said
+        return said
+    finally:
+        os.close(master)
+
+
+def test_no_bar_on_a_stderr_that_is_not_a_terminal(tmp_path: Path) -> None:
+    """A log file or a pipe got the bar's last frame, a line of box characters."""
+    done = _jointplay([*STUDY, "--out", str(tmp_path / "r")], capture_output=True)
+    assert done.returncode == 0, done.stderr
+    assert BAR not in done.stderr and "━".encode() not in done.stderr
+
+
+def test_progress_forces_the_bar_on_any_stderr(tmp_path: Path) -> None:
+    done = _jointplay([*STUDY, "--progress", "--out", str(tmp_path / "r")], capture_output=True)
+    assert done.returncode == 0, done.stderr
+    assert BAR in done.stderr and b"50/50" in done.stderr
+
+
+@pytest.mark.skipif(not hasattr(os, "openpty"), reason="needs a pseudo-terminal")
+def test_a_terminal_gets_the_bar_unless_no_progress(tmp_path: Path) -> None:
+    assert b"50/50" in _stderr_on_a_terminal([*STUDY, "--out", str(tmp_path / "a")])
+    hidden = _stderr_on_a_terminal([*STUDY, "--no-progress", "--out", str(tmp_path / "b")])
+    assert BAR not in hidden
