@@ -166,8 +166,8 @@ def test_an_interrupted_tolerance_study_keeps_the_finished_samples(
 
 
 #: Seconds from the signal to the end of an interrupted run, writing the kept samples
-#: included (measured: ~1.5 s on a loaded 2-core machine; the samples in flight stop within
-#: one step of their integration).
+#: included (measured: 0.2-0.6 s on a 2-core machine, loaded or not; the samples in flight
+#: stop within one step of their integration). Generous: the suite shares its machine.
 ANSWERED_WITHIN_S = 20.0
 
 
