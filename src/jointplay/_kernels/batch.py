@@ -246,12 +246,10 @@ def _implicit_lanes(
         with ThreadPoolExecutor(max_workers=min(threads, len(lanes))) as pool:
             list(pool.map(one, lanes))
         return
-    for lane in lanes:
-        code = _implicit_lane(
+    for lane in lanes:  # after an interrupt each lane left ends at once, STATUS_INTERRUPTED
+        _implicit_lane(
             ipar, rpar, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt, out, lane
         )
-        if code == STATUS_INTERRUPTED:
-            return
 
 
 def _implicit_lane(

@@ -14,7 +14,7 @@ import sys
 import threading
 import warnings
 from collections.abc import Iterator
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from typing import Any, NoReturn
 
 import typer
@@ -523,8 +523,59 @@ def run(argv: list[str] | None = None) -> int:
     return 0
 
 
+class _UnfailingStream:
+    """A text stream whose writes never raise: what cannot be written (a full disk, a closed
+    pipe or descriptor) is dropped, so that the exit status stays the one the command chose
+    (``jointplay ... 2>/dev/full`` used to exit 1, from the error line it could not write).
+    Everything else is the wrapped stream's (``isatty``, ``encoding``, ``fileno``)."""
+
+    def __init__(self, stream: Any) -> None:
+        self._stream = stream
+
+    def write(self, text: str) -> int:
+        try:
+            return int(self._stream.write(text))
+        except (OSError, ValueError):  # ValueError: closed, or a character not encodable
+            return len(text)
+
+    def writelines(self, lines: Any) -> None:
+        for line in lines:
+            self.write(line)
+
+    def flush(self) -> None:
+        with suppress(OSError, ValueError):
+            self._stream.flush()
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._stream, name)
+
+
+def _streams_for_any_terminal() -> None:
+    """Start-up of the command line: the exit statuses are the documented ones whatever the
+    terminal.
+
+    * stdout and stderr write a character their encoding lacks as an escape (``\\xb5``)
+      instead of raising (``PYTHONIOENCODING=ascii`` made the ``µ`` of a table a
+      UnicodeEncodeError, exit 3);
+    * stderr never raises (:class:`_UnfailingStream`): an error line that cannot be written
+      is lost, its exit status is not; a missing stderr (``2>&-``) is a null one, so that
+      those lines never land on stdout.
+    """
+    for stream in (sys.stdout, sys.stderr):
+        reconfigure = getattr(stream, "reconfigure", None)
+        if reconfigure is not None:
+            with suppress(OSError, ValueError):  # a stream that cannot change stays as it is
+                reconfigure(errors="backslashreplace")
+    if sys.stderr is None:
+        sys.stderr = open(os.devnull, "w", encoding="utf-8")  # noqa: SIM115 (for good)
+    if not isinstance(sys.stderr, _UnfailingStream):
+        sys.stderr = _UnfailingStream(sys.stderr)
+
+
 def main() -> None:
-    """Console-script entry point: :func:`run`, then :func:`leave`."""
+    """Console-script entry point: :func:`run`, then :func:`leave` (the standard streams
+    made safe first: :func:`_streams_for_any_terminal`)."""
+    _streams_for_any_terminal()
     leave(run(sys.argv[1:]))
 
 

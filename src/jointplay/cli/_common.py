@@ -122,12 +122,33 @@ FigureFormatOption = Annotated[
         rich_help_panel=OUTPUT_PANEL,
     ),
 ]
+
+
+def progress_shown(ctx: typer.Context, param: typer.CallbackParam, value: bool) -> bool:
+    """Whether a command shows its progress bar or spinner: ``--progress`` forces it,
+    ``--no-progress`` hides it, and with neither it shows only where stderr is a terminal
+    (a log file or a pipe got the bar's last frame as a line of box characters)."""
+    source = ctx.get_parameter_source(param.name or "")
+    if source is not None and source.name == "DEFAULT":
+        return bool(value) and _stderr_is_a_terminal()
+    return bool(value)
+
+
+def _stderr_is_a_terminal() -> bool:
+    try:
+        return bool(sys.stderr.isatty())
+    except (AttributeError, ValueError, OSError):  # no stderr, or a closed one
+        return False
+
+
 ProgressOption = Annotated[
     bool,
     typer.Option(
         "--progress/--no-progress",
-        help="A progress bar or spinner on stderr.",
+        help="A progress bar or spinner on stderr (default: if it is a terminal).",
+        show_default=False,
         rich_help_panel=OUTPUT_PANEL,
+        callback=progress_shown,
     ),
 ]
 ForceOption = Annotated[

@@ -23,6 +23,7 @@ from jointplay.cli._common import (
     GravityOption,
     OutOption,
     PresetOption,
+    ProgressOption,
     RpmOption,
     check_figure_format,
     check_revolutions,
@@ -290,9 +291,7 @@ def tolerance_command(
         ),
     ] = None,
     plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
-    progress: Annotated[
-        bool, typer.Option("--progress/--no-progress", help="Show a progress bar.")
-    ] = True,
+    progress: ProgressOption = True,
     figure_format: FigureFormatOption = "png",
 ) -> None:
     """Tolerance study: spread of the responses, out-of-spec share and what matters most.

@@ -409,7 +409,7 @@ class Dask(Executor):
                         f"({type(future.exception()).__name__}: {future.exception()}); its "
                         "workers died running it"
                     )
-                lanes.done(futures[future], _dask.result(future, self.address))
+                lanes.done(futures[future], _dask.result(future, self.address, client))
         except BaseException:
             if futures:
                 client.cancel(list(futures))
@@ -437,7 +437,7 @@ class Dask(Executor):
                         index = where[future.key]
                         outcome: tuple[bool, Any] = (False, f"{type(error).__name__}: {error}")
                     else:
-                        index, outcome = _dask.result(future, self.address)
+                        index, outcome = _dask.result(future, self.address, client)
                     sink.store(index, outcome)
                     sink.advance(index)
             except _dask.ClusterLost as lost:  # the items that finished are kept; the others failed

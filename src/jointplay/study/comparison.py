@@ -551,7 +551,9 @@ class Discrepancy:
     Attributes:
         speed_factor: least-squares s with measured ≈ s · nominal (all points).
         range_factor: the same discrepancy read from the swing, ptp(measured) / ptp(nominal)
-            at the measured angles (insensitive to a small phase error; weights the extremes).
+            at the measured angles (insensitive to a small phase error; weights the extremes);
+            NaN where the nominal has no swing there (one point, or equal speeds), and the
+            summary says so.
         crank_rpm: the crank speed of the nominal kinematics, rev/min.
         implied_crank_rpm: WHAT-IF, not applied: ``crank_rpm · s``, the crank speed at which
             the ideal mechanism would best match the measurements (the rocker speed of ideal
@@ -583,9 +585,14 @@ class Discrepancy:
     def summary(self) -> str:
         """The discrepancy and the what-if in words."""
         excess = 100.0 * (self.speed_factor - 1.0)
+        swing = (
+            f"swing ratio {self.range_factor:.3f}"
+            if math.isfinite(self.range_factor)
+            else "no swing ratio: it needs two or more points of different nominal speed"
+        )
         text = (
             f"measured ≈ {self.speed_factor:.3f} × nominal kinematics at {self.crank_rpm:g} RPM "
-            f"(least squares; {excess:+.1f} %; swing ratio {self.range_factor:.3f}). "
+            f"(least squares; {excess:+.1f} %; {swing}). "
             "WHAT-IF, not applied: the ideal mechanism "
             f"matches best with the crank at {self.implied_crank_rpm:.1f} RPM "
             f"(RMS error {self.rms_error_percent:.2f} % → "
@@ -642,13 +649,20 @@ def discrepancy(measurements: Measurements, nominal: ExperimentComparison) -> Di
         }
     return Discrepancy(
         speed_factor=stats.speed_factor,
-        range_factor=float(np.ptp(measurements.speed_si) / np.ptp(points["simulated_rad_s"])),
+        range_factor=_swing_ratio(measurements.speed_si, points["simulated_rad_s"].to_numpy()),
         crank_rpm=nominal.crank_rpm,
         implied_crank_rpm=nominal.crank_rpm * stats.speed_factor,
         rms_error_percent=stats.rms_error_percent,
         rms_error_percent_if_scaled=stats.rms_error_percent_if_scaled,
         **extra,
     )
+
+
+def _swing_ratio(measured: FloatArray, nominal: FloatArray) -> float:
+    """ptp(measured) / ptp(nominal); NaN where the nominal has no swing (a one-row file: NumPy
+    printed its raw "invalid value encountered in scalar divide" there)."""
+    swing = float(np.ptp(nominal)) if len(nominal) else 0.0
+    return float(np.ptp(measured)) / swing if swing > 0 else math.nan
 
 
 @dataclass(frozen=True, eq=False)

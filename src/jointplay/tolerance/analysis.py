@@ -328,13 +328,18 @@ def convergence_finding(
     again = run(tightened, x[rows], backend=where)
     if again.interrupted:  # a check of some samples is no check
         raise KeyboardInterrupt("interrupted during the convergence check")
+    if not np.any(again.status == OK):  # none ran again (e.g. a Dask cluster lost): no check
+        return None
     values = outcome.values
     with np.errstate(divide="ignore", invalid="ignore"):
         spread = np.nanstd(values[ok], axis=0, ddof=1)
         signed = again.values - values[rows]
         signed[again.status != OK] = np.nan
         change = np.abs(signed)
-        share = np.where(spread > 0, np.nanmax(change, axis=0) / spread, np.nan)
+        # the largest change per response, NaN where none is known (np.nanmax warns there)
+        known = ~np.isnan(change)
+        largest = np.where(known.any(axis=0), np.max(np.where(known, change, 0.0), axis=0), np.nan)
+        share = np.where(spread > 0, largest / spread, np.nan)
     if np.all(np.isnan(share)):
         return None
     j = int(np.nanargmax(share))
@@ -354,7 +359,7 @@ def convergence_finding(
         message = (
             f"{name}: {count} of {len(rows)} samples run again with tolerances "
             f"{CONVERGENCE_TIGHTENING:g}x tighter (rtol {loose.rtol:.0e} -> {tight.rtol:.0e}) "
-            f"moved by up to {np.nanmax(change[:, j]):.3g} {model.units.get(name, '')}, "
+            f"moved by up to {largest[j]:.3g} {model.units.get(name, '')}, "
             f"{100 * share[j]:.0f} % of its spread over the study (std {spread[j]:.3g}); "
         )
         usable, sentence = convergence_verdict(shift, interval, len(rows), tight.rtol)
