@@ -99,7 +99,8 @@ ENGINES = {
         integrators=("radau",),
     ),
     "lanes-implicit": Engine(
-        "the single source's implicit lanes (the cuda backend's)", "the implicit method on the cuda backend",
+        "the single source's implicit lanes (the cuda backend's)",
+        "the implicit method on the cuda backend",
         film_damping=True, sustained_contact=False, ideal_joints=True, trajectories=False,
         integrators=("radau",),
     ),
