@@ -370,7 +370,7 @@ def test_unknown_law_is_refused() -> None:
         int(ipar[i]) for i in (eom.L_JOINT_INT, eom.L_ACTIVE, eom.L_CLEAR_JOINT)
     )
     ipar[law_slot] = 99
-    with pytest.raises(ConfigError, match="law id 99 is not ported"):
+    with pytest.raises(ConfigError, match="normal-force law id 99 runs on no engine"):
         read_layout(ipar, rpar[None])
 
 

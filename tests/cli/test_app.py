@@ -140,14 +140,14 @@ def test_an_extra_argument_that_follows_no_flag_gets_no_flag_hint(
     ],
 )
 def test_quantity_options_convert_to_si(text: str, unit: str, expected: float) -> None:
-    from jointplay.cli._common import quantity_option
+    from jointplay.settings.mechanism import quantity_option
 
     assert quantity_option(text, unit, "--x", example="u") == pytest.approx(expected, rel=1e-15)
 
 
 def test_quantity_options_refuse_bare_numbers_and_show_the_form() -> None:
-    from jointplay.cli._common import crank_speed, quantity_option
     from jointplay.errors import ConfigError
+    from jointplay.settings.mechanism import crank_speed, quantity_option
 
     with pytest.raises(
         ConfigError,
@@ -396,7 +396,7 @@ def test_one_option_sits_in_one_panel_on_every_command() -> None:
     import typer.main
 
     from jointplay.cli import app
-    from jointplay.cli._app import OPTION_PANELS, option_panel
+    from jointplay.cli._panels import OPTION_PANELS, option_panel
 
     panels: dict[str, set[str]] = {}
     for command in typer.main.get_command(app).commands.values():  # type: ignore[attr-defined]

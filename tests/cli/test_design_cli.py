@@ -73,7 +73,7 @@ def test_design_errors_are_one_line(tmp_path, capsys, args: list[str], message: 
         ("omega4_peak <= 3 rad/s", "--responses dynamic"),  # kinematic: no dynamics to run
         (
             "rocker_speed_error <= 3 %",
-            "'rocker_speed_error <= 3 %' need(s) each sample's trajectory",
+            "'rocker_speed_error <= 3 %' (each sample's trajectory",
         ),
     ],
 )

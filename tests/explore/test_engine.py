@@ -16,7 +16,7 @@ def base():
 
 
 def test_a_nominal_table_given_to_simulate_is_used_as_computed() -> None:
-    from jointplay.cli._simulation import contact_model
+    from jointplay.settings.simulation import contact_model
 
     mechanism = jointplay.load_preset("paper-fourbar")
     joints = contact_model({"method": "ifm-conventional"}, mechanism).joints(mechanism)
@@ -51,7 +51,7 @@ def test_the_view_of_a_kept_nominal_equals_a_fresh_one(base) -> None:
 
 
 def test_joints_of_their_own_contact_are_simulated_with_it(base) -> None:
-    from jointplay.cli._simulation import contact_model
+    from jointplay.settings.simulation import contact_model
 
     settings = parse_query(
         base, {"contact.A": "ifm-conventional", "mu.B": "0.02", "settle": "0", "c.O4": "off"}

@@ -77,9 +77,9 @@ def test_a_parameter_given_twice_is_refused(base) -> None:
 
 
 def test_the_configuration_is_what_simulate_reads(base, tmp_path) -> None:
-    from jointplay.cli._common import mechanism_from_options
     from jointplay.io.config import simulation_settings
     from jointplay.io.config_writer import write_config
+    from jointplay.settings.mechanism import mechanism_from_options
 
     settings = parse_query(
         base,

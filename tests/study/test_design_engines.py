@@ -96,7 +96,10 @@ def test_trajectory_requirements_are_named(paper_fourbar: Mechanism) -> None:
                      "life >= 10 h")
     ]  # fmt: skip
     assert trajectory_requirements(parsed) == [r.text for r in parsed[1:]]
-    with pytest.raises(ConfigError, match=r"'rocker_speed_error <= 2 %' need.*trajectory"):
+    with pytest.raises(
+        ConfigError,
+        match=r"'rocker_speed_error <= 2 %' \(each sample's trajectory.*needs the single engine",
+    ):
         _design(paper_fourbar, ["rocker_speed_error <= 2 %"], Backend("gpu"))
 
 

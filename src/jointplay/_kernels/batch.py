@@ -74,7 +74,7 @@ on the chunk it runs in, or on the thread that runs it.
 
 from __future__ import annotations
 
-from typing import Any, NamedTuple, TypeVar
+from typing import Any, TypeVar
 
 import numba
 import numpy as np
@@ -94,7 +94,12 @@ from jointplay._kernels.ids import (
 )
 from jointplay._kernels.lanes import build as lane_build
 from jointplay._kernels.lanes import cpu as lane_cpu
-from jointplay._kernels.lanes import source as lane_source
+from jointplay._kernels.lanes.contract import (  # noqa: F401 (re-exported: the peak rule's)
+    DENSE,
+    REFINE_MARGIN,
+    REFINE_POINTS,
+    BatchKernelOutput,
+)
 from jointplay._kernels.radau import radau_integrate
 
 # the peak rule's pieces, compiled from the lane source (shared with the explicit lanes)
@@ -118,29 +123,8 @@ __all__ = [
 #: Integration methods of :func:`run_batch`.
 METHODS = ("explicit", "implicit")
 
-#: The peak rule's margin and the DOPRI5 dense output (Hairer, Nørsett & Wanner, Solving ODEs
-#: I, §II.6), as arrays, from the lane source that holds them with the tableau
-#: (:mod:`jointplay._kernels.lanes.source`).
-REFINE_MARGIN = lane_source.REFINE_MARGIN
-#: Interior points of a refined step, as fractions of the step.
-REFINE_POINTS = np.arange(1, lane_source.N_REFINE + 1) / 8.0
-#: Dense output (SciPy's ``RK45.P``, 7 × 4): y(t + θh) = y + h Σ_j k_j Σ_m P[j, m] θ^(m+1).
-DENSE = np.reshape(np.array(lane_source.DENSE), (7, 4))
-
 
 jit = numba.njit(cache=True, error_model="numpy")
-
-
-class BatchKernelOutput(NamedTuple):
-    """What :func:`run_batch` returns, per lane (module docstring for the orders and units)."""
-
-    peaks: npt.NDArray[np.float64]
-    stats: npt.NDArray[np.float64]
-    status: npt.NDArray[np.int64]
-    t_reached: npt.NDArray[np.float64]
-    n_steps: npt.NDArray[np.int64]
-    n_rejected: npt.NDArray[np.int64]
-    n_rhs: npt.NDArray[np.int64]
 
 
 def layout(ipar: npt.NDArray[np.int64]) -> tuple[int, int, int, int]:

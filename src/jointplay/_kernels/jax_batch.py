@@ -41,7 +41,7 @@ from typing import Any
 
 import numpy as np
 
-from jointplay._kernels.batch import BatchKernelOutput  # one result type for both backends
+from jointplay._kernels.lanes.contract import BatchKernelOutput  # one result type for every backend
 from jointplay.errors import ConfigError
 
 __all__ = [

@@ -24,6 +24,7 @@ try:  # Typer >= 0.20 vendors its own copy of Click, whose exceptions it raises
 except ImportError:  # pragma: no cover - older Typer uses the click package
     from click import exceptions as click_exceptions  # type: ignore[no-redef]
 
+from jointplay.cli._panels import PANEL_ORDER, option_panel
 from jointplay.errors import Interrupted, JointplayError, SettingError, caused_by_interrupt
 
 #: A choice option's type column lists its choices up to this width (``<random|lhs>``);
@@ -184,75 +185,6 @@ def _stacked(name: Any, negative: Any) -> Any:
     stacked.append("\n")
     stacked.append_text(negative)
     return stacked
-
-
-#: Help panels: every command groups its options under the same titles, in this order
-#: (Typer's "Options" first: what is studied, the mechanism and its speed).
-REQUIREMENTS_PANEL = "Requirements"
-SAMPLING_PANEL = "Sampling"
-CONTACT_PANEL = "Contact"
-RUN_PANEL = "The dynamic run"
-WEAR_PANEL = "Wear and cost"
-MEASUREMENTS_PANEL = "Measurements file"
-EXECUTION_PANEL = "Execution"
-OUTPUT_PANEL = "Output"
-PANEL_ORDER = (
-    "Options",
-    REQUIREMENTS_PANEL,
-    SAMPLING_PANEL,
-    CONTACT_PANEL,
-    RUN_PANEL,
-    WEAR_PANEL,
-    MEASUREMENTS_PANEL,
-    EXECUTION_PANEL,
-    OUTPUT_PANEL,
-)
-#: The panel of an option by its name, on every command whose declaration names none (one
-#: grammar across commands: ``--settle`` is under "The dynamic run" wherever it appears).
-#: ``--method`` is not here: it names a contact method on the simulating commands (declared
-#: in the Contact panel) and a tolerance method on ``tolerance``.
-# fmt: off
-OPTION_PANELS = {
-    **dict.fromkeys(("--require", "--spec-limit", "--confidence"), REQUIREMENTS_PANEL),
-    **dict.fromkeys(
-        ("--samples", "--max-samples", "--seed", "--sampling", "--distribution", "--cpk",
-         "--truncate", "--rare-defects", "--clearances", "--corners", "--fd-step"),
-        SAMPLING_PANEL),
-    **dict.fromkeys(
-        ("--paper-method", "--ecs-source", "--contact", "--k", "--exponent", "--cmax",
-         "--depth", "--restitution", "--damping", "--stiffness-law", "--friction",
-         "--friction-law", "--clearance", "--joints", "--model-sensitivity"),
-        CONTACT_PANEL),
-    **dict.fromkeys(
-        ("--start", "--ramp-time", "--settle", "--revolutions", "--rtol", "--integrator",
-         "--max-step", "--output-step", "--sample-deg", "--experiment-revolutions"),
-        RUN_PANEL),
-    **dict.fromkeys(
-        ("--clearance-limit", "--table", "--wear-coefficient", "--hardness", "--hours",
-         "--update-hours"),
-        WEAR_PANEL),
-    **dict.fromkeys(
-        ("--measurements", "--column", "--quantity", "--unit", "--angle-column",
-         "--speed-column", "--angle-direction", "--angle-origin", "--crank-direction",
-         "--speed-positive"),
-        MEASUREMENTS_PANEL),
-    **dict.fromkeys(("--backend", "--workers", "--dask-scheduler"), EXECUTION_PANEL),
-    **dict.fromkeys(
-        ("--out", "--plots", "--progress", "--force", "--figure-format", "--json", "--format",
-         "--animation"),
-        OUTPUT_PANEL),
-}
-# fmt: on
-
-
-def option_panel(param: Any) -> str:
-    """The help panel of ``param`` (a Click parameter): its declared one, else the one of
-    :data:`OPTION_PANELS` for its long name, else Typer's "Options"."""
-    declared = getattr(param, "rich_help_panel", None)
-    if declared:
-        return str(declared)
-    names = [*getattr(param, "opts", ()), *getattr(param, "secondary_opts", ())]
-    return next((OPTION_PANELS[n] for n in names if n in OPTION_PANELS), "Options")
 
 
 def _options_in_panels() -> None:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 import re
 import shlex
 import sys
@@ -10,18 +9,15 @@ import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import AbstractContextManager, contextmanager, nullcontext
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any, TypeVar, cast
+from typing import Annotated, Any, TypeVar, cast
 
 import typer
 
 from jointplay import __version__
-from jointplay.cli._app import OUTPUT_PANEL, RUN_PANEL, WEAR_PANEL, current_argv
+from jointplay.cli._app import current_argv
+from jointplay.cli._panels import OUTPUT_PANEL, RUN_PANEL, WEAR_PANEL
 from jointplay.errors import ConfigError, Interrupted, PartialInterrupt
 from jointplay.io.output import hold_signals, release_signals
-from jointplay.units import parse_quantity
-
-if TYPE_CHECKING:
-    from jointplay.model.mechanism import Mechanism
 
 PresetOption = Annotated[
     str | None,
@@ -176,99 +172,6 @@ def maybe_output_dir(
     return output_dir(out, force=force, inputs=inputs)
 
 
-def mechanism_from_options(
-    preset: str | None,
-    config: Path | None,
-    rpm: str | None = None,
-    direction: str | None = None,
-    start_angle: str | None = None,
-    gravity: str | None = None,
-) -> Mechanism:
-    """Load the mechanism and apply command-line overrides (validated, SI inside)."""
-    from jointplay.io.config import load_mechanism
-    from jointplay.model.mechanism import check_start_angle
-
-    mechanism = load_mechanism(preset, config)
-    changes: dict[str, Any] = {}
-    if rpm is not None:
-        changes["speed"] = crank_speed(rpm)
-    if direction is not None:
-        if direction.lower() not in ("ccw", "cw"):
-            raise ConfigError(f"--direction must be ccw or cw, got {direction!r}")
-        changes["direction"] = 1 if direction.lower() == "ccw" else -1
-    if start_angle is not None:
-        changes["start_angle"] = check_start_angle(
-            parse_quantity(start_angle, "rad", field="--start-angle"), "--start-angle", start_angle
-        )
-    if changes:
-        mechanism = mechanism.with_driver(**changes)
-    if gravity is not None:
-        mechanism = mechanism.with_gravity(parse_gravity(gravity))
-    return mechanism
-
-
-#: The fastest crank speed the command line accepts, rev/min (beyond it: a typo).
-MAX_RPM = 1e6
-
-
-def quantity_option(
-    text: str, unit: str, option: str, *, example: str, positive: bool = False
-) -> float:
-    """A quantity option (``--hours "600 h"``, ``--step "1 deg"``) in the SI unit ``unit``.
-
-    The one parser of quantity options: the value must carry a unit (README, "Units and
-    conventions"); a bare number is refused with a message that shows the form, e.g.
-    ``--hours: '600' has no unit; write it with one, e.g. "600 h"``.
-
-    Args:
-        text: the option's value.
-        unit: the SI unit to convert to (``"s"``, ``"rad"``, ``"rad/s"``, ...).
-        option: the option's name, for messages.
-        example: the unit shown in the message's example (``"h"``, ``"deg"``, ``"rpm"``).
-        positive: refuse zero and negative values.
-
-    Raises:
-        ConfigError: no unit, an unknown unit, the wrong dimension, or not positive.
-    """
-    value = parse_quantity(text, unit, field=option, example=example)
-    if positive and not value > 0:
-        raise ConfigError(f"{option} must be positive, got {text!r}")
-    return value
-
-
-def crank_speed(rpm: str) -> float:
-    """``--rpm`` in rad/s: a crank speed with a unit (``"200 rpm"``, ``"20.9 rad/s"``),
-    positive and at most :data:`MAX_RPM` rev/min.
-
-    Raises:
-        ConfigError: a bare number, another dimension, or a speed out of range.
-    """
-    speed = quantity_option(rpm, "rad/s", "--rpm", example="rpm")
-    if not 0 < speed <= MAX_RPM * math.pi / 30.0:
-        raise ConfigError(
-            f"--rpm must be a positive crank speed up to {MAX_RPM:g} rpm, got {rpm!r}"
-        )
-    return speed
-
-
-def parse_gravity(text: str) -> tuple[float, float]:
-    """``--gravity``: ``off``, ``on`` (9.80665 m/s² towards -y) or a magnitude towards -y,
-    at most :data:`jointplay.model.mechanism.MAX_GRAVITY` (1000 m/s²).
-
-    Raises:
-        ConfigError: not a quantity of acceleration, or beyond the bound.
-    """
-    from jointplay.model.mechanism import check_gravity
-
-    value = text.strip().lower()
-    if value in ("off", "none", "0"):
-        return (0.0, 0.0)
-    if value == "on":
-        return (0.0, -9.80665)
-    magnitude = abs(parse_quantity(text, "m/s^2", field="--gravity"))
-    return check_gravity((0.0, -magnitude), "--gravity", text)
-
-
 def provenance(configuration: Any) -> dict[str, Any]:
     """Version, full resolved configuration and command line, for result files."""
     return {
@@ -294,24 +197,6 @@ def choice(text: str, option: str, choices: Iterable[str]) -> str:
 MAX_SAMPLES = 10_000_000
 #: The most local worker processes.
 MAX_WORKERS = 1024
-#: The most crank revolutions simulated (analysed plus start-up) per simulation: a
-#: four-bar at 200 rpm runs ~100 revolutions a second on one core, so 10 000 take minutes
-#: per simulation and the integrator's step budget runs out beyond.
-MAX_REVOLUTIONS = 10_000
-
-
-def check_revolutions(revolutions: float, settle: int = 0, option: str = "--revolutions") -> None:
-    """Refuse revolutions that are not > 0, and revolutions plus ``settle`` beyond
-    :data:`MAX_REVOLUTIONS`, naming ``option``."""
-    from jointplay.dynamics.cycles import analysed_revolutions, settle_revolutions
-
-    analysed_revolutions(revolutions, option)
-    settle_revolutions(settle, "--settle")
-    if revolutions + settle > MAX_REVOLUTIONS:
-        raise ConfigError(
-            f"{option} {revolutions:g}{f' with --settle {settle}' if settle else ''} is more than "
-            f"{MAX_REVOLUTIONS} revolutions per simulation; ask for fewer"
-        )
 
 
 def check_figure_format(text: str) -> str:

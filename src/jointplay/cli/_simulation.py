@@ -1,18 +1,18 @@
 """The options and settings shared by the commands that simulate the clearance dynamics
 (``simulate``, ``animate``, ``tolerance``, ``design``, ``wear``, ``calibrate``, ``compare``):
-one declaration of each option, one reader of each value. :func:`contact_model` turns the
-contact options (or the ``[simulation]`` keys of the same names) into the
-:class:`~jointplay.dynamics.setup.ContactModel` the layers below take."""
+one declaration of each option, and the :class:`~jointplay.dynamics.settings.RunSettings` of
+their values. The values are read by :mod:`jointplay.settings.simulation` (the contact model
+of the contact options, or of the ``[simulation]`` keys of the same names), which
+``jointplay explore`` reads them with too."""
 
 from __future__ import annotations
 
-import math
 from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from jointplay.cli._app import CONTACT_PANEL, RUN_PANEL
-from jointplay.errors import ConfigError
+from jointplay.cli._panels import CONTACT_PANEL, RUN_PANEL
+from jointplay.settings.simulation import finite_number
 
 if TYPE_CHECKING:  # the dynamics import Numba: loaded when a command runs
     from jointplay.dynamics.settings import RunSettings
@@ -140,13 +140,6 @@ IntegratorOption = Annotated[
     ),
 ]
 
-#: Options that set the contact law (refused together with --method).
-CONTACT_KEYS = ("contact", "k", "exponent", "cmax", "depth", "damping", "stiffness_law")
-#: Every contact option, by its key in ``values`` (and in ``[simulation]``).
-CONTACT_OPTIONS = (
-    *CONTACT_KEYS, "restitution", "friction", "friction_law", "lubricant_viscosity", "film_damping",
-    "method", "ecs_source",
-)  # fmt: skip
 #: The option of each setting that the layers below name in their errors
 #: (:class:`~jointplay.errors.SettingError`) and in the diagnostics' advice
 #: (:meth:`~jointplay.dynamics.diagnostics.Diagnostic.named`): the command line shows these
@@ -193,42 +186,6 @@ SETTING_OPTIONS = {
 }
 
 
-def contact_model(
-    values: dict[str, Any], mechanism: Any, method_option: str = "--method"
-) -> ContactModel:
-    """The :class:`~jointplay.dynamics.setup.ContactModel` of the contact options in
-    ``values`` (strings with units, ``None`` or absent where not given): the physical default
-    without any; ``--method`` one of the paper's six (frictionless and dry unless --friction,
-    --lubricant-viscosity, --film-damping)."""
-    from jointplay.dynamics.setup import (
-        DEFAULT_FRICTION,
-        ContactModel,
-        FrictionSettings,
-        contact_from_strings,
-    )
-
-    law, record = method_law_of(values, mechanism, method_option)
-    friction = FrictionSettings(
-        law=str(values.get("friction_law") or "ambrosio"),
-        coefficient=finite_number(values, "friction", 0.0 if law is not None else DEFAULT_FRICTION),
-    )
-    film, viscosity = values.get("film_damping"), values.get("lubricant_viscosity")
-    if film is not None and viscosity is not None:
-        raise ConfigError(
-            "--film-damping fixes the film's damping and --lubricant-viscosity derives it from "
-            "the joints' geometry: give one of the two"
-        )
-    if law is not None:
-        return ContactModel(
-            friction=friction, law=law, method=str(values["method"]), record=record,
-            film_damping=film, lubricant_viscosity=viscosity,
-        )  # fmt: skip
-    return ContactModel(
-        settings=contact_from_strings(values), friction=friction, film_damping=film,
-        lubricant_viscosity=viscosity,
-    )  # fmt: skip
-
-
 def run_settings(
     contact: ContactModel,
     *,
@@ -240,8 +197,8 @@ def run_settings(
 ) -> RunSettings:
     """The :class:`~jointplay.dynamics.settings.RunSettings` of a simulating command, built
     once from its options (``None``: not given, the default): the contact of
-    :func:`contact_from_options`, ``--start`` (and ``--ramp-time``, s), ``--settle``,
-    ``--revolutions`` and ``--rtol``. Its checks raise SettingErrors that name settings;
+    :func:`~jointplay.settings.simulation.contact_from_options`, ``--start`` (and
+    ``--ramp-time``, s), ``--settle``, ``--revolutions`` and ``--rtol``. Its checks raise SettingErrors that name settings;
     the command line shows their options (:data:`SETTING_OPTIONS`)."""
     from jointplay.dynamics.settings import RunSettings
     from jointplay.dynamics.simulate import SolverOptions, Start
@@ -298,75 +255,3 @@ def run_settings_of(
         revolutions=revolutions,
         solver=solver,
     )
-
-
-def contact_from_options(
-    config: Any, mechanism: Any, method_option: str = "--method", **given: Any
-) -> ContactModel:
-    """:func:`contact_model` of the contact options ``given`` (``None``: not given) over the
-    same keys of the ``[simulation]`` table of the ``config`` file (a path or ``None``);
-    ``method_option``: the name of ``method`` on this command."""
-    from jointplay.io.config import simulation_settings
-
-    table = simulation_settings(config)
-    unknown = set(given) - set(CONTACT_OPTIONS)
-    if unknown:
-        raise TypeError(f"not contact options: {sorted(unknown)}")
-    values = {key: table[key] for key in CONTACT_OPTIONS if key in table}
-    values.update({key: value for key, value in given.items() if value is not None})
-    return contact_model(values, mechanism, method_option)
-
-
-def method_law_of(
-    values: dict[str, Any], mechanism: Any, method_option: str = "--method"
-) -> tuple[Any, dict[str, Any] | None]:
-    """The contact law of ``--method`` (None without one) and its parameter record;
-    ``method_option``: the option's name on this command, for messages."""
-    from jointplay.study.methods import PAPER_RESTITUTION, method_law
-
-    name = values.get("method")
-    if name is None:
-        if values.get("ecs_source") is not None:
-            raise ConfigError(
-                f"--ecs-source applies to the paper's ECS methods: give {method_option} too"
-            )
-        return None, None
-    clash = [key for key in CONTACT_KEYS if values.get(key) is not None]
-    if clash:
-        options = ", ".join("--" + key.replace("_", "-") for key in clash)
-        raise ConfigError(
-            f"{method_option} sets the contact law and its parameters; drop {options} or drop "
-            f"{method_option}"
-        )
-    restitution = values.get("restitution")
-    return method_law(
-        str(name),
-        mechanism,
-        ecs_source=str(values.get("ecs_source", "computed")),
-        restitution=PAPER_RESTITUTION
-        if restitution is None
-        else finite_number(values, "restitution", 0.0),
-    )
-
-
-def finite_number(values: dict[str, Any], key: str, default: float) -> float:
-    """``values[key]`` (a CLI option or a ``[simulation]`` entry) as a finite float."""
-    value = values.get(key)
-    value = default if value is None else value
-    option = "--" + key.replace("_", "-")
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        raise ConfigError(f"{option} must be a number, got {value!r}")
-    if not math.isfinite(value):
-        raise ConfigError(f"{option} must be a finite number, got {value!r}")
-    return float(value)
-
-
-def joint_list(value: Any) -> list[str] | None:
-    """``--joints`` (or ``[simulation] joints``) as a list of joint names (None: not given)."""
-    if value is None:
-        return None
-    names = value if isinstance(value, list) else str(value).split(",")
-    names = [str(n).strip() for n in names if str(n).strip()]
-    if not names:
-        raise ConfigError("--joints is empty; give e.g. O2,A,B,O4")
-    return names

@@ -21,7 +21,6 @@ from jointplay.cli._common import (
     RpmOption,
     StartAngleOption,
     compiling_kernels,
-    mechanism_from_options,
     status,
 )
 from jointplay.cli._simulation import (
@@ -45,11 +44,11 @@ from jointplay.cli._simulation import (
     StiffnessLawOption,
     StiffnessOption,
     ViscosityOption,
-    contact_model,
-    joint_list,
     run_settings_of,
 )
 from jointplay.errors import ConfigError
+from jointplay.settings.mechanism import mechanism_from_options
+from jointplay.settings.simulation import contact_model, joint_list
 
 
 def _opt(help_text: str, *names: str, **kwargs: Any) -> Any:

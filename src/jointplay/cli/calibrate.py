@@ -215,7 +215,6 @@ def calibrate_command(
     See docs/calibration.md.
     """
     figure_format = check_figure_format(figure_format)
-    from jointplay.cli._common import mechanism_from_options
     from jointplay.dynamics.cycles import settle_revolutions
     from jointplay.dynamics.setup import contact_from_strings
     from jointplay.io.config import simulation_settings
@@ -223,6 +222,7 @@ def calibrate_command(
     from jointplay.io.measurements import DIRECTIONS, SPEED_UNITS, MeasurementConventions
     from jointplay.io.output import json_text, output_dir
     from jointplay.model.summary import mechanism_summary
+    from jointplay.settings.mechanism import mechanism_from_options
     from jointplay.study import calibration as cal
 
     angular = quantity.startswith("omega")

@@ -37,12 +37,12 @@ from jointplay.cli._common import (
     choice,
     compiling_kernels,
     maybe_output_dir,
-    mechanism_from_options,
     provenance,
     status,
     whole_headers,
 )
 from jointplay.errors import ConfigError
+from jointplay.settings.mechanism import mechanism_from_options
 from jointplay.units import parse_quantity
 
 if TYPE_CHECKING:

@@ -13,15 +13,7 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal
 import typer
 from rich.console import Console
 
-from jointplay.cli._app import (
-    EXECUTION_PANEL,
-    OUTPUT_PANEL,
-    REQUIREMENTS_PANEL,
-    RUN_PANEL,
-    SAMPLING_PANEL,
-    WEAR_PANEL,
-    app,
-)
+from jointplay.cli._app import app
 from jointplay.cli._common import (
     MAX_SAMPLES,
     MAX_WORKERS,
@@ -37,15 +29,21 @@ from jointplay.cli._common import (
     SettleOption,
     WearCoefficientOption,
     check_figure_format,
-    check_revolutions,
     choice,
     compiling_kernels,
-    mechanism_from_options,
     provenance,
     run_study,
     study_kept,
     whole_headers,
     writing_study,
+)
+from jointplay.cli._panels import (
+    EXECUTION_PANEL,
+    OUTPUT_PANEL,
+    REQUIREMENTS_PANEL,
+    RUN_PANEL,
+    SAMPLING_PANEL,
+    WEAR_PANEL,
 )
 from jointplay.cli._simulation import (
     SETTING_OPTIONS,
@@ -64,7 +62,6 @@ from jointplay.cli._simulation import (
     StiffnessLawOption,
     StiffnessOption,
     ViscosityOption,
-    contact_from_options,
     run_settings,
 )
 from jointplay.cli.tolerance import (
@@ -72,6 +69,8 @@ from jointplay.cli.tolerance import (
     backend_from_options,
 )
 from jointplay.errors import ConfigError, JointplayError
+from jointplay.settings.mechanism import mechanism_from_options
+from jointplay.settings.simulation import check_revolutions, contact_from_options
 from jointplay.units import parse_quantity
 
 if TYPE_CHECKING:

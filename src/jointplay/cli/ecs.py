@@ -31,12 +31,11 @@ from jointplay.cli._common import (
     check_figure_format,
     choice,
     maybe_output_dir,
-    mechanism_from_options,
     provenance,
-    quantity_option,
     whole_headers,
 )
 from jointplay.errors import ConfigError
+from jointplay.settings.mechanism import mechanism_from_options, quantity_option
 from jointplay.units import parse_quantity
 
 if TYPE_CHECKING:

@@ -22,13 +22,12 @@ from jointplay.cli._common import (
     RpmOption,
     StartAngleOption,
     check_figure_format,
-    mechanism_from_options,
     provenance,
-    quantity_option,
     whole_headers,
 )
 from jointplay.cli._simulation import SETTING_OPTIONS
 from jointplay.errors import ConfigError
+from jointplay.settings.mechanism import mechanism_from_options, quantity_option
 
 console = Console()
 

@@ -29,11 +29,11 @@ from jointplay.cli._common import (
     OutOption,
     ProgressOption,
     check_figure_format,
-    check_revolutions,
-    crank_speed,
     provenance,
 )
 from jointplay.errors import ConfigError
+from jointplay.settings.mechanism import crank_speed
+from jointplay.settings.simulation import check_revolutions
 
 
 @app.command("paper")

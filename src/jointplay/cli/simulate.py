@@ -24,11 +24,8 @@ from jointplay.cli._common import (
     RpmOption,
     StartAngleOption,
     check_figure_format,
-    check_revolutions,
     compiling_kernels,
-    mechanism_from_options,
     provenance,
-    quantity_option,
     status,
     whole_headers,
 )
@@ -54,12 +51,16 @@ from jointplay.cli._simulation import (
     StiffnessLawOption,
     StiffnessOption,
     ViscosityOption,
-    contact_model,
-    finite_number,
-    joint_list,
     run_settings_of,
 )
 from jointplay.errors import ConfigError
+from jointplay.settings.mechanism import mechanism_from_options, quantity_option
+from jointplay.settings.simulation import (
+    check_revolutions,
+    contact_model,
+    finite_number,
+    joint_list,
+)
 from jointplay.units import parse_quantity
 
 console = Console(stderr=True)
@@ -146,6 +147,7 @@ def simulate_command(
     per-revolution statistics, periodicity, diagnostics, solver statistics, provenance) and
     PNG plots. Options override the [simulation] table of a --config file.
     """
+    from jointplay.dynamics import diagnostics as dg
     from jointplay.dynamics.settings import simulate_run
     from jointplay.dynamics.simulate import check_outputs
     from jointplay.io.config import simulation_settings
@@ -215,7 +217,7 @@ def simulate_command(
                 "method": contact_used.record,
             }
         )
-        findings = _diagnostics(result, mechanism)
+        findings = dg.simulation_findings(result.diagnostics, mechanism)
         write_table(result.timeseries, folder, "timeseries", fmt_value)
         write_table(result.steps, folder, "steps", fmt_value)
         summary = simulation_summary(result, record)
@@ -247,14 +249,6 @@ def simulate_command(
             )
     print(f"contact: {contact_used.describe()['text']}")
     _print(result, findings, Path(out))
-
-
-def _diagnostics(result: Any, mechanism: Any) -> list[Any]:
-    """The simulation's diagnostics and the mechanism's own (its transmission angle), once
-    each, warnings first."""
-    from jointplay.dynamics import diagnostics as dg
-
-    return dg.collect([*result.diagnostics, dg.check_transmission_angle(mechanism)])
 
 
 #: Slider columns of a slider-crank's results and how the console table names them.

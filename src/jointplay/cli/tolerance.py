@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 from rich.console import Console
 
-from jointplay.cli._app import EXECUTION_PANEL, app
+from jointplay.cli._app import app
 from jointplay.cli._common import (
     MAX_SAMPLES,
     MAX_WORKERS,
@@ -26,16 +26,14 @@ from jointplay.cli._common import (
     ProgressOption,
     RpmOption,
     check_figure_format,
-    check_revolutions,
     compiling_kernels,
-    crank_speed,
-    parse_gravity,
     provenance,
     run_study,
     study_kept,
     whole_headers,
     writing_study,
 )
+from jointplay.cli._panels import EXECUTION_PANEL
 from jointplay.cli._simulation import (
     SETTING_OPTIONS,
     CmaxOption,
@@ -52,10 +50,11 @@ from jointplay.cli._simulation import (
     StiffnessLawOption,
     StiffnessOption,
     ViscosityOption,
-    contact_from_options,
     run_settings,
 )
 from jointplay.errors import ConfigError
+from jointplay.settings.mechanism import crank_speed, parse_gravity
+from jointplay.settings.simulation import check_revolutions, contact_from_options
 from jointplay.units import parse_quantity
 
 if TYPE_CHECKING:

@@ -25,9 +25,7 @@ from jointplay.cli._common import (
     WearCoefficientOption,
     check_figure_format,
     compiling_kernels,
-    mechanism_from_options,
     provenance,
-    quantity_option,
 )
 from jointplay.cli._simulation import (
     CmaxOption,
@@ -44,9 +42,10 @@ from jointplay.cli._simulation import (
     StiffnessLawOption,
     StiffnessOption,
     ViscosityOption,
-    contact_from_options,
 )
 from jointplay.errors import ConfigError
+from jointplay.settings.mechanism import mechanism_from_options, quantity_option
+from jointplay.settings.simulation import contact_from_options
 
 console = Console(highlight=False, soft_wrap=True)
 

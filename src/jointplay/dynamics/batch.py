@@ -49,6 +49,7 @@ from numpy.typing import NDArray
 
 from jointplay._kernels import batch as kb
 from jointplay._kernels import ids
+from jointplay._kernels.capabilities import engine_of, refusal
 from jointplay.dynamics.batch_inputs import BatchProblem, BatchSamples, build_batch
 from jointplay.dynamics.batch_method import (
     EXPLICIT_TOLERANCE_SCALE,
@@ -371,31 +372,14 @@ def implicit_only_options(clearances: Sequence[ClearanceJoint]) -> list[str]:
 
 
 def _check_implicit_only(options: Sequence[str], method: str, runner: Any) -> None:
-    """The sustained-contact mode and film damping (``options``, setting names:
-    :func:`implicit_only_options`) run on the implicit lanes only: the sustained-contact mode
-    on the CPU backends (the single engine's Radau integration and hooks), film damping there
-    and on the ``cuda`` backend's implicit lanes (the JAX ``gpu`` backend has none): refuse
-    the rest, saying what to do."""
-    if not options:
-        return
-    named = " and ".join(f"{{{option}}}" for option in options)
-    if method == "explicit":
-        raise SettingError(
-            "the explicit lanes integrate compliant contacts only (no sustained contact, no "
-            f"film damping): {named} needs the implicit method; give method 'implicit' or "
-            "'auto', or turn it off"
-        )
-    refused = options
-    if runner.kind == "cuda":  # its implicit lanes run the film
-        refused = [option for option in options if option != "film_damping"]
-    if refused and (runner.on_device or runner.kind == "cuda"):
-        named = " and ".join(f"{{{option}}}" for option in refused)
-        also = ", film damping also on the cuda backend" if "film_damping" in refused else ""
-        raise SettingError(
-            "the GPU backends integrate compliant contacts only (no sustained contact; film "
-            f"damping on the cuda backend's implicit lanes only): {named} runs on the CPU "
-            f"backends (local, threads, processes, dask){also}; choose one, or turn it off"
-        )
+    """Refuse the sustained-contact mode and film damping (``options``, setting names:
+    :func:`implicit_only_options`) where the engine that ``runner``'s backend runs for
+    ``method`` does not integrate them (:func:`jointplay._kernels.capabilities.refusal`:
+    the explicit lanes neither, the cuda backend's implicit lanes no sustained contact, the
+    JAX ``gpu`` backend neither), saying where they run."""
+    message = refusal(engine_of(runner.kind, method), options, named=lambda n: f"{{{n}}}")
+    if message is not None:
+        raise SettingError(message)
 
 
 def simulate_batch(

@@ -470,6 +470,14 @@ def collect(findings: Sequence[Diagnostic | None]) -> list[Diagnostic]:
     return sorted(seen.values(), key=lambda d: (d.level != "warning", d.code, d.joint or ""))
 
 
+def simulation_findings(
+    diagnostics: Sequence[Diagnostic], mechanism: Mechanism
+) -> list[Diagnostic]:
+    """A simulation's ``diagnostics`` and the mechanism's own (its transmission angle), once
+    each, warnings first: what ``jointplay simulate`` and ``jointplay explore`` report."""
+    return collect([*diagnostics, check_transmission_angle(mechanism)])
+
+
 def as_records(diagnostics: Sequence[Diagnostic]) -> list[Mapping[str, Any]]:
     """JSON-ready records ``{"level", "code", "joint", "value", "limit", "message"}``."""
     return [d.as_dict() for d in diagnostics]

@@ -3,10 +3,10 @@ public API, turned into what the page draws; and the download, written by the co
 
 :func:`simulate_settings` writes the page's settings as a configuration file and reads it back
 as ``jointplay simulate --config`` does (the same mechanism loader, ``[simulation]`` reader,
-contact model and joint list), then calls :func:`jointplay.simulate` with the command's
-defaults. :func:`view` takes the drawing from :func:`jointplay.report.animation.mechanism_frames`
-(the ``animate`` command's geometry) and the numbers from :meth:`SimulationResult.summary`,
-the body of ``summary.json``. :func:`download` runs ``jointplay simulate`` itself on that
+contact model and joint list, of :mod:`jointplay.settings`, which the commands read with),
+then calls :func:`jointplay.simulate` with the command's defaults. :func:`view` takes the
+drawing from :func:`jointplay.report.animation.mechanism_frames` (the ``animate`` command's
+geometry) and the numbers from :meth:`SimulationResult.summary`, the body of ``summary.json``. :func:`download` runs ``jointplay simulate`` itself on that
 configuration, so its summary.json and CSV files are the command's own.
 """
 
@@ -93,11 +93,16 @@ class Run:
 def simulate_settings(base: Base, settings: Settings) -> Run:
     """Simulate ``settings`` as ``jointplay simulate --config settings.toml`` does."""
     from jointplay import SolverOptions, Start, simulate
-    from jointplay.cli._common import check_revolutions, mechanism_from_options
-    from jointplay.cli._simulation import contact_model, finite_number, joint_list
-    from jointplay.cli.simulate import _diagnostics
+    from jointplay.dynamics.diagnostics import simulation_findings
     from jointplay.dynamics.simulate import preferred_integrator
     from jointplay.io.config import simulation_settings
+    from jointplay.settings.mechanism import mechanism_from_options
+    from jointplay.settings.simulation import (
+        check_revolutions,
+        contact_model,
+        finite_number,
+        joint_list,
+    )
 
     with tempfile.TemporaryDirectory(prefix="jointplay-explore-") as folder:
         path = Path(folder) / "settings.toml"
@@ -155,7 +160,7 @@ def simulate_settings(base: Base, settings: Settings) -> Run:
         _NOMINAL[key] = result.nominal
         while len(_NOMINAL) > NOMINAL_CACHE:
             _NOMINAL.pop(next(iter(_NOMINAL)))
-    return Run(result, mechanism, described, _diagnostics(result, mechanism))
+    return Run(result, mechanism, described, simulation_findings(result.diagnostics, mechanism))
 
 
 def _over_budget(error: Exception, seconds: float) -> ConfigError | None:

@@ -76,6 +76,7 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
+from jointplay._kernels.capabilities import engine_of, refusal
 from jointplay.errors import ConfigError, PartialInterrupt
 from jointplay.model.mechanism import Mechanism
 
@@ -559,13 +560,17 @@ def _response_model(
     kinematic = kinematic_model(mechanism, lengths) if lengths and mixed else None
     need_trajectories = trajectory_requirements(parsed)
     if need_trajectories:
-        if backend is not None and backend.on_device:
-            raise ConfigError(
-                f"backend {backend.kind}: {', '.join(repr(t) for t in need_trajectories)} need(s) each "
-                "sample's trajectory, which the GPU's batch engine does not keep (it gives "
-                "peaks: omega, alpha, forces, torque, joint_force, contact_pressure); use "
-                "local, processes or dask"
-            )
+        refused = backend is not None and refusal(
+            engine_of(backend.kind, "single"),
+            ["trajectories"],
+            named=lambda _: (
+                f"{', '.join(repr(t) for t in need_trajectories)} (each sample's "
+                "trajectory; the batch engine gives peaks: omega, alpha, forces, torque, "
+                "joint_force, contact_pressure)"
+            ),
+        )
+        if refused and backend is not None:
+            raise ConfigError(f"backend {backend.kind}: {refused}")
         return RunningResponses(
             base,
             OutputSpeedReference.of(mechanism),

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from jointplay._kernels.capabilities import engine_of, refusal
 from jointplay.dynamics.cycles import DEFAULT_SETTLE, analysed_revolutions, settle_revolutions
 from jointplay.errors import ConfigError, PartialInterrupt, SettingError
 from jointplay.execution.backends import Backend
@@ -136,12 +137,14 @@ class DynamicResponses:
         object.__setattr__(self, "fixed_clearances", dict(self.fixed_clearances))
         object.__setattr__(self, "stiffness_from", dict(self.stiffness_from))
         object.__setattr__(self, "film_from", dict(self.film_from))
-        if self.backend.kind == "gpu" and (self.film_damping > 0 or self.film_from):
-            raise SettingError(
-                "the gpu backend (JAX) integrates dry joints only: the pins' lubricant film "
-                "runs on the CPU backends (local, processes, dask); choose one, or run the "
-                "joints dry with {lubricant_viscosity} 0"
+        if self.backend.on_device and (self.film_damping > 0 or self.film_from):
+            refused = refusal(
+                engine_of(self.backend.kind, self.method),
+                ["film_damping"],
+                named=lambda _: "the pins' lubricant film ({lubricant_viscosity})",
             )
+            if refused is not None:
+                raise SettingError(refused)
         if not isinstance(self.law, ContactLaw):
             raise ConfigError(
                 f"dynamic responses: law must be a ContactLaw instance, got {type(self.law).__name__}"

@@ -24,7 +24,8 @@ Per lane (module docstring of :mod:`jointplay._kernels.eom` for the physics):
 
 Every normal-force law id (IMPACT, Hertz, Kelvin–Voigt, the Hunt–Crossley family 3–11) and
 friction id (none, Ambrósio, ADAMS) of :mod:`jointplay._kernels.contact` is ported; an unknown
-id is refused when the layout is read (:class:`~jointplay.errors.ConfigError`), where the
+id is refused when the layout is read (:class:`~jointplay.errors.ConfigError`, the message of
+:func:`jointplay._kernels.capabilities.refusal`), where the
 Numba kernel would return NaN. Symmetric positive definite solves use an unrolled Cholesky
 factorisation (the Numba right-hand side does the same; its projection uses an LU solve,
 equal to round-off).
@@ -39,6 +40,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from jointplay._kernels import eom, ids
+from jointplay._kernels.capabilities import refusal
 from jointplay.errors import ConfigError
 
 Scalar = Any  # a traced float64 scalar (one lane)
@@ -156,18 +158,14 @@ def read_layout(ipar: np.ndarray, rpar: np.ndarray) -> Layout:
             "the lanes of a batch must drive the same body (rpar's driver[0] differs between "
             "lanes); split the batch by mechanism"
         )
-    for c, law in enumerate(ints["law_id"]):
-        if int(law) not in NORMAL_LAWS:
-            raise ConfigError(
-                f"clearance joint {c}: normal-force law id {int(law)} is not ported to JAX "
-                f"(known ids: {sorted(NORMAL_LAWS)}); use the CPU backend"
-            )
-    for c, fric in enumerate(ints["fric_id"]):
-        if int(fric) not in FRICTION_LAWS:
-            raise ConfigError(
-                f"clearance joint {c}: friction law id {int(fric)} is not ported to JAX "
-                f"(known ids: {sorted(FRICTION_LAWS)}); use the CPU backend"
-            )
+    for kind, joint_ids, names in (
+        ("law", ints["law_id"], NORMAL_LAWS),
+        ("friction", ints["fric_id"], FRICTION_LAWS),
+    ):  # the laws the port knows, by their names in the engines' table (an unknown id: none)
+        for c, law in enumerate(joint_ids):
+            refused = refusal("jax", [f"{kind}:{names.get(int(law), f'id {int(law)}')}"])
+            if refused is not None:
+                raise ConfigError(f"clearance joint {c}: {refused}")
     joint_int = ints["joint_int"].reshape(-1, 3)
     return Layout(
         n=n,

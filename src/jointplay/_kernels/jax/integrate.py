@@ -38,8 +38,8 @@ largest penetrations live in the loop carry.
 
 **Peaks and statistics over [t_settle, t_end]**: the PEAK RULE of
 :mod:`jointplay._kernels.batch` (its constants ``REFINE_MARGIN``, ``REFINE_POINTS`` and, for
-the explicit method, the dense output ``DENSE`` are imported from there, so both backends
-apply one rule). The window opens at t_settle (a step lands there; at t = 0 when t_settle is
+the explicit method, the dense output ``DENSE`` are imported from the backends' shared
+:mod:`jointplay._kernels.lanes.contract`, so both backends apply one rule). The window opens at t_settle (a step lands there; at t = 0 when t_settle is
 0) with the quantities there; each later accepted step adds its end point (state after
 ``after_step``) to the running peaks, the trapezoidal sums of ω and ω² and the largest
 penetrations, and, when a triggering quantity's end values come within ``REFINE_MARGIN`` of
@@ -65,7 +65,6 @@ import jax.scipy.linalg as jsl
 import numpy as np
 from jax import lax
 
-from jointplay._kernels.batch import DENSE, REFINE_MARGIN, REFINE_POINTS
 from jointplay._kernels.ids import (
     EPS,
     STATUS_NON_FINITE,
@@ -75,6 +74,7 @@ from jointplay._kernels.ids import (
     STATUS_TOO_MANY_STEPS,
 )
 from jointplay._kernels.jax.eom import PRISMATIC, JaxModel
+from jointplay._kernels.lanes.contract import DENSE, REFINE_MARGIN, REFINE_POINTS
 
 #: Consecutive contact-onset retries of one step after which it is accepted (radau's).
 MAX_CHECK_REJECTIONS = 64

@@ -12,5 +12,7 @@
 - :mod:`~jointplay._kernels.lanes.cuda_kernel`, :mod:`~jointplay._kernels.lanes.cuda`: the
   CUDA kernel, one thread per lane, and its ``run_batch`` (experimental: built and tested on
   numba-cuda's simulator, not yet measured on a GPU); :mod:`~jointplay._kernels.lanes.limits`
-  the sizes of its per-thread arrays.
+  the sizes of its per-thread arrays and whether the simulator runs (read by both);
+- :mod:`~jointplay._kernels.lanes.contract`: :class:`BatchKernelOutput`, what every batch
+  kernel returns (the CPU engine, the CUDA lanes and the JAX backend).
 """

@@ -24,6 +24,7 @@ import numpy as np
 import numpy.typing as npt
 
 from jointplay._kernels import ids
+from jointplay._kernels.capabilities import refusal
 from jointplay._kernels.lanes import source, source_radau
 
 __all__ = [
@@ -154,20 +155,18 @@ def lanes_refusal(
     ipar: npt.NDArray[np.int64], rpar: npt.NDArray[np.float64], method: str
 ) -> str | None:
     """Why the lanes of the single source of ``method`` (``"explicit"`` or ``"implicit"``)
-    cannot run these lanes, or ``None``: they cover every mechanism outside the contact
-    options of :mod:`eom` they do not implement: the sustained-contact mode (neither
-    method), film damping (the implicit method only: at a c_e of the order of 1e5 N·s/m the
-    film's time constant m/c_e is microseconds, and an explicit method's steps with it)."""
+    cannot run these lanes, or ``None`` (:func:`jointplay._kernels.capabilities.refusal` of
+    what they need): they cover every mechanism outside the contact options of :mod:`eom`
+    they do not implement: the sustained-contact mode (neither method), film damping (the
+    implicit method only: at a c_e of the order of 1e5 N·s/m the film's time constant m/c_e
+    is microseconds, and an explicit method's steps with it)."""
     lay = lane_layout(ipar)
     nc = int(lay[source.LY_NC])
     start = int(lay[source.LY_GEOM])
     geom = np.atleast_2d(rpar)[:, start : start + ids.N_GEOM * nc]
+    needs = []
     if np.any(geom[:, ids.G_CAPTURE :: ids.N_GEOM] > 0.0):
-        return "the lanes of the single source have no sustained-contact mode yet"
-    if method != "implicit" and np.any(geom[:, ids.G_FILM :: ids.N_GEOM] > 0.0):
-        return (
-            "the explicit lanes of the single source do not integrate film damping (stiff: "
-            "the film's time constant m/c_e would make their steps microseconds); the implicit "
-            "method runs it"
-        )
-    return None
+        needs.append("sustained_contact")
+    if np.any(geom[:, ids.G_FILM :: ids.N_GEOM] > 0.0):
+        needs.append("film_damping")
+    return refusal("lanes-explicit" if method != "implicit" else "lanes-implicit", needs)

@@ -1,10 +1,10 @@
 """The batch engine on NVIDIA GPUs through numba-cuda: one thread per lane (experimental).
 
 :func:`run_batch` has the batch-kernel contract of :func:`jointplay._kernels.batch.run_batch`
-(arguments, :class:`~jointplay._kernels.batch.BatchKernelOutput`, a failed lane's NaN peaks
-and statistics): each GPU thread runs one lane of the explicit method, or of the implicit one
-(Radau IIA, :mod:`jointplay._kernels.lanes.source_radau`, its Newton matrices' LU in the
-thread's local memory), compiled from the same source as the CPU lanes
+(arguments, :class:`~jointplay._kernels.lanes.contract.BatchKernelOutput`, a failed lane's
+NaN peaks and statistics): each GPU thread runs one lane of the explicit method, or of the
+implicit one (Radau IIA, :mod:`jointplay._kernels.lanes.source_radau`, its Newton matrices'
+LU in the thread's local memory), compiled from the same source as the CPU lanes
 (:mod:`jointplay._kernels.lanes.source`), in float64. Built and
 tested on numba-cuda's CUDA simulator (``NUMBA_ENABLE_CUDASIM=1``, set before numba is
 imported), where it gives the CPU lanes' results; not yet measured on a GPU.
@@ -33,7 +33,6 @@ GPU, :func:`run_batch` raises :class:`~jointplay.errors.ConfigError` saying what
 
 from __future__ import annotations
 
-import os
 import threading
 import time
 from collections.abc import Iterator
@@ -43,14 +42,18 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from jointplay._kernels.batch import BatchKernelOutput
-from jointplay._kernels.ids import (
-    STATUS_RUNNING,
-    STATUS_SUCCESS,
-)
+from jointplay._kernels.ids import STATUS_RUNNING, STATUS_SUCCESS
 from jointplay._kernels.lanes import source
 from jointplay._kernels.lanes.build import lane_layout, lanes_refusal
-from jointplay._kernels.lanes.limits import MAX_CLEAR, MAX_COORDS, MAX_Q, MAX_ROWS, MAX_STATE
+from jointplay._kernels.lanes.contract import BatchKernelOutput
+from jointplay._kernels.lanes.limits import (
+    MAX_CLEAR,
+    MAX_COORDS,
+    MAX_Q,
+    MAX_ROWS,
+    MAX_STATE,
+    simulated,
+)
 from jointplay.errors import ConfigError
 
 __all__ = ["THREADS_PER_BLOCK", "available", "raise_unless_available", "run_batch", "simulated"]
@@ -100,11 +103,6 @@ def available() -> bool:
     except ConfigError:
         return False
     return True
-
-
-def simulated() -> bool:
-    """Whether numba-cuda runs its simulator in this process (``NUMBA_ENABLE_CUDASIM=1``)."""
-    return os.environ.get("NUMBA_ENABLE_CUDASIM", "0") not in ("", "0")
 
 
 def run_batch(

@@ -4,7 +4,7 @@ the simulator, are there).
 
 Each thread runs :func:`jointplay._kernels.lanes.source.explicit_lane` for its lane with
 every work array in its own local memory (``cuda.local.array``, sizes fixed at compile time:
-``MAX_*`` of :mod:`jointplay._kernels.lanes.cuda`), and writes its peaks, statistics, status,
+``MAX_*`` of :mod:`jointplay._kernels.lanes.limits`), and writes its peaks, statistics, status,
 time reached and counters into the output arrays' rows; nothing is shared between threads.
 The kernel is cached on disk by numba-cuda (``cache=True``, beside this file's
 ``__pycache__``).
@@ -29,8 +29,14 @@ import numpy as np
 from numba import cuda
 
 from jointplay._kernels.lanes.build import build
-from jointplay._kernels.lanes.cuda import simulated
-from jointplay._kernels.lanes.limits import MAX_CLEAR, MAX_COORDS, MAX_Q, MAX_ROWS, MAX_STATE
+from jointplay._kernels.lanes.limits import (
+    MAX_CLEAR,
+    MAX_COORDS,
+    MAX_Q,
+    MAX_ROWS,
+    MAX_STATE,
+    simulated,
+)
 
 
 def _volatile_byte() -> Any:

@@ -1,0 +1,150 @@
+"""The simulation's settings of the command line's options and of the ``[simulation]`` table
+(the same keys): :func:`contact_model` turns the contact options into the
+:class:`~jointplay.dynamics.setup.ContactModel` the layers below take; :func:`finite_number`,
+:func:`joint_list` and :func:`check_revolutions` read and check the run's values. Read by
+the simulating commands and by ``jointplay explore`` alike."""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Any
+
+from jointplay.errors import ConfigError
+
+if TYPE_CHECKING:  # the dynamics import Numba: loaded when a simulation runs
+    from jointplay.dynamics.setup import ContactModel
+
+#: Options that set the contact law (refused together with --method).
+CONTACT_KEYS = ("contact", "k", "exponent", "cmax", "depth", "damping", "stiffness_law")
+#: Every contact option, by its key in ``values`` (and in ``[simulation]``).
+CONTACT_OPTIONS = (
+    *CONTACT_KEYS, "restitution", "friction", "friction_law", "lubricant_viscosity", "film_damping",
+    "method", "ecs_source",
+)  # fmt: skip
+
+#: The most crank revolutions simulated (analysed plus start-up) per simulation: a
+#: four-bar at 200 rpm runs ~100 revolutions a second on one core, so 10 000 take minutes
+#: per simulation and the integrator's step budget runs out beyond.
+MAX_REVOLUTIONS = 10_000
+
+
+def check_revolutions(revolutions: float, settle: int = 0, option: str = "--revolutions") -> None:
+    """Refuse revolutions that are not > 0, and revolutions plus ``settle`` beyond
+    :data:`MAX_REVOLUTIONS`, naming ``option``."""
+    from jointplay.dynamics.cycles import analysed_revolutions, settle_revolutions
+
+    analysed_revolutions(revolutions, option)
+    settle_revolutions(settle, "--settle")
+    if revolutions + settle > MAX_REVOLUTIONS:
+        raise ConfigError(
+            f"{option} {revolutions:g}{f' with --settle {settle}' if settle else ''} is more than "
+            f"{MAX_REVOLUTIONS} revolutions per simulation; ask for fewer"
+        )
+
+
+def contact_model(
+    values: dict[str, Any], mechanism: Any, method_option: str = "--method"
+) -> ContactModel:
+    """The :class:`~jointplay.dynamics.setup.ContactModel` of the contact options in
+    ``values`` (strings with units, ``None`` or absent where not given): the physical default
+    without any; ``--method`` one of the paper's six (frictionless and dry unless --friction,
+    --lubricant-viscosity, --film-damping)."""
+    from jointplay.dynamics.setup import (
+        DEFAULT_FRICTION,
+        ContactModel,
+        FrictionSettings,
+        contact_from_strings,
+    )
+
+    law, record = method_law_of(values, mechanism, method_option)
+    friction = FrictionSettings(
+        law=str(values.get("friction_law") or "ambrosio"),
+        coefficient=finite_number(values, "friction", 0.0 if law is not None else DEFAULT_FRICTION),
+    )
+    film, viscosity = values.get("film_damping"), values.get("lubricant_viscosity")
+    if film is not None and viscosity is not None:
+        raise ConfigError(
+            "--film-damping fixes the film's damping and --lubricant-viscosity derives it from "
+            "the joints' geometry: give one of the two"
+        )
+    if law is not None:
+        return ContactModel(
+            friction=friction, law=law, method=str(values["method"]), record=record,
+            film_damping=film, lubricant_viscosity=viscosity,
+        )  # fmt: skip
+    return ContactModel(
+        settings=contact_from_strings(values), friction=friction, film_damping=film,
+        lubricant_viscosity=viscosity,
+    )  # fmt: skip
+
+
+def contact_from_options(
+    config: Any, mechanism: Any, method_option: str = "--method", **given: Any
+) -> ContactModel:
+    """:func:`contact_model` of the contact options ``given`` (``None``: not given) over the
+    same keys of the ``[simulation]`` table of the ``config`` file (a path or ``None``);
+    ``method_option``: the name of ``method`` on this command."""
+    from jointplay.io.config import simulation_settings
+
+    table = simulation_settings(config)
+    unknown = set(given) - set(CONTACT_OPTIONS)
+    if unknown:
+        raise TypeError(f"not contact options: {sorted(unknown)}")
+    values = {key: table[key] for key in CONTACT_OPTIONS if key in table}
+    values.update({key: value for key, value in given.items() if value is not None})
+    return contact_model(values, mechanism, method_option)
+
+
+def method_law_of(
+    values: dict[str, Any], mechanism: Any, method_option: str = "--method"
+) -> tuple[Any, dict[str, Any] | None]:
+    """The contact law of ``--method`` (None without one) and its parameter record;
+    ``method_option``: the option's name on this command, for messages."""
+    from jointplay.study.methods import PAPER_RESTITUTION, method_law
+
+    name = values.get("method")
+    if name is None:
+        if values.get("ecs_source") is not None:
+            raise ConfigError(
+                f"--ecs-source applies to the paper's ECS methods: give {method_option} too"
+            )
+        return None, None
+    clash = [key for key in CONTACT_KEYS if values.get(key) is not None]
+    if clash:
+        options = ", ".join("--" + key.replace("_", "-") for key in clash)
+        raise ConfigError(
+            f"{method_option} sets the contact law and its parameters; drop {options} or drop "
+            f"{method_option}"
+        )
+    restitution = values.get("restitution")
+    return method_law(
+        str(name),
+        mechanism,
+        ecs_source=str(values.get("ecs_source", "computed")),
+        restitution=PAPER_RESTITUTION
+        if restitution is None
+        else finite_number(values, "restitution", 0.0),
+    )
+
+
+def finite_number(values: dict[str, Any], key: str, default: float) -> float:
+    """``values[key]`` (a CLI option or a ``[simulation]`` entry) as a finite float."""
+    value = values.get(key)
+    value = default if value is None else value
+    option = "--" + key.replace("_", "-")
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise ConfigError(f"{option} must be a number, got {value!r}")
+    if not math.isfinite(value):
+        raise ConfigError(f"{option} must be a finite number, got {value!r}")
+    return float(value)
+
+
+def joint_list(value: Any) -> list[str] | None:
+    """``--joints`` (or ``[simulation] joints``) as a list of joint names (None: not given)."""
+    if value is None:
+        return None
+    names = value if isinstance(value, list) else str(value).split(",")
+    names = [str(n).strip() for n in names if str(n).strip()]
+    if not names:
+        raise ConfigError("--joints is empty; give e.g. O2,A,B,O4")
+    return names
