@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from jointplay._kernels import eom
+from jointplay._kernels import eom, ids
 from jointplay._kernels.capabilities import (
     BACKENDS,
     ENGINES,
@@ -17,7 +17,7 @@ from jointplay._kernels.capabilities import (
     refusal,
 )
 from jointplay._kernels.lanes.build import lane_layout, lanes_refusal
-from jointplay._kernels.lanes.source import LY_SETTINGS
+from jointplay._kernels.lanes.source import LY_GEOM, LY_NC
 
 NEEDS = [*FEATURES, *(f"law:{law}" for law in sorted(LAW_FORMS)),
          *(f"friction:{law}" for law in sorted(FRICTION_FORMS))]  # fmt: skip
@@ -81,12 +81,14 @@ def test_the_lanes_refusal_reads_the_table(paper_fourbar) -> None:  # type: igno
     system = build_system(paper_fourbar, ContactModel().joints(paper_fourbar))
     rpar, ipar = eom.pack(system.model)
     rpar = np.atleast_2d(rpar)
-    settings = int(lane_layout(ipar)[LY_SETTINGS])
+    lay = lane_layout(ipar)
+    geom = int(lay[LY_GEOM]) + ids.N_GEOM * np.arange(int(lay[LY_NC]))  # each joint's row
     for method, engine in (("explicit", "lanes-explicit"), ("implicit", "lanes-implicit")):
-        for slot, need in ((eom.S_CAPTURE, "sustained_contact"), (eom.S_FILM, "film_damping")):
+        for column, need in ((ids.G_CAPTURE, "sustained_contact"), (ids.G_FILM, "film_damping")):
+            other = ids.G_FILM if column == ids.G_CAPTURE else ids.G_CAPTURE
             lanes = rpar.copy()
-            lanes[:, settings + slot] = 1e-4 if need == "sustained_contact" else 100.0
-            lanes[:, settings + (eom.S_FILM if slot == eom.S_CAPTURE else eom.S_CAPTURE)] = 0.0
+            lanes[:, geom + other] = 0.0
+            lanes[:, geom[1] + column] = 1e-4 if need == "sustained_contact" else 100.0
             assert lanes_refusal(ipar, lanes, method) == refusal(engine, [need])
 
 
