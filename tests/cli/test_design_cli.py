@@ -36,7 +36,7 @@ def test_design_writes_one_row_per_scheme_and_names_the_choice(tmp_path, capsys)
 @pytest.mark.parametrize(
     ("args", "message"),
     [
-        (["--require", "omega4_peak == 3"], "expected RESPONSE <=|<|>=|> VALUE"),
+        (["--require", "omega4_peak == 3"], "'==' (character 13) is not a comparison"),
         (["--require", "omega4_peak <= 3 rad/s", "--fit", "O2"], "expected JOINT=FIT"),
         (["--require", "omega4_peak <= 3 rad/s", "--confidence", "100"], "--confidence"),
         (["--require", "omega4_peak <= 3 rad/s", "--backend", "threads"], "--backend must be"),
