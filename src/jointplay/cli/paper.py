@@ -134,9 +134,10 @@ def paper_command(
         )
         options.backend  # noqa: B018 (checks --dask-scheduler before any work)
         console = Console(stderr=True)
-        from jointplay._kernels import compiled_cache_present
+        from jointplay._kernels import compiled_cache_present, single_engine
 
-        compiling = not compiled_cache_present()
+        # the study warms the single engine with its three integrators (never the lanes)
+        compiling = not compiled_cache_present(single_engine("radau", "rodas4", "dopri5"))
         if compiling:
             console.print(COMPILE_NOTICE, markup=False, highlight=False)
         with Progress(
