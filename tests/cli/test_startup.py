@@ -57,3 +57,80 @@ def test_a_bad_option_is_one_line_before_the_numerical_stack_loads(
     assert status == 2 and named in err and len(err.strip().splitlines()) == 1, err
     assert heavy == [], f"imported {heavy} before refusing {options}"
     assert not out.exists()
+
+
+class _Clock:
+    """A stand-in for ``time.perf_counter``: every reading is one second after the one
+    before, and the stand-ins below move it on by what their work would take. Any interval
+    between two readings that the timing line leaves out shows as missing seconds."""
+
+    def __init__(self) -> None:
+        self.now = 1000.0
+
+    def __call__(self) -> float:
+        self.now += 1.0
+        return self.now
+
+
+def test_the_paper_timing_line_adds_up(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The first paper of a fresh install said '323 s (simulations 166 s, report 15 s)':
+    142 s were not accounted for (the imports and compilation before the study, the folder
+    after it). Now its parts add up to its total."""
+    import re
+    import time
+    from types import SimpleNamespace
+
+    import jointplay._kernels
+    import jointplay.report.paper
+    import jointplay.study.paper
+    from jointplay.cli import run
+
+    clock = _Clock()
+    monkeypatch.setattr(time, "perf_counter", clock)
+    monkeypatch.setattr(jointplay._kernels, "compiled_cache_present", lambda *_: False)
+
+    def study(options: object, *, progress: object = None, animation: bool = False) -> object:
+        begun = time.perf_counter()
+        phases = {"nominal analysis and ECS": 4.0, "kernels": 31.0, "simulations": 166.0}
+        clock.now += sum(phases.values()) + 20.0  # 20 s of analyses the phases do not name
+        return SimpleNamespace(
+            options=options,
+            wall_s=time.perf_counter() - begun,
+            extra={"kernels_s": 31.0, "phases": phases},
+        )
+
+    def report(study: object, folder: Path, record: object, **_: object) -> None:
+        clock.now += 15.0
+
+    monkeypatch.setattr(jointplay.study.paper, "run_paper_study", study)
+    monkeypatch.setattr(jointplay.report.paper, "write_paper_report", report)
+    out = tmp_path / "out"
+    assert run(["paper", "--out", str(out), "--no-progress"]) == 0
+    line = capsys.readouterr().out.strip().splitlines()[-1]
+    found = re.fullmatch(r"paper study written to .* in (\d+) s \((.*)\)", line)
+    assert found, line
+    parts = {
+        name.strip(): int(seconds) for name, seconds in re.findall(r"([^,]+?) (\d+) s", found[2])
+    }
+    assert sum(parts.values()) == int(found[1]), line
+    assert parts["compiling"] == 31 and parts["simulations"] == 166 and parts["report"] >= 15
+
+
+@pytest.mark.parametrize(
+    "parts",
+    [
+        {"a": 0.4, "b": 0.4, "c": 0.4},
+        {"start-up": 3.49, "simulations": 166.51, "report": 14.5, "other": 0.5},
+        {"only": 0.2},
+        {"x": 10.0, "y": 20.0},
+    ],
+)
+def test_the_rounded_parts_add_up_to_the_rounded_total(parts: dict[str, float]) -> None:
+    from jointplay.cli.paper import accounted
+
+    total, shown = accounted(parts)
+    assert total == round(sum(parts.values()))
+    numbers = [int(n) for n in __import__("re").findall(r"(\d+) s", shown)]
+    assert sum(numbers) == total or (total == 0 and numbers == [0]), shown
