@@ -134,3 +134,24 @@ def test_the_rounded_parts_add_up_to_the_rounded_total(parts: dict[str, float]) 
     assert total == round(sum(parts.values()))
     numbers = [int(n) for n in __import__("re").findall(r"(\d+) s", shown)]
     assert sum(numbers) == total or (total == 0 and numbers == [0]), shown
+
+
+def test_a_mistyped_unit_loads_not_even_numpy(tmp_path: Path) -> None:
+    """Reading the mechanism and its quantities needs no NumPy (about 0.1 s of CPU): the
+    error line of ``--rpm "200 rmp"`` costs about what ``--version`` does."""
+    status, _, err = _run(["simulate", "--rpm", "200 rmp", "--out", str(tmp_path / "o")])
+    assert status == 2 and "'rmp' is not defined" in err
+    done = subprocess.run(
+        [
+            sys.executable,
+            "-c",
+            "import sys\nfrom jointplay.cli import run\n"
+            f"run(['simulate', '--rpm', '200 rmp', '--out', {str(tmp_path / 'o')!r}])\n"
+            "print('NUMPY', 'numpy' in sys.modules)",
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=300,
+    )
+    assert "NUMPY False" in done.stdout, done.stdout
