@@ -230,7 +230,7 @@ def test_a_first_run_says_it_compiles_the_kernels_and_how_long_it_took(
     import jointplay._kernels
     from jointplay.cli._common import COMPILE_NOTICE, compiling_kernels
 
-    monkeypatch.setattr(jointplay._kernels, "compiled_cache_present", lambda: cached)
+    monkeypatch.setattr(jointplay._kernels, "compiled_cache_present", lambda *_: cached)
     said: list[str] = []
     with compiling_kernels(said.append) as compiling:
         assert said == ([] if cached else [COMPILE_NOTICE])  # before the work

@@ -587,7 +587,7 @@ def test_outputs_are_checked_before_the_kernels_compile(monkeypatch, tmp_path, c
     error line: the outputs are checked before the compile notice is printed."""
     import jointplay._kernels
 
-    monkeypatch.setattr(jointplay._kernels, "compiled_cache_present", lambda: False)
+    monkeypatch.setattr(jointplay._kernels, "compiled_cache_present", lambda *_: False)
     out = tmp_path / "out"
     assert run(["simulate", "--output-step", "1 ns", "--out", str(out), "--no-progress"]) == 2
     lines = capsys.readouterr().err.strip().splitlines()

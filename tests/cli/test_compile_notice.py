@@ -50,7 +50,7 @@ def test_a_first_dynamic_run_says_it_compiles_the_kernels_first(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     arguments, target = CASES[name]
-    monkeypatch.setattr(jointplay._kernels, "compiled_cache_present", lambda: cached)
+    monkeypatch.setattr(jointplay._kernels, "compiled_cache_present", lambda *_: cached)
     printed: list[str] = []
 
     def dynamics(*args: object, **kwargs: object) -> None:
@@ -64,3 +64,70 @@ def test_a_first_dynamic_run_says_it_compiles_the_kernels_first(
     assert status == 2 and STOP in rest.err, rest.err  # the stand-in ran: the work was reached
     before = " ".join("".join(printed).split())  # a terminal-wide console folds the line
     assert (COMPILE_NOTICE in before) is not cached, before
+
+
+def _cached_modules(folder: Path, modules: tuple[str, ...]) -> None:
+    """Numba's cache index files of ``modules`` in ``folder``, as a warm cache holds them."""
+    import sys
+
+    tag = f"py{sys.version_info.major}{sys.version_info.minor}"
+    for module in modules:
+        (folder / f"{module}.kernel-10.{tag}.nbi").touch()
+
+
+#: Commands and the kernel modules of a cache warm for the single engine only (Radau, RODAS4
+#: and DOPRI5, as ``simulate`` and ``paper`` fill it), and whether each must say it compiles.
+ENGINE_ONLY = ("common", "constraints", "contact", "linalg", "eom", "radau", "rodas", "dopri")
+
+
+@pytest.mark.parametrize(
+    ("name", "notice"),
+    [("simulate", False), ("paper", False), ("animate", False), ("tolerance", True)],
+)
+def test_the_notice_asks_about_the_kernels_the_command_runs(
+    name: str,
+    notice: bool,
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A cache warm for the single engine (every ``simulate`` and ``paper`` leaves one) but
+    without the batch lanes' kernels, which neither of them runs: ``simulate`` and ``paper``
+    say nothing about compiling; ``tolerance``'s dynamic responses run the lanes, and say
+    it. (The check looked for the lanes' cache on every command: a warm ``simulate`` said
+    "compiling ... about 40 s" every time.)"""
+    cache = tmp_path / "cache"
+    cache.mkdir()
+    _cached_modules(cache, ENGINE_ONLY)
+    monkeypatch.setattr(jointplay._kernels, "cache_folders", lambda: [cache])
+    arguments, target = CASES[name]
+    printed: list[str] = []
+
+    def dynamics(*args: object, **kwargs: object) -> None:
+        seen = capsys.readouterr()
+        printed.append(seen.out + seen.err)
+        raise ConfigError(STOP)
+
+    monkeypatch.setattr(target, dynamics)
+    status = run([a.replace("OUT", str(tmp_path / "out")) for a in arguments])
+    rest = capsys.readouterr()
+    assert status == 2 and STOP in rest.err, rest.err
+    before = " ".join("".join(printed).split())
+    assert (COMPILE_NOTICE in before) is notice, before
+
+
+def test_a_cache_without_the_integrator_run_is_not_warm(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``simulate --integrator dopri5`` compiles DOPRI5's kernels: a cache of Radau's only
+    is not enough."""
+    from jointplay._kernels import compiled_cache_present, single_engine
+
+    monkeypatch.setattr(jointplay._kernels, "cache_folders", lambda: [tmp_path])
+    _cached_modules(tmp_path, ("eom", "radau"))
+    assert compiled_cache_present(single_engine())
+    assert compiled_cache_present(single_engine("radau"))
+    assert not compiled_cache_present(single_engine("dopri5"))
+    assert not compiled_cache_present(single_engine("radau", "rodas4"))
+    _cached_modules(tmp_path, ("dopri",))
+    assert compiled_cache_present(single_engine("dopri5"))

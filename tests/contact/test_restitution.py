@@ -168,3 +168,54 @@ def test_single_impact_validates_its_arguments() -> None:
         single_impact(law, 0.0, 0.5)
     with pytest.raises(ConfigError, match="impact_speed"):
         single_impact(law, 1.0, -0.5)
+
+
+def test_brentq_returns_scipys_float() -> None:
+    """The transcription of SciPy's Brent solver (no scipy.optimize import on simulate's
+    path) returns the very float SciPy's gives, on restitution's two equations and on
+    other brackets, tolerances and iteration limits; it fails where SciPy's fails."""
+    import math
+
+    import numpy as np
+    from scipy.optimize import brentq as scipy_brentq
+
+    from jointplay.contact import restitution as r
+
+    for e in [*np.linspace(0.01, 0.999, 137), 0.8, 0.5, 0.1, 0.95]:
+
+        def mismatch(lam: float, e: float = float(e)) -> float:
+            return r._h(lam) - r._g(-math.expm1(-lam) / e)
+
+        bracket = (r._LAMBDA_MIN, r._g(1.0 / e) + 2.0)
+        kwargs = {"xtol": 1e-300, "maxiter": 500}
+        assert r.brentq(mismatch, *bracket, **kwargs) == scipy_brentq(mismatch, *bracket, **kwargs)
+    for chi in np.geomspace(1e-3, 1e3, 97):
+        target = r._g(float(chi))
+
+        def rise(x: float, target: float = target) -> float:
+            return r._h(x) - target
+
+        kwargs = {"xtol": 1e-300, "maxiter": 500}
+        assert r.brentq(rise, r._LAMBDA_MIN, target + 2.0, **kwargs) == scipy_brentq(
+            rise, r._LAMBDA_MIN, target + 2.0, **kwargs
+        )
+    cases = [
+        (lambda x: x**3 - 2 * x - 5, 2.0, 3.0, {}),
+        (math.cos, 0.0, 3.0, {"xtol": 1e-6}),
+        (lambda x: math.exp(x) - 10.0, -5.0, 5.0, {"rtol": 1e-10}),
+        (lambda x: x - 0.25, 0.0, 1.0, {}),  # linear: one interpolation
+        (lambda x: (x - 1.0) ** 3, -3.0, 2.5, {"xtol": 1e-9}),
+    ]
+    for function, low, high, kwargs in cases:
+        assert r.brentq(function, low, high, **kwargs) == scipy_brentq(
+            function, low, high, **kwargs
+        )
+    with pytest.raises(ValueError, match="different signs"):
+        r.brentq(lambda x: x * x + 1.0, -1.0, 1.0)
+    with pytest.raises(RuntimeError, match="Failed to converge"):
+        r.brentq(lambda x: x**3 - 2 * x - 5, 2.0, 3.0, xtol=1e-300, rtol=8.9e-16, maxiter=2)
+    with pytest.raises(RuntimeError):
+        scipy_brentq(lambda x: x**3 - 2 * x - 5, 2.0, 3.0, xtol=1e-300, rtol=8.9e-16, maxiter=2)
+    for solve in (r.brentq, scipy_brentq):  # a triple root at the default tolerance: neither
+        with pytest.raises(RuntimeError):
+            solve(lambda x: (x - 1.0) ** 3, -3.0, 2.5)

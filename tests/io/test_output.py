@@ -588,3 +588,37 @@ def test_force_replaces_a_file_only_where_it_would_replace_a_folder(
     reason = output.file_refusal(Path(target))
     assert (why in reason) if why else reason == "", reason
     assert output.file_refusal(tmp_path / "mechanism.gif") == ""
+
+
+def test_a_table_of_floats_is_written_as_pandas_writes_it(tmp_path: Path) -> None:
+    """write_csv's own writer of all-float tables (simulate's time series) gives pandas'
+    bytes: the same numbers, names, quoting and line ends; other tables go to pandas."""
+    import numpy as np
+    import pandas as pd
+
+    from jointplay.io.output import _write_floats, write_csv
+
+    generator = np.random.default_rng(41)
+    values = generator.normal(size=(300, 5)) * 10.0 ** generator.integers(-12, 12, size=(300, 5))
+    values[0] = [0.0, -0.0, 1e300, -1e-300, 123456789.123456789]
+    table = pd.DataFrame(
+        values, columns=["t", "crank_deg", "name, with comma", 'quote "q"', "=formula"]
+    )
+    for float_format in ("%.10g", "%.6e", "%.3f"):
+        mine, theirs = tmp_path / "mine.csv", tmp_path / "theirs.csv"
+        write_csv(table, mine, float_format=float_format)
+        safe = table.rename(columns=lambda name: "'" + name if name.startswith("=") else name)
+        safe.to_csv(theirs, index=False, float_format=float_format)
+        assert mine.read_bytes() == theirs.read_bytes()
+        counted = table.assign(contact=generator.integers(0, 2, size=300), n=-np.arange(300))
+        write_csv(counted, mine, float_format=float_format)
+        counted.rename(columns={"=formula": "'=formula"}).to_csv(
+            theirs, index=False, float_format=float_format
+        )
+        assert mine.read_bytes() == theirs.read_bytes()
+    with_nan = table.assign(t=np.nan)
+    mixed = table.assign(label="a")
+    flags = table.assign(flag=True)
+    for other in (with_nan, mixed, flags):
+        assert not _write_floats(other, tmp_path / "x.csv", "%.10g")
+    assert not (tmp_path / "x.csv").exists()

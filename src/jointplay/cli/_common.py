@@ -216,15 +216,19 @@ def _to_stderr(line: str) -> None:
 
 
 @contextmanager
-def compiling_kernels(say: Any = _to_stderr, *, needed: bool = True) -> Iterator[bool]:
-    """Around a command's first dynamic work: when no compiled kernels are cached
-    (:func:`jointplay._kernels.compiled_cache_present`), ``say`` (a print function; default:
-    a line on stderr) tells the user before the work that the kernels are compiled now, and
-    after it how long the work took with the compilation. ``needed=False`` (work without
-    dynamics) says nothing. Yields whether they are compiled here."""
-    from jointplay._kernels import compiled_cache_present
+def compiling_kernels(
+    say: Any = _to_stderr, *, needed: bool = True, kernels: Sequence[str] | None = None
+) -> Iterator[bool]:
+    """Around a command's first dynamic work: when the kernels it runs are not all cached
+    (:func:`jointplay._kernels.compiled_cache_present` of ``kernels``: default the single
+    engine's with Radau, :func:`jointplay._kernels.single_engine`; the batch lanes':
+    :data:`jointplay._kernels.BATCH_LANES`), ``say`` (a print function; default: a line on
+    stderr) tells the user before the work that the kernels are compiled now, and after it
+    how long the work took with the compilation. ``needed=False`` (work without dynamics)
+    says nothing. Yields whether they are compiled here."""
+    from jointplay._kernels import compiled_cache_present, single_engine
 
-    if not needed or compiled_cache_present():
+    if not needed or compiled_cache_present(single_engine() if kernels is None else kernels):
         yield False
         return
     say(COMPILE_NOTICE)

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal
 import typer
 from rich.console import Console
 
+from jointplay._kernels import BATCH_LANES
 from jointplay.cli._app import app
 from jointplay.cli._common import (
     MAX_SAMPLES,
@@ -460,7 +461,7 @@ def design_command(
 
         def compute() -> DesignResult:
             nonlocal sensitivity
-            with compiling_kernels(needed=dynamic):
+            with compiling_kernels(needed=dynamic, kernels=BATCH_LANES):
                 result = design_study(
                     mechanism,
                     candidates,

@@ -11,6 +11,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
+from jointplay._kernels import single_engine
 from jointplay.cli._app import app
 from jointplay.cli._common import (
     ConfigOption,
@@ -147,13 +148,11 @@ def simulate_command(
     per-revolution statistics, periodicity, diagnostics, solver statistics, provenance) and
     PNG plots. Options override the [simulation] table of a --config file.
     """
-    from jointplay.dynamics import diagnostics as dg
-    from jointplay.dynamics.settings import simulate_run
-    from jointplay.dynamics.simulate import check_outputs
+    # The options and the configuration are read and checked first, with the standard
+    # library, NumPy and (for a unit outside the common ones) pint: a mistyped option is one
+    # error line before SciPy, pandas and Numba are loaded (docs/cli.md, "Start-up").
     from jointplay.io.config import simulation_settings
-    from jointplay.io.output import output_dir, write_json
-    from jointplay.io.results import simulation_summary, write_table
-    from jointplay.model.summary import mechanism_summary
+    from jointplay.io.output import output_dir
 
     figure_format = check_figure_format(figure_format)
     with output_dir(out, force=force, inputs=(config,)) as folder:
@@ -171,31 +170,39 @@ def simulate_command(
         mechanism = mechanism_from_options(
             preset, config, rpm, direction, values.get("start_angle"), gravity
         )
-        contact_used = contact_model(values, mechanism)
-        clearance_value = (
-            None
-            if values.get("clearance") is None
-            else parse_quantity(values["clearance"], "m", field="--clearance")
-        )
-        clear = contact_used.joints(
-            mechanism, joint_list(values.get("joints")), clearance=clearance_value
-        )
-        step = (
-            None
-            if values.get("output_step") is None
-            else parse_quantity(values["output_step"], "s", field="--output-step")
-        )
+        clearance_value = _quantity(values, "clearance", "m")
+        step = _quantity(values, "output_step", "s")
+        _quantity(values, "ramp_time", "s")  # read again by run_settings_of
+        _quantity(values, "max_step", "s")
         fmt_value = str(values.get("format", "csv"))
         if fmt_value not in ("csv", "parquet"):
             raise ConfigError(f"--format must be csv or parquet, got {fmt_value!r}")
         turns = finite_number(values, "revolutions", 1.0)
         check_revolutions(turns)
+        sample = _sample_step(values.get("sample_deg"))
+        # The numerical stack from here: the contact model, the run's settings, the engine.
+        from jointplay.dynamics import diagnostics as dg
+        from jointplay.dynamics.settings import simulate_run
+        from jointplay.dynamics.simulate import check_outputs, preferred_integrator
+        from jointplay.io.output import write_json
+        from jointplay.io.results import simulation_summary, write_table
+        from jointplay.model.summary import mechanism_summary
+
+        contact_used = contact_model(values, mechanism)
+        clear = contact_used.joints(
+            mechanism, joint_list(values.get("joints")), clearance=clearance_value
+        )
         run = run_settings_of(values, mechanism, contact_used, revolutions=turns, max_step=True)
         settle_turns = run.settle
-        sample = _sample_step(values.get("sample_deg"))
         check_outputs(mechanism, turns, settle_turns, step, sample)  # before compiling
+        integrator = run.solver.integrator or preferred_integrator(
+            contact_used.integrator, mechanism, clear
+        )
         with (
-            compiling_kernels(lambda line: console.print(line, markup=False, highlight=False)),
+            compiling_kernels(
+                lambda line: console.print(line, markup=False, highlight=False),
+                kernels=single_engine(integrator),
+            ),
             status(
                 progress,
                 f"simulating {settle_turns + turns:g} revolution(s) of {mechanism.name} with clearance in {', '.join(c.joint for c in clear)}",
@@ -308,6 +315,15 @@ def _slider_rows(result: Any) -> list[tuple[str, ...]]:
             )
         )
     return rows
+
+
+def _quantity(values: dict[str, Any], key: str, unit: str) -> float | None:
+    """``values[key]`` (an option, or its ``[simulation]`` key) in the SI unit ``unit``;
+    ``None`` where not given. Its error names the option (``--output-step``)."""
+    value = values.get(key)
+    if value is None:
+        return None
+    return parse_quantity(value, unit, field="--" + key.replace("_", "-"))
 
 
 def _sample_step(value: Any) -> float | None:

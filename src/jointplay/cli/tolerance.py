@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 from rich.console import Console
 
+from jointplay._kernels import BATCH_LANES
 from jointplay.cli._app import app
 from jointplay.cli._common import (
     MAX_SAMPLES,
@@ -373,7 +374,7 @@ def tolerance_command(
             analysis = WorstCase(corners=corners.value, fd_step=fd_step)
 
         def compute() -> ToleranceStudyResult:
-            with compiling_kernels(needed=dynamic):
+            with compiling_kernels(needed=dynamic, kernels=BATCH_LANES):
                 return tolerance_study(
                     mechanism,
                     spec,

@@ -33,7 +33,6 @@ from typing import Any, ClassVar, Protocol, Self
 
 import numpy as np
 import numpy.typing as npt
-from scipy.special import lambertw
 
 from jointplay.contact import hertz
 from jointplay.contact.laws import FloatArray, _resolve, _Validated
@@ -355,6 +354,8 @@ class _LogarithmicStiffness(PinInHoleStiffness):
         return np.where(force > 0.0, length_scale * x * (c - np.log(x)), 0.0)
 
     def _force(self, delta: FloatArray) -> FloatArray:
+        from scipy.special import lambertw  # ~0.1 s: only the logarithmic laws need it
+
         length_scale, load_scale, c = self._scales
         y_max = math.exp(c - 1.0)
         y = np.minimum(delta / length_scale, y_max)

@@ -34,10 +34,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
-from typing import Any, Literal
-
-import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from typing import TYPE_CHECKING, Any, Literal
 
 from jointplay.errors import ConfigError
 from jointplay.model.mechanism import Mechanism
@@ -58,7 +55,11 @@ __all__ = [
     "template_lengths",
 ]
 
-FloatArray = NDArray[np.float64]
+if TYPE_CHECKING:  # NumPy is imported where arrays are made: reading a mechanism needs none
+    import numpy as np
+    from numpy.typing import ArrayLike, NDArray
+
+    FloatArray = NDArray[np.float64]
 Distribution = Literal["uniform", "normal", "triangular"]
 
 #: The distributions a toleranced quantity can follow.
@@ -200,6 +201,8 @@ class Tolerance:
 
     def ppf(self, u: ArrayLike) -> FloatArray:
         """The quantity at cumulative probabilities ``u`` ∈ (0, 1) (inverse CDF), SI."""
+        import numpy as np
+
         u = np.asarray(u, dtype=float)
         h, mode = self.half_width, self.mode
         if self.distribution == "uniform":
@@ -259,6 +262,7 @@ def _truncated_normal_ppf(
     window above the mean is mirrored below it, so that Φ is evaluated where it is small and
     exact.
     """
+    import numpy as np
     from scipy.special import ndtr, ndtri
 
     alpha, beta = (lower - mean) / sigma, (upper - mean) / sigma
@@ -533,31 +537,43 @@ class ToleranceSpec:
     @property
     def nominal(self) -> FloatArray:
         """Nominal values, (k,) SI: basic lengths, mid-range clearances."""
+        import numpy as np
+
         return np.array([item.nominal for item in self.inputs], dtype=float)
 
     @property
     def centre(self) -> FloatArray:
         """Centres of the limits, (k,)."""
+        import numpy as np
+
         return np.array([item.tolerance.centre for item in self.inputs], dtype=float)
 
     @property
     def lower(self) -> FloatArray:
         """Lower limits, (k,)."""
+        import numpy as np
+
         return np.array([item.tolerance.lower for item in self.inputs], dtype=float)
 
     @property
     def upper(self) -> FloatArray:
         """Upper limits, (k,)."""
+        import numpy as np
+
         return np.array([item.tolerance.upper for item in self.inputs], dtype=float)
 
     @property
     def mean(self) -> FloatArray:
         """Means of the input distributions, (k,)."""
+        import numpy as np
+
         return np.array([item.tolerance.mean for item in self.inputs], dtype=float)
 
     @property
     def std(self) -> FloatArray:
         """Standard deviations of the input distributions, (k,)."""
+        import numpy as np
+
         return np.array([item.tolerance.std for item in self.inputs], dtype=float)
 
     def only(self, *kinds: str) -> ToleranceSpec:

@@ -1,0 +1,157 @@
+"""A fast command line (issue 41): the options of ``simulate`` are read and checked before
+the numerical stack is imported, so a mistyped option is one error line without waiting for
+SciPy, pandas and Numba (seconds on a loaded machine). No timing here: the speed is measured
+by ``benchmarks/bench_cli_startup.py``; these tests check what is imported."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+#: What a command that only reads its options must not import.
+HEAVY = ("numba", "scipy", "pandas", "matplotlib", "dask", "pint")
+
+CHECK = """
+import sys
+from jointplay.cli import run
+status = run(sys.argv[1:])
+print("STATUS", status)
+print("HEAVY", ",".join(m for m in {heavy!r} if m in sys.modules))
+"""
+
+
+def _run(arguments: list[str]) -> tuple[int, list[str], str]:
+    """(exit status, heavy modules imported, stderr) of ``jointplay ARGUMENTS`` in a fresh
+    interpreter."""
+    done = subprocess.run(
+        [sys.executable, "-c", CHECK.format(heavy=HEAVY), *arguments],
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=300,
+    )
+    lines = dict(line.split(" ", 1) for line in done.stdout.splitlines() if " " in line)
+    heavy = [name for name in lines.get("HEAVY", "").strip().split(",") if name]
+    return int(lines["STATUS"]), heavy, done.stderr
+
+
+@pytest.mark.parametrize(
+    ("options", "named"),
+    [
+        (["--rpm", "200 rmp"], "'rmp' is not defined"),
+        (["--clearance", "0.021 mmm"], "--clearance"),
+        (["--format", "xls"], "--format"),
+        (["--revolutions", "-1"], "--revolutions"),
+        (["--sample-deg", "500 deg"], "--sample-deg"),
+        (["--max-step", "1 mss"], "--max-step"),
+    ],
+)
+def test_a_bad_option_is_one_line_before_the_numerical_stack_loads(
+    options: list[str], named: str, tmp_path: Path
+) -> None:
+    out = tmp_path / "out"
+    status, heavy, err = _run(["simulate", *options, "--out", str(out)])
+    assert status == 2 and named in err and len(err.strip().splitlines()) == 1, err
+    assert heavy == [], f"imported {heavy} before refusing {options}"
+    assert not out.exists()
+
+
+class _Clock:
+    """A stand-in for ``time.perf_counter``: every reading is one second after the one
+    before, and the stand-ins below move it on by what their work would take. Any interval
+    between two readings that the timing line leaves out shows as missing seconds."""
+
+    def __init__(self) -> None:
+        self.now = 1000.0
+
+    def __call__(self) -> float:
+        self.now += 1.0
+        return self.now
+
+
+def test_the_paper_timing_line_adds_up(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The first paper of a fresh install said '323 s (simulations 166 s, report 15 s)':
+    142 s were not accounted for (the imports and compilation before the study, the folder
+    after it). Now its parts add up to its total."""
+    import re
+    import time
+    from types import SimpleNamespace
+
+    import jointplay._kernels
+    import jointplay.report.paper
+    import jointplay.study.paper
+    from jointplay.cli import run
+
+    clock = _Clock()
+    monkeypatch.setattr(time, "perf_counter", clock)
+    monkeypatch.setattr(jointplay._kernels, "compiled_cache_present", lambda *_: False)
+
+    def study(options: object, *, progress: object = None, animation: bool = False) -> object:
+        begun = time.perf_counter()
+        phases = {"nominal analysis and ECS": 4.0, "kernels": 31.0, "simulations": 166.0}
+        clock.now += sum(phases.values()) + 20.0  # 20 s of analyses the phases do not name
+        return SimpleNamespace(
+            options=options,
+            wall_s=time.perf_counter() - begun,
+            extra={"kernels_s": 31.0, "phases": phases},
+        )
+
+    def report(study: object, folder: Path, record: object, **_: object) -> None:
+        clock.now += 15.0
+
+    monkeypatch.setattr(jointplay.study.paper, "run_paper_study", study)
+    monkeypatch.setattr(jointplay.report.paper, "write_paper_report", report)
+    out = tmp_path / "out"
+    assert run(["paper", "--out", str(out), "--no-progress"]) == 0
+    line = capsys.readouterr().out.strip().splitlines()[-1]
+    found = re.fullmatch(r"paper study written to .* in (\d+) s \((.*)\)", line)
+    assert found, line
+    parts = {
+        name.strip(): int(seconds) for name, seconds in re.findall(r"([^,]+?) (\d+) s", found[2])
+    }
+    assert sum(parts.values()) == int(found[1]), line
+    assert parts["compiling"] == 31 and parts["simulations"] == 166 and parts["report"] >= 15
+
+
+@pytest.mark.parametrize(
+    "parts",
+    [
+        {"a": 0.4, "b": 0.4, "c": 0.4},
+        {"start-up": 3.49, "simulations": 166.51, "report": 14.5, "other": 0.5},
+        {"only": 0.2},
+        {"x": 10.0, "y": 20.0},
+    ],
+)
+def test_the_rounded_parts_add_up_to_the_rounded_total(parts: dict[str, float]) -> None:
+    from jointplay.cli.paper import accounted
+
+    total, shown = accounted(parts)
+    assert total == round(sum(parts.values()))
+    numbers = [int(n) for n in __import__("re").findall(r"(\d+) s", shown)]
+    assert sum(numbers) == total or (total == 0 and numbers == [0]), shown
+
+
+def test_a_mistyped_unit_loads_not_even_numpy(tmp_path: Path) -> None:
+    """Reading the mechanism and its quantities needs no NumPy (about 0.1 s of CPU): the
+    error line of ``--rpm "200 rmp"`` costs about what ``--version`` does."""
+    status, _, err = _run(["simulate", "--rpm", "200 rmp", "--out", str(tmp_path / "o")])
+    assert status == 2 and "'rmp' is not defined" in err
+    done = subprocess.run(
+        [
+            sys.executable,
+            "-c",
+            "import sys\nfrom jointplay.cli import run\n"
+            f"run(['simulate', '--rpm', '200 rmp', '--out', {str(tmp_path / 'o')!r}])\n"
+            "print('NUMPY', 'numpy' in sys.modules)",
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=300,
+    )
+    assert "NUMPY False" in done.stdout, done.stdout
