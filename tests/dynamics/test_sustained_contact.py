@@ -166,6 +166,8 @@ def test_each_joint_has_its_own_capture_speed(paper_fourbar: Mechanism) -> None:
     assert not locked[:, 0].any()
     assert locked[:, 1:].any(axis=0).all()
     assert result.solver_stats["sustained_contact"]["captures"]["O2"] == 0
+    # the kernels' gate of the mode: the largest of the joints' capture speeds
+    assert result.system.model.settings[ids.S_CAPTURE_MAX] == joints[1].capture_speed
 
 
 def test_the_batch_engine_runs_the_mode_on_its_implicit_lanes(paper_fourbar: Mechanism) -> None:

@@ -83,6 +83,7 @@ from jointplay._kernels.ids import (
     G_R_JOURNAL,
     LOCKED,
     N_GEOM,
+    S_CAPTURE_MAX,
     S_ONSET_TOL,
     S_PROJ_TOL,
     S_V_MARK,
@@ -120,8 +121,9 @@ class EomModel(NamedTuple):
         law_p: (w nc) its parameters, SI.
         fric_id: (nc) int64: friction law (``FRICTION_NONE``: frictionless).
         fric_p: (w nc) its parameters, SI.
-        settings: (N_SETTINGS) onset tolerance (m), projection tolerance (m or rad) and the
-            entry rate marking a contact event entered at a rate <= 0 (m/s), at ``S_*``.
+        settings: (N_SETTINGS) onset tolerance (m), projection tolerance (m or rad), the
+            entry rate marking a contact event entered at a rate <= 0 (m/s) and the largest
+            of the joints' capture speeds (m/s; the mode's gate), at ``S_*``.
     The ids, slots and columns (``S_*``, ``G_*``) are :mod:`jointplay._kernels.ids`'.
     """
 
@@ -543,11 +545,9 @@ def _locked(v0: float) -> bool:
 
 @njit(cache=True, inline="always")
 def sustained_mode(model: EomModel) -> bool:
-    """Whether some clearance joint has the sustained-contact mode (its ``G_CAPTURE`` > 0)."""
-    for c in range(model.clear_joint.shape[0]):  # noqa: SIM110 (a plain loop compiles best)
-        if model.geom[N_GEOM * c + G_CAPTURE] > 0.0:
-            return True
-    return False
+    """Whether some clearance joint has the sustained-contact mode (its ``G_CAPTURE`` > 0),
+    read from the settings' ``S_CAPTURE_MAX``, the largest of them, in one comparison."""
+    return model.settings[S_CAPTURE_MAX] > 0.0
 
 
 @njit(cache=True, inline="always")

@@ -49,9 +49,12 @@ ADAMS_MU_STATIC, ADAMS_MU_DYNAMIC, ADAMS_V_STATIC, ADAMS_V_DYNAMIC, ADAMS_SIZE =
 
 # --- the packed model (jointplay._kernels.eom.EomModel) ----------------------------------------
 #: Slots of the ``settings`` block: the contact-onset tolerance (m), the projection tolerance
-#: (m or rad) and the entry rate that marks a contact event entered at a rate <= 0 (m/s).
-S_ONSET_TOL, S_PROJ_TOL, S_V_MARK = 0, 1, 2
-N_SETTINGS = 3
+#: (m or rad), the entry rate that marks a contact event entered at a rate <= 0 (m/s), and the
+#: largest capture speed of the joints (m/s; 0: the sustained-contact mode off at every joint),
+#: derived from their ``G_CAPTURE`` by the model's builder: the right-hand side's one-comparison
+#: gate of the mode (a loop over the joints there cost 6–14 % of ``bench_clearance.py``).
+S_ONSET_TOL, S_PROJ_TOL, S_V_MARK, S_CAPTURE_MAX = 0, 1, 2, 3
+N_SETTINGS = 4
 #: Columns of the ``geom`` table, one row per clearance joint: bearing radius, journal radius,
 #: radial clearance (m); the joint's film damping c_e (N·s/m; 0: dry) and the capture speed of
 #: its sustained-contact mode (m/s; 0: the mode off for this joint).

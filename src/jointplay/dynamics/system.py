@@ -143,6 +143,8 @@ def build_system(
     settings[ids.S_ONSET_TOL] = onset_tolerance
     settings[ids.S_PROJ_TOL] = projection_tolerance
     settings[ids.S_V_MARK] = 1e-12  # marks an active contact event whose entry rate was <= 0
+    # the kernels' one-comparison gate of the sustained-contact mode: the largest capture speed
+    settings[ids.S_CAPTURE_MAX] = max((c.capture_speed for c in clearances), default=0.0)
     model = eom.EomModel(
         mass=_frozen(flat.mass_vector(), np.float64),
         gravity=_frozen(flat.gravity_forces(), np.float64),
