@@ -135,6 +135,7 @@ def _measurement_files(folder: Path) -> None:
     (folder / "forces.csv").write_text("\n".join(forces) + "\n", encoding="utf-8")
 
 
+@pytest.mark.slow
 def calibration_quick_start(block: Block, folder: Path, capsys: pytest.CaptureFixture[str]) -> None:
     """The six commands as one session in one folder (the last simulates the calibrated
     configuration an earlier one wrote); each fits what its comment or options say."""
@@ -187,6 +188,7 @@ def fails_with_the_line_shown(
 # --- docs/design.md -------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 def design_synopsis(block: Block, folder: Path, capsys: pytest.CaptureFixture[str]) -> None:
     """The page's first example: the design study with 2 samples per scheme instead of
     ``--samples auto`` (20 schemes until each is decided: far too long for a test; the
@@ -224,6 +226,7 @@ def design_table(block: Block, folder: Path, capsys: pytest.CaptureFixture[str])
     assert error_percent == pytest.approx(float(error), rel=ROUNDING)
 
 
+@pytest.mark.slow
 def design_smaller(block: Block, folder: Path, capsys: pytest.CaptureFixture[str]) -> None:
     """A design example whose full run takes tens of minutes to hours (the page gives its
     time): 2 samples per scheme, the same command otherwise; the page's verdicts, which need
@@ -235,6 +238,7 @@ def design_smaller(block: Block, folder: Path, capsys: pytest.CaptureFixture[str
     _ok(_samples(f"{command} --no-plots", SMALL), capsys)
 
 
+@pytest.mark.slow
 def wear_lives(block: Block, folder: Path, capsys: pytest.CaptureFixture[str]) -> None:
     """The worked answer's wear runs: the life each comment gives (``inf``: never worn out)."""
     for command, comment in zip(block.commands, block.comments, strict=True):
