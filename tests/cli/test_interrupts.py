@@ -21,6 +21,7 @@ from pathlib import Path
 
 import pytest
 
+from jointplay.cli import run
 from jointplay.io.output import MARKER
 
 pytestmark = pytest.mark.slow
@@ -221,7 +222,9 @@ def _state(out: Path) -> tuple[float, bytes] | None:
 
 
 @pytest.mark.parametrize("backend", ["local", "processes"])
-def test_interrupts_at_random_moments_never_lose_a_result(tmp_path: Path, backend: str) -> None:
+def test_interrupts_at_random_moments_never_lose_a_result(
+    tmp_path: Path, backend: str, capsys: pytest.CaptureFixture[str]
+) -> None:
     """Property: whenever a tolerance or design run into a folder holding a result is
     interrupted, that result is intact, or a strictly more complete one replaced it; what was
     not kept there is beside it, named, or nowhere."""
@@ -239,12 +242,11 @@ def test_interrupts_at_random_moments_never_lose_a_result(tmp_path: Path, backen
     for command, arguments in runs.items():
         out = tmp_path / command
         small = "40" if command == "tolerance" else "10"
-        done = subprocess.run(
-            [sys.executable, "-m", "jointplay", *arguments, *common, "--samples", small,
-             "--out", str(out)],
-            capture_output=True, text=True, check=False,
-        )  # fmt: skip
-        assert done.returncode == 0, done.stderr
+        # the complete results run in this process (the same command without a second
+        # interpreter's start-up); only the runs to interrupt need their own process
+        assert run([*arguments, *common, "--samples", small, "--out", str(out)]) == 0, (
+            capsys.readouterr().err
+        )
         for attempt in range(2):
             before = _state(out)
             assert before is not None and before[0] == 1.0
@@ -280,12 +282,9 @@ def test_interrupts_at_random_moments_never_lose_a_result(tmp_path: Path, backen
         # signal: then the result is written whole, and the run says that all finished
         whole = re.search(r"\b(\d+) of \1 \w+ finished", err)
         assert first is None or first[0] < 1.0 or (first[0] == 1.0 and whole), err
-        done = subprocess.run(
-            [sys.executable, "-m", "jointplay", *arguments, *common, "--samples", small,
-             "--out", str(target)],
-            capture_output=True, text=True, check=False,
-        )  # fmt: skip
-        assert done.returncode == 0, done.stderr
+        assert run([*arguments, *common, "--samples", small, "--out", str(target)]) == 0, (
+            capsys.readouterr().err
+        )
         assert _state(target)[0] == 1.0  # type: ignore[index]
 
 
