@@ -313,6 +313,7 @@ HANDLERS: tuple[tuple[str, str, Handler], ...] = (
     ("calibration.md", "jointplay calibrate --column mbd_printed --json", calibration_quick_start),
     ("cli.md", "jointplay fit H8/g7 --size 10mm --json true", fails_with_the_line_shown),
     ("cli.md", "jointplay kinematics --rpm 200 --out k", fails_with_the_line_shown),
+    ("cli.md", 'jointplay kinematics --rpm "200,5 rpm" --out k', fails_with_the_line_shown),
     ("design.md", '--require "life >= 100 h" --clearance-limit "+20 um" --confidence 99.73', design_synopsis),
     ("design.md", '--require "rocker_speed_error <= 3 %" --samples 50 --out design', design_table),
     ("design.md", 'jointplay design --preset paper-fourbar --require "joint_force <= 150 N"', design_smaller),
