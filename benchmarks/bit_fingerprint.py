@@ -26,6 +26,7 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
+from bench_clearance import PARAMETER_SETS as IFM_SETS  # the same three IFM sets
 
 from jointplay.contact.laws import get_law
 from jointplay.dynamics.batch import BatchSamples, simulate_batch
@@ -35,18 +36,6 @@ from jointplay.dynamics.simulate import SolverOptions, Start, simulate
 from jointplay.io.config import load_preset
 
 JOINTS = ("O2", "A", "B", "O4")
-K_SI = 1000.0**1.5
-IFM_SETS = {
-    "conventional": {"stiffness": 1e4 * K_SI, "exponent": 1.5, "c_max": 1e4, "d_max": 1e-4},
-    "spherical": {"stiffness": 2500 * K_SI, "exponent": 1.5, "c_max": 25e3, "d_max": 3.67e-8},
-    "cylindrical": {
-        "stiffness": 242348 * K_SI,
-        "exponent": 1.5,
-        "c_max": 2423e3,
-        "d_max": 2.69e-13,
-    },
-}
-PAPER_INTEGRATOR = {"conventional": "dopri5", "spherical": "rodas4", "cylindrical": "rodas4"}
 
 
 def digest(*arrays: Any) -> str:
