@@ -49,11 +49,10 @@ eccentricity e = r_J − r_B, penetration δ = |e| − c, normal n = e/|e|, δ̇
 v_T = ė·t + R_J ω_b − R_B ω_a with t = ẑ × n. The force on the journal, −F_N n − F_T t, acts
 at Q_J = r_J + R_J n; its opposite acts on the bearing at Q_B = r_B + R_B n.
 
-Film damping (a joint's ``geom`` column ``G_FILM`` = c_e > 0, the lubricated default;
-docs/contact.md): a
-lubricant film's squeeze damping lumped into −c_e ė on the journal at its centre and +c_e ė
-on the bearing at its centre, in contact or not; its power c_e |ė|² is added to W_contact.
-Off (0: dry joints), each kernel pays one comparison for it and its results are unchanged.
+Film damping (each joint's ``geom`` column ``G_FILM`` = c_e > 0, the lubricated default;
+docs/contact.md): a lubricant film's squeeze damping lumped into −c_e ė on the journal at its
+centre and +c_e ė on the bearing at its centre, in contact or not; its power c_e |ė|² is
+added to W_contact. Off at a joint (0: dry), the kernels pay one comparison for it there.
 """
 
 from __future__ import annotations
