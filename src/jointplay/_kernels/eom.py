@@ -90,8 +90,11 @@ from jointplay._kernels.ids import (
 from jointplay._kernels.linalg import lu_factor, lu_solve_in_place
 from jointplay._kernels.shared import compiled as _shared
 
-#: The Schur solve, the lane source's (:func:`jointplay._kernels.lanes.source.cholesky_solve`).
+#: The lane source's (:mod:`jointplay._kernels.lanes.source`): the Schur solve; the step's
+#: fraction that ends at half the onset tolerance; δ̇ at δ = 0 between a step's ends.
 cholesky_solve = _shared["cholesky_solve"]
+onset_fraction = _shared["onset_fraction"]
+impact_rate = _shared["impact_rate"]
 
 
 class EomModel(NamedTuple):
@@ -1354,17 +1357,8 @@ def onset_check(
         if rot_new.shape[0] == 0:
             rot_new = _rotations(y_new[:n])
         new = _penetration(y_new[:n], rot_new, joint_int, joint_f, j, clearance)
-        theta = min(theta, _onset_fraction(old, new, tolerance))
+        theta = min(theta, onset_fraction(old, new, tolerance))
     return theta
-
-
-@njit(cache=True, inline="always")
-def _onset_fraction(old: float, new: float, tolerance: float) -> float:
-    """The step's fraction that ends at half the onset tolerance (secant), for a joint free
-    at the step's start (``old`` <= 0) and ``new`` deep at its end; 1 if not too deep."""
-    if new > tolerance:
-        return (0.5 * tolerance - old) / (new - old)
-    return 1.0
 
 
 @njit(cache=True)
@@ -1375,7 +1369,7 @@ def onset_check_recorded(old: np.ndarray, new: np.ndarray, model: EomModel) -> f
     theta = 1.0
     for c in range(model.clear_joint.shape[0]):
         if old[7 * c + 2] <= 0.0:
-            theta = min(theta, _onset_fraction(old[7 * c + 2], new[7 * c + 2], tolerance))
+            theta = min(theta, onset_fraction(old[7 * c + 2], new[7 * c + 2], tolerance))
     return theta
 
 
@@ -1498,15 +1492,6 @@ def contact_memory(y: np.ndarray, model: EomModel, record: np.ndarray, before: n
             y[slot] = 0.0  # the event has ended
             changed = True
     return changed
-
-
-@njit(cache=True, inline="always")
-def impact_rate(delta_0: float, rate_0: float, delta_1: float, rate_1: float) -> float:
-    """δ̇ at the instant δ = 0 of a step from (δ0, δ̇0) to (δ1, δ̇1), linear in δ; δ̇1 when the
-    step does not cross δ = 0 from outside (δ0 > 0, or δ1 <= δ0)."""
-    if delta_0 <= 0.0 and delta_1 > delta_0:
-        return rate_0 + (rate_1 - rate_0) * (-delta_0 / (delta_1 - delta_0))
-    return rate_1
 
 
 @njit(cache=True, inline="always")

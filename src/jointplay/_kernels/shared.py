@@ -25,7 +25,7 @@ __all__ = ["SHARED", "compiled"]
 SHARED = (
     "step3", "power", "normal_force", "friction_force", "law_slopes",
     "driver_angle", "driver_speed", "driver_acceleration", "cholesky_solve", "all_finite",
-    "interrupt_pending",
+    "interrupt_pending", "onset_fraction", "impact_rate",
 )  # fmt: skip
 
 #: Each of :data:`SHARED`, compiled, by name.
