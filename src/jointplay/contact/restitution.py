@@ -26,7 +26,6 @@ e_eff or χ directly, so e_eff stays accurate when it is tiny (χ ≫ 1) and χ 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -59,78 +58,6 @@ def _h(lam: float) -> float:
     return lam + math.expm1(-lam)
 
 
-#: SciPy's default relative tolerance of :func:`scipy.optimize.brentq`: 4 machine epsilons.
-_BRENT_RTOL = 4.0 * 2.220446049250313e-16
-
-
-def brentq(
-    f: Callable[[float], float],
-    a: float,
-    b: float,
-    *,
-    xtol: float = 2e-12,
-    rtol: float = _BRENT_RTOL,
-    maxiter: int = 100,
-) -> float:
-    """The root of ``f`` in [``a``, ``b``] by Brent's method: :func:`scipy.optimize.brentq`
-    transcribed operation for operation from SciPy's ``brentq.c``, so it returns the same
-    float (``tests/contact/test_restitution.py`` compares them), without importing
-    ``scipy.optimize`` (~0.3 s of CPU, a fifth of a warm ``jointplay simulate``: every
-    restitution law asks for its χ once).
-
-    Raises:
-        ValueError: ``f(a)`` and ``f(b)`` have the same sign, or ``f`` gave NaN.
-        RuntimeError: no convergence within ``maxiter`` iterations.
-    """
-
-    def value(x: float) -> float:
-        fx = float(f(x))
-        if math.isnan(fx):
-            raise ValueError(f"The function value at x={x:f} is NaN; solver cannot continue.")
-        return fx
-
-    xpre, xcur = float(a), float(b)
-    xblk = fblk = spre = scur = 0.0
-    fpre, fcur = value(xpre), value(xcur)
-    if fpre == 0:
-        return xpre
-    if fcur == 0:
-        return xcur
-    if math.copysign(1.0, fpre) == math.copysign(1.0, fcur):
-        raise ValueError("f(a) and f(b) must have different signs")
-    for _ in range(maxiter):
-        if fpre != 0 and fcur != 0 and math.copysign(1.0, fpre) != math.copysign(1.0, fcur):
-            xblk, fblk = xpre, fpre
-            spre = scur = xcur - xpre
-        if abs(fblk) < abs(fcur):
-            xpre, xcur, xblk = xcur, xblk, xcur
-            fpre, fcur, fblk = fcur, fblk, fcur
-        delta = (xtol + rtol * abs(xcur)) / 2
-        sbis = (xblk - xcur) / 2
-        if fcur == 0 or abs(sbis) < delta:
-            return xcur
-        if abs(spre) > delta and abs(fcur) < abs(fpre):
-            if xpre == xblk:  # interpolate
-                stry = -fcur * (xcur - xpre) / (fcur - fpre)
-            else:  # extrapolate
-                dpre = (fpre - fcur) / (xpre - xcur)
-                dblk = (fblk - fcur) / (xblk - xcur)
-                stry = -fcur * (fblk * dblk - fpre * dpre) / (dblk * dpre * (fblk - fpre))
-            if 2 * abs(stry) < min(abs(spre), 3 * abs(sbis) - delta):  # good short step
-                spre, scur = scur, stry
-            else:  # bisect
-                spre = scur = sbis
-        else:  # bisect
-            spre = scur = sbis
-        xpre, fpre = xcur, fcur
-        if abs(scur) > delta:
-            xcur += scur
-        else:
-            xcur += delta if sbis > 0 else -delta
-        fcur = value(xcur)
-    raise RuntimeError(f"Failed to converge after {maxiter} iterations, value is {xcur}.")
-
-
 def effective_restitution(chi: float) -> float:
     """Coefficient of restitution that a Hunt–Crossley-type law with factor χ produces.
 
@@ -147,6 +74,8 @@ def effective_restitution(chi: float) -> float:
     Raises:
         ConfigError: χ is negative or not finite.
     """
+    from scipy.optimize import brentq  # scipy.optimize/integrate: ~0.3 s, loaded when used
+
     chi = float(chi)
     if not (math.isfinite(chi) and chi >= 0.0):
         raise ConfigError(f"effective_restitution: chi must be finite and >= 0, got {chi!r}")
@@ -162,7 +91,7 @@ def chi_for_restitution(e: float) -> float:
     """Hysteresis factor χ for which a Hunt–Crossley-type law rebounds with exactly ``e``.
 
     The inverse of :func:`effective_restitution` (docs/contact-laws.md §2.3), found with
-    :func:`brentq` (SciPy's, step for step). Reference values: e = 0.9 → 0.1665, 0.5 → 1.4328,
+    :func:`scipy.optimize.brentq`. Reference values: e = 0.9 → 0.1665, 0.5 → 1.4328,
     0.1 → 9.9982.
 
     Args:
@@ -174,6 +103,8 @@ def chi_for_restitution(e: float) -> float:
     Raises:
         ConfigError: ``e`` is outside (0, 1].
     """
+    from scipy.optimize import brentq  # scipy.optimize/integrate: ~0.3 s, loaded when used
+
     e = float(e)
     if not (math.isfinite(e) and 0.0 < e <= 1.0):
         raise ConfigError(
