@@ -49,8 +49,17 @@ def test_a_first_dynamic_run_says_it_compiles_the_kernels_first(
     capsys: pytest.CaptureFixture[str],
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    arguments, target = CASES[name]
     monkeypatch.setattr(jointplay._kernels, "compiled_cache_present", lambda *_: cached)
+    before = _printed_before_the_work(name, tmp_path, capsys, monkeypatch)
+    assert (COMPILE_NOTICE in before) is not cached, before
+
+
+def _printed_before_the_work(
+    name: str, tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> str:
+    """What command ``name`` printed before its dynamics, which a stand-in replaces (it
+    stops the command with a ConfigError once the work is reached)."""
+    arguments, target = CASES[name]
     printed: list[str] = []
 
     def dynamics(*args: object, **kwargs: object) -> None:
@@ -62,8 +71,7 @@ def test_a_first_dynamic_run_says_it_compiles_the_kernels_first(
     status = run([a.replace("OUT", str(tmp_path / "out")) for a in arguments])
     rest = capsys.readouterr()
     assert status == 2 and STOP in rest.err, rest.err  # the stand-in ran: the work was reached
-    before = " ".join("".join(printed).split())  # a terminal-wide console folds the line
-    assert (COMPILE_NOTICE in before) is not cached, before
+    return " ".join("".join(printed).split())  # a terminal-wide console folds the line
 
 
 def _cached_modules(folder: Path, modules: tuple[str, ...]) -> None:
@@ -100,19 +108,7 @@ def test_the_notice_asks_about_the_kernels_the_command_runs(
     cache.mkdir()
     _cached_modules(cache, ENGINE_ONLY)
     monkeypatch.setattr(jointplay._kernels, "cache_folders", lambda: [cache])
-    arguments, target = CASES[name]
-    printed: list[str] = []
-
-    def dynamics(*args: object, **kwargs: object) -> None:
-        seen = capsys.readouterr()
-        printed.append(seen.out + seen.err)
-        raise ConfigError(STOP)
-
-    monkeypatch.setattr(target, dynamics)
-    status = run([a.replace("OUT", str(tmp_path / "out")) for a in arguments])
-    rest = capsys.readouterr()
-    assert status == 2 and STOP in rest.err, rest.err
-    before = " ".join("".join(printed).split())
+    before = _printed_before_the_work(name, tmp_path, capsys, monkeypatch)
     assert (COMPILE_NOTICE in before) is notice, before
 
 

@@ -69,8 +69,9 @@ class System:
 
     @property
     def sustained_mode(self) -> bool:
-        """Whether some clearance joint has the sustained-contact mode (capture speed > 0)."""
-        return bool(np.any(self.model.geom[ids.G_CAPTURE :: ids.N_GEOM] > 0.0))
+        """Whether some clearance joint has the sustained-contact mode (capture speed > 0):
+        the kernels' gate, the largest of the joints' capture speeds."""
+        return bool(self.model.settings[ids.S_CAPTURE_MAX] > 0.0)
 
     def kernel_args(self) -> eom.EomArgs:
         """The kernels' ``args`` for one integration: the model packed for the integrator's
