@@ -168,4 +168,3 @@ def test_single_impact_validates_its_arguments() -> None:
         single_impact(law, 0.0, 0.5)
     with pytest.raises(ConfigError, match="impact_speed"):
         single_impact(law, 1.0, -0.5)
-
