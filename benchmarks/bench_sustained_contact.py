@@ -179,7 +179,7 @@ def modes(states: int) -> None:
             inside = np.zeros(len(t), dtype=bool)
             contacts = np.zeros((len(JOINTS), 7))
             for i in range(len(t)):
-                eom.evaluate(t[i], np.array(y[i]), result.system.model, contacts)
+                eom.evaluate(t[i], np.array(y[i]), *eom.pack(result.system.model), contacts)
                 inside[i] = bool(np.all(contacts[:, 2] > 0))
             every = np.nonzero(inside & (t > 2 * PERIOD))[0]
         what = "locked" if on else "in compliant contact"

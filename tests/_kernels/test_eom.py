@@ -24,7 +24,7 @@ import numpy as np
 import numpy.typing as npt
 import pytest
 
-from jointplay._kernels import eom
+from jointplay._kernels import eom, shared
 from jointplay.contact.friction import AdamsFriction, AmbrosioFriction, FrictionLaw
 from jointplay.contact.laws import ContactLaw, get_law
 from jointplay.dynamics.clearance import ClearanceJoint
@@ -129,7 +129,7 @@ def _assert_rhs_equal(system: System, rtol: float | None, seed: int) -> int:
         got = eom.rhs(t, y, system.kernel_args())
         expected = reference.rhs(t, y)
         contacts = np.empty((len(system.clearances), 7))
-        eom.evaluate(t, y, system.model, contacts)
+        eom.evaluate(t, y, *eom.pack(system.model), contacts)
         touching += bool(np.any(contacts[:, 2] > 0.0))
         assert got.shape == y.shape
         assert np.all(got[2 * n + 2 :] == 0.0)  # the impact-velocity memory is constant
@@ -295,17 +295,19 @@ def test_the_contact_memory_is_the_rate_at_the_instant_of_contact(
     assert eom.impact_rate(-1e-6, 0.3, 3e-6, 0.1) == pytest.approx(0.25)
     assert eom.impact_rate(1e-6, 0.3, 3e-6, 0.1) == 0.1  # in contact already at the start
     system = _system(fourbar_with_gravity, ("A",), _laws()["impact"], None)
-    model = eom.unpack(*eom.pack(system.model))
+    rpar, ipar = eom.pack(system.model)
+    lay = eom.layout(ipar)
+    memory = shared.compiled["contact_memory"]  # the source's, as the single engine runs it
     slot = 2 * system.n_coordinates + 2
     y = np.zeros(system.n_state)
     start, end = np.zeros(7), np.zeros(7)
     start[2:4] = (-1e-6, 0.3)  # (δ, δ̇) in the record layout
     end[2:4] = (3e-6, 0.1)
-    assert eom.contact_memory(y, model, end, start)
+    assert memory(y, rpar, lay, end, start)
     assert y[slot] == pytest.approx(0.25)
-    assert not eom.contact_memory(y, model, end, start)  # the event goes on: kept
+    assert not memory(y, rpar, lay, end, start)  # the event goes on: kept
     y[slot] = 0.0
-    assert eom.contact_memory(y, model, end, start[:0])
+    assert memory(y, rpar, lay, end, end)  # no known start: after_step passes the end as both
     assert y[slot] == 0.1
     end[2] = -1e-7  # the pin leaves the wall: the event ends
-    assert eom.contact_memory(y, model, end, start) and y[slot] == 0.0
+    assert memory(y, rpar, lay, end, start) and y[slot] == 0.0

@@ -148,7 +148,7 @@ def test_closed_form_jacobian_with_the_film_equals_differences(film: float, fric
     for i, y in enumerate(_states(system, seed=7)):
         t = 1e-3 * i
         contacts = np.zeros((4, 7))
-        eom.evaluate(t, y, system.model, contacts)
+        eom.evaluate(t, y, *eom.pack(system.model), contacts)
         touching += int(np.sum(contacts[:, 2] > 0))
         free += int(np.sum(contacts[:, 2] <= 0))
         jac = np.full((size, size), np.nan)
@@ -248,9 +248,9 @@ def test_the_reported_joint_force_includes_the_film() -> None:
     for i, y in enumerate(_states(system, seed=9)):
         t = 1e-3 * i
         out = np.empty(2 * nb + 4 + 1)
-        eom.quantities(t, y, system.model, out, np.empty(4))
+        eom.quantities(t, y, *eom.pack(system.model), out, np.empty(4))
         contacts = np.zeros((4, 7))
-        eom.evaluate(t, y, system.model, contacts)
+        eom.evaluate(t, y, *eom.pack(system.model), contacts)
         for c, joint in enumerate(system.clearances):
             j = system.flat.joint_index(joint.joint)
             a, b = system.flat.joint_int[j, 1], system.flat.joint_int[j, 2]
@@ -309,11 +309,11 @@ def test_two_joints_with_different_films_each_feel_their_own() -> None:
     rng = np.random.default_rng(39)
     y[n : 2 * n] += rng.normal(scale=1e-3, size=n)  # relative velocities at every joint
     record = np.zeros((4, 7))
-    _, _, power, _ = eom.evaluate(0.0, y, system.model, record)
+    _, _, power, _ = eom.evaluate(0.0, y, *eom.pack(system.model), record)
     assert np.all(record[:, 2] < 0.0)  # out of contact: the film alone
     e_dot_sq = np.empty(4)
     for c in range(4):
-        film_n, film_t = eom.film_components(y, system.model, record.ravel(), c)
+        film_n, film_t = eom.film_forces(y[None], *eom.pack(system.model), record[None])[0, c]
         e_n = record[c, 3]
         assert film_n == pytest.approx(films[c] * e_n, rel=1e-14)
         e_dot_sq[c] = (film_n**2 + film_t**2) / films[c] ** 2

@@ -4,7 +4,7 @@ the bilateral constraint |e| = c with the normal force as its multiplier.
 Checked against closed forms and differences, at states built by hand:
 
 * the constraint row G_c = ∂δ/∂q and the acceleration term γ_c (δ̈ = G_c q̈ − γ_c) of
-  :func:`eom.locked_row` against central differences of δ along a path q(s) = q + q̇ s + q̈ s²/2;
+  :func:`sustained.locked_row` against central differences of δ along a path q(s) = q + q̇ s + q̈ s²/2;
 * a pendulum hanging at rest on its locked pin: F_N = m g, q̈ = 0 (statics);
 * a free crank spinning about its locked pin (frictionless, no gravity): F_N = m ω² (d + c),
   the centripetal force of its centre of mass at d + c from the bearing's centre;
@@ -19,7 +19,7 @@ import numpy as np
 import numpy.typing as npt
 import pytest
 
-from jointplay._kernels import constraints, eom
+from jointplay._kernels import constraints, eom, shared
 from jointplay.contact.friction import AmbrosioFriction
 from jointplay.contact.laws import get_law
 from jointplay.dynamics.clearance import ClearanceJoint
@@ -75,7 +75,7 @@ def test_a_hanging_pendulum_rests_on_its_pin_with_its_weight(friction: bool) -> 
     # hanging straight down: the pin on the bottom of the hole, e = (0, -c)
     y = _state(system, [0.0, -ARM - CLEARANCE, -math.pi / 2], [0.0, 0.0, 0.0])
     contacts = np.zeros((1, 7))
-    qdd, torque, power, _ = eom.evaluate(0.0, y, system.model, contacts)
+    qdd, torque, power, _ = eom.evaluate(0.0, y, *eom.pack(system.model), contacts)
     assert contacts[0, 0] == pytest.approx(MASS * 9.81, rel=EXACT_RTOL)
     assert contacts[0, 1] == 0.0  # at rest: no slip, no friction
     assert contacts[0, 2] == pytest.approx(0.0, abs=1e-16)  # δ = 0 on the wall (eps·ARM)
@@ -92,7 +92,7 @@ def test_a_spinning_crank_pulls_its_pin_with_the_centripetal_force() -> None:
     radius = ARM + CLEARANCE  # centre of mass from the bearing's centre
     y = _state(system, [radius, 0.0, 0.0], [0.0, omega * radius, omega])
     contacts = np.zeros((1, 7))
-    qdd, _, power, _ = eom.evaluate(0.0, y, system.model, contacts)
+    qdd, _, power, _ = eom.evaluate(0.0, y, *eom.pack(system.model), contacts)
     assert contacts[0, 0] == pytest.approx(MASS * omega**2 * radius, rel=EXACT_RTOL)
     np.testing.assert_allclose(
         qdd, [-(omega**2) * radius, 0.0, 0.0], atol=EXACT_RTOL * omega**2 * radius
@@ -100,9 +100,18 @@ def test_a_spinning_crank_pulls_its_pin_with_the_centripetal_force() -> None:
     assert power == pytest.approx(0.0, abs=1e-12)  # no normal speed, no friction
 
 
+def _locked_row(
+    model: eom.EomModel, q: Vector, qd: Vector, c: int, g: Vector, h: Vector
+) -> tuple[float, float, float, float, float]:
+    """The sustained mode's ``locked_row`` (:mod:`jointplay._kernels.sustained`) at (q, q̇)."""
+    rpar, ipar = eom.pack(model)
+    y = np.concatenate([q, qd, np.zeros(2 + len(model.clear_joint))])
+    return shared.compiled["locked_row"](y, rpar, ipar, eom.layout(ipar), c, g, h)  # type: ignore[no-any-return]
+
+
 def _delta(model: eom.EomModel, q: Vector, qd: Vector, c: int) -> float:
     n = q.shape[0]
-    return float(eom.locked_row(q, qd, model, c, np.zeros(n), np.zeros(n))[1])
+    return float(_locked_row(model, q, qd, c, np.zeros(n), np.zeros(n))[1])
 
 
 def _slope(model: eom.EomModel, q: Vector, qd: Vector, c: int, i: int) -> float:
@@ -140,7 +149,7 @@ def test_the_constraint_row_and_its_acceleration_term_equal_differences() -> Non
         for c in range(len(joints)):
             g = np.zeros(n)
             h = np.zeros(n)
-            gamma, _, rate, _, mu = eom.locked_row(q, qd, model, c, g, h)
+            gamma, _, rate, _, mu = _locked_row(model, q, qd, c, g, h)
             numeric = np.array([_slope(model, q, qd, c, i) for i in range(n)])
             np.testing.assert_allclose(g, numeric, rtol=0, atol=DIFF_RTOL * np.max(np.abs(g)))
             first, second = _path_rates(model, q, qd, qdd, c)
@@ -159,7 +168,8 @@ def test_with_the_mode_off_no_joint_reads_as_locked(paper_fourbar: Mechanism) ->
     assert not system.sustained_mode
     y = initial_state(system, Start("steady"))
     y[2 * system.n_coordinates + 2 :] = eom.LOCKED  # even a negative slot is not "locked"
-    assert not eom.any_locked(y, system.model)
+    rpar, ipar = eom.pack(system.model)
+    assert not shared.compiled["locked"](y, rpar, eom.layout(ipar))
 
 
 #: The locked solve against its own equations: round-off of a 7 × 7 LU on accelerations of
@@ -191,12 +201,12 @@ def test_the_locked_solve_satisfies_its_equations_with_ideal_joints(friction: bo
         y[2 * n + 2] = eom.LOCKED
         t = 0.01 * i
         contacts = np.zeros((1, 7))
-        qdd, torque, _, lam = eom.evaluate(t, y, model, contacts)
+        qdd, torque, _, lam = eom.evaluate(t, y, *eom.pack(model), contacts)
         q, qd = y[:n], y[n : 2 * n]
         phi_q = constraints.jacobian(q, joints, floats, model.active, model.driver)
         gamma = constraints.acceleration_rhs(q, qd, t, joints, floats, model.active, model.driver)
         g, h = np.zeros(n), np.zeros(n)
-        gamma_b = eom.locked_row(q, qd, model, 0, g, h)[0]
+        gamma_b = _locked_row(model, q, qd, 0, g, h)[0]
         scale = np.max(np.abs(qdd))
         np.testing.assert_allclose(phi_q @ qdd, gamma, rtol=0, atol=SOLVE_RTOL * scale)
         assert g @ qdd == pytest.approx(gamma_b, abs=SOLVE_RTOL * scale)

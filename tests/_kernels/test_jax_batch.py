@@ -183,7 +183,7 @@ def test_equations_of_motion_equal_numba(label: str, system: System) -> None:
     expected = np.array([eom.rhs(t, y, args) for t, y in zip(times, states, strict=True)])
     _assert_blocks_close(got_rhs, expected, n)
     # The quantities, as simulate._columns computes them from eom.diagnostics.
-    qdd, torque, contacts, reactions, _ = eom.diagnostics(times, states, system.model)
+    qdd, torque, contacts, reactions, _ = eom.diagnostics(times, states, *eom.pack(system.model))
     nb = n // 3
     forces = []
     clear = {int(j): c for c, j in enumerate(system.model.clear_joint)}

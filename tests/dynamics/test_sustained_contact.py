@@ -117,15 +117,15 @@ def test_joints_are_captured_and_released_at_a_vanishing_normal_force(
         end[2 * n + 2 + c] = eom.LOCKED
         start = np.array(result.y[i])
         forces = np.zeros((2, len(JOINTS), 7))
-        eom.evaluate(result.t[i + 1], end, model, forces[1])
-        eom.evaluate(result.t[i], start, model, forces[0])
+        eom.evaluate(result.t[i + 1], end, *eom.pack(model), forces[1])
+        eom.evaluate(result.t[i], start, *eom.pack(model), forces[0])
         f_start, f_end = forces[0, c, 0], forces[1, c, 0]
         assert f_start > 0.0
         assert -eom.RELEASE_TOL * max(f_start, 1.0) <= f_end < 0.0
     # a locked joint's record: F_N the multiplier, F_T = μ F_N, δ = 0 to the projection
     where = np.nonzero(locked.all(axis=1))[0][-1]
     contacts = np.zeros((len(JOINTS), 7))
-    eom.evaluate(result.t[where], np.array(result.y[where]), model, contacts)
+    eom.evaluate(result.t[where], np.array(result.y[where]), *eom.pack(model), contacts)
     assert np.all(contacts[:, 0] > 0.0)
     np.testing.assert_allclose(np.abs(contacts[:, 1]), 0.1 * contacts[:, 0], rtol=1e-12)
     assert np.max(np.abs(contacts[:, 2])) <= model.settings[eom.S_PROJ_TOL]

@@ -180,7 +180,7 @@ def _trajectory_reduce(ipar, rpar, lay, ts, ys, t_settle, t_end, peaks, stats):
     fs = np.zeros((m, ys.shape[1]))  # q̈ in [n:2n], as the lane source's interpolant takes it
     bits = np.empty(m, dtype=np.int64)
     for i in range(m):
-        fs[i, n : 2 * n] = eom.quantities(ts[i], ys[i], model, qb, pen)
+        fs[i, n : 2 * n] = eom.quantities(ts[i], ys[i], rpar, ipar, qb, pen)
         bits[i] = lanes_touching(pen, nc)
     first = 0
     while first < m - 1 and ts[first + 1] <= t_settle:
@@ -190,11 +190,11 @@ def _trajectory_reduce(ipar, rpar, lay, ts, ys, t_settle, t_end, peaks, stats):
     if t_a < t_settle and first < m - 1:  # the window opens inside this step
         _step_state(film, ts, ys, fs, bits, first + 1, t_settle, n, y_a)
         t_a = t_settle
-    eom.quantities(t_a, y_a, model, qa, pen)
+    eom.quantities(t_a, y_a, rpar, ipar, qa, pen)
     lanes_open_window(qa, pen, peaks, stats, nb, n_q, nc)
     for i in range(first + 1, m):
         t_b = ts[i]
-        eom.quantities(t_b, ys[i], model, qb, pen)
+        eom.quantities(t_b, ys[i], rpar, ipar, qb, pen)
         lanes_accumulate(qa, qb, pen, t_b - t_a, peaks, stats, nb, n_q, nc)
         if lanes_wants_refinement(qa, qb, peaks, mask, n_q):
             h = t_b - t_a
@@ -203,7 +203,7 @@ def _trajectory_reduce(ipar, rpar, lay, ts, ys, t_settle, t_end, peaks, stats):
             for r in range(n_points):
                 tau = t_a + REFINE_POINTS[r] * h
                 _step_state(film, ts, ys, fs, bits, i, tau, n, y_mid)
-                eom.quantities(tau, y_mid, model, samples[r + 1], pen)
+                eom.quantities(tau, y_mid, rpar, ipar, samples[r + 1], pen)
             lanes_refine_peaks(samples, peaks, n_q)
         qa, qb = qb, qa
         t_a = t_b

@@ -1,14 +1,24 @@
-"""The lane source's functions that the single engine calls, compiled once for the CPU.
+"""The single engine: the lane source compiled for the CPU with the single engine's hooks.
 
 The equations are written once, in :mod:`jointplay._kernels.lanes.source` (and
 :mod:`~jointplay._kernels.lanes.source_radau`), in the subset of Python that Numba's CPU and
-CUDA targets both compile; the batch lanes take them from
-:mod:`jointplay._kernels.lanes.cpu` and the CUDA kernel from its own compilation. The single
-engine (:mod:`jointplay._kernels.eom`, :mod:`~jointplay._kernels.constraints`,
-:mod:`~jointplay._kernels.contact`) takes those below from here, compiled by
-:func:`jointplay._kernels.lanes.build.build` with its flags (``error_model="numpy"``: a
-division by zero gives inf/NaN, the kernels never raise), so that a law, the driver's motion or
-the Schur solve is one piece of code for every engine.
+CUDA targets both compile; the batch lanes take them from :mod:`jointplay._kernels.lanes.cpu`,
+the CUDA kernel from its own compilation, and the single engine (:mod:`jointplay._kernels.eom`,
+:mod:`~jointplay._kernels.constraints`, :mod:`~jointplay._kernels.contact`,
+:mod:`~jointplay._kernels.common`) from here: the right-hand side, the contact forces and laws,
+the film, the quantities, the contact memory and the closed-form Jacobian are the source's.
+The single engine adds one capability the lanes lack, the sustained-contact mode: its
+accelerations with locked joints (:mod:`jointplay._kernels.sustained`) fill the source's
+``locked_accelerations`` hook and are compiled into the same namespace.
+
+Compiled by :func:`jointplay._kernels.lanes.build.build` with the single engine's flags
+(``error_model="numpy"``: a division by zero gives inf/NaN, the kernels never raise) and
+``inline="always"``: Numba inlines each function into its caller (a compiled call that passes
+an array costs ~100 ns of reference counting, several times per right-hand side; measured
+6–12 % of ``bench_clearance.py``'s times without it). Numba's on-disk cache does not follow
+inlined functions: after editing the lane source, clear the caches (the README's
+``find src -name "*.nb[ic]" -delete``). The copies are tagged ``_single``, so their cache
+entries are never the lanes' (whose ``locked_accelerations`` is the source's default).
 """
 
 from __future__ import annotations
@@ -16,24 +26,37 @@ from __future__ import annotations
 from typing import Any
 
 import numba
+import numpy as np
 
-from jointplay._kernels.lanes.build import build
+from jointplay._kernels import sustained
+from jointplay._kernels.lanes.build import build, closed
 
 __all__ = ["SHARED", "compiled"]
 
-#: The functions compiled here (a subset closed under the calls among them).
-SHARED = (
-    "step3", "power", "normal_force", "friction_force", "law_slopes",
-    "driver_angle", "driver_speed", "driver_acceleration", "cholesky_solve", "all_finite",
-    "interrupt_pending", "onset_fraction", "impact_rate",
-)  # fmt: skip
+#: The sustained-contact mode's functions, compiled apart (not inlined: they allocate and
+#: run only while a joint is locked).
+_OWN = {"sustained_accelerations": sustained.sustained_accelerations,
+        "locked_row": sustained.locked_row}  # fmt: skip
 
-#: Each of :data:`SHARED`, compiled, by name.
-#: ``inline="always"``: Numba inlines each into its caller, as the single engine's own helpers
-#: are (a compiled call that passes an array costs ~100 ns of reference counting, several
-#: times per right-hand side; measured 6–12 % of ``bench_clearance.py``'s times without it).
-#: Numba's on-disk cache does not follow inlined functions: after editing the lane source,
-#: clear the caches (the README's ``find src -name "*.nb[ic]" -delete``).
+#: The functions the single engine calls, and every source function they call.
+SHARED = closed(
+    (
+        "rhs", "rhs_and_quantities", "film_components", "any_film", "penetration_and_rate",
+        "contact_memory", "onset_fraction", "impact_rate", "jacobian_clear", "jacobian_fixed",
+        "law_slopes", "step3", "power", "normal_force", "friction_force",
+        "driver_angle", "driver_speed", "driver_acceleration", "cholesky_solve", "all_finite",
+        "interrupt_pending",
+    ),
+    {**_OWN, "locked_accelerations": sustained.locked_accelerations},
+)
+
+#: Each of :data:`SHARED` (the hook and the mode's functions included), compiled, by name.
 compiled: dict[str, Any] = build(
-    numba.njit(cache=True, error_model="numpy", inline="always"), only=SHARED
+    numba.njit(cache=True, error_model="numpy", inline="always"),
+    hooks={"locked_accelerations": sustained.locked_accelerations},
+    extras={"np": np},
+    only=SHARED,
+    own=_OWN,
+    decorate_own=numba.njit(cache=True, error_model="numpy"),
+    tag="single",
 )

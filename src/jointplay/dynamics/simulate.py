@@ -837,9 +837,12 @@ def _columns(
     mechanism = system.mechanism
     flat = system.flat
     n = system.n_coordinates
+    rpar, ipar = eom.pack(system.model)
+    states = np.ascontiguousarray(y)
     qdd, torque, contacts, lam_pairs, violation = eom.diagnostics(
-        np.ascontiguousarray(t), np.ascontiguousarray(y), system.model
+        np.ascontiguousarray(t), states, rpar, ipar
     )
+    film = eom.film_forces(states, rpar, ipar, contacts)  # (N, nc, 2): zeros when off
     crank = flat.body_index(mechanism.driver.link)
     columns: dict[str, FloatArray] = {
         "t": t,
@@ -873,8 +876,9 @@ def _columns(
     for j, name in enumerate(flat.joint_names):
         if name in clear_index:
             c = clear_index[name]
-            film_n, film_t = _film_components(system, c, y, contacts)  # zeros when off
-            columns[f"F_{name}"] = np.hypot(contacts[:, c, 0] + film_n, contacts[:, c, 1] + film_t)
+            columns[f"F_{name}"] = np.hypot(
+                contacts[:, c, 0] + film[:, c, 0], contacts[:, c, 1] + film[:, c, 1]
+            )
         elif flat.joint_int[j, 0] == REVOLUTE:
             columns[f"F_{name}"] = np.hypot(lam_pairs[:, j, 0], lam_pairs[:, j, 1])
         else:
@@ -894,26 +898,6 @@ def _columns(
         columns[f"Ft_{name}"] = contacts[:, c, 1]
     columns["constraint_violation"] = violation
     return columns, qdd
-
-
-def _film_components(
-    system: System, c: int, y: FloatArray, contacts: FloatArray
-) -> tuple[FloatArray, FloatArray]:
-    """The film force c_e ė of clearance joint ``c`` in its contact frame, (c_e ė·n, c_e ė·t)
-    per state (N; :func:`jointplay._kernels.eom.film_components`, whose arithmetic this
-    is): the joint transmits F_N n + F_T t + c_e ė. Zeros with the film off."""
-    film = float(system.film_dampings[c])
-    count = y.shape[0]
-    if not film > 0:
-        return np.zeros(count), np.zeros(count)
-    film_n = np.empty(count)
-    film_t = np.empty(count)
-    record = np.ascontiguousarray(contacts.reshape(count, -1))
-    for i in range(count):
-        film_n[i], film_t[i] = eom.film_components(
-            np.ascontiguousarray(y[i]), system.model, record[i], c
-        )
-    return film_n, film_t
 
 
 def _eccentricity_rate(flat: Any, row: int, y: FloatArray, n: int) -> FloatArray:

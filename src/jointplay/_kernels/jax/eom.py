@@ -41,6 +41,7 @@ import numpy as np
 
 from jointplay._kernels import eom, ids
 from jointplay._kernels.capabilities import refusal
+from jointplay._kernels.lanes.source import N_LAY
 from jointplay.errors import ConfigError
 
 Scalar = Any  # a traced float64 scalar (one lane)
@@ -144,6 +145,7 @@ def read_layout(ipar: np.ndarray, rpar: np.ndarray) -> Layout:
     for name in ("mass", "gravity", "joint_f", "driver", "geom", "law_p", "fric_p", "settings"):
         offsets.append((name, r))
         r += lengths[name]
+    o += N_LAY  # the lane source's layout closes ipar (eom.pack)
     if rpar.shape[1] != r or o != ipar.shape[0]:
         raise ConfigError(
             f"rpar rows have {rpar.shape[1]} entries and ipar {ipar.shape[0]}, but the packed "
@@ -322,7 +324,7 @@ class JaxModel:
         return p[o : o + 4]
 
     def _geom(self, p: Any, c: int, k: int) -> Scalar:
-        return p[self._o["geom"] + eom.N_GEOM * c + k]
+        return p[self._o["geom"] + ids.N_GEOM * c + k]
 
     def _law_row(self, p: Any, c: int) -> Any:
         o = self._o["law_p"] + self.layout.plaw * c
@@ -370,10 +372,10 @@ class JaxModel:
         if a >= 0:
             edx = edx - qd[3 * a]
             edy = edy - qd[3 * a + 1]
-        delta = emag - self._geom(p, c, eom.G_CLEARANCE)
+        delta = emag - self._geom(p, c, ids.G_CLEARANCE)
         delta_dot = edx * nx + edy * ny
-        r_j = self._geom(p, c, eom.G_R_JOURNAL)
-        r_b = self._geom(p, c, eom.G_R_BEARING)
+        r_j = self._geom(p, c, ids.G_R_JOURNAL)
+        r_b = self._geom(p, c, ids.G_R_BEARING)
         v_t = -edx * ny + edy * nx + r_j * wb - r_b * wa
         return {
             "a": a, "b": b, "delta": delta, "delta_dot": delta_dot, "v_t": v_t,
@@ -387,7 +389,7 @@ class JaxModel:
         _, a, b = self.layout.joints[j]
         bx, by, _, _ = self._arm(q, a, self._joint_f(p, j, 0), self._joint_f(p, j, 1))
         jx, jy, _, _ = self._arm(q, b, self._joint_f(p, j, 2), self._joint_f(p, j, 3))
-        return jnp.sqrt((jx - bx) ** 2 + (jy - by) ** 2) - self._geom(p, c, eom.G_CLEARANCE)
+        return jnp.sqrt((jx - bx) ** 2 + (jy - by) ** 2) - self._geom(p, c, ids.G_CLEARANCE)
 
     # ---- forces -------------------------------------------------------------------------
     def _contact_forces(
@@ -636,7 +638,7 @@ class JaxModel:
     def step_check(self, y_old: Any, y_new: Any, p: Any) -> Scalar:
         """Contact-onset step factor θ (eom.step_check): 1 accepts, < 1 shortens the step."""
         n = self.n
-        tolerance = self._setting(p, eom.S_ONSET_TOL)
+        tolerance = self._setting(p, ids.S_ONSET_TOL)
         theta = jnp.ones_like(tolerance)
         for c in range(self.layout.nc):
             old = self.penetration(y_old[:n], p, c)
@@ -655,7 +657,7 @@ class JaxModel:
         *Geometric Numerical Integration*, §IV.4)."""
         n = self.n
         q, qd = y[:n], y[n : 2 * n]
-        v_mark = self._setting(p, eom.S_V_MARK)
+        v_mark = self._setting(p, ids.S_V_MARK)
         for c in range(self.layout.nc):
             k = self._contact(q, qd, p, c)
             k_old = self._contact(y_old[:n], y_old[n : 2 * n], p, c)
@@ -674,7 +676,7 @@ class JaxModel:
             y = y.at[slot].set(value)
         if self.layout.n_rows == 0:
             return y
-        tol = self._setting(p, eom.S_PROJ_TOL)
+        tol = self._setting(p, ids.S_PROJ_TOL)
         mass = [self._mass(p, i) for i in range(n)]
 
         def max_abs(values: list[Scalar]) -> Scalar:

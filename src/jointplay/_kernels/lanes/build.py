@@ -28,7 +28,8 @@ from jointplay._kernels.capabilities import refusal
 from jointplay._kernels.lanes import source, source_radau
 
 __all__ = [
-    "FUNCTIONS", "IMPLICIT_FUNCTIONS", "all_clear", "build", "lane_layout", "lanes_refusal",
+    "FUNCTIONS", "IMPLICIT_FUNCTIONS", "all_clear", "build", "closed", "lane_layout",
+    "lanes_refusal",
 ]  # fmt: skip
 
 #: The source's functions, compiled for every target.
@@ -36,7 +37,10 @@ FUNCTIONS = (
     "step3", "power", "normal_force", "friction_force", "driver_acceleration", "driver_angle",
     "driver_speed", "rot", "point_global", "constraint_rows", "constraint_jacobian",
     "acceleration_rhs", "cholesky_solve", "constrained_accelerations", "push",
-    "eccentricity_rate", "contact_forces", "any_film", "film_components", "rhs", "rhs_and_quantities", "quantities", "onset_fraction",
+    "eccentricity_rate", "rotation_of", "rotations", "arm_rotated", "arm", "penetration_and_rate",
+    "contact_forces",
+    "any_film", "film_components", "locked", "locked_accelerations", "rhs",
+    "rhs_and_quantities", "quantities", "onset_fraction",
     "onset_check", "impact_rate", "contact_memory", "project_driver", "constraint_residual",
     "max_abs", "schur_solve", "project_constraints", "project",
     "all_finite", "interrupt_pending", "dense", "triggers", "wants_refinement",
@@ -44,7 +48,7 @@ FUNCTIONS = (
     "explicit_lane",
     *(
         "pmin", "pmax", "cdiv", "lu_real", "lu_complex", "lu_solve_real", "lu_solve_complex",
-        "law_slopes", "arm", "force_column", "side_of", "film_jacobian", "jacobian_clear",
+        "law_slopes", "force_column", "side_of", "film_jacobian", "jacobian_clear",
         "column_difference", "jacobian_differences", "jacobian_fixed",
         "jacobian", "factor_newton", "solve_real", "solve_complex",
         "stage_norm", "rms", "mat3", "predict", "initial_step", "collocation", "touching",
@@ -70,6 +74,9 @@ def build(
     hooks: Mapping[str, Callable[..., Any]] | None = None,
     extras: Mapping[str, Any] | None = None,
     only: tuple[str, ...] = FUNCTIONS,
+    own: Mapping[str, Callable[..., Any]] | None = None,
+    decorate_own: Callable[[Callable[..., Any]], Any] | None = None,
+    tag: str = "",
 ) -> dict[str, Any]:
     """Every function of :data:`FUNCTIONS`, compiled with ``decorate``, in a namespace of its
     own (returned: name → compiled function, with the source's constants beside them).
@@ -80,8 +87,14 @@ def build(
             it (``project``: default :func:`source.project`), in place of the source's; compiled like the
             source's functions, in the same namespace.
         extras: more names for that namespace (what a hook calls: compiled functions).
-        only: the functions to compile (a subset closed under the calls among them: the
-            single engine's contact laws, :mod:`jointplay._kernels.contact`); all by default.
+        only: the functions to compile (a subset closed under the calls among them with
+            ``hooks`` and ``own``); all by default.
+        own: the target's own functions, written like the source and compiled into the same
+            namespace under their names (the single engine's sustained-contact mode,
+            :mod:`jointplay._kernels.sustained`), with ``decorate_own`` (default ``decorate``).
+        tag: appended to each compiled copy's qualified name, so that a target whose hooks
+            differ from another's never shares Numba's on-disk cache entries with it (the
+            cache keys a function by its name and code, not by the functions it calls).
     """
     namespace: dict[str, Any] = {
         name: value
@@ -105,15 +118,35 @@ def build(
         for name in FUNCTIONS
         if name in only
     ]
-    for name, original in functions:
+    mine = [(name, original, decorate_own or decorate) for name, original in (own or {}).items()]
+    for name, original, decorator in [*((n, f, decorate) for n, f in functions), *mine]:
         copy = types.FunctionType(
             original.__code__, namespace, name, original.__defaults__, original.__closure__
         )
         copy.__module__ = original.__module__
-        copy.__qualname__ = original.__qualname__
+        copy.__qualname__ = original.__qualname__ + (f"_{tag}" if tag else "")
         copy.__doc__ = original.__doc__
-        namespace[name] = decorate(copy)
+        namespace[name] = decorator(copy)
     return namespace
+
+
+def closed(names: tuple[str, ...], own: Mapping[str, Callable[..., Any]] | None = None) -> tuple[str, ...]:
+    """``names`` and every function of :data:`FUNCTIONS` they call, directly or not (read from
+    the functions' code; ``own``: the target's own functions, followed too): the ``only`` of
+    a target that compiles part of the source."""
+    mine = dict(own or {})
+    wanted = set(names)
+    todo = list(names)
+    while todo:
+        name = todo.pop()
+        function = mine.get(name) or getattr(
+            source_radau if name in IMPLICIT_FUNCTIONS else source, name
+        )
+        for called in function.__code__.co_names:
+            if (called in FUNCTIONS or called in mine) and called not in wanted:
+                wanted.add(called)
+                todo.append(called)
+    return tuple(name for name in FUNCTIONS if name in wanted)
 
 
 def lane_layout(ipar: npt.NDArray[np.int64]) -> npt.NDArray[np.int64]:

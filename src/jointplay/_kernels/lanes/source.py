@@ -68,6 +68,7 @@ from jointplay._kernels.ids import (
     LAW_IMPACT,
     LAW_KELVIN_VOIGT,
     N_GEOM,
+    S_CAPTURE_MAX,
     S_ONSET_TOL,
     S_PROJ_TOL,
     S_V_MARK,
@@ -412,6 +413,73 @@ def eccentricity_rate(y, n, a, b, wa, wb, rax, ray, rbx, rby):
     return edx, edy
 
 
+def rotation_of(y, body, last_a, ca, sa, last_b, cb, sb):
+    """(cos φ, sin φ) of ``body``: the rotation of the joint before's body a or b (``last_a``
+    with (``ca``, ``sa``), ``last_b`` with (``cb``, ``sb``)) when it is one of them, (1, 0)
+    for the ground, else computed."""
+    if body == last_a:
+        return ca, sa
+    if body == last_b:
+        return cb, sb
+    if body < 0:
+        return 1.0, 0.0
+    return math.cos(y[3 * body + 2]), math.sin(y[3 * body + 2])
+
+
+def rotations(y, a, b, last_a, ca, sa, last_b, cb, sb):
+    """(cos φ_a, sin φ_a, cos φ_b, sin φ_b) of a joint's two bodies, reusing the joint
+    before's (:func:`rotation_of`)."""
+    ca_new, sa_new = rotation_of(y, a, last_a, ca, sa, last_b, cb, sb)
+    cb_new, sb_new = rotation_of(y, b, last_a, ca, sa, last_b, cb, sb)
+    return ca_new, sa_new, cb_new, sb_new
+
+
+def arm_rotated(y, body, c, s, sx, sy):
+    """(x, y, r_x, r_y): the global position of the local point (sx, sy) of ``body``, whose
+    rotation is (``c``, ``s``) = (cos φ, sin φ), and its arm r = A(φ) s from the centre of
+    mass (the ground's points are global, arm 0)."""
+    if body < 0:
+        return sx, sy, 0.0, 0.0
+    rx = c * sx - s * sy
+    ry = s * sx + c * sy
+    return y[3 * body] + rx, y[3 * body + 1] + ry, rx, ry
+
+
+def arm(y, body, sx, sy):
+    """(x, y, r_x, r_y) of the local point (sx, sy) of ``body`` (:func:`arm_rotated` computing the rotation)."""
+    if body < 0:
+        return sx, sy, 0.0, 0.0
+    c = math.cos(y[3 * body + 2])
+    s = math.sin(y[3 * body + 2])
+    rx = c * sx - s * sy
+    ry = s * sx + c * sy
+    return y[3 * body] + rx, y[3 * body + 1] + ry, rx, ry
+
+
+def penetration_and_rate(y, rp, ip, lay, c):
+    """(δ, δ̇) of clearance joint ``c`` at the state ``y``, m and m/s (:func:`contact_forces`'
+    kinematics, the same arithmetic): δ = |e| − c, δ̇ = ė·n (n = (1, 0) for a centred pin)."""
+    n = lay[LY_N]
+    o_ji = lay[LY_JOINT_INT]
+    o_jf = lay[LY_JOINT_F]
+    j = ip[lay[LY_CLEAR] + c]
+    a = ip[o_ji + 3 * j + 1]
+    b = ip[o_ji + 3 * j + 2]
+    bx, by, rax, ray = arm(y, a, rp[o_jf + 6 * j], rp[o_jf + 6 * j + 1])
+    jx, jy, rbx, rby = arm(y, b, rp[o_jf + 6 * j + 2], rp[o_jf + 6 * j + 3])
+    ex = jx - bx
+    ey = jy - by
+    emag = math.sqrt(ex * ex + ey * ey)
+    if emag > 0.0:
+        nx, ny = ex / emag, ey / emag
+    else:
+        nx, ny = 1.0, 0.0
+    wa = y[n + 3 * a + 2] if a >= 0 else 0.0
+    wb = y[n + 3 * b + 2] if b >= 0 else 0.0
+    edx, edy = eccentricity_rate(y, n, a, b, wa, wb, rax, ray, rbx, rby)
+    return emag - rp[lay[LY_GEOM] + N_GEOM * c + G_CLEARANCE], edx * nx + edy * ny
+
+
 def contact_forces(y, rp, ip, lay, f, record, recording):
     """Add every clearance joint's contact force to ``f[n:2n]`` (:func:`eom.add_contact_forces`:
     δ = |e| − c, δ̇ = ė·n, v_T = ė·t + R_J ω_b − R_B ω_a; −F_N n − F_T t on the journal at
@@ -430,32 +498,26 @@ def contact_forces(y, rp, ip, lay, f, record, recording):
     plaw = lay[LY_PLAW]
     pfric = lay[LY_PFRIC]
     pw = 0.0
+    # The rotations of the joint before's two bodies: joints listed along a chain share a body
+    # with the one before (the four-bar's O2, A, B, O4: three rotations instead of six; the
+    # same bits either way).
+    last_a = -2
+    ca = 1.0
+    sa = 0.0
+    last_b = -2
+    cb = 1.0
+    sb = 0.0
     for c in range(nc):
         film = rp[o_geom + N_GEOM * c + G_FILM]  # this joint's c_e; 0: dry
         j = ip[lay[LY_CLEAR] + c]
         a = ip[o_ji + 3 * j + 1]
         b = ip[o_ji + 3 * j + 2]
+        ca, sa, cb, sb = rotations(y, a, b, last_a, ca, sa, last_b, cb, sb)
+        last_a = a
+        last_b = b
         # bearing centre on a, journal centre on b, and their arms from the centres of mass
-        sx = rp[o_jf + 6 * j]
-        sy = rp[o_jf + 6 * j + 1]
-        if a < 0:
-            bx, by, rax, ray = sx, sy, 0.0, 0.0
-        else:
-            ca = math.cos(y[3 * a + 2])
-            sa = math.sin(y[3 * a + 2])
-            rax = ca * sx - sa * sy
-            ray = sa * sx + ca * sy
-            bx, by = y[3 * a] + rax, y[3 * a + 1] + ray
-        sx = rp[o_jf + 6 * j + 2]
-        sy = rp[o_jf + 6 * j + 3]
-        if b < 0:
-            jx, jy, rbx, rby = sx, sy, 0.0, 0.0
-        else:
-            cb = math.cos(y[3 * b + 2])
-            sb = math.sin(y[3 * b + 2])
-            rbx = cb * sx - sb * sy
-            rby = sb * sx + cb * sy
-            jx, jy = y[3 * b] + rbx, y[3 * b + 1] + rby
+        bx, by, rax, ray = arm_rotated(y, a, ca, sa, rp[o_jf + 6 * j], rp[o_jf + 6 * j + 1])
+        jx, jy, rbx, rby = arm_rotated(y, b, cb, sb, rp[o_jf + 6 * j + 2], rp[o_jf + 6 * j + 3])
         ex = jx - bx
         ey = jy - by
         emag = math.sqrt(ex * ex + ey * ey)
@@ -483,8 +545,8 @@ def contact_forces(y, rp, ip, lay, f, record, recording):
             r_j = rp[o_geom + N_GEOM * c + G_R_JOURNAL]
             r_b = rp[o_geom + N_GEOM * c + G_R_BEARING]
             v_t = -edx * ny + edy * nx + r_j * wb - r_b * wa
-            if delta > 0.0:
-                v0 = y[2 * n + 2 + c]
+            v0 = y[2 * n + 2 + c]
+            if delta > 0.0 and v0 >= 0.0:  # v0 < 0: locked (LOCKED), F_N is a multiplier
                 f_n = normal_force(
                     ip[lay[LY_LAW_ID] + c], rp, lay[LY_LAW_P] + plaw * c, delta, delta_dot, v0
                 )
@@ -537,6 +599,28 @@ def film_components(y, rp, ip, lay, record, c):
     return film * record[7 * c + 3], film * slide
 
 
+def locked(y, rp, lay):
+    """Whether some clearance joint is locked onto its bearing's wall at ``y`` (its v0 slot
+    negative, :data:`LOCKED`: the sustained-contact mode); ``False`` in one comparison with
+    the mode off (the settings' ``S_CAPTURE_MAX``, the largest capture speed, is 0)."""
+    if not rp[lay[LY_SETTINGS] + S_CAPTURE_MAX] > 0.0:
+        return False
+    base = 2 * lay[LY_N] + 2
+    for c in range(lay[LY_NC]):  # noqa: SIM110 (the subset both compilers take: no any())
+        if y[base + c] < 0.0:
+            return True
+    return False
+
+
+def locked_accelerations(t, y, rp, ip, lay, f, record, recording, lam):
+    """The hook of the sustained-contact mode: q̈ with the locked joints as constraints,
+    (motor torque, N·m; the locked contacts' power, W). The single engine's is
+    :func:`jointplay._kernels.sustained.locked_accelerations`; the lanes do not run the mode
+    (:mod:`jointplay._kernels.capabilities` refuses it before a lane starts), so this default
+    is never reached, and a lane that reached it would end non-finite, not wrong."""
+    return math.nan, math.nan
+
+
 def rhs(t, y, rp, ip, lay, f, record, recording, phi_q, schur, lam):
     """ẏ into ``f`` (state layout of :mod:`jointplay._kernels.eom`), the contact records into
     ``record`` when ``recording``, the multipliers λ into ``lam`` (ideal joints only); returns
@@ -554,7 +638,10 @@ def rhs(t, y, rp, ip, lay, f, record, recording, phi_q, schur, lam):
     f[2 * n + 1] = contact_forces(y, rp, ip, lay, f, record, recording)
     crank = int(rp[o_driver])
     torque = 0.0
-    if lay[LY_NIDEAL] > 0:
+    if locked(y, rp, lay):  # the sustained-contact mode, with a joint locked
+        torque, locked_power = locked_accelerations(t, y, rp, ip, lay, f, record, recording, lam)
+        f[2 * n + 1] += locked_power
+    elif lay[LY_NIDEAL] > 0:
         torque = constrained_accelerations(t, y, rp, ip, lay, f, phi_q, schur, lam)
     else:
         if crank >= 0:
@@ -562,6 +649,8 @@ def rhs(t, y, rp, ip, lay, f, record, recording, phi_q, schur, lam):
             multiplier = f[n + k] - rp[o_mass + k] * driver_acceleration(t, rp, o_driver)
             f[n + k] -= multiplier
             torque = -multiplier
+            if lam.shape[0] > 0:
+                lam[0] = multiplier
         for i in range(n):
             f[n + i] /= rp[o_mass + i]
     f[2 * n] = torque * y[n + 3 * crank + 2] if crank >= 0 else 0.0
@@ -651,7 +740,7 @@ def contact_memory(y, rp, lay, record, before):
         delta = record[7 * c + 2]
         delta_dot = record[7 * c + 3]
         slot = 2 * n + 2 + c
-        if delta > 0.0 and y[slot] <= 0.0:
+        if delta > 0.0 and y[slot] == 0.0:  # a new contact event begins (not locked)
             rate = impact_rate(before[7 * c + 2], before[7 * c + 3], delta, delta_dot)
             y[slot] = max(rate, v_mark)
             changed = True

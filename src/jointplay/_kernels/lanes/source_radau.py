@@ -102,6 +102,7 @@ from jointplay._kernels.lanes.source import (
     accumulate,
     all_finite,
     any_film,
+    arm,
     close_window,
     contact_forces,
     contact_memory,
@@ -309,17 +310,6 @@ def law_slopes(law, rp, o_law, fric, o_fric, delta, delta_dot, v_t, v0, f_n):
     h = LAW_STEP * max(abs(v_t), RATE_FLOOR)
     slope_slip = (friction_force(fric, rp, o_fric, v_t + h, f_n) - per_newton * f_n) / h
     return slope_delta, slope_rate, slope_slip, per_newton
-
-
-def arm(y, body, sx, sy):
-    """(x, y, r_x, r_y) of the local point (sx, sy) of ``body`` (:func:`eom._arm`)."""
-    if body < 0:
-        return sx, sy, 0.0, 0.0
-    c = math.cos(y[3 * body + 2])
-    s = math.sin(y[3 * body + 2])
-    rx = c * sx - s * sy
-    ry = s * sx + c * sy
-    return y[3 * body] + rx, y[3 * body + 1] + ry, rx, ry
 
 
 def force_column(
