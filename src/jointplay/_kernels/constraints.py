@@ -12,6 +12,12 @@ Nikravesh, *Computer-Aided Analysis of Mechanical Systems* (1988), ch. 4–5:
 
 Velocity equations Φ_q q̇ = ν and acceleration equations Φ_q q̈ = γ use the right-hand sides
 computed here. Body index −1 is the ground (its point is global and fixed).
+
+The equations are the lane source's (:mod:`jointplay._kernels.lanes.source`:
+``constraint_residual``, ``constraint_jacobian``, ``acceleration_rhs``, the driver's motion),
+compiled for the single engine (:mod:`jointplay._kernels.shared`); this module gives them to
+the model layer (the kinematics solver, inverse dynamics, initial states) with the joint
+tables as 2-D arrays and the results allocated.
 """
 
 from __future__ import annotations
@@ -19,14 +25,26 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from jointplay._kernels.lanes.source import (
+    LY_ACTIVE,
+    LY_DRIVER,
+    LY_JOINT_F,
+    LY_JOINT_INT,
+    LY_N,
+    LY_NIDEAL,
+    LY_NJ,
+    N_LAY,
+)
 from jointplay._kernels.shared import compiled
 
-#: The driver's prescribed motion, written once in the lane source
-#: (:func:`jointplay._kernels.lanes.source.driver_angle`, ``driver_speed``,
-#: ``driver_acceleration``).
+# The equations, written once in the lane source (jointplay._kernels.lanes.source).
 _driver_angle = compiled["driver_angle"]
 _driver_speed = compiled["driver_speed"]
 _driver_acceleration = compiled["driver_acceleration"]
+_constraint_rows = compiled["constraint_rows"]
+_constraint_residual = compiled["constraint_residual"]
+_constraint_jacobian = compiled["constraint_jacobian"]
+_acceleration_rhs = compiled["acceleration_rhs"]
 
 
 @njit(cache=True)
@@ -45,27 +63,33 @@ def driver_motion(t: float, driver: np.ndarray) -> tuple[float, float, float]:
 
 
 @njit(cache=True)
-def _pose(q: np.ndarray, body: int) -> tuple[float, float, float]:
-    if body < 0:
-        return 0.0, 0.0, 0.0
-    return q[3 * body], q[3 * body + 1], q[3 * body + 2]
-
-
-@njit(cache=True)
-def _rot(phi: float, sx: float, sy: float) -> tuple[float, float]:
-    c = np.cos(phi)
-    s = np.sin(phi)
-    return c * sx - s * sy, s * sx + c * sy
-
-
-@njit(cache=True)
-def point_global(q: np.ndarray, body: int, sx: float, sy: float) -> tuple[float, float]:
-    """Global position of the point with local coordinates (sx, sy) on ``body``."""
-    x, y, phi = _pose(q, body)
-    if body < 0:
-        return sx, sy
-    ax, ay = _rot(phi, sx, sy)
-    return x + ax, y + ay
+def _packed(
+    q: np.ndarray, qd: np.ndarray, joint_int: np.ndarray, joint_f: np.ndarray,
+    active: np.ndarray, driver: np.ndarray,
+):  # fmt: skip
+    """The state (q, q̇) and the joint tables as the lane source reads them: ``(y, rp, ip,
+    lay)`` with the joints' floats then the driver in ``rp``, their integers then ``active`` in
+    ``ip``, and the offsets and sizes in ``lay``."""
+    n = q.shape[0]
+    nj = joint_int.shape[0]
+    y = np.empty(2 * n)
+    y[:n] = q
+    y[n:] = qd
+    rp = np.empty(6 * nj + 4)
+    rp[: 6 * nj] = joint_f.ravel()
+    rp[6 * nj :] = driver
+    ip = np.empty(4 * nj, dtype=np.int64)
+    ip[: 3 * nj] = joint_int.ravel()
+    ip[3 * nj :] = active
+    lay = np.zeros(N_LAY, dtype=np.int64)
+    lay[LY_DRIVER] = 6 * nj
+    lay[LY_ACTIVE] = 3 * nj
+    lay[LY_N] = n
+    lay[LY_NJ] = nj
+    lay[LY_NIDEAL] = active.sum()
+    lay[LY_JOINT_F] = 0
+    lay[LY_JOINT_INT] = 0
+    return y, rp, ip, lay
 
 
 @njit(cache=True)
@@ -84,27 +108,9 @@ def residual(
     driver: np.ndarray,
 ) -> np.ndarray:
     """Constraint violation Φ(q, t), m (joint rows) and rad (angle rows)."""
+    y, rp, ip, lay = _packed(q, q, joint_int, joint_f, active, driver)
     out = np.zeros(count_rows(active, driver))
-    row = 0
-    for j in range(joint_int.shape[0]):
-        if active[j] == 0:
-            continue
-        kind, a, b = joint_int[j, 0], joint_int[j, 1], joint_int[j, 2]
-        pax, pay = point_global(q, a, joint_f[j, 0], joint_f[j, 1])
-        pbx, pby = point_global(q, b, joint_f[j, 2], joint_f[j, 3])
-        if kind == 0:
-            out[row] = pax - pbx
-            out[row + 1] = pay - pby
-        else:
-            phi_a = _pose(q, a)[2]
-            phi_b = _pose(q, b)[2]
-            out[row] = phi_b - phi_a - joint_f[j, 5]
-            nx, ny = _rot(phi_a + joint_f[j, 4], 0.0, 1.0)
-            out[row + 1] = nx * (pbx - pax) + ny * (pby - pay)
-        row += 2
-    body = int(driver[0])
-    if body >= 0:
-        out[row] = q[3 * body + 2] - driver_motion(t, driver)[0]
+    _constraint_residual(t, y, rp, ip, lay, out)
     return out
 
 
@@ -116,50 +122,11 @@ def jacobian(
     active: np.ndarray,
     driver: np.ndarray,
 ) -> np.ndarray:
-    """Constraint Jacobian Φ_q, shape (rows, 3 nb)."""
-    n = q.shape[0]
-    out = np.zeros((count_rows(active, driver), n))
-    row = 0
-    for j in range(joint_int.shape[0]):
-        if active[j] == 0:
-            continue
-        kind, a, b = joint_int[j, 0], joint_int[j, 1], joint_int[j, 2]
-        if kind == 0:
-            # Φ = r_a + A_a s_a − r_b − A_b s_b ;  ∂(A s)/∂φ = B s = rot90(A s)
-            for body, sx, sy, sign in (
-                (a, joint_f[j, 0], joint_f[j, 1], 1.0),
-                (b, joint_f[j, 2], joint_f[j, 3], -1.0),
-            ):
-                if body < 0:
-                    continue
-                ax, ay = _rot(q[3 * body + 2], sx, sy)
-                out[row, 3 * body] += sign
-                out[row + 1, 3 * body + 1] += sign
-                out[row, 3 * body + 2] += -sign * ay
-                out[row + 1, 3 * body + 2] += sign * ax
-        else:
-            phi_a = _pose(q, a)[2]
-            pax, pay = point_global(q, a, joint_f[j, 0], joint_f[j, 1])
-            pbx, pby = point_global(q, b, joint_f[j, 2], joint_f[j, 3])
-            nx, ny = _rot(phi_a + joint_f[j, 4], 0.0, 1.0)
-            dx, dy = pbx - pax, pby - pay
-            if a >= 0:
-                out[row, 3 * a + 2] = -1.0
-                sax, say = _rot(phi_a, joint_f[j, 0], joint_f[j, 1])
-                # ∂(n·d)/∂φ_a = (B n')·d − n·(B s_a) with B v = rot90(A v)
-                out[row + 1, 3 * a] = -nx
-                out[row + 1, 3 * a + 1] = -ny
-                out[row + 1, 3 * a + 2] = (-ny * dx + nx * dy) - (nx * -say + ny * sax)
-            if b >= 0:
-                out[row, 3 * b + 2] = 1.0
-                sbx, sby = _rot(q[3 * b + 2], joint_f[j, 2], joint_f[j, 3])
-                out[row + 1, 3 * b] = nx
-                out[row + 1, 3 * b + 1] = ny
-                out[row + 1, 3 * b + 2] = nx * -sby + ny * sbx
-        row += 2
-    body = int(driver[0])
-    if body >= 0:
-        out[row, 3 * body + 2] = 1.0
+    """Constraint Jacobian Φ_q, shape (rows, 3 nb) (revolute Φ = r_a + A_a s_a − r_b − A_b s_b
+    with ∂(A s)/∂φ = B s = rot90(A s); prismatic; the driver's row)."""
+    y, rp, ip, lay = _packed(q, q, joint_int, joint_f, active, driver)
+    out = np.zeros((count_rows(active, driver), q.shape[0]))
+    _constraint_jacobian(y, rp, ip, lay, out)
     return out
 
 
@@ -168,7 +135,7 @@ def velocity_rhs(t: float, active: np.ndarray, driver: np.ndarray) -> np.ndarray
     """ν = −Φ_t: zero for joints, the prescribed crank speed for the driver row."""
     out = np.zeros(count_rows(active, driver))
     if driver[0] >= 0:
-        out[-1] = driver_motion(t, driver)[1]
+        out[-1] = _driver_speed(t, driver, 0)
     return out
 
 
@@ -182,49 +149,8 @@ def acceleration_rhs(
     active: np.ndarray,
     driver: np.ndarray,
 ) -> np.ndarray:
-    """γ with Φ_q q̈ = γ (Nikravesh 1988, eq. 4.x): quadratic velocity terms and the driver's φ̈."""
+    """γ with Φ_q q̈ = γ (Nikravesh 1988, §6): quadratic velocity terms and the driver's φ̈."""
+    y, rp, ip, lay = _packed(q, qd, joint_int, joint_f, active, driver)
     out = np.zeros(count_rows(active, driver))
-    row = 0
-    for j in range(joint_int.shape[0]):
-        if active[j] == 0:
-            continue
-        kind, a, b = joint_int[j, 0], joint_int[j, 1], joint_int[j, 2]
-        if kind == 0:
-            # γ = A_a s_a φ̇_a² − A_b s_b φ̇_b²
-            for body, sx, sy, sign in (
-                (a, joint_f[j, 0], joint_f[j, 1], 1.0),
-                (b, joint_f[j, 2], joint_f[j, 3], -1.0),
-            ):
-                if body < 0:
-                    continue
-                ax, ay = _rot(q[3 * body + 2], sx, sy)
-                w2 = qd[3 * body + 2] ** 2
-                out[row] += sign * ax * w2
-                out[row + 1] += sign * ay * w2
-        else:
-            phi_a = _pose(q, a)[2]
-            wa = qd[3 * a + 2] if a >= 0 else 0.0
-            wb = qd[3 * b + 2] if b >= 0 else 0.0
-            nx, ny = _rot(phi_a + joint_f[j, 4], 0.0, 1.0)
-            pax, pay = point_global(q, a, joint_f[j, 0], joint_f[j, 1])
-            pbx, pby = point_global(q, b, joint_f[j, 2], joint_f[j, 3])
-            dx, dy = pbx - pax, pby - pay
-            sax, say = (0.0, 0.0) if a < 0 else _rot(phi_a, joint_f[j, 0], joint_f[j, 1])
-            sbx, sby = (0.0, 0.0) if b < 0 else _rot(q[3 * b + 2], joint_f[j, 2], joint_f[j, 3])
-            vax = (qd[3 * a] if a >= 0 else 0.0) - say * wa
-            vay = (qd[3 * a + 1] if a >= 0 else 0.0) + sax * wa
-            vbx = (qd[3 * b] if b >= 0 else 0.0) - sby * wb
-            vby = (qd[3 * b + 1] if b >= 0 else 0.0) + sbx * wb
-            ddx, ddy = vbx - vax, vby - vay
-            # γ2 = n·d φ̇_a² − 2 φ̇_a (B_a n')·ḋ + n·(A_b s_b φ̇_b² − A_a s_a φ̇_a²)
-            bnx, bny = -ny, nx
-            out[row + 1] = (
-                (nx * dx + ny * dy) * wa * wa
-                - 2.0 * wa * (bnx * ddx + bny * ddy)
-                + nx * (sbx * wb * wb - sax * wa * wa)
-                + ny * (sby * wb * wb - say * wa * wa)
-            )
-        row += 2
-    if driver[0] >= 0:
-        out[row] = driver_motion(t, driver)[2]
+    _acceleration_rhs(t, y, rp, ip, lay, out)
     return out

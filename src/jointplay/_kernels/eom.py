@@ -64,7 +64,6 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit, typeof, types
 
-from jointplay._kernels.constraints import count_rows, jacobian, residual, velocity_rhs
 from jointplay._kernels.ids import (
     G_CAPTURE,
     LOCKED,
@@ -74,7 +73,16 @@ from jointplay._kernels.ids import (
     S_PROJ_TOL,
 )
 from jointplay._kernels.lanes.build import lane_layout
-from jointplay._kernels.lanes.source import LY_N, LY_NC, LY_NIDEAL, LY_SETTINGS, N_LAY
+from jointplay._kernels.lanes.source import (
+    LY_DRIVER,
+    LY_MASS,
+    LY_N,
+    LY_NC,
+    LY_NIDEAL,
+    LY_NJ,
+    LY_SETTINGS,
+    N_LAY,
+)
 from jointplay._kernels.shared import compiled as _shared
 
 # The lane source, compiled for the single engine (jointplay._kernels.shared).
@@ -90,14 +98,29 @@ _onset_fraction = _shared["onset_fraction"]
 _jacobian_clear = _shared["jacobian_clear"]
 _jacobian_fixed = _shared["jacobian_fixed"]
 _driver_angle = _shared["driver_angle"]
+_driver_speed = _shared["driver_speed"]
+_constraint_residual = _shared["constraint_residual"]
+_constraint_jacobian = _shared["constraint_jacobian"]
 _locked_row = _shared["locked_row"]
 #: δ̇ (m/s) at δ = 0 between a step's ends, linear in δ (the source's).
 impact_rate = _shared["impact_rate"]
 
 __all__ = [
-    "LOCKED", "EomModel", "after_step", "diagnostics", "evaluate", "film_forces",
-    "jacobian_state", "new_workspace", "pack", "project", "quantities", "rhs", "step_check",
-    "start_workspace", "unpack",
+    "LOCKED",
+    "EomModel",
+    "after_step",
+    "diagnostics",
+    "evaluate",
+    "film_forces",
+    "jacobian_state",
+    "new_workspace",
+    "pack",
+    "project",
+    "quantities",
+    "rhs",
+    "start_workspace",
+    "step_check",
+    "unpack",
 ]  # fmt: skip
 
 
@@ -457,34 +480,26 @@ def project_locked(
     projection tolerance."""
     model = unpack(rpar, ipar)
     lay = layout(ipar)
-    active, driver, mass = model.active, model.driver, model.mass
-    n = mass.shape[0]
-    nc = model.clear_joint.shape[0]
-    nj = active.shape[0]
-    joints = model.joint_int.reshape((nj, 3))
-    joint_floats = model.joint_f.reshape((nj, 6))
+    n = lay[LY_N]
+    nc = lay[LY_NC]
     q = y[:n]
     qd = y[n : 2 * n]
-    tolerance = model.settings[S_PROJ_TOL]
+    tolerance = rpar[lay[LY_SETTINGS] + S_PROJ_TOL]
     before = _energy(y, model)
-    rows = count_rows(active, driver)
+    rows = _constraint_rows(rpar, lay)
     m = 0
     for c in range(nc):
         if y[2 * n + 2 + c] < 0.0:
             m += 1
     k = rows + m
-    a = np.empty((k, n))
+    a = np.zeros((k, n))
     h = np.empty(n)
     value = np.empty(k)
-    inv_mass = 1.0 / mass
+    inv_mass = 1.0 / model.mass
     moved = False
     for iteration in range(4):
-        phi_q = jacobian(q, joints, joint_floats, active, driver)
-        phi = residual(q, t, joints, joint_floats, active, driver)
-        r = 0
-        for r in range(rows):
-            a[r] = phi_q[r]
-            value[r] = phi[r]
+        _constraint_jacobian(y, rpar, ipar, lay, a)  # rows 0 … rows − 1
+        _constraint_residual(t, y, rpar, ipar, lay, value)
         r = rows
         for c in range(nc):
             if y[2 * n + 2 + c] < 0.0:
@@ -500,7 +515,7 @@ def project_locked(
         weighted = a * inv_mass
         q -= inv_mass * (a.T @ np.linalg.solve(weighted @ a.T, value))
     rate = np.zeros(k)
-    nu = velocity_rhs(t, active, driver)
+    nu = _velocity_rhs(t, rpar, lay, rows)
     for r in range(k):
         s = -nu[r] if r < rows else 0.0
         for i in range(n):
@@ -637,45 +652,57 @@ def step_check(
 
 
 @njit(cache=True, inline="always")
-def project(t: float, y: np.ndarray, model: EomModel, work: np.ndarray) -> bool:
+def _velocity_rhs(t: float, rpar: np.ndarray, lay: np.ndarray, rows: int) -> np.ndarray:
+    """ν = −Φ_t (rows): zero for joints, the prescribed crank speed for the driver row."""
+    nu = np.zeros(rows)
+    if rpar[lay[LY_DRIVER]] >= 0:
+        nu[rows - 1] = _driver_speed(t, rpar, lay[LY_DRIVER])
+    return nu
+
+
+@njit(cache=True, inline="always")
+def project(t: float, y: np.ndarray, rpar: np.ndarray, ipar: np.ndarray, work: np.ndarray) -> bool:
     """Project q and q̇ onto the ideal constraints when they are violated beyond the
-    projection tolerance; record the largest violation and the projections in ``work``.
-    Returns: the state changed. (The CPU lanes' ``project`` hook too.)"""
-    joint_int, active = model.joint_int, model.active
-    mass, joint_f, driver = model.mass, model.joint_f, model.driver
-    settings = model.settings
-    n = mass.shape[0]
-    q = y[:n]
-    qd = y[n : 2 * n]
-    nj = active.shape[0]
-    crank = int(driver[0])
-    if active.sum() == 0:  # the driver alone: check |φ_k − φ_d(t)| without building Φ
+    projection tolerance: at most three Newton steps q ← q − M⁻¹ Φ_qᵀ (Φ_q M⁻¹ Φ_qᵀ)⁻¹ Φ until
+    max |Φ| ≤ 10⁻³ of the tolerance, then q̇ ← q̇ − M⁻¹ Φ_qᵀ (Φ_q M⁻¹ Φ_qᵀ)⁻¹ (Φ_q q̇ − ν)
+    (LAPACK's solve; the GPU lanes' is the source's ``project_constraints``, Cholesky);
+    record the largest violation and the projections in ``work``. Returns: the state
+    changed. (The CPU lanes' ``project`` hook too.)"""
+    lay = layout(ipar)
+    n = lay[LY_N]
+    o_driver = lay[LY_DRIVER]
+    tolerance = rpar[lay[LY_SETTINGS] + S_PROJ_TOL]
+    crank = int(rpar[o_driver])
+    if lay[LY_NIDEAL] == 0:  # the driver alone: check |φ_k − φ_d(t)| without building Φ
         if crank < 0:
             return False
-        violation = abs(q[3 * crank + 2] - _driver_angle(t, driver, 0))
+        violation = abs(y[3 * crank + 2] - _driver_angle(t, rpar, o_driver))
         work[W_MAX_VIOLATION] = max(work[W_MAX_VIOLATION], violation)
-        if violation <= settings[S_PROJ_TOL]:
+        if violation <= tolerance:
             return False
-    joints = joint_int.reshape((nj, 3))
-    joint_floats = joint_f.reshape((nj, 6))
-    phi = residual(q, t, joints, joint_floats, active, driver)
-    if phi.shape[0] == 0:
+    rows = _constraint_rows(rpar, lay)
+    if rows == 0:
         return False
+    phi = np.zeros(rows)
+    _constraint_residual(t, y, rpar, ipar, lay, phi)
     violation = np.max(np.abs(phi))
     work[W_MAX_VIOLATION] = max(work[W_MAX_VIOLATION], violation)
-    if violation <= settings[S_PROJ_TOL]:
+    if violation <= tolerance:
         return False
-    inv_mass = 1.0 / mass
+    inv_mass = 1.0 / rpar[lay[LY_MASS] : lay[LY_MASS] + n]
+    q = y[:n]
+    qd = y[n : 2 * n]
+    phi_q = np.zeros((rows, n))
     for _ in range(3):
-        phi_q = jacobian(q, joints, joint_floats, active, driver)
+        _constraint_jacobian(y, rpar, ipar, lay, phi_q)
         weighted = phi_q * inv_mass
         q -= inv_mass * (phi_q.T @ np.linalg.solve(weighted @ phi_q.T, phi))
-        phi = residual(q, t, joints, joint_floats, active, driver)
-        if np.max(np.abs(phi)) <= 1e-3 * settings[S_PROJ_TOL]:
+        _constraint_residual(t, y, rpar, ipar, lay, phi)
+        if np.max(np.abs(phi)) <= 1e-3 * tolerance:
             break
-    phi_q = jacobian(q, joints, joint_floats, active, driver)
+    _constraint_jacobian(y, rpar, ipar, lay, phi_q)
     weighted = phi_q * inv_mass
-    drift = phi_q @ qd - velocity_rhs(t, active, driver)
+    drift = phi_q @ qd - _velocity_rhs(t, rpar, lay, rows)
     qd -= inv_mass * (phi_q.T @ np.linalg.solve(weighted @ phi_q.T, drift))
     work[W_PROJECTIONS] += 1.0
     return True
@@ -743,7 +770,7 @@ def after_step(t: float, y: np.ndarray, args: EomArgs) -> bool:
     if _sustained_mode(rpar, lay) and switch_contacts(t, y, rpar, ipar, work, before):
         changed = True
         record = _records(y, rpar, ipar)
-    if project(t, y, unpack(rpar, ipar), work):
+    if project(t, y, rpar, ipar, work):
         changed = True
         record = _records(y, rpar, ipar)
     _remember(record, work)
@@ -755,19 +782,19 @@ def diagnostics(t: np.ndarray, y: np.ndarray, rpar: np.ndarray, ipar: np.ndarray
     """Per recorded state: q̈ (N, 3nb), torque (N,), contacts (N, nc, 7), ideal-joint reactions
     (N, nj, 2: force of the joint's link a on its link b, N; zero rows for clearance joints)
     and the constraint violation max |Φ| (N,)."""
-    model = unpack(rpar, ipar)
-    n = model.mass.shape[0]
-    nc = model.clear_joint.shape[0]
+    lay = layout(ipar)
+    n = lay[LY_N]
+    nc = lay[LY_NC]
+    nj = lay[LY_NJ]
+    active = unpack(rpar, ipar).active
+    rows = _constraint_rows(rpar, lay)
     count = t.shape[0]
-    active, driver = model.active, model.driver
-    nj = active.shape[0]
-    joint_int = model.joint_int.reshape((nj, 3))
-    joint_f = model.joint_f.reshape((nj, 6))
     qdd = np.empty((count, n))
     torque = np.empty(count)
     contacts = np.empty((count, nc, 7))
     reactions = np.zeros((count, nj, 2))
-    violation = np.empty(count)
+    violation = np.zeros(count)
+    phi = np.zeros(rows)
     for i in range(count):
         yi = np.ascontiguousarray(y[i])
         qdd[i], torque[i], _, lam = evaluate(t[i], yi, rpar, ipar, contacts[i])
@@ -777,6 +804,7 @@ def diagnostics(t: np.ndarray, y: np.ndarray, rpar: np.ndarray, ipar: np.ndarray
                 reactions[i, j, 0] = lam[row]
                 reactions[i, j, 1] = lam[row + 1]
                 row += 2
-        phi = residual(yi[:n], t[i], joint_int, joint_f, active, driver)
-        violation[i] = np.max(np.abs(phi)) if phi.shape[0] else 0.0
+        if rows > 0:
+            _constraint_residual(t[i], yi, rpar, ipar, lay, phi)
+            violation[i] = np.max(np.abs(phi))
     return qdd, torque, contacts, reactions, violation

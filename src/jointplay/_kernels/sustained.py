@@ -16,8 +16,6 @@ Units are SI (m, rad, s, kg, N).
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 # Resolved in the namespace build.py makes (the source's functions and constants); imported
@@ -27,13 +25,10 @@ from jointplay._kernels.lanes.source import (
     G_CLEARANCE,
     G_R_BEARING,
     G_R_JOURNAL,
-    LY_CLEAR,
     LY_DRIVER,
     LY_FRIC_ID,
     LY_FRIC_P,
     LY_GEOM,
-    LY_JOINT_F,
-    LY_JOINT_INT,
     LY_MASS,
     LY_N,
     LY_NC,
@@ -42,11 +37,11 @@ from jointplay._kernels.lanes.source import (
     acceleration_rhs,
     constraint_jacobian,
     constraint_rows,
-    eccentricity_rate,
     friction_force,
+    joint_kinematics,
     push,
 )
-from jointplay._kernels.lanes.source_radau import arm, lu_real, lu_solve_real
+from jointplay._kernels.lanes.source_radau import lu_real, lu_solve_real
 
 __all__ = ["locked_accelerations", "locked_row", "sustained_accelerations"]
 
@@ -69,26 +64,9 @@ def locked_row(y, rp, ip, lay, c, g_row, h_col):
     Returns:
         (γ_c in m/s², δ = |e| − c in m, δ̇ in m/s, v_T in m/s, μ = F_T / F_N).
     """
-    n = lay[LY_N]
-    o_ji = lay[LY_JOINT_INT]
-    o_jf = lay[LY_JOINT_F]
     o_geom = lay[LY_GEOM]
-    j = ip[lay[LY_CLEAR] + c]
-    a = ip[o_ji + 3 * j + 1]
-    b = ip[o_ji + 3 * j + 2]
-    bx, by, rax, ray = arm(y, a, rp[o_jf + 6 * j], rp[o_jf + 6 * j + 1])
-    jx, jy, rbx, rby = arm(y, b, rp[o_jf + 6 * j + 2], rp[o_jf + 6 * j + 3])
-    ex = jx - bx
-    ey = jy - by
-    length = math.sqrt(ex * ex + ey * ey)
-    if length > 0.0:
-        nx, ny = ex / length, ey / length
-    else:
-        nx, ny = 1.0, 0.0
+    a, b, rax, ray, rbx, rby, length, nx, ny, wa, wb, edx, edy = joint_kinematics(y, rp, ip, lay, c)
     tx, ty = -ny, nx
-    wa = y[n + 3 * a + 2] if a >= 0 else 0.0
-    wb = y[n + 3 * b + 2] if b >= 0 else 0.0
-    edx, edy = eccentricity_rate(y, n, a, b, wa, wb, rax, ray, rbx, rby)
     delta_dot = edx * nx + edy * ny
     slide = edx * tx + edy * ty
     r_j = rp[o_geom + N_GEOM * c + G_R_JOURNAL]

@@ -37,7 +37,7 @@ FUNCTIONS = (
     "step3", "power", "normal_force", "friction_force", "driver_acceleration", "driver_angle",
     "driver_speed", "rot", "point_global", "constraint_rows", "constraint_jacobian",
     "acceleration_rhs", "cholesky_solve", "constrained_accelerations", "push",
-    "eccentricity_rate", "rotation_of", "rotations", "arm_rotated", "arm", "penetration_and_rate",
+    "eccentricity_rate", "rotation_of", "rotations", "arm_rotated", "arm", "joint_kinematics", "penetration_and_rate",
     "contact_forces",
     "any_film", "film_components", "locked", "locked_accelerations", "rhs",
     "rhs_and_quantities", "quantities", "onset_fraction",
@@ -130,7 +130,9 @@ def build(
     return namespace
 
 
-def closed(names: tuple[str, ...], own: Mapping[str, Callable[..., Any]] | None = None) -> tuple[str, ...]:
+def closed(
+    names: tuple[str, ...], own: Mapping[str, Callable[..., Any]] | None = None
+) -> tuple[str, ...]:
     """``names`` and every function of :data:`FUNCTIONS` they call, directly or not (read from
     the functions' code; ``own``: the target's own functions, followed too): the ``only`` of
     a target that compiles part of the source."""

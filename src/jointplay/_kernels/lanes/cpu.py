@@ -20,7 +20,7 @@ from jointplay._kernels.lanes.source import LY_N, LY_NC, LY_NIDEAL, LY_SIZE
 def _project(t, y, rp, ip, lay, scratch, phi_q, schur, lam):
     """The CPU lane's ``project`` hook: :func:`eom.project` (projection onto the ideal
     constraints, LAPACK's solve; ``scratch`` receives its statistics), the single engine's."""
-    return eom.project(t, y, eom.unpack(rp, ip), scratch)
+    return eom.project(t, y, rp, ip, scratch)
 
 
 #: Every function of the source, compiled for the CPU, by name.

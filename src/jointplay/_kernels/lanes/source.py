@@ -456,9 +456,12 @@ def arm(y, body, sx, sy):
     return y[3 * body] + rx, y[3 * body + 1] + ry, rx, ry
 
 
-def penetration_and_rate(y, rp, ip, lay, c):
-    """(δ, δ̇) of clearance joint ``c`` at the state ``y``, m and m/s (:func:`contact_forces`'
-    kinematics, the same arithmetic): δ = |e| − c, δ̇ = ė·n (n = (1, 0) for a centred pin)."""
+def joint_kinematics(y, rp, ip, lay, c):
+    """The kinematics of clearance joint ``c`` at the state ``y`` (:func:`contact_forces`', the
+    same arithmetic; docs/contact-laws.md §5): its bearing's body a and journal's body b, the
+    arms (r_ax, r_ay, r_bx, r_by) of their centres from the bodies' centres of mass (m), |e|
+    (m), the normal n = e/|e| ((1, 0) for a centred pin), the bodies' rates ω_a, ω_b (rad/s)
+    and ė (m/s), as one tuple in that order."""
     n = lay[LY_N]
     o_ji = lay[LY_JOINT_INT]
     o_jf = lay[LY_JOINT_F]
@@ -469,15 +472,23 @@ def penetration_and_rate(y, rp, ip, lay, c):
     jx, jy, rbx, rby = arm(y, b, rp[o_jf + 6 * j + 2], rp[o_jf + 6 * j + 3])
     ex = jx - bx
     ey = jy - by
-    emag = math.sqrt(ex * ex + ey * ey)
-    if emag > 0.0:
-        nx, ny = ex / emag, ey / emag
+    length = math.sqrt(ex * ex + ey * ey)
+    if length > 0.0:
+        nx, ny = ex / length, ey / length
     else:
         nx, ny = 1.0, 0.0
     wa = y[n + 3 * a + 2] if a >= 0 else 0.0
     wb = y[n + 3 * b + 2] if b >= 0 else 0.0
     edx, edy = eccentricity_rate(y, n, a, b, wa, wb, rax, ray, rbx, rby)
-    return emag - rp[lay[LY_GEOM] + N_GEOM * c + G_CLEARANCE], edx * nx + edy * ny
+    return a, b, rax, ray, rbx, rby, length, nx, ny, wa, wb, edx, edy
+
+
+def penetration_and_rate(y, rp, ip, lay, c):
+    """(δ, δ̇) of clearance joint ``c`` at the state ``y``, m and m/s (:func:`contact_forces`'
+    kinematics, the same arithmetic): δ = |e| − c, δ̇ = ė·n (n = (1, 0) for a centred pin)."""
+    kin = joint_kinematics(y, rp, ip, lay, c)
+    length, nx, ny, edx, edy = kin[6], kin[7], kin[8], kin[11], kin[12]
+    return length - rp[lay[LY_GEOM] + N_GEOM * c + G_CLEARANCE], edx * nx + edy * ny
 
 
 def contact_forces(y, rp, ip, lay, f, record, recording):

@@ -72,14 +72,11 @@ from jointplay._kernels.lanes.source import (
     K_REJECTED,
     K_RHS,
     K_STEPS,
-    LY_CLEAR,
     LY_DRIVER,
     LY_FRIC_ID,
     LY_FRIC_P,
     LY_GEOM,
     LY_GRAVITY,
-    LY_JOINT_F,
-    LY_JOINT_INT,
     LY_LAW_ID,
     LY_LAW_P,
     LY_MASS,
@@ -102,14 +99,13 @@ from jointplay._kernels.lanes.source import (
     accumulate,
     all_finite,
     any_film,
-    arm,
     close_window,
     contact_forces,
     contact_memory,
     driver_acceleration,
-    eccentricity_rate,
     friction_force,
     interrupt_pending,
+    joint_kinematics,
     normal_force,
     onset_check,
     open_window,
@@ -387,8 +383,6 @@ def jacobian_clear(t, y, rp, ip, lay, jac, force, record):
     n = lay[LY_N]
     nc = lay[LY_NC]
     size = lay[LY_SIZE]
-    o_ji = lay[LY_JOINT_INT]
-    o_jf = lay[LY_JOINT_F]
     o_geom = lay[LY_GEOM]
     o_mass = lay[LY_MASS]
     plaw = lay[LY_PLAW]
@@ -398,21 +392,9 @@ def jacobian_clear(t, y, rp, ip, lay, jac, force, record):
             jac[r, col] = 0.0
     power_row = n + 1  # 2n + 1 − n
     for c in range(nc):
-        j = ip[lay[LY_CLEAR] + c]
-        a = ip[o_ji + 3 * j + 1]
-        b = ip[o_ji + 3 * j + 2]
-        bx, by, rax, ray = arm(y, a, rp[o_jf + 6 * j], rp[o_jf + 6 * j + 1])
-        jx, jy, rbx, rby = arm(y, b, rp[o_jf + 6 * j + 2], rp[o_jf + 6 * j + 3])
-        ex = jx - bx
-        ey = jy - by
-        length = math.sqrt(ex * ex + ey * ey)
-        if length > 0.0:
-            nx, ny = ex / length, ey / length
-        else:
-            nx, ny = 1.0, 0.0
-        wa = y[n + 3 * a + 2] if a >= 0 else 0.0
-        wb = y[n + 3 * b + 2] if b >= 0 else 0.0
-        edx, edy = eccentricity_rate(y, n, a, b, wa, wb, rax, ray, rbx, rby)
+        a, b, rax, ray, rbx, rby, length, nx, ny, wa, wb, edx, edy = joint_kinematics(
+            y, rp, ip, lay, c
+        )
         delta = length - rp[o_geom + N_GEOM * c + G_CLEARANCE]
         delta_dot = edx * nx + edy * ny
         slide = -edx * ny + edy * nx
