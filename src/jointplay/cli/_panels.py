@@ -8,11 +8,14 @@ from __future__ import annotations
 
 from typing import Any
 
+from jointplay.dynamics.declared import CONTACT_PANEL
+
 #: Help panels: every command groups its options under the same titles, in this order
 #: (Typer's "Options" first: what is studied, the mechanism and its speed).
 REQUIREMENTS_PANEL = "Requirements"
 SAMPLING_PANEL = "Sampling"
-CONTACT_PANEL = "Contact"
+#: CONTACT_PANEL ("Contact"): the contact settings' declarations name it
+#: (:mod:`jointplay.dynamics.declared`).
 RUN_PANEL = "The dynamic run"
 WEAR_PANEL = "Wear and cost"
 MEASUREMENTS_PANEL = "Measurements file"
