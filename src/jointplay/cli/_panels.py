@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from jointplay.dynamics.declared import CONTACT_PANEL
+from jointplay.dynamics.declared import CONTACT_PANEL, CONTACT_SETTINGS
 
 #: Help panels: every command groups its options under the same titles, in this order
 #: (Typer's "Options" first: what is studied, the mechanism and its speed).
@@ -34,7 +34,8 @@ PANEL_ORDER = (
 )
 #: The panel of an option by its name, on every command whose declaration names none (one
 #: grammar across commands: ``--settle`` is under "The dynamic run" wherever it appears).
-#: ``--method`` is not here: it names a contact method on the simulating commands (declared
+#: The contact options come from their declarations
+#: (:data:`~jointplay.dynamics.declared.CONTACT_SETTINGS`); ``--method`` is not here: it names a contact method on the simulating commands (declared
 #: in the Contact panel) and a tolerance method on ``tolerance``.
 # fmt: off
 OPTION_PANELS = {
@@ -44,9 +45,8 @@ OPTION_PANELS = {
          "--truncate", "--rare-defects", "--clearances", "--corners", "--fd-step"),
         SAMPLING_PANEL),
     **dict.fromkeys(
-        ("--paper-method", "--ecs-source", "--contact", "--k", "--exponent", "--cmax",
-         "--depth", "--restitution", "--damping", "--stiffness-law", "--friction",
-         "--friction-law", "--clearance", "--joints", "--model-sensitivity"),
+        (*(s.option for s in CONTACT_SETTINGS if s.key != "method"), "--paper-method",
+         "--clearance", "--joints", "--model-sensitivity"),
         CONTACT_PANEL),
     **dict.fromkeys(
         ("--start", "--ramp-time", "--settle", "--revolutions", "--rtol", "--integrator",
