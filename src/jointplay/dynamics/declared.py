@@ -60,8 +60,8 @@ class Setting:
         panel: the help panel of its option.
         offered: the simulating commands offer it as an option (``False``: a
             ``[simulation]`` key only, read by ``simulate`` and ``animate``).
-        with_method: it may be given together with ``--method`` (the law's own parameters
-            may not: the method sets them).
+        with_method: it may be given together with ``--method`` (default: unless it is a
+            parameter of the law, owner ``settings``, which the method sets itself).
         named: the name the layers below call it by in their errors
             (:class:`~jointplay.errors.SettingError`), where not ``field``.
     """
@@ -75,8 +75,13 @@ class Setting:
     unit: str | None = None
     panel: str = CONTACT_PANEL
     offered: bool = True
-    with_method: bool = False
+    with_method: bool | None = None
     named: str | None = None
+
+    @property
+    def allowed_with_method(self) -> bool:
+        """It may be given together with ``--method`` (:attr:`with_method`)."""
+        return self.owner != "settings" if self.with_method is None else self.with_method
 
     @property
     def name(self) -> str:
@@ -89,9 +94,9 @@ class Setting:
 CONTACT_SETTINGS: tuple[Setting, ...] = (
     Setting("method", "--method", "method", "method",
             "A method of the paper's Table 2 instead: ifm- or rm- with conventional, "
-            "ecs-cylindrical or ecs-spherical.", with_method=True),
+            "ecs-cylindrical or ecs-spherical."),
     Setting("ecs_source", "--ecs-source", "ecs_source", "method",
-            "ECS K, δ, D: computed (default) or paper.", with_method=True),
+            "ECS K, δ, D: computed (default) or paper."),
     Setting("contact", "--contact", "law", "settings",
             "Contact law (docs/contact-laws.md): restitution (default), impact, hertz, ..."),
     Setting("k", "--k", "stiffness", "settings",
@@ -114,15 +119,15 @@ CONTACT_SETTINGS: tuple[Setting, ...] = (
             unit="m", offered=False),
     Setting("friction", "--friction", "coefficient", "friction",
             "Friction coefficient (default 0.1, range 0.01-0.2; 0: off; --method: 0).",
-            kind=float, with_method=True, named="friction"),
+            kind=float, named="friction"),
     Setting("friction_law", "--friction-law", "law", "friction",
             "Friction law: ambrosio (regularised Coulomb, default) or adams (STEP mu(v)).",
-            with_method=True, named="friction_law"),
+            named="friction_law"),
     Setting("lubricant_viscosity", "--lubricant-viscosity", "lubricant_viscosity", "model",
             "Lubricant, '0.05 Pa*s' (default; sets each joint's film damping); 0: dry.",
-            unit="Pa*s", with_method=True),
+            unit="Pa*s"),
     Setting("film_damping", "--film-damping", "film_damping", "model",
-            "Or a fixed film damping ('1e4 N*s/m').", unit="N*s/m", with_method=True),
+            "Or a fixed film damping ('1e4 N*s/m').", unit="N*s/m"),
 )
 # fmt: on
 

@@ -17,7 +17,7 @@ if TYPE_CHECKING:  # the dynamics import Numba: loaded when a simulation runs
 
 #: Options that set the contact law (refused together with --method): the declared contact
 #: settings (:data:`~jointplay.dynamics.declared.CONTACT_SETTINGS`) a method sets itself.
-CONTACT_KEYS = tuple(s.key for s in CONTACT_SETTINGS if s.offered and not s.with_method)
+CONTACT_KEYS = tuple(s.key for s in CONTACT_SETTINGS if s.offered and not s.allowed_with_method)
 #: Every contact option, by its key in ``values`` (and in ``[simulation]``).
 CONTACT_OPTIONS = tuple(s.key for s in CONTACT_SETTINGS if s.offered)
 
