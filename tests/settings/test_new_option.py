@@ -21,9 +21,12 @@ import typer
 
 import jointplay
 from jointplay.cli._app import app
+from jointplay.cli._panels import option_panel
 from jointplay.cli._simulation import SETTING_OPTIONS
 from jointplay.dynamics import setup
-from jointplay.dynamics.declared import CONTACT_PANEL, CONTACT_SETTINGS
+from jointplay.dynamics.declared import CONTACT_PANEL, CONTACT_SETTINGS, RUN_PANEL, RUN_SETTINGS
+from jointplay.dynamics.settings import RunSettings
+from jointplay.dynamics.simulate import SolverOptions, Start
 from jointplay.io.config import SIMULATION_KEYS
 
 #: Every command that simulates the clearance joints: each takes the contact options.
@@ -32,6 +35,9 @@ OWNERS = {
     "settings": setup.ContactSettings,
     "friction": setup.FrictionSettings,
     "model": setup.ContactModel,
+    "run": RunSettings,
+    "start": Start,
+    "solver": SolverOptions,
 }
 
 NEW_OPTION = r"""
@@ -64,6 +70,7 @@ declared.CONTACT_SETTINGS = (
 import typer
 from jointplay.cli import run
 from jointplay.cli._app import app
+from jointplay.cli._panels import option_panel
 from jointplay.io.config import load_preset, simulation_settings
 from jointplay.settings.simulation import contact_from_options
 
@@ -138,6 +145,25 @@ def test_every_declared_setting_is_a_field_an_option_and_a_key() -> None:
             assert shown.type_descriptor.annotation is declared.kind, declared.key
             if option is None:
                 assert shown.help == declared.help, (name, declared.option)
+
+
+def test_every_run_setting_is_a_field_a_key_and_the_option_of_simulate() -> None:
+    """The run's declared settings (``--start``, ``--rtol``, ...): a field of their record, a
+    ``[simulation]`` key, the option errors name them by, and ``simulate``'s option with the
+    declared help, kind and panel (``--revolutions`` and ``--settle`` read as simulate's own
+    there)."""
+    click_app = typer.main.get_command(app)
+    options = {o: p for p in click_app.commands["simulate"].params for o in p.opts}  # type: ignore[attr-defined]
+    for declared in RUN_SETTINGS:
+        assert declared.key in SIMULATION_KEYS, declared.key
+        assert SETTING_OPTIONS[declared.name] == declared.option, declared.key
+        fields = {f.name for f in setup.dataclasses.fields(OWNERS[declared.owner])}
+        assert declared.field in fields, declared.key
+        shown = options[declared.option]
+        assert option_panel(shown) == RUN_PANEL, declared.option
+        assert shown.type_descriptor.annotation is declared.kind, declared.key
+        if declared.key not in ("revolutions", "settle"):
+            assert shown.help == declared.help, declared.option
 
 
 def test_no_command_spells_a_contact_option_of_its_own() -> None:

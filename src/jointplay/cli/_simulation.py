@@ -9,6 +9,7 @@ reads them with too."""
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import inspect
 from collections.abc import Callable, Mapping
@@ -17,8 +18,8 @@ from typing import TYPE_CHECKING, Annotated, Any, TypeVar
 
 import typer
 
-from jointplay.cli._panels import CONTACT_PANEL, RUN_PANEL
-from jointplay.dynamics.declared import CONTACT_SETTINGS
+from jointplay.cli._panels import CONTACT_PANEL
+from jointplay.dynamics.declared import CONTACT_SETTINGS, RUN_SETTINGS, Setting, run_setting
 from jointplay.settings.simulation import finite_number
 
 if TYPE_CHECKING:  # the dynamics import Numba: loaded when a command runs
@@ -58,7 +59,9 @@ def with_contact_options(
             name = option.lstrip("-").replace("-", "_")
             if name in names or name in built:
                 raise TypeError(f"{command.__name__}: {option} is already a parameter")
-            option_info = typer.Option(option, help=help_text, rich_help_panel=declared.panel)
+            option_info = declared_option(
+                dataclasses.replace(declared, option=option, help=help_text)
+            )
             built[name] = inspect.Parameter(
                 name,
                 inspect.Parameter.KEYWORD_ONLY,
@@ -110,43 +113,28 @@ JointsOption = Annotated[
         "--joints",
     ),
 ]
-StartOption = Annotated[
-    str | None,
-    _opt(
-        "steady (the nominal motion, default), rest (the paper's start-up), impulsive or ramp (docs/cli.md).",
-        "--start",
-        panel=RUN_PANEL,
-    ),
-]
-RampTimeOption = Annotated[
-    str | None,
-    _opt("--start ramp: the ramp's duration, e.g. '50 ms'.", "--ramp-time", panel=RUN_PANEL),
-]
-RtolOption = Annotated[
-    float | None, _opt("Integrator's relative tolerance (default 1e-6).", "--rtol", panel=RUN_PANEL)
-]
-IntegratorOption = Annotated[
-    str | None,
-    _opt(
-        "Integrator: radau (Radau IIA, order 5), rodas4 (linearly implicit, order 4) or dopri5"
-        " (explicit, order 5, for soft contact); default radau, rodas4 for the paper's IFM ECS"
-        " methods with every joint clear, dopri5 for ifm-conventional (docs/cli.md).",
-        "--integrator",
-        panel=RUN_PANEL,
-    ),
-]
+
+
+def declared_option(declared: Setting, **click: Any) -> Any:
+    """The Typer option of a declared setting (:mod:`jointplay.dynamics.declared`): its
+    option, help and panel (``click``: Click's own settings, e.g. ``min``)."""
+    return typer.Option(
+        declared.option, help=declared.help, rich_help_panel=declared.panel, **click
+    )
+
+
+StartOption = Annotated[str | None, declared_option(run_setting("start"))]
+RampTimeOption = Annotated[str | None, declared_option(run_setting("ramp_time"))]
+RtolOption = Annotated[float | None, declared_option(run_setting("rtol"))]
+IntegratorOption = Annotated[str | None, declared_option(run_setting("integrator"))]
+MaxStepOption = Annotated[str | None, declared_option(run_setting("max_step"))]
 
 #: The option of each setting that the layers below name in their errors
 #: (:class:`~jointplay.errors.SettingError`) and in the diagnostics' advice
 #: (:meth:`~jointplay.dynamics.diagnostics.Diagnostic.named`): the command line shows these
 #: names.
 SETTING_OPTIONS = {
-    **{declared.name: declared.option for declared in CONTACT_SETTINGS},
-    "start": "--start",
-    "settle": "--settle",
-    "revolutions": "--revolutions",
-    "rtol": "--rtol",
-    "integrator": "--integrator",
+    **{declared.name: declared.option for declared in (*CONTACT_SETTINGS, *RUN_SETTINGS)},
     "max_samples": "--max-samples",
     "joints": "--joints",
     "clearance": "--clearance",
@@ -157,7 +145,6 @@ SETTING_OPTIONS = {
     "responses": "--responses",
     "output_step": "--output-step",
     "sample_deg": "--sample-deg",
-    "max_step": "--max-step",
     "wear_coefficient": "--wear-coefficient",
     "hardness": "--hardness",
     "speed_column": "--speed-column",

@@ -37,6 +37,7 @@ from jointplay.cli._simulation import (
     ContactValues,
     IntegratorOption,
     JointsOption,
+    MaxStepOption,
     RampTimeOption,
     RtolOption,
     StartOption,
@@ -108,10 +109,7 @@ def simulate_command(
     ] = None,
     rtol: RtolOption = None,
     integrator: IntegratorOption = None,
-    max_step: Annotated[
-        str | None,
-        _opt("Largest integration step, e.g. '1 ms' (default: 1° of crank).", "--max-step"),
-    ] = None,
+    max_step: MaxStepOption = None,
     fmt: Annotated[
         str | None, _opt("Time-series format: csv (default) or parquet.", "--format")
     ] = None,

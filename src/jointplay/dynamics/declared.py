@@ -1,5 +1,5 @@
-"""The contact settings of a run, each declared once (issue 38): the table
-:data:`CONTACT_SETTINGS` that the edges build themselves from.
+"""The settings of a run, each declared once (issue 38): the tables
+:data:`CONTACT_SETTINGS` and :data:`RUN_SETTINGS` that the edges build themselves from.
 
 A :class:`Setting` names where a setting of
 :class:`~jointplay.dynamics.setup.ContactModel` (or of its
@@ -19,6 +19,13 @@ unit of its quantity. From this one table come
 - the option that the command line shows in place of a setting's name in an error
   (``jointplay.cli._simulation.SETTING_OPTIONS``).
 
+:data:`RUN_SETTINGS` declares the settings of
+:class:`~jointplay.dynamics.settings.RunSettings` that the options and ``[simulation]`` name
+the same way everywhere (``--start``, ``--rtol``, ...): their keys, options, units and panel,
+and the help of the commands that share one option (``jointplay.cli._simulation``'s
+``RtolOption``, ...; a command whose option reads differently, ``tolerance --start``, gives its
+own help).
+
 A new contact option is one entry here and its field on its record in
 :mod:`jointplay.dynamics.setup` (docs/contact.md, "Adding a contact option";
 ``tests/settings/test_new_option.py``). Standard library only: the command line reads this
@@ -30,17 +37,31 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Literal
 
-__all__ = ["CONTACT_PANEL", "CONTACT_SETTINGS", "Setting", "offered", "setting"]
+__all__ = [
+    "CONTACT_PANEL",
+    "CONTACT_SETTINGS",
+    "RUN_PANEL",
+    "RUN_SETTINGS",
+    "Setting",
+    "offered",
+    "run_setting",
+    "setting",
+]
 
-#: The help panel of the contact options (:mod:`jointplay.cli._panels` shows its title).
+#: The help panels of the contact options and of the run's (:mod:`jointplay.cli._panels`
+#: shows their titles).
 CONTACT_PANEL = "Contact"
+RUN_PANEL = "The dynamic run"
 
 #: The record a setting sets: the paper method's choice (``method``, ``ecs_source``:
 #: :func:`jointplay.settings.simulation.method_law_of`), the law and its parameters
 #: (:class:`~jointplay.dynamics.setup.ContactSettings`), the friction
 #: (:class:`~jointplay.dynamics.setup.FrictionSettings`) or the contact model itself
-#: (:class:`~jointplay.dynamics.setup.ContactModel`).
-Owner = Literal["method", "settings", "friction", "model"]
+#: (:class:`~jointplay.dynamics.setup.ContactModel`); the run's settings
+#: (:class:`~jointplay.dynamics.settings.RunSettings`), its start
+#: (:class:`~jointplay.dynamics.simulate.Start`) or its integrator's
+#: (:class:`~jointplay.dynamics.simulate.SolverOptions`).
+Owner = Literal["method", "settings", "friction", "model", "run", "start", "solver"]
 
 
 @dataclass(frozen=True)
@@ -54,8 +75,8 @@ class Setting:
         field: its field on ``owner`` (``c_max`` for ``--cmax``).
         owner: the record it sets (:data:`Owner`).
         help: the option's help text.
-        kind: ``float``, a plain number (a TOML number, a number option), or ``str``, text: a
-            name, or a quantity with its unit.
+        kind: ``float``, a plain number (a TOML number, a number option), ``int``, a whole
+            number, or ``str``, text: a name, or a quantity with its unit.
         unit: the SI unit its quantity is read in (``None``: a name or a plain number).
         panel: the help panel of its option.
         offered: the simulating commands offer it as an option (``False``: a
@@ -71,7 +92,7 @@ class Setting:
     field: str
     owner: Owner
     help: str
-    kind: type[float] | type[str] = str
+    kind: type[float] | type[int] | type[str] = str
     unit: str | None = None
     panel: str = CONTACT_PANEL
     offered: bool = True
@@ -130,6 +151,40 @@ CONTACT_SETTINGS: tuple[Setting, ...] = (
             "Or a fixed film damping ('1e4 N*s/m').", unit="N*s/m"),
 )
 # fmt: on
+
+
+# fmt: off
+#: The run's settings that every command names alike, in the order of the commands' help.
+RUN_SETTINGS: tuple[Setting, ...] = (
+    Setting("start", "--start", "start", "run",
+            "steady (the nominal motion, default), rest (the paper's start-up), impulsive or "
+            "ramp (docs/cli.md).", panel=RUN_PANEL),
+    Setting("ramp_time", "--ramp-time", "ramp_time", "start",
+            "--start ramp: the ramp's duration, e.g. '50 ms'.", unit="s", panel=RUN_PANEL),
+    Setting("settle", "--settle", "settle", "run", "Start-up revolutions left out.", kind=int,
+            panel=RUN_PANEL),
+    Setting("revolutions", "--revolutions", "revolutions", "run", "Analysed revolutions.",
+            kind=float, panel=RUN_PANEL),
+    Setting("rtol", "--rtol", "rtol", "solver",
+            "Integrator's relative tolerance (default 1e-6).", kind=float, panel=RUN_PANEL),
+    Setting("integrator", "--integrator", "integrator", "solver",
+            "Integrator: radau (Radau IIA, order 5), rodas4 (linearly implicit, order 4) or "
+            "dopri5 (explicit, order 5, for soft contact); default radau, rodas4 for the "
+            "paper's IFM ECS methods with every joint clear, dopri5 for ifm-conventional "
+            "(docs/cli.md).", panel=RUN_PANEL),
+    Setting("max_step", "--max-step", "max_step", "solver",
+            "Largest integration step, e.g. '1 ms' (default: 1° of crank).", unit="s",
+            panel=RUN_PANEL),
+)
+# fmt: on
+
+
+def run_setting(key: str) -> Setting:
+    """The declared run setting of ``key`` (its ``[simulation]`` key)."""
+    for declared in RUN_SETTINGS:
+        if declared.key == key:
+            return declared
+    raise KeyError(f"no run setting {key!r}")
 
 
 def setting(key: str) -> Setting:

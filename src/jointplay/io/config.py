@@ -24,7 +24,7 @@ from importlib import resources
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from jointplay.dynamics.declared import CONTACT_SETTINGS
+from jointplay.dynamics.declared import CONTACT_SETTINGS, RUN_SETTINGS
 from jointplay.errors import ConfigError, JointplayError
 from jointplay.io.keys import option_keys, unknown_keys_message
 from jointplay.model.mechanism import (
@@ -706,12 +706,11 @@ def _split_ref(ref: str, joint: str) -> tuple[str, str]:
 
 
 #: Keys of the ``[simulation]`` table (the same names as the ``jointplay simulate`` options):
-#: the declared contact settings (:data:`~jointplay.dynamics.declared.CONTACT_SETTINGS`) and
-#: the run's.
+#: the declared contact and run settings (:mod:`jointplay.dynamics.declared`) and the
+#: others of ``simulate``.
 SIMULATION_KEYS = (
-    *(s.key for s in CONTACT_SETTINGS), "clearance", "joints", "start", "ramp_time",
-    "start_angle", "revolutions", "settle", "sample_deg", "output_step", "rtol", "integrator",
-    "max_step", "format",
+    *(s.key for s in (*CONTACT_SETTINGS, *RUN_SETTINGS)), "clearance", "joints", "start_angle",
+    "sample_deg", "output_step", "format",
 )  # fmt: skip
 
 
@@ -805,4 +804,4 @@ def simulation_settings(path: Path | str | None) -> dict[str, Any]:
 
 
 #: Keys of the ``[simulation]`` table that are plain numbers (the others are strings).
-_SIMULATION_NUMBERS = (*(s.key for s in CONTACT_SETTINGS if s.kind is float), "revolutions", "rtol")
+_SIMULATION_NUMBERS = tuple(s.key for s in (*CONTACT_SETTINGS, *RUN_SETTINGS) if s.kind is float)

@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Any
 
-from jointplay.dynamics.declared import CONTACT_SETTINGS, Setting
+from jointplay.dynamics.declared import CONTACT_SETTINGS, RUN_SETTINGS, Setting
 from jointplay.errors import ConfigError
 
 if TYPE_CHECKING:  # the dynamics import Numba: loaded when a simulation runs
@@ -152,7 +152,9 @@ def finite_number(values: dict[str, Any], key: str, default: float) -> float:
 def _option(key: str) -> str:
     """The option of ``key`` (a ``[simulation]`` key): a contact setting's declared one, else
     the key's own spelling (``max_step``: ``--max-step``)."""
-    declared: Setting | None = next((s for s in CONTACT_SETTINGS if s.key == key), None)
+    declared: Setting | None = next(
+        (s for s in (*CONTACT_SETTINGS, *RUN_SETTINGS) if s.key == key), None
+    )
     return "--" + key.replace("_", "-") if declared is None else declared.option
 
 
