@@ -46,6 +46,7 @@ __all__ = [
     "offered",
     "run_setting",
     "setting",
+    "unit_of",
 ]
 
 #: The help panels of the contact options and of the run's (:mod:`jointplay.cli._panels`
@@ -193,6 +194,14 @@ def setting(key: str) -> Setting:
         if declared.key == key:
             return declared
     raise KeyError(f"no contact setting {key!r}")
+
+
+def unit_of(key: str) -> str:
+    """The SI unit of the declared contact setting ``key``'s quantity."""
+    unit = setting(key).unit
+    if unit is None:
+        raise KeyError(f"contact setting {key!r} is not a quantity")
+    return unit
 
 
 def offered() -> tuple[Setting, ...]:

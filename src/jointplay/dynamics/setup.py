@@ -30,7 +30,7 @@ from jointplay.dynamics.clearance import (
     JointFilm,
     JointStiffness,
 )
-from jointplay.dynamics.declared import setting
+from jointplay.dynamics.declared import setting, unit_of
 from jointplay.errors import ConfigError, QuantityError, SettingError
 from jointplay.model.mechanism import Mechanism, RevoluteJoint
 from jointplay.units import parse_quantity
@@ -346,10 +346,11 @@ class ContactModel:
         if self.film_damping is None:
             object.__setattr__(self, "lubricant_viscosity", self._viscosity())
         else:
-            film = _zero_or_quantity(self.film_damping, "N*s/m", "film_damping")
+            unit = unit_of("film_damping")
+            film = _zero_or_quantity(self.film_damping, unit, "film_damping")
             if film < 0:
                 raise SettingError(
-                    "{film_damping} must be >= 0 N*s/m (0: dry joints), got {got!r}",
+                    f"{{film_damping}} must be >= 0 {unit} (0: dry joints), got {{got!r}}",
                     got=self.film_damping,
                 )
             object.__setattr__(self, "film_damping", film)
@@ -366,10 +367,11 @@ class ContactModel:
         if self.lubricant_viscosity is None:
             dry = self.law is not None or self.sustained_contact
             return 0.0 if dry else DEFAULT_VISCOSITY
-        viscosity = _zero_or_quantity(self.lubricant_viscosity, "Pa*s", "lubricant_viscosity")
+        unit = unit_of("lubricant_viscosity")
+        viscosity = _zero_or_quantity(self.lubricant_viscosity, unit, "lubricant_viscosity")
         if viscosity < 0:
             raise SettingError(
-                "{lubricant_viscosity} must be >= 0 Pa*s (0: dry joints), got {got!r}",
+                f"{{lubricant_viscosity}} must be >= 0 {unit} (0: dry joints), got {{got!r}}",
                 got=self.lubricant_viscosity,
             )
         return viscosity
