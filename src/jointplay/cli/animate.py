@@ -112,8 +112,9 @@ def animate_command(
     check_animation_settings(out, magnification=magnification, fps=fps, frames=frames, size=size)
     with _output_file(out) as partial:
         given = {
-            **contact_options, "clearance": clearance, "joints": joints, "start": start, "ramp_time": ramp_time, "start_angle": start_angle,
-            "settle": settle, "rtol": rtol, "integrator": integrator,
+            **contact_options, "clearance": clearance, "joints": joints, "start": start,
+            "ramp_time": ramp_time, "start_angle": start_angle, "settle": settle, "rtol": rtol,
+            "integrator": integrator,
         }  # fmt: skip
         result = _simulate(preset, config, rpm, direction, gravity, given, progress)
         from jointplay.report.animation import write_animation

@@ -134,10 +134,9 @@ def simulate_command(
         table = simulation_settings(config)
         given = {
             **contact_options, "clearance": clearance, "joints": joints, "start": start,
-            "ramp_time": ramp_time,
-            "start_angle": start_angle, "revolutions": revolutions, "settle": settle,
-            "sample_deg": sample_deg,
-            "output_step": output_step, "rtol": rtol, "integrator": integrator, "max_step": max_step, "format": fmt,
+            "ramp_time": ramp_time, "start_angle": start_angle, "revolutions": revolutions,
+            "settle": settle, "sample_deg": sample_deg, "output_step": output_step, "rtol": rtol,
+            "integrator": integrator, "max_step": max_step, "format": fmt,
         }  # fmt: skip
         values = {**table, **{key: value for key, value in given.items() if value is not None}}
         mechanism = mechanism_from_options(
