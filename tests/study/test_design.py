@@ -298,18 +298,20 @@ def test_dynamic_designs_default_to_the_physical_contact(paper_fourbar, monkeypa
     class Built(Exception):
         pass
 
-    def capture(*args, **kwargs):
-        raise Built(kwargs)
+    def capture(mechanism, names, run, **kwargs):
+        raise Built(run)
 
-    monkeypatch.setattr(design, "dynamic_model", capture)
-    given = {}
+    monkeypatch.setattr(design, "run_model", capture)  # handed the RunSettings itself
+    runs = {}
     for contact in (None, ContactModel(), "ifm-conventional"):
         with pytest.raises(Built) as built:
             design_study(
                 paper_fourbar, ["H8/g7"], ["m"], ["joint_force <= 1 kN"], samples=2,
                 contact=contact, backend=SERIAL,
             )  # fmt: skip
-        given[contact] = built.value.args[0]
+        runs[contact] = built.value.args[0]
+    assert runs[None].contact == ContactModel()
+    given = {contact: study_contact(paper_fourbar, run.contact) for contact, run in runs.items()}
     physical = study_contact(paper_fourbar, ContactModel())
     assert given[None]["law"] == physical["law"] and given[None]["law"].name == "restitution"
     assert given[None]["stiffness_from"] == physical["stiffness_from"] != {}

@@ -15,7 +15,9 @@ import typer
 
 from jointplay import __version__
 from jointplay.cli._app import current_argv
-from jointplay.cli._panels import OUTPUT_PANEL, RUN_PANEL, WEAR_PANEL
+from jointplay.cli._panels import OUTPUT_PANEL, WEAR_PANEL
+from jointplay.cli._simulation import declared_option
+from jointplay.dynamics.declared import run_setting
 from jointplay.errors import ConfigError, Interrupted, PartialInterrupt
 from jointplay.io.output import hold_signals, release_signals
 
@@ -102,12 +104,7 @@ HardnessOption = Annotated[
         rich_help_panel=WEAR_PANEL,
     ),
 ]
-SettleOption = Annotated[
-    int,
-    typer.Option(
-        "--settle", help="Start-up revolutions left out.", min=0, rich_help_panel=RUN_PANEL
-    ),
-]
+SettleOption = Annotated[int, declared_option(run_setting("settle"), min=0)]
 #: Figure formats of ``--figure-format`` (PNG is always written; the others beside it).
 FIGURE_FORMATS = ("png", "svg", "pdf")
 FigureFormatOption = Annotated[

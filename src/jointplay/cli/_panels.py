@@ -8,12 +8,14 @@ from __future__ import annotations
 
 from typing import Any
 
+from jointplay.dynamics.declared import CONTACT_PANEL, CONTACT_SETTINGS, RUN_PANEL, RUN_SETTINGS
+
 #: Help panels: every command groups its options under the same titles, in this order
 #: (Typer's "Options" first: what is studied, the mechanism and its speed).
 REQUIREMENTS_PANEL = "Requirements"
 SAMPLING_PANEL = "Sampling"
-CONTACT_PANEL = "Contact"
-RUN_PANEL = "The dynamic run"
+#: CONTACT_PANEL ("Contact") and RUN_PANEL ("The dynamic run"): the settings' declarations
+#: name them (:mod:`jointplay.dynamics.declared`).
 WEAR_PANEL = "Wear and cost"
 MEASUREMENTS_PANEL = "Measurements file"
 EXECUTION_PANEL = "Execution"
@@ -31,7 +33,8 @@ PANEL_ORDER = (
 )
 #: The panel of an option by its name, on every command whose declaration names none (one
 #: grammar across commands: ``--settle`` is under "The dynamic run" wherever it appears).
-#: ``--method`` is not here: it names a contact method on the simulating commands (declared
+#: The contact and run options come from their declarations
+#: (:mod:`jointplay.dynamics.declared`); ``--method`` is not here: it names a contact method on the simulating commands (declared
 #: in the Contact panel) and a tolerance method on ``tolerance``.
 # fmt: off
 OPTION_PANELS = {
@@ -41,13 +44,12 @@ OPTION_PANELS = {
          "--truncate", "--rare-defects", "--clearances", "--corners", "--fd-step"),
         SAMPLING_PANEL),
     **dict.fromkeys(
-        ("--paper-method", "--ecs-source", "--contact", "--k", "--exponent", "--cmax",
-         "--depth", "--restitution", "--damping", "--stiffness-law", "--friction",
-         "--friction-law", "--clearance", "--joints", "--model-sensitivity"),
+        (*(s.option for s in CONTACT_SETTINGS if s.offered and s.key != "method"),
+         "--paper-method", "--clearance", "--joints", "--model-sensitivity"),
         CONTACT_PANEL),
     **dict.fromkeys(
-        ("--start", "--ramp-time", "--settle", "--revolutions", "--rtol", "--integrator",
-         "--max-step", "--output-step", "--sample-deg", "--experiment-revolutions"),
+        (*(s.option for s in RUN_SETTINGS), "--output-step", "--sample-deg",
+         "--experiment-revolutions"),
         RUN_PANEL),
     **dict.fromkeys(
         ("--clearance-limit", "--table", "--wear-coefficient", "--hardness", "--hours",

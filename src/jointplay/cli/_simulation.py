@@ -1,22 +1,97 @@
 """The options and settings shared by the commands that simulate the clearance dynamics
 (``simulate``, ``animate``, ``tolerance``, ``design``, ``wear``, ``calibrate``, ``compare``):
 one declaration of each option, and the :class:`~jointplay.dynamics.settings.RunSettings` of
-their values. The values are read by :mod:`jointplay.settings.simulation` (the contact model
-of the contact options, or of the ``[simulation]`` keys of the same names), which
-``jointplay explore`` reads them with too."""
+their values. The contact options are built from their declarations
+(:data:`~jointplay.dynamics.declared.CONTACT_SETTINGS`) by :func:`with_contact_options`. The
+values are read by :mod:`jointplay.settings.simulation` (the contact model of the contact
+options, or of the ``[simulation]`` keys of the same names), which ``jointplay explore``
+reads them with too."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Annotated, Any
+import dataclasses
+import functools
+import inspect
+from collections.abc import Callable, Mapping
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Annotated, Any, TypeVar
 
 import typer
 
-from jointplay.cli._panels import CONTACT_PANEL, RUN_PANEL
+from jointplay.cli._panels import CONTACT_PANEL
+from jointplay.dynamics.declared import CONTACT_SETTINGS, RUN_SETTINGS, Setting, run_setting
 from jointplay.settings.simulation import finite_number
 
 if TYPE_CHECKING:  # the dynamics import Numba: loaded when a command runs
     from jointplay.dynamics.settings import RunSettings
     from jointplay.dynamics.setup import ContactModel
+
+Command = TypeVar("Command", bound=Callable[..., Any])
+
+#: The values of a command's contact options (:func:`with_contact_options`): each offered
+#: setting's ``[simulation]`` key and the option's value, ``None`` where not given.
+ContactValues = Mapping[str, Any]
+#: The default of a command's ``contact_options`` parameter (always given when it runs).
+NO_CONTACT_OPTIONS: ContactValues = MappingProxyType({})
+
+
+def with_contact_options(
+    *, renamed: Mapping[str, tuple[str, str]] | None = None
+) -> Callable[[Command], Command]:
+    """A command's contact options, built from their declarations
+    (:data:`~jointplay.dynamics.declared.CONTACT_SETTINGS`, those ``offered``): the decorated
+    function's parameter ``contact_options`` stands for them in its signature, which Typer
+    reads, and receives their values (:data:`ContactValues`). ``renamed``: a setting's key to
+    the option and help it has on this command (``tolerance``'s ``--paper-method``: its
+    ``--method`` is the tolerance method). Each option keeps its declared kind (a number or
+    text), help and panel; all are keyword parameters."""
+    renamed = dict(renamed or {})
+
+    def decorate(command: Command) -> Command:
+        signature = inspect.signature(command, eval_str=True)
+        names = list(signature.parameters)
+        if "contact_options" not in names:
+            raise TypeError(f"{command.__name__} has no parameter contact_options")
+        built: dict[str, inspect.Parameter] = {}
+        keys: dict[str, str] = {}  # parameter name -> setting key
+        for declared in (s for s in CONTACT_SETTINGS if s.offered):
+            option, help_text = renamed.pop(declared.key, (declared.option, declared.help))
+            name = option.lstrip("-").replace("-", "_")
+            if name in names or name in built:
+                raise TypeError(f"{command.__name__}: {option} is already a parameter")
+            option_info = declared_option(
+                dataclasses.replace(declared, option=option, help=help_text)
+            )
+            built[name] = inspect.Parameter(
+                name,
+                inspect.Parameter.KEYWORD_ONLY,
+                default=None,
+                annotation=Annotated[declared.kind | None, option_info],
+            )
+            keys[name] = declared.key
+        if renamed:
+            raise TypeError(f"not contact settings: {sorted(renamed)}")
+        parameters: list[inspect.Parameter] = []
+        for parameter in signature.parameters.values():
+            if parameter.name == "contact_options":
+                parameters.extend(built.values())
+            else:  # keyword parameters: no order of defaults to keep
+                parameters.append(parameter.replace(kind=inspect.Parameter.KEYWORD_ONLY))
+
+        @functools.wraps(command)
+        def with_options(**given: Any) -> Any:
+            values = {key: given.pop(name) for name, key in keys.items()}
+            return command(**given, contact_options=values)
+
+        with_options.__signature__ = signature.replace(parameters=parameters)  # type: ignore[attr-defined]
+        with_options.__annotations__ = {
+            name: hint
+            for name, hint in command.__annotations__.items()
+            if name != "contact_options"
+        }
+        return with_options  # type: ignore[return-value]
+
+    return decorate
 
 
 def _opt(help_text: str, *names: str, panel: str = CONTACT_PANEL) -> Any:
@@ -24,54 +99,6 @@ def _opt(help_text: str, *names: str, panel: str = CONTACT_PANEL) -> Any:
     return typer.Option(*names, help=help_text, rich_help_panel=panel)
 
 
-MethodOption = Annotated[
-    str | None,
-    _opt(
-        "A method of the paper's Table 2 instead: ifm- or rm- with conventional, ecs-cylindrical or ecs-spherical.",
-        "--method",
-    ),
-]
-EcsSourceOption = Annotated[
-    str | None,
-    _opt(
-        "ECS K, δ, D: computed (default) or paper.",
-        "--ecs-source",
-    ),
-]
-ContactOption = Annotated[
-    str | None,
-    _opt(
-        "Contact law (docs/contact-laws.md): restitution (default), impact, hertz, ...",
-        "--contact",
-    ),
-]
-StiffnessOption = Annotated[
-    str | None,
-    _opt(
-        "Stiffness, e.g. '1e4 N/mm^1.5' (default: each joint's, --stiffness-law).",
-        "--k",
-    ),
-]
-ExponentOption = Annotated[
-    float | None, _opt("Force exponent n (1.5; restitution: 1).", "--exponent")
-]
-CmaxOption = Annotated[str | None, _opt("IMPACT maximum damping, e.g. '10 N*s/mm'.", "--cmax")]
-DepthOption = Annotated[str | None, _opt("IMPACT full-damping depth, e.g. '0.1 mm'.", "--depth")]
-RestitutionOption = Annotated[
-    float | None,
-    _opt(
-        "Restitution, 0.6-0.95 (default 0.8).",
-        "--restitution",
-    ),
-]
-DampingOption = Annotated[str | None, _opt("Kelvin-Voigt damping, e.g. '100 N*s/m'.", "--damping")]
-StiffnessLawOption = Annotated[
-    str | None,
-    _opt(
-        "Each joint's stiffness from its radii and materials: liu (default), hertz, johnson, esdu-78035, pereira, radzimovsky.",
-        "--stiffness-law",
-    ),
-]
 ClearanceOption = Annotated[
     str | None,
     _opt(
@@ -86,95 +113,38 @@ JointsOption = Annotated[
         "--joints",
     ),
 ]
-FrictionOption = Annotated[
-    float | None,
-    _opt(
-        "Friction coefficient (default 0.1, range 0.01-0.2; 0: off; --method: 0).",
-        "--friction",
-    ),
-]
-ViscosityOption = Annotated[
-    str | None,
-    _opt(
-        "Lubricant, '0.05 Pa*s' (default; sets each joint's film damping); 0: dry.",
-        "--lubricant-viscosity",
-    ),
-]
-FilmDampingOption = Annotated[
-    str | None,
-    _opt(
-        "Or a fixed film damping ('1e4 N*s/m').",
-        "--film-damping",
-    ),
-]
-FrictionLawOption = Annotated[
-    str | None,
-    _opt(
-        "Friction law: ambrosio (regularised Coulomb, default) or adams (STEP mu(v)).",
-        "--friction-law",
-    ),
-]
-StartOption = Annotated[
-    str | None,
-    _opt(
-        "steady (the nominal motion, default), rest (the paper's start-up), impulsive or ramp (docs/cli.md).",
-        "--start",
-        panel=RUN_PANEL,
-    ),
-]
-RampTimeOption = Annotated[
-    str | None,
-    _opt("--start ramp: the ramp's duration, e.g. '50 ms'.", "--ramp-time", panel=RUN_PANEL),
-]
-RtolOption = Annotated[
-    float | None, _opt("Integrator's relative tolerance (default 1e-6).", "--rtol", panel=RUN_PANEL)
-]
-IntegratorOption = Annotated[
-    str | None,
-    _opt(
-        "Integrator: radau (Radau IIA, order 5), rodas4 (linearly implicit, order 4) or dopri5"
-        " (explicit, order 5, for soft contact); default radau, rodas4 for the paper's IFM ECS"
-        " methods with every joint clear, dopri5 for ifm-conventional (docs/cli.md).",
-        "--integrator",
-        panel=RUN_PANEL,
-    ),
-]
+
+
+def declared_option(declared: Setting, **click: Any) -> Any:
+    """The Typer option of a declared setting (:mod:`jointplay.dynamics.declared`): its
+    option, help and panel (``click``: Click's own settings, e.g. ``min``)."""
+    return typer.Option(
+        declared.option, help=declared.help, rich_help_panel=declared.panel, **click
+    )
+
+
+StartOption = Annotated[str | None, declared_option(run_setting("start"))]
+RampTimeOption = Annotated[str | None, declared_option(run_setting("ramp_time"))]
+RtolOption = Annotated[float | None, declared_option(run_setting("rtol"))]
+IntegratorOption = Annotated[str | None, declared_option(run_setting("integrator"))]
+MaxStepOption = Annotated[str | None, declared_option(run_setting("max_step"))]
 
 #: The option of each setting that the layers below name in their errors
 #: (:class:`~jointplay.errors.SettingError`) and in the diagnostics' advice
 #: (:meth:`~jointplay.dynamics.diagnostics.Diagnostic.named`): the command line shows these
 #: names.
 SETTING_OPTIONS = {
-    "start": "--start",
-    "settle": "--settle",
-    "revolutions": "--revolutions",
-    "rtol": "--rtol",
-    "integrator": "--integrator",
+    **{declared.name: declared.option for declared in (*CONTACT_SETTINGS, *RUN_SETTINGS)},
     "max_samples": "--max-samples",
-    "law": "--contact",
-    "stiffness": "--k",
-    "exponent": "--exponent",
-    "c_max": "--cmax",
-    "depth": "--depth",
-    "restitution": "--restitution",
-    "damping": "--damping",
-    "stiffness_law": "--stiffness-law",
-    "fit_depth": "--fit-depth",
-    "friction": "--friction",
-    "friction_law": "--friction-law",
-    "film_damping": "--film-damping",
-    "lubricant_viscosity": "--lubricant-viscosity",
     "joints": "--joints",
     "clearance": "--clearance",
     "output folder": "--out",
     "force=True": "--force",
     "format": "--format",
-    "ecs_source": "--ecs-source",
     "fit": "--fit",
     "responses": "--responses",
     "output_step": "--output-step",
     "sample_deg": "--sample-deg",
-    "max_step": "--max-step",
     "wear_coefficient": "--wear-coefficient",
     "hardness": "--hardness",
     "speed_column": "--speed-column",

@@ -24,27 +24,16 @@ from jointplay.cli._common import (
     status,
 )
 from jointplay.cli._simulation import (
+    NO_CONTACT_OPTIONS,
     ClearanceOption,
-    CmaxOption,
-    ContactOption,
-    DampingOption,
-    DepthOption,
-    EcsSourceOption,
-    ExponentOption,
-    FilmDampingOption,
-    FrictionLawOption,
-    FrictionOption,
+    ContactValues,
     IntegratorOption,
     JointsOption,
-    MethodOption,
     RampTimeOption,
-    RestitutionOption,
     RtolOption,
     StartOption,
-    StiffnessLawOption,
-    StiffnessOption,
-    ViscosityOption,
     run_settings_of,
+    with_contact_options,
 )
 from jointplay.errors import ConfigError
 from jointplay.settings.mechanism import mechanism_from_options
@@ -56,6 +45,7 @@ def _opt(help_text: str, *names: str, **kwargs: Any) -> Any:
 
 
 @app.command("animate")
+@with_contact_options()
 def animate_command(
     out: Annotated[
         Path,
@@ -74,22 +64,9 @@ def animate_command(
     direction: DirectionOption = None,
     start_angle: StartAngleOption = None,
     gravity: GravityOption = None,
-    method: MethodOption = None,
-    ecs_source: EcsSourceOption = None,
-    contact: ContactOption = None,
-    k: StiffnessOption = None,
-    exponent: ExponentOption = None,
-    cmax: CmaxOption = None,
-    depth: DepthOption = None,
-    restitution: RestitutionOption = None,
-    damping: DampingOption = None,
-    stiffness_law: StiffnessLawOption = None,
+    contact_options: ContactValues = NO_CONTACT_OPTIONS,
     clearance: ClearanceOption = None,
     joints: JointsOption = None,
-    friction: FrictionOption = None,
-    friction_law: FrictionLawOption = None,
-    lubricant_viscosity: ViscosityOption = None,
-    film_damping: FilmDampingOption = None,
     start: StartOption = None,
     ramp_time: RampTimeOption = None,
     settle: Annotated[
@@ -135,12 +112,9 @@ def animate_command(
     check_animation_settings(out, magnification=magnification, fps=fps, frames=frames, size=size)
     with _output_file(out) as partial:
         given = {
-            "contact": contact, "k": k, "exponent": exponent, "cmax": cmax, "depth": depth,
-            "restitution": restitution, "damping": damping, "stiffness_law": stiffness_law,
-            "clearance": clearance, "joints": joints, "friction": friction,
-            "friction_law": friction_law, "lubricant_viscosity": lubricant_viscosity, "film_damping": film_damping, "method": method, "ecs_source": ecs_source,
-            "start": start, "ramp_time": ramp_time, "start_angle": start_angle,
-            "settle": settle, "rtol": rtol, "integrator": integrator,
+            **contact_options, "clearance": clearance, "joints": joints, "start": start,
+            "ramp_time": ramp_time, "start_angle": start_angle, "settle": settle, "rtol": rtol,
+            "integrator": integrator,
         }  # fmt: skip
         result = _simulate(preset, config, rpm, direction, gravity, given, progress)
         from jointplay.report.animation import write_animation

@@ -47,28 +47,18 @@ from jointplay.cli._panels import (
     WEAR_PANEL,
 )
 from jointplay.cli._simulation import (
+    NO_CONTACT_OPTIONS,
     SETTING_OPTIONS,
-    CmaxOption,
-    ContactOption,
-    DampingOption,
-    DepthOption,
-    EcsSourceOption,
-    ExponentOption,
-    FilmDampingOption,
-    FrictionLawOption,
-    FrictionOption,
-    MethodOption,
-    RestitutionOption,
+    ContactValues,
     RtolOption,
-    StiffnessLawOption,
-    StiffnessOption,
-    ViscosityOption,
     run_settings,
+    with_contact_options,
 )
 from jointplay.cli.tolerance import (
     BackendOption,
     backend_from_options,
 )
+from jointplay.dynamics.declared import setting
 from jointplay.errors import ConfigError, JointplayError
 from jointplay.settings.mechanism import mechanism_from_options
 from jointplay.settings.simulation import check_revolutions, contact_from_options
@@ -205,6 +195,7 @@ def parse_joint_fits(texts: list[str]) -> dict[str, str]:
 
 
 @app.command("design")
+@with_contact_options()
 def design_command(
     out: OutOption,
     require: Annotated[
@@ -330,20 +321,7 @@ def design_command(
     ] = None,
     wear_coefficient: WearCoefficientOption = None,
     hardness: HardnessOption = None,
-    method: MethodOption = None,
-    ecs_source: EcsSourceOption = None,
-    contact: ContactOption = None,
-    k: StiffnessOption = None,
-    exponent: ExponentOption = None,
-    cmax: CmaxOption = None,
-    depth: DepthOption = None,
-    restitution: RestitutionOption = None,
-    damping: DampingOption = None,
-    stiffness_law: StiffnessLawOption = None,
-    friction: FrictionOption = None,
-    friction_law: FrictionLawOption = None,
-    lubricant_viscosity: ViscosityOption = None,
-    film_damping: FilmDampingOption = None,
+    contact_options: ContactValues = NO_CONTACT_OPTIONS,
     rtol: RtolOption = None,
     model_check: Annotated[
         bool,
@@ -411,13 +389,7 @@ def design_command(
     level = parse_confidence(confidence, "--confidence")
     count = parse_samples(samples)
     process = parse_process(sampling, distribution, cpk or [])
-    contact_options = {
-        "method": method, "ecs_source": ecs_source, "contact": contact, "k": k,
-        "exponent": exponent, "cmax": cmax, "depth": depth, "restitution": restitution,
-        "damping": damping, "stiffness_law": stiffness_law, "friction": friction,
-        "friction_law": friction_law, "lubricant_viscosity": lubricant_viscosity, "film_damping": film_damping,
-    }  # fmt: skip
-    given = [f"--{key.replace('_', '-')}" for key, v in contact_options.items() if v is not None]
+    given = [setting(key).option for key, v in contact_options.items() if v is not None]
     dynamic = resolve_responses(mechanism, requirements, kind) == "dynamic"  # type: ignore[arg-type]
     if given and not dynamic:
         raise ConfigError(

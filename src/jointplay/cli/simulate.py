@@ -31,28 +31,18 @@ from jointplay.cli._common import (
     whole_headers,
 )
 from jointplay.cli._simulation import (
+    NO_CONTACT_OPTIONS,
     SETTING_OPTIONS,
     ClearanceOption,
-    CmaxOption,
-    ContactOption,
-    DampingOption,
-    DepthOption,
-    EcsSourceOption,
-    ExponentOption,
-    FilmDampingOption,
-    FrictionLawOption,
-    FrictionOption,
+    ContactValues,
     IntegratorOption,
     JointsOption,
-    MethodOption,
+    MaxStepOption,
     RampTimeOption,
-    RestitutionOption,
     RtolOption,
     StartOption,
-    StiffnessLawOption,
-    StiffnessOption,
-    ViscosityOption,
     run_settings_of,
+    with_contact_options,
 )
 from jointplay.errors import ConfigError
 from jointplay.settings.mechanism import mechanism_from_options, quantity_option
@@ -72,6 +62,7 @@ def _opt(help_text: str, *names: str) -> Any:
 
 
 @app.command("simulate")
+@with_contact_options()
 def simulate_command(
     out: OutOption,
     force: ForceOption = False,
@@ -82,22 +73,9 @@ def simulate_command(
     direction: DirectionOption = None,
     start_angle: StartAngleOption = None,
     gravity: GravityOption = None,
-    method: MethodOption = None,
-    ecs_source: EcsSourceOption = None,
-    contact: ContactOption = None,
-    k: StiffnessOption = None,
-    exponent: ExponentOption = None,
-    cmax: CmaxOption = None,
-    depth: DepthOption = None,
-    restitution: RestitutionOption = None,
-    damping: DampingOption = None,
-    stiffness_law: StiffnessLawOption = None,
+    contact_options: ContactValues = NO_CONTACT_OPTIONS,
     clearance: ClearanceOption = None,
     joints: JointsOption = None,
-    friction: FrictionOption = None,
-    friction_law: FrictionLawOption = None,
-    lubricant_viscosity: ViscosityOption = None,
-    film_damping: FilmDampingOption = None,
     start: StartOption = None,
     ramp_time: RampTimeOption = None,
     revolutions: Annotated[
@@ -131,10 +109,7 @@ def simulate_command(
     ] = None,
     rtol: RtolOption = None,
     integrator: IntegratorOption = None,
-    max_step: Annotated[
-        str | None,
-        _opt("Largest integration step, e.g. '1 ms' (default: 1° of crank).", "--max-step"),
-    ] = None,
+    max_step: MaxStepOption = None,
     fmt: Annotated[
         str | None, _opt("Time-series format: csv (default) or parquet.", "--format")
     ] = None,
@@ -158,13 +133,10 @@ def simulate_command(
     with output_dir(out, force=force, inputs=(config,)) as folder:
         table = simulation_settings(config)
         given = {
-            "contact": contact, "k": k, "exponent": exponent, "cmax": cmax, "depth": depth,
-            "restitution": restitution, "damping": damping, "stiffness_law": stiffness_law,
-            "clearance": clearance, "joints": joints, "friction": friction, "friction_law": friction_law,
-            "lubricant_viscosity": lubricant_viscosity, "film_damping": film_damping, "method": method, "ecs_source": ecs_source, "start": start, "ramp_time": ramp_time,
-            "start_angle": start_angle, "revolutions": revolutions, "settle": settle,
-            "sample_deg": sample_deg,
-            "output_step": output_step, "rtol": rtol, "integrator": integrator, "max_step": max_step, "format": fmt,
+            **contact_options, "clearance": clearance, "joints": joints, "start": start,
+            "ramp_time": ramp_time, "start_angle": start_angle, "revolutions": revolutions,
+            "settle": settle, "sample_deg": sample_deg, "output_step": output_step, "rtol": rtol,
+            "integrator": integrator, "max_step": max_step, "format": fmt,
         }  # fmt: skip
         values = {**table, **{key: value for key, value in given.items() if value is not None}}
         mechanism = mechanism_from_options(

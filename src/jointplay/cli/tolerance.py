@@ -36,22 +36,12 @@ from jointplay.cli._common import (
 )
 from jointplay.cli._panels import EXECUTION_PANEL
 from jointplay.cli._simulation import (
+    NO_CONTACT_OPTIONS,
     SETTING_OPTIONS,
-    CmaxOption,
-    ContactOption,
-    DampingOption,
-    DepthOption,
-    EcsSourceOption,
-    ExponentOption,
-    FilmDampingOption,
-    FrictionLawOption,
-    FrictionOption,
-    RestitutionOption,
+    ContactValues,
     RtolOption,
-    StiffnessLawOption,
-    StiffnessOption,
-    ViscosityOption,
     run_settings,
+    with_contact_options,
 )
 from jointplay.errors import ConfigError
 from jointplay.settings.mechanism import crank_speed, parse_gravity
@@ -158,6 +148,15 @@ class CornerMode(StrEnum):
 
 
 @app.command("tolerance")
+@with_contact_options(
+    renamed={
+        "method": (
+            "--paper-method",
+            "Dynamic: simulate's --method (a contact method of the paper's Table 2; here "
+            "--method is the tolerance method).",
+        )
+    }
+)
 def tolerance_command(
     out: OutOption,
     force: ForceOption = False,
@@ -198,28 +197,8 @@ def tolerance_command(
             help="Dynamic: clearances drawn within their fits (off: as configured).",
         ),
     ] = True,
-    contact: ContactOption = None,
-    k: StiffnessOption = None,
-    exponent: ExponentOption = None,
-    cmax: CmaxOption = None,
-    depth: DepthOption = None,
-    restitution: RestitutionOption = None,
-    damping: DampingOption = None,
-    stiffness_law: StiffnessLawOption = None,
-    friction: FrictionOption = None,
-    friction_law: FrictionLawOption = None,
-    lubricant_viscosity: ViscosityOption = None,
-    film_damping: FilmDampingOption = None,
+    contact_options: ContactValues = NO_CONTACT_OPTIONS,
     rtol: RtolOption = None,
-    paper_method: Annotated[
-        str | None,
-        typer.Option(
-            "--paper-method",
-            help="Dynamic: simulate's --method (a contact method of the paper's Table 2; "
-            "here --method is the tolerance method).",
-        ),
-    ] = None,
-    ecs_source: EcsSourceOption = None,
     start: Annotated[
         StartMode,
         typer.Option(
@@ -328,12 +307,6 @@ def tolerance_command(
         if dynamic and not clearances:
             spec = spec.only("length")
         check_revolutions(revolutions, settle)
-        contact_options = {
-            "method": paper_method, "ecs_source": ecs_source, "contact": contact, "k": k,
-            "exponent": exponent, "cmax": cmax, "depth": depth, "restitution": restitution,
-            "damping": damping, "stiffness_law": stiffness_law, "friction": friction,
-            "friction_law": friction_law, "lubricant_viscosity": lubricant_viscosity, "film_damping": film_damping,
-        }  # fmt: skip
         law = None
         if dynamic:
             law = contact_from_options(config, mechanism, "--paper-method", **contact_options)

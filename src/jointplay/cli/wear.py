@@ -28,20 +28,9 @@ from jointplay.cli._common import (
     provenance,
 )
 from jointplay.cli._simulation import (
-    CmaxOption,
-    ContactOption,
-    DampingOption,
-    DepthOption,
-    EcsSourceOption,
-    ExponentOption,
-    FilmDampingOption,
-    FrictionLawOption,
-    FrictionOption,
-    MethodOption,
-    RestitutionOption,
-    StiffnessLawOption,
-    StiffnessOption,
-    ViscosityOption,
+    NO_CONTACT_OPTIONS,
+    ContactValues,
+    with_contact_options,
 )
 from jointplay.errors import ConfigError
 from jointplay.settings.mechanism import mechanism_from_options, quantity_option
@@ -51,6 +40,7 @@ console = Console(highlight=False, soft_wrap=True)
 
 
 @app.command("wear")
+@with_contact_options()
 def wear_command(
     out: OutOption,
     hours: Annotated[
@@ -90,20 +80,7 @@ def wear_command(
     settle: SettleOption = 2,
     rpm: RpmOption = None,
     gravity: GravityOption = None,
-    method: MethodOption = None,
-    ecs_source: EcsSourceOption = None,
-    contact: ContactOption = None,
-    k: StiffnessOption = None,
-    exponent: ExponentOption = None,
-    cmax: CmaxOption = None,
-    depth: DepthOption = None,
-    restitution: RestitutionOption = None,
-    damping: DampingOption = None,
-    stiffness_law: StiffnessLawOption = None,
-    friction: FrictionOption = None,
-    friction_law: FrictionLawOption = None,
-    lubricant_viscosity: ViscosityOption = None,
-    film_damping: FilmDampingOption = None,
+    contact_options: ContactValues = NO_CONTACT_OPTIONS,
     plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
     force: ForceOption = False,
     figure_format: FigureFormatOption = "png",
@@ -131,12 +108,7 @@ def wear_command(
     )
     limit, allowance = parse_clearance_limit(clearance_limit)
     settings = wear_settings(read_table(table, config), wear_coefficient, hardness)
-    contact_used = contact_from_options(
-        config, mechanism, method=method, ecs_source=ecs_source, contact=contact, k=k,
-        exponent=exponent, cmax=cmax, depth=depth, restitution=restitution, damping=damping,
-        stiffness_law=stiffness_law, friction=friction, friction_law=friction_law,
-        lubricant_viscosity=lubricant_viscosity, film_damping=film_damping,
-    )  # fmt: skip
+    contact_used = contact_from_options(config, mechanism, **contact_options)
     joints = []
     limits: dict[str, float] = {}
     for joint in mechanism.revolute_joints:

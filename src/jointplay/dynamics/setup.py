@@ -30,6 +30,7 @@ from jointplay.dynamics.clearance import (
     JointFilm,
     JointStiffness,
 )
+from jointplay.dynamics.declared import setting, unit_of
 from jointplay.errors import ConfigError, QuantityError, SettingError
 from jointplay.model.mechanism import Mechanism, RevoluteJoint
 from jointplay.units import parse_quantity
@@ -345,10 +346,11 @@ class ContactModel:
         if self.film_damping is None:
             object.__setattr__(self, "lubricant_viscosity", self._viscosity())
         else:
-            film = _zero_or_quantity(self.film_damping, "N*s/m", "film_damping")
+            unit = unit_of("film_damping")
+            film = _zero_or_quantity(self.film_damping, unit, "film_damping")
             if film < 0:
                 raise SettingError(
-                    "{film_damping} must be >= 0 N*s/m (0: dry joints), got {got!r}",
+                    f"{{film_damping}} must be >= 0 {unit} (0: dry joints), got {{got!r}}",
                     got=self.film_damping,
                 )
             object.__setattr__(self, "film_damping", film)
@@ -365,10 +367,11 @@ class ContactModel:
         if self.lubricant_viscosity is None:
             dry = self.law is not None or self.sustained_contact
             return 0.0 if dry else DEFAULT_VISCOSITY
-        viscosity = _zero_or_quantity(self.lubricant_viscosity, "Pa*s", "lubricant_viscosity")
+        unit = unit_of("lubricant_viscosity")
+        viscosity = _zero_or_quantity(self.lubricant_viscosity, unit, "lubricant_viscosity")
         if viscosity < 0:
             raise SettingError(
-                "{lubricant_viscosity} must be >= 0 Pa*s (0: dry joints), got {got!r}",
+                f"{{lubricant_viscosity}} must be >= 0 {unit} (0: dry joints), got {{got!r}}",
                 got=self.lubricant_viscosity,
             )
         return viscosity
@@ -672,16 +675,31 @@ def parse_stiffness(text: Any, exponent: float, *, setting: str = "stiffness") -
     return _quantity(text, unit, setting, hint)
 
 
+def _declared(values: Mapping[str, Any], key: str) -> Any:
+    """``values[key]`` (``None``: not given) read as its declared setting
+    (:func:`jointplay.dynamics.declared.setting`) says: a quantity in its unit, a plain number
+    (a string holding one too), or text as it is."""
+    value = values.get(key)
+    if value is None:
+        return None
+    declared = setting(key)
+    if declared.unit is not None:
+        return _quantity(value, declared.unit, declared.name)
+    if declared.kind is float:
+        return _real(value, declared.name, text=True)
+    return value
+
+
 def contact_from_strings(values: Mapping[str, Any]) -> ContactSettings:
     """ContactSettings from strings with units (CLI options or the TOML ``[simulation]`` table).
 
-    Keys: contact, k, exponent, cmax, depth, restitution, damping, stiffness_law, fit_depth.
+    Keys: contact, k, exponent, cmax, depth, restitution, damping, stiffness_law, fit_depth
+    (:data:`~jointplay.dynamics.declared.CONTACT_SETTINGS` declares their units).
     """
     law = values.get("contact") or DEFAULT_LAW
     if not isinstance(law, str):
         raise SettingError("{law} must be the name of a contact law, got {got!r}", got=law)
-    exponent = values.get("exponent")
-    exponent = None if exponent is None else _real(exponent, "exponent", text=True)
+    exponent = _declared(values, "exponent")
     if exponent is None and values.get("contact") is None and values.get("k") is not None:
         exponent = 1.5  # a stiffness given to the default law: a power law as Hertz's
     if exponent is not None and not exponent > 0:
@@ -689,23 +707,19 @@ def contact_from_strings(values: Mapping[str, Any]) -> ContactSettings:
     if law == "kelvin-voigt" and exponent not in (None, 1.0):
         _not_linear(exponent)
     stiffness = values.get("k")
-    restitution = values.get("restitution")
+    fit_depth = _declared(values, "fit_depth")
     settings = ContactSettings(
         law=law,
         stiffness=None
         if stiffness is None
         else parse_stiffness(stiffness, law_exponent(law, exponent)),
         exponent=exponent,
-        c_max=None if values.get("cmax") is None else _quantity(values["cmax"], "N*s/m", "c_max"),
-        depth=None if values.get("depth") is None else _quantity(values["depth"], "m", "depth"),
-        restitution=None if restitution is None else _real(restitution, "restitution", text=True),
-        damping=None
-        if values.get("damping") is None
-        else _quantity(values["damping"], "N*s/m", "damping"),
-        stiffness_law=values.get("stiffness_law"),
-        fit_depth=FIT_DEPTH
-        if values.get("fit_depth") is None
-        else _quantity(values["fit_depth"], "m", "fit_depth"),
+        c_max=_declared(values, "cmax"),
+        depth=_declared(values, "depth"),
+        restitution=_declared(values, "restitution"),
+        damping=_declared(values, "damping"),
+        stiffness_law=_declared(values, "stiffness_law"),
+        fit_depth=FIT_DEPTH if fit_depth is None else fit_depth,
     )
     # Validate the parameters early, with the law's own messages (a geometry-derived
     # stiffness is only known per joint, so a placeholder stands in for it here).

@@ -24,6 +24,7 @@ from importlib import resources
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from jointplay.dynamics.declared import CONTACT_SETTINGS, RUN_SETTINGS
 from jointplay.errors import ConfigError, JointplayError
 from jointplay.io.keys import option_keys, unknown_keys_message
 from jointplay.model.mechanism import (
@@ -704,12 +705,12 @@ def _split_ref(ref: str, joint: str) -> tuple[str, str]:
     return link, point
 
 
-#: Keys of the ``[simulation]`` table (the same names as the ``jointplay simulate`` options).
+#: Keys of the ``[simulation]`` table (the same names as the ``jointplay simulate`` options):
+#: the declared contact and run settings (:mod:`jointplay.dynamics.declared`) and the
+#: others of ``simulate``.
 SIMULATION_KEYS = (
-    "method", "ecs_source", "contact", "k", "exponent", "cmax", "depth", "restitution", "damping",
-    "stiffness_law", "fit_depth", "clearance", "joints", "friction", "friction_law",
-    "lubricant_viscosity", "film_damping", "start", "ramp_time", "start_angle", "revolutions", "settle", "sample_deg", "output_step", "rtol",
-    "integrator", "max_step", "format",
+    *(s.key for s in (*CONTACT_SETTINGS, *RUN_SETTINGS)), "clearance", "joints", "start_angle",
+    "sample_deg", "output_step", "format",
 )  # fmt: skip
 
 
@@ -803,4 +804,4 @@ def simulation_settings(path: Path | str | None) -> dict[str, Any]:
 
 
 #: Keys of the ``[simulation]`` table that are plain numbers (the others are strings).
-_SIMULATION_NUMBERS = ("exponent", "restitution", "friction", "revolutions", "rtol")
+_SIMULATION_NUMBERS = tuple(s.key for s in (*CONTACT_SETTINGS, *RUN_SETTINGS) if s.kind is float)

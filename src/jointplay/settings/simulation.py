@@ -9,18 +9,17 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Any
 
+from jointplay.dynamics.declared import CONTACT_SETTINGS, RUN_SETTINGS, Setting
 from jointplay.errors import ConfigError
 
 if TYPE_CHECKING:  # the dynamics import Numba: loaded when a simulation runs
     from jointplay.dynamics.setup import ContactModel
 
-#: Options that set the contact law (refused together with --method).
-CONTACT_KEYS = ("contact", "k", "exponent", "cmax", "depth", "damping", "stiffness_law")
+#: Options that set the contact law (refused together with --method): the declared contact
+#: settings (:data:`~jointplay.dynamics.declared.CONTACT_SETTINGS`) a method sets itself.
+CONTACT_KEYS = tuple(s.key for s in CONTACT_SETTINGS if s.offered and not s.allowed_with_method)
 #: Every contact option, by its key in ``values`` (and in ``[simulation]``).
-CONTACT_OPTIONS = (
-    *CONTACT_KEYS, "restitution", "friction", "friction_law", "lubricant_viscosity", "film_damping",
-    "method", "ecs_source",
-)  # fmt: skip
+CONTACT_OPTIONS = tuple(s.key for s in CONTACT_SETTINGS if s.offered)
 
 #: The most crank revolutions simulated (analysed plus start-up) per simulation: a
 #: four-bar at 200 rpm runs ~100 revolutions a second on one core, so 10 000 take minutes
@@ -58,24 +57,35 @@ def contact_model(
 
     law, record = method_law_of(values, mechanism, method_option)
     friction = FrictionSettings(
+        **_given(values, "friction"),
         law=str(values.get("friction_law") or "ambrosio"),
         coefficient=finite_number(values, "friction", 0.0 if law is not None else DEFAULT_FRICTION),
     )
-    film, viscosity = values.get("film_damping"), values.get("lubricant_viscosity")
-    if film is not None and viscosity is not None:
+    model = _given(values, "model")
+    if "film_damping" in model and "lubricant_viscosity" in model:
         raise ConfigError(
             "--film-damping fixes the film's damping and --lubricant-viscosity derives it from "
             "the joints' geometry: give one of the two"
         )
     if law is not None:
         return ContactModel(
-            friction=friction, law=law, method=str(values["method"]), record=record,
-            film_damping=film, lubricant_viscosity=viscosity,
-        )  # fmt: skip
-    return ContactModel(
-        settings=contact_from_strings(values), friction=friction, film_damping=film,
-        lubricant_viscosity=viscosity,
-    )  # fmt: skip
+            friction=friction, law=law, method=str(values["method"]), record=record, **model
+        )
+    return ContactModel(settings=contact_from_strings(values), friction=friction, **model)
+
+
+def _given(values: dict[str, Any], owner: str) -> dict[str, Any]:
+    """The given values (not ``None``) of the declared contact settings of ``owner``
+    (``"model"``, ``"friction"``), by their fields on it; a plain number checked as one
+    (:func:`finite_number`), text as it came (the record reads its unit). The friction's
+    ``law`` and ``coefficient`` are read by :func:`contact_model` itself."""
+    return {
+        s.field: finite_number(values, s.key, 0.0) if s.kind is float else values[s.key]
+        for s in CONTACT_SETTINGS
+        if s.owner == owner
+        and values.get(s.key) is not None
+        and (owner, s.field) not in (("friction", "law"), ("friction", "coefficient"))
+    }
 
 
 def contact_from_options(
@@ -111,7 +121,7 @@ def method_law_of(
         return None, None
     clash = [key for key in CONTACT_KEYS if values.get(key) is not None]
     if clash:
-        options = ", ".join("--" + key.replace("_", "-") for key in clash)
+        options = ", ".join(_option(key) for key in clash)
         raise ConfigError(
             f"{method_option} sets the contact law and its parameters; drop {options} or drop "
             f"{method_option}"
@@ -131,12 +141,21 @@ def finite_number(values: dict[str, Any], key: str, default: float) -> float:
     """``values[key]`` (a CLI option or a ``[simulation]`` entry) as a finite float."""
     value = values.get(key)
     value = default if value is None else value
-    option = "--" + key.replace("_", "-")
+    option = _option(key)
     if isinstance(value, bool) or not isinstance(value, int | float):
         raise ConfigError(f"{option} must be a number, got {value!r}")
     if not math.isfinite(value):
         raise ConfigError(f"{option} must be a finite number, got {value!r}")
     return float(value)
+
+
+def _option(key: str) -> str:
+    """The option of ``key`` (a ``[simulation]`` key): a contact setting's declared one, else
+    the key's own spelling (``max_step``: ``--max-step``)."""
+    declared: Setting | None = next(
+        (s for s in (*CONTACT_SETTINGS, *RUN_SETTINGS) if s.key == key), None
+    )
+    return "--" + key.replace("_", "-") if declared is None else declared.option
 
 
 def joint_list(value: Any) -> list[str] | None:

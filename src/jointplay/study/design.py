@@ -116,9 +116,8 @@ from jointplay.tolerance.responses import (
     PeakResponses,
     ResponseModel,
     RunningResponses,
-    contact_parts,
-    dynamic_model,
     kinematic_model,
+    run_model,
 )
 from jointplay.tolerance.sampling import sample
 from jointplay.tolerance.spec import ToleranceSpec
@@ -546,15 +545,7 @@ def _response_model(
     settings = RunSettings.of(
         run, contact=contact, settle=settle, revolutions=revolutions, solver=solver
     )
-    base = dynamic_model(
-        mechanism,
-        names,
-        **contact_parts(mechanism, settings.contact),
-        start=settings.start,
-        settle=settings.settle,
-        revolutions=settings.revolutions,
-        solver=settings.solver,
-    )
+    base = run_model(mechanism, names, settings)
     lengths = [n for n in names if n.startswith("length_")]
     mixed = any(r.response not in dynamic_units for r in parsed)  # a kinematic one too
     kinematic = kinematic_model(mechanism, lengths) if lengths and mixed else None

@@ -54,8 +54,8 @@ from jointplay.tolerance.responses import (
     ResponseModel,
     RunningResponses,
     contact_parts,
-    dynamic_model,
     kinematic_model,
+    run_model,
 )
 from jointplay.tolerance.spec import JointTolerance, ToleranceSpec
 
@@ -727,21 +727,15 @@ def build_model(
         revolutions=revolutions,
         solver=solver,
     )
-    parts = contact_parts(mechanism, settings.contact)
-    if friction is not None:
-        parts["friction"] = friction
     radius = {
         item.joint: item.journal_radius for item in spec.inputs if isinstance(item, JointTolerance)
     }
-    model = dynamic_model(
+    model = run_model(
         mechanism,
         spec.names,
+        settings,
         journal_radius=radius,
-        start=settings.start,
-        settle=settings.settle,
-        revolutions=settings.revolutions,
-        solver=settings.solver,
-        **parts,
+        **({} if friction is None else {"friction": friction}),
     )
     if not model.clearance_joints:
         raise ConfigError(

@@ -27,6 +27,7 @@ if TYPE_CHECKING:  # the dynamics import Numba: loaded only by dynamic studies
     from jointplay.contact.friction import FrictionLaw
     from jointplay.contact.laws import ContactLaw
     from jointplay.dynamics.clearance import ClearanceJoint, JointFilm, JointStiffness
+    from jointplay.dynamics.settings import RunSettings
     from jointplay.dynamics.setup import ContactModel
     from jointplay.dynamics.simulate import SimulationResult, SolverOptions, Start
 from jointplay.tolerance.response_base import (
@@ -737,6 +738,35 @@ def _film_parts(mechanism: Mechanism, contact: ContactModel) -> dict[str, Any]:
         "film_damping": contact.fixed_film or 0.0,
         "film_from": {name: rule for name, rule in films.items() if rule is not None},
     }
+
+
+def run_model(
+    mechanism: Mechanism,
+    input_names: Sequence[str],
+    run: RunSettings,
+    *,
+    journal_radius: Mapping[str, float] | None = None,
+    **options: Any,
+) -> DynamicResponses:
+    """The dynamic response model of ``mechanism`` run as ``run`` says: its contact
+    (:func:`contact_parts`: the law, friction, stiffness and film per joint, the
+    sustained-contact mode), start, settle, revolutions and solver, read here, the one place a
+    study's :class:`~jointplay.dynamics.settings.RunSettings` becomes the batch engine's
+    model (:func:`dynamic_model`); ``options``: its others (``backend``, ``method``,
+    ``friction`` in place of the contact's, ...)."""
+    return dynamic_model(
+        mechanism,
+        input_names,
+        journal_radius=journal_radius,
+        **{
+            **contact_parts(mechanism, run.contact),
+            "start": run.start,
+            "settle": run.settle,
+            "revolutions": run.revolutions,
+            "solver": run.solver,
+            **options,
+        },
+    )
 
 
 def dynamic_model(

@@ -67,6 +67,7 @@ from jointplay.tolerance.response_dynamic import (
     dynamic_model,
     peak_contact_pressure,
     penetration_ratios,
+    run_model,
     sample_checks,
 )
 from jointplay.tolerance.response_kinematic import (
@@ -100,5 +101,6 @@ __all__ = [
     "kinematic_model",
     "peak_contact_pressure",
     "penetration_ratios",
+    "run_model",
     "sample_checks",
 ]
