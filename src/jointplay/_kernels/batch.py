@@ -37,9 +37,9 @@ Table 5.2: the DOPRI5 tableau, FSAL), propagating the 5th-order solution; the la
   it exactly; a step below ``10·spacing(t)`` ends the lane with ``STATUS_STEP_TOO_SMALL``;
 - the last stage's evaluation, at the step's end, also records every joint's contact
   (penetration, its rate, forces) and the quantities of the peak rule
-  (:func:`~jointplay._kernels.eom.rhs_and_quantities`);
+  (the lane source's ``rhs_and_quantities``);
 - after the error test, the contact-onset check of the Radau kernel's ``step_check``, on those
-  records (:func:`~jointplay._kernels.eom.onset_check_recorded`), may retry the step shorter
+  records (the lane source's ``onset_check``), may retry the step shorter
   (``MAX_CHECK_REJECTIONS``); each retry counts as a rejection but does not cap the next
   step's growth;
 - after acceptance, the Radau kernel's ``after_step`` (contact memory v0 from the records,

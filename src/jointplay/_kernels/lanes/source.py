@@ -1,27 +1,33 @@
-"""The explicit batch lane, written once for two compilers (Numba's CPU ``njit`` and
-numba-cuda's ``cuda.jit(device=True)``).
+"""The equations of motion, written once for every engine, and the explicit batch lane: one
+source for two compilers (Numba's CPU ``njit`` and numba-cuda's ``cuda.jit(device=True)``).
+
+This is the only place where the right-hand side, the contact and friction laws, the film,
+the clearance joints' kinematics, the constraint equations, the quantities and the contact
+memory are written (the closed-form Jacobian and the implicit lane:
+:mod:`~jointplay._kernels.lanes.source_radau`). The single engine is their CPU compilation with
+its own hooks (:mod:`jointplay._kernels.shared`, behind :mod:`jointplay._kernels.eom`'s
+integrator hooks), the batch lanes their CPU compilation (:mod:`jointplay._kernels.lanes.cpu`),
+the CUDA kernel their device compilation (:mod:`jointplay._kernels.lanes.cuda_kernel`).
 
 Every function here is plain Python in the subset that both targets compile: scalars and
 caller-provided arrays in, scalars (or small tuples of scalars) out; no allocation, no slicing
 into new arrays, no NumPy calls but indexing, ``math`` for the elementary functions. Calls
 between the functions are resolved by name when :mod:`jointplay._kernels.lanes.build`
 compiles the whole set for one target (each target gets its own namespace), so the same
-source serves both. Nothing here is decorated and nothing here is called from Python.
+source serves every target. Nothing here is decorated and nothing here is called from Python.
 
 The model is the packed pair of :func:`jointplay._kernels.eom.pack`: ``rp`` (one lane's
 ``rpar`` row, float64) and ``ip`` (``ipar``, int64), read through ``lay``, an int64 array of
-offsets and sizes made once per batch by :func:`jointplay._kernels.lanes.build.lane_layout`
-(``LY_*`` below). The equations are those of :mod:`jointplay._kernels.eom` (state layout,
-clearance joint kinematics and forces: its module docstring; Flores et al. 2008), with the
-ideal joints and the driver as constraints (:mod:`jointplay._kernels.constraints`; Nikravesh
-1988) — no matrix when every joint is clear, the driver then the only constraint; the
-contact laws are those of :mod:`jointplay._kernels.contact` (same ids and packed
-parameters); the lane is the explicit lane of the batch contract
+offsets and sizes (:func:`jointplay._kernels.lanes.build.lane_layout`, ``LY_*`` below; the
+last entries of ``ipar``). The state layout and the clearance joint's kinematics and forces
+are :mod:`jointplay._kernels.eom`'s module docstring's (Flores et al. 2008); the ideal joints
+and the driver are constraints (Nikravesh 1988) — no matrix when every joint is clear, the
+driver then the only constraint. The lane is the explicit lane of the batch contract
 (:mod:`jointplay._kernels.batch`'s module docstring: DOPRI5 of Hairer, Nørsett & Wanner,
 *Solving ODEs I*, §II.5, Table 5.2, step control, contact-onset control, contact memory, the
-peak rule, the statistics and the statuses), written with the arithmetic of the lane it
-replaced, in the same order, so that its CPU compilation gave that lane's bits. The one hook
-a target replaces is :func:`project` (the projection onto the ideal constraints).
+peak rule, the statistics and the statuses). The hooks a target replaces are :func:`project`
+(the projection onto the ideal constraints) and :func:`locked_accelerations` (the
+sustained-contact mode, the single engine's only).
 
 Units are SI throughout (m, rad, s, kg, N).
 """
@@ -181,7 +187,7 @@ def friction_force(law_id, p, o, v_t, f_n):
     return math.nan
 
 
-# --- driver (jointplay._kernels.constraints.driver_motion) -----------------------------------
+# --- driver (the single engine's jointplay._kernels.constraints.driver_motion) ---------------
 def driver_acceleration(t, rp, o):
     """φ̈_d(t), rad/s², of the driver at ``rp[o:o + 4]`` (driven body, φ0, ω, ramp time):
     0 at constant speed, the quintic STEP5 ramp's ω/T · 30 u² (1 − u)² during the ramp."""
@@ -217,7 +223,7 @@ def constraint_rows(rp, lay):
 
 
 def constraint_jacobian(y, rp, ip, lay, out):
-    """Φ_q (rows × 3 nb) into ``out`` (:func:`constraints.jacobian`): revolute
+    """Φ_q (rows × 3 nb) into ``out`` : revolute
     Φ = r_a + A_a s_a − r_b − A_b s_b, prismatic φ_b − φ_a − θ0 and n_a·d, driver φ_k − φ_d."""
     n = lay[LY_N]
     o_ji = lay[LY_JOINT_INT]
@@ -269,7 +275,7 @@ def constraint_jacobian(y, rp, ip, lay, out):
 
 
 def acceleration_rhs(t, y, rp, ip, lay, out):
-    """γ with Φ_q q̈ = γ into ``out`` (:func:`constraints.acceleration_rhs`): the quadratic
+    """γ with Φ_q q̈ = γ into ``out``: the quadratic
     velocity terms and the driver's φ̈_d."""
     n = lay[LY_N]
     o_ji = lay[LY_JOINT_INT]
@@ -332,7 +338,7 @@ def acceleration_rhs(t, y, rp, ip, lay, out):
 def cholesky_solve(a, b, m):
     """Solve a x = b in place for the symmetric positive definite leading m × m block of
     ``a`` (its lower triangle read, overwritten by the Cholesky factor; b by x); a singular
-    ``a`` gives inf/NaN (:func:`eom._cholesky_solve`)."""
+    ``a`` gives inf/NaN."""
     for k in range(m):
         d = a[k, k]
         for p in range(k):
@@ -357,7 +363,7 @@ def cholesky_solve(a, b, m):
 
 
 def constrained_accelerations(t, y, rp, ip, lay, f, phi_q, schur, lam):
-    """Turn the generalised forces Q in ``f[n:2n]`` into q̈ (:func:`eom.constrained_accelerations`):
+    """Turn the generalised forces Q in ``f[n:2n]`` into q̈:
     (Φ_q M⁻¹ Φ_qᵀ) λ = Φ_q M⁻¹ Q − γ, q̈ = M⁻¹ (Q − Φ_qᵀ λ) (Nikravesh 1988, §6; M diagonal);
     λ (the ideal joints' rows, then the driver's) into ``lam``. Returns the motor torque
     −λ_driver (N·m). Work arrays: ``phi_q`` (rows × 3 nb), ``schur`` (rows × rows)."""
@@ -401,7 +407,7 @@ def push(f, n, body, rx, ry, fx, fy):
 def eccentricity_rate(y, n, a, b, wa, wb, rax, ray, rbx, rby):
     """ė = v(journal centre on b) − v(bearing centre on a), v = v_com + ω ẑ × r, with the arms
     r of the two centres from their bodies' centres of mass and the bodies' rates ω
-    (:func:`jointplay._kernels.eom._eccentricity_rate`; the ground, −1, does not move)."""
+    (the ground, −1, does not move)."""
     edx = -wb * rby + wa * ray
     edy = wb * rbx - wa * rax
     if b >= 0:
@@ -492,7 +498,7 @@ def penetration_and_rate(y, rp, ip, lay, c):
 
 
 def contact_forces(y, rp, ip, lay, f, record, recording):
-    """Add every clearance joint's contact force to ``f[n:2n]`` (:func:`eom.add_contact_forces`:
+    """Add every clearance joint's contact force to ``f[n:2n]`` (
     δ = |e| − c, δ̇ = ė·n, v_T = ė·t + R_J ω_b − R_B ω_a; −F_N n − F_T t on the journal at
     r_J + R_J n, the opposite on the bearing at r_B + R_B n); with film damping
     (the joint's ``G_FILM`` column c_e > 0), −c_e ė on the journal at its centre and +c_e ė on
@@ -591,7 +597,7 @@ def any_film(rp, lay):
 def film_components(y, rp, ip, lay, record, c):
     """The film force c_e ė of clearance joint ``c`` in its contact frame, (c_e ė·n, c_e ė·t)
     (N; the journal feels minus this), from its record (:func:`contact_forces`: ė·n = δ̇,
-    ė·t = v_T − R_J ω_b + R_B ω_a); (0, 0) with the film off (:func:`eom.film_components`)."""
+    ė·t = v_T − R_J ω_b + R_B ω_a); (0, 0) with the film off."""
     film = rp[lay[LY_GEOM] + N_GEOM * c + G_FILM]
     if not film > 0.0:
         return 0.0, 0.0
@@ -637,7 +643,7 @@ def rhs(t, y, rp, ip, lay, f, record, recording, phi_q, schur, lam):
     ``record`` when ``recording``, the multipliers λ into ``lam`` (ideal joints only); returns
     the motor torque τ (N·m). Every joint clear: the driver's row is the only constraint,
     λ = Q_φk − I_k φ̈_d, q̈_φk = φ̈_d, q̈ = M⁻¹ Q elsewhere (no matrix:
-    :func:`eom._driver_only_accelerations`); else :func:`constrained_accelerations` (work
+    the single engine's case too); else :func:`constrained_accelerations` (work
     arrays ``phi_q``, ``schur``). W_motor' = τ ω_k, W_contact' = the contact power."""
     n = lay[LY_N]
     o_mass = lay[LY_MASS]
@@ -674,7 +680,7 @@ def rhs_and_quantities(t, y, rp, ip, lay, f, record, qty, pen, phi_q, schur, lam
     """:func:`rhs` recording the contacts, then the quantities in QUANTITY ORDER into ``qty``
     (ω_b rad/s, α_b rad/s², |F_N n + F_T t| of every joint N (+ c_e ė with film damping:
     :func:`film_components`), torque N·m) and δ of every
-    clearance joint into ``pen`` (m) (:func:`eom.rhs_and_quantities`): an ideal revolute
+    clearance joint into ``pen`` (m): an ideal revolute
     joint's force is |λ| of its two rows, a prismatic joint's |λ| of its normal row."""
     n = lay[LY_N]
     nb = n // 3
@@ -723,8 +729,8 @@ def onset_fraction(old, new, tolerance):
 
 
 def onset_check(old, new, rp, lay):
-    """Contact-onset control from the two ends' records (:func:`eom.onset_check_recorded`,
-    Flores & Ambrósio 2010): the smallest fraction of the step to retry, 1 for none."""
+    """Contact-onset control from the two ends' records (Flores &
+    Ambrósio 2010): the smallest fraction of the step to retry, 1 for none."""
     tolerance = rp[lay[LY_SETTINGS] + S_ONSET_TOL]
     theta = 1.0
     for c in range(lay[LY_NC]):
@@ -734,7 +740,7 @@ def onset_check(old, new, rp, lay):
 
 
 def impact_rate(delta_0, rate_0, delta_1, rate_1):
-    """δ̇ (m/s) at δ = 0 between the step's ends, linear in δ (:func:`eom.impact_rate`)."""
+    """δ̇ (m/s) at δ = 0 between the step's ends, linear in δ."""
     if delta_0 <= 0.0 and delta_1 > delta_0:
         return rate_0 + (rate_1 - rate_0) * (-delta_0 / (delta_1 - delta_0))
     return rate_1
@@ -742,7 +748,7 @@ def impact_rate(delta_0, rate_0, delta_1, rate_1):
 
 def contact_memory(y, rp, lay, record, before):
     """Each joint's contact-event memory v0 (state slot 2n + 2 + c) from its records at the
-    step's end (``record``) and start (``before``) (:func:`eom.contact_memory`): a new event
+    step's end (``record``) and start (``before``): a new event
     stores max(δ̇ at δ = 0, v_mark), an ended one 0. Returns: a slot changed."""
     n = lay[LY_N]
     v_mark = rp[lay[LY_SETTINGS] + S_V_MARK]
@@ -762,7 +768,7 @@ def contact_memory(y, rp, lay, record, before):
 
 
 def driver_angle(t, rp, o):
-    """φ_d(t), rad, of the driver at ``rp[o:o + 4]`` (:func:`constraints.driver_motion`)."""
+    """φ_d(t), rad, of the driver at ``rp[o:o + 4]``."""
     phi0 = rp[o + 1]
     omega = rp[o + 2]
     ramp = rp[o + 3]
@@ -776,7 +782,7 @@ def driver_angle(t, rp, o):
 
 
 def driver_speed(t, rp, o):
-    """φ̇_d(t), rad/s (:func:`constraints.driver_motion`)."""
+    """φ̇_d(t), rad/s."""
     omega = rp[o + 2]
     ramp = rp[o + 3]
     if ramp <= 0.0 or t >= ramp:
@@ -817,7 +823,7 @@ def project_driver(t, y, rp, lay):
 
 
 def constraint_residual(t, y, rp, ip, lay, out):
-    """Φ(q, t) into ``out`` (:func:`constraints.residual`): m for the joint rows, rad for
+    """Φ(q, t) into ``out``: m for the joint rows, rad for
     the angle rows."""
     o_ji = lay[LY_JOINT_INT]
     o_jf = lay[LY_JOINT_F]

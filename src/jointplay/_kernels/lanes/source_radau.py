@@ -22,7 +22,7 @@ production lane.
 
 The Jacobian is the closed form of :func:`eom.jacobian_state` (:func:`jacobian_clear`) when
 every joint is clear (the paper's mechanisms: the driver the only constraint), fixed-step
-differences (:func:`jacobian_fixed`, :func:`eom._fixed_differences`) with ideal joints and
+differences (:func:`jacobian_fixed`) with ideal joints and
 film damping, else SciPy's finite differences as the Radau kernel takes them
 (:func:`jacobian_differences`). Film
 damping (each joint's ``G_FILM``) is handled: its force and power in :func:`contact_forces`, its terms in
@@ -294,8 +294,8 @@ def lu_solve_complex(re, im, piv, xr, xi, m):
 
 # --- the Jacobian (eom.jacobian_state, every joint clear) -------------------------------------
 def law_slopes(law, rp, o_law, fric, o_fric, delta, delta_dot, v_t, v0, f_n):
-    """∂F_N/∂δ, ∂F_N/∂δ̇, ∂F_T/∂v_T, ∂F_T/∂F_N (:func:`eom._law_slopes`: forward
-    differences, relative step √eps)."""
+    """∂F_N/∂δ, ∂F_N/∂δ̇, ∂F_T/∂v_T, ∂F_T/∂F_N (forward differences,
+    relative step √eps)."""
     h = max(LAW_STEP * delta, 1e-300)
     slope_delta = (normal_force(law, rp, o_law, delta + h, delta_dot, v0) - f_n) / h
     h = LAW_STEP * max(abs(delta_dot), RATE_FLOOR)
@@ -336,7 +336,7 @@ def side_of(side, a, b, rax, ray, rbx, rby, wa, wb):
 
 def film_jacobian(jac, film, rp, o_mass, n, a, b, rax, ray, rbx, rby, wa, wb, edx, edy):
     """Add one clearance joint's film damping to ``jac`` (:func:`jacobian_clear`'s rows and
-    columns; :func:`eom._film_jacobian`, the same arithmetic): f = −c_e ė on the journal's
+    columns): f = −c_e ė on the journal's
     body b at its arm r_b, −f on the bearing's body a at r_a, power c_e |ė|² into the
     W_contact row; ė = (``edx``, ``edy``), the bodies' rates ``wa``, ``wb``."""
     fx = -film * edx
@@ -554,7 +554,7 @@ def jacobian_differences(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, d
 
 def jacobian_fixed(t, y, f, rp, ip, lay, jac, ytmp, f_col, record, phi_q, schur, lam):
     """The columns 0 … 2n − 1 of ∂ẏ/∂y by forward differences with the fixed step
-    √eps·max(|y_j|, floor) (:func:`eom._fixed_differences`, the same arithmetic), rows
+    √eps·max(|y_j|, floor), rows
     n … S − 1 into ``jac``: the Jacobian of a mechanism with ideal joints and film damping.
     ``ytmp``, ``f_col`` (S): work."""
     n = lay[LY_N]
