@@ -294,7 +294,7 @@ def test_each_joint_keeps_its_own_film() -> None:
 def test_two_joints_with_different_films_each_feel_their_own() -> None:
     """Four joints, each its own c_e (10, 40, 160, 640 N·s/m), pins centred (no contact) and
     moving: the film's power c_e |ė|² is summed joint by joint with each joint's own c_e,
-    the force on each journal is −c_e ė (:func:`eom.film_components`, ė from the record), and
+    the force on each journal is −c_e ė (:func:`eom.film_forces`, ė from the record), and
     the rhs changes when one joint's c_e changes alone. (The kernels once took the smallest
     c_e for every joint: this fails there.)"""
     mechanism = load_preset("paper-fourbar").with_gravity((0.0, 0.0))

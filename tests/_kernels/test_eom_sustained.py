@@ -181,7 +181,7 @@ SOLVE_RTOL = 1e-9
 def test_the_locked_solve_satisfies_its_equations_with_ideal_joints(friction: bool) -> None:
     """General four-bar, B clear and locked, the other joints ideal, gravity on: at random
     states the returned q̈, λ and F_N satisfy Φ_q q̈ = γ, G_B q̈ = γ_B and
-    M q̈ = Q_gravity − Φ_qᵀ λ + h_B F_N (:func:`eom.sustained_accelerations`)."""
+    M q̈ = Q_gravity − Φ_qᵀ λ + h_B F_N (:func:`sustained.sustained_accelerations`)."""
     mechanism = load_preset("general-fourbar").with_gravity((0.0, -9.81))
     law = get_law("restitution", penalty=1e9, restitution=0.8, exponent=1.0)
     joint = ClearanceJoint(

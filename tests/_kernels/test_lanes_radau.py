@@ -207,8 +207,10 @@ def test_too_many_steps_and_interrupts_end_the_lanes_as_in_production(
 @pytest.mark.parametrize("film", [0.0, 1e5])
 def test_the_closed_form_jacobian_is_eoms(paper_fourbar: Mechanism, film: float) -> None:
     """At states in contact (every joint pressed by a shifted pin), the rows and columns the
-    Newton systems read are :func:`eom.jacobian_state`'s, bit for bit; without and with film
-    damping (its terms: :func:`source_radau.film_jacobian`, :func:`eom._film_jacobian`)."""
+    Newton systems read are :func:`eom.jacobian_state`'s, bit for bit (the single engine
+    embeds the same ``jacobian_clear`` in its full matrix: the q̇ rows the identity, the v0
+    columns zero); without and with film damping (its terms:
+    :func:`source_radau.film_jacobian`)."""
     p = _problem(paper_fourbar, "physical", film=film)
     assert np.all(p["rpar"][0, _joint_slots(p["ipar"], ids.G_FILM)] == film)
     ipar, rpar = p["ipar"], p["rpar"][0]
@@ -255,7 +257,7 @@ def test_with_ideal_joints_the_differenced_jacobian_gives_the_production_lanes_r
 ) -> None:
     """Ideal joints left (the driver and the ideal joints' constraints, projection after
     every step, the Jacobian differenced: as SciPy's num_jac dry, with fixed steps with the
-    film, :func:`eom._fixed_differences`): the four-bar with one conventional clearance
+    film, the source's ``jacobian_fixed``): the four-bar with one conventional clearance
     joint, with two physical (lubricated) ones and two dry ones, and the slider-crank (a
     prismatic joint) with the physical default; 0.3 of a revolution, two lanes. Measured:
     equal bits (462/431, 155/229, 1 257/1 270 and 453/526 steps)."""
@@ -364,13 +366,13 @@ def _film_problem(mechanism: Mechanism, case: str) -> dict[str, Any]:
 def test_with_film_damping_the_implicit_lane_takes_the_production_lanes_steps(
     paper_fourbar: Mechanism, case: str
 ) -> None:
-    """The film's force, power and Jacobian terms are :mod:`eom`'s arithmetic: the same
+    """The film's force, power and Jacobian terms are the single engine's arithmetic: the same
     statuses, steps, rejections and evaluations of f as the production implicit lanes, the
     same time reached, and, for the lane whose window opens at its first step (t = 0), the
     same statistics (built from the accepted steps' ends only), bit for bit. What does not
     depend on the interpolant between steps (measured, 0.3 of a revolution: 706/666,
     156/178 and 3 582/4 665 steps; the last 187/268 since the film's Jacobian beside
-    ideal joints takes fixed steps, eom._fixed_differences)."""
+    ideal joints takes fixed steps, ``jacobian_fixed``)."""
     p = _film_problem(paper_fourbar, case)
     old = _production(p)
     new = _single_source(p)
