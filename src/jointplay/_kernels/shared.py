@@ -23,6 +23,7 @@ entries are never the lanes' (whose ``locked_accelerations`` is the source's def
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numba
@@ -35,8 +36,10 @@ __all__ = ["SHARED", "compiled"]
 
 #: The sustained-contact mode's functions, compiled apart (not inlined: they allocate and
 #: run only while a joint is locked).
-_OWN = {"sustained_accelerations": sustained.sustained_accelerations,
-        "locked_row": sustained.locked_row}  # fmt: skip
+_OWN: dict[str, Callable[..., Any]] = {
+    "sustained_accelerations": sustained.sustained_accelerations,
+    "locked_row": sustained.locked_row,
+}
 
 #: The functions the single engine calls, and every source function they call.
 SHARED = closed(
