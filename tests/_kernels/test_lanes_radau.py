@@ -13,7 +13,7 @@ the conventional contact (``DEFAULT_IMPACT``) and with the stiff physical defaul
 (``ContactModel(film_damping=0)``: dry joints), 0.3 of a revolution, a lane from t = 0 and a perturbed one
 whose window opens inside a step; every contact and friction law; and mechanisms with ideal
 joints (the Jacobian then differenced as SciPy's ``num_jac``, the projection
-:func:`eom.project`'s).
+:func:`projection.project_lapack`'s).
 
 Film damping (``ContactModel(film_damping=c_e)``): the lane's film force, power, Jacobian
 terms and reported joint force are :mod:`eom`'s arithmetic; between steps the interpolant

@@ -68,14 +68,17 @@ from jointplay._kernels.ids import (
     G_CAPTURE,
     LOCKED,
     N_GEOM,
+    N_WORK,
     S_CAPTURE_MAX,
     S_ONSET_TOL,
     S_PROJ_TOL,
+    W_HAS_PREVIOUS,
+    W_MAX_VIOLATION,
+    W_PROJECTIONS,
 )
 from jointplay._kernels.lanes.build import lane_layout
 from jointplay._kernels.lanes.source import (
     LY_DRIVER,
-    LY_MASS,
     LY_N,
     LY_NC,
     LY_NIDEAL,
@@ -97,7 +100,7 @@ _contact_memory = _shared["contact_memory"]
 _onset_fraction = _shared["onset_fraction"]
 _jacobian_clear = _shared["jacobian_clear"]
 _jacobian_fixed = _shared["jacobian_fixed"]
-_driver_angle = _shared["driver_angle"]
+_project = _shared["project"]
 _driver_speed = _shared["driver_speed"]
 _constraint_residual = _shared["constraint_residual"]
 _constraint_jacobian = _shared["constraint_jacobian"]
@@ -115,7 +118,6 @@ __all__ = [
     "jacobian_state",
     "new_workspace",
     "pack",
-    "project",
     "quantities",
     "rhs",
     "start_workspace",
@@ -171,13 +173,7 @@ class EomModel(NamedTuple):
     settings: np.ndarray
 
 
-#: The workspace of one integration (:func:`new_workspace`), written by :func:`after_step`:
-#: the largest constraint violation max |Φ| seen after a step (m or rad), the number of
-#: projections onto the ideal constraints, whether a step was accepted yet, and from
-#: ``N_WORK`` on, per clearance joint, δ and δ̇ at the last accepted step's end.
-W_MAX_VIOLATION, W_PROJECTIONS, W_HAS_PREVIOUS = 0, 1, 2
-N_WORK = 3
-
+#: The workspace of one integration (:func:`new_workspace`; slots ``W_*``: :mod:`ids`).
 #: :class:`EomModel`'s fields by dtype, in the order they are packed.
 _FLOAT_FIELDS = ("mass", "gravity", "joint_f", "driver", "geom", "law_p", "fric_p", "settings")
 _INT_FIELDS = ("joint_int", "active", "clear_joint", "law_id", "fric_id")
@@ -661,54 +657,6 @@ def _velocity_rhs(t: float, rpar: np.ndarray, lay: np.ndarray, rows: int) -> np.
 
 
 @njit(cache=True, inline="always")
-def project(t: float, y: np.ndarray, rpar: np.ndarray, ipar: np.ndarray, work: np.ndarray) -> bool:
-    """Project q and q̇ onto the ideal constraints when they are violated beyond the
-    projection tolerance: at most three Newton steps q ← q − M⁻¹ Φ_qᵀ (Φ_q M⁻¹ Φ_qᵀ)⁻¹ Φ until
-    max |Φ| ≤ 10⁻³ of the tolerance, then q̇ ← q̇ − M⁻¹ Φ_qᵀ (Φ_q M⁻¹ Φ_qᵀ)⁻¹ (Φ_q q̇ − ν)
-    (LAPACK's solve; the GPU lanes' is the source's ``project_constraints``, Cholesky);
-    record the largest violation and the projections in ``work``. Returns: the state
-    changed. (The CPU lanes' ``project`` hook too.)"""
-    lay = layout(ipar)
-    n = lay[LY_N]
-    o_driver = lay[LY_DRIVER]
-    tolerance = rpar[lay[LY_SETTINGS] + S_PROJ_TOL]
-    crank = int(rpar[o_driver])
-    if lay[LY_NIDEAL] == 0:  # the driver alone: check |φ_k − φ_d(t)| without building Φ
-        if crank < 0:
-            return False
-        violation = abs(y[3 * crank + 2] - _driver_angle(t, rpar, o_driver))
-        work[W_MAX_VIOLATION] = max(work[W_MAX_VIOLATION], violation)
-        if violation <= tolerance:
-            return False
-    rows = _constraint_rows(rpar, lay)
-    if rows == 0:
-        return False
-    phi = np.zeros(rows)
-    _constraint_residual(t, y, rpar, ipar, lay, phi)
-    violation = np.max(np.abs(phi))
-    work[W_MAX_VIOLATION] = max(work[W_MAX_VIOLATION], violation)
-    if violation <= tolerance:
-        return False
-    inv_mass = 1.0 / rpar[lay[LY_MASS] : lay[LY_MASS] + n]
-    q = y[:n]
-    qd = y[n : 2 * n]
-    phi_q = np.zeros((rows, n))
-    for _ in range(3):
-        _constraint_jacobian(y, rpar, ipar, lay, phi_q)
-        weighted = phi_q * inv_mass
-        q -= inv_mass * (phi_q.T @ np.linalg.solve(weighted @ phi_q.T, phi))
-        _constraint_residual(t, y, rpar, ipar, lay, phi)
-        if np.max(np.abs(phi)) <= 1e-3 * tolerance:
-            break
-    _constraint_jacobian(y, rpar, ipar, lay, phi_q)
-    weighted = phi_q * inv_mass
-    drift = phi_q @ qd - _velocity_rhs(t, rpar, lay, rows)
-    qd -= inv_mass * (phi_q.T @ np.linalg.solve(weighted @ phi_q.T, drift))
-    work[W_PROJECTIONS] += 1.0
-    return True
-
-
-@njit(cache=True, inline="always")
 def _records(y: np.ndarray, rpar: np.ndarray, ipar: np.ndarray) -> np.ndarray:
     """δ and δ̇ of every clearance joint at ``y``, in the contact records' layout (7 per
     joint; the other entries are not set)."""
@@ -770,7 +718,8 @@ def after_step(t: float, y: np.ndarray, args: EomArgs) -> bool:
     if _sustained_mode(rpar, lay) and switch_contacts(t, y, rpar, ipar, work, before):
         changed = True
         record = _records(y, rpar, ipar)
-    if project(t, y, rpar, ipar, work):
+    empty = y[:0].reshape((0, 0))
+    if _project(t, y, rpar, ipar, lay, work, empty, empty, y[:0]):
         changed = True
         record = _records(y, rpar, ipar)
     _remember(record, work)

@@ -108,3 +108,10 @@ RATE_FLOOR = 1e-3
 #: step and floor of the state component.
 DIFF_STEP = 1.4901161193847656e-08
 DIFF_FLOOR = 1e-3
+
+# --- the single engine's workspace (one per integration; the CPU lanes' projection scratch)
+#: The largest constraint violation max |Φ| seen after a step (m or rad), the number of
+#: projections onto the ideal constraints, whether a step was accepted yet, and from
+#: ``N_WORK`` on, per clearance joint, δ and δ̇ at the last accepted step's end.
+W_MAX_VIOLATION, W_PROJECTIONS, W_HAS_PREVIOUS = 0, 1, 2
+N_WORK = 3

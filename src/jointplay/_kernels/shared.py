@@ -31,6 +31,7 @@ import numpy as np
 
 from jointplay._kernels import sustained
 from jointplay._kernels.lanes.build import build, closed
+from jointplay._kernels.lanes.projection import project_lapack
 
 __all__ = ["SHARED", "compiled"]
 
@@ -39,6 +40,13 @@ __all__ = ["SHARED", "compiled"]
 _OWN: dict[str, Callable[..., Any]] = {
     "sustained_accelerations": sustained.sustained_accelerations,
     "locked_row": sustained.locked_row,
+}
+
+#: The single engine's versions of the source's hooks: the sustained-contact mode's
+#: accelerations, and the projection with LAPACK's solve (the CPU lanes' too).
+_HOOKS: dict[str, Callable[..., Any]] = {
+    "locked_accelerations": sustained.locked_accelerations,
+    "project": project_lapack,
 }
 
 #: The functions the single engine calls, and every source function they call.
@@ -66,14 +74,15 @@ SHARED = closed(
         "all_finite",
         "interrupt_pending",
         "constraint_residual",
+        "project",
     ),
-    {**_OWN, "locked_accelerations": sustained.locked_accelerations},
+    {**_OWN, **_HOOKS},
 )
 
 #: Each of :data:`SHARED` (the hook and the mode's functions included), compiled, by name.
 compiled: dict[str, Any] = build(
     numba.njit(cache=True, error_model="numpy", inline="always"),
-    hooks={"locked_accelerations": sustained.locked_accelerations},
+    hooks=_HOOKS,
     extras={"np": np},
     only=SHARED,
     own=_OWN,

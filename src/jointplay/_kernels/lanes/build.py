@@ -98,7 +98,7 @@ def build(
     """
     namespace: dict[str, Any] = {
         name: value
-        for module in (source, source_radau)
+        for module in (ids, source, source_radau)
         for name, value in vars(module).items()
         if name.isupper()
     }

@@ -12,22 +12,17 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from jointplay._kernels import eom
 from jointplay._kernels.lanes.build import build
+from jointplay._kernels.lanes.projection import N_WORK, project_lapack
 from jointplay._kernels.lanes.source import LY_N, LY_NC, LY_NIDEAL, LY_SIZE
 
-
-def _project(t, y, rp, ip, lay, scratch, phi_q, schur, lam):
-    """The CPU lane's ``project`` hook: :func:`eom.project` (projection onto the ideal
-    constraints, LAPACK's solve; ``scratch`` receives its statistics), the single engine's."""
-    return eom.project(t, y, rp, ip, scratch)
-
-
-#: Every function of the source, compiled for the CPU, by name.
+#: Every function of the source, compiled for the CPU, by name; the projection hook is the
+#: single engine's (:func:`~jointplay._kernels.lanes.projection.project_lapack`, LAPACK's
+#: solve), so that the lanes keep its bits.
 compiled = build(
     numba.njit(cache=True, error_model="numpy"),
-    hooks={"project": _project},
-    extras={"eom": eom},
+    hooks={"project": project_lapack},
+    extras={"np": np},
 )
 #: The explicit lane, compiled for the CPU.
 explicit_lane = compiled["explicit_lane"]
@@ -64,7 +59,7 @@ def _one(
     phi_q = np.empty((rows, lay[LY_N]))
     schur = np.empty((rows, rows))
     lam = np.empty(rows)
-    scratch = np.zeros(eom.N_WORK)
+    scratch = np.zeros(N_WORK)
     code, t = explicit_lane(
         ipar, rpar[lane], lay, y0[lane], t_settle[lane], t_end[lane], max_step[lane], rtol,
         atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask, k,
@@ -126,7 +121,7 @@ def _one_implicit(
     phi_q = np.empty((rows, n))
     schur = np.empty((rows, rows))
     lam = np.empty(rows)
-    scratch = np.zeros(eom.N_WORK)
+    scratch = np.zeros(N_WORK)
     code, t = implicit_lane(
         ipar, rpar[lane], lay, y0[lane], t_settle[lane], t_end[lane], max_step[lane], rtol,
         atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask,

@@ -796,9 +796,9 @@ def driver_speed(t, rp, o):
 def project_driver(t, y, rp, lay):
     """Mass-weighted projection onto the one constraint of an all-clear mechanism,
     φ_k − φ_d(t) = 0, when it is violated beyond the projection tolerance
-    (:func:`eom.project`; Hairer, Lubich & Wanner, *Geometric Numerical Integration*, §IV.4):
+    (:func:`projection.project_lapack`; Hairer, Lubich & Wanner, *Geometric Numerical Integration*, §IV.4):
     with one row the Schur complement is 1/I_k, so the position step is Φ and the velocity
-    step the drift φ̇_k − φ̇_d (written as :func:`eom.project`'s solve, x = Φ / (1/I_k), whose
+    step the drift φ̇_k − φ̇_d (written as :func:`projection.project_lapack`'s solve, x = Φ / (1/I_k), whose
     LAPACK division may differ in the last bit; never seen to run: φ̈_k is prescribed, so φ_k
     drifts by round-off only). Returns: the state changed."""
     o = lay[LY_DRIVER]
@@ -875,10 +875,10 @@ def schur_solve(rp, lay, phi_q, schur, vec, rows):
 
 def project_constraints(t, y, rp, ip, lay, phi_q, schur, vec):
     """Mass-weighted projection of q and q̇ onto the ideal constraints and the driver when
-    they are violated beyond the projection tolerance (:func:`eom.project`: at most three
+    they are violated beyond the projection tolerance (:func:`projection.project_lapack`: at most three
     Newton steps q ← q − M⁻¹ Φ_qᵀ (Φ_q M⁻¹ Φ_qᵀ)⁻¹ Φ, until max |Φ| ≤ 10⁻³ of the tolerance,
     then q̇ ← q̇ − M⁻¹ Φ_qᵀ (Φ_q M⁻¹ Φ_qᵀ)⁻¹ (Φ_q q̇ − ν); Hairer, Lubich & Wanner,
-    *Geometric Numerical Integration*, §IV.4), solved by Cholesky where :func:`eom.project`
+    *Geometric Numerical Integration*, §IV.4), solved by Cholesky where :func:`projection.project_lapack`
     calls LAPACK's LU (the same projection to round-off). ``vec`` (rows): work.
     Returns: the state changed."""
     n = lay[LY_N]
@@ -922,7 +922,7 @@ def project(t, y, rp, ip, lay, scratch, phi_q, schur, lam):
     """The lane's projection hook, after each accepted step: returns whether it changed the
     state. This one is the GPU's: :func:`project_driver` for an all-clear mechanism, else
     :func:`project_constraints` (``phi_q``, ``schur``, ``lam``: work). The CPU's is
-    :func:`eom.project` itself, LAPACK's solve included (:mod:`jointplay._kernels.lanes.cpu`,
+    :func:`projection.project_lapack` itself, LAPACK's solve included (:mod:`jointplay._kernels.lanes.cpu`,
     through :func:`build`'s ``hooks``), so that its lanes keep the old lane's bits."""
     if lay[LY_NIDEAL] == 0:
         return project_driver(t, y, rp, lay)
