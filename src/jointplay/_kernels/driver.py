@@ -56,6 +56,7 @@ References:
 
 from __future__ import annotations
 
+import importlib
 import threading
 import types
 from typing import Any, NamedTuple
@@ -97,6 +98,7 @@ __all__ = [
     "no_after_step",
     "no_retry",
     "run_core",
+    "steps_of",
 ]
 
 #: Consecutive ``step_check`` rejections of one step after which the step is accepted.
@@ -420,6 +422,13 @@ def _specialised_core(args_type: Any, name: str, steps: Steps) -> Any:
                 )(_core(name, steps))  # nogil: the batch engine runs implicit lanes on threads
                 _specialisations[key] = core
     return core
+
+
+def steps_of(module: str) -> Steps:
+    """The :class:`Steps` of the method in :mod:`jointplay._kernels` module ``module`` (an
+    :attr:`~jointplay._kernels.integrators.Integrator.module`)."""
+    steps: Steps = importlib.import_module(f"jointplay._kernels.{module}").STEPS
+    return steps
 
 
 def run_core(
