@@ -49,7 +49,7 @@ import numpy as np
 import numpy.typing as npt
 
 from jointplay._kernels.common import all_finite, jit, py_max, py_min
-from jointplay._kernels.driver import Steps, no_retry, run_core
+from jointplay._kernels.driver import Steps, no_retry, run_core, step_jit
 from jointplay._kernels.ids import NFEV, NREJ_ERROR
 from jointplay._kernels.lanes.source import (
     A21,
@@ -141,13 +141,13 @@ def _start(problem, t0, y0, f0, counters):
     return np.zeros(1), np.empty((7, n)), np.empty(n)
 
 
-@jit
+@step_jit
 def _begin(state, problem, t, y, f, h_abs, min_step, counters):
     """Nothing to prepare; the cap on every try is ``max_step`` (dopri5.f's ``HMAX``)."""
     return h_abs, problem.max_step
 
 
-@jit
+@step_jit
 def _attempt(state, problem, t, y, f, h, y_new, counters):
     """One try of the step ``h`` (:func:`_step`, ``k₁ = f``). Returns ``(passed, h_abs)``,
     after a failure ``h_abs·max(1/5, min(1, 0.9·err^(−1/5)))`` (``h/5`` for a non-finite
@@ -166,7 +166,7 @@ def _attempt(state, problem, t, y, f, h, y_new, counters):
     return True, h_abs
 
 
-@jit
+@step_jit
 def _refresh(state, problem, t_new, y_new, f, changed, counters):
     """``f`` at the new point: the last stage's (first same as last), evaluated afresh
     when ``after_step`` changed the state."""
@@ -177,7 +177,7 @@ def _refresh(state, problem, t_new, y_new, f, changed, counters):
         f[:] = state[1][6]
 
 
-@jit
+@step_jit
 def _accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed, counters):
     """The next step's size: ``0.9·err^(−1/5)`` within ``[MIN_FACTOR, MAX_FACTOR]``, not
     larger right after a failed try (dopri5.f)."""

@@ -98,6 +98,7 @@ __all__ = [
     "no_after_step",
     "no_retry",
     "run_core",
+    "step_jit",
     "steps_of",
 ]
 
@@ -105,6 +106,12 @@ __all__ = [
 MAX_CHECK_REJECTIONS = 64
 
 _INITIAL_CAPACITY = 64
+
+#: The decorator of a method's per-step functions (``begin``, ``attempt``, ``retry``,
+#: ``refresh``, ``accept``): compiled and cached as :data:`~jointplay._kernels.common.jit`,
+#: and inlined into the loop (Numba's IR inlining), as that code was inline in each method's
+#: own driver before there was one loop.
+step_jit = numba.njit(cache=True, error_model="numpy", inline="always")
 
 
 class Problem(NamedTuple):
@@ -158,13 +165,13 @@ def finite_differences(t, y, f, args, out):
 # ---------------------------------------------------------------------------------------
 # Pieces of the loop that a method may reuse.
 # ---------------------------------------------------------------------------------------
-@jit
+@step_jit
 def no_retry(state):
     """``retry`` of a method that keeps nothing that depends on the step size."""
     return None
 
 
-@jit
+@step_jit
 def evaluate_f(state, problem, t_new, y_new, f, changed, counters):
     """``refresh`` of a method without a last stage to reuse: ``f = fun(t_new, y_new)``."""
     f[:] = problem.fun(t_new, y_new, problem.args)

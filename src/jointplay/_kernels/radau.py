@@ -116,6 +116,7 @@ from jointplay._kernels.driver import (
     kernel_signatures,
     no_after_step,
     run_core,
+    step_jit,
 )
 from jointplay._kernels.ids import EPS, NFEV, NJEV, NLU, NREJ_ERROR, NREJ_NEWTON
 from jointplay._kernels.linalg import lu_factor_in_place, lu_solve_in_place
@@ -573,7 +574,7 @@ def _start(problem, t0, y0, f0, counters):
     )  # fmt: skip
 
 
-@jit
+@step_jit
 def _begin(state, problem, t, y, f, h_abs, min_step, counters):
     """A step from ``(t, y)``: the proposed size clamped to ``[min_step, max_step]`` (a
     clamp forgets the last step for the controller, as SciPy), the Newton scale
@@ -596,7 +597,7 @@ def _begin(state, problem, t, y, f, h_abs, min_step, counters):
     return h_abs, np.inf
 
 
-@jit
+@step_jit
 def _newton(state, problem, t, y, f, h, counters):
     """The collocation system at step ``h`` solved by simplified Newton, started from the
     last step's polynomial; on failure with a stale Jacobian, once more with a fresh one.
@@ -626,7 +627,7 @@ def _newton(state, problem, t, y, f, h, counters):
         sc[_LU_VALID] = 0.0
 
 
-@jit
+@step_jit
 def _attempt(state, problem, t, y, f, h, y_new, counters):
     """One try of the step ``h`` ([HW96] §IV.8; SciPy's ``Radau._step_impl``): Newton on
     the collocation system, ``y_new = y + Z₃``, the embedded error estimate (re-estimated
@@ -670,13 +671,13 @@ def _attempt(state, problem, t, y, f, h, y_new, counters):
     return True, h_abs
 
 
-@jit
+@step_jit
 def _retry(state):
     """``step_check`` shortened the step: the factors are of the old step size."""
     state[0][_LU_VALID] = 0.0
 
 
-@jit
+@step_jit
 def _accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed, counters):
     """The accepted step ``(t, y) → (t_new, y_new)``, ``f = f(t_new, y_new)``: the next
     step's size from the predictive controller ([HW96] (8.25)), at most ``MAX_FACTOR``

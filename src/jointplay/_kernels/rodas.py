@@ -55,7 +55,7 @@ import numpy as np
 import numpy.typing as npt
 
 from jointplay._kernels.common import jit, num_jac, py_max, py_min
-from jointplay._kernels.driver import Steps, evaluate_f, no_retry, run_core
+from jointplay._kernels.driver import Steps, evaluate_f, no_retry, run_core, step_jit
 from jointplay._kernels.ids import EPS, NFEV, NJEV, NLU, NREJ_ERROR
 from jointplay._kernels.linalg import lu_factor_in_place
 from jointplay._kernels.radau import _newton_solve_in_place, reduced_newton_matrix
@@ -165,7 +165,7 @@ def _start(problem, t0, y0, f0, counters):
     )  # fmt: skip
 
 
-@jit
+@step_jit
 def _begin(state, problem, t, y, f, h_abs, min_step, counters):
     """The linearisation at ``(t, y)``, kept for every try of this step: ``J`` (the user's,
     else SciPy's differences, each call from the initial relative step √eps) and ``∂f/∂t``
@@ -190,7 +190,7 @@ def _begin(state, problem, t, y, f, h_abs, min_step, counters):
     return h_abs, problem.max_step
 
 
-@jit
+@step_jit
 def _attempt(state, problem, t, y, f, h, y_new, counters):
     """One try of the step ``h``: the LU of ``1/(γh)·I − J``, the six stages, ``y_new`` and
     the error test on ``k₆`` ([HW96] §IV.7). Returns ``(passed, h_abs)``, after a failure
@@ -224,7 +224,7 @@ def _attempt(state, problem, t, y, f, h, y_new, counters):
     return True, h_abs
 
 
-@jit
+@step_jit
 def _accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed, counters):
     """The next step's size after an accepted one: ``0.9·err^(−1/4)``, after an accepted
     step also at most Gustafsson's ``0.9·(h/h_prev)·(err_prev/err²)^(1/4)``, within
