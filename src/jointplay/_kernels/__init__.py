@@ -17,13 +17,17 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+from jointplay._kernels.integrators import INTEGRATORS
+
 #: The kernel modules the batch engine's lanes compile first (their index files name them):
 #: ``lanes/source.py`` with the equations of motion and Radau's step control.
 BATCH_LANES = ("radau", "eom", "source")
 #: Kept for callers of the name: the batch lanes' modules.
 FIRST_COMPILED = BATCH_LANES
 #: The module of each integrator of the single engine (:mod:`jointplay.dynamics.integrate`).
-INTEGRATOR_MODULES = {"radau": "radau", "rodas4": "rodas", "dopri5": "dopri"}
+INTEGRATOR_MODULES = {
+    name: integrator.module for name, integrator in INTEGRATORS.items() if integrator.module
+}
 
 
 def single_engine(*integrators: str | None) -> tuple[str, ...]:

@@ -92,6 +92,7 @@ from jointplay._kernels.ids import (
     STATUS_RUNNING,
     STATUS_SUCCESS,
 )
+from jointplay._kernels.integrators import lane_methods
 from jointplay._kernels.lanes import build as lane_build
 from jointplay._kernels.lanes import cpu as lane_cpu
 from jointplay._kernels.lanes.contract import (  # noqa: F401 (re-exported: the peak rule's)
@@ -120,8 +121,8 @@ __all__ = [
     "run_chunk",
 ]
 
-#: Integration methods of :func:`run_batch`.
-METHODS = ("explicit", "implicit")
+#: Integration methods of :func:`run_batch`: those of the integrators its lanes have.
+METHODS = lane_methods("lanes-explicit", "batch-implicit")
 
 
 jit = numba.njit(cache=True, error_model="numpy")

@@ -26,6 +26,8 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
+from jointplay._kernels.integrators import integrators_of
+
 #: The features a run may need, and how a message names them.
 FEATURES = {
     "sustained_contact": "the sustained-contact mode",
@@ -52,7 +54,8 @@ class Engine:
         sustained_contact: the sustained-contact mode (a capture speed).
         ideal_joints: joints without clearance (the constraints' projection).
         trajectories: it keeps each sample's trajectory (not only peaks and statistics).
-        integrators: the integrators it runs.
+        integrators: the integrators it runs (:attr:`Integrator.engines
+            <jointplay._kernels.integrators.Integrator.engines>` read back).
         laws: the normal-force law families it integrates.
         frictions: the friction laws it integrates.
     """
@@ -86,28 +89,28 @@ ENGINES = {
     "single": Engine(
         "the single engine", f"the single engine on {CPU_BACKENDS}",
         film_damping=True, sustained_contact=True, ideal_joints=True, trajectories=True,
-        integrators=("radau", "rodas4", "dopri5"),
+        integrators=integrators_of("single"),
     ),
     "lanes-explicit": Engine(
         "the explicit lanes", "the explicit method",
         film_damping=False, sustained_contact=False, ideal_joints=True, trajectories=False,
-        integrators=("dopri5",),
+        integrators=integrators_of("lanes-explicit"),
     ),
     "batch-implicit": Engine(
         "the CPU backends' implicit lanes", f"the implicit method on {CPU_BACKENDS}",
         film_damping=True, sustained_contact=True, ideal_joints=True, trajectories=False,
-        integrators=("radau",),
+        integrators=integrators_of("batch-implicit"),
     ),
     "lanes-implicit": Engine(
         "the single source's implicit lanes (the cuda backend's)",
         "the implicit method on the cuda backend",
         film_damping=True, sustained_contact=False, ideal_joints=True, trajectories=False,
-        integrators=("radau",),
+        integrators=integrators_of("lanes-implicit"),
     ),
     "jax": Engine(
         "the gpu backend (JAX)", "the gpu backend",
         film_damping=False, sustained_contact=False, ideal_joints=True, trajectories=False,
-        integrators=("dopri5", "radau"),
+        integrators=integrators_of("jax"),
     ),
 }  # fmt: skip
 

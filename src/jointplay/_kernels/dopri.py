@@ -48,26 +48,9 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from jointplay._kernels.common import (
-    all_finite,
-    interrupt_pending,
-    jit,
-    py_max,
-    py_min,
-)
-from jointplay._kernels.ids import (
-    EPS,
-    NFEV,
-    NREJ_CHECK,
-    NREJ_ERROR,
-    NSTEPS,
-    STATUS_INTERRUPTED,
-    STATUS_NON_FINITE,
-    STATUS_RUNNING,
-    STATUS_STEP_TOO_SMALL,
-    STATUS_SUCCESS,
-    STATUS_TOO_MANY_STEPS,
-)
+from jointplay._kernels.common import all_finite, jit, py_max, py_min
+from jointplay._kernels.driver import Steps, no_retry, run_core, step_jit
+from jointplay._kernels.ids import NFEV, NREJ_ERROR
 from jointplay._kernels.lanes.source import (
     A21,
     A31,
@@ -103,9 +86,8 @@ from jointplay._kernels.lanes.source import (
     MIN_FACTOR,
     SAFETY,
 )  # fmt: skip
-from jointplay._kernels.radau import _record, driver_start, next_try, onset_retry, run_core
 
-__all__ = ["dopri_integrate"]
+__all__ = ["STEPS", "dopri_integrate"]
 
 
 @jit
@@ -149,104 +131,66 @@ def _step(fun, args, t, y, h, k, stage, y_new, atol, rtol):
     return math.sqrt(total / n)
 
 
-def _dopri_core(
-    fun,
-    step_check,
-    after_step,
-    jac_fun,
-    t0,
-    y0,
-    t_bound,
-    args,
-    rtol,
-    atol,
-    max_step,
-    first_step,
-    max_steps,
-    n_second,
-    n_active,
-    hold_after_failure,
-    autonomous,
-    interrupt,
-):
-    """The integrator; see :func:`dopri_integrate` (same arguments and results as
-    :func:`jointplay._kernels.radau._radau_core`)."""
+_ERROR = 0  # the slot of the error norm of the try that passed, in the state's scalars
+
+
+@jit
+def _start(problem, t0, y0, f0, counters):
+    """The state: ``(sc, k, stage)``, the scalars, the stages (7, n) and a stage's state."""
     n = y0.shape[0]
-    rtol = max(rtol, 100.0 * EPS)
-    direction = 1.0 if t_bound >= t0 else -1.0
-    t = t0
-    y = y0.copy()
-    status, counters, ts, ys, m, f, h_abs = driver_start(
-        fun, args, t0, y, t_bound, max_step, first_step, direction, rtol, atol
-    )
-    if status != STATUS_RUNNING:
-        return status, ts[:m].copy(), ys[:m].copy(), counters
+    return np.zeros(1), np.empty((7, n)), np.empty(n)
 
-    k = np.empty((7, n))
-    stage = np.empty(n)
-    y_new = np.empty(n)
 
-    while status == STATUS_RUNNING:
-        if counters[NSTEPS] >= max_steps:
-            status = STATUS_TOO_MANY_STEPS
-            break
-        if interrupt_pending(interrupt):
-            status = STATUS_INTERRUPTED
-            break
+@step_jit
+def _begin(state, problem, t, y, f, h_abs, min_step, counters):
+    """Nothing to prepare; the cap on every try is ``max_step`` (dopri5.f's ``HMAX``)."""
+    return h_abs, problem.max_step
 
-        failed = False
-        n_check = 0
-        error_norm = 0.0
-        t_new = t
-        while True:
-            too_small, min_step, h, t_new, h_abs = next_try(t, h_abs, max_step, direction, t_bound)
-            if too_small:
-                status = STATUS_STEP_TOO_SMALL
-                break
 
-            k[0, :] = f
-            error_norm = _step(fun, args, t, y, h, k, stage, y_new, atol, rtol)
-            counters[NFEV] += 6
-            if not error_norm <= 1.0:  # NaN fails too
-                shrink = SAFETY * error_norm**-0.2 if math.isfinite(error_norm) else 0.2
-                h_abs *= py_max(MIN_FACTOR, py_min(1.0, shrink))
-                failed = True
-                counters[NREJ_ERROR] += 1
-                continue
+@step_jit
+def _attempt(state, problem, t, y, f, h, y_new, counters):
+    """One try of the step ``h`` (:func:`_step`, ``k₁ = f``). Returns ``(passed, h_abs)``,
+    after a failure ``h_abs·max(1/5, min(1, 0.9·err^(−1/5)))`` (``h/5`` for a non-finite
+    stage), counted in ``NREJ_ERROR``."""
+    sc, k, stage = state
+    h_abs = abs(h)
+    k[0, :] = f
+    error_norm = _step(problem.fun, problem.args, t, y, h, k, stage, y_new, problem.atol,
+                       problem.rtol)  # fmt: skip
+    counters[NFEV] += 6
+    if not error_norm <= 1.0:  # NaN fails too
+        shrink = SAFETY * error_norm**-0.2 if math.isfinite(error_norm) else 0.2
+        counters[NREJ_ERROR] += 1
+        return False, h_abs * py_max(MIN_FACTOR, py_min(1.0, shrink))
+    sc[_ERROR] = error_norm
+    return True, h_abs
 
-            h_try = onset_retry(step_check, args, t, y, t_new, y_new, h_abs, min_step, n_check)
-            if h_try > 0.0:  # land a step on contact onset
-                h_abs = h_try
-                n_check += 1
-                counters[NREJ_CHECK] += 1
-                continue
-            break
-        if status != STATUS_RUNNING:
-            break
 
-        if after_step(t_new, y_new, args):
-            f[:] = fun(t_new, y_new, args)
-            counters[NFEV] += 1
-        else:  # first same as last
-            f[:] = k[6]
-        if not (all_finite(y_new, y_new.shape[0]) and all_finite(f, f.shape[0])):
-            status = STATUS_NON_FINITE
-            break
-        t = t_new
-        y, y_new = y_new, y
-        counters[NSTEPS] += 1
-        ts, ys = _record(ts, ys, m, t, y)
-        m += 1
+@step_jit
+def _refresh(state, problem, t_new, y_new, f, changed, counters):
+    """``f`` at the new point: the last stage's (first same as last), evaluated afresh
+    when ``after_step`` changed the state."""
+    if changed:
+        f[:] = problem.fun(t_new, y_new, problem.args)
+        counters[NFEV] += 1
+    else:
+        f[:] = state[1][6]
 
-        grow = MAX_FACTOR if error_norm == 0.0 else SAFETY * error_norm**-0.2
-        grow = py_max(MIN_FACTOR, py_min(MAX_FACTOR, grow))
-        if failed:
-            grow = py_min(grow, 1.0)
-        h_abs *= grow
-        if direction * (t - t_bound) >= 0:
-            status = STATUS_SUCCESS
 
-    return status, ts[:m].copy(), ys[:m].copy(), counters
+@step_jit
+def _accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed, counters):
+    """The next step's size: ``0.9·err^(−1/5)`` within ``[MIN_FACTOR, MAX_FACTOR]``, not
+    larger right after a failed try (dopri5.f)."""
+    error_norm = state[0][_ERROR]
+    grow = MAX_FACTOR if error_norm == 0.0 else SAFETY * error_norm**-0.2
+    grow = py_max(MIN_FACTOR, py_min(MAX_FACTOR, grow))
+    if failed:
+        grow = py_min(grow, 1.0)
+    return h_abs * grow
+
+
+#: DOPRI5's steps for the loop (:func:`jointplay._kernels.driver.drive`).
+STEPS = Steps(_start, _begin, _attempt, no_retry, _refresh, _accept)
 
 
 def dopri_integrate(
@@ -256,4 +200,4 @@ def dopri_integrate(
     :func:`jointplay._kernels.radau.radau_integrate` (``jac``, ``n_second``,
     ``hold_after_failure`` and ``autonomous`` unused: an explicit method; ``n_rejected_newton``, ``n_jac`` and
     ``n_lu`` are always 0)."""
-    return run_core(_dopri_core, *args, **kwargs)
+    return run_core("dopri", STEPS, *args, **kwargs)

@@ -41,6 +41,7 @@ from typing import Any
 
 import numpy as np
 
+from jointplay._kernels.integrators import lane_methods
 from jointplay._kernels.lanes.contract import BatchKernelOutput  # one result type for every backend
 from jointplay.errors import ConfigError
 
@@ -56,7 +57,8 @@ __all__ = [
 DEFAULT_CHUNK = 200_000
 #: The environment variable naming the persistent compilation cache folder (``off``: none).
 CACHE_ENV = "JOINTPLAY_JAX_CACHE"
-METHODS = ("explicit", "implicit")
+#: The methods of :func:`run_batch`: those of the integrators the JAX lanes have.
+METHODS = lane_methods("jax")
 
 
 def _import_jax() -> Any:

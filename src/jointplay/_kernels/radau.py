@@ -91,18 +91,13 @@ References:
 from __future__ import annotations
 
 import math
-import threading
 from typing import Any
 
-import numba
 import numpy as np
 import numpy.typing as npt
 
 from jointplay._kernels.common import (
-    all_finite,
-    copy_vector,
     error_scale,
-    interrupt_pending,
     jit,
     num_jac,
     plus,
@@ -110,28 +105,25 @@ from jointplay._kernels.common import (
     py_max,
     py_min,
     rms_norm,
-    select_initial_step,
     tolerance_scale,
 )
-from jointplay._kernels.ids import (
-    EPS,
-    NFEV,
-    NJEV,
-    NLU,
-    NREJ_CHECK,
-    NREJ_ERROR,
-    NREJ_NEWTON,
-    NSTEPS,
-    STATUS_INTERRUPTED,
-    STATUS_NON_FINITE,
-    STATUS_RUNNING,
-    STATUS_STEP_TOO_SMALL,
-    STATUS_SUCCESS,
-    STATUS_TOO_MANY_STEPS,
+from jointplay._kernels.driver import (
+    MAX_CHECK_REJECTIONS,
+    Steps,
+    accept_every_step,
+    evaluate_f,
+    finite_differences,
+    kernel_signatures,
+    no_after_step,
+    run_core,
+    step_jit,
 )
-from jointplay._kernels.linalg import lu_factor, lu_solve_in_place
+from jointplay._kernels.ids import EPS, NFEV, NJEV, NLU, NREJ_ERROR, NREJ_NEWTON
+from jointplay._kernels.linalg import lu_factor_in_place, lu_solve_in_place
 
 __all__ = [
+    "MAX_CHECK_REJECTIONS",
+    "STEPS",
     "accept_every_step",
     "finite_differences",
     "kernel_signatures",
@@ -186,11 +178,6 @@ NEWTON_MAXITER = 6  # Maximum number of Newton iterations.
 MIN_FACTOR = 0.2  # Minimum allowed decrease in a step size.
 MAX_FACTOR = 10.0  # Maximum allowed increase in a step size.
 
-#: Consecutive ``step_check`` rejections of one step after which the step is accepted.
-MAX_CHECK_REJECTIONS = 64
-
-_INITIAL_CAPACITY = 64
-
 
 # ---------------------------------------------------------------------------------------
 # Stage norm.
@@ -236,15 +223,26 @@ def _factor_newton_matrices(jac, h, n_second, n_active):
     columns of the velocities, ``x`` being the positions ``[0, n_second)`` ([HW96] §IV.8,
     the ``M1`` option of RADAU5). With ``n_second = 0`` and ``n_active = n`` this is the
     full matrix, as in SciPy.
+
+    Returns:
+        ``(lu_real, piv_real, lu_complex, piv_complex)``, new arrays.
     """
     nk = n_active - n_second
-    a_real = reduced_newton_matrix(jac, MU_REAL / h, np.empty((nk, nk)), n_second, n_active)
-    a_complex = reduced_newton_matrix(
-        jac, MU_COMPLEX / h, np.empty((nk, nk), dtype=np.complex128), n_second, n_active
-    )
-    lu_real, piv_real = lu_factor(a_real)
-    lu_complex, piv_complex = lu_factor(a_complex)
+    lu_real = np.empty((nk, nk))
+    piv_real = np.empty(nk, dtype=np.int64)
+    lu_complex = np.empty((nk, nk), dtype=np.complex128)
+    piv_complex = np.empty(nk, dtype=np.int64)
+    _factor_into(jac, h, n_second, n_active, lu_real, piv_real, lu_complex, piv_complex)
     return lu_real, piv_real, lu_complex, piv_complex
+
+
+@jit
+def _factor_into(jac, h, n_second, n_active, lu_real, piv_real, lu_complex, piv_complex):
+    """:func:`_factor_newton_matrices` into the given arrays (nk, nk), (nk,) each."""
+    reduced_newton_matrix(jac, MU_REAL / h, lu_real, n_second, n_active)
+    reduced_newton_matrix(jac, MU_COMPLEX / h, lu_complex, n_second, n_active)
+    lu_factor_in_place(lu_real, piv_real)
+    lu_factor_in_place(lu_complex, piv_complex)
 
 
 @jit
@@ -393,37 +391,15 @@ def _extrapolate(q, t_old, y_old, t, y, h):
 
 
 @jit
-def _interpolant_coefficients(z):
-    """``Q = Zᵀ P``, shape (n, 3)."""
+def _interpolant_coefficients_into(z, q):
+    """``Q = Zᵀ P`` into ``q`` (n, 3)."""
     n = z.shape[1]
-    q = np.empty((n, 3))
     for j in range(n):
         for k in range(3):
             s = 0.0
             for i in range(3):
                 s += z[i, j] * P[i, k]
             q[j, k] = s
-    return q
-
-
-@jit
-def _record(ts, ys, m, t, y):
-    """Store ``(t, y)`` as row ``m``, doubling the arrays first when they are full."""
-    cap = ts.shape[0]
-    n = ys.shape[1]
-    if m == cap:
-        ts2 = np.empty(2 * cap)
-        ys2 = np.empty((2 * cap, n))
-        for i in range(cap):
-            ts2[i] = ts[i]
-            for j in range(n):
-                ys2[i, j] = ys[i, j]
-        ts = ts2
-        ys = ys2
-    ts[m] = t
-    for j in range(n):
-        ys[m, j] = y[j]
-    return ts, ys
 
 
 # ---------------------------------------------------------------------------------------
@@ -535,481 +511,215 @@ def _newton_workspace(n, n_second, n_active):
 
 
 # ---------------------------------------------------------------------------------------
-# Default hooks.
+# The method's steps for the loop (jointplay._kernels.driver): SciPy's Radau._step_impl.
 # ---------------------------------------------------------------------------------------
-@jit
-def accept_every_step(t_old, y_old, t_new, y_new, args):
-    """``step_check`` that accepts every step (returns 1.0)."""
-    return 1.0
+# Slots of the state's scalars (float64; flags 0/1, the Newton iteration count exact).
+_H_PROPOSED = 0  # the step size proposed before this step (SciPy's self.h_abs)
+_H_OLD = 1  # the one proposed before the last step (SciPy's self.h_abs_old; NaN: None)
+_ERR_OLD = 2  # the last step's error norm (SciPy's self.error_norm_old; NaN: None)
+_H_OLD_STEP = 3  # _H_OLD for this step's controller, NaN after a clamp of the step size
+_ERR_OLD_STEP = 4  # _ERR_OLD likewise
+_NEWTON_TOL = 5  # Newton tolerance on the scaled RMS norm
+_CURRENT_JAC = 6  # the Jacobian is at the current point
+_LU_VALID = 7  # the factors are of the Jacobian at the current step size
+_HAS_SOL = 8  # the last step's collocation polynomial starts Newton (no discontinuity)
+_T_OLD = 9  # the last step's start, s
+_REJECTED = 10  # a try of this step failed the error test (SciPy's ``rejected``)
+_N_ITER = 11  # Newton iterations of the try that passed
+_RATE = 12  # its convergence rate (NaN: undefined)
+_ERROR = 13  # its error norm
+_SAFETY = 14  # its safety factor, 0.9·(2·NEWTON_MAXITER + 1)/(2·NEWTON_MAXITER + n_iter)
+_N_SCALARS = 15
 
 
 @jit
-def no_after_step(t, y, args):
-    """``after_step`` that changes nothing (returns False)."""
-    return False
-
-
-@jit
-def finite_differences(t, y, f, args, out):
-    """``jac`` that provides no Jacobian (returns False): the kernel differences ``fun``."""
-    return False
-
-
-@jit
-def _jacobian(fun, jac, args, t, y, f, threshold, factor, n_active):
-    """The user's Jacobian where ``jac`` gives one, SciPy's ``num_jac`` otherwise."""
-    n = y.shape[0]
-    out = np.empty((n, n))
-    if jac(t, y, f, args, out):
-        return out
-    return num_jac(fun, args, t, y, f, threshold, factor, n_active)
-
-
-# ---------------------------------------------------------------------------------------
-# The driver.
-# ---------------------------------------------------------------------------------------
-@numba.njit(cache=True, error_model="numpy", inline="always")  # in the drivers' loops
-def next_try(t, h_abs, max_step, direction, t_bound):
-    """The next try of a step from ``t`` for the one-step drivers (RODAS4's, DOPRI5's):
-    ``h_abs`` capped at ``max_step``, then the step cut to end on ``t_bound``.
-
-    Returns:
-        ``(too_small, min_step, h, t_new, h_abs)``: ``too_small`` when the capped step is
-        below ``min_step = 10·spacing(t)`` (the driver stops with ``STATUS_STEP_TOO_SMALL``;
-        the other values are then not meant for use); the signed step, its end and its size.
-    """
-    min_step = 10.0 * abs(np.nextafter(t, direction * np.inf) - t)
-    h_abs = py_min(h_abs, max_step)
-    if h_abs < min_step:
-        return True, min_step, 0.0, t, h_abs
-    t_new = t + h_abs * direction
-    if direction * (t_new - t_bound) > 0:
-        t_new = t_bound
-    h = t_new - t
-    return False, min_step, h, t_new, abs(h)
-
-
-@numba.njit(cache=True, error_model="numpy", inline="always")  # in the drivers' loops
-def onset_retry(step_check, args, t, y, t_new, y_new, h_abs, min_step, n_check):
-    """``step_check``'s verdict on a step that passed the error test: the shorter step to
-    retry it with (it asks for ``h·θ``, ``θ < 1``, not below ``min_step``, and this step has
-    been retried fewer than ``MAX_CHECK_REJECTIONS`` times), else 0 (accept)."""
-    theta = step_check(t, y, t_new, y_new, args)
-    h_try = h_abs * theta
-    if theta < 1.0 and min_step <= h_try < h_abs and n_check < MAX_CHECK_REJECTIONS:
-        return h_try
-    return 0.0
-
-
-@jit
-def driver_start(fun, args, t0, y0, t_bound, max_step, first_step, direction, rtol, atol):
-    """What every driver does before its first step (Radau's, RODAS4's): record ``(t0, y0)``;
-    an empty interval or system ends at once (SciPy: an empty system jumps to ``t_bound``);
-    ``f(t0, y0)``, a non-finite one ends with status −3; the first step, ``first_step`` or
-    SciPy's choice.
-
-    Returns:
-        ``(status, counters, ts, ys, m, f, h_abs)``: ``STATUS_RUNNING`` to go on, else the
-        final status of an integration that ends here; the recording arrays and their
-        length ``m``.
-    """
-    n = y0.shape[0]
-    counters = np.zeros(7, dtype=np.int64)
-    ts = np.empty(_INITIAL_CAPACITY)
-    ys = np.empty((_INITIAL_CAPACITY, n))
-    ts, ys = _record(ts, ys, 0, t0, y0)
-    m = 1
-    f = np.zeros(n)
-    if n == 0 or t0 == t_bound:
-        if n == 0 and t0 != t_bound:  # SciPy: an empty system jumps to t_bound.
-            ts, ys = _record(ts, ys, m, t_bound, y0)
-            m += 1
-        return STATUS_SUCCESS, counters, ts, ys, m, f, 0.0
-    f = copy_vector(fun(t0, y0, args))
-    counters[NFEV] += 1
-    if not (all_finite(y0, y0.shape[0]) and all_finite(f, f.shape[0])):
-        return STATUS_NON_FINITE, counters, ts, ys, m, f, 0.0
-    h_abs = first_step
-    if not first_step > 0:
-        h_abs, nfev_initial = select_initial_step(
-            fun, args, t0, y0, t_bound, max_step, f, direction, rtol, atol
+def _jacobian_into(problem, t, y, f, factor, out):
+    """The user's Jacobian where ``jac`` gives one, SciPy's ``num_jac`` otherwise, into
+    ``out`` (n, n); ``factor`` is ``num_jac``'s, adapted in place."""
+    if not problem.jac(t, y, f, problem.args, out):
+        out[:, :] = num_jac(
+            problem.fun, problem.args, t, y, f, problem.atol, factor, problem.n_active
         )
-        counters[NFEV] += nfev_initial
-    return STATUS_RUNNING, counters, ts, ys, m, f, h_abs
 
 
-def _radau_core(
-    fun,
-    step_check,
-    after_step,
-    jac_fun,
-    t0,
-    y0,
-    t_bound,
-    args,
-    rtol,
-    atol,
-    max_step,
-    first_step,
-    max_steps,
-    n_second,
-    n_active,
-    hold_after_failure,
-    autonomous,
-    interrupt,
-):
-    """The integrator itself; see :func:`radau_integrate` (same arguments and results).
+@jit
+def _start(problem, t0, y0, f0, counters):
+    """The state at ``(t0, y0)``: the Jacobian there (counted), no factors, no polynomial.
 
-    Compiled by :func:`_specialised_core` for explicit signatures, in which ``fun``,
-    ``step_check`` and ``after_step`` are first-class function values. The control flow
-    follows SciPy's ``solve_ivp`` loop around ``Radau._step_impl``.
+    Returns:
+        ``(sc, jac, jac_factor, lu_real, piv_real, lu_complex, piv_complex, workspace,
+        newton_scale, q, y_old)``: the scalars (slots ``_H_PROPOSED`` …), the Jacobian
+        (n, n), ``num_jac``'s factors, the reduced Newton factors, Newton's scratch, the
+        step's Newton scale, the collocation polynomial ``Q`` (n, 3) and its start ``y_old``.
     """
     n = y0.shape[0]
-    rtol = max(rtol, 100.0 * EPS)
-    direction = 1.0 if t_bound >= t0 else -1.0
-    t = t0
-    y = y0.copy()
-    status, counters, ts, ys, m, f, h_abs_state = driver_start(
-        fun, args, t0, y, t_bound, max_step, first_step, direction, rtol, atol
-    )
-    if status != STATUS_RUNNING:
-        return status, ts[:m].copy(), ys[:m].copy(), counters
-    h_abs_old_state = np.nan  # NaN stands for SciPy's None.
-    error_norm_old_state = np.nan
-    newton_tol = max(10.0 * EPS / rtol, min(0.03, rtol**0.5))
-
+    nk = problem.n_active - problem.n_second
+    rtol = problem.rtol
+    sc = np.zeros(_N_SCALARS)
+    sc[_H_OLD] = np.nan  # NaN stands for SciPy's None.
+    sc[_ERR_OLD] = np.nan
+    sc[_NEWTON_TOL] = max(10.0 * EPS / rtol, min(0.03, rtol**0.5))
     jac_factor = np.full(n, EPS**0.5)
-    jac = _jacobian(fun, jac_fun, args, t, y, f, atol, jac_factor, n_active)
+    jac = np.empty((n, n))
+    _jacobian_into(problem, t0, y0, f0, jac_factor, jac)
     counters[NJEV] += 1
-    current_jac = True
-    lu_real = np.empty((n, n))
-    piv_real = np.zeros(n, dtype=np.int64)
-    lu_complex = np.empty((n, n), dtype=np.complex128)
-    piv_complex = np.zeros(n, dtype=np.int64)
-    lu_valid = False
-
-    workspace = _newton_workspace(n, n_second, n_active)
-
-    # Collocation polynomial of the last step (SciPy's self.sol), for the Newton start.
-    has_sol = False
-    q = np.zeros((n, 3))
-    t_old = t
-    y_old = y
-
-    status = STATUS_RUNNING
-    while status == STATUS_RUNNING:
-        if counters[NSTEPS] >= max_steps:
-            status = STATUS_TOO_MANY_STEPS
-            break
-        if interrupt_pending(interrupt):  # Ctrl-C or SIGTERM: stop with a status, not raise
-            status = STATUS_INTERRUPTED
-            break
-
-        # ---- Radau._step_impl ----
-        min_step = 10.0 * abs(np.nextafter(t, direction * np.inf) - t)
-        if h_abs_state > max_step:
-            h_abs = max_step
-            h_abs_old = np.nan
-            error_norm_old = np.nan
-        elif h_abs_state < min_step:
-            h_abs = min_step
-            h_abs_old = np.nan
-            error_norm_old = np.nan
-        else:
-            h_abs = h_abs_state
-            h_abs_old = h_abs_old_state
-            error_norm_old = error_norm_old_state
-
-        newton_scale = tolerance_scale(y, atol, rtol)  # SciPy: per attempt, the same y
-        rejected = False
-        failed = False  # RADAU5's REJECT: the error test or the Newton iteration failed
-        step_accepted = False
-        n_check = 0
-        # Set in the loop below; given values here so that every variable has a type.
-        t_new = t
-        y_new = y
-        z = np.zeros((3, n))
-        n_iter = 0
-        rate = np.nan
-        error_norm = 0.0
-        safety = 0.0
-        while not step_accepted:
-            if h_abs < min_step:
-                status = STATUS_STEP_TOO_SMALL
-                break
-
-            h = h_abs * direction
-            t_new = t + h
-            if direction * (t_new - t_bound) > 0:
-                t_new = t_bound
-            h = t_new - t
-            h_abs = abs(h)
-
-            z0 = _extrapolate(q, t_old, y_old, t, y, h) if has_sol else np.zeros((3, n))
-
-            converged = False
-            while not converged:
-                if not lu_valid:
-                    lu_real, piv_real, lu_complex, piv_complex = _factor_newton_matrices(
-                        jac, h, n_second, n_active
-                    )
-                    counters[NLU] += 2
-                    lu_valid = True
-
-                converged, n_iter, z, rate, nfev_newton = _solve_collocation_system(
-                    fun,
-                    args,
-                    t,
-                    y,
-                    h,
-                    z0,
-                    newton_scale,
-                    newton_tol,
-                    lu_real,
-                    piv_real,
-                    lu_complex,
-                    piv_complex,
-                    jac,
-                    n_second,
-                    n_active,
-                    workspace,
-                )
-                counters[NFEV] += nfev_newton
-
-                if not converged:
-                    if current_jac:
-                        break
-                    jac = _jacobian(fun, jac_fun, args, t, y, f, atol, jac_factor, n_active)
-                    counters[NJEV] += 1
-                    current_jac = True
-                    lu_valid = False
-
-            if not converged:
-                h_abs *= 0.5
-                lu_valid = False
-                failed = True
-                counters[NREJ_NEWTON] += 1
-                continue
-
-            y_new = plus(y, z[2])
-            ze, error = _error_estimate(z, f, h, lu_real, piv_real, jac, n_second, n_active)
-            scale = error_scale(y, y_new, atol, rtol)
-            error_norm = rms_norm(error, scale)
-            safety = 0.9 * (2 * NEWTON_MAXITER + 1) / (2 * NEWTON_MAXITER + n_iter)
-
-            if rejected and error_norm > 1:
-                f_err = fun(t, plus(y, error), args)
-                counters[NFEV] += 1
-                error = _newton_solve(
-                    lu_real, piv_real, jac, MU_REAL / h, plus(f_err, ze), n_second, n_active
-                )
-                error_norm = rms_norm(error, scale)
-
-            if error_norm > 1:
-                factor = predict_factor(h_abs, h_abs_old, error_norm, error_norm_old)
-                h_abs *= py_max(MIN_FACTOR, safety * factor)
-                lu_valid = False
-                rejected = True
-                failed = True
-                counters[NREJ_ERROR] += 1
-                continue
-
-            # Hook: locate an event (contact onset) by shortening the step.
-            theta = step_check(t, y, t_new, y_new, args)
-            h_try = h_abs * theta
-            if theta < 1.0 and min_step <= h_try < h_abs and n_check < MAX_CHECK_REJECTIONS:
-                h_abs = h_try
-                lu_valid = False
-                n_check += 1
-                counters[NREJ_CHECK] += 1
-                continue
-            step_accepted = True
-
-        if status != STATUS_RUNNING:
-            break
-
-        recompute_jac = n_iter > 2 and rate > 1e-3
-
-        factor = predict_factor(h_abs, h_abs_old, error_norm, error_norm_old)
-        factor = py_min(MAX_FACTOR, safety * factor)
-        if hold_after_failure and failed:
-            factor = py_min(factor, 1.0)  # RADAU5: IF (REJECT) HNEW = MIN(HNEW, H)
-
-        if not recompute_jac and factor < 1.2:
-            factor = 1.0
-        else:
-            lu_valid = False
-
-        # Hook: projection / contact memory; then f at the (possibly modified) state.
-        changed = after_step(t_new, y_new, args)
-        f_new = copy_vector(fun(t_new, y_new, args))
-        counters[NFEV] += 1
-        if not (all_finite(y_new, y_new.shape[0]) and all_finite(f_new, f_new.shape[0])):
-            status = STATUS_NON_FINITE
-            break
-
-        if recompute_jac:
-            jac = _jacobian(fun, jac_fun, args, t_new, y_new, f_new, atol, jac_factor, n_active)
-            counters[NJEV] += 1
-            current_jac = True
-        else:
-            current_jac = False
-
-        # As SciPy: the "old" step size is the one proposed before this step.
-        h_abs_old_state = h_abs_state
-        error_norm_old_state = error_norm
-        h_abs_state = h_abs * factor
-
-        y_old = y
-        t_old = t
-        t = t_new
-        y = y_new
-        f = f_new
-        q = _interpolant_coefficients(z)
-        has_sol = not changed
-        counters[NSTEPS] += 1
-
-        ts, ys = _record(ts, ys, m, t, y)
-        m += 1
-
-        if direction * (t - t_bound) >= 0:
-            status = STATUS_SUCCESS
-
-    return status, ts[:m].copy(), ys[:m].copy(), counters
-
-
-# ---------------------------------------------------------------------------------------
-# Entry point: one cached specialisation of the driver per type of ``args``.
-# ---------------------------------------------------------------------------------------
-_ARRAY = numba.types.float64[::1]
-_compile_lock = threading.Lock()
-_NO_INTERRUPT = np.zeros(1, dtype=np.uint8)  # flags that never hold a signal
-_specialisations: dict[Any, Any] = {}
-
-
-def kernel_signatures(args_type: Any) -> dict[str, Any]:
-    """Numba signatures that the user's functions must compile to, for this ``args`` type.
-
-    Args:
-        args_type: ``numba.typeof(args)``.
-
-    Returns:
-        ``{"fun": ..., "step_check": ..., "after_step": ..., "jac": ...}``. ``fun`` may
-        return any 1-D float64 array (any layout); every ``y`` it is given is C-contiguous;
-        ``jac`` writes into a C-contiguous (n, n) array.
-    """
-    f8 = numba.types.float64
-    return {
-        "fun": numba.types.float64[:](f8, _ARRAY, args_type),
-        "step_check": f8(f8, _ARRAY, f8, _ARRAY, args_type),
-        "after_step": numba.types.boolean(f8, _ARRAY, args_type),
-        "jac": numba.types.boolean(f8, _ARRAY, _ARRAY, args_type, numba.types.float64[:, ::1]),
-    }
-
-
-def _core_signature(args_type: Any) -> tuple[Any, ...]:
-    """Argument types of :func:`_radau_core` for this ``args`` type."""
-    sigs = kernel_signatures(args_type)
-    f8 = numba.types.float64
-    function_type = numba.types.FunctionType
+    sc[_CURRENT_JAC] = 1.0
+    sc[_T_OLD] = t0
     return (
-        function_type(sigs["fun"]),
-        function_type(sigs["step_check"]),
-        function_type(sigs["after_step"]),
-        function_type(sigs["jac"]),
-        f8,
-        _ARRAY,
-        f8,
-        args_type,
-        f8,
-        _ARRAY,
-        f8,
-        f8,
-        numba.types.int64,
-        numba.types.int64,
-        numba.types.int64,
-        numba.types.boolean,
-        numba.types.boolean,
-        numba.types.uint8[::1],
-    )
+        sc, jac, jac_factor,
+        np.empty((nk, nk)), np.zeros(nk, dtype=np.int64),
+        np.empty((nk, nk), dtype=np.complex128), np.zeros(nk, dtype=np.int64),
+        _newton_workspace(n, problem.n_second, problem.n_active),
+        np.empty(n), np.zeros((n, 3)), y0.copy(),
+    )  # fmt: skip
 
 
-def _specialised_core(args_type: Any, driver: Any = None) -> Any:
-    """A driver (:func:`_radau_core` by default) compiled, or loaded from Numba's on-disk
-    cache, for this type of ``args``.
+@step_jit
+def _begin(state, problem, t, y, f, h_abs, min_step, counters):
+    """A step from ``(t, y)``: the proposed size clamped to ``[min_step, max_step]`` (a
+    clamp forgets the last step for the controller, as SciPy), the Newton scale
+    ``atol + rtol·|y|``. Returns the first try's size and no cap on the retries (SciPy's)."""
+    sc, newton_scale = state[0], state[8]
+    sc[_H_PROPOSED] = h_abs
+    if h_abs > problem.max_step:
+        h_abs = problem.max_step
+        sc[_H_OLD_STEP] = np.nan
+        sc[_ERR_OLD_STEP] = np.nan
+    elif h_abs < min_step:
+        h_abs = min_step
+        sc[_H_OLD_STEP] = np.nan
+        sc[_ERR_OLD_STEP] = np.nan
+    else:
+        sc[_H_OLD_STEP] = sc[_H_OLD]
+        sc[_ERR_OLD_STEP] = sc[_ERR_OLD]
+    newton_scale[:] = tolerance_scale(y, problem.atol, problem.rtol)  # per step, as SciPy
+    sc[_REJECTED] = 0.0
+    return h_abs, np.inf
 
-    One dispatcher per driver and ``args`` type, each compiled only for its explicit
-    signature, so that Numba, unable to compile at call time, converts each jitted function
-    passed in to its first-class function type (compiling it for that signature if needed)
-    instead of specialising the driver on the function object, which could not be cached.
-    """
-    driver = _radau_core if driver is None else driver
-    key = (driver.__module__, driver.__name__, args_type)
-    core = _specialisations.get(key)
-    if core is None:
-        with _compile_lock:
-            core = _specialisations.get(key)
-            if core is None:
-                core = numba.njit(
-                    [_core_signature(args_type)], cache=True, error_model="numpy", nogil=True
-                )(driver)  # nogil: the batch engine runs implicit lanes on threads
-                _specialisations[key] = core
-    return core
+
+@step_jit
+def _newton(state, problem, t, y, f, h, counters):
+    """The collocation system at step ``h`` solved by simplified Newton, started from the
+    last step's polynomial; on failure with a stale Jacobian, once more with a fresh one.
+    Returns ``(converged, n_iter, Z, rate)``."""
+    sc, jac, jac_factor, lu_real, piv_real, lu_complex, piv_complex, workspace = state[:8]
+    newton_scale, q, y_old = state[8], state[9], state[10]
+    n_second, n_active = problem.n_second, problem.n_active
+    if sc[_HAS_SOL] != 0.0:
+        z0 = _extrapolate(q, sc[_T_OLD], y_old, t, y, h)
+    else:
+        z0 = np.zeros((3, y.shape[0]))
+    while True:
+        if sc[_LU_VALID] == 0.0:
+            _factor_into(jac, h, n_second, n_active, lu_real, piv_real, lu_complex, piv_complex)
+            counters[NLU] += 2
+            sc[_LU_VALID] = 1.0
+        converged, n_iter, z, rate, nfev = _solve_collocation_system(
+            problem.fun, problem.args, t, y, h, z0, newton_scale, sc[_NEWTON_TOL],
+            lu_real, piv_real, lu_complex, piv_complex, jac, n_second, n_active, workspace,
+        )  # fmt: skip
+        counters[NFEV] += nfev
+        if converged or sc[_CURRENT_JAC] != 0.0:
+            return converged, n_iter, z, rate
+        _jacobian_into(problem, t, y, f, jac_factor, jac)
+        counters[NJEV] += 1
+        sc[_CURRENT_JAC] = 1.0
+        sc[_LU_VALID] = 0.0
 
 
-def run_core(
-    driver: Any,
-    fun: Any,
-    step_check: Any,
-    after_step: Any,
-    t0: float,
-    y0: npt.NDArray[np.float64],
-    t_bound: float,
-    args: tuple[npt.NDArray[Any], ...],
-    rtol: float,
-    atol: npt.NDArray[np.float64],
-    max_step: float,
-    first_step: float,
-    max_steps: int,
-    n_second: int = 0,
-    n_active: int | None = None,
-    hold_after_failure: bool = False,
-    jac: Any = None,
-    autonomous: bool = False,
-    interrupt: npt.NDArray[np.uint8] | None = None,
-) -> tuple[int, npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.int64]]:
-    """Run a driver with :func:`_radau_core`'s signature (Radau here, RODAS4 in
-    :mod:`jointplay._kernels.rodas`): coerce the scalars and arrays to the compiled types and
-    call its specialisation for ``numba.typeof(args)``. The arguments after ``driver`` are
-    :func:`radau_integrate`'s."""
-    core = _specialised_core(numba.typeof(args), driver)
-    n = np.shape(y0)[0]
-    n_active = n if n_active is None else int(n_active)
-    if not 0 <= 2 * n_second <= n_active <= n:
-        raise ValueError(
-            f"need 0 <= 2·n_second <= n_active <= n = {n}, got {n_second} and {n_active}"
+@step_jit
+def _attempt(state, problem, t, y, f, h, y_new, counters):
+    """One try of the step ``h`` ([HW96] §IV.8; SciPy's ``Radau._step_impl``): Newton on
+    the collocation system, ``y_new = y + Z₃``, the embedded error estimate (re-estimated
+    with one more ``f`` after a rejection), the error test. Returns ``(passed, h_abs)``:
+    ``h_abs`` to retry with after a failure (half after a Newton failure, else the
+    predictive controller's, [HW96] (8.25)), counted in ``NREJ_NEWTON`` or ``NREJ_ERROR``."""
+    sc, jac, lu_real, piv_real = state[0], state[1], state[3], state[4]
+    n_second, n_active = problem.n_second, problem.n_active
+    h_abs = abs(h)
+    converged, n_iter, z, rate = _newton(state, problem, t, y, f, h, counters)
+    if not converged:
+        sc[_LU_VALID] = 0.0
+        counters[NREJ_NEWTON] += 1
+        return False, h_abs * 0.5
+
+    for j in range(y.shape[0]):
+        y_new[j] = y[j] + z[2, j]
+    ze, error = _error_estimate(z, f, h, lu_real, piv_real, jac, n_second, n_active)
+    scale = error_scale(y, y_new, problem.atol, problem.rtol)
+    error_norm = rms_norm(error, scale)
+    safety = 0.9 * (2 * NEWTON_MAXITER + 1) / (2 * NEWTON_MAXITER + n_iter)
+
+    if sc[_REJECTED] != 0.0 and error_norm > 1:
+        f_err = problem.fun(t, plus(y, error), problem.args)
+        counters[NFEV] += 1
+        error = _newton_solve(
+            lu_real, piv_real, jac, MU_REAL / h, plus(f_err, ze), n_second, n_active
         )
-    status, t_out, y_out, counters = core(
-        fun,
-        step_check,
-        after_step,
-        finite_differences if jac is None else jac,
-        float(t0),
-        np.array(y0, dtype=np.float64, order="C"),
-        float(t_bound),
-        args,
-        float(rtol),
-        np.array(atol, dtype=np.float64, order="C"),
-        float(max_step),
-        float(first_step),
-        int(max_steps),
-        int(n_second),
-        n_active,
-        bool(hold_after_failure),
-        bool(autonomous),
-        _NO_INTERRUPT if interrupt is None else interrupt,
-    )
-    return int(status), t_out, y_out, counters
+        error_norm = rms_norm(error, scale)
+
+    if error_norm > 1:
+        factor = predict_factor(h_abs, sc[_H_OLD_STEP], error_norm, sc[_ERR_OLD_STEP])
+        sc[_LU_VALID] = 0.0
+        sc[_REJECTED] = 1.0
+        counters[NREJ_ERROR] += 1
+        return False, h_abs * py_max(MIN_FACTOR, safety * factor)
+    sc[_N_ITER] = n_iter
+    sc[_RATE] = rate
+    sc[_ERROR] = error_norm
+    sc[_SAFETY] = safety
+    return True, h_abs
+
+
+@step_jit
+def _retry(state):
+    """``step_check`` shortened the step: the factors are of the old step size."""
+    state[0][_LU_VALID] = 0.0
+
+
+@step_jit
+def _accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed, counters):
+    """The accepted step ``(t, y) → (t_new, y_new)``, ``f = f(t_new, y_new)``: the next
+    step's size from the predictive controller ([HW96] (8.25)), at most ``MAX_FACTOR``
+    times larger, not larger at all after a failed try with ``hold_after_failure``, kept
+    (with the factors) when it would grow less than 1.2 and Newton converged fast; the
+    Jacobian recomputed at the new point when Newton converged slowly; the collocation
+    polynomial for the next Newton start, unless ``after_step`` declared a discontinuity.
+    Returns the next step's proposed size."""
+    sc, jac, jac_factor, workspace, q, y_old = (
+        state[0], state[1], state[2], state[7], state[9], state[10]
+    )  # fmt: skip
+    error_norm = sc[_ERROR]
+    recompute_jac = sc[_N_ITER] > 2 and sc[_RATE] > 1e-3
+
+    factor = predict_factor(h_abs, sc[_H_OLD_STEP], error_norm, sc[_ERR_OLD_STEP])
+    factor = py_min(MAX_FACTOR, sc[_SAFETY] * factor)
+    if problem.hold_after_failure and failed:
+        factor = py_min(factor, 1.0)  # RADAU5: IF (REJECT) HNEW = MIN(HNEW, H)
+    if not recompute_jac and factor < 1.2:
+        factor = 1.0
+    else:
+        sc[_LU_VALID] = 0.0
+
+    if recompute_jac:
+        _jacobian_into(problem, t_new, y_new, f, jac_factor, jac)
+        counters[NJEV] += 1
+        sc[_CURRENT_JAC] = 1.0
+    else:
+        sc[_CURRENT_JAC] = 0.0
+
+    # As SciPy: the "old" step size is the one proposed before this step.
+    sc[_H_OLD] = sc[_H_PROPOSED]
+    sc[_ERR_OLD] = error_norm
+    sc[_T_OLD] = t
+    y_old[:] = y
+    _interpolant_coefficients_into(workspace[1], q)
+    sc[_HAS_SOL] = 0.0 if changed else 1.0
+    return h_abs * factor
+
+
+#: Radau IIA's steps for the loop (:func:`jointplay._kernels.driver.drive`).
+STEPS = Steps(_start, _begin, _attempt, _retry, evaluate_f, _accept)
 
 
 def radau_integrate(
@@ -1089,4 +799,4 @@ def radau_integrate(
         ValueError: ``n_second`` and ``n_active`` do not satisfy
             ``0 <= 2·n_second <= n_active <= n``.
     """
-    return run_core(_radau_core, *args, **kwargs)
+    return run_core("radau", STEPS, *args, **kwargs)

@@ -54,41 +54,13 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from jointplay._kernels.common import (
-    all_finite,
-    interrupt_pending,
-    jit,
-    num_jac,
-    py_max,
-    py_min,
-)
-from jointplay._kernels.ids import (
-    EPS,
-    NFEV,
-    NJEV,
-    NLU,
-    NREJ_CHECK,
-    NREJ_ERROR,
-    NSTEPS,
-    STATUS_INTERRUPTED,
-    STATUS_NON_FINITE,
-    STATUS_RUNNING,
-    STATUS_STEP_TOO_SMALL,
-    STATUS_SUCCESS,
-    STATUS_TOO_MANY_STEPS,
-)
+from jointplay._kernels.common import jit, num_jac, py_max, py_min
+from jointplay._kernels.driver import Steps, evaluate_f, no_retry, run_core, step_jit
+from jointplay._kernels.ids import EPS, NFEV, NJEV, NLU, NREJ_ERROR
 from jointplay._kernels.linalg import lu_factor_in_place
-from jointplay._kernels.radau import (
-    _newton_solve_in_place,
-    _record,
-    driver_start,
-    next_try,
-    onset_retry,
-    reduced_newton_matrix,
-    run_core,
-)
+from jointplay._kernels.radau import _newton_solve_in_place, reduced_newton_matrix
 
-__all__ = ["rodas_integrate"]
+__all__ = ["STEPS", "rodas_integrate"]
 
 # ---------------------------------------------------------------------------------------
 # Method constants: Hairer's rodas.f, ROCOEF method 1 ([HW96] §IV.7, Table 7.2).
@@ -170,160 +142,111 @@ def _stages(
     return nfev, True
 
 
-def _rodas_core(
-    fun,
-    step_check,
-    after_step,
-    jac_fun,
-    t0,
-    y0,
-    t_bound,
-    args,
-    rtol,
-    atol,
-    max_step,
-    first_step,
-    max_steps,
-    n_second,
-    n_active,
-    hold_after_failure,
-    autonomous,
-    interrupt,
-):
-    """The integrator; see :func:`rodas_integrate` (same arguments and results as
-    :func:`jointplay._kernels.radau._radau_core`)."""
+# Slots of the state's scalars.
+_H_ACCEPTED = 0  # the last accepted step's size (0: none yet)
+_ERROR_ACCEPTED = 1  # its error norm, at least 1e-2 (rodas.f's ERRACC)
+_ERROR = 2  # the error norm of the try that passed
+_N_SCALARS = 3
+
+
+@jit
+def _start(problem, t0, y0, f0, counters):
+    """The state: ``(sc, jac, jac_factor, ft, k, stage, x, work, coupling, lu, piv)``, the
+    scalars (slots ``_H_ACCEPTED`` …), the Jacobian (n, n) and ``num_jac``'s factors,
+    ``∂f/∂t`` (n,), the stages (6, n), scratch, the reduced LU (nk, nk) and its pivots."""
     n = y0.shape[0]
-    rtol = max(rtol, 100.0 * EPS)
-    direction = 1.0 if t_bound >= t0 else -1.0
-    t = t0
-    y = y0.copy()
-    status, counters, ts, ys, m, f, h_abs = driver_start(
-        fun, args, t0, y, t_bound, max_step, first_step, direction, rtol, atol
-    )
-    if status != STATUS_RUNNING:
-        return status, ts[:m].copy(), ys[:m].copy(), counters
+    nk = problem.n_active - problem.n_second
+    sc = np.zeros(_N_SCALARS)
+    sc[_ERROR_ACCEPTED] = 1.0
+    return (
+        sc, np.empty((n, n)), np.full(n, EPS**0.5), np.empty(n), np.empty((6, n)),
+        np.empty(n), np.empty(n), np.empty(nk), np.empty(6), np.empty((nk, nk)),
+        np.empty(nk, dtype=np.int64),
+    )  # fmt: skip
 
-    jac_factor = np.full(n, EPS**0.5)
-    jac_out = np.empty((n, n))
-    ft = np.empty(n)
-    k = np.empty((6, n))
-    stage = np.empty(n)
-    x = np.empty(n)
-    work = np.empty(n_active - n_second)
-    coupling = np.empty(6)
-    y_new = np.empty(n)
-    lu = np.empty((n_active - n_second, n_active - n_second))
-    piv = np.empty(n_active - n_second, dtype=np.int64)
-    h_accepted = 0.0
-    error_accepted = 1.0
 
-    while status == STATUS_RUNNING:
-        if counters[NSTEPS] >= max_steps:
-            status = STATUS_TOO_MANY_STEPS
-            break
-        if interrupt_pending(interrupt):
-            status = STATUS_INTERRUPTED
-            break
-
-        # The linearisation at (t, y), kept for every retry of this step.
-        if jac_fun(t, y, f, args, jac_out):
-            jac = jac_out
-        else:  # SciPy's differences, each call from the initial relative step √eps
-            for j in range(n):
-                jac_factor[j] = EPS**0.5
-            jac = num_jac(fun, args, t, y, f, atol, jac_factor, n_active)
-        counters[NJEV] += 1
-        if autonomous:
-            ft[:] = 0.0
-        else:
-            dt = direction * math.sqrt(EPS * py_max(1e-5, abs(t)))  # rodas.f's DELT
-            f_later = fun(t + dt, y, args)
-            counters[NFEV] += 1
-            for j in range(n):
-                ft[j] = (f_later[j] - f[j]) / dt
-
-        failed = False
-        n_check = 0
-        error_norm = 0.0
-        t_new = t
-        while True:
-            too_small, min_step, h, t_new, h_abs = next_try(t, h_abs, max_step, direction, t_bound)
-            if too_small:
-                status = STATUS_STEP_TOO_SMALL
-                break
-
-            _factor(jac, 1.0 / (h * GAMMA), n_second, n_active, lu, piv)
-            counters[NLU] += 1
-            nfev, finite = _stages(
-                fun,
-                args,
-                t,
-                y,
-                f,
-                ft,
-                h,
-                jac,
-                lu,
-                piv,
-                n_second,
-                n_active,
-                k,
-                stage,
-                x,
-                work,
-                coupling,
-            )
-            counters[NFEV] += nfev
-            if finite:
-                total = 0.0
-                for j in range(n):
-                    y_new[j] = stage[j] + k[5, j]
-                    scaled = k[5, j] / (atol[j] + py_max(abs(y[j]), abs(y_new[j])) * rtol)
-                    total += scaled * scaled
-                error_norm = math.sqrt(total) / math.sqrt(n)  # common.rms_norm's arithmetic
-            if not (finite and error_norm <= 1.0):  # NaN fails too
-                shrink = SAFETY * error_norm**-0.25 if finite else 0.2
-                h_abs *= py_max(MIN_FACTOR, py_min(1.0, shrink))
-                failed = True
-                counters[NREJ_ERROR] += 1
-                continue
-
-            h_try = onset_retry(step_check, args, t, y, t_new, y_new, h_abs, min_step, n_check)
-            if h_try > 0.0:  # land a step on contact onset
-                h_abs = h_try
-                n_check += 1
-                counters[NREJ_CHECK] += 1
-                continue
-            break
-        if status != STATUS_RUNNING:
-            break
-
-        after_step(t_new, y_new, args)
-        f[:] = fun(t_new, y_new, args)
+@step_jit
+def _begin(state, problem, t, y, f, h_abs, min_step, counters):
+    """The linearisation at ``(t, y)``, kept for every try of this step: ``J`` (the user's,
+    else SciPy's differences, each call from the initial relative step √eps) and ``∂f/∂t``
+    by one forward difference (rodas.f's ``DELT``; 0 for an autonomous ``f``). Returns the
+    first try's size and the cap on every try, ``max_step`` (rodas.f's ``HMAX``)."""
+    jac, jac_factor, ft = state[1], state[2], state[3]
+    n = y.shape[0]
+    if not problem.jac(t, y, f, problem.args, jac):
+        for j in range(n):
+            jac_factor[j] = EPS**0.5
+        jac[:, :] = num_jac(problem.fun, problem.args, t, y, f, problem.atol, jac_factor,
+                            problem.n_active)  # fmt: skip
+    counters[NJEV] += 1
+    if problem.autonomous:
+        ft[:] = 0.0
+    else:
+        dt = problem.direction * math.sqrt(EPS * py_max(1e-5, abs(t)))  # rodas.f's DELT
+        f_later = problem.fun(t + dt, y, problem.args)
         counters[NFEV] += 1
-        if not (all_finite(y_new, y_new.shape[0]) and all_finite(f, f.shape[0])):
-            status = STATUS_NON_FINITE
-            break
-        t = t_new
-        y, y_new = y_new, y
-        counters[NSTEPS] += 1
-        ts, ys = _record(ts, ys, m, t, y)
-        m += 1
+        for j in range(n):
+            ft[j] = (f_later[j] - f[j]) / dt
+    return h_abs, problem.max_step
 
-        grow = MAX_FACTOR if error_norm == 0.0 else SAFETY * error_norm**-0.25
-        if h_accepted > 0.0 and error_norm > 0.0:  # Gustafsson's predictive controller
-            gus = SAFETY * (h_abs / h_accepted) * (error_accepted / error_norm**2) ** 0.25
-            grow = py_min(grow, gus)
-        grow = py_max(MIN_FACTOR, py_min(MAX_FACTOR, grow))
-        h_accepted = h_abs
-        error_accepted = py_max(1e-2, error_norm)
-        if hold_after_failure and failed:
-            grow = py_min(grow, 1.0)
-        h_abs *= grow
-        if direction * (t - t_bound) >= 0:
-            status = STATUS_SUCCESS
 
-    return status, ts[:m].copy(), ys[:m].copy(), counters
+@step_jit
+def _attempt(state, problem, t, y, f, h, y_new, counters):
+    """One try of the step ``h``: the LU of ``1/(γh)·I − J``, the six stages, ``y_new`` and
+    the error test on ``k₆`` ([HW96] §IV.7). Returns ``(passed, h_abs)``, after a failure
+    ``h_abs·max(1/5, min(1, 0.9·err^(−1/4)))`` (``h/5`` for a non-finite stage), counted
+    in ``NREJ_ERROR``."""
+    sc, jac = state[0], state[1]
+    ft, k, stage, x, work, coupling, lu, piv = state[3:]
+    atol, rtol = problem.atol, problem.rtol
+    n = y.shape[0]
+    h_abs = abs(h)
+    _factor(jac, 1.0 / (h * GAMMA), problem.n_second, problem.n_active, lu, piv)
+    counters[NLU] += 1
+    nfev, finite = _stages(
+        problem.fun, problem.args, t, y, f, ft, h, jac, lu, piv, problem.n_second,
+        problem.n_active, k, stage, x, work, coupling,
+    )  # fmt: skip
+    counters[NFEV] += nfev
+    error_norm = 0.0
+    if finite:
+        total = 0.0
+        for j in range(n):
+            y_new[j] = stage[j] + k[5, j]
+            scaled = k[5, j] / (atol[j] + py_max(abs(y[j]), abs(y_new[j])) * rtol)
+            total += scaled * scaled
+        error_norm = math.sqrt(total) / math.sqrt(n)  # common.rms_norm's arithmetic
+    if not (finite and error_norm <= 1.0):  # NaN fails too
+        shrink = SAFETY * error_norm**-0.25 if finite else 0.2
+        counters[NREJ_ERROR] += 1
+        return False, h_abs * py_max(MIN_FACTOR, py_min(1.0, shrink))
+    sc[_ERROR] = error_norm
+    return True, h_abs
+
+
+@step_jit
+def _accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed, counters):
+    """The next step's size after an accepted one: ``0.9·err^(−1/4)``, after an accepted
+    step also at most Gustafsson's ``0.9·(h/h_prev)·(err_prev/err²)^(1/4)``, within
+    ``[MIN_FACTOR, MAX_FACTOR]``, not larger after a failed try with
+    ``hold_after_failure`` (``after_step``'s discontinuity changes nothing: every step
+    starts afresh from ``(t, y)``)."""
+    sc = state[0]
+    error_norm = sc[_ERROR]
+    grow = MAX_FACTOR if error_norm == 0.0 else SAFETY * error_norm**-0.25
+    if sc[_H_ACCEPTED] > 0.0 and error_norm > 0.0:  # Gustafsson's predictive controller
+        gus = SAFETY * (h_abs / sc[_H_ACCEPTED]) * (sc[_ERROR_ACCEPTED] / error_norm**2) ** 0.25
+        grow = py_min(grow, gus)
+    grow = py_max(MIN_FACTOR, py_min(MAX_FACTOR, grow))
+    sc[_H_ACCEPTED] = h_abs
+    sc[_ERROR_ACCEPTED] = py_max(1e-2, error_norm)
+    if problem.hold_after_failure and failed:
+        grow = py_min(grow, 1.0)
+    return h_abs * grow
+
+
+#: RODAS4's steps for the loop (:func:`jointplay._kernels.driver.drive`).
+STEPS = Steps(_start, _begin, _attempt, no_retry, evaluate_f, _accept)
 
 
 def rodas_integrate(
@@ -332,4 +255,4 @@ def rodas_integrate(
     """Integrate ``y' = fun(t, y, args)`` with RODAS4; arguments, hooks and results as
     :func:`jointplay._kernels.radau.radau_integrate` (``jac`` is used at every step's start;
     ``n_rejected_newton`` is always 0)."""
-    return run_core(_rodas_core, *args, **kwargs)
+    return run_core("rodas", STEPS, *args, **kwargs)

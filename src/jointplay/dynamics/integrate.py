@@ -1,9 +1,9 @@
 """Time integration: the Python face of the compiled Radau IIA, RODAS4 and DOPRI5 kernels.
 
 :func:`integrate` checks its inputs (raising :class:`~jointplay.errors.ConfigError` that
-names the argument and the fix), runs :func:`jointplay._kernels.radau.radau_integrate`
-(or, with ``method="rodas4"``, :func:`jointplay._kernels.rodas.rodas_integrate`), and
-returns a frozen :class:`IntegrationResult`. Failure is data, as in diffrax: the
+names the argument and the fix), runs the compiled loop (:mod:`jointplay._kernels.driver`)
+with the steps of the method named (its record in :data:`METHODS`), and returns a frozen
+:class:`IntegrationResult`. Failure is data, as in diffrax: the
 result carries its :class:`IntegrationStatus` (each member says what it means) and a
 message saying what to change; with ``throw=True`` (the default) a failure raises
 :class:`~jointplay.errors.IntegrationError` with that message instead, with ``throw=False``
@@ -45,10 +45,9 @@ import numpy as np
 import numpy.typing as npt
 from numba.core.dispatcher import Dispatcher
 
-from jointplay._kernels import dopri as _dopri
+from jointplay._kernels import driver as _driver
 from jointplay._kernels import ids
-from jointplay._kernels import radau as _radau
-from jointplay._kernels import rodas as _rodas
+from jointplay._kernels.integrators import INTEGRATORS, Integrator
 from jointplay.errors import ConfigError, IntegrationError
 from jointplay.execution.interrupts import interrupts_watched as _interrupts_watched
 
@@ -57,12 +56,10 @@ if TYPE_CHECKING:
 
 __all__ = ["METHODS", "IntegrationResult", "IntegrationStatus", "integrate"]
 
-#: The integration methods by name: Radau IIA (order 5), RODAS4 (order 4) and DOPRI5 (order
-#: 5, explicit).
-METHODS = {
-    "radau": _radau.radau_integrate,
-    "rodas4": _rodas.rodas_integrate,
-    "dopri5": _dopri.dopri_integrate,
+#: The integration methods by name, their records: Radau IIA (order 5), RODAS4 (order 4) and
+#: DOPRI5 (order 5, explicit), each run by the one loop (:mod:`jointplay._kernels.driver`).
+METHODS: dict[str, Integrator] = {
+    name: integrator for name, integrator in INTEGRATORS.items() if "single" in integrator.engines
 }
 
 _EPS = float(np.finfo(np.float64).eps)
@@ -250,12 +247,15 @@ def integrate(
     first = _check_first_step(first_step, t0, t_bound)
     max_steps = _check_max_steps(max_steps)
     n_active = _check_structure(n_second, n_active, n)
-    step_check = _radau.accept_every_step if step_check is None else step_check
-    after_step = _radau.no_after_step if after_step is None else after_step
+    step_check = _driver.accept_every_step if step_check is None else step_check
+    after_step = _driver.no_after_step if after_step is None else after_step
     _check_functions(fun, step_check, after_step, jac, t0, y0_array, args)
 
     with _interrupts_watched() as flags:
-        status_code, t, y, counters = METHODS[method](
+        kernel = str(METHODS[method].module)
+        status_code, t, y, counters = _driver.run_core(
+            kernel,
+            _driver.steps_of(kernel),
             fun,
             step_check,
             after_step,
@@ -457,7 +457,7 @@ def _check_functions(
     args: tuple[Any, ...],
 ) -> None:
     """Check that the functions compile to the kernel's signatures, and fun's shape."""
-    signatures = _radau.kernel_signatures(numba.typeof(args))
+    signatures = _driver.kernel_signatures(numba.typeof(args))
     forms = {
         "fun": "fun(t: float, y: float64[:], args) -> float64[:]",
         "step_check": "step_check(t_old, y_old, t_new, y_new, args) -> float",

@@ -27,6 +27,7 @@ from numpy.typing import NDArray
 
 from jointplay._kernels import constraints as ck
 from jointplay._kernels import eom
+from jointplay._kernels.integrators import INTEGRATORS
 from jointplay.dynamics.clearance import ClearanceJoint
 from jointplay.dynamics.cycles import DEFAULT_SETTLE, analysed_revolutions, settle_revolutions
 from jointplay.dynamics.diagnostics import Diagnostic
@@ -101,7 +102,7 @@ class Start:
 #: measured on the paper's conventional set: at the solver's own tolerances ω peaks off by up
 #: to 2.3e-5 (steady running, A clear), at a fifth of them by up to 8.8e-6 (docs/performance.md,
 #: "From rest: DOPRI5 for the conventional set").
-EXPLICIT_TOLERANCE_SCALE = 0.2
+EXPLICIT_TOLERANCE_SCALE = INTEGRATORS["dopri5"].tolerance_scale  # 0.2, the record's
 EXPLICIT_TOLERANCES = (
     f"at {EXPLICIT_TOLERANCE_SCALE:g} times the solver's rtol and velocity atol, as close to "
     "the exact solution as Radau IIA at them"
@@ -581,8 +582,7 @@ def simulate(
     y0 = initial_state(system, start)
     n = system.n_coordinates
     # the explicit method at a fifth of the tolerances, as close to the exact solution as Radau
-    explicit = solver.integrator == "dopri5"
-    scale = EXPLICIT_TOLERANCE_SCALE if explicit else 1.0
+    scale = INTEGRATORS[solver.integrator or "radau"].tolerance_scale
     atol = np.concatenate(
         [
             np.full(n, solver.atol_position),
@@ -918,13 +918,6 @@ def _eccentricity_rate(flat: Any, row: int, y: FloatArray, n: int) -> FloatArray
     )
 
 
-_INTEGRATOR_NAMES = {
-    "radau": "Radau IIA (order 5)",
-    "rodas4": "RODAS4 (order 4, linearly implicit)",
-    "dopri5": "DOPRI5 (order 5, explicit)",
-}
-
-
 def _solver_stats(
     system: System,
     run: IntegrationResult,
@@ -949,8 +942,9 @@ def _solver_stats(
         impacts[clearance.joint] = int(np.sum((memory[1:] > 0) & (memory[:-1] <= 0)))
         max_pen[clearance.joint] = float(max(0.0, np.max(columns[f"pen_{clearance.joint}"])))
     stats = {
-        "method": f"{_INTEGRATOR_NAMES[integrator]}, compiled; contact-onset step control;"
-        " constraint projection" + (f"; {EXPLICIT_TOLERANCES}" if integrator == "dopri5" else ""),
+        "method": f"{INTEGRATORS[integrator].title}, compiled; contact-onset step control;"
+        " constraint projection"
+        + (f"; {EXPLICIT_TOLERANCES}" if INTEGRATORS[integrator].tolerance_scale != 1 else ""),
         "integrator": integrator,
         "steps": run.n_steps,
         "rejected_steps": run.n_rejected,

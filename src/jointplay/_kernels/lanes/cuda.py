@@ -43,6 +43,7 @@ import numpy as np
 import numpy.typing as npt
 
 from jointplay._kernels.ids import STATUS_RUNNING, STATUS_SUCCESS
+from jointplay._kernels.integrators import lane_methods
 from jointplay._kernels.lanes import source
 from jointplay._kernels.lanes.build import lane_layout, lanes_refusal
 from jointplay._kernels.lanes.contract import BatchKernelOutput
@@ -69,7 +70,7 @@ FLAG_COPY_S = 0.01
 LAUNCH_POLL_S = 0.001
 #: The methods of :func:`run_batch` (both outside the sustained-contact mode, the explicit one
 #: without film damping: :func:`~jointplay._kernels.lanes.build.lanes_refusal`).
-METHODS = ("explicit", "implicit")
+METHODS = lane_methods("lanes-explicit", "lanes-implicit")
 
 
 def _cuda() -> Any:

@@ -5,7 +5,8 @@ arrays, no allocation, ``math`` only); :mod:`jointplay._kernels.lanes.build` com
 functions into the same namespace as that module's, so that they call its equations
 (:func:`rhs`, :func:`rhs_and_quantities`, :func:`contact_forces`, :func:`project`, …) by name.
 
-The algorithm is :func:`jointplay._kernels.radau._radau_core` with the options the batch
+The algorithm is the single engine's loop (:func:`jointplay._kernels.driver.drive`) with
+Radau's steps (:data:`jointplay._kernels.radau.STEPS`) and the options the batch
 engine passes it (:func:`jointplay._kernels.batch._implicit_lane`): SciPy's Radau IIA
 ([HW96] §IV.8: simplified Newton on the eigen-decomposed systems, one real and one complex,
 started from the last step's collocation polynomial; the embedded error estimate,

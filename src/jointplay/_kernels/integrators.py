@@ -1,0 +1,81 @@
+"""The integrators, as data: one :class:`Integrator` record each (:data:`INTEGRATORS`), read
+wherever an integrator is named, listed or chosen.
+
+A record says what an integrator is (its order, whether it is explicit), how the engines run
+it (the fraction of the tolerances, the engines that have it) and where the single engine's
+steps are (its kernel module, whose ``STEPS`` the one loop of
+:mod:`jointplay._kernels.driver` runs). The batch engines' two methods, ``"explicit"`` and
+``"implicit"``, are the integrators their lanes have, named by :attr:`Integrator.lane_method`
+(:func:`lane_methods`). Plain Python: nothing is imported, nothing compiled (the command line
+and the JAX backend read it without Numba).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = ["INTEGRATORS", "Integrator", "integrators_of", "lane_methods"]
+
+
+@dataclass(frozen=True)
+class Integrator:
+    """One integrator.
+
+    Attributes:
+        name: its name in options and results (``--integrator``, ``SolverOptions``).
+        title: how a report names it.
+        order: the order of the solution it propagates.
+        explicit: no linear algebra in a step (and stable only below a step size).
+        tolerance_scale: the fraction of the solver's rtol and velocity atol that the engines
+            run it at (DOPRI5's error estimate is less conservative than Radau's, see
+            :data:`jointplay.dynamics.simulate.EXPLICIT_TOLERANCE_SCALE`).
+        engines: the engines that have it (keys of
+            :data:`jointplay._kernels.capabilities.ENGINES`).
+        module: the single engine's kernel module, under :mod:`jointplay._kernels`, holding its
+            ``STEPS`` (``None``: not in the single engine).
+    """
+
+    name: str
+    title: str
+    order: int
+    explicit: bool
+    tolerance_scale: float
+    engines: tuple[str, ...]
+    module: str | None
+
+    @property
+    def lane_method(self) -> str:
+        """The batch engines' name of it: ``"explicit"`` or ``"implicit"``."""
+        return "explicit" if self.explicit else "implicit"
+
+
+#: Every integrator by name; the first is the default.
+INTEGRATORS: dict[str, Integrator] = {
+    integrator.name: integrator
+    for integrator in (
+        Integrator(
+            "radau", "Radau IIA (order 5)", order=5, explicit=False, tolerance_scale=1.0,
+            engines=("single", "batch-implicit", "lanes-implicit", "jax"), module="radau",
+        ),
+        Integrator(
+            "rodas4", "RODAS4 (order 4, linearly implicit)", order=4, explicit=False,
+            tolerance_scale=1.0, engines=("single",), module="rodas",
+        ),
+        Integrator(
+            "dopri5", "DOPRI5 (order 5, explicit)", order=5, explicit=True, tolerance_scale=0.2,
+            engines=("single", "lanes-explicit", "jax"), module="dopri",
+        ),
+    )
+}  # fmt: skip
+
+
+def integrators_of(engine: str) -> tuple[str, ...]:
+    """The names of the integrators that ``engine`` has, in :data:`INTEGRATORS`' order."""
+    return tuple(name for name, integrator in INTEGRATORS.items() if engine in integrator.engines)
+
+
+def lane_methods(*engines: str) -> tuple[str, ...]:
+    """The batch methods (``"explicit"`` first, then ``"implicit"``) of the integrators that
+    any of ``engines`` has: a batch backend's ``method`` values."""
+    have = {INTEGRATORS[name].lane_method for engine in engines for name in integrators_of(engine)}
+    return tuple(method for method in ("explicit", "implicit") if method in have)
