@@ -296,7 +296,7 @@ def test_the_contact_memory_is_the_rate_at_the_instant_of_contact(
     assert eom.impact_rate(1e-6, 0.3, 3e-6, 0.1) == 0.1  # in contact already at the start
     system = _system(fourbar_with_gravity, ("A",), _laws()["impact"], None)
     rpar, ipar = eom.pack(system.model)
-    lay = eom.layout(ipar)
+    lay = eom.lay_of(ipar)
     memory = shared.compiled["contact_memory"]  # the source's, as the single engine runs it
     slot = 2 * system.n_coordinates + 2
     y = np.zeros(system.n_state)

@@ -106,7 +106,7 @@ def _locked_row(
     """The sustained mode's ``locked_row`` (:mod:`jointplay._kernels.sustained`) at (q, q̇)."""
     rpar, ipar = eom.pack(model)
     y = np.concatenate([q, qd, np.zeros(2 + len(model.clear_joint))])
-    return shared.compiled["locked_row"](y, rpar, ipar, eom.layout(ipar), c, g, h)  # type: ignore[no-any-return]
+    return shared.compiled["locked_row"](y, rpar, ipar, eom.lay_of(ipar), c, g, h)  # type: ignore[no-any-return]
 
 
 def _delta(model: eom.EomModel, q: Vector, qd: Vector, c: int) -> float:
@@ -169,7 +169,7 @@ def test_with_the_mode_off_no_joint_reads_as_locked(paper_fourbar: Mechanism) ->
     y = initial_state(system, Start("steady"))
     y[2 * system.n_coordinates + 2 :] = eom.LOCKED  # even a negative slot is not "locked"
     rpar, ipar = eom.pack(system.model)
-    assert not shared.compiled["locked"](y, rpar, eom.layout(ipar))
+    assert not shared.compiled["locked"](y, rpar, eom.lay_of(ipar))
 
 
 #: The locked solve against its own equations: round-off of a 7 × 7 LU on accelerations of

@@ -218,7 +218,7 @@ def _readonly(array: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True, inline="always")
-def layout(ipar: np.ndarray) -> np.ndarray:
+def lay_of(ipar: np.ndarray) -> np.ndarray:
     """The source's ``lay`` of a model packed by :func:`pack` (a view: its last entries)."""
     return ipar[ipar.shape[0] - N_LAY :]
 
@@ -291,7 +291,7 @@ def rhs(t: float, y: np.ndarray, args: EomArgs) -> np.ndarray:
     """ẏ for the state layout of the module docstring (the source's ``rhs``); allocates ẏ and
     nothing else when every joint is clear (the paper's case)."""
     rpar, ipar = args[0], args[1]
-    lay = layout(ipar)
+    lay = lay_of(ipar)
     out = np.empty(y.shape[0])
     phi_q, schur, lam = _constraint_work(y, rpar, lay)
     _rhs(t, y, rpar, ipar, lay, out, y[:0], False, phi_q, schur, lam)
@@ -306,7 +306,7 @@ def evaluate(t: float, y: np.ndarray, rpar: np.ndarray, ipar: np.ndarray, contac
     (nc, 7), a C-contiguous array (a locked joint's F_N is its multiplier, F_T = μ(v_T) F_N:
     :func:`jointplay._kernels.sustained.sustained_accelerations`).
     """
-    lay = layout(ipar)
+    lay = lay_of(ipar)
     n = lay[LY_N]
     rows = _constraint_rows(rpar, lay)
     f = np.empty(y.shape[0])
@@ -333,7 +333,7 @@ def quantities(
     the motor torque −λ_driver (N·m). ``penetration`` (nc) receives δ = |e| − c of every
     clearance joint (m; negative while free).
     """
-    lay = layout(ipar)
+    lay = lay_of(ipar)
     n = lay[LY_N]
     rows = _constraint_rows(rpar, lay)
     f = np.empty(y.shape[0])
@@ -349,7 +349,7 @@ def film_forces(y: np.ndarray, rpar: np.ndarray, ipar: np.ndarray, contacts: np.
     """The film force c_e ė of every clearance joint in its contact frame, (c_e ė·n, c_e ė·t),
     at every state (``y``: (N, S); ``contacts``: (N, nc, 7), the records of :func:`evaluate`)
     as an (N, nc, 2) array, N (the journal feels minus this; zeros with the film off)."""
-    lay = layout(ipar)
+    lay = lay_of(ipar)
     nc = lay[LY_NC]
     out = np.zeros((y.shape[0], nc, 2))
     if not _any_film(rpar, lay):
@@ -396,7 +396,7 @@ def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: n
         out: (n_state, n_state), overwritten.
     """
     rpar, ipar = args[0], args[1]
-    lay = layout(ipar)
+    lay = lay_of(ipar)
     if _locked(y, rpar, lay):  # locked joints are constraints: the integrator differences
         return False
     film = _any_film(rpar, lay)
@@ -434,7 +434,7 @@ def release_check(
     """The step's fraction that ends where the first locked joint's multiplier F_N turns
     tensile (secant between the step's ends, aiming at −RELEASE_TOL/2 · max(F_N, 1 N)); 1 if
     none turns tensile beyond the tolerance. As :func:`onset_check` for an onset."""
-    lay = layout(ipar)
+    lay = lay_of(ipar)
     nc = lay[LY_NC]
     n = lay[LY_N]
     old = np.zeros((nc, 7))
@@ -475,7 +475,7 @@ def project_locked(
     the penetration the capture removes). Returns: the positions moved by more than the
     projection tolerance."""
     model = unpack(rpar, ipar)
-    lay = layout(ipar)
+    lay = lay_of(ipar)
     n = lay[LY_N]
     nc = lay[LY_NC]
     q = y[:n]
@@ -543,7 +543,7 @@ def switch_contacts(
     test, and again after a capture (removing the captured pin's small penetration and
     normal speed). Returns: a joint switched or the positions moved beyond the tolerance.
     """
-    lay = layout(ipar)
+    lay = lay_of(ipar)
     n = lay[LY_N]
     nc = lay[LY_NC]
     geom = unpack(rpar, ipar).geom
@@ -594,7 +594,7 @@ def onset_check(
     (:func:`_remember`: the same arithmetic, so the same bits) when it holds one, else
     computed from ``y_old`` — and δ at its end for the joints free at its start (the source's
     ``onset_fraction``: secant to half the onset tolerance; Flores & Ambrósio 2010)."""
-    lay = layout(ipar)
+    lay = lay_of(ipar)
     n = lay[LY_N]
     nc = lay[LY_NC]
     tolerance = rpar[lay[LY_SETTINGS] + S_ONSET_TOL]
@@ -639,7 +639,7 @@ def step_check(
     """
     rpar, ipar = args[0], args[1]
     theta = onset_check(y_old, y_new, rpar, ipar, args[2])
-    if _locked(y_new, rpar, layout(ipar)):  # the locked set is constant over a step
+    if _locked(y_new, rpar, lay_of(ipar)):  # the locked set is constant over a step
         theta = min(theta, release_check(t_old, y_old, t_new, y_new, rpar, ipar))
     return theta
 
@@ -660,7 +660,7 @@ def _velocity_rhs(t: float, rpar: np.ndarray, lay: np.ndarray, rows: int) -> np.
 def _records(y: np.ndarray, rpar: np.ndarray, ipar: np.ndarray) -> np.ndarray:
     """δ and δ̇ of every clearance joint at ``y``, in the contact records' layout (7 per
     joint; the other entries are not set)."""
-    lay = layout(ipar)
+    lay = lay_of(ipar)
     nc = lay[LY_NC]
     record = np.empty(7 * nc)
     for c in range(nc):
@@ -706,7 +706,7 @@ def after_step(t: float, y: np.ndarray, args: EomArgs) -> bool:
     (:func:`switch_contacts`) and project onto the ideal (and locked) constraints; record the
     largest violation and the projections in the workspace (``args[2]``)."""
     rpar, ipar, work = args
-    lay = layout(ipar)
+    lay = lay_of(ipar)
     nc = lay[LY_NC]
     record = _records(y, rpar, ipar)
     before = record.copy()  # unknown start: δ > 0 at both ends, so v0 = δ̇ at the end
@@ -731,7 +731,7 @@ def diagnostics(t: np.ndarray, y: np.ndarray, rpar: np.ndarray, ipar: np.ndarray
     """Per recorded state: q̈ (N, 3nb), torque (N,), contacts (N, nc, 7), ideal-joint reactions
     (N, nj, 2: force of the joint's link a on its link b, N; zero rows for clearance joints)
     and the constraint violation max |Φ| (N,)."""
-    lay = layout(ipar)
+    lay = lay_of(ipar)
     n = lay[LY_N]
     nc = lay[LY_NC]
     nj = lay[LY_NJ]
