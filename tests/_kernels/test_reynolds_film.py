@@ -33,9 +33,11 @@ from scipy.special import roots_legendre
 
 from jointplay._kernels import eom, ids
 from jointplay._kernels.capabilities import refusal
-from jointplay._kernels.lanes.build import lanes_refusal
+from jointplay._kernels.lanes import source
+from jointplay._kernels.lanes.build import lane_layout, lanes_refusal
 from jointplay.contact.friction import AmbrosioFriction
 from jointplay.contact.laws import get_law
+from jointplay.dynamics.batch_inputs import BatchSamples, build_batch
 from jointplay.dynamics.clearance import ClearanceJoint, JointFilm
 from jointplay.dynamics.setup import ContactModel
 from jointplay.dynamics.simulate import SolverOptions, Start, initial_state, simulate
@@ -417,6 +419,7 @@ def test_engines_without_the_reynolds_film_refuse_it() -> None:
     assert "Reynolds film" in str(refusal("jax", ["film_model"]))
     assert refusal("single", ["film_damping", "film_model"]) is None
     assert refusal("batch-implicit", ["film_damping", "film_model"]) is None
+    assert refusal("lanes-implicit", ["film_model"]) is not None  # not yet run on a device
     system = _spinner_system("short-bearing-pi")
     rpar, ipar = eom.pack(system.model)
     message = lanes_refusal(ipar, rpar, "explicit")
@@ -426,3 +429,23 @@ def test_engines_without_the_reynolds_film_refuse_it() -> None:
     )
     message = lanes_refusal(*eom.pack(linear.model)[::-1], "explicit")
     assert message is not None and "Reynolds film" not in message
+
+
+@pytest.mark.parametrize("vectorised", [True, False])
+def test_the_batch_inputs_carry_each_joints_film_model(vectorised: bool) -> None:
+    """The batch engine's packed samples (both builders) hold each joint's film form and its
+    uncapped C0 at each sample's own clearance (a linear film would be capped at 1e6)."""
+    mechanism = load_preset("paper-fourbar")
+    joints = ContactModel(film_model="short-bearing-full").joints(mechanism)
+    clearances = np.array([4e-6, 21e-6, 60e-6])
+    samples = BatchSamples(clearances={j: clearances for j in FOURBAR_JOINTS})
+    problem = build_batch(mechanism, joints, samples, vectorised=vectorised)
+    lay = lane_layout(problem.ipar)
+    start, nc = int(lay[source.LY_GEOM]), int(lay[source.LY_NC])
+    geom = problem.rpar[:, start : start + ids.N_GEOM * nc].reshape(3, nc, ids.N_GEOM)
+    assert np.all(geom[..., ids.G_FILM_MODEL] == ids.FILM_SHORT_FULL)
+    for c, joint in enumerate(joints):
+        width = mechanism.bearing_width(joint.joint) or 0.01
+        expected = math.pi * 0.05 * joint.journal_radius * width**3 / clearances**3
+        np.testing.assert_allclose(geom[:, c, ids.G_FILM], expected, rtol=1e-12)
+    assert geom[0, 0, ids.G_FILM] > 1e6

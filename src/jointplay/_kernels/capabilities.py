@@ -15,7 +15,7 @@ The engines:
 - ``"jax"``: the ``gpu`` backend's lanes (:mod:`jointplay._kernels.jax_batch`, DOPRI5 and
   Radau IIA in JAX).
 
-A need is a feature of :data:`FEATURES` (``"film_damping"``, ``"sustained_contact"``,
+A need is a feature of :data:`FEATURES` (``"film_damping"``, ``"film_model"``, ``"sustained_contact"``,
 ``"ideal_joints"``, ``"trajectories"``), ``"law:NAME"`` (a normal-force law family of
 :data:`LAW_FORMS`) or ``"friction:NAME"`` (:data:`FRICTION_FORMS`). Plain Python: nothing is
 imported, nothing compiled.
@@ -108,7 +108,8 @@ ENGINES = {
     "lanes-implicit": Engine(
         "the single source's implicit lanes (the cuda backend's)",
         "the implicit method on the cuda backend",
-        film_damping=True, film_model=True, sustained_contact=False,
+        # the Reynolds film: compiled from the same source, but not yet run on a device
+        film_damping=True, film_model=False, sustained_contact=False,
         ideal_joints=True, trajectories=False,
         integrators=("radau",),
     ),

@@ -504,7 +504,7 @@ def penetration_and_rate(y, rp, ip, lay, c):
 # --- the Reynolds films (docs/contact.md, "Reynolds films") ----------------------------------
 def sommerfeld_angle(theta, eps):
     """Sommerfeld's angle ψ of the film angle θ at eccentricity ratio ε (cos θ = (ε + cos ψ) /
-    (1 + ε cos ψ), tan(ψ/2) = tan(θ/2) √((1 − ε)/(1 + ε))), continuous in θ (ψ(θ + 2π) =
+    (1 + ε cos ψ), tan(ψ/2) = tan(θ/2) √((1 + ε)/(1 − ε))), continuous in θ (ψ(θ + 2π) =
     ψ(θ) + 2π): θ plus a bounded correction whose denominator is ≥ 2."""
     k = math.sqrt((1.0 + eps) / (1.0 - eps))
     return theta + 2.0 * math.atan(
@@ -531,7 +531,7 @@ def reynolds_matrix(form, eps, rate, wedge):
     eccentricity ratio ε (< 1), radial rate ė_r = ė·n (``rate``, m/s) and wedge speed
     |e| ((ω_j + ω_b)/2 − γ̇) = |e| (ω_j + ω_b)/2 − ė·t (``wedge``, m/s).
 
-    The pressure integrated over the length is P(θ) = K c³ (ė_r cos θ − wedge sin θ) / h³
+    The pressure integrated over the length is P(θ) = μ L³ (ė_r cos θ − wedge sin θ) / h³
     with h = c(1 − ε cos θ), θ from n; F_r = −R ∫ P cos θ, F_t = −R ∫ P sin θ over the full
     film (``form`` FILM_SHORT_FULL: a constant matrix) or over where P > 0 (Gümbel's half
     film: the half θ ∈ (θ₁, θ₁ + π), θ₁ = −atan2(wedge, ė_r) − π/2, which moves with the ratio
