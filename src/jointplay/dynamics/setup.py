@@ -471,6 +471,11 @@ class ContactModel:
         fixed = self.fixed_film
         if not self.lubricated:
             text += "; dry joints (no film damping)"
+        elif self.film_model != "linear":  # a Reynolds film: from the geometry, uncapped
+            text += (
+                f"; lubricated pins, a {self.lubricant_viscosity:g} Pa*s lubricant: "
+                f"{self.film_model} Reynolds film from each joint's geometry"
+            )
         elif fixed is None:
             text += (
                 f"; lubricated pins, a {self.lubricant_viscosity:g} Pa*s lubricant: film damping "
@@ -478,8 +483,6 @@ class ContactModel:
             )
         else:
             text += f"; lubricated pins, film damping {fixed:g} N*s/m"
-        if self.lubricated and self.film_model != "linear":
-            text += f" ({self.film_model} Reynolds film, not the linear damper)"
         settings = {k: v for k, v in vars(self.settings).items() if v is not None}
         described: dict[str, Any] = {
             "text": text,

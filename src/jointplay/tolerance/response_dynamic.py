@@ -321,10 +321,12 @@ class DynamicResponses:
             mu = getattr(friction, "mu", getattr(friction, "mu_static", math.nan))
             text += f"; {friction.name} friction, coefficient {mu:g}"
         viscosities = {rule.viscosity for rule in self.film_from.values()}
+        forms = sorted({rule.model for rule in self.film_from.values()} - {"linear"})
+        film = f"{', '.join(forms)} Reynolds film" if forms else "film damping"
         if viscosities:
             return text + (
                 f"; lubricated pins, a {', '.join(f'{v:g}' for v in sorted(viscosities))} Pa*s "
-                "lubricant: film damping from each joint's geometry and every sample's clearance"
+                f"lubricant: {film} from each joint's geometry and every sample's clearance"
             )
         if self.film_damping > 0:
             return text + f"; lubricated pins, film damping {self.film_damping:g} N*s/m"
