@@ -469,3 +469,18 @@ def test_the_batch_engine_runs_the_reynolds_film_as_the_single_engine() -> None:
         peak = single.peaks[f"F_{joint}"]["value"]
         assert batch.peaks[f"F_{joint}"].iloc[0] == pytest.approx(peak, rel=1e-4)
         assert peak < 80.0
+
+
+def test_a_study_on_the_cuda_backend_refuses_the_reynolds_film() -> None:
+    """The dynamic responses of a study refuse a Reynolds film on the cuda backend before any
+    lane starts (the linear film runs there), naming it."""
+    from jointplay.execution.backends import Backend
+    from jointplay.tolerance.response_dynamic import DynamicResponses, contact_parts
+
+    mechanism = load_preset("paper-fourbar")
+    cuda = {"journal_radius": {"O2": 5e-3}, "backend": Backend("cuda"), "method": "implicit"}
+    linear = contact_parts(mechanism, ContactModel())
+    DynamicResponses(mechanism, ("clearance_O2",), **cuda, **linear)
+    reynolds = contact_parts(mechanism, ContactModel(film_model="short-bearing-pi"))
+    with pytest.raises(SettingError, match="Reynolds film"):
+        DynamicResponses(mechanism, ("clearance_O2",), **cuda, **reynolds)

@@ -139,10 +139,15 @@ class DynamicResponses:
         object.__setattr__(self, "stiffness_from", dict(self.stiffness_from))
         object.__setattr__(self, "film_from", dict(self.film_from))
         if self.backend.on_device and (self.film_damping > 0 or self.film_from):
+            reynolds = any(rule.model != "linear" for rule in self.film_from.values())
             refused = refusal(
                 engine_of(self.backend.kind, self.method),
-                ["film_damping"],
-                named=lambda _: "the pins' lubricant film ({lubricant_viscosity})",
+                ["film_damping", *(["film_model"] if reynolds else [])],
+                named=lambda need: (
+                    "a Reynolds film ({film_model})"
+                    if need == "film_model"
+                    else "the pins' lubricant film ({lubricant_viscosity})"
+                ),
             )
             if refused is not None:
                 raise SettingError(refused)
