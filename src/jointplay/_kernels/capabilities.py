@@ -15,7 +15,7 @@ The engines:
 - ``"jax"``: the ``gpu`` backend's lanes (:mod:`jointplay._kernels.jax_batch`, DOPRI5 and
   Radau IIA in JAX).
 
-A need is a feature of :data:`FEATURES` (``"film_damping"``, ``"sustained_contact"``,
+A need is a feature of :data:`FEATURES` (``"film_damping"``, ``"film_model"``, ``"sustained_contact"``,
 ``"ideal_joints"``, ``"trajectories"``), ``"law:NAME"`` (a normal-force law family of
 :data:`LAW_FORMS`) or ``"friction:NAME"`` (:data:`FRICTION_FORMS`). Plain Python: nothing is
 imported, nothing compiled.
@@ -32,6 +32,7 @@ from jointplay._kernels.integrators import integrators_of
 FEATURES = {
     "sustained_contact": "the sustained-contact mode",
     "film_damping": "film damping",
+    "film_model": "a Reynolds film",
     "ideal_joints": "ideal joints",
     "trajectories": "each sample's trajectory",
 }
@@ -51,6 +52,8 @@ class Engine:
         words: how a message names it (its subject: "the explicit lanes").
         where: where it runs and how it is chosen, for the advice of a refusal.
         film_damping: the pins' lubricant film (a stiff damping force).
+        film_model: a Reynolds film (the short-bearing π-film or full film, in place of the
+            linear damper: :mod:`jointplay._kernels.lanes.source`'s ``reynolds_force``).
         sustained_contact: the sustained-contact mode (a capture speed).
         ideal_joints: joints without clearance (the constraints' projection).
         trajectories: it keeps each sample's trajectory (not only peaks and statistics).
@@ -63,6 +66,7 @@ class Engine:
     words: str
     where: str
     film_damping: bool
+    film_model: bool
     sustained_contact: bool
     ideal_joints: bool
     trajectories: bool
@@ -88,28 +92,34 @@ class Engine:
 ENGINES = {
     "single": Engine(
         "the single engine", f"the single engine on {CPU_BACKENDS}",
-        film_damping=True, sustained_contact=True, ideal_joints=True, trajectories=True,
+        film_damping=True, film_model=True, sustained_contact=True,
+        ideal_joints=True, trajectories=True,
         integrators=integrators_of("single"),
     ),
     "lanes-explicit": Engine(
         "the explicit lanes", "the explicit method",
-        film_damping=False, sustained_contact=False, ideal_joints=True, trajectories=False,
+        film_damping=False, film_model=False, sustained_contact=False,
+        ideal_joints=True, trajectories=False,
         integrators=integrators_of("lanes-explicit"),
     ),
     "batch-implicit": Engine(
         "the CPU backends' implicit lanes", f"the implicit method on {CPU_BACKENDS}",
-        film_damping=True, sustained_contact=True, ideal_joints=True, trajectories=False,
+        film_damping=True, film_model=True, sustained_contact=True,
+        ideal_joints=True, trajectories=False,
         integrators=integrators_of("batch-implicit"),
     ),
     "lanes-implicit": Engine(
         "the single source's implicit lanes (the cuda backend's)",
         "the implicit method on the cuda backend",
-        film_damping=True, sustained_contact=False, ideal_joints=True, trajectories=False,
+        # the Reynolds film: compiled from the same source, but not yet run on a device
+        film_damping=True, film_model=False, sustained_contact=False,
+        ideal_joints=True, trajectories=False,
         integrators=integrators_of("lanes-implicit"),
     ),
     "jax": Engine(
         "the gpu backend (JAX)", "the gpu backend",
-        film_damping=False, sustained_contact=False, ideal_joints=True, trajectories=False,
+        film_damping=False, film_model=False, sustained_contact=False,
+        ideal_joints=True, trajectories=False,
         integrators=integrators_of("jax"),
     ),
 }  # fmt: skip
@@ -147,6 +157,12 @@ def _name(need: str) -> str:
     return FEATURES[need]
 
 
+def _bare(words: str) -> str:
+    """A feature's words without article and " mode" ("the sustained-contact mode" →
+    "sustained contact"), for "no ..." in a refusal."""
+    return words.removeprefix("the ").removeprefix("a ").removesuffix(" mode").replace("-", " ")
+
+
 def refusal(engine: str, needs: Iterable[str], named: Callable[[str], str] = _name) -> str | None:
     """Why ``engine`` (a key of :data:`ENGINES`; a backend's: :func:`engine_of`) cannot run
     what ``needs``, or ``None``: the one reader of :data:`ENGINES`.
@@ -167,11 +183,11 @@ def refusal(engine: str, needs: Iterable[str], named: Callable[[str], str] = _na
     s = "" if "lanes" in own.words else "s"  # "the explicit lanes integrate", "the ... integrates"
     kinds = {need.partition(":")[0] if ":" in need else need for need in missing}
     clauses = []
-    if kinds & {"sustained_contact", "film_damping", "ideal_joints"}:
+    if kinds & {"sustained_contact", "film_damping", "film_model", "ideal_joints"}:
         lacks = [
-            "no " + FEATURES[f].removeprefix("the ").removesuffix(" mode").replace("-", " ")
-            for f in ("sustained_contact", "film_damping", "ideal_joints")
-            if not own.has(f)
+            "no " + _bare(FEATURES[f])
+            for f in ("sustained_contact", "film_damping", "film_model", "ideal_joints")
+            if not own.has(f) and (f != "film_model" or f in kinds)
         ]
         clauses.append(f"integrate{s} compliant contacts only ({', '.join(lacks)})")
     if "law" in kinds:

@@ -56,10 +56,20 @@ ADAMS_MU_STATIC, ADAMS_MU_DYNAMIC, ADAMS_V_STATIC, ADAMS_V_DYNAMIC, ADAMS_SIZE =
 S_ONSET_TOL, S_PROJ_TOL, S_V_MARK, S_CAPTURE_MAX = 0, 1, 2, 3
 N_SETTINGS = 4
 #: Columns of the ``geom`` table, one row per clearance joint: bearing radius, journal radius,
-#: radial clearance (m); the joint's film damping c_e (N·s/m; 0: dry) and the capture speed of
-#: its sustained-contact mode (m/s; 0: the mode off for this joint).
-G_R_BEARING, G_R_JOURNAL, G_CLEARANCE, G_FILM, G_CAPTURE = 0, 1, 2, 3, 4
-N_GEOM = 5
+#: radial clearance (m); the joint's film coefficient (N·s/m; 0: dry): the linear film's c_e,
+#: or, for a Reynolds film, C0 = π μ R L³ / c³ (the full film's squeeze coefficient at ε = 0);
+#: the capture speed of its sustained-contact mode (m/s; 0: the mode off for this joint); the
+#: film's form (``FILM_*``, a float holding the id).
+G_R_BEARING, G_R_JOURNAL, G_CLEARANCE, G_FILM, G_CAPTURE, G_FILM_MODEL = 0, 1, 2, 3, 4, 5
+N_GEOM = 6
+#: The film forms (docs/contact.md, "Reynolds films"): the linear isotropic damper −c_e ė
+#: (the default), the short-bearing Reynolds film with Gümbel's half-film cavitation (the
+#: positive part of the full film's pressure) and the short-bearing full (2π) film.
+FILM_LINEAR, FILM_SHORT_PI, FILM_SHORT_FULL = 0, 1, 2
+#: The largest eccentricity ratio ε = |e|/c a Reynolds film's coefficients are evaluated at:
+#: beyond it (the pin nearer the wall than 0.5 % of c) they are held, so the film force stays
+#: finite and continuous where the pin reaches the wall and the contact law takes over.
+FILM_EPS_CAP = 0.995
 #: The v0 slot of a clearance joint in sustained contact (locked onto |e| = c); any negative
 #: value reads as locked.
 LOCKED = -1.0

@@ -30,16 +30,22 @@ import numba
 import numpy as np
 
 from jointplay._kernels import sustained
+from jointplay._kernels.lanes import source
 from jointplay._kernels.lanes.build import build, closed
 from jointplay._kernels.lanes.projection import project_lapack
 
 __all__ = ["SHARED", "compiled"]
 
 #: The sustained-contact mode's functions, compiled apart (not inlined: they allocate and
-#: run only while a joint is locked).
+#: run only while a joint is locked); and the Reynolds film's force and coefficients (not
+#: inlined into every copy of the right-hand side: inlined, they made the single engine's
+#: first compilation ~50 % longer, measured 140 s → 217 s on a loaded 2-core machine, for an
+#: option the default does not take).
 _OWN: dict[str, Callable[..., Any]] = {
     "sustained_accelerations": sustained.sustained_accelerations,
     "locked_row": sustained.locked_row,
+    "reynolds_force": source.reynolds_force,
+    "reynolds_matrix": source.reynolds_matrix,
 }
 
 #: The single engine's versions of the source's hooks: the sustained-contact mode's

@@ -368,6 +368,8 @@ def implicit_only_options(clearances: Sequence[ClearanceJoint]) -> list[str]:
         options.append("sustained_contact")
     if any(c.film_damping > 0 for c in clearances):
         options.append("film_damping")
+    if any(c.film_damping > 0 and c.film_model != "linear" for c in clearances):
+        options.append("film_model")
     return options
 
 

@@ -27,7 +27,12 @@ from jointplay._kernels import batch as kb
 from jointplay._kernels import constraints as ck
 from jointplay._kernels import eom, ids
 from jointplay.contact.laws import ContactLaw
-from jointplay.dynamics.clearance import MIN_CLEARANCE, ClearanceJoint, stiffness_field
+from jointplay.dynamics.clearance import (
+    MIN_CLEARANCE,
+    ClearanceJoint,
+    film_model_id,
+    stiffness_field,
+)
 from jointplay.dynamics.cycles import analysed_revolutions, settle_revolutions
 from jointplay.dynamics.simulate import SolverOptions, Start, initial_state
 from jointplay.dynamics.system import PARAMS_WIDTH, System, build_system
@@ -589,6 +594,7 @@ def _build_vectorised(
         geom[:, c, ids.G_CLEARANCE] = clearance
         geom[:, c, ids.G_FILM] = films[:, c]  # each joint its own c_e, as build_system
         geom[:, c, ids.G_CAPTURE] = clear.capture_speed
+        geom[:, c, ids.G_FILM_MODEL] = film_model_id(clear.film_model)
         law_p[:, c], law_ok, law_errors = _law_columns(
             clear.law, _geometric_changes(clear, samples, clearance), n
         )

@@ -9,6 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from jointplay._kernels import ids
 from jointplay.contact.friction import FrictionLaw
 from jointplay.contact.laws import ContactLaw
 from jointplay.contact.stiffness import STIFFNESS_LAWS, get_stiffness_law
@@ -90,39 +91,66 @@ class JointStiffness:
 #: by default"): above it the paper four-bar's settled peaks change by < 0.01 % (measured at 6
 #: and 60 µm, 1e6 against 1e7), while a stiffer film costs more steps.
 FILM_DAMPING_CAP = 1e6
+#: The film forms a joint's film may take (docs/contact.md, "Reynolds films"), and their ids
+#: in the kernels' ``geom`` table (``G_FILM_MODEL``): the linear isotropic damper −c_e ė
+#: (the default), the short-bearing Reynolds film with Gümbel's half-film cavitation, the
+#: short-bearing full (2π, uncavitated) film.
+FILM_MODELS = {
+    "linear": ids.FILM_LINEAR,
+    "short-bearing-pi": ids.FILM_SHORT_PI,
+    "short-bearing-full": ids.FILM_SHORT_FULL,
+}
+
+
+def film_model_id(model: str) -> int:
+    """The kernels' id of the film form ``model`` (a key of :data:`FILM_MODELS`)."""
+    if model not in FILM_MODELS:
+        raise SettingError(
+            "{film_model} must be one of " + ", ".join(FILM_MODELS) + ", got {got!r}",
+            got=model,
+        )
+    return FILM_MODELS[model]
 
 
 @dataclass(frozen=True)
 class JointFilm:
-    """How a lubricated joint's film damping follows from its geometry and its lubricant.
+    """How a lubricated joint's film coefficient follows from its geometry and its lubricant.
 
     The short-bearing squeeze-film coefficient of an open-ended, uncavitated film with the
-    journal centred (docs/contact.md, "Lubricated by default"), capped at ``cap``::
+    journal centred (docs/contact.md, "Lubricated by default")::
 
-        c_e = π μ R L³ / c³
+        C0 = π μ R L³ / c³
+
+    the linear film's c_e, capped at ``cap``; a Reynolds film (``model``
+    ``short-bearing-pi`` or ``short-bearing-full``, docs/contact.md, "Reynolds films") takes
+    it uncapped, as the scale K = C0/π of its pressure integrals.
 
     Attributes:
         viscosity: the lubricant's dynamic viscosity μ, Pa·s (> 0).
         length: the bearing's axial length L, m.
-        cap: the largest c_e, N·s/m.
+        cap: the largest c_e of the linear film, N·s/m.
+        model: the film's form, a key of :data:`FILM_MODELS` (default ``"linear"``).
     """
 
     viscosity: float
     length: float
     cap: float = FILM_DAMPING_CAP
+    model: str = "linear"
 
     def __post_init__(self) -> None:
         for name in ("viscosity", "length", "cap"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
                 raise ConfigError(f"the film's {name} must be > 0, got {value!r}")
+        film_model_id(self.model)
 
     def damping(self, journal_radius: float, clearance: float | np.ndarray) -> float | np.ndarray:
-        """c_e (N·s/m) of a journal of radius ``journal_radius`` (m) at radial clearance
-        ``clearance`` (m; an array gives an array)."""
+        """The film coefficient (N·s/m) of a journal of radius ``journal_radius`` (m) at
+        radial clearance ``clearance`` (m; an array gives an array): the linear film's capped
+        c_e, a Reynolds film's C0."""
         c = np.asarray(clearance, dtype=float)
         squeeze = math.pi * self.viscosity * journal_radius * self.length**3 / c**3
-        film = np.minimum(squeeze, self.cap)
+        film = np.minimum(squeeze, self.cap) if self.model == "linear" else squeeze
         return float(film) if film.ndim == 0 else film
 
 
@@ -159,6 +187,11 @@ class ClearanceJoint:
         film_from: the film damping follows the joint's geometry and lubricant this way
             (:meth:`JointFilm.damping`, recomputed by :meth:`with_clearance`), or ``None``:
             ``film_damping`` is fixed.
+        film_model: the film's form (:data:`FILM_MODELS`; ``film_from``'s when given):
+            ``"linear"`` (the default), the damper above; ``"short-bearing-pi"`` or
+            ``"short-bearing-full"``, the short-bearing Reynolds film (docs/contact.md,
+            "Reynolds films"), its force from the eccentricity, its rate and the wedge, with
+            ``film_damping`` its coefficient C0 = π μ R L³ / c³.
     """
 
     joint: str
@@ -170,9 +203,13 @@ class ClearanceJoint:
     capture_speed: float = 0.0
     film_damping: float = 0.0
     film_from: JointFilm | None = None
+    film_model: str = "linear"
 
     def __post_init__(self) -> None:
         where = f"clearance joint {self.joint!r}"
+        if self.film_from is not None:
+            object.__setattr__(self, "film_model", self.film_from.model)
+        film_model_id(self.film_model)
         film = self.film_damping
         if (
             isinstance(film, bool)

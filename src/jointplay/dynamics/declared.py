@@ -150,6 +150,9 @@ CONTACT_SETTINGS: tuple[Setting, ...] = (
             unit="Pa*s"),
     Setting("film_damping", "--film-damping", "film_damping", "model",
             "Or a fixed film damping ('1e4 N*s/m').", unit="N*s/m"),
+    Setting("film_model", "--film-model", "film_model", "model",
+            "The film's form: linear (damper, default), short-bearing-pi (Reynolds, "
+            "cavitated) or short-bearing-full (docs/contact.md)."),
 )
 # fmt: on
 

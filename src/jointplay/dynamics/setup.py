@@ -29,6 +29,7 @@ from jointplay.dynamics.clearance import (
     ClearanceJoint,
     JointFilm,
     JointStiffness,
+    film_model_id,
 )
 from jointplay.dynamics.declared import setting, unit_of
 from jointplay.errors import ConfigError, QuantityError, SettingError
@@ -310,7 +311,12 @@ class ContactModel:
     the physical contact and none for a ready ``law`` (the paper's methods) or the
     sustained-contact mode; 0: dry joints. ``film_damping`` (N·s/m, or text such as
     ``"100 N*s/m"``) instead fixes c_e for every joint (the viscosity is then not used; 0:
-    dry joints). Neither with ``sustained_contact``.
+    dry joints). Neither with ``sustained_contact``. ``film_model`` chooses the film's form
+    (:data:`~jointplay.dynamics.clearance.FILM_MODELS`, docs/contact.md, "Reynolds films"):
+    ``"linear"`` (the default), the damper above; ``"short-bearing-pi"`` or
+    ``"short-bearing-full"``, the short-bearing Reynolds film (π-film or full film) of each
+    joint's geometry and lubricant (C0 = π μ R L³ / c³, uncapped; not with a fixed
+    ``film_damping`` > 0).
     """
 
     settings: ContactSettings = dataclasses.field(default_factory=ContactSettings)
@@ -324,8 +330,10 @@ class ContactModel:
     capture_speed: float | str = DEFAULT_CAPTURE_SPEED
     film_damping: float | str | None = None
     lubricant_viscosity: float | str | None = None
+    film_model: str = "linear"
 
     def __post_init__(self) -> None:
+        film_model_id(self.film_model)
         if not isinstance(self.sustained_contact, bool):
             raise SettingError(
                 "{sustained_contact} must be true or false, got {got!r}",
@@ -355,6 +363,11 @@ class ContactModel:
                 )
             object.__setattr__(self, "film_damping", film)
             object.__setattr__(self, "lubricant_viscosity", 0.0)  # not used
+        if self.film_model != "linear" and (self.fixed_film or 0.0) > 0:
+            raise SettingError(
+                "{film_model} " + self.film_model + " takes its coefficient from each joint's "
+                "geometry and {lubricant_viscosity}: give no {film_damping} with it"
+            )
         if self.lubricated and self.sustained_contact:
             raise SettingError(
                 "{sustained_contact} runs dry joints: give {film_damping} 0 (or no "
@@ -402,7 +415,9 @@ class ContactModel:
         if self.fixed_film is not None or not self.lubricated:
             return None
         width = mechanism.bearing_width(joint)
-        return JointFilm(float(self.lubricant_viscosity or 0.0), width or 0.01)
+        return JointFilm(
+            float(self.lubricant_viscosity or 0.0), width or 0.01, model=self.film_model
+        )
 
     @property
     def capture(self) -> float:
@@ -456,6 +471,11 @@ class ContactModel:
         fixed = self.fixed_film
         if not self.lubricated:
             text += "; dry joints (no film damping)"
+        elif self.film_model != "linear":  # a Reynolds film: from the geometry, uncapped
+            text += (
+                f"; lubricated pins, a {self.lubricant_viscosity:g} Pa*s lubricant: "
+                f"{self.film_model} Reynolds film from each joint's geometry"
+            )
         elif fixed is None:
             text += (
                 f"; lubricated pins, a {self.lubricant_viscosity:g} Pa*s lubricant: film damping "
@@ -480,6 +500,8 @@ class ContactModel:
             if fixed is None and self.lubricated
             else float(fixed or 0.0),
         }
+        if self.film_model != "linear":
+            described["lubrication"]["film_model"] = self.film_model
         return described
 
 

@@ -373,6 +373,8 @@ class SimulationResult:
                     if c.friction is None
                     else {"law": c.friction.name, **_law_fields(c.friction)},
                     "film_damping_N_s_m": c.film_damping,  # the joint's own; 0: dry
+                    # a Reynolds film: film_damping is its coefficient C0 = π μ R L³ / c³
+                    **({"film_model": c.film_model} if c.film_model != "linear" else {}),
                 }
                 for c in self.system.clearances
             },

@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from jointplay._kernels import eom, ids
 from jointplay._kernels.ids import FRICTION_NONE
-from jointplay.dynamics.clearance import ClearanceJoint
+from jointplay.dynamics.clearance import ClearanceJoint, film_model_id
 from jointplay.errors import ConfigError
 from jointplay.model.flat import FlatModel, flatten
 from jointplay.model.mechanism import Mechanism, RevoluteJoint
@@ -138,6 +138,7 @@ def build_system(
         geom[c, ids.G_CLEARANCE] = clearance.clearance
         geom[c, ids.G_FILM] = clearance.film_damping  # each joint its own c_e; 0: dry
         geom[c, ids.G_CAPTURE] = clearance.capture_speed  # 0: sustained contact off
+        geom[c, ids.G_FILM_MODEL] = film_model_id(clearance.film_model)  # 0: linear
     if onset_tolerance is None:
         onset_tolerance = 0.01 * min((c.clearance for c in clearances), default=1e-5)
     settings = np.zeros(ids.N_SETTINGS)

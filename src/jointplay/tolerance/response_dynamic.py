@@ -139,10 +139,15 @@ class DynamicResponses:
         object.__setattr__(self, "stiffness_from", dict(self.stiffness_from))
         object.__setattr__(self, "film_from", dict(self.film_from))
         if self.backend.on_device and (self.film_damping > 0 or self.film_from):
+            reynolds = any(rule.model != "linear" for rule in self.film_from.values())
             refused = refusal(
                 engine_of(self.backend.kind, self.method),
-                ["film_damping"],
-                named=lambda _: "the pins' lubricant film ({lubricant_viscosity})",
+                ["film_damping", *(["film_model"] if reynolds else [])],
+                named=lambda need: (
+                    "a Reynolds film ({film_model})"
+                    if need == "film_model"
+                    else "the pins' lubricant film ({lubricant_viscosity})"
+                ),
             )
             if refused is not None:
                 raise SettingError(refused)
@@ -321,10 +326,12 @@ class DynamicResponses:
             mu = getattr(friction, "mu", getattr(friction, "mu_static", math.nan))
             text += f"; {friction.name} friction, coefficient {mu:g}"
         viscosities = {rule.viscosity for rule in self.film_from.values()}
+        forms = sorted({rule.model for rule in self.film_from.values()} - {"linear"})
+        film = f"{', '.join(forms)} Reynolds film" if forms else "film damping"
         if viscosities:
             return text + (
                 f"; lubricated pins, a {', '.join(f'{v:g}' for v in sorted(viscosities))} Pa*s "
-                "lubricant: film damping from each joint's geometry and every sample's clearance"
+                f"lubricant: {film} from each joint's geometry and every sample's clearance"
             )
         if self.film_damping > 0:
             return text + f"; lubricated pins, film damping {self.film_damping:g} N*s/m"

@@ -38,6 +38,7 @@ FUNCTIONS = (
     "driver_speed", "rot", "point_global", "constraint_rows", "constraint_jacobian",
     "acceleration_rhs", "cholesky_solve", "constrained_accelerations", "push",
     "eccentricity_rate", "rotation_of", "rotations", "arm_rotated", "arm", "joint_kinematics", "penetration_and_rate",
+    "sommerfeld_angle", "film_integrals", "reynolds_matrix", "reynolds_components", "reynolds_force",
     "contact_forces",
     "any_film", "film_components", "locked", "locked_accelerations", "rhs",
     "rhs_and_quantities", "quantities", "onset_fraction",
@@ -48,7 +49,8 @@ FUNCTIONS = (
     "explicit_lane",
     *(
         "pmin", "pmax", "cdiv", "lu_real", "lu_complex", "lu_solve_real", "lu_solve_complex",
-        "law_slopes", "force_column", "side_of", "film_jacobian", "jacobian_clear",
+        "law_slopes", "force_column", "side_of", "film_jacobian", "reynolds_position_slope",
+        "reynolds_jacobian", "jacobian_clear",
         "column_difference", "jacobian_differences", "jacobian_fixed",
         "jacobian", "factor_newton", "solve_real", "solve_complex",
         "stage_norm", "rms", "mat3", "predict", "initial_step", "collocation", "touching",
@@ -202,6 +204,9 @@ def lanes_refusal(
     needs = []
     if np.any(geom[:, ids.G_CAPTURE :: ids.N_GEOM] > 0.0):
         needs.append("sustained_contact")
-    if np.any(geom[:, ids.G_FILM :: ids.N_GEOM] > 0.0):
+    films = geom[:, ids.G_FILM :: ids.N_GEOM] > 0.0
+    if np.any(films):
         needs.append("film_damping")
+    if np.any(films & (geom[:, ids.G_FILM_MODEL :: ids.N_GEOM] != ids.FILM_LINEAR)):
+        needs.append("film_model")
     return refusal("lanes-explicit" if method != "implicit" else "lanes-implicit", needs)

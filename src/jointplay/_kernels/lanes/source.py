@@ -46,11 +46,15 @@ from jointplay._kernels.ids import (
     AMBROSIO_MU,
     AMBROSIO_V0,
     AMBROSIO_V1,
+    FILM_EPS_CAP,
+    FILM_LINEAR,
+    FILM_SHORT_FULL,
     FRICTION_ADAMS,
     FRICTION_AMBROSIO,
     FRICTION_NONE,
     G_CLEARANCE,
     G_FILM,
+    G_FILM_MODEL,
     G_R_BEARING,
     G_R_JOURNAL,
     HC_CHI,
@@ -497,13 +501,92 @@ def penetration_and_rate(y, rp, ip, lay, c):
     return length - rp[lay[LY_GEOM] + N_GEOM * c + G_CLEARANCE], edx * nx + edy * ny
 
 
+# --- the Reynolds films (docs/contact.md, "Reynolds films") ----------------------------------
+def sommerfeld_angle(theta, eps):
+    """Sommerfeld's angle ψ of the film angle θ at eccentricity ratio ε (cos θ = (ε + cos ψ) /
+    (1 + ε cos ψ), tan(ψ/2) = tan(θ/2) √((1 + ε)/(1 − ε))), continuous in θ (ψ(θ + 2π) =
+    ψ(θ) + 2π): θ plus a bounded correction whose denominator is ≥ 2."""
+    k = math.sqrt((1.0 + eps) / (1.0 - eps))
+    return theta + 2.0 * math.atan(
+        (k - 1.0) * math.sin(theta) / ((1.0 + k) + (1.0 - k) * math.cos(theta))
+    )
+
+
+def film_integrals(theta, eps):
+    """The antiderivatives at θ of the three pressure integrals over h = c(1 − ε cos θ),
+    (ψ, sin ψ, cos ψ, −cos²θ / (2 (1 − ε cos θ)²)): ∫ cos²θ/u³ dθ = (1 − ε²)^(−5/2) [(ε² + ½) ψ
+    + 2ε sin ψ + ½ sin ψ cos ψ], ∫ sin²θ/u³ dθ = (1 − ε²)^(−3/2) [½ ψ − ½ sin ψ cos ψ],
+    ∫ sin θ cos θ/u³ dθ = −cos²θ/(2u²), u = 1 − ε cos θ (:func:`sommerfeld_angle`)."""
+    u = 1.0 - eps * math.cos(theta)
+    sin_psi = math.sqrt(1.0 - eps * eps) * math.sin(theta) / u
+    cos_psi = (math.cos(theta) - eps) / u
+    cos_t = math.cos(theta)
+    return sommerfeld_angle(theta, eps), sin_psi, cos_psi, -cos_t * cos_t / (2.0 * u * u)
+
+
+def reynolds_matrix(form, eps, rate, wedge):
+    """The short-bearing Reynolds film's force on the journal as a matrix on (ė_r, wedge):
+    (m_rr, m_rw, m_tr, m_tw), with F_r = m_rr ė_r + m_rw wedge along n (radial) and
+    F_t = m_tr ė_r + m_tw wedge along t = ẑ × n, per unit K = μ R L³ / c³ (N·s/m), at
+    eccentricity ratio ε (< 1), radial rate ė_r = ė·n (``rate``, m/s) and wedge speed
+    |e| ((ω_j + ω_b)/2 − γ̇) = |e| (ω_j + ω_b)/2 − ė·t (``wedge``, m/s).
+
+    The pressure integrated over the length is P(θ) = μ L³ (ė_r cos θ − wedge sin θ) / h³
+    with h = c(1 − ε cos θ), θ from n; F_r = −R ∫ P cos θ, F_t = −R ∫ P sin θ over the full
+    film (``form`` FILM_SHORT_FULL: a constant matrix) or over where P > 0 (Gümbel's half
+    film: the half θ ∈ (θ₁, θ₁ + π), θ₁ = −atan2(wedge, ė_r) − π/2, which moves with the ratio
+    of squeeze to wedge; the matrix depends on that ratio only, and it is also the force's
+    exact derivative with respect to (ė_r, wedge): the moving ends add nothing, P = 0 there)."""
+    s = 1.0 - eps * eps
+    if form == FILM_SHORT_FULL:
+        squeeze = -math.pi * (1.0 + 2.0 * eps * eps) / (s * s * math.sqrt(s))
+        return squeeze, 0.0, 0.0, math.pi / (s * math.sqrt(s))
+    theta_1 = -math.atan2(wedge, rate) - 0.5 * math.pi
+    psi_1, sin_1, cos_1, q_1 = film_integrals(theta_1, eps)
+    psi_2, sin_2, cos_2, q_2 = film_integrals(theta_1 + math.pi, eps)
+    turn = psi_2 - psi_1
+    half = 0.5 * (sin_2 * cos_2 - sin_1 * cos_1)
+    i_cc = ((eps * eps + 0.5) * turn + 2.0 * eps * (sin_2 - sin_1) + half) / (s * s * math.sqrt(s))
+    i_ss = (0.5 * turn - half) / (s * math.sqrt(s))
+    i_sc = q_2 - q_1
+    return -i_cc, i_sc, -i_sc, i_ss
+
+
+def reynolds_components(form, eps, rate, wedge):
+    """(F_r, F_t) of :func:`reynolds_matrix` at (ė_r, wedge), per unit K."""
+    m_rr, m_rw, m_tr, m_tw = reynolds_matrix(form, eps, rate, wedge)
+    return m_rr * rate + m_rw * wedge, m_tr * rate + m_tw * wedge
+
+
+def reynolds_force(form, coef, clearance, ex, ey, edx, edy, wa, wb):
+    """The Reynolds film's force (N) on the journal, at its centre, of a joint with the film
+    coefficient ``coef`` = C0 = π μ R L³ / c³ and radial clearance ``clearance`` (m), at
+    eccentricity e = (``ex``, ``ey``) (m), ė = (``edx``, ``edy``) (m/s) and the rates ``wa``,
+    ``wb`` of the bearing's and the journal's bodies (rad/s); the bearing feels its opposite
+    at its centre (:func:`reynolds_components`; ε held at :data:`FILM_EPS_CAP` beyond it;
+    n = (1, 0) for a centred pin, where the force does not depend on n)."""
+    length = math.sqrt(ex * ex + ey * ey)
+    if length > 0.0:
+        nx, ny = ex / length, ey / length
+    else:
+        nx, ny = 1.0, 0.0
+    rate = edx * nx + edy * ny
+    wedge = 0.5 * length * (wa + wb) - (-edx * ny + edy * nx)
+    eps = min(length / clearance, FILM_EPS_CAP)
+    f_r, f_t = reynolds_components(form, eps, rate, wedge)
+    k = coef / math.pi
+    return k * (f_r * nx - f_t * ny), k * (f_r * ny + f_t * nx)
+
+
 def contact_forces(y, rp, ip, lay, f, record, recording):
     """Add every clearance joint's contact force to ``f[n:2n]`` (
     δ = |e| − c, δ̇ = ė·n, v_T = ė·t + R_J ω_b − R_B ω_a; −F_N n − F_T t on the journal at
     r_J + R_J n, the opposite on the bearing at r_B + R_B n); with film damping
     (the joint's ``G_FILM`` column c_e > 0), −c_e ė on the journal at its centre and +c_e ė on
     the bearing at its centre, in contact or not, first (not in the record's F_N, F_T:
-    :func:`film_components`); when ``recording``, (F_N, F_T, δ, δ̇, v_T, e_x, e_y) of joint c
+    :func:`film_components`); a Reynolds film (the joint's ``G_FILM_MODEL`` not
+    ``FILM_LINEAR``) instead :func:`reynolds_force` F on the journal's centre and −F on the
+    bearing's, power −F·ė; when ``recording``, (F_N, F_T, δ, δ̇, v_T, e_x, e_y) of joint c
     into ``record[7c:7c + 7]``. Returns the contact power Σ (F_N δ̇ + F_T v_T + c_e |ė|²), W.
     (Only the implicit lane runs the film: the explicit one is refused it,
     :func:`jointplay._kernels.lanes.build.lanes_refusal`.)"""
@@ -543,13 +626,23 @@ def contact_forces(y, rp, ip, lay, f, record, recording):
         f_t = 0.0
         delta_dot = 0.0
         v_t = 0.0
-        if film > 0.0:  # the film's damping −c_e ė on the journal's centre, in contact or not
+        if film > 0.0:  # the film's force on the journal's centre, in contact or not
             wa = y[n + 3 * a + 2] if a >= 0 else 0.0
             wb = y[n + 3 * b + 2] if b >= 0 else 0.0
             fdx, fdy = eccentricity_rate(y, n, a, b, wa, wb, rax, ray, rbx, rby)
-            push(f, n, b, rbx, rby, -film * fdx, -film * fdy)
-            push(f, n, a, rax, ray, film * fdx, film * fdy)
-            pw += film * (fdx * fdx + fdy * fdy)
+            form = rp[o_geom + N_GEOM * c + G_FILM_MODEL]
+            if form == FILM_LINEAR:  # the damping −c_e ė
+                push(f, n, b, rbx, rby, -film * fdx, -film * fdy)
+                push(f, n, a, rax, ray, film * fdx, film * fdy)
+                pw += film * (fdx * fdx + fdy * fdy)
+            else:  # a Reynolds film: its power −F·ė into W_contact (the wedge's can be < 0)
+                ffx, ffy = reynolds_force(
+                    int(form), film, rp[o_geom + N_GEOM * c + G_CLEARANCE],
+                    ex, ey, fdx, fdy, wa, wb,
+                )  # fmt: skip
+                push(f, n, b, rbx, rby, ffx, ffy)
+                push(f, n, a, rax, ray, -ffx, -ffy)
+                pw -= ffx * fdx + ffy * fdy
         if delta > 0.0 or recording:
             if emag > 0.0:
                 nx, ny = ex / emag, ey / emag
@@ -597,10 +690,27 @@ def any_film(rp, lay):
 def film_components(y, rp, ip, lay, record, c):
     """The film force c_e ė of clearance joint ``c`` in its contact frame, (c_e ė·n, c_e ė·t)
     (N; the journal feels minus this), from its record (:func:`contact_forces`: ė·n = δ̇,
-    ė·t = v_T − R_J ω_b + R_B ω_a); (0, 0) with the film off."""
+    ė·t = v_T − R_J ω_b + R_B ω_a); for a Reynolds film (its ``G_FILM_MODEL``), minus
+    :func:`reynolds_force` along n and t; (0, 0) with the film off."""
     film = rp[lay[LY_GEOM] + N_GEOM * c + G_FILM]
     if not film > 0.0:
         return 0.0, 0.0
+    form = rp[lay[LY_GEOM] + N_GEOM * c + G_FILM_MODEL]
+    if form != FILM_LINEAR:  # a Reynolds film: minus its force on the journal, along n and t
+        kin = joint_kinematics(y, rp, ip, lay, c)
+        wa, wb, edx, edy = kin[9], kin[10], kin[11], kin[12]
+        ex = record[7 * c + 5]
+        ey = record[7 * c + 6]
+        ffx, ffy = reynolds_force(
+            int(form), film, rp[lay[LY_GEOM] + N_GEOM * c + G_CLEARANCE],
+            ex, ey, edx, edy, wa, wb,
+        )  # fmt: skip
+        length = math.sqrt(ex * ex + ey * ey)
+        nx = 1.0
+        ny = 0.0
+        if length > 0.0:
+            nx, ny = ex / length, ey / length
+        return -(ffx * nx + ffy * ny), -(-ffx * ny + ffy * nx)
     n = lay[LY_N]
     j = ip[lay[LY_CLEAR] + c]
     a = ip[lay[LY_JOINT_INT] + 3 * j + 1]

@@ -55,6 +55,7 @@ from jointplay._kernels.ids import (
     DIFF_STEP,
     EPS,
     G_FILM,
+    G_FILM_MODEL,
     LAW_STEP,
     NUM_JAC_DIFF_BIG,
     NUM_JAC_DIFF_REJECT,
@@ -66,6 +67,8 @@ from jointplay._kernels.ids import (
     RATE_FLOOR,
 )
 from jointplay._kernels.lanes.source import (
+    FILM_EPS_CAP,
+    FILM_LINEAR,
     FRICTION_NONE,
     G_CLEARANCE,
     G_R_BEARING,
@@ -113,6 +116,8 @@ from jointplay._kernels.lanes.source import (
     project,
     quantities,
     refine_peaks,
+    reynolds_force,
+    reynolds_matrix,
     rhs,
     rhs_and_quantities,
     start_outputs,
@@ -376,6 +381,100 @@ def film_jacobian(jac, film, rp, o_mass, n, a, b, rax, ray, rbx, rby, wa, wb, ed
             jac[n + 1, column] += 2.0 * film * (edx * dvx + edy * dvy)
 
 
+def reynolds_position_slope(form, coef, clearance, ex, ey, edx, edy, wa, wb, i):
+    """The derivative of a Reynolds film's force :func:`reynolds_force` with respect to e_x
+    (``i`` 0) or e_y (1) at fixed ė and rates, (∂f_x, ∂f_y), by a central difference with the
+    step ∛eps · max(|e|, c) (the closed forms lose digits to cancellation as ε nears 1: a
+    forward difference's √eps step would amplify that round-off 1e3-fold)."""
+    h = EPS ** (1.0 / 3.0) * pmax(math.sqrt(ex * ex + ey * ey), clearance)
+    if i == 0:
+        h = (ex + h) - ex
+        ux, uy = reynolds_force(form, coef, clearance, ex + h, ey, edx, edy, wa, wb)
+        dx, dy = reynolds_force(form, coef, clearance, ex - h, ey, edx, edy, wa, wb)
+    else:
+        h = (ey + h) - ey
+        ux, uy = reynolds_force(form, coef, clearance, ex, ey + h, edx, edy, wa, wb)
+        dx, dy = reynolds_force(form, coef, clearance, ex, ey - h, edx, edy, wa, wb)
+    return (ux - dx) / (2.0 * h), (uy - dy) / (2.0 * h)
+
+
+def reynolds_jacobian(jac, form, coef, clearance, rp, o_mass, n, a, b, rax, ray, rbx, rby,
+                      wa, wb, ex, ey, edx, edy):  # fmt: skip
+    """Add one clearance joint's Reynolds film to ``jac`` (:func:`jacobian_clear`'s rows and
+    columns): F = :func:`reynolds_force` on the journal's body b at its arm r_b, −F on the
+    bearing's body a at r_a, power −F·ė into the W_contact row. F = k (F_r n + F_t t) is linear
+    in (ė_r, wedge) through :func:`reynolds_matrix` M, which is also its exact derivative
+    there (the π-film's moving ends add nothing), so its derivatives with respect to ė, ω_a,
+    ω_b are M's (ė_r = ė·n, wedge = |e| (ω_a + ω_b)/2 − ė·t); with respect to e, central
+    differences (:func:`reynolds_position_slope`); chained to the bodies' coordinates and
+    rates in closed form (e = r_J − r_B, ė = ṙ_J − ṙ_B with r_J = x_b + A(φ_b) s_b,
+    ṙ_J = ẋ_b + ω_b ẑ × r_b; the bearing's the same with minus)."""
+    fx, fy = reynolds_force(form, coef, clearance, ex, ey, edx, edy, wa, wb)
+    length = math.sqrt(ex * ex + ey * ey)
+    nx = 1.0
+    ny = 0.0
+    if length > 0.0:
+        nx, ny = ex / length, ey / length
+    tx, ty = -ny, nx
+    rate = edx * nx + edy * ny
+    wedge = 0.5 * length * (wa + wb) - (edx * tx + edy * ty)
+    m_rr, m_rw, m_tr, m_tw = reynolds_matrix(
+        form, min(length / clearance, FILM_EPS_CAP), rate, wedge
+    )
+    k = coef / math.pi
+    # ∂(F_r, F_t)/∂ė_x and /∂ė_y (rate' = n, wedge' = −t), then to the global frame
+    r_x = m_rr * nx - m_rw * tx
+    t_x = m_tr * nx - m_tw * tx
+    r_y = m_rr * ny - m_rw * ty
+    t_y = m_tr * ny - m_tw * ty
+    fx_vx, fy_vx = k * (r_x * nx + t_x * tx), k * (r_x * ny + t_x * ty)
+    fx_vy, fy_vy = k * (r_y * nx + t_y * tx), k * (r_y * ny + t_y * ty)
+    half = 0.5 * length * k  # wedge' = |e|/2 for ω_a and ω_b alike
+    fx_w, fy_w = half * (m_rw * nx + m_tw * tx), half * (m_rw * ny + m_tw * ty)
+    fx_ex, fy_ex = reynolds_position_slope(form, coef, clearance, ex, ey, edx, edy, wa, wb, 0)
+    fx_ey, fy_ey = reynolds_position_slope(form, coef, clearance, ex, ey, edx, edy, wa, wb, 1)
+    for side in range(2):
+        body, sign, rx, ry, w = side_of(side, a, b, rax, ray, rbx, rby, wa, wb)
+        if body < 0:
+            continue
+        for k_col in range(6):  # x, y, φ, ẋ, ẏ, ω of this body
+            de0 = 0.0
+            de1 = 0.0
+            dv0 = 0.0
+            dv1 = 0.0
+            dw = 0.0
+            if k_col == 0:
+                de0 = sign
+            elif k_col == 1:
+                de1 = sign
+            elif k_col == 2:
+                de0, de1 = -sign * ry, sign * rx
+                dv0, dv1 = -sign * w * rx, -sign * w * ry
+            elif k_col == 3:
+                dv0 = sign
+            elif k_col == 4:
+                dv1 = sign
+            else:
+                dv0, dv1 = -sign * ry, sign * rx
+                dw = 1.0
+            dfx = fx_ex * de0 + fx_ey * de1 + fx_vx * dv0 + fx_vy * dv1 + fx_w * dw
+            dfy = fy_ex * de0 + fy_ey * de1 + fy_vx * dv0 + fy_vy * dv1 + fy_w * dw
+            column = 3 * body + k_col if k_col < 3 else n + 3 * body + k_col - 3
+            drbx = 0.0
+            drby = 0.0
+            drax = 0.0
+            dray = 0.0
+            if k_col == 2 and side == 0:
+                drbx, drby = -rby, rbx
+            elif k_col == 2:
+                drax, dray = -ray, rax
+            force_column(
+                jac, rp, o_mass, column, a, b, fx, fy, dfx, dfy,
+                rax, ray, drax, dray, rbx, rby, drbx, drby,
+            )  # fmt: skip
+            jac[n + 1, column] -= dfx * edx + dfy * edy + fx * dv0 + fy * dv1
+
+
 def jacobian_clear(t, y, rp, ip, lay, jac, force, record):
     """Rows n … S − 1, columns 0 … 2n − 1 of ∂ẏ/∂y (the rows and columns the Newton systems
     read) into ``jac`` ((S − n) × 2n: row r of ∂ẏ/∂y is ``jac[r − n]``), for a mechanism whose
@@ -404,7 +503,14 @@ def jacobian_clear(t, y, rp, ip, lay, jac, force, record):
         v_t = slide + r_j * wb - r_b * wa
         film = rp[o_geom + N_GEOM * c + G_FILM]  # this joint's c_e; 0: dry
         if film > 0.0:
-            film_jacobian(jac, film, rp, o_mass, n, a, b, rax, ray, rbx, rby, wa, wb, edx, edy)
+            form = rp[o_geom + N_GEOM * c + G_FILM_MODEL]
+            if form == FILM_LINEAR:
+                film_jacobian(jac, film, rp, o_mass, n, a, b, rax, ray, rbx, rby, wa, wb, edx, edy)
+            else:
+                reynolds_jacobian(
+                    jac, int(form), film, rp[o_geom + N_GEOM * c + G_CLEARANCE], rp, o_mass,
+                    n, a, b, rax, ray, rbx, rby, wa, wb, length * nx, length * ny, edx, edy,
+                )  # fmt: skip
         if not delta > 0.0:
             continue
         tx, ty = -ny, nx
