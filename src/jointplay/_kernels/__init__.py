@@ -1,8 +1,9 @@
 """The compiled numerical kernels (Numba), and whether a compiled copy of them is cached.
 
 Numba compiles each kernel on first use and keeps the machine code in an on-disk cache
-(``cache=True``): the first dynamic run after an install or an upgrade spends about 40 s
-compiling (2-core machine, load 0.5-1), later runs load the cache in about a second.
+(``cache=True``): the first dynamic run after an install or an upgrade spends one to two
+minutes compiling (2-core machine; the single engine inlines the lane source into each of its
+hooks), later runs load the cache in about a second.
 :func:`compiled_cache_present` tells the command line which of the two is about to happen,
 so that it can say so; it reads only file names (no Numba import). Each command asks about the
 kernels it runs: the single engine's (:func:`single_engine`, ``simulate``, ``paper``, ...)

@@ -251,8 +251,7 @@ def design_command(
         str,
         typer.Option(
             "--sampling",
-            help="parts (hole and pin each in its ISO 286 zone) or band (the clearance over "
-            "the fit's worst-case band).",
+            help="parts (each part in its ISO 286 zone) or band (over the fit's worst-case range).",
             rich_help_panel=SAMPLING_PANEL,
         ),
     ] = "parts",

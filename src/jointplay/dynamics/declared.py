@@ -134,8 +134,7 @@ CONTACT_SETTINGS: tuple[Setting, ...] = (
     Setting("damping", "--damping", "damping", "settings",
             "Kelvin-Voigt damping, e.g. '100 N*s/m'.", unit="N*s/m"),
     Setting("stiffness_law", "--stiffness-law", "stiffness_law", "settings",
-            "Each joint's stiffness from its radii and materials: liu (default), hertz, "
-            "johnson, esdu-78035, pereira, radzimovsky."),
+            "Stiffness: liu (default), hertz, johnson, esdu-78035, pereira, radzimovsky."),
     Setting("fit_depth", "--fit-depth", "fit_depth", "settings",
             "The largest penetration of the stiffness law's power-law fit, e.g. '0.01 mm'.",
             unit="m", offered=False),
@@ -151,8 +150,7 @@ CONTACT_SETTINGS: tuple[Setting, ...] = (
     Setting("film_damping", "--film-damping", "film_damping", "model",
             "Or a fixed film damping ('1e4 N*s/m').", unit="N*s/m"),
     Setting("film_model", "--film-model", "film_model", "model",
-            "The film's form: linear (damper, default), short-bearing-pi (Reynolds, "
-            "cavitated) or short-bearing-full (docs/contact.md)."),
+            "Film: linear (damper, default), Reynolds short-bearing-pi or -full."),
 )
 # fmt: on
 
