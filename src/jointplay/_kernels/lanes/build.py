@@ -49,7 +49,7 @@ FUNCTIONS = (
     "explicit_lane",
     *(
         "pmin", "pmax", "cdiv", "lu_real", "lu_complex", "lu_solve_real", "lu_solve_complex",
-        "law_slopes", "force_column", "side_of", "film_jacobian", "reynolds_position_slope",
+        "law_slopes", "force_column", "coordinate_direction", "side_of", "film_jacobian", "reynolds_position_slope",
         "reynolds_jacobian", "jacobian_clear",
         "column_difference", "jacobian_differences", "jacobian_fixed",
         "jacobian", "factor_newton", "solve_real", "solve_complex",

@@ -332,6 +332,24 @@ def force_column(
         jac[3 * a + 2, column] -= moment / rp[o_mass + 3 * a + 2]
 
 
+def coordinate_direction(k, sign, rx, ry, w):
+    """(∂e_x, ∂e_y, ∂ė_x, ∂ė_y) along coordinate ``k`` (x, y, φ, ẋ, ẏ, ω) of one of a clearance
+    joint's bodies, the journal's (``sign`` +1) or the bearing's (−1), whose centre has the
+    arm (``rx``, ``ry``) and which turns at ``w``: ∂e/∂(x, y) = ±I, ∂e/∂φ = ±ẑ×r,
+    ∂ė/∂φ = ∓ω r, ∂ė/∂(ẋ, ẏ) = ±I, ∂ė/∂ω = ±ẑ×r."""
+    if k == 0:
+        return sign, 0.0, 0.0, 0.0
+    if k == 1:
+        return 0.0, sign, 0.0, 0.0
+    if k == 2:
+        return -sign * ry, sign * rx, -sign * w * rx, -sign * w * ry
+    if k == 3:
+        return 0.0, 0.0, sign, 0.0
+    if k == 4:
+        return 0.0, 0.0, 0.0, sign
+    return 0.0, 0.0, -sign * ry, sign * rx
+
+
 def side_of(side, a, b, rax, ray, rbx, rby, wa, wb):
     """Side ``side`` of a clearance joint's force in the Jacobian: 0 the journal's body b, 1
     the bearing's body a; (body, the force's sign on it, its arm x, y, the body's rate)."""
@@ -438,25 +456,8 @@ def reynolds_jacobian(jac, form, coef, clearance, rp, o_mass, n, a, b, rax, ray,
         if body < 0:
             continue
         for k_col in range(6):  # x, y, φ, ẋ, ẏ, ω of this body
-            de0 = 0.0
-            de1 = 0.0
-            dv0 = 0.0
-            dv1 = 0.0
-            dw = 0.0
-            if k_col == 0:
-                de0 = sign
-            elif k_col == 1:
-                de1 = sign
-            elif k_col == 2:
-                de0, de1 = -sign * ry, sign * rx
-                dv0, dv1 = -sign * w * rx, -sign * w * ry
-            elif k_col == 3:
-                dv0 = sign
-            elif k_col == 4:
-                dv1 = sign
-            else:
-                dv0, dv1 = -sign * ry, sign * rx
-                dw = 1.0
+            de0, de1, dv0, dv1 = coordinate_direction(k_col, sign, rx, ry, w)
+            dw = 1.0 if k_col == 5 else 0.0
             dfx = fx_ex * de0 + fx_ey * de1 + fx_vx * dv0 + fx_vy * dv1 + fx_w * dw
             dfy = fy_ex * de0 + fy_ey * de1 + fy_vx * dv0 + fy_vy * dv1 + fy_w * dw
             column = 3 * body + k_col if k_col < 3 else n + 3 * body + k_col - 3
@@ -535,29 +536,9 @@ def jacobian_clear(t, y, rp, ip, lay, jac, force, record):
             if body < 0:
                 continue
             for k in range(6):
-                de0 = 0.0
-                de1 = 0.0
-                dv0 = 0.0
-                dv1 = 0.0
-                dw_b = 0.0
-                dw_a = 0.0
-                if k == 0:
-                    de0 = sign
-                elif k == 1:
-                    de1 = sign
-                elif k == 2:
-                    de0, de1 = -sign * ry, sign * rx
-                    dv0, dv1 = -sign * w * rx, -sign * w * ry
-                elif k == 3:
-                    dv0 = sign
-                elif k == 4:
-                    dv1 = sign
-                else:
-                    dv0, dv1 = -sign * ry, sign * rx
-                    if side == 0:
-                        dw_b = 1.0
-                    else:
-                        dw_a = 1.0
+                de0, de1, dv0, dv1 = coordinate_direction(k, sign, rx, ry, w)
+                dw_b = 1.0 if k == 5 and side == 0 else 0.0
+                dw_a = 1.0 if k == 5 and side == 1 else 0.0
                 tangential = (tx * de0 + ty * de1) / length
                 d_delta = nx * de0 + ny * de1
                 d_rate = nx * dv0 + ny * dv1 + slide * tangential
