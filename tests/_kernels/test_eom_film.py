@@ -23,6 +23,7 @@ import numpy as np
 import numpy.typing as npt
 import pytest
 
+from _states import perturbed_states
 from jointplay._kernels import eom
 from jointplay.contact.friction import AmbrosioFriction
 from jointplay.contact.laws import get_law
@@ -101,18 +102,7 @@ def test_a_free_pin_decays_exponentially_with_the_film() -> None:
 def _states(system: System, seed: int) -> list[npt.NDArray[np.float64]]:
     """States near the nominal assembly, pins off-centre by up to ~3 clearances (as
     tests/_kernels/test_eom.py's), so some joints penetrate and some are free."""
-    rng = np.random.default_rng(seed)
-    y0 = initial_state(system, Start())
-    n = system.n_coordinates
-    nc = len(system.clearances)
-    states = []
-    for _ in range(6):
-        y = y0.copy()
-        y[:n] += np.tile([1.5e-4, 1.5e-4, 1.5e-3], n // 3) * rng.standard_normal(n)
-        y[n : 2 * n] += np.tile([1.0, 1.0, 10.0], n // 3) * rng.standard_normal(n)
-        y[2 * n + 2 :] = np.where(rng.random(nc) < 0.5, 0.0, rng.uniform(0.01, 1.0, nc))
-        states.append(y)
-    return states
+    return perturbed_states(system, seed, position=1.5e-4)
 
 
 def _fourbar(film: float, friction: bool = True) -> System:

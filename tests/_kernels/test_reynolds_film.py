@@ -31,6 +31,7 @@ import pytest
 from scipy.integrate import quad
 from scipy.special import roots_legendre
 
+from _states import perturbed_states
 from jointplay._kernels import eom, ids
 from jointplay._kernels.capabilities import refusal
 from jointplay._kernels.lanes import source
@@ -261,18 +262,7 @@ def test_the_full_film_squeeze_grows_as_its_coefficient() -> None:
 def _states(system: System, seed: int) -> list[npt.NDArray[np.float64]]:
     """States near the nominal assembly, pins off-centre by up to ~1.5 clearances (some in
     contact, most in the film), rates up to ~1 m/s and 10 rad/s."""
-    rng = np.random.default_rng(seed)
-    y0 = initial_state(system, Start())
-    n = system.n_coordinates
-    nc = len(system.clearances)
-    states = []
-    for _ in range(6):
-        y = y0.copy()
-        y[:n] += np.tile([5e-5, 5e-5, 5e-4], n // 3) * rng.standard_normal(n)
-        y[n : 2 * n] += np.tile([1.0, 1.0, 10.0], n // 3) * rng.standard_normal(n)
-        y[2 * n + 2 :] = np.where(rng.random(nc) < 0.5, 0.0, rng.uniform(0.01, 1.0, nc))
-        states.append(y)
-    return states
+    return perturbed_states(system, seed, position=5e-5)
 
 
 def _central_differences(system: System, t: float, y: npt.NDArray[np.float64]):
