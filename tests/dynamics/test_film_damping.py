@@ -70,7 +70,7 @@ def test_the_setting_parses_and_is_described() -> None:
     # the physical default lubricates; the paper's methods and the sustained mode stay dry
     default = ContactModel()
     assert default.lubricated and default.fixed_film is None
-    assert default.lubricant_viscosity == DEFAULT_VISCOSITY
+    assert default.viscosity == DEFAULT_VISCOSITY and default.lubricant_viscosity is None
     assert not ContactModel(law=DEFAULT_IMPACT, method="ifm-conventional").lubricated
     assert not ContactModel(sustained_contact=True).lubricated
     assert ContactModel(film_damping=0).fixed_film == 0.0
@@ -81,7 +81,7 @@ def test_the_setting_parses_and_is_described() -> None:
     described = ContactModel(film_damping=100).describe()
     assert described["lubrication"]["film_damping_N_s_m"] == 100.0
     assert "film damping 100" in described["text"]
-    assert "0.05 Pa*s lubricant" in default.describe()["text"]
+    assert "0.05 Pa*s oil" in default.describe()["text"]
     dry = ContactModel(film_damping=0).describe()
     assert dry["lubrication"]["lubricated"] is False and "dry joints" in dry["text"]
     with pytest.raises(SettingError, match="has no unit"):

@@ -55,7 +55,7 @@ def test_each_case_changes_one_parameter_to_an_end_of_its_range() -> None:
         expected = {
             "stiffness_law": {"stiffness_law"},
             "friction": {"coefficient"},
-            "lubrication": {"film_damping", "lubricant_viscosity"},  # fixed at 0: dry
+            "lubrication": {"film_damping"},  # fixed at 0: dry
             "lubricant_viscosity": {"lubricant_viscosity"},
         }
         assert changed == expected.get(case.parameter, {"restitution"}), case
@@ -68,7 +68,12 @@ def test_each_case_changes_one_parameter_to_an_end_of_its_range() -> None:
     ]
     assert model_cases(ContactModel(law=DEFAULT_IMPACT, method="ifm-conventional")) == ()
     impact = ContactModel(ContactSettings(law="impact"))  # no restitution, a fixed stiffness
-    assert [c.parameter for c in model_cases(impact)] == [
+    assert [c.parameter for c in model_cases(impact)] == [  # a law named: dry, oil beside it
+        *("friction", "friction"),
+        *("lubricant_viscosity", "lubricant_viscosity"),
+    ]
+    oiled = ContactModel(ContactSettings(law="impact"), lubrication="oil")
+    assert [c.parameter for c in model_cases(oiled)] == [
         *("friction", "friction"),
         *("lubrication", "lubricant_viscosity", "lubricant_viscosity"),
     ]

@@ -166,6 +166,10 @@ def _simulate(
             else parse_quantity(values["clearance"], "m", field="--clearance"),
         )
     )
+    if clear:
+        from jointplay.dynamics.setup import regime_line
+
+        print(regime_line(contact_used, mechanism, [c.joint for c in clear]))
     run = run_settings_of(values, mechanism, contact_used, settle=DEFAULT_SETTLE)
     settle = run.settle
     where = ", ".join(c.joint for c in clear) or "no joint (ideal joints)"

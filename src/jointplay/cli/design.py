@@ -425,6 +425,10 @@ def design_command(
             "progress": progress,
         }  # fmt: skip
         if dynamic:  # the run settings, built once (kinematic designs run no dynamics)
+            from jointplay.dynamics.setup import regime_line
+
+            fitted = [j.name for j in mechanism.revolute_joints if j.fit is not None]
+            print(regime_line(contact_used, mechanism, fitted))
             options["run_settings"] = run_settings(
                 contact_used, settle=settle, revolutions=revolutions, rtol=rtol
             )
@@ -586,8 +590,10 @@ def _print(result: DesignResult, units: dict[str, str]) -> None:
         )
     best = result.best_row
     if best is not None:
+        regime = f" — {result.lubrication}" if result.lubrication else ""
         line = (
-            f"choose {result.best}: relative cost {best['cost']:.3g}; {evidence_line(result, best)}"
+            f"choose {result.best}{regime}: relative cost {best['cost']:.3g}; "
+            f"{evidence_line(result, best)}"
         )
         console.print(line)
         for callout in result.drawing:

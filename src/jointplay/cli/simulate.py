@@ -164,6 +164,9 @@ def simulate_command(
         clear = contact_used.joints(
             mechanism, joint_list(values.get("joints")), clearance=clearance_value
         )
+        from jointplay.dynamics.setup import regime_line
+
+        print(regime_line(contact_used, mechanism, [c.joint for c in clear]))
         run = run_settings_of(values, mechanism, contact_used, revolutions=turns, max_step=True)
         settle_turns = run.settle
         check_outputs(mechanism, turns, settle_turns, step, sample)  # before compiling
@@ -201,6 +204,7 @@ def simulate_command(
         write_table(result.steps, folder, "steps", fmt_value)
         summary = simulation_summary(result, record)
         summary["contact"] = contact_used.describe()
+        summary["lubrication"] = contact_used.joint_lubrication(mechanism, clear)
         summary["diagnostics"] = [finding.as_dict() for finding in findings]
         write_json(folder / "summary.json", summary)
         if plots:

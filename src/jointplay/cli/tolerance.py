@@ -309,7 +309,11 @@ def tolerance_command(
         check_revolutions(revolutions, settle)
         law = None
         if dynamic:
+            from jointplay.dynamics.setup import regime_line
+
             law = contact_from_options(config, mechanism, "--paper-method", **contact_options)
+            fitted = [j.name for j in mechanism.revolute_joints if j.fit is not None]
+            print(regime_line(law, mechanism, fitted))
         elif any(v is not None for v in contact_options.values()):
             raise ConfigError("contact options apply to --responses dynamic or running only")
         if rtol is not None and not dynamic:

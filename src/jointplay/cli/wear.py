@@ -134,9 +134,13 @@ def wear_command(
         joints.extend(contact_used.joints(mechanism, [joint.name], clearance=clearance))
     if not joints:
         raise ConfigError("no clearance joints: give joints a fit and a diameter, or --fit")
+    from jointplay.dynamics.setup import regime_line
+
+    lubrication = contact_used.joint_lubrication(mechanism, joints)
     with output_dir(
         out, force=force, inputs=(config, table)
     ) as folder:  # checked before the wear runs
+        print(regime_line(contact_used, mechanism, [j.joint for j in joints]))
         with compiling_kernels():
             history = wear_life(
                 mechanism,
@@ -155,6 +159,7 @@ def wear_command(
             folder,
             plots=plots,
             provenance=provenance({**history.summary(), "contact": contact_used.describe()}),
+            lubrication=lubrication,
             figure_format=figure_format,
         )
     for name, life in history.life.items():

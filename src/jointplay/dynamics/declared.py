@@ -151,6 +151,9 @@ CONTACT_SETTINGS: tuple[Setting, ...] = (
             "Or a fixed film damping ('1e4 N*s/m').", unit="N*s/m"),
     Setting("film_model", "--film-model", "film_model", "model",
             "Film: linear (damper, default), Reynolds short-bearing-pi or -full."),
+    Setting("lubrication", "--lubrication", "lubrication", "model",
+            "Every joint dry, oil or grease (default: each joint's [lubrication]; else oil, "
+            "dry with a --contact law named).", with_method=True),
 )
 # fmt: on
 

@@ -33,7 +33,7 @@ from jointplay.dynamics.clearance import (
 )
 from jointplay.dynamics.declared import setting, unit_of
 from jointplay.errors import ConfigError, QuantityError, SettingError
-from jointplay.model.mechanism import Mechanism, RevoluteJoint
+from jointplay.model.mechanism import REGIMES, Lubrication, Mechanism, RevoluteJoint
 from jointplay.units import parse_quantity
 
 #: The default IMPACT law: k = 1e4 N/mm^1.5 (= 1e4 · 1000^1.5 N/m^1.5), e = 1.5,
@@ -331,6 +331,7 @@ class ContactModel:
     film_damping: float | str | None = None
     lubricant_viscosity: float | str | None = None
     film_model: str = "linear"
+    lubrication: str | None = None
 
     def __post_init__(self) -> None:
         film_model_id(self.film_model)
@@ -351,8 +352,14 @@ class ContactModel:
                 got=self.capture_speed,
             )
         object.__setattr__(self, "capture_speed", speed)
+        if self.lubrication is not None and self.lubrication not in REGIMES:
+            raise SettingError(
+                "{lubrication} must be one of " + ", ".join(REGIMES) + ", got {got!r}",
+                got=self.lubrication,
+            )
         if self.film_damping is None:
-            object.__setattr__(self, "lubricant_viscosity", self._viscosity())
+            if self.lubricant_viscosity is not None:
+                object.__setattr__(self, "lubricant_viscosity", self._given_viscosity())
         else:
             unit = unit_of("film_damping")
             film = _zero_or_quantity(self.film_damping, unit, "film_damping")
@@ -362,7 +369,8 @@ class ContactModel:
                     got=self.film_damping,
                 )
             object.__setattr__(self, "film_damping", film)
-            object.__setattr__(self, "lubricant_viscosity", 0.0)  # not used
+            object.__setattr__(self, "lubricant_viscosity", None)  # not used
+        self._check_regime()
         if self.film_model != "linear" and (self.fixed_film or 0.0) > 0:
             raise SettingError(
                 "{film_model} " + self.film_model + " takes its coefficient from each joint's "
@@ -374,12 +382,8 @@ class ContactModel:
                 "{lubricant_viscosity}) with it"
             )
 
-    def _viscosity(self) -> float:
-        """The lubricant's viscosity, Pa·s: as given, else the default's (the physical
-        contact lubricated, the paper's methods and the sustained-contact mode dry)."""
-        if self.lubricant_viscosity is None:
-            dry = self.law is not None or self.sustained_contact
-            return 0.0 if dry else DEFAULT_VISCOSITY
+    def _given_viscosity(self) -> float:
+        """The given lubricant's viscosity, Pa·s (>= 0; 0: dry)."""
         unit = unit_of("lubricant_viscosity")
         viscosity = _zero_or_quantity(self.lubricant_viscosity, unit, "lubricant_viscosity")
         if viscosity < 0:
@@ -388,6 +392,81 @@ class ContactModel:
                 got=self.lubricant_viscosity,
             )
         return viscosity
+
+    def _check_regime(self) -> None:
+        """A named ``lubrication`` agrees with the viscosity or film damping given with it."""
+        regime = self.lubrication
+        given = self.lubricant_viscosity if self.film_damping is None else self.film_damping
+        if regime == "dry" and given is not None and float(given) > 0:
+            what = "{lubricant_viscosity}" if self.film_damping is None else "{film_damping}"
+            raise SettingError(
+                "{lubrication} dry runs the joints without a film: drop " + what + ", or name "
+                "the film's lubricant ({lubrication} oil or grease)"
+            )
+        if regime in ("oil", "grease") and given is not None and float(given) == 0:
+            raise SettingError(
+                "{lubrication} " + regime + " needs a lubricant: give {lubricant_viscosity} > 0, "
+                "or {lubrication} dry"
+            )
+        if regime == "grease" and given is None:
+            raise SettingError(
+                "{lubrication} grease needs its base oil's viscosity: give {lubricant_viscosity}, "
+                "e.g. '0.15 Pa*s'"
+            )
+
+    @property
+    def overrides(self) -> bool:
+        """The lubrication is named here (:attr:`lubrication`, :attr:`lubricant_viscosity`
+        or :attr:`film_damping`): it holds at every joint, over the mechanism's declarations."""
+        return (
+            self.lubrication is not None
+            or self.lubricant_viscosity is not None
+            or self.film_damping is not None
+        )
+
+    @property
+    def default_dry(self) -> bool:
+        """Undeclared joints run dry by default: a contact law named (another than the
+        physical default's :data:`DEFAULT_LAW`, or a ready law such as the paper's
+        methods) or the sustained-contact mode; the physical default runs them in
+        :data:`DEFAULT_VISCOSITY` oil (docs/contact.md, "Lubrication, declared per joint")."""
+        return self.law is not None or self.sustained_contact or self.settings.law != DEFAULT_LAW
+
+    @property
+    def regime(self) -> str:
+        """The regime of every joint that declares none (of every joint where
+        :attr:`overrides`): ``dry``, ``oil`` or ``grease``."""
+        if self.lubrication is not None:
+            return self.lubrication
+        if self.film_damping is not None:
+            return "oil" if float(self.film_damping) > 0 else "dry"
+        if self.lubricant_viscosity is not None:
+            return "oil" if float(self.lubricant_viscosity) > 0 else "dry"
+        return "dry" if self.default_dry else "oil"
+
+    @property
+    def viscosity(self) -> float:
+        """The lubricant's viscosity of :attr:`regime`, Pa·s (0: dry, or a fixed film
+        damping)."""
+        if self.regime == "dry" or self.film_damping is not None:
+            return 0.0
+        if self.lubricant_viscosity is not None:
+            return float(self.lubricant_viscosity)
+        return DEFAULT_VISCOSITY
+
+    def lubrication_of(self, mechanism: Mechanism, joint: str) -> Lubrication:
+        """The lubrication joint ``joint`` of ``mechanism`` runs in: this contact's where it
+        :attr:`overrides`, else the joint's declaration (:meth:`Mechanism.lubrication_of`;
+        an oil without a viscosity: :data:`DEFAULT_VISCOSITY`), else :attr:`regime`. A fixed
+        film damping is an oil of no stated viscosity."""
+        declared = None if self.overrides else mechanism.lubrication_of(joint)
+        if declared is None:
+            if self.regime == "dry":
+                return Lubrication("dry")
+            return Lubrication(self.regime, self.viscosity or None)
+        if declared.regime == "oil" and declared.viscosity is None:
+            return Lubrication("oil", DEFAULT_VISCOSITY)
+        return declared
 
     @property
     def integrator(self) -> str | None:
@@ -404,20 +483,21 @@ class ContactModel:
 
     @property
     def lubricated(self) -> bool:
-        """The pins run in a film: a lubricant, or a fixed film damping > 0."""
-        fixed = self.fixed_film
-        return float(self.lubricant_viscosity or 0.0) > 0 if fixed is None else fixed > 0
+        """The joints that declare no lubrication (every joint where :attr:`overrides`) run
+        in a film: a lubricant, or a fixed film damping > 0."""
+        return self.regime != "dry"
 
     def film_of(self, mechanism: Mechanism, joint: str) -> JointFilm | None:
         """How joint ``joint``'s film damping follows its geometry (``None``: a fixed
-        ``film_damping``, or dry): the lubricant and the bearing's width
-        (:meth:`Mechanism.bearing_width`, else 10 mm, as the stiffness takes it)."""
-        if self.fixed_film is not None or not self.lubricated:
+        ``film_damping``, or dry): its lubricant (:meth:`lubrication_of`) and the bearing's
+        width (:meth:`Mechanism.bearing_width`, else 10 mm, as the stiffness takes it)."""
+        if self.fixed_film is not None:
+            return None
+        lubrication = self.lubrication_of(mechanism, joint)
+        if lubrication.viscosity is None:  # dry
             return None
         width = mechanism.bearing_width(joint)
-        return JointFilm(
-            float(self.lubricant_viscosity or 0.0), width or 0.01, model=self.film_model
-        )
+        return JointFilm(lubrication.viscosity, width or 0.01, model=self.film_model)
 
     @property
     def capture(self) -> float:
@@ -473,12 +553,12 @@ class ContactModel:
             text += "; dry joints (no film damping)"
         elif self.film_model != "linear":  # a Reynolds film: from the geometry, uncapped
             text += (
-                f"; lubricated pins, a {self.lubricant_viscosity:g} Pa*s lubricant: "
+                f"; lubricated pins, {self._lubricant()}: "
                 f"{self.film_model} Reynolds film from each joint's geometry"
             )
         elif fixed is None:
             text += (
-                f"; lubricated pins, a {self.lubricant_viscosity:g} Pa*s lubricant: film damping "
+                f"; lubricated pins, {self._lubricant()}: film damping "
                 f"from each joint's geometry (squeeze film, at most {FILM_DAMPING_CAP:g} N*s/m)"
             )
         else:
@@ -494,8 +574,9 @@ class ContactModel:
         if self.sustained_contact:
             described["capture_speed_m_s"] = self.capture
         described["lubrication"] = {
+            "regime": self.regime,
             "lubricated": self.lubricated,
-            "lubricant_viscosity_Pa_s": self.lubricant_viscosity or None,
+            "lubricant_viscosity_Pa_s": self.viscosity or None,
             "film_damping_N_s_m": "from each joint's geometry"
             if fixed is None and self.lubricated
             else float(fixed or 0.0),
@@ -503,6 +584,101 @@ class ContactModel:
         if self.film_model != "linear":
             described["lubrication"]["film_model"] = self.film_model
         return described
+
+    def _lubricant(self) -> str:
+        """The lubricant of :attr:`regime` in words (``a 0.05 Pa*s oil``)."""
+        if self.regime == "grease":
+            return f"a grease of {self.viscosity:g} Pa*s base oil"
+        return f"a {self.viscosity:g} Pa*s oil"
+
+    def joint_lubrication(
+        self, mechanism: Mechanism, joints: Sequence[ClearanceJoint]
+    ) -> dict[str, dict[str, Any]]:
+        """Per clearance joint, the lubrication it ran in, for ``summary.json``: ``regime``
+        (``dry``, ``oil``, ``grease``), ``viscosity_Pa_s`` (``None``: dry, or a fixed film
+        damping), ``film_model`` (``None``: dry), ``film_damping_N_s_m`` (its film
+        coefficient; 0: dry) and ``declared`` (where the regime comes from: ``"command"``,
+        ``"mechanism"`` or ``"default"``)."""
+        out: dict[str, dict[str, Any]] = {}
+        for joint in joints:
+            entry = self._entry(mechanism, joint.joint)
+            entry.pop("fixed_film_N_s_m")
+            declared = entry.pop("declared")
+            if joint.film_damping == 0:
+                entry.update(regime="dry", viscosity_Pa_s=None, film_model=None)
+            out[joint.joint] = {
+                **entry,
+                "film_damping_N_s_m": joint.film_damping,
+                "declared": declared,
+            }
+        return out
+
+    def _entry(self, mechanism: Mechanism, joint: str) -> dict[str, Any]:
+        """Joint ``joint``'s regime, viscosity, film model and where they are declared."""
+        lubrication = self.lubrication_of(mechanism, joint)
+        fixed = self.fixed_film
+        dry = lubrication.regime == "dry" if fixed is None else fixed == 0
+        declared = (
+            "command"
+            if self.overrides
+            else "mechanism"
+            if mechanism.lubrication_of(joint) is not None
+            else "default"
+        )
+        return {
+            "regime": "dry" if dry else lubrication.regime,
+            "viscosity_Pa_s": None if dry else lubrication.viscosity,
+            "film_model": None if dry else self.film_model,
+            "fixed_film_N_s_m": fixed,
+            "declared": declared,
+        }
+
+    def lubrication_table(
+        self, mechanism: Mechanism, joints: Sequence[str]
+    ) -> dict[str, dict[str, Any]]:
+        """Per joint of ``joints`` (names), its ``regime``, ``viscosity_Pa_s``,
+        ``film_model`` and ``declared`` (as :meth:`joint_lubrication`, before any clearance
+        is known: a study's)."""
+        out = {}
+        for name in joints:
+            entry = self._entry(mechanism, name)
+            entry.pop("fixed_film_N_s_m")
+            out[name] = entry
+        return out
+
+    def regime_words(self, mechanism: Mechanism, joints: Sequence[str]) -> str:
+        """The lubrication of the clearance joints ``joints`` (names) in words, for the
+        first line of a run and the verdicts: ``lubricated, 0.05 Pa*s oil`` where every
+        joint runs in one lubricant, ``dry`` where none has a film, else joint by joint
+        (``O2 dry; A, B lubricated, 0.05 Pa*s oil``)."""
+        groups: dict[str, list[str]] = {}
+        for name in joints:
+            groups.setdefault(_regime_words(self._entry(mechanism, name)), []).append(name)
+        if len(groups) == 1:
+            return next(iter(groups))
+        return "; ".join(f"{', '.join(names)} {text}" for text, names in groups.items())
+
+
+def regime_line(contact: ContactModel, mechanism: Mechanism, joints: Sequence[str]) -> str:
+    """The first line of a dynamic run: the lubrication of its clearance joints ``joints``
+    (names): ``lubrication: lubricated, 0.05 Pa*s oil (O2, A, B, O4)``, ``lubrication: dry
+    (O2)``, or joint by joint."""
+    words = contact.regime_words(mechanism, joints)
+    if ";" in words:
+        return f"lubrication: {words}"
+    return f"lubrication: {words} ({', '.join(joints)})"
+
+
+def _regime_words(entry: Mapping[str, Any]) -> str:
+    """One joint's :meth:`ContactModel._entry` in words."""
+    if entry["regime"] == "dry":
+        return "dry"
+    viscosity = entry["viscosity_Pa_s"]
+    if viscosity is None:
+        return f"lubricated, film damping {entry['fixed_film_N_s_m']:g} N*s/m"
+    lubricant = "grease base oil" if entry["regime"] == "grease" else "oil"
+    film = "" if entry["film_model"] == "linear" else f", {entry['film_model']} film"
+    return f"lubricated, {viscosity:g} Pa*s {lubricant}{film}"
 
 
 #: The name of the paper's conventional contact set: its method ``ifm-conventional`` (the

@@ -30,12 +30,14 @@ from jointplay.io.keys import option_keys, unknown_keys_message
 from jointplay.model.mechanism import (
     GROUND,
     MAX_START_ANGLE,
+    REGIMES,
     STEEL,
     Driver,
     Ground,
     JointFit,
     LengthTolerance,
     Link,
+    Lubrication,
     Material,
     Mechanism,
     PrismaticJoint,
@@ -415,6 +417,7 @@ def _parse(root: _Table) -> Mechanism:
     start_angle = driver_table.quantity("start_angle", "rad", 0.0)
     raw_tolerances = root.raw("tolerances", None)
     tolerances: tuple[LengthTolerance, ...] = ()
+    raw_lubrication = root.raw("lubrication", None)
     root.raw("simulation", None)  # read by simulation_settings(); not part of the mechanism
     for table_name in DESIGN_TABLES:  # read by design_tables(); not part of the mechanism
         root.raw(table_name, None)
@@ -449,7 +452,49 @@ def _parse(root: _Table) -> Mechanism:
         if not isinstance(raw_tolerances, Mapping):
             raise ConfigError("tolerances must be a table")
         mechanism = replace(mechanism, tolerances=mechanism_tolerances(raw_tolerances, mechanism))
+    if raw_lubrication is not None:
+        default, joints = _lubrication(_Table(raw_lubrication, "lubrication"))
+        mechanism = replace(mechanism, lubrication=default, joint_lubrication=joints)
     return mechanism
+
+
+#: Keys of a ``[lubrication]`` table and of its ``[lubrication.joints.<J>]`` tables.
+LUBRICATION_KEYS = ("regime", "viscosity")
+
+
+def _lubrication(table: _Table) -> tuple[Lubrication | None, dict[str, Lubrication]]:
+    """The ``[lubrication]`` table (docs/contact.md, "Lubrication, declared per joint"): its
+    ``regime`` and ``viscosity``, every joint's that declares none, and per joint
+    ``[lubrication.joints.<J>]`` (or ``<J> = "dry"`` in ``[lubrication.joints]``)."""
+    default = _regime(table) if table.has("regime") or table.has("viscosity") else None
+    joints: dict[str, Lubrication] = {}
+    if table.has("joints"):
+        joints_table = table.table("joints")
+        for name in joints_table.names():
+            value = joints_table.data[name]
+            if isinstance(value, str):
+                joints[name] = _declared_lubrication(value, None, f"lubrication.joints.{name}")
+            else:
+                joints[name] = _regime(joints_table.name_table(name))
+        joints_table.finish()
+    table.finish()
+    return default, joints
+
+
+def _regime(table: _Table) -> Lubrication:
+    """The ``regime`` and ``viscosity`` of one lubrication table."""
+    viscosity = table.quantity("viscosity", "Pa*s", None)
+    return _declared_lubrication(table.text("regime", "oil"), viscosity, table.where)
+
+
+def _declared_lubrication(regime: str, viscosity: float | None, where: str) -> Lubrication:
+    """:class:`Lubrication` of ``regime`` and ``viscosity``, its errors naming ``where``."""
+    if regime not in REGIMES:
+        raise ConfigError(f"{where}: regime must be one of {', '.join(REGIMES)}, got {regime!r}")
+    try:
+        return Lubrication(regime, viscosity)
+    except ConfigError as exc:
+        raise ConfigError(f"{where}: {exc}") from None
 
 
 def _gravity(head: _Table) -> tuple[float, float]:

@@ -285,6 +285,66 @@ class JointFit:
             _positive("JointFit", "clearance", self.clearance, allow_zero=True)
 
 
+#: The lubrication regimes a pin joint may be declared in (docs/contact.md, "Lubrication,
+#: declared per joint"): dry steel on steel, an oil film, or a grease (whose film is its base
+#: oil's).
+REGIMES = ("dry", "oil", "grease")
+
+
+@dataclass(frozen=True)
+class Lubrication:
+    """How a pin joint is lubricated: its regime and its lubricant's viscosity.
+
+    Attributes:
+        regime: ``"dry"``, ``"oil"`` or ``"grease"`` (:data:`REGIMES`).
+        viscosity: the dynamic viscosity of the oil (of a grease's base oil) at the joint's
+            working temperature, Pa·s (> 0); ``None`` for ``dry``. An ``oil`` declared
+            without one takes the default lubricant's
+            (:data:`jointplay.dynamics.setup.DEFAULT_VISCOSITY`); a grease needs its base
+            oil's.
+    """
+
+    regime: str
+    viscosity: float | None = None
+
+    def __post_init__(self) -> None:
+        if self.regime not in REGIMES:
+            raise ConfigError(
+                f"lubrication must be one of {', '.join(REGIMES)}, got {self.regime!r}"
+            )
+        if self.viscosity is None:
+            if self.regime == "grease":
+                raise ConfigError(
+                    "lubrication 'grease' needs its base oil's viscosity, e.g. '0.15 Pa*s'"
+                )
+            return
+        value = self.viscosity
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            raise ConfigError(f"the lubricant's viscosity must be a number in Pa*s, got {value!r}")
+        if self.regime == "dry":
+            raise ConfigError(
+                "a dry joint has no lubricant: drop its viscosity, or declare it 'oil' or 'grease'"
+            )
+        if not (math.isfinite(value) and value > 0):
+            raise ConfigError(
+                f"the lubricant's viscosity must be > 0 Pa*s (a dry joint: 'dry'), got {value!r}"
+            )
+        object.__setattr__(self, "viscosity", float(value))
+
+    @property
+    def lubricated(self) -> bool:
+        """The joint runs in a film (oil or grease)."""
+        return self.regime != "dry"
+
+    def words(self) -> str:
+        """The regime in words: ``dry``, ``oil 0.05 Pa*s``, ``grease (base oil 0.15 Pa*s)``."""
+        if self.regime == "dry":
+            return "dry"
+        if self.regime == "grease":
+            return f"grease (base oil {self.viscosity:g} Pa*s)"
+        return "oil" if self.viscosity is None else f"oil {self.viscosity:g} Pa*s"
+
+
 @dataclass(frozen=True)
 class RevoluteJoint:
     """A pin joint: point ``point_a`` of ``link_a`` coincides with ``point_b`` of ``link_b``.
@@ -404,6 +464,9 @@ class Mechanism:
         tolerances: limit deviations of template lengths (data for tolerance studies).
         initial_angles: rough angles (rad) of links to start the general position solver
             from, for mechanisms without a template.
+        lubrication: the lubrication of every joint that declares none (``None``: the
+            contact's default, docs/contact.md, "Lubrication, declared per joint").
+        joint_lubrication: the declared lubrication of single revolute joints, by name.
     """
 
     name: str
@@ -417,9 +480,12 @@ class Mechanism:
     materials: Mapping[str, Material] = field(default_factory=dict)
     tolerances: tuple[LengthTolerance, ...] = ()
     initial_angles: Mapping[str, float] = field(default_factory=dict)
+    lubrication: Lubrication | None = None
+    joint_lubrication: Mapping[str, Lubrication] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "materials", FrozenMap(dict(self.materials)))
+        object.__setattr__(self, "joint_lubrication", FrozenMap(dict(self.joint_lubrication)))
         object.__setattr__(self, "initial_angles", FrozenMap(dict(self.initial_angles)))
         object.__setattr__(self, "gravity", _point("Mechanism", "gravity", self.gravity))
         check_gravity(self.gravity, "Mechanism: gravity")
@@ -453,11 +519,23 @@ class Mechanism:
                 f"Driver: joint {self.driver.joint!r} must be a revolute joint between the ground "
                 f"and the driven link {self.driver.link!r}"
             )
+        revolute = [j.name for j in self.joints if isinstance(j, RevoluteJoint)]
+        for declared in self.joint_lubrication:
+            if declared not in revolute:
+                raise ConfigError(
+                    f"lubrication.joints: no revolute joint {declared!r} in {self.name!r}; its "
+                    f"revolute joints: {', '.join(revolute)}"
+                )
         if self.degrees_of_freedom != 1:
             raise ConfigError(
                 f"Mechanism {self.name!r} has {self.degrees_of_freedom} degrees of freedom "
                 "(Gruebler); jointplay drives single-degree-of-freedom mechanisms"
             )
+
+    def lubrication_of(self, joint: str) -> Lubrication | None:
+        """The declared lubrication of joint ``joint``: its own, else the mechanism's
+        (``None``: none declared)."""
+        return self.joint_lubrication.get(joint, self.lubrication)
 
     @property
     def degrees_of_freedom(self) -> int:

@@ -270,7 +270,7 @@ def rebuild(mechanism: Mechanism, **changes: object) -> Mechanism:
     spec = replace(template_of(mechanism), **changes)  # type: ignore[arg-type]
     driver = mechanism.driver
     builder = _BUILDERS[spec.geometry.kind]
-    return builder(
+    rebuilt = builder(
         spec.geometry,
         speed=driver.speed,
         bodies=spec.bodies,
@@ -283,6 +283,11 @@ def rebuild(mechanism: Mechanism, **changes: object) -> Mechanism:
         fits=spec.fits,
         tolerances=mechanism.tolerances,
         name=mechanism.name,
+    )
+    return replace(  # the declared lubrication is the joints', not the geometry's
+        rebuilt,
+        lubrication=mechanism.lubrication,
+        joint_lubrication=mechanism.joint_lubrication,
     )
 
 

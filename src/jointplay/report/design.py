@@ -459,8 +459,11 @@ def write_wear(
     plots: bool = True,
     provenance: Mapping[str, Any] | None = None,
     figure_format: str = "png",
+    lubrication: Mapping[str, Any] | None = None,
 ) -> list[Path]:
-    """Write the wear life's files into ``folder`` (existing); returns them."""
+    """Write the wear life's files into ``folder`` (existing); returns them. ``lubrication``:
+    the regime each joint ran in (``summary.json``'s ``lubrication``,
+    :meth:`jointplay.dynamics.setup.ContactModel.joint_lubrication`)."""
     folder = Path(folder)
     written = [folder / "wear.csv", folder / "profiles.csv", folder / "summary.json"]
     write_csv(history.to_dataframe(), written[0], float_format=None)
@@ -471,6 +474,8 @@ def write_wear(
         profiles[f"journal_{name}_m"] = history.journal_profile[name]
     write_csv(pd.DataFrame(profiles), written[1], float_format=None)
     summary = history.summary()
+    if lubrication is not None:
+        summary["lubrication"] = dict(lubrication)
     if provenance is not None:
         summary["provenance"] = dict(provenance)
     write_json(written[2], summary)

@@ -321,6 +321,13 @@ class DesignResult:
         return text
 
     @property
+    def lubrication(self) -> str:
+        """The joints' lubrication in words, as the dynamic model ran them (``lubricated,
+        0.05 Pa*s oil``, ``dry``; empty for a kinematic design)."""
+        model = self.settings.get("model", {})
+        return str(model.get("lubrication_text", "")) if isinstance(model, Mapping) else ""
+
+    @property
     def verdict(self) -> str:
         """The answer in one sentence."""
         if self.interrupted:
@@ -331,6 +338,8 @@ class DesignResult:
             )
         if self.best is not None:
             text = f"cheapest scheme shown to meet every requirement: {self.best}"
+            if self.lubrication:
+                text += f" — {self.lubrication}"
         elif not len(self.table):
             return "no finished scheme"
         elif (self.table["verdict"] == "fails").all():

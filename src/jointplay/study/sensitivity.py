@@ -68,12 +68,16 @@ def model_cases(contact: ContactModel) -> tuple[ModelCase, ...]:
                 ModelCase("friction", mu, dataclasses.replace(contact, friction=changed_friction))
             )
     if contact.lubricated:
-        dry = dataclasses.replace(contact, film_damping=0.0)
+        named = None if contact.lubrication is None else "dry"
+        dry = dataclasses.replace(contact, film_damping=0.0, lubrication=named)
         cases.append(ModelCase("lubrication", "dry", dry))
     if contact.fixed_film is None:  # from the geometry: the lubricant's range
+        regime = None if contact.lubrication == "dry" else contact.lubrication
         for viscosity in VISCOSITY_RANGE:
-            if viscosity != contact.lubricant_viscosity:
-                changed_contact = dataclasses.replace(contact, lubricant_viscosity=viscosity)
+            if viscosity != contact.viscosity:
+                changed_contact = dataclasses.replace(
+                    contact, lubricant_viscosity=viscosity, lubrication=regime
+                )
                 cases.append(ModelCase("lubricant_viscosity", viscosity, changed_contact))
     else:
         for film in FILM_DAMPING_RANGE:

@@ -115,6 +115,8 @@ class DynamicResponses:
     capture_speed: float = 0.0
     film_damping: float = 0.0
     film_from: Mapping[str, JointFilm] = field(default_factory=dict)
+    lubrication: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
+    lubrication_text: str = ""
 
     #: Rough cost of one sample on one core (the conventional four-bar, one revolution), s:
     #: the execution backend starts worker processes only when they pay for themselves.
@@ -247,6 +249,8 @@ class DynamicResponses:
         return {
             "model": "clearance-joint dynamics (batch engine, jointplay.dynamics.batch)",
             "contact": self.contact_text,
+            **({"lubrication": dict(self.lubrication)} if self.lubrication else {}),
+            **({"lubrication_text": self.lubrication_text} if self.lubrication_text else {}),
             "method": choice.method,
             "method_reason": choice.reason,
             "clearance_joints": list(self.clearance_joints),
@@ -738,12 +742,16 @@ def contact_parts(mechanism: Mechanism, contact: ContactModel) -> dict[str, Any]
 
 
 def _film_parts(mechanism: Mechanism, contact: ContactModel) -> dict[str, Any]:
-    """The ``capture_speed``, ``film_damping`` and ``film_from`` of ``contact``."""
+    """The ``capture_speed``, ``film_damping``, ``film_from`` and ``lubrication`` (in words,
+    over the joints with a fit) of ``contact``."""
     films = {j.name: contact.film_of(mechanism, j.name) for j in mechanism.revolute_joints}
+    fitted = [j.name for j in mechanism.revolute_joints if j.fit is not None]
     return {
         "capture_speed": contact.capture,
         "film_damping": contact.fixed_film or 0.0,
         "film_from": {name: rule for name, rule in films.items() if rule is not None},
+        "lubrication": contact.lubrication_table(mechanism, fitted),
+        "lubrication_text": contact.regime_words(mechanism, fitted) if fitted else "",
     }
 
 

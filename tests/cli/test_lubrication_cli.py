@@ -1,0 +1,79 @@
+"""Lubrication on the command line (issue 39, item 3): a dry law named runs dry unless a
+lubricant is named with it, the command line and the Python API run the same physics for the
+same arguments, and the run says which regime every joint ran in."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from jointplay.cli import run
+from jointplay.dynamics.settings import RunSettings, simulate_run
+from jointplay.dynamics.setup import ContactModel, ContactSettings, FrictionSettings
+from jointplay.model.mechanism import Mechanism
+
+PEAKS = ("omega3", "omega4", "F_O2", "F_A", "F_B", "F_O4", "torque")
+SHORT = ["--revolutions", "0.1", "--settle", "0", "--no-plots"]
+
+
+def test_the_command_line_and_the_python_api_run_the_same_dry_law(
+    tmp_path: Path, paper_fourbar: Mechanism, capsys: pytest.CaptureFixture[str]
+) -> None:
+    out = tmp_path / "cli"
+    law = ["--contact", "lankarani-nikravesh", "--friction", "0"]
+    assert run(["simulate", *law, *SHORT, "--out", str(out)]) == 0
+    printed = capsys.readouterr().out.splitlines()
+    assert printed[0] == "lubrication: dry (O2, A, B, O4)", printed[:3]
+    summary = json.loads((out / "summary.json").read_text())
+    assert {entry["regime"] for entry in summary["lubrication"].values()} == {"dry"}
+    assert all(j["film_damping_N_s_m"] == 0.0 for j in summary["clearance_joints"].values())
+    contact = ContactModel(ContactSettings(law="lankarani-nikravesh"), FrictionSettings())
+    result = simulate_run(paper_fourbar, None, RunSettings(contact, settle=0, revolutions=0.1))
+    for key in PEAKS:
+        assert summary["peaks"][key]["value"] == pytest.approx(
+            result.peaks[key]["value"], rel=1e-9, abs=1e-12
+        ), key
+
+
+def test_a_lubricant_named_with_the_law_runs_in_its_film(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    out = tmp_path / "oiled"
+    law = ["--contact", "lankarani-nikravesh", "--lubrication", "oil"]
+    assert run(["simulate", *law, *SHORT, "--out", str(out)]) == 0
+    assert capsys.readouterr().out.splitlines()[0] == (
+        "lubrication: lubricated, 0.05 Pa*s oil (O2, A, B, O4)"
+    )
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["lubrication"]["A"] == {
+        "regime": "oil", "viscosity_Pa_s": 0.05, "film_model": "linear",
+        "film_damping_N_s_m": summary["clearance_joints"]["A"]["film_damping_N_s_m"],
+        "declared": "command",
+    }  # fmt: skip
+    assert summary["lubrication"]["A"]["film_damping_N_s_m"] > 0
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--lubrication", "wet"], "--lubrication must be one of dry, oil, grease, got 'wet'"),
+        (
+            ["--lubrication", "dry", "--lubricant-viscosity", "0.05 Pa*s"],
+            "--lubrication dry runs the joints without a film: drop --lubricant-viscosity",
+        ),
+        (["--lubricant-viscosity", "-1 Pa*s"], "--lubricant-viscosity must be >= 0"),
+        (["--lubrication", "grease"], "--lubrication grease needs its base oil's viscosity"),
+    ],
+)
+def test_bad_lubrication_is_one_line_and_exit_2(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], args: list[str], message: str
+) -> None:
+    wear = ["wear", "--hours", "600 h", "--clearance-limit", "+20 um"]
+    for command in (["simulate"], wear, ["tolerance", "--responses", "dynamic"]):
+        out = tmp_path / command[0]
+        assert run([*command, *args, "--out", str(out)]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and message in err[0], err
+        assert not out.exists()

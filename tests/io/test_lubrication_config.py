@@ -1,0 +1,90 @@
+"""The ``[lubrication]`` table of a mechanism file: a regime for every joint and per joint
+(issue 39, item 3); bad entries are one line naming the table, and exit 2 on the command
+line with nothing written."""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+
+import pytest
+
+from jointplay.cli import run
+from jointplay.errors import ConfigError
+from jointplay.io.config import load_config, parse_config, preset_text
+from jointplay.model.mechanism import Lubrication
+
+DECLARED = """
+[lubrication]
+regime = "oil"
+viscosity = "68 mPa*s"
+
+[lubrication.joints.O2]
+regime = "grease"
+viscosity = "0.15 Pa*s"
+
+[lubrication.joints]
+B = "dry"
+"""
+
+
+def _paper(extra: str) -> dict:
+    return tomllib.loads(preset_text("paper-fourbar") + extra)
+
+
+def test_the_table_declares_each_joint_and_a_default() -> None:
+    mechanism = parse_config(_paper(DECLARED))
+    assert mechanism.lubrication is not None and mechanism.lubrication.regime == "oil"
+    assert mechanism.lubrication.viscosity == pytest.approx(0.068)
+    assert mechanism.lubrication_of("O2") == Lubrication("grease", 0.15)
+    assert mechanism.lubrication_of("B") == Lubrication("dry")
+    assert mechanism.lubrication_of("A") == mechanism.lubrication  # the mechanism's
+    plain = parse_config(_paper('\n[lubrication]\nregime = "dry"\n'))
+    assert plain.lubrication == Lubrication("dry") and not plain.joint_lubrication
+    assert parse_config(_paper("")).lubrication is None  # nothing declared
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (
+            '\n[lubrication]\nregime = "wet"\n',
+            "lubrication: regime must be one of dry, oil, grease, got 'wet'",
+        ),
+        (
+            '\n[lubrication]\nregime = "dry"\nviscosity = "0.05 Pa*s"\n',
+            "lubrication: a dry joint has no lubricant",
+        ),
+        (
+            '\n[lubrication.joints.A]\nviscosity = "-0.05 Pa*s"\n',
+            "lubrication.joints.A: the lubricant's viscosity must be > 0 Pa*s",
+        ),
+        (
+            '\n[lubrication.joints.Q]\nregime = "dry"\n',
+            "lubrication.joints: no revolute joint 'Q' in 'paper-fourbar'",
+        ),
+        ('\n[lubrication]\ngrade = "VG 46"\n', "grade"),
+        ('\n[lubrication.joints]\nA = "grease"\n', "base oil's viscosity"),
+    ],
+)
+def test_bad_declarations_name_the_table(extra: str, message: str) -> None:
+    with pytest.raises(ConfigError, match=message.replace("*", r"\*").replace("(", r"\(")):
+        parse_config(_paper(extra), source="my.toml")
+
+
+def test_a_bad_declaration_is_one_line_and_exit_2(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    config = tmp_path / "bad.toml"
+    config.write_text(preset_text("paper-fourbar") + '\n[lubrication.joints.Q]\nregime = "dry"\n')
+    out = tmp_path / "out"
+    assert run(["simulate", "--config", str(config), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "no revolute joint 'Q'" in err[0], err
+    assert not out.exists()
+
+
+def test_a_copied_file_keeps_its_declaration(tmp_path: Path) -> None:
+    path = tmp_path / "m.toml"
+    path.write_text(preset_text("paper-fourbar") + DECLARED)
+    assert load_config(path).lubrication_of("B") == Lubrication("dry")
