@@ -34,7 +34,7 @@ from jointplay.dynamics.clearance import (
     stiffness_field,
 )
 from jointplay.dynamics.cycles import analysed_revolutions, settle_revolutions
-from jointplay.dynamics.simulate import SolverOptions, Start, initial_state
+from jointplay.dynamics.simulate import SolverOptions, Start, initial_state, start_constraints
 from jointplay.dynamics.system import PARAMS_WIDTH, System, build_system
 from jointplay.errors import ConfigError, JointplayError
 from jointplay.kinematics import fourbar, slidercrank
@@ -667,7 +667,8 @@ def _initial_states(
 ) -> FloatArray:
     """:func:`initial_state` for every sample: the closed-form assembly at the start angle
     (:func:`jointplay.kinematics.analysis.analyse`), velocities per ``start``, projected onto
-    the ideal constraints and the driver."""
+    the ideal constraints, the driver and the lubricated clearance joints
+    (:func:`~jointplay.dynamics.simulate.start_constraints`)."""
     mechanism = system0.mechanism
     flat0 = system0.flat
     n = len(omega)
@@ -714,7 +715,8 @@ def _initial_states(
     # the driver of the packed model (off when not driven), as initial_state projects
     model_driver = driver.copy()
     model_driver[:, 0] = system0.model.driver[0]
-    _project(q0, qd0, flat0.joint_int, joint_f, system0.flat.active, model_driver, mass_vector)
+    active = start_constraints(system0)  # the ideal joints and the lubricated ones
+    _project(q0, qd0, flat0.joint_int, joint_f, active, model_driver, mass_vector)
     nc = len(system0.clearances)
     return np.concatenate([q0, qd0, np.zeros((n, 2 + nc))], axis=1)
 

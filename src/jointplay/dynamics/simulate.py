@@ -385,8 +385,26 @@ def _law_fields(law: object) -> dict[str, Any]:
     return {k: v for k, v in vars(law).items() if not k.startswith("_")}
 
 
+def start_constraints(system: System) -> NDArray[np.int64]:
+    """The joints a start's velocities are projected onto (1 per joint of the flat model):
+    the ideal joints and every lubricated clearance joint (docs/contact.md, "A start
+    consistent with the film"). A pin centred in its film starts moving with its bearing: a
+    film admits no finite relative velocity ė of the centres at t = 0 (its force −c_e ė
+    would be an impulse, ~2e5 N for the paper's pins at a rest start's 2.3 m/s), so the
+    start's impulse passes through the lubricated joints as through ideal ones. A dry pin
+    keeps the start's ė and crosses its clearance (the paper's start-up impacts)."""
+    active = np.array(system.flat.active, dtype=np.int64, copy=True)
+    filmed = {c.joint for c in system.clearances if c.film_damping > 0}
+    for row, name in enumerate(system.flat.joint_names):
+        if name in filmed:
+            active[row] = 1
+    return active
+
+
 def initial_state(system: System, start: Start) -> FloatArray:
-    """y0: nominal assembly with every pin centred in its bearing, velocities per ``start``."""
+    """y0: nominal assembly with every pin centred in its bearing, velocities per ``start``,
+    projected onto the ideal joints, the driver and the lubricated clearance joints
+    (:func:`start_constraints`: each lubricated pin starts with ė = 0)."""
     mechanism = system.mechanism
     kin = analyse(mechanism, np.array([mechanism.driver.start_angle]))
     q0 = kin.q[0].copy()
@@ -404,9 +422,10 @@ def initial_state(system: System, start: Start) -> FloatArray:
     flat = system.flat
     # The ideal constraints (and the driver): project the velocities onto them, mass-weighted
     # — the velocity change an impulsive start gives (q̇ ← q̇ − M⁻¹Φqᵀ(ΦqM⁻¹Φqᵀ)⁻¹(Φq q̇ − ν)).
-    phi_q = ck.jacobian(q0, flat.joint_int, flat.joint_f, flat.active, flat.driver)
+    active = start_constraints(system)
+    phi_q = ck.jacobian(q0, flat.joint_int, flat.joint_f, active, flat.driver)
     if phi_q.shape[0]:
-        nu = ck.velocity_rhs(0.0, flat.active, flat.driver)
+        nu = ck.velocity_rhs(0.0, active, flat.driver)
         inv_mass = 1.0 / flat.mass_vector()
         weighted = phi_q * inv_mass
         qd0 -= inv_mass * (phi_q.T @ np.linalg.solve(weighted @ phi_q.T, phi_q @ qd0 - nu))
