@@ -48,10 +48,11 @@ StartMode = Literal["rest", "impulsive", "steady", "ramp"]
 #: The start modes and their initial states (pins centred in their bearings in every mode).
 START_MODES = {
     "rest": "every link at rest except the crank, which turns about its pivot at full speed "
-    "(the paper's case)",
+    "(the paper's case), projected through the ideal and the lubricated joints (a lubricated "
+    "pin starts moving with its bearing)",
     "impulsive": "the outcome of an impulsive start from rest: zero velocities projected, "
-    "mass-weighted, onto the driver constraint (and the ideal joints), so the crank at first "
-    "spins about its centre of mass",
+    "mass-weighted, onto the driver constraint (and the ideal and lubricated joints), so with "
+    "every joint dry the crank at first spins about its centre of mass",
     "steady": "every link moving as in the nominal (ideal-joint) mechanism",
     "ramp": "everything at rest, the crank speed rising smoothly (quintic STEP5) to full "
     "speed over ramp_time",
