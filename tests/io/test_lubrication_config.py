@@ -88,3 +88,21 @@ def test_a_copied_file_keeps_its_declaration(tmp_path: Path) -> None:
     path = tmp_path / "m.toml"
     path.write_text(preset_text("paper-fourbar") + DECLARED)
     assert load_config(path).lubrication_of("B") == Lubrication("dry")
+
+
+@pytest.mark.parametrize("name", ["paper-fourbar", "general-fourbar", "flores-slider-crank"])
+def test_each_presets_lubrication_example_reads(name: str) -> None:
+    """The presets declare nothing (the default holds) and show the table commented out:
+    uncommented, it reads."""
+    text = preset_text(name)
+    assert parse_config(tomllib.loads(text)).lubrication is None
+    lines = text.splitlines()
+    start = next(i for i, line in enumerate(lines) if line.startswith("#   [lubrication]"))
+    example = []
+    for line in lines[start:]:
+        if not line.startswith("#   "):
+            break
+        example.append(line.removeprefix("#   "))
+    mechanism = parse_config(tomllib.loads(text + "\n" + "\n".join(example) + "\n"))
+    assert mechanism.lubrication == Lubrication("oil", 0.05)
+    assert [lub.regime for lub in mechanism.joint_lubrication.values()] == ["grease"]
