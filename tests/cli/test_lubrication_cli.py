@@ -77,3 +77,35 @@ def test_bad_lubrication_is_one_line_and_exit_2(
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and message in err[0], err
         assert not out.exists()
+
+
+def test_every_dynamic_command_states_the_regime_first(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``wear``, ``tolerance`` and ``design`` open with the regime, write it per joint in
+    ``summary.json``, and the design's choice says it."""
+    wear = ["wear", "--fit", "H8/g7", "--clearance-limit", "+20 um", "--hours", "10 h",
+            "--update-hours", "10 h", "--lubrication", "dry", "--no-plots"]  # fmt: skip
+    assert run([*wear, "--out", str(tmp_path / "wear")]) == 0
+    assert capsys.readouterr().out.splitlines()[0] == "lubrication: dry (O2, A, B, O4)"
+    summary = json.loads((tmp_path / "wear" / "summary.json").read_text())
+    assert summary["lubrication"]["A"]["regime"] == "dry"
+    assert summary["lubrication"]["A"]["declared"] == "command"
+    tolerance = ["tolerance", "--responses", "dynamic", "--samples", "2", "--no-plots"]
+    assert run([*tolerance, "--out", str(tmp_path / "tolerance")]) == 0
+    oil = "lubrication: lubricated, 0.05 Pa*s oil (O2, A, B, O4)"
+    assert capsys.readouterr().out.splitlines()[0] == oil
+    summary = json.loads((tmp_path / "tolerance" / "summary.json").read_text())
+    described = json.dumps(summary)
+    assert '"lubrication_text": "lubricated, 0.05 Pa*s oil"' in described
+    design = ["design", "--fits", "H8/g7", "--classes", "m", "--require", "joint_force <= 1 kN",
+              "--samples", "2", "--confidence", "10 %", "--no-model-sensitivity", "--no-plots"]  # fmt: skip
+    assert run([*design, "--out", str(tmp_path / "design")]) == 0
+    printed = capsys.readouterr().out.splitlines()
+    assert printed[0] == oil
+    chosen = [line for line in printed if line.startswith("choose ")]
+    assert chosen and chosen[0].startswith("choose H8/g7 / m — lubricated, 0.05 Pa*s oil: "), (
+        printed
+    )
+    summary = json.loads((tmp_path / "design" / "summary.json").read_text())
+    assert summary["verdict"].endswith("H8/g7 / m — lubricated, 0.05 Pa*s oil"), summary["verdict"]
