@@ -145,15 +145,14 @@ CONTACT_SETTINGS: tuple[Setting, ...] = (
             "Friction law: ambrosio (regularised Coulomb, default) or adams (STEP mu(v)).",
             named="friction_law"),
     Setting("lubricant_viscosity", "--lubricant-viscosity", "lubricant_viscosity", "model",
-            "Lubricant, '0.05 Pa*s' (default; sets each joint's film damping); 0: dry.",
+            "Lubricant, '0.05 Pa*s' (default); 0: dry.",
             unit="Pa*s"),
     Setting("film_damping", "--film-damping", "film_damping", "model",
             "Or a fixed film damping ('1e4 N*s/m').", unit="N*s/m"),
     Setting("film_model", "--film-model", "film_model", "model",
             "Film: linear (damper, default), Reynolds short-bearing-pi or -full."),
     Setting("lubrication", "--lubrication", "lubrication", "model",
-            "Every joint dry, oil or grease (default: each joint's [lubrication]; else oil, "
-            "dry with a --contact law named).", with_method=True),
+            "Every joint: dry, oil or grease.", with_method=True),
 )
 # fmt: on
 
