@@ -125,3 +125,12 @@ def test_a_declaration_is_checked() -> None:
         Lubrication("oil", -0.05)
     with pytest.raises(ConfigError, match="base oil's viscosity"):
         Lubrication("grease")
+
+
+def test_the_contact_text_defers_to_the_declarations(paper_fourbar: Mechanism) -> None:
+    declared = dataclasses.replace(paper_fourbar, joint_lubrication={"A": Lubrication("dry")})
+    named = ContactModel(ContactSettings(law="hertz"))
+    text = named.describe(declared)["text"]
+    assert "as the mechanism declares" in text and "undeclared joints dry" in text
+    assert "dry joints" in named.describe(paper_fourbar)["text"]  # nothing declared
+    assert "dry joints" in ContactModel(lubrication="dry").describe(declared)["text"]

@@ -203,7 +203,7 @@ def simulate_command(
         write_table(result.timeseries, folder, "timeseries", fmt_value)
         write_table(result.steps, folder, "steps", fmt_value)
         summary = simulation_summary(result, record)
-        summary["contact"] = contact_used.describe()
+        summary["contact"] = contact_used.describe(mechanism)
         summary["lubrication"] = contact_used.joint_lubrication(mechanism, clear)
         summary["diagnostics"] = [finding.as_dict() for finding in findings]
         write_json(folder / "summary.json", summary)
@@ -230,7 +230,7 @@ def simulate_command(
                 title=mechanism.name,
                 figure_format=figure_format,
             )
-    print(f"contact: {contact_used.describe()['text']}")
+    print(f"contact: {contact_used.describe(mechanism)['text']}")
     _print(result, findings, Path(out))
 
 

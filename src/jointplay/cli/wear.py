@@ -158,7 +158,9 @@ def wear_command(
             history,
             folder,
             plots=plots,
-            provenance=provenance({**history.summary(), "contact": contact_used.describe()}),
+            provenance=provenance(
+                {**history.summary(), "contact": contact_used.describe(mechanism)}
+            ),
             lubrication=lubrication,
             figure_format=figure_format,
         )

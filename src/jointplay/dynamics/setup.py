@@ -533,9 +533,11 @@ class ContactModel:
             return joints
         return [dataclasses.replace(joint, capture_speed=self.capture) for joint in joints]
 
-    def describe(self) -> dict[str, Any]:
+    def describe(self, mechanism: Mechanism | None = None) -> dict[str, Any]:
         """The contact used, for ``summary.json`` and the reports: ``text`` in words, the
-        method, the law's settings and the friction."""
+        method, the law's settings and the friction; with ``mechanism``, whose file declares
+        lubrication this contact does not override, the text says the joints run as
+        declared (:meth:`joint_lubrication` gives each)."""
         if self.law is not None:
             text = f"the paper's method {self.method}" if self.method else f"{self.law.name} law"
         else:
@@ -549,7 +551,15 @@ class ContactModel:
         if self.sustained_contact:
             text += f"; sustained contact (captured below {self.capture * 1e3:g} mm/s)"
         fixed = self.fixed_film
-        if not self.lubricated:
+        declares = mechanism is not None and bool(
+            mechanism.lubrication or mechanism.joint_lubrication
+        )
+        if declares and not self.overrides:
+            text += (
+                "; each joint lubricated as the mechanism declares ([lubrication]; "
+                f"undeclared joints {self.regime})"
+            )
+        elif not self.lubricated:
             text += "; dry joints (no film damping)"
         elif self.film_model != "linear":  # a Reynolds film: from the geometry, uncapped
             text += (
