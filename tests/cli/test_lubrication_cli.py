@@ -109,3 +109,30 @@ def test_every_dynamic_command_states_the_regime_first(
     )
     summary = json.loads((tmp_path / "design" / "summary.json").read_text())
     assert summary["verdict"].endswith("H8/g7 / m — lubricated, 0.05 Pa*s oil"), summary["verdict"]
+
+
+def test_the_mechanism_file_declares_each_joint(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from jointplay.io.config import preset_text
+
+    config = tmp_path / "m.toml"
+    config.write_text(
+        preset_text("paper-fourbar")
+        + '\n[lubrication.joints.A]\nregime = "grease"\nviscosity = "0.15 Pa*s"\n'
+    )
+    out = tmp_path / "declared"
+    args = ["simulate", "--config", str(config), "--contact", "hertz", *SHORT]
+    assert run([*args, "--out", str(out)]) == 0
+    printed = capsys.readouterr().out.splitlines()
+    assert printed[0] == "lubrication: O2, B, O4 dry; A lubricated, 0.15 Pa*s grease base oil"
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["lubrication"]["A"]["declared"] == "mechanism"
+    assert summary["lubrication"]["A"]["viscosity_Pa_s"] == 0.15
+    assert summary["lubrication"]["B"] == {
+        "regime": "dry", "viscosity_Pa_s": None, "film_model": None,
+        "film_damping_N_s_m": 0.0, "declared": "default",
+    }  # fmt: skip
+    # the command's lubrication over the file's
+    assert run([*args, "--lubrication", "dry", "--out", str(tmp_path / "dry")]) == 0
+    assert capsys.readouterr().out.splitlines()[0] == "lubrication: dry (O2, A, B, O4)"
