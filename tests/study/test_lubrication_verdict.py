@@ -24,12 +24,18 @@ TABLE = pd.DataFrame(
 )
 
 
-def _verdict(mechanism: Mechanism, contact: ContactModel) -> str:
+def _verdict(
+    mechanism: Mechanism,
+    contact: ContactModel,
+    table: pd.DataFrame = TABLE,
+    best: str | None = "H9/d9 / c",
+) -> str:
     names = ("clearance_O2", "clearance_A", "clearance_B", "clearance_O4")
     model = run_model(mechanism, names, RunSettings(contact))
     settings = {"model": model.describe()}
+    binding = None if best else "joint_force <= 150 N"
     result = DesignResult(
-        mechanism, "dynamic", (), 0.9973, TABLE, pd.DataFrame(), "H9/d9 / c", None, False,
+        mechanism, "dynamic", (), 0.9973, table, pd.DataFrame(), best, binding, False,
         settings=settings,
     )  # fmt: skip
     return result.verdict
@@ -41,6 +47,10 @@ def test_the_verdict_says_the_regime(paper_fourbar: Mechanism) -> None:
     )
     assert _verdict(paper_fourbar, ContactModel(lubrication="dry")) == (
         "cheapest scheme shown to meet every requirement: H9/d9 / c — dry"
+    )
+    failed = TABLE.assign(verdict=["fails"], feasible=[False])
+    assert _verdict(paper_fourbar, ContactModel(lubrication="dry"), failed, None) == (
+        "every scheme fails — dry; binding requirement: joint_force <= 150 N"
     )
 
 

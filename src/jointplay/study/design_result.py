@@ -329,26 +329,26 @@ class DesignResult:
 
     @property
     def verdict(self) -> str:
-        """The answer in one sentence."""
+        """The answer in one sentence; a dynamic design's says the joints' lubrication
+        (``— lubricated, 0.05 Pa*s oil``, ``— dry``: :attr:`lubrication`)."""
         if self.interrupted:
             return (
                 f"interrupted: {len(self.table)} of {self.settings.get('schemes', '?')} schemes "
                 "with finished rounds; no recommendation from some of the schemes (run the "
                 "study again)"
             )
+        regime = f" — {self.lubrication}" if self.lubrication else ""
         if self.best is not None:
-            text = f"cheapest scheme shown to meet every requirement: {self.best}"
-            if self.lubrication:
-                text += f" — {self.lubrication}"
+            text = f"cheapest scheme shown to meet every requirement: {self.best}{regime}"
         elif not len(self.table):
             return "no finished scheme"
         elif (self.table["verdict"] == "fails").all():
-            text = "every scheme fails"
+            text = f"every scheme fails{regime}"
             if self.binding is not None:
                 text += f"; binding requirement: {self.binding}"
             return text
         else:
-            text = "no scheme is shown to meet every requirement"
+            text = f"no scheme is shown to meet every requirement{regime}"
             if self.binding is not None:
                 text += f"; binding requirement: {self.binding}"
         if self.to_decide is not None:
