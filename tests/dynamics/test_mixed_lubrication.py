@@ -1,0 +1,83 @@
+"""The film-to-contact transition in a simulation (docs/contact.md, "The film-to-contact
+transition"): the paper four-bar at 21 µm in every joint under the π-film, O2 with a rough
+pin and hole (σ = 3 µm: its asperities touch where its film thins to 9 µm), the other joints
+smooth (σ = 0: the film alone up to the wall). O2 runs in mixed lubrication, its dry law and
+friction carrying the asperities' share; the others in full film, their contact force zero;
+the energy balance closes; the regimes reach ``summary.json``."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from jointplay.dynamics.regimes import joint_regime, regime_line
+from jointplay.dynamics.setup import ContactModel
+from jointplay.dynamics.simulate import SimulationResult, SolverOptions, Start, simulate
+from jointplay.io.config import load_preset
+
+JOINTS = ("O2", "A", "B", "O4")
+
+
+@pytest.fixture(scope="module")
+def rough_o2() -> SimulationResult:
+    mechanism = load_preset("paper-fourbar")
+    contact = ContactModel(film_model="short-bearing-pi", roughness=0.0)
+    joints = [
+        dataclasses.replace(j.with_clearance(21e-6), roughness=3e-6 if j.joint == "O2" else 0.0)
+        for j in contact.joints(mechanism)
+    ]
+    return simulate(
+        mechanism, joints, revolutions=0.5, settle=0, start=Start("steady"),
+        solver=SolverOptions(rtol=1e-8),
+    )  # fmt: skip
+
+
+def test_two_joints_with_different_roughness_behave_differently(
+    rough_o2: SimulationResult,
+) -> None:
+    """O2's asperities carry load (F_N > 0 where its film is thinner than 3σ = 9 µm), the
+    smooth joints' contact force stays 0 (their films never reach the wall)."""
+    steps = rough_o2.steps
+    assert steps["Fn_O2"].max() > 0.0
+    h_o2 = 21e-6 - np.hypot(steps["ex_O2"], steps["ey_O2"])
+    assert np.all(steps["Fn_O2"][h_o2 > 9e-6] == 0.0)
+    for joint in JOINTS[1:]:
+        assert steps[f"Fn_{joint}"].max() == 0.0
+    regimes = rough_o2.film_regimes
+    assert regimes["O2"] is not None and regimes["O2"].full_film < 1.0
+    for joint in JOINTS[1:]:
+        regime = regimes[joint]
+        assert regime is not None and regime.full_film == 1.0 and regime.h_min > 0
+
+
+def test_the_energy_balance_closes_in_mixed_lubrication(rough_o2: SimulationResult) -> None:
+    """KE + V − W_motor + W_contact constant: the asperities' power (dry law and friction)
+    and the film's faded share both in W_contact."""
+    assert rough_o2.success
+    assert rough_o2.solver_stats["energy_residual"] < 1e-5
+
+
+def test_the_regimes_reach_the_summary(rough_o2: SimulationResult) -> None:
+    summary = rough_o2.summary()["film_regimes"]
+    assert set(summary) == set(JOINTS)
+    o2 = summary["O2"]
+    assert o2["full_film"] + o2["mixed"] + o2["boundary"] == pytest.approx(1.0)
+    assert o2["roughness_m"] == 3e-6
+    assert o2["thresholds_lambda"] == {"full_film": 3.0, "boundary": 1.0}
+
+
+def test_the_regime_fractions_count_time_by_lambda() -> None:
+    """Half the time at λ = 5, a quarter at λ = 2, a quarter at λ = 0.5 (σ = 1 µm, c = 21 µm):
+    fractions 1/2, 1/4, 1/4, h_min the smallest; a dry joint has none."""
+    contact = ContactModel(film_model="short-bearing-pi", roughness="1 um")
+    joint = contact.joints(load_preset("paper-fourbar"), ["O2"], clearance=21e-6)[0]
+    assert joint.roughness == pytest.approx(1e-6)
+    t = np.arange(9) * 0.25
+    h = np.array([5, 5, 5, 5, 2, 2, 0.5, 0.5, 0.5]) * 1e-6  # by the intervals' midpoints
+    regime = joint_regime(joint, t, 21e-6 - h, np.zeros_like(h))
+    assert (regime.full_film, regime.mixed, regime.boundary) == pytest.approx((0.5, 0.25, 0.25))
+    assert regime.h_min == pytest.approx(0.5e-6)
+    assert "full film 50 %" in regime_line("O2", regime)
+    assert regime_line("O2", None) == "O2: dry (no lubricant)"
