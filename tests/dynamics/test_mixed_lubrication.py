@@ -81,3 +81,28 @@ def test_the_regime_fractions_count_time_by_lambda() -> None:
     assert regime.h_min == pytest.approx(0.5e-6)
     assert "full film 50 %" in regime_line("O2", regime)
     assert regime_line("O2", None) == "O2: dry (no lubricant)"
+
+
+def test_simulate_prints_and_writes_the_regimes(tmp_path, capsys) -> None:
+    """``jointplay simulate --film-model short-bearing-pi --roughness "3 um"``: one regime line
+    per joint after the run, the same fractions in summary.json."""
+    import json
+    import re
+
+    from jointplay.cli import run
+
+    out = tmp_path / "run"
+    status = run(
+        ["simulate", "--revolutions", "0.5", "--settle", "0", "--film-model",
+         "short-bearing-pi", "--roughness", "3 um", "--no-plots", "--out", str(out)]
+    )  # fmt: skip
+    text = capsys.readouterr().out
+    assert status == 0, text
+    summary = json.loads((out / "summary.json").read_text(encoding="utf-8"))
+    for name in JOINTS:
+        regime = summary["film_regimes"][name]
+        assert regime["roughness_m"] == pytest.approx(3e-6)
+        line = re.search(rf"^  {name}: full film (\d+) %, mixed (\d+) %, boundary (\d+) %", text,
+                         flags=re.MULTILINE)  # fmt: skip
+        assert line, text
+        assert int(line.group(1)) == round(100 * regime["full_film"])
