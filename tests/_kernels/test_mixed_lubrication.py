@@ -16,6 +16,7 @@ bearing (e = the body's position, ω_j = φ̇):
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -207,3 +208,30 @@ def test_the_roughness_is_checked() -> None:
     for bad in (-1e-6, 1.1, math.nan, True):
         with pytest.raises(ConfigError, match="roughness"):
             ClearanceJoint("O", CLEARANCE, RADIUS, law, roughness=bad)
+
+
+@pytest.mark.parametrize("vectorised", [True, False])
+def test_the_batch_inputs_carry_each_joints_roughness(vectorised: bool) -> None:
+    """The batch engine's packed samples (both builders) hold each joint's own σ, at every
+    sample's clearance (``with_clearance`` keeps it)."""
+    from jointplay._kernels.lanes import source
+    from jointplay._kernels.lanes.build import lane_layout
+    from jointplay.dynamics.batch_inputs import BatchSamples, build_batch
+    from jointplay.dynamics.setup import ContactModel
+    from jointplay.io.config import load_preset
+
+    mechanism = load_preset("paper-fourbar")
+    own = {"O2": 0.5e-6, "A": 1e-6, "B": 2e-6, "O4": 0.0}
+    joints = [
+        dataclasses.replace(j, roughness=own[j.joint])
+        for j in ContactModel(film_model="short-bearing-pi").joints(mechanism)
+    ]
+    assert [j.with_clearance(9e-6).roughness for j in joints] == list(own.values())
+    clearances = np.array([8e-6, 21e-6])
+    samples = BatchSamples(clearances={j: clearances for j in own})
+    problem = build_batch(mechanism, joints, samples, vectorised=vectorised)
+    lay = lane_layout(problem.ipar)
+    start, nc = int(lay[source.LY_GEOM]), int(lay[source.LY_NC])
+    geom = problem.rpar[:, start : start + ids.N_GEOM * nc].reshape(2, nc, ids.N_GEOM)
+    for c, joint in enumerate(joints):
+        assert np.all(geom[:, c, ids.G_ROUGHNESS] == own[joint.joint])
