@@ -134,3 +134,16 @@ def test_the_batch_engine_runs_the_transition_as_the_single_engine() -> None:
         assert batch.statistics["pen_O2"].iloc[0] == pytest.approx(deepest, rel=1e-2)
         peaks[name] = deepest
     assert peaks["rough"] > 0 > peaks["smooth"]
+
+
+def test_a_bad_roughness_is_one_clear_line(tmp_path, capsys) -> None:
+    """``--roughness`` takes a length from 0 to 100 µm; anything else is refused in one line
+    naming the option, exit status 2, nothing written."""
+    from jointplay.cli import run
+
+    for bad in ("-1 um", "2 m", "rough"):
+        out = tmp_path / "run"
+        assert run(["simulate", "--roughness", bad, "--out", str(out)]) == 2
+        err = capsys.readouterr().err
+        assert len(err.strip().splitlines()) == 1 and "--roughness" in err, err
+        assert not out.exists()
