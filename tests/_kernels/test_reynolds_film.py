@@ -82,7 +82,9 @@ def _law():
 
 def _spinner_system(form: str) -> System:
     film = JointFilm(VISCOSITY, LENGTH, model=form)
-    joint = ClearanceJoint("O", CLEARANCE, RADIUS, _law(), film_from=film)
+    # smooth surfaces (σ = 0): the film alone up to the wall, without the asperities' share
+    # (tests/_kernels/test_mixed_lubrication.py)
+    joint = ClearanceJoint("O", CLEARANCE, RADIUS, _law(), film_from=film, roughness=0.0)
     return build_system(_spinner(), [joint])
 
 

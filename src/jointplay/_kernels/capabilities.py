@@ -53,7 +53,9 @@ class Engine:
         where: where it runs and how it is chosen, for the advice of a refusal.
         film_damping: the pins' lubricant film (a stiff damping force).
         film_model: a Reynolds film (the short-bearing π-film or full film, in place of the
-            linear damper: :mod:`jointplay._kernels.lanes.source`'s ``reynolds_force``).
+            linear damper: :mod:`jointplay._kernels.lanes.source`'s ``reynolds_force``), with
+            its film-to-contact transition (``film_share``, ``contact_clearance``: the same
+            source, so an engine without the film refuses both in the one line).
         sustained_contact: the sustained-contact mode (a capture speed).
         ideal_joints: joints without clearance (the constraints' projection).
         trajectories: it keeps each sample's trajectory (not only peaks and statistics).

@@ -59,9 +59,11 @@ N_SETTINGS = 4
 #: radial clearance (m); the joint's film coefficient (N·s/m; 0: dry): the linear film's c_e,
 #: or, for a Reynolds film, C0 = π μ R L³ / c³ (the full film's squeeze coefficient at ε = 0);
 #: the capture speed of its sustained-contact mode (m/s; 0: the mode off for this joint); the
-#: film's form (``FILM_*``, a float holding the id).
+#: film's form (``FILM_*``, a float holding the id); the composite RMS roughness σ of the pin
+#: and the hole, m (``G_ROUGHNESS``: a Reynolds film's asperity contact, :data:`LAMBDA_FULL_FILM`).
 G_R_BEARING, G_R_JOURNAL, G_CLEARANCE, G_FILM, G_CAPTURE, G_FILM_MODEL = 0, 1, 2, 3, 4, 5
-N_GEOM = 6
+G_ROUGHNESS = 6
+N_GEOM = 7
 #: The film forms (docs/contact.md, "Reynolds films"): the linear isotropic damper −c_e ė
 #: (the default), the short-bearing Reynolds film with Gümbel's half-film cavitation (the
 #: positive part of the full film's pressure) and the short-bearing full (2π) film.
@@ -70,6 +72,14 @@ FILM_LINEAR, FILM_SHORT_PI, FILM_SHORT_FULL = 0, 1, 2
 #: beyond it (the pin nearer the wall than 0.5 % of c) they are held, so the film force stays
 #: finite and continuous where the pin reaches the wall and the contact law takes over.
 FILM_EPS_CAP = 0.995
+#: The film-thickness ratios λ = h_min / σ (h_min = c − |e|, σ the composite roughness) of
+#: the lubrication regimes (docs/contact.md, "The film-to-contact transition"; the Stribeck
+#: reading of Hamrock, Schmid & Jacobson): full film for λ ≥ :data:`LAMBDA_FULL_FILM`, mixed
+#: down to :data:`LAMBDA_BOUNDARY`, boundary below. Under a Reynolds film the asperities touch
+#: where λ falls below LAMBDA_FULL_FILM: the dry law acts on δ_a = |e| − (c − λ_t σ), λ_t =
+#: LAMBDA_FULL_FILM, beside the film (load sharing, Johnson, Greenwood & Poon 1972).
+LAMBDA_FULL_FILM = 3.0
+LAMBDA_BOUNDARY = 1.0
 #: The v0 slot of a clearance joint in sustained contact (locked onto |e| = c); any negative
 #: value reads as locked.
 LOCKED = -1.0

@@ -232,6 +232,18 @@ def simulate_command(
             )
     print(f"contact: {contact_used.describe(mechanism)['text']}")
     _print(result, findings, Path(out))
+    _print_regimes(result)
+
+
+def _print_regimes(result: Any) -> None:
+    """The lubricated joints' regimes over the analysed revolutions, one line each."""
+    from jointplay.dynamics.regimes import regime_line
+
+    regimes = result.film_regimes
+    if any(r is not None for r in regimes.values()):
+        print("lubrication regimes over the analysed revolutions:")
+        for name, regime in regimes.items():
+            print("  " + regime_line(name, regime))
 
 
 #: Slider columns of a slider-crank's results and how the console table names them.

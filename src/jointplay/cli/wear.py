@@ -166,9 +166,29 @@ def wear_command(
         )
     for name, life in history.life.items():
         how = " (extrapolated)" if history.life_extrapolated[name] else ""
+        why = history.no_wear(name)
         console.print(
             f"{name}: clearance {history.clearance[name][0] * 1e6:.1f} → "
             f"{history.clearance[name][-1] * 1e6:.1f} µm, limit {history.limit[name] * 1e6:.1f} "
-            f"µm, life {life:,.1f} h{how}"
+            + (f"µm, no wear: {why}" if why else f"µm, life {life:,.1f} h{how}")
         )
-    console.print(f"mechanism life: {history.mechanism_life:,.1f} h; results written to {out}")
+    _print_regimes(history)
+    if all(history.no_wear(name) for name in history.life):
+        console.print(
+            f"mechanism life: no joint wears over {life_hours:g} h (no contact force, above); "
+            f"results written to {out}"
+        )
+    else:
+        console.print(f"mechanism life: {history.mechanism_life:,.1f} h; results written to {out}")
+
+
+def _print_regimes(history: object) -> None:
+    """Each lubricated joint's regimes at the last re-simulation, one line each."""
+    from jointplay.dynamics.regimes import regime_line
+
+    regimes = getattr(history, "regimes", {})
+    last = {name: runs[-1] for name, runs in regimes.items() if runs}
+    if any(r is not None for r in last.values()):
+        console.print("lubrication regimes at the last re-simulation:")
+        for name, regime in last.items():
+            console.print("  " + regime_line(name, regime), markup=False)

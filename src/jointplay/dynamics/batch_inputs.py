@@ -595,6 +595,7 @@ def _build_vectorised(
         geom[:, c, ids.G_FILM] = films[:, c]  # each joint its own c_e, as build_system
         geom[:, c, ids.G_CAPTURE] = clear.capture_speed
         geom[:, c, ids.G_FILM_MODEL] = film_model_id(clear.film_model)
+        geom[:, c, ids.G_ROUGHNESS] = clear.roughness  # σ, each joint its own
         law_p[:, c], law_ok, law_errors = _law_columns(
             clear.law, _geometric_changes(clear, samples, clearance), n
         )

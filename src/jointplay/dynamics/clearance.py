@@ -101,6 +101,20 @@ FILM_MODELS = {
     "short-bearing-full": ids.FILM_SHORT_FULL,
 }
 
+#: Rq/Ra of a Gaussian surface profile, √(π/2) ≈ 1.25 (Whitehouse, *Handbook of Surface and
+#: Nanometrology*; the usual Rq ≈ 1.25 Ra).
+RQ_PER_RA = math.sqrt(math.pi / 2.0)
+#: The default composite RMS roughness σ = √(Rq_pin² + Rq_hole²) of a ground pin (Ra 0.4 µm)
+#: in a reamed hole (Ra 0.8 µm), m (≈ 1.12 µm): the Ra of grinding and of reaming in the
+#: "surface roughness produced by common production methods" table of ASME B46.1 (Machinery's
+#: Handbook), the finer half of each range (grinding 0.1–1.6 µm, reaming 0.4–3.2 µm), the
+#: values ISO 1302 drawings give an H7/H8 bore and its pin (docs/contact.md, "The
+#: film-to-contact transition").
+DEFAULT_ROUGHNESS = RQ_PER_RA * math.hypot(0.4e-6, 0.8e-6)
+#: The largest composite roughness a joint takes, m (a rough casting's Rq is ~ 30 µm; more is
+#: a unit slip: '1.1 um', not 1.1).
+MAX_ROUGHNESS = 1e-4
+
 
 def film_model_id(model: str) -> int:
     """The kernels' id of the film form ``model`` (a key of :data:`FILM_MODELS`)."""
@@ -192,6 +206,14 @@ class ClearanceJoint:
             ``"short-bearing-full"``, the short-bearing Reynolds film (docs/contact.md,
             "Reynolds films"), its force from the eccentricity, its rate and the wedge, with
             ``film_damping`` its coefficient C0 = π μ R L³ / c³.
+        roughness: the composite RMS roughness σ = √(Rq_pin² + Rq_hole²) of the pin and the
+            hole, m (≥ 0; default :data:`DEFAULT_ROUGHNESS`, a ground pin in a reamed hole).
+            Under a Reynolds film the asperities touch where the film thins to
+            h_min = c − |e| = λ_t σ (λ_t = 3, :data:`jointplay._kernels.ids.LAMBDA_FULL_FILM`)
+            and the contact law (with its friction) carries their share of the load beside
+            the film (docs/contact.md, "The film-to-contact transition"); 0: the contact at
+            the wall, as a dry joint's. Dry joints and the linear film do not use it for the
+            forces (their contact is at |e| = c); the regimes reported use it for all.
     """
 
     joint: str
@@ -204,9 +226,21 @@ class ClearanceJoint:
     film_damping: float = 0.0
     film_from: JointFilm | None = None
     film_model: str = "linear"
+    roughness: float = DEFAULT_ROUGHNESS
 
     def __post_init__(self) -> None:
         where = f"clearance joint {self.joint!r}"
+        sigma = self.roughness
+        if (
+            isinstance(sigma, bool)
+            or not isinstance(sigma, int | float)
+            or not (math.isfinite(sigma) and 0 <= sigma <= MAX_ROUGHNESS)
+        ):
+            raise ConfigError(
+                f"{where}: roughness must be a composite RMS roughness from 0 to "
+                f"{MAX_ROUGHNESS:g} m, got {sigma!r}; give it in metres, e.g. 1.1e-6"
+            )
+        object.__setattr__(self, "roughness", float(sigma))
         if self.film_from is not None:
             object.__setattr__(self, "film_model", self.film_from.model)
         film_model_id(self.film_model)

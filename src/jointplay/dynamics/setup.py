@@ -26,6 +26,7 @@ from jointplay.contact.stiffness import STIFFNESS_LAWS
 from jointplay.dynamics.clearance import (
     FILM_DAMPING_CAP,
     FIT_DEPTH,
+    MAX_ROUGHNESS,
     ClearanceJoint,
     JointFilm,
     JointStiffness,
@@ -332,9 +333,18 @@ class ContactModel:
     lubricant_viscosity: float | str | None = None
     film_model: str = "linear"
     lubrication: str | None = None
+    roughness: float | str | None = None
 
     def __post_init__(self) -> None:
         film_model_id(self.film_model)
+        if self.roughness is not None:  # every joint's composite roughness σ, m
+            sigma = _zero_or_quantity(self.roughness, unit_of("roughness"), "roughness")
+            if not 0 <= sigma <= MAX_ROUGHNESS:
+                raise SettingError(
+                    f"{{roughness}} must be from 0 to {MAX_ROUGHNESS * 1e6:g} um, got {{got!r}}",
+                    got=self.roughness,
+                )
+            object.__setattr__(self, "roughness", sigma)
         if not isinstance(self.sustained_contact, bool):
             raise SettingError(
                 "{sustained_contact} must be true or false, got {got!r}",
@@ -529,6 +539,9 @@ class ContactModel:
             ]
         elif fixed > 0:
             joints = [dataclasses.replace(joint, film_damping=fixed) for joint in joints]
+        if self.roughness is not None:  # else each joint's own (DEFAULT_ROUGHNESS)
+            sigma = float(self.roughness)
+            joints = [dataclasses.replace(joint, roughness=sigma) for joint in joints]
         if not self.sustained_contact:
             return joints
         return [dataclasses.replace(joint, capture_speed=self.capture) for joint in joints]
@@ -593,6 +606,9 @@ class ContactModel:
         }
         if self.film_model != "linear":
             described["lubrication"]["film_model"] = self.film_model
+            described["lubrication"]["roughness_m"] = (
+                "each joint's" if self.roughness is None else self.roughness
+            )
         return described
 
     def _lubricant(self) -> str:

@@ -340,6 +340,15 @@ class SimulationResult:
         columns, _ = _columns(self.system, samples, states)
         return pd.DataFrame(columns)
 
+    @cached_property
+    def film_regimes(self) -> dict[str, Any]:
+        """Each clearance joint's lubrication regimes over the analysed revolutions (full film,
+        mixed, boundary by λ = h_min/σ: :mod:`jointplay.dynamics.regimes`; ``None``: dry)."""
+        from jointplay.dynamics.regimes import regimes_of
+
+        t0 = float(self.t[-1]) - self.revolutions * self.mechanism.driver.period
+        return regimes_of(self.system.clearances, self._step_columns, t0)
+
     def summary(self) -> dict[str, Any]:
         """The stable ``summary.json`` content (without provenance)."""
         running = self.running
@@ -378,6 +387,11 @@ class SimulationResult:
                     **({"film_model": c.film_model} if c.film_model != "linear" else {}),
                 }
                 for c in self.system.clearances
+            },
+            # the time in full film / mixed / boundary lubrication (λ = h_min / σ)
+            "film_regimes": {
+                name: None if regime is None else regime.describe()
+                for name, regime in self.film_regimes.items()
             },
         }
 

@@ -139,6 +139,7 @@ def build_system(
         geom[c, ids.G_FILM] = clearance.film_damping  # each joint its own c_e; 0: dry
         geom[c, ids.G_CAPTURE] = clearance.capture_speed  # 0: sustained contact off
         geom[c, ids.G_FILM_MODEL] = film_model_id(clearance.film_model)  # 0: linear
+        geom[c, ids.G_ROUGHNESS] = clearance.roughness  # σ: a Reynolds film's asperities
     if onset_tolerance is None:
         onset_tolerance = 0.01 * min((c.clearance for c in clearances), default=1e-5)
     settings = np.zeros(ids.N_SETTINGS)

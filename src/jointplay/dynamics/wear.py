@@ -39,6 +39,7 @@ from numpy.typing import NDArray
 from jointplay.contact.hertz import conformal_radius, effective_modulus
 from jointplay.dynamics.clearance import ClearanceJoint
 from jointplay.dynamics.cycles import DEFAULT_SETTLE
+from jointplay.dynamics.regimes import JointRegime, full_film_throughout
 from jointplay.dynamics.simulate import SimulationResult, SolverOptions, Start, simulate
 from jointplay.errors import ConfigError, IntegrationError, SettingError
 from jointplay.model.columns import rotating_links
@@ -580,6 +581,10 @@ class WearHistory:
         life_extrapolated: per joint: the life lies beyond the simulated hours, extrapolated
             at the final rate.
         assumption: the geometric assumption of the coupling (module docstring).
+        contact_peak: the largest contact (asperity) normal force F_N per joint at those
+            times, N: what wears (a film's force does not).
+        regimes: the lubrication regimes per joint at those times
+            (:mod:`jointplay.dynamics.regimes`; ``None``: a dry joint).
     """
 
     rpm: float
@@ -594,6 +599,26 @@ class WearHistory:
     life: Mapping[str, float]
     life_extrapolated: Mapping[str, bool]
     assumption: str
+    contact_peak: Mapping[str, tuple[float, ...]] = field(default_factory=dict)
+    regimes: Mapping[str, tuple[JointRegime | None, ...]] = field(default_factory=dict)
+
+    def no_wear(self, name: str) -> str | None:
+        """Why joint ``name`` has no wear life, in one line, or ``None`` (it wears): no
+        contact (asperity) force at any re-simulation, and what held it off."""
+        if not math.isinf(self.life[name]) or any(self.contact_peak.get(name, (1.0,))):
+            return None
+        regimes = self.regimes.get(name, ())
+        if not regimes or any(r is None for r in regimes):
+            return "no contact: the pin never touched its bearing's wall, nothing wears"
+        h_min = min(r.h_min for r in regimes if r is not None) * 1e6
+        if all(full_film_throughout(r) for r in regimes):
+            return f"full film throughout: h_min ≥ {h_min:.2f} µm, no asperity contact"
+        mixed = max(1.0 - r.full_film for r in regimes if r is not None) * 100
+        return (
+            f"no contact force: the film kept the pin off the wall (h_min ≥ {h_min:.2f} µm), "
+            f"though thinner than 3σ {mixed:.0f} % of the time; the linear film has no "
+            "asperity contact (--film-model short-bearing-pi models it)"
+        )
 
     @property
     def mechanism_life(self) -> float:
@@ -623,6 +648,12 @@ class WearHistory:
             "final_clearance_m": {k: v[-1] for k, v in self.clearance.items()},
             "max_depth_bearing_m": {k: float(v.max()) for k, v in self.bearing_profile.items()},
             "max_depth_journal_m": {k: float(v.max()) for k, v in self.journal_profile.items()},
+            # what wears: the contact (asperity) force, not the film's; why a joint does not
+            "contact_force_peak_N": {k: list(v) for k, v in self.contact_peak.items()},
+            "no_wear": {k: self.no_wear(k) for k in self.life},
+            "film_regimes": {
+                k: [None if r is None else r.describe() for r in v] for k, v in self.regimes.items()
+            },
         }
 
 
@@ -691,6 +722,8 @@ def wear_life(
     history_c: dict[str, list[float]] = {n: [] for n in names}
     history_f: dict[str, list[float]] = {n: [] for n in names}
     history_g: dict[str, list[float]] = {n: [] for n in names}
+    history_n: dict[str, list[float]] = {n: [] for n in names}
+    history_r: dict[str, list[JointRegime | None]] = {n: [] for n in names}
     errors: list[float] = []
     life: dict[str, float] = {}
     done = 0.0
@@ -710,12 +743,18 @@ def wear_life(
             raise IntegrationError(f"wear at {done:g} h: {result.message}")
         wear = cycle_wear(result, settings)
         rates = wear.growth_per_hour()
+        regimes = result.film_regimes
+        window = result.steps["t"].to_numpy() >= float(result.t[-1]) - revolutions * (
+            mechanism.driver.period
+        )
         times.append(done)
         errors.append(speed_error(result, reference))
         for n in names:
             history_c[n].append(current[n])
             history_f[n].append(float(result.peaks[f"F_{n}"]["value"]))
             history_g[n].append(rates[n])
+            history_n[n].append(float(np.max(result.steps[f"Fn_{n}"].to_numpy()[window])))
+            history_r[n].append(regimes[n])
             if n not in life and current[n] >= limit[n]:
                 life[n] = done
         if on_update is not None:
@@ -750,4 +789,6 @@ def wear_life(
         life=life,
         life_extrapolated=extrapolated,
         assumption=COUPLING_ASSUMPTION,
+        contact_peak={n: tuple(v) for n, v in history_n.items()},
+        regimes={n: tuple(v) for n, v in history_r.items()},
     )

@@ -57,6 +57,7 @@ from jointplay._kernels.ids import (
     G_FILM_MODEL,
     G_R_BEARING,
     G_R_JOURNAL,
+    G_ROUGHNESS,
     HC_CHI,
     HC_EXPONENT,
     HC_FIRST,
@@ -74,6 +75,8 @@ from jointplay._kernels.ids import (
     K_STEPS,
     KV_DAMPING,
     KV_STIFFNESS,
+    LAMBDA_BOUNDARY,
+    LAMBDA_FULL_FILM,
     LAW_HERTZ,
     LAW_IMPACT,
     LAW_KELVIN_VOIGT,
@@ -493,12 +496,28 @@ def joint_kinematics(y, rp, ip, lay, c):
     return a, b, rax, ray, rbx, rby, length, nx, ny, wa, wb, edx, edy
 
 
+def contact_clearance(rp, lay, c):
+    """The radial play (m) at which clearance joint ``c``'s dry law starts to act: its
+    clearance c, or, under a Reynolds film, c − λ_t σ (σ its ``G_ROUGHNESS``, λ_t
+    :data:`LAMBDA_FULL_FILM`): the asperities' summits touch where the film thins to
+    h_min = c − |e| = λ_t σ, and the dry law then carries the asperity share of the load
+    beside the film (docs/contact.md, "The film-to-contact transition"). A dry joint's and the
+    linear damper's contact is the bulk one, at |e| = c (the same bits as before)."""
+    o = lay[LY_GEOM] + N_GEOM * c
+    if rp[o + G_FILM] > 0.0 and rp[o + G_FILM_MODEL] != FILM_LINEAR:
+        # a fit tighter than λ_t σ: mixed lubrication even with the pin centred, the
+        # asperities' force then grows from the centre (K |e|^n along n: no jump at e = 0)
+        return max(rp[o + G_CLEARANCE] - LAMBDA_FULL_FILM * rp[o + G_ROUGHNESS], 0.0)
+    return rp[o + G_CLEARANCE]
+
+
 def penetration_and_rate(y, rp, ip, lay, c):
     """(δ, δ̇) of clearance joint ``c`` at the state ``y``, m and m/s (:func:`contact_forces`'
-    kinematics, the same arithmetic): δ = |e| − c, δ̇ = ė·n (n = (1, 0) for a centred pin)."""
+    kinematics, the same arithmetic): δ = |e| − c (:func:`contact_clearance`'s play),
+    δ̇ = ė·n (n = (1, 0) for a centred pin)."""
     kin = joint_kinematics(y, rp, ip, lay, c)
     length, nx, ny, edx, edy = kin[6], kin[7], kin[8], kin[11], kin[12]
-    return length - rp[lay[LY_GEOM] + N_GEOM * c + G_CLEARANCE], edx * nx + edy * ny
+    return length - contact_clearance(rp, lay, c), edx * nx + edy * ny
 
 
 # --- the Reynolds films (docs/contact.md, "Reynolds films") ----------------------------------
@@ -558,9 +577,25 @@ def reynolds_components(form, eps, rate, wedge):
     return m_rr * rate + m_rw * wedge, m_tr * rate + m_tw * wedge
 
 
-def reynolds_force(form, coef, clearance, ex, ey, edx, edy, wa, wb):
+def film_share(clearance, roughness, length):
+    """The share w of a Reynolds film's force a joint's film still carries at |e| = ``length``
+    (m), with radial clearance ``clearance`` and composite roughness σ = ``roughness`` (m):
+    1 in full film (λ = h_min/σ ≥ λ_t, h_min = c − |e|, λ_t = :data:`LAMBDA_FULL_FILM`), 0 in
+    boundary lubrication (λ ≤ λ_b = :data:`LAMBDA_BOUNDARY`), and between them
+    1 − x² (3 − 2x), x = (λ_t − λ)/(λ_t − λ_b) (C¹: the force and its Jacobian continuous at
+    both ends); 1 for σ = 0 (docs/contact.md, "The film-to-contact transition")."""
+    top = LAMBDA_FULL_FILM * roughness
+    gap = clearance - length
+    if not (roughness > 0.0 and gap < top):
+        return 1.0
+    x = min((top - gap) / ((LAMBDA_FULL_FILM - LAMBDA_BOUNDARY) * roughness), 1.0)
+    return 1.0 - x * x * (3.0 - 2.0 * x)
+
+
+def reynolds_force(form, coef, clearance, roughness, ex, ey, edx, edy, wa, wb):
     """The Reynolds film's force (N) on the journal, at its centre, of a joint with the film
-    coefficient ``coef`` = C0 = π μ R L³ / c³ and radial clearance ``clearance`` (m), at
+    coefficient ``coef`` = C0 = π μ R L³ / c³, radial clearance ``clearance`` (m) and
+    composite roughness ``roughness`` (m; the film's share :func:`film_share` of it), at
     eccentricity e = (``ex``, ``ey``) (m), ė = (``edx``, ``edy``) (m/s) and the rates ``wa``,
     ``wb`` of the bearing's and the journal's bodies (rad/s); the bearing feels its opposite
     at its centre (:func:`reynolds_components`; ε held at :data:`FILM_EPS_CAP` beyond it;
@@ -574,14 +609,15 @@ def reynolds_force(form, coef, clearance, ex, ey, edx, edy, wa, wb):
     wedge = 0.5 * length * (wa + wb) - (-edx * ny + edy * nx)
     eps = min(length / clearance, FILM_EPS_CAP)
     f_r, f_t = reynolds_components(form, eps, rate, wedge)
-    k = coef / math.pi
+    k = coef / math.pi * film_share(clearance, roughness, length)
     return k * (f_r * nx - f_t * ny), k * (f_r * ny + f_t * nx)
 
 
 def contact_forces(y, rp, ip, lay, f, record, recording):
     """Add every clearance joint's contact force to ``f[n:2n]`` (
     δ = |e| − c, δ̇ = ė·n, v_T = ė·t + R_J ω_b − R_B ω_a; −F_N n − F_T t on the journal at
-    r_J + R_J n, the opposite on the bearing at r_B + R_B n); with film damping
+    r_J + R_J n, the opposite on the bearing at r_B + R_B n; under a Reynolds film δ is the
+    asperity interference |e| − (c − λ_t σ), :func:`contact_clearance`); with film damping
     (the joint's ``G_FILM`` column c_e > 0), −c_e ė on the journal at its centre and +c_e ė on
     the bearing at its centre, in contact or not, first (not in the record's F_N, F_T:
     :func:`film_components`); a Reynolds film (the joint's ``G_FILM_MODEL`` not
@@ -621,7 +657,7 @@ def contact_forces(y, rp, ip, lay, f, record, recording):
         ex = jx - bx
         ey = jy - by
         emag = math.sqrt(ex * ex + ey * ey)
-        delta = emag - rp[o_geom + N_GEOM * c + G_CLEARANCE]
+        delta = emag - contact_clearance(rp, lay, c)  # the asperities' under a Reynolds film
         f_n = 0.0
         f_t = 0.0
         delta_dot = 0.0
@@ -638,7 +674,7 @@ def contact_forces(y, rp, ip, lay, f, record, recording):
             else:  # a Reynolds film: its power −F·ė into W_contact (the wedge's can be < 0)
                 ffx, ffy = reynolds_force(
                     int(form), film, rp[o_geom + N_GEOM * c + G_CLEARANCE],
-                    ex, ey, fdx, fdy, wa, wb,
+                    rp[o_geom + N_GEOM * c + G_ROUGHNESS], ex, ey, fdx, fdy, wa, wb,
                 )  # fmt: skip
                 push(f, n, b, rbx, rby, ffx, ffy)
                 push(f, n, a, rax, ray, -ffx, -ffy)
@@ -703,7 +739,7 @@ def film_components(y, rp, ip, lay, record, c):
         ey = record[7 * c + 6]
         ffx, ffy = reynolds_force(
             int(form), film, rp[lay[LY_GEOM] + N_GEOM * c + G_CLEARANCE],
-            ex, ey, edx, edy, wa, wb,
+            rp[lay[LY_GEOM] + N_GEOM * c + G_ROUGHNESS], ex, ey, edx, edy, wa, wb,
         )  # fmt: skip
         length = math.sqrt(ex * ex + ey * ey)
         nx = 1.0

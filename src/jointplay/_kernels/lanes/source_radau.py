@@ -73,6 +73,7 @@ from jointplay._kernels.lanes.source import (
     G_CLEARANCE,
     G_R_BEARING,
     G_R_JOURNAL,
+    G_ROUGHNESS,
     K_REJECTED,
     K_RHS,
     K_STEPS,
@@ -104,9 +105,11 @@ from jointplay._kernels.lanes.source import (
     all_finite,
     any_film,
     close_window,
+    contact_clearance,
     contact_forces,
     contact_memory,
     driver_acceleration,
+    film_share,
     friction_force,
     interrupt_pending,
     joint_kinematics,
@@ -399,7 +402,7 @@ def film_jacobian(jac, film, rp, o_mass, n, a, b, rax, ray, rbx, rby, wa, wb, ed
             jac[n + 1, column] += 2.0 * film * (edx * dvx + edy * dvy)
 
 
-def reynolds_position_slope(form, coef, clearance, ex, ey, edx, edy, wa, wb, i):
+def reynolds_position_slope(form, coef, clearance, roughness, ex, ey, edx, edy, wa, wb, i):
     """The derivative of a Reynolds film's force :func:`reynolds_force` with respect to e_x
     (``i`` 0) or e_y (1) at fixed ė and rates, (∂f_x, ∂f_y), by a central difference with the
     step ∛eps · max(|e|, c) (the closed forms lose digits to cancellation as ε nears 1: a
@@ -407,17 +410,17 @@ def reynolds_position_slope(form, coef, clearance, ex, ey, edx, edy, wa, wb, i):
     h = EPS ** (1.0 / 3.0) * pmax(math.sqrt(ex * ex + ey * ey), clearance)
     if i == 0:
         h = (ex + h) - ex
-        ux, uy = reynolds_force(form, coef, clearance, ex + h, ey, edx, edy, wa, wb)
-        dx, dy = reynolds_force(form, coef, clearance, ex - h, ey, edx, edy, wa, wb)
+        ux, uy = reynolds_force(form, coef, clearance, roughness, ex + h, ey, edx, edy, wa, wb)
+        dx, dy = reynolds_force(form, coef, clearance, roughness, ex - h, ey, edx, edy, wa, wb)
     else:
         h = (ey + h) - ey
-        ux, uy = reynolds_force(form, coef, clearance, ex, ey + h, edx, edy, wa, wb)
-        dx, dy = reynolds_force(form, coef, clearance, ex, ey - h, edx, edy, wa, wb)
+        ux, uy = reynolds_force(form, coef, clearance, roughness, ex, ey + h, edx, edy, wa, wb)
+        dx, dy = reynolds_force(form, coef, clearance, roughness, ex, ey - h, edx, edy, wa, wb)
     return (ux - dx) / (2.0 * h), (uy - dy) / (2.0 * h)
 
 
-def reynolds_jacobian(jac, form, coef, clearance, rp, o_mass, n, a, b, rax, ray, rbx, rby,
-                      wa, wb, ex, ey, edx, edy):  # fmt: skip
+def reynolds_jacobian(jac, form, coef, clearance, roughness, rp, o_mass, n, a, b, rax, ray,
+                      rbx, rby, wa, wb, ex, ey, edx, edy):  # fmt: skip
     """Add one clearance joint's Reynolds film to ``jac`` (:func:`jacobian_clear`'s rows and
     columns): F = :func:`reynolds_force` on the journal's body b at its arm r_b, −F on the
     bearing's body a at r_a, power −F·ė into the W_contact row. F = k (F_r n + F_t t) is linear
@@ -427,7 +430,7 @@ def reynolds_jacobian(jac, form, coef, clearance, rp, o_mass, n, a, b, rax, ray,
     differences (:func:`reynolds_position_slope`); chained to the bodies' coordinates and
     rates in closed form (e = r_J − r_B, ė = ṙ_J − ṙ_B with r_J = x_b + A(φ_b) s_b,
     ṙ_J = ẋ_b + ω_b ẑ × r_b; the bearing's the same with minus)."""
-    fx, fy = reynolds_force(form, coef, clearance, ex, ey, edx, edy, wa, wb)
+    fx, fy = reynolds_force(form, coef, clearance, roughness, ex, ey, edx, edy, wa, wb)
     length = math.sqrt(ex * ex + ey * ey)
     nx = 1.0
     ny = 0.0
@@ -439,7 +442,7 @@ def reynolds_jacobian(jac, form, coef, clearance, rp, o_mass, n, a, b, rax, ray,
     m_rr, m_rw, m_tr, m_tw = reynolds_matrix(
         form, min(length / clearance, FILM_EPS_CAP), rate, wedge
     )
-    k = coef / math.pi
+    k = coef / math.pi * film_share(clearance, roughness, length)  # the film's share
     # ∂(F_r, F_t)/∂ė_x and /∂ė_y (rate' = n, wedge' = −t), then to the global frame
     r_x = m_rr * nx - m_rw * tx
     t_x = m_tr * nx - m_tw * tx
@@ -449,8 +452,12 @@ def reynolds_jacobian(jac, form, coef, clearance, rp, o_mass, n, a, b, rax, ray,
     fx_vy, fy_vy = k * (r_y * nx + t_y * tx), k * (r_y * ny + t_y * ty)
     half = 0.5 * length * k  # wedge' = |e|/2 for ω_a and ω_b alike
     fx_w, fy_w = half * (m_rw * nx + m_tw * tx), half * (m_rw * ny + m_tw * ty)
-    fx_ex, fy_ex = reynolds_position_slope(form, coef, clearance, ex, ey, edx, edy, wa, wb, 0)
-    fx_ey, fy_ey = reynolds_position_slope(form, coef, clearance, ex, ey, edx, edy, wa, wb, 1)
+    fx_ex, fy_ex = reynolds_position_slope(
+        form, coef, clearance, roughness, ex, ey, edx, edy, wa, wb, 0
+    )
+    fx_ey, fy_ey = reynolds_position_slope(
+        form, coef, clearance, roughness, ex, ey, edx, edy, wa, wb, 1
+    )
     for side in range(2):
         body, sign, rx, ry, w = side_of(side, a, b, rax, ray, rbx, rby, wa, wb)
         if body < 0:
@@ -496,7 +503,7 @@ def jacobian_clear(t, y, rp, ip, lay, jac, force, record):
         a, b, rax, ray, rbx, rby, length, nx, ny, wa, wb, edx, edy = joint_kinematics(
             y, rp, ip, lay, c
         )
-        delta = length - rp[o_geom + N_GEOM * c + G_CLEARANCE]
+        delta = length - contact_clearance(rp, lay, c)  # the asperities' under a Reynolds film
         delta_dot = edx * nx + edy * ny
         slide = -edx * ny + edy * nx
         r_j = rp[o_geom + N_GEOM * c + G_R_JOURNAL]
@@ -509,8 +516,9 @@ def jacobian_clear(t, y, rp, ip, lay, jac, force, record):
                 film_jacobian(jac, film, rp, o_mass, n, a, b, rax, ray, rbx, rby, wa, wb, edx, edy)
             else:
                 reynolds_jacobian(
-                    jac, int(form), film, rp[o_geom + N_GEOM * c + G_CLEARANCE], rp, o_mass,
-                    n, a, b, rax, ray, rbx, rby, wa, wb, length * nx, length * ny, edx, edy,
+                    jac, int(form), film, rp[o_geom + N_GEOM * c + G_CLEARANCE],
+                    rp[o_geom + N_GEOM * c + G_ROUGHNESS], rp, o_mass, n, a, b,
+                    rax, ray, rbx, rby, wa, wb, length * nx, length * ny, edx, edy,
                 )  # fmt: skip
         if not delta > 0.0:
             continue
