@@ -86,12 +86,15 @@ from jointplay._kernels.lanes.source import (
     LY_SETTINGS,
     N_LAY,
 )
+from jointplay._kernels.shared import apart as _apart
 from jointplay._kernels.shared import compiled as _shared
 
 # The lane source, compiled for the single engine (jointplay._kernels.shared).
 _rhs = _shared["rhs"]
-_rhs_and_quantities = _shared["rhs_and_quantities"]
-_film_components = _shared["film_components"]
+# the cold callers' copies: one compiled right-hand side, called (jointplay._kernels.shared)
+_rhs_apart = _apart["rhs"]
+_rhs_and_quantities = _apart["rhs_and_quantities"]
+_film_components = _apart["film_components"]
 _any_film = _shared["any_film"]
 _locked = _shared["locked"]
 _constraint_rows = _shared["constraint_rows"]
@@ -99,7 +102,7 @@ _penetration_and_rate = _shared["penetration_and_rate"]
 _contact_memory = _shared["contact_memory"]
 _onset_fraction = _shared["onset_fraction"]
 _jacobian_clear = _shared["jacobian_clear"]
-_jacobian_fixed = _shared["jacobian_fixed"]
+_jacobian_fixed = _apart["jacobian_fixed"]
 _project = _shared["project"]
 _driver_speed = _shared["driver_speed"]
 _constraint_residual = _shared["constraint_residual"]
@@ -311,7 +314,7 @@ def evaluate(t: float, y: np.ndarray, rpar: np.ndarray, ipar: np.ndarray, contac
     rows = _constraint_rows(rpar, lay)
     f = np.empty(y.shape[0])
     lam = np.zeros(rows)
-    torque = _rhs(
+    torque = _rhs_apart(
         t, y, rpar, ipar, lay, f, contact_out.reshape(contact_out.size), True,
         np.empty((rows, n)), np.empty((rows, rows)), lam,
     )  # fmt: skip

@@ -34,7 +34,7 @@ from jointplay._kernels.lanes import source
 from jointplay._kernels.lanes.build import build, closed
 from jointplay._kernels.lanes.projection import project_lapack
 
-__all__ = ["SHARED", "compiled"]
+__all__ = ["APART", "SHARED", "apart", "compiled"]
 
 #: The sustained-contact mode's functions, compiled apart (not inlined: they allocate and
 #: run only while a joint is locked); and the Reynolds film's force and coefficients (not
@@ -59,15 +59,12 @@ _HOOKS: dict[str, Callable[..., Any]] = {
 SHARED = closed(
     (
         "rhs",
-        "rhs_and_quantities",
-        "film_components",
         "any_film",
         "penetration_and_rate",
         "contact_memory",
         "onset_fraction",
         "impact_rate",
         "jacobian_clear",
-        "jacobian_fixed",
         "law_slopes",
         "step3",
         "power",
@@ -94,4 +91,42 @@ compiled: dict[str, Any] = build(
     own=_OWN,
     decorate_own=numba.njit(cache=True, error_model="numpy"),
     tag="single",
+)
+
+#: The roots compiled apart for the cold callers: each a real function (its callees inlined
+#: into it) rather than inlined into every caller. Inlined, each of the single engine's entry
+#: points compiled its own copy of the whole right-hand side (``evaluate``, ``quantities``,
+#: ``jacobian_state`` through ``jacobian_fixed``'s columns, ...), and the first compilation
+#: grew with every copy. The integrator's hot hooks (``eom.rhs``, ``jacobian_clear``) keep the
+#: inlined copies of :data:`compiled`; what runs once per output sample, or once per column of
+#: a differenced Jacobian, pays one call instead.
+APART = ("rhs", "rhs_and_quantities", "film_components")
+
+_C1 = numba.float64[::1]
+_C2 = numba.float64[:, ::1]
+_READ = numba.types.Array(numba.float64, 1, "C", readonly=True)
+_READ_INT = numba.types.Array(numba.int64, 1, "C", readonly=True)
+#: The source's ``rhs`` compiled once for every cold caller: typed up front, since a call
+#: passing the literal ``True`` (``eom.evaluate``) and one passing ``False``
+#: (``jacobian_fixed``) would otherwise compile two copies (Numba types a literal bool as its
+#: own type); writable arrays convert to these read-only types.
+_APART_SIGNATURES = {
+    "rhs": numba.float64(
+        numba.float64, _C1, _READ, _READ_INT, _READ_INT, _C1, _C1, numba.boolean, _C2, _C2, _C1
+    ),
+}
+
+#: ``jacobian_fixed`` and :data:`APART`, compiled in a namespace of their own (tag
+#: ``apart``) where the roots are not inlined; the mode's and the film's own functions are
+#: :data:`compiled`'s (one compilation of each).
+apart: dict[str, Any] = build(
+    numba.njit(cache=True, error_model="numpy", inline="always"),
+    hooks=_HOOKS,
+    extras={"np": np, **{name: compiled[name] for name in _OWN}},
+    only=closed(("jacobian_fixed", *APART), _OWN),
+    own={name: getattr(source, name) for name in APART},
+    decorate_own=lambda function: numba.njit(
+        _APART_SIGNATURES.get(function.__name__), cache=True, error_model="numpy"
+    )(function),
+    tag="apart",
 )
