@@ -23,10 +23,12 @@ def test_pytest_alone_runs_on_every_core() -> None:
 
 @pytest.mark.parametrize("serial", [["-n", "0"], ["-p", "no:xdist"]], ids=["n0", "no-xdist"])
 def test_serial_runs_still_work(serial: list[str]) -> None:
-    """``-n 0``, and xdist blocked (tests/conftest.py then accepts ``-n auto --dist``)."""
+    """``-n 0``, and xdist blocked (tests/conftest.py then accepts ``-n auto --dist``). One
+    quick test is run so: what is checked is the command line, not the tests (the 50 of
+    tests/test_units.py took ~4 s more each time)."""
     done = subprocess.run(
         [sys.executable, "-m", "pytest", *serial, "-p", "no:cacheprovider", "-q",
-         "tests/test_units.py"],
+         "tests/test_suite_config.py::test_pytest_alone_runs_on_every_core"],
         cwd=ROOT, capture_output=True, text=True, check=False, timeout=300,
         env={**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)},
     )  # fmt: skip

@@ -8,6 +8,7 @@ from __future__ import annotations
 import subprocess
 import sys
 from pathlib import Path
+from typing import Annotated
 
 import pytest
 
@@ -155,3 +156,90 @@ def test_a_mistyped_unit_loads_not_even_numpy(tmp_path: Path) -> None:
         timeout=300,
     )
     assert "NUMPY False" in done.stdout, done.stdout
+
+
+#: Values of each plain kind of option, those read without Pydantic and those left to it
+#: (underscores, inf, hexadecimal, a number out of range, an empty path).
+OPTION_VALUES = {
+    "--text": ["abc", "", " 200 rpm ", "é µ", "-"],
+    "--count": ["3", "+3", "-0", "007", " 3", "1_0", "3.0", "1e3", "x", "99999999999999999999"],
+    "--workers": ["1", "10", "0", "11", "-1", "5.5"],
+    "--ratio": ["1", "1.", ".5", "-2.5e-3", "1E5", "1e400", "inf", "nan", "1_0", "0x10", "a"],
+    "--folder": ["out", "a//b/", "./x y", "", "/"],
+}
+
+
+def _plain_options_app() -> object:
+    import typer
+
+    app = typer.Typer()
+
+    @app.command()
+    def main(
+        text: Annotated[str | None, typer.Option("--text")] = None,
+        count: Annotated[int | None, typer.Option("--count")] = None,
+        workers: Annotated[int, typer.Option("--workers", min=1, max=10)] = 2,
+        ratio: Annotated[float | None, typer.Option("--ratio")] = None,
+        folder: Annotated[Path | None, typer.Option("--folder")] = None,
+        flag: Annotated[bool, typer.Option("--flag/--no-flag")] = False,
+    ) -> tuple[object, ...]:
+        return (text, count, workers, ratio, folder, flag)
+
+    return app
+
+
+def _outcome(app: object, arguments: list[str]) -> tuple[str, str]:
+    """What ``arguments`` give: the values (their types and reprs) or the error message."""
+    try:
+        values = app(args=arguments, standalone_mode=False)  # type: ignore[operator]
+    except Exception as exc:  # Click's BadParameter and UsageError
+        message = exc.format_message() if hasattr(exc, "format_message") else str(exc)
+        return "error", message
+    return "values", repr([(type(v).__name__, repr(v)) for v in values])
+
+
+def test_option_values_read_without_pydantic_are_what_pydantic_reads() -> None:
+    """Options are converted without Pydantic (~0.1 s of every command's start-up) only
+    where int(), float(), str and Path give what Typer's Pydantic converter gives; every
+    value of the table gives the same values, or the same error message, both ways."""
+    import typer.core
+    from typer._coercion import build_runtime_param
+
+    import jointplay.cli  # noqa: F401  (installs the plain converter)
+
+    assert typer.core.build_runtime_param is not build_runtime_param
+    plain = typer.core.build_runtime_param
+    compared = 0
+    for option, values in OPTION_VALUES.items():
+        for value in values:
+            arguments = [f"{option}={value}", "--flag"]
+            typer.core.build_runtime_param = plain
+            ours = _outcome(_plain_options_app(), arguments)
+            try:
+                typer.core.build_runtime_param = build_runtime_param
+                typers = _outcome(_plain_options_app(), arguments)
+            finally:
+                typer.core.build_runtime_param = plain
+            assert ours == typers, (option, value)
+            compared += 1
+    assert compared == sum(len(v) for v in OPTION_VALUES.values())
+
+
+def test_a_bad_option_imports_no_pydantic(tmp_path: Path) -> None:
+    """Typer converts option values with Pydantic; jointplay reads the plain ones itself, so
+    neither a command's error line nor its run waits for Pydantic's import."""
+    done = subprocess.run(
+        [
+            sys.executable,
+            "-c",
+            "import sys\nfrom jointplay.cli import run\n"
+            "status = run(['simulate', '--rpm', '200 rmp', '--rtol', '1e-6', '--no-plots', "
+            f"'--out', {str(tmp_path / 'o')!r}])\n"
+            "print('STATUS', status, 'PYDANTIC', 'pydantic' in sys.modules)",
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=300,
+    )
+    assert "STATUS 2 PYDANTIC False" in done.stdout, done.stdout + done.stderr

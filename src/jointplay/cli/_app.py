@@ -7,6 +7,7 @@ a non-zero exit status; no traceback reaches the user unless ``JOINTPLAY_DEBUG=1
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import re
 import signal
@@ -227,6 +228,95 @@ def _options_in_panels() -> None:
     rich_utils.rich_format_help = rich_format_help
 
 
+#: Option values that read the same by ``int()``/``float()`` as by Pydantic's lax mode.
+_PLAIN_INT = re.compile(r"[+-]?[0-9]{1,18}")
+_PLAIN_FLOAT = re.compile(r"[+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?")
+
+
+def _values_read_without_pydantic() -> None:
+    """Option values of the plain kinds (text, a flag, a number, a path) are read as Python
+    reads them, without importing Pydantic.
+
+    Typer (0.2x) converts every option's value with a Pydantic ``TypeAdapter``, and importing
+    Pydantic took ~0.1 s of every command, a third of a mistyped option's error line
+    (docs/performance.md, "Command-line start-up, round 3"). Here a value that
+    ``str``/``int``/``float``/``pathlib.Path`` read exactly as Pydantic's lax mode does (a
+    ``str``; digits; a plain decimal number; a path) is converted directly; every other
+    value (``1_0``, ``inf``, a number out of its range, an enum choice, a list) goes to
+    Typer's own converter, with its own result or error message.
+    tests/cli/test_startup.py compares the two on a table of values."""
+    try:
+        from pathlib import Path
+
+        from typer import core
+        from typer._coercion import RuntimeParam, build_runtime_param
+        from typer._param_types import coerce_cli_path
+    except ImportError:  # pragma: no cover - another Typer: its own converter stays
+        return
+    if getattr(core.build_runtime_param, "_plain", False):
+        return
+
+    slow = object()
+
+    def plain(converter: Any, value: Any, param: Any, ctx: Any) -> Any:
+        kind, info = converter.annotation, converter.parameter_info
+        if info.parser is not None or info.clamp:
+            return slow
+        low, high = info.min, info.max
+        number: float
+        if kind is str and type(value) is str:
+            return value
+        if kind is bool and type(value) is bool:
+            return value
+        if kind is int and type(value) is str and _PLAIN_INT.fullmatch(value):
+            number = int(value)
+        elif kind is int and type(value) is int:
+            number = value
+        elif kind is float and type(value) is str and _PLAIN_FLOAT.fullmatch(value):
+            number = float(value)
+        elif kind is float and type(value) is float:
+            number = value
+        elif (
+            kind is Path
+            and info.path_type is None
+            and not info.allow_dash
+            and type(value) is str
+            and value
+            and "\0" not in value
+        ):
+            text: Any = coerce_cli_path(value, info, path_type=None, param=param, ctx=ctx)
+            return Path(text)
+        else:
+            return slow
+        if (low is not None and number < low) or (high is not None and number > high):
+            return slow  # Typer's message for a number out of range
+        return number
+
+    @dataclasses.dataclass(frozen=True)
+    class PlainRuntimeParam(RuntimeParam):
+        descriptor: Any  # Typer's TypeDescriptor, for its own converter
+
+        def _coerce_value(self, value: Any, param: Any, ctx: Any) -> Any:
+            converted = plain(self, value, param, ctx)
+            if converted is not slow:
+                return converted
+            full = build_runtime_param(self.descriptor)  # Pydantic's
+            return full._coerce_value(value, param=param, ctx=ctx)
+
+    def build(descriptor: Any) -> Any:
+        if descriptor.file_annotation is not None:
+            return build_runtime_param(descriptor)
+        return PlainRuntimeParam(
+            annotation=descriptor.annotation,
+            parameter_info=descriptor.parameter_info,
+            descriptor=descriptor,
+        )
+
+    build._plain = True  # type: ignore[attr-defined]
+    core.build_runtime_param = build
+
+
+_values_read_without_pydantic()
 _flags_show_no_metavar()
 _ranges_beside_the_help()
 _help_is_plain_text()
