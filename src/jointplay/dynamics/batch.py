@@ -60,6 +60,7 @@ from jointplay.dynamics.batch_method import (
 from jointplay.dynamics.clearance import ClearanceJoint
 from jointplay.dynamics.cycles import DEFAULT_SETTLE
 from jointplay.dynamics.integrate import IntegrationStatus
+from jointplay.dynamics.regimes import asperity_play
 from jointplay.dynamics.simulate import SolverOptions, Start
 from jointplay.dynamics.system import System, build_system
 from jointplay.errors import ConfigError, PartialInterrupt, SettingError
@@ -480,6 +481,9 @@ def simulate_batch(
         counters[:, 3] = np.nan
         peaks[lanes] = output.peaks[:, [k for k, _, _ in peak_names]]
         stats[lanes] = output.stats[:, [k for k, _, _ in stat_names]]
+        pen = [i for i, (_, name, _) in enumerate(stat_names) if name.startswith("pen_")]
+        # the kernels' δ under a Reynolds film is the asperities': the wall's is |e| − c
+        stats[np.ix_(lanes, pen)] -= asperity_play(problem.rpar[lanes], problem.ipar, len(pen))
         status[lanes] = output.status
         counters[lanes] = np.column_stack(
             [output.n_steps, output.n_rejected, output.n_rhs, output.t_reached]

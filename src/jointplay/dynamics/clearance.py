@@ -93,13 +93,17 @@ class JointStiffness:
 FILM_DAMPING_CAP = 1e6
 #: The film forms a joint's film may take (docs/contact.md, "Reynolds films"), and their ids
 #: in the kernels' ``geom`` table (``G_FILM_MODEL``): the linear isotropic damper −c_e ė
-#: (the default), the short-bearing Reynolds film with Gümbel's half-film cavitation, the
-#: short-bearing full (2π, uncavitated) film.
+#: (a fixed film damping's form), the short-bearing Reynolds film with Gümbel's half-film
+#: cavitation (:data:`DEFAULT_FILM_MODEL`), the short-bearing full (2π, uncavitated) film.
 FILM_MODELS = {
     "linear": ids.FILM_LINEAR,
     "short-bearing-pi": ids.FILM_SHORT_PI,
     "short-bearing-full": ids.FILM_SHORT_FULL,
 }
+#: The film of a lubricated joint whose film follows its geometry and lubricant: the π-film,
+#: the cavitated short-bearing film used for lubricated revolute clearance joints by Flores,
+#: Ambrósio, Claro & Lankarani (2006) (docs/contact.md, "Reynolds films").
+DEFAULT_FILM_MODEL = "short-bearing-pi"
 
 #: Rq/Ra of a Gaussian surface profile, √(π/2) ≈ 1.25 (Whitehouse, *Handbook of Surface and
 #: Nanometrology*; the usual Rq ≈ 1.25 Ra).
@@ -143,13 +147,14 @@ class JointFilm:
         viscosity: the lubricant's dynamic viscosity μ, Pa·s (> 0).
         length: the bearing's axial length L, m.
         cap: the largest c_e of the linear film, N·s/m.
-        model: the film's form, a key of :data:`FILM_MODELS` (default ``"linear"``).
+        model: the film's form, a key of :data:`FILM_MODELS` (default
+            :data:`DEFAULT_FILM_MODEL`, the π-film).
     """
 
     viscosity: float
     length: float
     cap: float = FILM_DAMPING_CAP
-    model: str = "linear"
+    model: str = DEFAULT_FILM_MODEL
 
     def __post_init__(self) -> None:
         for name in ("viscosity", "length", "cap"):

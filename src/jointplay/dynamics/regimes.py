@@ -21,10 +21,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from jointplay._kernels import ids
 from jointplay._kernels.ids import LAMBDA_BOUNDARY, LAMBDA_FULL_FILM
+from jointplay._kernels.lanes.build import lane_layout
+from jointplay._kernels.lanes.source import LY_GEOM
 from jointplay.dynamics.clearance import ClearanceJoint
 
-__all__ = ["JointRegime", "joint_regime", "regime_line", "regimes_of"]
+__all__ = ["JointRegime", "asperity_play", "joint_regime", "regime_line", "regimes_of"]
 
 FloatArray = NDArray[np.float64]
 
@@ -124,3 +127,17 @@ def regime_line(name: str, regime: JointRegime | None) -> str:
 def full_film_throughout(regime: JointRegime | None) -> bool:
     """Whether a joint ran in full film all the time (no asperity contact)."""
     return regime is not None and math.isclose(regime.full_film, 1.0)
+
+
+def asperity_play(rpar: FloatArray, ipar: NDArray[np.int64], n_clear: int) -> FloatArray:
+    """How much sooner than the wall each clearance joint's dry law acts, m, per sample
+    (``rpar``: (n, R), ``ipar``: the packed model's integers; (n, ``n_clear``) out): λ_t σ
+    (at most c) under a Reynolds film, whose asperities touch at h_min = λ_t σ, 0 for a dry
+    joint or the linear damper (the kernels' ``contact_clearance``). The kernels' δ of a joint
+    minus this is its wall penetration |e| − c, the δ every output reports."""
+    lay = lane_layout(ipar)
+    start = int(lay[LY_GEOM])
+    geom = rpar[:, start : start + ids.N_GEOM * n_clear].reshape(-1, n_clear, ids.N_GEOM)
+    reynolds = (geom[..., ids.G_FILM] > 0.0) & (geom[..., ids.G_FILM_MODEL] != ids.FILM_LINEAR)
+    play = np.minimum(LAMBDA_FULL_FILM * geom[..., ids.G_ROUGHNESS], geom[..., ids.G_CLEARANCE])
+    return np.where(reynolds, play, 0.0)

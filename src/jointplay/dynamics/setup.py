@@ -24,6 +24,7 @@ from jointplay.contact.friction import FrictionLaw, get_friction
 from jointplay.contact.laws import CONTACT_LAWS, ContactLaw, ImpactLaw, get_law
 from jointplay.contact.stiffness import STIFFNESS_LAWS
 from jointplay.dynamics.clearance import (
+    DEFAULT_FILM_MODEL,
     FILM_DAMPING_CAP,
     FIT_DEPTH,
     MAX_ROUGHNESS,
@@ -314,10 +315,10 @@ class ContactModel:
     ``"100 N*s/m"``) instead fixes c_e for every joint (the viscosity is then not used; 0:
     dry joints). Neither with ``sustained_contact``. ``film_model`` chooses the film's form
     (:data:`~jointplay.dynamics.clearance.FILM_MODELS`, docs/contact.md, "Reynolds films"):
-    ``"linear"`` (the default), the damper above; ``"short-bearing-pi"`` or
-    ``"short-bearing-full"``, the short-bearing Reynolds film (π-film or full film) of each
-    joint's geometry and lubricant (C0 = π μ R L³ / c³, uncapped; not with a fixed
-    ``film_damping`` > 0).
+    ``"short-bearing-pi"`` (the default) or ``"short-bearing-full"``, the short-bearing
+    Reynolds film (π-film or full film) of each joint's geometry and lubricant
+    (C0 = π μ R L³ / c³, uncapped; not with a fixed ``film_damping`` > 0), or ``"linear"``,
+    the damper above (the default with a fixed ``film_damping``).
     """
 
     settings: ContactSettings = dataclasses.field(default_factory=ContactSettings)
@@ -331,12 +332,13 @@ class ContactModel:
     capture_speed: float | str = DEFAULT_CAPTURE_SPEED
     film_damping: float | str | None = None
     lubricant_viscosity: float | str | None = None
-    film_model: str = "linear"
+    film_model: str | None = None
     lubrication: str | None = None
     roughness: float | str | None = None
 
     def __post_init__(self) -> None:
-        film_model_id(self.film_model)
+        if self.film_model is not None:
+            film_model_id(self.film_model)
         if self.roughness is not None:  # every joint's composite roughness σ, m
             sigma = _zero_or_quantity(self.roughness, unit_of("roughness"), "roughness")
             if not 0 <= sigma <= MAX_ROUGHNESS:
@@ -381,9 +383,12 @@ class ContactModel:
             object.__setattr__(self, "film_damping", film)
             object.__setattr__(self, "lubricant_viscosity", None)  # not used
         self._check_regime()
+        if self.film_model is None:  # a fixed film damping is the linear damper's c_e
+            fixed = (self.fixed_film or 0.0) > 0
+            object.__setattr__(self, "film_model", "linear" if fixed else DEFAULT_FILM_MODEL)
         if self.film_model != "linear" and (self.fixed_film or 0.0) > 0:
             raise SettingError(
-                "{film_model} " + self.film_model + " takes its coefficient from each joint's "
+                f"{{film_model}} {self.film_model} takes its coefficient from each joint's "
                 "geometry and {lubricant_viscosity}: give no {film_damping} with it"
             )
         if self.lubricated and self.sustained_contact:
@@ -507,7 +512,9 @@ class ContactModel:
         if lubrication.viscosity is None:  # dry
             return None
         width = mechanism.bearing_width(joint)
-        return JointFilm(lubrication.viscosity, width or 0.01, model=self.film_model)
+        return JointFilm(
+            lubrication.viscosity, width or 0.01, model=self.film_model or DEFAULT_FILM_MODEL
+        )
 
     @property
     def capture(self) -> float:

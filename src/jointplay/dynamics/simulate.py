@@ -34,6 +34,7 @@ from jointplay.dynamics.diagnostics import Diagnostic
 from jointplay.dynamics.integrate import METHODS as INTEGRATION_METHODS
 from jointplay.dynamics.integrate import IntegrationResult, IntegrationStatus, integrate
 from jointplay.dynamics.nominal import nominal_analysis
+from jointplay.dynamics.regimes import asperity_play
 from jointplay.dynamics.running import PEAK_KEYS, RunningBehaviour, characterise
 from jointplay.dynamics.system import System, build_system
 from jointplay.errors import ConfigError, IntegrationError, SettingError
@@ -689,7 +690,7 @@ def simulate(
         _step_columns=columns,
         _step_accelerations=qdd,
         _step_touching=np.column_stack(
-            [columns[f"pen_{c.joint}"] > 0 for c in system.clearances]
+            [columns[f"contact_{c.joint}"] > 0 for c in system.clearances]
             or [np.zeros(len(run.t), dtype=bool)]
         ),
     )
@@ -909,6 +910,7 @@ def _columns(
         acc = qdd[:, 3 * k : 3 * k + 2] + qdd[:, 3 * k + 2][:, None] * perp - w**2 * rs
         columns[f"{joint.link_b}_a"] = acc @ axis
     clear_index = {c.joint: i for i, c in enumerate(system.clearances)}
+    play = asperity_play(np.asarray(rpar)[None, :], ipar, len(clear_index))[0]
     for j, name in enumerate(flat.joint_names):
         if name in clear_index:
             c = clear_index[name]
@@ -928,7 +930,9 @@ def _columns(
         columns[f"dex_{name}"] = rate[:, 0]
         columns[f"dey_{name}"] = rate[:, 1]
         columns[f"e_{name}"] = np.hypot(ex, ey)
-        columns[f"pen_{name}"] = contacts[:, c, 2]
+        # δ = |e| − c, the wall's; the kernels' δ (contacts[..., 2]) is the asperities' under
+        # a Reynolds film (docs/contact.md, "The film-to-contact transition"): the dry law acts
+        columns[f"pen_{name}"] = contacts[:, c, 2] - play[c]
         columns[f"contact_{name}"] = (contacts[:, c, 2] > 0).astype(np.int8)
         columns[f"Fn_{name}"] = contacts[:, c, 0]
         columns[f"Ft_{name}"] = contacts[:, c, 1]
