@@ -481,7 +481,9 @@ def simulate_batch(
         counters[:, 3] = np.nan
         peaks[lanes] = output.peaks[:, [k for k, _, _ in peak_names]]
         stats[lanes] = output.stats[:, [k for k, _, _ in stat_names]]
-        pen = [i for i, (_, name, _) in enumerate(stat_names) if name.startswith("pen_")]
+        pen = np.array(
+            [i for i, (_, name, _) in enumerate(stat_names) if name.startswith("pen_")], dtype=int
+        )
         # the kernels' δ under a Reynolds film is the asperities': the wall's is |e| − c
         stats[np.ix_(lanes, pen)] -= asperity_play(problem.rpar[lanes], problem.ipar, len(pen))
         status[lanes] = output.status
