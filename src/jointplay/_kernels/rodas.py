@@ -57,8 +57,7 @@ import numpy.typing as npt
 from jointplay._kernels.common import jit, num_jac, py_max, py_min
 from jointplay._kernels.driver import Steps, evaluate_f, no_retry, run_core, step_jit
 from jointplay._kernels.ids import EPS, NFEV, NJEV, NLU, NREJ_ERROR
-from jointplay._kernels.linalg import lu_factor_in_place
-from jointplay._kernels.radau import _newton_solve_in_place, reduced_newton_matrix
+from jointplay._kernels.lanes.cpu import compiled
 
 __all__ = ["STEPS", "rodas_integrate"]
 
@@ -96,11 +95,20 @@ MIN_FACTOR = 0.2  # shortest step factor
 MAX_FACTOR = 5.0  # longest step factor
 
 
+# Radau's reduced real Newton matrix, its LU and solve: the lane source's
+# (:mod:`jointplay._kernels.lanes.source_radau`), compiled for the CPU.
+newton_matrix = compiled["newton_matrix"]
+lu_real = compiled["lu_real"]
+solve_real = compiled["solve_real"]
+
+
 @jit
 def _factor(jac, alpha, n_second, n_active, lu, piv):
     """LU of ``α·I − J`` reduced to the kept block, as Radau's real Newton matrix, into
     ``lu`` (nk, nk) and ``piv`` (nk,), ``nk = n_active − n_second``."""
-    lu_factor_in_place(reduced_newton_matrix(jac, alpha, lu, n_second, n_active), piv)
+    nk = n_active - n_second
+    newton_matrix(jac[n_second:], alpha, lu, n_second, nk)
+    lu_real(lu, piv, nk)
 
 
 @jit
@@ -136,7 +144,7 @@ def _stages(
             finite = finite and math.isfinite(acc)
         if not finite:
             return nfev, False
-        _newton_solve_in_place(lu, piv, jac, alpha, x, work, n_second, n_active)
+        solve_real(lu, piv, jac[n_second:], alpha, x, work, n_second, n_active - n_second, n)
         for j in range(n):
             k[s, j] = x[j]
     return nfev, True
@@ -215,7 +223,7 @@ def _attempt(state, problem, t, y, f, h, y_new, counters):
             y_new[j] = stage[j] + k[5, j]
             scaled = k[5, j] / (atol[j] + py_max(abs(y[j]), abs(y_new[j])) * rtol)
             total += scaled * scaled
-        error_norm = math.sqrt(total) / math.sqrt(n)  # common.rms_norm's arithmetic
+        error_norm = math.sqrt(total) / math.sqrt(n)  # the source's rms arithmetic
     if not (finite and error_norm <= 1.0):  # NaN fails too
         shrink = SAFETY * error_norm**-0.25 if finite else 0.2
         counters[NREJ_ERROR] += 1
