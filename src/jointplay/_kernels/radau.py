@@ -72,8 +72,9 @@ simplified Newton iteration, the error estimate, the controller's factor), in th
 Numba's CPU and CUDA targets both compile; the batch lanes run them in their own loop, and
 this module in the single engine's (:func:`jointplay._kernels.driver.drive`), with the CPU
 lanes' compilation of them (:data:`jointplay._kernels.lanes.cpu.compiled`): here are only
-the method's state and its steps ``_start`` … ``_accept``. :mod:`jointplay._kernels.common`
-holds the initial step and SciPy's finite-difference Jacobian.
+the method's state and its steps ``_radau_start`` … ``_radau_accept``.
+:mod:`jointplay._kernels.common` holds the initial step and SciPy's finite-difference
+Jacobian.
 
 Compilation: everything is ``njit(cache=True)``. The user's functions reach the driver as
 first-class function values (``numba.types.FunctionType``) rather than as dispatcher
@@ -175,7 +176,7 @@ def _jacobian_into(problem, t, y, f, factor, out):
 
 
 @jit
-def _start(problem, t0, y0, f0, counters):
+def _radau_start(problem, t0, y0, f0, counters):
     """The state at ``(t0, y0)``: the Jacobian there (counted), no factors, no polynomial.
 
     Returns:
@@ -208,7 +209,7 @@ def _start(problem, t0, y0, f0, counters):
 
 
 @step_jit
-def _begin(state, problem, t, y, f, h_abs, min_step, counters):
+def _radau_begin(state, problem, t, y, f, h_abs, min_step, counters):
     """A step from ``(t, y)``: the proposed size clamped to ``[min_step, max_step]`` (a
     clamp forgets the last step for the controller, as SciPy), the Newton scale
     ``atol + rtol·|y|``. Returns the first try's size and no cap on the retries (SciPy's)."""
@@ -290,7 +291,7 @@ def _newton(state, problem, t, y, f, h, counters):
 
 
 @step_jit
-def _attempt(state, problem, t, y, f, h, y_new, counters):
+def _radau_attempt(state, problem, t, y, f, h, y_new, counters):
     """One try of the step ``h`` ([HW96] §IV.8; SciPy's ``Radau._step_impl``): Newton on
     the collocation system, ``y_new = y + Z₃``, the embedded error estimate (re-estimated
     with one more ``f`` after a rejection), the error test. Returns ``(passed, h_abs)``:
@@ -339,13 +340,13 @@ def _attempt(state, problem, t, y, f, h, y_new, counters):
 
 
 @step_jit
-def _retry(state):
+def _radau_retry(state):
     """``step_check`` shortened the step: the factors are of the old step size."""
     state[0][_LU_VALID] = 0.0
 
 
 @step_jit
-def _accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed, counters):
+def _radau_accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed, counters):
     """The accepted step ``(t, y) → (t_new, y_new)``, ``f = f(t_new, y_new)``: the next
     step's size from the predictive controller ([HW96] (8.25)), at most ``MAX_FACTOR``
     times larger, not larger at all after a failed try with ``hold_after_failure``, kept
@@ -386,7 +387,7 @@ def _accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed, count
 
 
 #: Radau IIA's steps for the loop (:func:`jointplay._kernels.driver.drive`).
-STEPS = Steps(_start, _begin, _attempt, _retry, evaluate_f, _accept)
+STEPS = Steps(_radau_start, _radau_begin, _radau_attempt, _radau_retry, evaluate_f, _radau_accept)
 
 
 def radau_integrate(

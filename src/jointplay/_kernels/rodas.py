@@ -158,7 +158,7 @@ _N_SCALARS = 3
 
 
 @jit
-def _start(problem, t0, y0, f0, counters):
+def _rodas_start(problem, t0, y0, f0, counters):
     """The state: ``(sc, jac, jac_factor, ft, k, stage, x, work, coupling, lu, piv)``, the
     scalars (slots ``_H_ACCEPTED`` …), the Jacobian (n, n) and ``num_jac``'s factors,
     ``∂f/∂t`` (n,), the stages (6, n), scratch, the reduced LU (nk, nk) and its pivots."""
@@ -174,7 +174,7 @@ def _start(problem, t0, y0, f0, counters):
 
 
 @step_jit
-def _begin(state, problem, t, y, f, h_abs, min_step, counters):
+def _rodas_begin(state, problem, t, y, f, h_abs, min_step, counters):
     """The linearisation at ``(t, y)``, kept for every try of this step: ``J`` (the user's,
     else SciPy's differences, each call from the initial relative step √eps) and ``∂f/∂t``
     by one forward difference (rodas.f's ``DELT``; 0 for an autonomous ``f``). Returns the
@@ -199,7 +199,7 @@ def _begin(state, problem, t, y, f, h_abs, min_step, counters):
 
 
 @step_jit
-def _attempt(state, problem, t, y, f, h, y_new, counters):
+def _rodas_attempt(state, problem, t, y, f, h, y_new, counters):
     """One try of the step ``h``: the LU of ``1/(γh)·I − J``, the six stages, ``y_new`` and
     the error test on ``k₆`` ([HW96] §IV.7). Returns ``(passed, h_abs)``, after a failure
     ``h_abs·max(1/5, min(1, 0.9·err^(−1/4)))`` (``h/5`` for a non-finite stage), counted
@@ -233,7 +233,7 @@ def _attempt(state, problem, t, y, f, h, y_new, counters):
 
 
 @step_jit
-def _accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed, counters):
+def _rodas_accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed, counters):
     """The next step's size after an accepted one: ``0.9·err^(−1/4)``, after an accepted
     step also at most Gustafsson's ``0.9·(h/h_prev)·(err_prev/err²)^(1/4)``, within
     ``[MIN_FACTOR, MAX_FACTOR]``, not larger after a failed try with
@@ -254,7 +254,7 @@ def _accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed, count
 
 
 #: RODAS4's steps for the loop (:func:`jointplay._kernels.driver.drive`).
-STEPS = Steps(_start, _begin, _attempt, no_retry, evaluate_f, _accept)
+STEPS = Steps(_rodas_start, _rodas_begin, _rodas_attempt, no_retry, evaluate_f, _rodas_accept)
 
 
 def rodas_integrate(

@@ -52,7 +52,7 @@ FUNCTIONS = (
         "law_slopes", "force_column", "coordinate_direction", "side_of", "film_jacobian", "reynolds_position_slope",
         "reynolds_jacobian", "jacobian_clear",
         "column_difference", "jacobian_differences", "jacobian_fixed",
-        "jacobian", "newton_matrix", "factor_newton", "solve_real", "solve_complex",
+        "lane_jacobian", "newton_matrix", "factor_newton", "solve_real", "solve_complex",
         "stage_norm", "rms", "mat3", "predict", "initial_step", "newton_start", "stage_point",
         "newton_iteration", "collocation", "error_estimate", "error_again", "polynomial",
         "touching",

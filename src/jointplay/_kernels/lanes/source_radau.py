@@ -664,8 +664,8 @@ def jacobian_fixed(t, y, f, rp, ip, lay, jac, ytmp, f_col, record, phi_q, schur,
             jac[i - n, j] = (f_col[i] - f[i]) / h
 
 
-def jacobian(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, diff, diff_new, record,
-             phi_q, schur, lam):  # fmt: skip
+def lane_jacobian(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, diff, diff_new,
+                  record, phi_q, schur, lam):  # fmt: skip
     """The Radau kernel's Jacobian as the batch engine asks for it: the closed form of
     :func:`eom.jacobian_state` (:func:`jacobian_clear`) when every joint is clear, fixed-step
     differences (:func:`jacobian_fixed`) with ideal joints and film damping, else SciPy's
@@ -1113,8 +1113,8 @@ def implicit_lane(
     newton_tol = max(10.0 * EPS / rtol, min(0.03, rtol**0.5))
     for j in range(size):
         jfactor[j] = EPS**0.5
-    jacobian(t, y, f, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid, xr, xcr, record_mid,
-             phi_q, schur, lam)  # fmt: skip
+    lane_jacobian(t, y, f, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid, xr, xcr, record_mid,
+                  phi_q, schur, lam)  # fmt: skip
     current_jac = True
     lu_valid = False
     has_sol = False
@@ -1178,8 +1178,8 @@ def implicit_lane(
                 if not converged:
                     if current_jac:
                         break
-                    jacobian(t, y, f, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid, xr, xcr,
-                             record_mid, phi_q, schur, lam)  # fmt: skip
+                    lane_jacobian(t, y, f, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid, xr,
+                                  xcr, record_mid, phi_q, schur, lam)  # fmt: skip
                     current_jac = True
                     lu_valid = False
             if not converged:
@@ -1239,8 +1239,8 @@ def implicit_lane(
             status = STATUS_NON_FINITE
             break
         if recompute_jac:
-            jacobian(t_new, y_new, f_new, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid, xr,
-                     xcr, record_mid, phi_q, schur, lam)  # fmt: skip
+            lane_jacobian(t_new, y_new, f_new, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid,
+                          xr, xcr, record_mid, phi_q, schur, lam)  # fmt: skip
             current_jac = True
         else:
             current_jac = False
