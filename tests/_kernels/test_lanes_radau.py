@@ -152,7 +152,7 @@ def test_the_cpu_implicit_lane_is_the_sources_compilation() -> None:
 
 @pytest.mark.parametrize(
     "name",
-    ["factor_newton", "newton_start", "stage_point", "newton_iteration", "error_estimate",
+    ["factor_newton", "newton_start", "newton_iteration", "error_estimate",
      "error_again", "polynomial", "predict"],
 )  # fmt: skip
 def test_the_single_engines_radau_step_is_the_sources(name: str) -> None:

@@ -76,15 +76,9 @@ the method's state and its steps ``_radau_start`` … ``_radau_accept``.
 :mod:`jointplay._kernels.common` holds the initial step and SciPy's finite-difference
 Jacobian.
 
-Compilation: everything is ``njit(cache=True)``. The user's functions reach the driver as
-first-class function values (``numba.types.FunctionType``) rather than as dispatcher
-objects, because Numba keys a dispatcher-typed argument by the object's address: such a
-specialisation is never found again in the cache of a new process (and adds a cache file
-every time). :func:`radau_integrate` therefore compiles the driver for explicit
-signatures, one per type of ``args`` (see :func:`kernel_signatures`), and Numba converts
-each jitted user function to that type at the call (so :func:`radau_integrate` is called
-from Python, not from compiled code). Element-wise loops replace NumPy array expressions
-throughout: the same arithmetic, compiled faster.
+Compilation: :mod:`jointplay._kernels.driver`'s (one cached copy of the loop per method and
+type of ``args``, the user's functions passed as first-class function values, so
+:func:`radau_integrate` is called from Python).
 
 References:
     .. [HW96] E. Hairer, G. Wanner, *Solving Ordinary Differential Equations II: Stiff and
@@ -114,7 +108,7 @@ from jointplay._kernels.driver import (
 )
 from jointplay._kernels.ids import EPS, NFEV, NJEV, NLU, NREJ_ERROR, NREJ_NEWTON
 from jointplay._kernels.lanes.cpu import compiled
-from jointplay._kernels.lanes.source_radau import NEWTON_MAXITER
+from jointplay._kernels.lanes.source_radau import NEWTON_MAXITER, RC1, RC2, RC3
 from jointplay._kernels.lanes.source_radau import R_MAX_FACTOR as MAX_FACTOR
 from jointplay._kernels.lanes.source_radau import R_MIN_FACTOR as MIN_FACTOR
 
@@ -132,7 +126,6 @@ __all__ = [
 # not inlined into the loop, as the step's own functions are: compiled once, as before).
 factor_newton = compiled["factor_newton"]
 newton_start = compiled["newton_start"]
-stage_point = compiled["stage_point"]
 newton_iteration = compiled["newton_iteration"]
 error_estimate = compiled["error_estimate"]
 error_again = compiled["error_again"]
@@ -242,25 +235,31 @@ def _collocation(state, problem, t, y, h):
     )  # fmt: skip
     stages, vectors, kept, cq, y_old = state[8], state[9], state[10], state[11], state[12]
     w, z, fst, dw = stages[0], stages[1], stages[2], stages[3]
-    ytmp = vectors[_YTMP]
+    ytmp, scale, xr, xcr, xci = (
+        vectors[_YTMP], vectors[_SCALE], vectors[_XR], vectors[_XCR], vectors[_XCI]
+    )  # fmt: skip
+    wk, wkr, wki = kept[0], kept[1], kept[2]
     n = y.shape[0]
     m2 = problem.n_second
     nk = problem.n_active - m2
+    rows = jac[m2:]
+    tol = sc[_NEWTON_TOL]
     newton_start(t, y, h, sc[_HAS_SOL] != 0.0, cq, sc[_T_OLD], y_old, z, w, n)
     converged = False
     dw_norm = 0.0
     rate = np.nan
     k = 0
     for k in range(NEWTON_MAXITER):
-        for i in range(3):
-            t_i = stage_point(t, h, y, z, i, ytmp, n)
-            f_i = problem.fun(t_i, ytmp, problem.args)
+        for i in range(3):  # the stage points (the source's stage_point, inline here)
+            for j in range(n):
+                ytmp[j] = y[j] + z[i, j]
+            f_i = problem.fun(t + h * (RC1 if i == 0 else (RC2 if i == 1 else RC3)), ytmp,
+                              problem.args)  # fmt: skip
             for j in range(n):
                 fst[i, j] = f_i[j]
         done, converged, dw_norm, rate = newton_iteration(
-            fst, h, w, z, dw, vectors[_SCALE], sc[_NEWTON_TOL], k, dw_norm, rate, jac[m2:],
-            a_re, piv_re, c_re, c_im, piv_c, vectors[_XR], vectors[_XCR], vectors[_XCI],
-            kept[0], kept[1], kept[2], m2, nk, n,
+            fst, h, w, z, dw, scale, tol, k, dw_norm, rate, rows, a_re, piv_re, c_re, c_im,
+            piv_c, xr, xcr, xci, wk, wkr, wki, m2, nk, n,
         )  # fmt: skip
         if done:
             break
