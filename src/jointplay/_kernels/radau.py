@@ -72,7 +72,8 @@ simplified Newton iteration, the error estimate, the controller's factor), in th
 Numba's CPU and CUDA targets both compile; the batch lanes run them in their own loop, and
 this module in the single engine's (:func:`jointplay._kernels.driver.drive`), with the CPU
 lanes' compilation of them (:data:`jointplay._kernels.lanes.cpu.compiled`): here are only
-the method's state and its steps ``_radau_start`` … ``_radau_accept``.
+the method's state, its Newton loop over ``fun`` and its steps ``_radau_start`` …
+``_radau_accept``.
 :mod:`jointplay._kernels.common` holds the initial step and SciPy's finite-difference
 Jacobian.
 
@@ -225,7 +226,7 @@ def _radau_begin(state, problem, t, y, f, h_abs, min_step, counters):
     return h_abs, np.inf
 
 
-@step_jit
+@jit  # not inlined into the loop: a function of its own, as SciPy's
 def _collocation(state, problem, t, y, h):
     """The simplified Newton iteration of the collocation system on ``fun`` (the source's
     pieces, as the lane's :func:`~jointplay._kernels.lanes.source_radau.collocation` on its
