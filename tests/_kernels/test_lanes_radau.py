@@ -33,7 +33,7 @@ import pytest
 
 from _tolerances import SAME_ALGORITHM_RTOL
 from jointplay._kernels import batch as kb
-from jointplay._kernels import eom, ids, radau
+from jointplay._kernels import eom, ids, radau, rodas
 from jointplay._kernels.lanes import build, cpu, source, source_radau
 from jointplay.contact.friction import AdamsFriction, AmbrosioFriction, FrictionLaw
 from jointplay.contact.laws import CONTACT_LAWS, ContactLaw, get_law
@@ -150,18 +150,18 @@ def test_the_cpu_implicit_lane_is_the_sources_compilation() -> None:
     assert cpu.implicit_lane.py_func.__code__ is source_radau.implicit_lane.__code__
 
 
-def test_the_sources_method_constants_are_the_radau_kernels() -> None:
-    np.testing.assert_array_equal([source_radau.RC1, source_radau.RC2, source_radau.RC3], radau.C)
-    np.testing.assert_array_equal([source_radau.RE1, source_radau.RE2, source_radau.RE3], radau.E)
-    assert source_radau.MU_REAL == radau.MU_REAL
-    assert complex(source_radau.MU_COMPLEX_RE, source_radau.MU_COMPLEX_IM) == radau.MU_COMPLEX
-    np.testing.assert_array_equal(np.reshape(source_radau.RT, (3, 3)), radau.T)
-    np.testing.assert_array_equal(np.reshape(source_radau.RTI, (3, 3)), radau.TI)
-    np.testing.assert_array_equal(np.reshape(source_radau.RP, (3, 3)), radau.P)
-    assert source_radau.NEWTON_MAXITER == radau.NEWTON_MAXITER
-    assert (source_radau.R_MIN_FACTOR, source_radau.R_MAX_FACTOR) == (
-        radau.MIN_FACTOR, radau.MAX_FACTOR,
-    )  # fmt: skip
+@pytest.mark.parametrize(
+    "name",
+    ["factor_newton", "newton_start", "newton_iteration", "error_estimate",
+     "error_again", "polynomial", "predict"],
+)  # fmt: skip
+def test_the_single_engines_radau_step_is_the_sources(name: str) -> None:
+    """One Radau IIA step: the single engine's (and RODAS4's Newton matrix, LU and solve) is
+    the lane source's CPU compilation, the CPU lanes' own functions."""
+    assert getattr(radau, name) is cpu.compiled[name]
+    assert cpu.compiled[name].py_func.__code__ is getattr(source_radau, name).__code__
+    for shared in ("newton_matrix", "lu_real", "solve_real"):
+        assert getattr(rodas, shared) is cpu.compiled[shared]
 
 
 @pytest.mark.parametrize("contact", ["impact", "physical"])

@@ -44,8 +44,9 @@ from _ode_problems import (
     van_der_pol,
     van_der_pol_with_idle_component,
 )
-from jointplay._kernels import common, ids, linalg
-from jointplay._kernels import radau as kernel
+from jointplay._kernels import ids
+from jointplay._kernels.lanes import source_radau
+from jointplay._kernels.lanes.cpu import compiled as lanes
 
 # ---------------------------------------------------------------------------------------
 # Named tolerances.
@@ -82,11 +83,41 @@ CONTACT_LOCATED_UNITS = 50.0
 # ---------------------------------------------------------------------------------------
 # Building blocks.
 # ---------------------------------------------------------------------------------------
-@pytest.mark.parametrize(
-    "name", ["C", "E", "MU_REAL", "MU_COMPLEX", "T", "TI", "P", "NEWTON_MAXITER", "MAX_FACTOR"]
-)
+#: The Radau IIA constants of the source (:mod:`jointplay._kernels.lanes.source_radau`, the one
+#: copy the single engine and the lanes run), as SciPy's ``radau`` module names them.
+_CONSTANTS = {
+    "C": [source_radau.RC1, source_radau.RC2, source_radau.RC3],
+    "E": [source_radau.RE1, source_radau.RE2, source_radau.RE3],
+    "MU_REAL": source_radau.MU_REAL,
+    "MU_COMPLEX": complex(source_radau.MU_COMPLEX_RE, source_radau.MU_COMPLEX_IM),
+    "T": np.reshape(source_radau.RT, (3, 3)),
+    "TI": np.reshape(source_radau.RTI, (3, 3)),
+    "P": np.reshape(source_radau.RP, (3, 3)),
+    "NEWTON_MAXITER": source_radau.NEWTON_MAXITER,
+    "MIN_FACTOR": source_radau.R_MIN_FACTOR,
+    "MAX_FACTOR": source_radau.R_MAX_FACTOR,
+}
+
+
+@pytest.mark.parametrize("name", sorted(_CONSTANTS))
 def test_method_constants_are_scipys(name: str) -> None:
-    np.testing.assert_array_equal(getattr(kernel, name), getattr(scipy_radau, name))
+    np.testing.assert_array_equal(_CONSTANTS[name], getattr(scipy_radau, name))
+
+
+def _lu_solve(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``a⁻¹ b`` by the source's LU (real, or complex as pairs of floats)."""
+    n = a.shape[0]
+    piv = np.zeros(n, dtype=np.int64)
+    if not np.iscomplexobj(a):
+        lu, x = a.copy(), b.copy()
+        lanes["lu_real"](lu, piv, n)
+        lanes["lu_solve_real"](lu, piv, x, n)
+        return x
+    re, im = a.real.copy(), a.imag.copy()
+    xr, xi = b.real.copy(), b.imag.copy()
+    lanes["lu_complex"](re, im, piv, n)
+    lanes["lu_solve_complex"](re, im, piv, xr, xi, n)
+    return xr + 1j * xi
 
 
 @pytest.mark.parametrize("n", [1, 2, 5, 17, 60])
@@ -100,14 +131,13 @@ def test_lu_solve_matches_numpy(n: int, dtype: type) -> None:
         b = b + 1j * rng.standard_normal(n)
     if n > 1:
         a[0, 0] = 0.0  # forces a row interchange
-    lu, piv = linalg.lu_factor(a)
-    x = linalg.lu_solve(lu, piv, b)
+    x = _lu_solve(a, b)
     # Partial pivoting is backward stable: residual ~ eps·cond; these matrices have
     # cond < 1e4, so 1e-10 relative is a loose, round-off-only bound.
     np.testing.assert_allclose(x, np.linalg.solve(a, b), rtol=1e-10, atol=1e-12)
 
 
-@pytest.mark.parametrize("gamma", [kernel.MU_REAL, kernel.MU_COMPLEX])
+@pytest.mark.parametrize("gamma", [source_radau.MU_REAL, _CONSTANTS["MU_COMPLEX"]])
 @pytest.mark.parametrize(
     ("n_second", "n_active", "n"), [(0, 5, 5), (3, 6, 6), (3, 7, 9), (0, 4, 6)]
 )
@@ -123,18 +153,27 @@ def test_reduced_newton_solve_equals_full_solve(
     jac[:n_second, n_second : 2 * n_second] = np.eye(n_second)
     jac[:, n_active:] = 0.0
     b = rng.standard_normal(n) + (1j * rng.standard_normal(n) if np.iscomplexobj(gamma) else 0)
-    lu_real, piv_real, lu_complex, piv_complex = kernel._factor_newton_matrices(
-        jac, h, n_second, n_active
-    )
-    lu, piv = (lu_complex, piv_complex) if np.iscomplexobj(gamma) else (lu_real, piv_real)
-    x = kernel._newton_solve(lu, piv, jac, gamma / h, b, n_second, n_active)
+    nk = n_active - n_second
+    a_re, c_re, c_im = np.empty((nk, nk)), np.empty((nk, nk)), np.empty((nk, nk))
+    piv_re, piv_c = np.zeros(nk, dtype=np.int64), np.zeros(nk, dtype=np.int64)
+    rows = jac[n_second:]
+    lanes["factor_newton"](rows, h, a_re, piv_re, c_re, c_im, piv_c, n_second, nk)
+    if np.iscomplexobj(gamma):
+        xr, xi = b.real.copy(), b.imag.copy()
+        mu = gamma / h
+        lanes["solve_complex"](c_re, c_im, piv_c, rows, mu.real, mu.imag, xr, xi,
+                               np.empty(nk), np.empty(nk), n_second, nk, n)  # fmt: skip
+        x = xr + 1j * xi
+    else:
+        x = b.real.copy()
+        lanes["solve_real"](a_re, piv_re, rows, gamma / h, x, np.empty(nk), n_second, nk, n)
     # Round-off only: cond(γ/h·I − J) < 1e3 here, so 1e-10 relative is loose.
     np.testing.assert_allclose(x, np.linalg.solve(gamma / h * np.eye(n) - jac, b), rtol=1e-10)
 
 
 def test_lu_of_singular_matrix_gives_non_finite_not_an_error() -> None:
-    lu, piv = linalg.lu_factor(np.array([[1.0, 2.0], [2.0, 4.0]]))
-    assert not np.all(np.isfinite(linalg.lu_solve(lu, piv, np.array([1.0, 1.0]))))
+    x = _lu_solve(np.array([[1.0, 2.0], [2.0, 4.0]]), np.array([1.0, 1.0]))
+    assert not np.all(np.isfinite(x))
 
 
 @pytest.mark.parametrize(
@@ -145,7 +184,7 @@ def test_step_size_controller_matches_scipy(
     h_abs: float, h_abs_old: float | None, error_norm: float, error_norm_old: float | None
 ) -> None:
     expected = scipy_predict_factor(h_abs, h_abs_old, np.float64(error_norm), error_norm_old)
-    got = common.predict_factor(
+    got = lanes["predict"](
         h_abs,
         np.nan if h_abs_old is None else h_abs_old,
         error_norm,

@@ -297,7 +297,7 @@ def run_chunk(
 _Scalar = TypeVar("_Scalar", bound=np.generic)
 
 
-def _readonly(array: npt.NDArray[_Scalar]) -> npt.NDArray[_Scalar]:
+def _read_only_copy(array: npt.NDArray[_Scalar]) -> npt.NDArray[_Scalar]:
     array = np.ascontiguousarray(array)
     if array.flags.writeable:
         array = array.copy()
@@ -345,8 +345,8 @@ def run_batch(
     """
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
-    ipar_a = _readonly(np.asarray(ipar, dtype=np.int64))
-    rpar_a = _readonly(np.atleast_2d(np.asarray(rpar, dtype=np.float64)))
+    ipar_a = _read_only_copy(np.asarray(ipar, dtype=np.int64))
+    rpar_a = _read_only_copy(np.atleast_2d(np.asarray(rpar, dtype=np.float64)))
     y0_a = np.ascontiguousarray(np.atleast_2d(np.asarray(y0, dtype=np.float64)))
     lanes = y0_a.shape[0]
     settle_a, end_a, step_a = (

@@ -15,8 +15,6 @@ References:
 
 from __future__ import annotations
 
-import math
-
 import numba
 import numpy as np
 
@@ -29,22 +27,18 @@ from jointplay._kernels.ids import (
     NUM_JAC_MAX_FACTOR,
     NUM_JAC_MIN_FACTOR,
 )
+from jointplay._kernels.lanes.cpu import compiled as _lanes
 from jointplay._kernels.shared import compiled as _shared
 
 __all__ = [
     "all_finite",
     "copy_vector",
-    "error_scale",
     "interrupt_pending",
     "jit",
     "num_jac",
-    "plus",
-    "predict_factor",
     "py_max",
     "py_min",
-    "rms_norm",
     "select_initial_step",
-    "tolerance_scale",
 ]
 
 
@@ -67,6 +61,8 @@ def py_max(a, b):
     return b if b > a else a
 
 
+#: SciPy's ``norm(x / scale)`` of ``x[:size]`` (the lane source's ``rms``).
+_rms = _lanes["rms"]
 #: ``all_finite(x, size)``: whether ``x[:size]`` is all finite (the lane source's).
 all_finite = _shared["all_finite"]
 #: ``interrupt_pending(flags)``: whether ``flags`` (uint8, the signal numbers received so far,
@@ -78,47 +74,6 @@ interrupt_pending = _shared["interrupt_pending"]
 
 
 @jit
-def rms_norm(x, scale):
-    """SciPy's ``norm(x / scale)`` for a 1-D ``x``: RMS of ``x_j / scale_j``."""
-    n = x.shape[0]
-    s = 0.0
-    for j in range(n):
-        v = x[j] / scale[j]
-        s += v * v
-    return math.sqrt(s) / math.sqrt(n)
-
-
-@jit
-def tolerance_scale(y, atol, rtol):
-    """``atol + |y|·rtol``."""
-    n = y.shape[0]
-    scale = np.empty(n)
-    for j in range(n):
-        scale[j] = atol[j] + abs(y[j]) * rtol
-    return scale
-
-
-@jit
-def error_scale(y, y_new, atol, rtol):
-    """``atol + max(|y|, |y_new|)·rtol``."""
-    n = y.shape[0]
-    scale = np.empty(n)
-    for j in range(n):
-        scale[j] = atol[j] + max(abs(y[j]), abs(y_new[j])) * rtol
-    return scale
-
-
-@jit
-def plus(y, x):
-    """``y + x`` as a new C-contiguous array."""
-    n = y.shape[0]
-    out = np.empty(n)
-    for j in range(n):
-        out[j] = y[j] + x[j]
-    return out
-
-
-@jit
 def copy_vector(x):
     """``x`` as a new C-contiguous float64 array (``fun`` may return any layout)."""
     n = x.shape[0]
@@ -126,20 +81,6 @@ def copy_vector(x):
     for j in range(n):
         out[j] = x[j]
     return out
-
-
-@jit
-def predict_factor(h_abs, h_abs_old, error_norm, error_norm_old):
-    """Step-size factor of the predictive controller ([HW96] §IV.8, (8.25); SciPy).
-
-    ``h_abs_old`` or ``error_norm_old`` equal to NaN stands for SciPy's ``None``
-    (one-step controller).
-    """
-    if math.isnan(error_norm_old) or math.isnan(h_abs_old) or error_norm == 0.0:
-        multiplier = 1.0
-    else:
-        multiplier = h_abs / h_abs_old * (error_norm_old / error_norm) ** 0.25
-    return py_min(1.0, multiplier) * error_norm**-0.25
 
 
 # ---------------------------------------------------------------------------------------
@@ -255,9 +196,11 @@ def select_initial_step(fun, args, t0, y0, t_bound, max_step, f0, direction, rto
     interval_length = abs(t_bound - t0)
     if interval_length == 0.0:
         return 0.0, 0
-    scale = tolerance_scale(y0, atol, rtol)
-    d0 = rms_norm(y0, scale)
-    d1 = rms_norm(f0, scale)
+    scale = np.empty(n)
+    for j in range(n):
+        scale[j] = atol[j] + abs(y0[j]) * rtol
+    d0 = _rms(y0, scale, n)
+    d1 = _rms(f0, scale, n)
     h0 = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
     h0 = min(h0, interval_length)
     y1 = np.empty(n)
@@ -267,7 +210,7 @@ def select_initial_step(fun, args, t0, y0, t_bound, max_step, f0, direction, rto
     df = np.empty(n)
     for j in range(n):
         df[j] = f1[j] - f0[j]
-    d2 = rms_norm(df, scale) / h0
+    d2 = _rms(df, scale, n) / h0
     if d1 <= 1e-15 and d2 <= 1e-15:
         h1 = max(1e-6, h0 * 1e-3)
     else:

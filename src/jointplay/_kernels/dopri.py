@@ -135,20 +135,20 @@ _ERROR = 0  # the slot of the error norm of the try that passed, in the state's 
 
 
 @jit
-def _start(problem, t0, y0, f0, counters):
+def _dopri_start(problem, t0, y0, f0, counters):
     """The state: ``(sc, k, stage)``, the scalars, the stages (7, n) and a stage's state."""
     n = y0.shape[0]
     return np.zeros(1), np.empty((7, n)), np.empty(n)
 
 
 @step_jit
-def _begin(state, problem, t, y, f, h_abs, min_step, counters):
+def _dopri_begin(state, problem, t, y, f, h_abs, min_step, counters):
     """Nothing to prepare; the cap on every try is ``max_step`` (dopri5.f's ``HMAX``)."""
     return h_abs, problem.max_step
 
 
 @step_jit
-def _attempt(state, problem, t, y, f, h, y_new, counters):
+def _dopri_attempt(state, problem, t, y, f, h, y_new, counters):
     """One try of the step ``h`` (:func:`_step`, ``k₁ = f``). Returns ``(passed, h_abs)``,
     after a failure ``h_abs·max(1/5, min(1, 0.9·err^(−1/5)))`` (``h/5`` for a non-finite
     stage), counted in ``NREJ_ERROR``."""
@@ -167,7 +167,7 @@ def _attempt(state, problem, t, y, f, h, y_new, counters):
 
 
 @step_jit
-def _refresh(state, problem, t_new, y_new, f, changed, counters):
+def _dopri_refresh(state, problem, t_new, y_new, f, changed, counters):
     """``f`` at the new point: the last stage's (first same as last), evaluated afresh
     when ``after_step`` changed the state."""
     if changed:
@@ -178,7 +178,7 @@ def _refresh(state, problem, t_new, y_new, f, changed, counters):
 
 
 @step_jit
-def _accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed, counters):
+def _dopri_accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed, counters):
     """The next step's size: ``0.9·err^(−1/5)`` within ``[MIN_FACTOR, MAX_FACTOR]``, not
     larger right after a failed try (dopri5.f)."""
     error_norm = state[0][_ERROR]
@@ -190,7 +190,7 @@ def _accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed, count
 
 
 #: DOPRI5's steps for the loop (:func:`jointplay._kernels.driver.drive`).
-STEPS = Steps(_start, _begin, _attempt, no_retry, _refresh, _accept)
+STEPS = Steps(_dopri_start, _dopri_begin, _dopri_attempt, no_retry, _dopri_refresh, _dopri_accept)
 
 
 def dopri_integrate(

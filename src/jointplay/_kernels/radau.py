@@ -65,21 +65,21 @@ step ``factor_j·max(|y_j|, atol_j)`` in the direction of ``f``, where the per-c
 well above its round-off (a column drowned in round-off is retried with a 10x step). As
 in SciPy, its ``n`` (up to ``2n``) evaluations of ``fun`` count in ``njev``, not ``nfev``.
 
-Layout, as SciPy's: this module holds the method (its constants, the Newton iteration on
-the collocation system, the error estimate, the driver); :mod:`jointplay._kernels.common`
-the step-size helpers (status codes, counter names, error norm, step factor, initial step,
-finite-difference Jacobian); :mod:`jointplay._kernels.linalg` the LU factorisation with
-partial pivoting, one generic routine compiled for float64 and complex128.
+Layout: the step's numerics are written once, in the lane source
+(:mod:`jointplay._kernels.lanes.source_radau`: the method's constants, the reduced Newton
+matrices and their LU with partial pivoting, complex numbers as pairs of floats, the
+simplified Newton iteration, the error estimate, the controller's factor), in the subset that
+Numba's CPU and CUDA targets both compile; the batch lanes run them in their own loop, and
+this module in the single engine's (:func:`jointplay._kernels.driver.drive`), with the CPU
+lanes' compilation of them (:data:`jointplay._kernels.lanes.cpu.compiled`): here are only
+the method's state, its Newton loop over ``fun`` and its steps ``_radau_start`` …
+``_radau_accept``.
+:mod:`jointplay._kernels.common` holds the initial step and SciPy's finite-difference
+Jacobian.
 
-Compilation: everything is ``njit(cache=True)``. The user's functions reach the driver as
-first-class function values (``numba.types.FunctionType``) rather than as dispatcher
-objects, because Numba keys a dispatcher-typed argument by the object's address: such a
-specialisation is never found again in the cache of a new process (and adds a cache file
-every time). :func:`radau_integrate` therefore compiles the driver for explicit
-signatures, one per type of ``args`` (see :func:`kernel_signatures`), and Numba converts
-each jitted user function to that type at the call (so :func:`radau_integrate` is called
-from Python, not from compiled code). Element-wise loops replace NumPy array expressions
-throughout: the same arithmetic, compiled faster.
+Compilation: :mod:`jointplay._kernels.driver`'s (one cached copy of the loop per method and
+type of ``args``, the user's functions passed as first-class function values, so
+:func:`radau_integrate` is called from Python).
 
 References:
     .. [HW96] E. Hairer, G. Wanner, *Solving Ordinary Differential Equations II: Stiff and
@@ -90,23 +90,12 @@ References:
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
-from jointplay._kernels.common import (
-    error_scale,
-    jit,
-    num_jac,
-    plus,
-    predict_factor,
-    py_max,
-    py_min,
-    rms_norm,
-    tolerance_scale,
-)
+from jointplay._kernels.common import jit, num_jac
 from jointplay._kernels.driver import (
     MAX_CHECK_REJECTIONS,
     Steps,
@@ -119,7 +108,10 @@ from jointplay._kernels.driver import (
     step_jit,
 )
 from jointplay._kernels.ids import EPS, NFEV, NJEV, NLU, NREJ_ERROR, NREJ_NEWTON
-from jointplay._kernels.linalg import lu_factor_in_place, lu_solve_in_place
+from jointplay._kernels.lanes.cpu import compiled
+from jointplay._kernels.lanes.source_radau import NEWTON_MAXITER, RC1, RC2, RC3
+from jointplay._kernels.lanes.source_radau import R_MAX_FACTOR as MAX_FACTOR
+from jointplay._kernels.lanes.source_radau import R_MIN_FACTOR as MIN_FACTOR
 
 __all__ = [
     "MAX_CHECK_REJECTIONS",
@@ -131,384 +123,17 @@ __all__ = [
     "radau_integrate",
 ]
 
-# ---------------------------------------------------------------------------------------
-# Method constants, verbatim from SciPy's radau.py ([HW96] §IV.8).
-# ---------------------------------------------------------------------------------------
-S6 = 6.0**0.5
-
-#: Collocation nodes c_i of the three-stage Radau IIA method.
-C = np.array([(4.0 - S6) / 10.0, (4.0 + S6) / 10.0, 1.0])
-#: Weights of the embedded error estimate (applied to Z / h).
-E = np.array([-13.0 - 7.0 * S6, -13.0 + 7.0 * S6, -1.0]) / 3.0
-
-#: Eigenvalues of A⁻¹: one real, one complex-conjugate pair (A = T Λ T⁻¹).
-MU_REAL = 3.0 + 3.0 ** (2.0 / 3.0) - 3.0 ** (1.0 / 3.0)
-MU_COMPLEX = (3.0 + 0.5 * (3.0 ** (1.0 / 3.0) - 3.0 ** (2.0 / 3.0))) - 0.5j * (
-    3.0 ** (5.0 / 6.0) + 3.0 ** (7.0 / 6.0)
-)
-
-#: Transformation matrices of the eigen-decomposition.
-T = np.array(
-    [
-        [0.09443876248897524, -0.14125529502095421, 0.03002919410514742],
-        [0.25021312296533332, 0.20412935229379994, -0.38294211275726192],
-        [1.0, 1.0, 0.0],
-    ]
-)
-TI = np.array(
-    [
-        [4.17871859155190428, 0.32768282076106237, 0.52337644549944951],
-        [-4.17871859155190428, -0.32768282076106237, 0.47662355450055044],
-        [0.50287263494578682, -2.57192694985560522, 0.59603920482822492],
-    ]
-)
-TI_REAL = TI[0].copy()
-TI_COMPLEX = TI[1] + 1j * TI[2]
-
-#: Coefficients of the collocation polynomial (dense output / Newton start).
-P = np.array(
-    [
-        [13.0 / 3.0 + 7.0 * S6 / 3.0, -23.0 / 3.0 - 22.0 * S6 / 3.0, 10.0 / 3.0 + 5.0 * S6],
-        [13.0 / 3.0 - 7.0 * S6 / 3.0, -23.0 / 3.0 + 22.0 * S6 / 3.0, 10.0 / 3.0 - 5.0 * S6],
-        [1.0 / 3.0, -8.0 / 3.0, 10.0 / 3.0],
-    ]
-)
-
-NEWTON_MAXITER = 6  # Maximum number of Newton iterations.
-MIN_FACTOR = 0.2  # Minimum allowed decrease in a step size.
-MAX_FACTOR = 10.0  # Maximum allowed increase in a step size.
-
-
-# ---------------------------------------------------------------------------------------
-# Stage norm.
-# ---------------------------------------------------------------------------------------
-@jit
-def _rms_norm_stages(x, scale):
-    """SciPy's ``norm(x / scale)`` for ``x`` of shape (3, n), ``scale`` broadcast on rows."""
-    n = x.shape[1]
-    s = 0.0
-    for i in range(3):
-        for j in range(n):
-            v = x[i, j] / scale[j]
-            s += v * v
-    return math.sqrt(s) / math.sqrt(3 * n)
-
-
-# ---------------------------------------------------------------------------------------
-# Newton matrices (reduced to the active, non-position components).
-# ---------------------------------------------------------------------------------------
-@jit
-def reduced_newton_matrix(jac, mu_over_h, a, n_second, n_active):
-    """Fill ``a`` (float64 or complex128, the dtype of ``mu_over_h``) with the kept block of
-    ``γ/h·I − J`` for ``mu_over_h = γ/h``, the positions' columns folded in (see
-    :func:`_factor_newton_matrices`); RODAS4's matrix too (:mod:`jointplay._kernels.rodas`)."""
-    m2 = n_second
-    nk = n_active - m2
-    for i in range(nk):
-        for j in range(nk):
-            a[i, j] = -jac[m2 + i, m2 + j]
-        a[i, i] += mu_over_h
-        for j in range(m2):  # dx = h/γ (b_x + dv): the positions' columns fold into dv's
-            a[i, j] -= jac[m2 + i, j] / mu_over_h
-    return a
-
-
-@jit
-def _factor_newton_matrices(jac, h, n_second, n_active):
-    """LU factors of the Newton matrices ``MU_REAL/h·I − J`` and ``MU_COMPLEX/h·I − J``,
-    reduced to the components that :func:`_newton_solve` keeps.
-
-    For ``γ`` = ``MU_REAL`` or ``MU_COMPLEX``, the kept block ``K = [n_second, n_active)``
-    (velocities and other active components) of ``γ/h·I − J`` minus ``h/γ·J_Kx`` in the
-    columns of the velocities, ``x`` being the positions ``[0, n_second)`` ([HW96] §IV.8,
-    the ``M1`` option of RADAU5). With ``n_second = 0`` and ``n_active = n`` this is the
-    full matrix, as in SciPy.
-
-    Returns:
-        ``(lu_real, piv_real, lu_complex, piv_complex)``, new arrays.
-    """
-    nk = n_active - n_second
-    lu_real = np.empty((nk, nk))
-    piv_real = np.empty(nk, dtype=np.int64)
-    lu_complex = np.empty((nk, nk), dtype=np.complex128)
-    piv_complex = np.empty(nk, dtype=np.int64)
-    _factor_into(jac, h, n_second, n_active, lu_real, piv_real, lu_complex, piv_complex)
-    return lu_real, piv_real, lu_complex, piv_complex
-
-
-@jit
-def _factor_into(jac, h, n_second, n_active, lu_real, piv_real, lu_complex, piv_complex):
-    """:func:`_factor_newton_matrices` into the given arrays (nk, nk), (nk,) each."""
-    reduced_newton_matrix(jac, MU_REAL / h, lu_real, n_second, n_active)
-    reduced_newton_matrix(jac, MU_COMPLEX / h, lu_complex, n_second, n_active)
-    lu_factor_in_place(lu_real, piv_real)
-    lu_factor_in_place(lu_complex, piv_complex)
-
-
-@jit
-def _newton_solve_in_place(lu, piv, jac, mu_over_h, x, work, n_second, n_active):
-    """Solve ``(γ/h·I − J) x = b`` from the reduced factors of :func:`_factor_newton_matrices`.
-
-    The Jacobian is taken to have the structure that ``n_second`` and ``n_active`` declare
-    (see :func:`radau_integrate`): rows ``[0, m)`` (``m = n_second``) are ``[0, I, 0]``
-    (``x' = v``), and the columns from ``n_active`` on are zero. Then
-    ``dx = h/γ (b_x + dv)``; the kept block ``K = [m, n_active)`` solves
-    ``(γ/h·I − J_KK − h/γ·J_Kx E) d_K = b_K + h/γ·J_Kx b_x`` (``E`` picks dv out of d_K);
-    and each passive component ``p`` follows as ``h/γ (b_p + J_p,active x_active)``. In
-    exact arithmetic this is the solution of the full system.
-
-    Args:
-        lu: Packed LU of the reduced matrix for ``γ``.
-        piv: Its row interchanges.
-        jac: The Jacobian, shape (n, n) (only the rows from ``n_second`` on are read).
-        mu_over_h: ``γ/h`` (real or complex, the dtype of ``lu``).
-        x: ``b`` on entry, the solution on return, shape (n,), the dtype of ``lu``.
-        work: Scratch of shape (n_active − n_second,), the dtype of ``lu``.
-        n_second: Number of positions ``m``.
-        n_active: Number of active components.
-    """
-    n = x.shape[0]
-    m2 = n_second
-    nk = n_active - m2
-    h_over_mu = 1.0 / mu_over_h
-    for i in range(nk):
-        s = x[m2 + i]
-        for j in range(m2):
-            s += h_over_mu * jac[m2 + i, j] * x[j]
-        work[i] = s
-    lu_solve_in_place(lu, piv, work)
-    for j in range(m2):
-        x[j] = h_over_mu * (x[j] + work[j])
-    for i in range(nk):
-        x[m2 + i] = work[i]
-    for p in range(n_active, n):
-        s = x[p]
-        for j in range(n_active):
-            s += jac[p, j] * x[j]
-        x[p] = h_over_mu * s
-
-
-@jit
-def _newton_solve(lu, piv, jac, mu_over_h, b, n_second, n_active):
-    """:func:`_newton_solve_in_place` into a new array (``b`` is not modified)."""
-    x = b.copy()
-    work = np.empty(n_active - n_second, dtype=b.dtype)
-    _newton_solve_in_place(lu, piv, jac, mu_over_h, x, work, n_second, n_active)
-    return x
-
-
-# ---------------------------------------------------------------------------------------
-# Pieces of the collocation step.
-# ---------------------------------------------------------------------------------------
-@jit
-def _mat3_dot_into(m, z, out):
-    """``out[:] = m @ z`` for a 3×3 ``m`` and (3, n) ``z`` and ``out``."""
-    n = z.shape[1]
-    for i in range(3):
-        for j in range(n):
-            out[i, j] = 0.0
-        for k in range(3):
-            mik = m[i, k]
-            for j in range(n):
-                out[i, j] += mik * z[k, j]
-
-
-@jit
-def _newton_increment(f_stages, w, h, scale, lu_real, piv_real, lu_complex, piv_complex, jac,
-                      n_second, n_active, dw, x_real, x_complex, work_real, work_complex):  # fmt: skip
-    """One simplified-Newton increment ``dW`` in the transformed variables; its norm.
-
-    Args:
-        f_stages: ``F[i] = f(t + c_i h, y + Z[i])``, shape (3, n).
-        w: Current transformed stage increments ``W = TI @ Z``, shape (3, n).
-        h: Signed step.
-        scale: ``atol + rtol·|y|``, shape (n,).
-        lu_real: Packed LU of ``MU_REAL/h·I − J`` (reduced, :func:`_factor_newton_matrices`).
-        piv_real: Its row interchanges.
-        lu_complex: Packed LU of ``MU_COMPLEX/h·I − J`` (reduced).
-        piv_complex: Its row interchanges.
-        jac: The Jacobian the factors were made from.
-        n_second: Number of positions (see :func:`radau_integrate`).
-        n_active: Number of active components (see :func:`radau_integrate`).
-        dw: Receives ``dW``, shape (3, n).
-        x_real, x_complex, work_real, work_complex: Scratch, shapes (n,), (n,), (nk,),
-            (nk,) with ``nk = n_active − n_second``.
-
-    Returns:
-        ``||dW / scale||_rms``.
-    """
-    n = w.shape[1]
-    m_real = MU_REAL / h
-    m_complex = MU_COMPLEX / h
-    for j in range(n):
-        fr = 0.0
-        fc = 0.0j
-        for i in range(3):
-            fr += f_stages[i, j] * TI_REAL[i]
-            fc += f_stages[i, j] * TI_COMPLEX[i]
-        x_real[j] = fr - m_real * w[0, j]
-        x_complex[j] = fc - m_complex * (w[1, j] + 1j * w[2, j])
-    _newton_solve_in_place(lu_real, piv_real, jac, m_real, x_real, work_real, n_second, n_active)
-    _newton_solve_in_place(
-        lu_complex, piv_complex, jac, m_complex, x_complex, work_complex, n_second, n_active
-    )
-    for j in range(n):
-        dw[0, j] = x_real[j]
-        dw[1, j] = x_complex[j].real
-        dw[2, j] = x_complex[j].imag
-    return _rms_norm_stages(dw, scale)
-
-
-@jit
-def _error_estimate(z, f, h, lu_real, piv_real, jac, n_second, n_active):
-    """Embedded error estimate ``(MU_REAL/h·I − J)⁻¹ (f + ZE)`` and ``ZE = Zᵀ E / h``."""
-    n = z.shape[1]
-    ze = np.empty(n)
-    rhs = np.empty(n)
-    for j in range(n):
-        ze[j] = (z[0, j] * E[0] + z[1, j] * E[1] + z[2, j] * E[2]) / h
-        rhs[j] = f[j] + ze[j]
-    return ze, _newton_solve(lu_real, piv_real, jac, MU_REAL / h, rhs, n_second, n_active)
-
-
-@jit
-def _extrapolate(q, t_old, y_old, t, y, h):
-    """Newton start ``Z0[i] = sol(t + c_i h) − y`` from the last step's collocation polynomial.
-
-    ``sol(τ) = y_old + Q·[x, x², x³]`` with ``x = (τ − t_old)/(t − t_old)`` and
-    ``Q = Zᵀ P`` of the previous step (SciPy's ``RadauDenseOutput``).
-    """
-    n = y.shape[0]
-    h_prev = t - t_old
-    z0 = np.empty((3, n))
-    for i in range(3):
-        x = (t + h * C[i] - t_old) / h_prev
-        x2 = x * x
-        x3 = x2 * x
-        for j in range(n):
-            z0[i, j] = (q[j, 0] * x + q[j, 1] * x2 + q[j, 2] * x3) + y_old[j] - y[j]
-    return z0
-
-
-@jit
-def _interpolant_coefficients_into(z, q):
-    """``Q = Zᵀ P`` into ``q`` (n, 3)."""
-    n = z.shape[1]
-    for j in range(n):
-        for k in range(3):
-            s = 0.0
-            for i in range(3):
-                s += z[i, j] * P[i, k]
-            q[j, k] = s
-
-
-# ---------------------------------------------------------------------------------------
-# Collocation system.
-# ---------------------------------------------------------------------------------------
-@jit
-def _solve_collocation_system(
-    fun,
-    args,
-    t,
-    y,
-    h,
-    z0,
-    scale,
-    tol,
-    lu_real,
-    piv_real,
-    lu_complex,
-    piv_complex,
-    jac,
-    n_second,
-    n_active,
-    workspace,
-):
-    """Simplified Newton iteration for the collocation system ([HW96] §IV.8; SciPy).
-
-    Args:
-        fun: Right-hand side ``fun(t, y, args)``.
-        args: Passed through to ``fun``.
-        t: Current time.
-        y: Current state, shape (n,).
-        h: Signed step.
-        z0: Initial guess of ``Z`` (stage values minus ``y``), shape (3, n).
-        scale: ``atol + rtol·|y|``, shape (n,).
-        tol: Newton tolerance (on the scaled RMS norm).
-        lu_real: Packed LU of ``MU_REAL/h·I − J`` (reduced, :func:`_factor_newton_matrices`).
-        piv_real: Its row interchanges.
-        lu_complex: Packed LU of ``MU_COMPLEX/h·I − J`` (reduced).
-        piv_complex: Its row interchanges.
-        jac: The Jacobian the factors were made from.
-        n_second: Number of positions (see :func:`radau_integrate`).
-        n_active: Number of active components (see :func:`radau_integrate`).
-        workspace: Scratch arrays from :func:`_newton_workspace`, reused from call to call.
-
-    Returns:
-        ``(converged, n_iter, Z, rate, nfev)``; ``rate`` is NaN while undefined. ``Z`` is
-        one of the ``workspace`` arrays: valid until the next call.
-    """
-    n = y.shape[0]
-    w, z, f_stages, ytmp, dw, x_real, x_complex, work_real, work_complex = workspace
-    _mat3_dot_into(TI, z0, w)
-    for i in range(3):
-        for j in range(n):
-            z[i, j] = z0[i, j]
-    dw_norm_old = 0.0
-    has_old = False  # SciPy's ``dW_norm_old is not None``.
-    rate = np.nan  # NaN stands for SciPy's ``rate = None``.
-    converged = False
-    finite = True
-    nfev = 0
-    k = 0
-    for k in range(NEWTON_MAXITER):
-        for i in range(3):
-            for j in range(n):
-                ytmp[j] = y[j] + z[i, j]
-            f_i = fun(t + h * C[i], ytmp, args)
-            nfev += 1
-            for j in range(n):
-                f_stages[i, j] = f_i[j]
-                finite = finite and math.isfinite(f_i[j])
-        if not finite:
-            break
-        dw_norm = _newton_increment(
-            f_stages, w, h, scale, lu_real, piv_real, lu_complex, piv_complex, jac,
-            n_second, n_active, dw, x_real, x_complex, work_real, work_complex,
-        )  # fmt: skip
-        if has_old:
-            rate = dw_norm / dw_norm_old
-        if has_old and (rate >= 1 or rate ** (NEWTON_MAXITER - k) / (1 - rate) * dw_norm > tol):
-            break
-        for i in range(3):
-            for j in range(n):
-                w[i, j] += dw[i, j]
-        _mat3_dot_into(T, w, z)
-        if dw_norm == 0 or (has_old and rate / (1 - rate) * dw_norm < tol):
-            converged = True
-            break
-        dw_norm_old = dw_norm
-        has_old = True
-    return converged, k + 1, z, rate, nfev
-
-
-@jit
-def _newton_workspace(n, n_second, n_active):
-    """Scratch arrays of :func:`_solve_collocation_system`: W, Z, F, a stage state, dW,
-    and the right-hand sides and reduced vectors of the real and complex solves."""
-    nk = n_active - n_second
-    return (
-        np.empty((3, n)),
-        np.empty((3, n)),
-        np.empty((3, n)),
-        np.empty(n),
-        np.empty((3, n)),
-        np.empty(n),
-        np.empty(n, dtype=np.complex128),
-        np.empty(nk),
-        np.empty(nk, dtype=np.complex128),
-    )
-
+# The step's numerics: the lane source's CPU compilation, the CPU lanes' (module docstring;
+# not inlined into the loop, as the step's own functions are: compiled once, as before).
+factor_newton = compiled["factor_newton"]
+newton_start = compiled["newton_start"]
+newton_iteration = compiled["newton_iteration"]
+error_estimate = compiled["error_estimate"]
+error_again = compiled["error_again"]
+polynomial = compiled["polynomial"]
+predict = compiled["predict"]
+pmin = compiled["pmin"]
+pmax = compiled["pmax"]
 
 # ---------------------------------------------------------------------------------------
 # The method's steps for the loop (jointplay._kernels.driver): SciPy's Radau._step_impl.
@@ -530,6 +155,8 @@ _RATE = 12  # its convergence rate (NaN: undefined)
 _ERROR = 13  # its error norm
 _SAFETY = 14  # its safety factor, 0.9·(2·NEWTON_MAXITER + 1)/(2·NEWTON_MAXITER + n_iter)
 _N_SCALARS = 15
+# Rows of the state's (n,) vectors and its (nk,) ones.
+_YTMP, _XR, _XCR, _XCI, _ZE, _ESCALE, _SCALE = range(7)
 
 
 @jit
@@ -543,14 +170,16 @@ def _jacobian_into(problem, t, y, f, factor, out):
 
 
 @jit
-def _start(problem, t0, y0, f0, counters):
+def _radau_start(problem, t0, y0, f0, counters):
     """The state at ``(t0, y0)``: the Jacobian there (counted), no factors, no polynomial.
 
     Returns:
-        ``(sc, jac, jac_factor, lu_real, piv_real, lu_complex, piv_complex, workspace,
-        newton_scale, q, y_old)``: the scalars (slots ``_H_PROPOSED`` …), the Jacobian
-        (n, n), ``num_jac``'s factors, the reduced Newton factors, Newton's scratch, the
-        step's Newton scale, the collocation polynomial ``Q`` (n, 3) and its start ``y_old``.
+        ``(sc, jac, jac_factor, a_re, piv_re, c_re, c_im, piv_c, stages, vectors, kept, cq,
+        y_old)``: the scalars (slots ``_H_PROPOSED`` …), the Jacobian (n, n), ``num_jac``'s
+        factors, the reduced real and complex Newton factors (nk, nk; ``nk = n_active −
+        n_second``) and their pivots, the Newton iteration's W, Z, F and dW (4, 3, n), its
+        vectors (7, n: rows ``_YTMP`` …, ``_SCALE`` the step's Newton scale) and the kept
+        block's (3, nk), the collocation polynomial ``Q`` (3, n) and its start ``y_old``.
     """
     n = y0.shape[0]
     nk = problem.n_active - problem.n_second
@@ -568,18 +197,17 @@ def _start(problem, t0, y0, f0, counters):
     return (
         sc, jac, jac_factor,
         np.empty((nk, nk)), np.zeros(nk, dtype=np.int64),
-        np.empty((nk, nk), dtype=np.complex128), np.zeros(nk, dtype=np.int64),
-        _newton_workspace(n, problem.n_second, problem.n_active),
-        np.empty(n), np.zeros((n, 3)), y0.copy(),
+        np.empty((nk, nk)), np.empty((nk, nk)), np.zeros(nk, dtype=np.int64),
+        np.empty((4, 3, n)), np.empty((7, n)), np.empty((3, nk)), np.zeros((3, n)), y0.copy(),
     )  # fmt: skip
 
 
 @step_jit
-def _begin(state, problem, t, y, f, h_abs, min_step, counters):
+def _radau_begin(state, problem, t, y, f, h_abs, min_step, counters):
     """A step from ``(t, y)``: the proposed size clamped to ``[min_step, max_step]`` (a
     clamp forgets the last step for the controller, as SciPy), the Newton scale
     ``atol + rtol·|y|``. Returns the first try's size and no cap on the retries (SciPy's)."""
-    sc, newton_scale = state[0], state[8]
+    sc, scale = state[0], state[9][_SCALE]
     sc[_H_PROPOSED] = h_abs
     if h_abs > problem.max_step:
         h_abs = problem.max_step
@@ -592,35 +220,70 @@ def _begin(state, problem, t, y, f, h_abs, min_step, counters):
     else:
         sc[_H_OLD_STEP] = sc[_H_OLD]
         sc[_ERR_OLD_STEP] = sc[_ERR_OLD]
-    newton_scale[:] = tolerance_scale(y, problem.atol, problem.rtol)  # per step, as SciPy
+    for j in range(y.shape[0]):  # per step, as SciPy
+        scale[j] = problem.atol[j] + abs(y[j]) * problem.rtol
     sc[_REJECTED] = 0.0
     return h_abs, np.inf
+
+
+@jit  # not inlined into the loop: a function of its own, as SciPy's
+def _collocation(state, problem, t, y, h):
+    """The simplified Newton iteration of the collocation system on ``fun`` (the source's
+    pieces, as the lane's :func:`~jointplay._kernels.lanes.source_radau.collocation` on its
+    right-hand side). Returns ``(converged, n_iter, rate, nfev)``; Z in ``state[8][1]``."""
+    sc, jac, a_re, piv_re, c_re, c_im, piv_c = (
+        state[0], state[1], state[3], state[4], state[5], state[6], state[7]
+    )  # fmt: skip
+    stages, vectors, kept, cq, y_old = state[8], state[9], state[10], state[11], state[12]
+    w, z, fst, dw = stages[0], stages[1], stages[2], stages[3]
+    ytmp, scale, xr, xcr, xci = (
+        vectors[_YTMP], vectors[_SCALE], vectors[_XR], vectors[_XCR], vectors[_XCI]
+    )  # fmt: skip
+    wk, wkr, wki = kept[0], kept[1], kept[2]
+    n = y.shape[0]
+    m2 = problem.n_second
+    nk = problem.n_active - m2
+    rows = jac[m2:]
+    tol = sc[_NEWTON_TOL]
+    newton_start(t, y, h, sc[_HAS_SOL] != 0.0, cq, sc[_T_OLD], y_old, z, w, n)
+    converged = False
+    dw_norm = 0.0
+    rate = np.nan
+    k = 0
+    for k in range(NEWTON_MAXITER):
+        for i in range(3):  # the stage points (the source's stage_point, inline here)
+            for j in range(n):
+                ytmp[j] = y[j] + z[i, j]
+            f_i = problem.fun(t + h * (RC1 if i == 0 else (RC2 if i == 1 else RC3)), ytmp,
+                              problem.args)  # fmt: skip
+            for j in range(n):
+                fst[i, j] = f_i[j]
+        done, converged, dw_norm, rate = newton_iteration(
+            fst, h, w, z, dw, scale, tol, k, dw_norm, rate, rows, a_re, piv_re, c_re, c_im,
+            piv_c, xr, xcr, xci, wk, wkr, wki, m2, nk, n,
+        )  # fmt: skip
+        if done:
+            break
+    return converged, k + 1, rate, 3 * (k + 1)
 
 
 @step_jit
 def _newton(state, problem, t, y, f, h, counters):
     """The collocation system at step ``h`` solved by simplified Newton, started from the
     last step's polynomial; on failure with a stale Jacobian, once more with a fresh one.
-    Returns ``(converged, n_iter, Z, rate)``."""
-    sc, jac, jac_factor, lu_real, piv_real, lu_complex, piv_complex, workspace = state[:8]
-    newton_scale, q, y_old = state[8], state[9], state[10]
-    n_second, n_active = problem.n_second, problem.n_active
-    if sc[_HAS_SOL] != 0.0:
-        z0 = _extrapolate(q, sc[_T_OLD], y_old, t, y, h)
-    else:
-        z0 = np.zeros((3, y.shape[0]))
+    Returns ``(converged, n_iter, rate)``."""
+    sc, jac, jac_factor, a_re, piv_re, c_re, c_im, piv_c = state[:8]
+    m2 = problem.n_second
     while True:
         if sc[_LU_VALID] == 0.0:
-            _factor_into(jac, h, n_second, n_active, lu_real, piv_real, lu_complex, piv_complex)
+            factor_newton(jac[m2:], h, a_re, piv_re, c_re, c_im, piv_c, m2,
+                          problem.n_active - m2)  # fmt: skip
             counters[NLU] += 2
             sc[_LU_VALID] = 1.0
-        converged, n_iter, z, rate, nfev = _solve_collocation_system(
-            problem.fun, problem.args, t, y, h, z0, newton_scale, sc[_NEWTON_TOL],
-            lu_real, piv_real, lu_complex, piv_complex, jac, n_second, n_active, workspace,
-        )  # fmt: skip
+        converged, n_iter, rate, nfev = _collocation(state, problem, t, y, h)
         counters[NFEV] += nfev
         if converged or sc[_CURRENT_JAC] != 0.0:
-            return converged, n_iter, z, rate
+            return converged, n_iter, rate
         _jacobian_into(problem, t, y, f, jac_factor, jac)
         counters[NJEV] += 1
         sc[_CURRENT_JAC] = 1.0
@@ -628,42 +291,47 @@ def _newton(state, problem, t, y, f, h, counters):
 
 
 @step_jit
-def _attempt(state, problem, t, y, f, h, y_new, counters):
+def _radau_attempt(state, problem, t, y, f, h, y_new, counters):
     """One try of the step ``h`` ([HW96] §IV.8; SciPy's ``Radau._step_impl``): Newton on
     the collocation system, ``y_new = y + Z₃``, the embedded error estimate (re-estimated
     with one more ``f`` after a rejection), the error test. Returns ``(passed, h_abs)``:
     ``h_abs`` to retry with after a failure (half after a Newton failure, else the
     predictive controller's, [HW96] (8.25)), counted in ``NREJ_NEWTON`` or ``NREJ_ERROR``."""
-    sc, jac, lu_real, piv_real = state[0], state[1], state[3], state[4]
-    n_second, n_active = problem.n_second, problem.n_active
+    sc, jac, a_re, piv_re = state[0], state[1], state[3], state[4]
+    z, vectors, wk = state[8][1], state[9], state[10][0]
+    n = y.shape[0]
+    m2 = problem.n_second
+    nk = problem.n_active - m2
     h_abs = abs(h)
-    converged, n_iter, z, rate = _newton(state, problem, t, y, f, h, counters)
+    converged, n_iter, rate = _newton(state, problem, t, y, f, h, counters)
     if not converged:
         sc[_LU_VALID] = 0.0
         counters[NREJ_NEWTON] += 1
         return False, h_abs * 0.5
 
-    for j in range(y.shape[0]):
+    for j in range(n):
         y_new[j] = y[j] + z[2, j]
-    ze, error = _error_estimate(z, f, h, lu_real, piv_real, jac, n_second, n_active)
-    scale = error_scale(y, y_new, problem.atol, problem.rtol)
-    error_norm = rms_norm(error, scale)
+    error_norm = error_estimate(
+        z, f, h, y, y_new, problem.atol, problem.rtol, vectors[_ZE], vectors[_XR], wk,
+        vectors[_ESCALE], jac[m2:], a_re, piv_re, m2, nk, n,
+    )  # fmt: skip
     safety = 0.9 * (2 * NEWTON_MAXITER + 1) / (2 * NEWTON_MAXITER + n_iter)
 
     if sc[_REJECTED] != 0.0 and error_norm > 1:
-        f_err = problem.fun(t, plus(y, error), problem.args)
+        ytmp = vectors[_YTMP]
+        for j in range(n):
+            ytmp[j] = y[j] + vectors[_XR, j]
+        f_err = problem.fun(t, ytmp, problem.args)
         counters[NFEV] += 1
-        error = _newton_solve(
-            lu_real, piv_real, jac, MU_REAL / h, plus(f_err, ze), n_second, n_active
-        )
-        error_norm = rms_norm(error, scale)
+        error_norm = error_again(f_err, vectors[_ZE], h, vectors[_XR], wk, vectors[_ESCALE],
+                                 jac[m2:], a_re, piv_re, m2, nk, n)  # fmt: skip
 
     if error_norm > 1:
-        factor = predict_factor(h_abs, sc[_H_OLD_STEP], error_norm, sc[_ERR_OLD_STEP])
+        factor = predict(h_abs, sc[_H_OLD_STEP], error_norm, sc[_ERR_OLD_STEP])
         sc[_LU_VALID] = 0.0
         sc[_REJECTED] = 1.0
         counters[NREJ_ERROR] += 1
-        return False, h_abs * py_max(MIN_FACTOR, safety * factor)
+        return False, h_abs * pmax(MIN_FACTOR, safety * factor)
     sc[_N_ITER] = n_iter
     sc[_RATE] = rate
     sc[_ERROR] = error_norm
@@ -672,13 +340,13 @@ def _attempt(state, problem, t, y, f, h, y_new, counters):
 
 
 @step_jit
-def _retry(state):
+def _radau_retry(state):
     """``step_check`` shortened the step: the factors are of the old step size."""
     state[0][_LU_VALID] = 0.0
 
 
 @step_jit
-def _accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed, counters):
+def _radau_accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed, counters):
     """The accepted step ``(t, y) → (t_new, y_new)``, ``f = f(t_new, y_new)``: the next
     step's size from the predictive controller ([HW96] (8.25)), at most ``MAX_FACTOR``
     times larger, not larger at all after a failed try with ``hold_after_failure``, kept
@@ -686,16 +354,16 @@ def _accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed, count
     Jacobian recomputed at the new point when Newton converged slowly; the collocation
     polynomial for the next Newton start, unless ``after_step`` declared a discontinuity.
     Returns the next step's proposed size."""
-    sc, jac, jac_factor, workspace, q, y_old = (
-        state[0], state[1], state[2], state[7], state[9], state[10]
+    sc, jac, jac_factor, z, cq, y_old = (
+        state[0], state[1], state[2], state[8][1], state[11], state[12]
     )  # fmt: skip
     error_norm = sc[_ERROR]
     recompute_jac = sc[_N_ITER] > 2 and sc[_RATE] > 1e-3
 
-    factor = predict_factor(h_abs, sc[_H_OLD_STEP], error_norm, sc[_ERR_OLD_STEP])
-    factor = py_min(MAX_FACTOR, sc[_SAFETY] * factor)
+    factor = predict(h_abs, sc[_H_OLD_STEP], error_norm, sc[_ERR_OLD_STEP])
+    factor = pmin(MAX_FACTOR, sc[_SAFETY] * factor)
     if problem.hold_after_failure and failed:
-        factor = py_min(factor, 1.0)  # RADAU5: IF (REJECT) HNEW = MIN(HNEW, H)
+        factor = pmin(factor, 1.0)  # RADAU5: IF (REJECT) HNEW = MIN(HNEW, H)
     if not recompute_jac and factor < 1.2:
         factor = 1.0
     else:
@@ -713,13 +381,13 @@ def _accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed, count
     sc[_ERR_OLD] = error_norm
     sc[_T_OLD] = t
     y_old[:] = y
-    _interpolant_coefficients_into(workspace[1], q)
+    polynomial(z, cq, y.shape[0])
     sc[_HAS_SOL] = 0.0 if changed else 1.0
     return h_abs * factor
 
 
 #: Radau IIA's steps for the loop (:func:`jointplay._kernels.driver.drive`).
-STEPS = Steps(_start, _begin, _attempt, _retry, evaluate_f, _accept)
+STEPS = Steps(_radau_start, _radau_begin, _radau_attempt, _radau_retry, evaluate_f, _radau_accept)
 
 
 def radau_integrate(

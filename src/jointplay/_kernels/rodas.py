@@ -57,8 +57,7 @@ import numpy.typing as npt
 from jointplay._kernels.common import jit, num_jac, py_max, py_min
 from jointplay._kernels.driver import Steps, evaluate_f, no_retry, run_core, step_jit
 from jointplay._kernels.ids import EPS, NFEV, NJEV, NLU, NREJ_ERROR
-from jointplay._kernels.linalg import lu_factor_in_place
-from jointplay._kernels.radau import _newton_solve_in_place, reduced_newton_matrix
+from jointplay._kernels.lanes.cpu import compiled
 
 __all__ = ["STEPS", "rodas_integrate"]
 
@@ -96,11 +95,20 @@ MIN_FACTOR = 0.2  # shortest step factor
 MAX_FACTOR = 5.0  # longest step factor
 
 
+# Radau's reduced real Newton matrix, its LU and solve: the lane source's
+# (:mod:`jointplay._kernels.lanes.source_radau`), compiled for the CPU.
+newton_matrix = compiled["newton_matrix"]
+lu_real = compiled["lu_real"]
+solve_real = compiled["solve_real"]
+
+
 @jit
 def _factor(jac, alpha, n_second, n_active, lu, piv):
     """LU of ``α·I − J`` reduced to the kept block, as Radau's real Newton matrix, into
     ``lu`` (nk, nk) and ``piv`` (nk,), ``nk = n_active − n_second``."""
-    lu_factor_in_place(reduced_newton_matrix(jac, alpha, lu, n_second, n_active), piv)
+    nk = n_active - n_second
+    newton_matrix(jac[n_second:], alpha, lu, n_second, nk)
+    lu_real(lu, piv, nk)
 
 
 @jit
@@ -136,7 +144,7 @@ def _stages(
             finite = finite and math.isfinite(acc)
         if not finite:
             return nfev, False
-        _newton_solve_in_place(lu, piv, jac, alpha, x, work, n_second, n_active)
+        solve_real(lu, piv, jac[n_second:], alpha, x, work, n_second, n_active - n_second, n)
         for j in range(n):
             k[s, j] = x[j]
     return nfev, True
@@ -150,7 +158,7 @@ _N_SCALARS = 3
 
 
 @jit
-def _start(problem, t0, y0, f0, counters):
+def _rodas_start(problem, t0, y0, f0, counters):
     """The state: ``(sc, jac, jac_factor, ft, k, stage, x, work, coupling, lu, piv)``, the
     scalars (slots ``_H_ACCEPTED`` …), the Jacobian (n, n) and ``num_jac``'s factors,
     ``∂f/∂t`` (n,), the stages (6, n), scratch, the reduced LU (nk, nk) and its pivots."""
@@ -166,7 +174,7 @@ def _start(problem, t0, y0, f0, counters):
 
 
 @step_jit
-def _begin(state, problem, t, y, f, h_abs, min_step, counters):
+def _rodas_begin(state, problem, t, y, f, h_abs, min_step, counters):
     """The linearisation at ``(t, y)``, kept for every try of this step: ``J`` (the user's,
     else SciPy's differences, each call from the initial relative step √eps) and ``∂f/∂t``
     by one forward difference (rodas.f's ``DELT``; 0 for an autonomous ``f``). Returns the
@@ -191,7 +199,7 @@ def _begin(state, problem, t, y, f, h_abs, min_step, counters):
 
 
 @step_jit
-def _attempt(state, problem, t, y, f, h, y_new, counters):
+def _rodas_attempt(state, problem, t, y, f, h, y_new, counters):
     """One try of the step ``h``: the LU of ``1/(γh)·I − J``, the six stages, ``y_new`` and
     the error test on ``k₆`` ([HW96] §IV.7). Returns ``(passed, h_abs)``, after a failure
     ``h_abs·max(1/5, min(1, 0.9·err^(−1/4)))`` (``h/5`` for a non-finite stage), counted
@@ -215,7 +223,7 @@ def _attempt(state, problem, t, y, f, h, y_new, counters):
             y_new[j] = stage[j] + k[5, j]
             scaled = k[5, j] / (atol[j] + py_max(abs(y[j]), abs(y_new[j])) * rtol)
             total += scaled * scaled
-        error_norm = math.sqrt(total) / math.sqrt(n)  # common.rms_norm's arithmetic
+        error_norm = math.sqrt(total) / math.sqrt(n)  # the source's rms arithmetic
     if not (finite and error_norm <= 1.0):  # NaN fails too
         shrink = SAFETY * error_norm**-0.25 if finite else 0.2
         counters[NREJ_ERROR] += 1
@@ -225,7 +233,7 @@ def _attempt(state, problem, t, y, f, h, y_new, counters):
 
 
 @step_jit
-def _accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed, counters):
+def _rodas_accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed, counters):
     """The next step's size after an accepted one: ``0.9·err^(−1/4)``, after an accepted
     step also at most Gustafsson's ``0.9·(h/h_prev)·(err_prev/err²)^(1/4)``, within
     ``[MIN_FACTOR, MAX_FACTOR]``, not larger after a failed try with
@@ -246,7 +254,7 @@ def _accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed, count
 
 
 #: RODAS4's steps for the loop (:func:`jointplay._kernels.driver.drive`).
-STEPS = Steps(_start, _begin, _attempt, no_retry, evaluate_f, _accept)
+STEPS = Steps(_rodas_start, _rodas_begin, _rodas_attempt, no_retry, evaluate_f, _rodas_accept)
 
 
 def rodas_integrate(

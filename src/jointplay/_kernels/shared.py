@@ -51,7 +51,7 @@ _OWN: dict[str, Callable[..., Any]] = {
 #: The single engine's versions of the source's hooks: the sustained-contact mode's
 #: accelerations, and the projection with LAPACK's solve (the CPU lanes' too).
 _HOOKS: dict[str, Callable[..., Any]] = {
-    "locked_accelerations": sustained.locked_accelerations,
+    "locked_accelerations": sustained.sustained_locked_accelerations,
     "project": project_lapack,
 }
 

@@ -43,7 +43,7 @@ from jointplay._kernels.lanes.source import (
 )
 from jointplay._kernels.lanes.source_radau import lu_real, lu_solve_real
 
-__all__ = ["locked_accelerations", "locked_row", "sustained_accelerations"]
+__all__ = ["locked_row", "sustained_accelerations", "sustained_locked_accelerations"]
 
 
 def locked_row(y, rp, ip, lay, c, g_row, h_col):
@@ -187,7 +187,7 @@ def sustained_accelerations(t, y, rp, ip, lay, f, record, recording, lam):
     return torque, power
 
 
-def locked_accelerations(t, y, rp, ip, lay, f, record, recording, lam):
-    """The single engine's hook of the same name in the source's ``rhs``:
+def sustained_locked_accelerations(t, y, rp, ip, lay, f, record, recording, lam):
+    """The single engine's ``locked_accelerations`` hook in the source's ``rhs``:
     :func:`sustained_accelerations` (compiled apart, not inlined into every caller)."""
     return sustained_accelerations(t, y, rp, ip, lay, f, record, recording, lam)

@@ -41,29 +41,33 @@ __all__ = [
 
 
 @numba.njit(cache=True, error_model="numpy")
+def _work(lay, n_q):
+    """The work arrays both lanes take (their contract: the source's ``explicit_lane`` and
+    ``implicit_lane``): ``mask``, the quantities at two ends (2, Q), the refinement's
+    ``samples``, the penetrations (2, nc), the contact records (3, 7 nc), the constrained
+    right-hand side's ``phi_q``, ``schur``, ``lam`` and the projection's ``scratch``."""
+    nc = max(lay[LY_NC], 1)
+    rows = 2 * lay[LY_NIDEAL] + 1
+    return (
+        np.empty(n_q, dtype=np.int64), np.empty((2, n_q)), np.empty((9, n_q)),
+        np.empty((2, nc)), np.empty((3, 7 * nc)), np.empty((rows, lay[LY_N])),
+        np.empty((rows, rows)), np.empty(rows), np.zeros(N_WORK),
+    )  # fmt: skip
+
+
+@numba.njit(cache=True, error_model="numpy")
 def _one(
     ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
     peaks, stats, status, t_reached, counts, lane,
 ):  # fmt: skip
     size = y0.shape[1]
-    n_q = peaks.shape[1]
-    nc = max(lay[LY_NC], 1)
-    mask = np.empty(n_q, dtype=np.int64)
+    mask, q, samples, pen, records, phi_q, schur, lam, scratch = _work(lay, peaks.shape[1])
     k = np.empty((7, size))
     work = np.empty((6, size))
-    q = np.empty((2, n_q))
-    samples = np.empty((9, n_q))
-    pen = np.empty(nc)
-    records = np.empty((3, 7 * nc))
-    rows = 2 * lay[LY_NIDEAL] + 1
-    phi_q = np.empty((rows, lay[LY_N]))
-    schur = np.empty((rows, rows))
-    lam = np.empty(rows)
-    scratch = np.zeros(N_WORK)
     code, t = explicit_lane(
         ipar, rpar[lane], lay, y0[lane], t_settle[lane], t_end[lane], max_step[lane], rtol,
         atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask, k,
-        work[0], work[1], work[2], work[3], work[4], work[5], q[0], q[1], samples, pen,
+        work[0], work[1], work[2], work[3], work[4], work[5], q[0], q[1], samples, pen[0],
         records[0], records[1], records[2], phi_q, schur, lam, scratch,
     )  # fmt: skip
     status[lane] = code
@@ -104,24 +108,13 @@ def _one_implicit(
 ):  # fmt: skip
     size = lay[LY_SIZE]
     n = lay[LY_N]
-    n_q = peaks.shape[1]
-    nc = max(lay[LY_NC], 1)
-    mask = np.empty(n_q, dtype=np.int64)
+    mask, q, samples, pen, records, phi_q, schur, lam, scratch = _work(lay, peaks.shape[1])
     vec = np.empty((16, size))
     small = np.empty((3, n))
     stages = np.empty((5, 3, size))
     jac = np.empty((size - n, 2 * n))
     mats = np.empty((3, n, n))
     pivots = np.empty((2, n), dtype=np.int64)
-    q = np.empty((2, n_q))
-    samples = np.empty((9, n_q))
-    pen = np.empty((2, nc))
-    records = np.empty((3, 7 * nc))
-    rows = 2 * lay[LY_NIDEAL] + 1
-    phi_q = np.empty((rows, n))
-    schur = np.empty((rows, rows))
-    lam = np.empty(rows)
-    scratch = np.zeros(N_WORK)
     code, t = implicit_lane(
         ipar, rpar[lane], lay, y0[lane], t_settle[lane], t_end[lane], max_step[lane], rtol,
         atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask,

@@ -15,11 +15,15 @@ eliminated from the Newton systems (``n_second = n``, RADAU5's ``M1``: n × n ma
 work integrals and the contact memory passive (``n_active = 2n``), RADAU5's growth limit
 after a failure (``hold_after_failure``), and the hooks of :mod:`jointplay._kernels.eom`:
 the contact-onset control (``step_check``) and, after each accepted step, the contact memory
-v0 and the projection (``after_step``). The same arithmetic in the same order, written for
-small fixed-size arrays: the LU with partial pivoting of :mod:`jointplay._kernels.linalg`
-(largest ``|re| + |im|``) and complex numbers as pairs of floats (Numba's complex product
-and CPython's quotient, :func:`cdiv`); so that the CPU compilation takes the steps of the
-production lane.
+v0 and the projection (``after_step``). The step's numerics are written once, here, for any
+second-order structure (``m2`` positions, ``nk`` kept components, the rest passive): the
+reduced Newton matrices and their LU with partial pivoting (LAPACK's pivots, largest
+``|re| + |im|``), complex numbers as pairs of floats (Numba's complex product and CPython's
+quotient, :func:`cdiv`), the simplified Newton iteration in pieces (:func:`newton_start`,
+:func:`stage_point`, :func:`newton_iteration`), the error estimate and the controller's
+factor. The single engine's Radau IIA (:mod:`jointplay._kernels.radau`) and RODAS4 run the
+CPU compilation of the same functions (:data:`jointplay._kernels.lanes.cpu.compiled`) in the
+one loop, so that this lane takes the production lane's steps by construction.
 
 The Jacobian is the closed form of :func:`eom.jacobian_state` (:func:`jacobian_clear`) when
 every joint is clear (the paper's mechanisms: the driver the only constraint), fixed-step
@@ -189,10 +193,12 @@ def cdiv(ar, ai, br, bi):
     return math.nan, math.nan
 
 
-# --- LU with partial pivoting (jointplay._kernels.linalg) -------------------------------------
+# --- LU with partial pivoting (every compiled integrator's) -----------------------------------
 def lu_real(a, piv, m):
-    """LU of the leading m × m block of ``a`` in place, row interchanges into ``piv``
-    (:func:`linalg.lu_factor`: LAPACK's pivots; a zero pivot left in place)."""
+    """LU of the leading m × m block of ``a`` in place, P·A = L·U as LAPACK's ``?getrf``
+    (the same pivots, not the same round-off), row interchanges into ``piv`` (row k was
+    swapped with row ``piv[k]``). A zero pivot is left in place: the solve then gives
+    inf/NaN, which the integrators take as a failed Newton iteration (kernels never raise)."""
     for k in range(m):
         p = k
         amax = abs(a[k, k])
@@ -666,8 +672,8 @@ def jacobian_fixed(t, y, f, rp, ip, lay, jac, ytmp, f_col, record, phi_q, schur,
             jac[i - n, j] = (f_col[i] - f[i]) / h
 
 
-def jacobian(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, diff, diff_new, record,
-             phi_q, schur, lam):  # fmt: skip
+def lane_jacobian(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, diff, diff_new,
+                  record, phi_q, schur, lam):  # fmt: skip
     """The Radau kernel's Jacobian as the batch engine asks for it: the closed form of
     :func:`eom.jacobian_state` (:func:`jacobian_clear`) when every joint is clear, fixed-step
     differences (:func:`jacobian_fixed`) with ideal joints and film damping, else SciPy's
@@ -681,87 +687,101 @@ def jacobian(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, diff, diff_ne
                              diff_new, record, phi_q, schur, lam)  # fmt: skip
 
 
-# --- the Newton systems (jointplay._kernels.radau, n_second = n, n_active = 2n) --------------
-def factor_newton(jac, h, a_re, piv_re, c_re, c_im, piv_c, n):
-    """LU factors of the reduced Newton matrices MU_REAL/h·I − J and MU_COMPLEX/h·I − J
-    (:func:`radau._factor_newton_matrices`): the velocities' block, the positions' columns
-    folded in (n × n)."""
-    m_real = MU_REAL / h
+# --- the Newton systems (jointplay._kernels.radau) --------------------------------------------
+# Written for any second-order structure: ``m2`` positions (x' = v, RADAU5's M1 option),
+# ``nk`` kept components after them (velocities first, then the other active ones), passive
+# components from ``m2 + nk`` to ``size``; ``jac`` holds the rows from ``m2`` on of ∂f/∂y
+# (row r of ∂f/∂y is ``jac[r − m2]``), columns 0 … m2 + nk − 1. The implicit lane's:
+# ``m2 = nk = n``; the single engine's: its ``n_second`` and ``n_active − n_second``.
+def newton_matrix(jac, mu_over_h, a, m2, nk):
+    """The kept block of ``γ/h·I − J`` (real ``mu_over_h = γ/h``) into ``a`` (nk × nk), the
+    positions' columns folded in (dx = h/γ (b_x + dv)): Radau's real Newton matrix and
+    RODAS4's."""
+    for i in range(nk):
+        for j in range(nk):
+            a[i, j] = -jac[i, m2 + j]
+        a[i, i] += mu_over_h
+        for j in range(m2):
+            a[i, j] -= jac[i, j] / mu_over_h
+
+
+def factor_newton(jac, h, a_re, piv_re, c_re, c_im, piv_c, m2, nk):
+    """LU factors of the reduced Newton matrices MU_REAL/h·I − J (``a_re``) and
+    MU_COMPLEX/h·I − J (``c_re + i c_im``) ([HW96] §IV.8, RADAU5's M1)."""
+    newton_matrix(jac, MU_REAL / h, a_re, m2, nk)
     mcr = MU_COMPLEX_RE / h
     mci = MU_COMPLEX_IM / h
-    for i in range(n):
-        for j in range(n):
-            a_re[i, j] = -jac[i, n + j]
-            c_re[i, j] = -jac[i, n + j]
+    for i in range(nk):
+        for j in range(nk):
+            c_re[i, j] = -jac[i, m2 + j]
             c_im[i, j] = 0.0
-        a_re[i, i] += m_real
         c_re[i, i] += mcr
         c_im[i, i] += mci
-        for j in range(n):
-            a_re[i, j] -= jac[i, j] / m_real
+        for j in range(m2):
             qr, qi = cdiv(jac[i, j], 0.0, mcr, mci)
             c_re[i, j] -= qr
             c_im[i, j] -= qi
-    lu_real(a_re, piv_re, n)
-    lu_complex(c_re, c_im, piv_c, n)
+    lu_real(a_re, piv_re, nk)
+    lu_complex(c_re, c_im, piv_c, nk)
 
 
-def solve_real(a_re, piv_re, jac, mu_over_h, x, work, n, size):
-    """(γ/h·I − J) x = b for the real γ, ``x`` (S) b on entry
-    (:func:`radau._newton_solve_in_place`: dx = h/γ (b_x + dv), the passive components
-    h/γ (b_p + J_p x))."""
+def solve_real(a_re, piv_re, jac, mu_over_h, x, work, m2, nk, size):
+    """(γ/h·I − J) x = b for a real γ/h = ``mu_over_h`` from :func:`newton_matrix`'s factors,
+    ``x`` (size) b on entry, ``work`` (nk): the kept block solves
+    (γ/h·I − J_KK − h/γ·J_Kx E) d_K = b_K + h/γ·J_Kx b_x, then dx = h/γ (b_x + dv) and each
+    passive component h/γ (b_p + J_p x). In exact arithmetic, the full system's solution."""
     h_over_mu = 1.0 / mu_over_h
-    for i in range(n):
-        s = x[n + i]
-        for j in range(n):
+    for i in range(nk):
+        s = x[m2 + i]
+        for j in range(m2):
             s += h_over_mu * jac[i, j] * x[j]
         work[i] = s
-    lu_solve_real(a_re, piv_re, work, n)
-    for j in range(n):
+    lu_solve_real(a_re, piv_re, work, nk)
+    for j in range(m2):
         x[j] = h_over_mu * (x[j] + work[j])
-    for i in range(n):
-        x[n + i] = work[i]
-    for p in range(2 * n, size):
+    for i in range(nk):
+        x[m2 + i] = work[i]
+    for p in range(m2 + nk, size):
         s = x[p]
-        for j in range(2 * n):
-            s += jac[p - n, j] * x[j]
+        for j in range(m2 + nk):
+            s += jac[p - m2, j] * x[j]
         x[p] = h_over_mu * s
 
 
-def solve_complex(c_re, c_im, piv_c, jac, mr, mi, xr, xi, wr, wi, n, size):
+def solve_complex(c_re, c_im, piv_c, jac, mr, mi, xr, xi, wr, wi, m2, nk, size):
     """:func:`solve_real` for the complex γ/h = mr + i mi, ``xr + i xi``."""
     hr, hi = cdiv(1.0, 0.0, mr, mi)
-    for i in range(n):
-        sr = xr[n + i]
-        si = xi[n + i]
-        for j in range(n):
+    for i in range(nk):
+        sr = xr[m2 + i]
+        si = xi[m2 + i]
+        for j in range(m2):
             ar = hr * jac[i, j]
             ai = hi * jac[i, j]
             sr += ar * xr[j] - ai * xi[j]
             si += ar * xi[j] + ai * xr[j]
         wr[i] = sr
         wi[i] = si
-    lu_solve_complex(c_re, c_im, piv_c, wr, wi, n)
-    for j in range(n):
+    lu_solve_complex(c_re, c_im, piv_c, wr, wi, nk)
+    for j in range(m2):
         sr = xr[j] + wr[j]
         si = xi[j] + wi[j]
         xr[j] = hr * sr - hi * si
         xi[j] = hr * si + hi * sr
-    for i in range(n):
-        xr[n + i] = wr[i]
-        xi[n + i] = wi[i]
-    for p in range(2 * n, size):
+    for i in range(nk):
+        xr[m2 + i] = wr[i]
+        xi[m2 + i] = wi[i]
+    for p in range(m2 + nk, size):
         sr = xr[p]
         si = xi[p]
-        for j in range(2 * n):
-            sr += jac[p - n, j] * xr[j]
-            si += jac[p - n, j] * xi[j]
+        for j in range(m2 + nk):
+            sr += jac[p - m2, j] * xr[j]
+            si += jac[p - m2, j] * xi[j]
         xr[p] = hr * sr - hi * si
         xi[p] = hr * si + hi * sr
 
 
 def stage_norm(x, scale, size):
-    """SciPy's norm(x / scale) of the stages (3, S) (:func:`radau._rms_norm_stages`)."""
+    """SciPy's norm(x / scale) of the stages (3, S), ``scale`` broadcast on rows."""
     s = 0.0
     for i in range(3):
         for j in range(size):
@@ -771,7 +791,7 @@ def stage_norm(x, scale, size):
 
 
 def rms(x, scale, size):
-    """SciPy's norm(x / scale) (:func:`common.rms_norm`)."""
+    """SciPy's norm(x / scale): the RMS of x_j / scale_j."""
     s = 0.0
     for j in range(size):
         v = x[j] / scale[j]
@@ -780,7 +800,7 @@ def rms(x, scale, size):
 
 
 def mat3(m, z, out, size):
-    """``out = m @ z`` for m (9, row-major) and (3, S) stages (:func:`radau._mat3_dot_into`)."""
+    """``out = m @ z`` for m (9, row-major) and (3, S) stages."""
     for i in range(3):
         for j in range(size):
             out[i, j] = 0.0
@@ -791,7 +811,8 @@ def mat3(m, z, out, size):
 
 
 def predict(h_abs, h_abs_old, error_norm, error_norm_old):
-    """The predictive controller's factor (:func:`common.predict_factor`; NaN: none)."""
+    """The predictive controller's step factor ([HW96] §IV.8, (8.25); SciPy's): NaN in
+    ``h_abs_old`` or ``error_norm_old`` stands for SciPy's ``None`` (one-step controller)."""
     if math.isnan(error_norm_old) or math.isnan(h_abs_old) or error_norm == 0.0:
         multiplier = 1.0
     else:
@@ -826,19 +847,16 @@ def initial_step(t0, y0, t_bound, max_step, f0, rtol, atol, rp, ip, lay, y1, f1,
     return min(100.0 * h0, h1, interval_length, max_step)
 
 
-def collocation(t, y, h, has_sol, cq, t_old, y_old, scale, tol, rp, ip, lay, jac, a_re,
-                piv_re, c_re, c_im, piv_c, w, z, fst, dw, ytmp, xr, xcr, xci, wk, wkr, wki,
-                record, phi_q, schur, lam):  # fmt: skip
-    """The simplified Newton iteration of the collocation system
-    (:func:`radau._solve_collocation_system`), started from the last step's collocation
-    polynomial (:func:`radau._extrapolate`: ``cq`` (3, S) its coefficients, ``y_old`` its
-    start) or from zero. Returns ``(converged, iterations, rate, evaluations of f)``; the
-    stage increments Z in ``z``."""
-    n = lay[LY_N]
-    size = lay[LY_SIZE]
-    m_real = MU_REAL / h
-    mcr = MU_COMPLEX_RE / h
-    mci = MU_COMPLEX_IM / h
+# --- the collocation system (SciPy's solve_collocation_system, in pieces) ---------------------
+# A Newton iteration is: the three stage points (:func:`stage_point`), f at each (the
+# caller's right-hand side: the lane's :func:`rhs`, the single engine's ``fun``), then
+# :func:`newton_iteration`; the loop is :func:`collocation` (the lane's) or
+# ``radau._collocation`` (the single engine's), started by :func:`newton_start`.
+def newton_start(t, y, h, has_sol, cq, t_old, y_old, z, w, size):
+    """The Newton start ``Z`` (``z`` (3, S)) and ``W = TI Z`` (``w``): from the last step's
+    collocation polynomial (``has_sol``; ``cq`` (3, S) its coefficients :func:`polynomial`,
+    ``t_old``, ``y_old`` its start: Z_i = sol(t + c_i h) − y, SciPy's ``RadauDenseOutput``),
+    else zero."""
     if has_sol:
         h_prev = t - t_old
         for i in range(3):
@@ -853,57 +871,118 @@ def collocation(t, y, h, has_sol, cq, t_old, y_old, scale, tol, rp, ip, lay, jac
             for j in range(size):
                 z[i, j] = 0.0
     mat3(RTI, z, w, size)
-    dw_norm_old = 0.0
-    has_old = False
-    rate = math.nan
+
+
+def stage_point(t, h, y, z, i, ytmp, size):
+    """Stage ``i``'s state y + Z_i into ``ytmp``; returns its time t + c_i h."""
+    for j in range(size):
+        ytmp[j] = y[j] + z[i, j]
+    return t + h * (RC1 if i == 0 else (RC2 if i == 1 else RC3))
+
+
+def newton_iteration(fst, h, w, z, dw, scale, tol, k, dw_norm_old, rate, jac, a_re, piv_re,
+                     c_re, c_im, piv_c, xr, xcr, xci, wk, wkr, wki, m2, nk, size):  # fmt: skip
+    """Iteration ``k`` of the simplified Newton iteration, f at the stages in ``fst`` (3, S):
+    the increment dW in the transformed variables (one real and one complex solve), the
+    convergence test on its norm and rate, W += dW, Z = T W. ``dw_norm_old`` and ``rate``: the
+    last iteration's (``rate`` NaN while undefined). Returns ``(done, converged, dw_norm,
+    rate)``: ``done`` ends the iteration (converged, diverging or a non-finite stage)."""
+    for i in range(3):
+        for j in range(size):
+            if not math.isfinite(fst[i, j]):
+                return True, False, dw_norm_old, rate
+    m_real = MU_REAL / h
+    mcr = MU_COMPLEX_RE / h
+    mci = MU_COMPLEX_IM / h
+    for j in range(size):
+        fr = 0.0
+        fcr = 0.0
+        fci = 0.0
+        for i in range(3):
+            fr += fst[i, j] * RTI[i]
+            fcr += fst[i, j] * RTI[3 + i]
+            fci += fst[i, j] * RTI[6 + i]
+        xr[j] = fr - m_real * w[0, j]
+        xcr[j] = fcr - (mcr * w[1, j] - mci * w[2, j])
+        xci[j] = fci - (mcr * w[2, j] + mci * w[1, j])
+    solve_real(a_re, piv_re, jac, m_real, xr, wk, m2, nk, size)
+    solve_complex(c_re, c_im, piv_c, jac, mcr, mci, xcr, xci, wkr, wki, m2, nk, size)
+    for j in range(size):
+        dw[0, j] = xr[j]
+        dw[1, j] = xcr[j]
+        dw[2, j] = xci[j]
+    dw_norm = stage_norm(dw, scale, size)
+    if k > 0:
+        rate = dw_norm / dw_norm_old
+        if rate >= 1 or rate ** (NEWTON_MAXITER - k) / (1 - rate) * dw_norm > tol:
+            return True, False, dw_norm, rate
+    for i in range(3):
+        for j in range(size):
+            w[i, j] += dw[i, j]
+    mat3(RT, w, z, size)
+    if dw_norm == 0 or (k > 0 and rate / (1 - rate) * dw_norm < tol):
+        return True, True, dw_norm, rate
+    return False, False, dw_norm, rate
+
+
+def collocation(t, y, h, has_sol, cq, t_old, y_old, scale, tol, rp, ip, lay, jac, a_re,
+                piv_re, c_re, c_im, piv_c, w, z, fst, dw, ytmp, xr, xcr, xci, wk, wkr, wki,
+                record, phi_q, schur, lam):  # fmt: skip
+    """The lane's simplified Newton iteration of the collocation system (SciPy's
+    ``solve_collocation_system``) on :func:`rhs`. Returns ``(converged, iterations, rate,
+    evaluations of f)``; the stage increments Z in ``z``."""
+    n = lay[LY_N]
+    size = lay[LY_SIZE]
+    newton_start(t, y, h, has_sol, cq, t_old, y_old, z, w, size)
     converged = False
-    finite = True
-    nfev = 0
+    dw_norm = 0.0
+    rate = math.nan
     k = 0
     for k in range(NEWTON_MAXITER):
         for i in range(3):
-            ci = RC1 if i == 0 else (RC2 if i == 1 else RC3)
-            for j in range(size):
-                ytmp[j] = y[j] + z[i, j]
-            rhs(t + h * ci, ytmp, rp, ip, lay, fst[i], record, False, phi_q, schur, lam)
-            nfev += 1
-            for j in range(size):
-                finite = finite and math.isfinite(fst[i, j])
-        if not finite:
+            t_i = stage_point(t, h, y, z, i, ytmp, size)
+            rhs(t_i, ytmp, rp, ip, lay, fst[i], record, False, phi_q, schur, lam)
+        done, converged, dw_norm, rate = newton_iteration(
+            fst, h, w, z, dw, scale, tol, k, dw_norm, rate, jac, a_re, piv_re, c_re, c_im,
+            piv_c, xr, xcr, xci, wk, wkr, wki, n, n, size,
+        )  # fmt: skip
+        if done:
             break
-        # the Newton increment (radau._newton_increment)
-        for j in range(size):
-            fr = 0.0
-            fcr = 0.0
-            fci = 0.0
+    return converged, k + 1, rate, 3 * (k + 1)
+
+
+def error_estimate(z, f, h, y, y_new, atol, rtol, ze, x, work, escale, jac, a_re, piv_re,
+                   m2, nk, size):  # fmt: skip
+    """The embedded error estimate (MU_REAL/h·I − J)⁻¹ (f + ZE) into ``x``, ZE = Zᵀ E / h into
+    ``ze``, the error scale atol + max(|y|, |y_new|)·rtol into ``escale``; returns the
+    estimate's norm."""
+    for j in range(size):
+        ze[j] = (z[0, j] * RE1 + z[1, j] * RE2 + z[2, j] * RE3) / h
+        x[j] = f[j] + ze[j]
+    solve_real(a_re, piv_re, jac, MU_REAL / h, x, work, m2, nk, size)
+    for j in range(size):
+        escale[j] = atol[j] + max(abs(y[j]), abs(y_new[j])) * rtol
+    return rms(x, escale, size)
+
+
+def error_again(f_err, ze, h, x, work, escale, jac, a_re, piv_re, m2, nk, size):
+    """The estimate after a rejection (SciPy's): ``f_err`` = f(t, y + error) in place of f,
+    (MU_REAL/h·I − J)⁻¹ (f_err + ZE) into ``x``; returns its norm."""
+    for j in range(size):
+        x[j] = f_err[j] + ze[j]
+    solve_real(a_re, piv_re, jac, MU_REAL / h, x, work, m2, nk, size)
+    return rms(x, escale, size)
+
+
+def polynomial(z, cq, size):
+    """The step's collocation polynomial for the next Newton start: Q = Zᵀ P into ``cq``
+    (3, S)."""
+    for j in range(size):
+        for kk in range(3):
+            s = 0.0
             for i in range(3):
-                fr += fst[i, j] * RTI[i]
-                fcr += fst[i, j] * RTI[3 + i]
-                fci += fst[i, j] * RTI[6 + i]
-            xr[j] = fr - m_real * w[0, j]
-            xcr[j] = fcr - (mcr * w[1, j] - mci * w[2, j])
-            xci[j] = fci - (mcr * w[2, j] + mci * w[1, j])
-        solve_real(a_re, piv_re, jac, m_real, xr, wk, n, size)
-        solve_complex(c_re, c_im, piv_c, jac, mcr, mci, xcr, xci, wkr, wki, n, size)
-        for j in range(size):
-            dw[0, j] = xr[j]
-            dw[1, j] = xcr[j]
-            dw[2, j] = xci[j]
-        dw_norm = stage_norm(dw, scale, size)
-        if has_old:
-            rate = dw_norm / dw_norm_old
-        if has_old and (rate >= 1 or rate ** (NEWTON_MAXITER - k) / (1 - rate) * dw_norm > tol):
-            break
-        for i in range(3):
-            for j in range(size):
-                w[i, j] += dw[i, j]
-        mat3(RT, w, z, size)
-        if dw_norm == 0 or (has_old and rate / (1 - rate) * dw_norm < tol):
-            converged = True
-            break
-        dw_norm_old = dw_norm
-        has_old = True
-    return converged, k + 1, rate, nfev
+                s += z[i, j] * RP[3 * i + kk]
+            cq[kk, j] = s
 
 
 def touching(pen, nc):
@@ -1042,8 +1121,8 @@ def implicit_lane(
     newton_tol = max(10.0 * EPS / rtol, min(0.03, rtol**0.5))
     for j in range(size):
         jfactor[j] = EPS**0.5
-    jacobian(t, y, f, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid, xr, xcr, record_mid,
-             phi_q, schur, lam)  # fmt: skip
+    lane_jacobian(t, y, f, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid, xr, xcr, record_mid,
+                  phi_q, schur, lam)  # fmt: skip
     current_jac = True
     lu_valid = False
     has_sol = False
@@ -1096,7 +1175,7 @@ def implicit_lane(
             converged = False
             while not converged:
                 if not lu_valid:
-                    factor_newton(jac, h, a_re, piv_re, c_re, c_im, piv_c, n)
+                    factor_newton(jac, h, a_re, piv_re, c_re, c_im, piv_c, n, n)
                     lu_valid = True
                 converged, n_iter, rate, nfev = collocation(
                     t, y, h, has_sol, cq, t_old, y_old, scale, newton_tol, rp, ip, lay, jac,
@@ -1107,8 +1186,8 @@ def implicit_lane(
                 if not converged:
                     if current_jac:
                         break
-                    jacobian(t, y, f, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid, xr, xcr,
-                             record_mid, phi_q, schur, lam)  # fmt: skip
+                    lane_jacobian(t, y, f, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid, xr,
+                                  xcr, record_mid, phi_q, schur, lam)  # fmt: skip
                     current_jac = True
                     lu_valid = False
             if not converged:
@@ -1119,24 +1198,16 @@ def implicit_lane(
                 continue
             for j in range(size):
                 y_new[j] = y[j] + z[2, j]
-            # the error estimate (radau._error_estimate): (MU_REAL/h·I − J)⁻¹ (f + ZE)
-            for j in range(size):
-                f_open[j] = (z[0, j] * RE1 + z[1, j] * RE2 + z[2, j] * RE3) / h  # ZE
-                xr[j] = f[j] + f_open[j]
-            solve_real(a_re, piv_re, jac, MU_REAL / h, xr, wk, n, size)
-            for j in range(size):
-                escale[j] = atol[j] + max(abs(y[j]), abs(y_new[j])) * rtol
-            error_norm = rms(xr, escale, size)
+            error_norm = error_estimate(z, f, h, y, y_new, atol, rtol, f_open, xr, wk, escale,
+                                        jac, a_re, piv_re, n, n, size)  # fmt: skip
             safety = 0.9 * (2 * NEWTON_MAXITER + 1) / (2 * NEWTON_MAXITER + n_iter)
             if rejected and error_norm > 1:
                 for j in range(size):
                     ytmp[j] = y[j] + xr[j]
                 rhs(t, ytmp, rp, ip, lay, f_mid, record_mid, False, phi_q, schur, lam)
                 counts[K_RHS] += 1
-                for j in range(size):
-                    xr[j] = f_mid[j] + f_open[j]
-                solve_real(a_re, piv_re, jac, MU_REAL / h, xr, wk, n, size)
-                error_norm = rms(xr, escale, size)
+                error_norm = error_again(f_mid, f_open, h, xr, wk, escale, jac, a_re, piv_re,
+                                         n, n, size)  # fmt: skip
             if error_norm > 1:
                 factor = predict(h_abs, h_abs_old, error_norm, error_norm_old)
                 h_abs *= pmax(R_MIN_FACTOR, safety * factor)
@@ -1176,8 +1247,8 @@ def implicit_lane(
             status = STATUS_NON_FINITE
             break
         if recompute_jac:
-            jacobian(t_new, y_new, f_new, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid, xr,
-                     xcr, record_mid, phi_q, schur, lam)  # fmt: skip
+            lane_jacobian(t_new, y_new, f_new, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid,
+                          xr, xcr, record_mid, phi_q, schur, lam)  # fmt: skip
             current_jac = True
         else:
             current_jac = False
@@ -1216,13 +1287,7 @@ def implicit_lane(
                 refine_peaks(samples, peaks, n_q)
             qa, qb = qb, qa
         t_a = t_new
-        # the step's collocation polynomial, for the next Newton start (radau: Q = Zᵀ P)
-        for j in range(size):
-            for kk in range(3):
-                s = 0.0
-                for i in range(3):
-                    s += z[i, j] * RP[3 * i + kk]
-                cq[kk, j] = s
+        polynomial(z, cq, size)  # the next Newton start
         has_sol = not changed
         bits_old = bits
         bits = bits_new
