@@ -382,10 +382,12 @@ def test_two_joints_with_different_clearances_feel_their_own_film() -> None:
 def test_the_film_model_is_declared_and_checked() -> None:
     """The setting reaches each joint; a Reynolds film takes its coefficient from the geometry
     (uncapped), not a fixed film damping; unknown forms are refused; the default is the
-    linear damper."""
+    π-film, and a fixed film damping the linear damper's."""
     mechanism = load_preset("paper-fourbar")
-    assert {j.film_model for j in ContactModel().joints(mechanism)} == {"linear"}
-    linear = ContactModel().joints(mechanism, clearance=5e-6)[0]
+    assert {j.film_model for j in ContactModel().joints(mechanism)} == {"short-bearing-pi"}
+    fixed = ContactModel(film_damping="1e4 N*s/m").joints(mechanism)
+    assert {(j.film_model, j.film_damping) for j in fixed} == {("linear", 1e4)}
+    linear = ContactModel(film_model="linear").joints(mechanism, clearance=5e-6)[0]
     full = ContactModel(film_model="short-bearing-full").joints(mechanism, clearance=5e-6)[0]
     assert linear.film_damping == 1e6  # capped
     width = mechanism.bearing_width(full.joint) or 0.01
@@ -402,7 +404,8 @@ def test_the_film_model_is_declared_and_checked() -> None:
         ClearanceJoint("O2", 1e-4, 5e-3, _law(), film_model="reynolds")
     described = ContactModel(film_model="short-bearing-pi").describe()
     assert described["lubrication"]["film_model"] == "short-bearing-pi"
-    assert "film_model" not in ContactModel().describe()["lubrication"]
+    assert ContactModel().describe()["lubrication"]["film_model"] == "short-bearing-pi"
+    assert "film_model" not in ContactModel(film_model="linear").describe()["lubrication"]
 
 
 def test_engines_without_the_reynolds_film_refuse_it() -> None:
@@ -471,7 +474,7 @@ def test_a_study_on_the_cuda_backend_refuses_the_reynolds_film() -> None:
 
     mechanism = load_preset("paper-fourbar")
     cuda = {"journal_radius": {"O2": 5e-3}, "backend": Backend("cuda"), "method": "implicit"}
-    linear = contact_parts(mechanism, ContactModel())
+    linear = contact_parts(mechanism, ContactModel(film_model="linear"))
     DynamicResponses(mechanism, ("clearance_O2",), **cuda, **linear)
     reynolds = contact_parts(mechanism, ContactModel(film_model="short-bearing-pi"))
     with pytest.raises(SettingError, match="Reynolds film"):

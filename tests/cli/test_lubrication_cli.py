@@ -48,7 +48,7 @@ def test_a_lubricant_named_with_the_law_runs_in_its_film(
     )
     summary = json.loads((out / "summary.json").read_text())
     assert summary["lubrication"]["A"] == {
-        "regime": "oil", "viscosity_Pa_s": 0.05, "film_model": "linear",
+        "regime": "oil", "viscosity_Pa_s": 0.05, "film_model": "short-bearing-pi",
         "film_damping_N_s_m": summary["clearance_joints"]["A"]["film_damping_N_s_m"],
         "declared": "command",
     }  # fmt: skip

@@ -69,7 +69,7 @@ def test_each_joint_runs_in_its_declared_lubrication(paper_fourbar: Mechanism) -
         "regime": "dry", "viscosity_Pa_s": None, "film_model": None,
         "film_damping_N_s_m": 0.0, "declared": "mechanism",
     }  # fmt: skip
-    assert table["A"]["regime"] == "grease" and table["A"]["film_model"] == "linear"
+    assert table["A"]["regime"] == "grease" and table["A"]["film_model"] == "short-bearing-pi"
     # a named dry law keeps the joints' declarations (the file names their lubricant)
     named = ContactModel(ContactSettings(law="hertz"))
     assert _regimes(named, declared) == {"O2": "dry", "A": "grease", "B": "oil", "O4": "oil"}

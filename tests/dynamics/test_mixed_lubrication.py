@@ -111,8 +111,9 @@ def test_simulate_prints_and_writes_the_regimes(tmp_path, capsys) -> None:
 def test_the_batch_engine_runs_the_transition_as_the_single_engine() -> None:
     """The CPU backends' implicit lanes and the single engine give the same settled peaks with
     a rough O2 (σ = 3 µm) in mixed lubrication at 21 µm, and the lanes take each joint's σ:
-    O2's deepest asperity interference δ_a = |e| − (c − 3σ) is > 0 (its asperities touch),
-    as the single engine's, the smooth joints' < 0 (they float)."""
+    both report O2's deepest wall penetration |e| − c alike; the rough O2's asperity
+    interference δ_a = |e| − (c − 3σ) is > 0 (its asperities touch), the smooth one's
+    wall penetration < 0 (it floats)."""
     from jointplay.dynamics.batch import BatchSamples, simulate_batch
 
     mechanism = load_preset("paper-fourbar")
@@ -133,7 +134,8 @@ def test_the_batch_engine_runs_the_transition_as_the_single_engine() -> None:
         deepest = float(single.steps["pen_O2"][window].max())
         assert batch.statistics["pen_O2"].iloc[0] == pytest.approx(deepest, rel=1e-2)
         peaks[name] = deepest
-    assert peaks["rough"] > 0 > peaks["smooth"]
+        assert single.steps["contact_O2"][window].any() == (name == "rough")
+    assert peaks["rough"] + 3 * 3e-6 > 0 > peaks["smooth"]
 
 
 def test_a_bad_roughness_is_one_clear_line(tmp_path, capsys) -> None:

@@ -58,6 +58,6 @@ def test_the_model_names_each_joints_lubrication(paper_fourbar: Mechanism) -> No
     names = ("clearance_O2", "clearance_A")
     described = run_model(paper_fourbar, names, RunSettings(ContactModel())).describe()
     assert described["lubrication"]["O2"] == {
-        "regime": "oil", "viscosity_Pa_s": 0.05, "film_model": "linear", "declared": "default",
+        "regime": "oil", "viscosity_Pa_s": 0.05, "film_model": "short-bearing-pi", "declared": "default",
     }  # fmt: skip
     assert described["lubrication_text"] == "lubricated, 0.05 Pa*s oil"

@@ -135,6 +135,8 @@ def asperity_play(rpar: FloatArray, ipar: NDArray[np.int64], n_clear: int) -> Fl
     (at most c) under a Reynolds film, whose asperities touch at h_min = λ_t σ, 0 for a dry
     joint or the linear damper (the kernels' ``contact_clearance``). The kernels' δ of a joint
     minus this is its wall penetration |e| − c, the δ every output reports."""
+    if n_clear == 0:
+        return np.zeros((rpar.shape[0], 0))
     lay = lane_layout(ipar)
     start = int(lay[LY_GEOM])
     geom = rpar[:, start : start + ids.N_GEOM * n_clear].reshape(-1, n_clear, ids.N_GEOM)

@@ -710,7 +710,8 @@ def _regime_words(entry: Mapping[str, Any]) -> str:
     if viscosity is None:
         return f"lubricated, film damping {entry['fixed_film_N_s_m']:g} N*s/m"
     lubricant = "grease base oil" if entry["regime"] == "grease" else "oil"
-    film = "" if entry["film_model"] == "linear" else f", {entry['film_model']} film"
+    # the film is named where it is not the default π-film (summary.json names it always)
+    film = "" if entry["film_model"] == DEFAULT_FILM_MODEL else f", {entry['film_model']} film"
     return f"lubricated, {viscosity:g} Pa*s {lubricant}{film}"
 
 
