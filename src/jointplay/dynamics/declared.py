@@ -150,7 +150,7 @@ CONTACT_SETTINGS: tuple[Setting, ...] = (
     Setting("film_damping", "--film-damping", "film_damping", "model",
             "Or a fixed film damping ('1e4 N*s/m').", unit="N*s/m"),
     Setting("film_model", "--film-model", "film_model", "model",
-            "Film: short-bearing-pi (default), -full, linear."),
+            "short-bearing-pi (default), -full, linear"),
     Setting("lubrication", "--lubrication", "lubrication", "model",
             "Every joint: dry, oil or grease.", with_method=True),
     Setting("roughness", "--roughness", "roughness", "model",
