@@ -16,7 +16,6 @@ from __future__ import annotations
 import ast
 import importlib.util
 import json
-import math
 import re
 import shlex
 from collections.abc import Callable
@@ -95,24 +94,40 @@ def _deepest(summary: dict[str, Any]) -> float:
 
 
 def check_conventional(line: str, comment: str, folder: Path) -> None:
-    """The paper's conventional contact from rest: how deep the pins sink, and the force spike
-    at the start, with the default friction and film and without them."""
+    """The paper's conventional contact from rest: a law named runs dry (how deep the pins
+    sink, the warning, the force peak as the crank starts), and with the lubricant the
+    comment names, the film holds the pins near the ideal joints' force."""
     summary = _summary(folder / "conventional")
-    depth, clearance = _number(r"the pins sink ([\d.]+) µm into ([\d.]+) µm", comment)
+    assert {j["regime"] for j in summary["lubrication"].values()} == {"dry"}
+    depth, clearance = _number(
+        r"the pins sink ([\d.]+) µm into ([\d.]+) µm, with a warning", comment
+    )
     assert _deepest(summary) == pytest.approx(float(depth) * 1e-6, rel=ROUNDING)
-    assert "penetration-exceeds-clearance" not in _warnings(summary)
+    assert "penetration-exceeds-clearance" in _warnings(summary)
     joints = summary["clearance_joints"]
     assert {j["clearance_m"] for j in joints.values()} == {float(clearance) * 1e-6}
-    joint, force = _number(r"F_(\w+) spikes to ([\d.e+]+) N at t = 0", comment)
+    joint, force = _number(r"F_(\w+) peaks at ([\d.e+]+) N as the crank starts", comment)
     peak = summary["peaks"][f"F_{joint}"]
-    assert peak["t"] == 0.0 and peak["value"] == pytest.approx(float(force), rel=ROUNDING)
-    flags, dry = _number(r"\((--[^)]*)\) they sink ([\d.]+) µm, with a warning", comment)
-    command = [*shlex.split(line)[1:], *flags.split(), "--no-plots", "--out", "dry"]
-    command[command.index("--out") + 1] = str(folder / "dry")
+    assert peak["revolution"] == 1 and peak["crank_deg"] < 1.0
+    assert peak["value"] == pytest.approx(float(force), rel=ROUNDING)
+    flags, h_min, joint, force, ideal = _number(
+        r"with \((--[^)]*)\) the π-film holds them in full film \(h_min ([\d.]+) µm\) and "
+        r"F_(\w+) peaks at ([\d.]+) N \(ideal joints ([\d.]+) N\)",
+        comment,
+    )
+    command = [*shlex.split(line)[1:], *flags.split(), "--no-plots"]
+    command[command.index("--out") + 1] = str(folder / "oil")
     assert run(command) == 0
-    summary = _summary(folder / "dry")
-    assert _deepest(summary) == pytest.approx(float(dry) * 1e-6, rel=ROUNDING)
-    assert "penetration-exceeds-clearance" in _warnings(summary)
+    summary = _summary(folder / "oil")
+    films = {(j["regime"], j["film_model"]) for j in summary["lubrication"].values()}
+    assert films == {("oil", "short-bearing-pi")}
+    regimes = summary["film_regimes"].values()
+    assert all(r["full_film"] == 1.0 for r in regimes)
+    lowest = min(r["h_min_m"] for r in regimes)
+    assert lowest == pytest.approx(float(h_min) * 1e-6, rel=ROUNDING)
+    assert "penetration-exceeds-clearance" not in _warnings(summary)
+    assert summary["peaks"][f"F_{joint}"]["value"] == pytest.approx(float(force), rel=ROUNDING)
+    assert summary["nominal_peaks"][f"F_{joint}"] == pytest.approx(float(ideal), rel=ROUNDING)
 
 
 def check_running(line: str, comment: str, folder: Path) -> None:
@@ -127,11 +142,19 @@ def check_running(line: str, comment: str, folder: Path) -> None:
 
 
 def check_wear(line: str, comment: str, folder: Path) -> None:
-    """The wear life the comment gives (``inf``: the clearance never reaches its limit)."""
+    """Lubricated, no joint wears: each is in full film throughout, with the smallest film
+    thickness the comment gives, and the mechanism has no finite life over the hours run."""
     summary = _summary(folder / "wear")
-    (life,) = _number(r"life ([\d.]+|inf) h", comment)
-    found = summary["mechanism_life_hours"]
-    assert (math.inf if found is None else found) == pytest.approx(float(life), rel=ROUNDING)
+    (h_min,) = _number(r"full film throughout in all four joints \(h_min ≥ ([\d.]+) µm\)", comment)
+    (hours,) = _number(r"no joint wears over (\d+) h", comment)
+    no_wear = summary["no_wear"]
+    assert set(no_wear) == {"O2", "A", "B", "O4"}
+    assert all(why.startswith("full film throughout") for why in no_wear.values())
+    assert summary["max_depth_bearing_m"] == {joint: 0.0 for joint in no_wear}
+    lowest = min(r["h_min_m"] for runs in summary["film_regimes"].values() for r in runs)
+    assert lowest == pytest.approx(float(h_min) * 1e-6, rel=ROUNDING)
+    assert summary["mechanism_life_hours"] is None
+    assert f'--hours "{hours} h"' in line
 
 
 #: The tour lines whose comments promise a result, by their ``--out``: the check of each.
@@ -141,7 +164,10 @@ CHECKS: dict[str, Callable[[str, str, Path], None]] = {
     "wear": check_wear,
 }
 #: Comments that describe the command rather than promise a result.
-DESCRIPTIONS = ("edit lengths, masses, joints, tolerances",)
+DESCRIPTIONS = (
+    "edit lengths, masses, joints, tolerances",
+    "a law named runs dry unless a lubricant is named",
+)
 
 
 def _out(line: str) -> str:
