@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import pandas as pd
 import pytest
 
 from jointplay.errors import ConfigError
@@ -318,3 +319,17 @@ def test_dynamic_designs_default_to_the_physical_contact(paper_fourbar, monkeypa
     assert given[None]["friction"] == physical["friction"] is not None
     assert given["ifm-conventional"]["law"].name == "impact"
     assert given["ifm-conventional"]["friction"] is None
+
+
+def test_tied_requirements_bind_by_the_failures() -> None:
+    """Where both requirements are met by every sample of the best scheme, the one that other
+    schemes fail binds, not the first given (the README's design run named the force, which
+    no sample failed)."""
+    from jointplay.study.design import _binding
+
+    force, speed = "joint_force <= 150 N", "rocker_speed_error <= 3 %"
+    table = pd.DataFrame({f"yield_{force}": [1.0, 1.0, 1.0], f"yield_{speed}": [1.0, 0.96, 0.84]})
+    assert _binding(table, [force, speed]) == speed
+    assert _binding(table.iloc[:1], [force, speed]) == force  # a true tie: the first given
+    table[f"yield_{force}"] = [0.5, 0.5, 0.5]
+    assert _binding(table, [force, speed]) == force  # the lowest best yield first

@@ -361,8 +361,7 @@ def design_study(
                 ]
             )
         elif parsed:
-            best_yield = {r.text: float(table[f"yield_{r.text}"].max()) for r in parsed}
-            binding = min(best_yield, key=lambda t: best_yield[t])
+            binding = _binding(table, [r.text for r in parsed])
     sample_frames = []
     check_names = first[1].check_names if first is not None else ()
     for i, scheme in enumerate(candidates):
@@ -764,3 +763,14 @@ def _pareto(table: pd.DataFrame, requirements: Sequence[Requirement], names: Seq
         value = table[column].to_numpy(dtype=float)
         value = np.where(np.isnan(value), np.inf, -value if lower else value)
         table[f"pareto_{name}"] = front(value)
+
+
+def _binding(table: pd.DataFrame, requirements: Sequence[str]) -> str:
+    """The requirement that binds where no scheme is shown to meet them all: the lowest best
+    yield over the schemes; of requirements tied there (e.g. every one met by every sample
+    of the best scheme, which is not yet shown to meet them), the one the schemes fail most
+    (lowest mean yield), then the first given."""
+    return min(
+        requirements,
+        key=lambda t: (float(table[f"yield_{t}"].max()), float(table[f"yield_{t}"].mean())),
+    )
