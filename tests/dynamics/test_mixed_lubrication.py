@@ -149,3 +149,15 @@ def test_a_bad_roughness_is_one_clear_line(tmp_path, capsys) -> None:
         err = capsys.readouterr().err
         assert len(err.strip().splitlines()) == 1 and "--roughness" in err, err
         assert not out.exists()
+
+
+def test_the_reported_penetration_is_the_walls() -> None:
+    """Under the default π-film the kernels' δ is the asperities' (|e| − (c − 3σ)); every
+    output still reports the wall's |e| − c (the asperities' is 3σ larger)."""
+    mechanism = load_preset("paper-fourbar")
+    joints = ContactModel().joints(mechanism, ["O2"])
+    result = simulate(mechanism, joints, revolutions=0.1, settle=0, start=Start("steady"))
+    steps = result.steps
+    wall = steps["e_O2"] - joints[0].clearance
+    assert np.allclose(steps["pen_O2"], wall, rtol=0, atol=1e-12)
+    assert joints[0].roughness > 0 and (steps["pen_O2"] < 0).all()
