@@ -39,8 +39,9 @@ __all__ = ["APART", "SHARED", "apart", "compiled"]
 #: The sustained-contact mode's functions, compiled apart (not inlined: they allocate and
 #: run only while a joint is locked); and the Reynolds film's force and coefficients (not
 #: inlined into every copy of the right-hand side: inlined, they made the single engine's
-#: first compilation ~50 % longer, measured 140 s → 217 s on a loaded 2-core machine, for an
-#: option the default does not take).
+#: first compilation ~50 % longer, measured 140 s → 217 s on a loaded 2-core machine). The
+#: π-film is now the default, so this is one compiled call per joint and right-hand side on
+#: the default's hot path: a trade of first compilation against run time not yet measured.
 _OWN: dict[str, Callable[..., Any]] = {
     "sustained_accelerations": sustained.sustained_accelerations,
     "locked_row": sustained.locked_row,
