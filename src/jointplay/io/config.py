@@ -858,8 +858,6 @@ def simulation_settings(path: Path | str | None, preset: str | None = None) -> d
         preset: the preset read when ``path`` is ``None`` (default ``paper-fourbar``, as
             :func:`load_mechanism`).
     """
-    from jointplay.dynamics.cycles import settle_revolutions
-
     if path is None:
         name = preset or "paper-fourbar"
         data = tomllib.loads(preset_text(name))
@@ -873,6 +871,8 @@ def simulation_settings(path: Path | str | None, preset: str | None = None) -> d
     for key, value in values.items():
         where = f"{source}: simulation.{key}"
         if key == "settle":
+            from jointplay.dynamics.cycles import settle_revolutions  # NumPy: only for one
+
             settle_revolutions(value, where)
         elif key in _SIMULATION_NUMBERS:
             if isinstance(value, bool) or not isinstance(value, int | float):
