@@ -226,8 +226,44 @@ def film_damping(runs: Runs) -> str:
     )
 
 
+def _e(value: float) -> str:
+    """``value`` as the page writes it: ``2.05e11``."""
+    mantissa, exponent = f"{value:.2e}".split("e")
+    return f"{mantissa}e{int(exponent)}"
+
+
+def liu_stiffness(runs: Runs) -> str:
+    """Liu's law fitted as the default contact fits it, against Hertz's, by clearance."""
+    from jointplay.contact.stiffness import HertzStiffness
+    from jointplay.dynamics.setup import ContactModel
+    from jointplay.io.config import load_preset
+
+    mechanism = load_preset("paper-fourbar")
+    rows = []
+    for clearance in (2.5e-6, 6.5e-6, 11.75e-6, 21e-6):
+        joint = ContactModel().joints(mechanism, ["A"], clearance=clearance)[0]
+        k, n = joint.law.penalty, joint.law.exponent
+        geometry = joint.stiffness_from
+        hertz = HertzStiffness(
+            bearing_radius=joint.journal_radius + clearance, pin_radius=joint.journal_radius,
+            length=geometry.length, bearing_youngs_modulus=geometry.bearing_youngs_modulus,
+            bearing_poisson_ratio=geometry.bearing_poisson_ratio,
+            pin_youngs_modulus=geometry.pin_youngs_modulus,
+            pin_poisson_ratio=geometry.pin_poisson_ratio,
+        ).stiffness  # fmt: skip
+        rows.append([f"{clearance * 1e6:g} µm", _e(k), f"{n:.3f}", f"{k * 1e-6**n:.0f} N",
+                     _e(hertz), f"{hertz * 1e-6**1.5:.0f} N"])  # fmt: skip
+    return _table(
+        ["radial clearance ΔR", "k (N/m^n)", "n", "F at δ = 1 µm", "Hertz K (N/m^1.5)",
+         "Hertz F at 1 µm"],
+        ["---", "---", "---", "---", "---", "---"],
+        rows,
+    )  # fmt: skip
+
+
 #: The tables, by marker name: what computes each, and whether it is a chaotic statistic.
 TABLES: dict[str, tuple[Callable[[Runs], str], bool]] = {
+    "liu-stiffness": (liu_stiffness, False),
     "film-damping": (film_damping, False),
     "reynolds-films": (reynolds_films, False),
     "mixed-lubrication": (mixed_lubrication, False),
@@ -250,27 +286,29 @@ def _block(text: str, name: str) -> re.Match[str]:
     return found
 
 
-def _numbers(text: str) -> tuple[list[float], list[int], str]:
-    """The numbers of ``text`` (their values and decimals) and the text without them."""
-    values, decimals = [], []
+def _numbers(text: str) -> tuple[list[float], list[float], str]:
+    """The numbers of ``text``, one unit of each one's last printed digit (``1.48e11``:
+    1e9), and the text without them."""
+    values, units = [], []
     for match in _NUMBER.finditer(text):
         token = match.group().replace(" ", "").replace("−", "-")
         values.append(float(token))
-        mantissa = token.split("e")[0]
-        decimals.append(len(mantissa.split(".")[1]) if "." in mantissa else 0)
-    return values, decimals, _NUMBER.sub("#", text)
+        mantissa, _, exponent = token.partition("e")
+        decimals = len(mantissa.split(".")[1]) if "." in mantissa else 0
+        units.append(10.0 ** (int(exponent or 0) - decimals))
+    return values, units, _NUMBER.sub("#", text)
 
 
 def drifted(written: str, computed: str, statistic: bool) -> list[str]:
     """How ``written`` (the page's table) differs from ``computed``: its words, or a number
     beyond one unit of its last digit (a statistic: beyond :data:`DRY_TOLERANCE`)."""
-    old, old_digits, old_words = _numbers(written)
+    old, old_units, old_words = _numbers(written)
     new, _, new_words = _numbers(computed)
     if old_words != new_words or len(old) != len(new):
         return ["the table's layout or words differ"]
     out = []
-    for a, b, digits in zip(old, new, old_digits, strict=True):
-        allowed = DRY_TOLERANCE * max(abs(a), abs(b)) if statistic else 10.0**-digits * 1.001
+    for a, b, unit in zip(old, new, old_units, strict=True):
+        allowed = DRY_TOLERANCE * max(abs(a), abs(b)) if statistic else unit * 1.001
         if abs(a - b) > allowed:
             out.append(f"{a:g} in the page, {b:g} computed")
     return out

@@ -42,13 +42,20 @@ def test_the_pages_tables_are_the_computed_ones(tables: ModuleType, capsys) -> N
 
 
 def test_a_drifted_number_fails_the_check(tables: ModuleType) -> None:
-    """One unit of the last digit too many in a deterministic table, or 30 % on a dry
+    """One unit of the last digit too many in a deterministic table (a mantissa's digit
+    counted with its exponent), or 30 % on a dry
     statistic, and the check names the table and the numbers (the runs of the test above,
     reused)."""
     text = tables.DOC.read_text(encoding="utf-8")
     assert tables.check(text, ["film-damping", "dry-statistics"]) == []
     drift = _bump(text, "film-damping", "| 1e4 | ", 1.01)
     assert any(line.startswith("film-damping: ") for line in tables.check(drift, ["film-damping"]))
+    # a stiffness written 1.48e11: its last digit is worth 1e9, not 0.01
+    drift = _bump(text, "liu-stiffness", "| 2.5 µm | ", 1.05)
+    assert tables.check(text, ["liu-stiffness"]) == []
+    assert tables.check(drift, ["liu-stiffness"]) == [
+        "liu-stiffness: 1.55e+11 in the page, 1.48e+11 computed"
+    ]
     drift = _bump(text, "dry-statistics", "| F_B (N) | ", 1.3)
     found = tables.check(drift, ["dry-statistics"])
     assert found and all(line.startswith("dry-statistics: ") for line in found)
