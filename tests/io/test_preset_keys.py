@@ -52,3 +52,26 @@ def test_a_copied_preset_keeps_its_contact(tmp_path) -> None:
     path = tmp_path / "my.toml"
     path.write_text(preset_text("flores-slider-crank"), encoding="utf-8")
     assert simulation_settings(path) == simulation_settings(None, "flores-slider-crank")
+
+
+def test_the_flores_stiffness_is_hertz_of_its_pin() -> None:
+    """The preset's K = 6.6e10 N/m^1.5 is Hertz's K of its own pin and bearing (computed
+    6.61e10), so the recalled value and the geometry agree."""
+    from jointplay.contact.stiffness import HertzStiffness
+    from jointplay.io.config import load_preset
+    from jointplay.units import parse_quantity
+
+    mechanism = load_preset("flores-slider-crank")
+    joint = mechanism.joint("B")
+    pin = joint.fit.diameter / 2
+    steel = mechanism.material_of("rod")
+    hertz = HertzStiffness.from_materials(
+        bearing_radius=pin + joint.fit.clearance,
+        pin_radius=pin,
+        length=joint.fit.pin_length,
+        bearing=steel,
+        pin=steel,
+    ).stiffness
+    k = simulation_settings(None, "flores-slider-crank")["k"]
+    given = parse_quantity(k, "N/m^1.5", field="k")
+    assert given == pytest.approx(hertz, rel=0.01)
