@@ -90,10 +90,18 @@ def test_a_copied_file_keeps_its_declaration(tmp_path: Path) -> None:
     assert load_config(path).lubrication_of("B") == Lubrication("dry")
 
 
-@pytest.mark.parametrize("name", ["paper-fourbar", "general-fourbar", "flores-slider-crank"])
+def test_the_flores_preset_declares_its_pin_dry() -> None:
+    """flores-slider-crank declares the paper's dry pin (docs/contact.md, "Presets carry
+    their published contact"); the four-bars declare nothing (below)."""
+    mechanism = parse_config(tomllib.loads(preset_text("flores-slider-crank")))
+    assert mechanism.lubrication == Lubrication("dry")
+    assert mechanism.lubrication_of("B") == Lubrication("dry")
+
+
+@pytest.mark.parametrize("name", ["paper-fourbar", "general-fourbar"])
 def test_each_presets_lubrication_example_reads(name: str) -> None:
-    """The presets declare nothing (the default holds) and show the table commented out:
-    uncommented, it reads."""
+    """The four-bar presets declare nothing (the default holds) and show the table
+    commented out: uncommented, it reads."""
     text = preset_text(name)
     assert parse_config(tomllib.loads(text)).lubrication is None
     lines = text.splitlines()

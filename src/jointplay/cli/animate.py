@@ -37,7 +37,7 @@ from jointplay.cli._simulation import (
 )
 from jointplay.errors import ConfigError
 from jointplay.settings.mechanism import mechanism_from_options
-from jointplay.settings.simulation import contact_model, joint_list
+from jointplay.settings.simulation import contact_model, joint_list, over_table
 
 
 def _opt(help_text: str, *names: str, **kwargs: Any) -> Any:
@@ -146,10 +146,7 @@ def _simulate(
     from jointplay.io.config import simulation_settings
     from jointplay.units import parse_quantity
 
-    values = {
-        **simulation_settings(config),
-        **{key: value for key, value in given.items() if value is not None},
-    }
+    values = over_table(simulation_settings(config, preset), given)
     mechanism = mechanism_from_options(
         preset, config, rpm, direction, values.get("start_angle"), gravity
     )

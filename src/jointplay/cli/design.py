@@ -395,7 +395,9 @@ def design_command(
             f"{', '.join(given)}: contact options apply to dynamic designs only, and every "
             "requirement here is kinematic; add --responses dynamic or drop them"
         )
-    contact_used = contact_from_options(config, mechanism, "--method", **contact_options)
+    contact_used = contact_from_options(
+        config, mechanism, "--method", preset=preset, **contact_options
+    )
     fit_list = [f.strip() for f in fits.split(",") if f.strip()]
     fixed = parse_joint_fits(fit or [])
     candidates: list[Any] = (

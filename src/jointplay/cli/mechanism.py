@@ -34,20 +34,28 @@ console = Console()
 
 @app.command("presets")
 def presets_command() -> None:
-    """List the mechanisms that ship with jointplay."""
+    """List the mechanisms that ship with jointplay: each with its source and what a run of
+    it reproduces (`jointplay show PRESET` prints the whole file)."""
     from jointplay.io.config import list_presets
 
     table = Table("preset", "description", box=None)
     for preset in list_presets():
-        table.add_row(preset.name, preset.description)
-    console.print(whole_headers(table))
+        table.add_row(
+            preset.name,
+            f"{preset.description}\nsource: {preset.source}\nreproduces: {preset.reproduces}",
+        )
+    console.print(whole_headers(table), markup=False, highlight=False)
 
 
 @app.command("show")
 def show_command(
     preset: Annotated[str, typer.Argument(help="Preset name (see `jointplay presets`).")],
 ) -> None:
-    """Print a preset as TOML that you can copy, edit and pass with --config."""
+    """Print a preset as TOML that you can copy, edit and pass with --config.
+
+    Its [mechanism] table states its source and what it reproduces; a [simulation] table,
+    where it has one, the contact of that source (the command line's options override it).
+    """
     from jointplay.io.config import preset_text
 
     print(preset_text(preset), end="")

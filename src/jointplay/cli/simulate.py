@@ -51,6 +51,7 @@ from jointplay.settings.simulation import (
     contact_model,
     finite_number,
     joint_list,
+    over_table,
 )
 from jointplay.units import parse_quantity
 
@@ -131,14 +132,14 @@ def simulate_command(
 
     figure_format = check_figure_format(figure_format)
     with output_dir(out, force=force, inputs=(config,)) as folder:
-        table = simulation_settings(config)
+        table = simulation_settings(config, preset)
         given = {
             **contact_options, "clearance": clearance, "joints": joints, "start": start,
             "ramp_time": ramp_time, "start_angle": start_angle, "revolutions": revolutions,
             "settle": settle, "sample_deg": sample_deg, "output_step": output_step, "rtol": rtol,
             "integrator": integrator, "max_step": max_step, "format": fmt,
         }  # fmt: skip
-        values = {**table, **{key: value for key, value in given.items() if value is not None}}
+        values = over_table(table, given)
         mechanism = mechanism_from_options(
             preset, config, rpm, direction, values.get("start_angle"), gravity
         )

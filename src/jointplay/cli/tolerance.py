@@ -311,7 +311,9 @@ def tolerance_command(
         if dynamic:
             from jointplay.dynamics.setup import regime_line
 
-            law = contact_from_options(config, mechanism, "--paper-method", **contact_options)
+            law = contact_from_options(
+                config, mechanism, "--paper-method", preset=preset, **contact_options
+            )
             fitted = [j.name for j in mechanism.revolute_joints if j.fit is not None]
             print(regime_line(law, mechanism, fitted))
         elif any(v is not None for v in contact_options.values()):

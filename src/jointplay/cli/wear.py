@@ -108,7 +108,7 @@ def wear_command(
     )
     limit, allowance = parse_clearance_limit(clearance_limit)
     settings = wear_settings(read_table(table, config), wear_coefficient, hardness)
-    contact_used = contact_from_options(config, mechanism, **contact_options)
+    contact_used = contact_from_options(config, mechanism, preset=preset, **contact_options)
     joints = []
     limits: dict[str, float] = {}
     for joint in mechanism.revolute_joints:

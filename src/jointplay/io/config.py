@@ -197,11 +197,22 @@ class _Table:
 
 @dataclass(frozen=True)
 class Preset:
-    """A named mechanism configuration shipped with jointplay."""
+    """A named mechanism configuration shipped with jointplay.
+
+    Attributes:
+        name: the preset's name (its file's, and its ``[mechanism] name``).
+        description: ``[mechanism] description``.
+        text: the TOML text, comments included.
+        source: ``[mechanism] source``: where its numbers come from (a paper, a table).
+        reproduces: ``[mechanism] reproduces``: what a run of it shows of that source, and
+            what it does not.
+    """
 
     name: str
     description: str
     text: str
+    source: str = ""
+    reproduces: str = ""
 
 
 def _preset_files() -> dict[str, Any]:
@@ -213,13 +224,31 @@ def _preset_files() -> dict[str, Any]:
     }
 
 
+#: Keys of ``[mechanism]`` that every shipped preset gives (:func:`list_presets` refuses a
+#: preset without them): where its numbers come from and what a run of it reproduces.
+PRESET_KEYS = ("source", "reproduces")
+
+
 def list_presets() -> list[Preset]:
-    """All shipped presets, sorted by name."""
+    """All shipped presets, sorted by name.
+
+    Raises:
+        ConfigError: a preset without a ``source`` or ``reproduces`` in ``[mechanism]``
+            (every preset states where its numbers come from and what it reproduces).
+    """
     presets = []
     for name, item in sorted(_preset_files().items()):
         text = item.read_text(encoding="utf-8")
-        description = tomllib.loads(text).get("mechanism", {}).get("description", "")
-        presets.append(Preset(name, description, text))
+        head = tomllib.loads(text).get("mechanism", {})
+        missing = [key for key in PRESET_KEYS if not str(head.get(key, "")).strip()]
+        if missing:
+            raise ConfigError(
+                f"preset {name!r}: [mechanism] has no {' or '.join(missing)}; a preset states "
+                "where its numbers come from (source) and what a run of it shows (reproduces)"
+            )
+        presets.append(
+            Preset(name, head.get("description", ""), text, head["source"], head["reproduces"])
+        )
     return presets
 
 
@@ -400,6 +429,8 @@ def _parse(root: _Table) -> Mechanism:
     head = root.table("mechanism")
     name = head.text("name", "mechanism")
     head.text("description", "")
+    for key in PRESET_KEYS:  # what the file reproduces and from where: text, not mechanism
+        head.text(key, "")
     template = head.text("template", "four-bar")
     branch_value = head.number("branch", 1)
     if branch_value not in (1.0, -1.0):
@@ -814,19 +845,34 @@ def design_tables(path: Path | str | None) -> dict[str, Any]:
     return design_table_keys(tables, os.fspath(path))
 
 
-def simulation_settings(path: Path | str | None) -> dict[str, Any]:
-    """The ``[simulation]`` table of a configuration file (raw values; empty without one)."""
-    if path is None:
-        return {}
-    from jointplay.dynamics.cycles import settle_revolutions
+def simulation_settings(path: Path | str | None, preset: str | None = None) -> dict[str, Any]:
+    """The ``[simulation]`` table of a configuration file, else of the preset (raw values;
+    empty without one).
 
-    data = read_toml(path)
-    table = _Table(data.get("simulation", {}), f"{os.fspath(path)}: [simulation]")
+    A preset carries the contact of its source there (``flores-slider-crank``: the published
+    dry Lankarani–Nikravesh contact; docs/contact.md, "Presets carry their published
+    contact"), which the command line's options override as they override a file's.
+
+    Args:
+        path: a configuration file, or ``None``.
+        preset: the preset read when ``path`` is ``None`` (default ``paper-fourbar``, as
+            :func:`load_mechanism`).
+    """
+    if path is None:
+        name = preset or "paper-fourbar"
+        data = tomllib.loads(preset_text(name))
+        source = f"preset {name!r}"
+    else:
+        data = read_toml(path)
+        source = os.fspath(path)
+    table = _Table(data.get("simulation", {}), f"{source}: [simulation]")
     values = {key: table.raw(key) for key in SIMULATION_KEYS if table.has(key)}
     table.finish()
     for key, value in values.items():
-        where = f"{os.fspath(path)}: simulation.{key}"
+        where = f"{source}: simulation.{key}"
         if key == "settle":
+            from jointplay.dynamics.cycles import settle_revolutions  # NumPy: only for one
+
             settle_revolutions(value, where)
         elif key in _SIMULATION_NUMBERS:
             if isinstance(value, bool) or not isinstance(value, int | float):

@@ -88,20 +88,54 @@ def _given(values: dict[str, Any], owner: str) -> dict[str, Any]:
     }
 
 
+#: The keys that name a contact law (``--method``, ``--contact``) and the law's parameters:
+#: a law named on the command line replaces all of these of the ``[simulation]`` table
+#: (:func:`over_table`).
+LAW_KEYS = (
+    "method", "ecs_source", *(s.key for s in CONTACT_SETTINGS if s.owner == "settings"),
+)  # fmt: skip
+#: The keys that set the stiffness, one way or the other: one given on the command line
+#: replaces the others of the table.
+STIFFNESS_KEYS = ("k", "stiffness_law", "fit_depth")
+
+
+def over_table(table: dict[str, Any], given: dict[str, Any]) -> dict[str, Any]:
+    """The values of a run: the command line's options ``given`` (``None``: not given) over
+    the ``[simulation]`` table ``table`` of the file or preset, key by key, except that a law
+    named on the command line (``--method``, ``--contact``) comes with its own parameters:
+    the table's law and its parameters (:data:`LAW_KEYS`) are dropped, and a stiffness given
+    (``--k``, ``--stiffness-law``) drops the table's other stiffness keys. So
+    ``--preset flores-slider-crank --method ifm-conventional`` runs the paper's method, not a
+    clash with the preset's published law (docs/contact.md, "Presets carry their published
+    contact")."""
+    options = {key: value for key, value in given.items() if value is not None}
+    dropped: tuple[str, ...] = ()
+    if "method" in options or "contact" in options:
+        dropped = LAW_KEYS
+    elif any(key in options for key in STIFFNESS_KEYS):
+        dropped = STIFFNESS_KEYS
+    return {**{k: v for k, v in table.items() if k not in dropped}, **options}
+
+
 def contact_from_options(
-    config: Any, mechanism: Any, method_option: str = "--method", **given: Any
+    config: Any,
+    mechanism: Any,
+    method_option: str = "--method",
+    *,
+    preset: str | None = None,
+    **given: Any,
 ) -> ContactModel:
     """:func:`contact_model` of the contact options ``given`` (``None``: not given) over the
-    same keys of the ``[simulation]`` table of the ``config`` file (a path or ``None``);
-    ``method_option``: the name of ``method`` on this command."""
+    same keys of the ``[simulation]`` table of the ``config`` file (a path or ``None``: the
+    table of ``preset``), as :func:`over_table` merges them; ``method_option``: the name of
+    ``method`` on this command."""
     from jointplay.io.config import simulation_settings
 
-    table = simulation_settings(config)
+    table = simulation_settings(config, preset)
     unknown = set(given) - set(CONTACT_OPTIONS)
     if unknown:
         raise TypeError(f"not contact options: {sorted(unknown)}")
-    values = {key: table[key] for key in CONTACT_OPTIONS if key in table}
-    values.update({key: value for key, value in given.items() if value is not None})
+    values = over_table({key: table[key] for key in CONTACT_OPTIONS if key in table}, given)
     return contact_model(values, mechanism, method_option)
 
 
