@@ -55,6 +55,22 @@ def test_a_lubricant_named_with_the_law_runs_in_its_film(
     assert summary["lubrication"]["A"]["film_damping_N_s_m"] > 0
 
 
+def test_an_iso_vg_grade_names_the_oil(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """``--lubrication "oil ISO VG 46"``: the oil's viscosity is the grade's at 40 °C (46
+    mm²/s × 870 kg/m³), and the regime says so."""
+    out = tmp_path / "graded"
+    assert run(["simulate", "--lubrication", "oil ISO VG 46", *SHORT, "--out", str(out)]) == 0
+    printed = capsys.readouterr().out.splitlines()
+    assert printed[0] == (
+        "lubrication: lubricated, oil ISO VG 46 (0.040 Pa*s at 40 °C) (O2, A, B, O4)"
+    )
+    summary = json.loads((out / "summary.json").read_text())
+    entry = summary["lubrication"]["A"]
+    assert entry["regime"] == "oil" and entry["iso_vg_grade"] == 46
+    assert entry["viscosity_Pa_s"] == pytest.approx(46e-6 * 870, rel=1e-12)
+    assert summary["contact"]["lubrication"]["iso_vg_grade"] == 46
+
+
 @pytest.mark.parametrize(
     ("args", "message"),
     [
@@ -65,6 +81,17 @@ def test_a_lubricant_named_with_the_law_runs_in_its_film(
         ),
         (["--lubricant-viscosity", "-1 Pa*s"], "--lubricant-viscosity must be >= 0"),
         (["--lubrication", "grease"], "--lubrication grease needs its base oil's viscosity"),
+        (
+            ["--lubrication", "oil ISO VG 47"],
+            "--lubrication: 'ISO VG 47' is not an ISO 3448 viscosity grade; the grades are ISO "
+            "VG 2, 3, 5, 7, 10, 15, 22, 32, 46, 68, 100, 150, 220, 320, 460, 680, 1000, 1500, "
+            "2200, 3200",
+        ),
+        (
+            ["--lubrication", "oil ISO VG 46", "--lubricant-viscosity", "0.05 Pa*s"],
+            "--lubrication 'oil ISO VG 46' names the lubricant's viscosity (at 40 °C): give no "
+            "--lubricant-viscosity",
+        ),
     ],
 )
 def test_bad_lubrication_is_one_line_and_exit_2(
