@@ -163,3 +163,21 @@ def test_the_mechanism_file_declares_each_joint(
     # the command's lubrication over the file's
     assert run([*args, "--lubrication", "dry", "--out", str(tmp_path / "dry")]) == 0
     assert capsys.readouterr().out.splitlines()[0] == "lubrication: dry (O2, A, B, O4)"
+
+
+def test_the_design_verdict_names_the_grade(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The issue's words: "choose H8/g7 / m — lubricated, oil ISO VG 46 (0.040 Pa*s at
+    40 °C)", in the printed choice and in ``summary.json``."""
+    design = ["design", "--fits", "H8/g7", "--classes", "m", "--require", "joint_force <= 1 kN",
+              "--samples", "2", "--confidence", "10 %", "--no-model-sensitivity", "--no-plots",
+              "--settle", "0", "--revolutions", "0.25", "--lubrication", "oil ISO VG 46"]  # fmt: skip
+    assert run([*design, "--out", str(tmp_path / "design")]) == 0
+    words = "lubricated, oil ISO VG 46 (0.040 Pa*s at 40 °C)"
+    printed = capsys.readouterr().out.splitlines()
+    assert printed[0] == f"lubrication: {words} (O2, A, B, O4)"
+    assert any(line.startswith(f"choose H8/g7 / m — {words}: ") for line in printed), printed
+    summary = json.loads((tmp_path / "design" / "summary.json").read_text())
+    assert summary["verdict"].endswith(f"H8/g7 / m — {words}")
+    assert summary["settings"]["model"]["lubrication"]["A"]["iso_vg_grade"] == 46
