@@ -201,7 +201,7 @@ def _implicit_on_both(
     gpu = _on_the_simulator(problem, tmp_path)
     nb, nj, nc, _ = kb.layout(ipar)
     cpu_out = {
-        "peaks": np.full((2, 2 * nb + nj + 1), np.nan), "stats": np.full((2, 2 * nb + nc), np.nan),
+        "peaks": np.full((2, 2 * nb + nj + 1), np.nan), "stats": np.full((2, 2 * nb + 4 * nc), np.nan),
         "status": np.full(2, ids.STATUS_RUNNING, dtype=np.int64), "t_reached": np.zeros(2),
         "counts": np.zeros((2, 3), dtype=np.int64),
     }  # fmt: skip

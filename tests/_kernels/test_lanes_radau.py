@@ -116,7 +116,7 @@ def _single_source(p: dict[str, Any], parallel: bool = False, **kw: Any) -> dict
     nb, nj, nc, _ = n_q
     out = {
         "peaks": np.full((lanes, 2 * nb + nj + 1), np.nan),
-        "stats": np.full((lanes, 2 * nb + nc), np.nan),
+        "stats": np.full((lanes, 2 * nb + 4 * nc), np.nan),
         "status": np.full(lanes, ids.STATUS_RUNNING, dtype=np.int64),
         "t_reached": np.zeros(lanes),
         "counts": np.zeros((lanes, 3), dtype=np.int64),

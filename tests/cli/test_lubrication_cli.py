@@ -55,6 +55,22 @@ def test_a_lubricant_named_with_the_law_runs_in_its_film(
     assert summary["lubrication"]["A"]["film_damping_N_s_m"] > 0
 
 
+def test_an_iso_vg_grade_names_the_oil(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """``--lubrication "oil ISO VG 46"``: the oil's viscosity is the grade's at 40 °C (46
+    mm²/s × 870 kg/m³), and the regime says so."""
+    out = tmp_path / "graded"
+    assert run(["simulate", "--lubrication", "oil ISO VG 46", *SHORT, "--out", str(out)]) == 0
+    printed = capsys.readouterr().out.splitlines()
+    assert printed[0] == (
+        "lubrication: lubricated, oil ISO VG 46 (0.040 Pa*s at 40 °C) (O2, A, B, O4)"
+    )
+    summary = json.loads((out / "summary.json").read_text())
+    entry = summary["lubrication"]["A"]
+    assert entry["regime"] == "oil" and entry["iso_vg_grade"] == 46
+    assert entry["viscosity_Pa_s"] == pytest.approx(46e-6 * 870, rel=1e-12)
+    assert summary["contact"]["lubrication"]["iso_vg_grade"] == 46
+
+
 @pytest.mark.parametrize(
     ("args", "message"),
     [
@@ -65,6 +81,17 @@ def test_a_lubricant_named_with_the_law_runs_in_its_film(
         ),
         (["--lubricant-viscosity", "-1 Pa*s"], "--lubricant-viscosity must be >= 0"),
         (["--lubrication", "grease"], "--lubrication grease needs its base oil's viscosity"),
+        (
+            ["--lubrication", "oil ISO VG 47"],
+            "--lubrication: 'ISO VG 47' is not an ISO 3448 viscosity grade; the grades are ISO "
+            "VG 2, 3, 5, 7, 10, 15, 22, 32, 46, 68, 100, 150, 220, 320, 460, 680, 1000, 1500, "
+            "2200, 3200",
+        ),
+        (
+            ["--lubrication", "oil ISO VG 46", "--lubricant-viscosity", "0.05 Pa*s"],
+            "--lubrication 'oil ISO VG 46' names the lubricant's viscosity (at 40 °C): give no "
+            "--lubricant-viscosity",
+        ),
     ],
 )
 def test_bad_lubrication_is_one_line_and_exit_2(
@@ -136,3 +163,21 @@ def test_the_mechanism_file_declares_each_joint(
     # the command's lubrication over the file's
     assert run([*args, "--lubrication", "dry", "--out", str(tmp_path / "dry")]) == 0
     assert capsys.readouterr().out.splitlines()[0] == "lubrication: dry (O2, A, B, O4)"
+
+
+def test_the_design_verdict_names_the_grade(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The issue's words: "choose H8/g7 / m — lubricated, oil ISO VG 46 (0.040 Pa*s at
+    40 °C)", in the printed choice and in ``summary.json``."""
+    design = ["design", "--fits", "H8/g7", "--classes", "m", "--require", "joint_force <= 1 kN",
+              "--samples", "2", "--confidence", "10 %", "--no-model-sensitivity", "--no-plots",
+              "--settle", "0", "--revolutions", "0.25", "--lubrication", "oil ISO VG 46"]  # fmt: skip
+    assert run([*design, "--out", str(tmp_path / "design")]) == 0
+    words = "lubricated, oil ISO VG 46 (0.040 Pa*s at 40 °C)"
+    printed = capsys.readouterr().out.splitlines()
+    assert printed[0] == f"lubrication: {words} (O2, A, B, O4)"
+    assert any(line.startswith(f"choose H8/g7 / m — {words}: ") for line in printed), printed
+    summary = json.loads((tmp_path / "design" / "summary.json").read_text())
+    assert summary["verdict"].endswith(f"H8/g7 / m — {words}")
+    assert summary["settings"]["model"]["lubrication"]["A"]["iso_vg_grade"] == 46

@@ -131,7 +131,8 @@ def test_design_refits_each_sample_as_a_joint_built_at_its_clearance(tmp_path) -
     sensitivity = json.loads((out / "summary.json").read_text())["model_sensitivity"]
     assert [r["parameter"] for r in sensitivity["rows"]] == [
         "as chosen", "restitution", "restitution", "friction", "friction", "lubrication",
-        "lubricant_viscosity", "lubricant_viscosity", "stiffness_law",
+        "lubricant_viscosity", "lubricant_viscosity", "film_model", "roughness", "roughness",
+        "stiffness_law",
     ]  # fmt: skip
     assert sensitivity["rows"][-1]["value"] == "liu"  # the other law than the study's hertz
     assert "Model sensitivity of the choice" in (out / "report.html").read_text()

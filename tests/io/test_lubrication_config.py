@@ -114,3 +114,60 @@ def test_each_presets_lubrication_example_reads(name: str) -> None:
     mechanism = parse_config(tomllib.loads(text + "\n" + "\n".join(example) + "\n"))
     assert mechanism.lubrication == Lubrication("oil", 0.05)
     assert [lub.regime for lub in mechanism.joint_lubrication.values()] == ["grease"]
+
+
+GRADED = """
+[lubrication]
+grade = "ISO VG 46"
+
+[lubrication.joints.O2]
+regime = "grease"
+grade = "ISO VG 220"
+
+[lubrication.joints]
+B = "oil ISO VG 68"
+"""
+
+
+def test_a_lubricant_is_named_by_its_iso_vg_grade() -> None:
+    """``grade`` (or the regime ``"oil ISO VG 68"``) sets the viscosity at 40 °C: the grade's
+    midpoint kinematic viscosity × 870 kg/m³."""
+    mechanism = parse_config(_paper(GRADED))
+    assert mechanism.lubrication == Lubrication("oil", grade=46)
+    assert mechanism.lubrication is not None
+    assert mechanism.lubrication.viscosity == pytest.approx(46e-6 * 870, rel=1e-12)
+    assert mechanism.lubrication_of("O2") == Lubrication("grease", grade=220)
+    assert mechanism.lubrication_of("B") == Lubrication("oil", grade=68)
+    assert mechanism.lubrication_of("B").viscosity == pytest.approx(68e-6 * 870, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (
+            '\n[lubrication]\ngrade = "ISO VG 50"\n',
+            "lubrication.grade: 'ISO VG 50' is not an ISO 3448 viscosity grade; the grades are "
+            "ISO VG 2, 3, 5, 7, 10, 15, 22, 32, 46, 68, 100, 150, 220, 320, 460, 680, 1000, "
+            "1500, 2200, 3200",
+        ),
+        (
+            '\n[lubrication.joints]\nA = "oil ISO VG 47"\n',
+            "lubrication.joints.A.regime: 'ISO VG 47' is not an ISO 3448 viscosity grade",
+        ),
+        (
+            '\n[lubrication]\ngrade = "ISO VG 46"\nviscosity = "0.05 Pa*s"\n',
+            "lubrication: give the lubricant's grade or its viscosity, not both",
+        ),
+        (
+            '\n[lubrication]\nregime = "dry"\ngrade = "ISO VG 46"\n',
+            "lubrication: a dry joint has no lubricant: drop its ISO VG grade",
+        ),
+        (
+            '\n[lubrication]\nregime = "oil ISO VG 68"\ngrade = "ISO VG 46"\n',
+            "lubrication: the regime names ISO VG 68 and grade ISO VG 46: give one",
+        ),
+    ],
+)
+def test_bad_grades_name_the_table(extra: str, message: str) -> None:
+    with pytest.raises(ConfigError, match=message.replace("*", r"\*")):
+        parse_config(_paper(extra), source="my.toml")

@@ -3,16 +3,21 @@
 from __future__ import annotations
 
 import dataclasses
+import json
+from pathlib import Path
 
 import pytest
 
+from jointplay.dynamics.clearance import DEFAULT_ROUGHNESS
 from jointplay.dynamics.setup import DEFAULT_IMPACT, ContactModel, ContactSettings
 from jointplay.model.mechanism import Mechanism
-from jointplay.study.design import design_study
+from jointplay.report.design import write_design
+from jointplay.study.design import design_study, design_units
 from jointplay.study.sensitivity import (
     FILM_DAMPING_RANGE,
     FRICTION_RANGE,
     RESTITUTION_RANGE,
+    ROUGHNESS_FACTORS,
     VISCOSITY_RANGE,
     ModelSensitivity,
     SensitivityRow,
@@ -38,6 +43,9 @@ def test_each_case_changes_one_parameter_to_an_end_of_its_range() -> None:
         ("lubrication", "dry"),
         ("lubricant_viscosity", VISCOSITY_RANGE[0]),
         ("lubricant_viscosity", VISCOSITY_RANGE[1]),
+        ("film_model", "short-bearing-full"),
+        ("roughness", f"{0.5 * DEFAULT_ROUGHNESS * 1e6:.3g} µm (×0.5)"),
+        ("roughness", f"{2 * DEFAULT_ROUGHNESS * 1e6:.3g} µm (×2)"),
         ("stiffness_law", "hertz"),
     ]
     for case in cases:
@@ -49,7 +57,7 @@ def test_each_case_changes_one_parameter_to_an_end_of_its_range() -> None:
         }
         changed |= {
             name
-            for name in ("film_damping", "lubricant_viscosity")
+            for name in ("film_damping", "lubricant_viscosity", "film_model", "roughness")
             if getattr(case.contact, name) != getattr(default, name)
         }
         expected = {
@@ -57,8 +65,26 @@ def test_each_case_changes_one_parameter_to_an_end_of_its_range() -> None:
             "friction": {"coefficient"},
             "lubrication": {"film_damping"},  # fixed at 0: dry
             "lubricant_viscosity": {"lubricant_viscosity"},
+            "film_model": {"film_model"},
+            "roughness": {"roughness"},
         }
         assert changed == expected.get(case.parameter, {"restitution"}), case
+    # the roughness at half and twice each joint's default σ (none given)
+    assert [c.contact.roughness for c in cases if c.parameter == "roughness"] == [
+        pytest.approx(factor * DEFAULT_ROUGHNESS, rel=1e-12) for factor in ROUGHNESS_FACTORS
+    ]
+    full = ContactModel(film_model="short-bearing-full", roughness="2 um")  # the other way
+    assert [(c.parameter, c.contact.film_model, c.contact.roughness) for c in model_cases(full)
+            if c.parameter in ("film_model", "roughness")] == [
+        ("film_model", "short-bearing-pi", pytest.approx(2e-6)),
+        ("roughness", "short-bearing-full", pytest.approx(1e-6)),
+        ("roughness", "short-bearing-full", pytest.approx(4e-6)),
+    ]  # fmt: skip
+    smooth = ContactModel(roughness=0.0)  # no roughness to scale: the film model only
+    assert [c.parameter for c in model_cases(smooth) if c.parameter == "roughness"] == []
+    graded = ContactModel(lubrication="oil ISO VG 46")  # the grade gives way to each case's
+    assert [c.contact.viscosity for c in model_cases(graded)
+            if c.parameter in ("lubrication", "lubricant_viscosity")] == [0.0, *VISCOSITY_RANGE]  # fmt: skip
     dry = next(c.contact for c in cases if c.value == "dry")
     assert not dry.lubricated and "dry joints" in dry.describe()["text"]
     fixed = ContactModel(film_damping="1e5 N*s/m")  # a fixed film: its own range
@@ -76,6 +102,7 @@ def test_each_case_changes_one_parameter_to_an_end_of_its_range() -> None:
     assert [c.parameter for c in model_cases(oiled)] == [
         *("friction", "friction"),
         *("lubrication", "lubricant_viscosity", "lubricant_viscosity"),
+        *("film_model", "roughness", "roughness"),
     ]
 
 
@@ -104,6 +131,45 @@ def test_the_chosen_scheme_is_re_evaluated_under_each_case(paper_fourbar: Mechan
     assert sensitivity.holds and "holds" in sensitivity.verdict
     record = sensitivity.as_dict()
     assert record["holds"] is True and len(record["rows"]) == len(sensitivity.rows)
+    # each row carries the required response at the level, as its own study computes it
+    assert chosen.values == {"joint_force": result.best_row["joint_force_at_confidence"]}
+    for parameter, changed in (
+        ("film_model", dataclasses.replace(contact, film_model="short-bearing-full")),
+        ("roughness", dataclasses.replace(contact, roughness=2 * DEFAULT_ROUGHNESS)),
+    ):
+        alone = design_study(
+            paper_fourbar, ["H8/g7"], ["m"], requirements, contact=changed, confidence=LEVEL,
+            **FAST,
+        )  # fmt: skip
+        row = [r for r in sensitivity.rows if r.parameter == parameter][-1]
+        assert row.values["joint_force"] == alone.table.iloc[0]["joint_force_at_confidence"]
+    film = next(r for r in sensitivity.rows if r.parameter == "film_model")
+    assert film.values["joint_force"] != chosen.values["joint_force"]  # the film moves it
+    assert record["rows"][0]["at_confidence"] == chosen.values
+
+
+def test_the_table_is_on_the_reports_first_screen(paper_fourbar: Mechanism, tmp_path: Path) -> None:
+    """Right under the answer and its evidence, before the study's settings and schemes; with
+    the film model's and the roughness's rows."""
+    contact = ContactModel()
+    requirements = ["joint_force <= 1 kN"]
+    result = design_study(
+        paper_fourbar, ["H8/g7"], ["m"], requirements, contact=contact, confidence=LEVEL, **FAST
+    )
+    sensitivity = model_sensitivity(paper_fourbar, result, contact, **FAST)
+    assert sensitivity is not None
+    write_design(result, tmp_path, design_units(paper_fourbar, "dynamic"), plots=False,
+                 sensitivity=sensitivity)  # fmt: skip
+    html = (tmp_path / "report.html").read_text()
+    answer = html.index("<p>Answer: ")
+    table = html.index('<h3 id="model-sensitivity">')
+    assert answer < table < html.index("requirement: joint_force") < html.index("Schemes by cost")
+    for cell in ("film_model", "short-bearing-full", "roughness", "(×0.5)", "(×2)",
+                 "joint_force at 10 % (N)"):  # fmt: skip
+        assert cell in html[table:], cell
+    summary = json.loads((tmp_path / "summary.json").read_text())["model_sensitivity"]
+    assert summary["ranges"]["film_model"] == ["short-bearing-pi", "short-bearing-full"]
+    assert summary["ranges"]["roughness_factors"] == [0.5, 2.0]
 
 
 def test_a_failing_end_is_named() -> None:

@@ -15,9 +15,12 @@ Outputs per lane, over the window [t_settle, t_end]:
 - ``peaks`` (P = 2 nb + nj + 1), QUANTITY ORDER: ω_b of every body (rad/s), α_b (rad/s²), the
   force transmitted by every joint (N), the motor torque (N·m) — largest |value|, as
   :func:`jointplay._kernels.eom.quantities` defines them;
-- ``stats`` (M = 2 nb + nc), STATS ORDER: time-mean of ω_b, RMS of ω_b (trapezoidal rule over
-  the accepted steps, rad/s), largest penetration δ = |e| − c of every clearance joint at the
-  accepted steps (m; negative: never touched);
+- ``stats`` (M = 2 nb + 4 nc), STATS ORDER: time-mean of ω_b, RMS of ω_b (trapezoidal rule
+  over the accepted steps, rad/s), largest penetration δ = |e| − c of every clearance joint at
+  the accepted steps (m; negative: never touched), then per clearance joint the fractions of
+  the window in full film, mixed and boundary lubrication (each accepted step counted by
+  λ = h_min/σ at its midpoint, as :mod:`jointplay.dynamics.regimes`; NaN for a dry joint, and
+  on the JAX backend, whose stats stop at the penetrations: it runs no film);
 - ``status`` (:mod:`jointplay._kernels.common` ``STATUS_*``), ``t_reached``, ``n_steps``,
   ``n_rejected``, ``n_rhs`` (right-hand-side evaluations; the quantity evaluations of the
   peak search are not counted).
@@ -111,6 +114,9 @@ lanes_refine_peaks = lane_cpu.compiled["refine_peaks"]
 lanes_open_window = lane_cpu.compiled["open_window"]
 lanes_accumulate = lane_cpu.compiled["accumulate"]
 lanes_close_window = lane_cpu.compiled["close_window"]
+lanes_open_regimes = lane_cpu.compiled["open_regimes"]
+lanes_accumulate_regimes = lane_cpu.compiled["accumulate_regimes"]
+lanes_close_regimes = lane_cpu.compiled["close_regimes"]
 
 __all__ = [
     "METHODS",
@@ -193,10 +199,12 @@ def _trajectory_reduce(ipar, rpar, lay, ts, ys, t_settle, t_end, peaks, stats):
         t_a = t_settle
     eom.quantities(t_a, y_a, rpar, ipar, qa, pen)
     lanes_open_window(qa, pen, peaks, stats, nb, n_q, nc)
+    lanes_open_regimes(rpar, lay, pen, stats, nb, nc)
     for i in range(first + 1, m):
         t_b = ts[i]
         eom.quantities(t_b, ys[i], rpar, ipar, qb, pen)
         lanes_accumulate(qa, qb, pen, t_b - t_a, peaks, stats, nb, n_q, nc)
+        lanes_accumulate_regimes(rpar, lay, pen, t_b - t_a, stats, nb, nc)
         if lanes_wants_refinement(qa, qb, peaks, mask, n_q):
             h = t_b - t_a
             samples[0] = qa
@@ -209,6 +217,7 @@ def _trajectory_reduce(ipar, rpar, lay, ts, ys, t_settle, t_end, peaks, stats):
         qa, qb = qb, qa
         t_a = t_b
     lanes_close_window(stats, nb, t_end - t_settle)
+    lanes_close_regimes(stats, nb, nc, t_end - t_settle)
 
 
 def _implicit_lanes(
@@ -361,7 +370,7 @@ def run_batch(
             f"{y0_a.shape}, atol {atol_a.shape}, rpar {rpar_a.shape}"
         )
     peaks = np.full((lanes, 2 * nb + nj + 1), np.nan)
-    stats = np.full((lanes, 2 * nb + nc), np.nan)
+    stats = np.full((lanes, 2 * nb + 4 * nc), np.nan)
     status = np.full(lanes, STATUS_RUNNING, dtype=np.int64)
     t_reached = np.zeros(lanes)
     counts = np.zeros((lanes, 3), dtype=np.int64)

@@ -96,6 +96,9 @@ BatchMethod = Literal["auto", "explicit", "implicit"]
 # --- the result ------------------------------------------------------------------------------------
 #: The error of a sample that an interrupt stopped before it finished.
 NOT_RUN = "not run (interrupted)"
+#: The lubrication regimes whose time fractions the kernels report per clearance joint, in
+#: their slot order (``full_film_<J>``, ``mixed_<J>``, ``boundary_<J>`` statistics).
+REGIME_STATS = ("full_film", "mixed", "boundary")
 
 
 class BatchInterrupted(PartialInterrupt):
@@ -121,8 +124,10 @@ class BatchResult:
             ``F_A``, ``torque``: the single engine's names, largest |value| over the analysed
             revolutions); NaN where the sample failed.
         statistics: one row per sample: ``omega{k}_mean`` and ``omega{k}_rms`` (rad/s, over
-            the analysed revolutions) and ``pen_{joint}`` (deepest penetration, m; negative:
-            never touched).
+            the analysed revolutions), ``pen_{joint}`` (deepest penetration, m; negative:
+            never touched) and ``full_film_{joint}``, ``mixed_{joint}``,
+            ``boundary_{joint}``: the fractions of the analysed time the joint ran in each
+            lubrication regime (sum 1; NaN for a dry joint; :mod:`jointplay.dynamics.regimes`).
         units: unit of every column of ``peaks`` and ``statistics``.
         ok: (n,) the sample succeeded.
         status: (n,) :class:`~jointplay.dynamics.integrate.IntegrationStatus` codes (a
@@ -202,6 +207,12 @@ def _names(
     stats = [(flat.body_index(name), f"omega{k}_mean", "rad/s") for name, k in links]
     stats += [(nb + flat.body_index(name), f"omega{k}_rms", "rad/s") for name, k in links]
     stats += [(2 * nb + c, f"pen_{j.joint}", "m") for c, j in enumerate(system.clearances)]
+    nc = len(system.clearances)
+    for c, j in enumerate(system.clearances):  # the kernels' time-in-regime fractions
+        stats += [
+            (2 * nb + nc + 3 * c + k, f"{regime}_{j.joint}", "1")
+            for k, regime in enumerate(REGIME_STATS)
+        ]
     return peaks, stats
 
 
@@ -341,7 +352,7 @@ def _merged(
     def not_run(m: int) -> kb.BatchKernelOutput:
         return kb.BatchKernelOutput(
             peaks=np.full((m, 2 * nb + nj + 1), np.nan),
-            stats=np.full((m, 2 * nb + nc), np.nan),
+            stats=np.full((m, 2 * nb + 4 * nc), np.nan),
             status=np.full(m, ids.STATUS_INTERRUPTED, dtype=np.int64),
             t_reached=np.zeros(m),
             n_steps=np.zeros(m, dtype=np.int64),
@@ -349,8 +360,19 @@ def _merged(
             n_rhs=np.zeros(m, dtype=np.int64),
         )
 
+    def widened(output: kb.BatchKernelOutput) -> kb.BatchKernelOutput:
+        """The JAX backend's stats stop at the penetrations (it runs no film): its regime
+        slots NaN."""
+        short = 2 * nb + 4 * nc - output.stats.shape[1]
+        if short <= 0:
+            return output
+        gap = np.full((output.stats.shape[0], short), np.nan)
+        return output._replace(stats=np.hstack([output.stats, gap]))
+
     filled = [not_run(0)]
-    filled += [not_run(len(p)) if o is None else o for p, o in zip(parts, outputs, strict=True)]
+    filled += [
+        not_run(len(p)) if o is None else widened(o) for p, o in zip(parts, outputs, strict=True)
+    ]
     return kb.BatchKernelOutput(
         *(
             np.concatenate([getattr(o, name) for o in filled])

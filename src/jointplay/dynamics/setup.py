@@ -35,6 +35,7 @@ from jointplay.dynamics.clearance import (
 )
 from jointplay.dynamics.declared import setting, unit_of
 from jointplay.errors import ConfigError, QuantityError, SettingError
+from jointplay.model.lubricants import grade_viscosity, grade_words, parse_grade, split_regime
 from jointplay.model.mechanism import REGIMES, Lubrication, Mechanism, RevoluteJoint
 from jointplay.units import parse_quantity
 
@@ -335,8 +336,10 @@ class ContactModel:
     film_model: str | None = None
     lubrication: str | None = None
     roughness: float | str | None = None
+    grade: int | None = None
 
     def __post_init__(self) -> None:
+        self._take_grade()
         if self.film_model is not None:
             film_model_id(self.film_model)
         if self.roughness is not None:  # every joint's composite roughness σ, m
@@ -366,7 +369,8 @@ class ContactModel:
         object.__setattr__(self, "capture_speed", speed)
         if self.lubrication is not None and self.lubrication not in REGIMES:
             raise SettingError(
-                "{lubrication} must be one of " + ", ".join(REGIMES) + ", got {got!r}",
+                "{lubrication} must be one of " + ", ".join(REGIMES) + ", got {got!r} (an oil "
+                "or a grease's base oil may be named by its ISO VG grade: 'oil ISO VG 46')",
                 got=self.lubrication,
             )
         if self.film_damping is None:
@@ -397,6 +401,49 @@ class ContactModel:
                 "{lubricant_viscosity}) with it"
             )
 
+    def _take_grade(self) -> None:
+        """An ISO VG grade named with the regime (``lubrication="oil ISO VG 46"``, or
+        ``grade``) gives the lubricant's viscosity at 40 °C
+        (:mod:`jointplay.model.lubricants`); not beside a viscosity or a film damping."""
+        grade = self.grade
+        if isinstance(self.lubrication, str):
+            try:
+                regime, named = split_regime(self.lubrication)
+            except ConfigError as exc:
+                detail = str(exc).split(": ", 1)[-1]
+                raise SettingError("{lubrication}: {detail}", detail=detail) from None
+            if named is not None:
+                if grade is not None and grade != named:
+                    raise SettingError(
+                        "{lubrication} names ISO VG {named}, the grade given is ISO VG {grade}",
+                        named=named,
+                        grade=grade,
+                    )
+                object.__setattr__(self, "lubrication", regime)
+                grade = named
+        if grade is None:
+            return
+        try:
+            grade = parse_grade(grade)
+        except ConfigError as exc:
+            detail = str(exc).split(": ", 1)[-1]
+            raise SettingError("{lubrication}: {detail}", detail=detail) from None
+        object.__setattr__(self, "grade", grade)
+        if self.lubrication not in ("oil", "grease"):
+            raise SettingError(
+                "an ISO VG grade names an oil: give it as {lubrication} 'oil ISO VG {grade}' "
+                "(or 'grease ISO VG {grade}', the base oil's)",
+                grade=grade,
+            )
+        if self.lubricant_viscosity is not None or self.film_damping is not None:
+            raise SettingError(
+                "{lubrication} '{regime} ISO VG {grade}' names the lubricant's viscosity (at "
+                "40 °C): give no {lubricant_viscosity} or {film_damping} with it (a joint at "
+                "another temperature: {lubricant_viscosity} alone)",
+                regime=self.lubrication,
+                grade=grade,
+            )
+
     def _given_viscosity(self) -> float:
         """The given lubricant's viscosity, Pa·s (>= 0; 0: dry)."""
         unit = unit_of("lubricant_viscosity")
@@ -423,7 +470,7 @@ class ContactModel:
                 "{lubrication} " + regime + " needs a lubricant: give {lubricant_viscosity} > 0, "
                 "or {lubrication} dry"
             )
-        if regime == "grease" and given is None:
+        if regime == "grease" and given is None and self.grade is None:
             raise SettingError(
                 "{lubrication} grease needs its base oil's viscosity: give {lubricant_viscosity}, "
                 "e.g. '0.15 Pa*s'"
@@ -467,6 +514,8 @@ class ContactModel:
             return 0.0
         if self.lubricant_viscosity is not None:
             return float(self.lubricant_viscosity)
+        if self.grade is not None:
+            return grade_viscosity(self.grade)
         return DEFAULT_VISCOSITY
 
     def lubrication_of(self, mechanism: Mechanism, joint: str) -> Lubrication:
@@ -478,7 +527,7 @@ class ContactModel:
         if declared is None:
             if self.regime == "dry":
                 return Lubrication("dry")
-            return Lubrication(self.regime, self.viscosity or None)
+            return Lubrication(self.regime, self.viscosity or None, self.grade)
         if declared.regime == "oil" and declared.viscosity is None:
             return Lubrication("oil", DEFAULT_VISCOSITY)
         return declared
@@ -611,6 +660,8 @@ class ContactModel:
             if fixed is None and self.lubricated
             else float(fixed or 0.0),
         }
+        if self.grade is not None and self.lubricated:
+            described["lubrication"]["iso_vg_grade"] = self.grade
         if self.film_model != "linear":
             described["lubrication"]["film_model"] = self.film_model
             described["lubrication"]["roughness_m"] = (
@@ -619,7 +670,11 @@ class ContactModel:
         return described
 
     def _lubricant(self) -> str:
-        """The lubricant of :attr:`regime` in words (``a 0.05 Pa*s oil``)."""
+        """The lubricant of :attr:`regime` in words (``a 0.05 Pa*s oil``, ``an oil ISO VG 46
+        (0.040 Pa*s at 40 °C)``)."""
+        if self.grade is not None:
+            base = "a grease of base oil" if self.regime == "grease" else "an oil"
+            return f"{base} {grade_words(self.grade)}"
         if self.regime == "grease":
             return f"a grease of {self.viscosity:g} Pa*s base oil"
         return f"a {self.viscosity:g} Pa*s oil"
@@ -631,7 +686,8 @@ class ContactModel:
         (``dry``, ``oil``, ``grease``), ``viscosity_Pa_s`` (``None``: dry, or a fixed film
         damping), ``film_model`` (``None``: dry), ``film_damping_N_s_m`` (its film
         coefficient; 0: dry) and ``declared`` (where the regime comes from: ``"command"``,
-        ``"mechanism"`` or ``"default"``)."""
+        ``"mechanism"`` or ``"default"``); with a lubricant named by its ISO VG grade,
+        ``iso_vg_grade`` (the viscosity is then the grade's at 40 °C)."""
         out: dict[str, dict[str, Any]] = {}
         for joint in joints:
             entry = self._entry(mechanism, joint.joint)
@@ -639,6 +695,7 @@ class ContactModel:
             declared = entry.pop("declared")
             if joint.film_damping == 0:
                 entry.update(regime="dry", viscosity_Pa_s=None, film_model=None)
+                entry.pop("iso_vg_grade", None)
             out[joint.joint] = {
                 **entry,
                 "film_damping_N_s_m": joint.film_damping,
@@ -658,13 +715,16 @@ class ContactModel:
             if mechanism.lubrication_of(joint) is not None
             else "default"
         )
-        return {
+        entry = {
             "regime": "dry" if dry else lubrication.regime,
             "viscosity_Pa_s": None if dry else lubrication.viscosity,
             "film_model": None if dry else self.film_model,
             "fixed_film_N_s_m": fixed,
             "declared": declared,
         }
+        if not dry and lubrication.grade is not None:
+            entry["iso_vg_grade"] = lubrication.grade
+        return entry
 
     def lubrication_table(
         self, mechanism: Mechanism, joints: Sequence[str]
@@ -712,6 +772,9 @@ def _regime_words(entry: Mapping[str, Any]) -> str:
     lubricant = "grease base oil" if entry["regime"] == "grease" else "oil"
     # the film is named where it is not the default π-film (summary.json names it always)
     film = "" if entry["film_model"] == DEFAULT_FILM_MODEL else f", {entry['film_model']} film"
+    grade = entry.get("iso_vg_grade")
+    if grade is not None:  # "lubricated, oil ISO VG 46 (0.040 Pa*s at 40 °C)"
+        return f"lubricated, {lubricant} {grade_words(grade)}{film}"
     return f"lubricated, {viscosity:g} Pa*s {lubricant}{film}"
 
 

@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING, Any
 from jointplay.dynamics.declared import CONTACT_SETTINGS, RUN_SETTINGS
 from jointplay.errors import ConfigError, JointplayError
 from jointplay.io.keys import option_keys, unknown_keys_message
+from jointplay.model.lubricants import parse_grade, split_regime
 from jointplay.model.mechanism import (
     GROUND,
     MAX_START_ANGLE,
@@ -490,21 +491,25 @@ def _parse(root: _Table) -> Mechanism:
 
 
 #: Keys of a ``[lubrication]`` table and of its ``[lubrication.joints.<J>]`` tables.
-LUBRICATION_KEYS = ("regime", "viscosity")
+LUBRICATION_KEYS = ("regime", "viscosity", "grade")
 
 
 def _lubrication(table: _Table) -> tuple[Lubrication | None, dict[str, Lubrication]]:
     """The ``[lubrication]`` table (docs/contact.md, "Lubrication, declared per joint"): its
-    ``regime`` and ``viscosity``, every joint's that declares none, and per joint
-    ``[lubrication.joints.<J>]`` (or ``<J> = "dry"`` in ``[lubrication.joints]``)."""
-    default = _regime(table) if table.has("regime") or table.has("viscosity") else None
+    ``regime`` and ``viscosity`` (or ISO VG ``grade``), every joint's that declares none, and
+    per joint ``[lubrication.joints.<J>]`` (or ``<J> = "dry"``, ``<J> = "oil ISO VG 46"`` in
+    ``[lubrication.joints]``)."""
+    declares = any(table.has(key) for key in LUBRICATION_KEYS)
+    default = _regime(table) if declares else None
     joints: dict[str, Lubrication] = {}
     if table.has("joints"):
         joints_table = table.table("joints")
         for name in joints_table.names():
             value = joints_table.data[name]
             if isinstance(value, str):
-                joints[name] = _declared_lubrication(value, None, f"lubrication.joints.{name}")
+                joints[name] = _declared_lubrication(
+                    value, None, f"lubrication.joints.{name}", None
+                )
             else:
                 joints[name] = _regime(joints_table.name_table(name))
         joints_table.finish()
@@ -513,17 +518,33 @@ def _lubrication(table: _Table) -> tuple[Lubrication | None, dict[str, Lubricati
 
 
 def _regime(table: _Table) -> Lubrication:
-    """The ``regime`` and ``viscosity`` of one lubrication table."""
+    """The ``regime`` and ``viscosity`` (or ``grade``) of one lubrication table."""
     viscosity = table.quantity("viscosity", "Pa*s", None)
-    return _declared_lubrication(table.text("regime", "oil"), viscosity, table.where)
+    grade = table.raw("grade", None)
+    return _declared_lubrication(table.text("regime", "oil"), viscosity, table.where, grade)
 
 
-def _declared_lubrication(regime: str, viscosity: float | None, where: str) -> Lubrication:
-    """:class:`Lubrication` of ``regime`` and ``viscosity``, its errors naming ``where``."""
+def _declared_lubrication(
+    regime: str, viscosity: float | None, where: str, grade: object
+) -> Lubrication:
+    """:class:`Lubrication` of ``regime`` (``"oil"``, or with its grade ``"oil ISO VG 46"``),
+    ``viscosity`` and ISO VG ``grade`` (text such as ``"ISO VG 46"``), its errors naming
+    ``where``."""
+    regime, named = split_regime(regime, f"{where}.regime")
     if regime not in REGIMES:
         raise ConfigError(f"{where}: regime must be one of {', '.join(REGIMES)}, got {regime!r}")
+    number = None if grade is None else parse_grade(grade, f"{where}.grade")
+    if named is not None and number is not None and named != number:
+        raise ConfigError(
+            f"{where}: the regime names ISO VG {named} and grade ISO VG {number}: give one"
+        )
+    if number is not None and viscosity is not None:
+        raise ConfigError(
+            f"{where}: give the lubricant's grade or its viscosity, not both (a grade stands "
+            "for its viscosity at 40 °C; a joint at another temperature: its viscosity alone)"
+        )
     try:
-        return Lubrication(regime, viscosity)
+        return Lubrication(regime, viscosity, named if number is None else number)
     except ConfigError as exc:
         raise ConfigError(f"{where}: {exc}") from None
 

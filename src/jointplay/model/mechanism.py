@@ -17,6 +17,7 @@ from dataclasses import dataclass, field, replace
 from typing import Any, Literal
 
 from jointplay.errors import ConfigError
+from jointplay.model.lubricants import grade_viscosity, grade_words, parse_grade
 
 Point = tuple[float, float]
 GROUND = "ground"
@@ -297,6 +298,9 @@ class Lubrication:
 
     Attributes:
         regime: ``"dry"``, ``"oil"`` or ``"grease"`` (:data:`REGIMES`).
+        grade: the lubricant's ISO 3448 viscosity grade (``46`` for ISO VG 46), or ``None``;
+            a grade sets :attr:`viscosity` to its value at 40 °C
+            (:func:`jointplay.model.lubricants.grade_viscosity`).
         viscosity: the dynamic viscosity of the oil (of a grease's base oil) at the joint's
             working temperature, Pa·s (> 0); ``None`` for ``dry``. An ``oil`` declared
             without one takes the default lubricant's
@@ -306,12 +310,15 @@ class Lubrication:
 
     regime: str
     viscosity: float | None = None
+    grade: int | None = None
 
     def __post_init__(self) -> None:
         if self.regime not in REGIMES:
             raise ConfigError(
                 f"lubrication must be one of {', '.join(REGIMES)}, got {self.regime!r}"
             )
+        if self.grade is not None:
+            self._take_grade()
         if self.viscosity is None:
             if self.regime == "grease":
                 raise ConfigError(
@@ -331,15 +338,37 @@ class Lubrication:
             )
         object.__setattr__(self, "viscosity", float(value))
 
+    def _take_grade(self) -> None:
+        """An ISO VG ``grade`` (:mod:`jointplay.model.lubricants`) names the viscosity at
+        40 °C: refuse it on a dry joint or beside another viscosity."""
+        grade = parse_grade(self.grade)
+        if self.regime == "dry":
+            raise ConfigError(
+                "a dry joint has no lubricant: drop its ISO VG grade, or declare it 'oil' or "
+                "'grease'"
+            )
+        viscosity = grade_viscosity(grade)
+        if self.viscosity is not None and self.viscosity != viscosity:
+            raise ConfigError(
+                f"give the lubricant's ISO VG grade or its viscosity, not both (ISO VG {grade} "
+                f"is {viscosity:#.2g} Pa*s at 40 °C; got {self.viscosity!r} too)"
+            )
+        object.__setattr__(self, "grade", grade)
+        object.__setattr__(self, "viscosity", viscosity)
+
     @property
     def lubricated(self) -> bool:
         """The joint runs in a film (oil or grease)."""
         return self.regime != "dry"
 
     def words(self) -> str:
-        """The regime in words: ``dry``, ``oil 0.05 Pa*s``, ``grease (base oil 0.15 Pa*s)``."""
+        """The regime in words: ``dry``, ``oil 0.05 Pa*s``, ``grease (base oil 0.15 Pa*s)``,
+        ``oil ISO VG 46 (0.040 Pa*s at 40 °C)``."""
         if self.regime == "dry":
             return "dry"
+        if self.grade is not None:
+            base = "grease, base oil" if self.regime == "grease" else "oil"
+            return f"{base} {grade_words(self.grade)}"
         if self.regime == "grease":
             return f"grease (base oil {self.viscosity:g} Pa*s)"
         return "oil" if self.viscosity is None else f"oil {self.viscosity:g} Pa*s"

@@ -26,6 +26,7 @@ from jointplay.report._mpl import pyplot
 from jointplay.report.figures import encode
 from jointplay.report.html import HtmlReport
 from jointplay.study.design import DesignResult
+from jointplay.study.design_result import regime_rows
 from jointplay.study.requirements import Requirement
 from jointplay.study.sensitivity import ModelSensitivity
 
@@ -216,9 +217,16 @@ def design_plots(
 
 
 def design_section(
-    report: HtmlReport, result: DesignResult, units: Mapping[str, str], images: Mapping[str, bytes]
+    report: HtmlReport,
+    result: DesignResult,
+    units: Mapping[str, str],
+    images: Mapping[str, bytes],
+    sensitivity: ModelSensitivity | None = None,
 ) -> None:
-    """The design study's section of an HTML report."""
+    """The design study's section of an HTML report: the answer, its evidence and warnings,
+    then, on the same first screen, the model-sensitivity table of the choice
+    (``sensitivity``, :mod:`jointplay.study.sensitivity`); the study's settings, the schemes,
+    the lubricated joints' regimes and the figures below."""
     from jointplay.tolerance.definitions import response_definition
 
     report.heading("Design: fit and length class", anchor="design")
@@ -236,6 +244,8 @@ def design_section(
         d = finding.diagnostic
         where = f", joint {d.joint}" if d.joint else ""
         report.paragraph(f"Warning ({d.code}{where}): {d.message}.", css="note")
+    if sensitivity is not None:  # the answer's robustness, beside it on the first screen
+        _sensitivity_section(report, sensitivity, units, result.confidence)
     settings = result.settings
     report.bullets(
         [f"requirement: {r.text}" for r in result.requirements]
@@ -297,25 +307,66 @@ def design_section(
             ["response", "unit", "definition"],
             text_columns=(0, 1, 2),
         )
+        _regime_section(report, result)
     for name, data in images.items():
         if name.endswith(".png"):  # the others are print copies beside the report
             report.figure(data, name.removesuffix(".png").replace("_", " "))
 
 
-def _sensitivity_section(report: HtmlReport, sensitivity: ModelSensitivity) -> None:
-    """The model-sensitivity table: the chosen scheme's yields under each contact model."""
-    report.heading("Model sensitivity of the choice", anchor="model-sensitivity")
+def _regime_section(report: HtmlReport, result: DesignResult) -> None:
+    """The lubricated joints' regimes of the chosen scheme (else the cheapest one): per joint,
+    the mean fractions of time in full film, mixed and boundary lubrication and the samples
+    that ever left full film; nothing for a dry or kinematic design."""
+    row: Mapping[str, Any] | None = result.best_row
+    if row is None and len(result.table):
+        row = {str(k): v for k, v in result.table.sort_values("cost").iloc[0].items()}
+    if row is None:
+        return
+    rows = regime_rows(row)
+    if not rows:
+        return
+    report.heading("Lubrication regimes", level=3, anchor="design-regimes")
+    report.table(
+        rows,
+        headers=["joint", "full film (%)", "mixed (%)", "boundary (%)",
+                 "samples that left full film"],
+        text_columns=(0, 4),
+        caption=f"Scheme {row['scheme']}: mean share of the analysed time in each regime over "
+        "its successful samples (lambda = h_min/sigma >= 3 full film, < 1 boundary; "
+        "docs/contact.md)",
+    )  # fmt: skip
+
+
+def _sensitivity_section(
+    report: HtmlReport,
+    sensitivity: ModelSensitivity,
+    units: Mapping[str, str],
+    confidence: float,
+) -> None:
+    """The model-sensitivity table: the chosen scheme's yields, and each required response
+    at the confidence level (in ``units``' display units), under each contact model."""
+    report.heading("Model sensitivity of the choice", level=3, anchor="model-sensitivity")
     report.paragraph(sensitivity.verdict)
     requirements = list(sensitivity.rows[0].yields)
+    responses = list(sensitivity.rows[0].values)
+    scales = {name: display(units.get(name, "")) for name in responses}
     rows = [
-        (row.parameter, str(row.value), *row.yields.values(), "yes" if row.meets else "no")
+        (
+            row.parameter,
+            str(row.value),
+            *row.yields.values(),
+            *(row.values.get(name, math.nan) * scales[name][1] for name in responses),
+            "yes" if row.meets else "no",
+        )
         for row in sensitivity.rows
     ]
+    level = f"{100 * confidence:g} %"
     report.table(
         rows,
         headers=["contact parameter", "value", *(f"yield: {r} (%)" for r in requirements),
+                 *(f"{name} at {level} ({scales[name][0]})" for name in responses),
                  "meets all"],
-        text_columns=(0, 1, len(requirements) + 2),
+        text_columns=(0, 1, len(requirements) + len(responses) + 2),
         note="one parameter at a time at the ends of its documented range (docs/contact.md), "
         "the others as the study ran; the study's samples and seed",
     )  # fmt: skip
@@ -357,9 +408,7 @@ def write_design(
         (folder / name).write_bytes(data)
         written.append(folder / name)
     report = HtmlReport(f"jointplay design — {result.mechanism.name}")
-    design_section(report, result, units, images)
-    if sensitivity is not None:
-        _sensitivity_section(report, sensitivity)
+    design_section(report, result, units, images, sensitivity)
     written.append(report.write(folder / "report.html"))
     return written
 

@@ -45,6 +45,7 @@ from jointplay.report.tolerance_plots import (
 )
 from jointplay.tolerance.analysis import ToleranceStudyResult
 from jointplay.tolerance.definitions import response_definitions
+from jointplay.tolerance.response_base import REGIME_CHECKS
 
 __all__ = [
     "display_scale",
@@ -211,6 +212,11 @@ def _figure_jobs(
     return jobs
 
 
+def _percent(fraction: float | None) -> float | None:
+    """A fraction in %, ``None`` kept."""
+    return None if fraction is None else 100.0 * fraction
+
+
 def _scaled(value: float | None, scale: float = 1.0) -> float | None:
     """``value × scale`` for a report table (the table writes numbers in the report's one
     format); None (an em dash) for a missing or non-finite value."""
@@ -315,6 +321,23 @@ def _report(
         )
         rows.append([name, unit, *cells, influence])
     page.table(rows, headers, text_columns=(0, 1, len(headers) - 1))
+    regimes = summary.get("lubrication_regimes")
+    if regimes:
+        page.heading("Lubrication regimes", level=3, anchor="regimes")
+        page.table(
+            [
+                [
+                    joint,
+                    *(_percent(entry[f"{regime}_mean"]) for regime in REGIME_CHECKS),
+                    f"{entry['left_full_film']} of {entry['samples']}",
+                ]
+                for joint, entry in regimes["joints"].items()
+            ],
+            ["joint", "full film (%)", "mixed (%)", "boundary (%)",
+             "samples that left full film"],
+            text_columns=(0, 4),
+            note=regimes["definition"],
+        )  # fmt: skip
     page.heading("What each response means", level=3, anchor="definitions")
     page.table(
         [

@@ -86,6 +86,7 @@ from jointplay.study.design_result import (
     DesignDiagnostic,
     DesignResult,
     _scheme_penetration,
+    _scheme_regimes,
     penetration_diagnostics,
 )
 from jointplay.study.design_schemes import (
@@ -653,6 +654,7 @@ def _scheme_row(
     )
     checks = np.vstack(done.checks)
     row.update(_scheme_penetration(check_names, checks, ok))
+    row.update(_scheme_regimes(check_names, checks, ok))
     return row
 
 

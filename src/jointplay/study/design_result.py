@@ -24,6 +24,7 @@ from jointplay.tolerance.analysis import (
 )
 from jointplay.tolerance.definitions import response_definitions
 from jointplay.tolerance.execution import OK, STATUS
+from jointplay.tolerance.response_base import REGIME_CHECKS, regime_fractions
 from jointplay.tolerance.responses import (
     ELASTIC_RATIO,
     PENETRATION_RATIO,
@@ -107,6 +108,40 @@ def _scheme_penetration(
         row[f"penetration_exceeds_{joint}"] = int(np.sum(ratio > 1.0))
         row[f"penetration_ratio_max_{joint}"] = float(ratio.max()) if len(ratio) else math.nan
     return row
+
+
+def _scheme_regimes(
+    check_names: Sequence[str], checks: FloatArray, ok: NDArray[np.bool_]
+) -> dict[str, Any]:
+    """A scheme's row entries of its lubricated joints' regimes (dynamic studies with a
+    film), per joint: ``full_film_mean_<joint>``, ``mixed_mean_<joint>``,
+    ``boundary_mean_<joint>`` (the mean fractions of the analysed time in each regime over
+    its successful samples) and ``left_full_film_<joint>`` (how many of them ever left full
+    film; :func:`~jointplay.tolerance.response_base.regime_fractions`)."""
+    row: dict[str, Any] = {}
+    for joint, entry in regime_fractions(check_names, checks, ok).items():
+        for regime in REGIME_CHECKS:
+            mean = entry[f"{regime}_mean"]
+            row[f"{regime}_mean_{joint}"] = math.nan if mean is None else mean
+        row[f"left_full_film_{joint}"] = entry["left_full_film"]
+    return row
+
+
+def regime_rows(row: Mapping[str, Any]) -> list[list[Any]]:
+    """The regime table of one scheme's row (:func:`_scheme_regimes`): per lubricated
+    joint, its mean fractions in full film, mixed and boundary lubrication (%) and the
+    samples that ever left full film (of the successful ones)."""
+    joints = [
+        str(k).removeprefix("left_full_film_") for k in row if str(k).startswith("left_full_film_")
+    ]
+    return [
+        [
+            joint,
+            *(100.0 * row[f"{regime}_mean_{joint}"] for regime in REGIME_CHECKS),
+            f"{int(row[f'left_full_film_{joint}'])} of {int(row['ok'])}",
+        ]
+        for joint in joints
+    ]
 
 
 def penetration_diagnostics(

@@ -1,8 +1,9 @@
 """Is a design's choice robust to the contact model? (issue 22, item 4)
 
 The contact's uncertain parameters — the coefficient of restitution, the friction
-coefficient, the pin-in-hole stiffness law and the lubricant (its viscosity, and dry
-joints) — are inputs with documented ranges
+coefficient, the pin-in-hole stiffness law, the lubricant (its viscosity, and dry
+joints) and, under a Reynolds film, the film model (full film against the π-film) and the
+pins' roughness (σ × 0.5, × 2) — are inputs with documented ranges
 (docs/contact.md). :func:`model_sensitivity` re-evaluates the scheme a design study chose
 with each of them, one at a time, at the ends of its range (the others as the study had
 them), with the study's samples and seed, and says whether the choice holds: the scheme
@@ -13,7 +14,7 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
@@ -31,6 +32,13 @@ STIFFNESS_LAWS = ("liu", "hertz")
 #: the table also runs the joints dry (0). A fixed film damping takes FILM_DAMPING_RANGE.
 VISCOSITY_RANGE = (0.005, 0.5)
 FILM_DAMPING_RANGE = (1e4, 1e6)
+#: The Reynolds films compared (docs/contact.md, "Reynolds films"): the π-film default, whose
+#: film carries no suction, against the full film, whose does (an upper bound on the film's
+#: force); each design re-runs with the other one.
+FILM_MODELS = ("short-bearing-pi", "short-bearing-full")
+#: The joints' composite roughness σ re-run at these multiples of the study's: where the
+#: asperities start to carry load (h_min = 3σ) is the transition's least known input.
+ROUGHNESS_FACTORS = (0.5, 2.0)
 
 
 @dataclass(frozen=True)
@@ -69,16 +77,17 @@ def model_cases(contact: ContactModel) -> tuple[ModelCase, ...]:
             )
     if contact.lubricated:
         named = None if contact.lubrication is None else "dry"
-        dry = dataclasses.replace(contact, film_damping=0.0, lubrication=named)
+        dry = dataclasses.replace(contact, film_damping=0.0, lubrication=named, grade=None)
         cases.append(ModelCase("lubrication", "dry", dry))
     if contact.fixed_film is None:  # from the geometry: the lubricant's range
         regime = None if contact.lubrication == "dry" else contact.lubrication
         for viscosity in VISCOSITY_RANGE:
             if viscosity != contact.viscosity:
                 changed_contact = dataclasses.replace(
-                    contact, lubricant_viscosity=viscosity, lubrication=regime
+                    contact, lubricant_viscosity=viscosity, lubrication=regime, grade=None
                 )
                 cases.append(ModelCase("lubricant_viscosity", viscosity, changed_contact))
+        cases += _film_cases(contact)
     else:
         for film in FILM_DAMPING_RANGE:
             if film != contact.fixed_film:
@@ -94,6 +103,30 @@ def model_cases(contact: ContactModel) -> tuple[ModelCase, ...]:
     return tuple(cases)
 
 
+def _film_cases(contact: ContactModel) -> list[ModelCase]:
+    """A Reynolds film's own model choices (docs/contact.md, "Reynolds films" and "The
+    film-to-contact transition"): the other short-bearing film (:data:`FILM_MODELS`: the
+    full film against the π-film) and the joints' composite roughness σ at
+    :data:`ROUGHNESS_FACTORS` times the study's (each joint's default
+    :data:`~jointplay.dynamics.clearance.DEFAULT_ROUGHNESS` where none is given; none for
+    smooth joints, σ = 0). None for dry joints or the linear damper."""
+    from jointplay.dynamics.clearance import DEFAULT_ROUGHNESS, MAX_ROUGHNESS
+
+    if not contact.lubricated or contact.film_model not in FILM_MODELS:
+        return []
+    other = next(model for model in FILM_MODELS if model != contact.film_model)
+    cases = [ModelCase("film_model", other, dataclasses.replace(contact, film_model=other))]
+    base = DEFAULT_ROUGHNESS if contact.roughness is None else float(contact.roughness)
+    if base > 0:
+        for factor in ROUGHNESS_FACTORS:
+            sigma = min(base * factor, MAX_ROUGHNESS)
+            label = f"{sigma * 1e6:.3g} µm (×{factor:g})"
+            cases.append(
+                ModelCase("roughness", label, dataclasses.replace(contact, roughness=sigma))
+            )
+    return cases
+
+
 @dataclass(frozen=True)
 class SensitivityRow:
     """The chosen scheme under one contact model.
@@ -102,18 +135,23 @@ class SensitivityRow:
         parameter, value: what changed (``"as chosen"`` for the study's own model).
         yields: requirement text → share of the samples meeting it, %.
         meets: the scheme meets every requirement at the study's confidence.
+        values: each required response → its value at the study's confidence level over
+            the scheme's samples (SI; the scheme table's ``<response>_at_confidence``): how
+            far the model moves the response, where the yields stay at 100 %.
     """
 
     parameter: str
     value: float | str
     yields: Mapping[str, float]
     meets: bool
+    values: Mapping[str, float] = field(default_factory=dict)
 
     def as_dict(self) -> dict[str, Any]:
         return {
             "parameter": self.parameter,
             "value": self.value,
             "yield_percent": dict(self.yields),
+            "at_confidence": dict(self.values),
             "meets_every_requirement": self.meets,
         }
 
@@ -135,7 +173,8 @@ class ModelSensitivity:
         if self.holds:
             return (
                 f"the choice {self.scheme} holds at the ends of the contact model's ranges "
-                "(restitution, friction, stiffness law, lubricant and dry joints)"
+                "(restitution, friction, stiffness law, lubricant and dry joints, film model, "
+                "roughness)"
             )
         failing = ", ".join(f"{r.parameter} = {r.value}" for r in self.rows if not r.meets)
         return f"the choice {self.scheme} does not hold with {failing}"
@@ -152,6 +191,8 @@ class ModelSensitivity:
                 "lubricant_viscosity_Pa_s": list(VISCOSITY_RANGE),
                 "film_damping_N_s_m": list(FILM_DAMPING_RANGE),
                 "lubrication": ["lubricated", "dry"],
+                "film_model": list(FILM_MODELS),
+                "roughness_factors": list(ROUGHNESS_FACTORS),
             },
             "rows": [row.as_dict() for row in self.rows],
         }
@@ -160,7 +201,12 @@ class ModelSensitivity:
 def _row(parameter: str, value: float | str, result: DesignResult) -> SensitivityRow:
     table = result.table.iloc[0]
     yields = {r.text: float(table[f"yield_{r.text}"]) for r in result.requirements}
-    return SensitivityRow(parameter, value, yields, bool(table["feasible"]))
+    values = {
+        r.response: float(table[f"{r.response}_at_confidence"])
+        for r in result.requirements
+        if f"{r.response}_at_confidence" in table
+    }
+    return SensitivityRow(parameter, value, yields, bool(table["feasible"]), values)
 
 
 def model_sensitivity(

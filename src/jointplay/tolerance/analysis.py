@@ -47,6 +47,7 @@ from jointplay.tolerance.methods import (
     ToleranceMethod,
     get_method,
 )
+from jointplay.tolerance.response_base import REGIME_DEFINITION, regime_fractions
 from jointplay.tolerance.responses import (
     ELASTIC_RATIO,
     PENETRATION_RATIO,
@@ -573,10 +574,28 @@ class ToleranceStudyResult:
                 for f in r.failures[:MAX_LISTED_FAILURES]
             ],
             "diagnostics": [finding.as_dict() for finding in self.diagnostics],
+            **_lubrication_regimes(r.run),
             "convergence_check": None if self.convergence is None else self.convergence.as_dict(),
             "configuration": mechanism_summary(self.mechanism),
             "execution": r.run.describe(),
         }
+
+
+def _lubrication_regimes(run: Any) -> dict[str, Any]:
+    """``lubrication_regimes`` of ``summary.json``: per lubricated joint, the mean fractions
+    of the analysed time in full film, mixed and boundary lubrication over the successful
+    samples, and how many samples ever left full film
+    (:func:`~jointplay.tolerance.response_base.regime_fractions`); nothing for a study
+    without a film."""
+    regimes = regime_fractions(run.check_names, run.checks, run.status == OK)
+    if not regimes:
+        return {}
+    return {
+        "lubrication_regimes": {
+            "definition": REGIME_DEFINITION,
+            "joints": regimes,
+        }
+    }
 
 
 def tolerance_study(

@@ -38,6 +38,59 @@ ELASTIC_RATIO_DEFINITION = (
     "jointplay.dynamics.diagnostics.ELASTIC_FACTOR = 3: far softer than the joint's materials)"
 )
 
+#: The lubrication regimes whose time fractions a dynamic study reports per lubricated joint,
+#: as the checks ``<regime>_<joint>`` (the batch engine's statistics of the same names;
+#: :mod:`jointplay.dynamics.regimes`: full film for λ = h_min/σ ≥ 3, boundary below 1).
+REGIME_CHECKS = ("full_film", "mixed", "boundary")
+#: What the regime fractions are, in words (reports, summary.json).
+REGIME_DEFINITION = (
+    "fractions of the analysed time each lubricated joint ran in full film (film thickness "
+    "ratio lambda = h_min/sigma >= 3), mixed (1 <= lambda < 3) and boundary lubrication "
+    "(lambda < 1), h_min = c - |e| its thinnest film and sigma its composite roughness, each "
+    "accepted integration step counted by lambda at its midpoint "
+    "(jointplay.dynamics.regimes); means over the successful samples, and the samples whose "
+    "full-film fraction is below 1 (they ever left full film)"
+)
+#: A sample "left full film" where its full-film fraction is below 1 by more than this (the
+#: round-off of summing its steps' lengths against the window's).
+FULL_FILM_TOLERANCE = 1e-9
+
+
+def regime_check_names(joints: Sequence[str]) -> tuple[str, ...]:
+    """``full_film_<joint>``, ``mixed_<joint>``, ``boundary_<joint>`` of every joint of
+    ``joints``, joint by joint."""
+    return tuple(f"{regime}_{joint}" for joint in joints for regime in REGIME_CHECKS)
+
+
+def regime_fractions(
+    check_names: Sequence[str], checks: FloatArray | None, ok: BoolArray
+) -> dict[str, dict[str, Any]]:
+    """Per lubricated joint of a study (its ``full_film_<joint>`` checks), over its
+    successful samples ``ok`` that report one: the mean fractions of the analysed time in
+    full film, mixed and boundary lubrication (``full_film_mean``, ``mixed_mean``,
+    ``boundary_mean``), how many samples report them (``samples``), and how many of them
+    ever left full film (``left_full_film``: a full-film fraction below 1, and its share
+    ``left_full_film_share``); ``{}`` for a study without them (dry joints, kinematics)."""
+    if checks is None:
+        return {}
+    names = list(check_names)
+    out: dict[str, dict[str, Any]] = {}
+    for name in names:
+        if not name.startswith("full_film_"):
+            continue
+        joint = name.removeprefix("full_film_")
+        columns = [checks[:, names.index(f"{regime}_{joint}")] for regime in REGIME_CHECKS]
+        rows = np.asarray(ok, dtype=bool) & np.isfinite(columns[0])
+        n = int(rows.sum())
+        entry: dict[str, Any] = {
+            f"{regime}_mean": float(column[rows].mean()) if n else None
+            for regime, column in zip(REGIME_CHECKS, columns, strict=True)
+        }
+        left = int(np.sum(columns[0][rows] < 1.0 - FULL_FILM_TOLERANCE))
+        entry.update(samples=n, left_full_film=left, left_full_film_share=left / n if n else None)
+        out[joint] = entry
+    return out
+
 
 @dataclass(frozen=True)
 class Evaluation:

@@ -35,9 +35,11 @@ from jointplay.tolerance.response_base import (
     ELASTIC_RATIO_DEFINITION,
     PENETRATION_RATIO,
     PENETRATION_RATIO_DEFINITION,
+    REGIME_CHECKS,
     Evaluation,
     ResponseModel,
     _check_inputs,
+    regime_check_names,
 )
 
 FloatArray = NDArray[np.float64]
@@ -207,13 +209,29 @@ class DynamicResponses:
         return tuple(f"{key}_peak" for key in self.peak_keys)
 
     @property
+    def lubricated_joints(self) -> tuple[str, ...]:
+        """The clearance joints that run in a film (a fixed film damping > 0, or a film from
+        their geometry and lubricant), in :attr:`clearance_joints` order."""
+        return tuple(
+            joint
+            for joint in self.clearance_joints
+            if self.film_damping > 0 or joint in self.film_from
+        )
+
+    @property
     def check_names(self) -> tuple[str, ...]:
         """``penetration_ratio_<joint>`` then ``elastic_ratio_<joint>`` per clearance joint
-        (see the module docstring)."""
-        return tuple(
-            f"{prefix}{joint}"
-            for prefix in (PENETRATION_RATIO, ELASTIC_RATIO)
-            for joint in self.clearance_joints
+        (see the module docstring), then per lubricated joint (:attr:`lubricated_joints`)
+        the fractions of the analysed time in each lubrication regime, ``full_film_<joint>``,
+        ``mixed_<joint>``, ``boundary_<joint>`` (:data:`REGIME_CHECKS`,
+        :mod:`jointplay.dynamics.regimes`)."""
+        return (
+            *(
+                f"{prefix}{joint}"
+                for prefix in (PENETRATION_RATIO, ELASTIC_RATIO)
+                for joint in self.clearance_joints
+            ),
+            *regime_check_names(self.lubricated_joints),
         )
 
     def clearances(self, x: FloatArray) -> FloatArray:
@@ -490,11 +508,13 @@ class DynamicResponses:
         deepest = penetration.to_numpy(dtype=float)
         clearance = self.clearances(x)
         forces = result.peaks[[f"F_{j}" for j in self.clearance_joints]].to_numpy(dtype=float)
+        regimes = list(regime_check_names(self.lubricated_joints))
         checks = np.hstack(
             [
                 _ratio(deepest, clearance),
                 _elastic_ratios(self.mechanism, self.clearance_joints, self.journal_radius,
                                 clearance, deepest, forces),
+                result.statistics[regimes].to_numpy(dtype=float).reshape(len(x), len(regimes)),
             ]
         )  # fmt: skip
         ok = np.asarray(result.ok, dtype=bool)
@@ -547,10 +567,13 @@ def _elastic_ratios(
     return out
 
 
-def sample_checks(result: SimulationResult) -> FloatArray:
-    """(2c,) the checks of a single-engine simulation, in the order of
+def sample_checks(result: SimulationResult, lubricated: Sequence[str] = ()) -> FloatArray:
+    """(2c + 3l,) the checks of a single-engine simulation, in the order of
     :attr:`DynamicResponses.check_names`: :func:`penetration_ratios`, then the elastic
-    ratios (``elastic_ratio_<joint>``).
+    ratios (``elastic_ratio_<joint>``), then per joint of ``lubricated`` its time fractions
+    in full film, mixed and boundary lubrication
+    (:attr:`~jointplay.dynamics.simulate.SimulationResult.film_regimes`; NaN where the joint
+    ran dry).
 
     Raises:
         IntegrationError: the simulation stopped at its initial state.
@@ -558,6 +581,16 @@ def sample_checks(result: SimulationResult) -> FloatArray:
     joints = result.system.clearances
     names = [joint.joint for joint in joints]
     deepest = result.running.max_penetration
+    fractions = []
+    if lubricated:
+        regimes = result.film_regimes
+        for joint in lubricated:
+            regime = regimes.get(joint)
+            fractions += (
+                [math.nan] * len(REGIME_CHECKS)
+                if regime is None
+                else [regime.full_film, regime.mixed, regime.boundary]
+            )
     return np.concatenate(
         [
             penetration_ratios(result),
@@ -569,6 +602,7 @@ def sample_checks(result: SimulationResult) -> FloatArray:
                 np.array([[deepest[name] for name in names]]),
                 np.array([[result.peaks[f"F_{name}"]["value"] for name in names]]),
             )[0],
+            np.array(fractions, dtype=float),
         ]
     )
 

@@ -139,7 +139,7 @@ class RunningResponses:
                     errors.append(f"IntegrationError: {result.message}")
                     continue
                 peaks = [result.peaks[key]["value"] for key in self.base.peak_keys]
-                checks[i] = sample_checks(result)
+                checks[i] = sample_checks(result, self.base.lubricated_joints)
                 wear = cycle_wear(result, self.wear)
                 rates = [wear.joints[j].per_hour(wear.rpm) / 3600.0 for j in self.joints]
                 forces = [float(result.peaks[f"F_{j}"]["value"]) for j in self.joints]

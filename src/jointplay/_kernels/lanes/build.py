@@ -46,7 +46,8 @@ FUNCTIONS = (
     "onset_check", "impact_rate", "contact_memory", "project_driver", "constraint_residual",
     "max_abs", "schur_solve", "project_constraints", "project",
     "all_finite", "interrupt_pending", "dense", "triggers", "wants_refinement",
-    "refine_peaks", "open_window", "accumulate", "close_window", "start_outputs",
+    "refine_peaks", "open_window", "accumulate", "close_window",
+    "regime_gap", "open_regimes", "accumulate_regimes", "close_regimes", "start_outputs",
     "explicit_lane",
     *(
         "pmin", "pmax", "cdiv", "lu_real", "lu_complex", "lu_solve_real", "lu_solve_complex",

@@ -182,7 +182,7 @@ def run_batch(
         raise ConfigError(f"the cuda batch backend: {refusal}")
     nb = int(lay[source.LY_N]) // 3
     peaks = np.full((lanes, n_q), np.nan)
-    stats = np.full((lanes, 2 * nb + nc), np.nan)
+    stats = np.full((lanes, 2 * nb + 4 * nc), np.nan)  # + the regimes' 3 nc
     status = np.full(lanes, STATUS_RUNNING, dtype=np.int64)
     t_reached = np.zeros(lanes)
     counts = np.zeros((lanes, 3), dtype=np.int64)

@@ -1239,6 +1239,67 @@ def close_window(stats, nb, span):
         stats[nb + b] = math.sqrt(max(stats[nb + b] / span, 0.0))
 
 
+def regime_gap(rp, lay, pen, c):
+    """The thinnest film h_min = c − |e| (m) of clearance joint ``c`` whose kernels' δ is
+    ``pen[c]`` (δ = |e| − :func:`contact_clearance`)."""
+    o = lay[LY_GEOM] + N_GEOM * c
+    return rp[o + G_CLEARANCE] - (pen[c] + contact_clearance(rp, lay, c))
+
+
+def open_regimes(rp, lay, pen, stats, nb, nc):
+    """Start the time-in-regime integrals of every lubricated clearance joint (its
+    ``G_FILM`` > 0; a dry joint's stay NaN) from the window's first point: per joint ``c``,
+    three slots from ``2 nb + nc + 3 c``: the time in full film, the last point's h_min (m;
+    the mixed share once closed) and the time in boundary lubrication."""
+    for c in range(nc):
+        s = 2 * nb + nc + 3 * c
+        if rp[lay[LY_GEOM] + N_GEOM * c + G_FILM] > 0.0:
+            stats[s] = 0.0
+            stats[s + 1] = regime_gap(rp, lay, pen, c)
+            stats[s + 2] = 0.0
+        else:
+            stats[s] = math.nan
+            stats[s + 1] = math.nan
+            stats[s + 2] = math.nan
+
+
+def accumulate_regimes(rp, lay, pen, h, stats, nb, nc):
+    """Add one step of length ``h`` (s) to the time-in-regime integrals: the step counts by
+    λ = h_min / σ at its midpoint (the mean of its ends' h_min; σ the joint's
+    ``G_ROUGHNESS``): full film for λ ≥ :data:`LAMBDA_FULL_FILM`, boundary below
+    :data:`LAMBDA_BOUNDARY` (σ = 0: full film for h_min > 0, boundary at or in the wall), as
+    :func:`jointplay.dynamics.regimes.joint_regime` counts the single engine's steps."""
+    for c in range(nc):
+        s = 2 * nb + nc + 3 * c
+        if not rp[lay[LY_GEOM] + N_GEOM * c + G_FILM] > 0.0:
+            continue
+        gap = regime_gap(rp, lay, pen, c)
+        mid = 0.5 * (stats[s + 1] + gap)
+        sigma = rp[lay[LY_GEOM] + N_GEOM * c + G_ROUGHNESS]
+        if sigma > 0.0:
+            full = mid >= LAMBDA_FULL_FILM * sigma
+            boundary = mid < LAMBDA_BOUNDARY * sigma
+        else:
+            full = mid > 0.0
+            boundary = mid <= 0.0
+        if full:
+            stats[s] += h
+        elif boundary:
+            stats[s + 2] += h
+        stats[s + 1] = gap
+
+
+def close_regimes(stats, nb, nc, span):
+    """Turn the time-in-regime integrals into the fractions of the window ``span`` (s) in
+    full film, mixed and boundary lubrication (NaN: a dry joint)."""
+    for c in range(nc):
+        s = 2 * nb + nc + 3 * c
+        if stats[s] == stats[s]:  # not NaN: a lubricated joint
+            stats[s] /= span
+            stats[s + 2] /= span
+            stats[s + 1] = max(1.0 - stats[s] - stats[s + 2], 0.0)
+
+
 def start_outputs(ip, rp, lay, mask, peaks, stats, counts):
     """A lane's outputs before its first step: the triggering quantities in ``mask``
     (:func:`triggers`), peaks and statistics NaN (a lane that fails leaves them so), counters
@@ -1246,7 +1307,7 @@ def start_outputs(ip, rp, lay, mask, peaks, stats, counts):
     triggers(ip, rp, lay, mask)
     for p in range(lay[LY_NQ]):
         peaks[p] = math.nan
-    for m in range(2 * (lay[LY_N] // 3) + lay[LY_NC]):
+    for m in range(2 * (lay[LY_N] // 3) + 4 * lay[LY_NC]):  # + the regimes' 3 nc
         stats[m] = math.nan
     for m in range(3):
         counts[m] = 0
@@ -1287,6 +1348,7 @@ def explicit_lane(
     in_window = t_settle <= 0.0
     if in_window:
         open_window(qa, pen, peaks, stats, nb, n_q, nc)
+        open_regimes(rp, lay, pen, stats, nb, nc)
     h = max_step / 10.0
     status = STATUS_RUNNING
     while status == STATUS_RUNNING:
@@ -1384,6 +1446,7 @@ def explicit_lane(
             break
         if in_window:
             accumulate(qa, qb, pen, h, peaks, stats, nb, n_q, nc)
+            accumulate_regimes(rp, lay, pen, h, stats, nb, nc)
             if wants_refinement(qa, qb, peaks, mask, n_q):
                 for p in range(n_q):
                     samples[0, p] = qa[p]
@@ -1400,10 +1463,12 @@ def explicit_lane(
             for p in range(n_q):
                 qa[p] = qb[p]
             open_window(qa, pen, peaks, stats, nb, n_q, nc)
+            open_regimes(rp, lay, pen, stats, nb, nc)
         t = t_new
         y, y_new = y_new, y
         counts[K_STEPS] += 1
         h = h * factor
     if status == STATUS_SUCCESS:
         close_window(stats, nb, t_end - t_settle)
+        close_regimes(stats, nb, nc, t_end - t_settle)
     return status, t

@@ -106,8 +106,10 @@ from jointplay._kernels.lanes.source import (
     STATUS_SUCCESS,
     STATUS_TOO_MANY_STEPS,
     accumulate,
+    accumulate_regimes,
     all_finite,
     any_film,
+    close_regimes,
     close_window,
     contact_clearance,
     contact_forces,
@@ -119,6 +121,7 @@ from jointplay._kernels.lanes.source import (
     joint_kinematics,
     normal_force,
     onset_check,
+    open_regimes,
     open_window,
     project,
     quantities,
@@ -1271,8 +1274,10 @@ def implicit_lane(
                 quantities(t_a, y, rp, ip, lay, f_open, record_mid, qa, pen_open,
                            phi_q, schur, lam)  # fmt: skip
             open_window(qa, pen_open, peaks, stats, nb, n_q, nc)
+            open_regimes(rp, lay, pen_open, stats, nb, nc)
         if in_window:
             accumulate(qa, qb, pen, t_new - t_a, peaks, stats, nb, n_q, nc)
+            accumulate_regimes(rp, lay, pen, t_new - t_a, stats, nb, nc)
             if wants_refinement(qa, qb, peaks, mask, n_q):
                 hw = t_new - t_a
                 for p in range(n_q):
@@ -1300,4 +1305,5 @@ def implicit_lane(
             status = STATUS_SUCCESS
     if status == STATUS_SUCCESS:
         close_window(stats, nb, t_end - t_settle)
+        close_regimes(stats, nb, nc, t_end - t_settle)
     return status, t
