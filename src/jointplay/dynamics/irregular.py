@@ -1,0 +1,326 @@
+"""Statistics of irregular (chaotic) running: per-revolution peak distributions with intervals.
+
+A dry clearance joint can rattle chaotically: the once-per-revolution Poincaré section never
+repeats (:func:`jointplay.dynamics.cycles.periodicity`) and two runs that differ only in the
+integrator's tolerances part ways after a fraction of a revolution. Each per-revolution peak
+is then a draw from a distribution, and so is the largest peak over the analysed revolutions:
+tightening the tolerances moves it by as much as the revolutions differ from one another
+(the dry paper four-bar's F_O2 peak over one revolution goes from 84.9 to 112.4 N as rtol goes
+from 1e-6 to 1e-10). What is reproducible is the distribution of the per-revolution peaks.
+This module estimates, from the peaks of ``n`` analysed revolutions:
+
+- the **mean** per-revolution peak, with a batch-means confidence interval (the revolutions
+  are split into ``b = floor(sqrt(n))`` batches of equal size; the variance of the batch means
+  gives the long-run variance of the series, which a correlated series needs; Student's t
+  with ``b - 1`` degrees of freedom): Schmeiser, "Batch size effects in the analysis of
+  simulation output", Operations Research 30 (1982) 556-568; Law & Kelton, Simulation
+  Modeling and Analysis, §9.5.3;
+- the **95th percentile** of the per-revolution peak (linear interpolation between order
+  statistics, Hyndman & Fan 1996 definition 7, NumPy's default), with the distribution-free
+  order-statistic (binomial) confidence interval [x_(l), x_(u)] (Conover, Practical
+  Nonparametric Statistics, 3rd ed., §3.2), computed for the *effective* number of
+  independent revolutions ``n / inflation`` (the batch-means variance of the series over its
+  plain variance, at least 1) so that correlation between revolutions widens it; its upper
+  end is unbounded (``inf``) when even the largest peak is not far enough in the tail — for
+  the 95th percentile at 95 % confidence, below 72 effective revolutions
+  (:func:`revolutions_for_quantile`);
+- the **largest** per-revolution peak over the ``n`` revolutions, which is what a single run
+  reports as "the peak". Its interval is a distribution-free prediction interval for the
+  largest peak of a repeat run of as many revolutions (exchangeability of the 2n peaks: the
+  repeat's largest lies below this run's j-th smallest with probability
+  C(j + n - 1, n) / C(2n, n)); its upper end is always unbounded, since a repeat's largest
+  exceeds this run's largest half of the time. The maximum is a draw: it does not converge
+  under tighter tolerances, and no number of revolutions makes it converge without a model of
+  the tail.
+
+The contract (docs/performance.md, "Accuracy of irregular (chaotic) running"): the mean and
+the 95th percentile converge — tightening the tolerances ×100 moves each by less than its
+interval (:func:`agrees`); the largest peak does not.
+
+All functions are pure and unit-free: the values keep the unit of the quantity (N, rad/s, …).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+FloatArray = NDArray[np.float64]
+
+#: Confidence level of every interval.
+CONFIDENCE = 0.95
+
+#: The high quantile reported (the 95th percentile).
+QUANTILE = 0.95
+
+#: Fewest analysed revolutions with statistics (three batches of three).
+MIN_REVOLUTIONS = 10
+
+#: The statistics :func:`agrees` judges: the ones that converge.
+CONVERGING = ("mean", "quantile")
+
+
+@dataclass(frozen=True)
+class Estimate:
+    """A statistic with its interval, in the unit of the quantity.
+
+    Attributes:
+        value: the estimate.
+        low: lower end of the interval (``-inf``: unbounded below).
+        high: upper end of the interval (``inf``: unbounded above).
+    """
+
+    value: float
+    low: float
+    high: float
+
+    def contains(self, value: float) -> bool:
+        """Whether ``value`` lies inside the closed interval."""
+        return bool(self.low <= value <= self.high)
+
+    @property
+    def bounded(self) -> bool:
+        """Whether both ends are finite."""
+        return math.isfinite(self.low) and math.isfinite(self.high)
+
+    def as_dict(self) -> dict[str, float | None]:
+        """JSON-ready: ``value``, ``low``, ``high`` (``None`` for an unbounded end)."""
+        return {
+            "value": self.value,
+            "low": self.low if math.isfinite(self.low) else None,
+            "high": self.high if math.isfinite(self.high) else None,
+        }
+
+
+@dataclass(frozen=True)
+class PeakDistribution:
+    """The distribution of one quantity's per-revolution peak over the analysed revolutions.
+
+    Attributes:
+        revolutions: analysed revolutions (the sample size n).
+        mean: the mean peak, batch-means interval.
+        quantile: the :data:`QUANTILE` quantile of the peak, order-statistic interval.
+        maximum: the largest peak of the n revolutions, prediction interval for a repeat
+            run's largest (unbounded above).
+        batches: the number of batches of the batch-means estimate.
+        inflation: the batch-means variance of the series over its plain variance (at least
+            1): how much correlation between revolutions widens the intervals.
+        confidence: the confidence level of the intervals.
+        probability: the quantile's probability (0.95: the 95th percentile).
+    """
+
+    revolutions: int
+    mean: Estimate
+    quantile: Estimate
+    maximum: Estimate
+    batches: int
+    inflation: float
+    confidence: float = CONFIDENCE
+    probability: float = QUANTILE
+
+    @property
+    def effective_revolutions(self) -> float:
+        """The number of independent revolutions the sample is worth: n / inflation."""
+        return self.revolutions / self.inflation
+
+    def as_dict(self) -> dict[str, Any]:
+        """JSON-ready: the three estimates and how they were taken."""
+        return {
+            "revolutions": self.revolutions,
+            "mean": self.mean.as_dict(),
+            f"percentile_{100 * self.probability:g}": self.quantile.as_dict(),
+            "max": self.maximum.as_dict(),
+            "confidence": self.confidence,
+            "batches": self.batches,
+            "variance_inflation": self.inflation,
+            "effective_revolutions": self.effective_revolutions,
+        }
+
+
+def batch_means(values: ArrayLike, confidence: float = CONFIDENCE) -> tuple[Estimate, int, float]:
+    """The mean of a (possibly correlated) series with its batch-means confidence interval.
+
+    The last ``b * m`` values, ``b = floor(sqrt(n))`` batches of ``m = n // b`` each (the
+    earliest ``n - b m`` values, nearest the start-up, sit out of the batches but not of the
+    mean), give the long-run variance ``m * var(batch means)``; the interval is the mean ±
+    t_{b-1} sqrt(long-run variance / n) (Schmeiser 1982; Law & Kelton §9.5.3).
+
+    Args:
+        values: the series (at least :data:`MIN_REVOLUTIONS` values).
+        confidence: the two-sided confidence level.
+
+    Returns:
+        The estimate, the number of batches, and the variance inflation: the long-run
+        variance over the plain sample variance, at least 1.
+    """
+    from scipy.stats import t as student
+
+    x = _series(values)
+    n = x.size
+    b = math.isqrt(n)
+    m = n // b
+    batches = x[n - b * m :].reshape(b, m).mean(axis=1)
+    long_run = m * float(batches.var(ddof=1))
+    plain = float(x.var(ddof=1))
+    half = float(student.ppf(0.5 + confidence / 2, b - 1)) * math.sqrt(long_run / n)
+    mean = float(x.mean())
+    inflation = max(1.0, long_run / plain) if plain > 0 else 1.0
+    return Estimate(mean, mean - half, mean + half), b, inflation
+
+
+def quantile_interval(
+    values: ArrayLike,
+    probability: float = QUANTILE,
+    confidence: float = CONFIDENCE,
+    inflation: float = 1.0,
+) -> Estimate:
+    """The ``probability`` quantile of a series with its order-statistic confidence interval.
+
+    For ``k`` independent values, [x_(l), x_(u)] covers the quantile with probability at least
+    ``confidence`` when P(B <= l - 1) <= α/2 and P(B >= u) <= α/2 for B ~ Binomial(k,
+    probability), α = 1 - confidence (Conover §3.2). A correlated series of ``n`` values is
+    worth ``k = floor(n / inflation)`` independent ones; the ranks found for ``k`` are scaled
+    back to ``n`` outwards.
+
+    Args:
+        values: the series (at least :data:`MIN_REVOLUTIONS` values).
+        probability: the quantile's probability, in (0, 1).
+        confidence: the two-sided confidence level.
+        inflation: variance inflation of the series (:func:`batch_means`), at least 1.
+
+    Returns:
+        The quantile (Hyndman & Fan definition 7) and its interval; an end is infinite where
+        no order statistic of the sample reaches that far.
+    """
+    from scipy.stats import binom
+
+    x = np.sort(_series(values))
+    n = x.size
+    k = max(1, math.floor(n / max(inflation, 1.0)))
+    alpha = 1.0 - confidence
+    below = binom.cdf(np.arange(k + 1), k, probability)
+    # lower rank l (1-based): the largest with P(B <= l - 1) <= alpha / 2.
+    fits = np.flatnonzero(below <= alpha / 2)
+    low = -math.inf
+    if fits.size:
+        rank = math.floor((int(fits[-1]) + 1) * n / k)
+        low = float(x[rank - 1]) if rank >= 1 else -math.inf
+    # upper rank u: the smallest with P(B >= u) <= alpha / 2, i.e. P(B <= u - 1) >= 1 - alpha/2.
+    upper = int(np.flatnonzero(below >= 1 - alpha / 2)[0]) + 1
+    high = math.inf
+    if upper <= k:
+        rank = math.ceil(upper * n / k)
+        high = float(x[rank - 1]) if rank <= n else math.inf
+    return Estimate(float(np.quantile(x, probability)), low, high)
+
+
+def maximum_interval(
+    values: ArrayLike, confidence: float = CONFIDENCE, inflation: float = 1.0
+) -> Estimate:
+    """The largest value of a series with a prediction interval for a repeat's largest.
+
+    For two independent samples of ``k`` exchangeable values, the repeat's largest lies below
+    the first sample's j-th smallest with probability C(j + k - 1, k) / C(2k, k); the lower
+    end is the largest j-th smallest with that probability at most α/2 (α = 1 - confidence),
+    for ``k = floor(n / inflation)`` and its rank scaled back to ``n``. The upper end is
+    unbounded: a repeat's largest exceeds this one's with probability 1/2.
+
+    Args:
+        values: the series (at least :data:`MIN_REVOLUTIONS` values).
+        confidence: the confidence level of the lower end (one-sided α/2, as the others').
+        inflation: variance inflation of the series (:func:`batch_means`), at least 1.
+    """
+    x = np.sort(_series(values))
+    n = x.size
+    k = max(1, math.floor(n / max(inflation, 1.0)))
+    alpha = 1.0 - confidence
+    total = math.comb(2 * k, k)
+    fits = [j for j in range(1, k + 1) if math.comb(j + k - 1, k) / total <= alpha / 2]
+    low = -math.inf
+    if fits:
+        rank = math.floor(fits[-1] * n / k)
+        low = float(x[rank - 1]) if rank >= 1 else -math.inf
+    return Estimate(float(x[-1]), low, math.inf)
+
+
+def peak_distribution(
+    values: ArrayLike, probability: float = QUANTILE, confidence: float = CONFIDENCE
+) -> PeakDistribution:
+    """The mean, the ``probability`` quantile and the largest of one quantity's
+    per-revolution peaks, each with its interval (see the module docstring).
+
+    Args:
+        values: the quantity's peak in each analysed revolution (at least
+            :data:`MIN_REVOLUTIONS`).
+        probability: the quantile's probability.
+        confidence: the intervals' confidence level.
+
+    Raises:
+        ValueError: fewer than :data:`MIN_REVOLUTIONS` values, or a value that is not finite.
+    """
+    mean, batches, inflation = batch_means(values, confidence)
+    return PeakDistribution(
+        revolutions=int(np.size(values)),
+        mean=mean,
+        quantile=quantile_interval(values, probability, confidence, inflation),
+        maximum=maximum_interval(values, confidence, inflation),
+        batches=batches,
+        inflation=inflation,
+        confidence=confidence,
+        probability=probability,
+    )
+
+
+def peak_distributions(
+    per_revolution: Mapping[str, Sequence[float]],
+    probability: float = QUANTILE,
+    confidence: float = CONFIDENCE,
+) -> dict[str, PeakDistribution]:
+    """:func:`peak_distribution` of every quantity; empty with fewer than
+    :data:`MIN_REVOLUTIONS` revolutions (or a partial last one dropped: only whole ones
+    count, pass them)."""
+    return {
+        name: peak_distribution(values, probability, confidence)
+        for name, values in per_revolution.items()
+        if len(values) >= MIN_REVOLUTIONS
+    }
+
+
+def agrees(
+    first: PeakDistribution, second: PeakDistribution, statistics: Sequence[str] = CONVERGING
+) -> dict[str, bool]:
+    """For each of ``statistics`` (``"mean"``, ``"quantile"``, ``"maximum"``): whether the
+    two runs agree — each run's estimate lies inside the other's interval."""
+    out = {}
+    for name in statistics:
+        a, b = getattr(first, name), getattr(second, name)
+        out[name] = a.contains(b.value) and b.contains(a.value)
+    return out
+
+
+def revolutions_for_quantile(
+    probability: float = QUANTILE, confidence: float = CONFIDENCE, inflation: float = 1.0
+) -> int:
+    """The fewest revolutions whose order-statistic interval of the ``probability`` quantile
+    is bounded above: the smallest k with 1 - probability**k >= 1 - α/2, times the variance
+    inflation (72 for the 95th percentile at 95 % confidence and independent revolutions)."""
+    alpha = 1.0 - confidence
+    k = math.ceil(math.log(alpha / 2) / math.log(probability))
+    return max(MIN_REVOLUTIONS, math.ceil(k * max(inflation, 1.0)))
+
+
+def _series(values: ArrayLike) -> FloatArray:
+    x = np.asarray(values, dtype=float).ravel()
+    if x.size < MIN_REVOLUTIONS:
+        raise ValueError(
+            f"the statistics of irregular running need at least {MIN_REVOLUTIONS} revolutions, "
+            f"got {x.size}"
+        )
+    if not np.all(np.isfinite(x)):
+        raise ValueError("the per-revolution peaks must be finite numbers")
+    return x
