@@ -335,6 +335,35 @@ def _jsonable(values: dict[str, Any]) -> dict[str, Any]:
     }
 
 
+def _print_irregular(running: Any, stdout: Console) -> None:
+    """For a motion that is not periodic: the per-revolution peak distributions, and that the
+    peak column is a draw (docs/performance.md, "Accuracy of irregular (chaotic) running")."""
+    from jointplay.dynamics.irregular import describe, irregular_summary
+
+    if not running.irregular:
+        return
+    found = irregular_summary(running.distributions, running.whole_revolutions)
+    needed = found["revolutions_for_bounded_percentile"]
+    if not running.distributions:
+        stdout.print(
+            f"irregular motion: each peak above is a draw (it moves when the tolerances change); "
+            f"{running.whole_revolutions} whole revolution(s) are too few for its distribution: "
+            f"analyse at least {needed} (--revolutions {needed})"
+        )
+        return
+    stdout.print(
+        "irregular motion: each peak above is a draw (it moves when the tolerances change); "
+        "read the distribution of the per-revolution peak instead (95 % intervals):"
+    )
+    for name, distribution in running.distributions.items():
+        stdout.print("  " + describe(name, distribution))
+    if needed > running.whole_revolutions:
+        stdout.print(
+            f"  a 95th percentile bounded above needs {needed} revolutions (--revolutions "
+            f"{needed}); this run analysed {running.whole_revolutions}"
+        )
+
+
 def _print(result: Any, findings: list[Any], out: Path) -> None:
     running = result.running
     stats = running.statistics
@@ -385,6 +414,7 @@ def _print(result: Any, findings: list[Any], out: Path) -> None:
         stdout.print(
             "deepest penetration over the analysed revolutions, at the accepted steps: " + deepest
         )
+    _print_irregular(running, stdout)
     for finding in findings:  # one line each, on stderr
         print(f"jointplay: {finding.line(SETTING_OPTIONS)}", file=sys.stderr)
     stats = result.solver_stats

@@ -314,6 +314,88 @@ def revolutions_for_quantile(
     return max(MIN_REVOLUTIONS, math.ceil(k * max(inflation, 1.0)))
 
 
+#: The unit of each peak quantity, by prefix (SI, as summary.json).
+UNITS = (("omega", "rad/s"), ("alpha", "rad/s²"), ("F_", "N"), ("torque", "N·m"))
+
+#: What summary.json says the statistics are.
+MEANING = (
+    "the motion is irregular (its once-per-revolution Poincare section does not repeat), so "
+    "each revolution's peak is a draw and so is the largest over the analysed revolutions "
+    "('peaks'): it moves by as much as the revolutions differ when the tolerances change. "
+    "What is reproducible is the distribution of the per-revolution peak over the whole "
+    "analysed revolutions: its mean (batch-means interval), its 95th percentile "
+    "(order-statistic interval on the effective number of independent revolutions) and its "
+    "max (the 'peaks' value; low: a repeat run's max lies above it with 97.5 % probability; "
+    "no high: a repeat's max exceeds this one half of the time). Intervals are "
+    "95 %; null: unbounded. See docs/performance.md, 'Accuracy of irregular (chaotic) running'"
+)
+
+
+def unit_of(name: str) -> str:
+    """The SI unit of a peak quantity (``""`` where unknown)."""
+    return next((unit for prefix, unit in UNITS if name.startswith(prefix)), "")
+
+
+def irregular_summary(
+    distributions: Mapping[str, PeakDistribution], revolutions: int
+) -> dict[str, Any]:
+    """The ``irregular`` of summary.json for a motion that is not periodic.
+
+    Args:
+        distributions: each quantity's per-revolution peak distribution (empty: too few
+            revolutions).
+        revolutions: the whole analysed revolutions.
+    """
+    needed = max(
+        [revolutions_for_quantile(d.probability, d.confidence, d.inflation)
+         for d in distributions.values()] or [revolutions_for_quantile()]
+    )  # fmt: skip
+    return {
+        "motion": "irregular",
+        "revolutions": revolutions,
+        "meaning": MEANING,
+        "statistics": {name: d.as_dict() for name, d in distributions.items()},
+        "revolutions_for_bounded_percentile": needed,
+        **(
+            {}
+            if distributions
+            else {
+                "note": (
+                    f"no statistics: {revolutions} whole analysed revolution(s), fewer than "
+                    f"{MIN_REVOLUTIONS}; analyse at least {needed} revolutions"
+                )
+            }
+        ),
+    }
+
+
+def describe(name: str, found: PeakDistribution) -> str:
+    """One line: ``F_O2 over 100 revolutions: mean 108 ± 3.4 N, 95th percentile 137 N
+    (128–150 N), max 149 N (a draw; a repeat run's max: above 130 N)``, intervals at the
+    distribution's confidence."""
+    unit = unit_of(name)
+    unit = f" {unit}" if unit else ""
+    mean, quantile, largest = found.mean, found.quantile, found.maximum
+    half = 0.5 * (mean.high - mean.low)
+    return (
+        f"{name} over {found.revolutions} revolutions: mean {mean.value:.4g} ± {half:.2g}{unit}, "
+        f"{100 * found.probability:g}th percentile {quantile.value:.4g}{unit} "
+        f"({_interval(quantile, unit)}), max {largest.value:.4g}{unit} (a draw; a repeat "
+        f"run's max: {_interval(largest, unit)})"
+    )
+
+
+def _interval(found: Estimate, unit: str) -> str:
+    """``101–110 N``, ``above 101 N`` (unbounded above) or ``below 110 N``."""
+    if math.isfinite(found.low) and math.isfinite(found.high):
+        return f"{found.low:.4g}–{found.high:.4g}{unit}"
+    if math.isfinite(found.low):
+        return f"above {found.low:.4g}{unit}"
+    if math.isfinite(found.high):
+        return f"below {found.high:.4g}{unit}"
+    return "unbounded"
+
+
 def _series(values: ArrayLike) -> FloatArray:
     x = np.asarray(values, dtype=float).ravel()
     if x.size < MIN_REVOLUTIONS:
