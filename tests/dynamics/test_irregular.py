@@ -118,13 +118,34 @@ def test_the_maximum_lower_end_is_the_exchangeable_rank() -> None:
     assert maximum_interval(np.arange(1.0, 11.0)).low == 6.0
 
 
-def test_agreement_is_each_inside_the_others_interval() -> None:
+def test_two_draws_of_one_distribution_agree_at_the_confidence_level() -> None:
+    """``agrees`` tests "one distribution" at the intervals' level: two independent samples of
+        one AR(1) process agree about 95 % of the time (the mean; the distribution-free quantile
+        at least that), and a shift of 0.7 (five standard errors of the difference of the means:
+    long-run standard deviation 1 / (1 - 0.3) over sqrt(200), times sqrt(2)) is seen almost
+    always."""
     rng = np.random.default_rng(2)
-    a = peak_distribution(100.0 + rng.standard_normal(200))
-    b = peak_distribution(100.0 + rng.standard_normal(200))
-    shifted = peak_distribution(101.0 + rng.standard_normal(200))
-    assert agrees(a, b) == {"mean": True, "quantile": True}
-    assert agrees(a, shifted)["mean"] is False
+    same = {"mean": 0, "quantile": 0}
+    shifted = 0
+    for _ in range(SEEDS // 2):
+        a = peak_distribution(_ar1(rng, 200, 0.3))
+        b = peak_distribution(_ar1(rng, 200, 0.3))
+        for name, ok in agrees(a, b).items():
+            same[name] += ok
+        shifted += agrees(a, peak_distribution(_ar1(rng, 200, 0.3) + 0.7))["mean"]
+    assert 0.91 <= same["mean"] / (SEEDS // 2) <= 0.99
+    assert same["quantile"] / (SEEDS // 2) >= 0.94
+    assert shifted / (SEEDS // 2) <= 0.05
+
+
+def test_an_unbounded_side_agrees_with_anything() -> None:
+    x = np.arange(20.0)
+    short = peak_distribution(x)  # 20 revolutions: the 95th percentile is unbounded above
+    assert short.quantile.high == math.inf
+    assert agrees(short, peak_distribution(x + 1e6))["quantile"] is True
+    bounded = peak_distribution(np.random.default_rng(4).permutation(100) - 1e6)
+    assert bounded.quantile.bounded
+    assert agrees(short, bounded)["quantile"] is False  # the bounded side faces it
 
 
 def test_too_few_revolutions_have_no_statistics() -> None:
