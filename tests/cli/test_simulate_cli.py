@@ -281,6 +281,7 @@ def test_irregular_running_reports_the_peak_distributions(tmp_path, capsys) -> N
     printed = capsys.readouterr().out
     assert "irregular motion: each peak above is a draw" in printed
     assert "F_O2 over 12 revolutions: mean " in printed and " N, 95th percentile " in printed
+    assert "the intervals are the sampling uncertainty of this run's revolutions only" in printed
     needed = irregular["revolutions_for_bounded_percentile"]
     assert f"needs {needed} revolutions (--revolutions {needed})" in printed
 

@@ -338,7 +338,7 @@ def _jsonable(values: dict[str, Any]) -> dict[str, Any]:
 def _print_irregular(running: Any, stdout: Console) -> None:
     """For a motion that is not periodic: the per-revolution peak distributions, and that the
     peak column is a draw (docs/performance.md, "Accuracy of irregular (chaotic) running")."""
-    from jointplay.dynamics.irregular import describe, irregular_summary
+    from jointplay.dynamics.irregular import CAVEAT, describe, irregular_summary
 
     if not running.irregular:
         return
@@ -357,6 +357,7 @@ def _print_irregular(running: Any, stdout: Console) -> None:
     )
     for name, distribution in running.distributions.items():
         stdout.print("  " + describe(name, distribution))
+    stdout.print("  " + CAVEAT)
     if needed > running.whole_revolutions:
         stdout.print(
             f"  a 95th percentile bounded above needs {needed} revolutions (--revolutions "
