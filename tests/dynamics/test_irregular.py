@@ -24,6 +24,7 @@ from jointplay.dynamics.irregular import (
     peak_distribution,
     peak_distributions,
     quantile_interval,
+    replicate_distribution,
     revolutions_for_quantile,
 )
 
@@ -158,3 +159,45 @@ def test_too_few_revolutions_have_no_statistics() -> None:
 
 def test_an_unbounded_end_is_null_in_json() -> None:
     assert Estimate(1.0, 0.5, math.inf).as_dict() == {"value": 1.0, "low": 0.5, "high": None}
+
+
+def _dwelling_run(rng: np.random.Generator, n: int) -> np.ndarray:
+    """A run that dwells in one of two states for its whole length (calm, mean 0, with
+    probability 0.7; rough, mean 2), plus independent unit noise: ensemble mean 0.6."""
+    return (2.0 if rng.random() < 0.3 else 0.0) + rng.standard_normal(n)
+
+
+def test_one_dwelling_trajectory_misses_the_ensemble_mean_and_replicates_do_not() -> None:
+    """The dry four-bar's trouble in miniature: one trajectory's interval is honest about its
+    own revolutions but covers the mean over the states rarely; an ensemble of 12 independent
+    runs (each a batch) covers it at about its confidence."""
+    rng = np.random.default_rng(8)
+    single = replicated = 0
+    for _ in range(SEEDS // 2):
+        single += peak_distribution(_dwelling_run(rng, 360)).mean.contains(0.6)
+        runs = [_dwelling_run(rng, 30) for _ in range(12)]
+        replicated += replicate_distribution(runs).mean.contains(0.6)
+    assert single / (SEEDS // 2) < 0.05  # measured 0
+    assert 0.88 <= replicated / (SEEDS // 2) <= 0.99
+
+
+def test_replicates_of_independent_values_are_one_sample() -> None:
+    """Without dwelling, twelve runs of 30 are a sample of 360: the inflation is about 1 and
+    the mean's interval about that of the pooled values."""
+    rng = np.random.default_rng(9)
+    runs = [rng.standard_normal(30) for _ in range(12)]
+    found = replicate_distribution(runs)
+    pooled = peak_distribution(np.concatenate(runs))
+    assert found.revolutions == 360 and found.batches == 12
+    assert found.inflation < 2.0
+    assert found.mean.value == pytest.approx(pooled.mean.value)
+    width = found.mean.high - found.mean.low
+    assert 0.6 < width / (pooled.mean.high - pooled.mean.low) < 1.6
+    assert found.quantile.bounded
+
+
+def test_an_ensemble_needs_enough_equal_runs() -> None:
+    with pytest.raises(ValueError, match="at least 5 runs"):
+        replicate_distribution([[1.0, 2.0]] * 4)
+    with pytest.raises(ValueError, match="of the same number"):
+        replicate_distribution([[1.0, 2.0]] * 4 + [[1.0]])

@@ -295,6 +295,70 @@ def peak_distributions(
     }
 
 
+#: Fewest independent runs of an ensemble (:func:`replicate_distribution`).
+MIN_RUNS = 5
+
+
+def replicate_distribution(
+    runs: Sequence[ArrayLike], probability: float = QUANTILE, confidence: float = CONFIDENCE
+) -> PeakDistribution:
+    """The distribution of one quantity's per-revolution peak over an ensemble of independent
+    runs (each a batch: the method of independent replications, Law & Kelton §9.4.1).
+
+    One trajectory of a motion that dwells in one of several states for hundreds of
+    revolutions gives statistics of the state it happens to dwell in; an ensemble of runs from
+    perturbed starts samples the states. The mean is the mean of the runs' means, its interval
+    Student's t with ``M - 1`` degrees of freedom over the ``M`` run means (exact for
+    independent runs however long each dwells); the variance inflation is ``N`` × the variance
+    of the run means over the variance of all the ``M N`` peaks (at least 1), which sets the
+    effective sample of the 95th percentile's and the max's intervals as in
+    :func:`peak_distribution`.
+
+    Args:
+        runs: each run's peak in each of its ``N`` analysed revolutions (at least
+            :data:`MIN_RUNS` runs of equal length).
+        probability: the quantile's probability.
+        confidence: the intervals' confidence level.
+
+    Raises:
+        ValueError: fewer than :data:`MIN_RUNS` runs, runs of unequal length, or a value that
+            is not finite.
+    """
+    from scipy.stats import t as student
+
+    lengths = {int(np.size(run)) for run in runs}
+    if len(runs) < MIN_RUNS or len(lengths) != 1 or 0 in lengths:
+        raise ValueError(
+            f"an ensemble needs at least {MIN_RUNS} runs of the same number (> 0) of "
+            f"revolutions, got {len(runs)} run(s) of {sorted(lengths)} revolution(s)"
+        )
+    x = np.array([np.asarray(run, dtype=float).ravel() for run in runs])
+    if not np.all(np.isfinite(x)):
+        raise ValueError("the per-revolution peaks must be finite numbers")
+    m, n = x.shape
+    means = x.mean(axis=1)
+    pooled = x.ravel()
+    mean = float(means.mean())
+    half = float(student.ppf(0.5 + confidence / 2, m - 1)) * float(means.std(ddof=1)) / m**0.5
+    plain = float(pooled.var(ddof=1)) if pooled.size > 1 else 0.0
+    inflation = max(1.0, n * float(means.var(ddof=1)) / plain) if plain > 0 else 1.0
+    if pooled.size < MIN_REVOLUTIONS:
+        raise ValueError(
+            f"the statistics of irregular running need at least {MIN_REVOLUTIONS} revolutions, "
+            f"got {pooled.size}"
+        )
+    return PeakDistribution(
+        revolutions=int(pooled.size),
+        mean=Estimate(mean, mean - half, mean + half),
+        quantile=quantile_interval(pooled, probability, confidence, inflation),
+        maximum=maximum_interval(pooled, confidence, inflation),
+        batches=m,
+        inflation=inflation,
+        confidence=confidence,
+        probability=probability,
+    )
+
+
 def agrees(
     first: PeakDistribution, second: PeakDistribution, statistics: Sequence[str] = CONVERGING
 ) -> dict[str, bool]:
