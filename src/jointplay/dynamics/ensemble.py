@@ -60,6 +60,7 @@ class Ensemble:
             "revolutions_per_run": self.revolutions,
             "start_offsets_deg": list(self.start_offsets_deg),
             "verdicts": list(self.verdicts),
+            "per_run": list(self.per_run),
             "statistics": {name: d.as_dict() for name, d in self.distributions.items()},
             "taken": (
                 "each run started that much further on in crank angle; the runs are the "

@@ -39,7 +39,9 @@ than its interval (:func:`agrees`: the difference within its own interval); the 
 does not. Measured on the dry paper four-bar, it holds for some quantities (F_O4, omega4) and
 not for others (F_O2, F_A): the motion dwells in one of two states for hundreds of
 revolutions and the tolerances decide which, so the intervals here — the sampling uncertainty
-of one run's revolutions — do not cover that.
+of one run's revolutions — do not cover that. An ensemble of runs from perturbed starts, the
+runs as batches (:func:`replicate_distribution`, :mod:`jointplay.dynamics.ensemble`), samples
+the states; its F_O2 and F_A statistics meet the contract.
 
 All functions are pure and unit-free: the values keep the unit of the quantity (N, rad/s, …).
 """
@@ -415,7 +417,8 @@ MEANING = (
 CAVEAT = (
     "the intervals are the sampling uncertainty of this run's revolutions only: a chaotic "
     "motion can dwell in one state for hundreds of revolutions, and which state can change "
-    'with the tolerances (docs/performance.md, "Accuracy of irregular (chaotic) running")'
+    "with the tolerances; an ensemble of runs from perturbed starts samples the states "
+    '(--ensemble 12; docs/performance.md, "Accuracy of irregular (chaotic) running")'
 )
 
 
