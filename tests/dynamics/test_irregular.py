@@ -20,6 +20,7 @@ from jointplay.dynamics.irregular import (
     Estimate,
     agrees,
     batch_means,
+    describe,
     maximum_interval,
     peak_distribution,
     peak_distributions,
@@ -201,3 +202,12 @@ def test_an_ensemble_needs_enough_equal_runs() -> None:
         replicate_distribution([[1.0, 2.0]] * 4)
     with pytest.raises(ValueError, match="of the same number"):
         replicate_distribution([[1.0, 2.0]] * 4 + [[1.0]])
+
+
+def test_the_line_says_each_statistic_with_its_interval_and_unit() -> None:
+    rng = np.random.default_rng(6)
+    line = describe("F_O2", peak_distribution(100.0 + 5.0 * rng.standard_normal(100)))
+    assert line.startswith("F_O2 over 100 revolutions: mean ")
+    assert " N, 95th percentile " in line and "max " in line and "a repeat run's max: above" in line
+    wide = describe("alpha4", peak_distribution(8000.0 + 3000.0 * rng.standard_normal(12)))
+    assert "e+0" not in wide.split("95th")[0] and "rad/s²" in wide  # ± 1234, not ± 1.2e+03

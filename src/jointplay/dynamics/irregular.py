@@ -468,8 +468,9 @@ def describe(name: str, found: PeakDistribution) -> str:
     unit = f" {unit}" if unit else ""
     mean, quantile, largest = found.mean, found.quantile, found.maximum
     half = 0.5 * (mean.high - mean.low)
+    spread = f"{half:.0f}" if half >= 100 else f"{half:.2g}"  # 897, not 9e+02
     return (
-        f"{name} over {found.revolutions} revolutions: mean {mean.value:.4g} ± {half:.2g}{unit}, "
+        f"{name} over {found.revolutions} revolutions: mean {mean.value:.4g} ± {spread}{unit}, "
         f"{100 * found.probability:g}th percentile {quantile.value:.4g}{unit} "
         f"({_interval(quantile, unit)}), max {largest.value:.4g}{unit} (a draw; a repeat "
         f"run's max: {_interval(largest, unit)})"
