@@ -100,8 +100,9 @@ class RunningBehaviour:
 
     @property
     def irregular(self) -> bool:
-        """Whether the motion is irregular: its Poincaré section is not periodic."""
-        return self.periodicity.verdict == "not periodic"
+        """Whether the motion is irregular: its Poincaré section is not periodic (see
+        :func:`rattling`)."""
+        return rattling(self.periodicity)
 
     @property
     def whole_revolutions(self) -> int:
@@ -154,6 +155,18 @@ class RunningBehaviour:
             ),
             "diagnostics": dg.as_records(self.diagnostics),
         }
+
+
+def rattling(section: Periodicity) -> bool:
+    """Whether a section that is not periodic shows irregular running, not a start-up
+    transient: it does not become periodic once its first revolutions are left out, and its
+    steps do not shrink (:meth:`Periodicity.settles_after`, :attr:`Periodicity.converging`;
+    those ask for more ``settle``, not for statistics)."""
+    return (
+        section.verdict == "not periodic"
+        and section.settles_after() is None
+        and not section.converging
+    )
 
 
 def revolution_windows(
@@ -257,7 +270,7 @@ def characterise(
     whole = len(windows) - (0 if last >= 0.999 else 1)  # the partial last one left out
     distributions = (
         peak_distributions({name: values[settle:whole] for name, values in per_revolution.items()})
-        if result_periodicity.verdict == "not periodic"
+        if rattling(result_periodicity)
         else {}
     )
     in_window = t >= windows[settle][0]
