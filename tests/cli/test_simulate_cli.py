@@ -100,6 +100,8 @@ def test_settings_from_a_toml_file(tmp_path) -> None:
         (["--revolutions", "0"], "revolutions"),
         (["--format", "xlsx"], "--format"),
         (["--friction", "-0.1"], "friction"),
+        (["--ensemble", "3"], "--ensemble must be at least 5 runs"),
+        (["--ensemble", "5"], "--ensemble needs at least 1 whole analysed revolution"),
     ],
 )
 def test_bad_input(tmp_path, capsys, args, message) -> None:
@@ -255,3 +257,64 @@ def test_the_integrator_is_the_methods_unless_named(tmp_path) -> None:
     assert run([*PAPER_ARGS[:3], "--revolutions", "0.01", "--settle", "0", "--no-plots",
                 "--out", str(physical)]) == 0  # fmt: skip
     assert json.loads((physical / "summary.json").read_text())["solver"]["integrator"] == "radau"
+
+
+def test_irregular_running_reports_the_peak_distributions(tmp_path, capsys) -> None:
+    """Dry joints rattle chaotically: the peak column is a draw, and simulate says so and
+    reports the per-revolution peak distributions with their intervals (issue 40 item 1)."""
+    out = tmp_path / "dry"
+    args = ["simulate", "--preset", "paper-fourbar", "--lubrication", "dry", "--settle", "2",
+            "--revolutions", "12", "--no-plots", "--out", str(out)]  # fmt: skip
+    assert run(args) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["periodicity"]["verdict"] == "not periodic"
+    irregular = summary["irregular"]
+    assert irregular["motion"] == "irregular" and irregular["revolutions"] == 12
+    assert irregular["revolutions_for_bounded_percentile"] >= 72
+    stats = irregular["statistics"]["F_O2"]
+    per_revolution = summary["cycles"]["per_revolution"]["F_O2"]
+    assert stats["revolutions"] == 12
+    assert stats["mean"]["value"] == pytest.approx(sum(per_revolution) / 12)
+    assert stats["mean"]["low"] < stats["mean"]["value"] < stats["mean"]["high"]
+    assert stats["max"]["value"] == pytest.approx(max(per_revolution))
+    assert stats["max"]["high"] is None  # a repeat's max exceeds this one half of the time
+    assert stats["percentile_95"]["high"] is None  # 12 revolutions cannot bound it
+    assert summary["peaks"]["F_O2"]["value"] == pytest.approx(max(per_revolution))
+    printed = capsys.readouterr().out
+    assert "irregular motion: each peak above is a draw" in printed
+    assert "F_O2 over 12 revolutions: mean " in printed and " N, 95th percentile " in printed
+    assert "the intervals are the sampling uncertainty of this run's revolutions only" in printed
+    needed = irregular["revolutions_for_bounded_percentile"]
+    assert f"needs {needed} revolutions (--revolutions {needed})" in printed
+
+
+def test_periodic_running_has_no_irregular_statistics(tmp_path, capsys) -> None:
+    out = tmp_path / "rest"
+    assert run([*PAPER_ARGS, "--no-plots", "--out", str(out)]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["periodicity"]["verdict"] != "not periodic"
+    assert summary["irregular"] is None
+    assert "irregular motion" not in capsys.readouterr().out
+
+
+def test_an_ensemble_reports_the_distributions_over_its_runs(tmp_path, capsys) -> None:
+    """``--ensemble 5``: five runs from start angles 0.01 deg apart (the first is the run
+    itself), the statistics over their revolutions with the runs as batches."""
+    out = tmp_path / "ensemble"
+    args = ["simulate", "--preset", "paper-fourbar", "--lubrication", "dry", "--settle", "2",
+            "--revolutions", "2", "--ensemble", "5", "--no-plots", "--out", str(out)]  # fmt: skip
+    assert run(args) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    ensemble = summary["ensemble"]
+    assert ensemble["runs"] == 5 and ensemble["revolutions_per_run"] == 2
+    assert ensemble["start_offsets_deg"] == pytest.approx([0.0, 0.01, 0.02, 0.03, 0.04])
+    per_run = [values["F_O2"] for values in ensemble["per_run"]]
+    assert per_run[0] == pytest.approx(summary["cycles"]["per_revolution"]["F_O2"], rel=1e-12)
+    assert len({tuple(values) for values in per_run}) == 5  # perturbed: five trajectories
+    stats = ensemble["statistics"]["F_O2"]
+    assert stats["revolutions"] == 10 and stats["batches"] == 5
+    assert stats["mean"]["value"] == pytest.approx(sum(map(sum, per_run)) / 10)
+    assert stats["max"]["value"] == pytest.approx(max(map(max, per_run)))
+    printed = capsys.readouterr().out
+    assert "ensemble of 5 runs (start angles 0.01° apart), 2 revolution(s) each" in printed
+    assert "F_O2 over 10 revolutions: mean " in printed

@@ -290,3 +290,23 @@ def test_impulsive_start_is_the_mass_weighted_projection(paper_fourbar: Mechanis
     np.testing.assert_allclose(np.delete(free, 3 * crank + 2), 0.0, atol=1e-12)
     rest = initial_state(clear, Start("rest"))[n : 2 * n]
     assert np.hypot(*rest[3 * crank : 3 * crank + 2]) > 0  # rest: about the pivot instead
+
+
+def test_only_rattling_gets_the_statistics_of_irregular_running(conventional_steady) -> None:
+    """A section that becomes periodic once its first revolutions are left out, or whose
+    steps shrink, is a start-up transient (raise settle), not irregular running."""
+    from dataclasses import replace
+
+    from jointplay.dynamics.cycles import periodicity
+
+    running = conventional_steady.running
+    assert not running.irregular  # the conventional set repeats
+    settling = periodicity(np.vstack([[0.5], [0.2], *[[0.01]] * 6]))
+    converging = periodicity(np.array([[0.5 * 0.6**k] for k in range(8)]))
+    rattling = periodicity(np.random.default_rng(1).uniform(-1.0, 1.0, (8, 1)))
+    for section in (settling, converging, rattling):
+        assert section.verdict == "not periodic"
+    assert not replace(running, periodicity=settling).irregular
+    assert not replace(running, periodicity=converging).irregular
+    assert replace(running, periodicity=rattling).irregular
+    assert running.summary()["irregular"] is None

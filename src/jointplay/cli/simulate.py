@@ -114,6 +114,15 @@ def simulate_command(
     fmt: Annotated[
         str | None, _opt("Time-series format: csv (default) or parquet.", "--format")
     ] = None,
+    ensemble: Annotated[
+        int | None,
+        _opt(
+            "Also run this many runs (>= 5), each started 0.01° of crank further on, and report "
+            "the per-revolution peak distributions over them (runs as batches): the statistics "
+            "of irregular (chaotic) running that converge (docs/performance.md).",
+            "--ensemble",
+        ),
+    ] = None,
     plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
     figure_format: FigureFormatOption = "png",
 ) -> None:
@@ -153,6 +162,7 @@ def simulate_command(
         turns = finite_number(values, "revolutions", 1.0)
         check_revolutions(turns)
         sample = _sample_step(values.get("sample_deg"))
+        _check_ensemble(ensemble, turns)
         # The numerical stack from here: the contact model, the run's settings, the engine.
         from jointplay.dynamics import diagnostics as dg
         from jointplay.dynamics.settings import simulate_run
@@ -193,6 +203,12 @@ def simulate_command(
                 nominal=True,
             )
             running = result.running
+        found_ensemble = None
+        if ensemble is not None:
+            from jointplay.dynamics.ensemble import simulate_ensemble
+
+            with status(progress, f"simulating an ensemble of {ensemble} runs"):
+                found_ensemble = simulate_ensemble(mechanism, clear, run, runs=ensemble)
         record = provenance(
             {
                 "mechanism": mechanism_summary(mechanism),
@@ -207,6 +223,8 @@ def simulate_command(
         summary["contact"] = contact_used.describe(mechanism)
         summary["lubrication"] = contact_used.joint_lubrication(mechanism, clear)
         summary["diagnostics"] = [finding.as_dict() for finding in findings]
+        if found_ensemble is not None:
+            summary["ensemble"] = found_ensemble.summary()
         write_json(folder / "summary.json", summary)
         if plots:
             from jointplay.report.plots import simulation_figures
@@ -233,7 +251,40 @@ def simulate_command(
             )
     print(f"contact: {contact_used.describe(mechanism)['text']}")
     _print(result, findings, Path(out))
+    if found_ensemble is not None:
+        _print_ensemble(found_ensemble)
     _print_regimes(result)
+
+
+def _check_ensemble(runs: int | None, turns: float) -> None:
+    """``--ensemble``: a whole number of runs >= 5, each with a whole analysed revolution."""
+    from jointplay.dynamics.irregular import MIN_RUNS
+
+    if runs is None:
+        return
+    if runs < MIN_RUNS:
+        raise ConfigError(f"--ensemble must be at least {MIN_RUNS} runs, got {runs}")
+    if turns < 1:
+        raise ConfigError(
+            f"--ensemble needs at least 1 whole analysed revolution per run, got --revolutions "
+            f"{turns:g}; give --revolutions 1 or more"
+        )
+
+
+def _print_ensemble(found: Any) -> None:
+    """The ensemble's per-revolution peak distributions, one line per quantity."""
+    from jointplay.dynamics.irregular import describe
+
+    runs = len(found.per_run)
+    stdout = Console(soft_wrap=True)
+    stdout.print(
+        f"ensemble of {runs} runs (start angles {found.start_offsets_deg[1]:g}° apart), "
+        f"{found.revolutions} revolution(s) each; periodicity: "
+        + ", ".join(f"{v} ×{found.verdicts.count(v)}" for v in dict.fromkeys(found.verdicts))
+        + "; per-revolution peak distributions over the runs (95 % intervals, runs as batches):"
+    )
+    for name, distribution in found.distributions.items():
+        stdout.print("  " + describe(name, distribution))
 
 
 def _print_regimes(result: Any) -> None:
@@ -336,6 +387,36 @@ def _jsonable(values: dict[str, Any]) -> dict[str, Any]:
     }
 
 
+def _print_irregular(running: Any, stdout: Console) -> None:
+    """For a motion that is not periodic: the per-revolution peak distributions, and that the
+    peak column is a draw (docs/performance.md, "Accuracy of irregular (chaotic) running")."""
+    from jointplay.dynamics.irregular import CAVEAT, describe, irregular_summary
+
+    if not running.irregular:
+        return
+    found = irregular_summary(running.distributions, running.whole_revolutions)
+    needed = found["revolutions_for_bounded_percentile"]
+    if not running.distributions:
+        stdout.print(
+            f"irregular motion: each peak above is a draw (it moves when the tolerances change); "
+            f"{running.whole_revolutions} whole revolution(s) are too few for its distribution: "
+            f"analyse at least {needed} (--revolutions {needed})"
+        )
+        return
+    stdout.print(
+        "irregular motion: each peak above is a draw (it moves when the tolerances change); "
+        "read the distribution of the per-revolution peak instead (95 % intervals):"
+    )
+    for name, distribution in running.distributions.items():
+        stdout.print("  " + describe(name, distribution))
+    stdout.print("  " + CAVEAT)
+    if needed > running.whole_revolutions:
+        stdout.print(
+            f"  a 95th percentile bounded above needs {needed} revolutions (--revolutions "
+            f"{needed}); this run analysed {running.whole_revolutions}"
+        )
+
+
 def _print(result: Any, findings: list[Any], out: Path) -> None:
     running = result.running
     stats = running.statistics
@@ -386,6 +467,7 @@ def _print(result: Any, findings: list[Any], out: Path) -> None:
         stdout.print(
             "deepest penetration over the analysed revolutions, at the accepted steps: " + deepest
         )
+    _print_irregular(running, stdout)
     for finding in findings:  # one line each, on stderr
         print(f"jointplay: {finding.line(SETTING_OPTIONS)}", file=sys.stderr)
     stats = result.solver_stats

@@ -410,7 +410,10 @@ def check_periodic(
         )
     else:
         reason = (
-            "the pins rattle differently every revolution; read peaks as ranges across revolutions"
+            "the pins rattle differently every revolution: each peak is a draw; read the "
+            "distribution of the per-revolution peaks (mean, 95th percentile), and sample the "
+            "motion's states with an ensemble of runs (docs/performance.md, \"Accuracy of "
+            'irregular (chaotic) running")'
         )
     return Diagnostic.advising(
         "info", "not-periodic", None, float(revolutions), math.nan, f"{where}: {reason}"

@@ -14,11 +14,16 @@ evaluates every documented column at any time on the continuous solution) into a
   crank at the same angle), with the periodicity verdict;
 - with ``sample_deg``, the peaks of the solution sampled every ``sample_deg`` degrees of
   crank, labelled as sampled (what tools that report sampled curves show);
+- when the section is not periodic (irregular, chaotic running), each quantity's
+  per-revolution peak *distribution* over the whole analysed revolutions: mean, 95th
+  percentile and maximum with their intervals (:mod:`jointplay.dynamics.irregular`), the
+  statistics that converge where the single largest peak is a draw;
 - the plausibility diagnostics (:mod:`jointplay.dynamics.diagnostics`).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
@@ -30,6 +35,7 @@ from numpy.typing import NDArray
 from jointplay.dynamics import diagnostics as dg
 from jointplay.dynamics.clearance import ClearanceJoint
 from jointplay.dynamics.cycles import Periodicity, periodicity, revolution_statistics, thresholds
+from jointplay.dynamics.irregular import PeakDistribution, irregular_summary, peak_distributions
 from jointplay.dynamics.peaks import LocatedPeak, locate_peaks
 from jointplay.model.mechanism import Mechanism
 
@@ -72,6 +78,10 @@ class RunningBehaviour:
             analysed revolutions, m, taken at the integrator's accepted steps (sampled, as
             the batch engine's ``pen_<joint>``; negative: the pin never touched).
         diagnostics: the plausibility findings, warnings first.
+        distributions: when the motion is not periodic, each quantity's per-revolution peak
+            distribution over the whole analysed revolutions (at least
+            :data:`~jointplay.dynamics.irregular.MIN_REVOLUTIONS`; else empty): the
+            statistics of irregular running that converge.
     """
 
     settle: int
@@ -86,6 +96,18 @@ class RunningBehaviour:
     sample_deg: float | None
     max_penetration: dict[str, float]
     diagnostics: tuple[dg.Diagnostic, ...]
+    distributions: dict[str, PeakDistribution] = dataclasses.field(default_factory=dict)
+
+    @property
+    def irregular(self) -> bool:
+        """Whether the motion is irregular: its Poincaré section is not periodic (see
+        :func:`rattling`)."""
+        return rattling(self.periodicity)
+
+    @property
+    def whole_revolutions(self) -> int:
+        """The analysed revolutions that are whole (a partial last one left out)."""
+        return math.floor(self.revolutions + 1e-9)
 
     @property
     def analysed_per_revolution(self) -> dict[str, list[float]]:
@@ -113,6 +135,11 @@ class RunningBehaviour:
                 ),
             },
             "periodicity": self.periodicity.summary(),
+            "irregular": (
+                irregular_summary(self.distributions, self.whole_revolutions)
+                if self.irregular
+                else None
+            ),
             "sampled_peaks": (
                 {}
                 if self.sample_deg is None
@@ -128,6 +155,18 @@ class RunningBehaviour:
             ),
             "diagnostics": dg.as_records(self.diagnostics),
         }
+
+
+def rattling(section: Periodicity) -> bool:
+    """Whether a section that is not periodic shows irregular running, not a start-up
+    transient: it does not become periodic once its first revolutions are left out, and its
+    steps do not shrink (:meth:`Periodicity.settles_after`, :attr:`Periodicity.converging`;
+    those ask for more ``settle``, not for statistics)."""
+    return (
+        section.verdict == "not periodic"
+        and section.settles_after() is None
+        and not section.converging
+    )
 
 
 def revolution_windows(
@@ -228,6 +267,12 @@ def characterise(
         else {}
     )
     result_periodicity = periodicity(section[0], section[1], threshold=thresholds(section[2]))
+    whole = len(windows) - (0 if last >= 0.999 else 1)  # the partial last one left out
+    distributions = (
+        peak_distributions({name: values[settle:whole] for name, values in per_revolution.items()})
+        if rattling(result_periodicity)
+        else {}
+    )
     in_window = t >= windows[settle][0]
     max_penetration = {
         joint.joint: float(np.max(step_columns[f"pen_{joint.joint}"][in_window]))
@@ -259,6 +304,7 @@ def characterise(
         sample_deg=sample_deg,
         max_penetration=max_penetration,
         diagnostics=tuple(found),
+        distributions=distributions,
     )
 
 
