@@ -32,8 +32,8 @@ FloatArray = NDArray[np.float64]
 PARAMS_WIDTH = 8
 #: The default contact-onset tolerance, as a fraction of the smallest clearance, where no
 #: clearance joint's law reads the impact velocity: 1 % (0.21 µm at 21 µm). Their force is
-#: the state's alone (IMPACT, Hertz, Kelvin–Voigt, the ECS laws): a contact entered within
-#: it starts where the force is still small.
+#: the state's alone (IMPACT, Hertz, Kelvin–Voigt): a contact entered within it starts where
+#: the force is still small, and 0.01 % was measured no better for them (docs/performance.md).
 ONSET_FRACTION = 1e-2
 #: The default where a clearance joint's law reads the impact velocity v0
 #: (:attr:`~jointplay.contact.laws.ContactLaw.needs_impact_velocity`: the Hunt–Crossley
