@@ -186,7 +186,8 @@ RUN_SETTINGS: tuple[Setting, ...] = (
             "the velocities' scales with it: docs/cli.md).", unit="m", panel=RUN_PANEL),
     Setting("onset_tolerance", "--onset-tolerance", "onset_tolerance", "solver",
             "Deepest entry into a contact in one step, e.g. '2 nm' (default: 0.01 % of the "
-            "smallest clearance; docs/cli.md).", unit="m", panel=RUN_PANEL),
+            "smallest clearance; 1 % with impact, hertz, kelvin-voigt: docs/cli.md).", unit="m",
+            panel=RUN_PANEL),
 )
 # fmt: on
 
