@@ -217,6 +217,13 @@ CASES: dict[str, tuple[list[str], str]] = {
     "simulate revolutions text": (["simulate", "--revolutions", "abc"], "--revolutions"),
     "simulate settle negative": (["simulate", "--settle", "-1"], "--settle"),
     "simulate max step zero": (["simulate", "--max-step", "0 s"], "max_step"),
+    "simulate atol bare": (["simulate", "--atol", "1e-12"], "--atol: '1e-12' has no unit"),
+    "simulate atol large": (["simulate", "--atol", "1 mm"], "--atol must be a length > 0"),
+    "simulate onset zero": (["simulate", "--onset-tolerance", "0 m"], "--onset-tolerance"),
+    "simulate onset beyond the clearance": (
+        ["simulate", "--onset-tolerance", "30 um"],
+        "--onset-tolerance 3e-05 m is not below the smallest clearance 2.1e-05 m",
+    ),
     "simulate joints empty": (["simulate", "--joints", " , "], "--joints"),
     "simulate joints unknown": (["simulate", "--joints", "Q7"], "Q7"),
     "simulate start unknown": (["simulate", "--start", "sideways"], "sideways"),

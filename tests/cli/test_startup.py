@@ -48,6 +48,8 @@ def _run(arguments: list[str]) -> tuple[int, list[str], str]:
         (["--revolutions", "-1"], "--revolutions"),
         (["--sample-deg", "500 deg"], "--sample-deg"),
         (["--max-step", "1 mss"], "--max-step"),
+        (["--atol", "2 um"], "--atol"),
+        (["--onset-tolerance", "0 um"], "--onset-tolerance"),
     ],
 )
 def test_a_bad_option_is_one_line_before_the_numerical_stack_loads(

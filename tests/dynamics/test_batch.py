@@ -324,14 +324,17 @@ def test_the_explicit_method_tightens_rtol_and_the_velocity_atol_only(
 
 #: The paper's RM (Hunt-Crossley family) set at the default tolerances misses the accuracy
 #: contract (1e-5 on omega, 1e-3 on the rest): the damping divided by the impact velocity makes
-#: grazing contacts stiff. Against rtol 1e-9 on the samples of seed 31: omega 4.0e-4, forces
-#: and torque 1.7e-3, alpha 1.9e-2 (a spike); with the contact memory v0 read at the end of the
-#: step entering contact (before 6016863), 5.6e-3, 2.3e-2 and 0.51. These bounds are 2.5-3x
-#: the measurement. Not a bound for every sample: seed 32 is off by 5.4e-3 (omega3) and 3.3e-2
-#: (F_A), seed 33 by 1.3e-4 and 6.6e-4.
-RM_OMEGA_RTOL_LOOSER_THAN_CONTRACT = 1e-3
-RM_FORCE_RTOL_LOOSER_THAN_CONTRACT = 5e-3
-RM_ALPHA_RTOL_LOOSER_THAN_CONTRACT = 5e-2
+#: grazing contacts stiff. Against rtol 1e-9 (its contact onset within 0.6 pm) on the samples of
+#: seed 31: omega 4.8e-3, forces and torque 1.4e-4, alpha 9.4e-4. With the onset tolerance at
+#: 1 % of the clearance (its default before issue 40, now 0.01 % for the laws that read the
+#: impact velocity): omega 4.2e-4, forces 1.7e-3, alpha 2.0e-2 (a spike); with the contact
+#: memory v0 read at the end of the step entering contact (before 6016863), 5.6e-3, 2.3e-2 and
+#: 0.51. These bounds are 2-3x the measurement. Not a bound for every sample: seed 32 is off
+#: by 5.4e-3 (omega3) and 3.3e-2 (F_A) with either onset tolerance; seed 33 by 2.6e-5 and
+#: 1.2e-4 (1.3e-4 and 6.6e-4 at 1 %).
+RM_OMEGA_RTOL_LOOSER_THAN_CONTRACT = 1e-2
+RM_FORCE_RTOL_LOOSER_THAN_CONTRACT = 5e-4
+RM_ALPHA_RTOL_LOOSER_THAN_CONTRACT = 2e-3
 
 
 def test_an_rm_set_runs_implicit_and_converges(paper_fourbar: Mechanism) -> None:
@@ -342,7 +345,9 @@ def test_an_rm_set_runs_implicit_and_converges(paper_fourbar: Mechanism) -> None
     samples = BatchSamples(lengths=samples.lengths, clearances=samples.clearances)
     result = simulate_batch(paper_fourbar, _joints(law=law), samples, backend="local", settle=0)
     assert result.method == "implicit" and result.ok.all()
-    converged = SolverOptions(rtol=1e-9, atol_position=1e-12, atol_velocity=1e-9)
+    converged = SolverOptions(
+        rtol=1e-9, atol_position=1e-12, atol_velocity=1e-9, onset_tolerance=6e-13
+    )
     exact = simulate_batch(
         paper_fourbar, _joints(law=law), samples, backend="local", solver=converged, settle=0
     )

@@ -53,10 +53,13 @@ def test_the_conventional_set_converges_and_says_so(paper_fourbar: Mechanism) ->
 @pytest.mark.parametrize(
     ("seed", "converges"),
     [
-        # share 0.0064 (torque and F_O4); 0.337 with the contact memory before 6016863
+        # share 0.0046 (torque; 0.0064, torque and F_O4, with the onset tolerance at 1 % of
+        # the clearance, before issue 40); 0.337 with the contact memory before 6016863
         (8, True),
-        # share 1.57 (F_O4: an impact sequence that changes with the tolerances); 1.13 before
-        (5, False),
+        # share 0.75 (F_O4: an impact sequence that changes with the tolerances). Seed 5 was
+        # this case with the onset tolerance at 1 % (share 1.57; 1.13 before 6016863); at
+        # the 0.01 % default for laws that read the impact velocity it converges (0.0077)
+        (7, False),
     ],
 )
 def test_the_rm_set_converges_within_its_limit_or_warns(
@@ -76,12 +79,12 @@ def test_the_rm_set_converges_within_its_limit_or_warns(
     assert study.summary()["convergence_check"]["converged"] is converges
     if not converges:
         # one sample of eight moved (its impact sequence changed), the mean shift's interval
-        # holds zero (measured: +0.19, interval -0.58 to +0.97 of the spread): the warning
+        # holds zero (measured: +0.09, interval -0.28 to +0.46 of the spread): the warning
         # reads the motion as sensitive, not the integration as biased
         low, high = check.mean_shift_interval
         assert low < 0.0 < high
         assert check.finding is not None and "sensitive" in check.finding.line()
-        # eight samples bound the mean's move only to ~97 % of the spread: not shown usable
+        # eight samples bound the mean's move only to ~46 % of the spread: not shown usable
         assert check.finding.line().endswith(check.verdict) and not check.usable
         assert check.verdict.startswith("not usable as it stands")
     else:

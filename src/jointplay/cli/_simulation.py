@@ -20,7 +20,7 @@ import typer
 
 from jointplay.cli._panels import CONTACT_PANEL
 from jointplay.dynamics.declared import CONTACT_SETTINGS, RUN_SETTINGS, Setting, run_setting
-from jointplay.settings.simulation import finite_number
+from jointplay.settings.simulation import finite_number, solver_tolerances
 
 if TYPE_CHECKING:  # the dynamics import Numba: loaded when a command runs
     from jointplay.dynamics.settings import RunSettings
@@ -128,6 +128,8 @@ RampTimeOption = Annotated[str | None, declared_option(run_setting("ramp_time"))
 RtolOption = Annotated[float | None, declared_option(run_setting("rtol"))]
 IntegratorOption = Annotated[str | None, declared_option(run_setting("integrator"))]
 MaxStepOption = Annotated[str | None, declared_option(run_setting("max_step"))]
+AtolOption = Annotated[str | None, declared_option(run_setting("atol"))]
+OnsetToleranceOption = Annotated[str | None, declared_option(run_setting("onset_tolerance"))]
 
 #: The option of each setting that the layers below name in their errors
 #: (:class:`~jointplay.errors.SettingError`) and in the diagnostics' advice
@@ -195,6 +197,7 @@ def run_settings_of(
     ``[simulation]`` table): ``start`` (default steady), ``ramp_time`` (default a quarter of
     the crank period with the ramp start), ``settle`` (default ``settle``, else 2 with the
     steady start and 0 with the others, whose start-up is what they show), ``rtol``,
+    ``atol`` and ``onset_tolerance`` (:func:`~jointplay.settings.simulation.solver_tolerances`),
     ``integrator`` and, with ``max_step``, ``max_step``; the one reader of simulate's and
     animate's."""
     from jointplay.dynamics.cycles import DEFAULT_SETTLE
@@ -216,6 +219,7 @@ def run_settings_of(
         if not max_step or values.get("max_step") is None
         else parse_quantity(values["max_step"], "s", field="--max-step"),
         integrator=values.get("integrator"),
+        **solver_tolerances(values),
     )
     default = settle if settle is not None else DEFAULT_SETTLE if mode == "steady" else 0
     return RunSettings(

@@ -25,10 +25,12 @@ from jointplay.cli._common import (
 )
 from jointplay.cli._simulation import (
     NO_CONTACT_OPTIONS,
+    AtolOption,
     ClearanceOption,
     ContactValues,
     IntegratorOption,
     JointsOption,
+    OnsetToleranceOption,
     RampTimeOption,
     RtolOption,
     StartOption,
@@ -79,6 +81,8 @@ def animate_command(
     ] = None,
     rtol: RtolOption = None,
     integrator: IntegratorOption = None,
+    atol: AtolOption = None,
+    onset_tolerance: OnsetToleranceOption = None,
     magnification: Annotated[
         float | None,
         _opt(
@@ -114,7 +118,8 @@ def animate_command(
         given = {
             **contact_options, "clearance": clearance, "joints": joints, "start": start,
             "ramp_time": ramp_time, "start_angle": start_angle, "settle": settle, "rtol": rtol,
-            "integrator": integrator,
+            "integrator": integrator, "atol": atol,
+            "onset_tolerance": onset_tolerance,
         }  # fmt: skip
         result = _simulate(preset, config, rpm, direction, gravity, given, progress)
         from jointplay.report.animation import write_animation

@@ -33,11 +33,13 @@ from jointplay.cli._common import (
 from jointplay.cli._simulation import (
     NO_CONTACT_OPTIONS,
     SETTING_OPTIONS,
+    AtolOption,
     ClearanceOption,
     ContactValues,
     IntegratorOption,
     JointsOption,
     MaxStepOption,
+    OnsetToleranceOption,
     RampTimeOption,
     RtolOption,
     StartOption,
@@ -52,6 +54,7 @@ from jointplay.settings.simulation import (
     finite_number,
     joint_list,
     over_table,
+    solver_tolerances,
 )
 from jointplay.units import parse_quantity
 
@@ -111,6 +114,8 @@ def simulate_command(
     rtol: RtolOption = None,
     integrator: IntegratorOption = None,
     max_step: MaxStepOption = None,
+    atol: AtolOption = None,
+    onset_tolerance: OnsetToleranceOption = None,
     fmt: Annotated[
         str | None, _opt("Time-series format: csv (default) or parquet.", "--format")
     ] = None,
@@ -146,7 +151,8 @@ def simulate_command(
             **contact_options, "clearance": clearance, "joints": joints, "start": start,
             "ramp_time": ramp_time, "start_angle": start_angle, "revolutions": revolutions,
             "settle": settle, "sample_deg": sample_deg, "output_step": output_step, "rtol": rtol,
-            "integrator": integrator, "max_step": max_step, "format": fmt,
+            "integrator": integrator, "max_step": max_step, "format": fmt, "atol": atol,
+            "onset_tolerance": onset_tolerance,
         }  # fmt: skip
         values = over_table(table, given)
         mechanism = mechanism_from_options(
@@ -156,6 +162,7 @@ def simulate_command(
         step = _quantity(values, "output_step", "s")
         _quantity(values, "ramp_time", "s")  # read again by run_settings_of
         _quantity(values, "max_step", "s")
+        solver_tolerances(values)  # --atol, --onset-tolerance: read again by run_settings_of
         fmt_value = str(values.get("format", "csv"))
         if fmt_value not in ("csv", "parquet"):
             raise ConfigError(f"--format must be csv or parquet, got {fmt_value!r}")

@@ -35,7 +35,7 @@ from jointplay.dynamics.clearance import (
 )
 from jointplay.dynamics.cycles import analysed_revolutions, settle_revolutions
 from jointplay.dynamics.simulate import SolverOptions, Start, initial_state, start_constraints
-from jointplay.dynamics.system import PARAMS_WIDTH, System, build_system
+from jointplay.dynamics.system import PARAMS_WIDTH, System, build_system, onset_fraction
 from jointplay.errors import ConfigError, JointplayError
 from jointplay.kinematics import fourbar, slidercrank
 from jointplay.kinematics.solver import revolute_tree
@@ -610,8 +610,9 @@ def _build_vectorised(
                 except JointplayError as exc:
                     ok[i], errors[i] = False, f"{type(exc).__name__}: {exc}"
     settings = np.tile(system0.model.settings, (n, 1))
-    if solver.onset_tolerance is None:
-        settings[:, ids.S_ONSET_TOL] = 0.01 * geom[:, :, ids.G_CLEARANCE].min(axis=1)
+    if solver.onset_tolerance is None:  # as build_system: a fraction of the smallest clearance
+        fraction = onset_fraction(system0.clearances)  # the laws' kinds are every sample's
+        settings[:, ids.S_ONSET_TOL] = fraction * geom[:, :, ids.G_CLEARANCE].min(axis=1)
     mass_vector = np.stack([mass, mass, inertia], axis=2).reshape(n, 3 * nb)
     gravity = np.zeros((n, nb, 3))
     gravity[:, :, 0] = mass * flat0.gravity[0]

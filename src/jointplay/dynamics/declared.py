@@ -181,6 +181,13 @@ RUN_SETTINGS: tuple[Setting, ...] = (
     Setting("max_step", "--max-step", "max_step", "solver",
             "Largest integration step, e.g. '1 ms' (default: 1° of crank).", unit="s",
             panel=RUN_PANEL),
+    Setting("atol", "--atol", "atol_position", "solver",
+            "Integrator's absolute tolerance on positions, e.g. '1e-12 m' (default 1e-10 m; "
+            "the velocities' scales with it: docs/cli.md).", unit="m", panel=RUN_PANEL),
+    Setting("onset_tolerance", "--onset-tolerance", "onset_tolerance", "solver",
+            "Deepest entry into a contact in one step, e.g. '2 nm' (default: 0.01 % of the "
+            "smallest clearance; 1 % with impact, hertz, kelvin-voigt: docs/cli.md).", unit="m",
+            panel=RUN_PANEL),
 )
 # fmt: on
 

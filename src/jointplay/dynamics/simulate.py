@@ -120,8 +120,12 @@ class SolverOptions:
         atol_position: absolute tolerance on positions (m) and angles (rad).
         atol_velocity: absolute tolerance on velocities (m/s, rad/s).
         max_step: largest step, s (default: the time of 1° of crank rotation).
-        onset_tolerance: largest penetration accepted in the step where a contact begins, m
-            (default: 1 % of the smallest clearance).
+        onset_tolerance: largest penetration accepted in the step where a contact begins, m,
+            > 0 and below the smallest clearance (default: 0.01 % of the smallest clearance
+            where a joint's law reads the impact velocity, else 1 %:
+            :func:`~jointplay.dynamics.system.onset_fraction`; the control of stiff
+            multi-impact contact's accuracy: docs/performance.md, "Stiff multi-impact
+            contact: the onset tolerance").
         max_steps: give up after this many accepted steps.
         integrator: ``"radau"`` (Radau IIA, order 5), ``"rodas4"`` (RODAS4, order 4,
             linearly implicit: one LU per step and no Newton iteration) or ``"dopri5"``

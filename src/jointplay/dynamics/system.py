@@ -12,6 +12,7 @@ any number of threads.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass, fields
 
@@ -21,7 +22,7 @@ from numpy.typing import ArrayLike, NDArray
 from jointplay._kernels import eom, ids
 from jointplay._kernels.ids import FRICTION_NONE
 from jointplay.dynamics.clearance import ClearanceJoint, film_model_id
-from jointplay.errors import ConfigError
+from jointplay.errors import ConfigError, SettingError
 from jointplay.model.flat import FlatModel, flatten
 from jointplay.model.mechanism import Mechanism, RevoluteJoint
 
@@ -29,6 +30,33 @@ FloatArray = NDArray[np.float64]
 #: Width of a row of contact-law and friction parameters in :attr:`EomModel.law_p` and
 #: :attr:`EomModel.fric_p`.
 PARAMS_WIDTH = 8
+#: The default contact-onset tolerance, as a fraction of the smallest clearance, where no
+#: clearance joint's law reads the impact velocity: 1 % (0.21 µm at 21 µm). Their force is
+#: the state's alone (IMPACT, Hertz, Kelvin–Voigt): a contact entered within it starts where
+#: the force is still small, and 0.01 % was measured no better for them (docs/performance.md).
+ONSET_FRACTION = 1e-2
+#: The default where a clearance joint's law reads the impact velocity v0
+#: (:attr:`~jointplay.contact.laws.ContactLaw.needs_impact_velocity`: the Hunt–Crossley
+#: family, restitution, Lankarani–Nikravesh, Flores, ...): 0.01 % (2.1 nm at 21 µm). Their
+#: damping for the whole impact is set by v0, which the step entering contact records; for
+#: stiff multi-impact contact (LN or Flores, K 1e10 N/m^1.5, e 0.8, dry, 21 µm in all four
+#: joints of the paper four-bar, 0.1 revolution) the onset tolerance controls the error: at
+#: 1 % the force and α peaks were 8.5 % (LN) and 1.5 % (Flores) off a converged reference
+#: (rtol or atol tightened alone do not cure it), at 0.01 % 2.7e-4 and 7.7e-5, in as many
+#: steps; over 18 such cases (18–24 µm, e 0.7–0.9) 17 missed 1e-3 at 1 %, 1 at 0.01 %,
+#: for 7 % more steps. The default lubricated run takes the same steps (docs/performance.md,
+#: "Stiff multi-impact contact: the onset tolerance"). The batch engine takes the same
+#: fraction of each sample's smallest clearance.
+ONSET_FRACTION_IMPACT_VELOCITY = 1e-4
+
+
+def onset_fraction(clearances: Sequence[ClearanceJoint]) -> float:
+    """The default onset tolerance's fraction of the smallest clearance for ``clearances``:
+    :data:`ONSET_FRACTION_IMPACT_VELOCITY` where a joint's law reads the impact velocity,
+    else :data:`ONSET_FRACTION`."""
+    if any(getattr(c.law, "needs_impact_velocity", False) for c in clearances):
+        return ONSET_FRACTION_IMPACT_VELOCITY
+    return ONSET_FRACTION
 
 
 @dataclass(frozen=True)
@@ -87,6 +115,23 @@ def _frozen(values: ArrayLike, dtype: type) -> NDArray[np.generic]:
     return array
 
 
+def check_onset_tolerance(onset_tolerance: float, smallest_clearance: float) -> None:
+    """Refuse an onset tolerance (m) that is not > 0 or not below the smallest clearance
+    (m): a step could then enter a contact deeper than the gap it crossed."""
+    if not (math.isfinite(onset_tolerance) and onset_tolerance > 0.0):
+        raise SettingError(
+            "{onset_tolerance} must be a length > 0, e.g. 2 nm, got {got!r} m",
+            got=onset_tolerance,
+        )
+    if onset_tolerance >= smallest_clearance:
+        raise SettingError(
+            "{onset_tolerance} {got:.3g} m is not below the smallest clearance "
+            "{clearance:.3g} m; give a small fraction of it (default 0.01 % or 1 % of it)",
+            got=onset_tolerance,
+            clearance=smallest_clearance,
+        )
+
+
 def build_system(
     mechanism: Mechanism,
     clearances: Sequence[ClearanceJoint],
@@ -100,8 +145,9 @@ def build_system(
 
     Args:
         ramp_time: duration of the driver's smooth speed ramp, s (0: full speed at t = 0).
-        onset_tolerance: largest penetration (m) accepted in the step where a contact begins;
-            default 1 % of the smallest clearance.
+        onset_tolerance: largest penetration (m) accepted in the step where a contact begins,
+            > 0 and below the smallest clearance; default :func:`onset_fraction` of the
+            smallest clearance (0.01 % where a law reads the impact velocity, else 1 %).
         projection_tolerance: constraint violation (m or rad) above which a step's state is
             projected back onto the ideal constraints.
         driven: ``False`` switches the motor off (the crank turns freely).
@@ -140,8 +186,11 @@ def build_system(
         geom[c, ids.G_CAPTURE] = clearance.capture_speed  # 0: sustained contact off
         geom[c, ids.G_FILM_MODEL] = film_model_id(clearance.film_model)  # 0: linear
         geom[c, ids.G_ROUGHNESS] = clearance.roughness  # σ: a Reynolds film's asperities
+    smallest = min((c.clearance for c in clearances), default=1e-5)
     if onset_tolerance is None:
-        onset_tolerance = 0.01 * min((c.clearance for c in clearances), default=1e-5)
+        onset_tolerance = onset_fraction(clearances) * smallest
+    if clearances:
+        check_onset_tolerance(onset_tolerance, smallest)
     settings = np.zeros(ids.N_SETTINGS)
     settings[ids.S_ONSET_TOL] = onset_tolerance
     settings[ids.S_PROJ_TOL] = projection_tolerance

@@ -1,13 +1,14 @@
 """The simulation's settings of the command line's options and of the ``[simulation]`` table
 (the same keys): :func:`contact_model` turns the contact options into the
-:class:`~jointplay.dynamics.setup.ContactModel` the layers below take; :func:`finite_number`,
+:class:`~jointplay.dynamics.setup.ContactModel` the layers below take;
+:func:`solver_tolerances` reads the integrator's tolerances; :func:`finite_number`,
 :func:`joint_list` and :func:`check_revolutions` read and check the run's values. Read by
 the simulating commands and by ``jointplay explore`` alike."""
 
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypedDict
 
 from jointplay.dynamics.declared import CONTACT_SETTINGS, RUN_SETTINGS, Setting
 from jointplay.errors import ConfigError
@@ -169,6 +170,56 @@ def method_law_of(
         if restitution is None
         else finite_number(values, "restitution", 0.0),
     )
+
+
+#: The integrator's absolute tolerance on velocities per unit of its tolerance on positions,
+#: 1/s: ``--atol`` sets the position tolerance and the velocity tolerance at this ratio, that
+#: of :class:`~jointplay.dynamics.simulate.SolverOptions`' defaults (1e-6 m/s over 1e-10 m),
+#: so that one option tightens both alike (docs/cli.md, "Tolerances").
+ATOL_VELOCITY_PER_POSITION = 1e4
+#: The largest ``--atol``: a position tolerance of a micrometre already spans the smaller
+#: clearances (MIN_CLEARANCE of the joints), and the contact would not be resolved.
+LARGEST_ATOL = 1e-6
+
+
+class SolverTolerances(TypedDict, total=False):
+    """The tolerances :func:`solver_tolerances` reads, by their
+    :class:`~jointplay.dynamics.simulate.SolverOptions` fields (m, m/s, m)."""
+
+    atol_position: float
+    atol_velocity: float
+    onset_tolerance: float
+
+
+def solver_tolerances(values: dict[str, Any]) -> SolverTolerances:
+    """The integrator's tolerances that ``values`` give (options over ``[simulation]``), as
+    :class:`~jointplay.dynamics.simulate.SolverOptions` fields in SI: ``atol`` (a length,
+    ``"1e-12 m"``) as ``atol_position`` and ``atol_velocity`` (at
+    :data:`ATOL_VELOCITY_PER_POSITION`), ``onset_tolerance`` (a length, ``"2 nm"``). Checked
+    here, before the numerical stack loads: each > 0, ``atol`` at most :data:`LARGEST_ATOL`
+    (the onset tolerance against the clearances where the joints are built:
+    :func:`jointplay.dynamics.system.check_onset_tolerance`)."""
+    from jointplay.units import parse_quantity
+
+    out = SolverTolerances()
+    if values.get("atol") is not None:
+        atol = parse_quantity(values["atol"], "m", field=_option("atol"))
+        if not 0.0 < atol <= LARGEST_ATOL:
+            raise ConfigError(
+                f"{_option('atol')} must be a length > 0 and at most {LARGEST_ATOL * 1e6:g} um, "
+                f"e.g. '1e-12 m' (default 1e-10 m), got {values['atol']!r}"
+            )
+        out["atol_position"] = atol
+        out["atol_velocity"] = atol * ATOL_VELOCITY_PER_POSITION
+    if values.get("onset_tolerance") is not None:
+        onset = parse_quantity(values["onset_tolerance"], "m", field=_option("onset_tolerance"))
+        if not onset > 0.0:
+            raise ConfigError(
+                f"{_option('onset_tolerance')} must be a length > 0 below the smallest "
+                f"clearance, e.g. '2 nm', got {values['onset_tolerance']!r}"
+            )
+        out["onset_tolerance"] = onset
+    return out
 
 
 def finite_number(values: dict[str, Any], key: str, default: float) -> float:
