@@ -7,7 +7,9 @@ import math
 import pytest
 
 from jointplay.dynamics import diagnostics as dg
-from jointplay.model.mechanism import STEEL, Material
+from jointplay.dynamics.settings import RunSettings, simulate_run
+from jointplay.dynamics.setup import ContactModel
+from jointplay.model.mechanism import STEEL, Material, Mechanism
 
 
 def test_line_contact_pressure_equals_hertz_closed_form() -> None:
@@ -192,3 +194,21 @@ def test_advice_names_settings_as_each_caller_calls_them() -> None:
     )
     settled = check_settled("omega4", [10.0, 12.0, 12.1, 12.05])
     assert settled is not None and settled.line({"settle": "--settle"}).endswith("raise --settle")
+
+
+def test_dry_joints_with_too_few_revolutions_say_the_peaks_may_be_draws(
+    paper_fourbar: Mechanism,
+) -> None:
+    """A dry run of one revolution cannot be checked for periodicity, and dry pins rattle:
+    the run says so; a lubricated one, or a dry one whose verdict is known, does not."""
+    found = dg.check_dry_undetermined("undetermined", 1, ["O2", "B"])
+    assert found is not None and (found.level, found.code) == ("info", "dry-undetermined")
+    assert "O2, B" in found.message and "--ensemble" in found.message
+    assert dg.check_dry_undetermined("undetermined", 1, []) is None
+    assert dg.check_dry_undetermined("not periodic", 20, ["O2"]) is None
+    result = simulate_run(
+        paper_fourbar, None, RunSettings(contact=ContactModel(lubrication="dry"), revolutions=0.2)
+    )
+    assert "dry-undetermined" in {f.code for f in result.diagnostics}
+    lubricated = simulate_run(paper_fourbar, None, RunSettings(revolutions=0.2))
+    assert "dry-undetermined" not in {f.code for f in lubricated.diagnostics}

@@ -34,6 +34,9 @@ code                                   fires when
                                        in its first :data:`START_WINDOW_DEG`
 ``not-periodic``                       (info) the once-per-revolution Poincaré section does not
                                        repeat (see :mod:`jointplay.dynamics.cycles`)
+``dry-undetermined``                   (info) dry joints, and too few analysed revolutions for
+                                       the periodicity check: the peaks may be draws of an
+                                       irregular motion
 ``not-settled``                        the start-up has not died out: the first analysed
                                        revolution's peak lies outside the range of the later
                                        ones by more than :data:`SETTLED_CHANGE` of their mean
@@ -417,6 +420,27 @@ def check_periodic(
         )
     return Diagnostic.advising(
         "info", "not-periodic", None, float(revolutions), math.nan, f"{where}: {reason}"
+    )
+
+
+def check_dry_undetermined(
+    verdict: str, revolutions: int, dry_joints: Sequence[str]
+) -> Diagnostic | None:
+    """``dry-undetermined`` (information) when dry joints ran too few revolutions for the
+    periodicity check: dry pins often rattle irregularly (docs/performance.md, "Accuracy of
+    irregular (chaotic) running"), and then every peak is a draw that the run cannot flag."""
+    if verdict != "undetermined" or not dry_joints:
+        return None
+    return Diagnostic.advising(
+        "info",
+        "dry-undetermined",
+        None,
+        float(revolutions),
+        math.nan,
+        f"dry joints ({', '.join(dry_joints)}) and {revolutions} analysed revolution(s): too "
+        "few to tell periodic running from rattling; dry pins often rattle, and then each "
+        "peak is a draw — run at least 12 revolutions (the per-revolution peak distributions "
+        "of irregular running), or an ensemble (--ensemble 12)",
     )
 
 

@@ -444,6 +444,13 @@ def _diagnose(
             converging=result_periodicity.converging,
         )
     )
+    findings.append(
+        dg.check_dry_undetermined(
+            result_periodicity.verdict,
+            analysed,
+            [c.joint for c in clearances if c.film_damping == 0.0],
+        )
+    )
     findings.append(dg.check_energy(energy_residual))
     findings.append(dg.check_transmission_angle(mechanism))
     return dg.collect(findings)
