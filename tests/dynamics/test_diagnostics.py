@@ -204,6 +204,7 @@ def test_dry_joints_with_too_few_revolutions_say_the_peaks_may_be_draws(
     found = dg.check_dry_undetermined("undetermined", 1, ["O2", "B"])
     assert found is not None and (found.level, found.code) == ("info", "dry-undetermined")
     assert "O2, B" in found.message and "--ensemble" in found.message
+    assert (found.value, found.limit) == (1.0, 3.0)  # JSON-ready: no NaN (explore)
     assert dg.check_dry_undetermined("undetermined", 1, []) is None
     assert dg.check_dry_undetermined("not periodic", 20, ["O2"]) is None
     result = simulate_run(

@@ -423,6 +423,11 @@ def check_periodic(
     )
 
 
+#: The fewest analysed revolutions the periodicity check gives a verdict on (three Poincaré
+#: points: :attr:`jointplay.dynamics.cycles.Periodicity.verdict`).
+PERIODICITY_REVOLUTIONS = 3
+
+
 def check_dry_undetermined(
     verdict: str, revolutions: int, dry_joints: Sequence[str]
 ) -> Diagnostic | None:
@@ -436,7 +441,7 @@ def check_dry_undetermined(
         "dry-undetermined",
         None,
         float(revolutions),
-        math.nan,
+        float(PERIODICITY_REVOLUTIONS),
         f"dry joints ({', '.join(dry_joints)}) and {revolutions} analysed revolution(s): too "
         "few to tell periodic running from rattling; dry pins often rattle, and then each "
         "peak is a draw — run at least 12 revolutions (the per-revolution peak distributions "
