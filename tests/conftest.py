@@ -28,3 +28,91 @@ def pytest_addoption(parser: pytest.Parser, pluginmanager: pytest.PytestPluginMa
     # through the same private call
     group._addoption("-n", "--numprocesses", dest="numprocesses", default=None, help="ignored")
     group.addoption("--dist", dest="dist", default="no", help="ignored")
+
+
+#: Seconds the controller waits for the kernels' first compilation before it lets the workers
+#: start anyway (they then compile what is missing, as without this step). Measured: 61-90 s
+#: wall for the longer group at load 2-4 on the 2-core machine.
+PRECOMPILE_TIMEOUT_S = 900.0
+
+
+def _cold_kernel_groups() -> list[tuple[str, ...]]:
+    """The groups of ``tests/_precompile.py`` with a kernel that Numba's cache lacks (no index
+    file of it for this Python in any cache folder that :mod:`jointplay._kernels` names)."""
+    import sys
+
+    from _precompile import GROUPS, KERNELS
+    from jointplay._kernels import cache_folders
+
+    tag = f"py{sys.version_info.major}{sys.version_info.minor}"
+    folders = [folder for folder in cache_folders() if folder.is_dir()]
+
+    def cached(name: str) -> bool:
+        return any(next(f.rglob(f"{KERNELS[name]}-*.{tag}.nbi"), None) for f in folders)
+
+    return [group for group in GROUPS if not all(cached(name) for name in group)]
+
+
+def _precompile(groups: list[tuple[str, ...]], timeout: float) -> list[int | None]:
+    """Run ``tests/_precompile.py`` on each group at once, in its own process, and wait (at
+    most ``timeout`` s, then kill what still runs). The exit status of each (None: killed);
+    never raises for the children's sake."""
+    import os
+    import subprocess
+    import sys
+    import time
+    from pathlib import Path
+
+    import jointplay
+
+    script = Path(__file__).with_name("_precompile.py")
+    source = str(Path(jointplay.__file__).resolve().parents[1])  # the jointplay pytest imports
+    path = os.pathsep.join(p for p in (source, os.environ.get("PYTHONPATH", "")) if p)
+    env = {**os.environ, "PYTHONPATH": path}
+    children = [
+        subprocess.Popen(
+            [sys.executable, str(script), ",".join(group)],
+            env=env,
+            stdin=subprocess.DEVNULL,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
+        for group in groups
+    ]
+    deadline = time.monotonic() + timeout
+    codes: list[int | None] = []
+    for child in children:
+        try:
+            codes.append(child.wait(timeout=max(0.0, deadline - time.monotonic())))
+        except subprocess.TimeoutExpired:
+            child.kill()
+            child.wait()
+            codes.append(None)
+    return codes
+
+
+def pytest_sessionstart(session: pytest.Session) -> None:
+    """On pytest-xdist's controller, with two workers or more and a cold Numba cache: compile
+    ``eom``'s explicit-signature kernels once, split between two processes, before the workers
+    start (pytest-xdist starts them in its own, later ``pytest_sessionstart``), instead of
+    every worker compiling all of them while it collects (docs/performance.md, "# Tests").
+    Nothing with ``-n 0``, on a worker, or with a warm cache; whatever goes wrong here, the
+    workers compile as before."""
+    config = session.config
+    if hasattr(config, "workerinput") or not config.pluginmanager.has_plugin("dsession"):
+        return
+    if len(getattr(config.option, "tx", None) or []) < 2:
+        return
+    try:
+        groups = _cold_kernel_groups()
+        if not groups:
+            return
+        reporter = config.pluginmanager.get_plugin("terminalreporter")
+        if reporter is not None:
+            reporter.write_line(
+                "Numba's cache is cold: compiling the kernels once, in two processes, "
+                "before the workers start (a minute or two)"
+            )
+        _precompile(groups, PRECOMPILE_TIMEOUT_S)
+    except Exception:  # an optimisation only: the workers compile as before
+        return

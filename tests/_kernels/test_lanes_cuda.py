@@ -4,9 +4,14 @@ simulator, against the CPU lanes.
 The simulator must be switched on before numba's CUDA target is imported, so the GPU side
 runs in a subprocess with ``NUMBA_ENABLE_CUDASIM=1``: one thread per lane, the kernel's
 local arrays and launch exactly as on a GPU, the device functions executed as Python. Three
-lanes of the paper four-bar (conventional contact, explicit): the nominal one over a
-revolution from t = 0, another start whose window opens at 0.3 of a revolution, and a lane
-that fails at once (a NaN state).
+lanes of the paper four-bar (conventional contact, explicit): the nominal one over
+``WINDOW`` of a revolution from t = 0 (its pins start clear of the bearings and every joint
+comes into contact inside the run: the contact onsets, with their rejected steps), another
+start whose window opens at ``WINDOW`` of a revolution (already in contact) and runs as long
+again, and a lane that fails at once (a NaN state). A fraction of a revolution makes the
+same bit-equality check as the full revolution that these tests ran before (33 s warm on
+the simulator's Python, under load); ``_onset_and_window`` asserts that the shortened run
+still holds a contact onset and the window opening.
 
 Bounds: the simulator runs the same source with the same float64 operations and libm as the
 CPU compilation, so it gives the CPU's steps exactly (counters equal) and its peaks and
@@ -56,6 +61,13 @@ JOINTS = ("O2", "A", "B", "O4")
 #: The simulator's Python runs each device function call; three lanes of a revolution take
 #: about 15 s on a 2-core machine.
 SIMULATOR_TIMEOUT_S = 240
+#: Revolutions of each explicit lane's window, and where the second lane's window opens. The
+#: pins of the steady start are clear of their bearings (penetrations −9 to −5 µm) and all
+#: four joints are in contact by 0.01 of a revolution (measured: 164 and 337 steps, 37 and 53
+#: of them rejected, against 1 031 and 1 321 steps over the full revolution of before).
+WINDOW = 0.05
+#: Revolutions of a run too short for any contact: the steady start's own penetrations.
+AT_START = 0.002
 
 _GPU_SIDE = """
 import sys
@@ -84,10 +96,10 @@ def _problem(paper_fourbar: Mechanism) -> dict[str, np.ndarray]:
     ys = np.tile(y0, (3, 1))
     ys[1, n : 2 * n] *= 1.01
     ys[2, 0] = np.nan
-    settle = np.array([0.0, 0.3 * period, 0.0])
+    settle = np.array([0.0, WINDOW * period, 0.0])
     return {
         "ipar": ipar, "rpar": np.tile(rpar, (3, 1)), "y0": ys, "t_settle": settle,
-        "t_end": settle + period, "max_step": np.full(3, period / 360.0),
+        "t_end": settle + WINDOW * period, "max_step": np.full(3, period / 360.0),
         "rtol": np.array(1e-6), "atol": atol, "max_steps": np.array(200_000),
     }  # fmt: skip
 
@@ -102,6 +114,26 @@ def _on_the_simulator(problem: dict[str, np.ndarray], tmp_path: Path) -> Any:
         env=env, check=True, timeout=SIMULATOR_TIMEOUT_S,
     )  # fmt: skip
     return np.load(tmp_path / "out.npz")
+
+
+def _onset_and_window(problem: dict[str, np.ndarray], cpu: Any, nc: int) -> None:
+    """Assert that the shortened explicit run still holds what the full revolution did: in
+    the first lane every clearance joint comes into contact (its largest penetration over the
+    window, the last ``nc`` statistics, is negative over the first ``AT_START`` of a
+    revolution and positive over the run), with rejected steps; the second lane's window
+    opens inside the run, after some steps, and the lane runs to its end."""
+    lanes = problem["y0"].shape[0]
+    period = (problem["t_end"][0] - problem["t_settle"][0]) / WINDOW
+    start = kb.run_batch(
+        problem["ipar"], problem["rpar"], problem["y0"], np.zeros(lanes),
+        np.full(lanes, AT_START * period), problem["max_step"], 1e-6, problem["atol"], 200_000,
+        "explicit", parallel=False,
+    )  # fmt: skip
+    assert (start.stats[0, -nc:] < 0.0).all()  # the pins start clear of their bearings
+    assert (cpu.stats[0, -nc:] > 0.0).all()  # ... and every joint's contact begins in the run
+    assert cpu.n_rejected[0] > 0
+    assert 0.0 < problem["t_settle"][1] < cpu.t_reached[1] == problem["t_end"][1]
+    assert cpu.n_steps[1] > cpu.n_steps[0] > 50  # the steps before the window; not a stub
 
 
 def test_the_simulated_gpu_lanes_are_the_cpu_lanes(paper_fourbar: Mechanism, tmp_path: Path):
@@ -119,7 +151,7 @@ def test_the_simulated_gpu_lanes_are_the_cpu_lanes(paper_fourbar: Mechanism, tmp
             gpu[name], getattr(cpu, name), rtol=SAME_ALGORITHM_RTOL, atol=0.0, err_msg=name
         )
     assert np.isnan(gpu["peaks"][2]).all() and np.isnan(gpu["stats"][2]).all()
-    assert (cpu.n_steps[:2] > 1000).all()  # a revolution, not a stub
+    _onset_and_window(problem, cpu, len(JOINTS))
 
 
 #: Penetrations |e| − c (m): |e| is a difference of positions ~0.3 m, so round-off carried
@@ -133,7 +165,10 @@ def test_the_simulated_gpu_lanes_with_ideal_joints_agree_with_the_cpu_lanes(
     """The four-bar with one clearance joint (A) and three ideal ones: the GPU projects onto
     the ideal constraints by its own Cholesky solve where the CPU calls LAPACK, so the lanes
     agree to round-off (measured: the same steps, peaks ≤ 1.2e-9 relative, mean ω ≤ 1e-11
-    rad/s of an RMS of 7 rad/s, penetrations ≤ 1.4e-14 m), not bit for bit."""
+    rad/s of an RMS of 7 rad/s, penetrations ≤ 1.4e-14 m, over a revolution), not bit for
+    bit. Windows as above: ``WINDOW`` of a revolution from t = 0, the steady start's pin in A
+    clear of its bearing and in contact within it (measured: 64 and 112 steps, 21 and 34
+    rejected), and one opening at ``WINDOW``."""
     system = build_system(paper_fourbar, [ClearanceJoint("A", 11.75e-6, 0.005, DEFAULT_IMPACT)])
     rpar, ipar = eom.pack(system.model)
     y0 = initial_state(system, Start("steady"))
@@ -142,10 +177,10 @@ def test_the_simulated_gpu_lanes_with_ideal_joints_agree_with_the_cpu_lanes(
     period = paper_fourbar.driver.period
     ys = np.tile(y0, (2, 1))
     ys[1, n : 2 * n] *= 1.01
-    settle = np.array([0.0, 0.3 * period])
+    settle = np.array([0.0, WINDOW * period])
     problem = {
         "ipar": ipar, "rpar": np.tile(rpar, (2, 1)), "y0": ys, "t_settle": settle,
-        "t_end": settle + period, "max_step": np.full(2, period / 360.0),
+        "t_end": settle + WINDOW * period, "max_step": np.full(2, period / 360.0),
         "rtol": np.array(1e-6), "atol": atol, "max_steps": np.array(200_000),
     }  # fmt: skip
     gpu = _on_the_simulator(problem, tmp_path)
@@ -153,11 +188,20 @@ def test_the_simulated_gpu_lanes_with_ideal_joints_agree_with_the_cpu_lanes(
         ipar, problem["rpar"], ys, settle, problem["t_end"], problem["max_step"], 1e-6, atol,
         200_000, "explicit", parallel=False,
     )  # fmt: skip
-    assert (cpu.status == ids.STATUS_SUCCESS).all() and (cpu.n_steps > 1000).all()
+    assert (cpu.status == ids.STATUS_SUCCESS).all()
+    _onset_and_window(problem, cpu, 1)
     for name in ("status", "n_steps", "n_rejected", "n_rhs"):
         np.testing.assert_array_equal(gpu[name], getattr(cpu, name), err_msg=name)
-    np.testing.assert_allclose(gpu["peaks"], cpu.peaks, rtol=SAME_ALGORITHM_RTOL, atol=0.0)
     nb = n // 3
+    # the driven crank's α (column nb) is prescribed 0: its peak is round-off (~5e-12 rad/s²
+    # in a window this short, where the two Cholesky solves' last bits differ by a third of
+    # it; over a whole revolution they happened to agree), compared absolutely as in the
+    # implicit ideal-joint test below; every other peak relatively, as before
+    crank_alpha = np.arange(cpu.peaks.shape[1]) == nb
+    np.testing.assert_allclose(gpu["peaks"][:, ~crank_alpha], cpu.peaks[:, ~crank_alpha],
+                               rtol=SAME_ALGORITHM_RTOL, atol=0.0)  # fmt: skip
+    np.testing.assert_allclose(gpu["peaks"][:, crank_alpha], cpu.peaks[:, crank_alpha],
+                               rtol=0.0, atol=1e-9)  # fmt: skip
     rms = cpu.stats[:, nb : 2 * nb]
     np.testing.assert_allclose(gpu["stats"][:, : 2 * nb], cpu.stats[:, : 2 * nb],
                                rtol=SAME_ALGORITHM_RTOL, atol=SAME_ALGORITHM_RTOL * rms.max())  # fmt: skip
