@@ -34,13 +34,7 @@ QUANTITIES = ("F_O2", "F_A", "F_B", "F_O4", "omega4")
 
 def _solver(factor: float) -> SolverOptions:
     base = SolverOptions()
-    return dataclasses.replace(
-        base,
-        rtol=base.rtol / factor,
-        atol_position=base.atol_position / factor,
-        atol_velocity=base.atol_velocity / factor,
-        max_steps=10 * base.max_steps,
-    )
+    return dataclasses.replace(base.tightened(factor), max_steps=10 * base.max_steps)
 
 
 def _run(revolutions: int, factor: float) -> RunSettings:

@@ -27,11 +27,16 @@ import os
 import time
 from typing import Any
 
-import numba
 import numpy as np
+from bench_dry_profile import (  # the script's folder
+    _time_hooks,
+    _time_jacobian,
+    _time_lu,
+    _time_rhs,
+)
 from numpy.typing import NDArray
 
-from jointplay._kernels import eom, radau
+from jointplay._kernels import eom
 from jointplay.dynamics.peaks import locate_peaks
 from jointplay.dynamics.setup import ContactModel
 from jointplay.dynamics.simulate import SimulationResult, SolverOptions, Start, simulate
@@ -65,36 +70,6 @@ def run(revolutions: int, settle: int, tolerances: tuple[float, float, float]) -
         start=Start("steady"),
         solver=solver,
     )
-
-
-@numba.njit
-def _time_rhs(t: float, y: Any, args: Any, calls: int) -> float:
-    s = 0.0
-    for _ in range(calls):
-        s += eom.rhs(t, y, args)[0]
-    return s
-
-
-@numba.njit
-def _time_jacobian(t: float, y: Any, f: Any, args: Any, out: Any, calls: int) -> None:
-    for _ in range(calls):
-        eom.jacobian_state(t, y, f, args, out)
-
-
-@numba.njit
-def _time_lu(jac: Any, h: float, a_re: Any, piv_re: Any, c_re: Any, c_im: Any, piv_c: Any,
-             m2: int, nk: int, calls: int) -> None:  # fmt: skip
-    for _ in range(calls):
-        radau.factor_newton(jac, h, a_re, piv_re, c_re, c_im, piv_c, m2, nk)
-
-
-@numba.njit
-def _time_hooks(t: float, y: Any, t2: float, y2: Any, args: Any, calls: int) -> float:
-    s = 0.0
-    for _ in range(calls):
-        s += eom.step_check(t, y, t2, y2, args)
-        eom.after_step(t2, y2, args)
-    return s
 
 
 def micro_us(result: SimulationResult, h: float) -> dict[str, float]:

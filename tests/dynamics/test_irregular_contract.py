@@ -40,17 +40,12 @@ ENSEMBLE_RUNS = 12
 ENSEMBLE_REVOLUTIONS = 20
 #: Each mean judged at 99 %: the five together at 95 % (Bonferroni).
 JUDGED_AT = 1.0 - 0.05 / len(QUANTITIES)
+MAX_STEPS = SolverOptions().max_steps
 
 
-def tighter(solver: SolverOptions, factor: float) -> SolverOptions:
-    """``solver`` with rtol and both absolute tolerances divided by ``factor``."""
-    return dataclasses.replace(
-        solver,
-        rtol=solver.rtol / factor,
-        atol_position=solver.atol_position / factor,
-        atol_velocity=solver.atol_velocity / factor,
-        max_steps=10 * solver.max_steps,
-    )
+def tighter(factor: float) -> SolverOptions:
+    """The default solver with rtol and both absolute tolerances divided by ``factor``."""
+    return dataclasses.replace(SolverOptions().tightened(factor), max_steps=10 * MAX_STEPS)
 
 
 @pytest.fixture(scope="module")
@@ -63,7 +58,7 @@ def dry_ensembles(paper_fourbar: Mechanism) -> dict[str, Ensemble]:
             contact=ContactModel(lubrication="dry"),
             settle=2,
             revolutions=float(ENSEMBLE_REVOLUTIONS),
-            solver=tighter(SolverOptions(), factor),
+            solver=tighter(factor),
         )
         out[name] = simulate_ensemble(paper_fourbar, None, run, runs=ENSEMBLE_RUNS)
     return out
