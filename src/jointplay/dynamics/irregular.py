@@ -270,16 +270,7 @@ def peak_distribution(
         ValueError: fewer than :data:`MIN_REVOLUTIONS` values, or a value that is not finite.
     """
     mean, batches, inflation = batch_means(values, confidence)
-    return PeakDistribution(
-        revolutions=int(np.size(values)),
-        mean=mean,
-        quantile=quantile_interval(values, probability, confidence, inflation),
-        maximum=maximum_interval(values, confidence, inflation),
-        batches=batches,
-        inflation=inflation,
-        confidence=confidence,
-        probability=probability,
-    )
+    return _distribution(values, mean, batches, inflation, probability, confidence)
 
 
 def peak_distributions(
@@ -349,12 +340,26 @@ def replicate_distribution(
             f"the statistics of irregular running need at least {MIN_REVOLUTIONS} revolutions, "
             f"got {pooled.size}"
         )
+    estimate = Estimate(mean, mean - half, mean + half)
+    return _distribution(pooled, estimate, m, inflation, probability, confidence)
+
+
+def _distribution(
+    values: ArrayLike,
+    mean: Estimate,
+    batches: int,
+    inflation: float,
+    probability: float,
+    confidence: float,
+) -> PeakDistribution:
+    """The distribution of ``values`` given its mean's estimate, the number of batches behind
+    it and the variance inflation that sets the percentile's and the max's effective sample."""
     return PeakDistribution(
-        revolutions=int(pooled.size),
-        mean=Estimate(mean, mean - half, mean + half),
-        quantile=quantile_interval(pooled, probability, confidence, inflation),
-        maximum=maximum_interval(pooled, confidence, inflation),
-        batches=m,
+        revolutions=int(np.size(values)),
+        mean=mean,
+        quantile=quantile_interval(values, probability, confidence, inflation),
+        maximum=maximum_interval(values, confidence, inflation),
+        batches=batches,
         inflation=inflation,
         confidence=confidence,
         probability=probability,
