@@ -201,13 +201,20 @@ def dry_statistics(runs: Runs) -> str:
         rows.append([f"{label} ({unit})",
                      f"{mean['value']:.{digits}f} [{mean['low']:.{digits}f}, "
                      f"{mean['high']:.{digits}f}]",
-                     f"{p95['value']:.{digits}f}"])  # fmt: skip
+                     _interval(p95, digits)])  # fmt: skip
     return _table(
         [f"`--lubrication dry`, {DRY_RUNS} runs × {DRY_REVOLUTIONS} settled revolutions",
-         "mean of the revolutions' peaks [95 %]", "95th percentile"],
+         "mean of the revolutions' peaks [95 %]", "95th percentile [95 %; — unbounded]"],
         ["---", "---:", "---:"],
         rows,
     )  # fmt: skip
+
+
+def _interval(estimate: dict[str, Any], digits: int) -> str:
+    """``value [low, high]``, an unbounded end as —."""
+    ends = [f"{estimate[end]:.{digits}f}" if estimate[end] is not None else "—"
+            for end in ("low", "high")]  # fmt: skip
+    return f"{estimate['value']:.{digits}f} [{ends[0]}, {ends[1]}]"
 
 
 def film_damping(runs: Runs) -> str:
