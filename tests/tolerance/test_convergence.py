@@ -24,6 +24,7 @@ from jointplay.tolerance.analysis import (
     CONVERGENCE_LIMIT,
     CONVERGENCE_MIN_POINTS,
     CONVERGENCE_SAMPLES,
+    CONVERGENCE_STATISTIC_SAMPLES,
     CONVERGENCE_TIGHTENING,
     _mean_shift,
     convergence_verdict,
@@ -56,39 +57,41 @@ def test_the_conventional_set_converges_and_says_so(paper_fourbar: Mechanism) ->
         # share 0.0046 (torque; 0.0064, torque and F_O4, with the onset tolerance at 1 % of
         # the clearance, before issue 40); 0.337 with the contact memory before 6016863
         (8, True),
-        # share 0.75 (F_O4: an impact sequence that changes with the tolerances). Seed 5 was
-        # this case with the onset tolerance at 1 % (share 1.57; 1.13 before 6016863); at
-        # the 0.01 % default for laws that read the impact velocity it converges (0.0077)
+        # share 0.75 (F_O4: an impact sequence that changes with the tolerances): one sample
+        # of eight moved, and it runs irregularly (its section over 8 revolutions at rtol 1e-8
+        # does not repeat), so the study is judged on its statistics (issue 40): F_O4_peak's
+        # mean over 16 samples moved +0.275 N, within its +-0.276 N interval. Before, the
+        # per-sample rule warned peaks-not-converged, "not usable as it stands" (the mean's
+        # shift -0.28 to +0.46 of the spread). Seed 5 was this case with the onset tolerance
+        # at 1 % (share 1.57; 1.13 before 6016863); at the 0.01 % default for laws that read
+        # the impact velocity it converges (0.0077)
         (7, False),
     ],
 )
-def test_the_rm_set_converges_within_its_limit_or_warns(
+def test_the_rm_set_converges_within_its_limit_or_on_its_statistics(
     paper_fourbar: Mechanism, seed: int, converges: bool
 ) -> None:
     """The paper's RM set at a fixed seed: the outcome measured for that seed, asserted,
-    with the share on the right side of the limit and the warning present exactly when the
-    study says it did not converge."""
+    with the share on the right side of the limit; a study whose moved sample runs
+    irregularly is judged, and passes, on its statistics."""
     law = method_law("rm-conventional", paper_fourbar)[0]
     study = tolerance_study(paper_fourbar, backend=LOCAL, **{**STUDY, "seed": seed, "contact": law})
     check = study.convergence
     assert check is not None
     assert (check.share < CONVERGENCE_LIMIT) is converges, check.share
-    assert (check.finding is None) is converges
+    assert check.finding is None and check.usable
     codes = {d.diagnostic.code for d in study.diagnostics}
-    assert ("peaks-not-converged" not in codes) is converges
-    assert study.summary()["convergence_check"]["converged"] is converges
-    if not converges:
-        # one sample of eight moved (its impact sequence changed), the mean shift's interval
-        # holds zero (measured: +0.09, interval -0.28 to +0.46 of the spread): the warning
-        # reads the motion as sensitive, not the integration as biased
-        low, high = check.mean_shift_interval
-        assert low < 0.0 < high
-        assert check.finding is not None and "sensitive" in check.finding.line()
-        # eight samples bound the mean's move only to ~46 % of the spread: not shown usable
-        assert check.finding.line().endswith(check.verdict) and not check.usable
-        assert check.verdict.startswith("not usable as it stands")
+    assert "peaks-not-converged" not in codes
+    assert study.summary()["convergence_check"]["converged"] is True
+    if converges:
+        assert check.rule == "per-sample" and check.note is None
+        assert check.verdict.startswith("usable: the peaks moved")
     else:
-        assert check.usable and check.verdict.startswith("usable: the peaks moved")
+        assert check.rule == "statistics" and (check.moved, check.irregular) == (1, 1)
+        assert check.note is not None and "statistics-converged" in codes
+        mean = check.statistics["F_O4_peak"][0]
+        assert mean.judged and abs(mean.shift) <= mean.half_width
+        assert check.verdict.startswith("usable for its statistics")
     record = study.summary()["convergence_check"]
     assert record["usable"] is check.usable and record["verdict"] == check.verdict
 
@@ -102,10 +105,16 @@ def test_a_coarse_integration_warns_with_the_share_recomputed_here(
     assert check is not None and check.finding is not None
     assert check.finding.diagnostic.code == "peaks-not-converged"
     assert check.finding.line().startswith(f"warning: peaks-not-converged: {check.response}:")
+    # the samples that moved, classified at rtol 1e-5 over 8 revolutions: all of the first
+    # eight's irregular, so the check ran 16; of the 15 that moved one approaches a cycle
+    # ("converging": its peaks are not draws), so the per-sample rule judges all 16
+    assert check.rule == "per-sample" and check.samples == CONVERGENCE_STATISTIC_SAMPLES
+    assert (check.moved, check.irregular) == (15, 14)
+    assert "1 of the 15 samples that moved does not run irregularly" in check.finding.line()
     # the share, recomputed from the model with tightened tolerances
     r = study.result
     ok = np.flatnonzero(r.run.status == OK)
-    rows = ok[:CONVERGENCE_SAMPLES]
+    rows = ok[: check.samples]
     from jointplay.tolerance.analysis import build_model
 
     model, _ = build_model(
@@ -130,14 +139,12 @@ def test_a_coarse_integration_warns_with_the_share_recomputed_here(
     share = np.max(np.abs(again.values[:, j] - r.run.values[rows, j])) / spread
     assert check.share == pytest.approx(share, rel=1e-9)
     assert check.share > CONVERGENCE_LIMIT
-    # the coarse integration shifts the mean too (measured: -0.60 of the spread, interval -0.97
-    # to -0.23): the warning advises tightening, as the interval excludes zero
+    # the mean of the 16 changes (measured: -0.07 of the spread, interval -0.33 to +0.19; over
+    # the first 8 it was -0.60, interval -0.97 to -0.23): not shown within +-0.1, not usable
     signed = (again.values[:, j] - r.run.values[rows, j]) / spread
     assert check.mean_shift == pytest.approx(np.mean(signed), rel=1e-9)
-    assert check.mean_shift_interval[1] < 0.0
-    assert "tighten the integration" in check.finding.line()
     assert check.finding.line().endswith("Verdict: " + check.verdict) and not check.usable
-    assert check.verdict.startswith("not usable: the integration biases the study")
+    assert check.verdict.startswith("not usable")
     # the verdict is the worst response's; where the others stand, recomputed here
     spreads = np.std(r.run.values[ok], axis=0, ddof=1)
     shares = np.max(np.abs(again.values - r.run.values[rows]), axis=0) / spreads

@@ -398,6 +398,145 @@ def revolutions_for_quantile(
     return max(MIN_REVOLUTIONS, math.ceil(k * max(inflation, 1.0)))
 
 
+#: Pairs whose swaps :func:`paired_shifts` enumerates (2**16 = 65 536 patterns); beyond,
+#: as many patterns drawn at random (seed 0, the identity among them).
+MAX_ENUMERATED_PAIRS = 16
+
+
+@dataclass(frozen=True)
+class PairedShift:
+    """How far a statistic over paired samples moved between two settings, against the
+    randomization interval of that move (:func:`paired_shifts`), in the unit of the values.
+
+    Attributes:
+        statistic: ``"mean"`` or ``"p95"`` (the :data:`QUANTILE` quantile).
+        first: the statistic over the samples at the first setting (e.g. the default
+            tolerances).
+        second: the same statistic over the same samples at the second setting.
+        half_width: the interval of the move: under the hypothesis that the setting changes
+            nothing but the draw (each sample's two values exchangeable) the move exceeds it
+            with probability at most ``level``.
+        level: that probability (the per-statistic false-alarm rate).
+        pairs: the samples behind the statistic.
+        largest: the largest |move| any swap pattern gives; where the half-width reaches it,
+            no move can lie beyond: the statistic cannot be judged by these pairs at this
+            level (:attr:`judged`).
+    """
+
+    statistic: str
+    first: float
+    second: float
+    half_width: float
+    level: float
+    pairs: int
+    largest: float
+
+    @property
+    def shift(self) -> float:
+        """``second - first``."""
+        return self.second - self.first
+
+    @property
+    def within(self) -> bool:
+        """Whether the move lies within its interval: the statistic converged."""
+        return bool(abs(self.shift) <= self.half_width)
+
+    @property
+    def judged(self) -> bool:
+        """Whether the test can reject at all: some swap pattern moves the statistic beyond
+        the half-width (with few pairs, or a quantile set by the largest one or two values,
+        the largest move is shared by more than ``level`` of the patterns)."""
+        return bool(self.half_width < self.largest)
+
+    def as_dict(self) -> dict[str, Any]:
+        """JSON-ready: the two values, the shift, its interval, whether it lies within."""
+        return {
+            "first": self.first,
+            "second": self.second,
+            "shift": self.shift,
+            "half_width": self.half_width,
+            "within": self.within,
+            "judged": self.judged,
+            "level": self.level,
+            "pairs": self.pairs,
+        }
+
+
+def pairs_to_judge(level: float) -> int:
+    """The fewest pairs whose randomization test can reject at ``level``: the two patterns
+    that give the largest move (a swap pattern and its complement move the statistic by the
+    same amount, opposite signs) must be at most ``level`` of the 2**n patterns."""
+    return max(1, math.ceil(math.log2(2.0 / level)))
+
+
+def paired_shifts(
+    first: ArrayLike, second: ArrayLike, level: float, probability: float = QUANTILE
+) -> tuple[PairedShift, PairedShift]:
+    """The move of the mean and of the ``probability`` quantile of paired samples between two
+    settings, each with its randomization interval at ``level``.
+
+    ``first[i]`` and ``second[i]`` are the same sample (the same inputs) at the two settings.
+    Under the hypothesis that the second setting changes nothing but the draw — a converged
+    sample gives the same value, an irregular (chaotic) one another draw of its distribution —
+    each sample's two values are exchangeable, so swapping them in any subset of the samples
+    gives a move as likely as the one observed (a paired randomization test: Fisher 1935;
+    Good, Permutation Tests, 2nd ed., §3.1). All 2**n swap patterns are enumerated (n <=
+    :data:`MAX_ENUMERATED_PAIRS`; else as many drawn). The interval's half-width is the
+    ``1 - level`` point of the patterns' |move|: the observed move exceeds it with probability
+    at most ``level`` under the hypothesis, whatever the distribution — the test's
+    false-alarm rate. A bias of the second setting larger than about the half-width is found;
+    a smaller one is not resolved by n samples.
+
+    Args:
+        first: (n,) the values at the first setting.
+        second: (n,) the values of the same samples at the second setting.
+        level: the per-statistic false-alarm rate, in (0, 1) (Bonferroni: the family's rate
+            over the number of statistics judged).
+        probability: the quantile's probability (Hyndman & Fan definition 7).
+
+    Returns:
+        The mean's and the quantile's :class:`PairedShift`.
+
+    Raises:
+        ValueError: the two differ in length, fewer than two pairs, a value that is not
+            finite, or a level outside (0, 1).
+    """
+    a = np.asarray(first, dtype=float).ravel()
+    b = np.asarray(second, dtype=float).ravel()
+    if a.shape != b.shape or a.size < 2:
+        raise ValueError(
+            f"paired samples need two arrays of the same length >= 2, got {a.size} and {b.size}"
+        )
+    if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
+        raise ValueError("the paired values must be finite numbers")
+    if not 0.0 < level < 1.0:
+        raise ValueError(f"the level must be in (0, 1), got {level!r}")
+    n = a.size
+    if n <= MAX_ENUMERATED_PAIRS:
+        swap = ((np.arange(2**n)[:, None] >> np.arange(n)) & 1).astype(bool)
+    else:
+        swap = np.random.default_rng(0).random((2**MAX_ENUMERATED_PAIRS, n)) < 0.5
+        swap[0] = False  # the observed pattern is one of them
+    one, two = np.where(swap, b, a), np.where(swap, a, b)
+    quantile = f"p{100 * probability:g}"
+    # row 0 is the observed pattern (no swap): its statistics are the reported ones, so the
+    # observed move is exactly one of the patterns' moves
+    statistics = {
+        "mean": (one.mean(axis=1), two.mean(axis=1)),
+        quantile: (np.quantile(one, probability, axis=1), np.quantile(two, probability, axis=1)),
+    }
+    out = []
+    for name, (at_first, at_second) in statistics.items():
+        size = np.sort(np.abs(at_second - at_first))
+        beyond = math.floor(level * size.size)  # at most this many patterns exceed the width
+        half_width = float(size[size.size - beyond - 1])
+        first_value, second_value = float(at_first[0]), float(at_second[0])
+        out.append(
+            PairedShift(name, first_value, second_value, half_width, level, n, float(size[-1]))
+        )
+    return out[0], out[1]
+
+
 #: The unit of each peak quantity, by prefix (SI, as summary.json).
 UNITS = (("omega", "rad/s"), ("alpha", "rad/s²"), ("F_", "N"), ("torque", "N·m"))
 

@@ -268,7 +268,8 @@ def _report(
     for finding in study.diagnostics:
         d = finding.diagnostic
         where = f", joint {d.joint}" if d.joint else ""
-        page.paragraph(f"Warning ({d.code}{where}): {d.message}.", css="note")
+        label = "Warning" if d.level == "warning" else "Note"  # the convergence rule's note
+        page.paragraph(f"{label} ({d.code}{where}): {d.message}.", css="note")
     note = sampling_note(study)
     if note:
         page.paragraph(f"Sampling: {note}.", css="note")

@@ -20,12 +20,17 @@ than a tenth of their spread over the study, with the shift of their mean and it
 a shift says the integration biases the study, single samples moving about an unshifted mean
 say the motion is sensitive (a settled peak is one draw of its scatter). The warning ends with
 a verdict (:func:`convergence_verdict`): usable only where the mean is shown to stay within
-the same tenth of the spread.
+the same tenth of the spread. Where every sample that moved runs irregularly (dry joints
+rattle: the single engine's periodicity check), the study is judged instead on the statistics
+it reports — the mean and 95th percentile of each response over 16 samples run again, each
+within the interval of a paired randomization test — with a ``statistics-converged`` note or
+a ``statistics-not-converged`` warning (docs/cli.md, "Converged?").
 """
 
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cached_property
@@ -35,7 +40,8 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from jointplay.dynamics.diagnostics import Diagnostic
+from jointplay.dynamics.diagnostics import Diagnostic, Level
+from jointplay.dynamics.irregular import PairedShift
 from jointplay.errors import ConfigError, PartialInterrupt, name_settings
 from jointplay.model.mechanism import Mechanism
 from jointplay.tolerance.execution import OK, STATUS, Backend, RunResult, prepare
@@ -218,8 +224,36 @@ CONVERGENCE_SAMPLES = 8
 CONVERGENCE_MIN_POINTS = 40
 CONVERGENCE_TIGHTENING = 100.0
 CONVERGENCE_LIMIT = 0.1
-#: Family-wise confidence of the mean shifts' intervals (Bonferroni over the responses).
+#: Family-wise confidence of the mean shifts' intervals (Bonferroni over the responses), and
+#: of the statistics' intervals of irregular motion (over the responses and statistics).
 CONVERGENCE_CONFIDENCE = 0.95
+#: Samples run again in all when every sample that moved runs irregularly: the statistics
+#: over them are judged (:func:`jointplay.dynamics.irregular.paired_shifts`; 16 pairs give
+#: 65 536 swap patterns, enough to judge 2 statistics of up to ~800 responses at 95 %).
+CONVERGENCE_STATISTIC_SAMPLES = 16
+#: Analysed revolutions (at least) of the single-engine run that classifies the motion of a
+#: sample that moved (its periodicity check: a period of k revolutions shows in 2k + 1).
+MOTION_REVOLUTIONS = 8
+
+#: The rules of :func:`convergence_finding`, in words (``summary.json``).
+RULES = {
+    "per-sample": (
+        "each sample run again must move by at most the limit's share of the response's "
+        "spread over the study; where some moved, their mean's shift decides whether the "
+        "statistics are usable (convergence_verdict)"
+    ),
+    "statistics": (
+        "every sample that moved beyond the limit runs irregularly (its once-per-revolution "
+        "Poincare section does not repeat over the classifying run: each peak is a draw), so "
+        "the statistics the study reports are judged instead: the mean and the 95th "
+        "percentile of each response over the samples run again, default against tight, "
+        "each against the interval of a paired randomization test (the two values of each "
+        "sample swapped in all 2^n patterns); under the hypothesis that the tolerances change "
+        "only the draw, the chance that any statistic moves beyond its interval is at most "
+        "5 % (each at 5 % / the number judged, Bonferroni); a bias larger than about the "
+        "interval is found, a smaller one is not resolved by these samples"
+    ),
+}
 
 
 @dataclass(frozen=True)
@@ -232,8 +266,9 @@ class ConvergenceCheck:
         response: the response whose change was the largest share of its spread.
         share: that share (largest change / standard deviation over the study's successful
             points).
-        limit: the share above which the study warns.
-        finding: the ``peaks-not-converged`` warning, or ``None``.
+        limit: the share above which a sample moved.
+        finding: the ``peaks-not-converged`` (per-sample rule) or
+            ``statistics-not-converged`` (statistics rule) warning, or ``None``.
         mean_shift: that response's mean change over the samples run again (tight − default),
             over its spread; where single samples move but this does not, the motion is
             sensitive (each settled peak one draw of its revolution-to-revolution scatter,
@@ -244,6 +279,15 @@ class ConvergenceCheck:
         usable: whether the study's statistics are usable by the rule of
             :func:`convergence_verdict` (always when it converged).
         verdict: that verdict in words (how far the peaks, or their mean, moved).
+        rule: the rule that judged the study (:data:`RULES`): ``"per-sample"`` or
+            ``"statistics"``.
+        moved: samples run again that moved by more than :attr:`limit` of a spread.
+        irregular: of those, the samples whose motion is irregular (classified by the single
+            engine's periodicity check over :data:`MOTION_REVOLUTIONS` revolutions).
+        statistics: the statistics rule: per response, the move of its mean and of its 95th
+            percentile over the samples run again, with their intervals (SI).
+        note: the statistics rule's ``statistics-converged`` information (the output's
+            sentence saying which rule judged), or ``None``.
     """
 
     samples: int
@@ -256,6 +300,11 @@ class ConvergenceCheck:
     mean_shift_interval: tuple[float, float] = (float("nan"), float("nan"))
     usable: bool = True
     verdict: str = ""
+    rule: str = "per-sample"
+    moved: int = 0
+    irregular: int = 0
+    statistics: Mapping[str, tuple[PairedShift, ...]] = dataclasses.field(default_factory=dict)
+    note: StudyDiagnostic | None = None
 
     def as_dict(self) -> dict[str, Any]:
         return {
@@ -273,6 +322,14 @@ class ConvergenceCheck:
             "converged": self.finding is None,
             "usable": self.usable,
             "verdict": self.verdict,
+            "rule": self.rule,
+            "rule_taken": RULES[self.rule],
+            "moved_samples": self.moved,
+            "irregular_samples": self.irregular,
+            "statistics": {
+                name: {s.statistic: s.as_dict() for s in shifts}
+                for name, shifts in self.statistics.items()
+            },
             "mean_change_over_spread": self.mean_shift,
             "mean_change_interval_over_spread": list(self.mean_shift_interval),
             "mean_change_taken": (
@@ -296,15 +353,27 @@ def convergence_finding(
     tolerance :data:`CONVERGENCE_TIGHTENING` times tighter (on ``backend``, or here for the
     GPU). Each response's largest change is compared with its spread over the
     study (the standard deviation of its successful points); the response with the largest
-    share is recorded, and if that share exceeds :data:`CONVERGENCE_LIMIT` the check carries a
-    ``peaks-not-converged`` warning (``value`` the share, ``limit`` the limit). ``None`` for
-    models without an integrator (kinematic, custom) and for studies with fewer than
-    :data:`CONVERGENCE_MIN_POINTS` successful points.
+    share is recorded. Within :data:`CONVERGENCE_LIMIT` the study converged (the per-sample
+    rule). Beyond it, the samples that moved are classified by the single engine's
+    periodicity check (settle and :data:`MOTION_REVOLUTIONS` analysed revolutions, at the
+    tightened tolerances: :func:`_motions`):
+
+    - where one of them runs periodically (or its class is unknown), the per-sample rule
+      judges: a ``peaks-not-converged`` warning (``value`` the share, ``limit`` the limit)
+      with the verdict of :func:`convergence_verdict`;
+    - where all of them run irregularly, each peak is a draw and the statistics the study
+      reports are judged instead (the statistics rule, :data:`RULES`): the samples run again
+      grow to :data:`CONVERGENCE_STATISTIC_SAMPLES` (those that move among the new ones are
+      classified too), and the mean and 95th percentile of every response over them, default
+      against tight, must move within their paired randomization intervals
+      (:func:`jointplay.dynamics.irregular.paired_shifts`, :data:`CONVERGENCE_CONFIDENCE`
+      family-wise): a ``statistics-converged`` note (usable) or a
+      ``statistics-not-converged`` warning (not usable: the integration biases the
+      statistics).
+
+    ``None`` for models without an integrator (kinematic, custom) and for studies with fewer
+    than :data:`CONVERGENCE_MIN_POINTS` successful points.
     """
-    import dataclasses
-
-    from jointplay.tolerance.execution import run
-
     dynamic = model.base if isinstance(model, RunningResponses) else model
     if not isinstance(dynamic, DynamicResponses):
         return None
@@ -312,6 +381,87 @@ def convergence_finding(
     if len(ok) < CONVERGENCE_MIN_POINTS:
         return None
     rows = ok[:CONVERGENCE_SAMPLES]
+    tightened, tight_rtol = _tightened(model, dynamic)
+    where = Backend("local") if backend is None or backend.on_device else backend
+    again = _run_again(tightened, x[rows], where)
+    if again is None:
+        return None
+    values = outcome.values
+    with np.errstate(divide="ignore", invalid="ignore"):
+        spread = np.nanstd(values[ok], axis=0, ddof=1)
+    moves = _moves(values[rows], again, spread)
+    if np.all(np.isnan(moves.share)):
+        return None
+    j = int(np.nanargmax(moves.share))
+    name = model.response_names[j]
+    compared = int(np.sum(~np.isnan(moves.share)))
+    if moves.share[j] <= CONVERGENCE_LIMIT:
+        shift, interval = _mean_shift(moves.signed[:, j], spread[j], compared)
+        verdict = (
+            f"usable: the peaks moved at most {100 * moves.share[j]:.0f} % of their spread "
+            f"({name}), within the ±{100 * CONVERGENCE_LIMIT:.0f} % limit"
+        )
+        return ConvergenceCheck(
+            len(rows), CONVERGENCE_TIGHTENING, name, float(moves.share[j]), CONVERGENCE_LIMIT,
+            None, shift, interval, True, verdict,
+        )  # fmt: skip
+    # some samples moved: the class of their motion decides the rule
+    # classified at the tight tolerances: a coarse integration can make a periodic motion
+    # look irregular, and the per-sample rule must hold it
+    tight_dynamic = tightened.base if isinstance(tightened, RunningResponses) else tightened
+    assert isinstance(tight_dynamic, DynamicResponses)
+    motions = _motions(tight_dynamic, x[rows[moves.moved]])
+    if all(motion == "irregular" for motion in motions):
+        more = ok[len(rows) : CONVERGENCE_STATISTIC_SAMPLES]
+        if len(more):
+            extra = _run_again(tightened, x[more], where)
+            if extra is not None:
+                rows = np.concatenate([rows, more])
+                again = _concatenate(again, extra)
+                added = _moves(values[more], extra, spread)
+                motions = [*motions, *_motions(tight_dynamic, x[more[added.moved]])]
+                moves = _moves(values[rows], again, spread)
+                j = int(np.nanargmax(moves.share))
+                name = model.response_names[j]
+    irregular = sum(motion == "irregular" for motion in motions)
+    if irregular == len(motions):
+        return _statistics_check(
+            model, x, values, rows, again, spread, moves, name, tight_rtol, irregular
+        )
+    return _per_sample_check(
+        model, x, rows, spread, moves, j, tight_rtol, compared, motions, irregular
+    )
+
+
+@dataclass(frozen=True)
+class _Moves:
+    """The paired changes of the samples run again (tight − default) and their largest share
+    of each response's spread (NaN where unknown); ``moved``: the samples whose change
+    exceeds :data:`CONVERGENCE_LIMIT` of a spread."""
+
+    signed: FloatArray
+    change: FloatArray
+    largest: FloatArray
+    share: FloatArray
+    moved: NDArray[np.bool_]
+
+
+def _moves(default: FloatArray, again: RunResult, spread: FloatArray) -> _Moves:
+    with np.errstate(divide="ignore", invalid="ignore"):
+        signed = again.values - default
+        signed[again.status != OK] = np.nan
+        change = np.abs(signed)
+        # the largest change per response, NaN where none is known (np.nanmax warns there)
+        known = ~np.isnan(change)
+        largest = np.where(known.any(axis=0), np.max(np.where(known, change, 0.0), axis=0), np.nan)
+        share = np.where(spread > 0, largest / spread, np.nan)
+        moved = np.any(change > CONVERGENCE_LIMIT * np.where(spread > 0, spread, np.inf), axis=1)
+    return _Moves(signed, change, largest, share, moved)
+
+
+def _tightened(model: ResponseModel, dynamic: DynamicResponses) -> tuple[ResponseModel, float]:
+    """``model`` with every integration tolerance :data:`CONVERGENCE_TIGHTENING` times
+    tighter, and its relative tolerance."""
     loose = dynamic.solver
     tight = dataclasses.replace(
         loose,
@@ -320,72 +470,256 @@ def convergence_finding(
         atol_velocity=loose.atol_velocity / CONVERGENCE_TIGHTENING,
     )
     tight_dynamic = dataclasses.replace(dynamic, solver=tight)
-    tightened: ResponseModel = (
-        dataclasses.replace(model, base=tight_dynamic)
-        if isinstance(model, RunningResponses)
-        else tight_dynamic
-    )
-    where = Backend("local") if backend is None or backend.on_device else backend
-    again = run(tightened, x[rows], backend=where)
+    if isinstance(model, RunningResponses):
+        return dataclasses.replace(model, base=tight_dynamic), tight.rtol
+    return tight_dynamic, tight.rtol
+
+
+def _run_again(model: ResponseModel, x: FloatArray, where: Backend) -> RunResult | None:
+    """The run of ``x`` with ``model``; ``None`` where none ran (e.g. a Dask cluster lost)."""
+    from jointplay.tolerance.execution import run
+
+    again = run(model, x, backend=where)
     if again.interrupted:  # a check of some samples is no check
         raise KeyboardInterrupt("interrupted during the convergence check")
-    if not np.any(again.status == OK):  # none ran again (e.g. a Dask cluster lost): no check
+    if not np.any(again.status == OK):
         return None
-    values = outcome.values
-    with np.errstate(divide="ignore", invalid="ignore"):
-        spread = np.nanstd(values[ok], axis=0, ddof=1)
-        signed = again.values - values[rows]
-        signed[again.status != OK] = np.nan
-        change = np.abs(signed)
-        # the largest change per response, NaN where none is known (np.nanmax warns there)
-        known = ~np.isnan(change)
-        largest = np.where(known.any(axis=0), np.max(np.where(known, change, 0.0), axis=0), np.nan)
-        share = np.where(spread > 0, largest / spread, np.nan)
-    if np.all(np.isnan(share)):
-        return None
-    j = int(np.nanargmax(share))
-    name = model.response_names[j]
-    shift, interval = _mean_shift(signed[:, j], spread[j], int(np.sum(~np.isnan(share))))
-    finding = None
-    usable, verdict = (
-        True,
-        (
-            f"usable: the peaks moved at most {100 * share[j]:.0f} % of their spread ({name}), "
-            f"within the ±{100 * CONVERGENCE_LIMIT:.0f} % limit"
-        ),
+    return again
+
+
+def _concatenate(first: RunResult, second: RunResult) -> RunResult:
+    """Two runs of samples, in order (the first run's execution details)."""
+    checks = None
+    if first.checks is not None and second.checks is not None:
+        checks = np.concatenate([first.checks, second.checks])
+    return dataclasses.replace(
+        first,
+        values=np.concatenate([first.values, second.values]),
+        status=np.concatenate([first.status, second.status]),
+        errors=(*first.errors, *second.errors),
+        checks=checks,
     )
-    if share[j] > CONVERGENCE_LIMIT:
-        worst = int(rows[int(np.nanargmax(change[:, j]))])
-        count = int(np.sum(change[:, j] > CONVERGENCE_LIMIT * spread[j]))
-        message = (
-            f"{name}: {count} of {len(rows)} samples run again with tolerances "
-            f"{CONVERGENCE_TIGHTENING:g}x tighter (rtol {loose.rtol:.0e} -> {tight.rtol:.0e}) "
-            f"moved by up to {largest[j]:.3g} {model.units.get(name, '')}, "
-            f"{100 * share[j]:.0f} % of its spread over the study (std {spread[j]:.3g}); "
+
+
+def _motions(dynamic: DynamicResponses, x: FloatArray) -> list[str]:
+    """The motion of each sample of ``x``: ``"irregular"`` (its once-per-revolution Poincaré
+    section does not repeat and its steps do not shrink), ``"converging"`` (a section that
+    does not repeat yet but approaches a cycle smoothly:
+    :attr:`~jointplay.dynamics.cycles.Periodicity.converging`), ``"periodic (period k)"``, or
+    ``"failed"``; by the single engine at the study's settle and start, over at least
+    :data:`MOTION_REVOLUTIONS` analysed revolutions, at ``dynamic``'s tolerances (the check
+    passes the tightened ones: at a coarse tolerance (rtol 1e-3) the conventional set's
+    periodic motion looks irregular).
+
+    Broader than :func:`jointplay.dynamics.running.rattling`, which also sets apart a section
+    that repeats from a later revolution on (asking ``simulate`` for more ``settle``): the
+    study's analysed revolutions lie before that revolution, where the motion does not repeat
+    either (measured on the dry paper four-bar: such a sample at the default tolerances was
+    rattling at 100x tighter ones)."""
+    from jointplay.errors import JointplayError
+
+    revolutions = max(float(MOTION_REVOLUTIONS), math.floor(dynamic.revolutions + 1e-9))
+    classify = dataclasses.replace(dynamic, revolutions=revolutions)
+    out = []
+    for row in np.asarray(x, dtype=float):
+        try:
+            result = classify.simulate_one(row)
+            if not result.success:
+                out.append("failed")
+                continue
+            running = result.running
+        except (JointplayError, np.linalg.LinAlgError):
+            out.append("failed")
+            continue
+        section = running.periodicity
+        if section.verdict != "not periodic":
+            out.append(section.verdict)
+        elif section.converging:  # a smooth approach to a cycle: its peaks are not draws
+            out.append("converging")
+        else:
+            out.append("irregular")
+    return out
+
+
+def _per_sample_check(
+    model: ResponseModel,
+    x: FloatArray,
+    rows: NDArray[np.intp],
+    spread: FloatArray,
+    moves: _Moves,
+    j: int,
+    tight_rtol: float,
+    compared: int,
+    motions: list[str],
+    irregular: int,
+) -> ConvergenceCheck:
+    """The per-sample rule's ``peaks-not-converged`` warning and verdict (some sample that
+    moved does not run irregularly)."""
+    name = model.response_names[j]
+    share, largest, change = moves.share, moves.largest, moves.change
+    shift, interval = _mean_shift(moves.signed[:, j], spread[j], compared)
+    worst = int(rows[int(np.nanargmax(change[:, j]))])
+    count = int(np.sum(change[:, j] > CONVERGENCE_LIMIT * spread[j]))
+    loose_rtol = tight_rtol * CONVERGENCE_TIGHTENING
+    message = (
+        f"{name}: {count} of {len(rows)} samples run again with tolerances "
+        f"{CONVERGENCE_TIGHTENING:g}x tighter (rtol {loose_rtol:.0e} -> {tight_rtol:.0e}) "
+        f"moved by up to {largest[j]:.3g} {model.units.get(name, '')}, "
+        f"{100 * share[j]:.0f} % of its spread over the study (std {spread[j]:.3g}); "
+    )
+    if irregular:  # why the statistics rule did not judge
+        regular = len(motions) - irregular
+        message += (
+            f"{regular} of the {len(motions)} samples that moved "
+            f"{'does' if regular == 1 else 'do'} not run irregularly, so each sample is held "
+            "to the limit; "
         )
-        usable, sentence = convergence_verdict(shift, interval, len(rows), tight.rtol)
-        others = [k for k in range(len(share)) if k != j and np.isfinite(share[k])]
-        if others:  # the verdict is the worst response's; say where the others stand
-            within = sum(int(share[k] <= CONVERGENCE_LIMIT) for k in others)
-            sentence += (
-                f"; of the other {len(others)} responses, {within} moved within "
-                f"±{100 * CONVERGENCE_LIMIT:.0f} % of their spread (usable)"
-            )
-        message += sentence
-        verdict = name_settings(sentence[sentence.index("Verdict: ") + len("Verdict: ") :])
-        warning = Diagnostic.advising(
-            "warning", "peaks-not-converged", None, float(share[j]), CONVERGENCE_LIMIT, message
+    usable, sentence = convergence_verdict(shift, interval, len(rows), tight_rtol)
+    others = [k for k in range(len(share)) if k != j and np.isfinite(share[k])]
+    if others:  # the verdict is the worst response's; say where the others stand
+        within = sum(int(share[k] <= CONVERGENCE_LIMIT) for k in others)
+        sentence += (
+            f"; of the other {len(others)} responses, {within} moved within "
+            f"±{100 * CONVERGENCE_LIMIT:.0f} % of their spread (usable)"
         )
-        finding = StudyDiagnostic(
-            warning,
-            count=count,
-            out_of=len(rows),
-            worst_sample=worst,
-            worst_inputs=dict(zip(model.input_names, map(float, x[worst]), strict=True)),
-        )
+    message += sentence
+    verdict = name_settings(sentence[sentence.index("Verdict: ") + len("Verdict: ") :])
+    warning = Diagnostic.advising(
+        "warning", "peaks-not-converged", None, float(share[j]), CONVERGENCE_LIMIT, message
+    )
+    finding = StudyDiagnostic(
+        warning,
+        count=count,
+        out_of=len(rows),
+        worst_sample=worst,
+        worst_inputs=dict(zip(model.input_names, map(float, x[worst]), strict=True)),
+    )
     return ConvergenceCheck(
         len(rows), CONVERGENCE_TIGHTENING, name, float(share[j]), CONVERGENCE_LIMIT, finding,
-        shift, interval, usable, verdict,
+        shift, interval, usable, verdict, "per-sample", len(motions), irregular,
+    )  # fmt: skip
+
+
+def _statistics_check(
+    model: ResponseModel,
+    x: FloatArray,
+    values: FloatArray,
+    rows: NDArray[np.intp],
+    again: RunResult,
+    spread: FloatArray,
+    moves: _Moves,
+    name: str,
+    tight_rtol: float,
+    irregular: int,
+) -> ConvergenceCheck:
+    """The statistics rule (every sample that moved runs irregularly): the mean and 95th
+    percentile of every response over the samples run again, default against tight, each
+    within its paired randomization interval; a ``statistics-converged`` note or a
+    ``statistics-not-converged`` warning."""
+    from jointplay.dynamics.irregular import paired_shifts, pairs_to_judge
+
+    j = model.response_names.index(name)
+    share = moves.share
+    paired = np.flatnonzero(again.status == OK)
+    judged = [k for k in range(len(share)) if np.isfinite(share[k])]
+    level = (1.0 - CONVERGENCE_CONFIDENCE) / (2 * len(judged))
+    statistics = {
+        model.response_names[k]: paired_shifts(
+            values[rows[paired], k], again.values[paired, k], level
+        )
+        for k in judged
+    }
+    units = model.units
+    shift, interval = _mean_shift(moves.signed[:, j], spread[j], len(judged))
+    moved = (
+        f"irregular motion in {irregular} of the {len(rows)} samples run again with tolerances "
+        f"{CONVERGENCE_TIGHTENING:g}x tighter (rtol {tight_rtol * CONVERGENCE_TIGHTENING:.0e} "
+        f"-> {tight_rtol:.0e}), every one of them that moved beyond "
+        f"±{100 * CONVERGENCE_LIMIT:.0f} % of a spread (their peaks are draws: {name} moved "
+        f"up to {100 * share[j]:.0f} % of its spread); so the study is judged on the "
+        "statistics it reports"
+    )
+    count = int(np.sum(moves.moved))
+
+    def said(item: tuple[str, PairedShift]) -> str:
+        response, s = item
+        unit = f" {units.get(response, '')}".rstrip()
+        return (
+            f"the {s.statistic} of {response} over the {s.pairs} samples moved "
+            f"{s.shift:+.3g}{unit} ({s.first:.4g} -> {s.second:.4g}{unit})"
+        )
+
+    shifts = [(response, s) for response, pair in statistics.items() for s in pair]
+    # a statistic whose interval is the largest move any swap gives cannot be judged (a 95th
+    # percentile of 16 samples, set by their largest two): the verdict rests on the others
+    judgeable = [item for item in shifts if item[1].judged] or shifts
+    ratio = [
+        abs(s.shift) / s.half_width if s.half_width > 0 else (0.0 if s.shift == 0 else math.inf)
+        for _, s in judgeable
+    ]
+    worst = judgeable[int(np.argmax(ratio))]
+    unit = f" {units.get(worst[0], '')}".rstrip()
+    rate = f"{100 * CONVERGENCE_CONFIDENCE:.0f} %"
+    means = sum(s.judged for _, s in shifts if s.statistic == "mean")
+    quantiles = sum(s.judged for _, s in shifts if s.statistic != "mean")
+    unjudged = len(judged) - quantiles
+    cannot = (
+        f"cannot be judged by {len(paired)} samples: their interval is the largest move any "
+        "swap gives"
+    )
+    if quantiles == 0:
+        scope = f"the means of the {means} responses (their 95th percentiles {cannot})"
+    elif unjudged:
+        scope = (
+            f"the means of the {means} responses and the 95th percentiles of {quantiles} (the "
+            f"other {unjudged} {cannot})"
+        )
+    else:
+        scope = f"the means and 95th percentiles of the {means} responses"
+    level_word: Level
+    if means < len(judged):
+        usable = False
+        code, level_word = "statistics-not-converged", "warning"
+        sentence = (
+            f"{moved}, but {len(paired)} samples ran again, too few to show a move of "
+            f"{2 * len(judged)} statistics at {rate} (at least {pairs_to_judge(level)}). "
+            "Verdict: not usable as it stands (the statistics are not judged)"
+        )
+    elif all(s.within for _, s in shifts):
+        usable = True
+        code, level_word = "statistics-converged", "info"
+        sentence = (
+            f"{moved}: {scope} moved within their {rate} intervals (largest against its "
+            f"interval: {said(worst)}, within ±{worst[1].half_width:.3g}{unit}). Verdict: "
+            "usable for its statistics (mean, spread, quantiles, yield), not sample by "
+            'sample: converged on the statistics rule (docs/cli.md, "Converged?")'
+        )
+    else:
+        usable = False
+        code, level_word = "statistics-not-converged", "warning"
+        beyond = [item for item in shifts if not item[1].within]
+        sentence = (
+            f"{moved}: {said(worst)}, beyond its ±{worst[1].half_width:.3g}{unit} interval "
+            f"({len(beyond)} of the {means + quantiles} statistics judged beyond theirs). "
+            "Verdict: not usable: the integration biases the study's statistics; tighten the "
+            f"integration ({{rtol}} {tight_rtol:.0e})"
+        )
+    verdict = name_settings(sentence[sentence.index("Verdict: ") + len("Verdict: ") :])
+    ratio_worst = float(np.max(ratio))  # the largest move over its interval
+    diagnostic = Diagnostic.advising(level_word, code, None, ratio_worst, 1.0, sentence)
+    k = model.response_names.index(worst[0])
+    sample = int(rows[int(np.nanargmax(moves.change[:, k]))])
+    found = StudyDiagnostic(
+        diagnostic,
+        count=count,
+        out_of=len(rows),
+        worst_sample=sample,
+        worst_inputs=dict(zip(model.input_names, map(float, x[sample]), strict=True)),
+    )
+    return ConvergenceCheck(
+        len(rows), CONVERGENCE_TIGHTENING, name, float(share[j]), CONVERGENCE_LIMIT,
+        None if usable else found, shift, interval, usable, verdict, "statistics", count,
+        irregular, statistics, found if usable else None,
     )  # fmt: skip
 
 
@@ -513,12 +847,15 @@ class ToleranceStudyResult:
     @cached_property
     def diagnostics(self) -> tuple[StudyDiagnostic, ...]:
         """Plausibility warnings over the points (:func:`penetration_findings`, then
-        :attr:`convergence`); empty when every point is physical and converged, or the model
-        has no checks (kinematic studies)."""
+        :attr:`convergence`'s warning, or its ``statistics-converged`` note: which rule
+        judged an irregular study); empty when every point is physical and converged sample
+        by sample, or the model has no checks (kinematic studies)."""
         found = penetration_findings(self.result)
-        if self.convergence is None or self.convergence.finding is None:
+        check = self.convergence
+        if check is None:
             return found
-        return (*found, self.convergence.finding)
+        said = check.finding if check.finding is not None else check.note
+        return found if said is None else (*found, said)
 
     def to_dataframe(self) -> pd.DataFrame:
         """One row per evaluated point (the content of ``samples.parquet``): ``sample``,
