@@ -95,11 +95,12 @@ def _synthetic(
     monkeypatch: pytest.MonkeyPatch,
     bias: float,
     motions: list[str] | None = None,
+    failed: int = 0,
 ) -> analysis.ConvergenceCheck | None:
     """The check of a dry four-bar model whose study values and re-runs are synthetic: 40
     samples, every response 100 ± 10; run again, every sample draws anew (± 10, as an
     irregular motion does) and F_O2_peak moves by ``bias`` too. The motions are
-    ``motions`` (default: all irregular)."""
+    ``motions`` (default: all irregular); the last ``failed`` of the 16 re-runs fail."""
     spec = ToleranceSpec.from_mechanism(paper_fourbar)
     model, spec = build_model(paper_fourbar, spec, "dynamic", **{
         k: DRY[k] for k in ("contact", "settle", "revolutions")
@@ -109,9 +110,12 @@ def _synthetic(
     level = rng.normal(100.0, 10.0, (40, len(names)))  # each sample's own value
     x = np.tile(spec.centre, (40, 1))
 
-    def result(values: np.ndarray) -> RunResult:
+    def result(values: np.ndarray, failing: int = 0) -> RunResult:
         n = len(values)
-        return RunResult(values, np.zeros(n, np.int8), ("",) * n, False, "local", 1, n, 0.0)
+        status = np.zeros(n, np.int8)
+        status[n - failing :] = 1 if failing else 0
+        values = np.where(status[:, None] == 0, values, np.nan)
+        return RunResult(values, status, ("",) * n, False, "local", 1, n, 0.0)
 
     default = level + rng.normal(0.0, 10.0, level.shape)
     tight = level + rng.normal(0.0, 10.0, level.shape)
@@ -121,7 +125,7 @@ def _synthetic(
     def run_again(tightened, rows_x, where):  # the rows in the order the check asks for them
         start = sum(calls)
         calls.append(len(rows_x))
-        return result(tight[start : start + len(rows_x)])
+        return result(tight[start : start + len(rows_x)], failed if start else 0)
 
     def classify(dynamic, rows_x):
         return (motions or ["irregular"] * len(rows_x))[: len(rows_x)]
@@ -182,3 +186,16 @@ def test_the_check_records_its_rule(paper_fourbar: Mechanism, monkeypatch) -> No
     assert record["rule"] == "statistics" and record["samples"] == CONVERGENCE_STATISTIC_SAMPLES
     assert set(record["statistics"]["F_O2_peak"]) == {"mean", "p95"}
     assert dataclasses.asdict(check.statistics["F_O2_peak"][0])["pairs"] == 16
+
+
+def test_too_few_samples_run_again_leave_the_statistics_unjudged(
+    paper_fourbar: Mechanism, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """7 of the 8 more re-runs fail: 9 pairs, fewer than the 10 whose largest move can be
+    rarer than 5 % / 18 of the swap patterns; the check says so and does not pass."""
+    check = _synthetic(paper_fourbar, monkeypatch, bias=0.0, failed=7)
+    assert check is not None and check.rule == "statistics" and check.statistics == {}
+    assert not check.usable and check.finding is not None
+    assert check.finding.diagnostic.code == "statistics-not-converged"
+    assert "but 9 samples ran again, too few" in check.finding.diagnostic.message
+    assert check.verdict == "not usable as it stands (the statistics are not judged)"

@@ -623,11 +623,12 @@ def _statistics_check(
     paired = np.flatnonzero(again.status == OK)
     judged = [k for k in range(len(share)) if np.isfinite(share[k])]
     level = (1.0 - CONVERGENCE_CONFIDENCE) / (2 * len(judged))
+    enough = len(paired) >= max(2, pairs_to_judge(level))
     statistics = {
         model.response_names[k]: paired_shifts(
             values[rows[paired], k], again.values[paired, k], level
         )
-        for k in judged
+        for k in (judged if enough else ())
     }
     units = model.units
     shift, interval = _mean_shift(moves.signed[:, j], spread[j], len(judged))
@@ -650,8 +651,24 @@ def _statistics_check(
         )
 
     shifts = [(response, s) for response, pair in statistics.items() for s in pair]
+    rate = f"{100 * CONVERGENCE_CONFIDENCE:.0f} %"
+    level_word: Level
+    if not enough:
+        diagnostic = Diagnostic.advising(
+            "warning", "statistics-not-converged", None, math.nan, 1.0,
+            f"{moved}, but {len(paired)} samples ran again, too few to show a move of "
+            f"{2 * len(judged)} statistics at {rate} (at least {pairs_to_judge(level)}). "
+            "Verdict: not usable as it stands (the statistics are not judged)",
+        )  # fmt: skip
+        finding = StudyDiagnostic(diagnostic, count, len(rows), int(rows[0]), {})
+        verdict = "not usable as it stands (the statistics are not judged)"
+        return ConvergenceCheck(
+            len(rows), CONVERGENCE_TIGHTENING, name, float(share[j]), CONVERGENCE_LIMIT,
+            finding, shift, interval, False, verdict, "statistics", count, irregular,
+        )  # fmt: skip
     # a statistic whose interval is the largest move any swap gives cannot be judged (a 95th
-    # percentile of 16 samples, set by their largest two): the verdict rests on the others
+    # percentile of 16 samples, set by their largest two; a response that did not move at
+    # all): the verdict rests on the others
     judgeable = [item for item in shifts if item[1].judged] or shifts
     ratio = [
         abs(s.shift) / s.half_width if s.half_width > 0 else (0.0 if s.shift == 0 else math.inf)
@@ -659,33 +676,8 @@ def _statistics_check(
     ]
     worst = judgeable[int(np.argmax(ratio))]
     unit = f" {units.get(worst[0], '')}".rstrip()
-    rate = f"{100 * CONVERGENCE_CONFIDENCE:.0f} %"
-    means = sum(s.judged for _, s in shifts if s.statistic == "mean")
-    quantiles = sum(s.judged for _, s in shifts if s.statistic != "mean")
-    unjudged = len(judged) - quantiles
-    cannot = (
-        f"cannot be judged by {len(paired)} samples: their interval is the largest move any "
-        "swap gives"
-    )
-    if quantiles == 0:
-        scope = f"the means of the {means} responses (their 95th percentiles {cannot})"
-    elif unjudged:
-        scope = (
-            f"the means of the {means} responses and the 95th percentiles of {quantiles} (the "
-            f"other {unjudged} {cannot})"
-        )
-    else:
-        scope = f"the means and 95th percentiles of the {means} responses"
-    level_word: Level
-    if means < len(judged):
-        usable = False
-        code, level_word = "statistics-not-converged", "warning"
-        sentence = (
-            f"{moved}, but {len(paired)} samples ran again, too few to show a move of "
-            f"{2 * len(judged)} statistics at {rate} (at least {pairs_to_judge(level)}). "
-            "Verdict: not usable as it stands (the statistics are not judged)"
-        )
-    elif all(s.within for _, s in shifts):
+    scope = _scope(shifts, len(judged), len(paired))
+    if all(s.within for _, s in shifts):
         usable = True
         code, level_word = "statistics-converged", "info"
         sentence = (
@@ -700,7 +692,8 @@ def _statistics_check(
         beyond = [item for item in shifts if not item[1].within]
         sentence = (
             f"{moved}: {said(worst)}, beyond its ±{worst[1].half_width:.3g}{unit} interval "
-            f"({len(beyond)} of the {means + quantiles} statistics judged beyond theirs). "
+            f"({len(beyond)} of the {sum(s.judged for _, s in shifts)} statistics judged "
+            "beyond theirs). "
             "Verdict: not usable: the integration biases the study's statistics; tighten the "
             f"integration ({{rtol}} {tight_rtol:.0e})"
         )
@@ -721,6 +714,35 @@ def _statistics_check(
         None if usable else found, shift, interval, usable, verdict, "statistics", count,
         irregular, statistics, found if usable else None,
     )  # fmt: skip
+
+
+def _scope(shifts: list[tuple[str, PairedShift]], responses: int, pairs: int) -> str:
+    """Which statistics the verdict rests on, in words: a mean or 95th percentile whose
+    interval is the largest move any swap gives cannot be judged (said so), unless no
+    sample moved it at all."""
+    cannot = (
+        f"cannot be judged by {pairs} samples, their interval being the largest move any swap gives"
+    )
+
+    heads, notes = [], []
+    for kind, chosen in (
+        ("means", [s for _, s in shifts if s.statistic == "mean"]),
+        ("95th percentiles", [s for _, s in shifts if s.statistic != "mean"]),
+    ):
+        judged = sum(s.judged for s in chosen)
+        still = sum(not s.judged and s.largest == 0.0 for s in chosen)
+        left = len(chosen) - judged - still
+        if judged:
+            heads.append(
+                f"the {kind} of the {responses} responses"
+                if judged == len(chosen)
+                else f"the {kind} of {judged} of the {responses} responses"
+            )
+        said = [f"{still} did not move at all"] if still else []
+        said += [f"{left} {cannot}"] if left else []
+        if said:
+            notes.append(f"{kind}: {'; '.join(said)}")
+    return " and ".join(heads or ["no statistic"]) + (f" ({'; '.join(notes)})" if notes else "")
 
 
 def _mean_shift(
