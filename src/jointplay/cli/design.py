@@ -233,7 +233,7 @@ def design_command(
         typer.Option(
             "--samples",
             "-n",
-            help="Per scheme: a number, or auto (rounds of 100, 200, 400, ... until decided).",
+            help="Per scheme: a number, or auto (blocks of 100, judged after each, until decided).",
             rich_help_panel=SAMPLING_PANEL,
         ),
     ] = "auto",
@@ -543,7 +543,13 @@ def _print(result: DesignResult, units: dict[str, str]) -> None:
     with its unit; long scheme labels as S1, S2, ... with their key."""
     from rich.table import Table
 
-    from jointplay.report.design import YIELD_ALL, display, evidence_line
+    from jointplay.report.design import (
+        YIELD_ALL,
+        display,
+        evidence_line,
+        stop_line,
+        verdict_interval,
+    )
 
     table = result.table
     level = f"{100 * result.confidence:g} %"
@@ -585,6 +591,12 @@ def _print(result: DesignResult, units: dict[str, str]) -> None:
     for scheme, label in labels.items():
         if label != scheme:
             console.print(f"{label}: {scheme}")
+    if len(table):
+        stopped = stop_line(result)
+        console.print(
+            f"verdicts on the {verdict_interval(result)}; samples: what each took"
+            + (f"; {stopped}" if stopped else "")
+        )
     if modelled:
         console.print(
             f"* normal-model estimate (mean + z·std), not a bound: fewer samples than a "

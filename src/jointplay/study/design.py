@@ -1,8 +1,8 @@
 """Tolerance synthesis through the dynamics: which fit and which length class to put on the
 drawing.
 
-This module runs the study (the rounds of samples, the verdicts, the rare-defect estimates);
-its candidates — schemes, callouts, requirements, rounds — are in
+This module runs the study (the blocks of samples, the verdicts, the rare-defect estimates);
+its candidates — schemes, callouts, requirements, looks — are in
 :mod:`jointplay.study.design_schemes` and its result — :class:`DesignResult` and the
 findings over the samples — in :mod:`jointplay.study.design_result`; both are re-exported
 here, the one import path.
@@ -14,8 +14,8 @@ pin joints, or one per named joint — and an ISO 2768-1 class for the link leng
    its class's ±deviation, each joint's hole and pin diameters in their own ISO 286 zones,
    the radial clearance their half difference (or, ``Process(sampling="band")``, the
    clearance over the fit's worst-case band), with the same seed for every scheme and every
-   round (common random numbers: schemes differ by their tolerances, not by their luck);
-   ``samples="auto"`` adds rounds (:func:`sample_rounds`) while a scheme is undecided and
+   block (common random numbers: schemes differ by their tolerances, not by their luck);
+   ``samples="auto"`` adds blocks (:func:`sample_looks`) while a scheme is undecided and
    could still be the answer;
 2. each sample through the steady running dynamics (steady start, ``settle`` start-up
    revolutions left out) — or through the ideal-joint kinematics when every requirement is
@@ -46,8 +46,8 @@ pin joints, or one per named joint — and an ISO 2768-1 class for the link leng
    (:class:`DesignDiagnostic`: how many samples of how many schemes, the worst ratio and its
    scheme, whether the recommended scheme is among them).
 
-Each round's samples of all open schemes run as one batch on one backend
-(:func:`jointplay.tolerance.execution.run`), scheme after scheme: Ctrl-C keeps the rounds
+Each block's samples of all open schemes run as one batch on one backend
+(:func:`jointplay.tolerance.execution.run`), scheme after scheme: Ctrl-C keeps the blocks
 that finished.
 
 Responses of the dynamic model (SI): the tolerance study's peaks (``omega<k>_peak``,
@@ -90,30 +90,38 @@ from jointplay.study.design_result import (
     penetration_diagnostics,
 )
 from jointplay.study.design_schemes import (
+    BLOCK,
     DEFAULT_CONFIDENCE,
     DEFAULT_MAX_SAMPLES,
     DERIVED_RESPONSES,
-    FIRST_ROUND,
     Callout,
     Scheme,
     _diameter,
     design_units,
     parse_requirements,
     resolve_responses,
-    sample_rounds,
+    sample_looks,
     schemes,
     trajectory_requirements,
 )
 from jointplay.study.requirements import Requirement
 from jointplay.tolerance import iso286
 from jointplay.tolerance.analysis import StudyDiagnostic, convergence_finding
-from jointplay.tolerance.confidence import YieldEstimate, quantile_value, verdict
+from jointplay.tolerance.confidence import (
+    RULE_INTERVALS,
+    Rule,
+    YieldEstimate,
+    interval,
+    quantile_value,
+    verdict,
+)
 from jointplay.tolerance.cost import CostModel
 from jointplay.tolerance.execution import NOT_RUN, OK, STATUS, Backend, run
 from jointplay.tolerance.methods import distribution_note, truncated_at_limits
 from jointplay.tolerance.parts import Process, model_inputs
 from jointplay.tolerance.rare import RareEstimate, cross_entropy_importance_sampling
 from jointplay.tolerance.responses import (
+    CheckedModel,
     PeakResponses,
     ResponseModel,
     RunningResponses,
@@ -131,10 +139,10 @@ if TYPE_CHECKING:
     from jointplay.dynamics.wear import WearSettings
 
 __all__ = [
+    "BLOCK",
     "DEFAULT_CONFIDENCE",
     "DEFAULT_MAX_SAMPLES",
     "DERIVED_RESPONSES",
-    "FIRST_ROUND",
     "Callout",
     "DesignDiagnostic",
     "DesignResult",
@@ -145,7 +153,7 @@ __all__ = [
     "parse_requirements",
     "penetration_diagnostics",
     "resolve_responses",
-    "sample_rounds",
+    "sample_looks",
     "schemes",
     "trajectory_requirements",
 ]
@@ -155,7 +163,8 @@ FloatArray = NDArray[np.float64]
 
 @dataclass
 class _Evaluated:
-    """The samples one evaluation key (a scheme; a length class when kinematic) has run."""
+    """The samples one evaluation key (a scheme; a length class when kinematic) has run, in
+    the order of its sample stream."""
 
     features: list[FloatArray] = field(default_factory=list)
     x: list[FloatArray] = field(default_factory=list)
@@ -177,6 +186,19 @@ class _Evaluated:
         checks = outcome.checks[part] if outcome.checks is not None else np.empty((n, 0))
         self.checks.append(checks)
         self.errors.extend(outcome.errors[part])
+
+    def head(self, n: int) -> _Evaluated:
+        """The first ``n`` samples (all of them when there are fewer)."""
+        if not self.status:
+            return self
+        return _Evaluated(
+            [np.vstack(self.features)[:n]],
+            [np.vstack(self.x)[:n]],
+            [np.vstack(self.values)[:n]],
+            [np.concatenate(self.status)[:n]],
+            [np.vstack(self.checks)[:n]],
+            list(self.errors[:n]),
+        )
 
 
 def design_study(
@@ -213,11 +235,14 @@ def design_study(
         fits: candidate fits: text (every joint) or a mapping joint → fit.
         classes: candidate ISO 2768-1 classes.
         requirements: requirements as text (:mod:`jointplay.study.requirements`) or objects.
-        samples: Monte Carlo samples per scheme, or ``"auto"``: rounds of samples
-            (:func:`sample_rounds`) until every scheme is decided, can no longer be the
+        samples: Monte Carlo samples per scheme (verdicts on the exact interval at that
+            fixed n), or ``"auto"``: blocks of samples (:func:`sample_looks`), the verdicts
+            looked at after each on the confidence sequence
+            (:func:`~jointplay.tolerance.confidence.confidence_sequence`, valid at every
+            look), until every scheme is decided, can no longer be the
             cheapest feasible one, or has ``max_samples``.
         max_samples: ``"auto"``: the most samples per scheme.
-        seed: the seed (the same for every scheme and every round: common random numbers).
+        seed: the seed (the same for every scheme and every block: common random numbers).
         confidence: share of parts that must meet a requirement without its own ``@``.
         responses: ``"dynamic"`` (clearance joints, steady running), ``"kinematic"`` (ideal
             joints, lengths only) or ``"auto"`` (kinematic when every requirement is).
@@ -254,7 +279,8 @@ def design_study(
     """
     if not 0.0 < confidence < 1.0:
         raise ConfigError(f"confidence must lie between 0 and 100 %, got {100 * confidence:g} %")
-    rounds = sample_rounds(samples, max_samples)
+    looks = sample_looks(samples, max_samples)
+    rule: Rule = "fixed" if samples != "auto" else "sequential"
     process = process or Process()
     cost = cost or CostModel()
     candidates = schemes(mechanism, fits, classes)
@@ -298,39 +324,54 @@ def design_study(
         first_of_class[s.length_class] if responses == "kinematic" else i
         for i, s in enumerate(candidates)
     ]
+    model_checks = tuple(model.check_names) if isinstance(model, CheckedModel) else ()
     evaluated = {k: _Evaluated() for k in set(key)}
     active = set(range(len(candidates)))
     rows: dict[int, dict[str, Any]] = {}
     interrupted = False
-    first: tuple[FloatArray, Any] | None = None  # the first round, for the convergence check
+    first: tuple[FloatArray, Any] | None = None  # the first block, for the convergence check
     executions = []
-    for target in rounds:
+    stops: dict[int, str] = {}  # why each scheme stopped
+    for target in looks:
         keys = sorted({key[i] for i in active if evaluated[key[i]].n < target})
-        if not keys:
-            break
-        drawn = [sample(specs[k], target, seed).values[evaluated[k].n :] for k in keys]
-        features = np.vstack(drawn)
-        _, x = model_inputs(feature_names, features)
-        outcome = run(model, x, backend=backend, progress=progress)
-        executions.append(outcome.describe())
-        if first is None:
-            first = (x, outcome)
-        start = 0
-        for k, block in zip(keys, drawn, strict=True):
-            part = slice(start, start + len(block))
-            start += len(block)
-            if not np.any(outcome.status[part] == NOT_RUN):  # else interrupted: not kept
-                evaluated[k].add(block, x, outcome, part)
-        for i, scheme in enumerate(candidates):
-            if evaluated[key[i]].n:
+        if keys:
+            drawn = [sample(specs[k], target, seed).values[evaluated[k].n :] for k in keys]
+            features = np.vstack(drawn)
+            _, x = model_inputs(feature_names, features)
+            outcome = run(model, x, backend=backend, progress=progress)
+            executions.append(outcome.describe())
+            if first is None:
+                first = (x, outcome)
+            start = 0
+            for k, block in zip(keys, drawn, strict=True):
+                part = slice(start, start + len(block))
+                start += len(block)
+                if not np.any(outcome.status[part] == NOT_RUN):  # else interrupted: not kept
+                    evaluated[k].add(block, x, outcome, part)
+            if outcome.interrupted:
+                interrupted = True
+        for i in sorted(active):
+            # each scheme is judged on the first `target` samples of its stream (a resumed
+            # study may hold more), those it has when interrupted
+            done = evaluated[key[i]].head(target)
+            if done.n and (i not in rows or done.n > rows[i]["samples"]):
                 rows[i] = _scheme_row(
-                    scheme, mechanism, cost, evaluated[key[i]], names, model, outcome.check_names,
-                    parsed, confidence, clearance_limit, clearance_allowance,
+                    candidates[i], mechanism, cost, done, names, model, model_checks,
+                    parsed, confidence, clearance_limit, clearance_allowance, rule,
                 )  # fmt: skip
-        if outcome.interrupted:
-            interrupted = True
+        if interrupted:
             break
-        active = _still_open(active, rows)
+        still = _still_open(active, rows)
+        for i in active - still:
+            stops[i] = "decided" if rows[i]["verdict"] != "undecided" else "dearer"
+        active = still
+        if not active:
+            break
+    for i in active:
+        stops[i] = "interrupted" if interrupted else "max-samples"
+    for i, row in rows.items():
+        row["stopped"] = stops.get(i, "interrupted")
+        row["decided_at"] = row["samples"] if row["verdict"] != "undecided" else None
     if rare is not None and not interrupted:
         try:
             for i in sorted(active, key=lambda j: rows[j]["cost"]):
@@ -345,13 +386,14 @@ def design_study(
                     break
                 rows[i].update(_rare_columns(estimate, parsed, confidence, rows[i]["verdict"]))
                 rows[i]["feasible"] = rows[i]["verdict"] == "meets"
-        except KeyboardInterrupt:  # between two stages: the Monte Carlo rounds are kept
+        except KeyboardInterrupt:  # between two stages: the Monte Carlo blocks are kept
             interrupted = True
 
     table = pd.DataFrame([rows[i] for i in sorted(rows)])
     best = binding = None
     if len(table):
         table["samples_to_decide"] = table["samples_to_decide"].astype("Int64")
+        table["decided_at"] = table["decided_at"].astype("Int64")
         _pareto(table, parsed, tuple(model.response_names))
     if len(table) and not interrupted:  # no recommendation from some schemes only
         feasible_rows = table[table["feasible"]]
@@ -364,26 +406,27 @@ def design_study(
         elif parsed:
             binding = _binding(table, [r.text for r in parsed])
     sample_frames = []
-    check_names = first[1].check_names if first is not None else ()
+    checks = model_checks
     for i, scheme in enumerate(candidates):
         if i in rows:
-            done = evaluated[key[i]]
+            done = evaluated[key[i]].head(int(rows[i]["samples"]))
             values = _responses(
                 scheme, mechanism, done, names, model, clearance_limit, clearance_allowance
             )
-            sample_frames.append(
-                _sample_frame(scheme, done, feature_names, names, values, check_names)
-            )
+            sample_frames.append(_sample_frame(scheme, done, feature_names, names, values, checks))
     every_sample = pd.concat(sample_frames, ignore_index=True) if sample_frames else pd.DataFrame()
     settings = {
         "samples": samples,
         "max_samples": max_samples if samples == "auto" else samples,
-        "rounds": list(rounds),
+        "looks": list(looks),
+        "verdict_rule": rule,
+        "verdict_interval": RULE_INTERVALS[rule],
         "seed": seed,
         "process": process.describe(),
         "truncated_at_limits": bool(truncate),
         "sampling_distributions": distribution_note(specs[0], truncate) if specs else "",
-        "interval": "exact (Clopper-Pearson) two-sided 95 % interval of each yield",
+        "interval": "exact (Clopper-Pearson) two-sided 95 % interval of each yield (the "
+        "estimate reported); the verdicts: verdict_interval",
         "rare_defects": None if rare is None else dataclasses.asdict(rare),
         "responses": responses,
         "cost_model": cost.describe(),
@@ -391,12 +434,12 @@ def design_study(
         "clearance_allowance_m": clearance_allowance,
         "model": model.describe(),
         "execution": executions[-1] if executions else {},
-        "execution_rounds": executions,
+        "execution_blocks": executions,
         "schemes": len(candidates),
         "finished_schemes": len(rows),
     }
     diagnostics: tuple[StudyDiagnostic, ...] = penetration_diagnostics(
-        every_sample, check_names, names, best
+        every_sample, checks, names, best
     )
     result = DesignResult(
         mechanism=mechanism,
@@ -602,9 +645,12 @@ def _scheme_row(
     confidence: float,
     limit: Mapping[str, float] | float | None,
     allowance: float | None,
+    rule: Rule = "fixed",
 ) -> dict[str, Any]:
     """One scheme's row: its budget, each response's statistics, and per requirement the
-    failures, the yield and DPM with their exact intervals and the verdict."""
+    failures, the yield and DPM with their exact intervals, the verdict and the interval it
+    was decided on (``verdict_low_<r>``, ``verdict_high_<r>``, %: the exact one for a fixed
+    sample size, the confidence sequence for ``rule="sequential"``)."""
     status = np.concatenate(done.status)
     n = len(status)
     ok = status == OK
@@ -634,19 +680,24 @@ def _scheme_row(
         met = r.met(values[r.response]) & ok
         every &= met
         estimate = YieldEstimate(int(n - met.sum()), n)
-        judged = verdict(estimate, r.confidence if r.confidence is not None else confidence)
+        level = r.confidence if r.confidence is not None else confidence
+        judged = verdict(estimate, level, rule=rule)
         verdicts.append(judged.name)
         if judged.name == "undecided":
             to_decide.append(judged.samples_to_decide)
         row[f"failures_{r.text}"] = estimate.failures
         row.update(_yield_columns(estimate, f"_{r.text}"))
         row[f"verdict_{r.text}"] = judged.name
+        low, high = interval(n - estimate.failures, n, level, rule)
+        row[f"verdict_low_{r.text}"] = 100.0 * low
+        row[f"verdict_high_{r.text}"] = 100.0 * high
         row[f"samples_to_decide_{r.text}"] = judged.samples_to_decide
     row.update(_yield_columns(YieldEstimate(int(n - every.sum()), n), ""))
     row["verdict"] = (
         "fails" if "fails" in verdicts else "undecided" if "undecided" in verdicts else "meets"
     )
     row["verdict_basis"] = "monte-carlo"
+    row["verdict_interval"] = rule
     row["feasible"] = row["verdict"] == "meets"
     reachable = [m for m in to_decide if m is not None]
     row["samples_to_decide"] = (
@@ -674,7 +725,7 @@ def _yield_columns(estimate: YieldEstimate, suffix: str) -> dict[str, float]:
 
 
 def _still_open(active: set[int], rows: Mapping[int, Mapping[str, Any]]) -> set[int]:
-    """The schemes worth another round: undecided, and not dearer than a scheme already
+    """The schemes worth another block: undecided, and not dearer than a scheme already
     shown to meet every requirement (they can no longer be the cheapest feasible one)."""
     shown = [row["cost"] for row in rows.values() if row["feasible"]]
     ceiling = min(shown) if shown else math.inf
