@@ -362,6 +362,15 @@ def design_command(
     progress: ProgressOption = True,
     force: ForceOption = False,
     figure_format: FigureFormatOption = "png",
+    resume: Annotated[
+        bool,
+        typer.Option(
+            "--resume",
+            help="Go on from the design result in --out (its samples kept; e.g. with a "
+            "larger --max-samples); the same study only.",
+            rich_help_panel=SAMPLING_PANEL,
+        ),
+    ] = False,
 ) -> None:
     """Design study: every fit × length class through the dynamics; the cheapest shown to
     meet the requirements, with its evidence and its drawing callouts.
@@ -418,6 +427,7 @@ def design_command(
             f"--backend {where.kind} runs the dynamics: use it with --responses dynamic"
         )
     figure_format = check_figure_format(figure_format)
+    earlier = read_earlier(out) if resume else None
     # the output folder is checked before the study runs
     with output_dir(out, force=force, inputs=(config, table)) as folder:
         options: dict[str, Any] = {
@@ -447,6 +457,7 @@ def design_command(
                     rare=RareDefects() if rare_defects else None,
                     confidence=level,
                     responses=kind,  # type: ignore[arg-type]
+                    resume=earlier,
                     **options,
                 )
                 sensitivity = (
@@ -475,12 +486,53 @@ def design_command(
                 sensitivity=sensitivity,
             )
         _print(result, units)
+        if earlier is not None:
+            console.print(runs_line(result.settings))
         if result.settings.get("model", {}).get("contact"):
             console.print(f"contact: {result.settings['model']['contact']}")
         if sensitivity is not None:
             console.print(f"model sensitivity: {sensitivity.verdict}")
         study_kept(result.interrupted, finished, missing)
     console.print(f"results written to {out}")
+
+
+def read_earlier(out: Path) -> Any:
+    """``--resume``: the design result in ``out`` (its ``summary.json`` settings and
+    ``samples.parquet``) as a :class:`~jointplay.study.design.Earlier`, or one ConfigError
+    line saying why it cannot be resumed."""
+    import json
+
+    import pandas as pd
+
+    from jointplay.study.design import Earlier
+
+    summary, samples = Path(out) / "summary.json", Path(out) / "samples.parquet"
+    if not summary.is_file() or not samples.is_file():
+        raise ConfigError(
+            f"--resume: {str(out)!r} holds no design result (summary.json and samples.parquet); "
+            "run the study without --resume first"
+        )
+    try:
+        settings = json.loads(summary.read_text(encoding="utf-8")).get("settings", {})
+        frame = pd.read_parquet(samples)
+    except (OSError, ValueError, AttributeError) as exc:
+        raise ConfigError(f"--resume: cannot read the result in {str(out)!r}: {exc}") from None
+    if not isinstance(settings, dict) or "scheme" not in frame:
+        raise ConfigError(f"--resume: {str(out)!r} holds no design result; run without --resume")
+    return Earlier(str(out), settings, frame)
+
+
+def runs_line(settings: Any) -> str:
+    """What a resumed study merged, e.g. ``resumed: 2 runs merged (run 1: 3,200 samples; run
+    2: 1,600 computed, 3,200 kept)``."""
+    runs = list(settings.get("runs") or [])
+    parts = [
+        f"run {r['run']}: {int(r['samples_computed']):,} computed"
+        + (" (interrupted)" if r.get("interrupted") else "")
+        for r in runs
+    ]
+    kept = int(runs[-1]["samples_kept"]) if runs else 0
+    return f"resumed: {len(runs)} runs merged, {kept:,} samples kept ({'; '.join(parts)})"
 
 
 def _note_zero_clearance(mechanism: Any, fits: list[str]) -> None:

@@ -146,6 +146,7 @@ __all__ = [
     "Callout",
     "DesignDiagnostic",
     "DesignResult",
+    "Earlier",
     "RareDefects",
     "Scheme",
     "design_study",
@@ -226,6 +227,7 @@ def design_study(
     rare: RareDefects | None = None,
     backend: Backend | None = None,
     progress: bool = False,
+    resume: Earlier | None = None,
 ) -> DesignResult:
     """Find the cheapest fit and length class shown to meet ``requirements``.
 
@@ -271,9 +273,16 @@ def design_study(
             its 95 % interval decides them (``verdict_basis``). ``None``: Monte Carlo only.
         backend: where the samples run (default local processes).
         progress: show a progress bar.
+        resume: an earlier run of the same study (:class:`Earlier`, ``--resume``): its
+            samples are kept (each scheme's stream goes on from where it stopped: the result
+            is the one an uninterrupted run with these settings gives, bit for bit) and its
+            runs are listed in ``settings["runs"]``. Refused (ConfigError naming the
+            difference) when the mechanism, the model, a requirement, the schemes, the seed,
+            the sampling or the costs differ; ``samples``, ``max_samples``, the backend may.
 
     Raises:
-        ConfigError: a malformed requirement, an unknown response, bad candidates.
+        ConfigError: a malformed requirement, an unknown response, bad candidates, a resumed
+            study that differs.
         PartialInterrupt: interrupted during the convergence check, after every scheme
             finished; its ``partial`` is the result without the check.
     """
@@ -325,7 +334,28 @@ def design_study(
         for i, s in enumerate(candidates)
     ]
     model_checks = tuple(model.check_names) if isinstance(model, CheckedModel) else ()
+    identity = _identity(
+        mechanism, model, parsed, confidence, candidates, seed, process, truncate, responses,
+        cost, clearance_limit, clearance_allowance,
+    )  # fmt: skip
     evaluated = {k: _Evaluated() for k in set(key)}
+    runs: list[dict[str, Any]] = []
+    if resume is not None:
+        resume.check(identity)
+        kept = resume.evaluated(
+            candidates, key, feature_names, names, tuple(model.response_names), model_checks
+        )
+        for k, done in kept.items():
+            check = sample(specs[k], max(done.n, 1), seed).values
+            if done.n and not np.array_equal(np.vstack(done.features), check):
+                raise ConfigError(
+                    f"--resume: the samples kept in {resume.folder} are not this study's sample "
+                    "stream (the tolerances or the sampling changed); run the study into a new "
+                    "--out folder"
+                )
+            evaluated[k] = done
+        runs = [dict(r) for r in resume.runs]
+    kept_samples = sum(e.n for e in evaluated.values())
     active = set(range(len(candidates)))
     rows: dict[int, dict[str, Any]] = {}
     interrupted = False
@@ -415,7 +445,20 @@ def design_study(
             )
             sample_frames.append(_sample_frame(scheme, done, feature_names, names, values, checks))
     every_sample = pd.concat(sample_frames, ignore_index=True) if sample_frames else pd.DataFrame()
+    computed = sum(e.n for e in evaluated.values()) - kept_samples
+    runs.append(
+        {
+            "run": len(runs) + 1,
+            "samples_computed": int(computed),
+            "samples_kept": int(kept_samples),
+            "max_samples": max_samples if samples == "auto" else samples,
+            "interrupted": interrupted,
+        }
+    )
     settings = {
+        "identity": identity,
+        "runs": runs,
+        "resumed_from": None if resume is None else str(resume.folder),
         "samples": samples,
         "max_samples": max_samples if samples == "auto" else samples,
         "looks": list(looks),
@@ -464,6 +507,156 @@ def design_study(
     if convergence is not None and convergence.finding is not None:
         diagnostics = (*diagnostics, convergence.finding)
     return dataclasses.replace(result, diagnostics=diagnostics, convergence=convergence)
+
+
+def _identity(
+    mechanism: Mechanism,
+    model: ResponseModel,
+    parsed: Sequence[Requirement],
+    confidence: float,
+    candidates: Sequence[Scheme],
+    seed: int,
+    process: Process,
+    truncate: bool,
+    responses: str,
+    cost: CostModel,
+    limit: Mapping[str, float] | float | None,
+    allowance: float | None,
+) -> dict[str, Any]:
+    """What makes two runs the same study (``settings["identity"]``, JSON-ready): a resumed
+    run must match every entry."""
+    import hashlib
+
+    return _plain_json(
+        {
+            "mechanism": {
+                "name": mechanism.name,
+                "sha256": hashlib.sha256(repr(mechanism).encode()).hexdigest()[:16],
+            },
+            "model": model.describe(),
+            "requirements": [r.describe() for r in parsed],
+            "confidence": confidence,
+            "schemes": [s.label for s in candidates],
+            "seed": seed,
+            "process": process.describe(),
+            "truncated_at_limits": bool(truncate),
+            "responses": responses,
+            "cost_model": cost.describe(),
+            "clearance_limit_m": limit,
+            "clearance_allowance_m": allowance,
+            "block": BLOCK,
+        }
+    )
+
+
+def _plain_json(value: Any) -> Any:
+    """``value`` as ``summary.json`` holds it (through the one JSON sanitiser, floats to
+    their significant digits), so that a stored identity compares equal."""
+    import json
+
+    from jointplay.io.output import json_text
+
+    return json.loads(json_text(json.loads(json.dumps(value, default=str))))
+
+
+@dataclass(frozen=True)
+class Earlier:
+    """An earlier run of a design study (``--resume``): what its result folder holds.
+
+    Attributes:
+        folder: where it was read from (for the messages).
+        settings: its ``summary.json`` settings (``identity``, ``runs``).
+        samples: its ``samples.parquet``: one row per sample of each scheme.
+    """
+
+    folder: str
+    settings: Mapping[str, Any]
+    samples: pd.DataFrame = field(repr=False)
+
+    @property
+    def runs(self) -> tuple[Mapping[str, Any], ...]:
+        """The runs it merged, itself the last."""
+        return tuple(self.settings.get("runs") or ())
+
+    def check(self, identity: Mapping[str, Any]) -> None:
+        """ConfigError naming the first entry of the study's identity that differs."""
+        before = self.settings.get("identity")
+        if not isinstance(before, Mapping):
+            raise ConfigError(
+                f"--resume: {self.folder} holds a design result without the study's identity "
+                "(written before --resume existed); run the study into a new --out folder"
+            )
+        for name in dict.fromkeys([*identity, *before]):
+            was, now = before.get(name), identity.get(name)
+            if was != now:
+                where, was, now = _difference(name, was, now)
+                raise ConfigError(
+                    f"--resume: the study in {self.folder} has a different {where}: "
+                    f"{_short(was, now)}; resume with the same {name}, or run the changed study "
+                    "into a new --out folder"
+                )
+
+    def evaluated(
+        self,
+        candidates: Sequence[Scheme],
+        key: Sequence[int],
+        feature_names: Sequence[str],
+        names: Sequence[str],
+        response_names: Sequence[str],
+        check_names: Sequence[str],
+    ) -> dict[int, _Evaluated]:
+        """The samples of each evaluation key (the longest of its schemes' streams)."""
+        codes = {text: code for code, text in STATUS.items()}
+        frame = self.samples
+        out: dict[int, _Evaluated] = {}
+        for i, scheme in enumerate(candidates):
+            rows = frame[frame["scheme"] == scheme.label].sort_values("sample")
+            if not len(rows) or (key[i] in out and out[key[i]].n >= len(rows)):
+                continue
+            n = len(rows)
+            columns = [*feature_names, *names, *response_names, *check_names]
+            missing = [c for c in columns if c not in rows]
+            if missing:
+                raise ConfigError(
+                    f"--resume: the samples in {self.folder} lack {', '.join(missing[:3])}; "
+                    "run the study into a new --out folder"
+                )
+
+            def block(which: Sequence[str], rows: pd.DataFrame = rows, n: int = n) -> FloatArray:
+                return rows[list(which)].to_numpy(dtype=float).reshape(n, len(which))
+
+            out[key[i]] = _Evaluated(
+                [block(feature_names)],
+                [block(names)],
+                [block(response_names)],
+                [np.asarray(rows["status"].map(codes), dtype=np.int8)],
+                [block(check_names)],
+                ["" if e is None else str(e) for e in rows["error"]],
+            )
+        return out
+
+
+def _difference(where: str, was: Any, now: Any) -> tuple[str, Any, Any]:
+    """The first place where two JSON values differ: its path and the two values there."""
+    if isinstance(was, Mapping) and isinstance(now, Mapping):
+        for name in dict.fromkeys([*was, *now]):
+            if was.get(name) != now.get(name):
+                return _difference(f"{where}.{name}", was.get(name), now.get(name))
+    if isinstance(was, list) and isinstance(now, list) and len(was) == len(now):
+        for i, (a, b) in enumerate(zip(was, now, strict=True)):
+            if a != b:
+                return _difference(f"{where}[{i}]", a, b)
+    return where, was, now
+
+
+def _short(was: Any, now: Any) -> str:
+    """``was`` there and ``now`` here, each cut to a readable length."""
+
+    def cut(value: Any) -> str:
+        text = repr(value)
+        return text if len(text) <= 80 else text[:77] + "..."
+
+    return f"{cut(was)} there, {cut(now)} now"
 
 
 @dataclass(frozen=True)

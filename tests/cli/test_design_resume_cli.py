@@ -1,0 +1,51 @@
+"""``jointplay design --resume`` and ``--max-time``: going on from a result folder."""
+
+from __future__ import annotations
+
+import pandas as pd
+
+from jointplay.cli import run
+
+QUIET = ["--no-progress", "--no-plots", "--workers", "1", "--no-model-sensitivity"]
+STUDY = ["design", "--preset", "paper-fourbar", "--fits", "H9/d9,H11/c11", "--classes", "c,v",
+         "--require", "omega4_peak <= 100 rad/s"]  # fmt: skip
+
+
+def _files(folder) -> dict[str, bytes]:
+    return {p.name: p.read_bytes() for p in sorted(folder.iterdir()) if p.is_file()}
+
+
+def test_resume_with_more_samples_gives_the_whole_study_and_says_what_it_merged(
+    tmp_path, capsys
+) -> None:
+    out, whole = tmp_path / "design", tmp_path / "whole"
+    assert run([*STUDY, "--max-samples", "800", "--out", str(out), *QUIET]) == 0
+    assert "undecided" in capsys.readouterr().out
+    assert run([*STUDY, "--resume", "--out", str(out), *QUIET]) == 0
+    printed = capsys.readouterr().out
+    assert "choose H11/c11 / v" in printed
+    assert "resumed: 2 runs merged, 1,600 samples kept" in printed
+    assert run([*STUDY, "--out", str(whole), *QUIET]) == 0
+    pd.testing.assert_frame_equal(
+        pd.read_parquet(out / "design.parquet"), pd.read_parquet(whole / "design.parquet")
+    )
+
+
+def test_a_changed_study_is_refused_in_one_line_and_nothing_is_written(tmp_path, capsys) -> None:
+    out = tmp_path / "design"
+    assert run([*STUDY, "--max-samples", "200", "--out", str(out), *QUIET]) == 0
+    before = _files(out)
+    capsys.readouterr()
+    changed = [a.replace("100 rad/s", "90 rad/s") for a in STUDY]
+    assert run([*changed, "--resume", "--out", str(out), *QUIET]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert "different requirements[0].text: 'omega4_peak <= 100 rad/s' there" in err
+    assert _files(out) == before
+
+
+def test_resume_needs_a_design_result(tmp_path, capsys) -> None:
+    assert run([*STUDY, "--resume", "--out", str(tmp_path / "none"), *QUIET]) == 2
+    err = capsys.readouterr().err
+    assert "--resume:" in err and "holds no design result" in err and err.count("\n") == 1
+    assert not (tmp_path / "none").exists()
