@@ -49,3 +49,22 @@ def test_resume_needs_a_design_result(tmp_path, capsys) -> None:
     err = capsys.readouterr().err
     assert "--resume:" in err and "holds no design result" in err and err.count("\n") == 1
     assert not (tmp_path / "none").exists()
+
+
+def test_max_time_stops_with_the_verdicts_reached_and_says_what_would_decide_the_rest(
+    tmp_path, capsys
+) -> None:
+    out = tmp_path / "design"
+    assert run([*STUDY, "--max-time", "1 ms", "--out", str(out), *QUIET]) == 0
+    printed = capsys.readouterr().out
+    assert "stopped: 4 at the time budget" in printed
+    assert "stopped at the time budget (0.001 s): 4 scheme(s) undecided; --resume with " in printed
+    assert "--max-time 0.002 s would allow ~" in printed
+    assert run([*STUDY, "--resume", "--out", str(out), *QUIET]) == 0
+    assert "choose H11/c11 / v" in capsys.readouterr().out
+
+
+def test_max_time_needs_a_time(tmp_path, capsys) -> None:
+    assert run([*STUDY, "--max-time", "10", "--out", str(tmp_path / "d"), *QUIET]) == 2
+    err = capsys.readouterr().err
+    assert "--max-time: '10' has no unit" in err and err.count("\n") == 1

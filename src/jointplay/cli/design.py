@@ -362,6 +362,14 @@ def design_command(
     progress: ProgressOption = True,
     force: ForceOption = False,
     figure_format: FigureFormatOption = "png",
+    max_time: Annotated[
+        str | None,
+        typer.Option(
+            "--max-time",
+            help="A time budget, e.g. '10 min': stop there with the verdicts reached.",
+            rich_help_panel=SAMPLING_PANEL,
+        ),
+    ] = None,
     resume: Annotated[
         bool,
         typer.Option(
@@ -427,6 +435,7 @@ def design_command(
             f"--backend {where.kind} runs the dynamics: use it with --responses dynamic"
         )
     figure_format = check_figure_format(figure_format)
+    budget = parse_max_time(max_time)
     earlier = read_earlier(out) if resume else None
     # the output folder is checked before the study runs
     with output_dir(out, force=force, inputs=(config, table)) as folder:
@@ -458,6 +467,7 @@ def design_command(
                     confidence=level,
                     responses=kind,  # type: ignore[arg-type]
                     resume=earlier,
+                    max_time=budget,
                     **options,
                 )
                 sensitivity = (
@@ -494,6 +504,20 @@ def design_command(
             console.print(f"model sensitivity: {sensitivity.verdict}")
         study_kept(result.interrupted, finished, missing)
     console.print(f"results written to {out}")
+
+
+#: How the design's own advice names its settings on the command line.
+DESIGN_OPTIONS = {**SETTING_OPTIONS, "max_time": "--max-time", "resume": "--resume"}
+
+
+def parse_max_time(text: str | None) -> float | None:
+    """``--max-time``: a duration with its unit (``'10 min'``, ``'1.5 h'``), s."""
+    if text is None:
+        return None
+    seconds = parse_quantity(text, "s", field="--max-time", example="min")
+    if not (math.isfinite(seconds) and seconds > 0):
+        raise ConfigError(f"--max-time {text!r}: a time budget is > 0, e.g. '10 min'")
+    return seconds
 
 
 def read_earlier(out: Path) -> Any:
@@ -668,5 +692,8 @@ def _print(result: DesignResult, units: dict[str, str]) -> None:
         console.print(result.verdict)
     elif result.to_decide is not None:
         console.print(f"cheaper, {result.what_decides(SETTING_OPTIONS)}")
+    timed = result.what_times(DESIGN_OPTIONS)
+    if timed is not None:
+        console.print(timed)
     for finding in result.diagnostics:  # one line each, on stderr, as `jointplay tolerance`
         print(f"jointplay: {finding.line(SETTING_OPTIONS)}", file=sys.stderr)

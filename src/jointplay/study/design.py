@@ -68,6 +68,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Literal
@@ -78,6 +79,7 @@ from numpy.typing import NDArray
 
 from jointplay._kernels.capabilities import engine_of, refusal
 from jointplay.errors import ConfigError, PartialInterrupt
+from jointplay.execution.progress import study_bar
 from jointplay.model.mechanism import Mechanism
 
 # The study's parts (this module runs the study; the candidates and the result live apart):
@@ -228,6 +230,7 @@ def design_study(
     backend: Backend | None = None,
     progress: bool = False,
     resume: Earlier | None = None,
+    max_time: float | None = None,
 ) -> DesignResult:
     """Find the cheapest fit and length class shown to meet ``requirements``.
 
@@ -272,7 +275,13 @@ def design_study(
             first) by cross-entropy importance sampling (:mod:`jointplay.tolerance.rare`);
             its 95 % interval decides them (``verdict_basis``). ``None``: Monte Carlo only.
         backend: where the samples run (default local processes).
-        progress: show a progress bar.
+        progress: show one progress bar for the whole study: samples done of the most it
+            can still need (every open scheme to ``max_samples``), schemes decided, the time
+            left at the measured rate.
+        max_time: a time budget, s: no block is started that would end after it at the
+            measured rate (the first always runs); the schemes still open stop (``stopped``
+            = ``time``) with the verdicts reached, :attr:`DesignResult.time_note` says what
+            would decide them. ``None``: no budget.
         resume: an earlier run of the same study (:class:`Earlier`, ``--resume``): its
             samples are kept (each scheme's stream goes on from where it stopped: the result
             is the one an uninterrupted run with these settings gives, bit for bit) and its
@@ -362,47 +371,72 @@ def design_study(
     first: tuple[FloatArray, Any] | None = None  # the first block, for the convergence check
     executions = []
     stops: dict[int, str] = {}  # why each scheme stopped
-    for target in looks:
-        keys = sorted({key[i] for i in active if evaluated[key[i]].n < target})
-        if keys:
-            drawn = [sample(specs[k], target, seed).values[evaluated[k].n :] for k in keys]
-            features = np.vstack(drawn)
-            _, x = model_inputs(feature_names, features)
-            outcome = run(model, x, backend=backend, progress=progress)
-            executions.append(outcome.describe())
-            if first is None:
-                first = (x, outcome)
-            start = 0
-            for k, block in zip(keys, drawn, strict=True):
-                part = slice(start, start + len(block))
-                start += len(block)
-                if not np.any(outcome.status[part] == NOT_RUN):  # else interrupted: not kept
-                    evaluated[k].add(block, x, outcome, part)
-            if outcome.interrupted:
-                interrupted = True
-        for i in sorted(active):
-            # each scheme is judged on the first `target` samples of its stream (a resumed
-            # study may hold more), those it has when interrupted
-            done = evaluated[key[i]].head(target)
-            if done.n and (i not in rows or done.n > rows[i]["samples"]):
-                rows[i] = _scheme_row(
-                    candidates[i], mechanism, cost, done, names, model, model_checks,
-                    parsed, confidence, clearance_limit, clearance_allowance, rule,
-                )  # fmt: skip
-        if interrupted:
-            break
-        still = _still_open(active, rows)
-        for i in active - still:
-            stops[i] = "decided" if rows[i]["verdict"] != "undecided" else "dearer"
-        active = still
-        if not active:
-            break
+    started = time.perf_counter()
+    computed_now, computing_s, out_of_time = 0, 0.0, False
+    with study_bar(
+        progress, _most_needed(active, key, evaluated, looks[-1]), _bar_text(len(candidates), {})
+    ) as shown:
+        for target in looks:
+            keys = sorted({key[i] for i in active if evaluated[key[i]].n < target})
+            if keys:
+                drawn = [sample(specs[k], target, seed).values[evaluated[k].n :] for k in keys]
+                features = np.vstack(drawn)
+                _, x = model_inputs(feature_names, features)
+                if max_time is not None and computed_now:
+                    rate = computed_now / computing_s
+                    if time.perf_counter() - started + len(x) / rate > max_time:
+                        out_of_time = True
+                        break
+                began = time.perf_counter()
+                advanced = [0]
+
+                def advance(count: int, advanced: list[int] = advanced) -> None:
+                    advanced[0] += count
+                    shown.advance(count)
+
+                outcome = run(model, x, backend=backend, on_samples=advance)
+                computing_s += time.perf_counter() - began
+                ran = int(np.sum(outcome.status != NOT_RUN))
+                shown.advance(max(0, ran - advanced[0]))  # the failed blocks' samples too
+                computed_now += ran
+                executions.append(outcome.describe())
+                if first is None:
+                    first = (x, outcome)
+                start = 0
+                for k, block in zip(keys, drawn, strict=True):
+                    part = slice(start, start + len(block))
+                    start += len(block)
+                    if not np.any(outcome.status[part] == NOT_RUN):  # else interrupted: not kept
+                        evaluated[k].add(block, x, outcome, part)
+                if outcome.interrupted:
+                    interrupted = True
+            for i in sorted(active):
+                # each scheme is judged on the first `target` samples of its stream (a resumed
+                # study may hold more), those it has when interrupted
+                done = evaluated[key[i]].head(target)
+                if done.n and (i not in rows or done.n > rows[i]["samples"]):
+                    rows[i] = _scheme_row(
+                        candidates[i], mechanism, cost, done, names, model, model_checks,
+                        parsed, confidence, clearance_limit, clearance_allowance, rule,
+                    )  # fmt: skip
+            if interrupted:
+                break
+            still = _still_open(active, rows)
+            for i in active - still:
+                stops[i] = "decided" if rows[i]["verdict"] != "undecided" else "dearer"
+            active = still
+            shown.update(
+                total=computed_now + _most_needed(active, key, evaluated, looks[-1]),
+                description=_bar_text(len(candidates), stops),
+            )
+            if not active:
+                break
     for i in active:
-        stops[i] = "interrupted" if interrupted else "max-samples"
+        stops[i] = "interrupted" if interrupted else "time" if out_of_time else "max-samples"
     for i, row in rows.items():
         row["stopped"] = stops.get(i, "interrupted")
         row["decided_at"] = row["samples"] if row["verdict"] != "undecided" else None
-    if rare is not None and not interrupted:
+    if rare is not None and not interrupted and not out_of_time:
         try:
             for i in sorted(active, key=lambda j: rows[j]["cost"]):
                 if i not in _still_open({i}, rows):
@@ -459,6 +493,10 @@ def design_study(
         "identity": identity,
         "runs": runs,
         "resumed_from": None if resume is None else str(resume.folder),
+        "max_time_s": max_time,
+        "stopped_at_max_time": out_of_time,
+        "elapsed_s": time.perf_counter() - started,
+        "samples_per_s": computed_now / computing_s if computing_s > 0 else None,
         "samples": samples,
         "max_samples": max_samples if samples == "auto" else samples,
         "looks": list(looks),
@@ -507,6 +545,19 @@ def design_study(
     if convergence is not None and convergence.finding is not None:
         diagnostics = (*diagnostics, convergence.finding)
     return dataclasses.replace(result, diagnostics=diagnostics, convergence=convergence)
+
+
+def _most_needed(
+    active: set[int], key: Sequence[int], evaluated: Mapping[int, _Evaluated], most: int
+) -> int:
+    """Samples the open schemes can still need: each open evaluation key to ``most``."""
+    return sum(max(0, most - evaluated[k].n) for k in {key[i] for i in active})
+
+
+def _bar_text(schemes: int, stops: Mapping[int, str]) -> str:
+    """The study bar's label: schemes decided of all."""
+    decided = sum(1 for why in stops.values() if why in ("decided", "dearer"))
+    return f"design: {decided}/{schemes} schemes decided; samples"
 
 
 def _identity(
