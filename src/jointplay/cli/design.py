@@ -233,7 +233,7 @@ def design_command(
         typer.Option(
             "--samples",
             "-n",
-            help="Per scheme: a number, or auto (blocks of 100, judged after each, until decided).",
+            help="Per scheme: N, or auto (blocks of 100).",
             rich_help_panel=SAMPLING_PANEL,
         ),
     ] = "auto",
@@ -275,7 +275,7 @@ def design_command(
         list[str] | None,
         typer.Option(
             "--cpk",
-            help="FEATURE=CPK (hole, pin, length), e.g. hole=1.33. Repeatable.",
+            help="e.g. hole=1.33 (or pin, length); repeat.",
             rich_help_panel=SAMPLING_PANEL,
         ),
     ] = None,
@@ -366,7 +366,7 @@ def design_command(
         str | None,
         typer.Option(
             "--max-time",
-            help="A time budget, e.g. '10 min': stop there with the verdicts reached.",
+            help="Time budget, e.g. '10 min'.",
             rich_help_panel=SAMPLING_PANEL,
         ),
     ] = None,
@@ -374,8 +374,7 @@ def design_command(
         bool,
         typer.Option(
             "--resume",
-            help="Go on from the design result in --out (its samples kept; e.g. with a "
-            "larger --max-samples); the same study only.",
+            help="Go on from the result in --out.",
             rich_help_panel=SAMPLING_PANEL,
         ),
     ] = False,
