@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import pandas as pd
 
 from jointplay.cli import run
@@ -68,3 +70,25 @@ def test_max_time_needs_a_time(tmp_path, capsys) -> None:
     assert run([*STUDY, "--max-time", "10", "--out", str(tmp_path / "d"), *QUIET]) == 2
     err = capsys.readouterr().err
     assert "--max-time: '10' has no unit" in err and err.count("\n") == 1
+
+
+def test_every_output_says_what_each_decision_took_and_on_which_interval(tmp_path, capsys) -> None:
+    out = tmp_path / "design"
+    assert run([*STUDY, "--out", str(out), "--no-progress", "--workers", "1"]) == 0
+    printed = capsys.readouterr().out
+    assert (
+        "verdicts on the 95 % beta-binomial confidence sequence (valid at every look); "
+        "samples: what each took; stopped: 4 decided"
+    ) in printed
+    csv = pd.read_csv(out / "design.csv")
+    assert (csv["decided_at"] == 1600).all() and (csv["stopped"] == "decided").all()
+    assert (csv["verdict_interval"] == "sequential").all()
+    assert (csv["verdict_low_pct_omega4_peak <= 100 rad/s"] >= 99.73).all()
+    summary = json.loads((out / "summary.json").read_text())
+    record = summary["schemes"][0]["requirements"][0]
+    # decided on the sequence (at or above 99.73 %), wider than the exact interval reported
+    assert 0.9973 <= record["verdict_interval"][0] < record["yield_ci95"][0]
+    assert summary["settings"]["verdict_rule"] == "sequential"
+    report = (out / "report.html").read_text()
+    assert "95 % beta-binomial confidence sequence (valid at every look)" in report
+    assert "stopped: 4 decided" in report and "looks every 100 up to 4,000" in report

@@ -61,7 +61,7 @@ def display(unit: str) -> tuple[str, float]:
 
 #: Columns of the scheme table in %: yields and their interval bounds, overall and per
 #: requirement (longest prefix first).
-_PERCENT_PREFIXES = ("yield_low", "yield_high", "yield")
+_PERCENT_PREFIXES = ("yield_low", "yield_high", "yield", "verdict_low", "verdict_high")
 
 
 def csv_table(table: pd.DataFrame, units: Mapping[str, str]) -> pd.DataFrame:

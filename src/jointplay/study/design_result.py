@@ -462,6 +462,11 @@ class DesignResult:
                 "dpm": row[f"dpm_{r.text}"],
                 "dpm_ci95": [row[f"dpm_low_{r.text}"], row[f"dpm_high_{r.text}"]],
                 "verdict": row[f"verdict_{r.text}"],
+                # the interval the verdict was decided on (settings.verdict_interval)
+                "verdict_interval": [
+                    _fraction(row.get(f"verdict_low_{r.text}")),
+                    _fraction(row.get(f"verdict_high_{r.text}")),
+                ],
                 "samples_to_decide": _plain(row[f"samples_to_decide_{r.text}"]),
             }
             for r in self.requirements
@@ -473,6 +478,12 @@ class DesignResult:
         """The responses the scheme table reports: those the requirements name, in order."""
         names = [r.response for r in self.requirements]
         return tuple(dict.fromkeys(names))
+
+
+def _fraction(percent: Any) -> float | None:
+    """A table's percentage as a fraction (``None`` where missing)."""
+    value = _plain(percent)
+    return None if value is None else float(value) / 100.0
 
 
 def duration(seconds: float) -> str:
