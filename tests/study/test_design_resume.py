@@ -114,3 +114,20 @@ def test_samples_not_of_the_study_stream_are_refused(paper_fourbar, tmp_path) ->
     samples.loc[0, "length_crank"] = np.nextafter(samples.loc[0, "length_crank"], 1.0)
     with pytest.raises(ConfigError, match="not this study's sample stream"):
         _study(paper_fourbar, resume=dataclasses.replace(earlier, samples=samples))
+
+
+def test_a_dynamic_study_resumed_is_the_uninterrupted_one(
+    paper_fourbar, tmp_path, monkeypatch
+) -> None:
+    """The same on the batch engine (peaks): two schemes, two blocks of 100, the second
+    block interrupted with one scheme's samples finished."""
+    options = {"responses": "dynamic", "max_samples": 200, "backend": SERIAL}
+    args = (paper_fourbar, ["H8/f7", "H11/c11"], ["c"], ["joint_force <= 150 N"])
+    whole = design_study(*args, **options)
+    with monkeypatch.context() as patch:
+        _interrupting(patch, at_call=2)
+        cut = design_study(*args, **options)
+    assert cut.interrupted and sorted(cut.table["samples"]) == [100, 200]
+    resumed = design_study(*args, resume=_kept(cut, tmp_path), **options)
+    pd.testing.assert_frame_equal(resumed.table, whole.table, check_exact=True)
+    assert resumed.settings["runs"][1]["samples_computed"] == 100
