@@ -63,6 +63,7 @@ def test_an_interrupted_study_resumed_is_the_uninterrupted_one(
         _interrupting(patch, at_call=8)  # of 16 blocks
         cut = _study(paper_fourbar)
     assert cut.interrupted and cut.best is None
+    assert cut.verdict.endswith("(resume the study: its samples are kept)")
     assert 700 <= cut.table["samples"].min() < cut.table["samples"].max() <= 800
     resumed = _study(paper_fourbar, resume=_kept(cut, tmp_path))
     assert not resumed.interrupted

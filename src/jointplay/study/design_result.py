@@ -397,8 +397,8 @@ class DesignResult:
         if self.interrupted:
             return (
                 f"interrupted: {len(self.table)} of {self.settings.get('schemes', '?')} schemes "
-                "with finished rounds; no recommendation from some of the schemes (run the "
-                "study again)"
+                "with finished blocks; no recommendation from some of the schemes (resume the "
+                "study: its samples are kept)"
             )
         regime = f" — {self.lubrication}" if self.lubrication else ""
         if self.best is not None:
