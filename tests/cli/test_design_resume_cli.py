@@ -92,3 +92,44 @@ def test_every_output_says_what_each_decision_took_and_on_which_interval(tmp_pat
     report = (out / "report.html").read_text()
     assert "95 % beta-binomial confidence sequence (valid at every look)" in report
     assert "stopped: 4 decided" in report and "looks every 100 up to 4,000" in report
+
+
+def test_an_interrupted_design_is_kept_as_partial_and_resumed_to_the_whole_answer(
+    tmp_path, capsys, monkeypatch
+) -> None:
+    """Interrupted in its 8th block (of 16), the study keeps its samples in a folder marked
+    partial (its samples of the most it could take), and --resume gives the whole run's table."""
+    import dataclasses
+
+    from jointplay.io.output import MARKER
+    from jointplay.study import design as design_module
+    from jointplay.tolerance.execution import NOT_RUN
+
+    real, calls = design_module.run, {"n": 0}
+
+    def interrupted_run(model, x, **kwargs):
+        outcome = real(model, x, **kwargs)
+        calls["n"] += 1
+        if calls["n"] != 8:
+            return outcome
+        status = outcome.status.copy()
+        status[len(x) // 2 :] = NOT_RUN
+        return dataclasses.replace(outcome, status=status, interrupted=True)
+
+    out, whole = tmp_path / "design", tmp_path / "whole"
+    with monkeypatch.context() as patch:
+        patch.setattr(design_module, "run", interrupted_run)
+        assert run([*STUDY, "--out", str(out), *QUIET]) == 130
+    err = capsys.readouterr().err.strip().splitlines()[-1]
+    # the block of class c finished (its 2 schemes at 800), class v's not (700), of 4 x 4 000
+    assert err == (
+        f"jointplay: interrupted; 3000 of 16000 samples finished; their results were "
+        f"written to {out}"
+    )
+    assert json.loads((out / MARKER).read_text())["complete"] < 1.0
+    assert run([*STUDY, "--resume", "--out", str(out), *QUIET]) == 0
+    assert "resumed: 2 runs merged" in capsys.readouterr().out
+    assert run([*STUDY, "--out", str(whole), *QUIET]) == 0
+    pd.testing.assert_frame_equal(
+        pd.read_parquet(out / "design.parquet"), pd.read_parquet(whole / "design.parquet")
+    )

@@ -483,7 +483,7 @@ def design_command(
             **design_units(mechanism, result.responses),  # type: ignore[arg-type]
         }
         summary = result.summary()
-        finished = (len(result.table), int(summary["settings"]["schemes"]), "schemes")
+        finished = _finished(result, summary["settings"])
         with writing_study(finished, missing):
             write_design(
                 result,
@@ -517,6 +517,18 @@ def parse_max_time(text: str | None) -> float | None:
     if not (math.isfinite(seconds) and seconds > 0):
         raise ConfigError(f"--max-time {text!r}: a time budget is > 0, e.g. '10 min'")
     return seconds
+
+
+def _finished(result: DesignResult, settings: Any) -> tuple[int, int, str]:
+    """What a study finished, for an interrupt's message and the folder's completeness: the
+    schemes; an interrupted study (every scheme has a row after its first block) its samples
+    of the most its schemes could take, so that it never reads as complete and a later
+    interrupted run with more samples reads as more complete."""
+    schemes = int(settings["schemes"])
+    if not result.interrupted or not len(result.table):
+        return len(result.table), schemes, "schemes"
+    done = int(result.table["samples"].sum())
+    return done, max(done + 1, schemes * int(settings["max_samples"])), "samples"
 
 
 def read_earlier(out: Path) -> Any:
