@@ -10,6 +10,7 @@ import pytest
 from jointplay.errors import ConfigError
 from jointplay.study.design import Scheme, design_study, schemes
 from jointplay.tolerance import iso286
+from jointplay.tolerance.confidence import confidence_sequence
 from jointplay.tolerance.execution import Backend
 from jointplay.tolerance.parts import Process
 
@@ -57,16 +58,23 @@ def test_schemes_are_every_combination_and_per_joint_fits(paper_fourbar) -> None
 
 
 def test_requirements_every_scheme_meets_pick_the_cheapest(paper_fourbar) -> None:
-    """Samples in rounds (100, 200, ..., 1 600): zero failures show 99.73 % from 1 365 on."""
+    """Looks every 100 samples; on the confidence sequence zero failures show 99.73 % from
+    1 520 samples on, so every scheme is decided at the look at 1 600 (the fixed-n exact
+    interval would from 1 365: it does not hold at a data-dependent stop)."""
     result = design_study(
         paper_fourbar, FITS, ["f", "m", "c", "v"], ["omega4_peak <= 100 rad/s"], backend=SERIAL,
     )  # fmt: skip
     assert result.responses == "kinematic"
     table = result.table
     assert len(table) == 24 and table["feasible"].all() and (table["verdict"] == "meets").all()
-    assert (table["samples"] == 1600).all() and result.settings["rounds"][:5] == [
-        100, 200, 400, 800, 1600
-    ]  # fmt: skip
+    assert (table["samples"] == 1600).all() and result.settings["looks"][:3] == [100, 200, 300]
+    assert (table["decided_at"] == 1600).all() and (table["stopped"] == "decided").all()
+    assert (table["verdict_interval"] == "sequential").all()
+    assert result.settings["verdict_rule"] == "sequential"
+    # the interval decided on: the confidence sequence, above 99.73 % at 1 600, not at 1 500
+    low = table["verdict_low_omega4_peak <= 100 rad/s"].to_numpy()
+    assert low == pytest.approx(100 * confidence_sequence(1600, 1600, 0.9973)[0])
+    assert (low >= 99.73).all() and confidence_sequence(1500, 1500, 0.9973)[0] < 0.9973
     cheapest = table.loc[table["cost"].idxmin(), "scheme"]
     assert result.best == cheapest == "H11/c11 / v"
     assert result.binding is None and result.to_decide is None

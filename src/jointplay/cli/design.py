@@ -233,7 +233,7 @@ def design_command(
         typer.Option(
             "--samples",
             "-n",
-            help="Per scheme: a number, or auto (rounds of 100, 200, 400, ... until decided).",
+            help="Per scheme: N, or auto (blocks of 100).",
             rich_help_panel=SAMPLING_PANEL,
         ),
     ] = "auto",
@@ -275,7 +275,7 @@ def design_command(
         list[str] | None,
         typer.Option(
             "--cpk",
-            help="FEATURE=CPK (hole, pin, length), e.g. hole=1.33. Repeatable.",
+            help="e.g. hole=1.33 (or pin, length); repeat.",
             rich_help_panel=SAMPLING_PANEL,
         ),
     ] = None,
@@ -362,6 +362,22 @@ def design_command(
     progress: ProgressOption = True,
     force: ForceOption = False,
     figure_format: FigureFormatOption = "png",
+    max_time: Annotated[
+        str | None,
+        typer.Option(
+            "--max-time",
+            help="Time budget, e.g. '10 min'.",
+            rich_help_panel=SAMPLING_PANEL,
+        ),
+    ] = None,
+    resume: Annotated[
+        bool,
+        typer.Option(
+            "--resume",
+            help="Go on from the result in --out.",
+            rich_help_panel=SAMPLING_PANEL,
+        ),
+    ] = False,
 ) -> None:
     """Design study: every fit × length class through the dynamics; the cheapest shown to
     meet the requirements, with its evidence and its drawing callouts.
@@ -418,6 +434,8 @@ def design_command(
             f"--backend {where.kind} runs the dynamics: use it with --responses dynamic"
         )
     figure_format = check_figure_format(figure_format)
+    budget = parse_max_time(max_time)
+    earlier = read_earlier(out) if resume else None
     # the output folder is checked before the study runs
     with output_dir(out, force=force, inputs=(config, table)) as folder:
         options: dict[str, Any] = {
@@ -447,6 +465,8 @@ def design_command(
                     rare=RareDefects() if rare_defects else None,
                     confidence=level,
                     responses=kind,  # type: ignore[arg-type]
+                    resume=earlier,
+                    max_time=budget,
                     **options,
                 )
                 sensitivity = (
@@ -463,7 +483,7 @@ def design_command(
             **design_units(mechanism, result.responses),  # type: ignore[arg-type]
         }
         summary = result.summary()
-        finished = (len(result.table), int(summary["settings"]["schemes"]), "schemes")
+        finished = _finished(result, summary["settings"])
         with writing_study(finished, missing):
             write_design(
                 result,
@@ -475,12 +495,79 @@ def design_command(
                 sensitivity=sensitivity,
             )
         _print(result, units)
+        if earlier is not None:
+            console.print(runs_line(result.settings))
         if result.settings.get("model", {}).get("contact"):
             console.print(f"contact: {result.settings['model']['contact']}")
         if sensitivity is not None:
             console.print(f"model sensitivity: {sensitivity.verdict}")
         study_kept(result.interrupted, finished, missing)
     console.print(f"results written to {out}")
+
+
+#: How the design's own advice names its settings on the command line.
+DESIGN_OPTIONS = {**SETTING_OPTIONS, "max_time": "--max-time", "resume": "--resume"}
+
+
+def parse_max_time(text: str | None) -> float | None:
+    """``--max-time``: a duration with its unit (``'10 min'``, ``'1.5 h'``), s."""
+    if text is None:
+        return None
+    seconds = parse_quantity(text, "s", field="--max-time", example="min")
+    if not (math.isfinite(seconds) and seconds > 0):
+        raise ConfigError(f"--max-time {text!r}: a time budget is > 0, e.g. '10 min'")
+    return seconds
+
+
+def _finished(result: DesignResult, settings: Any) -> tuple[int, int, str]:
+    """What a study finished, for an interrupt's message and the folder's completeness: the
+    schemes; an interrupted study (every scheme has a row after its first block) its samples
+    of the most its schemes could take, so that it never reads as complete and a later
+    interrupted run with more samples reads as more complete."""
+    schemes = int(settings["schemes"])
+    if not result.interrupted or not len(result.table):
+        return len(result.table), schemes, "schemes"
+    done = int(result.table["samples"].sum())
+    return done, max(done + 1, schemes * int(settings["max_samples"])), "samples"
+
+
+def read_earlier(out: Path) -> Any:
+    """``--resume``: the design result in ``out`` (its ``summary.json`` settings and
+    ``samples.parquet``) as a :class:`~jointplay.study.design.Earlier`, or one ConfigError
+    line saying why it cannot be resumed."""
+    import json
+
+    import pandas as pd
+
+    from jointplay.study.design import Earlier
+
+    summary, samples = Path(out) / "summary.json", Path(out) / "samples.parquet"
+    if not summary.is_file() or not samples.is_file():
+        raise ConfigError(
+            f"--resume: {str(out)!r} holds no design result (summary.json and samples.parquet); "
+            "run the study without --resume first"
+        )
+    try:
+        settings = json.loads(summary.read_text(encoding="utf-8")).get("settings", {})
+        frame = pd.read_parquet(samples)
+    except (OSError, ValueError, AttributeError) as exc:
+        raise ConfigError(f"--resume: cannot read the result in {str(out)!r}: {exc}") from None
+    if not isinstance(settings, dict) or "scheme" not in frame:
+        raise ConfigError(f"--resume: {str(out)!r} holds no design result; run without --resume")
+    return Earlier(str(out), settings, frame)
+
+
+def runs_line(settings: Any) -> str:
+    """What a resumed study merged, e.g. ``resumed: 2 runs merged (run 1: 3,200 samples; run
+    2: 1,600 computed, 3,200 kept)``."""
+    runs = list(settings.get("runs") or [])
+    parts = [
+        f"run {r['run']}: {int(r['samples_computed']):,} computed"
+        + (" (interrupted)" if r.get("interrupted") else "")
+        for r in runs
+    ]
+    kept = int(runs[-1]["samples_kept"]) if runs else 0
+    return f"resumed: {len(runs)} runs merged, {kept:,} samples kept ({'; '.join(parts)})"
 
 
 def _note_zero_clearance(mechanism: Any, fits: list[str]) -> None:
@@ -543,7 +630,13 @@ def _print(result: DesignResult, units: dict[str, str]) -> None:
     with its unit; long scheme labels as S1, S2, ... with their key."""
     from rich.table import Table
 
-    from jointplay.report.design import YIELD_ALL, display, evidence_line
+    from jointplay.report.design import (
+        YIELD_ALL,
+        display,
+        evidence_line,
+        stop_line,
+        verdict_interval,
+    )
 
     table = result.table
     level = f"{100 * result.confidence:g} %"
@@ -585,6 +678,12 @@ def _print(result: DesignResult, units: dict[str, str]) -> None:
     for scheme, label in labels.items():
         if label != scheme:
             console.print(f"{label}: {scheme}")
+    if len(table):
+        stopped = stop_line(result)
+        console.print(
+            f"verdicts on the {verdict_interval(result)}; samples: what each took"
+            + (f"; {stopped}" if stopped else "")
+        )
     if modelled:
         console.print(
             f"* normal-model estimate (mean + z·std), not a bound: fewer samples than a "
@@ -604,5 +703,8 @@ def _print(result: DesignResult, units: dict[str, str]) -> None:
         console.print(result.verdict)
     elif result.to_decide is not None:
         console.print(f"cheaper, {result.what_decides(SETTING_OPTIONS)}")
+    timed = result.what_times(DESIGN_OPTIONS)
+    if timed is not None:
+        console.print(timed)
     for finding in result.diagnostics:  # one line each, on stderr, as `jointplay tolerance`
         print(f"jointplay: {finding.line(SETTING_OPTIONS)}", file=sys.stderr)

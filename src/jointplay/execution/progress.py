@@ -8,8 +8,9 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterator
 from contextlib import AbstractContextManager, contextmanager, nullcontext
+from typing import Any
 
-__all__ = ["bar", "progress_bar"]
+__all__ = ["StudyBar", "bar", "progress_bar", "study_bar"]
 
 
 def bar(
@@ -26,9 +27,52 @@ def _nothing(count: int) -> None:
     """The ``advance`` of a run without a bar."""
 
 
+class StudyBar:
+    """The handle of :func:`study_bar`: work done, and the total and label as they change."""
+
+    def __init__(self, advance: Callable[[int], None], update: Callable[..., None]) -> None:
+        self._advance, self._update = advance, update
+
+    def advance(self, count: int) -> None:
+        """``count`` more units of work done."""
+        self._advance(count)
+
+    def update(self, *, total: int | None = None, description: str | None = None) -> None:
+        """A new total (e.g. the most work still possibly needed) or label."""
+        self._update(total=total, description=description)
+
+
+@contextmanager
+def study_bar(enabled: bool, total: int, description: str) -> Iterator[StudyBar]:
+    """One bar for a whole study whose total may shrink as it goes (:class:`StudyBar`); the
+    columns, rate and time left of :func:`progress_bar`. Without ``enabled``, a handle that
+    does nothing."""
+    if not enabled:
+        yield StudyBar(_nothing, lambda **_: None)
+        return
+    with _progress(total, description) as (shown, task):
+
+        def update(*, total: int | None = None, description: str | None = None) -> None:
+            changes: dict[str, object] = {}
+            if total is not None:
+                changes["total"] = total
+            if description is not None:
+                changes["description"] = description
+            shown.update(task, **changes)
+
+        yield StudyBar(lambda count: shown.advance(task, count), update)
+
+
 @contextmanager
 def progress_bar(total: int, description: str) -> Iterator[Callable[[int], None]]:
     """A bar for ``total`` units of work labelled ``description``; yields ``advance(count)``."""
+    with _progress(total, description) as (shown, task):
+        yield lambda count: shown.advance(task, count)
+
+
+@contextmanager
+def _progress(total: int, description: str) -> Iterator[tuple[Any, Any]]:
+    """The Rich progress display of one task (shown on stderr), and the task."""
     from rich.console import Console
     from rich.progress import (
         BarColumn,
@@ -62,5 +106,4 @@ def progress_bar(total: int, description: str) -> Iterator[Callable[[int], None]
         transient=False,
     )
     with shown:
-        task = shown.add_task(description, total=total)
-        yield lambda count: shown.advance(task, count)
+        yield shown, shown.add_task(description, total=total)

@@ -61,7 +61,7 @@ def display(unit: str) -> tuple[str, float]:
 
 #: Columns of the scheme table in %: yields and their interval bounds, overall and per
 #: requirement (longest prefix first).
-_PERCENT_PREFIXES = ("yield_low", "yield_high", "yield")
+_PERCENT_PREFIXES = ("yield_low", "yield_high", "yield", "verdict_low", "verdict_high")
 
 
 def csv_table(table: pd.DataFrame, units: Mapping[str, str]) -> pd.DataFrame:
@@ -216,6 +216,46 @@ def design_plots(
     return images
 
 
+def verdict_interval(result: DesignResult) -> str:
+    """The interval the study's verdicts were decided on, in words."""
+    from jointplay.tolerance.confidence import RULE_INTERVALS
+
+    rule = str(result.settings.get("verdict_rule", "fixed"))
+    return RULE_INTERVALS.get(rule, RULE_INTERVALS["fixed"])
+
+
+def looks_text(settings: Mapping[str, Any]) -> str:
+    """The looks at the verdicts in words: ``one look at 200`` or ``looks every 100 up to
+    4,000``."""
+    looks = [int(n) for n in settings.get("looks", [])]
+    if len(looks) == 1:
+        return f"one look at {looks[0]:,}"
+    if not looks:
+        return "no look"
+    return f"looks every {looks[0]:,} up to {looks[-1]:,}"
+
+
+#: What the ``stopped`` column says, in words.
+STOPPED = {
+    "decided": "decided",
+    "dearer": "dearer than a scheme shown to meet",
+    "max-samples": "at the most samples",
+    "time": "at the time budget",
+    "interrupted": "interrupted",
+}
+
+
+def stop_line(result: DesignResult) -> str:
+    """How many schemes stopped for each reason, e.g. ``stopped: 5 decided, 3 dearer than a
+    scheme shown to meet``; empty without a ``stopped`` column."""
+    table = result.table
+    if not len(table) or "stopped" not in table:
+        return ""
+    counts = table["stopped"].value_counts()
+    parts = [f"{int(counts[k])} {STOPPED[k]}" for k in STOPPED if k in counts]
+    return "stopped: " + ", ".join(parts)
+
+
 def design_section(
     report: HtmlReport,
     result: DesignResult,
@@ -251,11 +291,13 @@ def design_section(
         [f"requirement: {r.text}" for r in result.requirements]
         + [
             f"confidence level: {100 * result.confidence:g} %: a scheme meets a requirement "
-            "when the lower bound of its yield's exact (Clopper-Pearson) 95 % interval reaches "
-            "it, fails when the upper bound stays below it, and is undecided otherwise",
+            f"when the lower bound of its yield's {verdict_interval(result)} reaches it, fails "
+            "when the upper bound stays below it, and is undecided otherwise; the yields "
+            "reported carry their exact (Clopper-Pearson) 95 % interval",
             f"responses: {result.responses}; samples per scheme: {settings.get('samples')} "
-            f"(rounds {settings.get('rounds')})",
+            f"({looks_text(settings)})",
         ]
+        + [line for line in [stop_line(result)] if line]
         + [f"contact: {c}" for c in [settings.get("model", {}).get("contact")] if c]
     )
     sampling = settings.get("sampling_distributions")
@@ -269,7 +311,8 @@ def design_section(
             "scheme": "scheme (fit, length class)",
             "cost": "relative cost",
             "verdict": "verdict",
-            "samples": "samples",
+            "samples": "samples (what the verdict took)",
+            "stopped": "stopped",
             "yield": f"{YIELD_ALL} (%)",
             "yield_low": f"{YIELD_ALL}, 95 % lower bound (%)",
             "dpm_high": "DPM, 95 % upper bound",
@@ -295,7 +338,7 @@ def design_section(
             text_columns=tuple(
                 i
                 for i, c in enumerate(shown.columns)
-                if c in (columns["scheme"], "verdict") or str(c).endswith(": basis")
+                if c in (columns["scheme"], "verdict", "stopped") or str(c).endswith(": basis")
             ),
         )
         report.heading("What each response means", level=3, anchor="design-definitions")

@@ -1,8 +1,8 @@
 """Tolerance synthesis through the dynamics: which fit and which length class to put on the
 drawing.
 
-This module runs the study (the rounds of samples, the verdicts, the rare-defect estimates);
-its candidates — schemes, callouts, requirements, rounds — are in
+This module runs the study (the blocks of samples, the verdicts, the rare-defect estimates);
+its candidates — schemes, callouts, requirements, looks — are in
 :mod:`jointplay.study.design_schemes` and its result — :class:`DesignResult` and the
 findings over the samples — in :mod:`jointplay.study.design_result`; both are re-exported
 here, the one import path.
@@ -14,8 +14,8 @@ pin joints, or one per named joint — and an ISO 2768-1 class for the link leng
    its class's ±deviation, each joint's hole and pin diameters in their own ISO 286 zones,
    the radial clearance their half difference (or, ``Process(sampling="band")``, the
    clearance over the fit's worst-case band), with the same seed for every scheme and every
-   round (common random numbers: schemes differ by their tolerances, not by their luck);
-   ``samples="auto"`` adds rounds (:func:`sample_rounds`) while a scheme is undecided and
+   block (common random numbers: schemes differ by their tolerances, not by their luck);
+   ``samples="auto"`` adds blocks (:func:`sample_looks`) while a scheme is undecided and
    could still be the answer;
 2. each sample through the steady running dynamics (steady start, ``settle`` start-up
    revolutions left out) — or through the ideal-joint kinematics when every requirement is
@@ -46,8 +46,8 @@ pin joints, or one per named joint — and an ISO 2768-1 class for the link leng
    (:class:`DesignDiagnostic`: how many samples of how many schemes, the worst ratio and its
    scheme, whether the recommended scheme is among them).
 
-Each round's samples of all open schemes run as one batch on one backend
-(:func:`jointplay.tolerance.execution.run`), scheme after scheme: Ctrl-C keeps the rounds
+Each block's samples of all open schemes run as one batch on one backend
+(:func:`jointplay.tolerance.execution.run`), scheme after scheme: Ctrl-C keeps the blocks
 that finished.
 
 Responses of the dynamic model (SI): the tolerance study's peaks (``omega<k>_peak``,
@@ -68,6 +68,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Literal
@@ -78,6 +79,7 @@ from numpy.typing import NDArray
 
 from jointplay._kernels.capabilities import engine_of, refusal
 from jointplay.errors import ConfigError, PartialInterrupt
+from jointplay.execution.progress import study_bar
 from jointplay.model.mechanism import Mechanism
 
 # The study's parts (this module runs the study; the candidates and the result live apart):
@@ -90,30 +92,38 @@ from jointplay.study.design_result import (
     penetration_diagnostics,
 )
 from jointplay.study.design_schemes import (
+    BLOCK,
     DEFAULT_CONFIDENCE,
     DEFAULT_MAX_SAMPLES,
     DERIVED_RESPONSES,
-    FIRST_ROUND,
     Callout,
     Scheme,
     _diameter,
     design_units,
     parse_requirements,
     resolve_responses,
-    sample_rounds,
+    sample_looks,
     schemes,
     trajectory_requirements,
 )
 from jointplay.study.requirements import Requirement
 from jointplay.tolerance import iso286
 from jointplay.tolerance.analysis import StudyDiagnostic, convergence_finding
-from jointplay.tolerance.confidence import YieldEstimate, quantile_value, verdict
+from jointplay.tolerance.confidence import (
+    RULE_INTERVALS,
+    Rule,
+    YieldEstimate,
+    interval,
+    quantile_value,
+    verdict,
+)
 from jointplay.tolerance.cost import CostModel
 from jointplay.tolerance.execution import NOT_RUN, OK, STATUS, Backend, run
 from jointplay.tolerance.methods import distribution_note, truncated_at_limits
 from jointplay.tolerance.parts import Process, model_inputs
 from jointplay.tolerance.rare import RareEstimate, cross_entropy_importance_sampling
 from jointplay.tolerance.responses import (
+    CheckedModel,
     PeakResponses,
     ResponseModel,
     RunningResponses,
@@ -131,13 +141,14 @@ if TYPE_CHECKING:
     from jointplay.dynamics.wear import WearSettings
 
 __all__ = [
+    "BLOCK",
     "DEFAULT_CONFIDENCE",
     "DEFAULT_MAX_SAMPLES",
     "DERIVED_RESPONSES",
-    "FIRST_ROUND",
     "Callout",
     "DesignDiagnostic",
     "DesignResult",
+    "Earlier",
     "RareDefects",
     "Scheme",
     "design_study",
@@ -145,7 +156,7 @@ __all__ = [
     "parse_requirements",
     "penetration_diagnostics",
     "resolve_responses",
-    "sample_rounds",
+    "sample_looks",
     "schemes",
     "trajectory_requirements",
 ]
@@ -155,7 +166,8 @@ FloatArray = NDArray[np.float64]
 
 @dataclass
 class _Evaluated:
-    """The samples one evaluation key (a scheme; a length class when kinematic) has run."""
+    """The samples one evaluation key (a scheme; a length class when kinematic) has run, in
+    the order of its sample stream."""
 
     features: list[FloatArray] = field(default_factory=list)
     x: list[FloatArray] = field(default_factory=list)
@@ -177,6 +189,19 @@ class _Evaluated:
         checks = outcome.checks[part] if outcome.checks is not None else np.empty((n, 0))
         self.checks.append(checks)
         self.errors.extend(outcome.errors[part])
+
+    def head(self, n: int) -> _Evaluated:
+        """The first ``n`` samples (all of them when there are fewer)."""
+        if not self.status:
+            return self
+        return _Evaluated(
+            [np.vstack(self.features)[:n]],
+            [np.vstack(self.x)[:n]],
+            [np.vstack(self.values)[:n]],
+            [np.concatenate(self.status)[:n]],
+            [np.vstack(self.checks)[:n]],
+            list(self.errors[:n]),
+        )
 
 
 def design_study(
@@ -204,6 +229,8 @@ def design_study(
     rare: RareDefects | None = None,
     backend: Backend | None = None,
     progress: bool = False,
+    resume: Earlier | None = None,
+    max_time: float | None = None,
 ) -> DesignResult:
     """Find the cheapest fit and length class shown to meet ``requirements``.
 
@@ -213,11 +240,14 @@ def design_study(
         fits: candidate fits: text (every joint) or a mapping joint → fit.
         classes: candidate ISO 2768-1 classes.
         requirements: requirements as text (:mod:`jointplay.study.requirements`) or objects.
-        samples: Monte Carlo samples per scheme, or ``"auto"``: rounds of samples
-            (:func:`sample_rounds`) until every scheme is decided, can no longer be the
+        samples: Monte Carlo samples per scheme (verdicts on the exact interval at that
+            fixed n), or ``"auto"``: blocks of samples (:func:`sample_looks`), the verdicts
+            looked at after each on the confidence sequence
+            (:func:`~jointplay.tolerance.confidence.confidence_sequence`, valid at every
+            look), until every scheme is decided, can no longer be the
             cheapest feasible one, or has ``max_samples``.
         max_samples: ``"auto"``: the most samples per scheme.
-        seed: the seed (the same for every scheme and every round: common random numbers).
+        seed: the seed (the same for every scheme and every block: common random numbers).
         confidence: share of parts that must meet a requirement without its own ``@``.
         responses: ``"dynamic"`` (clearance joints, steady running), ``"kinematic"`` (ideal
             joints, lengths only) or ``"auto"`` (kinematic when every requirement is).
@@ -245,16 +275,30 @@ def design_study(
             first) by cross-entropy importance sampling (:mod:`jointplay.tolerance.rare`);
             its 95 % interval decides them (``verdict_basis``). ``None``: Monte Carlo only.
         backend: where the samples run (default local processes).
-        progress: show a progress bar.
+        progress: show one progress bar for the whole study: samples done of the most it
+            can still need (every open scheme to ``max_samples``), schemes decided, the time
+            left at the measured rate.
+        max_time: a time budget, s: no block is started that would end after it at the
+            measured rate (the first always runs); the schemes still open stop (``stopped``
+            = ``time``) with the verdicts reached, :attr:`DesignResult.time_note` says what
+            would decide them. ``None``: no budget.
+        resume: an earlier run of the same study (:class:`Earlier`, ``--resume``): its
+            samples are kept (each scheme's stream goes on from where it stopped: the result
+            is the one an uninterrupted run with these settings gives, bit for bit) and its
+            runs are listed in ``settings["runs"]``. Refused (ConfigError naming the
+            difference) when the mechanism, the model, a requirement, the schemes, the seed,
+            the sampling or the costs differ; ``samples``, ``max_samples``, the backend may.
 
     Raises:
-        ConfigError: a malformed requirement, an unknown response, bad candidates.
+        ConfigError: a malformed requirement, an unknown response, bad candidates, a resumed
+            study that differs.
         PartialInterrupt: interrupted during the convergence check, after every scheme
             finished; its ``partial`` is the result without the check.
     """
     if not 0.0 < confidence < 1.0:
         raise ConfigError(f"confidence must lie between 0 and 100 %, got {100 * confidence:g} %")
-    rounds = sample_rounds(samples, max_samples)
+    looks = sample_looks(samples, max_samples)
+    rule: Rule = "fixed" if samples != "auto" else "sequential"
     process = process or Process()
     cost = cost or CostModel()
     candidates = schemes(mechanism, fits, classes)
@@ -298,40 +342,101 @@ def design_study(
         first_of_class[s.length_class] if responses == "kinematic" else i
         for i, s in enumerate(candidates)
     ]
+    model_checks = tuple(model.check_names) if isinstance(model, CheckedModel) else ()
+    identity = _identity(
+        mechanism, model, parsed, confidence, candidates, seed, process, truncate, responses,
+        cost, clearance_limit, clearance_allowance,
+    )  # fmt: skip
     evaluated = {k: _Evaluated() for k in set(key)}
+    runs: list[dict[str, Any]] = []
+    if resume is not None:
+        resume.check(identity)
+        kept = resume.evaluated(
+            candidates, key, feature_names, names, tuple(model.response_names), model_checks
+        )
+        for k, done in kept.items():
+            check = sample(specs[k], max(done.n, 1), seed).values
+            if done.n and not np.array_equal(np.vstack(done.features), check):
+                raise ConfigError(
+                    f"--resume: the samples kept in {resume.folder} are not this study's sample "
+                    "stream (the tolerances or the sampling changed); run the study into a new "
+                    "--out folder"
+                )
+            evaluated[k] = done
+        runs = [dict(r) for r in resume.runs]
+    kept_samples = sum(e.n for e in evaluated.values())
     active = set(range(len(candidates)))
     rows: dict[int, dict[str, Any]] = {}
     interrupted = False
-    first: tuple[FloatArray, Any] | None = None  # the first round, for the convergence check
+    first: tuple[FloatArray, Any] | None = None  # the first block, for the convergence check
     executions = []
-    for target in rounds:
-        keys = sorted({key[i] for i in active if evaluated[key[i]].n < target})
-        if not keys:
-            break
-        drawn = [sample(specs[k], target, seed).values[evaluated[k].n :] for k in keys]
-        features = np.vstack(drawn)
-        _, x = model_inputs(feature_names, features)
-        outcome = run(model, x, backend=backend, progress=progress)
-        executions.append(outcome.describe())
-        if first is None:
-            first = (x, outcome)
-        start = 0
-        for k, block in zip(keys, drawn, strict=True):
-            part = slice(start, start + len(block))
-            start += len(block)
-            if not np.any(outcome.status[part] == NOT_RUN):  # else interrupted: not kept
-                evaluated[k].add(block, x, outcome, part)
-        for i, scheme in enumerate(candidates):
-            if evaluated[key[i]].n:
-                rows[i] = _scheme_row(
-                    scheme, mechanism, cost, evaluated[key[i]], names, model, outcome.check_names,
-                    parsed, confidence, clearance_limit, clearance_allowance,
-                )  # fmt: skip
-        if outcome.interrupted:
-            interrupted = True
-            break
-        active = _still_open(active, rows)
-    if rare is not None and not interrupted:
+    stops: dict[int, str] = {}  # why each scheme stopped
+    started = time.perf_counter()
+    computed_now, computing_s, out_of_time = 0, 0.0, False
+    with study_bar(
+        progress, _most_needed(active, key, evaluated, looks[-1]), _bar_text(len(candidates), {})
+    ) as shown:
+        for target in looks:
+            keys = sorted({key[i] for i in active if evaluated[key[i]].n < target})
+            if keys:
+                drawn = [sample(specs[k], target, seed).values[evaluated[k].n :] for k in keys]
+                features = np.vstack(drawn)
+                _, x = model_inputs(feature_names, features)
+                if max_time is not None and computed_now:
+                    rate = computed_now / computing_s
+                    if time.perf_counter() - started + len(x) / rate > max_time:
+                        out_of_time = True
+                        break
+                began = time.perf_counter()
+                advanced = [0]
+
+                def advance(count: int, advanced: list[int] = advanced) -> None:
+                    advanced[0] += count
+                    shown.advance(count)
+
+                outcome = run(model, x, backend=backend, on_samples=advance)
+                computing_s += time.perf_counter() - began
+                ran = int(np.sum(outcome.status != NOT_RUN))
+                shown.advance(max(0, ran - advanced[0]))  # the failed blocks' samples too
+                computed_now += ran
+                executions.append(outcome.describe())
+                if first is None:
+                    first = (x, outcome)
+                start = 0
+                for k, block in zip(keys, drawn, strict=True):
+                    part = slice(start, start + len(block))
+                    start += len(block)
+                    if not np.any(outcome.status[part] == NOT_RUN):  # else interrupted: not kept
+                        evaluated[k].add(block, x, outcome, part)
+                if outcome.interrupted:
+                    interrupted = True
+            for i in sorted(active):
+                # each scheme is judged on the first `target` samples of its stream (a resumed
+                # study may hold more), those it has when interrupted
+                done = evaluated[key[i]].head(target)
+                if done.n and (i not in rows or done.n > rows[i]["samples"]):
+                    rows[i] = _scheme_row(
+                        candidates[i], mechanism, cost, done, names, model, model_checks,
+                        parsed, confidence, clearance_limit, clearance_allowance, rule,
+                    )  # fmt: skip
+            if interrupted:
+                break
+            still = _still_open(active, rows)
+            for i in active - still:
+                stops[i] = "decided" if rows[i]["verdict"] != "undecided" else "dearer"
+            active = still
+            shown.update(
+                total=computed_now + _most_needed(active, key, evaluated, looks[-1]),
+                description=_bar_text(len(candidates), stops),
+            )
+            if not active:
+                break
+    for i in active:
+        stops[i] = "interrupted" if interrupted else "time" if out_of_time else "max-samples"
+    for i, row in rows.items():
+        row["stopped"] = stops.get(i, "interrupted")
+        row["decided_at"] = row["samples"] if row["verdict"] != "undecided" else None
+    if rare is not None and not interrupted and not out_of_time:
         try:
             for i in sorted(active, key=lambda j: rows[j]["cost"]):
                 if i not in _still_open({i}, rows):
@@ -345,13 +450,14 @@ def design_study(
                     break
                 rows[i].update(_rare_columns(estimate, parsed, confidence, rows[i]["verdict"]))
                 rows[i]["feasible"] = rows[i]["verdict"] == "meets"
-        except KeyboardInterrupt:  # between two stages: the Monte Carlo rounds are kept
+        except KeyboardInterrupt:  # between two stages: the Monte Carlo blocks are kept
             interrupted = True
 
     table = pd.DataFrame([rows[i] for i in sorted(rows)])
     best = binding = None
     if len(table):
         table["samples_to_decide"] = table["samples_to_decide"].astype("Int64")
+        table["decided_at"] = table["decided_at"].astype("Int64")
         _pareto(table, parsed, tuple(model.response_names))
     if len(table) and not interrupted:  # no recommendation from some schemes only
         feasible_rows = table[table["feasible"]]
@@ -364,26 +470,44 @@ def design_study(
         elif parsed:
             binding = _binding(table, [r.text for r in parsed])
     sample_frames = []
-    check_names = first[1].check_names if first is not None else ()
+    checks = model_checks
     for i, scheme in enumerate(candidates):
         if i in rows:
-            done = evaluated[key[i]]
+            done = evaluated[key[i]].head(int(rows[i]["samples"]))
             values = _responses(
                 scheme, mechanism, done, names, model, clearance_limit, clearance_allowance
             )
-            sample_frames.append(
-                _sample_frame(scheme, done, feature_names, names, values, check_names)
-            )
+            sample_frames.append(_sample_frame(scheme, done, feature_names, names, values, checks))
     every_sample = pd.concat(sample_frames, ignore_index=True) if sample_frames else pd.DataFrame()
+    computed = sum(e.n for e in evaluated.values()) - kept_samples
+    runs.append(
+        {
+            "run": len(runs) + 1,
+            "samples_computed": int(computed),
+            "samples_kept": int(kept_samples),
+            "max_samples": max_samples if samples == "auto" else samples,
+            "interrupted": interrupted,
+        }
+    )
     settings = {
+        "identity": identity,
+        "runs": runs,
+        "resumed_from": None if resume is None else str(resume.folder),
+        "max_time_s": max_time,
+        "stopped_at_max_time": out_of_time,
+        "elapsed_s": time.perf_counter() - started,
+        "samples_per_s": computed_now / computing_s if computing_s > 0 else None,
         "samples": samples,
         "max_samples": max_samples if samples == "auto" else samples,
-        "rounds": list(rounds),
+        "looks": list(looks),
+        "verdict_rule": rule,
+        "verdict_interval": RULE_INTERVALS[rule],
         "seed": seed,
         "process": process.describe(),
         "truncated_at_limits": bool(truncate),
         "sampling_distributions": distribution_note(specs[0], truncate) if specs else "",
-        "interval": "exact (Clopper-Pearson) two-sided 95 % interval of each yield",
+        "interval": "exact (Clopper-Pearson) two-sided 95 % interval of each yield (the "
+        "estimate reported); the verdicts: verdict_interval",
         "rare_defects": None if rare is None else dataclasses.asdict(rare),
         "responses": responses,
         "cost_model": cost.describe(),
@@ -391,12 +515,12 @@ def design_study(
         "clearance_allowance_m": clearance_allowance,
         "model": model.describe(),
         "execution": executions[-1] if executions else {},
-        "execution_rounds": executions,
+        "execution_blocks": executions,
         "schemes": len(candidates),
         "finished_schemes": len(rows),
     }
     diagnostics: tuple[StudyDiagnostic, ...] = penetration_diagnostics(
-        every_sample, check_names, names, best
+        every_sample, checks, names, best
     )
     result = DesignResult(
         mechanism=mechanism,
@@ -421,6 +545,169 @@ def design_study(
     if convergence is not None and convergence.finding is not None:
         diagnostics = (*diagnostics, convergence.finding)
     return dataclasses.replace(result, diagnostics=diagnostics, convergence=convergence)
+
+
+def _most_needed(
+    active: set[int], key: Sequence[int], evaluated: Mapping[int, _Evaluated], most: int
+) -> int:
+    """Samples the open schemes can still need: each open evaluation key to ``most``."""
+    return sum(max(0, most - evaluated[k].n) for k in {key[i] for i in active})
+
+
+def _bar_text(schemes: int, stops: Mapping[int, str]) -> str:
+    """The study bar's label: schemes decided of all."""
+    decided = sum(1 for why in stops.values() if why in ("decided", "dearer"))
+    return f"design: {decided}/{schemes} schemes decided; samples"
+
+
+def _identity(
+    mechanism: Mechanism,
+    model: ResponseModel,
+    parsed: Sequence[Requirement],
+    confidence: float,
+    candidates: Sequence[Scheme],
+    seed: int,
+    process: Process,
+    truncate: bool,
+    responses: str,
+    cost: CostModel,
+    limit: Mapping[str, float] | float | None,
+    allowance: float | None,
+) -> dict[str, Any]:
+    """What makes two runs the same study (``settings["identity"]``, JSON-ready): a resumed
+    run must match every entry."""
+    import hashlib
+
+    return _plain_json(
+        {
+            "mechanism": {
+                "name": mechanism.name,
+                "sha256": hashlib.sha256(repr(mechanism).encode()).hexdigest()[:16],
+            },
+            "model": model.describe(),
+            "requirements": [r.describe() for r in parsed],
+            "confidence": confidence,
+            "schemes": [s.label for s in candidates],
+            "seed": seed,
+            "process": process.describe(),
+            "truncated_at_limits": bool(truncate),
+            "responses": responses,
+            "cost_model": cost.describe(),
+            "clearance_limit_m": limit,
+            "clearance_allowance_m": allowance,
+            "block": BLOCK,
+        }
+    )
+
+
+def _plain_json(value: Any) -> Any:
+    """``value`` as ``summary.json`` holds it (through the one JSON sanitiser, floats to
+    their significant digits), so that a stored identity compares equal."""
+    import json
+
+    from jointplay.io.output import json_text
+
+    return json.loads(json_text(json.loads(json.dumps(value, default=str))))
+
+
+@dataclass(frozen=True)
+class Earlier:
+    """An earlier run of a design study (``--resume``): what its result folder holds.
+
+    Attributes:
+        folder: where it was read from (for the messages).
+        settings: its ``summary.json`` settings (``identity``, ``runs``).
+        samples: its ``samples.parquet``: one row per sample of each scheme.
+    """
+
+    folder: str
+    settings: Mapping[str, Any]
+    samples: pd.DataFrame = field(repr=False)
+
+    @property
+    def runs(self) -> tuple[Mapping[str, Any], ...]:
+        """The runs it merged, itself the last."""
+        return tuple(self.settings.get("runs") or ())
+
+    def check(self, identity: Mapping[str, Any]) -> None:
+        """ConfigError naming the first entry of the study's identity that differs."""
+        before = self.settings.get("identity")
+        if not isinstance(before, Mapping):
+            raise ConfigError(
+                f"--resume: {self.folder} holds a design result without the study's identity "
+                "(written before --resume existed); run the study into a new --out folder"
+            )
+        for name in dict.fromkeys([*identity, *before]):
+            was, now = before.get(name), identity.get(name)
+            if was != now:
+                where, was, now = _difference(name, was, now)
+                raise ConfigError(
+                    f"--resume: the study in {self.folder} has a different {where}: "
+                    f"{_short(was, now)}; resume with the same {name}, or run the changed study "
+                    "into a new --out folder"
+                )
+
+    def evaluated(
+        self,
+        candidates: Sequence[Scheme],
+        key: Sequence[int],
+        feature_names: Sequence[str],
+        names: Sequence[str],
+        response_names: Sequence[str],
+        check_names: Sequence[str],
+    ) -> dict[int, _Evaluated]:
+        """The samples of each evaluation key (the longest of its schemes' streams)."""
+        codes = {text: code for code, text in STATUS.items()}
+        frame = self.samples
+        out: dict[int, _Evaluated] = {}
+        for i, scheme in enumerate(candidates):
+            rows = frame[frame["scheme"] == scheme.label].sort_values("sample")
+            if not len(rows) or (key[i] in out and out[key[i]].n >= len(rows)):
+                continue
+            n = len(rows)
+            columns = [*feature_names, *names, *response_names, *check_names]
+            missing = [c for c in columns if c not in rows]
+            if missing:
+                raise ConfigError(
+                    f"--resume: the samples in {self.folder} lack {', '.join(missing[:3])}; "
+                    "run the study into a new --out folder"
+                )
+
+            def block(which: Sequence[str], rows: pd.DataFrame = rows, n: int = n) -> FloatArray:
+                return rows[list(which)].to_numpy(dtype=float).reshape(n, len(which))
+
+            out[key[i]] = _Evaluated(
+                [block(feature_names)],
+                [block(names)],
+                [block(response_names)],
+                [np.asarray(rows["status"].map(codes), dtype=np.int8)],
+                [block(check_names)],
+                ["" if e is None else str(e) for e in rows["error"]],
+            )
+        return out
+
+
+def _difference(where: str, was: Any, now: Any) -> tuple[str, Any, Any]:
+    """The first place where two JSON values differ: its path and the two values there."""
+    if isinstance(was, Mapping) and isinstance(now, Mapping):
+        for name in dict.fromkeys([*was, *now]):
+            if was.get(name) != now.get(name):
+                return _difference(f"{where}.{name}", was.get(name), now.get(name))
+    if isinstance(was, list) and isinstance(now, list) and len(was) == len(now):
+        for i, (a, b) in enumerate(zip(was, now, strict=True)):
+            if a != b:
+                return _difference(f"{where}[{i}]", a, b)
+    return where, was, now
+
+
+def _short(was: Any, now: Any) -> str:
+    """``was`` there and ``now`` here, each cut to a readable length."""
+
+    def cut(value: Any) -> str:
+        text = repr(value)
+        return text if len(text) <= 80 else text[:77] + "..."
+
+    return f"{cut(was)} there, {cut(now)} now"
 
 
 @dataclass(frozen=True)
@@ -602,9 +889,12 @@ def _scheme_row(
     confidence: float,
     limit: Mapping[str, float] | float | None,
     allowance: float | None,
+    rule: Rule = "fixed",
 ) -> dict[str, Any]:
     """One scheme's row: its budget, each response's statistics, and per requirement the
-    failures, the yield and DPM with their exact intervals and the verdict."""
+    failures, the yield and DPM with their exact intervals, the verdict and the interval it
+    was decided on (``verdict_low_<r>``, ``verdict_high_<r>``, %: the exact one for a fixed
+    sample size, the confidence sequence for ``rule="sequential"``)."""
     status = np.concatenate(done.status)
     n = len(status)
     ok = status == OK
@@ -634,19 +924,24 @@ def _scheme_row(
         met = r.met(values[r.response]) & ok
         every &= met
         estimate = YieldEstimate(int(n - met.sum()), n)
-        judged = verdict(estimate, r.confidence if r.confidence is not None else confidence)
+        level = r.confidence if r.confidence is not None else confidence
+        judged = verdict(estimate, level, rule=rule)
         verdicts.append(judged.name)
         if judged.name == "undecided":
             to_decide.append(judged.samples_to_decide)
         row[f"failures_{r.text}"] = estimate.failures
         row.update(_yield_columns(estimate, f"_{r.text}"))
         row[f"verdict_{r.text}"] = judged.name
+        low, high = interval(n - estimate.failures, n, level, rule)
+        row[f"verdict_low_{r.text}"] = 100.0 * low
+        row[f"verdict_high_{r.text}"] = 100.0 * high
         row[f"samples_to_decide_{r.text}"] = judged.samples_to_decide
     row.update(_yield_columns(YieldEstimate(int(n - every.sum()), n), ""))
     row["verdict"] = (
         "fails" if "fails" in verdicts else "undecided" if "undecided" in verdicts else "meets"
     )
     row["verdict_basis"] = "monte-carlo"
+    row["verdict_interval"] = rule
     row["feasible"] = row["verdict"] == "meets"
     reachable = [m for m in to_decide if m is not None]
     row["samples_to_decide"] = (
@@ -674,7 +969,7 @@ def _yield_columns(estimate: YieldEstimate, suffix: str) -> dict[str, float]:
 
 
 def _still_open(active: set[int], rows: Mapping[int, Mapping[str, Any]]) -> set[int]:
-    """The schemes worth another round: undecided, and not dearer than a scheme already
+    """The schemes worth another block: undecided, and not dearer than a scheme already
     shown to meet every requirement (they can no longer be the cheapest feasible one)."""
     shown = [row["cost"] for row in rows.values() if row["feasible"]]
     ceiling = min(shown) if shown else math.inf

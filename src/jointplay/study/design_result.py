@@ -356,6 +356,34 @@ class DesignResult:
         return text
 
     @property
+    def time_note(self) -> str | None:
+        """What would decide the schemes a time budget stopped, or ``None``."""
+        return self.what_times()
+
+    def what_times(self, names: Mapping[str, str] | None = None) -> str | None:
+        """:attr:`time_note`, the settings it advises on called by ``names`` (setting →
+        name; the command line its options')."""
+        settings = self.settings
+        if not settings.get("stopped_at_max_time") or "stopped" not in self.table:
+            return None
+        budget = float(settings["max_time_s"])
+        still = int((self.table["stopped"] == "time").sum())
+        text = f"stopped at the time budget ({duration(budget)}): {still} scheme(s) undecided"
+        rate = settings.get("samples_per_s")
+        if still and rate:
+            again = 2.0 * budget
+            each = rate * again / still
+            text += name_settings(
+                "; {resume} with {max_time} {again} would allow ~{each:,.0f} more samples each "
+                "(at the measured {rate:.3g} samples/s)",
+                names,
+                again=duration(again),
+                each=each,
+                rate=rate,
+            )
+        return text
+
+    @property
     def lubrication(self) -> str:
         """The joints' lubrication in words, as the dynamic model ran them (``lubricated,
         0.05 Pa*s oil``, ``dry``; empty for a kinematic design)."""
@@ -369,8 +397,8 @@ class DesignResult:
         if self.interrupted:
             return (
                 f"interrupted: {len(self.table)} of {self.settings.get('schemes', '?')} schemes "
-                "with finished rounds; no recommendation from some of the schemes (run the "
-                "study again)"
+                "with finished blocks; no recommendation from some of the schemes (resume the "
+                "study: its samples are kept)"
             )
         regime = f" — {self.lubrication}" if self.lubrication else ""
         if self.best is not None:
@@ -404,6 +432,7 @@ class DesignResult:
             "drawing": [c.as_dict() for c in self.drawing],
             "binding": self.binding,
             "to_decide": self.to_decide,
+            "time_note": self.time_note,
             "interrupted": self.interrupted,
             "settings": dict(self.settings),
             "response_definitions": response_definitions(self.reported_responses),
@@ -433,6 +462,11 @@ class DesignResult:
                 "dpm": row[f"dpm_{r.text}"],
                 "dpm_ci95": [row[f"dpm_low_{r.text}"], row[f"dpm_high_{r.text}"]],
                 "verdict": row[f"verdict_{r.text}"],
+                # the interval the verdict was decided on (settings.verdict_interval)
+                "verdict_interval": [
+                    _fraction(row.get(f"verdict_low_{r.text}")),
+                    _fraction(row.get(f"verdict_high_{r.text}")),
+                ],
                 "samples_to_decide": _plain(row[f"samples_to_decide_{r.text}"]),
             }
             for r in self.requirements
@@ -444,6 +478,21 @@ class DesignResult:
         """The responses the scheme table reports: those the requirements name, in order."""
         names = [r.response for r in self.requirements]
         return tuple(dict.fromkeys(names))
+
+
+def _fraction(percent: Any) -> float | None:
+    """A table's percentage as a fraction (``None`` where missing)."""
+    value = _plain(percent)
+    return None if value is None else float(value) / 100.0
+
+
+def duration(seconds: float) -> str:
+    """A duration as a quantity the command line reads back: ``45 s``, ``20 min``, ``2 h``."""
+    if seconds < 60.0:
+        return f"{seconds:.3g} s"
+    if seconds < 3600.0:
+        return f"{seconds / 60.0:.3g} min"
+    return f"{seconds / 3600.0:.3g} h"
 
 
 def _plain(value: Any) -> Any:

@@ -305,22 +305,21 @@ def trajectory_requirements(requirements: Sequence[Requirement]) -> list[str]:
 # --- plausibility -----------------------------------------------------------------------------
 
 
-#: ``samples="auto"``: samples per scheme of the first round; each round doubles the total.
-FIRST_ROUND = 100
+#: ``samples="auto"``: samples per scheme in each block; the verdicts are looked at after
+#: every block (the sequential rule: :func:`jointplay.tolerance.confidence.confidence_sequence`).
+BLOCK = 100
 #: ``samples="auto"``: default largest number of samples per scheme.
 DEFAULT_MAX_SAMPLES = 4000
 
 
-def sample_rounds(samples: int | Literal["auto"], max_samples: int) -> tuple[int, ...]:
-    """Total samples per scheme after each round: ``(samples,)`` for a number, else
-    :data:`FIRST_ROUND`, doubling, up to ``max_samples`` (its last round)."""
+def sample_looks(samples: int | Literal["auto"], max_samples: int) -> tuple[int, ...]:
+    """Total samples per scheme at each look at the verdicts: ``(samples,)`` for a number
+    (one look, at a sample size fixed in advance), else every :data:`BLOCK` samples up to
+    ``max_samples`` (its last look)."""
     if samples != "auto":
         if isinstance(samples, bool) or not isinstance(samples, int) or samples < 1:
             raise ConfigError(f"samples must be a positive integer or 'auto', got {samples!r}")
         return (samples,)
     if isinstance(max_samples, bool) or not isinstance(max_samples, int) or max_samples < 1:
         raise ConfigError(f"max_samples must be a positive integer, got {max_samples!r}")
-    out = [min(FIRST_ROUND, max_samples)]
-    while out[-1] < max_samples:
-        out.append(min(2 * out[-1], max_samples))
-    return tuple(out)
+    return (*range(BLOCK, max_samples, BLOCK), max_samples)

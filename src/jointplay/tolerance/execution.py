@@ -33,6 +33,7 @@ gracefully: pending tasks are cancelled, finished ones are kept and the others a
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -132,6 +133,7 @@ def run(
     backend: Backend | None = None,
     progress: bool = False,
     description: str = "samples",
+    on_samples: Callable[[int], None] | None = None,
 ) -> RunResult:
     """Evaluate ``model`` on every row of ``x`` (n, k) with ``backend``.
 
@@ -145,6 +147,8 @@ def run(
         backend: where to run (default: local processes).
         progress: show a progress bar on stderr.
         description: label of the progress bar.
+        on_samples: called with the number of samples of each block as it succeeds (a
+            caller's own progress bar).
 
     Returns:
         The responses (and a :class:`~jointplay.tolerance.responses.CheckedModel`'s checks)
@@ -167,6 +171,7 @@ def run(
         sizes=[len(block) for block in blocks],
         progress=progress,
         description=description,
+        on_done=None if on_samples is None else (lambda i, _: on_samples(len(blocks[i]))),
     )
     # the tasks are over: an interrupt while their results are put together is noted and
     # makes the run interrupted, and those results are kept
