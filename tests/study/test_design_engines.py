@@ -160,3 +160,26 @@ def test_an_unconverged_design_says_so(paper_fourbar: Mechanism, tmp_path) -> No
     assert summary["diagnostics"][-1]["code"] == "peaks-not-converged"
     write_design(result, tmp_path, design_units(paper_fourbar, "dynamic"), plots=False)
     assert "Warning (peaks-not-converged)" in (tmp_path / "report.html").read_text()
+
+
+def test_a_design_judged_on_its_statistics_says_so(
+    paper_fourbar: Mechanism, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Where the convergence check judged the statistics (irregular samples) and found them
+    converged, its ``statistics-converged`` note is among the design's diagnostics: a dry
+    design that passes is not silent about the rule that judged it (the note alone, before,
+    reached only summary.json)."""
+    import jointplay.study.design as design_module
+    from jointplay.dynamics.diagnostics import Diagnostic
+    from jointplay.tolerance.analysis import ConvergenceCheck, StudyDiagnostic
+
+    said = Diagnostic("info", "statistics-converged", None, 0.0, 0.0, "judged on statistics")
+    note = StudyDiagnostic(said, count=8, out_of=8, worst_sample=0, worst_inputs={})
+    check = ConvergenceCheck(8, 100.0, "F_A_peak", 1.8, 0.1, None, rule="statistics", note=note)
+    monkeypatch.setattr(design_module, "convergence_finding", lambda *args: check)
+    result = design_study(
+        paper_fourbar, ["H8/g7"], ["c"], ["joint_force <= 1 kN"], samples=4, seed=1,
+        settle=0, revolutions=0.2, backend=LOCAL,
+    )  # fmt: skip
+    assert result.convergence is check
+    assert result.diagnostics[-1] is note

@@ -542,8 +542,10 @@ def design_study(
         convergence = convergence_finding(model, first[0], first[1], backend)
     except KeyboardInterrupt:  # every scheme finished: they go on with the interrupt
         raise PartialInterrupt(result, "interrupted during the convergence check") from None
-    if convergence is not None and convergence.finding is not None:
-        diagnostics = (*diagnostics, convergence.finding)
+    if convergence is not None:  # the per-sample rule's warning, or the statistics rule's note
+        said = convergence.finding if convergence.finding is not None else convergence.note
+        if said is not None:
+            diagnostics = (*diagnostics, said)
     return dataclasses.replace(result, diagnostics=diagnostics, convergence=convergence)
 
 
