@@ -80,7 +80,7 @@ def pytest_configure(config: pytest.Config) -> None:
     (``pytest &``, ``nohup``, a script's ``cmd &``) with SIGINT ignored, which every process
     it starts inherits; the command line then rightly leaves SIGINT alone (it watches only
     signals with a handler), and every test that interrupts a run with SIGINT, in this process
-    or in a child, failed so (12 of tests/cli alone). A handler here is not inherited across
+    or in a child, failed so (11 of tests/cli alone). A handler here is not inherited across
     ``exec``: the children start with SIGINT's default, as from a terminal."""
     import signal
 
