@@ -1,6 +1,10 @@
-"""Shared fixtures: the paper's mechanism and small helpers."""
+"""Shared fixtures: the paper's mechanism, the reduced paper run, and small helpers."""
 
 from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -16,6 +20,72 @@ def paper_fourbar() -> Mechanism:
 @pytest.fixture(scope="session")
 def slider_crank() -> Mechanism:
     return load_preset("flores-slider-crank")
+
+
+@dataclass(frozen=True)
+class ReducedPaperRun:
+    """One ``jointplay paper`` run on the reduced setting (:data:`REDUCED_PAPER`).
+
+    Attributes:
+        out: Its output folder (``results.json``, ``report.html``); read it, never write.
+        progress: Each ``(label, done, total)`` the study reported to the command's progress.
+        text_overlaps: Every figure the report saved, by file name (stem), with the pairs of
+            its texts that overlap.
+    """
+
+    out: Path
+    progress: tuple[tuple[str, int, int], ...]
+    text_overlaps: dict[str, list[Any]]
+
+
+#: The reduced paper study: 0.03 revolutions from rest, no length corners, the paper's ECS
+#: values, one steady revolution for Table 7 (the experiment), one process.
+REDUCED_PAPER = [
+    "paper", "--revolutions", "0.03", "--no-corners", "--ecs-source", "paper",
+    "--experiment-revolutions", "1", "--workers", "1",
+]  # fmt: skip
+
+
+@pytest.fixture(scope="session")
+def reduced_paper(tmp_path_factory: pytest.TempPathFactory) -> ReducedPaperRun:
+    """``jointplay paper`` on the reduced setting, run once per session (per xdist worker):
+    ``tests/study/test_paper.py`` checks its results and report, ``tests/report/
+    test_browser.py`` lays its page out in Chromium (each ran its own reduced study before).
+    The study's progress reports and the report's figures are recorded on the way."""
+    from _figures import record_text_overlaps
+    from jointplay.cli import run
+    from jointplay.study import paper
+
+    out = tmp_path_factory.mktemp("paper") / "paper"
+    calls: list[tuple[str, int, int]] = []
+    original = paper.run_paper_study
+
+    def recording(*args: Any, progress: Any = None, **kwargs: Any) -> Any:
+        def both(label: str, done: int, total: int) -> None:
+            calls.append((label, done, total))
+            if progress is not None:
+                progress(label, done, total)
+
+        return original(*args, progress=both, **kwargs)
+
+    with pytest.MonkeyPatch.context() as patch:
+        overlaps = record_text_overlaps(patch)
+        patch.setattr(paper, "run_paper_study", recording)
+        assert run([*REDUCED_PAPER, "--out", str(out)]) == 0
+    return ReducedPaperRun(out, tuple(calls), overlaps)
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """Ctrl-C as at a terminal, however pytest was started. A shell starts a background job
+    (``pytest &``, ``nohup``, a script's ``cmd &``) with SIGINT ignored, which every process
+    it starts inherits; the command line then rightly leaves SIGINT alone (it watches only
+    signals with a handler), and every test that interrupts a run with SIGINT, in this process
+    or in a child, failed so (11 of tests/cli alone). A handler here is not inherited across
+    ``exec``: the children start with SIGINT's default, as from a terminal."""
+    import signal
+
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 def pytest_addoption(parser: pytest.Parser, pluginmanager: pytest.PytestPluginManager) -> None:

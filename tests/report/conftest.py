@@ -2,38 +2,16 @@
 
 from __future__ import annotations
 
-import importlib
 from collections.abc import Iterator
 from typing import Any
 
 import pytest
 
-from jointplay.report import figures
-
-#: The report modules that save figures, with the name they call the saver by.
-SAVERS = {
-    "jointplay.report.calibration": "save",
-    "jointplay.report.overlays": "save",
-    "jointplay.report.paper_figures": "save",
-    "jointplay.report.plots": "save",
-    "jointplay.report.running": "save",
-    "jointplay.report.design": "encode",
-    "jointplay.report.tolerance_plots": "encode",
-}
+from _figures import record_text_overlaps
 
 
 @pytest.fixture
 def text_overlaps(monkeypatch: pytest.MonkeyPatch) -> Iterator[dict[str, list[Any]]]:
     """Every figure saved while the test runs, by file name (stem), with the pairs of its
     texts that overlap (:func:`jointplay.report.figures.overlapping_text`)."""
-    seen: dict[str, list[Any]] = {}
-    for module_name, attribute in SAVERS.items():
-        module = importlib.import_module(module_name)
-        original = getattr(figures, attribute)
-
-        def checked(fig: Any, path: Any, *args: Any, _original: Any = original, **kw: Any) -> Any:
-            seen[str(getattr(path, "stem", path))] = figures.overlapping_text(fig)
-            return _original(fig, path, *args, **kw)
-
-        monkeypatch.setattr(module, attribute, checked)
-    yield seen
+    yield record_text_overlaps(monkeypatch)

@@ -223,24 +223,14 @@ def test_a_page_that_overflows_is_caught(tmp_path: Path, browser: str) -> None:
 
 @pytest.mark.slow
 def test_the_paper_report_fits_1400_px_and_its_images_load(
-    tmp_path: Path, browser: str, text_overlaps: dict[str, list[Any]]
+    tmp_path: Path, browser: str, reduced_paper: Any
 ) -> None:
-    """The real page of `jointplay paper`, on a reduced study (a few degrees of crank, two
-    length corners, no experiment): every section, table and figure is there."""
-    from jointplay.report.paper import write_paper_report
-    from jointplay.study.paper import PaperStudyOptions, run_paper_study
-
-    options = PaperStudyOptions(
-        revolutions=0.03,
-        ecs_sources=("paper",),
-        corners=False,
-        workers=1,
-        experiment_revolutions=1,
-    )
-    calls: list[tuple[str, int, int]] = []
-    study = run_paper_study(
-        options, experiment=True, animation=True, progress=lambda *a: calls.append(a)
-    )
+    """The real page of `jointplay paper`, on a reduced study (a few degrees of crank, no
+    length corners, the experiment's one revolution; ``tests/conftest.py``'s session run,
+    which ``tests/study/test_paper.py`` checks too): every section, table and figure is
+    there. The page stands alone (figures embedded), so the probed copy lies in
+    ``tmp_path``."""
+    calls = list(reduced_paper.progress)
     # progress names what runs now, in words, and counts up to its total
     labels = [label for label, _, _ in calls]
     assert labels[0].startswith("nominal kinematics")
@@ -248,9 +238,10 @@ def test_the_paper_report_fits_1400_px_and_its_images_load(
     assert not any("/" in label for label in labels)  # no internal keys
     done = [d for _, d, _ in calls]
     assert done == sorted(done) and calls[-1][1] == calls[-1][2] and labels[-1] == "study done"
-    write_paper_report(study, tmp_path, {"command_line": "test"})
+    text_overlaps = reduced_paper.text_overlaps
     assert len(text_overlaps) >= 12 and not any(text_overlaps.values()), text_overlaps
-    seen = measure(tmp_path / "report.html", tmp_path, browser)
+    report = reduced_paper.out / "report.html"
+    seen = measure(report, tmp_path, browser)
     assert seen["scrollWidth"] <= WIDTH, seen
     assert seen["broken"] == [], seen
     assert seen["images"] >= 12, seen  # 8 method figures, orbits, mechanism, nominal, ECS...
@@ -258,13 +249,13 @@ def test_the_paper_report_fits_1400_px_and_its_images_load(
     # ends (the reduced study's page: the full study adds rows to folded tables only)
     assert seen["firstImageTop"] <= 2 * SCREEN, seen
     assert seen["scrollHeight"] <= 12_000, seen
-    assert (tmp_path / "report.html").stat().st_size <= 2_000_000
+    assert report.stat().st_size <= 2_000_000
     assert seen["squeezed"] == [], seen
-    phone = measure(tmp_path / "report.html", tmp_path, browser, PHONE)
+    phone = measure(report, tmp_path, browser, PHONE)
     assert phone["narrow"] == [] and phone["squeezed"] == [], phone
     assert phone["scrollWidth"] <= PHONE, phone
     # the marks of implausible values each link to their reason on the page
-    text = (tmp_path / "report.html").read_text(encoding="utf-8")
+    text = report.read_text(encoding="utf-8")
     for target in re.findall(r'<a class="flag" href="#(flag-\d+)"', text):
         assert f'<li id="{target}"' in text
 

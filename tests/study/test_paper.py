@@ -243,13 +243,10 @@ def reference_omega_peaks(system: System, revolutions: float) -> dict[str, float
 
 
 @pytest.fixture(scope="module")
-def study(tmp_path_factory: pytest.TempPathFactory) -> tuple[dict[str, Any], Path]:
-    out = tmp_path_factory.mktemp("paper") / "paper"
-    args = [
-        "paper", "--out", str(out), "--revolutions", "0.03", "--no-corners", "--ecs-source", "paper",
-        "--experiment-revolutions", "1", "--workers", "1",
-    ]  # fmt: skip
-    assert run(args) == 0
+def study(reduced_paper: Any) -> tuple[dict[str, Any], Path]:
+    """The reduced study through ``jointplay paper`` (``tests/conftest.py``: one run per
+    session, which ``tests/report/test_browser.py`` lays out too)."""
+    out = reduced_paper.out
     return json.loads((out / "results.json").read_text()), out
 
 
