@@ -111,27 +111,41 @@ def test_a_growing_rate_meets_the_closed_form_within_the_tolerance():
     exact = math.log((limit + a / b) / (c0 + a / b)) / b
     lives = functional_lives(
         WearStub(a=a, b=b), _x([c0]), clearance_criteria({"A": limit}),
-        hours=500 * HOUR, first_step=20 * HOUR, tolerance=0.01, backend=LOCAL,
+        hours=500 * HOUR, first_step=20 * HOUR, tolerance=0.01, min_step=1.0, backend=LOCAL,
     )  # fmt: skip
     assert lives.life[0] == pytest.approx(exact, rel=0.01)
     loose = functional_lives(
         WearStub(a=a, b=b), _x([c0]), clearance_criteria({"A": limit}),
-        hours=500 * HOUR, first_step=20 * HOUR, tolerance=0.2, backend=LOCAL,
+        hours=500 * HOUR, first_step=20 * HOUR, tolerance=0.2, min_step=1.0, backend=LOCAL,
     )  # fmt: skip
     # the tolerance is what controls it: a loose one errs by more, with fewer simulations
     assert abs(loose.life[0] / exact - 1) > abs(lives.life[0] / exact - 1)
     assert loose.resimulations[0] < lives.resimulations[0]
+    assert not lives.floor_steps.any()
+
+
+def test_steps_at_the_smallest_step_are_counted():
+    """With a floor above what the tolerance asks, steps are accepted there, counted, and
+    the largest estimate kept."""
+    a, b = 1e-6 / HOUR, 0.05 / HOUR
+    lives = functional_lives(
+        WearStub(a=a, b=b), _x([20e-6]), clearance_criteria({"A": 200e-6}),
+        hours=500 * HOUR, first_step=20 * HOUR, tolerance=0.01, backend=LOCAL,
+    )  # fmt: skip
+    assert lives.floor_steps[0] > 0
+    assert lives.worst_error[0] > 0.01
 
 
 def test_a_failed_simulation_ends_the_life_where_it_fails():
     """The stub fails beyond 40 µm at A: the life ends there, named, after the step was
-    halved down to the smallest step."""
+    halved down to the smallest step (a quarter of the first)."""
     lives = functional_lives(
         WearStub(breaks=40e-6), _x([20e-6]), clearance_criteria({"A": 80e-6}),
         hours=100 * HOUR, first_step=4 * HOUR, backend=LOCAL,
     )  # fmt: skip
     assert lives.failing == (SIMULATION_FAILED,)
-    assert lives.life[0] / HOUR == pytest.approx(20.0, rel=1e-2)
+    # the first state beyond 40 µm, within one smallest step (a quarter of 4 h) of 20 h
+    assert 20.0 < lives.life[0] / HOUR <= 21.0
 
 
 def test_a_mechanism_failing_as_made_has_life_zero():

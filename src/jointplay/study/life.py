@@ -30,8 +30,12 @@ the mechanism is re-simulated there (the effective-clearance assumption of
   margin over the step; a step longer than ``tolerance`` × the interpolated life is
   re-run to just short of it (½ ``tolerance`` before), then crossed with a step of at most
   ``tolerance`` × the life: the life is located within ``tolerance`` of itself;
-* a simulation that fails is re-run at half the step; at :data:`MIN_STEP_SHARE` of the
-  first step it ends the life there, named ``"simulation failed"``.
+* a step is never shorter than :data:`MIN_STEP_SHARE` of the first (``--update-hours``):
+  there it is accepted whatever its estimate, counted, and the largest such estimate is
+  reported (the wear rate of one simulated revolution is noisy under impacts; this noise
+  averages out over the steps, while a shorter step only costs simulations);
+* a simulation that fails is re-run at half the step; at the smallest step it ends the life
+  there, named ``"simulation failed"``.
 
 A mechanism that meets every criterion at ``hours`` is censored there. On a constant wear rate
 the rule is exact: life = margin / rate (tests/study/test_life.py).
@@ -92,9 +96,12 @@ FloatArray = NDArray[np.float64]
 DEFAULT_TOLERANCE = 0.01
 #: A step's local clearance error below this (m) is accepted whatever its share (1 nm).
 CLEARANCE_ATOL = 1e-9
-#: The smallest step, as a share of the first one: below it a failed simulation ends a life
-#: and a step is accepted whatever its error.
-MIN_STEP_SHARE = 2.0**-10
+#: The smallest step, as a share of the first one (two halvings): there a failed simulation
+#: ends a life and a step is accepted whatever its error estimate — the wear rate of one
+#: simulated revolution varies from one clearance to the next (impacts), a noise no shorter
+#: step removes; such steps are counted (``Lives.floor_steps``) and their largest estimate
+#: kept (``Lives.worst_error``).
+MIN_STEP_SHARE = 0.25
 
 
 @dataclass(frozen=True)
@@ -188,6 +195,7 @@ def functional_lives(
     hours: float,
     first_step: float,
     tolerance: float = DEFAULT_TOLERANCE,
+    min_step: float | None = None,
     backend: Backend | None = None,
     on_step: Callable[[int, int], None] | None = None,
 ) -> Lives:
@@ -202,6 +210,7 @@ def functional_lives(
         hours: the time simulated, s (SI; lives beyond it are censored there).
         first_step: the first step, s.
         tolerance: the update rule's relative error (module docstring).
+        min_step: the smallest step, s (default :data:`MIN_STEP_SHARE` of the first).
         backend: where each block of re-simulations runs (default: local processes).
         on_step: optional callback ``on_step(running, n)`` after each block.
 
@@ -232,7 +241,7 @@ def functional_lives(
     x0 = np.array(x, dtype=float, copy=True)
     n = len(x0)
     first_step = min(float(first_step), horizon)
-    min_step = first_step * MIN_STEP_SHARE
+    min_step = first_step * MIN_STEP_SHARE if min_step is None else min(min_step, first_step)
 
     def evaluate(block: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, NDArray[np.bool_]]:
         """Rates (m, J), margins (m, criteria), responses and ok of a block."""
@@ -274,6 +283,8 @@ def functional_lives(
     step = np.full(n, first_step)
     locate = np.full(n, np.inf)  # once a crossing is predicted: the step that locates it
     prev_rates = np.zeros_like(rates)
+    floor_steps = np.zeros(n, dtype=np.int64)
+    worst = np.zeros(n)  # the largest local-error estimate accepted, share of a step's growth
     prev_dt = np.zeros(n)
     history: list[list[tuple[float, tuple[float, ...]]]] = [
         [(0.0, tuple(map(float, clearance[i])))] for i in range(n)
@@ -332,7 +343,7 @@ def functional_lives(
                 crossing = t[i] + float(share[first]) * dt[k]
                 if dt[k] > tolerance * crossing and not at_min[k]:
                     # re-run to just short of it, then cross it in a short step
-                    locate[i] = max(tolerance * crossing, min_step)
+                    locate[i] = tolerance * crossing if crossing > 0 else min_step
                     short = crossing * (1 - 0.5 * tolerance) - t[i]
                     step[i] = max(short if short > 0 else locate[i], min_step)
                     continue
@@ -348,13 +359,16 @@ def functional_lives(
                 )
                 continue
             # accepted
+            ratio = float(np.max(estimate[k] / allowed[k])) if estimate[k].size else 0.0
+            if not ratio <= 1.0:
+                floor_steps[i] += 1
+            worst[i] = max(worst[i], ratio * tolerance)
             t[i] += dt[k]
             clearance[i] = proposed[k]
             prev_rates[i], prev_dt[i] = rates[i], dt[k]
             rates[i] = new_rates[k]
             margins[i] = new_margins[k]
             history[i].append((float(t[i]), tuple(map(float, clearance[i]))))
-            ratio = float(np.max(estimate[k] / allowed[k])) if estimate[k].size else 0.0
             grow = 2.0 if ratio <= (0.9 / 2.0) ** 3 else 0.9 * ratio ** (-1 / 3)
             step[i] = max(min(dt[k] * min(2.0, max(0.2, grow)), locate[i]), min_step)
             if t[i] >= horizon * (1 - 1e-12):
@@ -369,6 +383,8 @@ def functional_lives(
         resimulations=resims,
         history=tuple(tuple(h) for h in history),
         hours=horizon,
+        floor_steps=floor_steps,
+        worst_error=worst,
     )
 
 

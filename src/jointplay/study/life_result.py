@@ -60,6 +60,10 @@ class Lives:
         history: per mechanism, ``(time s, clearances m per joint)`` at each accepted step
             (and at the failure).
         hours: the time simulated, s.
+        floor_steps: (n,) steps accepted at the smallest step with an estimate above the
+            tolerance.
+        worst_error: (n,) the largest local-error estimate accepted, as a share of its
+            step's clearance growth.
     """
 
     joints: tuple[str, ...]
@@ -69,6 +73,8 @@ class Lives:
     resimulations: NDArray[np.int64]
     history: tuple[tuple[tuple[float, tuple[float, ...]], ...], ...] = field(repr=False)
     hours: float
+    floor_steps: NDArray[np.int64] | None = None
+    worst_error: FloatArray | None = None
 
     @property
     def n(self) -> int:
@@ -85,6 +91,8 @@ class Lives:
             np.concatenate([p.resimulations for p in parts]),
             tuple(h for p in parts for h in p.history),
             first.hours,
+            np.concatenate([_or_zeros(p.floor_steps, p.n) for p in parts]).astype(np.int64),
+            np.concatenate([_or_zeros(p.worst_error, p.n) for p in parts]),
         )
 
 
@@ -219,7 +227,23 @@ class LifeResult:
             f"at {hours_text(self.lives.hours)}; "
             f"{float(np.mean(self.lives.resimulations)):.1f} simulations per life"
         )
+        floor = self.floor_note()
+        if floor:
+            out.append(floor)
         return out
+
+    def floor_note(self) -> str:
+        """One line when steps were accepted at the smallest step above the tolerance."""
+        floor = _or_zeros(self.lives.floor_steps, self.n)
+        if not floor.sum():
+            return ""
+        worst = float(np.max(_or_zeros(self.lives.worst_error, self.n)))
+        return (
+            f"{int((floor > 0).sum())} of {self.n} lives took {int(floor.sum())} steps at the "
+            f"smallest step with a local-error estimate above the tolerance (largest "
+            f"{100 * worst:.3g} % of a step's growth): the wear rate varies between "
+            "re-simulations more than the tolerance; shorter --update-hours follow it closer"
+        )
 
     def table(self) -> pd.DataFrame:
         """lives.csv: per mechanism the features as made, the model's inputs, the life (h),
@@ -233,6 +257,8 @@ class LifeResult:
         frame["censored"] = self.lives.censored
         frame["failing"] = list(self.lives.failing)
         frame["simulations"] = self.lives.resimulations
+        frame["steps_at_smallest"] = _or_zeros(self.lives.floor_steps, self.n).astype(int)
+        frame["largest_step_error"] = _or_zeros(self.lives.worst_error, self.n)
         return frame
 
     def histories(self, indices: Sequence[int] | None = None) -> pd.DataFrame:
@@ -287,9 +313,17 @@ class LifeResult:
             },
             "failing_share": self.shares,
             "simulations_per_life": float(np.mean(self.lives.resimulations)),
+            "steps_at_smallest_step": int(_or_zeros(self.lives.floor_steps, self.n).sum()),
+            "largest_accepted_step_error": float(
+                np.max(_or_zeros(self.lives.worst_error, self.n), initial=0.0)
+            ),
             "criteria": list(self.criteria),
             "settings": dict(self.settings),
         }
+
+
+def _or_zeros(values: Any, n: int) -> Any:
+    return np.zeros(n) if values is None else np.asarray(values)
 
 
 def _quantile_text(q: EmpiricalQuantile) -> str:
