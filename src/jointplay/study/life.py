@@ -473,6 +473,7 @@ def population_life(
     spec = truncated_at_limits(spec) if truncate else spec
     names, _ = model_inputs(spec.names, np.empty((0, len(spec.names))))
     if model is None:
+        _check_backend(backend)
         model = _running_model(mechanism, names, parsed, run_settings, wear)
     step = hours / 10.0 if first_step is None else float(first_step)
     parts: list[Lives] = []
@@ -559,6 +560,22 @@ def _precise(lives: Lives, precision: float) -> bool:
         return False
     low, high = fit.quantile_interval(0.10)
     return math.isfinite(high) and 0.5 * (high - low) <= precision * fit.quantile(0.10)
+
+
+def _check_backend(backend: Backend | None) -> None:
+    """The running model needs each mechanism's trajectory (its wear rate): refused, in one
+    line, on a backend whose engine does not give trajectories (as the design study does)."""
+    from jointplay._kernels.capabilities import engine_of, refusal
+
+    if backend is None:
+        return
+    refused = refusal(
+        engine_of(backend.kind, "single"),
+        ["trajectories"],
+        named=lambda _: "the population life (each mechanism's trajectory gives its wear rate)",
+    )
+    if refused:
+        raise ConfigError(f"backend {backend.kind}: {refused}")
 
 
 def _running_model(
