@@ -116,8 +116,7 @@ def life_command(
         str | None,
         typer.Option(
             "--update-hours",
-            help="First step between re-simulations, e.g. '50 h' (default --hours / 10); "
-            "later steps follow --tolerance.",
+            help="First step between re-simulations, e.g. '50 h' (default --hours / 10).",
             rich_help_panel=WEAR_PANEL,
         ),
     ] = None,
@@ -235,13 +234,9 @@ def life_command(
     force: ForceOption = False,
     figure_format: FigureFormatOption = "png",
 ) -> None:
-    """Population life: N mechanisms drawn from the tolerance stack (as design draws them),
-    each worn through the re-simulated dynamics until its first requirement or clearance
-    limit fails; B1, B10, B50 with exact intervals, the censored Weibull fit with 90 %
-    likelihood-ratio intervals, and which requirement fails first.
-
-    Writes DIR/lives.csv, DIR/histories.csv, DIR/summary.json, plots and DIR/report.html
-    (docs/life.md).
+    """Population life: mechanisms as made (as design draws them), each worn through the
+    re-simulated dynamics until its first requirement fails; B10 with its interval, the
+    censored Weibull fit and which requirement fails first. Files: docs/life.md.
     """
     from jointplay.cli.design import (
         parse_clearance_limit,
