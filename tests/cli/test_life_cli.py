@@ -88,3 +88,35 @@ def test_bad_input_is_one_line_exit_2_and_writes_nothing(
     assert culprit in lines[0], err
     assert sorted(p.name for p in previous.iterdir()) == ["keep.txt"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["previous"]
+
+
+README = Path(__file__).resolve().parents[2] / "README.md"
+
+
+@pytest.mark.slow
+def test_the_readmes_population_life_says_what_the_run_gives(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+):
+    """The README's population-life command at its full size (20 mechanisms, minutes): its
+    first-screen answer — B10, its interval, the failing share — is the run's, within the
+    rounding of the figures (3 %)."""
+    import re
+    import shlex
+
+    text = README.read_text(encoding="utf-8")
+    block = re.search(r"```bash\n(jointplay life .*?)```", text, flags=re.DOTALL)
+    assert block, "the README no longer shows jointplay life"
+    lines = re.sub(r"\\\n\s*", " ", block.group(1)).splitlines()
+    command = lines[0].replace("--out life", f"--no-plots --no-progress --out {tmp_path / 'l'}")
+    promised = next(line for line in lines if line.startswith("# B10 = "))
+    status = run(shlex.split(command)[1:])
+    assert status == 0, capsys.readouterr().err
+    summary = json.loads((tmp_path / "l" / "summary.json").read_text())
+    b10, low, high, share, failures = re.search(
+        r"B10 = ([\d.]+) h \[([\d.]+)–([\d.]+) h\].* in (\d+) % of the (\d+) failures", promised
+    ).groups()  # type: ignore[union-attr]
+    fit = summary["weibull"]
+    assert fit["B10_h"] == pytest.approx(float(b10), rel=0.03)
+    assert fit["B10_interval_h"] == pytest.approx([float(low), float(high)], rel=0.03)
+    assert summary["failures"] == int(failures)
+    assert 100 * max(summary["failing_share"].values()) == pytest.approx(int(share), abs=5)
