@@ -169,3 +169,84 @@ def test_bad_settings_are_one_line_errors():
             WearStub(), _x([20e-6]), (Criterion("torque <= 1 N*m", "torque", True, 1.0),),
             hours=10.0, first_step=1.0, backend=LOCAL,
         )  # fmt: skip
+
+
+@dataclass(frozen=True)
+class ConstantWear:
+    """Any inputs; every joint's clearance grows at ``rate`` (m/s)."""
+
+    input_names: tuple[str, ...]
+    rate: float = 1e-6 / HOUR
+    chunk_size: int = 100000
+
+    @property
+    def joints(self) -> list[str]:
+        return [n.removeprefix("clearance_") for n in self.input_names if "clearance_" in n]
+
+    @property
+    def response_names(self) -> tuple[str, ...]:
+        return tuple(f"wear_rate_{j}" for j in self.joints)
+
+    @property
+    def units(self) -> dict[str, str]:
+        return dict.fromkeys(self.response_names, "m/s")
+
+    def evaluate(self, x: np.ndarray) -> Evaluation:
+        values = np.full((len(x), len(self.response_names)), self.rate)
+        return Evaluation(values, np.ones(len(x), bool), ("",) * len(x))
+
+    def describe(self) -> dict[str, str]:
+        return {"model": "constant wear"}
+
+
+def _population(**options):
+    from jointplay.io.config import load_preset
+    from jointplay.study.design_schemes import schemes
+    from jointplay.study.life import population_life
+    from jointplay.tolerance.parts import Process, model_inputs
+
+    mechanism = load_preset("paper-fourbar")
+    (scheme,) = schemes(mechanism, ["H8/g7"], ["m"])
+    spec = scheme.spec(mechanism, Process())
+    names, _ = model_inputs(spec.names, np.empty((0, len(spec.names))))
+    model = ConstantWear(names)
+    result = population_life(
+        mechanism, "H8/g7", "m", [], hours=100 * HOUR, clearance_limit=30e-6,
+        first_step=10 * HOUR, backend=LOCAL, model=model, **options,
+    )  # fmt: skip
+    return result, names
+
+
+def test_population_lives_are_each_mechanisms_margin_over_the_rate():
+    """Mechanisms drawn as design draws them (H8/g7, ISO 2768-m), every joint wearing 1 µm/h
+    to a 30 µm limit: each life is (30 µm − its largest clearance)/(1 µm/h), its failing
+    joint the one with the largest clearance, censored past 100 h."""
+    result, names = _population(samples=50, seed=4)
+    clearances = result.inputs[:, [i for i, n in enumerate(names) if n.startswith("clearance_")]]
+    expected = np.minimum((30e-6 - clearances.max(axis=1)) / 1e-6, 100.0)
+    assert result.n == 50
+    assert result.lives.life / HOUR == pytest.approx(expected, rel=1e-9)
+    joints = [n.removeprefix("clearance_") for n in names if n.startswith("clearance_")]
+    worst = [joints[j] for j in clearances.argmax(axis=1)]
+    assert [f.split()[2] for f in result.lives.failing] == worst
+    # the same seed draws the same parts as the design study
+    from jointplay.io.config import load_preset
+    from jointplay.study.design_schemes import schemes
+    from jointplay.tolerance.methods import truncated_at_limits
+    from jointplay.tolerance.parts import Process
+    from jointplay.tolerance.sampling import sample
+
+    mechanism = load_preset("paper-fourbar")
+    (scheme,) = schemes(mechanism, ["H8/g7"], ["m"])
+    drawn = sample(truncated_at_limits(scheme.spec(mechanism, Process())), 50, 4).values
+    assert result.features == pytest.approx(drawn)
+
+
+def test_auto_samples_stop_at_the_precision_or_the_most():
+    loose, _ = _population(samples="auto", precision=0.5, max_samples=400)
+    assert loose.n == 100
+    assert loose.settings["stopped_by"] == "precision"
+    tight, _ = _population(samples="auto", precision=0.001, max_samples=200)
+    assert tight.n == 200
+    assert tight.settings["stopped_by"] == "max-samples"
+    assert tight.lives.life[:100] == pytest.approx(loose.lives.life)  # rounds extend the draw
