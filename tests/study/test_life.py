@@ -3,6 +3,7 @@ rate is known in closed form (no dynamics)."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -250,3 +251,22 @@ def test_auto_samples_stop_at_the_precision_or_the_most():
     assert tight.n == 200
     assert tight.settings["stopped_by"] == "max-samples"
     assert tight.lives.life[:100] == pytest.approx(loose.lives.life)  # rounds extend the draw
+
+
+def test_an_interrupted_block_keeps_no_life(monkeypatch: pytest.MonkeyPatch):
+    """Samples not run because of an interrupt are not failed simulations: the interrupt
+    goes on, no life is made of them."""
+    from jointplay.study import life as module
+
+    real = module.run
+
+    def interrupted(model, x, **options):
+        outcome = real(model, x, **options)
+        return dataclasses.replace(outcome, interrupted=True)
+
+    monkeypatch.setattr(module, "run", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        functional_lives(
+            WearStub(), _x([20e-6]), clearance_criteria({"A": 50e-6}),
+            hours=100 * HOUR, first_step=4 * HOUR, backend=LOCAL,
+        )  # fmt: skip

@@ -217,6 +217,9 @@ def functional_lives(
     Raises:
         ConfigError: the model has no clearance input or no wear rate for it, a criterion's
             response is unknown, or a setting is out of range.
+        KeyboardInterrupt: a block of re-simulations was interrupted (no life is kept: an
+            interrupted population is not a population; the caller's output folder keeps
+            its earlier result).
     """
     horizon = float(hours)
     if not (math.isfinite(horizon) and horizon > 0):
@@ -254,6 +257,8 @@ def functional_lives(
                 np.empty(0, bool),
             )
         outcome = run(model, block, backend=backend)
+        if outcome.interrupted:  # lives cut short are no lives: nothing is kept
+            raise KeyboardInterrupt
         ok = outcome.status == OK
         values = outcome.values
         rates = np.clip(values[:, rate_columns], 0.0, None)
