@@ -51,8 +51,9 @@ def test_the_report_opens_with_the_answer_and_shows_the_plots(tmp_path: Path):
     failed = [f for f in result.lives.failing if f]
     share = failed.count("rocker_speed_error <= 2 %") / len(failed)
     assert f"rocker_speed_error <= 2 % fails first in {100 * share:.0f} %" in headline
-    # the answer comes before any figure
+    # the answer comes first: before the contents and any figure
     assert html.index(headline.split(";")[0]) < html.index("<figure")
+    assert html.index(headline.split(";")[0]) < html.index("Contents")
     summary = json.loads((tmp_path / "summary.json").read_text())
     b10 = summary["weibull"]["B10_h"]
     low, high = summary["weibull"]["B10_interval_h"]

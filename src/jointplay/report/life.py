@@ -219,7 +219,9 @@ def write_life(
     for name, data in images.items():
         (folder / name).write_bytes(data)
         written.append(folder / name)
-    report = HtmlReport(f"jointplay life — {result.settings.get('scheme', '')}")
+    report = HtmlReport(
+        f"jointplay life — {result.settings.get('scheme', '')}", contents_before="quantiles"
+    )
     life_section(report, result, images)
     written.append(report.write(folder / "report.html"))
     return written
