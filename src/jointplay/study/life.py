@@ -23,9 +23,12 @@ the mechanism is re-simulated there (the effective-clearance assumption of
   most ``tolerance`` (default 1 %) of the step's clearance growth for every joint (or below
   :data:`CLEARANCE_ATOL`, 1 nm); else it is shortened to ``0.9 (tolerance/estimate)^(1/3)``
   of itself (at least a fifth) and re-simulated; the next step grows by the same rule, at
-  most doubling. The clearances are followed to about ``tolerance`` of their growth
-  (measured on the closed-form case dc/dt = a + b·c, whose rate grows 5.5-fold over the
-  life: 0.54 % at 1 %, 27 simulations; 2.3 % at 5 %, 17);
+  most doubling. Where the rates are smooth, the clearances are followed to about
+  ``tolerance`` of their growth (measured on the closed-form case dc/dt = a + b·c, whose
+  rate grows 5.5-fold over the life: 0.54 % at 1 %, 27 simulations; 2.3 % at 5 %, 17).
+  A simulated revolution's wear rate is noisy under impacts (the dry paper four-bar: lives
+  move by 5 % between steps of 50 and 150 h, without bias; docs/life.md), a noise that no
+  step control removes: see the smallest step below;
 * a criterion that passes its limit within a step is located by linear interpolation of its
   margin over the step; a step longer than ``tolerance`` × the interpolated life is
   re-run to just short of it (½ ``tolerance`` before), then crossed with a step of at most
