@@ -255,6 +255,26 @@ def wear_lives(block: Block, folder: Path, capsys: pytest.CaptureFixture[str]) -
             )
 
 
+# --- docs/life.md ---------------------------------------------------------------------------
+
+
+@pytest.mark.slow
+def life_synopsis(block: Block, folder: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The population life with 2 mechanisms instead of the page's 20 (the command's path,
+    not its statistics: 20 take minutes): its first-screen answer is the summary's headline,
+    and every mechanism has its life."""
+    (command,) = block.commands
+    out = folder / "life"
+    printed = _ok(
+        _samples(command, SMALL).replace("--out DIR", f"--no-plots --no-progress --out {out}"),
+        capsys,
+    )
+    summary = _summary(out)
+    assert summary["headline"] in printed
+    assert summary["mechanisms"] == SMALL
+    assert summary["failures"] + summary["censored"] == SMALL
+
+
 # --- docs/explore.md ------------------------------------------------------------------------
 
 
@@ -321,6 +341,7 @@ HANDLERS: tuple[tuple[str, str, Handler], ...] = (
     ("design.md", '--require "life >= 200 h" --clearance-limit "+20 um" --wear-coefficient 1e-6 --samples 200', design_smaller),
     ("design.md", "jointplay wear --preset paper-fourbar --fit H8/g7", wear_lives),
     ("explore.md", "jointplay explore --config my.toml --port 0 --no-browser", explore_serves),
+    ("life.md", "jointplay life --fit H8/g7 --clearance-limit", life_synopsis),
     ("performance.md", "python benchmarks/bench_clearance.py --no-baseline", benchmark_without_baseline),
 )  # fmt: skip
 

@@ -30,7 +30,7 @@ from jointplay.dynamics.simulate import SolverOptions, Start
 from jointplay.io.config import SIMULATION_KEYS
 
 #: Every command that simulates the clearance joints: each takes the contact options.
-COMMANDS = ("simulate", "animate", "tolerance", "design", "wear")
+COMMANDS = ("simulate", "animate", "tolerance", "design", "wear", "life")
 OWNERS = {
     "settings": setup.ContactSettings,
     "friction": setup.FrictionSettings,

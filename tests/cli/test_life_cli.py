@@ -1,0 +1,122 @@
+"""``jointplay life``: a tiny end-to-end run through the dynamics, and bad input (one line on
+stderr, exit 2, nothing written)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+from jointplay.cli import run
+
+#: Dry joints, a large wear coefficient and a tight limit: lives of a few hours, so that two
+#: mechanisms fail within a handful of re-simulations.
+TINY = [
+    "life",
+    "--fit", "H8/g7",
+    "--clearance-limit", "+2 um",
+    "--hours", "40 h",
+    "--update-hours", "10 h",
+    "--wear-coefficient", "1e-4",
+    "--lubrication", "dry",
+    "--samples", "2",
+    "--backend", "local",
+    "--no-plots",
+    "--no-progress",
+]  # fmt: skip
+
+
+def test_a_tiny_population_runs_end_to_end(tmp_path: Path, capsys: pytest.CaptureFixture[str]):
+    out = tmp_path / "life"
+    status = run([*TINY, "--out", str(out)])
+    text = capsys.readouterr().out
+    assert status == 0, text
+    lives = pd.read_csv(out / "lives.csv")
+    assert len(lives) == 2
+    assert {"life_h", "censored", "failing", "simulations", "clearance_A", "hole_A"} <= set(
+        lives.columns
+    )
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["mechanisms"] == 2
+    assert summary["failures"] + summary["censored"] == 2
+    failed = lives[~lives["censored"]]
+    # a failing mechanism names its criterion; each life took at least two simulations
+    assert all(str(f).startswith("clearance of ") for f in failed["failing"])
+    assert (lives["simulations"] >= 2).all()
+    assert (lives["life_h"] <= 40.0 + 1e-9).all()
+    assert summary["headline"] in text
+    assert (out / "report.html").exists()
+    assert (out / "histories.csv").exists()
+
+
+@pytest.mark.parametrize(
+    ("arguments", "culprit"),
+    [
+        (["--hours", "0 h", "--clearance-limit", "80 um"], "--hours"),
+        (["--hours", "100 h"], "nothing ends a life"),
+        (["--hours", "100 h", "--clearance-limit", "80 um", "--tolerance", "60 %"], "--tolerance"),
+        (["--hours", "100 h", "--clearance-limit", "80 um", "--precision", "abc"], "--precision"),
+        (["--hours", "100 h", "--require", "life >= 100 h"], "the life is what"),
+        (["--hours", "100 h", "--require", "rocker_speed_error <= 3"], "3 %"),
+        (["--hours", "100 h", "--clearance-limit", "80 um", "--fit", "H8/g7", "--fit", "H7/g6"], "--fit"),
+        (["--hours", "100 h", "--clearance-limit", "80 um", "--samples", "0"], "--samples"),
+        (
+            ["--hours", "10 h", "--update-hours", "20 h", "--clearance-limit", "80 um"],
+            "--update-hours",
+        ),
+        (["--hours", "100 h", "--clearance-limit", "80 um", "--backend", "cloud"], "--backend"),
+    ],
+    ids=[
+        "zero-hours", "no-criterion", "tolerance", "precision", "life-requirement",
+        "bare-number", "two-fits", "zero-samples", "update-beyond-hours", "backend",
+    ],
+)  # fmt: skip
+def test_bad_input_is_one_line_exit_2_and_writes_nothing(
+    arguments: list[str], culprit: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+):
+    previous = tmp_path / "previous"
+    previous.mkdir()
+    (previous / "keep.txt").write_text("an earlier result")
+    status = run(["life", *arguments, "--out", str(previous)])
+    err = capsys.readouterr().err
+    lines = err.strip().splitlines()
+    assert status == 2, err
+    assert len(lines) == 1, err
+    assert lines[0].startswith("jointplay: error: "), err
+    assert culprit in lines[0], err
+    assert sorted(p.name for p in previous.iterdir()) == ["keep.txt"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["previous"]
+
+
+README = Path(__file__).resolve().parents[2] / "README.md"
+
+
+@pytest.mark.slow
+def test_the_readmes_population_life_says_what_the_run_gives(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+):
+    """The README's population-life command at its full size (20 mechanisms, minutes): its
+    first-screen answer — B10, its interval, the failing share — is the run's, within the
+    rounding of the figures (3 %)."""
+    import re
+    import shlex
+
+    text = README.read_text(encoding="utf-8")
+    block = re.search(r"```bash\n(jointplay life .*?)```", text, flags=re.DOTALL)
+    assert block, "the README no longer shows jointplay life"
+    lines = re.sub(r"\\\n\s*", " ", block.group(1)).splitlines()
+    command = lines[0].replace("--out life", f"--no-plots --no-progress --out {tmp_path / 'l'}")
+    promised = next(line for line in lines if line.startswith("# B10 = "))
+    status = run(shlex.split(command)[1:])
+    assert status == 0, capsys.readouterr().err
+    summary = json.loads((tmp_path / "l" / "summary.json").read_text())
+    b10, low, high, share, failures = re.search(
+        r"B10 = ([\d.]+) h \[([\d.]+)–([\d.]+) h\].* in (\d+) % of the (\d+) failures", promised
+    ).groups()  # type: ignore[union-attr]
+    fit = summary["weibull"]
+    assert fit["B10_h"] == pytest.approx(float(b10), rel=0.03)
+    assert fit["B10_interval_h"] == pytest.approx([float(low), float(high)], rel=0.03)
+    assert summary["failures"] == int(failures)
+    assert 100 * max(summary["failing_share"].values()) == pytest.approx(int(share), abs=5)

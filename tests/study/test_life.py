@@ -1,0 +1,272 @@
+"""The functional life of one mechanism, checked by hand on stub response models whose wear
+rate is known in closed form (no dynamics)."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pytest
+
+from jointplay.errors import ConfigError
+from jointplay.execution.backends import Backend
+from jointplay.study.life import (
+    Criterion,
+    clearance_criteria,
+    functional_lives,
+)
+from jointplay.study.life_result import SIMULATION_FAILED
+from jointplay.tolerance.response_base import Evaluation
+
+HOUR = 3600.0
+LOCAL = Backend("local")
+
+
+@dataclass(frozen=True)
+class WearStub:
+    """Two joints A and B: wear rate a + b·c (m/s) each, a force growing with A's clearance
+    (``joint_force = f0 + f1·c_A``, N); fails (NaN) beyond ``breaks`` of clearance A."""
+
+    a: float = 1e-6 / HOUR  # 1 µm/h
+    b: float = 0.0  # 1/s
+    f0: float = 100.0
+    f1: float = 1e6  # N/m: +1 N per µm
+    breaks: float = math.inf
+    chunk_size: int = 1000
+
+    input_names = ("length_crank", "clearance_A", "clearance_B")
+    response_names = ("wear_rate_A", "wear_rate_B", "joint_force", "wear_rate")
+
+    @property
+    def units(self) -> dict[str, str]:
+        return {"wear_rate_A": "m/s", "wear_rate_B": "m/s", "joint_force": "N", "wear_rate": "m/s"}
+
+    def evaluate(self, x: np.ndarray) -> Evaluation:
+        c = x[:, 1:3]
+        rates = self.a + self.b * c
+        force = self.f0 + self.f1 * c[:, 0]
+        values = np.column_stack([rates, force, rates.max(axis=1)])
+        ok = c[:, 0] <= self.breaks
+        values[~ok] = np.nan
+        return Evaluation(values, ok, tuple("" if o else "IntegrationError: stub" for o in ok))
+
+    def describe(self) -> dict[str, str]:
+        return {"model": "stub"}
+
+
+def _x(clearances_a, clearance_b=10e-6):
+    c = np.asarray(clearances_a, dtype=float)
+    return np.column_stack([np.full(len(c), 0.1), c, np.full(len(c), clearance_b)])
+
+
+def test_constant_rate_life_is_the_margin_over_the_rate():
+    """Hand check: clearance 20 µm growing 1 µm/h to its 50 µm limit lives 30 h; at 35 µm,
+    15 h; B (10 µm, limit 100 µm) would last 90 h, so A fails first and is named."""
+    lives = functional_lives(
+        WearStub(),
+        _x([20e-6, 35e-6]),
+        clearance_criteria({"A": 50e-6, "B": 100e-6}),
+        hours=200 * HOUR,
+        first_step=4 * HOUR,
+        backend=LOCAL,
+    )
+    assert lives.life / HOUR == pytest.approx([30.0, 15.0], rel=1e-9)
+    assert not lives.censored.any()
+    assert lives.failing == ("clearance of A <= 50 µm",) * 2
+    # the history ends at the failure, at the limit
+    time, clearances = lives.history[0][-1]
+    assert time / HOUR == pytest.approx(30.0)
+    assert clearances[0] == pytest.approx(50e-6)
+
+
+def test_a_life_beyond_the_hours_is_censored_there():
+    lives = functional_lives(
+        WearStub(), _x([20e-6]), clearance_criteria({"A": 50e-6}),
+        hours=25 * HOUR, first_step=5 * HOUR, backend=LOCAL,
+    )  # fmt: skip
+    assert lives.censored.tolist() == [True]
+    assert lives.life[0] == pytest.approx(25 * HOUR)
+    assert lives.failing == ("",)
+
+
+def test_a_response_requirement_fails_first_and_is_named():
+    """joint_force = 100 N + 1 N/µm·c_A <= 140 N: fails at c_A = 40 µm, i.e. after 20 h from
+    20 µm, before the 50 µm clearance limit (30 h)."""
+    force = Criterion("joint_force <= 140 N", "joint_force", True, 140.0)
+    lives = functional_lives(
+        WearStub(), _x([20e-6]), (force, *clearance_criteria({"A": 50e-6})),
+        hours=100 * HOUR, first_step=3 * HOUR, backend=LOCAL,
+    )  # fmt: skip
+    assert lives.life[0] / HOUR == pytest.approx(20.0, rel=1e-9)
+    assert lives.failing == ("joint_force <= 140 N",)
+
+
+def test_a_growing_rate_meets_the_closed_form_within_the_tolerance():
+    """dc/dt = a + b·c: c(t) = (c0 + a/b) e^{bt} − a/b, so the life to the limit L is
+    ln((L + a/b)/(c0 + a/b))/b. Euler steps with the rate evaluated at each step's start
+    would be late by about half the rate's change per step; the rule keeps it within 1 %."""
+    a, b = 1e-6 / HOUR, 0.05 / HOUR  # the rate grows 5 % per hour per metre... of clearance
+    c0, limit = 20e-6, 200e-6
+    exact = math.log((limit + a / b) / (c0 + a / b)) / b
+    lives = functional_lives(
+        WearStub(a=a, b=b), _x([c0]), clearance_criteria({"A": limit}),
+        hours=500 * HOUR, first_step=20 * HOUR, tolerance=0.01, min_step=1.0, backend=LOCAL,
+    )  # fmt: skip
+    assert lives.life[0] == pytest.approx(exact, rel=0.01)
+    loose = functional_lives(
+        WearStub(a=a, b=b), _x([c0]), clearance_criteria({"A": limit}),
+        hours=500 * HOUR, first_step=20 * HOUR, tolerance=0.2, min_step=1.0, backend=LOCAL,
+    )  # fmt: skip
+    # the tolerance is what controls it: a loose one errs by more, with fewer simulations
+    assert abs(loose.life[0] / exact - 1) > abs(lives.life[0] / exact - 1)
+    assert loose.resimulations[0] < lives.resimulations[0]
+    assert not lives.floor_steps.any()
+
+
+def test_steps_at_the_smallest_step_are_counted():
+    """With a floor above what the tolerance asks, steps are accepted there, counted, and
+    the largest estimate kept."""
+    a, b = 1e-6 / HOUR, 0.05 / HOUR
+    lives = functional_lives(
+        WearStub(a=a, b=b), _x([20e-6]), clearance_criteria({"A": 200e-6}),
+        hours=500 * HOUR, first_step=20 * HOUR, tolerance=0.01, backend=LOCAL,
+    )  # fmt: skip
+    assert lives.floor_steps[0] > 0
+    assert lives.worst_error[0] > 0.01
+
+
+def test_a_failed_simulation_ends_the_life_where_it_fails():
+    """The stub fails beyond 40 µm at A: the life ends there, named, after the step was
+    halved down to the smallest step (a quarter of the first)."""
+    lives = functional_lives(
+        WearStub(breaks=40e-6), _x([20e-6]), clearance_criteria({"A": 80e-6}),
+        hours=100 * HOUR, first_step=4 * HOUR, backend=LOCAL,
+    )  # fmt: skip
+    assert lives.failing == (SIMULATION_FAILED,)
+    # the first state beyond 40 µm, within one smallest step (a quarter of 4 h) of 20 h
+    assert 20.0 < lives.life[0] / HOUR <= 21.0
+
+
+def test_a_mechanism_failing_as_made_has_life_zero():
+    lives = functional_lives(
+        WearStub(), _x([60e-6, 20e-6]), clearance_criteria({"A": 50e-6}),
+        hours=100 * HOUR, first_step=4 * HOUR, backend=LOCAL,
+    )  # fmt: skip
+    assert lives.life[0] == 0.0
+    assert lives.failing[0] == "clearance of A <= 50 µm"
+    assert lives.life[1] / HOUR == pytest.approx(30.0)
+
+
+def test_bad_settings_are_one_line_errors():
+    with pytest.raises(ConfigError, match="hours"):
+        functional_lives(
+            WearStub(), _x([20e-6]), clearance_criteria({"A": 50e-6}),
+            hours=0.0, first_step=1.0, backend=LOCAL,
+        )  # fmt: skip
+    with pytest.raises(ConfigError, match="no response 'torque'"):
+        functional_lives(
+            WearStub(), _x([20e-6]), (Criterion("torque <= 1 N*m", "torque", True, 1.0),),
+            hours=10.0, first_step=1.0, backend=LOCAL,
+        )  # fmt: skip
+
+
+@dataclass(frozen=True)
+class ConstantWear:
+    """Any inputs; every joint's clearance grows at ``rate`` (m/s)."""
+
+    input_names: tuple[str, ...]
+    rate: float = 1e-6 / HOUR
+    chunk_size: int = 100000
+
+    @property
+    def joints(self) -> list[str]:
+        return [n.removeprefix("clearance_") for n in self.input_names if "clearance_" in n]
+
+    @property
+    def response_names(self) -> tuple[str, ...]:
+        return tuple(f"wear_rate_{j}" for j in self.joints)
+
+    @property
+    def units(self) -> dict[str, str]:
+        return dict.fromkeys(self.response_names, "m/s")
+
+    def evaluate(self, x: np.ndarray) -> Evaluation:
+        values = np.full((len(x), len(self.response_names)), self.rate)
+        return Evaluation(values, np.ones(len(x), bool), ("",) * len(x))
+
+    def describe(self) -> dict[str, str]:
+        return {"model": "constant wear"}
+
+
+def _population(**options):
+    from jointplay.io.config import load_preset
+    from jointplay.study.design_schemes import schemes
+    from jointplay.study.life import population_life
+    from jointplay.tolerance.parts import Process, model_inputs
+
+    mechanism = load_preset("paper-fourbar")
+    (scheme,) = schemes(mechanism, ["H8/g7"], ["m"])
+    spec = scheme.spec(mechanism, Process())
+    names, _ = model_inputs(spec.names, np.empty((0, len(spec.names))))
+    model = ConstantWear(names)
+    result = population_life(
+        mechanism, "H8/g7", "m", [], hours=100 * HOUR, clearance_limit=30e-6,
+        first_step=10 * HOUR, backend=LOCAL, model=model, **options,
+    )  # fmt: skip
+    return result, names
+
+
+def test_population_lives_are_each_mechanisms_margin_over_the_rate():
+    """Mechanisms drawn as design draws them (H8/g7, ISO 2768-m), every joint wearing 1 µm/h
+    to a 30 µm limit: each life is (30 µm − its largest clearance)/(1 µm/h), its failing
+    joint the one with the largest clearance, censored past 100 h."""
+    result, names = _population(samples=50, seed=4)
+    clearances = result.inputs[:, [i for i, n in enumerate(names) if n.startswith("clearance_")]]
+    expected = np.minimum((30e-6 - clearances.max(axis=1)) / 1e-6, 100.0)
+    assert result.n == 50
+    assert result.lives.life / HOUR == pytest.approx(expected, rel=1e-9)
+    joints = [n.removeprefix("clearance_") for n in names if n.startswith("clearance_")]
+    worst = [joints[j] for j in clearances.argmax(axis=1)]
+    assert [f.split()[2] for f in result.lives.failing] == worst
+    # the same seed draws the same parts as the design study
+    from jointplay.io.config import load_preset
+    from jointplay.study.design_schemes import schemes
+    from jointplay.tolerance.methods import truncated_at_limits
+    from jointplay.tolerance.parts import Process
+    from jointplay.tolerance.sampling import sample
+
+    mechanism = load_preset("paper-fourbar")
+    (scheme,) = schemes(mechanism, ["H8/g7"], ["m"])
+    drawn = sample(truncated_at_limits(scheme.spec(mechanism, Process())), 50, 4).values
+    assert result.features == pytest.approx(drawn)
+
+
+def test_auto_samples_stop_at_the_precision_or_the_most():
+    loose, _ = _population(samples="auto", precision=0.5, max_samples=400)
+    assert loose.n == 100
+    assert loose.settings["stopped_by"] == "precision"
+    tight, _ = _population(samples="auto", precision=0.001, max_samples=200)
+    assert tight.n == 200
+    assert tight.settings["stopped_by"] == "max-samples"
+    assert tight.lives.life[:100] == pytest.approx(loose.lives.life)  # rounds extend the draw
+
+
+def test_an_interrupted_block_keeps_no_life(monkeypatch: pytest.MonkeyPatch):
+    """Samples not run because of an interrupt are not failed simulations: the interrupt
+    goes on, no life is made of them."""
+    from jointplay.study import life as module
+
+    real = module.run
+
+    def interrupted(model, x, **options):
+        outcome = real(model, x, **options)
+        return dataclasses.replace(outcome, interrupted=True)
+
+    monkeypatch.setattr(module, "run", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        functional_lives(
+            WearStub(), _x([20e-6]), clearance_criteria({"A": 50e-6}),
+            hours=100 * HOUR, first_step=4 * HOUR, backend=LOCAL,
+        )  # fmt: skip
