@@ -157,9 +157,19 @@ def check_wear(line: str, comment: str, folder: Path) -> None:
     assert f'--hours "{hours} h"' in line
 
 
+def check_design(line: str, comment: str, folder: Path) -> None:
+    """The design decides on its first run: the scheme the comment names is the one chosen
+    (every requirement shown to meet at the confidence asked)."""
+    summary = _summary(folder / "design")
+    (scheme,) = _number(r"chooses (\S+ / \w+)", comment)
+    assert summary["best"] == scheme, summary["verdict"]
+    assert summary["verdict"].startswith(f"choose {scheme}"), summary["verdict"]
+
+
 #: The tour lines whose comments promise a result, by their ``--out``: the check of each.
 CHECKS: dict[str, Callable[[str, str, Path], None]] = {
     "conventional": check_conventional,
+    "design": check_design,
     "running": check_running,
     "wear": check_wear,
 }
