@@ -405,7 +405,8 @@ def run_batch(
         for v in (t_settle, t_end, max_step)
     )
     atol_a = np.ascontiguousarray(np.asarray(atol, dtype=np.float64))
-    size = layout(ipar_a)[3]
+    nb, nj, _, size = layout(ipar_a)
+    nq_model = 2 * nb + nj + 1
     if y0_a.shape[1] != size or atol_a.shape != (size,) or rpar_a.shape[0] != lanes:
         raise ValueError(
             f"run_batch: y0 must be (n, {size}) and atol ({size},), rpar (n, R); got y0 "
@@ -421,9 +422,16 @@ def run_batch(
     flags = _NO_INTERRUPT if interrupt is None else interrupt
     if lanes:
         if method == "explicit":  # the lane of the single source (jointplay._kernels.lanes)
-            lanes_kernel: Any = (
-                lane_cpu.explicit_lanes_parallel if parallel else lane_cpu.explicit_lanes
-            )
+            if n_peaks > nq_model:  # the running reductions: their own compilation
+                lanes_kernel: Any = (
+                    lane_cpu.explicit_lanes_running_parallel
+                    if parallel
+                    else lane_cpu.explicit_lanes_running
+                )
+            else:
+                lanes_kernel = (
+                    lane_cpu.explicit_lanes_parallel if parallel else lane_cpu.explicit_lanes
+                )
             lanes_kernel(
                 ipar_a, rpar_a, lay, y0_a, settle_a, end_a, step_a,
                 float(rtol), atol_a, int(max_steps), flags,

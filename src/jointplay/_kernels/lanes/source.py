@@ -1320,6 +1320,14 @@ RUN_JOINT = 3
 #: worn amounts per bin (``5 nc + 1 + 2 bins c``, ``… + bins``; N·m, the Archard load ×
 #: distance spread over the Hertz arc).
 RUN_PREVIOUS = 4
+#: Whether a compilation of the lanes holds the running reductions at all: a constant of the
+#: target's namespace (:func:`jointplay._kernels.lanes.build.build`'s ``extras``), so that a
+#: compilation without them has none of their code. Measured: their mere presence (never run)
+#: made the explicit lane 12 % dearer (64 conventional lanes, one thread, CPU time 0.478 s
+#: against 0.425 s), as the regimes' calls did (:func:`explicit_lane`'s docstring). The CPU
+#: compiles the explicit lane twice (:mod:`jointplay._kernels.lanes.cpu`), the CUDA kernels
+#: with them.
+RUNNING = False
 
 
 def running_on(lay):
@@ -1567,7 +1575,7 @@ def explicit_lane(
     counts[K_RHS] += 1
     if not (all_finite(y, size) and all_finite(f, size)):
         return STATUS_NON_FINITE, t
-    running = running_on(lay)
+    running = RUNNING and running_on(lay)
     if running:
         speed_deviation(y, rp, lay, qa)
         running_point(t, 0.0, t_settle, y, rp, ip, lay, f_mid, record_mid, stats)

@@ -99,6 +99,7 @@ from jointplay._kernels.lanes.source import (
     MAX_CHECK_REJECTIONS,
     N_GEOM,
     N_REFINE,
+    RUNNING,
     STATUS_INTERRUPTED,
     STATUS_NON_FINITE,
     STATUS_RUNNING,
@@ -1101,7 +1102,7 @@ def implicit_lane(
     size = lay[LY_SIZE]
     n_q = lay[LY_NQ]
     film = any_film(rp, lay)  # the interpolant's rule (hermite)
-    running = running_on(lay)
+    running = RUNNING and running_on(lay)
     start_outputs(ip, rp, lay, mask, peaks, stats, counts)
     t = 0.0
     if interrupt_pending(interrupt):
