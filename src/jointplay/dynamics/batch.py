@@ -30,6 +30,10 @@ Lanes are independent, so neither the backend nor the chunking changes a sample'
 (bitwise on the CPU backends). The peak rule (which steps are searched between their ends,
 and how) is stated in :mod:`jointplay._kernels.batch`.
 
+Asked (``running=``, :mod:`jointplay.dynamics.batch_running`), the lanes also reduce the
+running responses: the output link's speed deviation from the ideal linkage and the Archard
+wear rate of every clearance joint.
+
 What the batch engine does not do: dense output, time series, per-revolution statistics,
 periodicity and the plausibility diagnostics — :func:`jointplay.dynamics.simulate.simulate`
 gives those for one sample.
