@@ -85,8 +85,9 @@ class RunningResponses:
     engine: str = "auto"
     backend: Backend | None = None
 
-    #: Cost of one sample on one core on the batch engine (the lubricated default), s.
-    seconds_per_sample = 0.02
+    #: Cost of one sample on one core on the batch engine (the lubricated default, measured
+    #: 40 samples/s: docs/performance.md), s.
+    seconds_per_sample = 0.025
 
     def __post_init__(self) -> None:
         if self.engine not in ENGINES:
