@@ -55,6 +55,25 @@ def test_the_running_columns(paper_fourbar: Mechanism, reference) -> None:
     )
 
 
+@pytest.mark.parametrize("method", ["explicit", "implicit"])
+def test_the_peaks_are_those_without_the_running_responses(
+    paper_fourbar: Mechanism, method: str
+) -> None:
+    # the speed deviation never triggers the other quantities' refinement: the model's peaks
+    # and statistics are bit for bit those of a batch without the running responses
+    joints = [ClearanceJoint(j, 11.75e-6, 0.005, DEFAULT_IMPACT) for j in JOINTS]
+    run = simulate_batch(
+        paper_fourbar, joints, _samples(), running=_running(paper_fourbar), method=method, **FAST
+    )
+    plain = simulate_batch(paper_fourbar, joints, _samples(), method=method, **FAST)
+    assert run.ok.all() and run.method == method
+    pd.testing.assert_frame_equal(plain.peaks, run.peaks[plain.peaks.columns], check_exact=True)
+    pd.testing.assert_frame_equal(
+        plain.statistics, run.statistics[plain.statistics.columns], check_exact=True
+    )
+    pd.testing.assert_frame_equal(plain.counters, run.counters, check_exact=True)
+
+
 @pytest.mark.parametrize("chunk_size", [1, 2])
 def test_chunks_and_worker_processes_give_the_same_bits(
     paper_fourbar: Mechanism, reference, chunk_size: int

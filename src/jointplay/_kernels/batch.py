@@ -25,7 +25,8 @@ Outputs per lane, over the window [t_settle, t_end]:
   :mod:`jointplay.dynamics.batch_running`; ``lay``'s quantities one more:
   :func:`jointplay._kernels.lanes.build.running_layout`): one more peak, the output link's
   speed deviation ω_out − ω_ideal(θ_crank) (rad/s; refined on every step, not only near its
-  running peak), and after the statistics above, per clearance joint the Archard wear rate
+  running peak, and never the trigger of the other quantities' refinement, so their peaks are
+  those without it, bit for bit), and after the statistics above, per clearance joint the Archard wear rate
   of the radial clearance (m/s), then the lanes' working slots (the last point per joint, a
   flag, the bearing's and the journal's worn amounts per bin: the lane source's
   ``running_stats``); without the tail the lanes compute and return nothing more;
@@ -233,7 +234,7 @@ def _trajectory_reduce(ipar, rpar, lay, ts, ys, t_settle, t_end, peaks, stats):
             lanes_speed_deviation(ys[i], rpar, lay, qb)
         lanes_accumulate(qa, qb, pen, t_b - t_a, peaks, stats, nb, n_q, nc)
         lanes_accumulate_regimes(rpar, lay, pen, t_b - t_a, stats, nb, nc)
-        if lanes_wants_refinement(qa, qb, peaks, mask, n_q):
+        if lanes_wants_refinement(qa, qb, peaks, mask, n_q - 1 if running else n_q):
             h = t_b - t_a
             samples[0] = qa
             samples[n_points + 1] = qb

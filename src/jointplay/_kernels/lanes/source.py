@@ -1682,7 +1682,7 @@ def explicit_lane(
             running_point(t_new, h, t_settle, y_new, rp, ip, lay, f_mid, record_mid, stats)
         if in_window:
             accumulate(qa, qb, pen, h, peaks, stats, nb, n_q, nc)
-            if wants_refinement(qa, qb, peaks, mask, n_q):
+            if wants_refinement(qa, qb, peaks, mask, n_q - 1 if running else n_q):
                 for p in range(n_q):
                     samples[0, p] = qa[p]
                     samples[N_REFINE + 1, p] = qb[p]

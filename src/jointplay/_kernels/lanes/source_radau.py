@@ -1295,7 +1295,7 @@ def implicit_lane(
         if in_window:
             accumulate(qa, qb, pen, t_new - t_a, peaks, stats, nb, n_q, nc)
             accumulate_regimes(rp, lay, pen, t_new - t_a, stats, nb, nc)
-            if wants_refinement(qa, qb, peaks, mask, n_q):
+            if wants_refinement(qa, qb, peaks, mask, n_q - 1 if running else n_q):
                 hw = t_new - t_a
                 for p in range(n_q):
                     samples[0, p] = qa[p]
