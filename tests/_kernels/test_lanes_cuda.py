@@ -157,6 +157,37 @@ def test_the_simulated_gpu_lanes_are_the_cpu_lanes(paper_fourbar: Mechanism, tmp
     _onset_and_window(problem, cpu, len(JOINTS))
 
 
+def test_the_simulated_gpu_lanes_with_the_running_reductions_are_the_cpu_lanes(
+    paper_fourbar: Mechanism, tmp_path: Path
+) -> None:
+    # the running tail after each lane's model (issue 42): the speed deviation as one more
+    # refined quantity, the wear profiles and rates in the statistics, on the GPU lanes as on
+    # the CPU's running compilation of the same source (the second lane's window opens late)
+    from jointplay.dynamics.batch_running import RunningOutputs
+    from jointplay.dynamics.wear import OutputSpeedReference, WearSettings
+
+    problem = _problem(paper_fourbar)
+    joints = [ClearanceJoint(j, 11.75e-6, 0.005, DEFAULT_IMPACT) for j in JOINTS]
+    running = RunningOutputs(OutputSpeedReference.of(paper_fourbar), WearSettings(bins=36))
+    tail = running.tail(paper_fourbar, build_system(paper_fourbar, joints))
+    problem["rpar"] = np.hstack([problem["rpar"], np.tile(tail, (3, 1))])
+    gpu = _on_the_simulator(problem, tmp_path)
+    cpu = kb.run_batch(
+        problem["ipar"], problem["rpar"], problem["y0"], problem["t_settle"], problem["t_end"],
+        problem["max_step"], 1e-6, problem["atol"], 200_000, "explicit", parallel=False,
+    )  # fmt: skip
+    nb, nj, nc, _ = kb.layout(problem["ipar"])
+    assert cpu.peaks.shape[1] == 2 * nb + nj + 2
+    rates = cpu.stats[:2, 2 * nb + 4 * nc : 2 * nb + 5 * nc]
+    assert (rates > 0).all() and (cpu.peaks[:2, -1] > 0).all()
+    for name in ("status", "n_steps", "n_rejected", "n_rhs"):
+        np.testing.assert_array_equal(gpu[name], getattr(cpu, name), err_msg=name)
+    for name in ("peaks", "stats", "t_reached"):
+        np.testing.assert_allclose(
+            gpu[name], getattr(cpu, name), rtol=SAME_ALGORITHM_RTOL, atol=0.0, err_msg=name
+        )
+
+
 #: Penetrations |e| − c (m): |e| is a difference of positions ~0.3 m, so round-off carried
 #: through the steps (measured ≤ 1.4e-14 m here, as tests/_kernels/test_jax_batch.py's bound).
 PENETRATION_ATOL = 1e-12

@@ -21,6 +21,15 @@ Outputs per lane, over the window [t_settle, t_end]:
   the window in full film, mixed and boundary lubrication (each accepted step counted by
   λ = h_min/σ at its midpoint, as :mod:`jointplay.dynamics.regimes`; NaN for a dry joint, and
   on the JAX backend, whose stats stop at the penetrations: it runs no film);
+- with the running responses (``rpar``'s rows carry the running tail after the packed model,
+  :mod:`jointplay.dynamics.batch_running`; ``lay``'s quantities one more:
+  :func:`jointplay._kernels.lanes.build.running_layout`): one more peak, the output link's
+  speed deviation ω_out − ω_ideal(θ_crank) (rad/s; refined on every step, not only near its
+  running peak, and never the trigger of the other quantities' refinement, so their peaks are
+  those without it, bit for bit), and after the statistics above, per clearance joint the Archard wear rate
+  of the radial clearance (m/s), then the lanes' working slots (the last point per joint, a
+  flag, the bearing's and the journal's worn amounts per bin: the lane source's
+  ``running_stats``); without the tail the lanes compute and return nothing more;
 - ``status`` (:mod:`jointplay._kernels.common` ``STATUS_*``), ``t_reached``, ``n_steps``,
   ``n_rejected``, ``n_rhs`` (right-hand-side evaluations; the quantity evaluations of the
   peak search are not counted).
@@ -111,12 +120,18 @@ lanes_triggers = lane_cpu.compiled["triggers"]
 lanes_any_film = lane_cpu.compiled["any_film"]
 lanes_wants_refinement = lane_cpu.compiled["wants_refinement"]
 lanes_refine_peaks = lane_cpu.compiled["refine_peaks"]
+lanes_refine_one = lane_cpu.compiled["refine_one"]
 lanes_open_window = lane_cpu.compiled["open_window"]
 lanes_accumulate = lane_cpu.compiled["accumulate"]
 lanes_close_window = lane_cpu.compiled["close_window"]
 lanes_open_regimes = lane_cpu.compiled["open_regimes"]
 lanes_accumulate_regimes = lane_cpu.compiled["accumulate_regimes"]
 lanes_close_regimes = lane_cpu.compiled["close_regimes"]
+lanes_running_on = lane_cpu.compiled["running_on"]
+lanes_speed_deviation = lane_cpu.compiled["speed_deviation"]
+lanes_running_point = lane_cpu.compiled["running_point"]
+lanes_start_running = lane_cpu.compiled["start_running"]
+lanes_close_running = lane_cpu.compiled["close_running"]
 
 __all__ = [
     "METHODS",
@@ -167,7 +182,9 @@ def _trajectory_reduce(ipar, rpar, lay, ts, ys, t_settle, t_end, peaks, stats):
     The window opens at ``t_settle`` (interpolated inside its step when it falls there);
     every later step is reduced with the peak rule of the module docstring, the single
     engine's interpolant (:data:`lanes_hermite`) standing in for the method's dense output,
-    always on the recorded step (the window's first too).
+    always on the recorded step (the window's first too). With the running responses
+    (``lay``'s one more quantity: ``running_on``) the output speed's deviation joins the
+    quantities and every recorded step from ``t_settle`` on the wear profiles.
     """
     model = eom.unpack(rpar, ipar)
     n = model.mass.shape[0]
@@ -183,6 +200,7 @@ def _trajectory_reduce(ipar, rpar, lay, ts, ys, t_settle, t_end, peaks, stats):
     pen = np.empty(model.clear_joint.shape[0])
     y_mid = np.empty(ys.shape[1])
     film = lanes_any_film(rpar, lay)
+    running = lanes_running_on(lay)
     m = ts.shape[0]
     fs = np.zeros((m, ys.shape[1]))  # q̈ in [n:2n], as the lane source's interpolant takes it
     bits = np.empty(m, dtype=np.int64)
@@ -198,14 +216,25 @@ def _trajectory_reduce(ipar, rpar, lay, ts, ys, t_settle, t_end, peaks, stats):
         _step_state(film, ts, ys, fs, bits, first + 1, t_settle, n, y_a)
         t_a = t_settle
     eom.quantities(t_a, y_a, rpar, ipar, qa, pen)
+    if running:
+        lanes_speed_deviation(y_a, rpar, lay, qa)
+        f_run = np.empty(ys.shape[1])
+        record_run = np.empty(7 * max(nc, 1))
+        lanes_start_running(rpar, lay, stats)
+        for i in range(m):
+            h = ts[i] - ts[i - 1] if i > 0 else 0.0
+            lanes_running_point(ts[i], h, t_settle, ys[i], rpar, ipar, lay, f_run, record_run,
+                                stats)  # fmt: skip
     lanes_open_window(qa, pen, peaks, stats, nb, n_q, nc)
     lanes_open_regimes(rpar, lay, pen, stats, nb, nc)
     for i in range(first + 1, m):
         t_b = ts[i]
         eom.quantities(t_b, ys[i], rpar, ipar, qb, pen)
+        if running:
+            lanes_speed_deviation(ys[i], rpar, lay, qb)
         lanes_accumulate(qa, qb, pen, t_b - t_a, peaks, stats, nb, n_q, nc)
         lanes_accumulate_regimes(rpar, lay, pen, t_b - t_a, stats, nb, nc)
-        if lanes_wants_refinement(qa, qb, peaks, mask, n_q):
+        if lanes_wants_refinement(qa, qb, peaks, mask, n_q - 1 if running else n_q):
             h = t_b - t_a
             samples[0] = qa
             samples[n_points + 1] = qb
@@ -213,11 +242,24 @@ def _trajectory_reduce(ipar, rpar, lay, ts, ys, t_settle, t_end, peaks, stats):
                 tau = t_a + REFINE_POINTS[r] * h
                 _step_state(film, ts, ys, fs, bits, i, tau, n, y_mid)
                 eom.quantities(tau, y_mid, rpar, ipar, samples[r + 1], pen)
+                if running:
+                    lanes_speed_deviation(y_mid, rpar, lay, samples[r + 1])
             lanes_refine_peaks(samples, peaks, n_q)
+        elif running:  # the deviation is refined on every step (its own rule)
+            h = t_b - t_a
+            p = n_q - 1
+            samples[0, p] = qa[p]
+            samples[n_points + 1, p] = qb[p]
+            for r in range(n_points):
+                _step_state(film, ts, ys, fs, bits, i, t_a + REFINE_POINTS[r] * h, n, y_mid)
+                lanes_speed_deviation(y_mid, rpar, lay, samples[r + 1])
+            lanes_refine_one(samples, peaks, p)
         qa, qb = qb, qa
         t_a = t_b
     lanes_close_window(stats, nb, t_end - t_settle)
     lanes_close_regimes(stats, nb, nc, t_end - t_settle)
+    if running:
+        lanes_close_running(rpar, lay, stats, t_end - t_settle)
 
 
 def _implicit_lanes(
@@ -283,7 +325,8 @@ def _implicit_lane(
     counts[lane, K_RHS] = counters[0]
     if code == STATUS_SUCCESS:
         _trajectory_reduce(
-            ipar, rpar[lane], lane_build.lane_layout(ipar), ts, ys, t_settle[lane], t_end[lane],
+            ipar, rpar[lane], lane_build.running_layout(ipar, rpar), ts, ys, t_settle[lane],
+            t_end[lane],
             peaks[lane], stats[lane],
         )  # fmt: skip
     return code
@@ -363,25 +406,35 @@ def run_batch(
         for v in (t_settle, t_end, max_step)
     )
     atol_a = np.ascontiguousarray(np.asarray(atol, dtype=np.float64))
-    nb, nj, nc, size = layout(ipar_a)
+    nb, nj, _, size = layout(ipar_a)
+    nq_model = 2 * nb + nj + 1
     if y0_a.shape[1] != size or atol_a.shape != (size,) or rpar_a.shape[0] != lanes:
         raise ValueError(
             f"run_batch: y0 must be (n, {size}) and atol ({size},), rpar (n, R); got y0 "
             f"{y0_a.shape}, atol {atol_a.shape}, rpar {rpar_a.shape}"
         )
-    peaks = np.full((lanes, 2 * nb + nj + 1), np.nan)
-    stats = np.full((lanes, 2 * nb + 4 * nc), np.nan)
+    lay = lane_build.running_layout(ipar_a, rpar_a)
+    n_peaks, n_stats = lane_build.output_widths(lay, rpar_a)
+    peaks = np.full((lanes, n_peaks), np.nan)
+    stats = np.full((lanes, n_stats), np.nan)
     status = np.full(lanes, STATUS_RUNNING, dtype=np.int64)
     t_reached = np.zeros(lanes)
     counts = np.zeros((lanes, 3), dtype=np.int64)
     flags = _NO_INTERRUPT if interrupt is None else interrupt
     if lanes:
         if method == "explicit":  # the lane of the single source (jointplay._kernels.lanes)
-            lanes_kernel: Any = (
-                lane_cpu.explicit_lanes_parallel if parallel else lane_cpu.explicit_lanes
-            )
+            if n_peaks > nq_model:  # the running reductions: their own compilation
+                lanes_kernel: Any = (
+                    lane_cpu.explicit_lanes_running_parallel
+                    if parallel
+                    else lane_cpu.explicit_lanes_running
+                )
+            else:
+                lanes_kernel = (
+                    lane_cpu.explicit_lanes_parallel if parallel else lane_cpu.explicit_lanes
+                )
             lanes_kernel(
-                ipar_a, rpar_a, lane_build.lane_layout(ipar_a), y0_a, settle_a, end_a, step_a,
+                ipar_a, rpar_a, lay, y0_a, settle_a, end_a, step_a,
                 float(rtol), atol_a, int(max_steps), flags,
                 peaks, stats, status, t_reached, counts,
             )  # fmt: skip

@@ -16,7 +16,7 @@ The engines:
   Radau IIA in JAX).
 
 A need is a feature of :data:`FEATURES` (``"film_damping"``, ``"film_model"``, ``"sustained_contact"``,
-``"ideal_joints"``, ``"trajectories"``), ``"law:NAME"`` (a normal-force law family of
+``"ideal_joints"``, ``"trajectories"``, ``"running_responses"``), ``"law:NAME"`` (a normal-force law family of
 :data:`LAW_FORMS`) or ``"friction:NAME"`` (:data:`FRICTION_FORMS`). Plain Python: nothing is
 imported, nothing compiled.
 """
@@ -35,6 +35,7 @@ FEATURES = {
     "film_model": "a Reynolds film",
     "ideal_joints": "ideal joints",
     "trajectories": "each sample's trajectory",
+    "running_responses": "the running responses (speed error, wear rate)",
 }
 #: The normal-force law families of :mod:`jointplay._kernels.contact`.
 LAW_FORMS = frozenset({"impact", "hertz", "kelvin-voigt", "hunt-crossley family"})
@@ -59,6 +60,9 @@ class Engine:
         sustained_contact: the sustained-contact mode (a capture speed).
         ideal_joints: joints without clearance (the constraints' projection).
         trajectories: it keeps each sample's trajectory (not only peaks and statistics).
+        running_responses: it computes the running responses (the output speed's error
+            against the ideal linkage, the Archard wear rates: the lane source's
+            ``running_*``, :mod:`jointplay.dynamics.batch_running`).
         integrators: the integrators it runs (:attr:`Integrator.engines
             <jointplay._kernels.integrators.Integrator.engines>` read back).
         laws: the normal-force law families it integrates.
@@ -73,6 +77,7 @@ class Engine:
     ideal_joints: bool
     trajectories: bool
     integrators: tuple[str, ...]
+    running_responses: bool = True
     laws: frozenset[str] = LAW_FORMS
     frictions: frozenset[str] = FRICTION_FORMS
 
@@ -121,7 +126,7 @@ ENGINES = {
     "jax": Engine(
         "the gpu backend (JAX)", "the gpu backend",
         film_damping=False, film_model=False, sustained_contact=False,
-        ideal_joints=True, trajectories=False,
+        ideal_joints=True, trajectories=False, running_responses=False,
         integrators=integrators_of("jax"),
     ),
 }  # fmt: skip
@@ -198,6 +203,8 @@ def refusal(engine: str, needs: Iterable[str], named: Callable[[str], str] = _na
         clauses.append(f"integrate{s} the friction laws {', '.join(sorted(own.frictions))} only")
     if "trajectories" in kinds:
         clauses.append(f"keep{s} peaks only, no trajectory")
+    if "running_responses" in kinds:
+        clauses.append(f"compute{s} no running responses")
     able = [k for k, e in ENGINES.items() if k != engine and all(e.has(n) for n in missing)]
     where = [ENGINES[k].where for k in able if k != "single"] or [
         ENGINES[k].where for k in able if k == "single"

@@ -30,6 +30,10 @@ Lanes are independent, so neither the backend nor the chunking changes a sample'
 (bitwise on the CPU backends). The peak rule (which steps are searched between their ends,
 and how) is stated in :mod:`jointplay._kernels.batch`.
 
+Asked (``running=``, :mod:`jointplay.dynamics.batch_running`), the lanes also reduce the
+running responses: the output link's speed deviation from the ideal linkage and the Archard
+wear rate of every clearance joint.
+
 What the batch engine does not do: dense output, time series, per-revolution statistics,
 periodicity and the plausibility diagnostics — :func:`jointplay.dynamics.simulate.simulate`
 gives those for one sample.
@@ -50,6 +54,7 @@ from numpy.typing import NDArray
 from jointplay._kernels import batch as kb
 from jointplay._kernels import ids
 from jointplay._kernels.capabilities import engine_of, refusal
+from jointplay._kernels.lanes import build as lane_build
 from jointplay.dynamics.batch_inputs import BatchProblem, BatchSamples, build_batch
 from jointplay.dynamics.batch_method import (
     EXPLICIT_TOLERANCE_SCALE,
@@ -57,6 +62,7 @@ from jointplay.dynamics.batch_method import (
     MethodChoice,
     choose_method,
 )
+from jointplay.dynamics.batch_running import RunningOutputs
 from jointplay.dynamics.clearance import ClearanceJoint
 from jointplay.dynamics.cycles import DEFAULT_SETTLE
 from jointplay.dynamics.integrate import IntegrationStatus
@@ -82,6 +88,7 @@ __all__ = [
     "BatchSamples",
     "ClusterLost",
     "MethodChoice",
+    "RunningOutputs",
     "build_batch",
     "choose_method",
     "simulate_batch",
@@ -194,9 +201,11 @@ class BatchResult:
 
 
 def _names(
-    mechanism: Mechanism, system: System
+    mechanism: Mechanism, system: System, running: RunningOutputs | None = None
 ) -> tuple[list[tuple[int, str, str]], list[tuple[int, str, str]]]:
-    """(kernel column, name, unit) of the reported peaks and statistics."""
+    """(kernel column, name, unit) of the reported peaks and statistics (with ``running``,
+    the output link's ``omega<k>_deviation`` peak and the ``wear_rate_<joint>`` statistics,
+    :mod:`jointplay.dynamics.batch_running`)."""
     flat = system.flat
     nb, nj = flat.n_bodies, len(flat.joint_names)
     links = rotating_links(mechanism)
@@ -212,6 +221,12 @@ def _names(
         stats += [
             (2 * nb + nc + 3 * c + k, f"{regime}_{j.joint}", "1")
             for k, regime in enumerate(REGIME_STATS)
+        ]
+    if running is not None:
+        peaks.append((2 * nb + nj + 1, f"omega{running.reference.link_number}_deviation", "rad/s"))
+        stats += [
+            (2 * nb + 4 * nc + c, f"wear_rate_{j.joint}", "m/s")
+            for c, j in enumerate(system.clearances)
         ]
     return peaks, stats
 
@@ -347,12 +362,14 @@ def _merged(
     problem: BatchProblem, parts: list[NDArray[np.intp]], outputs: list[kb.BatchKernelOutput | None]
 ) -> kb.BatchKernelOutput:
     """The outputs of every part in lane order; a part that did not run is ``STATUS_INTERRUPTED``."""
-    nb, nj, nc, _ = kb.layout(problem.ipar)
+    n_peaks, n_stats = lane_build.output_widths(
+        lane_build.running_layout(problem.ipar, problem.rpar), problem.rpar
+    )
 
     def not_run(m: int) -> kb.BatchKernelOutput:
         return kb.BatchKernelOutput(
-            peaks=np.full((m, 2 * nb + nj + 1), np.nan),
-            stats=np.full((m, 2 * nb + 4 * nc), np.nan),
+            peaks=np.full((m, n_peaks), np.nan),
+            stats=np.full((m, n_stats), np.nan),
             status=np.full(m, ids.STATUS_INTERRUPTED, dtype=np.int64),
             t_reached=np.zeros(m),
             n_steps=np.zeros(m, dtype=np.int64),
@@ -363,7 +380,7 @@ def _merged(
     def widened(output: kb.BatchKernelOutput) -> kb.BatchKernelOutput:
         """The JAX backend's stats stop at the penetrations (it runs no film): its regime
         slots NaN."""
-        short = 2 * nb + 4 * nc - output.stats.shape[1]
+        short = n_stats - output.stats.shape[1]
         if short <= 0:
             return output
         gap = np.full((output.stats.shape[0], short), np.nan)
@@ -422,6 +439,7 @@ def simulate_batch(
     chunk_size: int | None = None,
     scheduler: str | None = None,
     progress: bool = False,
+    running: RunningOutputs | None = None,
 ) -> BatchResult:
     """Simulate every sample of ``samples`` and return its peaks and statistics.
 
@@ -447,6 +465,11 @@ def simulate_batch(
             worker gets ~4, 200 000 on the GPU). Never changes the results.
         scheduler: the Dask scheduler's address (``"dask"`` given by name).
         progress: show a progress bar on stderr.
+        running: also compute the running responses (:mod:`jointplay.dynamics.batch_running`):
+            the peak ``omega<k>_deviation`` of the output link's speed from the ideal
+            reference (rad/s) and the statistics ``wear_rate_<joint>`` (m/s); on the CPU
+            backends and ``"cuda"`` (not on the JAX ``"gpu"`` backend). ``None``: not asked,
+            the lanes do nothing more.
 
     Raises:
         ConfigError: an argument is out of range, or the backend is not available.
@@ -465,6 +488,10 @@ def simulate_batch(
         _cuda_kernel()  # fail early, before building
     elif runner.on_device:
         _gpu_kernel()  # fail early, before building
+    if running is not None:
+        refused = refusal(engine_of(runner.kind, method), ["running_responses"])
+        if refused is not None:
+            raise ConfigError(refused)
     start = start or Start("steady")
     if settle is None:
         settle = DEFAULT_SETTLE if start.mode == "steady" else 0
@@ -473,6 +500,13 @@ def simulate_batch(
         mechanism, clearances, samples, revolutions=revolutions, settle=settle, start=start,
         solver=solver,
     )  # fmt: skip
+    system = build_system(mechanism, clearances, ramp_time=start.ramp_time, driven=start.driven)
+    if running is not None:  # the running tail after every sample's packed model
+        tail = running.tail(mechanism, system)
+        problem = dataclasses.replace(
+            problem,
+            rpar=np.hstack([problem.rpar, np.broadcast_to(tail, (len(problem.rpar), len(tail)))]),
+        )
     build_time = time.perf_counter() - wall
     if method == "auto":
         choice = choose_method(mechanism, clearances, samples=samples, solver=solver)
@@ -494,8 +528,7 @@ def simulate_batch(
     # the lanes ran: an interrupt while their result is put together is noted, and the
     # result goes with it (BatchInterrupted) instead of being lost
     with interrupts_noted() as noted:
-        system = build_system(mechanism, clearances, ramp_time=start.ramp_time, driven=start.driven)
-        peak_names, stat_names = _names(mechanism, system)
+        peak_names, stat_names = _names(mechanism, system, running)
         peaks = np.full((n, len(peak_names)), np.nan)
         stats = np.full((n, len(stat_names)), np.nan)
         status = np.full(n, ids.STATUS_NON_FINITE, dtype=np.int64)

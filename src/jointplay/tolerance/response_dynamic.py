@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -465,9 +465,6 @@ class DynamicResponses:
         The checks are the engine's deepest penetration per joint (``pen_<joint>`` of
         :attr:`~jointplay.dynamics.batch.BatchResult.statistics`, m) over each sample's
         radial clearance (:meth:`clearances`, m)."""
-        from jointplay.dynamics.batch import BatchInterrupted, simulate_batch
-        from jointplay.dynamics.integrate import IntegrationStatus
-
         x = _check_inputs(x, len(self.input_names))
         if len(x) == 0:
             return Evaluation(
@@ -476,6 +473,21 @@ class DynamicResponses:
                 (),
                 np.empty((0, len(self.check_names))),
             )
+        return self._evaluate_batch(x, self._evaluation)
+
+    def _evaluate_batch(
+        self,
+        x: FloatArray,
+        evaluation_of: Callable[[FloatArray, Any, BoolArray | None], Evaluation],
+        running: Any = None,
+    ) -> Evaluation:
+        """The block ``x`` (checked, not empty) through the batch engine, its result made an
+        :class:`Evaluation` by ``evaluation_of(x, result, finished)``; ``running``: the
+        running responses asked of the lanes
+        (:class:`~jointplay.dynamics.batch_running.RunningOutputs`)."""
+        from jointplay.dynamics.batch import BatchInterrupted, simulate_batch
+        from jointplay.dynamics.integrate import IntegrationStatus
+
         try:
             result = simulate_batch(
                 self.mechanism,
@@ -487,14 +499,15 @@ class DynamicResponses:
                 solver=self.solver,
                 method=self.method_choice().method,
                 backend=self.backend,
+                running=running,
             )
         except BatchInterrupted as stopped:  # the finished samples go on with the interrupt
             finished = stopped.result.status != IntegrationStatus.INTERRUPTED
             with interrupts_noted():  # a second Ctrl-C here must not lose them
-                evaluation = self._evaluation(x, stopped.result, finished)
+                evaluation = evaluation_of(x, stopped.result, finished)
             raise PartialInterrupt(evaluation) from None
         with interrupts_noted() as noted:  # the block ran: an interrupt now keeps it
-            evaluation = self._evaluation(x, result)
+            evaluation = evaluation_of(x, result, None)
         if noted:
             raise PartialInterrupt(evaluation)
         return evaluation

@@ -29,7 +29,7 @@ from jointplay._kernels.lanes import source, source_radau
 
 __all__ = [
     "FUNCTIONS", "IMPLICIT_FUNCTIONS", "all_clear", "build", "closed", "lane_layout",
-    "lanes_refusal",
+    "lanes_refusal", "model_width", "output_widths", "running_layout",
 ]  # fmt: skip
 
 #: The source's functions, compiled for every target.
@@ -46,8 +46,11 @@ FUNCTIONS = (
     "onset_check", "impact_rate", "contact_memory", "project_driver", "constraint_residual",
     "max_abs", "schur_solve", "project_constraints", "project",
     "all_finite", "interrupt_pending", "dense", "triggers", "wants_refinement",
-    "refine_peaks", "open_window", "accumulate", "close_window",
-    "regime_gap", "open_regimes", "accumulate_regimes", "close_regimes", "start_outputs",
+    "refine_one", "refine_peaks", "open_window", "accumulate", "close_window",
+    "regime_gap", "open_regimes", "accumulate_regimes", "close_regimes",
+    "running_on", "running_base", "running_stats", "reference_speed", "speed_deviation",
+    "spread_weight", "spread_wear", "body_angle", "midpoint_angle", "running_point",
+    "start_running", "close_running", "start_outputs",
     "explicit_lane",
     *(
         "pmin", "pmax", "cdiv", "lu_real", "lu_complex", "lu_solve_real", "lu_solve_complex",
@@ -184,6 +187,38 @@ def lane_layout(ipar: npt.NDArray[np.int64]) -> npt.NDArray[np.int64]:
     lay[source.LY_SIZE] = 2 * n + 2 + nc
     lay[source.LY_NQ] = 2 * (n // 3) + nj + 1
     return lay
+
+
+def model_width(lay: npt.NDArray[np.int64]) -> int:
+    """The packed model's floats in one ``rpar`` row (what follows is the running tail)."""
+    return int(lay[source.LY_SETTINGS]) + ids.N_SETTINGS
+
+
+def running_layout(
+    ipar: npt.NDArray[np.int64], rpar: npt.NDArray[np.float64]
+) -> npt.NDArray[np.int64]:
+    """The ``lay`` of lanes whose ``rpar`` rows are ``rpar``'s: :func:`lane_layout`, with one
+    more quantity (the running responses asked for: ``source.running_on``) when the rows
+    carry a running tail after the packed model (``source.RUN_*``)."""
+    lay = lane_layout(ipar)
+    if np.atleast_2d(rpar).shape[1] > model_width(lay):
+        lay[source.LY_NQ] += 1
+    return lay
+
+
+def output_widths(lay: npt.NDArray[np.int64], rpar: npt.NDArray[np.float64]) -> tuple[int, int]:
+    """``(P, M)``: the peaks and the statistics a lane of ``lay`` fills (the running slots
+    included when asked: ``source.running_stats``)."""
+    nb = int(lay[source.LY_N]) // 3
+    nj = int(lay[source.LY_NJ])
+    nc = int(lay[source.LY_NC])
+    width = 2 * nb + 4 * nc
+    n_q = int(lay[source.LY_NQ])
+    if n_q > 2 * nb + nj + 1:
+        rows = np.atleast_2d(rpar)
+        bins = int(rows[0, model_width(lay) + source.RUN_BINS]) if len(rows) else 0
+        width += 5 * nc + 1 + 2 * bins * nc
+    return n_q, width
 
 
 def all_clear(ipar: npt.NDArray[np.int64]) -> bool:

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from jointplay._kernels.lanes.build import build
+from jointplay._kernels.lanes.build import build, closed
 from jointplay._kernels.lanes.projection import N_WORK, project_lapack
 from jointplay._kernels.lanes.source import LY_N, LY_NC, LY_NIDEAL, LY_SIZE
 
@@ -26,6 +26,17 @@ compiled = build(
 )
 #: The explicit lane, compiled for the CPU.
 explicit_lane = compiled["explicit_lane"]
+#: The explicit lane with the running reductions (``source.RUNNING``: a separate compilation,
+#: so that :data:`explicit_lane` has none of their code), run when the lanes' ``rpar`` carry
+#: the running tail (:func:`jointplay._kernels.lanes.build.running_layout`).
+running = build(
+    numba.njit(cache=True, error_model="numpy"),
+    hooks={"project": project_lapack},
+    extras={"np": np, "RUNNING": True},
+    only=closed(("explicit_lane",)),
+    tag="running",
+)
+explicit_lane_running = running["explicit_lane"]
 #: The implicit lane (:mod:`jointplay._kernels.lanes.source_radau`), compiled for the CPU.
 implicit_lane = compiled["implicit_lane"]
 
@@ -34,6 +45,8 @@ __all__ = [
     "explicit_lane",
     "explicit_lanes",
     "explicit_lanes_parallel",
+    "explicit_lanes_running",
+    "explicit_lanes_running_parallel",
     "implicit_lane",
     "implicit_lanes",
     "implicit_lanes_parallel",
@@ -72,6 +85,52 @@ def _one(
     )  # fmt: skip
     status[lane] = code
     t_reached[lane] = t
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _one_running(
+    ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
+    peaks, stats, status, t_reached, counts, lane,
+):  # fmt: skip
+    """:func:`_one` with :data:`explicit_lane_running`."""
+    size = y0.shape[1]
+    mask, q, samples, pen, records, phi_q, schur, lam, scratch = _work(lay, peaks.shape[1])
+    k = np.empty((7, size))
+    work = np.empty((6, size))
+    code, t = explicit_lane_running(
+        ipar, rpar[lane], lay, y0[lane], t_settle[lane], t_end[lane], max_step[lane], rtol,
+        atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask, k,
+        work[0], work[1], work[2], work[3], work[4], work[5], q[0], q[1], samples, pen[0],
+        records[0], records[1], records[2], phi_q, schur, lam, scratch,
+    )  # fmt: skip
+    status[lane] = code
+    t_reached[lane] = t
+
+
+@numba.njit(cache=True, error_model="numpy")
+def explicit_lanes_running(
+    ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
+    peaks, stats, status, t_reached, counts,
+):  # fmt: skip
+    """:func:`explicit_lanes` with the running reductions (:data:`explicit_lane_running`)."""
+    for lane in range(y0.shape[0]):
+        _one_running(
+            ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
+            peaks, stats, status, t_reached, counts, lane,
+        )  # fmt: skip
+
+
+@numba.njit(cache=True, error_model="numpy", parallel=True)
+def explicit_lanes_running_parallel(
+    ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
+    peaks, stats, status, t_reached, counts,
+):  # fmt: skip
+    """:func:`explicit_lanes_running` on Numba's threads (``prange`` over lanes)."""
+    for lane in numba.prange(y0.shape[0]):
+        _one_running(
+            ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
+            peaks, stats, status, t_reached, counts, lane,
+        )  # fmt: skip
 
 
 @numba.njit(cache=True, error_model="numpy")

@@ -45,7 +45,7 @@ import numpy.typing as npt
 from jointplay._kernels.ids import STATUS_RUNNING, STATUS_SUCCESS
 from jointplay._kernels.integrators import lane_methods
 from jointplay._kernels.lanes import source
-from jointplay._kernels.lanes.build import lane_layout, lanes_refusal
+from jointplay._kernels.lanes.build import lanes_refusal, output_widths, running_layout
 from jointplay._kernels.lanes.contract import BatchKernelOutput
 from jointplay._kernels.lanes.limits import (
     MAX_CLEAR,
@@ -148,7 +148,8 @@ def run_batch(
     if method not in METHODS:
         raise ConfigError(f"the cuda batch backend's methods are {METHODS}, got {method!r}")
     ipar_a = np.ascontiguousarray(np.asarray(ipar, dtype=np.int64))
-    lay = lane_layout(ipar_a)
+    rpar_a = np.ascontiguousarray(np.atleast_2d(np.asarray(rpar, dtype=np.float64)))
+    lay = running_layout(ipar_a, rpar_a)  # one more quantity with the running responses
     size, n_q, nc = (int(lay[i]) for i in (source.LY_SIZE, source.LY_NQ, source.LY_NC))
     rows = 2 * int(lay[source.LY_NIDEAL]) + 1
     limits = [
@@ -164,7 +165,6 @@ def run_batch(
                 f"the cuda batch backend's lanes hold at most {limit} {name}, this mechanism "
                 f"has {value} (raise it in jointplay._kernels.lanes.limits)"
             )
-    rpar_a = np.ascontiguousarray(np.atleast_2d(np.asarray(rpar, dtype=np.float64)))
     y0_a = np.ascontiguousarray(np.atleast_2d(np.asarray(y0, dtype=np.float64)))
     lanes = y0_a.shape[0]
     settle_a, end_a, step_a = (
@@ -180,9 +180,9 @@ def run_batch(
     refusal = lanes_refusal(ipar_a, rpar_a, method)
     if refusal is not None:
         raise ConfigError(f"the cuda batch backend: {refusal}")
-    nb = int(lay[source.LY_N]) // 3
+    n_q, n_stats = output_widths(lay, rpar_a)  # + the regimes' 3 nc, + the running slots
     peaks = np.full((lanes, n_q), np.nan)
-    stats = np.full((lanes, 2 * nb + 4 * nc), np.nan)  # + the regimes' 3 nc
+    stats = np.full((lanes, n_stats), np.nan)
     status = np.full(lanes, STATUS_RUNNING, dtype=np.int64)
     t_reached = np.zeros(lanes)
     counts = np.zeros((lanes, 3), dtype=np.int64)

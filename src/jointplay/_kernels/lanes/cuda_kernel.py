@@ -88,7 +88,10 @@ def _interrupt_pending(flags):
 _GPU = build(
     cuda.jit(device=True),
     hooks={"interrupt_pending": _interrupt_pending},
-    extras={"read_flag": cuda.jit(device=True)(_plain_byte) if simulated() else _volatile_byte()},
+    extras={
+        "read_flag": cuda.jit(device=True)(_plain_byte) if simulated() else _volatile_byte(),
+        "RUNNING": True,  # the running reductions when a lane's rpar carries their tail
+    },
 )
 _explicit_lane = _GPU["explicit_lane"]
 _RECORD = 7 * MAX_CLEAR

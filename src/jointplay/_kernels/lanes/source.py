@@ -81,6 +81,7 @@ from jointplay._kernels.ids import (
     LAW_IMPACT,
     LAW_KELVIN_VOIGT,
     N_GEOM,
+    N_SETTINGS,
     S_CAPTURE_MAX,
     S_ONSET_TOL,
     S_PROJ_TOL,
@@ -1189,23 +1190,28 @@ def wants_refinement(qa, qb, peaks, mask, n_q):
 def refine_peaks(samples, peaks, n_q):
     """Raise ``peaks`` to the parabolic vertex through the largest sample of |Q| at θ = 0,
     1/8, …, 1 (rows of ``samples``) and its two neighbours."""
-    last = N_REFINE + 1
     for p in range(n_q):
-        m = 0
-        for i in range(1, last + 1):
-            if abs(samples[i, p]) > abs(samples[m, p]):
-                m = i
-        best = abs(samples[m, p])
-        if 0 < m < last:
-            low = abs(samples[m - 1, p])
-            high = abs(samples[m + 1, p])
-            curvature = low - 2.0 * best + high
-            if curvature < 0.0:
-                offset = 0.5 * (low - high) / curvature
-                offset = min(max(offset, -0.5), 0.5)
-                best = best - 0.25 * (low - high) * offset
-        if best > peaks[p]:
-            peaks[p] = best
+        refine_one(samples, peaks, p)
+
+
+def refine_one(samples, peaks, p):
+    """:func:`refine_peaks` of quantity ``p`` alone."""
+    last = N_REFINE + 1
+    m = 0
+    for i in range(1, last + 1):
+        if abs(samples[i, p]) > abs(samples[m, p]):
+            m = i
+    best = abs(samples[m, p])
+    if 0 < m < last:
+        low = abs(samples[m - 1, p])
+        high = abs(samples[m + 1, p])
+        curvature = low - 2.0 * best + high
+        if curvature < 0.0:
+            offset = 0.5 * (low - high) / curvature
+            offset = min(max(offset, -0.5), 0.5)
+            best = best - 0.25 * (low - high) * offset
+    if best > peaks[p]:
+        peaks[p] = best
 
 
 def open_window(q, pen, peaks, stats, nb, n_q, nc):
@@ -1300,6 +1306,223 @@ def close_regimes(stats, nb, nc, span):
             stats[s + 1] = max(1.0 - stats[s] - stats[s + 2], 0.0)
 
 
+# --- the running responses (asked for: lay[LY_NQ] one more than the model's quantities) ------
+#: The running tail of a lane's ``rp`` (after the packed model, at :func:`running_base`):
+#: the output body's index, the reference table's length N, the wear profiles' bins, then the
+#: table's crank angles (rad, increasing in [0, 2π)) and ideal output speeds (rad/s), then
+#: per clearance joint its bearing width (m), effective modulus E* (Pa) and the Archard
+#: factor (the surface's share) k/H (1/Pa).
+RUN_OUTPUT, RUN_POINTS, RUN_BINS, RUN_TABLE = 0, 1, 2, 3
+RUN_JOINT = 3
+#: The running slots of ``stats`` after the model's 2 nb + 4 nc, per clearance joint c: the
+#: wear rate (m/s, at ``c``), the last point's F_N, F_N |v_T|, bearing and journal angle
+#: (``nc + 4 c``), then one "started" flag (``5 nc``), then the bearing's and the journal's
+#: worn amounts per bin (``5 nc + 1 + 2 bins c``, ``… + bins``; N·m, the Archard load ×
+#: distance spread over the Hertz arc).
+RUN_PREVIOUS = 4
+#: Whether a compilation of the lanes holds the running reductions at all: a constant of the
+#: target's namespace (:func:`jointplay._kernels.lanes.build.build`'s ``extras``), so that a
+#: compilation without them has none of their code. Measured: their mere presence (never run)
+#: made the explicit lane 12 % dearer (64 conventional lanes, one thread, CPU time 0.478 s
+#: against 0.425 s), as the regimes' calls did (:func:`explicit_lane`'s docstring). The CPU
+#: compiles the explicit lane twice (:mod:`jointplay._kernels.lanes.cpu`), the CUDA kernels
+#: with them.
+RUNNING = False
+
+
+def running_on(lay):
+    """Whether the lane computes the running responses (the output speed's deviation from
+    the ideal reference as one more quantity, the Archard wear profiles in ``stats``)."""
+    return lay[LY_NQ] > 2 * (lay[LY_N] // 3) + lay[LY_NJ] + 1
+
+
+def running_base(lay):
+    """Where the running tail starts in a lane's ``rp``: just after the packed model."""
+    return lay[LY_SETTINGS] + N_SETTINGS
+
+
+def running_stats(lay):
+    """Where the running slots start in ``stats``."""
+    return 2 * (lay[LY_N] // 3) + 4 * lay[LY_NC]
+
+
+def reference_speed(rp, lay, angle):
+    """The ideal output speed (rad/s) at crank angle ``angle`` (rad): the tail's table,
+    periodic over 2π, interpolated linearly (as ``numpy.interp(..., period=2π)``)."""
+    r = running_base(lay)
+    npts = int(rp[r + RUN_POINTS])
+    xp = r + RUN_TABLE
+    fp = xp + npts
+    two_pi = 2.0 * math.pi
+    x = angle - math.floor(angle / two_pi) * two_pi
+    last = npts - 1
+    if x < rp[xp]:
+        x0, f0, x1, f1 = rp[xp + last] - two_pi, rp[fp + last], rp[xp], rp[fp]
+    elif x >= rp[xp + last]:
+        x0, f0, x1, f1 = rp[xp + last], rp[fp + last], rp[xp] + two_pi, rp[fp]
+    else:
+        lo = 0
+        hi = last
+        while hi - lo > 1:
+            mid = (lo + hi) // 2
+            if rp[xp + mid] <= x:
+                lo = mid
+            else:
+                hi = mid
+        x0, f0, x1, f1 = rp[xp + lo], rp[fp + lo], rp[xp + hi], rp[fp + hi]
+    return f0 + (x - x0) * ((f1 - f0) / (x1 - x0))
+
+
+def speed_deviation(y, rp, lay, qty):
+    """The running quantity: ω_out − ω_ideal(θ_crank) (rad/s) into ``qty``'s last slot."""
+    n = lay[LY_N]
+    out = int(rp[running_base(lay) + RUN_OUTPUT])
+    crank = int(rp[lay[LY_DRIVER]])
+    qty[lay[LY_NQ] - 1] = y[n + 3 * out + 2] - reference_speed(rp, lay, y[3 * crank + 2])
+
+
+def spread_weight(k, width, angle, half):
+    """The elliptical weight of bin ``k`` (centre (k + ½) width) about ``angle``."""
+    two_pi = 2.0 * math.pi
+    d = (k + 0.5) * width - angle + math.pi
+    d = d - math.floor(d / two_pi) * two_pi - math.pi
+    r = d / half
+    return math.sqrt(max(1.0 - r * r, 0.0))
+
+
+def spread_wear(stats, base, bins, angle, amount, half_angle):
+    """Add ``amount`` to the ``bins`` bins at ``stats[base:]`` around 2π with an elliptical
+    weight of half-angle ``half_angle`` about ``angle`` (rad, in [0, 2π)), normalised, an arc
+    narrower than a bin in the nearest bin (:func:`jointplay.dynamics.wear._spread`)."""
+    width = 2.0 * math.pi / bins
+    half = max(half_angle, width)
+    reach = min(int(math.ceil(half / width)) + 1, bins // 2)  # noqa: RUF046 (both targets)
+    nearest = int(math.floor(angle / width))  # noqa: RUF046
+    if nearest >= bins:
+        nearest -= bins
+    total = 0.0
+    for o in range(-reach, reach + 1):
+        total += spread_weight(nearest + o, width, angle, half)
+    if total <= 0.0:
+        stats[base + nearest] += amount
+        return
+    for o in range(-reach, reach + 1):
+        w = spread_weight(nearest + o, width, angle, half)
+        if w > 0.0:
+            k = nearest + o
+            if k < 0:
+                k += bins
+            elif k >= bins:
+                k -= bins
+            stats[base + k] += (w / total) * amount
+
+
+def body_angle(y, body):
+    """The angle of ``body`` (rad; the ground's 0)."""
+    return y[3 * body + 2] if body >= 0 else 0.0
+
+
+def midpoint_angle(a0, a1):
+    """The mean direction of two angles, in [0, 2π) (``angle(e^{i a0} + e^{i a1})``)."""
+    two_pi = 2.0 * math.pi
+    m = math.atan2(math.sin(a0) + math.sin(a1), math.cos(a0) + math.cos(a1))
+    return m - math.floor(m / two_pi) * two_pi
+
+
+def running_point(t_new, h, t_settle, y, rp, ip, lay, f, record, stats):
+    """Add the accepted point ``y`` at ``t_new`` (the step before it ``h`` s long) to the
+    Archard wear profiles (:func:`jointplay.dynamics.wear.cycle_wear`'s trapezoidal rule on
+    the integrator's steps, from the first step at or after ``t_settle``): F_N of the contact
+    law (under a Reynolds film the asperities' only), v_T, and the contact normal's direction
+    in the bearing's and the journal's body, from :func:`contact_forces` (``f``, ``record``:
+    work arrays)."""
+    nc = lay[LY_NC]
+    s = running_stats(lay)
+    flag = s + 5 * nc
+    started = stats[flag] > 0.0
+    if not started and t_new < t_settle - 1e-12:
+        return
+    contact_forces(y, rp, ip, lay, f, record, True)
+    r = running_base(lay)
+    npts = int(rp[r + RUN_POINTS])
+    bins = int(rp[r + RUN_BINS])
+    o_ji = lay[LY_JOINT_INT]
+    for c in range(nc):
+        j = ip[lay[LY_CLEAR] + c]
+        a = ip[o_ji + 3 * j + 1]
+        b = ip[o_ji + 3 * j + 2]
+        force = max(record[7 * c], 0.0)
+        power = force * abs(record[7 * c + 4])
+        ex = record[7 * c + 5]
+        ey = record[7 * c + 6]
+        psi = math.atan2(ey, ex) if (ex != 0.0 or ey != 0.0) else 0.0
+        angle_a = psi - body_angle(y, a)
+        angle_b = psi - body_angle(y, b)
+        p = s + nc + RUN_PREVIOUS * c
+        if started:
+            amount = 0.5 * (stats[p + 1] + power) * h
+            if amount > 0.0:
+                pj = r + RUN_TABLE + 2 * npts + RUN_JOINT * c
+                width = rp[pj]
+                modulus = rp[pj + 1]
+                o = lay[LY_GEOM] + N_GEOM * c
+                r_j = rp[o + G_R_JOURNAL]
+                r_b = r_j + rp[o + G_CLEARANCE]
+                radius = r_j * r_b / (r_b - r_j) if r_b > r_j else 1e3
+                f_mid = 0.5 * (stats[p] + force)
+                half_width = math.sqrt(4.0 * (f_mid / width) * radius / (math.pi * modulus))
+                base = s + 5 * nc + 1 + 2 * bins * c
+                spread_wear(stats, base, bins, midpoint_angle(stats[p + 2], angle_a), amount,
+                            half_width / r_b)  # fmt: skip
+                spread_wear(stats, base + bins, bins, midpoint_angle(stats[p + 3], angle_b),
+                            amount, half_width / r_j)  # fmt: skip
+        stats[p] = force
+        stats[p + 1] = power
+        stats[p + 2] = angle_a
+        stats[p + 3] = angle_b
+    stats[flag] = 1.0
+
+
+def start_running(rp, lay, stats):
+    """The running slots before the first step: rates NaN, the last points, the flag and
+    the profiles zero."""
+    nc = lay[LY_NC]
+    s = running_stats(lay)
+    bins = int(rp[running_base(lay) + RUN_BINS])
+    for c in range(nc):
+        stats[s + c] = math.nan
+    for m in range(s + nc, s + 5 * nc + 1 + 2 * bins * nc):
+        stats[m] = 0.0
+
+
+def close_running(rp, lay, stats, span):
+    """Each joint's wear rate (m/s): the deepest wear of the bearing plus the journal over
+    the window ``span`` (s), the profiles turned into depths (k/H share × amount over the
+    bin's surface, R θ_bin w)."""
+    nc = lay[LY_NC]
+    s = running_stats(lay)
+    r = running_base(lay)
+    npts = int(rp[r + RUN_POINTS])
+    bins = int(rp[r + RUN_BINS])
+    arc = 2.0 * math.pi / bins
+    for c in range(nc):
+        pj = r + RUN_TABLE + 2 * npts + RUN_JOINT * c
+        width = rp[pj]
+        factor = rp[pj + 2]
+        o = lay[LY_GEOM] + N_GEOM * c
+        r_j = rp[o + G_R_JOURNAL]
+        r_b = r_j + rp[o + G_CLEARANCE]
+        base = s + 5 * nc + 1 + 2 * bins * c
+        deepest_b = 0.0
+        deepest_j = 0.0
+        for k in range(bins):
+            deepest_b = max(deepest_b, stats[base + k])
+            deepest_j = max(deepest_j, stats[base + bins + k])
+        depth_b = factor * deepest_b / (arc * r_b * width)
+        depth_j = factor * deepest_j / (arc * r_j * width)
+        stats[s + c] = (depth_b + depth_j) / span
+
+
 def start_outputs(ip, rp, lay, mask, peaks, stats, counts):
     """A lane's outputs before its first step: the triggering quantities in ``mask``
     (:func:`triggers`), peaks and statistics NaN (a lane that fails leaves them so), counters
@@ -1311,6 +1534,8 @@ def start_outputs(ip, rp, lay, mask, peaks, stats, counts):
         stats[m] = math.nan
     for m in range(3):
         counts[m] = 0
+    if running_on(lay):
+        start_running(rp, lay, stats)
 
 
 def explicit_lane(
@@ -1350,6 +1575,10 @@ def explicit_lane(
     counts[K_RHS] += 1
     if not (all_finite(y, size) and all_finite(f, size)):
         return STATUS_NON_FINITE, t
+    running = RUNNING and running_on(lay)
+    if running:
+        speed_deviation(y, rp, lay, qa)
+        running_point(t, 0.0, t_settle, y, rp, ip, lay, f_mid, record_mid, stats)
     in_window = t_settle <= 0.0
     if in_window:
         open_window(qa, pen, peaks, stats, nb, n_q, nc)
@@ -1448,9 +1677,12 @@ def explicit_lane(
         if not (all_finite(y_new, size) and all_finite(f, size)):
             status = STATUS_NON_FINITE
             break
+        if running:
+            speed_deviation(y_new, rp, lay, qb)
+            running_point(t_new, h, t_settle, y_new, rp, ip, lay, f_mid, record_mid, stats)
         if in_window:
             accumulate(qa, qb, pen, h, peaks, stats, nb, n_q, nc)
-            if wants_refinement(qa, qb, peaks, mask, n_q):
+            if wants_refinement(qa, qb, peaks, mask, n_q - 1 if running else n_q):
                 for p in range(n_q):
                     samples[0, p] = qa[p]
                     samples[N_REFINE + 1, p] = qb[p]
@@ -1459,7 +1691,17 @@ def explicit_lane(
                     dense(y, k, h, theta, y_mid, size)
                     quantities(t + theta * h, y_mid, rp, ip, lay, f_mid, record_mid,
                                samples[r + 1], pen, phi_q, schur, lam)  # fmt: skip
+                    if running:
+                        speed_deviation(y_mid, rp, lay, samples[r + 1])
                 refine_peaks(samples, peaks, n_q)
+            elif running:  # the deviation is refined on every step (its own rule)
+                p = n_q - 1
+                samples[0, p] = qa[p]
+                samples[N_REFINE + 1, p] = qb[p]
+                for r in range(N_REFINE):
+                    dense(y, k, h, (r + 1) / 8.0, y_mid, size)
+                    speed_deviation(y_mid, rp, lay, samples[r + 1])
+                refine_one(samples, peaks, p)
             qa, qb = qb, qa
         elif t_new == t_settle:
             in_window = True
@@ -1472,4 +1714,6 @@ def explicit_lane(
         h = h * factor
     if status == STATUS_SUCCESS:
         close_window(stats, nb, t_end - t_settle)
+        if running:
+            close_running(rp, lay, stats, t_end - t_settle)
     return status, t

@@ -99,6 +99,7 @@ from jointplay._kernels.lanes.source import (
     MAX_CHECK_REJECTIONS,
     N_GEOM,
     N_REFINE,
+    RUNNING,
     STATUS_INTERRUPTED,
     STATUS_NON_FINITE,
     STATUS_RUNNING,
@@ -110,6 +111,7 @@ from jointplay._kernels.lanes.source import (
     all_finite,
     any_film,
     close_regimes,
+    close_running,
     close_window,
     contact_clearance,
     contact_forces,
@@ -125,11 +127,15 @@ from jointplay._kernels.lanes.source import (
     open_window,
     project,
     quantities,
+    refine_one,
     refine_peaks,
     reynolds_force,
     reynolds_matrix,
     rhs,
     rhs_and_quantities,
+    running_on,
+    running_point,
+    speed_deviation,
     start_outputs,
     wants_refinement,
 )
@@ -1096,6 +1102,7 @@ def implicit_lane(
     size = lay[LY_SIZE]
     n_q = lay[LY_NQ]
     film = any_film(rp, lay)  # the interpolant's rule (hermite)
+    running = RUNNING and running_on(lay)
     start_outputs(ip, rp, lay, mask, peaks, stats, counts)
     t = 0.0
     if interrupt_pending(interrupt):
@@ -1114,6 +1121,8 @@ def implicit_lane(
     counts[K_RHS] += 1
     if not (all_finite(y, size) and all_finite(f, size)):
         return STATUS_NON_FINITE, t
+    if running:
+        running_point(t, 0.0, t_settle, y, rp, ip, lay, f_mid, record_mid, stats)
     bits_old = touching(pen, nc)  # the joints touching at t_old and t (bits_new: t_new)
     bits = bits_old
     h_abs_state = initial_step(t, y, t_end, max_step, f, rtol, atol, rp, ip, lay, ytmp,
@@ -1249,6 +1258,10 @@ def implicit_lane(
         if not (all_finite(y_new, size) and all_finite(f_new, size)):
             status = STATUS_NON_FINITE
             break
+        if running:
+            speed_deviation(y_new, rp, lay, qb)
+            running_point(t_new, t_new - t, t_settle, y_new, rp, ip, lay, f_mid, record_mid,
+                          stats)  # fmt: skip
         if recompute_jac:
             lane_jacobian(t_new, y_new, f_new, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid,
                           xr, xcr, record_mid, phi_q, schur, lam)  # fmt: skip
@@ -1269,16 +1282,20 @@ def implicit_lane(
                 t_a = t_settle
                 quantities(t_a, y_open, rp, ip, lay, f_open, record_mid, qa, pen_open,
                            phi_q, schur, lam)  # fmt: skip
+                if running:
+                    speed_deviation(y_open, rp, lay, qa)
             else:
                 t_a = t
                 quantities(t_a, y, rp, ip, lay, f_open, record_mid, qa, pen_open,
                            phi_q, schur, lam)  # fmt: skip
+                if running:
+                    speed_deviation(y, rp, lay, qa)
             open_window(qa, pen_open, peaks, stats, nb, n_q, nc)
             open_regimes(rp, lay, pen_open, stats, nb, nc)
         if in_window:
             accumulate(qa, qb, pen, t_new - t_a, peaks, stats, nb, n_q, nc)
             accumulate_regimes(rp, lay, pen, t_new - t_a, stats, nb, nc)
-            if wants_refinement(qa, qb, peaks, mask, n_q):
+            if wants_refinement(qa, qb, peaks, mask, n_q - 1 if running else n_q):
                 hw = t_new - t_a
                 for p in range(n_q):
                     samples[0, p] = qa[p]
@@ -1289,7 +1306,20 @@ def implicit_lane(
                             rule)  # fmt: skip
                     quantities(tau, y_mid, rp, ip, lay, f_mid, record_mid, samples[r + 1],
                                pen_open, phi_q, schur, lam)  # fmt: skip
+                    if running:
+                        speed_deviation(y_mid, rp, lay, samples[r + 1])
                 refine_peaks(samples, peaks, n_q)
+            elif running:  # the deviation is refined on every step (its own rule)
+                hw = t_new - t_a
+                p = n_q - 1
+                samples[0, p] = qa[p]
+                samples[N_REFINE + 1, p] = qb[p]
+                for r in range(N_REFINE):
+                    tau = t_a + ((r + 1) / 8.0) * hw
+                    hermite(t_old, y_old, t, y, f, t_new, y_new, f_new, n, size, tau, y_mid,
+                            rule)  # fmt: skip
+                    speed_deviation(y_mid, rp, lay, samples[r + 1])
+                refine_one(samples, peaks, p)
             qa, qb = qb, qa
         t_a = t_new
         polynomial(z, cq, size)  # the next Newton start
@@ -1306,4 +1336,6 @@ def implicit_lane(
     if status == STATUS_SUCCESS:
         close_window(stats, nb, t_end - t_settle)
         close_regimes(stats, nb, nc, t_end - t_settle)
+        if running:
+            close_running(rp, lay, stats, t_end - t_settle)
     return status, t
