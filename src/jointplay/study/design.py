@@ -77,7 +77,6 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from jointplay._kernels.capabilities import engine_of, refusal
 from jointplay.errors import ConfigError, PartialInterrupt
 from jointplay.execution.progress import study_bar
 from jointplay.model.mechanism import Mechanism
@@ -122,6 +121,7 @@ from jointplay.tolerance.execution import NOT_RUN, OK, STATUS, Backend, run
 from jointplay.tolerance.methods import distribution_note, truncated_at_limits
 from jointplay.tolerance.parts import Process, model_inputs
 from jointplay.tolerance.rare import RareEstimate, cross_entropy_importance_sampling
+from jointplay.tolerance.response_running import check_running_backend
 from jointplay.tolerance.responses import (
     CheckedModel,
     PeakResponses,
@@ -840,17 +840,12 @@ def _response_model(
     kinematic = kinematic_model(mechanism, lengths) if lengths and mixed else None
     need_trajectories = trajectory_requirements(parsed)
     if need_trajectories:
-        refused = backend is not None and refusal(
-            engine_of(backend.kind, "single"),
-            ["trajectories"],
-            named=lambda _: (
-                f"{', '.join(repr(t) for t in need_trajectories)} (each sample's "
-                "trajectory; the batch engine gives peaks: omega, alpha, forces, torque, "
-                "joint_force, contact_pressure)"
-            ),
+        check_running_backend(
+            base,
+            backend,
+            f"{', '.join(repr(t) for t in need_trajectories)} (the running responses: the "
+            "speed error and the wear rate)",
         )
-        if refused and backend is not None:
-            raise ConfigError(f"backend {backend.kind}: {refused}")
         return RunningResponses(
             base,
             OutputSpeedReference.of(mechanism),

@@ -72,6 +72,7 @@ from jointplay.study.life_result import (
 )
 from jointplay.study.requirements import Requirement
 from jointplay.tolerance.execution import OK, Backend, run
+from jointplay.tolerance.response_running import check_running_backend
 from jointplay.tolerance.responses import ResponseModel
 
 if TYPE_CHECKING:
@@ -79,6 +80,7 @@ if TYPE_CHECKING:
     from jointplay.dynamics.wear import WearSettings
     from jointplay.model.mechanism import Mechanism
     from jointplay.tolerance.parts import Process
+    from jointplay.tolerance.response_running import RunningResponses
 
 __all__ = [
     "CLEARANCE_ATOL",
@@ -447,7 +449,7 @@ def population_life(
     Raises:
         ConfigError: no criterion, a bad requirement, a bad setting.
     """
-    from jointplay.study.design_schemes import _diameter, sample_rounds, schemes
+    from jointplay.study.design_schemes import _diameter, schemes
     from jointplay.tolerance import iso286
     from jointplay.tolerance.methods import truncated_at_limits
     from jointplay.tolerance.parts import Process, model_inputs
@@ -455,7 +457,7 @@ def population_life(
 
     if not 0.0 < precision < 1.0:
         raise ConfigError(f"precision must lie between 0 and 100 %, got {precision!r}")
-    rounds = sample_rounds(samples, max_samples)
+    rounds = _rounds(samples, max_samples)
     parsed = parse_life_requirements(mechanism, requirements)
     (scheme,) = schemes(mechanism, [fit], [length_class])
     limits: dict[str, float] = {}
@@ -481,8 +483,10 @@ def population_life(
     spec = truncated_at_limits(spec) if truncate else spec
     names, _ = model_inputs(spec.names, np.empty((0, len(spec.names))))
     if model is None:
-        _check_backend(backend)
         model = _running_model(mechanism, names, parsed, run_settings, wear)
+        check_running_backend(
+            model.base, backend, "the population life (each mechanism's wear rate)"
+        )
     step = hours / 10.0 if first_step is None else float(first_step)
     parts: list[Lives] = []
     features: list[FloatArray] = []
@@ -570,20 +574,19 @@ def _precise(lives: Lives, precision: float) -> bool:
     return math.isfinite(high) and 0.5 * (high - low) <= precision * fit.quantile(0.10)
 
 
-def _check_backend(backend: Backend | None) -> None:
-    """The running model needs each mechanism's trajectory (its wear rate): refused, in one
-    line, on a backend whose engine does not give trajectories (as the design study does)."""
-    from jointplay._kernels.capabilities import engine_of, refusal
+def _rounds(samples: int | Literal["auto"], max_samples: int) -> tuple[int, ...]:
+    """Total mechanisms after each round: ``(samples,)`` for a number, else the design's first
+    block (:data:`~jointplay.study.design_schemes.BLOCK`), doubling up to ``max_samples``
+    (doubling keeps each round's update steps one large block of lanes)."""
+    from jointplay.study.design_schemes import BLOCK, sample_looks
 
-    if backend is None:
-        return
-    refused = refusal(
-        engine_of(backend.kind, "single"),
-        ["trajectories"],
-        named=lambda _: "the population life (each mechanism's trajectory gives its wear rate)",
-    )
-    if refused:
-        raise ConfigError(f"backend {backend.kind}: {refused}")
+    looks = sample_looks(samples, max_samples)  # checks both
+    if samples != "auto":
+        return looks
+    out = [min(BLOCK, max_samples)]
+    while out[-1] < max_samples:
+        out.append(min(2 * out[-1], max_samples))
+    return tuple(out)
 
 
 def _running_model(
@@ -592,7 +595,7 @@ def _running_model(
     parsed: Sequence[Requirement],
     run_settings: RunSettings | None,
     wear: WearSettings | None,
-) -> ResponseModel:
+) -> RunningResponses:
     """The running responses (wear rates, speed error, forces, pressures) of ``names``, with
     the ideal-joint kinematic responses when a requirement names one."""
     from jointplay.dynamics.settings import RunSettings

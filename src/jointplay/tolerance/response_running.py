@@ -299,3 +299,26 @@ class RunningResponses:
             errors.append("")
         evaluation = Evaluation(values, ok, tuple(errors), checks)
         return self._with_kinematic(x, evaluation)
+
+
+def check_running_backend(base: DynamicResponses, backend: Backend | None, what: str) -> None:
+    """Refuse, in one line, a ``backend`` whose engine cannot give ``base``'s running
+    responses: the batch lanes compute them (every CPU backend and the CUDA lanes); the
+    sustained-contact mode needs each sample's trajectory, i.e. the single engine
+    (:attr:`RunningResponses.engine`). ``what`` names the requirements concerned.
+
+    Raises:
+        ConfigError: the backend's engine lacks them (e.g. ``gpu``, the JAX kernel).
+    """
+    from jointplay._kernels.capabilities import engine_of, refusal
+
+    if backend is None:
+        return
+    single = base.capture_speed > 0.0
+    refused = refusal(
+        engine_of(backend.kind, "single" if single else "auto"),
+        ["trajectories" if single else "running_responses"],
+        named=lambda _: what,
+    )
+    if refused:
+        raise ConfigError(f"backend {backend.kind}: {refused}")
