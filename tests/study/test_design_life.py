@@ -136,3 +136,37 @@ def test_the_other_requirements_end_a_life():
 def test_a_b_p_design_that_cannot_run_is_refused(requirements, options, culprit):
     with pytest.raises(ConfigError, match=culprit):
         _design(requirements, **options)
+
+
+def test_a_resumed_b_p_design_keeps_its_lives(tmp_path, monkeypatch: pytest.MonkeyPatch):
+    """--resume: the lives of the kept samples are read back, not re-simulated; the resumed
+    study's table is the uninterrupted one's."""
+    import json
+
+    import pandas as pd
+
+    from jointplay.io.output import json_text
+    from jointplay.study import design as module
+    from jointplay.study.design import Earlier
+
+    whole, _ = _design(["B10 >= 8 h"], samples=40)
+    first, _ = _design(["B10 >= 8 h"], samples=20)
+    path = tmp_path / "samples.parquet"
+    first.samples.to_parquet(path, index=False)
+    settings = json.loads(json_text(first.summary()))["settings"]
+    kept = Earlier(str(tmp_path), settings, pd.read_parquet(path))
+    lived = []
+    real = module.functional_lives
+
+    def counted(model, x, *args, **options):
+        lived.append(len(x))
+        return real(model, x, *args, **options)
+
+    monkeypatch.setattr(module, "functional_lives", counted)
+    resumed, _ = _design(["B10 >= 8 h"], samples=40, resume=kept)
+    assert lived == [20]  # only the new samples' lives
+    columns = ["samples", "failures_B10 >= 8 h", "verdict_B10 >= 8 h", "yield_B10 >= 8 h"]
+    assert resumed.table[columns].equals(whole.table[columns])
+    assert resumed.samples[FUNCTIONAL_LIFE].to_numpy() == pytest.approx(
+        whole.samples[FUNCTIONAL_LIFE].to_numpy()
+    )

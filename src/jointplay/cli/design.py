@@ -399,6 +399,7 @@ def design_command(
         RareDefects,
         design_study,
         design_units,
+        life_settings,
         parse_requirements,
         resolve_responses,
     )
@@ -433,6 +434,10 @@ def design_command(
     class_list = [c.strip() for c in classes.split(",") if c.strip()]
     limit, allowance = parse_clearance_limit(clearance_limit)
     life_step = _update_hours(update_hours, requirements)
+    life_settings(  # a B_p design that cannot run is refused before the folder is touched
+        [r for r in requirements if r.quantile is not None], requirements, limit, allowance,
+        life_step, RareDefects() if rare_defects else None,
+    )  # fmt: skip
     check_revolutions(revolutions, settle)
     data = read_table(table, config)
     cost = CostModel.from_table(data.get("cost", {}))

@@ -310,7 +310,7 @@ def life_quantile_lines(result: DesignResult) -> list[str]:
     failed before the hours, the order-statistic B_p with its exact interval, and the
     requirement that ended most lives."""
     from jointplay.study.life_result import _quantile_text
-    from jointplay.study.weibull import empirical_quantile
+    from jointplay.study.weibull import INTERVAL_LEVEL, empirical_quantile
 
     row = life_scheme(result)
     if row is None:
@@ -331,7 +331,10 @@ def life_quantile_lines(result: DesignResult) -> list[str]:
         )
         if population is not None:
             q = empirical_quantile(population.lives.life, population.lives.censored, r.quantile)
-            text += f"; B{100 * r.quantile:g} = {_quantile_text(q)} (order statistic, 90 %)"
+            text += (
+                f"; B{100 * r.quantile:g} = {_quantile_text(q)} (order statistic, "
+                f"{100 * INTERVAL_LEVEL:g} %)"
+            )
             shares = population.shares
             if shares:
                 top, share = next(iter(shares.items()))

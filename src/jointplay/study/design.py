@@ -173,6 +173,7 @@ __all__ = [
     "Scheme",
     "design_study",
     "design_units",
+    "life_settings",
     "parse_requirements",
     "penetration_diagnostics",
     "resolve_responses",
@@ -383,7 +384,7 @@ def design_study(
             "a 'life' requirement needs a clearance limit: clearance_limit or clearance_allowance"
         )
 
-    life_hours, life_step = _life_settings(
+    life_hours, life_step = life_settings(
         quantiles, parsed, clearance_limit, clearance_allowance, life_step, rare
     )
     specs = [s.spec(mechanism, process) for s in candidates]
@@ -1136,7 +1137,7 @@ def _sample_frame(
     return frame
 
 
-def _life_settings(
+def life_settings(
     quantiles: Sequence[Requirement],
     parsed: Sequence[Requirement],
     limit: Mapping[str, float] | float | None,
