@@ -255,6 +255,31 @@ def wear_lives(block: Block, folder: Path, capsys: pytest.CaptureFixture[str]) -
             )
 
 
+@pytest.mark.slow
+def design_life_quantile(block: Block, folder: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The B_p example at its full 40 samples (about 3 minutes: its figures are of the full
+    run): the failures before the hours, the verdict and the share's interval its comment
+    gives, and the simulations per life the text after it gives."""
+    (command,) = block.commands
+    comment = " ".join(block.output)
+    out = folder / "b10"
+    printed = _ok(command.replace("--out design-b10", f"--no-progress --out {out}"), capsys)
+    failures, samples = _figure(r"(\d+) of (\d+) samples fail before", comment)
+    low, high = _figure(r"outliving it is ([\d.]+)–([\d.]+) %", comment)
+    (scheme,) = _summary(out)["schemes"]
+    (judged,) = scheme["requirements"]
+    assert judged["requirement"] == "B10 >= 6 h"
+    assert (judged["samples"], judged["failures"]) == (int(samples), int(failures))
+    assert judged["verdict"] in comment
+    assert 100 * judged["verdict_interval"][0] == pytest.approx(float(low), abs=0.05)
+    assert 100 * judged["verdict_interval"][1] == pytest.approx(float(high), abs=0.05)
+    page = (DOCS / "design.md").read_text(encoding="utf-8")
+    (per_life,) = _figure(r"([\d.]+) per life\*\*", page)
+    lives = _summary(out)["settings"]["functional_life"]["simulations"] / int(samples)
+    assert lives == pytest.approx(float(per_life), rel=0.1)
+    assert "life: B10 >= 6 h: " in printed
+
+
 # --- docs/life.md ---------------------------------------------------------------------------
 
 
@@ -340,6 +365,7 @@ HANDLERS: tuple[tuple[str, str, Handler], ...] = (
     ("design.md", '--fits "H9/d9,H11/c11"', design_smaller),
     ("design.md", '--require "life >= 200 h" --clearance-limit "+20 um" --wear-coefficient 1e-6 --samples 200', design_smaller),
     ("design.md", "jointplay wear --preset paper-fourbar --fit H8/g7", wear_lives),
+    ("design.md", '--require "B10 >= 6 h"', design_life_quantile),
     ("explore.md", "jointplay explore --config my.toml --port 0 --no-browser", explore_serves),
     ("life.md", "jointplay life --fit H8/g7 --clearance-limit", life_synopsis),
     ("performance.md", "python benchmarks/bench_clearance.py --no-baseline", benchmark_without_baseline),

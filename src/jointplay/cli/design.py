@@ -60,7 +60,7 @@ from jointplay.cli.tolerance import (
 )
 from jointplay.dynamics.declared import setting
 from jointplay.errors import ConfigError, JointplayError
-from jointplay.settings.mechanism import mechanism_from_options
+from jointplay.settings.mechanism import mechanism_from_options, quantity_option
 from jointplay.settings.simulation import check_revolutions, contact_from_options
 from jointplay.units import parse_quantity
 
@@ -224,7 +224,7 @@ def design_command(
         str,
         typer.Option(
             "--confidence",
-            help="Share of parts meeting a requirement, in %.",
+            help="Share of parts meeting a requirement (%).",
             rich_help_panel=REQUIREMENTS_PANEL,
         ),
     ] = "99.73 %",
@@ -310,6 +310,14 @@ def design_command(
             rich_help_panel=WEAR_PANEL,
         ),
     ] = None,
+    update_hours: Annotated[
+        str | None,
+        typer.Option(
+            "--update-hours",
+            help="B_p: first wear step, e.g. '200 h'.",
+            rich_help_panel=WEAR_PANEL,
+        ),
+    ] = None,
     table: Annotated[
         Path | None,
         typer.Option(
@@ -386,15 +394,16 @@ def design_command(
     The files written to --out: docs/cli.md.
     """
     from jointplay.io.output import output_dir
-    from jointplay.report.design import write_design
+    from jointplay.report.design import life_quantile_lines, write_design
     from jointplay.study.design import (
         RareDefects,
         design_study,
         design_units,
+        life_settings,
         parse_requirements,
         resolve_responses,
     )
-    from jointplay.study.requirements import parse_confidence
+    from jointplay.study.requirements import FUNCTIONAL_LIFE, parse_confidence
     from jointplay.study.sensitivity import model_sensitivity
     from jointplay.tolerance.cost import CostModel
 
@@ -424,6 +433,11 @@ def design_command(
     _note_zero_clearance(mechanism, [*fit_list, *fixed.values()])
     class_list = [c.strip() for c in classes.split(",") if c.strip()]
     limit, allowance = parse_clearance_limit(clearance_limit)
+    life_step = _update_hours(update_hours, requirements)
+    life_settings(  # a B_p design that cannot run is refused before the folder is touched
+        [r for r in requirements if r.quantile is not None], requirements, limit, allowance,
+        life_step, RareDefects() if rare_defects else None,
+    )  # fmt: skip
     check_revolutions(revolutions, settle)
     data = read_table(table, config)
     cost = CostModel.from_table(data.get("cost", {}))
@@ -444,6 +458,8 @@ def design_command(
             "clearance_allowance": allowance, "wear": wear, "backend": where,
             "progress": progress,
         }  # fmt: skip
+        if life_step is not None:
+            options["life_step"] = life_step
         if dynamic:  # the run settings, built once (kinematic designs run no dynamics)
             from jointplay.dynamics.setup import regime_line
 
@@ -481,6 +497,7 @@ def design_command(
         units = {
             **design_units(mechanism, "kinematic"),
             **design_units(mechanism, result.responses),  # type: ignore[arg-type]
+            FUNCTIONAL_LIFE: "s",
         }
         summary = result.summary()
         finished = _finished(result, summary["settings"])
@@ -495,6 +512,8 @@ def design_command(
                 sensitivity=sensitivity,
             )
         _print(result, units)
+        for line in life_quantile_lines(result):  # B_p: the population's life, under the table
+            console.print(f"life: {line}")
         if earlier is not None:
             console.print(runs_line(result.settings))
         if result.settings.get("model", {}).get("contact"):
@@ -507,6 +526,19 @@ def design_command(
 
 #: How the design's own advice names its settings on the command line.
 DESIGN_OPTIONS = {**SETTING_OPTIONS, "max_time": "--max-time", "resume": "--resume"}
+
+
+def _update_hours(text: str | None, requirements: Any) -> float | None:
+    """``--update-hours``: the first step of each sample's functional life, s; refused
+    without a B_p requirement (nothing would use it)."""
+    if text is None:
+        return None
+    if not any(r.quantile is not None for r in requirements):
+        raise ConfigError(
+            "--update-hours steps the functional life of a B_p requirement (e.g. --require "
+            "'B10 >= 2000 h'); drop it or add one"
+        )
+    return quantity_option(text, "s", "--update-hours", example="h", positive=True)
 
 
 def parse_max_time(text: str | None) -> float | None:

@@ -27,6 +27,7 @@ from jointplay.report.figures import encode
 from jointplay.report.html import HtmlReport
 from jointplay.study.design import DesignResult
 from jointplay.study.design_result import regime_rows
+from jointplay.study.life_result import LifeResult
 from jointplay.study.requirements import Requirement
 from jointplay.study.sensitivity import ModelSensitivity
 
@@ -256,6 +257,97 @@ def stop_line(result: DesignResult) -> str:
     return "stopped: " + ", ".join(parts)
 
 
+def life_scheme(result: DesignResult) -> Mapping[str, Any] | None:
+    """The scheme whose lives the report shows for a B_p requirement: the answer, else the
+    cheapest scheme (``None`` without a B_p requirement or a finished scheme)."""
+    if not any(r.quantile is not None for r in result.requirements) or not len(result.table):
+        return None
+    best = result.best_row
+    if best is not None:
+        return best
+    cheapest = result.table.sort_values("cost").iloc[0]
+    return {str(k): v for k, v in cheapest.items()}
+
+
+def scheme_lives(result: DesignResult, scheme: str) -> LifeResult | None:
+    """A scheme's functional lives (a B_p requirement's samples) as a population-life result,
+    for :mod:`jointplay.report.life`'s Weibull-paper plot; ``None`` without them."""
+    from jointplay.study.life_result import LifeResult, Lives
+    from jointplay.study.requirements import FUNCTIONAL_LIFE
+
+    frame = result.samples
+    if FUNCTIONAL_LIFE not in frame or not len(frame):
+        return None
+    rows = frame[frame["scheme"] == scheme].sort_values("sample")
+    hours = (result.settings.get("functional_life") or {}).get("hours_s")
+    if not len(rows) or hours is None:
+        return None
+    n = len(rows)
+    lives = Lives(
+        joints=(),
+        life=rows[FUNCTIONAL_LIFE].to_numpy(dtype=float),
+        censored=rows[f"{FUNCTIONAL_LIFE}_censored"].to_numpy(dtype=bool),
+        failing=tuple(str(f) for f in rows[f"{FUNCTIONAL_LIFE}_failing"]),
+        resimulations=rows[f"{FUNCTIONAL_LIFE}_simulations"].to_numpy(dtype=np.int64),
+        history=((),) * n,
+        hours=float(hours),
+    )
+    return LifeResult(
+        mechanism_name=result.mechanism.name,
+        criteria=tuple((result.settings.get("functional_life") or {}).get("criteria", ())),
+        input_names=(),
+        feature_names=(),
+        features=np.empty((n, 0)),
+        inputs=np.empty((n, 0)),
+        lives=lives,
+        settings={"scheme": scheme},
+    )
+
+
+def life_quantile_lines(result: DesignResult) -> list[str]:
+    """Per B_p requirement, the first-screen answer for the scheme shown
+    (:func:`life_scheme`): its verdict on the interval it was decided on, how many samples
+    failed before the hours, the order-statistic B_p with its exact interval, and the
+    requirement that ended most lives."""
+    from jointplay.study.life_result import _quantile_text
+    from jointplay.study.weibull import INTERVAL_LEVEL, empirical_quantile
+
+    row = life_scheme(result)
+    if row is None:
+        return []
+    population = scheme_lives(result, str(row["scheme"]))
+    out = []
+    for r in result.requirements:
+        if r.quantile is None:
+            continue
+        t = r.text
+        n = int(row["samples"])
+        text = (
+            f"{t}: {row[f'verdict_{t}']} for {row['scheme']} — {int(row[f'failures_{t}'])} of "
+            f"{n} samples fail before {r.limit / 3600.0:g} h (a failed simulation counts); the "
+            f"share outliving it is {row[f'verdict_low_{t}']:.3g}–"
+            f"{row[f'verdict_high_{t}']:.3g} % ({_decision_interval(result)}) against the "
+            f"{100 * (1 - r.quantile):g} % required"
+        )
+        if population is not None:
+            q = empirical_quantile(population.lives.life, population.lives.censored, r.quantile)
+            text += (
+                f"; B{100 * r.quantile:g} = {_quantile_text(q)} (order statistic, "
+                f"{100 * INTERVAL_LEVEL:g} %)"
+            )
+            shares = population.shares
+            if shares:
+                top, share = next(iter(shares.items()))
+                text += f"; {top} ends {100 * share:.0f} % of the lives that end"
+        out.append(text)
+    return out
+
+
+def _decision_interval(result: DesignResult) -> str:
+    rule = result.settings.get("verdict_rule", "fixed")
+    return "95 % confidence sequence" if rule == "sequential" else "exact 95 % interval"
+
+
 def design_section(
     report: HtmlReport,
     result: DesignResult,
@@ -271,6 +363,8 @@ def design_section(
 
     report.heading("Design: fit and length class", anchor="design")
     report.paragraph(f"Answer: {result.verdict}.")
+    for line in life_quantile_lines(result):  # B_p: the population's life, on the first screen
+        report.paragraph(f"Life: {line}.")
     best = result.best_row
     if best is not None:
         report.paragraph(f"Evidence: {evidence_line(result, best)}.")
@@ -447,6 +541,8 @@ def write_design(
         result.samples.to_parquet(written[2], index=False)
         write_json(written[-1], summary)
     images = design_plots(result, units, figure_format) if plots else {}
+    if plots:
+        images.update(design_life_plots(result, figure_format))
     for name, data in images.items():
         (folder / name).write_bytes(data)
         written.append(folder / name)
@@ -454,6 +550,24 @@ def write_design(
     design_section(report, result, units, images, sensitivity)
     written.append(report.write(folder / "report.html"))
     return written
+
+
+def design_life_plots(result: DesignResult, figure_format: str = "png") -> dict[str, bytes]:
+    """A B_p requirement: the shown scheme's functional lives on Weibull probability paper
+    (:func:`jointplay.report.life.probability_figure`: the failures at their median ranks,
+    the lives censored at the hours as right-censored points, the censored fit with its
+    band when at least two samples failed), ``design_life.png``; none without a failure."""
+    from jointplay.report.life import probability_figure
+
+    row = life_scheme(result)
+    population = None if row is None else scheme_lives(result, str(row["scheme"]))
+    if population is None:
+        return {}
+    fig = probability_figure(population)
+    if fig is None:
+        return {}
+    fig.axes[0].set_title(f"functional life of {row['scheme']} on Weibull paper")  # type: ignore[index]
+    return _encode(fig, "design_life", figure_format)
 
 
 def wear_plots(history: WearHistory, figure_format: str = "png") -> dict[str, bytes]:

@@ -6,8 +6,10 @@ and the B10 mechanism, and report.html whose first screen is the answer ("B10 = 
 The probability plot is drawn on Weibull paper: x = ln t, y = ln(−ln(1 − F)), where a
 Weibull is a straight line of slope β. The points are the failures at their median ranks
 (Benard, :func:`jointplay.study.weibull.median_ranks`; exact since every censoring time is
-the same and follows every failure), the line the censored maximum-likelihood fit, the band
-its pointwise 90 % likelihood-ratio interval of the quantiles.
+the same and follows every failure), the lives censored at the hours one grey ▷ on the
+censoring line with their count (right-censored: no rank of their own), the line the
+censored maximum-likelihood fit, the band its pointwise 90 % likelihood-ratio interval of
+the quantiles.
 """
 
 from __future__ import annotations
@@ -73,6 +75,16 @@ def probability_figure(result: LifeResult) -> Any:
         c="k",
         label=f"failures at median ranks ({len(failures)} of {result.n})",
     )
+    censored = int(np.sum(result.lives.censored))
+    if censored:  # right-censored: no rank of their own, they shift the failures' ranks
+        ax.plot(
+            [math.log(hours)],
+            [_weibull_y(positions.max())],
+            ">",
+            ms=7,
+            c="grey",
+            label=f"{censored} right-censored at {hours_text(result.lives.hours)}",
+        )
     ax.axvline(math.log(hours), c="grey", ls=":", lw=1)
     ax.text(math.log(hours), _weibull_y(0.002), " censored here", color="grey", fontsize=8)
     ticks = [t for t in TICKS]

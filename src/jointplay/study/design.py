@@ -61,7 +61,16 @@ Responses of the dynamic model (SI): the tolerance study's peaks (``omega<k>_pea
 * ``wear_rate`` — the fastest Archard growth of a radial clearance, m/s
   (:func:`jointplay.dynamics.wear.cycle_wear`);
 * ``life`` — the time until the first joint's clearance passes its limit at that rate, s
-  (computed per scheme, since the limit may follow the fit).
+  (computed per scheme, since the limit may follow the fit);
+* ``functional_life`` — with a life-quantile requirement (``"B10 >= 2000 h"``,
+  :mod:`jointplay.study.requirements`): each sample's functional life
+  (:func:`jointplay.study.life.functional_lives`), s: the sample worn, its dynamics
+  re-simulated as its clearances grow (``life_step`` the first step), until its first other
+  requirement or clearance limit fails, censored at the largest B_p hours. ``Bp >= X`` is then
+  the yield of ``functional_life >= X`` against the target 1 − p, decided as every other
+  requirement (the same verdicts, intervals and samples to decide). The lives of each block
+  are computed once, when it is run, and kept in ``samples.parquet`` (``functional_life``,
+  ``functional_life_censored``, ``functional_life_failing``, ``functional_life_simulations``).
 """
 
 from __future__ import annotations
@@ -105,7 +114,18 @@ from jointplay.study.design_schemes import (
     schemes,
     trajectory_requirements,
 )
-from jointplay.study.requirements import Requirement
+from jointplay.study.life import (
+    DEFAULT_TOLERANCE as DEFAULT_LIFE_TOLERANCE,
+)
+from jointplay.study.life import (
+    Criterion,
+    clearance_criteria,
+    functional_lives,
+    requirement_criteria,
+    scheme_limits,
+)
+from jointplay.study.life_result import Lives
+from jointplay.study.requirements import FUNCTIONAL_LIFE, Requirement
 from jointplay.tolerance import iso286
 from jointplay.tolerance.analysis import StudyDiagnostic, convergence_finding
 from jointplay.tolerance.confidence import (
@@ -153,6 +173,7 @@ __all__ = [
     "Scheme",
     "design_study",
     "design_units",
+    "life_settings",
     "parse_requirements",
     "penetration_diagnostics",
     "resolve_responses",
@@ -175,12 +196,31 @@ class _Evaluated:
     status: list[NDArray[np.int8]] = field(default_factory=list)
     checks: list[FloatArray] = field(default_factory=list)
     errors: list[str] = field(default_factory=list)
+    #: a study with a B_p requirement: each sample's functional life (``Lives`` parts)
+    lives: list[Lives] = field(default_factory=list)
 
     @property
     def n(self) -> int:
         return sum(len(s) for s in self.status)
 
-    def add(self, features: FloatArray, x: FloatArray, outcome: Any, part: slice) -> None:
+    @property
+    def life_columns(self) -> dict[str, Any]:
+        """The functional lives as ``samples.parquet`` holds them (none without)."""
+        if not self.lives:
+            return {}
+        lives = Lives.concatenate(self.lives)
+        return {
+            FUNCTIONAL_LIFE: lives.life,
+            f"{FUNCTIONAL_LIFE}_censored": lives.censored,
+            f"{FUNCTIONAL_LIFE}_failing": list(lives.failing),
+            f"{FUNCTIONAL_LIFE}_simulations": lives.resimulations,
+        }
+
+    def add(
+        self, features: FloatArray, x: FloatArray, outcome: Any, part: slice, lives: Lives | None
+    ) -> None:
+        if lives is not None:
+            self.lives.append(lives)
         n = len(features)
         self.features.append(features)
         self.x.append(x[part])
@@ -201,7 +241,22 @@ class _Evaluated:
             [np.concatenate(self.status)[:n]],
             [np.vstack(self.checks)[:n]],
             list(self.errors[:n]),
+            [_head_lives(Lives.concatenate(self.lives), n)] if self.lives else [],
         )
+
+
+def _head_lives(lives: Lives, n: int) -> Lives:
+    """The first ``n`` lives."""
+    return dataclasses.replace(
+        lives,
+        life=lives.life[:n],
+        censored=lives.censored[:n],
+        failing=lives.failing[:n],
+        resimulations=lives.resimulations[:n],
+        history=lives.history[:n],
+        floor_steps=None if lives.floor_steps is None else lives.floor_steps[:n],
+        worst_error=None if lives.worst_error is None else lives.worst_error[:n],
+    )
 
 
 def design_study(
@@ -231,6 +286,8 @@ def design_study(
     progress: bool = False,
     resume: Earlier | None = None,
     max_time: float | None = None,
+    life_step: float | None = None,
+    model: ResponseModel | None = None,
 ) -> DesignResult:
     """Find the cheapest fit and length class shown to meet ``requirements``.
 
@@ -288,6 +345,10 @@ def design_study(
             runs are listed in ``settings["runs"]``. Refused (ConfigError naming the
             difference) when the mechanism, the model, a requirement, the schemes, the seed,
             the sampling or the costs differ; ``samples``, ``max_samples``, the backend may.
+        life_step: with a B_p requirement: the first step between the re-simulations of a
+            sample's functional life, s (default a tenth of the largest B_p hours).
+        model: the response model (default: built from the requirements and the run
+            settings); a test's stub.
 
     Raises:
         ConfigError: a malformed requirement, an unknown response, bad candidates, a resumed
@@ -309,8 +370,9 @@ def design_study(
     # A dynamic study gives the ideal-joint kinematic responses of each sample's lengths too,
     # so requirements may mix them (the dynamic peaks keep their own names).
     units = kinematic_units if responses == "kinematic" else {**kinematic_units, **dynamic_units}
+    quantiles = [r for r in parsed if r.quantile is not None]
     for item in parsed:
-        if item.response not in units:
+        if item.quantile is None and item.response not in units:
             raise ConfigError(
                 f"requirement {item.text!r}: response {item.response!r} is not a "
                 f"{responses} response; expected one of {', '.join(sorted(units))}"
@@ -322,17 +384,21 @@ def design_study(
             "a 'life' requirement needs a clearance limit: clearance_limit or clearance_allowance"
         )
 
+    life_hours, life_step = life_settings(
+        quantiles, parsed, clearance_limit, clearance_allowance, life_step, rare
+    )
     specs = [s.spec(mechanism, process) for s in candidates]
     if responses == "kinematic":
         specs = [s.only("length") for s in specs]
     specs = [truncated_at_limits(s) if truncate else s for s in specs]
     feature_names = specs[0].names
     names, _ = model_inputs(feature_names, np.empty((0, len(feature_names))))
-    model = _response_model(
-        mechanism, names, parsed, responses, dynamic_units,
-        run=run_settings, contact=contact, settle=settle, revolutions=revolutions, solver=solver,
-        wear=wear, backend=backend,
-    )  # fmt: skip
+    if model is None:
+        model = _response_model(
+            mechanism, names, parsed, responses, dynamic_units,
+            run=run_settings, contact=contact, settle=settle, revolutions=revolutions,
+            solver=solver, wear=wear, backend=backend,
+        )  # fmt: skip
     # evaluation key of each scheme: fits do not move ideal joints, so a kinematic study
     # evaluates each length class once
     first_of_class: dict[str, int] = {}
@@ -345,15 +411,16 @@ def design_study(
     model_checks = tuple(model.check_names) if isinstance(model, CheckedModel) else ()
     identity = _identity(
         mechanism, model, parsed, confidence, candidates, seed, process, truncate, responses,
-        cost, clearance_limit, clearance_allowance,
+        cost, clearance_limit, clearance_allowance, life_step,
     )  # fmt: skip
     evaluated = {k: _Evaluated() for k in set(key)}
     runs: list[dict[str, Any]] = []
     if resume is not None:
         resume.check(identity)
         kept = resume.evaluated(
-            candidates, key, feature_names, names, tuple(model.response_names), model_checks
-        )
+            candidates, key, feature_names, names, tuple(model.response_names), model_checks,
+            lives=bool(quantiles),
+        )  # fmt: skip
         for k, done in kept.items():
             check = sample(specs[k], max(done.n, 1), seed).values
             if done.n and not np.array_equal(np.vstack(done.features), check):
@@ -406,8 +473,24 @@ def design_study(
                 for k, block in zip(keys, drawn, strict=True):
                     part = slice(start, start + len(block))
                     start += len(block)
-                    if not np.any(outcome.status[part] == NOT_RUN):  # else interrupted: not kept
-                        evaluated[k].add(block, x, outcome, part)
+                    if np.any(outcome.status[part] == NOT_RUN) or interrupted:
+                        continue  # interrupted: not kept
+                    lives = None
+                    if life_hours is not None:  # each sample worn to its first failure
+                        try:
+                            lives = functional_lives(
+                                model, x[part],
+                                _life_criteria(
+                                    candidates[k], mechanism, parsed, clearance_limit,
+                                    clearance_allowance,
+                                ),
+                                hours=life_hours, first_step=float(life_step or life_hours),
+                                backend=backend,
+                            )  # fmt: skip
+                        except KeyboardInterrupt:  # lives cut short: the block is not kept
+                            interrupted = True
+                            continue
+                    evaluated[k].add(block, x, outcome, part, lives)
                 if outcome.interrupted:
                     interrupted = True
             for i in sorted(active):
@@ -513,6 +596,22 @@ def design_study(
         "cost_model": cost.describe(),
         "clearance_limit_m": clearance_limit,
         "clearance_allowance_m": clearance_allowance,
+        "functional_life": None
+        if life_hours is None
+        else {
+            "hours_s": life_hours,
+            "first_step_s": life_step,
+            "tolerance": DEFAULT_LIFE_TOLERANCE,
+            "criteria": [
+                c.label
+                for c in _life_criteria(
+                    candidates[0], mechanism, parsed, clearance_limit, clearance_allowance
+                )
+            ],
+            "simulations": int(
+                sum(int(lv.resimulations.sum()) for e in evaluated.values() for lv in e.lives)
+            ),
+        },
         "model": model.describe(),
         "execution": executions[-1] if executions else {},
         "execution_blocks": executions,
@@ -575,6 +674,7 @@ def _identity(
     cost: CostModel,
     limit: Mapping[str, float] | float | None,
     allowance: float | None,
+    life_step: float | None = None,
 ) -> dict[str, Any]:
     """What makes two runs the same study (``settings["identity"]``, JSON-ready): a resumed
     run must match every entry."""
@@ -597,6 +697,7 @@ def _identity(
             "cost_model": cost.describe(),
             "clearance_limit_m": limit,
             "clearance_allowance_m": allowance,
+            "life_step_s": life_step,
             "block": BLOCK,
         }
     )
@@ -657,8 +758,10 @@ class Earlier:
         names: Sequence[str],
         response_names: Sequence[str],
         check_names: Sequence[str],
+        lives: bool = False,
     ) -> dict[int, _Evaluated]:
-        """The samples of each evaluation key (the longest of its schemes' streams)."""
+        """The samples of each evaluation key (the longest of its schemes' streams), with
+        their functional lives when ``lives`` (a study with a B_p requirement)."""
         codes = {text: code for code, text in STATUS.items()}
         frame = self.samples
         out: dict[int, _Evaluated] = {}
@@ -668,6 +771,8 @@ class Earlier:
                 continue
             n = len(rows)
             columns = [*feature_names, *names, *response_names, *check_names]
+            if lives:
+                columns += [FUNCTIONAL_LIFE, *(f"{FUNCTIONAL_LIFE}_{c}" for c in LIFE_COLUMNS)]
             missing = [c for c in columns if c not in rows]
             if missing:
                 raise ConfigError(
@@ -685,8 +790,27 @@ class Earlier:
                 [np.asarray(rows["status"].map(codes), dtype=np.int8)],
                 [block(check_names)],
                 ["" if e is None else str(e) for e in rows["error"]],
+                [_kept_lives(rows)] if lives else [],
             )
         return out
+
+
+#: The per-sample columns of the functional life beside ``functional_life`` itself.
+LIFE_COLUMNS = ("censored", "failing", "simulations")
+
+
+def _kept_lives(rows: pd.DataFrame) -> Lives:
+    """The functional lives a resumed study kept (no clearance histories)."""
+    n = len(rows)
+    return Lives(
+        joints=(),
+        life=rows[FUNCTIONAL_LIFE].to_numpy(dtype=float),
+        censored=rows[f"{FUNCTIONAL_LIFE}_censored"].to_numpy(dtype=bool),
+        failing=tuple(str(f) for f in rows[f"{FUNCTIONAL_LIFE}_failing"]),
+        resimulations=rows[f"{FUNCTIONAL_LIFE}_simulations"].to_numpy(dtype=np.int64),
+        history=((),) * n,
+        hours=math.nan,
+    )
 
 
 def _difference(where: str, was: Any, now: Any) -> tuple[str, Any, Any]:
@@ -762,7 +886,7 @@ def _rare_defects(
         outcome = run(model, x, backend=backend)
         stopped = outcome.interrupted
         done = _Evaluated()
-        done.add(features, x, outcome, slice(0, len(x)))
+        done.add(features, x, outcome, slice(0, len(x)), None)
         values = _responses(scheme, mechanism, done, names, model, limit, allowance)
         worst = np.full(len(z), -np.inf)
         for r in parsed:
@@ -867,6 +991,8 @@ def _responses(
 ) -> dict[str, FloatArray]:
     """Every response of a scheme's samples by name (``life`` added for running models)."""
     values = dict(zip(model.response_names, np.vstack(done.values).T, strict=True))
+    if done.lives:
+        values[FUNCTIONAL_LIFE] = Lives.concatenate(done.lives).life
     if isinstance(model, RunningResponses):
         values["life"] = _life(
             scheme, mechanism, names, np.vstack(done.x), values, limit, allowance
@@ -996,12 +1122,73 @@ def _sample_frame(
     frame.insert(1, "sample", np.arange(len(frame)))
     for name, y in values.items():
         frame[name] = y
+    for name, column in done.life_columns.items():
+        frame[name] = column
     checks = np.vstack(done.checks)
     for c, name in enumerate(check_names):
         frame[name] = checks[:, c]
     frame["status"] = [STATUS[int(s)] for s in np.concatenate(done.status)]
     frame["error"] = list(done.errors)
     return frame
+
+
+def life_settings(
+    quantiles: Sequence[Requirement],
+    parsed: Sequence[Requirement],
+    limit: Mapping[str, float] | float | None,
+    allowance: float | None,
+    step: float | None,
+    rare: RareDefects | None,
+) -> tuple[float | None, float | None]:
+    """The hours each sample's functional life is followed (the largest B_p hours) and its
+    first step (default a tenth of them); ``(None, None)`` without a B_p requirement.
+
+    Raises:
+        ConfigError: nothing would end a life, a step beyond the hours, or rare defects.
+    """
+    if not quantiles:
+        return None, None
+    first = quantiles[0].text
+    if not _life_ends(parsed) and limit is None and allowance is None:
+        raise ConfigError(
+            f"requirement {first!r}: nothing ends a life; add the requirement whose first "
+            "failure ends it (e.g. 'rocker_speed_error <= 3 %') or a clearance limit "
+            "('--clearance-limit +20 um')"
+        )
+    if rare is not None:
+        raise ConfigError(
+            f"requirement {first!r}: the rare-defect estimate samples single simulations, "
+            "not lives; drop --rare-defects or the B_p requirement"
+        )
+    hours = max(r.limit for r in quantiles)
+    step = hours / 10.0 if step is None else float(step)
+    if not (math.isfinite(step) and 0.0 < step <= hours):
+        raise ConfigError(
+            f"--update-hours: the first step of a life must be > 0 and at most the B_p "
+            f"hours ({hours / 3600.0:g} h), got {step / 3600.0:g} h"
+        )
+    return hours, step
+
+
+def _life_ends(parsed: Sequence[Requirement]) -> list[Requirement]:
+    """The requirements whose first failure ends a sample's functional life: all but the
+    B_p requirements and the constant-rate ``life``."""
+    return [r for r in parsed if r.quantile is None and r.response != "life"]
+
+
+def _life_criteria(
+    scheme: Scheme,
+    mechanism: Mechanism,
+    parsed: Sequence[Requirement],
+    limit: Mapping[str, float] | float | None,
+    allowance: float | None,
+) -> tuple[Criterion, ...]:
+    """What ends a sample's functional life: the other requirements, then each joint's
+    clearance limit (:func:`jointplay.study.life.scheme_limits`)."""
+    return (
+        *requirement_criteria(_life_ends(parsed)),
+        *clearance_criteria(scheme_limits(mechanism, scheme, limit, allowance)),
+    )
 
 
 def _life(

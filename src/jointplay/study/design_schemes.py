@@ -290,7 +290,7 @@ def resolve_responses(
 #: Responses that need each sample's trajectory, not only its peaks: a design requiring one
 #: runs the single engine (:class:`RunningResponses`), else the batch engine
 #: (:class:`PeakResponses`, every backend including the GPU).
-TRAJECTORY_RESPONSES = ("rocker_speed_error", "wear_rate", "life")
+TRAJECTORY_RESPONSES = ("rocker_speed_error", "wear_rate", "life", "functional_life")
 
 
 def trajectory_requirements(requirements: Sequence[Requirement]) -> list[str]:

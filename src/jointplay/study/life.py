@@ -79,6 +79,7 @@ if TYPE_CHECKING:
     from jointplay.dynamics.settings import RunSettings
     from jointplay.dynamics.wear import WearSettings
     from jointplay.model.mechanism import Mechanism
+    from jointplay.study.design_schemes import Scheme
     from jointplay.tolerance.parts import Process
     from jointplay.tolerance.response_running import RunningResponses
 
@@ -89,10 +90,12 @@ __all__ = [
     "Criterion",
     "clearance_criteria",
     "functional_lives",
+    "life_rounds",
     "life_units",
     "parse_life_requirements",
     "population_life",
     "requirement_criteria",
+    "scheme_limits",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -171,24 +174,28 @@ def parse_life_requirements(
     """Requirements as typed objects, against :func:`life_units`.
 
     Raises:
-        ConfigError: a malformed requirement, an unknown response, or ``life`` (the life is
-            what this study computes: ask for the hours with ``hours``).
+        ConfigError: a malformed requirement, an unknown response, or ``life`` or a B_p
+            (the life is what this study computes: ask for the hours with ``hours``).
     """
     from jointplay.study.requirements import parse_requirement
 
     units = life_units(mechanism)
     out = []
     for item in requirements:
-        if isinstance(item, Requirement):
-            out.append(item)
-            continue
-        if item.strip().startswith("life"):
+        text = item.text if isinstance(item, Requirement) else item.strip()
+        if text.startswith("life"):
+            parsed = None
+        elif isinstance(item, Requirement):
+            parsed = item
+        else:
+            parsed = parse_requirement(item, units)
+        if parsed is None or parsed.quantile is not None:
             raise ConfigError(
-                f"requirement {item!r}: the life is what this study computes; give the "
+                f"requirement {text!r}: the life is what this study computes; give the "
                 "requirements a mechanism must keep meeting (e.g. 'rocker_speed_error <= 2 %') "
                 "and the hours to run with --hours"
             )
-        out.append(parse_requirement(item, units))
+        out.append(parsed)
     return tuple(out)
 
 
@@ -449,29 +456,17 @@ def population_life(
     Raises:
         ConfigError: no criterion, a bad requirement, a bad setting.
     """
-    from jointplay.study.design_schemes import _diameter, schemes
-    from jointplay.tolerance import iso286
+    from jointplay.study.design_schemes import schemes
     from jointplay.tolerance.methods import truncated_at_limits
     from jointplay.tolerance.parts import Process, model_inputs
     from jointplay.tolerance.sampling import sample
 
     if not 0.0 < precision < 1.0:
         raise ConfigError(f"precision must lie between 0 and 100 %, got {precision!r}")
-    rounds = _rounds(samples, max_samples)
+    rounds = life_rounds(samples, max_samples)
     parsed = parse_life_requirements(mechanism, requirements)
     (scheme,) = schemes(mechanism, [fit], [length_class])
-    limits: dict[str, float] = {}
-    for joint, designation in scheme.fits.items():
-        if clearance_allowance is not None:
-            limits[joint] = (
-                iso286.fit(designation, _diameter(mechanism, joint)).radial_clearance_max
-                + clearance_allowance
-            )
-        elif isinstance(clearance_limit, Mapping):
-            if joint in clearance_limit:
-                limits[joint] = float(clearance_limit[joint])
-        elif clearance_limit is not None:
-            limits[joint] = float(clearance_limit)
+    limits = scheme_limits(mechanism, scheme, clearance_limit, clearance_allowance)
     criteria = (*requirement_criteria(parsed), *clearance_criteria(limits))
     if not criteria:
         raise ConfigError(
@@ -562,6 +557,59 @@ def population_life(
     )
 
 
+#: ``samples="auto"``: mechanisms in the first round (then doubling).
+FIRST_ROUND = 100
+
+
+def life_rounds(samples: int | Literal["auto"], max_samples: int) -> tuple[int, ...]:
+    """Total mechanisms after each round: ``(samples,)`` for a number, else
+    :data:`FIRST_ROUND`, doubling, up to ``max_samples`` (its last round).
+
+    (The design study's rounds became blocks of 100 looked at on a confidence sequence,
+    :func:`~jointplay.study.design_schemes.sample_looks`; a population's rounds stop on B10's
+    precision, so they keep doubling: the former ``sample_rounds``.)
+
+    Raises:
+        ConfigError: ``samples`` or ``max_samples`` not a positive integer.
+    """
+    from jointplay.study.design_schemes import sample_looks
+
+    looks = sample_looks(samples, max_samples)  # checks both
+    if samples != "auto":
+        return looks
+    out = [min(FIRST_ROUND, max_samples)]
+    while out[-1] < max_samples:
+        out.append(min(2 * out[-1], max_samples))
+    return tuple(out)
+
+
+def scheme_limits(
+    mechanism: Mechanism,
+    scheme: Scheme,
+    clearance_limit: Mapping[str, float] | float | None,
+    clearance_allowance: float | None,
+) -> dict[str, float]:
+    """Each fitted joint's radial clearance limit, m: the fit's largest radial clearance plus
+    ``clearance_allowance``, or ``clearance_limit`` (one for all, or per joint); none
+    without either."""
+    from jointplay.study.design_schemes import _diameter
+    from jointplay.tolerance import iso286
+
+    limits: dict[str, float] = {}
+    for joint, designation in scheme.fits.items():
+        if clearance_allowance is not None:
+            limits[joint] = (
+                iso286.fit(designation, _diameter(mechanism, joint)).radial_clearance_max
+                + clearance_allowance
+            )
+        elif isinstance(clearance_limit, Mapping):
+            if joint in clearance_limit:
+                limits[joint] = float(clearance_limit[joint])
+        elif clearance_limit is not None:
+            limits[joint] = float(clearance_limit)
+    return limits
+
+
 def _precise(lives: Lives, precision: float) -> bool:
     """The Weibull B10's interval half-width is at most ``precision`` of B10."""
     from jointplay.study.weibull import fit_weibull
@@ -572,21 +620,6 @@ def _precise(lives: Lives, precision: float) -> bool:
         return False
     low, high = fit.quantile_interval(0.10)
     return math.isfinite(high) and 0.5 * (high - low) <= precision * fit.quantile(0.10)
-
-
-def _rounds(samples: int | Literal["auto"], max_samples: int) -> tuple[int, ...]:
-    """Total mechanisms after each round: ``(samples,)`` for a number, else the design's first
-    block (:data:`~jointplay.study.design_schemes.BLOCK`), doubling up to ``max_samples``
-    (doubling keeps each round's update steps one large block of lanes)."""
-    from jointplay.study.design_schemes import BLOCK, sample_looks
-
-    looks = sample_looks(samples, max_samples)  # checks both
-    if samples != "auto":
-        return looks
-    out = [min(BLOCK, max_samples)]
-    while out[-1] < max_samples:
-        out.append(min(2 * out[-1], max_samples))
-    return tuple(out)
 
 
 def _running_model(

@@ -12,7 +12,14 @@ Grammar (spaces optional around the comparison and the ``@``)::
                    the study's confidence level)
 
 Examples: ``"rocker_speed_error <= 1 %"``, ``"joint_force <= 150 N @99.73"``,
-``"life >= 2000 h"``. A malformed requirement is a one-line :class:`ConfigError` that says
+``"life >= 2000 h"``.
+
+**Life quantiles** (issue 43): ``"B10 >= 2000 h"`` — generally ``Bp >= VALUE UNIT`` with p in
+(0, 100) — is met when at most p % of the population fails before VALUE, i.e. when the yield
+of "functional life ≥ VALUE" is at least (100 − p) %. It parses to a :class:`Requirement` on
+the response :data:`FUNCTIONAL_LIFE` (s) with ``quantile`` p (a fraction) and ``confidence``
+1 − p; it takes no ``@`` (p sets the share) and only ``>=``/``>`` (a B_p is a lower bound
+on the life). A malformed requirement is a one-line :class:`ConfigError` that says
 what was expected.
 
 **Units are required.** A bare number is refused with a suggestion in the response's usual
@@ -36,7 +43,18 @@ from numpy.typing import NDArray
 
 from jointplay.errors import ConfigError
 
-__all__ = ["COMPARISONS", "USUAL_UNITS", "Requirement", "parse_confidence", "parse_requirement"]
+__all__ = [
+    "COMPARISONS",
+    "FUNCTIONAL_LIFE",
+    "USUAL_UNITS",
+    "Requirement",
+    "parse_confidence",
+    "parse_requirement",
+]
+
+#: The response a life-quantile requirement (``"B10 >= 2000 h"``) bounds: each sample's
+#: functional life, s, censored at the requirement's hours (:mod:`jointplay.study.life`).
+FUNCTIONAL_LIFE = "functional_life"
 
 Comparison = Literal["<=", "<", ">=", ">"]
 #: The comparisons a requirement may use.
@@ -56,6 +74,9 @@ USUAL_UNITS: Mapping[str, str] = {
     "rad/s^2": "rad/s^2",
 }
 
+#: ``Bp`` then a comparison: a life-quantile requirement (the number checked apart).
+_QUANTILE = re.compile(r"^\s*B(?P<p>[0-9.eE+-]*)\s*(?=[<>=!])")
+
 _EXPECTED = (
     "expected RESPONSE <=|<|>=|> VALUE [UNIT] [@CONFIDENCE], e.g. 'joint_force <= 150 N @99.73'"
 )
@@ -72,6 +93,8 @@ class Requirement:
         unit: the response's SI unit (``"1"``: dimensionless).
         confidence: share of samples that must meet it, in (0, 1), or ``None`` (the study's).
         text: the requirement as written.
+        quantile: a life-quantile requirement (``"B10 >= 2000 h"``): p as a fraction (0.10),
+            the response :data:`FUNCTIONAL_LIFE` and ``confidence`` 1 − p; else ``None``.
     """
 
     response: str
@@ -80,6 +103,7 @@ class Requirement:
     unit: str
     confidence: float | None = None
     text: str = ""
+    quantile: float | None = None
 
     def __post_init__(self) -> None:
         if self.comparison not in COMPARISONS:
@@ -88,6 +112,8 @@ class Requirement:
             raise ConfigError(f"requirement {self.text!r}: the limit must be finite")
         if self.confidence is not None and not 0.0 < self.confidence < 1.0:
             raise ConfigError(f"requirement {self.text!r}: confidence must lie between 0 and 100 %")
+        if self.quantile is not None and not 0.0 < self.quantile < 1.0:
+            raise ConfigError(f"requirement {self.text!r}: p of B_p must lie between 0 and 100")
 
     @property
     def upper(self) -> bool:
@@ -114,6 +140,7 @@ class Requirement:
             "limit": self.limit,
             "unit": self.unit,
             "confidence": self.confidence,
+            **({"quantile": self.quantile} if self.quantile is not None else {}),
         }
 
 
@@ -126,6 +153,8 @@ def parse_requirement(text: str, units: Mapping[str, str]) -> Requirement:
     """
     from jointplay.units import parse_quantity
 
+    if _QUANTILE.match(text or ""):
+        return _parse_quantile(text)
     _check_comparisons(text or "")
     match = _PATTERN.match(text or "")
     if match is None:
@@ -161,6 +190,57 @@ def parse_requirement(text: str, units: Mapping[str, str]) -> Requirement:
     if match["confidence"] is not None:
         confidence = parse_confidence(match["confidence"], f"{field}: the confidence after '@'")
     return Requirement(name, op, float(limit), unit, confidence, text.strip())  # type: ignore[arg-type]
+
+
+def _parse_quantile(text: str) -> Requirement:
+    """``"Bp >= VALUE UNIT"`` → a requirement on :data:`FUNCTIONAL_LIFE` with its yield target
+    1 − p (module docstring).
+
+    Raises:
+        ConfigError: one line: p outside (0, 100), an upper bound, an ``@``, a bare number or
+            a limit that is not a positive time.
+    """
+    from jointplay.units import parse_quantity
+
+    field = f"requirement {text!r}"
+    example = "e.g. 'B10 >= 2000 h' (at most 10 % of the mechanisms fail before 2000 h)"
+    head = _QUANTILE.match(text)
+    assert head is not None
+    p = head["p"]
+    if not _is_number(p) or not 0.0 < float(p) < 100.0:
+        raise ConfigError(
+            f"{field}: B_p needs p between 0 and 100 (the % of the population failed), got "
+            f"B{p}; {example}"
+        )
+    name = f"B{p}"
+    _check_comparisons(text)
+    match = _PATTERN.match("B " + text[head.end() :])
+    if match is None:
+        raise ConfigError(f"{field}: expected Bp >= VALUE UNIT, {example}")
+    op, value = match["op"], match["value"].strip()
+    if op in ("<=", "<"):
+        raise ConfigError(
+            f"{field}: {name} is a lower bound on the life (at most {p} % fail before it); "
+            f"write '{name} >= {value}'"
+        )
+    if match["confidence"] is not None:
+        raise ConfigError(
+            f"{field}: {name} sets its own share ({100 - float(p):g} % must outlive the hours); "
+            f"drop the '@{match['confidence']}'"
+        )
+    if _is_number(value):
+        raise ConfigError(
+            f"{field}: the limit needs its unit ({name} is a life); did you mean "
+            f"'{name} {op} {value} h'?"
+        )
+    limit = parse_quantity(value, "s", field=field)
+    if not limit > 0.0:
+        raise ConfigError(f"{field}: the hours must be > 0, got {value!r}; {example}")
+    share = float(p) / 100.0
+    comparison: Comparison = ">" if op == ">" else ">="
+    return Requirement(
+        FUNCTIONAL_LIFE, comparison, float(limit), "s", 1.0 - share, text.strip(), quantile=share
+    )
 
 
 def parse_confidence(text: str, field: str = "confidence") -> float:

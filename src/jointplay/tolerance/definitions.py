@@ -41,6 +41,11 @@ RESPONSE_DEFINITIONS: dict[str, str] = {
         "running time until the first joint's radial clearance grows past its limit at its "
         "wear rate"
     ),
+    "functional_life": (
+        "running time until the mechanism's first other requirement (or clearance limit) "
+        "fails as it wears, the dynamics re-simulated as its clearances grow; censored at the "
+        "hours of its B_p requirement"
+    ),
 }
 
 #: Definitions by pattern: (regular expression, definition with {groups}).
