@@ -227,6 +227,29 @@ def design_table(block: Block, folder: Path, capsys: pytest.CaptureFixture[str])
 
 
 @pytest.mark.slow
+def design_quick_tour(block: Block, folder: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The quick tour's design at its full size, without the model-sensitivity re-runs (they
+    do not change the table): every row of the page's table — cost, the samples its verdict
+    took, the speed-error failures, the interval the verdict was decided on, the verdict."""
+    (command,) = block.commands
+    out = folder / "design"
+    _ok(command.replace("--out design", f"--no-plots --no-model-sensitivity --out {out}"), capsys)
+    page = (DOCS / "design.md").read_text(encoding="utf-8")
+    text = page.split("## The quick tour's design")[1].split("\n## ")[0]
+    schemes = _summary(folder / "design")["schemes"]
+    assert len(schemes) == 6
+    for scheme in schemes:
+        cost, samples, failures, interval, verdict = _row(text, scheme["scheme"])
+        (speed,) = (r for r in scheme["requirements"] if r["requirement"].startswith("rocker"))
+        low, high = (float(v) for v in interval.split("–"))
+        assert scheme["cost"] == pytest.approx(float(cost), abs=0.05)
+        assert scheme["samples"] == int(samples) and speed["failures"] == int(failures)
+        assert 100 * speed["verdict_interval"][0] == pytest.approx(low, abs=0.005)
+        assert 100 * speed["verdict_interval"][1] == pytest.approx(high, abs=0.005)
+        assert scheme["verdict"] == verdict.strip("*")
+
+
+@pytest.mark.slow
 def design_smaller(block: Block, folder: Path, capsys: pytest.CaptureFixture[str]) -> None:
     """A design example whose full run takes tens of minutes to hours (the page gives its
     time): 2 samples per scheme, the same command otherwise; the page's verdicts, which need
@@ -366,6 +389,7 @@ HANDLERS: tuple[tuple[str, str, Handler], ...] = (
     ("design.md", '--require "life >= 200 h" --clearance-limit "+20 um" --wear-coefficient 1e-6 --samples 200', design_smaller),
     ("design.md", "jointplay wear --preset paper-fourbar --fit H8/g7", wear_lives),
     ("design.md", '--require "B10 >= 6 h"', design_life_quantile),
+    ("design.md", '--require "rocker_speed_error <= 3 %" --confidence 95 --out design', design_quick_tour),
     ("explore.md", "jointplay explore --config my.toml --port 0 --no-browser", explore_serves),
     ("life.md", "jointplay life --fit H8/g7 --clearance-limit", life_synopsis),
     ("performance.md", "python benchmarks/bench_clearance.py --no-baseline", benchmark_without_baseline),
