@@ -19,13 +19,13 @@ pin joints, or one per named joint — and an ISO 2768-1 class for the link leng
    could still be the answer;
 2. each sample through the steady running dynamics (steady start, ``settle`` start-up
    revolutions left out) — or through the ideal-joint kinematics when every requirement is
-   kinematic. When a requirement needs each sample's trajectory (``rocker_speed_error``,
-   ``wear_rate``, ``life``: :func:`trajectory_requirements`), one single-engine simulation per
-   sample (:class:`~jointplay.tolerance.responses.RunningResponses`); otherwise the batch
-   engine (:class:`~jointplay.tolerance.responses.PeakResponses`), which runs on every
-   backend, the GPU included, and gives the peaks, ``joint_force`` and ``contact_pressure``
-   (the engines agree on forces within 1e-3, on ω peaks within their integration errors:
-   docs/design.md);
+   kinematic. Every dynamic design runs the batch engine: the peaks, ``joint_force`` and
+   ``contact_pressure`` (:class:`~jointplay.tolerance.responses.PeakResponses`) and, when a
+   requirement needs them (``rocker_speed_error``, ``wear_rate``, ``life``:
+   :func:`trajectory_requirements`), the running responses computed in its lanes
+   (:class:`~jointplay.tolerance.responses.RunningResponses`; one single-engine simulation
+   per sample only in the sustained-contact mode); the engines agree on forces within 1e-3,
+   on ω peaks within their integration errors (docs/design.md);
 3. per scheme (:mod:`jointplay.tolerance.confidence`): every response's mean, std and value
    at the confidence level (a distribution-free order-statistic bound, or a named
    normal-model estimate with too few samples); per requirement the failures (a failed
