@@ -15,7 +15,7 @@ import typer
 
 from jointplay import __version__
 from jointplay.cli._app import current_argv
-from jointplay.cli._panels import OUTPUT_PANEL, WEAR_PANEL
+from jointplay.cli._panels import EXECUTION_PANEL, OUTPUT_PANEL, WEAR_PANEL
 from jointplay.cli._simulation import declared_option
 from jointplay.dynamics.declared import run_setting
 from jointplay.errors import ConfigError, Interrupted, PartialInterrupt
@@ -194,6 +194,27 @@ def choice(text: str, option: str, choices: Iterable[str]) -> str:
 MAX_SAMPLES = 10_000_000
 #: The most local worker processes.
 MAX_WORKERS = 1024
+
+WorkersOption = Annotated[
+    int | None,
+    typer.Option(
+        "--workers",
+        help="Local worker processes (default: one per CPU).",
+        min=1,
+        max=MAX_WORKERS,
+        rich_help_panel=EXECUTION_PANEL,
+    ),
+]
+DaskSchedulerOption = Annotated[
+    str | None,
+    typer.Option(
+        "--dask-scheduler", help="The Dask cluster's ADDRESS.", rich_help_panel=EXECUTION_PANEL
+    ),
+]
+PlotsOption = Annotated[
+    bool,
+    typer.Option("--plots/--no-plots", help="Write PNG plots.", rich_help_panel=OUTPUT_PANEL),
+]
 
 
 def check_figure_format(text: str) -> str:

@@ -17,18 +17,20 @@ from jointplay._kernels import BATCH_LANES
 from jointplay.cli._app import app
 from jointplay.cli._common import (
     MAX_SAMPLES,
-    MAX_WORKERS,
     ConfigOption,
+    DaskSchedulerOption,
     FigureFormatOption,
     ForceOption,
     GravityOption,
     HardnessOption,
     OutOption,
+    PlotsOption,
     PresetOption,
     ProgressOption,
     RpmOption,
     SettleOption,
     WearCoefficientOption,
+    WorkersOption,
     check_figure_format,
     choice,
     compiling_kernels,
@@ -39,8 +41,6 @@ from jointplay.cli._common import (
     writing_study,
 )
 from jointplay.cli._panels import (
-    EXECUTION_PANEL,
-    OUTPUT_PANEL,
     REQUIREMENTS_PANEL,
     RUN_PANEL,
     SAMPLING_PANEL,
@@ -345,28 +345,9 @@ def design_command(
     rpm: RpmOption = None,
     gravity: GravityOption = None,
     backend: BackendOption = "processes",
-    workers: Annotated[
-        int | None,
-        typer.Option(
-            "--workers",
-            help="Local worker processes (default: one per CPU).",
-            min=1,
-            max=MAX_WORKERS,
-            rich_help_panel=EXECUTION_PANEL,
-        ),
-    ] = None,
-    dask_scheduler: Annotated[
-        str | None,
-        typer.Option(
-            "--dask-scheduler",
-            help="The Dask cluster's ADDRESS.",
-            rich_help_panel=EXECUTION_PANEL,
-        ),
-    ] = None,
-    plots: Annotated[
-        bool,
-        typer.Option("--plots/--no-plots", help="Write PNG plots.", rich_help_panel=OUTPUT_PANEL),
-    ] = True,
+    workers: WorkersOption = None,
+    dask_scheduler: DaskSchedulerOption = None,
+    plots: PlotsOption = True,
     progress: ProgressOption = True,
     force: ForceOption = False,
     figure_format: FigureFormatOption = "png",

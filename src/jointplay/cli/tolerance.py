@@ -17,15 +17,17 @@ from jointplay._kernels import BATCH_LANES
 from jointplay.cli._app import app
 from jointplay.cli._common import (
     MAX_SAMPLES,
-    MAX_WORKERS,
     ConfigOption,
+    DaskSchedulerOption,
     FigureFormatOption,
     ForceOption,
     GravityOption,
     OutOption,
+    PlotsOption,
     PresetOption,
     ProgressOption,
     RpmOption,
+    WorkersOption,
     check_figure_format,
     compiling_kernels,
     provenance,
@@ -253,23 +255,9 @@ def tolerance_command(
         ),
     ] = None,
     backend: BackendOption = "processes",
-    workers: Annotated[
-        int | None,
-        typer.Option(
-            "--workers",
-            help="Local worker processes (default: one per CPU).",
-            min=1,
-            max=MAX_WORKERS,
-        ),
-    ] = None,
-    dask_scheduler: Annotated[
-        str | None,
-        typer.Option(
-            "--dask-scheduler",
-            help="Run on the Dask distributed cluster at ADDRESS (e.g. tcp://host:8786).",
-        ),
-    ] = None,
-    plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
+    workers: WorkersOption = None,
+    dask_scheduler: DaskSchedulerOption = None,
+    plots: PlotsOption = True,
     progress: ProgressOption = True,
     figure_format: FigureFormatOption = "png",
 ) -> None:
