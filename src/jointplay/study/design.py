@@ -288,6 +288,7 @@ def design_study(
     max_time: float | None = None,
     life_step: float | None = None,
     model: ResponseModel | None = None,
+    check_convergence: bool = True,
 ) -> DesignResult:
     """Find the cheapest fit and length class shown to meet ``requirements``.
 
@@ -349,6 +350,9 @@ def design_study(
             sample's functional life, s (default a tenth of the largest B_p hours).
         model: the response model (default: built from the requirements and the run
             settings); a test's stub.
+        check_convergence: a dynamic design re-runs its first samples with tighter
+            tolerances (:func:`~jointplay.tolerance.analysis.convergence_finding`); the
+            model-sensitivity re-runs, which report yields only, turn it off.
 
     Raises:
         ConfigError: a malformed requirement, an unknown response, bad candidates, a resumed
@@ -635,7 +639,7 @@ def design_study(
         diagnostics=diagnostics,
         candidates=candidates,
     )
-    if interrupted or responses == "kinematic" or first is None:
+    if interrupted or responses == "kinematic" or first is None or not check_convergence:
         return result
     try:
         convergence = convergence_finding(model, first[0], first[1], backend)
