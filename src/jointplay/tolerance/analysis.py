@@ -341,6 +341,20 @@ class ConvergenceCheck:
         }
 
 
+def _rerun_finding(
+    diagnostic: Diagnostic, count: int, rows: Any, worst: int, model: Any, x: FloatArray
+) -> StudyDiagnostic:
+    """The convergence check's finding: ``count`` of the re-run samples ``rows`` concerned,
+    the worst one (a row of ``x``) named with its inputs."""
+    return StudyDiagnostic(
+        diagnostic,
+        count=count,
+        out_of=len(rows),
+        worst_sample=worst,
+        worst_inputs=dict(zip(model.input_names, map(float, x[worst]), strict=True)),
+    )
+
+
 def convergence_finding(
     model: ResponseModel, x: FloatArray, outcome: RunResult, backend: Backend | None = None
 ) -> ConvergenceCheck | None:
@@ -587,13 +601,7 @@ def _per_sample_check(
     warning = Diagnostic.advising(
         "warning", "peaks-not-converged", None, float(share[j]), CONVERGENCE_LIMIT, message
     )
-    finding = StudyDiagnostic(
-        warning,
-        count=count,
-        out_of=len(rows),
-        worst_sample=worst,
-        worst_inputs=dict(zip(model.input_names, map(float, x[worst]), strict=True)),
-    )
+    finding = _rerun_finding(warning, count, rows, worst, model, x)
     return ConvergenceCheck(
         len(rows), CONVERGENCE_TIGHTENING, name, float(share[j]), CONVERGENCE_LIMIT, finding,
         shift, interval, usable, verdict, "per-sample", len(motions), irregular,
@@ -702,13 +710,7 @@ def _statistics_check(
     diagnostic = Diagnostic.advising(level_word, code, None, ratio_worst, 1.0, sentence)
     k = model.response_names.index(worst[0])
     sample = int(rows[int(np.nanargmax(moves.change[:, k]))])
-    found = StudyDiagnostic(
-        diagnostic,
-        count=count,
-        out_of=len(rows),
-        worst_sample=sample,
-        worst_inputs=dict(zip(model.input_names, map(float, x[sample]), strict=True)),
-    )
+    found = _rerun_finding(diagnostic, count, rows, sample, model, x)
     return ConvergenceCheck(
         len(rows), CONVERGENCE_TIGHTENING, name, float(share[j]), CONVERGENCE_LIMIT,
         None if usable else found, shift, interval, usable, verdict, "statistics", count,
