@@ -616,6 +616,18 @@ def test_a_table_of_floats_is_written_as_pandas_writes_it(tmp_path: Path) -> Non
             theirs, index=False, float_format=float_format
         )
         assert mine.read_bytes() == theirs.read_bytes()
+    # simulate's contact flags are 8-bit integers: every integer width takes the fast path
+    widths = table.assign(
+        **{
+            f"{kind}": generator.integers(0, 100, size=300).astype(kind)
+            for kind in ("int8", "int16", "int32", "uint8", "uint16", "uint32", "uint64")
+        },
+        negative=-generator.integers(0, 100, size=300).astype("int8"),
+    )
+    mine, theirs = tmp_path / "mine.csv", tmp_path / "theirs.csv"
+    assert _write_floats(widths, mine, "%.10g")
+    widths.to_csv(theirs, index=False, float_format="%.10g")
+    assert mine.read_bytes() == theirs.read_bytes()
     with_nan = table.assign(t=np.nan)
     mixed = table.assign(label="a")
     flags = table.assign(flag=True)

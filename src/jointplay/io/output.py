@@ -511,12 +511,16 @@ def write_csv(table: Any, path: Path, float_format: str | None = "%.10g") -> Non
     safe.to_csv(path, index=False, float_format=float_format)
 
 
+#: The NumPy integer kinds :func:`_write_floats` writes with ``%d``, as pandas writes them.
+_INTEGER_KINDS = frozenset(f"{sign}int{bits}" for sign in ("", "u") for bits in (8, 16, 32, 64))
+
+
 def _write_floats(table: Any, path: Path, float_format: str | None) -> bool:
     """Write ``table`` as pandas' ``to_csv(path, index=False, float_format=float_format)``
-    writes it, byte for byte, when its columns hold finite 64-bit floats and 64-bit integers
-    only (the time series of ``simulate``: a fifth of its run without plots went to pandas
-    formatting each value in Python); one ``%`` per row here. Returns False, writing
-    nothing, for any other table."""
+    writes it, byte for byte, when its columns hold finite 64-bit floats and integers of any
+    width only (the time series of ``simulate``, whose contact flags are 8-bit: a fifth of
+    its run without plots went to pandas formatting each value in Python); one ``%`` per row
+    here. Returns False, writing nothing, for any other table."""
     import csv
     import io
 
@@ -528,7 +532,7 @@ def _write_floats(table: Any, path: Path, float_format: str | None) -> bool:
         float_format is None
         or not columns
         or getattr(table.columns, "nlevels", 1) != 1
-        or any(kind not in ("float64", "int64") for kind in kinds)
+        or any(kind != "float64" and kind not in _INTEGER_KINDS for kind in kinds)
     ):
         return False
     values = [table.iloc[:, k].to_numpy() for k in range(len(columns))]
