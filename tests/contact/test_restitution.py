@@ -168,3 +168,68 @@ def test_single_impact_validates_its_arguments() -> None:
         single_impact(law, 0.0, 0.5)
     with pytest.raises(ConfigError, match="impact_speed"):
         single_impact(law, 1.0, -0.5)
+
+
+def test_brent_is_scipys_brentq_to_the_last_bit() -> None:
+    """The module's own Brent's method (kept out of scipy.optimize for the command line's
+    start-up) finds the very double SciPy's brentq finds: for χ of e over (0, 1), e_eff of χ
+    over 1e-11..1e4, and cubic-plus-sine functions; and refuses a bracket without a sign
+    change and a run out of iterations as SciPy does."""
+    from scipy.optimize import brentq
+
+    from jointplay.contact import restitution
+
+    generator = np.random.default_rng(41)
+    cases = []
+    for e in np.concatenate(
+        [generator.uniform(0, 1, 300), 10 ** generator.uniform(-9, -0.01, 100)]
+    ):
+
+        def mismatch(lam: float, e: float = float(e)) -> float:
+            return restitution._h(lam) - restitution._g(-math.expm1(-lam) / e)
+
+        cases.append((mismatch, restitution._LAMBDA_MIN, restitution._g(1 / e) + 2.0, 1e-300))
+    for chi in 10 ** generator.uniform(-11, 4, 300):
+        target = restitution._g(float(chi))
+        cases.append(
+            (
+                lambda x, t=target: restitution._h(x) - t,
+                restitution._LAMBDA_MIN,
+                target + 2.0,
+                1e-300,
+            )
+        )
+    for c in generator.normal(size=(300, 4)):
+
+        def curve(x: float, c: np.ndarray = c) -> float:
+            return float(c[0] * x**3 + c[1] * x + math.sin(c[2] * x) + c[3])
+
+        if math.copysign(1, curve(-10.0)) != math.copysign(1, curve(10.0)):
+            cases.append((curve, -10.0, 10.0, 1e-12))
+    assert len(cases) > 900
+    for f, low, high, xtol in cases:
+        mine = restitution._brentq(f, low, high, xtol=xtol, maxiter=500)
+        assert mine == brentq(f, low, high, xtol=xtol, maxiter=500)
+    with pytest.raises(ValueError, match="different signs"):
+        restitution._brentq(lambda x: x * x + 1, -1.0, 1.0, xtol=1e-12, maxiter=100)
+    with pytest.raises(RuntimeError, match="did not converge in 3"):
+        restitution._brentq(lambda x: x**3 - 2, 0.0, 5.0, xtol=1e-300, maxiter=3)
+
+
+def test_restitution_loads_no_scipy_optimize() -> None:
+    """χ of a coefficient of restitution (found when every simulation's system is built) and
+    e_eff of χ leave scipy.optimize unloaded: it took ~0.3 s of each ``jointplay simulate``."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys\n"
+        "from jointplay.contact.restitution import chi_for_restitution, effective_restitution\n"
+        "assert abs(chi_for_restitution(0.5) - 1.4328) < 1e-4\n"
+        "assert abs(effective_restitution(1.4328) - 0.5) < 1e-4\n"
+        "print('scipy.optimize' in sys.modules)\n"
+    )
+    found = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True
+    ).stdout
+    assert found.strip() == "False"
