@@ -245,3 +245,51 @@ def test_a_bad_option_imports_no_pydantic(tmp_path: Path) -> None:
         timeout=300,
     )
     assert "STATUS 2 PYDANTIC False" in done.stdout, done.stdout + done.stderr
+
+
+#: What a default ``simulate --no-plots`` (one run of the single engine) must not import:
+#: the plotting stack and the report; SciPy's optimizers, statistics and integrators (the
+#: restitution law's χ is found by the module's own Brent's method); the batch engine's
+#: lanes, its process, Dask and JAX back ends, and the integrators it does not run.
+NOT_FOR_ONE_RUN = (
+    "matplotlib",
+    "PIL",
+    "jointplay.report",
+    "scipy.optimize",
+    "scipy.stats",
+    "scipy.integrate",
+    "jointplay._kernels.batch",
+    "jointplay._kernels.jax_batch",
+    "jointplay._kernels.lanes.cuda",
+    "jointplay._kernels.dopri",
+    "jointplay._kernels.rodas",
+    "jointplay._kernels.workers",
+    "numba.cuda",
+    "dask",
+    "jax",
+    "multiprocessing",
+    "pint",
+    "pydantic",
+)
+
+
+def test_a_run_without_plots_loads_only_what_it_runs(tmp_path: Path) -> None:
+    """``simulate --no-plots`` runs the single engine once and writes tables and JSON: none
+    of :data:`NOT_FOR_ONE_RUN` is imported (scipy.optimize alone took ~0.3 s of each run)."""
+    out = tmp_path / "out"
+    code = (
+        "import sys\nfrom jointplay.cli import run\n"
+        "status = run(['simulate', '--no-plots', '--no-progress', '--settle', '0', "
+        f"'--revolutions', '0.25', '--out', {str(out)!r}])\n"
+        "print('STATUS', status)\n"
+        f"names = {NOT_FOR_ONE_RUN!r}\n"
+        "print('LOADED', ','.join(n for n in names if any(m == n or m.startswith(n + '.') "
+        "for m in sys.modules)))\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=900
+    )
+    lines = dict(line.split(" ", 1) for line in done.stdout.splitlines() if " " in line)
+    assert lines.get("STATUS") == "0", done.stdout + done.stderr
+    assert lines["LOADED"].strip() == "", f"a run without plots imported {lines['LOADED']}"
+    assert (out / "summary.json").is_file() and not list(out.glob("*.png"))
