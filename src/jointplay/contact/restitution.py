@@ -18,8 +18,7 @@ law of :mod:`jointplay.contact.laws`). :func:`single_impact` measures e_eff of *
 integrating one impact of a mass on a rigid wall, e.g. for ADAMS IMPACT, whose restitution is
 not an input (§1.7).
 
-Numerics: both roots are found with Brent's method (:func:`_brentq`, SciPy's ``brentq`` step
-for step, without loading :mod:`scipy.optimize`) on ``λ = -ln(1 - χ e_eff)`` rather than on
+Numerics: both roots are found with Brent's method on ``λ = -ln(1 - χ e_eff)`` rather than on
 e_eff or χ directly, so e_eff stays accurate when it is tiny (χ ≫ 1) and χ when it is tiny
 (e → 1); ``g`` and ``λ + expm1(-λ)`` use their Taylor series near zero to avoid cancellation.
 """
@@ -27,7 +26,6 @@ e_eff or χ directly, so e_eff stays accurate when it is tiny (χ ≫ 1) and χ 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -50,74 +48,6 @@ def _g(x: float) -> float:
         # x²/2 - x³/3 + x⁴/4 - ...; the first omitted term is below 1e-16 relative.
         return sum((-x) ** k / k for k in range(2, 11))
     return x - math.log1p(x)
-
-
-#: SciPy's smallest (and default) relative tolerance of ``brentq``: four machine epsilons.
-_BRENTQ_RTOL = 4 * 2.220446049250313e-16
-
-
-def _brentq(
-    f: Callable[[float], float], xa: float, xb: float, *, xtol: float, maxiter: int
-) -> float:
-    """A root of ``f`` in the bracket [``xa``, ``xb``] by Brent's method: SciPy's
-    ``scipy.optimize.brentq(f, xa, xb, xtol=xtol, maxiter=maxiter)`` (its C routine
-    ``brentq.c``, by Charles Harris) operation for operation, so the root is the same double.
-
-    Here, not SciPy's, because importing :mod:`scipy.optimize` took ~0.3 s of every
-    ``jointplay simulate`` (the restitution law's χ is found when its system is built), a
-    fifth of a run's own work (docs/performance.md, "Start-up of the command line").
-
-    Raises:
-        ValueError: ``f`` has the same sign at both ends, or a value is NaN.
-        RuntimeError: no convergence in ``maxiter`` iterations.
-    """
-
-    def value(x: float) -> float:
-        found = float(f(x))
-        if math.isnan(found):
-            raise ValueError(f"the function is NaN at {x!r}")
-        return found
-
-    xpre, xcur = float(xa), float(xb)
-    xblk = fblk = spre = scur = 0.0
-    fpre, fcur = value(xpre), value(xcur)
-    if fpre == 0.0:
-        return xpre
-    if fcur == 0.0:
-        return xcur
-    if math.copysign(1.0, fpre) == math.copysign(1.0, fcur):
-        raise ValueError("f(a) and f(b) must have different signs")
-    for _ in range(maxiter):
-        if fpre != 0.0 and fcur != 0.0 and math.copysign(1.0, fpre) != math.copysign(1.0, fcur):
-            xblk, fblk = xpre, fpre
-            spre = scur = xcur - xpre
-        if abs(fblk) < abs(fcur):
-            xpre, xcur, xblk = xcur, xblk, xcur
-            fpre, fcur, fblk = fcur, fblk, fcur
-        delta = (xtol + _BRENTQ_RTOL * abs(xcur)) / 2
-        sbis = (xblk - xcur) / 2
-        if fcur == 0.0 or abs(sbis) < delta:
-            return xcur
-        if abs(spre) > delta and abs(fcur) < abs(fpre):
-            if xpre == xblk:  # interpolate
-                stry = -fcur * (xcur - xpre) / (fcur - fpre)
-            else:  # extrapolate
-                dpre = (fpre - fcur) / (xpre - xcur)
-                dblk = (fblk - fcur) / (xblk - xcur)
-                stry = -fcur * (fblk * dblk - fpre * dpre) / (dblk * dpre * (fblk - fpre))
-            if 2 * abs(stry) < min(abs(spre), 3 * abs(sbis) - delta):  # a good short step
-                spre, scur = scur, stry
-            else:  # bisect
-                spre = scur = sbis
-        else:  # bisect
-            spre = scur = sbis
-        xpre, fpre = xcur, fcur
-        if abs(scur) > delta:
-            xcur += scur
-        else:
-            xcur += delta if sbis > 0 else -delta
-        fcur = value(xcur)
-    raise RuntimeError(f"Brent's method did not converge in {maxiter} iterations")
 
 
 def _h(lam: float) -> float:
@@ -144,6 +74,8 @@ def effective_restitution(chi: float) -> float:
     Raises:
         ConfigError: χ is negative or not finite.
     """
+    from scipy.optimize import brentq  # scipy.optimize/integrate: ~0.3 s, loaded when used
+
     chi = float(chi)
     if not (math.isfinite(chi) and chi >= 0.0):
         raise ConfigError(f"effective_restitution: chi must be finite and >= 0, got {chi!r}")
@@ -151,7 +83,7 @@ def effective_restitution(chi: float) -> float:
         return 1.0 - 2.0 * chi / 3.0
     target = _g(chi)
     # _h rises from 0 to infinity; _h(λ) >= λ - 1 brackets the root below target + 2.
-    lam = _brentq(lambda x: _h(x) - target, _LAMBDA_MIN, target + 2.0, xtol=1e-300, maxiter=500)
+    lam = brentq(lambda x: _h(x) - target, _LAMBDA_MIN, target + 2.0, xtol=1e-300, maxiter=500)
     return -math.expm1(-lam) / chi
 
 
@@ -159,7 +91,7 @@ def chi_for_restitution(e: float) -> float:
     """Hysteresis factor χ for which a Hunt–Crossley-type law rebounds with exactly ``e``.
 
     The inverse of :func:`effective_restitution` (docs/contact-laws.md §2.3), found with
-    Brent's method (:func:`_brentq`). Reference values: e = 0.9 → 0.1665, 0.5 → 1.4328,
+    :func:`scipy.optimize.brentq`. Reference values: e = 0.9 → 0.1665, 0.5 → 1.4328,
     0.1 → 9.9982.
 
     Args:
@@ -171,6 +103,8 @@ def chi_for_restitution(e: float) -> float:
     Raises:
         ConfigError: ``e`` is outside (0, 1].
     """
+    from scipy.optimize import brentq  # scipy.optimize/integrate: ~0.3 s, loaded when used
+
     e = float(e)
     if not (math.isfinite(e) and 0.0 < e <= 1.0):
         raise ConfigError(
@@ -185,7 +119,7 @@ def chi_for_restitution(e: float) -> float:
         return _h(lam) - _g(chi)
 
     # χ < 1/e, so g(χ) < g(1/e) and _h(λ) >= λ - 1 puts the root below g(1/e) + 2.
-    lam = _brentq(mismatch, _LAMBDA_MIN, _g(1.0 / e) + 2.0, xtol=1e-300, maxiter=500)
+    lam = brentq(mismatch, _LAMBDA_MIN, _g(1.0 / e) + 2.0, xtol=1e-300, maxiter=500)
     return -math.expm1(-lam) / e
 
 
