@@ -318,3 +318,27 @@ def test_an_ensemble_reports_the_distributions_over_its_runs(tmp_path, capsys) -
     printed = capsys.readouterr().out
     assert "ensemble of 5 runs (start angles 0.01° apart), 2 revolution(s) each" in printed
     assert "F_O2 over 10 revolutions: mean " in printed
+
+
+@pytest.mark.parametrize(
+    ("settle", "revolutions", "running_figures"),
+    [
+        ("0", "1", set()),  # one revolution: one peak each, a section of 2 points
+        ("2", "1", {"peaks_per_revolution.png"}),  # the default: 3 revolutions, 2 points
+        ("0", "3", {"peaks_per_revolution.png", "poincare.png"}),
+    ],
+)
+def test_the_running_figures_are_drawn_when_they_show_something(
+    tmp_path, settle: str, revolutions: str, running_figures: set[str]
+) -> None:
+    """The Poincaré section is drawn from 3 points on (with fewer its verdict is
+    "undetermined"; its four panels were a quarter of the default run's plotting), the
+    peaks per revolution from 2 revolutions on; the time figures and the orbits always."""
+    out = tmp_path / "run"
+    arguments = ["simulate", "--settle", settle, "--revolutions", revolutions, "--no-progress"]
+    assert run([*arguments, "--out", str(out)]) == 0
+    always = {"angular_velocity.png", "angular_acceleration.png", "joint_forces.png",
+              "journal_orbits.png"}  # fmt: skip
+    assert {path.name for path in out.glob("*.png")} == always | running_figures
+    verdict = json.loads((out / "summary.json").read_text())["periodicity"]["verdict"]
+    assert (verdict == "undetermined") == ("poincare.png" not in running_figures)
