@@ -269,10 +269,10 @@ def _revolutions_drawn(per_revolution: dict[str, list[float]]) -> int:
     (quantity -> peaks).
 
     The figures of the running behaviour are drawn when they have something to show
-    (docs/cli.md, "Start-up time"): the peaks per revolution from 2 revolutions on (one peak each
-    is the printed table), the Poincaré section from 3 points on (fewer: its verdict is
-    "undetermined"). The default run (settle 2 + 1 analysed revolution) has 2 points: its
-    four panels, ~0.45 s of CPU (a quarter of its plotting), are not drawn."""
+    (docs/cli.md, "Start-up time"): the peaks per revolution from 2 revolutions on (one
+    peak each is the printed table), the Poincaré section from 3 points on (fewer: its
+    verdict is "undetermined"). The default run (settle 2 + 1 analysed revolution) has 2
+    points: its four panels, ~0.45 s of CPU (a quarter of its plotting), are not drawn."""
     return max((len(peaks) for peaks in per_revolution.values()), default=0)
 
 

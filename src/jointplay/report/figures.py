@@ -126,7 +126,7 @@ def _save_palette_png(fig: Any, path: Path, dpi: int) -> None:
     same pixels in the same palette, but from the drawing's pixels: matplotlib's own PNG
     (compressed, then read back) is never made, and the palette PNG is compressed at zlib's
     default level, not with ``optimize`` (level 9: 10-20 % smaller, 8x slower). ~70 ms less
-    per figure on a 2-core machine, ~0.4 s of a ``jointplay simulate`` (docs/cli.md,
+    per figure on a 2-core machine, ~0.35 s of a ``jointplay simulate`` (docs/cli.md,
     "Start-up time")."""
     import io
 
