@@ -539,7 +539,10 @@ def _finished(result: DesignResult, settings: Any) -> tuple[int, int, str]:
     interrupted run with more samples reads as more complete."""
     schemes = int(settings["schemes"])
     if not result.interrupted or not len(result.table):
-        return len(result.table), schemes, "schemes"
+        # a finished study has every scheme judged or not needed (the cost-ordered schedule
+        # leaves dearer schemes unrun once a cheaper one is shown to meet)
+        done = schemes if not result.interrupted else len(result.table)
+        return done, schemes, "schemes"
     done = int(result.table["samples"].sum())
     return done, max(done + 1, schemes * int(settings["max_samples"])), "samples"
 
