@@ -334,7 +334,8 @@ def design_command(
         bool,
         typer.Option(
             "--model-sensitivity/--no-model-sensitivity",
-            help="Re-check the chosen scheme at the ends of the contact model's ranges.",
+            help="Re-check the chosen scheme at the ends of the contact model's ranges "
+            "(on its first 200 samples).",
         ),
     ] = True,
     settle: SettleOption = 2,
