@@ -173,7 +173,8 @@ def test_the_table_is_on_the_reports_first_screen(paper_fourbar: Mechanism, tmp_
     table = html.index('<h3 id="model-sensitivity">')
     assert answer < table < html.index("requirement: joint_force") < html.index("Schemes by cost")
     for cell in ("film_model", "short-bearing-full", "roughness", "(×0.5)", "(×2)",
-                 "joint_force at 10 % (N)"):  # fmt: skip
+                 "joint_force at 10 % (N)", "95 % interval (%)", "parts worse",
+                 "verdict at 2 samples", "on 2 of its 2 samples"):  # fmt: skip
         assert cell in html[table:], cell
     summary = json.loads((tmp_path / "summary.json").read_text())["model_sensitivity"]
     assert summary["ranges"]["film_model"] == ["short-bearing-pi", "short-bearing-full"]
