@@ -24,11 +24,13 @@ def test_design_writes_one_row_per_scheme_and_names_the_choice(tmp_path, capsys)
     assert "choose H11/c11 / v" in printed
     assert "0 failures in 1,600 samples" in printed
     table = pd.read_parquet(out / "design.parquet")
-    assert len(table) == 4 and set(pd.read_csv(out / "design.csv")["scheme"]) == set(
+    # cost-ordered: class v's stream (both fits) meets first; class f, dearer, never runs
+    assert len(table) == 2 and set(pd.read_csv(out / "design.csv")["scheme"]) == set(
         table["scheme"]
     )
     summary = json.loads((out / "summary.json").read_text())
     assert summary["best"] == "H11/c11 / v"
+    assert {r["scheme"] for r in summary["settings"]["not_run"]} == {"H7/g6 / f", "H11/c11 / f"}
     assert summary["provenance"]["command_line"].startswith("jointplay design")
     assert (out / "report.html").exists() and (out / "samples.parquet").exists()
 

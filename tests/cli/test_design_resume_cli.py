@@ -59,8 +59,12 @@ def test_max_time_stops_with_the_verdicts_reached_and_says_what_would_decide_the
     out = tmp_path / "design"
     assert run([*STUDY, "--max-time", "1 ms", "--out", str(out), *QUIET]) == 0
     printed = capsys.readouterr().out
-    assert "stopped: 4 at the time budget" in printed
-    assert "stopped at the time budget (0.001 s): 4 scheme(s) undecided; --resume with " in printed
+    # cost-ordered: class v's 2 schemes ran a block, class c's waited (not run)
+    assert "stopped: 2 at the time budget, not run: 2 at the time budget" in printed
+    assert (
+        "stopped at the time budget (0.001 s): 4 scheme(s) undecided (2 not run yet); "
+        "--resume with " in printed
+    )
     assert "--max-time 0.002 s would allow ~" in printed
     assert run([*STUDY, "--resume", "--out", str(out), *QUIET]) == 0
     assert "choose H11/c11 / v" in capsys.readouterr().out
@@ -78,7 +82,7 @@ def test_every_output_says_what_each_decision_took_and_on_which_interval(tmp_pat
     printed = capsys.readouterr().out
     assert (
         "verdicts on the 95 % beta-binomial confidence sequence (valid at every look); "
-        "samples: what each took; stopped: 4 decided"
+        "samples: what each took; stopped: 2 decided, not run: 2 dearer than a scheme shown to meet"
     ) in printed
     csv = pd.read_csv(out / "design.csv")
     assert (csv["decided_at"] == 1600).all() and (csv["stopped"] == "decided").all()
@@ -91,7 +95,10 @@ def test_every_output_says_what_each_decision_took_and_on_which_interval(tmp_pat
     assert summary["settings"]["verdict_rule"] == "sequential"
     report = (out / "report.html").read_text()
     assert "95 % beta-binomial confidence sequence (valid at every look)" in report
-    assert "stopped: 4 decided" in report and "looks every 100 up to 4,000" in report
+    assert (
+        "stopped: 2 decided, not run: 2 dearer than a scheme shown to meet" in report
+        and "looks every 100 up to 4,000" in report
+    )
 
 
 def test_an_interrupted_design_is_kept_as_partial_and_resumed_to_the_whole_answer(
@@ -121,9 +128,10 @@ def test_an_interrupted_design_is_kept_as_partial_and_resumed_to_the_whole_answe
         patch.setattr(design_module, "run", interrupted_run)
         assert run([*STUDY, "--out", str(out), *QUIET]) == 130
     err = capsys.readouterr().err.strip().splitlines()[-1]
-    # the block of class c finished (its 2 schemes at 800), class v's not (700), of 4 x 4 000
+    # cost-ordered: class v's 8th block not kept (its 2 schemes at 700; class c, dearer,
+    # waits), of 4 x 4 000
     assert err == (
-        f"jointplay: interrupted; 3000 of 16000 samples finished; their results were "
+        f"jointplay: interrupted; 1400 of 16000 samples finished; their results were "
         f"written to {out}"
     )
     assert json.loads((out / MARKER).read_text())["complete"] < 1.0

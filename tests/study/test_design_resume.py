@@ -20,8 +20,9 @@ from jointplay.tolerance.execution import NOT_RUN, Backend
 SERIAL = Backend("serial")
 FITS = ["H9/d9", "H11/c11"]
 CLASSES = ["m", "c", "v"]
-#: kinematic (fast); zero failures decide each scheme at the look at 1 600 samples
-REQUIRE = ["omega4_peak <= 100 rad/s", "rocker_swing <= 56 deg"]
+#: kinematic (fast), cost-ordered: class v (with both fits on its one stream) fails at the
+#: first look, class c meets at the look at 1 600 (no failure), class m, dearer, never runs
+REQUIRE = ["omega4_peak <= 13.97 rad/s", "rocker_swing <= 56 deg"]
 
 
 def _study(mechanism, **options):
@@ -58,33 +59,40 @@ def test_an_interrupted_study_resumed_is_the_uninterrupted_one(
     paper_fourbar, tmp_path, monkeypatch
 ) -> None:
     whole = _study(paper_fourbar)
-    assert (whole.table["decided_at"] == 1600).all() and whole.best is not None
+    decided = whole.table.set_index("scheme")["decided_at"].to_dict()
+    assert decided == {"H9/d9 / c": 1600, "H9/d9 / v": 100, "H11/c11 / c": 1600, "H11/c11 / v": 100}
+    assert [r["scheme"] for r in whole.settings["not_run"]] == ["H9/d9 / m", "H11/c11 / m"]
+    assert whole.best == "H11/c11 / c"
     with monkeypatch.context() as patch:
-        _interrupting(patch, at_call=8)  # of 16 blocks
+        _interrupting(patch, at_call=9)  # of 17 blocks: class v's one, then class c's 16
         cut = _study(paper_fourbar)
     assert cut.interrupted and cut.best is None
     assert cut.verdict.endswith("(resume the study: its samples are kept)")
-    assert 700 <= cut.table["samples"].min() < cut.table["samples"].max() <= 800
+    assert sorted(cut.table["samples"]) == [100, 100, 700, 700]  # the 9th block not kept
     resumed = _study(paper_fourbar, resume=_kept(cut, tmp_path))
     assert not resumed.interrupted
     pd.testing.assert_frame_equal(resumed.table, whole.table, check_exact=True)
     pd.testing.assert_frame_equal(resumed.samples, whole.samples, check_exact=True)
     assert resumed.best == whole.best and resumed.verdict == whole.verdict
+    assert resumed.settings["not_run"] == whole.settings["not_run"]
     runs = resumed.settings["runs"]
     assert [r["run"] for r in runs] == [1, 2] and runs[0]["interrupted"]
     kept = sum(cut.samples.groupby("scheme")["sample"].count().groupby(
         cut.table.set_index("scheme")["length_class"]).max())  # fmt: skip
-    assert runs[1]["samples_kept"] == kept == runs[0]["samples_computed"]
-    assert runs[1]["samples_computed"] == 3 * 1600 - kept  # one stream per length class
+    assert runs[1]["samples_kept"] == kept == runs[0]["samples_computed"] == 800
+    assert runs[1]["samples_computed"] == 100 + 1600 - kept  # one stream per length class
 
 
 def test_a_larger_max_samples_goes_on_from_an_undecided_study(paper_fourbar, tmp_path) -> None:
     short = _study(paper_fourbar, max_samples=800)
-    assert (short.table["verdict"] == "undecided").all()
-    assert (short.table["stopped"] == "max-samples").all()
+    stopped = short.table.set_index("scheme")["stopped"]
+    # class c undecided at 800, so class m (dearer) got its turn, undecided too
+    assert (stopped[stopped.index.str.endswith(("c", "m"))] == "max-samples").all()
     resumed = _study(paper_fourbar, resume=_kept(short, tmp_path))
-    pd.testing.assert_frame_equal(resumed.table, _study(paper_fourbar).table, check_exact=True)
-    assert resumed.settings["runs"][1]["samples_computed"] == 3 * 800
+    whole = _study(paper_fourbar)
+    pd.testing.assert_frame_equal(resumed.table, whole.table, check_exact=True)
+    assert resumed.settings["not_run"] == whole.settings["not_run"]  # class m no longer needed
+    assert resumed.settings["runs"][1]["samples_computed"] == 800  # class c from 800 to 1 600
 
 
 @pytest.mark.parametrize(
@@ -120,13 +128,13 @@ def test_samples_not_of_the_study_stream_are_refused(paper_fourbar, tmp_path) ->
 def test_a_dynamic_study_resumed_is_the_uninterrupted_one(
     paper_fourbar, tmp_path, monkeypatch
 ) -> None:
-    """The same on the batch engine (peaks): two schemes, two blocks of 100, the second
-    block interrupted with one scheme's samples finished."""
+    """The same on the batch engine (peaks): two schemes, two blocks of 100 each, cheapest
+    first (H11/c11 / c, undecided at 200, then H8/f7 / c), the last block interrupted."""
     options = {"responses": "dynamic", "max_samples": 200, "backend": SERIAL}
     args = (paper_fourbar, ["H8/f7", "H11/c11"], ["c"], ["joint_force <= 150 N"])
     whole = design_study(*args, **options)
     with monkeypatch.context() as patch:
-        _interrupting(patch, at_call=2)
+        _interrupting(patch, at_call=4)
         cut = design_study(*args, **options)
     assert cut.interrupted and sorted(cut.table["samples"]) == [100, 200]
     resumed = design_study(*args, resume=_kept(cut, tmp_path), **options)

@@ -173,7 +173,8 @@ def test_the_table_is_on_the_reports_first_screen(paper_fourbar: Mechanism, tmp_
     table = html.index('<h3 id="model-sensitivity">')
     assert answer < table < html.index("requirement: joint_force") < html.index("Schemes by cost")
     for cell in ("film_model", "short-bearing-full", "roughness", "(×0.5)", "(×2)",
-                 "joint_force at 10 % (N)"):  # fmt: skip
+                 "joint_force at 10 % (N)", "95 % interval (%)", "parts worse",
+                 "verdict at 2 samples", "on 2 of its 2 samples"):  # fmt: skip
         assert cell in html[table:], cell
     summary = json.loads((tmp_path / "summary.json").read_text())["model_sensitivity"]
     assert summary["ranges"]["film_model"] == ["short-bearing-pi", "short-bearing-full"]
@@ -182,12 +183,60 @@ def test_the_table_is_on_the_reports_first_screen(paper_fourbar: Mechanism, tmp_
 
 def test_a_failing_end_is_named() -> None:
     rows = (
-        SensitivityRow("as chosen", "", {"r": 100.0}, True),
-        SensitivityRow("friction", 0.2, {"r": 80.0}, False),
-    )
-    sensitivity = ModelSensitivity("H8/f7 / c", rows)
+        SensitivityRow("as chosen", "", {"r": 100.0}, True, samples=200, verdict="meets"),
+        SensitivityRow("friction", 0.2, {"r": 80.0}, False, samples=200, verdict="fails",
+                       worse={"r": 40}),
+        SensitivityRow("restitution", 0.6, {"r": 99.5}, False, samples=200,
+                       verdict="undecided", worse={"r": 1}),
+        SensitivityRow("restitution", 0.95, {"r": 100.0}, True, samples=200, verdict="meets"),
+    )  # fmt: skip
+    sensitivity = ModelSensitivity("H8/f7 / c", rows, 200, 1600)
     assert not sensitivity.holds
-    assert sensitivity.verdict == "the choice H8/f7 / c does not hold with friction = 0.2"
+    assert sensitivity.verdict == (
+        "the choice H8/f7 / c does not hold with friction = 0.2; moves with restitution = 0.6 "
+        "(1 on 'r' of 200 parts) (on 200 of its 1,600 samples)"
+    )
+    held = ModelSensitivity("H8/f7 / c", (rows[0], rows[3]), 200, 1600)
+    assert held.holds and held.verdict.endswith(
+        "(on 200 of its 1,600 samples): no part fails a requirement it met as chosen"
+    )
+
+
+def test_the_table_runs_a_bounded_stated_number_of_samples(
+    paper_fourbar: Mechanism, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Each row re-runs the first ``first`` of the chosen scheme's samples, not all the study
+    took: the rows' samples, the table's statement and the simulations run say so."""
+    import jointplay.study.design as design_module
+
+    contact = ContactModel()
+    requirements = ["joint_force <= 1 kN"]
+    options = {**FAST, "samples": 3}
+    result = design_study(
+        paper_fourbar, ["H8/g7"], ["m"], requirements, contact=contact, confidence=LEVEL,
+        **options,
+    )  # fmt: skip
+    assert result.best == "H8/g7 / m" and result.best_row["samples"] == 3
+    real, ran = design_module.run, []
+
+    def run(model, x, **kwargs):
+        ran.append(len(x))
+        return real(model, x, **kwargs)
+
+    monkeypatch.setattr(design_module, "run", run)
+    sensitivity = model_sensitivity(paper_fourbar, result, contact, first=2, **options)
+    assert sensitivity is not None
+    assert (sensitivity.samples, sensitivity.study_samples) == (2, 3)
+    assert all(row.samples == 2 for row in sensitivity.rows)
+    assert ran == [2] * len(sensitivity.rows)  # rows x first, whatever the study took
+    assert "(on 2 of its 3 samples)" in sensitivity.verdict
+    record = sensitivity.as_dict()
+    assert (record["samples"], record["study_samples"]) == (2, 3)
+    chosen = record["rows"][0]
+    assert chosen["samples"] == 2 and chosen["parts_worse"] == {"joint_force <= 1 kN": 0}
+    low, high = chosen["yield_ci95_percent"]["joint_force <= 1 kN"]
+    assert (low, high) == pytest.approx((100 * 0.025 ** (1 / 2), 100.0))  # 2 of 2, exact
+    assert chosen["verdict"] == "meets"  # 2 failure-free samples show 15.8 % >= 10 %
 
 
 @pytest.mark.parametrize("best", [None])

@@ -334,7 +334,8 @@ def design_command(
         bool,
         typer.Option(
             "--model-sensitivity/--no-model-sensitivity",
-            help="Re-check the chosen scheme at the ends of the contact model's ranges.",
+            help="Re-check the chosen scheme at the ends of the contact model's ranges "
+            "(on its first 200 samples).",
         ),
     ] = True,
     settle: SettleOption = 2,
@@ -539,7 +540,10 @@ def _finished(result: DesignResult, settings: Any) -> tuple[int, int, str]:
     interrupted run with more samples reads as more complete."""
     schemes = int(settings["schemes"])
     if not result.interrupted or not len(result.table):
-        return len(result.table), schemes, "schemes"
+        # a finished study has every scheme judged or not needed (the cost-ordered schedule
+        # leaves dearer schemes unrun once a cheaper one is shown to meet)
+        done = schemes if not result.interrupted else len(result.table)
+        return done, schemes, "schemes"
     done = int(result.table["samples"].sum())
     return done, max(done + 1, schemes * int(settings["max_samples"])), "samples"
 

@@ -29,7 +29,7 @@ from jointplay.study.design import DesignResult
 from jointplay.study.design_result import regime_rows
 from jointplay.study.life_result import LifeResult
 from jointplay.study.requirements import Requirement
-from jointplay.study.sensitivity import ModelSensitivity
+from jointplay.study.sensitivity import ModelSensitivity, SensitivityRow
 
 __all__ = [
     "YIELD_ALL",
@@ -254,6 +254,10 @@ def stop_line(result: DesignResult) -> str:
         return ""
     counts = table["stopped"].value_counts()
     parts = [f"{int(counts[k])} {STOPPED[k]}" for k in STOPPED if k in counts]
+    waiting = [r.get("stopped") for r in result.settings.get("not_run") or ()]
+    not_run = [f"{waiting.count(k)} {STOPPED[k]}" for k in STOPPED if k in waiting]
+    if not_run:  # dearer schemes that waited for a cheaper one (the cost-ordered schedule)
+        parts.append(f"not run: {', '.join(not_run)}")
     return "stopped: " + ", ".join(parts)
 
 
@@ -487,26 +491,60 @@ def _sensitivity_section(
     requirements = list(sensitivity.rows[0].yields)
     responses = list(sensitivity.rows[0].values)
     scales = {name: display(units.get(name, "")) for name in responses}
+
+    def interval(row: SensitivityRow, text: str) -> str:
+        low, high = row.intervals.get(text, (math.nan, math.nan))
+        return f"{low:.2f}–{high:.2f}"
+
     rows = [
         (
             row.parameter,
             str(row.value),
-            *row.yields.values(),
+            *(
+                cell
+                for text in requirements
+                for cell in (row.yields[text], interval(row, text), row.worse.get(text, 0))
+            ),
             *(row.values.get(name, math.nan) * scales[name][1] for name in responses),
-            "yes" if row.meets else "no",
+            row.verdict or ("meets" if row.meets else "no"),
         )
         for row in sensitivity.rows
     ]
     level = f"{100 * confidence:g} %"
+    estimated = any(b == "normal-model" for row in sensitivity.rows for b in row.bases.values())
+    on = f"{sensitivity.on}, " if sensitivity.on else ""
+    headers = [
+        "contact parameter",
+        "value",
+        *(
+            header
+            for r in requirements
+            for header in (f"yield: {r} (%)", "95 % interval (%)", "parts worse")
+        ),
+        *(f"{name} at {level} ({scales[name][0]})" for name in responses),
+        f"verdict at {sensitivity.samples:,} samples" if sensitivity.samples else "verdict",
+    ]
     report.table(
         rows,
-        headers=["contact parameter", "value", *(f"yield: {r} (%)" for r in requirements),
-                 *(f"{name} at {level} ({scales[name][0]})" for name in responses),
-                 "meets all"],
-        text_columns=(0, 1, len(requirements) + len(responses) + 2),
+        headers=headers,
+        text_columns=(
+            0,
+            1,
+            *(2 + 3 * k + 1 for k in range(len(requirements))),
+            len(headers) - 1,
+        ),
         note="one parameter at a time at the ends of its documented range (docs/contact.md), "
-        "the others as the study ran; the study's samples and seed",
-    )  # fmt: skip
+        f"the others as the study ran; {on}the first of the chosen scheme's sample stream, "
+        "the same parts in every row (the study's seed); exact 95 % intervals at that fixed "
+        "number; parts worse: those parts that fail the requirement under the row's model and "
+        "met it as chosen"
+        + (
+            "; values at the level: normal-model estimates where the samples are too few for "
+            "a 95 % order-statistic bound"
+            if estimated
+            else ""
+        ),
+    )
 
 
 def write_design(

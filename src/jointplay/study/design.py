@@ -437,6 +437,10 @@ def design_study(
         runs = [dict(r) for r in resume.runs]
     kept_samples = sum(e.n for e in evaluated.values())
     active = set(range(len(candidates)))
+    costs = [s.cost(mechanism, cost) for s in candidates]
+    looked = [0] * len(candidates)  # the look each scheme was last judged at (0: none yet)
+    reached = dict.fromkeys(evaluated, 0)  # samples of each key the schedule has asked for
+    free = _free_lanes(backend) if rule == "sequential" else None
     rows: dict[int, dict[str, Any]] = {}
     interrupted = False
     first: tuple[FloatArray, Any] | None = None  # the first block, for the convergence check
@@ -447,10 +451,14 @@ def design_study(
     with study_bar(
         progress, _most_needed(active, key, evaluated, looks[-1]), _bar_text(len(candidates), {})
     ) as shown:
-        for target in looks:
-            keys = sorted({key[i] for i in active if evaluated[key[i]].n < target})
+        while active:
+            plan = _plan(active, costs, key, looks, looked, reached, free)
+            need: dict[int, int] = {}
+            for i, target in plan.items():
+                need[key[i]] = max(need.get(key[i], 0), target)
+            keys = sorted(k for k, target in need.items() if evaluated[k].n < target)
             if keys:
-                drawn = [sample(specs[k], target, seed).values[evaluated[k].n :] for k in keys]
+                drawn = [sample(specs[k], need[k], seed).values[evaluated[k].n :] for k in keys]
                 features = np.vstack(drawn)
                 _, x = model_inputs(feature_names, features)
                 if max_time is not None and computed_now:
@@ -497,36 +505,48 @@ def design_study(
                     evaluated[k].add(block, x, outcome, part, lives)
                 if outcome.interrupted:
                     interrupted = True
-            for i in sorted(active):
+            for k, target in need.items():
+                reached[k] = max(reached[k], target)
+            for i in sorted(plan):
                 # each scheme is judged on the first `target` samples of its stream (a resumed
                 # study may hold more), those it has when interrupted
-                done = evaluated[key[i]].head(target)
+                done = evaluated[key[i]].head(plan[i])
                 if done.n and (i not in rows or done.n > rows[i]["samples"]):
                     rows[i] = _scheme_row(
                         candidates[i], mechanism, cost, done, names, model, model_checks,
                         parsed, confidence, clearance_limit, clearance_allowance, rule,
                     )  # fmt: skip
+                looked[i] = plan[i]
             if interrupted:
                 break
-            still = _still_open(active, rows)
+            still = _still_open(active, rows, costs)
             for i in active - still:
-                stops[i] = "decided" if rows[i]["verdict"] != "undecided" else "dearer"
+                decided = i in rows and rows[i]["verdict"] != "undecided"
+                stops[i] = "decided" if decided else "dearer"
+            for i in still & set(plan):
+                if looked[i] >= looks[-1]:  # undecided at the most samples
+                    stops[i] = "max-samples"
+                    still.discard(i)
             active = still
             shown.update(
                 total=computed_now + _most_needed(active, key, evaluated, looks[-1]),
                 description=_bar_text(len(candidates), stops),
             )
-            if not active:
-                break
     for i in active:
         stops[i] = "interrupted" if interrupted else "time" if out_of_time else "max-samples"
     for i, row in rows.items():
         row["stopped"] = stops.get(i, "interrupted")
         row["decided_at"] = row["samples"] if row["verdict"] != "undecided" else None
+    not_run = [
+        {"scheme": candidates[i].label, "cost": costs[i], "stopped": stops.get(i, "interrupted")}
+        for i in range(len(candidates))
+        if i not in rows
+    ]
     if rare is not None and not interrupted and not out_of_time:
         try:
-            for i in sorted(active, key=lambda j: rows[j]["cost"]):
-                if i not in _still_open({i}, rows):
+            undecided = [i for i, why in stops.items() if why == "max-samples" and i in rows]
+            for i in sorted(undecided, key=lambda j: (costs[j], j)):
+                if i not in _still_open({i}, rows, costs):
                     continue  # a cheaper one was shown feasible meanwhile
                 estimate = _rare_defects(
                     candidates[i], mechanism, specs[key[i]], feature_names, names, model,
@@ -621,6 +641,8 @@ def design_study(
         "execution_blocks": executions,
         "schemes": len(candidates),
         "finished_schemes": len(rows),
+        "schedule": "cost-ordered" if free is not None else "every scheme",
+        "not_run": not_run,
     }
     diagnostics: tuple[StudyDiagnostic, ...] = penetration_diagnostics(
         every_sample, checks, names, best
@@ -1095,16 +1117,87 @@ def _yield_columns(estimate: YieldEstimate, suffix: str) -> dict[str, float]:
     }
 
 
-def _still_open(active: set[int], rows: Mapping[int, Mapping[str, Any]]) -> set[int]:
-    """The schemes worth another block: undecided, and not dearer than a scheme already
-    shown to meet every requirement (they can no longer be the cheapest feasible one)."""
+def _still_open(
+    active: set[int], rows: Mapping[int, Mapping[str, Any]], costs: Sequence[float]
+) -> set[int]:
+    """The schemes worth more samples: undecided (or not run yet), and not dearer than a
+    scheme already shown to meet every requirement (they can no longer be the cheapest
+    feasible one)."""
     shown = [row["cost"] for row in rows.values() if row["feasible"]]
     ceiling = min(shown) if shown else math.inf
     return {
         i
         for i in active
-        if i in rows and rows[i]["verdict"] == "undecided" and rows[i]["cost"] <= ceiling
+        if (i not in rows or rows[i]["verdict"] == "undecided") and costs[i] <= ceiling
     }
+
+
+def _free_lanes(backend: Backend | None) -> int:
+    """Lanes of the batch engine that a block runs at no extra cost, for the cost-ordered
+    schedule (:func:`_plan`): on a device (``gpu``, ``cuda``) a run's first chunk has the
+    smallest of :data:`~jointplay.execution.executors.GPU_CHUNKS` lanes (or the backend's
+    ``chunk_size``), one GPU thread each, so a block of fewer samples leaves the rest idle; on the
+    CPU backends every lane costs a core its own time, so none are free (1: blocks are not
+    rounded up)."""
+    if backend is None or not backend.on_device:
+        return 1
+    from jointplay.execution.executors import GPU_CHUNKS
+
+    return int(backend.chunk_size or GPU_CHUNKS[0])
+
+
+def _plan(
+    active: set[int],
+    costs: Sequence[float],
+    key: Sequence[int],
+    looks: Sequence[int],
+    looked: Sequence[int],
+    reached: Mapping[int, int],
+    free: int | None,
+) -> dict[int, int]:
+    """The schemes of the next block, each with the look (its samples in all) it is judged at.
+
+    ``free`` ``None`` (a sample size fixed in advance): every open scheme. Else the
+    **cost-ordered schedule**: the cheapest open scheme(s) (equal cost: all of them) get
+    their next look; a dearer open scheme waits — until every cheaper one is decided
+    ``fails``, stopped at ``max_samples`` or can no longer be chosen — except (1) in cost
+    order, while its samples fit in the lanes the block leaves free (``free``: the block is
+    rounded up to a multiple of it, :func:`_free_lanes`), and (2) when its stream already
+    holds its next look's samples (a kinematic study's schemes of one length class share
+    one stream). The schedule depends on the verdicts and the looks alone — never on the
+    samples a resumed study kept — so a resumed study replays it block for block.
+    """
+
+    def following(i: int) -> int:
+        return next(n for n in looks if n > looked[i])
+
+    if free is None:
+        return {i: following(i) for i in active}
+    order = sorted(active, key=lambda i: (costs[i], i))
+    need = dict(reached)
+    plan: dict[int, int] = {}
+
+    def take(i: int) -> None:
+        plan[i] = following(i)
+        need[key[i]] = max(need[key[i]], plan[i])
+
+    for i in order:
+        if costs[i] == costs[order[0]]:
+            take(i)
+    asked = sum(need[k] - reached[k] for k in need)
+    capacity = -(-asked // free) * free
+    for i in order:
+        if i in plan:
+            continue
+        extra = max(0, following(i) - need[key[i]])
+        if asked + extra > capacity:
+            break
+        take(i)
+        asked += extra
+    for i in order:  # its stream holds the samples already: judged at no cost
+        if i not in plan and following(i) <= need[key[i]]:
+            take(i)
+    return plan
 
 
 def _sample_frame(

@@ -367,18 +367,20 @@ class DesignResult:
         if not settings.get("stopped_at_max_time") or "stopped" not in self.table:
             return None
         budget = float(settings["max_time_s"])
-        still = int((self.table["stopped"] == "time").sum())
+        waiting = sum(1 for r in settings.get("not_run") or () if r.get("stopped") == "time")
+        still = int((self.table["stopped"] == "time").sum()) + waiting
         text = f"stopped at the time budget ({duration(budget)}): {still} scheme(s) undecided"
+        if waiting:
+            text += f" ({waiting} not run yet)"
         rate = settings.get("samples_per_s")
         if still and rate:
             again = 2.0 * budget
-            each = rate * again / still
             text += name_settings(
-                "; {resume} with {max_time} {again} would allow ~{each:,.0f} more samples each "
-                "(at the measured {rate:.3g} samples/s)",
+                "; {resume} with {max_time} {again} would allow ~{more:,.0f} more samples, "
+                "the cheapest open scheme first (at the measured {rate:.3g} samples/s)",
                 names,
                 again=duration(again),
-                each=each,
+                more=rate * again,
                 rate=rate,
             )
         return text
