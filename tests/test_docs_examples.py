@@ -269,9 +269,9 @@ def wear_lives(block: Block, folder: Path, capsys: pytest.CaptureFixture[str]) -
 
 @pytest.mark.slow
 def design_life_quantile(block: Block, folder: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    """The B_p example at its full 40 samples (about 3 minutes: its figures are of the full
-    run): the failures before the hours, the verdict and the share's interval its comment
-    gives, and the simulations per life the text after it gives."""
+    """The B_p example at its full 20 samples (~58 CPU-s: its figures are of the full run):
+    the failures before the hours, the verdict and the share's interval its comment gives,
+    and the simulations per life the text after it gives."""
     (command,) = block.commands
     comment = " ".join(block.output)
     out = folder / "b10"
