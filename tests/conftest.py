@@ -2,14 +2,17 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import pytest
 
 from jointplay.io.config import load_preset
 from jointplay.model.mechanism import Mechanism
+
+T = TypeVar("T")
 
 
 @pytest.fixture(scope="session")
@@ -86,6 +89,40 @@ def pytest_configure(config: pytest.Config) -> None:
 
     if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
         signal.signal(signal.SIGINT, signal.default_int_handler)
+
+
+#: Test modules that pytest-xdist's workers run before the others, in this order: the dearest
+#: of the suite (CPU-s of their tests, warm cache, measured in docs/performance.md, "Tests").
+#: ``--dist worksteal`` hands each worker a contiguous part of the collection and lets a worker
+#: that runs out take the far end of the other's queue; with these long tests at the end of the
+#: collection (``tests/test_docs_examples.py`` and ``tests/test_readme.py`` sit between
+#: ``study/`` and ``tolerance/``), one of them could start last and leave the other core idle
+#: for minutes. Whole modules move, their own order kept, so module fixtures are built once;
+#: ``study/test_paper.py`` and ``report/test_browser.py`` share the session's reduced paper run
+#: and stay side by side.
+LONG_MODULES = (
+    "tests/test_readme.py",
+    "tests/test_docs_examples.py",
+    "tests/cli/test_interrupts.py",
+    "tests/cli/test_life_cli.py",
+    "tests/dynamics/test_irregular_contract.py",
+    "tests/study/test_paper.py",
+    "tests/report/test_browser.py",
+)
+
+
+def long_modules_first(items: list[T], module: Callable[[T], str]) -> list[T]:
+    """``items`` with those of :data:`LONG_MODULES` first, in its order; the rest, and each
+    module's own items, in their order. ``module(item)``: its file, relative to the root."""
+    rank = {name: i for i, name in enumerate(LONG_MODULES)}
+    return sorted(items, key=lambda item: rank.get(module(item), len(rank)))
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """On pytest-xdist's workers (each collects, all alike): :data:`LONG_MODULES` first. A
+    serial run (``-n 0``) keeps the collection's order."""
+    if hasattr(config, "workerinput"):
+        items[:] = long_modules_first(items, lambda item: item.nodeid.split("::")[0])
 
 
 def pytest_addoption(parser: pytest.Parser, pluginmanager: pytest.PytestPluginManager) -> None:

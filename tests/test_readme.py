@@ -28,6 +28,7 @@ import jointplay
 from jointplay.cli import run
 
 README = Path(__file__).resolve().parents[1] / "README.md"
+DESIGN_PAGE = README.parent / "docs" / "design.md"
 #: (pattern, replacement, why): the README's counts, made small for a test.
 SMALLER = (
     (r"--samples \d+", "--samples 4", "4 samples: the command's path, not its statistics"),
@@ -157,13 +158,46 @@ def check_wear(line: str, comment: str, folder: Path) -> None:
     assert f'--hours "{hours} h"' in line
 
 
+def _row(text: str, scheme: str) -> list[str]:
+    (row,) = re.findall(rf"^\| {re.escape(scheme)} \|(.*)\|$", text, flags=re.MULTILINE)
+    return [cell.strip() for cell in row.split("|")]
+
+
 def check_design(line: str, comment: str, folder: Path) -> None:
     """The design decides on its first run: the scheme the comment names is the one chosen
-    (every requirement shown to meet at the confidence asked)."""
+    (every requirement shown to meet at the confidence asked). The same run is the example
+    of docs/design.md's "The quick tour's design" (its handler in tests/test_docs_examples.py
+    checks that the page's command is this line): every row of the page's table — cost, the
+    samples its verdict took, the speed-error failures, the interval the verdict was decided
+    on, the verdict — and the model-sensitivity line the page and the README describe (the
+    choice does not hold with the joints dry) are this run's, so the study runs once."""
     summary = _summary(folder / "design")
     (scheme,) = _number(r"chooses (\S+ / \w+)", comment)
     assert summary["best"] == scheme, summary["verdict"]
     assert f"shown to meet every requirement: {scheme} " in summary["verdict"]
+    page = DESIGN_PAGE.read_text(encoding="utf-8")
+    text = page.split("## The quick tour's design")[1].split("\n## ")[0]
+    schemes = summary["schemes"]
+    assert len(schemes) == 6
+    for row in schemes:
+        cost, samples, failures, interval, verdict = _row(text, row["scheme"])
+        (speed,) = (r for r in row["requirements"] if r["requirement"].startswith("rocker"))
+        low, high = (float(v) for v in interval.split("–"))
+        assert row["cost"] == pytest.approx(float(cost), abs=0.05)
+        assert row["samples"] == int(samples) and speed["failures"] == int(failures)
+        assert 100 * speed["verdict_interval"][0] == pytest.approx(low, abs=0.005)
+        assert 100 * speed["verdict_interval"][1] == pytest.approx(high, abs=0.005)
+        assert row["verdict"] == verdict.strip("*")
+    assert "The model-sensitivity line says the choice **does not hold with the joints dry**" in (
+        text
+    )
+    assert "the choice does not hold with the joints dry (the model-sensitivity line)" in " ".join(
+        README.read_text(encoding="utf-8").split()
+    )
+    sensitivity = summary["model_sensitivity"]
+    assert sensitivity["scheme"] == scheme and not sensitivity["holds"]
+    (dry,) = (r for r in sensitivity["rows"] if r["parameter"] == "lubrication")
+    assert dry["value"] == "dry" and not dry["meets_every_requirement"]
 
 
 #: The tour lines whose comments promise a result, by their ``--out``: the check of each.

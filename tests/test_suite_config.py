@@ -7,6 +7,7 @@ import subprocess
 import sys
 import tomllib
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -34,3 +35,52 @@ def test_serial_runs_still_work(serial: list[str]) -> None:
     )  # fmt: skip
     assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-2000:]
     assert " passed" in done.stdout and "created: " not in done.stdout  # no xdist workers
+
+
+def test_the_long_modules_are_there() -> None:
+    """Each module the workers run first exists (a renamed one would quietly go back to its
+    place in the collection), once; the two that share the session's reduced paper run stay
+    side by side, so that one worker starts both."""
+    from conftest import LONG_MODULES
+
+    assert [m for m in LONG_MODULES if not (ROOT / m).is_file()] == []
+    assert len(set(LONG_MODULES)) == len(LONG_MODULES)
+    paper = LONG_MODULES.index("tests/study/test_paper.py")
+    assert LONG_MODULES[paper + 1] == "tests/report/test_browser.py"
+
+
+def test_the_workers_run_the_long_modules_first() -> None:
+    """Under pytest-xdist (a worker's config has ``workerinput``) the long modules' tests come
+    first, in :data:`LONG_MODULES`' order, each module's tests and the rest in the collection's
+    order; a serial run keeps the collection as it is."""
+    from types import SimpleNamespace
+
+    from conftest import pytest_collection_modifyitems
+
+    collected = [
+        "tests/_kernels/test_driver.py::test_a",
+        "tests/report/test_browser.py::test_b",
+        "tests/study/test_paper.py::test_c",
+        "tests/study/test_paper.py::test_d",
+        "tests/test_docs_examples.py::test_e[1]",
+        "tests/test_readme.py::test_f",
+        "tests/test_docs_examples.py::test_e[2]",
+        "tests/tolerance/test_x.py::test_g",
+    ]
+    items: list[Any] = [SimpleNamespace(nodeid=n) for n in collected]
+    serial = list(items)
+    pytest_collection_modifyitems(SimpleNamespace(), serial)  # type: ignore[arg-type]
+    assert serial == items
+    worker = list(items)
+    pytest_collection_modifyitems(SimpleNamespace(workerinput={}), worker)  # type: ignore[arg-type]
+    order = [i.nodeid for i in worker]
+    assert order == [
+        "tests/test_readme.py::test_f",
+        "tests/test_docs_examples.py::test_e[1]",
+        "tests/test_docs_examples.py::test_e[2]",
+        "tests/study/test_paper.py::test_c",
+        "tests/study/test_paper.py::test_d",
+        "tests/report/test_browser.py::test_b",
+        "tests/_kernels/test_driver.py::test_a",
+        "tests/tolerance/test_x.py::test_g",
+    ]

@@ -97,8 +97,9 @@ README = Path(__file__).resolve().parents[2] / "README.md"
 def test_the_readmes_population_life_says_what_the_run_gives(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ):
-    """The README's population-life command at its full size (20 mechanisms, minutes): its
-    first-screen answer — B10, its interval, the failing share — is the run's, within the
+    """The README's population-life command at its full size (10 mechanisms, ~38 CPU-s): its
+    first-screen answer — B10, its interval, the failing share —, the Weibull line (shape and
+    scale with their intervals) and the simulations per life are the run's, within the
     rounding of the figures (3 %)."""
     import re
     import shlex
@@ -120,3 +121,16 @@ def test_the_readmes_population_life_says_what_the_run_gives(
     assert fit["B10_interval_h"] == pytest.approx([float(low), float(high)], rel=0.03)
     assert summary["failures"] == int(failures)
     assert 100 * max(summary["failing_share"].values()) == pytest.approx(int(share), abs=5)
+    weibull = next(line for line in lines if line.startswith("# Weibull "))
+    shape, shape_low, shape_high, scale, scale_low, scale_high = re.search(
+        r"shape ([\d.]+) \[([\d.]+)–([\d.]+)\], scale ([\d.]+) h \[([\d.]+)–([\d.]+) h\]", weibull
+    ).groups()  # type: ignore[union-attr]
+    assert fit["shape"] == pytest.approx(float(shape), rel=0.03)
+    assert fit["shape_interval"] == pytest.approx([float(shape_low), float(shape_high)], rel=0.03)
+    assert fit["scale_h"] == pytest.approx(float(scale), rel=0.03)
+    assert fit["scale_interval_h"] == pytest.approx([float(scale_low), float(scale_high)], rel=0.03)
+    mechanisms, per_life = re.search(
+        r"\((\d+) mechanisms, ([\d.]+) simulations per life", text
+    ).groups()  # type: ignore[union-attr]
+    assert summary["mechanisms"] == int(mechanisms) and f"--samples {mechanisms} " in command
+    assert summary["simulations_per_life"] == pytest.approx(float(per_life), abs=0.05)
