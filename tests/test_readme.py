@@ -178,7 +178,15 @@ def check_design(line: str, comment: str, folder: Path) -> None:
     page = DESIGN_PAGE.read_text(encoding="utf-8")
     text = page.split("## The quick tour's design")[1].split("\n## ")[0]
     schemes = summary["schemes"]
-    assert len(schemes) == 6
+    # the page's table lists exactly the schemes that ran (cost-ordered: the dearer ones wait)
+    listed = re.findall(r"^\| (H\S+ / \w+) \|", text, flags=re.MULTILINE)
+    assert sorted(listed) == sorted(row["scheme"] for row in schemes)
+    not_run = summary["settings"]["not_run"]
+    (chosen_cost,) = (row["cost"] for row in schemes if row["scheme"] == scheme)
+    assert not_run and all(r["cost"] >= chosen_cost for r in not_run)
+    assert f"not run: {len(not_run)} dearer than a scheme shown to meet" in text
+    for r in not_run:
+        assert r["scheme"] in text, r["scheme"]
     for row in schemes:
         cost, samples, failures, interval, verdict = _row(text, row["scheme"])
         (speed,) = (r for r in row["requirements"] if r["requirement"].startswith("rocker"))
