@@ -86,7 +86,7 @@ on the chunk it runs in, or on the thread that runs it.
 
 from __future__ import annotations
 
-from typing import Any, TypeVar
+from typing import TypeVar
 
 import numba
 import numpy as np
@@ -423,20 +423,12 @@ def run_batch(
     flags = _NO_INTERRUPT if interrupt is None else interrupt
     if lanes:
         if method == "explicit":  # the lane of the single source (jointplay._kernels.lanes)
-            if n_peaks > nq_model:  # the running reductions: their own compilation
-                lanes_kernel: Any = (
-                    lane_cpu.explicit_lanes_running_parallel
-                    if parallel
-                    else lane_cpu.explicit_lanes_running
-                )
-            else:
-                lanes_kernel = (
-                    lane_cpu.explicit_lanes_parallel if parallel else lane_cpu.explicit_lanes
-                )
+            lanes_kernel = lane_cpu.explicit_lanes_parallel if parallel else lane_cpu.explicit_lanes
             lanes_kernel(
                 ipar_a, rpar_a, lay, y0_a, settle_a, end_a, step_a,
                 float(rtol), atol_a, int(max_steps), flags,
                 peaks, stats, status, t_reached, counts,
+                n_peaks > nq_model,  # the running reductions: their own compilation of the lane
             )  # fmt: skip
         else:
             _implicit_lanes(

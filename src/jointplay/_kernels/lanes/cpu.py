@@ -29,14 +29,14 @@ explicit_lane = compiled["explicit_lane"]
 #: The explicit lane with the running reductions (``source.RUNNING``: a separate compilation,
 #: so that :data:`explicit_lane` has none of their code), run when the lanes' ``rpar`` carry
 #: the running tail (:func:`jointplay._kernels.lanes.build.running_layout`).
-running = build(
+compiled_running = build(
     numba.njit(cache=True, error_model="numpy"),
     hooks={"project": project_lapack},
     extras={"np": np, "RUNNING": True},
     only=closed(("explicit_lane",)),
     tag="running",
 )
-explicit_lane_running = running["explicit_lane"]
+explicit_lane_running = compiled_running["explicit_lane"]
 #: The implicit lane (:mod:`jointplay._kernels.lanes.source_radau`), compiled for the CPU.
 implicit_lane = compiled["implicit_lane"]
 
@@ -45,8 +45,6 @@ __all__ = [
     "explicit_lane",
     "explicit_lanes",
     "explicit_lanes_parallel",
-    "explicit_lanes_running",
-    "explicit_lanes_running_parallel",
     "implicit_lane",
     "implicit_lanes",
     "implicit_lanes_parallel",
@@ -71,92 +69,54 @@ def _work(lay, n_q):
 @numba.njit(cache=True, error_model="numpy")
 def _one(
     ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-    peaks, stats, status, t_reached, counts, lane,
+    peaks, stats, status, t_reached, counts, lane, running,
 ):  # fmt: skip
+    """Lane ``lane`` of the explicit method: :data:`explicit_lane`, or
+    :data:`explicit_lane_running` when ``running`` (the lanes' ``rpar`` carry the running
+    tail)."""
     size = y0.shape[1]
     mask, q, samples, pen, records, phi_q, schur, lam, scratch = _work(lay, peaks.shape[1])
     k = np.empty((7, size))
     work = np.empty((6, size))
-    code, t = explicit_lane(
+    lane_args = (
         ipar, rpar[lane], lay, y0[lane], t_settle[lane], t_end[lane], max_step[lane], rtol,
         atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask, k,
         work[0], work[1], work[2], work[3], work[4], work[5], q[0], q[1], samples, pen[0],
         records[0], records[1], records[2], phi_q, schur, lam, scratch,
     )  # fmt: skip
+    if running:
+        code, t = explicit_lane_running(*lane_args)
+    else:
+        code, t = explicit_lane(*lane_args)
     status[lane] = code
     t_reached[lane] = t
-
-
-@numba.njit(cache=True, error_model="numpy")
-def _one_running(
-    ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-    peaks, stats, status, t_reached, counts, lane,
-):  # fmt: skip
-    """:func:`_one` with :data:`explicit_lane_running`."""
-    size = y0.shape[1]
-    mask, q, samples, pen, records, phi_q, schur, lam, scratch = _work(lay, peaks.shape[1])
-    k = np.empty((7, size))
-    work = np.empty((6, size))
-    code, t = explicit_lane_running(
-        ipar, rpar[lane], lay, y0[lane], t_settle[lane], t_end[lane], max_step[lane], rtol,
-        atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask, k,
-        work[0], work[1], work[2], work[3], work[4], work[5], q[0], q[1], samples, pen[0],
-        records[0], records[1], records[2], phi_q, schur, lam, scratch,
-    )  # fmt: skip
-    status[lane] = code
-    t_reached[lane] = t
-
-
-@numba.njit(cache=True, error_model="numpy")
-def explicit_lanes_running(
-    ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-    peaks, stats, status, t_reached, counts,
-):  # fmt: skip
-    """:func:`explicit_lanes` with the running reductions (:data:`explicit_lane_running`)."""
-    for lane in range(y0.shape[0]):
-        _one_running(
-            ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-            peaks, stats, status, t_reached, counts, lane,
-        )  # fmt: skip
-
-
-@numba.njit(cache=True, error_model="numpy", parallel=True)
-def explicit_lanes_running_parallel(
-    ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-    peaks, stats, status, t_reached, counts,
-):  # fmt: skip
-    """:func:`explicit_lanes_running` on Numba's threads (``prange`` over lanes)."""
-    for lane in numba.prange(y0.shape[0]):
-        _one_running(
-            ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-            peaks, stats, status, t_reached, counts, lane,
-        )  # fmt: skip
 
 
 @numba.njit(cache=True, error_model="numpy")
 def explicit_lanes(
     ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-    peaks, stats, status, t_reached, counts,
+    peaks, stats, status, t_reached, counts, running=False,
 ):  # fmt: skip
     """Every lane, one after the other (arguments: :func:`jointplay._kernels.batch.run_batch`,
-    plus ``lay`` of :func:`jointplay._kernels.lanes.build.lane_layout`; outputs in place)."""
+    plus ``lay`` of :func:`jointplay._kernels.lanes.build.lane_layout`; outputs in place;
+    ``running``: the running reductions, :data:`explicit_lane_running`)."""
     for lane in range(y0.shape[0]):
         _one(
             ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-            peaks, stats, status, t_reached, counts, lane,
+            peaks, stats, status, t_reached, counts, lane, running,
         )  # fmt: skip
 
 
 @numba.njit(cache=True, error_model="numpy", parallel=True)
 def explicit_lanes_parallel(
     ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-    peaks, stats, status, t_reached, counts,
+    peaks, stats, status, t_reached, counts, running=False,
 ):  # fmt: skip
     """:func:`explicit_lanes` on Numba's threads (``prange`` over lanes)."""
     for lane in numba.prange(y0.shape[0]):
         _one(
             ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-            peaks, stats, status, t_reached, counts, lane,
+            peaks, stats, status, t_reached, counts, lane, running,
         )  # fmt: skip
 
 
