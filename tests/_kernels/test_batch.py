@@ -209,7 +209,7 @@ def test_the_parabolic_refinement_finds_a_parabolas_vertex() -> None:
     theta = np.concatenate([[0.0], kb.REFINE_POINTS, [1.0]])
     samples = (5.0 - (theta - 0.4) ** 2)[:, None]
     peaks = np.array([0.0])
-    kb.lanes_refine_peaks(samples, peaks, peaks.shape[0])
+    kb.lanes_refine_peaks(samples, peaks, 0, peaks.shape[0])
     assert peaks[0] == pytest.approx(5.0, rel=1e-15)
 
 

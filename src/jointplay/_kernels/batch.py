@@ -120,7 +120,7 @@ lanes_triggers = lane_cpu.compiled["triggers"]
 lanes_any_film = lane_cpu.compiled["any_film"]
 lanes_wants_refinement = lane_cpu.compiled["wants_refinement"]
 lanes_refine_peaks = lane_cpu.compiled["refine_peaks"]
-lanes_refine_one = lane_cpu.compiled["refine_one"]
+lanes_refine_start = lane_cpu.compiled["refine_start"]
 lanes_open_window = lane_cpu.compiled["open_window"]
 lanes_accumulate = lane_cpu.compiled["accumulate"]
 lanes_close_window = lane_cpu.compiled["close_window"]
@@ -234,26 +234,18 @@ def _trajectory_reduce(ipar, rpar, lay, ts, ys, t_settle, t_end, peaks, stats):
             lanes_speed_deviation(ys[i], rpar, lay, qb)
         lanes_accumulate(qa, qb, pen, t_b - t_a, peaks, stats, nb, n_q, nc)
         lanes_accumulate_regimes(rpar, lay, pen, t_b - t_a, stats, nb, nc)
-        if lanes_wants_refinement(qa, qb, peaks, mask, n_q - 1 if running else n_q):
+        every = lanes_wants_refinement(qa, qb, peaks, mask, n_q - 1 if running else n_q)
+        if every or running:  # the deviation alone is refined on every step (its own rule)
             h = t_b - t_a
-            samples[0] = qa
-            samples[n_points + 1] = qb
+            start = lanes_refine_start(qa, qb, samples, every, n_q)
             for r in range(n_points):
                 tau = t_a + REFINE_POINTS[r] * h
                 _step_state(film, ts, ys, fs, bits, i, tau, n, y_mid)
-                eom.quantities(tau, y_mid, rpar, ipar, samples[r + 1], pen)
+                if every:
+                    eom.quantities(tau, y_mid, rpar, ipar, samples[r + 1], pen)
                 if running:
                     lanes_speed_deviation(y_mid, rpar, lay, samples[r + 1])
-            lanes_refine_peaks(samples, peaks, n_q)
-        elif running:  # the deviation is refined on every step (its own rule)
-            h = t_b - t_a
-            p = n_q - 1
-            samples[0, p] = qa[p]
-            samples[n_points + 1, p] = qb[p]
-            for r in range(n_points):
-                _step_state(film, ts, ys, fs, bits, i, t_a + REFINE_POINTS[r] * h, n, y_mid)
-                lanes_speed_deviation(y_mid, rpar, lay, samples[r + 1])
-            lanes_refine_one(samples, peaks, p)
+            lanes_refine_peaks(samples, peaks, start, n_q)
         qa, qb = qb, qa
         t_a = t_b
     lanes_close_window(stats, nb, t_end - t_settle)

@@ -46,7 +46,7 @@ FUNCTIONS = (
     "onset_check", "impact_rate", "contact_memory", "project_driver", "constraint_residual",
     "max_abs", "schur_solve", "project_constraints", "project",
     "all_finite", "interrupt_pending", "dense", "triggers", "wants_refinement",
-    "refine_one", "refine_peaks", "open_window", "accumulate", "close_window",
+    "refine_start", "refine_one", "refine_peaks", "open_window", "accumulate", "close_window",
     "regime_gap", "open_regimes", "accumulate_regimes", "close_regimes",
     "running_on", "running_base", "running_stats", "reference_speed", "speed_deviation",
     "spread_weight", "spread_wear", "body_angle", "midpoint_angle", "running_point",

@@ -1187,10 +1187,21 @@ def wants_refinement(qa, qb, peaks, mask, n_q):
     return False
 
 
-def refine_peaks(samples, peaks, n_q):
-    """Raise ``peaks`` to the parabolic vertex through the largest sample of |Q| at θ = 0,
-    1/8, …, 1 (rows of ``samples``) and its two neighbours."""
-    for p in range(n_q):
+def refine_start(qa, qb, samples, every, n_q):
+    """The refinement's first quantity — 0 when ``every`` quantity is refined, else the
+    last (the running responses' speed deviation alone) — with ``qa`` and ``qb`` (the step's
+    two ends) as the first and last rows of ``samples`` from it on; returns it."""
+    first = 0 if every else n_q - 1
+    for p in range(first, n_q):
+        samples[0, p] = qa[p]
+        samples[N_REFINE + 1, p] = qb[p]
+    return first
+
+
+def refine_peaks(samples, peaks, first, n_q):
+    """Raise ``peaks[first:n_q]`` to the parabolic vertex through the largest sample of |Q|
+    at θ = 0, 1/8, …, 1 (rows of ``samples``) and its two neighbours."""
+    for p in range(first, n_q):
         refine_one(samples, peaks, p)
 
 
@@ -1682,26 +1693,18 @@ def explicit_lane(
             running_point(t_new, h, t_settle, y_new, rp, ip, lay, f_mid, record_mid, stats)
         if in_window:
             accumulate(qa, qb, pen, h, peaks, stats, nb, n_q, nc)
-            if wants_refinement(qa, qb, peaks, mask, n_q - 1 if running else n_q):
-                for p in range(n_q):
-                    samples[0, p] = qa[p]
-                    samples[N_REFINE + 1, p] = qb[p]
+            every = wants_refinement(qa, qb, peaks, mask, n_q - 1 if running else n_q)
+            if every or running:  # the deviation alone is refined on every step (its own rule)
+                first = refine_start(qa, qb, samples, every, n_q)
                 for r in range(N_REFINE):
                     theta = (r + 1) / 8.0
                     dense(y, k, h, theta, y_mid, size)
-                    quantities(t + theta * h, y_mid, rp, ip, lay, f_mid, record_mid,
-                               samples[r + 1], pen, phi_q, schur, lam)  # fmt: skip
+                    if every:
+                        quantities(t + theta * h, y_mid, rp, ip, lay, f_mid, record_mid,
+                                   samples[r + 1], pen, phi_q, schur, lam)  # fmt: skip
                     if running:
                         speed_deviation(y_mid, rp, lay, samples[r + 1])
-                refine_peaks(samples, peaks, n_q)
-            elif running:  # the deviation is refined on every step (its own rule)
-                p = n_q - 1
-                samples[0, p] = qa[p]
-                samples[N_REFINE + 1, p] = qb[p]
-                for r in range(N_REFINE):
-                    dense(y, k, h, (r + 1) / 8.0, y_mid, size)
-                    speed_deviation(y_mid, rp, lay, samples[r + 1])
-                refine_one(samples, peaks, p)
+                refine_peaks(samples, peaks, first, n_q)
             qa, qb = qb, qa
         elif t_new == t_settle:
             in_window = True
