@@ -36,7 +36,7 @@ __all__ = [
 FUNCTIONS = (
     "step3", "power", "normal_force", "friction_force", "driver_acceleration", "driver_angle",
     "driver_speed", "rot", "point_global", "constraint_rows", "constraint_jacobian",
-    "acceleration_rhs", "cholesky_solve", "constrained_accelerations", "push",
+    "constraint_acceleration_rhs", "cholesky_solve", "constrained_accelerations", "push",
     "eccentricity_rate", "rotation_of", "rotations", "arm_rotated", "arm", "joint_kinematics",
     "contact_clearance", "penetration_and_rate",
     "sommerfeld_angle", "film_integrals", "film_share", "reynolds_matrix", "reynolds_components", "reynolds_force",

@@ -282,7 +282,7 @@ def constraint_jacobian(y, rp, ip, lay, out):
         out[row, 3 * crank + 2] = 1.0
 
 
-def acceleration_rhs(t, y, rp, ip, lay, out):
+def constraint_acceleration_rhs(t, y, rp, ip, lay, out):
     """γ with Φ_q q̈ = γ into ``out``: the quadratic
     velocity terms and the driver's φ̈_d."""
     n = lay[LY_N]
@@ -379,7 +379,7 @@ def constrained_accelerations(t, y, rp, ip, lay, f, phi_q, schur, lam):
     o_mass = lay[LY_MASS]
     rows = constraint_rows(rp, lay)
     constraint_jacobian(y, rp, ip, lay, phi_q)
-    acceleration_rhs(t, y, rp, ip, lay, lam)
+    constraint_acceleration_rhs(t, y, rp, ip, lay, lam)
     for r in range(rows):
         for p in range(rows):
             schur[r, p] = 0.0
