@@ -101,7 +101,6 @@ from jointplay._kernels.ids import (
     K_RHS,
     K_STEPS,
     STATUS_INTERRUPTED,
-    STATUS_RUNNING,
     STATUS_SUCCESS,
 )
 from jointplay._kernels.integrators import lane_methods
@@ -112,6 +111,9 @@ from jointplay._kernels.lanes.contract import (  # noqa: F401 (re-exported: the 
     REFINE_MARGIN,
     REFINE_POINTS,
     BatchKernelOutput,
+    finished,
+    lane_inputs,
+    lane_outputs,
 )
 from jointplay._kernels.radau import radau_integrate
 
@@ -391,27 +393,15 @@ def run_batch(
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
     ipar_a = _read_only_copy(np.asarray(ipar, dtype=np.int64))
     rpar_a = _read_only_copy(np.atleast_2d(np.asarray(rpar, dtype=np.float64)))
-    y0_a = np.ascontiguousarray(np.atleast_2d(np.asarray(y0, dtype=np.float64)))
-    lanes = y0_a.shape[0]
-    settle_a, end_a, step_a = (
-        np.ascontiguousarray(np.broadcast_to(np.asarray(v, dtype=np.float64), (lanes,)))
-        for v in (t_settle, t_end, max_step)
-    )
-    atol_a = np.ascontiguousarray(np.asarray(atol, dtype=np.float64))
     nb, nj, _, size = layout(ipar_a)
+    y0_a, settle_a, end_a, step_a, atol_a = lane_inputs(
+        y0, t_settle, t_end, max_step, atol, rpar_a, size, ValueError
+    )
+    lanes = y0_a.shape[0]
     nq_model = 2 * nb + nj + 1
-    if y0_a.shape[1] != size or atol_a.shape != (size,) or rpar_a.shape[0] != lanes:
-        raise ValueError(
-            f"run_batch: y0 must be (n, {size}) and atol ({size},), rpar (n, R); got y0 "
-            f"{y0_a.shape}, atol {atol_a.shape}, rpar {rpar_a.shape}"
-        )
     lay = lane_build.running_layout(ipar_a, rpar_a)
     n_peaks, n_stats = lane_build.output_widths(lay, rpar_a)
-    peaks = np.full((lanes, n_peaks), np.nan)
-    stats = np.full((lanes, n_stats), np.nan)
-    status = np.full(lanes, STATUS_RUNNING, dtype=np.int64)
-    t_reached = np.zeros(lanes)
-    counts = np.zeros((lanes, 3), dtype=np.int64)
+    peaks, stats, status, t_reached, counts = lane_outputs(lanes, n_peaks, n_stats)
     flags = _NO_INTERRUPT if interrupt is None else interrupt
     if lanes:
         if method == "explicit":  # the lane of the single source (jointplay._kernels.lanes)
@@ -429,15 +419,4 @@ def run_batch(
                 (peaks, stats, status, t_reached, counts),
                 threads=numba.get_num_threads() if parallel else 1,
             )  # fmt: skip
-    failed = status != STATUS_SUCCESS
-    peaks[failed] = np.nan
-    stats[failed] = np.nan
-    return BatchKernelOutput(
-        peaks=peaks,
-        stats=stats,
-        status=status,
-        t_reached=t_reached,
-        n_steps=counts[:, K_STEPS].copy(),
-        n_rejected=counts[:, K_REJECTED].copy(),
-        n_rhs=counts[:, K_RHS].copy(),
-    )
+    return finished(peaks, stats, status, t_reached, counts)
