@@ -35,7 +35,7 @@ __all__ = [
 #: The source's functions, compiled for every target.
 FUNCTIONS = (
     "step3", "power", "normal_force", "friction_force", "driver_acceleration", "driver_angle",
-    "driver_speed", "rot", "point_global", "constraint_rows", "constraint_jacobian",
+    "driver_speed", "rot", "point_global", "ideal_joint", "revolute_arm", "constraint_rows", "constraint_jacobian",
     "constraint_acceleration_rhs", "cholesky_solve", "constrained_accelerations", "push",
     "eccentricity_rate", "rotation_of", "rotations", "arm_rotated", "arm", "joint_kinematics",
     "contact_clearance", "penetration_and_rate",

@@ -225,6 +225,26 @@ def point_global(y, body, sx, sy):
     return y[3 * body] + ax, y[3 * body + 1] + ay
 
 
+def ideal_joint(ip, lay, j):
+    """``(kind, a, b)`` of joint ``j``: kind 0 revolute, 1 prismatic, −1 not an ideal joint (a
+    clearance joint's: no constraint rows); its bodies a, b (−1: the ground)."""
+    o_ji = lay[LY_JOINT_INT]
+    if ip[lay[LY_ACTIVE] + j] == 0:
+        return -1, ip[o_ji + 3 * j + 1], ip[o_ji + 3 * j + 2]
+    return ip[o_ji + 3 * j], ip[o_ji + 3 * j + 1], ip[o_ji + 3 * j + 2]
+
+
+def revolute_arm(y, rp, o_jf, j, side, a, b):
+    """Side ``side`` of revolute joint ``j`` (0: body ``a``, sign +1; 1: body ``b``, −1):
+    ``(body, sign, ax, ay)`` with its arm A(φ) s in the global frame (0 on the ground)."""
+    body = a if side == 0 else b
+    sign = 1.0 if side == 0 else -1.0
+    if body < 0:
+        return body, sign, 0.0, 0.0
+    ax, ay = rot(y[3 * body + 2], rp[o_jf + 6 * j + 2 * side], rp[o_jf + 6 * j + 2 * side + 1])
+    return body, sign, ax, ay
+
+
 def constraint_rows(rp, lay):
     """Rows of Φ: 2 per ideal joint, 1 for the driver unless it is off."""
     return 2 * lay[LY_NIDEAL] + (1 if rp[lay[LY_DRIVER]] >= 0 else 0)
@@ -234,26 +254,20 @@ def constraint_jacobian(y, rp, ip, lay, out):
     """Φ_q (rows × 3 nb) into ``out`` : revolute
     Φ = r_a + A_a s_a − r_b − A_b s_b, prismatic φ_b − φ_a − θ0 and n_a·d, driver φ_k − φ_d."""
     n = lay[LY_N]
-    o_ji = lay[LY_JOINT_INT]
     o_jf = lay[LY_JOINT_F]
     for r in range(constraint_rows(rp, lay)):
         for i in range(n):
             out[r, i] = 0.0
     row = 0
     for j in range(lay[LY_NJ]):
-        if ip[lay[LY_ACTIVE] + j] == 0:
+        kind, a, b = ideal_joint(ip, lay, j)
+        if kind < 0:
             continue
-        kind = ip[o_ji + 3 * j]
-        a = ip[o_ji + 3 * j + 1]
-        b = ip[o_ji + 3 * j + 2]
         if kind == 0:
             for side in range(2):
-                body = a if side == 0 else b
-                sign = 1.0 if side == 0 else -1.0
+                body, sign, ax, ay = revolute_arm(y, rp, o_jf, j, side, a, b)
                 if body < 0:
                     continue
-                ax, ay = rot(y[3 * body + 2], rp[o_jf + 6 * j + 2 * side],
-                             rp[o_jf + 6 * j + 2 * side + 1])  # fmt: skip
                 out[row, 3 * body] += sign
                 out[row + 1, 3 * body + 1] += sign
                 out[row, 3 * body + 2] += -sign * ay
@@ -286,26 +300,20 @@ def constraint_acceleration_rhs(t, y, rp, ip, lay, out):
     """γ with Φ_q q̈ = γ into ``out``: the quadratic
     velocity terms and the driver's φ̈_d."""
     n = lay[LY_N]
-    o_ji = lay[LY_JOINT_INT]
     o_jf = lay[LY_JOINT_F]
     for r in range(constraint_rows(rp, lay)):
         out[r] = 0.0
     row = 0
     for j in range(lay[LY_NJ]):
-        if ip[lay[LY_ACTIVE] + j] == 0:
+        kind, a, b = ideal_joint(ip, lay, j)
+        if kind < 0:
             continue
-        kind = ip[o_ji + 3 * j]
-        a = ip[o_ji + 3 * j + 1]
-        b = ip[o_ji + 3 * j + 2]
         if kind == 0:
             # γ = A_a s_a φ̇_a² − A_b s_b φ̇_b²
             for side in range(2):
-                body = a if side == 0 else b
-                sign = 1.0 if side == 0 else -1.0
+                body, sign, ax, ay = revolute_arm(y, rp, o_jf, j, side, a, b)
                 if body < 0:
                     continue
-                ax, ay = rot(y[3 * body + 2], rp[o_jf + 6 * j + 2 * side],
-                             rp[o_jf + 6 * j + 2 * side + 1])  # fmt: skip
                 w2 = y[n + 3 * body + 2] ** 2
                 out[row] += sign * ax * w2
                 out[row + 1] += sign * ay * w2
@@ -972,15 +980,12 @@ def project_driver(t, y, rp, lay):
 def constraint_residual(t, y, rp, ip, lay, out):
     """Φ(q, t) into ``out``: m for the joint rows, rad for
     the angle rows."""
-    o_ji = lay[LY_JOINT_INT]
     o_jf = lay[LY_JOINT_F]
     row = 0
     for j in range(lay[LY_NJ]):
-        if ip[lay[LY_ACTIVE] + j] == 0:
+        kind, a, b = ideal_joint(ip, lay, j)
+        if kind < 0:
             continue
-        kind = ip[o_ji + 3 * j]
-        a = ip[o_ji + 3 * j + 1]
-        b = ip[o_ji + 3 * j + 2]
         pax, pay = point_global(y, a, rp[o_jf + 6 * j], rp[o_jf + 6 * j + 1])
         pbx, pby = point_global(y, b, rp[o_jf + 6 * j + 2], rp[o_jf + 6 * j + 3])
         if kind == 0:
