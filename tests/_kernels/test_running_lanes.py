@@ -15,7 +15,7 @@ from jointplay._kernels.capabilities import refusal
 from jointplay._kernels.lanes import source
 from jointplay._kernels.lanes.build import output_widths, running_layout
 from jointplay._kernels.lanes.contract import lane_outputs
-from jointplay._kernels.lanes.cpu import compiled, explicit_lanes
+from jointplay._kernels.lanes.cpu import EXPLICIT_DRIVERS, compiled
 from jointplay.dynamics.wear import OutputSpeedReference, _spread
 from jointplay.model.mechanism import Mechanism
 
@@ -74,10 +74,10 @@ def test_the_running_tail_widens_the_outputs_only_when_given() -> None:
     assert output_widths(lay, wide) == (n_q + 1, n_stats + 5 * nc + 1 + 2 * bins * nc)
 
 
-def test_the_explicit_lanes_flag_runs_the_running_compilation() -> None:
-    # one pair of explicit drivers for both compilations of the lane: with the flag the
-    # running one (source.RUNNING: the wear rates closed at the window's end), without it
-    # the plain one (the running slots as start_outputs left them: rates NaN)
+def test_the_explicit_drivers_run_their_own_compilation_of_the_lane() -> None:
+    # the explicit drivers, one source over both compilations of the lane: the running ones
+    # run source.RUNNING's lane (the wear rates closed at the window's end), the plain ones
+    # the lane without it (the running slots as start_outputs left them: rates NaN)
     from jointplay.dynamics.batch import BatchSamples, build_batch
     from jointplay.dynamics.clearance import ClearanceJoint
     from jointplay.dynamics.setup import DEFAULT_IMPACT
@@ -94,12 +94,12 @@ def test_the_explicit_lanes_flag_runs_the_running_compilation() -> None:
     lay = running_layout(problem.ipar, rpar)
     width = output_widths(lay, rpar)
     rates = slice(int(source.running_stats(lay)), int(source.running_stats(lay)) + nc)
-    for running in (False, True):
+    for (running, _), drivers in EXPLICIT_DRIVERS.items():
         peaks, stats, status, t_reached, counts = lane_outputs(2, *width)
-        explicit_lanes(
+        drivers(
             problem.ipar, rpar, lay, problem.y0, problem.t_settle, problem.t_end,
             problem.max_step, problem.rtol, problem.atol, problem.max_steps,
-            np.zeros(1, dtype=np.uint8), peaks, stats, status, t_reached, counts, running,
+            np.zeros(1, dtype=np.uint8), peaks, stats, status, t_reached, counts,
         )  # fmt: skip
         assert (status == ids.STATUS_SUCCESS).all()
         if running:

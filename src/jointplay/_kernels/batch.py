@@ -405,12 +405,11 @@ def run_batch(
     flags = _NO_INTERRUPT if interrupt is None else interrupt
     if lanes:
         if method == "explicit":  # the lane of the single source (jointplay._kernels.lanes)
-            lanes_kernel = lane_cpu.explicit_lanes_parallel if parallel else lane_cpu.explicit_lanes
-            lanes_kernel(
+            # the running reductions (n_peaks > nq_model): their own compilation of the lane
+            lane_cpu.EXPLICIT_DRIVERS[n_peaks > nq_model, parallel](
                 ipar_a, rpar_a, lay, y0_a, settle_a, end_a, step_a,
                 float(rtol), atol_a, int(max_steps), flags,
                 peaks, stats, status, t_reached, counts,
-                n_peaks > nq_model,  # the running reductions: their own compilation of the lane
             )  # fmt: skip
         else:
             _implicit_lanes(

@@ -9,6 +9,9 @@ depend on the other lanes or on the thread that runs it.
 
 from __future__ import annotations
 
+import types
+from typing import Any
+
 import numba
 import numpy as np
 
@@ -41,10 +44,13 @@ explicit_lane_running = compiled_running["explicit_lane"]
 implicit_lane = compiled["implicit_lane"]
 
 __all__ = [
+    "EXPLICIT_DRIVERS",
     "compiled",
     "explicit_lane",
     "explicit_lanes",
     "explicit_lanes_parallel",
+    "explicit_lanes_running",
+    "explicit_lanes_running_parallel",
     "implicit_lane",
     "implicit_lanes",
     "implicit_lanes_parallel",
@@ -66,58 +72,78 @@ def _work(lay, n_q):
     )  # fmt: skip
 
 
-@numba.njit(cache=True, error_model="numpy")
 def _one(
     ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-    peaks, stats, status, t_reached, counts, lane, running,
+    peaks, stats, status, t_reached, counts, lane,
 ):  # fmt: skip
-    """Lane ``lane`` of the explicit method: :data:`explicit_lane`, or
-    :data:`explicit_lane_running` when ``running`` (the lanes' ``rpar`` carry the running
-    tail)."""
+    """Lane ``lane`` of the explicit method (:func:`_explicit_drivers`' ``explicit_lane``)."""
     size = y0.shape[1]
     mask, q, samples, pen, records, phi_q, schur, lam, scratch = _work(lay, peaks.shape[1])
     k = np.empty((7, size))
     work = np.empty((6, size))
-    lane_args = (
+    code, t = explicit_lane(
         ipar, rpar[lane], lay, y0[lane], t_settle[lane], t_end[lane], max_step[lane], rtol,
         atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask, k,
         work[0], work[1], work[2], work[3], work[4], work[5], q[0], q[1], samples, pen[0],
         records[0], records[1], records[2], phi_q, schur, lam, scratch,
     )  # fmt: skip
-    if running:
-        code, t = explicit_lane_running(*lane_args)
-    else:
-        code, t = explicit_lane(*lane_args)
     status[lane] = code
     t_reached[lane] = t
 
 
-@numba.njit(cache=True, error_model="numpy")
-def explicit_lanes(
+def _lanes(
     ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-    peaks, stats, status, t_reached, counts, running=False,
+    peaks, stats, status, t_reached, counts,
 ):  # fmt: skip
     """Every lane, one after the other (arguments: :func:`jointplay._kernels.batch.run_batch`,
-    plus ``lay`` of :func:`jointplay._kernels.lanes.build.lane_layout`; outputs in place;
-    ``running``: the running reductions, :data:`explicit_lane_running`)."""
+    plus ``lay`` of :func:`jointplay._kernels.lanes.build.lane_layout`; outputs in place)."""
     for lane in range(y0.shape[0]):
         _one(
             ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-            peaks, stats, status, t_reached, counts, lane, running,
+            peaks, stats, status, t_reached, counts, lane,
         )  # fmt: skip
 
 
-@numba.njit(cache=True, error_model="numpy", parallel=True)
-def explicit_lanes_parallel(
+def _lanes_parallel(
     ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-    peaks, stats, status, t_reached, counts, running=False,
+    peaks, stats, status, t_reached, counts,
 ):  # fmt: skip
-    """:func:`explicit_lanes` on Numba's threads (``prange`` over lanes)."""
+    """:func:`_lanes` on Numba's threads (``prange`` over lanes)."""
     for lane in numba.prange(y0.shape[0]):
         _one(
             ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-            peaks, stats, status, t_reached, counts, lane, running,
+            peaks, stats, status, t_reached, counts, lane,
         )  # fmt: skip
+
+
+def _explicit_drivers(lane: Any, tag: str) -> tuple[Any, Any]:
+    """The serial and the threaded drivers of :func:`_lanes` and :func:`_lanes_parallel` over
+    the compiled explicit lane ``lane``: the functions compiled in a namespace of their own
+    (as :func:`~jointplay._kernels.lanes.build.build` does), ``tag`` keeping their cache
+    entries apart, so that each pair links its own lane and no other."""
+    namespace = {"np": np, "numba": numba, "_work": _work, "explicit_lane": lane}
+    for function, options in ((_one, {}), (_lanes, {}), (_lanes_parallel, {"parallel": True})):
+        copy = types.FunctionType(function.__code__, namespace, function.__name__)
+        copy.__module__ = function.__module__
+        copy.__qualname__ = function.__qualname__ + tag
+        copy.__doc__ = function.__doc__
+        namespace[function.__name__] = numba.njit(cache=True, error_model="numpy", **options)(copy)
+    return namespace["_lanes"], namespace["_lanes_parallel"]
+
+
+#: Every lane of the explicit method, serially and on Numba's threads.
+explicit_lanes, explicit_lanes_parallel = _explicit_drivers(explicit_lane, "")
+#: The same with the running reductions (:data:`explicit_lane_running`).
+explicit_lanes_running, explicit_lanes_running_parallel = _explicit_drivers(
+    explicit_lane_running, "_running"
+)
+#: The explicit drivers by ``(running, parallel)``.
+EXPLICIT_DRIVERS = {
+    (False, False): explicit_lanes,
+    (False, True): explicit_lanes_parallel,
+    (True, False): explicit_lanes_running,
+    (True, True): explicit_lanes_running_parallel,
+}
 
 
 @numba.njit(cache=True, error_model="numpy")
