@@ -122,12 +122,14 @@ def _explicit_drivers(lane: Any, tag: str) -> tuple[Any, Any]:
     (as :func:`~jointplay._kernels.lanes.build.build` does), ``tag`` keeping their cache
     entries apart, so that each pair links its own lane and no other."""
     namespace = {"np": np, "numba": numba, "_work": _work, "explicit_lane": lane}
-    for function, options in ((_one, {}), (_lanes, {}), (_lanes_parallel, {"parallel": True})):
+    for function, parallel in ((_one, False), (_lanes, False), (_lanes_parallel, True)):
         copy = types.FunctionType(function.__code__, namespace, function.__name__)
         copy.__module__ = function.__module__
         copy.__qualname__ = function.__qualname__ + tag
         copy.__doc__ = function.__doc__
-        namespace[function.__name__] = numba.njit(cache=True, error_model="numpy", **options)(copy)
+        namespace[function.__name__] = numba.njit(
+            cache=True, error_model="numpy", parallel=parallel
+        )(copy)
     return namespace["_lanes"], namespace["_lanes_parallel"]
 
 
