@@ -209,8 +209,30 @@ def test_the_parabolic_refinement_finds_a_parabolas_vertex() -> None:
     theta = np.concatenate([[0.0], kb.REFINE_POINTS, [1.0]])
     samples = (5.0 - (theta - 0.4) ** 2)[:, None]
     peaks = np.array([0.0])
-    kb.lanes_refine_peaks(samples, peaks, peaks.shape[0])
+    kb.lanes_refine_peaks(samples, peaks, 0, peaks.shape[0])
     assert peaks[0] == pytest.approx(5.0, rel=1e-15)
+
+
+@pytest.mark.parametrize("every", [False, True])
+def test_the_refinement_takes_every_quantity_or_the_last_alone(every: bool) -> None:
+    """One refinement for both rules: every quantity (the peak rule) or the last alone (the
+    running responses' speed deviation, refined on every step); the others are left as they
+    were, their samples unread."""
+    theta = np.concatenate([[0.0], kb.REFINE_POINTS, [1.0]])
+    last = 5.0 - (theta - 0.4) ** 2
+    samples = np.full((len(theta), 2), np.nan)
+    samples[1:-1, 0] = 9.0 - (theta[1:-1] - 0.5) ** 2  # a larger bump in the first quantity
+    samples[1:-1, 1] = last[1:-1]
+    qa = np.array([8.75, last[0]])
+    qb = np.array([8.75, last[-1]])
+    peaks = np.zeros(2)
+    first = kb.lanes_refine_start(qa, qb, samples, every, 2)
+    assert first == (0 if every else 1)
+    assert samples[[0, -1], 1].tolist() == [last[0], last[-1]]
+    assert np.isnan(samples[[0, -1], 0]).all() != every
+    kb.lanes_refine_peaks(samples, peaks, first, 2)
+    assert peaks[1] == pytest.approx(5.0, rel=1e-15)
+    assert peaks[0] == (pytest.approx(9.0, rel=1e-15) if every else 0.0)
 
 
 @pytest.mark.parametrize("film", [0.0, 1e5])

@@ -14,7 +14,8 @@ from jointplay._kernels import ids
 from jointplay._kernels.capabilities import refusal
 from jointplay._kernels.lanes import source
 from jointplay._kernels.lanes.build import output_widths, running_layout
-from jointplay._kernels.lanes.cpu import compiled
+from jointplay._kernels.lanes.contract import lane_outputs
+from jointplay._kernels.lanes.cpu import EXPLICIT_DRIVERS, compiled
 from jointplay.dynamics.wear import OutputSpeedReference, _spread
 from jointplay.model.mechanism import Mechanism
 
@@ -71,6 +72,40 @@ def test_the_running_tail_widens_the_outputs_only_when_given() -> None:
     wide = np.hstack([problem.rpar, tail])
     lay = running_layout(problem.ipar, wide)
     assert output_widths(lay, wide) == (n_q + 1, n_stats + 5 * nc + 1 + 2 * bins * nc)
+
+
+def test_the_explicit_drivers_run_their_own_compilation_of_the_lane() -> None:
+    # the explicit drivers, one source over both compilations of the lane: the running ones
+    # run source.RUNNING's lane (the wear rates closed at the window's end), the plain ones
+    # the lane without it (the running slots as start_outputs left them: rates NaN)
+    from jointplay.dynamics.batch import BatchSamples, build_batch
+    from jointplay.dynamics.clearance import ClearanceJoint
+    from jointplay.dynamics.setup import DEFAULT_IMPACT
+    from jointplay.io.config import load_preset
+
+    mechanism = load_preset("paper-fourbar")
+    joints = [ClearanceJoint(j, 2.5e-4, 5e-3, DEFAULT_IMPACT) for j in ("A", "B")]
+    problem = build_batch(mechanism, joints, BatchSamples(size=2), revolutions=0.1, settle=0)
+    nc = len(joints)
+    bins = 16
+    joint = [5e-3, 1e11, 1e-12]  # width m, E* Pa, k/H 1/Pa
+    tail = np.array([[2.0, 3.0, bins, 0.0, 2.0, 4.0, 1.0, 1.0, 1.0, *(joint * nc)]] * 2)
+    rpar = np.hstack([problem.rpar, tail])
+    lay = running_layout(problem.ipar, rpar)
+    width = output_widths(lay, rpar)
+    rates = slice(int(source.running_stats(lay)), int(source.running_stats(lay)) + nc)
+    for (running, _), drivers in EXPLICIT_DRIVERS.items():
+        peaks, stats, status, t_reached, counts = lane_outputs(2, *width)
+        drivers(
+            problem.ipar, rpar, lay, problem.y0, problem.t_settle, problem.t_end,
+            problem.max_step, problem.rtol, problem.atol, problem.max_steps,
+            np.zeros(1, dtype=np.uint8), peaks, stats, status, t_reached, counts,
+        )  # fmt: skip
+        assert (status == ids.STATUS_SUCCESS).all()
+        if running:
+            assert np.isfinite(stats[:, rates]).all() and (stats[:, rates] > 0.0).all()
+        else:
+            assert np.isnan(stats[:, rates]).all()
 
 
 def test_the_jax_backend_refuses_the_running_responses() -> None:

@@ -86,7 +86,7 @@ on the chunk it runs in, or on the thread that runs it.
 
 from __future__ import annotations
 
-from typing import Any, TypeVar
+from typing import TypeVar
 
 import numba
 import numpy as np
@@ -101,7 +101,6 @@ from jointplay._kernels.ids import (
     K_RHS,
     K_STEPS,
     STATUS_INTERRUPTED,
-    STATUS_RUNNING,
     STATUS_SUCCESS,
 )
 from jointplay._kernels.integrators import lane_methods
@@ -112,6 +111,9 @@ from jointplay._kernels.lanes.contract import (  # noqa: F401 (re-exported: the 
     REFINE_MARGIN,
     REFINE_POINTS,
     BatchKernelOutput,
+    finished,
+    lane_inputs,
+    lane_outputs,
 )
 from jointplay._kernels.radau import radau_integrate
 
@@ -120,7 +122,7 @@ lanes_triggers = lane_cpu.compiled["triggers"]
 lanes_any_film = lane_cpu.compiled["any_film"]
 lanes_wants_refinement = lane_cpu.compiled["wants_refinement"]
 lanes_refine_peaks = lane_cpu.compiled["refine_peaks"]
-lanes_refine_one = lane_cpu.compiled["refine_one"]
+lanes_refine_start = lane_cpu.compiled["refine_start"]
 lanes_open_window = lane_cpu.compiled["open_window"]
 lanes_accumulate = lane_cpu.compiled["accumulate"]
 lanes_close_window = lane_cpu.compiled["close_window"]
@@ -234,26 +236,18 @@ def _trajectory_reduce(ipar, rpar, lay, ts, ys, t_settle, t_end, peaks, stats):
             lanes_speed_deviation(ys[i], rpar, lay, qb)
         lanes_accumulate(qa, qb, pen, t_b - t_a, peaks, stats, nb, n_q, nc)
         lanes_accumulate_regimes(rpar, lay, pen, t_b - t_a, stats, nb, nc)
-        if lanes_wants_refinement(qa, qb, peaks, mask, n_q - 1 if running else n_q):
+        every = lanes_wants_refinement(qa, qb, peaks, mask, n_q - 1 if running else n_q)
+        if every or running:  # the deviation alone is refined on every step (its own rule)
             h = t_b - t_a
-            samples[0] = qa
-            samples[n_points + 1] = qb
+            start = lanes_refine_start(qa, qb, samples, every, n_q)
             for r in range(n_points):
                 tau = t_a + REFINE_POINTS[r] * h
                 _step_state(film, ts, ys, fs, bits, i, tau, n, y_mid)
-                eom.quantities(tau, y_mid, rpar, ipar, samples[r + 1], pen)
+                if every:
+                    eom.quantities(tau, y_mid, rpar, ipar, samples[r + 1], pen)
                 if running:
                     lanes_speed_deviation(y_mid, rpar, lay, samples[r + 1])
-            lanes_refine_peaks(samples, peaks, n_q)
-        elif running:  # the deviation is refined on every step (its own rule)
-            h = t_b - t_a
-            p = n_q - 1
-            samples[0, p] = qa[p]
-            samples[n_points + 1, p] = qb[p]
-            for r in range(n_points):
-                _step_state(film, ts, ys, fs, bits, i, t_a + REFINE_POINTS[r] * h, n, y_mid)
-                lanes_speed_deviation(y_mid, rpar, lay, samples[r + 1])
-            lanes_refine_one(samples, peaks, p)
+            lanes_refine_peaks(samples, peaks, start, n_q)
         qa, qb = qb, qa
         t_a = t_b
     lanes_close_window(stats, nb, t_end - t_settle)
@@ -399,41 +393,20 @@ def run_batch(
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
     ipar_a = _read_only_copy(np.asarray(ipar, dtype=np.int64))
     rpar_a = _read_only_copy(np.atleast_2d(np.asarray(rpar, dtype=np.float64)))
-    y0_a = np.ascontiguousarray(np.atleast_2d(np.asarray(y0, dtype=np.float64)))
-    lanes = y0_a.shape[0]
-    settle_a, end_a, step_a = (
-        np.ascontiguousarray(np.broadcast_to(np.asarray(v, dtype=np.float64), (lanes,)))
-        for v in (t_settle, t_end, max_step)
-    )
-    atol_a = np.ascontiguousarray(np.asarray(atol, dtype=np.float64))
     nb, nj, _, size = layout(ipar_a)
+    y0_a, settle_a, end_a, step_a, atol_a = lane_inputs(
+        y0, t_settle, t_end, max_step, atol, rpar_a, size, ValueError
+    )
+    lanes = y0_a.shape[0]
     nq_model = 2 * nb + nj + 1
-    if y0_a.shape[1] != size or atol_a.shape != (size,) or rpar_a.shape[0] != lanes:
-        raise ValueError(
-            f"run_batch: y0 must be (n, {size}) and atol ({size},), rpar (n, R); got y0 "
-            f"{y0_a.shape}, atol {atol_a.shape}, rpar {rpar_a.shape}"
-        )
     lay = lane_build.running_layout(ipar_a, rpar_a)
     n_peaks, n_stats = lane_build.output_widths(lay, rpar_a)
-    peaks = np.full((lanes, n_peaks), np.nan)
-    stats = np.full((lanes, n_stats), np.nan)
-    status = np.full(lanes, STATUS_RUNNING, dtype=np.int64)
-    t_reached = np.zeros(lanes)
-    counts = np.zeros((lanes, 3), dtype=np.int64)
+    peaks, stats, status, t_reached, counts = lane_outputs(lanes, n_peaks, n_stats)
     flags = _NO_INTERRUPT if interrupt is None else interrupt
     if lanes:
         if method == "explicit":  # the lane of the single source (jointplay._kernels.lanes)
-            if n_peaks > nq_model:  # the running reductions: their own compilation
-                lanes_kernel: Any = (
-                    lane_cpu.explicit_lanes_running_parallel
-                    if parallel
-                    else lane_cpu.explicit_lanes_running
-                )
-            else:
-                lanes_kernel = (
-                    lane_cpu.explicit_lanes_parallel if parallel else lane_cpu.explicit_lanes
-                )
-            lanes_kernel(
+            # the running reductions (n_peaks > nq_model): their own compilation of the lane
+            lane_cpu.EXPLICIT_DRIVERS[n_peaks > nq_model, parallel](
                 ipar_a, rpar_a, lay, y0_a, settle_a, end_a, step_a,
                 float(rtol), atol_a, int(max_steps), flags,
                 peaks, stats, status, t_reached, counts,
@@ -445,15 +418,4 @@ def run_batch(
                 (peaks, stats, status, t_reached, counts),
                 threads=numba.get_num_threads() if parallel else 1,
             )  # fmt: skip
-    failed = status != STATUS_SUCCESS
-    peaks[failed] = np.nan
-    stats[failed] = np.nan
-    return BatchKernelOutput(
-        peaks=peaks,
-        stats=stats,
-        status=status,
-        t_reached=t_reached,
-        n_steps=counts[:, K_STEPS].copy(),
-        n_rejected=counts[:, K_REJECTED].copy(),
-        n_rhs=counts[:, K_RHS].copy(),
-    )
+    return finished(peaks, stats, status, t_reached, counts)

@@ -14,7 +14,7 @@ Velocity equations Φ_q q̇ = ν and acceleration equations Φ_q q̈ = γ use th
 computed here. Body index −1 is the ground (its point is global and fixed).
 
 The equations are the lane source's (:mod:`jointplay._kernels.lanes.source`:
-``constraint_residual``, ``constraint_jacobian``, ``acceleration_rhs``, the driver's motion),
+``constraint_residual``, ``constraint_jacobian``, ``constraint_acceleration_rhs``, the driver's motion),
 compiled for the single engine (:mod:`jointplay._kernels.shared`); this module gives them to
 the model layer (the kinematics solver, inverse dynamics, initial states) with the joint
 tables as 2-D arrays and the results allocated.
@@ -44,7 +44,7 @@ _driver_acceleration = compiled["driver_acceleration"]
 _constraint_rows = compiled["constraint_rows"]
 _constraint_residual = compiled["constraint_residual"]
 _constraint_jacobian = compiled["constraint_jacobian"]
-_acceleration_rhs = compiled["acceleration_rhs"]
+_acceleration_rhs = compiled["constraint_acceleration_rhs"]
 
 
 @njit(cache=True)

@@ -81,11 +81,8 @@ Compilation: :mod:`jointplay._kernels.driver`'s (one cached copy of the loop per
 type of ``args``, the user's functions passed as first-class function values, so
 :func:`radau_integrate` is called from Python).
 
-References:
-    .. [HW96] E. Hairer, G. Wanner, *Solving Ordinary Differential Equations II: Stiff and
-       Differential-Algebraic Problems*, 2nd ed., Springer, 1996, §IV.8.
-    .. [SciPy] P. Virtanen et al., "SciPy 1.0", *Nature Methods* 17, 261–272 (2020);
-       ``scipy/integrate/_ivp/radau.py`` and ``common.py``.
+References: Hairer & Wanner 1996, §IV.8, and SciPy 1.0 (:mod:`jointplay._kernels.driver`'s
+[HW96] and [SciPy]), ``scipy/integrate/_ivp/radau.py`` and ``common.py``.
 """
 
 from __future__ import annotations

@@ -34,7 +34,7 @@ from jointplay._kernels.lanes.source import (
     LY_NC,
     LY_PFRIC,
     N_GEOM,
-    acceleration_rhs,
+    constraint_acceleration_rhs,
     constraint_jacobian,
     constraint_rows,
     friction_force,
@@ -126,7 +126,7 @@ def sustained_accelerations(t, y, rp, ip, lay, f, record, recording, lam):
     phi_q = np.zeros((rows, n))
     gamma = np.zeros(rows)
     constraint_jacobian(y, rp, ip, lay, phi_q)
-    acceleration_rhs(t, y, rp, ip, lay, gamma)
+    constraint_acceleration_rhs(t, y, rp, ip, lay, gamma)
     m = 0
     for c in range(nc):
         if y[2 * n + 2 + c] < 0.0:

@@ -35,8 +35,8 @@ __all__ = [
 #: The source's functions, compiled for every target.
 FUNCTIONS = (
     "step3", "power", "normal_force", "friction_force", "driver_acceleration", "driver_angle",
-    "driver_speed", "rot", "point_global", "constraint_rows", "constraint_jacobian",
-    "acceleration_rhs", "cholesky_solve", "constrained_accelerations", "push",
+    "driver_speed", "rot", "point_global", "ideal_joint", "revolute_arm", "constraint_rows", "constraint_jacobian",
+    "constraint_acceleration_rhs", "cholesky_solve", "constrained_accelerations", "push",
     "eccentricity_rate", "rotation_of", "rotations", "arm_rotated", "arm", "joint_kinematics",
     "contact_clearance", "penetration_and_rate",
     "sommerfeld_angle", "film_integrals", "film_share", "reynolds_matrix", "reynolds_components", "reynolds_force",
@@ -46,7 +46,7 @@ FUNCTIONS = (
     "onset_check", "impact_rate", "contact_memory", "project_driver", "constraint_residual",
     "max_abs", "schur_solve", "project_constraints", "project",
     "all_finite", "interrupt_pending", "dense", "triggers", "wants_refinement",
-    "refine_one", "refine_peaks", "open_window", "accumulate", "close_window",
+    "refine_start", "refine_one", "refine_peaks", "open_window", "accumulate", "close_window",
     "regime_gap", "open_regimes", "accumulate_regimes", "close_regimes",
     "running_on", "running_base", "running_stats", "reference_speed", "speed_deviation",
     "spread_weight", "spread_wear", "body_angle", "midpoint_angle", "running_point",

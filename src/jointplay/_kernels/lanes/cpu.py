@@ -9,6 +9,9 @@ depend on the other lanes or on the thread that runs it.
 
 from __future__ import annotations
 
+import types
+from typing import Any
+
 import numba
 import numpy as np
 
@@ -29,18 +32,19 @@ explicit_lane = compiled["explicit_lane"]
 #: The explicit lane with the running reductions (``source.RUNNING``: a separate compilation,
 #: so that :data:`explicit_lane` has none of their code), run when the lanes' ``rpar`` carry
 #: the running tail (:func:`jointplay._kernels.lanes.build.running_layout`).
-running = build(
+compiled_running = build(
     numba.njit(cache=True, error_model="numpy"),
     hooks={"project": project_lapack},
     extras={"np": np, "RUNNING": True},
     only=closed(("explicit_lane",)),
     tag="running",
 )
-explicit_lane_running = running["explicit_lane"]
+explicit_lane_running = compiled_running["explicit_lane"]
 #: The implicit lane (:mod:`jointplay._kernels.lanes.source_radau`), compiled for the CPU.
 implicit_lane = compiled["implicit_lane"]
 
 __all__ = [
+    "EXPLICIT_DRIVERS",
     "compiled",
     "explicit_lane",
     "explicit_lanes",
@@ -68,11 +72,11 @@ def _work(lay, n_q):
     )  # fmt: skip
 
 
-@numba.njit(cache=True, error_model="numpy")
 def _one(
     ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
     peaks, stats, status, t_reached, counts, lane,
 ):  # fmt: skip
+    """Lane ``lane`` of the explicit method (:func:`_explicit_drivers`' ``explicit_lane``)."""
     size = y0.shape[1]
     mask, q, samples, pen, records, phi_q, schur, lam, scratch = _work(lay, peaks.shape[1])
     k = np.empty((7, size))
@@ -87,54 +91,7 @@ def _one(
     t_reached[lane] = t
 
 
-@numba.njit(cache=True, error_model="numpy")
-def _one_running(
-    ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-    peaks, stats, status, t_reached, counts, lane,
-):  # fmt: skip
-    """:func:`_one` with :data:`explicit_lane_running`."""
-    size = y0.shape[1]
-    mask, q, samples, pen, records, phi_q, schur, lam, scratch = _work(lay, peaks.shape[1])
-    k = np.empty((7, size))
-    work = np.empty((6, size))
-    code, t = explicit_lane_running(
-        ipar, rpar[lane], lay, y0[lane], t_settle[lane], t_end[lane], max_step[lane], rtol,
-        atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask, k,
-        work[0], work[1], work[2], work[3], work[4], work[5], q[0], q[1], samples, pen[0],
-        records[0], records[1], records[2], phi_q, schur, lam, scratch,
-    )  # fmt: skip
-    status[lane] = code
-    t_reached[lane] = t
-
-
-@numba.njit(cache=True, error_model="numpy")
-def explicit_lanes_running(
-    ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-    peaks, stats, status, t_reached, counts,
-):  # fmt: skip
-    """:func:`explicit_lanes` with the running reductions (:data:`explicit_lane_running`)."""
-    for lane in range(y0.shape[0]):
-        _one_running(
-            ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-            peaks, stats, status, t_reached, counts, lane,
-        )  # fmt: skip
-
-
-@numba.njit(cache=True, error_model="numpy", parallel=True)
-def explicit_lanes_running_parallel(
-    ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-    peaks, stats, status, t_reached, counts,
-):  # fmt: skip
-    """:func:`explicit_lanes_running` on Numba's threads (``prange`` over lanes)."""
-    for lane in numba.prange(y0.shape[0]):
-        _one_running(
-            ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-            peaks, stats, status, t_reached, counts, lane,
-        )  # fmt: skip
-
-
-@numba.njit(cache=True, error_model="numpy")
-def explicit_lanes(
+def _lanes(
     ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
     peaks, stats, status, t_reached, counts,
 ):  # fmt: skip
@@ -147,17 +104,48 @@ def explicit_lanes(
         )  # fmt: skip
 
 
-@numba.njit(cache=True, error_model="numpy", parallel=True)
-def explicit_lanes_parallel(
+def _lanes_parallel(
     ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
     peaks, stats, status, t_reached, counts,
 ):  # fmt: skip
-    """:func:`explicit_lanes` on Numba's threads (``prange`` over lanes)."""
+    """:func:`_lanes` on Numba's threads (``prange`` over lanes)."""
     for lane in numba.prange(y0.shape[0]):
         _one(
             ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
             peaks, stats, status, t_reached, counts, lane,
         )  # fmt: skip
+
+
+def _explicit_drivers(lane: Any, tag: str) -> tuple[Any, Any]:
+    """The serial and the threaded drivers of :func:`_lanes` and :func:`_lanes_parallel` over
+    the compiled explicit lane ``lane``: the functions compiled in a namespace of their own
+    (as :func:`~jointplay._kernels.lanes.build.build` does), ``tag`` keeping their cache
+    entries apart, so that each pair links its own lane and no other."""
+    namespace = {"np": np, "numba": numba, "_work": _work, "explicit_lane": lane}
+    for function, parallel in ((_one, False), (_lanes, False), (_lanes_parallel, True)):
+        copy = types.FunctionType(function.__code__, namespace, function.__name__)
+        copy.__module__ = function.__module__
+        copy.__qualname__ = function.__qualname__ + tag
+        copy.__doc__ = function.__doc__
+        namespace[function.__name__] = numba.njit(
+            cache=True, error_model="numpy", parallel=parallel
+        )(copy)
+    return namespace["_lanes"], namespace["_lanes_parallel"]
+
+
+#: Every lane of the explicit method, serially and on Numba's threads.
+explicit_lanes, explicit_lanes_parallel = _explicit_drivers(explicit_lane, "")
+#: The same with the running reductions (:data:`explicit_lane_running`).
+explicit_lanes_running, explicit_lanes_running_parallel = _explicit_drivers(
+    explicit_lane_running, "_running"
+)
+#: The explicit drivers by ``(running, parallel)``.
+EXPLICIT_DRIVERS = {
+    (False, False): explicit_lanes,
+    (False, True): explicit_lanes_parallel,
+    (True, False): explicit_lanes_running,
+    (True, True): explicit_lanes_running_parallel,
+}
 
 
 @numba.njit(cache=True, error_model="numpy")

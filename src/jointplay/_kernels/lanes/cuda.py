@@ -42,11 +42,15 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from jointplay._kernels.ids import STATUS_RUNNING, STATUS_SUCCESS
 from jointplay._kernels.integrators import lane_methods
 from jointplay._kernels.lanes import source
 from jointplay._kernels.lanes.build import lanes_refusal, output_widths, running_layout
-from jointplay._kernels.lanes.contract import BatchKernelOutput
+from jointplay._kernels.lanes.contract import (
+    BatchKernelOutput,
+    finished,
+    lane_inputs,
+    lane_outputs,
+)
 from jointplay._kernels.lanes.limits import (
     MAX_CLEAR,
     MAX_COORDS,
@@ -165,27 +169,15 @@ def run_batch(
                 f"the cuda batch backend's lanes hold at most {limit} {name}, this mechanism "
                 f"has {value} (raise it in jointplay._kernels.lanes.limits)"
             )
-    y0_a = np.ascontiguousarray(np.atleast_2d(np.asarray(y0, dtype=np.float64)))
-    lanes = y0_a.shape[0]
-    settle_a, end_a, step_a = (
-        np.ascontiguousarray(np.broadcast_to(np.asarray(v, dtype=np.float64), (lanes,)))
-        for v in (t_settle, t_end, max_step)
+    y0_a, settle_a, end_a, step_a, atol_a = lane_inputs(
+        y0, t_settle, t_end, max_step, atol, rpar_a, size, ConfigError
     )
-    atol_a = np.ascontiguousarray(np.asarray(atol, dtype=np.float64))
-    if y0_a.shape[1] != size or atol_a.shape != (size,) or rpar_a.shape[0] != lanes:
-        raise ConfigError(
-            f"run_batch: y0 must be (n, {size}) and atol ({size},), rpar (n, R); got y0 "
-            f"{y0_a.shape}, atol {atol_a.shape}, rpar {rpar_a.shape}"
-        )
+    lanes = y0_a.shape[0]
     refusal = lanes_refusal(ipar_a, rpar_a, method)
     if refusal is not None:
         raise ConfigError(f"the cuda batch backend: {refusal}")
     n_q, n_stats = output_widths(lay, rpar_a)  # + the regimes' 3 nc, + the running slots
-    peaks = np.full((lanes, n_q), np.nan)
-    stats = np.full((lanes, n_stats), np.nan)
-    status = np.full(lanes, STATUS_RUNNING, dtype=np.int64)
-    t_reached = np.zeros(lanes)
-    counts = np.zeros((lanes, 3), dtype=np.int64)
+    peaks, stats, status, t_reached, counts = lane_outputs(lanes, n_q, n_stats)
     compile_s = run_s = 0.0
     if lanes:
         cuda = _cuda()
@@ -208,18 +200,7 @@ def run_batch(
         run_s = time.perf_counter() - clock
     if timings is not None:
         timings.update(compile_s=compile_s, run_s=run_s, lanes=float(lanes))
-    failed = status != STATUS_SUCCESS
-    peaks[failed] = np.nan
-    stats[failed] = np.nan
-    return BatchKernelOutput(
-        peaks=peaks,
-        stats=stats,
-        status=status,
-        t_reached=t_reached,
-        n_steps=counts[:, 0].copy(),
-        n_rejected=counts[:, 1].copy(),
-        n_rhs=counts[:, 2].copy(),
-    )
+    return finished(peaks, stats, status, t_reached, counts)
 
 
 @contextmanager

@@ -225,6 +225,26 @@ def point_global(y, body, sx, sy):
     return y[3 * body] + ax, y[3 * body + 1] + ay
 
 
+def ideal_joint(ip, lay, j):
+    """``(kind, a, b)`` of joint ``j``: kind 0 revolute, 1 prismatic, −1 not an ideal joint (a
+    clearance joint's: no constraint rows); its bodies a, b (−1: the ground)."""
+    o_ji = lay[LY_JOINT_INT]
+    if ip[lay[LY_ACTIVE] + j] == 0:
+        return -1, ip[o_ji + 3 * j + 1], ip[o_ji + 3 * j + 2]
+    return ip[o_ji + 3 * j], ip[o_ji + 3 * j + 1], ip[o_ji + 3 * j + 2]
+
+
+def revolute_arm(y, rp, o_jf, j, side, a, b):
+    """Side ``side`` of revolute joint ``j`` (0: body ``a``, sign +1; 1: body ``b``, −1):
+    ``(body, sign, ax, ay)`` with its arm A(φ) s in the global frame (0 on the ground)."""
+    body = a if side == 0 else b
+    sign = 1.0 if side == 0 else -1.0
+    if body < 0:
+        return body, sign, 0.0, 0.0
+    ax, ay = rot(y[3 * body + 2], rp[o_jf + 6 * j + 2 * side], rp[o_jf + 6 * j + 2 * side + 1])
+    return body, sign, ax, ay
+
+
 def constraint_rows(rp, lay):
     """Rows of Φ: 2 per ideal joint, 1 for the driver unless it is off."""
     return 2 * lay[LY_NIDEAL] + (1 if rp[lay[LY_DRIVER]] >= 0 else 0)
@@ -234,26 +254,20 @@ def constraint_jacobian(y, rp, ip, lay, out):
     """Φ_q (rows × 3 nb) into ``out`` : revolute
     Φ = r_a + A_a s_a − r_b − A_b s_b, prismatic φ_b − φ_a − θ0 and n_a·d, driver φ_k − φ_d."""
     n = lay[LY_N]
-    o_ji = lay[LY_JOINT_INT]
     o_jf = lay[LY_JOINT_F]
     for r in range(constraint_rows(rp, lay)):
         for i in range(n):
             out[r, i] = 0.0
     row = 0
     for j in range(lay[LY_NJ]):
-        if ip[lay[LY_ACTIVE] + j] == 0:
+        kind, a, b = ideal_joint(ip, lay, j)
+        if kind < 0:
             continue
-        kind = ip[o_ji + 3 * j]
-        a = ip[o_ji + 3 * j + 1]
-        b = ip[o_ji + 3 * j + 2]
         if kind == 0:
             for side in range(2):
-                body = a if side == 0 else b
-                sign = 1.0 if side == 0 else -1.0
+                body, sign, ax, ay = revolute_arm(y, rp, o_jf, j, side, a, b)
                 if body < 0:
                     continue
-                ax, ay = rot(y[3 * body + 2], rp[o_jf + 6 * j + 2 * side],
-                             rp[o_jf + 6 * j + 2 * side + 1])  # fmt: skip
                 out[row, 3 * body] += sign
                 out[row + 1, 3 * body + 1] += sign
                 out[row, 3 * body + 2] += -sign * ay
@@ -282,30 +296,24 @@ def constraint_jacobian(y, rp, ip, lay, out):
         out[row, 3 * crank + 2] = 1.0
 
 
-def acceleration_rhs(t, y, rp, ip, lay, out):
+def constraint_acceleration_rhs(t, y, rp, ip, lay, out):
     """γ with Φ_q q̈ = γ into ``out``: the quadratic
     velocity terms and the driver's φ̈_d."""
     n = lay[LY_N]
-    o_ji = lay[LY_JOINT_INT]
     o_jf = lay[LY_JOINT_F]
     for r in range(constraint_rows(rp, lay)):
         out[r] = 0.0
     row = 0
     for j in range(lay[LY_NJ]):
-        if ip[lay[LY_ACTIVE] + j] == 0:
+        kind, a, b = ideal_joint(ip, lay, j)
+        if kind < 0:
             continue
-        kind = ip[o_ji + 3 * j]
-        a = ip[o_ji + 3 * j + 1]
-        b = ip[o_ji + 3 * j + 2]
         if kind == 0:
             # γ = A_a s_a φ̇_a² − A_b s_b φ̇_b²
             for side in range(2):
-                body = a if side == 0 else b
-                sign = 1.0 if side == 0 else -1.0
+                body, sign, ax, ay = revolute_arm(y, rp, o_jf, j, side, a, b)
                 if body < 0:
                     continue
-                ax, ay = rot(y[3 * body + 2], rp[o_jf + 6 * j + 2 * side],
-                             rp[o_jf + 6 * j + 2 * side + 1])  # fmt: skip
                 w2 = y[n + 3 * body + 2] ** 2
                 out[row] += sign * ax * w2
                 out[row + 1] += sign * ay * w2
@@ -379,7 +387,7 @@ def constrained_accelerations(t, y, rp, ip, lay, f, phi_q, schur, lam):
     o_mass = lay[LY_MASS]
     rows = constraint_rows(rp, lay)
     constraint_jacobian(y, rp, ip, lay, phi_q)
-    acceleration_rhs(t, y, rp, ip, lay, lam)
+    constraint_acceleration_rhs(t, y, rp, ip, lay, lam)
     for r in range(rows):
         for p in range(rows):
             schur[r, p] = 0.0
@@ -972,15 +980,12 @@ def project_driver(t, y, rp, lay):
 def constraint_residual(t, y, rp, ip, lay, out):
     """Φ(q, t) into ``out``: m for the joint rows, rad for
     the angle rows."""
-    o_ji = lay[LY_JOINT_INT]
     o_jf = lay[LY_JOINT_F]
     row = 0
     for j in range(lay[LY_NJ]):
-        if ip[lay[LY_ACTIVE] + j] == 0:
+        kind, a, b = ideal_joint(ip, lay, j)
+        if kind < 0:
             continue
-        kind = ip[o_ji + 3 * j]
-        a = ip[o_ji + 3 * j + 1]
-        b = ip[o_ji + 3 * j + 2]
         pax, pay = point_global(y, a, rp[o_jf + 6 * j], rp[o_jf + 6 * j + 1])
         pbx, pby = point_global(y, b, rp[o_jf + 6 * j + 2], rp[o_jf + 6 * j + 3])
         if kind == 0:
@@ -1187,10 +1192,21 @@ def wants_refinement(qa, qb, peaks, mask, n_q):
     return False
 
 
-def refine_peaks(samples, peaks, n_q):
-    """Raise ``peaks`` to the parabolic vertex through the largest sample of |Q| at θ = 0,
-    1/8, …, 1 (rows of ``samples``) and its two neighbours."""
-    for p in range(n_q):
+def refine_start(qa, qb, samples, every, n_q):
+    """The refinement's first quantity — 0 when ``every`` quantity is refined, else the
+    last (the running responses' speed deviation alone) — with ``qa`` and ``qb`` (the step's
+    two ends) as the first and last rows of ``samples`` from it on; returns it."""
+    first = 0 if every else n_q - 1
+    for p in range(first, n_q):
+        samples[0, p] = qa[p]
+        samples[N_REFINE + 1, p] = qb[p]
+    return first
+
+
+def refine_peaks(samples, peaks, first, n_q):
+    """Raise ``peaks[first:n_q]`` to the parabolic vertex through the largest sample of |Q|
+    at θ = 0, 1/8, …, 1 (rows of ``samples``) and its two neighbours."""
+    for p in range(first, n_q):
         refine_one(samples, peaks, p)
 
 
@@ -1682,26 +1698,18 @@ def explicit_lane(
             running_point(t_new, h, t_settle, y_new, rp, ip, lay, f_mid, record_mid, stats)
         if in_window:
             accumulate(qa, qb, pen, h, peaks, stats, nb, n_q, nc)
-            if wants_refinement(qa, qb, peaks, mask, n_q - 1 if running else n_q):
-                for p in range(n_q):
-                    samples[0, p] = qa[p]
-                    samples[N_REFINE + 1, p] = qb[p]
+            every = wants_refinement(qa, qb, peaks, mask, n_q - 1 if running else n_q)
+            if every or running:  # the deviation alone is refined on every step (its own rule)
+                first = refine_start(qa, qb, samples, every, n_q)
                 for r in range(N_REFINE):
                     theta = (r + 1) / 8.0
                     dense(y, k, h, theta, y_mid, size)
-                    quantities(t + theta * h, y_mid, rp, ip, lay, f_mid, record_mid,
-                               samples[r + 1], pen, phi_q, schur, lam)  # fmt: skip
+                    if every:
+                        quantities(t + theta * h, y_mid, rp, ip, lay, f_mid, record_mid,
+                                   samples[r + 1], pen, phi_q, schur, lam)  # fmt: skip
                     if running:
                         speed_deviation(y_mid, rp, lay, samples[r + 1])
-                refine_peaks(samples, peaks, n_q)
-            elif running:  # the deviation is refined on every step (its own rule)
-                p = n_q - 1
-                samples[0, p] = qa[p]
-                samples[N_REFINE + 1, p] = qb[p]
-                for r in range(N_REFINE):
-                    dense(y, k, h, (r + 1) / 8.0, y_mid, size)
-                    speed_deviation(y_mid, rp, lay, samples[r + 1])
-                refine_one(samples, peaks, p)
+                refine_peaks(samples, peaks, first, n_q)
             qa, qb = qb, qa
         elif t_new == t_settle:
             in_window = True

@@ -127,8 +127,8 @@ from jointplay._kernels.lanes.source import (
     open_window,
     project,
     quantities,
-    refine_one,
     refine_peaks,
+    refine_start,
     reynolds_force,
     reynolds_matrix,
     rhs,
@@ -1295,31 +1295,20 @@ def implicit_lane(
         if in_window:
             accumulate(qa, qb, pen, t_new - t_a, peaks, stats, nb, n_q, nc)
             accumulate_regimes(rp, lay, pen, t_new - t_a, stats, nb, nc)
-            if wants_refinement(qa, qb, peaks, mask, n_q - 1 if running else n_q):
+            every = wants_refinement(qa, qb, peaks, mask, n_q - 1 if running else n_q)
+            if every or running:  # the deviation alone is refined on every step (its own rule)
                 hw = t_new - t_a
-                for p in range(n_q):
-                    samples[0, p] = qa[p]
-                    samples[N_REFINE + 1, p] = qb[p]
+                first = refine_start(qa, qb, samples, every, n_q)
                 for r in range(N_REFINE):
                     tau = t_a + ((r + 1) / 8.0) * hw
                     hermite(t_old, y_old, t, y, f, t_new, y_new, f_new, n, size, tau, y_mid,
                             rule)  # fmt: skip
-                    quantities(tau, y_mid, rp, ip, lay, f_mid, record_mid, samples[r + 1],
-                               pen_open, phi_q, schur, lam)  # fmt: skip
+                    if every:
+                        quantities(tau, y_mid, rp, ip, lay, f_mid, record_mid, samples[r + 1],
+                                   pen_open, phi_q, schur, lam)  # fmt: skip
                     if running:
                         speed_deviation(y_mid, rp, lay, samples[r + 1])
-                refine_peaks(samples, peaks, n_q)
-            elif running:  # the deviation is refined on every step (its own rule)
-                hw = t_new - t_a
-                p = n_q - 1
-                samples[0, p] = qa[p]
-                samples[N_REFINE + 1, p] = qb[p]
-                for r in range(N_REFINE):
-                    tau = t_a + ((r + 1) / 8.0) * hw
-                    hermite(t_old, y_old, t, y, f, t_new, y_new, f_new, n, size, tau, y_mid,
-                            rule)  # fmt: skip
-                    speed_deviation(y_mid, rp, lay, samples[r + 1])
-                refine_one(samples, peaks, p)
+                refine_peaks(samples, peaks, first, n_q)
             qa, qb = qb, qa
         t_a = t_new
         polynomial(z, cq, size)  # the next Newton start
