@@ -603,10 +603,19 @@ def reynolds_force(form, coef, clearance, roughness, ex, ey, edx, edy, wa, wb):
         nx, ny = 1.0, 0.0
     rate = edx * nx + edy * ny
     wedge = 0.5 * length * (wa + wb) - (-edx * ny + edy * nx)
+    k, f_r, f_t = reynolds_local(form, coef, clearance, roughness, length, rate, wedge)
+    return k * (f_r * nx - f_t * ny), k * (f_r * ny + f_t * nx)
+
+
+def reynolds_local(form, coef, clearance, roughness, length, rate, wedge):
+    """:func:`reynolds_force`'s film in its joint's frame: (k, F_r, F_t), the force on the
+    journal being k (F_r n + F_t t) (N; k = C0/π times the film's share :func:`film_share`,
+    N·s/m; F_r, F_t :func:`reynolds_components`', m/s), at |e| = ``length`` (m),
+    ė_r = ė·n = ``rate`` and the wedge speed ``wedge`` (m/s). :func:`film_components` calls it
+    with the ė·n and ė·t of a joint's record: no rotation and no angle evaluated again."""
     eps = min(length / clearance, FILM_EPS_CAP)
     f_r, f_t = reynolds_components(form, eps, rate, wedge)
-    k = coef / math.pi * film_share(clearance, roughness, length)
-    return k * (f_r * nx - f_t * ny), k * (f_r * ny + f_t * nx)
+    return coef / math.pi * film_share(clearance, roughness, length), f_r, f_t
 
 
 def contact_forces(y, rp, ip, lay, f, record, recording):
@@ -723,26 +732,11 @@ def film_components(y, rp, ip, lay, record, c):
     """The film force c_e ė of clearance joint ``c`` in its contact frame, (c_e ė·n, c_e ė·t)
     (N; the journal feels minus this), from its record (:func:`contact_forces`: ė·n = δ̇,
     ė·t = v_T − R_J ω_b + R_B ω_a); for a Reynolds film (its ``G_FILM_MODEL``), minus
-    :func:`reynolds_force` along n and t; (0, 0) with the film off."""
+    :func:`reynolds_local` at that ė·n and ė·t (the record's, so the joint's kinematics are not
+    evaluated again: no rotation, no angle); (0, 0) with the film off."""
     film = rp[lay[LY_GEOM] + N_GEOM * c + G_FILM]
     if not film > 0.0:
         return 0.0, 0.0
-    form = rp[lay[LY_GEOM] + N_GEOM * c + G_FILM_MODEL]
-    if form != FILM_LINEAR:  # a Reynolds film: minus its force on the journal, along n and t
-        kin = joint_kinematics(y, rp, ip, lay, c)
-        wa, wb, edx, edy = kin[9], kin[10], kin[11], kin[12]
-        ex = record[7 * c + 5]
-        ey = record[7 * c + 6]
-        ffx, ffy = reynolds_force(
-            int(form), film, rp[lay[LY_GEOM] + N_GEOM * c + G_CLEARANCE],
-            rp[lay[LY_GEOM] + N_GEOM * c + G_ROUGHNESS], ex, ey, edx, edy, wa, wb,
-        )  # fmt: skip
-        length = math.sqrt(ex * ex + ey * ey)
-        nx = 1.0
-        ny = 0.0
-        if length > 0.0:
-            nx, ny = ex / length, ey / length
-        return -(ffx * nx + ffy * ny), -(-ffx * ny + ffy * nx)
     n = lay[LY_N]
     j = ip[lay[LY_CLEAR] + c]
     a = ip[lay[LY_JOINT_INT] + 3 * j + 1]
@@ -755,6 +749,17 @@ def film_components(y, rp, ip, lay, record, c):
         - rp[o_geom + N_GEOM * c + G_R_JOURNAL] * wb
         + rp[o_geom + N_GEOM * c + G_R_BEARING] * wa
     )
+    form = rp[o_geom + N_GEOM * c + G_FILM_MODEL]
+    if form != FILM_LINEAR:  # a Reynolds film: minus its force on the journal, along n and t
+        ex = record[7 * c + 5]
+        ey = record[7 * c + 6]
+        length = math.sqrt(ex * ex + ey * ey)
+        k, f_r, f_t = reynolds_local(
+            int(form), film, rp[o_geom + N_GEOM * c + G_CLEARANCE],
+            rp[o_geom + N_GEOM * c + G_ROUGHNESS], length, record[7 * c + 3],
+            0.5 * length * (wa + wb) - slide,
+        )  # fmt: skip
+        return -k * f_r, -k * f_t
     return film * record[7 * c + 3], film * slide
 
 
