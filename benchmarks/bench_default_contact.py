@@ -22,8 +22,8 @@ targets ≤ 30 ms per revolution and ≥ 15 samples/s on 2 cores).
   default first; wall time of each call, their ratio (target ≤ 2), and whether the study's
   own convergence check passes. Each contact first runs a study of a few samples, and the
   convergence check's SciPy import is made before either is timed: the one-time costs
-  (loading each contact's compiled kernels, ``scipy.stats``: 0.3–2.8 s, more than the
-  conventional study itself on a loaded machine) fell on whichever contact ran first.
+  (loading each contact's compiled kernels; ``scipy.stats``, 2.8 s on the loaded 2-core
+  machine) fell on whichever contact ran first (docs/performance.md, issue 39's section).
 """
 
 from __future__ import annotations
