@@ -39,7 +39,7 @@ FUNCTIONS = (
     "constraint_acceleration_rhs", "cholesky_solve", "constrained_accelerations", "push",
     "eccentricity_rate", "rotation_of", "rotations", "arm_rotated", "arm", "joint_kinematics",
     "contact_clearance", "penetration_and_rate",
-    "sommerfeld_angle", "film_integrals", "film_share", "reynolds_matrix", "reynolds_components", "reynolds_force",
+    "film_share", "reynolds_matrix", "reynolds_components", "reynolds_force", "reynolds_local",
     "contact_forces",
     "any_film", "film_components", "locked", "locked_accelerations", "rhs",
     "rhs_and_quantities", "quantities", "onset_fraction",

@@ -530,28 +530,6 @@ def penetration_and_rate(y, rp, ip, lay, c):
 
 
 # --- the Reynolds films (docs/contact.md, "Reynolds films") ----------------------------------
-def sommerfeld_angle(theta, eps):
-    """Sommerfeld's angle ψ of the film angle θ at eccentricity ratio ε (cos θ = (ε + cos ψ) /
-    (1 + ε cos ψ), tan(ψ/2) = tan(θ/2) √((1 + ε)/(1 − ε))), continuous in θ (ψ(θ + 2π) =
-    ψ(θ) + 2π): θ plus a bounded correction whose denominator is ≥ 2."""
-    k = math.sqrt((1.0 + eps) / (1.0 - eps))
-    return theta + 2.0 * math.atan(
-        (k - 1.0) * math.sin(theta) / ((1.0 + k) + (1.0 - k) * math.cos(theta))
-    )
-
-
-def film_integrals(theta, eps):
-    """The antiderivatives at θ of the three pressure integrals over h = c(1 − ε cos θ),
-    (ψ, sin ψ, cos ψ, −cos²θ / (2 (1 − ε cos θ)²)): ∫ cos²θ/u³ dθ = (1 − ε²)^(−5/2) [(ε² + ½) ψ
-    + 2ε sin ψ + ½ sin ψ cos ψ], ∫ sin²θ/u³ dθ = (1 − ε²)^(−3/2) [½ ψ − ½ sin ψ cos ψ],
-    ∫ sin θ cos θ/u³ dθ = −cos²θ/(2u²), u = 1 − ε cos θ (:func:`sommerfeld_angle`)."""
-    u = 1.0 - eps * math.cos(theta)
-    sin_psi = math.sqrt(1.0 - eps * eps) * math.sin(theta) / u
-    cos_psi = (math.cos(theta) - eps) / u
-    cos_t = math.cos(theta)
-    return sommerfeld_angle(theta, eps), sin_psi, cos_psi, -cos_t * cos_t / (2.0 * u * u)
-
-
 def reynolds_matrix(form, eps, rate, wedge):
     """The short-bearing Reynolds film's force on the journal as a matrix on (ė_r, wedge):
     (m_rr, m_rw, m_tr, m_tw), with F_r = m_rr ė_r + m_rw wedge along n (radial) and
@@ -564,19 +542,36 @@ def reynolds_matrix(form, eps, rate, wedge):
     film (``form`` FILM_SHORT_FULL: a constant matrix) or over where P > 0 (Gümbel's half
     film: the half θ ∈ (θ₁, θ₁ + π), θ₁ = −atan2(wedge, ė_r) − π/2, which moves with the ratio
     of squeeze to wedge; the matrix depends on that ratio only, and it is also the force's
-    exact derivative with respect to (ė_r, wedge): the moving ends add nothing, P = 0 there)."""
+    exact derivative with respect to (ė_r, wedge): the moving ends add nothing, P = 0 there).
+
+    The half film's integrals, with u = 1 − ε cos θ, s = 1 − ε² and Sommerfeld's angle ψ
+    (cos ψ = (cos θ − ε)/u, sin ψ = √s sin θ/u): ∫ cos²θ/u³ = s^(−5/2) [(ε² + ½) ψ + 2ε sin ψ
+    + ½ sin ψ cos ψ], ∫ sin²θ/u³ = s^(−3/2) [½ ψ − ½ sin ψ cos ψ], ∫ sin θ cos θ/u³ =
+    −cos²θ/(2u²), taken between θ₁ and θ₁ + π, where cos θ₁ = −wedge/ρ, sin θ₁ = −ė_r/ρ
+    (ρ = |(ė_r, wedge)|) and the other end's are their opposites: no angle is formed. ψ turns
+    by π − 2 atan(ε sin θ₁/√s) over the half (tan(ψ/2) = tan(θ/2) √((1 + ε)/(1 − ε)); the
+    two ends' arctangents combine into one, 1 + x₁x₂ = 4k/(D₁D₂) > 0), so the matrix costs
+    two square roots and one arctangent (docs/performance.md, "Lubricated default")."""
     s = 1.0 - eps * eps
+    r = math.sqrt(s)
     if form == FILM_SHORT_FULL:
-        squeeze = -math.pi * (1.0 + 2.0 * eps * eps) / (s * s * math.sqrt(s))
-        return squeeze, 0.0, 0.0, math.pi / (s * math.sqrt(s))
-    theta_1 = -math.atan2(wedge, rate) - 0.5 * math.pi
-    psi_1, sin_1, cos_1, q_1 = film_integrals(theta_1, eps)
-    psi_2, sin_2, cos_2, q_2 = film_integrals(theta_1 + math.pi, eps)
-    turn = psi_2 - psi_1
-    half = 0.5 * (sin_2 * cos_2 - sin_1 * cos_1)
-    i_cc = ((eps * eps + 0.5) * turn + 2.0 * eps * (sin_2 - sin_1) + half) / (s * s * math.sqrt(s))
-    i_ss = (0.5 * turn - half) / (s * math.sqrt(s))
-    i_sc = q_2 - q_1
+        squeeze = -math.pi * (1.0 + 2.0 * eps * eps) / (s * s * r)
+        return squeeze, 0.0, 0.0, math.pi / (s * r)
+    rho = math.sqrt(rate * rate + wedge * wedge)
+    if rho > 0.0:
+        cos_1 = -wedge / rho
+        sin_1 = -rate / rho
+    else:  # at rest: atan2(±0, ±0)'s end, θ₁ = −π/2 (or −3π/2 for ė_r = −0)
+        cos_1 = 0.0
+        sin_1 = -math.copysign(1.0, rate)
+    u_1 = 1.0 - eps * cos_1
+    u_2 = 1.0 + eps * cos_1
+    turn = math.pi - 2.0 * math.atan(eps * sin_1 / r)
+    rise = -2.0 * r * sin_1 / (u_1 * u_2)  # sin ψ₂ − sin ψ₁
+    half = 0.5 * r * sin_1 * ((cos_1 + eps) / (u_2 * u_2) - (cos_1 - eps) / (u_1 * u_1))
+    i_cc = ((eps * eps + 0.5) * turn + 2.0 * eps * rise + half) / (s * s * r)
+    i_ss = (0.5 * turn - half) / (s * r)
+    i_sc = 0.5 * cos_1 * cos_1 * (1.0 / (u_1 * u_1) - 1.0 / (u_2 * u_2))
     return -i_cc, i_sc, -i_sc, i_ss
 
 
@@ -616,10 +611,19 @@ def reynolds_force(form, coef, clearance, roughness, ex, ey, edx, edy, wa, wb):
         nx, ny = 1.0, 0.0
     rate = edx * nx + edy * ny
     wedge = 0.5 * length * (wa + wb) - (-edx * ny + edy * nx)
+    k, f_r, f_t = reynolds_local(form, coef, clearance, roughness, length, rate, wedge)
+    return k * (f_r * nx - f_t * ny), k * (f_r * ny + f_t * nx)
+
+
+def reynolds_local(form, coef, clearance, roughness, length, rate, wedge):
+    """:func:`reynolds_force`'s film in its joint's frame: (k, F_r, F_t), the force on the
+    journal being k (F_r n + F_t t) (N; k = C0/π times the film's share :func:`film_share`,
+    N·s/m; F_r, F_t :func:`reynolds_components`', m/s), at |e| = ``length`` (m),
+    ė_r = ė·n = ``rate`` and the wedge speed ``wedge`` (m/s). :func:`film_components` calls it
+    with the ė·n and ė·t of a joint's record: no rotation and no angle evaluated again."""
     eps = min(length / clearance, FILM_EPS_CAP)
     f_r, f_t = reynolds_components(form, eps, rate, wedge)
-    k = coef / math.pi * film_share(clearance, roughness, length)
-    return k * (f_r * nx - f_t * ny), k * (f_r * ny + f_t * nx)
+    return coef / math.pi * film_share(clearance, roughness, length), f_r, f_t
 
 
 def contact_forces(y, rp, ip, lay, f, record, recording):
@@ -736,26 +740,11 @@ def film_components(y, rp, ip, lay, record, c):
     """The film force c_e ė of clearance joint ``c`` in its contact frame, (c_e ė·n, c_e ė·t)
     (N; the journal feels minus this), from its record (:func:`contact_forces`: ė·n = δ̇,
     ė·t = v_T − R_J ω_b + R_B ω_a); for a Reynolds film (its ``G_FILM_MODEL``), minus
-    :func:`reynolds_force` along n and t; (0, 0) with the film off."""
+    :func:`reynolds_local` at that ė·n and ė·t (the record's, so the joint's kinematics are not
+    evaluated again: no rotation, no angle); (0, 0) with the film off."""
     film = rp[lay[LY_GEOM] + N_GEOM * c + G_FILM]
     if not film > 0.0:
         return 0.0, 0.0
-    form = rp[lay[LY_GEOM] + N_GEOM * c + G_FILM_MODEL]
-    if form != FILM_LINEAR:  # a Reynolds film: minus its force on the journal, along n and t
-        kin = joint_kinematics(y, rp, ip, lay, c)
-        wa, wb, edx, edy = kin[9], kin[10], kin[11], kin[12]
-        ex = record[7 * c + 5]
-        ey = record[7 * c + 6]
-        ffx, ffy = reynolds_force(
-            int(form), film, rp[lay[LY_GEOM] + N_GEOM * c + G_CLEARANCE],
-            rp[lay[LY_GEOM] + N_GEOM * c + G_ROUGHNESS], ex, ey, edx, edy, wa, wb,
-        )  # fmt: skip
-        length = math.sqrt(ex * ex + ey * ey)
-        nx = 1.0
-        ny = 0.0
-        if length > 0.0:
-            nx, ny = ex / length, ey / length
-        return -(ffx * nx + ffy * ny), -(-ffx * ny + ffy * nx)
     n = lay[LY_N]
     j = ip[lay[LY_CLEAR] + c]
     a = ip[lay[LY_JOINT_INT] + 3 * j + 1]
@@ -768,6 +757,17 @@ def film_components(y, rp, ip, lay, record, c):
         - rp[o_geom + N_GEOM * c + G_R_JOURNAL] * wb
         + rp[o_geom + N_GEOM * c + G_R_BEARING] * wa
     )
+    form = rp[o_geom + N_GEOM * c + G_FILM_MODEL]
+    if form != FILM_LINEAR:  # a Reynolds film: minus its force on the journal, along n and t
+        ex = record[7 * c + 5]
+        ey = record[7 * c + 6]
+        length = math.sqrt(ex * ex + ey * ey)
+        k, f_r, f_t = reynolds_local(
+            int(form), film, rp[o_geom + N_GEOM * c + G_CLEARANCE],
+            rp[o_geom + N_GEOM * c + G_ROUGHNESS], length, record[7 * c + 3],
+            0.5 * length * (wa + wb) - slide,
+        )  # fmt: skip
+        return -k * f_r, -k * f_t
     return film * record[7 * c + 3], film * slide
 
 
