@@ -270,3 +270,69 @@ def test_an_interrupted_block_keeps_no_life(monkeypatch: pytest.MonkeyPatch):
             WearStub(), _x([20e-6]), clearance_criteria({"A": 50e-6}),
             hours=100 * HOUR, first_step=4 * HOUR, backend=LOCAL,
         )  # fmt: skip
+
+
+@dataclass(frozen=True)
+class CountingStub(WearStub):
+    """:class:`WearStub` that counts the rows it simulates (in ``rows``)."""
+
+    rows: list[int] = dataclasses.field(default_factory=list)
+
+    def evaluate(self, x: np.ndarray) -> Evaluation:
+        self.rows.append(len(x))
+        return super().evaluate(x)
+
+
+def test_the_as_made_run_is_reused_not_repeated():
+    """A caller that already ran the mechanisms as made (the design study's samples) hands
+    the run over: the lives are the same bit for bit, and the as-made rows are not simulated
+    again (two mechanisms: two rows fewer)."""
+    from jointplay.tolerance.execution import run
+
+    x = _x([20e-6, 35e-6])
+    criteria = clearance_criteria({"A": 50e-6, "B": 100e-6})
+    options = {"hours": 200 * HOUR, "first_step": 4 * HOUR, "backend": LOCAL}
+    fresh = CountingStub(b=0.02 / HOUR)
+    alone = functional_lives(fresh, x, criteria, **options)
+    reused = CountingStub(b=0.02 / HOUR)
+    as_made = run(reused, x, backend=LOCAL)
+    reused.rows.clear()
+    given = functional_lives(reused, x, criteria, as_made=as_made, **options)
+    assert given.life.tolist() == alone.life.tolist()
+    assert given.resimulations.tolist() == alone.resimulations.tolist()
+    assert sum(reused.rows) == sum(fresh.rows) - 2
+    with pytest.raises(ConfigError, match="as_made"):
+        functional_lives(reused, x[:1], criteria, as_made=as_made, **options)
+
+
+@dataclass(frozen=True)
+class CountingWear(ConstantWear):
+    """:class:`ConstantWear` that counts the rows it simulates (in ``rows``)."""
+
+    rows: list[int] = dataclasses.field(default_factory=list)
+
+    def evaluate(self, x: np.ndarray) -> Evaluation:
+        self.rows.append(len(x))
+        return super().evaluate(x)
+
+
+def test_design_b_p_simulates_each_sample_as_made_once():
+    """``design --require "B10 >= X"``: the design's run of its samples is each life's start
+    (before, every sample was simulated as made twice: once for the design, once again as
+    its life began). Constant wear to 30 µm, steps of X/4 from the start: each sample's rows
+    are its simulations per life, nothing more."""
+    from jointplay.io.config import load_preset
+    from jointplay.study.design import design_study, schemes
+    from jointplay.tolerance.parts import Process, model_inputs
+
+    mechanism = load_preset("paper-fourbar")
+    (scheme,) = schemes(mechanism, ["H8/g7"], ["m"])
+    spec = scheme.spec(mechanism, Process())
+    names, _ = model_inputs(spec.names, np.empty((0, len(spec.names))))
+    model = CountingWear(names)
+    result = design_study(
+        mechanism, ["H8/g7"], ["m"], ["B10 >= 8 h"], samples=20, seed=3,
+        clearance_limit=30e-6, life_step=2 * HOUR, backend=LOCAL, model=model,
+    )  # fmt: skip
+    simulations = result.settings["functional_life"]["simulations"]
+    assert sum(model.rows) == simulations
