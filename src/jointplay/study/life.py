@@ -448,6 +448,7 @@ def population_life(
     backend: Backend | None = None,
     progress: Callable[[str], None] | None = None,
     model: ResponseModel | None = None,
+    min_step: float | None = None,
 ) -> LifeResult:
     """The life distribution of the mechanisms built to one scheme.
 
@@ -473,6 +474,10 @@ def population_life(
         backend: where the re-simulations run.
         progress: optional callback with one line per update block.
         model: the response model (default: the running responses of the scheme's inputs).
+        min_step: the smallest step, s (default :data:`MIN_STEP_SHARE` of the first); equal
+            to ``first_step``: fixed steps, each accepted whatever its error estimate (where
+            the wear rate's noise keeps every step at the smallest anyway, this saves the
+            rejected tries on the way down to it; docs/life.md, "Cost").
 
     Raises:
         ConfigError: no criterion, a bad requirement, a bad setting.
@@ -525,6 +530,7 @@ def population_life(
                 hours=hours,
                 first_step=step,
                 tolerance=tolerance,
+                min_step=min_step,
                 backend=backend,
                 on_step=note,
             )
@@ -553,6 +559,7 @@ def population_life(
         "truncated_at_limits": bool(truncate),
         "hours_s": hours,
         "first_step_s": step,
+        "min_step_s": min(step, step * MIN_STEP_SHARE if min_step is None else min_step),
         "tolerance": tolerance,
         "update_rule": (
             "each step grows the clearances by their wear rates extrapolated from the last two "
