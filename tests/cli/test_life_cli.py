@@ -51,6 +51,26 @@ def test_a_tiny_population_runs_end_to_end(tmp_path: Path, capsys: pytest.Captur
     assert (out / "histories.csv").exists()
 
 
+def test_fixed_steps_walk_the_update_hours(tmp_path: Path, capsys: pytest.CaptureFixture[str]):
+    """``--fixed-steps``: every accepted step is ``--update-hours`` (here 0.25 h) long, the last
+    one apart (the crossing, or the hours), and the summary states the smallest step as the
+    first (without it the smallest is a quarter of the first)."""
+    out = tmp_path / "life"
+    arguments = [*TINY]
+    arguments[arguments.index("--update-hours") + 1] = "0.25 h"
+    assert run([*arguments, "--fixed-steps", "--out", str(out)]) == 0, capsys.readouterr().out
+    histories = pd.read_csv(out / "histories.csv")
+    steps = [
+        history["hours"].diff().dropna().to_numpy()[:-1]
+        for _, history in histories.groupby("mechanism")
+    ]
+    assert sum(len(s) for s in steps) >= 2  # steps walked before the last
+    for walked in steps:
+        assert walked == pytest.approx([0.25] * len(walked))
+    settings = json.loads((out / "summary.json").read_text())["settings"]
+    assert settings["min_step_s"] == settings["first_step_s"] == 900.0
+
+
 @pytest.mark.parametrize(
     ("arguments", "culprit"),
     [

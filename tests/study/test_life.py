@@ -270,3 +270,120 @@ def test_an_interrupted_block_keeps_no_life(monkeypatch: pytest.MonkeyPatch):
             WearStub(), _x([20e-6]), clearance_criteria({"A": 50e-6}),
             hours=100 * HOUR, first_step=4 * HOUR, backend=LOCAL,
         )  # fmt: skip
+
+
+@dataclass(frozen=True)
+class CountingStub(WearStub):
+    """:class:`WearStub` that counts the rows it simulates (in ``rows``)."""
+
+    rows: list[int] = dataclasses.field(default_factory=list)
+
+    def evaluate(self, x: np.ndarray) -> Evaluation:
+        self.rows.append(len(x))
+        return super().evaluate(x)
+
+
+def test_the_as_made_run_is_reused_not_repeated():
+    """A caller that already ran the mechanisms as made (the design study's samples) hands
+    the run over: the lives are the same bit for bit, and the as-made rows are not simulated
+    again (two mechanisms: two rows fewer)."""
+    from jointplay.tolerance.execution import run
+
+    x = _x([20e-6, 35e-6])
+    criteria = clearance_criteria({"A": 50e-6, "B": 100e-6})
+    options = {"hours": 200 * HOUR, "first_step": 4 * HOUR, "backend": LOCAL}
+    fresh = CountingStub(b=0.02 / HOUR)
+    alone = functional_lives(fresh, x, criteria, **options)
+    reused = CountingStub(b=0.02 / HOUR)
+    as_made = run(reused, x, backend=LOCAL)
+    reused.rows.clear()
+    given = functional_lives(reused, x, criteria, as_made=as_made, **options)
+    assert given.life.tolist() == alone.life.tolist()
+    assert given.resimulations.tolist() == alone.resimulations.tolist()
+    assert sum(reused.rows) == sum(fresh.rows) - 2
+    with pytest.raises(ConfigError, match="as_made"):
+        functional_lives(reused, x[:1], criteria, as_made=as_made, **options)
+
+
+@dataclass(frozen=True)
+class CountingWear(ConstantWear):
+    """:class:`ConstantWear` that counts the rows it simulates (in ``rows``)."""
+
+    rows: list[int] = dataclasses.field(default_factory=list)
+
+    def evaluate(self, x: np.ndarray) -> Evaluation:
+        self.rows.append(len(x))
+        return super().evaluate(x)
+
+
+def test_design_b_p_simulates_each_sample_as_made_once():
+    """``design --require "B10 >= X"``: the design's run of its samples is each life's start
+    (before, every sample was simulated as made twice: once for the design, once again as
+    its life began). Constant wear to 30 µm, steps of X/4 from the start: each sample's rows
+    are its simulations per life, nothing more."""
+    from jointplay.io.config import load_preset
+    from jointplay.study.design import design_study, schemes
+    from jointplay.tolerance.parts import Process, model_inputs
+
+    mechanism = load_preset("paper-fourbar")
+    (scheme,) = schemes(mechanism, ["H8/g7"], ["m"])
+    spec = scheme.spec(mechanism, Process())
+    names, _ = model_inputs(spec.names, np.empty((0, len(spec.names))))
+    model = CountingWear(names)
+    result = design_study(
+        mechanism, ["H8/g7"], ["m"], ["B10 >= 8 h"], samples=20, seed=3,
+        clearance_limit=30e-6, life_step=2 * HOUR, backend=LOCAL, model=model,
+    )  # fmt: skip
+    simulations = result.settings["functional_life"]["simulations"]
+    assert sum(model.rows) == simulations
+
+
+@dataclass(frozen=True)
+class NoisyWear(ConstantWear):
+    """Every joint's rate 1 µm/h times a factor in [0.8, 1.2) that depends on the clearances
+    alone (a fixed pseudo-random function of them): the noise of one simulated revolution
+    of the dry paper four-bar, which no shorter step removes."""
+
+    def evaluate(self, x: np.ndarray) -> Evaluation:
+        evaluation = super().evaluate(x)
+        phase = np.sin(1e7 * x.sum(axis=1)) * 43758.5453
+        factor = 0.8 + 0.4 * (phase - np.floor(phase))
+        return dataclasses.replace(evaluation, values=evaluation.values * factor[:, None])
+
+
+def test_fixed_steps_give_the_same_lives_without_the_rejected_tries():
+    """Where the rate's noise defeats the step control (every estimate far above 1 %), each
+    life is walked at the smallest step anyway, after rejected tries from the first step down
+    to it. Starting at the smallest step (``min_step`` = ``first_step``) gives the same lives
+    bit for bit with those tries saved (as on the dry paper four-bar, 40 of 40 lives: 6.65 →
+    4.6 simulations a life)."""
+    from jointplay.io.config import load_preset
+    from jointplay.study.design_schemes import schemes
+    from jointplay.study.life import population_life
+    from jointplay.tolerance.parts import Process, model_inputs
+
+    mechanism = load_preset("paper-fourbar")
+    (scheme,) = schemes(mechanism, ["H8/g7"], ["m"])
+    spec = scheme.spec(mechanism, Process())
+    names, _ = model_inputs(spec.names, np.empty((0, len(spec.names))))
+    options = {"hours": 100 * HOUR, "clearance_limit": 30e-6, "samples": 30, "backend": LOCAL}
+    model = NoisyWear(names)
+    controlled = population_life(
+        mechanism, "H8/g7", "m", [], first_step=8 * HOUR, model=model, **options
+    )
+    fixed = population_life(
+        mechanism, "H8/g7", "m", [], first_step=2 * HOUR, min_step=2 * HOUR, model=model,
+        **options,
+    )  # fmt: skip
+    # the mechanisms whose every accepted step sat at the floor (2 h between the history's
+    # times, the crossing apart): where a step's noise happened to be small the control let
+    # the next one grow, and those lives differ
+    walked = [
+        bool(np.allclose(np.diff([t for t, _ in history[:-1]]), 2 * HOUR))
+        for history in controlled.lives.history
+    ]
+    assert sum(walked) >= 20
+    assert fixed.lives.life[walked].tolist() == controlled.lives.life[walked].tolist()
+    saved = controlled.lives.resimulations - fixed.lives.resimulations
+    assert saved[walked].min() >= 1
+    assert fixed.settings["min_step_s"] == 2 * HOUR

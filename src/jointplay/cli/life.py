@@ -120,6 +120,14 @@ def life_command(
             rich_help_panel=WEAR_PANEL,
         ),
     ] = None,
+    fixed_steps: Annotated[
+        bool,
+        typer.Option(
+            "--fixed-steps",
+            help="Steps of --update-hours, none rejected (noisy dry wear: same lives).",
+            rich_help_panel=WEAR_PANEL,
+        ),
+    ] = False,
     tolerance: Annotated[
         str,
         typer.Option(
@@ -292,6 +300,7 @@ def life_command(
                 wear=wear,
                 run_settings=settings,
                 first_step=first,
+                min_step=(first or horizon / 10.0) if fixed_steps else None,
                 tolerance=share,
                 truncate=truncate,
                 backend=where,

@@ -498,6 +498,10 @@ def design_study(
                                 ),
                                 hours=life_hours, first_step=float(life_step or life_hours),
                                 backend=backend,
+                                as_made=dataclasses.replace(  # its first state: not re-run
+                                    outcome, values=outcome.values[part],
+                                    status=outcome.status[part],
+                                ),
                             )  # fmt: skip
                         except KeyboardInterrupt:  # lives cut short: the block is not kept
                             interrupted = True

@@ -71,7 +71,7 @@ from jointplay.study.life_result import (
     Lives,
 )
 from jointplay.study.requirements import Requirement
-from jointplay.tolerance.execution import OK, Backend, run
+from jointplay.tolerance.execution import NOT_RUN, OK, Backend, RunResult, run
 from jointplay.tolerance.response_running import check_running_backend
 from jointplay.tolerance.responses import ResponseModel
 
@@ -210,6 +210,7 @@ def functional_lives(
     min_step: float | None = None,
     backend: Backend | None = None,
     on_step: Callable[[int, int], None] | None = None,
+    as_made: RunResult | None = None,
 ) -> Lives:
     """The functional life of each mechanism ``x`` (rows, the model's inputs at the start).
 
@@ -225,6 +226,11 @@ def functional_lives(
         min_step: the smallest step, s (default :data:`MIN_STEP_SHARE` of the first).
         backend: where each block of re-simulations runs (default: local processes).
         on_step: optional callback ``on_step(running, n)`` after each block.
+        as_made: the model already run on ``x`` (the caller's :func:`~jointplay.tolerance.
+            execution.run` of the same rows, e.g. the design study's samples): its responses
+            are the lives' start, and the as-made simulation is not repeated (it still
+            counts as the first of ``Lives.resimulations``). Only its rows' values and
+            status are read.
 
     Raises:
         ConfigError: the model has no clearance input or no wear rate for it, a criterion's
@@ -271,8 +277,13 @@ def functional_lives(
         outcome = run(model, block, backend=backend)
         if outcome.interrupted:  # lives cut short are no lives: nothing is kept
             raise KeyboardInterrupt
-        ok = outcome.status == OK
-        values = outcome.values
+        rates, margins, ok = reading(block, outcome.values, outcome.status == OK)
+        return rates, margins, outcome.values, ok
+
+    def reading(
+        block: FloatArray, values: FloatArray, ok: NDArray[np.bool_]
+    ) -> tuple[FloatArray, FloatArray, NDArray[np.bool_]]:
+        """Rates and margins of a block's responses."""
         rates = np.clip(values[:, rate_columns], 0.0, None)
         margins = (
             np.column_stack(
@@ -288,11 +299,21 @@ def functional_lives(
             if criteria
             else np.empty((len(block), 0))
         )
-        return rates, margins, values, ok
+        return rates, margins, ok
 
     t = np.zeros(n)
     clearance = x0[:, columns].copy()
-    rates, margins, _, ok = evaluate(x0)
+    if as_made is None:
+        rates, margins, _, ok = evaluate(x0)
+    else:
+        if as_made.values.shape != (n, len(responses)):
+            raise ConfigError(
+                f"as_made: {as_made.values.shape} responses for {n} mechanisms of "
+                f"{len(responses)} responses; pass the model's run of the same rows"
+            )
+        if np.any(as_made.status == NOT_RUN):  # an interrupted run: no life from it
+            raise KeyboardInterrupt
+        rates, margins, ok = reading(x0, as_made.values, as_made.status == OK)
     resims = np.ones(n, dtype=np.int64)
     life = np.full(n, np.nan)
     failing = np.full(n, "", dtype=object)
@@ -427,6 +448,7 @@ def population_life(
     backend: Backend | None = None,
     progress: Callable[[str], None] | None = None,
     model: ResponseModel | None = None,
+    min_step: float | None = None,
 ) -> LifeResult:
     """The life distribution of the mechanisms built to one scheme.
 
@@ -452,6 +474,10 @@ def population_life(
         backend: where the re-simulations run.
         progress: optional callback with one line per update block.
         model: the response model (default: the running responses of the scheme's inputs).
+        min_step: the smallest step, s (default :data:`MIN_STEP_SHARE` of the first); equal
+            to ``first_step``: fixed steps, each accepted whatever its error estimate (where
+            the wear rate's noise keeps every step at the smallest anyway, this saves the
+            rejected tries on the way down to it; docs/life.md, "Cost").
 
     Raises:
         ConfigError: no criterion, a bad requirement, a bad setting.
@@ -504,6 +530,7 @@ def population_life(
                 hours=hours,
                 first_step=step,
                 tolerance=tolerance,
+                min_step=min_step,
                 backend=backend,
                 on_step=note,
             )
@@ -532,6 +559,7 @@ def population_life(
         "truncated_at_limits": bool(truncate),
         "hours_s": hours,
         "first_step_s": step,
+        "min_step_s": min(step, step * MIN_STEP_SHARE if min_step is None else min_step),
         "tolerance": tolerance,
         "update_rule": (
             "each step grows the clearances by their wear rates extrapolated from the last two "
