@@ -334,8 +334,7 @@ def design_command(
         bool,
         typer.Option(
             "--model-sensitivity/--no-model-sensitivity",
-            help="Re-check the chosen scheme at the ends of the contact model's ranges "
-            "(on its first 200 samples).",
+            help="Re-check the chosen scheme's first 200 samples at the model's range ends.",
         ),
     ] = True,
     settle: SettleOption = 2,
