@@ -25,7 +25,7 @@ from jointplay.io.output import signals_held, write_csv, write_json
 from jointplay.report._mpl import pyplot
 from jointplay.report.figures import encode
 from jointplay.report.html import HtmlReport
-from jointplay.study.design import DesignResult
+from jointplay.study.design import DesignResult, kept_lives
 from jointplay.study.design_result import regime_rows
 from jointplay.study.life_result import LifeResult
 from jointplay.study.requirements import Requirement
@@ -276,7 +276,7 @@ def life_scheme(result: DesignResult) -> Mapping[str, Any] | None:
 def scheme_lives(result: DesignResult, scheme: str) -> LifeResult | None:
     """A scheme's functional lives (a B_p requirement's samples) as a population-life result,
     for :mod:`jointplay.report.life`'s Weibull-paper plot; ``None`` without them."""
-    from jointplay.study.life_result import LifeResult, Lives
+    from jointplay.study.life_result import LifeResult
     from jointplay.study.requirements import FUNCTIONAL_LIFE
 
     frame = result.samples
@@ -287,15 +287,7 @@ def scheme_lives(result: DesignResult, scheme: str) -> LifeResult | None:
     if not len(rows) or hours is None:
         return None
     n = len(rows)
-    lives = Lives(
-        joints=(),
-        life=rows[FUNCTIONAL_LIFE].to_numpy(dtype=float),
-        censored=rows[f"{FUNCTIONAL_LIFE}_censored"].to_numpy(dtype=bool),
-        failing=tuple(str(f) for f in rows[f"{FUNCTIONAL_LIFE}_failing"]),
-        resimulations=rows[f"{FUNCTIONAL_LIFE}_simulations"].to_numpy(dtype=np.int64),
-        history=((),) * n,
-        hours=float(hours),
-    )
+    lives = kept_lives(rows, float(hours))
     return LifeResult(
         mechanism_name=result.mechanism.name,
         criteria=tuple((result.settings.get("functional_life") or {}).get("criteria", ())),

@@ -820,7 +820,7 @@ class Earlier:
                 [np.asarray(rows["status"].map(codes), dtype=np.int8)],
                 [block(check_names)],
                 ["" if e is None else str(e) for e in rows["error"]],
-                [_kept_lives(rows)] if lives else [],
+                [kept_lives(rows)] if lives else [],
             )
         return out
 
@@ -829,8 +829,9 @@ class Earlier:
 LIFE_COLUMNS = ("censored", "failing", "simulations")
 
 
-def _kept_lives(rows: pd.DataFrame) -> Lives:
-    """The functional lives a resumed study kept (no clearance histories)."""
+def kept_lives(rows: pd.DataFrame, hours: float = math.nan) -> Lives:
+    """The functional lives of sample rows (a resumed study's, or a scheme's for its report),
+    without clearance histories; ``hours``: the censoring time, s."""
     n = len(rows)
     return Lives(
         joints=(),
@@ -839,7 +840,7 @@ def _kept_lives(rows: pd.DataFrame) -> Lives:
         failing=tuple(str(f) for f in rows[f"{FUNCTIONAL_LIFE}_failing"]),
         resimulations=rows[f"{FUNCTIONAL_LIFE}_simulations"].to_numpy(dtype=np.int64),
         history=((),) * n,
-        hours=math.nan,
+        hours=hours,
     )
 
 
