@@ -13,6 +13,7 @@ from pathlib import Path
 
 import pytest
 
+from _errors import assert_one_line_error
 from jointplay.cli import run
 from jointplay.io.output import MARKER
 
@@ -436,13 +437,7 @@ def test_bad_input_is_one_line_exit_2_and_leaves_out_alone(
         argv += ["--out", str(previous)]
     before = _snapshot(previous)
     status = run(argv)
-    err = capsys.readouterr().err
-    lines = err.strip().splitlines()
-    assert status == 2, err
-    assert len(lines) == 1, err
-    assert lines[0].startswith("jointplay: error: "), err
-    assert culprit in lines[0], err
-    assert "Traceback" not in err
+    assert_one_line_error(status, capsys.readouterr().err, culprit)
     assert _snapshot(previous) == before
     leftovers = [p.name for p in previous.parent.iterdir() if p.name != previous.name]
     assert leftovers == []

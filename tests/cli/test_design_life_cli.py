@@ -10,6 +10,7 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
+from _errors import assert_one_line_error
 from jointplay.cli import run
 
 #: Dry joints, a large wear coefficient and a tight limit: each life ends within a handful of
@@ -89,10 +90,5 @@ def test_bad_b_p_input_is_one_line_exit_2_and_writes_nothing(
     (previous / "keep.txt").write_text("an earlier result")
     status = run(["design", "--fits", "H8/g7", "--classes", "m", "--no-progress",
                   *arguments, "--out", str(previous)])  # fmt: skip
-    err = capsys.readouterr().err
-    lines = err.strip().splitlines()
-    assert status == 2, err
-    assert len(lines) == 1, err
-    assert lines[0].startswith("jointplay: error: "), err
-    assert culprit in lines[0], err
+    assert_one_line_error(status, capsys.readouterr().err, culprit)
     assert sorted(p.name for p in previous.iterdir()) == ["keep.txt"]

@@ -9,6 +9,7 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
+from _errors import assert_one_line_error
 from jointplay.cli import run
 
 #: Dry joints, a large wear coefficient and a tight limit: lives of a few hours, so that two
@@ -100,12 +101,7 @@ def test_bad_input_is_one_line_exit_2_and_writes_nothing(
     previous.mkdir()
     (previous / "keep.txt").write_text("an earlier result")
     status = run(["life", *arguments, "--out", str(previous)])
-    err = capsys.readouterr().err
-    lines = err.strip().splitlines()
-    assert status == 2, err
-    assert len(lines) == 1, err
-    assert lines[0].startswith("jointplay: error: "), err
-    assert culprit in lines[0], err
+    assert_one_line_error(status, capsys.readouterr().err, culprit)
     assert sorted(p.name for p in previous.iterdir()) == ["keep.txt"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["previous"]
 
