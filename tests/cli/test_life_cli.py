@@ -70,6 +70,7 @@ def test_fixed_steps_walk_the_update_hours(tmp_path: Path, capsys: pytest.Captur
         assert walked == pytest.approx([0.25] * len(walked))
     settings = json.loads((out / "summary.json").read_text())["settings"]
     assert settings["min_step_s"] == settings["first_step_s"] == 900.0
+    assert "fixed steps" in settings["update_rule"]  # not "else shortened" alone
 
 
 @pytest.mark.parametrize(

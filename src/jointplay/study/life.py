@@ -565,8 +565,15 @@ def population_life(
             "each step grows the clearances by their wear rates extrapolated from the last two "
             "states (AB2) and re-simulates there; accepted when the difference from the "
             f"trapezoid over its two end rates is at most {tolerance:.3g} of its clearance "
-            f"growth or {CLEARANCE_ATOL * 1e6:g} µm, else shortened; a crossing is located by "
-            f"linear interpolation of the margin, within {tolerance:.3g} of the life"
+            f"growth or {CLEARANCE_ATOL * 1e6:g} µm, else shortened"
+            + (
+                " (fixed steps: the smallest step is the first, so every step is accepted and "
+                "its error estimate only reported, per life)"
+                if min_step is not None and min_step >= step
+                else ""
+            )
+            + "; a crossing is located by linear interpolation of the margin, within "
+            f"{tolerance:.3g} of the life"
         ),
         "clearance_limit_m": limits,
         "criteria": [c.label for c in criteria],
