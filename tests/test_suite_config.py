@@ -84,3 +84,27 @@ def test_the_workers_run_the_long_modules_first() -> None:
         "tests/_kernels/test_driver.py::test_a",
         "tests/tolerance/test_x.py::test_g",
     ]
+
+
+def test_the_readme_command_leaves_out_the_slow_tier_and_ci_runs_it() -> None:
+    """``pytest`` alone deselects the slow tier (the README's command within its time); CI
+    runs the README's command and then the slow tier, so every test runs there."""
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
+    addopts = config["tool"]["pytest"]["ini_options"]["addopts"]
+    assert "-m 'not slow'" in addopts
+    ci = [line.strip() for line in (ROOT / ".ci" / "run").read_text().splitlines()]
+    readme = ci.index('pip install --quiet ".[test]" && pytest')
+    assert "pytest -m slow" in ci[readme + 1 :]
+
+
+def test_the_slow_tier_is_not_empty_and_not_the_suite() -> None:
+    """``-m slow`` (a later ``-m`` than addopts') selects the slow tier alone."""
+    done = subprocess.run(
+        [sys.executable, "-m", "pytest", "-n", "0", "-p", "no:cacheprovider", "--collect-only",
+         "-q", "-m", "slow", "tests/test_readme.py", "tests/test_suite_config.py"],
+        cwd=ROOT, capture_output=True, text=True, check=False, timeout=300,
+        env={**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)},
+    )  # fmt: skip
+    assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-2000:]
+    selected = [line for line in done.stdout.splitlines() if "::" in line]
+    assert selected and all(line.startswith("tests/test_readme.py") for line in selected)

@@ -42,6 +42,10 @@ from _tolerances import CONTRACT_OTHER_RTOL, SAME_ALGORITHM_RTOL, contract_rtol
 
 jax = pytest.importorskip("jax")
 
+# the JAX backend is experimental and each test compiles its own XLA programs (~40 s of the
+# suite): the slow tier, which CI runs
+pytestmark = pytest.mark.slow
+
 from jointplay._kernels import eom, ids  # noqa: E402
 from jointplay._kernels.ids import STATUS_NON_FINITE, STATUS_SUCCESS  # noqa: E402
 from jointplay._kernels.jax.eom import JaxModel, read_layout  # noqa: E402
@@ -350,7 +354,6 @@ def test_explicit_slider_crank_matches_single_engine() -> None:
     assert checked >= 4
 
 
-@pytest.mark.slow
 def test_implicit_stiff_set_matches_single_engine() -> None:
     """Radau IIA on the paper's spherical ECS set (IMPACT with d_max = 37 nm: stiff)."""
     from jointplay.study.ecs import ecs_parameters

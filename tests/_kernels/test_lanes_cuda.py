@@ -57,6 +57,10 @@ from jointplay.model.mechanism import Mechanism
 
 pytest.importorskip("numba_cuda")
 
+# numba-cuda's simulator runs the device kernels in Python (~50 s of the suite): the slow tier,
+# which CI runs
+pytestmark = pytest.mark.slow
+
 JOINTS = ("O2", "A", "B", "O4")
 #: The simulator's Python runs each device function call; three lanes of a revolution take
 #: about 15 s on a 2-core machine.

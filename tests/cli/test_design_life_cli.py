@@ -31,6 +31,7 @@ TINY = [
 ]  # fmt: skip
 
 
+@pytest.mark.slow
 def test_a_b10_design_runs_end_to_end_and_shows_the_life_plot(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ):

@@ -35,6 +35,7 @@ def _bump(text: str, name: str, row: str, factor: float) -> str:
     return text[: number.start()] + bumped + text[number.end() :]
 
 
+@pytest.mark.slow
 def test_the_pages_tables_are_the_computed_ones(tables: ModuleType, capsys) -> None:
     """Every table, as the script's check mode runs it (~15 s of integration quiet, ~35 s of
     wall time at load 4 on 2 cores, most of it the 20 dry revolutions and 15 damper runs)."""

@@ -125,6 +125,7 @@ def test_samples_not_of_the_study_stream_are_refused(paper_fourbar, tmp_path) ->
         _study(paper_fourbar, resume=dataclasses.replace(earlier, samples=samples))
 
 
+@pytest.mark.slow
 def test_a_dynamic_study_resumed_is_the_uninterrupted_one(
     paper_fourbar, tmp_path, monkeypatch
 ) -> None:

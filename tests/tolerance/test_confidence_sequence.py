@@ -39,6 +39,7 @@ def _verdicts(defect_rate: float, rule: str, studies: int = 1000) -> dict[str, i
     return {name: out.count(name) for name in ("meets", "fails", "undecided")}
 
 
+@pytest.mark.slow
 def test_a_yield_just_below_the_level_is_declared_met_in_at_most_5_percent() -> None:
     """True yield 99.72 % against 99.73 %: looked at every 100 samples up to 4 000 and
     stopped at the first verdict, the sequence says ``meets`` in ≤ 5 % of 1 000 studies;
@@ -50,6 +51,7 @@ def test_a_yield_just_below_the_level_is_declared_met_in_at_most_5_percent() -> 
     assert naive["meets"] > 50
 
 
+@pytest.mark.slow
 def test_a_yield_just_above_the_level_is_declared_failed_in_at_most_5_percent() -> None:
     assert _verdicts(1.0 - 0.9975, "sequential")["fails"] <= 50
 

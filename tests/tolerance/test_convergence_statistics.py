@@ -40,6 +40,7 @@ DRY = {
 }  # fmt: skip
 
 
+@pytest.mark.slow
 def test_a_dry_study_is_judged_on_the_statistics_it_reports(paper_fourbar: Mechanism) -> None:
     """Measured (seed 1): 14 of the 16 samples run again moved beyond 0.1 of a spread, up to
     184 % (alpha3_peak; F_O2_peak's mean over the 16 moved -3.1 N within ±4.4 N), all in
