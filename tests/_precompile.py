@@ -30,7 +30,7 @@ KERNELS = {
 }
 #: Two disjoint groups of about equal compile time (measured from a cold cache, CPU-s, each
 #: with the callees it compiles first: after_step 55, step_check 5, the source's rhs apart
-#: ~12; jacobian_state 41-51, rhs 21-24).
+#: ~12; jacobian_state 41-51, state_rhs 21-24).
 GROUPS = tuple(
     tuple(f"jointplay._kernels.{name}" for name in group)
     for group in (
