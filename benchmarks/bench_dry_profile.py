@@ -42,7 +42,7 @@ def run(revolutions: int) -> SimulationResult:
 def _time_rhs(t: float, y: Any, args: Any, calls: int) -> float:
     s = 0.0
     for _ in range(calls):
-        s += eom.rhs(t, y, args)[0]
+        s += eom.state_rhs(t, y, args)[0]
     return s
 
 
@@ -92,7 +92,7 @@ def micro_us(result: SimulationResult, h: float) -> dict[str, float]:
     y, t = np.array(result.y[i]), float(result.t[i])
     y2, t2 = np.array(result.y[i + 1]), float(result.t[i + 1])
     eom.start_workspace(y, args)
-    f = eom.rhs(t, y, args).copy()
+    f = eom.state_rhs(t, y, args).copy()
     out = np.empty((y.size, y.size))
     eom.jacobian_state(t, y, f, args, out)
     m2 = result.system.n_coordinates

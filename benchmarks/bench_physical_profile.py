@@ -80,7 +80,7 @@ def micro_us(result: SimulationResult, h: float) -> dict[str, float]:
     y, t = np.array(result.y[i]), float(result.t[i])
     y2, t2 = np.array(result.y[i + 1]), float(result.t[i + 1])
     eom.start_workspace(y, args)
-    f = eom.rhs(t, y, args).copy()
+    f = eom.state_rhs(t, y, args).copy()
     out = np.empty((y.size, y.size))
     n = result.system.n_coordinates
     eom.jacobian_state(t, y, f, args, out)

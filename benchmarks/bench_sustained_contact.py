@@ -195,11 +195,11 @@ def modes(states: int) -> None:
                     up, down = y0.copy(), y0.copy()
                     up[k] += h
                     down[k] -= h
-                    difference = eom.rhs(t[i], up, args) - eom.rhs(t[i], down, args)
+                    difference = eom.state_rhs(t[i], up, args) - eom.state_rhs(t[i], down, args)
                     jac[:, k] = difference[: 2 * n] / (2 * h)
             else:
                 full = np.zeros((y0.size, y0.size))
-                eom.jacobian_state(t[i], y0, eom.rhs(t[i], y0, args), args, full)
+                eom.jacobian_state(t[i], y0, eom.state_rhs(t[i], y0, args), args, full)
                 jac = full[: 2 * n, : 2 * n]
             print(
                 f"  t = {t[i]:.4f} s, step {t[i + 1] - t[i]:.1e} s: {_frequencies(jac, 8 if not on else 5)}"

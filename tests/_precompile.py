@@ -24,18 +24,18 @@ from typing import Any
 KERNELS = {
     "jointplay._kernels.eom.after_step": "eom.after_step",
     "jointplay._kernels.eom.step_check": "eom.step_check",
-    "jointplay._kernels.eom.rhs": "eom.rhs",
+    "jointplay._kernels.eom.state_rhs": "eom.state_rhs",
     "jointplay._kernels.eom.jacobian_state": "eom.jacobian_state",
     "jointplay._kernels.lanes.source.rhs": "source.rhs_apart",
 }
 #: Two disjoint groups of about equal compile time (measured from a cold cache, CPU-s, each
 #: with the callees it compiles first: after_step 55, step_check 5, the source's rhs apart
-#: ~12; jacobian_state 41-51, rhs 21-24).
+#: ~12; jacobian_state 41-51, state_rhs 21-24).
 GROUPS = tuple(
     tuple(f"jointplay._kernels.{name}" for name in group)
     for group in (
         ("eom.after_step", "eom.step_check", "lanes.source.rhs"),
-        ("eom.jacobian_state", "eom.rhs"),
+        ("eom.jacobian_state", "eom.state_rhs"),
     )
 )
 

@@ -3,7 +3,7 @@
 The reference (:class:`~jointplay.dynamics.reference.ReferenceModel`) is written from the
 model objects: joint points placed with NumPy, forces from the law objects' ``force``
 methods, the constrained accelerations from the full augmented (KKT) system. The kernel
-(:func:`jointplay._kernels.eom.rhs`) uses flat buffers, the compiled laws and the Schur
+(:func:`jointplay._kernels.eom.state_rhs`) uses flat buffers, the compiled laws and the Schur
 complement (a scalar when only the driver is left). They agree at random states with
 contacts active, for every subset shape (all joints clear, ideal and clear mixed), several
 laws, friction on and off, gravity on, and both the four-bar and the slider-crank.
@@ -126,7 +126,7 @@ def _assert_rhs_equal(system: System, rtol: float | None, seed: int) -> int:
     touching = 0
     for i, y in enumerate(_random_states(system, seed)):
         t = 1e-3 * i
-        got = eom.rhs(t, y, system.kernel_args())
+        got = eom.state_rhs(t, y, system.kernel_args())
         expected = reference.rhs(t, y)
         contacts = np.empty((len(system.clearances), 7))
         eom.evaluate(t, y, *eom.pack(system.model), contacts)
@@ -186,7 +186,7 @@ def test_free_pins_give_the_ideal_driver_torque_only(paper_fourbar: Mechanism) -
     system = _system(paper_fourbar, FOURBAR_JOINTS, _laws()["impact"], None)
     y = initial_state(system, Start("steady"))
     n = system.n_coordinates
-    ydot = eom.rhs(0.0, y, system.kernel_args())
+    ydot = eom.state_rhs(0.0, y, system.kernel_args())
     np.testing.assert_array_equal(ydot[:n], y[n : 2 * n])
     np.testing.assert_array_equal(ydot[n : 2 * n], 0.0)
     assert ydot[2 * n] == 0.0 and ydot[2 * n + 1] == 0.0
@@ -204,7 +204,10 @@ def _central_differences(
         up[j] += h
         down[j] -= h
         columns.append(
-            (eom.rhs(t, up, system.kernel_args()) - eom.rhs(t, down, system.kernel_args()))
+            (
+                eom.state_rhs(t, up, system.kernel_args())
+                - eom.state_rhs(t, down, system.kernel_args())
+            )
             / (2 * h)
         )
     return np.array(columns).T
@@ -222,7 +225,7 @@ def test_closed_form_jacobian_equals_differences(
         t = 1e-3 * i
         jac = np.full((size, size), np.nan)
         assert eom.jacobian_state(
-            t, y, eom.rhs(t, y, system.kernel_args()), system.kernel_args(), jac
+            t, y, eom.state_rhs(t, y, system.kernel_args()), system.kernel_args(), jac
         )
         expected = _central_differences(system, t, y)
         scale = np.maximum(np.max(np.abs(expected), axis=0), 1e-300)
@@ -239,7 +242,7 @@ def test_closed_form_jacobian_of_a_coasting_mechanism(fourbar_with_gravity: Mech
     for y in _random_states(system, seed=6)[:3]:
         jac = np.zeros((system.n_state, system.n_state))
         assert eom.jacobian_state(
-            0.0, y, eom.rhs(0.0, y, system.kernel_args()), system.kernel_args(), jac
+            0.0, y, eom.state_rhs(0.0, y, system.kernel_args()), system.kernel_args(), jac
         )
         expected = _central_differences(system, 0.0, y)
         scale = np.maximum(np.max(np.abs(expected), axis=0), 1e-300)
@@ -254,7 +257,7 @@ def test_closed_form_jacobian_declines_when_ideal_joints_remain(
     y = _random_states(system, seed=5)[0]
     jac = np.zeros((system.n_state, system.n_state))
     assert not eom.jacobian_state(
-        0.0, y, eom.rhs(0.0, y, system.kernel_args()), system.kernel_args(), jac
+        0.0, y, eom.state_rhs(0.0, y, system.kernel_args()), system.kernel_args(), jac
     )
 
 

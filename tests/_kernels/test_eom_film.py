@@ -82,7 +82,7 @@ def test_a_free_pin_decays_exponentially_with_the_film() -> None:
     args = system.kernel_args()
     eom.start_workspace(y0, args)
     run = integrate(
-        eom.rhs, (0.0, t_end), y0, args=args, rtol=1e-10,
+        eom.state_rhs, (0.0, t_end), y0, args=args, rtol=1e-10,
         atol=np.concatenate([np.full(2 * n, 1e-14), np.full(system.n_state - 2 * n, 1.0)]),
         step_check=eom.step_check, after_step=eom.after_step, n_second=n, n_active=2 * n,
         jac=eom.jacobian_state,
@@ -124,7 +124,7 @@ def _central_differences(system: System, t: float, y: npt.NDArray[np.float64]):
         up[j] += h
         down[j] -= h
         args = system.kernel_args()
-        columns.append((eom.rhs(t, up, args) - eom.rhs(t, down, args)) / (2 * h))
+        columns.append((eom.state_rhs(t, up, args) - eom.state_rhs(t, down, args)) / (2 * h))
     return np.array(columns).T
 
 
@@ -143,7 +143,7 @@ def test_closed_form_jacobian_with_the_film_equals_differences(film: float, fric
         free += int(np.sum(contacts[:, 2] <= 0))
         jac = np.full((size, size), np.nan)
         assert eom.jacobian_state(
-            t, y, eom.rhs(t, y, system.kernel_args()), system.kernel_args(), jac
+            t, y, eom.state_rhs(t, y, system.kernel_args()), system.kernel_args(), jac
         )
         expected = _central_differences(system, t, y)
         scale = np.maximum(np.max(np.abs(expected), axis=0), 1e-300)
@@ -174,7 +174,7 @@ def test_with_ideal_joints_and_the_film_the_jacobian_is_differenced_with_fixed_s
     for i, y in enumerate(_states(system, seed=11)):
         t = 1e-3 * i
         jac = np.full((size, size), np.nan)
-        done = eom.jacobian_state(t, y, eom.rhs(t, y, args), args, jac)
+        done = eom.jacobian_state(t, y, eom.state_rhs(t, y, args), args, jac)
         assert done == (film > 0)
         if not done:
             assert np.isnan(jac).all()  # nothing written
@@ -191,7 +191,7 @@ def test_the_film_adds_exactly_its_force_moment_and_power() -> None:
     mass = on.model.mass
     for i, y in enumerate(_states(on, seed=8)):
         t = 1e-3 * i
-        difference = eom.rhs(t, y, on.kernel_args()) - eom.rhs(t, y, off.kernel_args())
+        difference = eom.state_rhs(t, y, on.kernel_args()) - eom.state_rhs(t, y, off.kernel_args())
         expected = np.zeros(n)
         power = 0.0
         q, qd = y[:n], y[n : 2 * n]
@@ -231,14 +231,14 @@ def test_the_film_adds_exactly_its_force_moment_and_power() -> None:
 
 
 def test_the_reported_joint_force_includes_the_film() -> None:
-    """:func:`eom.quantities` (the batch engine's) reports |F_N n + F_T t + c_e ė|."""
+    """:func:`eom.batch_quantities` (the batch engine's) reports |F_N n + F_T t + c_e ė|."""
     system = _fourbar(FILM)
     n = system.n_coordinates
     nb = n // 3
     for i, y in enumerate(_states(system, seed=9)):
         t = 1e-3 * i
         out = np.empty(2 * nb + 4 + 1)
-        eom.quantities(t, y, *eom.pack(system.model), out, np.empty(4))
+        eom.batch_quantities(t, y, *eom.pack(system.model), out, np.empty(4))
         contacts = np.zeros((4, 7))
         eom.evaluate(t, y, *eom.pack(system.model), contacts)
         for c, joint in enumerate(system.clearances):
@@ -316,5 +316,5 @@ def test_two_joints_with_different_films_each_feel_their_own() -> None:
          for j, f in zip(FOURBAR_JOINTS, films, strict=True)],
     )  # fmt: skip
     assert not np.array_equal(
-        eom.rhs(0.0, y, heavier.kernel_args()), eom.rhs(0.0, y, system.kernel_args())
+        eom.state_rhs(0.0, y, heavier.kernel_args()), eom.state_rhs(0.0, y, system.kernel_args())
     )

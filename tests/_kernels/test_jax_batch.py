@@ -184,7 +184,7 @@ def test_equations_of_motion_equal_numba(label: str, system: System) -> None:
         _, got_q, got_pen = (np.asarray(a) for a in outputs(times, states, rpar))
         got_theta = np.asarray(check(states[0], states, rpar))
         got_after = np.asarray(after(times, states, rpar, states[0]))  # steps from states[0]
-    expected = np.array([eom.rhs(t, y, args) for t, y in zip(times, states, strict=True)])
+    expected = np.array([eom.state_rhs(t, y, args) for t, y in zip(times, states, strict=True)])
     _assert_blocks_close(got_rhs, expected, n)
     # The quantities, as simulate._columns computes them from eom.diagnostics.
     qdd, torque, contacts, reactions, _ = eom.diagnostics(times, states, *eom.pack(system.model))

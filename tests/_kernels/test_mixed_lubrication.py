@@ -82,7 +82,7 @@ def _contact(system: System, y: npt.NDArray[np.float64]):
     record = np.zeros((1, 7))
     eom.evaluate(0.0, y, rpar, ipar, record)
     film = eom.film_forces(y[None], rpar, ipar, record[None])[0][0]
-    f = eom.rhs(0.0, y, system.kernel_args())
+    f = eom.state_rhs(0.0, y, system.kernel_args())
     n = system.n_coordinates
     return record[0, 0], record[0, 2], film, f[n : n + 2]
 
@@ -118,7 +118,7 @@ def test_force_and_jacobian_are_continuous_across_the_transition(ratio: float) -
     for h in (ratio * SIGMA * (1 + 1e-9), ratio * SIGMA * (1 - 1e-9)):
         y = _state(system, h, rate=1e-3)
         jac = np.full((size, size), np.nan)
-        assert eom.jacobian_state(0.0, y, eom.rhs(0.0, y, args), args, jac)
+        assert eom.jacobian_state(0.0, y, eom.state_rhs(0.0, y, args), args, jac)
         sides.append((_contact(system, y)[3], jac[:, : 2 * n]))
     (acc_above, jac_above), (acc_below, jac_below) = sides
     assert np.allclose(acc_above, acc_below, rtol=1e-6, atol=0.0)
@@ -135,7 +135,7 @@ def _central_differences(system: System, y: npt.NDArray[np.float64]):
         up, down = y.copy(), y.copy()
         up[j] += h
         down[j] -= h
-        columns.append((eom.rhs(0.0, up, args) - eom.rhs(0.0, down, args)) / (2 * h))
+        columns.append((eom.state_rhs(0.0, up, args) - eom.state_rhs(0.0, down, args)) / (2 * h))
     return np.array(columns).T
 
 
@@ -154,13 +154,13 @@ def test_the_closed_form_jacobian_in_the_mixed_regime_equals_differences(film: s
         assert _contact(system, y)[0] > 0
         jac = np.full((size, size), np.nan)
         args = system.kernel_args()
-        assert eom.jacobian_state(0.0, y, eom.rhs(0.0, y, args), args, jac)
+        assert eom.jacobian_state(0.0, y, eom.state_rhs(0.0, y, args), args, jac)
         expected = _central_differences(system, y)
         scale = np.maximum(np.max(np.abs(expected), axis=0), 1e-300)
         np.testing.assert_array_less(np.abs(jac[:, : 2 * n] - expected) / scale, JACOBIAN_RTOL)
         other = np.full((size, size), np.nan)
         smooth_args = smooth.kernel_args()
-        eom.jacobian_state(0.0, y, eom.rhs(0.0, y, smooth_args), smooth_args, other)
+        eom.jacobian_state(0.0, y, eom.state_rhs(0.0, y, smooth_args), smooth_args, other)
         assert np.max(np.abs(other[:, : 2 * n] - expected) / scale) > 10 * JACOBIAN_RTOL
 
 
@@ -195,8 +195,8 @@ def test_dry_joints_and_the_linear_film_keep_the_contact_at_the_wall(film: str |
     the same to the bit with σ = 0 and σ = 5 µm."""
     for h in (10e-6, 1e-6, -0.2e-6):
         y = _state(_system(0.0, film), h, rate=1e-3)
-        one = eom.rhs(0.0, y, _system(0.0, film).kernel_args())
-        other = eom.rhs(0.0, y, _system(5e-6, film).kernel_args())
+        one = eom.state_rhs(0.0, y, _system(0.0, film).kernel_args())
+        other = eom.state_rhs(0.0, y, _system(5e-6, film).kernel_args())
         assert np.array_equal(one, other)
 
 

@@ -153,7 +153,7 @@ def test_the_film_force_is_the_numerical_reynolds_solution(form: str) -> None:
         gamma = 0.7 + 0.9 * k  # the frame turned at every point
         y = _spinner_state(system, eps, eps_rate, speed, gamma)
         expected = _reynolds_force(form, eps, eps_rate, speed, gamma)
-        force = MASS * eom.rhs(0.0, y, args)[3:5]
+        force = MASS * eom.state_rhs(0.0, y, args)[3:5]
         record = np.zeros((1, 7))
         eom.evaluate(0.0, y, rpar, ipar, record)
         assert record[0, 2] < 0.0  # the pin floats: the film alone
@@ -217,7 +217,7 @@ def test_the_pi_film_differs_from_the_fixed_half_film_under_squeeze() -> None:
     omega = 0.5 * speed
     for eps_rate in (0.0, 50.0):
         y = _spinner_state(system, eps, eps_rate, speed, gamma)
-        force = MASS * eom.rhs(0.0, y, args)[3:5]
+        force = MASS * eom.state_rhs(0.0, y, args)[3:5]
         s = 1 - eps**2
         fixed = k_scale * np.array(
             [-(2 * eps**2 * omega / s**2 + math.pi * (1 + 2 * eps**2) * eps_rate / (2 * s**2.5)),
@@ -283,7 +283,7 @@ def test_the_full_film_squeeze_grows_as_its_coefficient() -> None:
         args = system.kernel_args()
         for eps in EPSILONS:
             y = _spinner_state(system, eps, eps_rate, 0.0, gamma)
-            force = MASS * eom.rhs(0.0, y, args)[3:5]
+            force = MASS * eom.state_rhs(0.0, y, args)[3:5]
             radial[form, eps] = float(force @ n)
             assert abs(force @ t) < 1e-9 * abs(force @ n)
     for eps in EPSILONS:
@@ -317,7 +317,7 @@ def _central_differences(system: System, t: float, y: npt.NDArray[np.float64]):
         up, down = y.copy(), y.copy()
         up[j] += h
         down[j] -= h
-        columns.append((eom.rhs(t, up, args) - eom.rhs(t, down, args)) / (2 * h))
+        columns.append((eom.state_rhs(t, up, args) - eom.state_rhs(t, down, args)) / (2 * h))
     return np.array(columns).T
 
 
@@ -345,7 +345,7 @@ def test_closed_form_jacobian_with_the_reynolds_film_equals_differences(form: st
         free += int(np.sum(contacts[:, 2] <= 0))
         jac = np.full((size, size), np.nan)
         args = system.kernel_args()
-        assert eom.jacobian_state(t, y, eom.rhs(t, y, args), args, jac)
+        assert eom.jacobian_state(t, y, eom.state_rhs(t, y, args), args, jac)
         expected = _central_differences(system, t, y)
         scale = np.maximum(np.max(np.abs(expected), axis=0), 1e-300)
         np.testing.assert_array_less(np.abs(jac[:, : 2 * n] - expected) / scale, JACOBIAN_RTOL)
@@ -355,7 +355,9 @@ def test_closed_form_jacobian_with_the_reynolds_film_equals_differences(form: st
             [dataclasses.replace(c, film_model="linear") for c in system.clearances],
         )
         other = np.full((size, size), np.nan)
-        eom.jacobian_state(t, y, eom.rhs(t, y, linear.kernel_args()), linear.kernel_args(), other)
+        eom.jacobian_state(
+            t, y, eom.state_rhs(t, y, linear.kernel_args()), linear.kernel_args(), other
+        )
         assert np.max(np.abs(other[:, : 2 * n] - expected) / scale) > 10 * JACOBIAN_RTOL
     assert touching and free
 

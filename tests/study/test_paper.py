@@ -153,7 +153,7 @@ def reference_omega_peaks(system: System, revolutions: float) -> dict[str, float
     """Peaks of |ω3| and |ω4| from rest over ``revolutions``, integrated by SciPy's LSODA at
     REFERENCE_RTOL with every contact onset and end located as an event.
 
-    Shares only the equations of motion with jointplay (``eom.rhs``, itself checked against
+    Shares only the equations of motion with jointplay (``eom.state_rhs``, itself checked against
     the plain NumPy model in tests/_kernels/test_eom.py): not its integrator, step control,
     contact-onset control or peak search. The contact memory v0 of the Hunt–Crossley family is
     set as the model defines it, to δ̇ at the located instant δ = 0 (floored at the kernel's
@@ -199,7 +199,7 @@ def reference_omega_peaks(system: System, revolutions: float) -> dict[str, float
     pieces = []
     while True:
         piece = solve_ivp(
-            lambda t, y: eom.rhs(t, np.ascontiguousarray(y), args),
+            lambda t, y: eom.state_rhs(t, np.ascontiguousarray(y), args),
             (t, t_end),
             y,
             method="LSODA",

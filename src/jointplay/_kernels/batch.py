@@ -14,7 +14,7 @@ Outputs per lane, over the window [t_settle, t_end]:
 
 - ``peaks`` (P = 2 nb + nj + 1), QUANTITY ORDER: ω_b of every body (rad/s), α_b (rad/s²), the
   force transmitted by every joint (N), the motor torque (N·m) — largest |value|, as
-  :func:`jointplay._kernels.eom.quantities` defines them;
+  :func:`jointplay._kernels.eom.batch_quantities` defines them;
 - ``stats`` (M = 2 nb + 4 nc), STATS ORDER: time-mean of ω_b, RMS of ω_b (trapezoidal rule
   over the accepted steps, rad/s), largest penetration δ = |e| − c of every clearance joint at
   the accepted steps (m; negative: never touched), then per clearance joint the fractions of
@@ -207,7 +207,7 @@ def _trajectory_reduce(ipar, rpar, lay, ts, ys, t_settle, t_end, peaks, stats):
     fs = np.zeros((m, ys.shape[1]))  # q̈ in [n:2n], as the lane source's interpolant takes it
     bits = np.empty(m, dtype=np.int64)
     for i in range(m):
-        fs[i, n : 2 * n] = eom.quantities(ts[i], ys[i], rpar, ipar, qb, pen)
+        fs[i, n : 2 * n] = eom.batch_quantities(ts[i], ys[i], rpar, ipar, qb, pen)
         bits[i] = lanes_touching(pen, nc)
     first = 0
     while first < m - 1 and ts[first + 1] <= t_settle:
@@ -217,7 +217,7 @@ def _trajectory_reduce(ipar, rpar, lay, ts, ys, t_settle, t_end, peaks, stats):
     if t_a < t_settle and first < m - 1:  # the window opens inside this step
         _step_state(film, ts, ys, fs, bits, first + 1, t_settle, n, y_a)
         t_a = t_settle
-    eom.quantities(t_a, y_a, rpar, ipar, qa, pen)
+    eom.batch_quantities(t_a, y_a, rpar, ipar, qa, pen)
     if running:
         lanes_speed_deviation(y_a, rpar, lay, qa)
         f_run = np.empty(ys.shape[1])
@@ -231,7 +231,7 @@ def _trajectory_reduce(ipar, rpar, lay, ts, ys, t_settle, t_end, peaks, stats):
     lanes_open_regimes(rpar, lay, pen, stats, nb, nc)
     for i in range(first + 1, m):
         t_b = ts[i]
-        eom.quantities(t_b, ys[i], rpar, ipar, qb, pen)
+        eom.batch_quantities(t_b, ys[i], rpar, ipar, qb, pen)
         if running:
             lanes_speed_deviation(ys[i], rpar, lay, qb)
         lanes_accumulate(qa, qb, pen, t_b - t_a, peaks, stats, nb, n_q, nc)
@@ -244,7 +244,7 @@ def _trajectory_reduce(ipar, rpar, lay, ts, ys, t_settle, t_end, peaks, stats):
                 tau = t_a + REFINE_POINTS[r] * h
                 _step_state(film, ts, ys, fs, bits, i, tau, n, y_mid)
                 if every:
-                    eom.quantities(tau, y_mid, rpar, ipar, samples[r + 1], pen)
+                    eom.batch_quantities(tau, y_mid, rpar, ipar, samples[r + 1], pen)
                 if running:
                     lanes_speed_deviation(y_mid, rpar, lay, samples[r + 1])
             lanes_refine_peaks(samples, peaks, start, n_q)
@@ -294,7 +294,7 @@ def _implicit_lane(
     args = (rpar[lane], ipar, eom.new_workspace(int(ipar[eom.L_CLEAR_JOINT])))
     eom.start_workspace(y0[lane], args)
     code, ts, ys, counters = radau_integrate(
-        eom.rhs,
+        eom.state_rhs,
         eom.step_check,
         eom.after_step,
         0.0,

@@ -14,7 +14,8 @@ Velocity equations Φ_q q̇ = ν and acceleration equations Φ_q q̈ = γ use th
 computed here. Body index −1 is the ground (its point is global and fixed).
 
 The equations are the lane source's (:mod:`jointplay._kernels.lanes.source`:
-``constraint_residual``, ``constraint_jacobian``, ``constraint_acceleration_rhs``, the driver's motion),
+``constraint_residual``, ``constraint_jacobian``, ``constraint_terms`` (Φ_q and γ), the driver's
+motion),
 compiled for the single engine (:mod:`jointplay._kernels.shared`); this module gives them to
 the model layer (the kinematics solver, inverse dynamics, initial states) with the joint
 tables as 2-D arrays and the results allocated.
@@ -35,16 +36,15 @@ from jointplay._kernels.lanes.source import (
     LY_NJ,
     N_LAY,
 )
-from jointplay._kernels.shared import compiled
+from jointplay._kernels.shared import compiled, pick
 
 # The equations, written once in the lane source (jointplay._kernels.lanes.source).
-_driver_angle = compiled["driver_angle"]
-_driver_speed = compiled["driver_speed"]
-_driver_acceleration = compiled["driver_acceleration"]
-_constraint_rows = compiled["constraint_rows"]
-_constraint_residual = compiled["constraint_residual"]
-_constraint_jacobian = compiled["constraint_jacobian"]
-_acceleration_rhs = compiled["constraint_acceleration_rhs"]
+_driver_angle, _driver_speed, _driver_acceleration, _constraint_rows = pick(
+    compiled, "driver_angle driver_speed driver_acceleration constraint_rows"
+)
+_constraint_residual, _constraint_jacobian, _constraint_terms = pick(
+    compiled, "constraint_residual constraint_jacobian constraint_terms"
+)
 
 
 @njit(cache=True)
@@ -100,13 +100,9 @@ def count_rows(active: np.ndarray, driver: np.ndarray) -> int:
 
 @njit(cache=True)
 def residual(
-    q: np.ndarray,
-    t: float,
-    joint_int: np.ndarray,
-    joint_f: np.ndarray,
-    active: np.ndarray,
+    q: np.ndarray, t: float, joint_int: np.ndarray, joint_f: np.ndarray, active: np.ndarray,
     driver: np.ndarray,
-) -> np.ndarray:
+) -> np.ndarray:  # fmt: skip
     """Constraint violation Φ(q, t), m (joint rows) and rad (angle rows)."""
     y, rp, ip, lay = _packed(q, q, joint_int, joint_f, active, driver)
     out = np.zeros(count_rows(active, driver))
@@ -116,12 +112,9 @@ def residual(
 
 @njit(cache=True)
 def jacobian(
-    q: np.ndarray,
-    joint_int: np.ndarray,
-    joint_f: np.ndarray,
-    active: np.ndarray,
+    q: np.ndarray, joint_int: np.ndarray, joint_f: np.ndarray, active: np.ndarray,
     driver: np.ndarray,
-) -> np.ndarray:
+) -> np.ndarray:  # fmt: skip
     """Constraint Jacobian Φ_q, shape (rows, 3 nb) (revolute Φ = r_a + A_a s_a − r_b − A_b s_b
     with ∂(A s)/∂φ = B s = rot90(A s); prismatic; the driver's row)."""
     y, rp, ip, lay = _packed(q, q, joint_int, joint_f, active, driver)
@@ -141,16 +134,12 @@ def velocity_rhs(t: float, active: np.ndarray, driver: np.ndarray) -> np.ndarray
 
 @njit(cache=True)
 def acceleration_rhs(
-    q: np.ndarray,
-    qd: np.ndarray,
-    t: float,
-    joint_int: np.ndarray,
-    joint_f: np.ndarray,
-    active: np.ndarray,
-    driver: np.ndarray,
-) -> np.ndarray:
+    q: np.ndarray, qd: np.ndarray, t: float, joint_int: np.ndarray, joint_f: np.ndarray,
+    active: np.ndarray, driver: np.ndarray,
+) -> np.ndarray:  # fmt: skip
     """γ with Φ_q q̈ = γ (Nikravesh 1988, §6): quadratic velocity terms and the driver's φ̈."""
     y, rp, ip, lay = _packed(q, qd, joint_int, joint_f, active, driver)
-    out = np.zeros(count_rows(active, driver))
-    _acceleration_rhs(t, y, rp, ip, lay, out)
+    rows = count_rows(active, driver)
+    out = np.zeros(rows)
+    _constraint_terms(t, y, rp, ip, lay, np.empty((rows, q.shape[0])), out, True)
     return out

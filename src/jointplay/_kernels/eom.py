@@ -5,7 +5,7 @@ the contact memory and the closed-form Jacobian — are written once, in
 :mod:`jointplay._kernels.lanes.source` (and ``source_radau``), and compiled for the single
 engine by :mod:`jointplay._kernels.shared`. This module packs the model, gives the integrators
 (:mod:`jointplay._kernels.radau`, ``rodas``, ``dopri``) their four hooks with one explicit
-signature each (so that the integrators' cores are cached on disk) — :func:`rhs`,
+signature each (so that the integrators' cores are cached on disk) — :func:`state_rhs`,
 :func:`jacobian_state`, :func:`step_check`, :func:`after_step` — and adds what only the single
 engine does: the sustained-contact mode's switches (capture and release of locked joints,
 :func:`switch_contacts`, :func:`release_check`; the accelerations with locked joints are
@@ -86,44 +86,37 @@ from jointplay._kernels.lanes.source import (
     LY_SETTINGS,
     N_LAY,
 )
-from jointplay._kernels.shared import apart as _apart
-from jointplay._kernels.shared import compiled as _shared
+from jointplay._kernels.shared import apart, compiled, pick
 
-# The lane source, compiled for the single engine (jointplay._kernels.shared).
-_rhs = _shared["rhs"]
-# the cold callers' copies: one compiled right-hand side, called (jointplay._kernels.shared)
-_rhs_apart = _apart["rhs"]
-_rhs_and_quantities = _apart["rhs_and_quantities"]
-_film_components = _apart["film_components"]
-_any_film = _shared["any_film"]
-_locked = _shared["locked"]
-_constraint_rows = _shared["constraint_rows"]
-_penetration_and_rate = _shared["penetration_and_rate"]
-_contact_memory = _shared["contact_memory"]
-_onset_fraction = _shared["onset_fraction"]
-_jacobian_clear = _shared["jacobian_clear"]
-_jacobian_fixed = _apart["jacobian_fixed"]
-_project = _shared["project"]
-_driver_speed = _shared["driver_speed"]
-_constraint_residual = _shared["constraint_residual"]
-_constraint_jacobian = _shared["constraint_jacobian"]
-_locked_row = _shared["locked_row"]
-#: δ̇ (m/s) at δ = 0 between a step's ends, linear in δ (the source's).
-impact_rate = _shared["impact_rate"]
+# The lane source, compiled for the single engine (jointplay._kernels.shared): inlined into
+# the hooks; the cold callers' copies (``apart``) are compiled once and called.
+_rhs, _any_film, _locked, _constraint_rows, _penetration_and_rate, _contact_memory = pick(
+    compiled, "rhs any_film locked constraint_rows penetration_and_rate contact_memory"
+)
+_onset_fraction, _jacobian_clear, _project, _driver_speed, _locked_row = pick(
+    compiled, "onset_fraction jacobian_clear project driver_speed locked_row"
+)
+# impact_rate: δ̇ (m/s) at δ = 0 between a step's ends, linear in δ (the source's).
+_constraint_residual, _constraint_jacobian, impact_rate = pick(
+    compiled, "constraint_residual constraint_jacobian impact_rate"
+)
+_rhs_apart, _rhs_and_quantities, _film_components, _jacobian_fixed = pick(
+    apart, "rhs rhs_and_quantities film_components jacobian_fixed"
+)
 
 __all__ = [
     "LOCKED",
     "EomModel",
     "after_step",
+    "batch_quantities",
     "diagnostics",
     "evaluate",
     "film_forces",
     "jacobian_state",
     "new_workspace",
     "pack",
-    "quantities",
-    "rhs",
     "start_workspace",
+    "state_rhs",
     "step_check",
     "unpack",
 ]  # fmt: skip
@@ -290,7 +283,7 @@ rhs_signature = types.float64[::1](types.float64, types.float64[::1], ARGS_TYPE)
 
 
 @njit(rhs_signature, cache=True)
-def rhs(t: float, y: np.ndarray, args: EomArgs) -> np.ndarray:
+def state_rhs(t: float, y: np.ndarray, args: EomArgs) -> np.ndarray:
     """ẏ for the state layout of the module docstring (the source's ``rhs``); allocates ẏ and
     nothing else when every joint is clear (the paper's case)."""
     rpar, ipar = args[0], args[1]
@@ -322,7 +315,7 @@ def evaluate(t: float, y: np.ndarray, rpar: np.ndarray, ipar: np.ndarray, contac
 
 
 @njit(cache=True)
-def quantities(
+def batch_quantities(
     t: float, y: np.ndarray, rpar: np.ndarray, ipar: np.ndarray, out: np.ndarray,
     penetration: np.ndarray,
 ) -> np.ndarray:  # fmt: skip
@@ -436,7 +429,7 @@ def release_check(
 ) -> float:  # fmt: skip
     """The step's fraction that ends where the first locked joint's multiplier F_N turns
     tensile (secant between the step's ends, aiming at −RELEASE_TOL/2 · max(F_N, 1 N)); 1 if
-    none turns tensile beyond the tolerance. As :func:`onset_check` for an onset."""
+    none turns tensile beyond the tolerance. As :func:`_onset_retry` for an onset."""
     lay = lay_of(ipar)
     nc = lay[LY_NC]
     n = lay[LY_N]
@@ -589,7 +582,7 @@ def switch_contacts(
 
 
 @njit(cache=True, inline="always")
-def onset_check(
+def _onset_retry(
     y_old: np.ndarray, y_new: np.ndarray, rpar: np.ndarray, ipar: np.ndarray, work: np.ndarray
 ) -> float:
     """Contact-onset control: the smallest fraction of the step to retry (1: none), from δ at
@@ -641,7 +634,7 @@ def step_check(
     back out of the wall along a (locally straight) step without ending in contact.
     """
     rpar, ipar = args[0], args[1]
-    theta = onset_check(y_old, y_new, rpar, ipar, args[2])
+    theta = _onset_retry(y_old, y_new, rpar, ipar, args[2])
     if _locked(y_new, rpar, lay_of(ipar)):  # the locked set is constant over a step
         theta = min(theta, release_check(t_old, y_old, t_new, y_new, rpar, ipar))
     return theta

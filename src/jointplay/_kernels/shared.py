@@ -34,7 +34,7 @@ from jointplay._kernels.lanes import source
 from jointplay._kernels.lanes.build import build, closed
 from jointplay._kernels.lanes.projection import project_lapack
 
-__all__ = ["APART", "SHARED", "apart", "compiled"]
+__all__ = ["APART", "SHARED", "apart", "compiled", "pick"]
 
 #: The sustained-contact mode's functions, compiled apart (not inlined: they allocate and
 #: run only while a joint is locked); and the Reynolds film's force and coefficients (not
@@ -98,7 +98,7 @@ compiled: dict[str, Any] = build(
 #: into it) rather than inlined into every caller. Inlined, each of the single engine's entry
 #: points compiled its own copy of the whole right-hand side (``evaluate``, ``quantities``,
 #: ``jacobian_state`` through ``jacobian_fixed``'s columns, ...), and the first compilation
-#: grew with every copy. The integrator's hot hooks (``eom.rhs``, ``jacobian_clear``) keep the
+#: grew with every copy. The integrator's hot hooks (``eom.state_rhs``, ``jacobian_clear``) keep the
 #: inlined copies of :data:`compiled`; what runs once per output sample, or once per column of
 #: a differenced Jacobian, pays one call instead.
 APART = ("rhs", "rhs_and_quantities", "film_components")
@@ -131,3 +131,10 @@ apart: dict[str, Any] = build(
     )(function),
     tag="apart",
 )
+
+
+def pick(table: dict[str, Any], names: str) -> tuple[Any, ...]:
+    """The compiled functions ``names`` (separated by spaces) of ``table`` (:data:`compiled`
+    or :data:`apart`), in that order: a kernel module binds them to module globals, which
+    Numba's compiled callers can read (a dict lookup they cannot)."""
+    return tuple(table[name] for name in names.split())

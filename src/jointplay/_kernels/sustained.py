@@ -34,9 +34,8 @@ from jointplay._kernels.lanes.source import (
     LY_NC,
     LY_PFRIC,
     N_GEOM,
-    constraint_acceleration_rhs,
-    constraint_jacobian,
     constraint_rows,
+    constraint_terms,
     friction_force,
     joint_kinematics,
     push,
@@ -125,8 +124,7 @@ def sustained_accelerations(t, y, rp, ip, lay, f, record, recording, lam):
     rows = constraint_rows(rp, lay)
     phi_q = np.zeros((rows, n))
     gamma = np.zeros(rows)
-    constraint_jacobian(y, rp, ip, lay, phi_q)
-    constraint_acceleration_rhs(t, y, rp, ip, lay, gamma)
+    constraint_terms(t, y, rp, ip, lay, phi_q, gamma, True)
     m = 0
     for c in range(nc):
         if y[2 * n + 2 + c] < 0.0:

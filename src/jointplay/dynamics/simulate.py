@@ -637,7 +637,7 @@ def simulate(
     eom.start_workspace(np.ascontiguousarray(y0, dtype=float), args)
     wall = time.perf_counter()
     run = integrate(
-        eom.rhs,
+        eom.state_rhs,
         (0.0, t_end),
         y0,
         args=args,

@@ -13,7 +13,7 @@ the implicit integrator) and never produce NaN where the Numba kernel does not.
 
 Per lane (module docstring of :mod:`jointplay._kernels.eom` for the physics):
 
-- :meth:`JaxModel.rhs` is :func:`jointplay._kernels.eom.rhs` (ẏ);
+- :meth:`JaxModel.rhs` is :func:`jointplay._kernels.eom.state_rhs` (ẏ);
 - :meth:`JaxModel.outputs` is ẏ with the batch engine's peak quantities (ω and α of every
   body, the force of every joint, the motor torque; the QUANTITY ORDER of the batch
   contract, as :func:`jointplay.dynamics.simulate._columns` computes them) and the
@@ -602,7 +602,7 @@ class JaxModel:
 
     # ---- the integrator's functions -------------------------------------------------------
     def rhs(self, t: Scalar, y: Any, p: Any) -> Any:
-        """ẏ (eom.rhs), shape (S,)."""
+        """ẏ (eom.state_rhs), shape (S,)."""
         return self._evaluate(t, y, p)["ydot"]
 
     def outputs(self, t: Scalar, y: Any, p: Any) -> tuple[Any, Any, Any]:

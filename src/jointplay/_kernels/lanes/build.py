@@ -35,8 +35,9 @@ __all__ = [
 #: The source's functions, compiled for every target.
 FUNCTIONS = (
     "step3", "power", "normal_force", "friction_force", "driver_acceleration", "driver_angle",
-    "driver_speed", "rot", "point_global", "ideal_joint", "revolute_arm", "constraint_rows", "constraint_jacobian",
-    "constraint_acceleration_rhs", "cholesky_solve", "constrained_accelerations", "push",
+    "driver_speed", "rot", "point_global", "ideal_joint", "revolute_arm", "constraint_rows",
+    "constraint_terms", "constraint_jacobian", "cholesky_solve", "constrained_accelerations",
+    "push",
     "eccentricity_rate", "rotation_of", "rotations", "arm_rotated", "arm", "joint_kinematics",
     "contact_clearance", "penetration_and_rate",
     "film_share", "reynolds_matrix", "reynolds_components", "reynolds_force", "reynolds_local",
@@ -53,8 +54,10 @@ FUNCTIONS = (
     "start_running", "close_running", "start_outputs",
     "explicit_lane",
     *(
-        "pmin", "pmax", "cdiv", "lu_real", "lu_complex", "lu_solve_real", "lu_solve_complex",
-        "law_slopes", "force_column", "coordinate_direction", "side_of", "film_jacobian", "reynolds_position_slope",
+        "pmin", "pmax", "cdiv", "swap_rows", "lu_real", "lu_complex", "lu_solve_real",
+        "lu_solve_complex",
+        "law_slopes", "force_column", "coordinate_direction", "side_of", "body_column",
+        "film_jacobian", "reynolds_position_slope",
         "reynolds_jacobian", "jacobian_clear",
         "column_difference", "jacobian_differences", "jacobian_fixed",
         "lane_jacobian", "newton_matrix", "factor_newton", "solve_real", "solve_complex",

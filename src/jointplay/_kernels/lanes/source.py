@@ -250,14 +250,20 @@ def constraint_rows(rp, lay):
     return 2 * lay[LY_NIDEAL] + (1 if rp[lay[LY_DRIVER]] >= 0 else 0)
 
 
-def constraint_jacobian(y, rp, ip, lay, out):
-    """Φ_q (rows × 3 nb) into ``out`` : revolute
-    Φ = r_a + A_a s_a − r_b − A_b s_b, prismatic φ_b − φ_a − θ0 and n_a·d, driver φ_k − φ_d."""
+def constraint_terms(t, y, rp, ip, lay, jac, gamma, want_gamma):
+    """Φ_q (rows × 3 nb) into ``jac`` and, if ``want_gamma``, γ with Φ_q q̈ = γ (the quadratic
+    velocity terms and the driver's φ̈_d) into ``gamma`` (else untouched: any 1-D array), in
+    one pass over the ideal joints. Revolute: Φ = r_a + A_a s_a − r_b − A_b s_b with
+    ∂(A s)/∂φ = B s = rot90(A s), γ = A_a s_a φ̇_a² − A_b s_b φ̇_b²; prismatic: φ_b − φ_a − θ0
+    and n_a·d, γ2 = n·d φ̇_a² − 2 φ̇_a (B_a n')·ḋ + n·(A_b s_b φ̇_b² − A_a s_a φ̇_a²);
+    driver: φ_k − φ_d."""
     n = lay[LY_N]
     o_jf = lay[LY_JOINT_F]
     for r in range(constraint_rows(rp, lay)):
         for i in range(n):
-            out[r, i] = 0.0
+            jac[r, i] = 0.0
+        if want_gamma:
+            gamma[r] = 0.0
     row = 0
     for j in range(lay[LY_NJ]):
         kind, a, b = ideal_joint(ip, lay, j)
@@ -268,87 +274,59 @@ def constraint_jacobian(y, rp, ip, lay, out):
                 body, sign, ax, ay = revolute_arm(y, rp, o_jf, j, side, a, b)
                 if body < 0:
                     continue
-                out[row, 3 * body] += sign
-                out[row + 1, 3 * body + 1] += sign
-                out[row, 3 * body + 2] += -sign * ay
-                out[row + 1, 3 * body + 2] += sign * ax
+                jac[row, 3 * body] += sign
+                jac[row + 1, 3 * body + 1] += sign
+                jac[row, 3 * body + 2] += -sign * ay
+                jac[row + 1, 3 * body + 2] += sign * ax
+                if want_gamma:
+                    w2 = y[n + 3 * body + 2] ** 2
+                    gamma[row] += sign * ax * w2
+                    gamma[row + 1] += sign * ay * w2
         else:
             phi_a = y[3 * a + 2] if a >= 0 else 0.0
             pax, pay = point_global(y, a, rp[o_jf + 6 * j], rp[o_jf + 6 * j + 1])
             pbx, pby = point_global(y, b, rp[o_jf + 6 * j + 2], rp[o_jf + 6 * j + 3])
             nx, ny = rot(phi_a + rp[o_jf + 6 * j + 4], 0.0, 1.0)
             dx, dy = pbx - pax, pby - pay
+            sax, say, sbx, sby = 0.0, 0.0, 0.0, 0.0
             if a >= 0:
-                out[row, 3 * a + 2] = -1.0
                 sax, say = rot(phi_a, rp[o_jf + 6 * j], rp[o_jf + 6 * j + 1])
-                out[row + 1, 3 * a] = -nx
-                out[row + 1, 3 * a + 1] = -ny
-                out[row + 1, 3 * a + 2] = (-ny * dx + nx * dy) - (nx * -say + ny * sax)
+                jac[row, 3 * a + 2] = -1.0
+                jac[row + 1, 3 * a] = -nx
+                jac[row + 1, 3 * a + 1] = -ny
+                jac[row + 1, 3 * a + 2] = (-ny * dx + nx * dy) - (nx * -say + ny * sax)
             if b >= 0:
-                out[row, 3 * b + 2] = 1.0
                 sbx, sby = rot(y[3 * b + 2], rp[o_jf + 6 * j + 2], rp[o_jf + 6 * j + 3])
-                out[row + 1, 3 * b] = nx
-                out[row + 1, 3 * b + 1] = ny
-                out[row + 1, 3 * b + 2] = nx * -sby + ny * sbx
+                jac[row, 3 * b + 2] = 1.0
+                jac[row + 1, 3 * b] = nx
+                jac[row + 1, 3 * b + 1] = ny
+                jac[row + 1, 3 * b + 2] = nx * -sby + ny * sbx
+            if want_gamma:
+                wa = y[n + 3 * a + 2] if a >= 0 else 0.0
+                wb = y[n + 3 * b + 2] if b >= 0 else 0.0
+                vax = (y[n + 3 * a] if a >= 0 else 0.0) - say * wa
+                vay = (y[n + 3 * a + 1] if a >= 0 else 0.0) + sax * wa
+                vbx = (y[n + 3 * b] if b >= 0 else 0.0) - sby * wb
+                vby = (y[n + 3 * b + 1] if b >= 0 else 0.0) + sbx * wb
+                ddx, ddy = vbx - vax, vby - vay
+                bnx, bny = -ny, nx
+                gamma[row + 1] = (
+                    (nx * dx + ny * dy) * wa * wa
+                    - 2.0 * wa * (bnx * ddx + bny * ddy)
+                    + nx * (sbx * wb * wb - sax * wa * wa)
+                    + ny * (sby * wb * wb - say * wa * wa)
+                )
         row += 2
     crank = int(rp[lay[LY_DRIVER]])
     if crank >= 0:
-        out[row, 3 * crank + 2] = 1.0
+        jac[row, 3 * crank + 2] = 1.0
+    if want_gamma and rp[lay[LY_DRIVER]] >= 0:
+        gamma[row] = driver_acceleration(t, rp, lay[LY_DRIVER])
 
 
-def constraint_acceleration_rhs(t, y, rp, ip, lay, out):
-    """γ with Φ_q q̈ = γ into ``out``: the quadratic
-    velocity terms and the driver's φ̈_d."""
-    n = lay[LY_N]
-    o_jf = lay[LY_JOINT_F]
-    for r in range(constraint_rows(rp, lay)):
-        out[r] = 0.0
-    row = 0
-    for j in range(lay[LY_NJ]):
-        kind, a, b = ideal_joint(ip, lay, j)
-        if kind < 0:
-            continue
-        if kind == 0:
-            # γ = A_a s_a φ̇_a² − A_b s_b φ̇_b²
-            for side in range(2):
-                body, sign, ax, ay = revolute_arm(y, rp, o_jf, j, side, a, b)
-                if body < 0:
-                    continue
-                w2 = y[n + 3 * body + 2] ** 2
-                out[row] += sign * ax * w2
-                out[row + 1] += sign * ay * w2
-        else:
-            phi_a = y[3 * a + 2] if a >= 0 else 0.0
-            wa = y[n + 3 * a + 2] if a >= 0 else 0.0
-            wb = y[n + 3 * b + 2] if b >= 0 else 0.0
-            nx, ny = rot(phi_a + rp[o_jf + 6 * j + 4], 0.0, 1.0)
-            pax, pay = point_global(y, a, rp[o_jf + 6 * j], rp[o_jf + 6 * j + 1])
-            pbx, pby = point_global(y, b, rp[o_jf + 6 * j + 2], rp[o_jf + 6 * j + 3])
-            dx, dy = pbx - pax, pby - pay
-            if a < 0:
-                sax, say = 0.0, 0.0
-            else:
-                sax, say = rot(phi_a, rp[o_jf + 6 * j], rp[o_jf + 6 * j + 1])
-            if b < 0:
-                sbx, sby = 0.0, 0.0
-            else:
-                sbx, sby = rot(y[3 * b + 2], rp[o_jf + 6 * j + 2], rp[o_jf + 6 * j + 3])
-            vax = (y[n + 3 * a] if a >= 0 else 0.0) - say * wa
-            vay = (y[n + 3 * a + 1] if a >= 0 else 0.0) + sax * wa
-            vbx = (y[n + 3 * b] if b >= 0 else 0.0) - sby * wb
-            vby = (y[n + 3 * b + 1] if b >= 0 else 0.0) + sbx * wb
-            ddx, ddy = vbx - vax, vby - vay
-            # γ2 = n·d φ̇_a² − 2 φ̇_a (B_a n')·ḋ + n·(A_b s_b φ̇_b² − A_a s_a φ̇_a²)
-            bnx, bny = -ny, nx
-            out[row + 1] = (
-                (nx * dx + ny * dy) * wa * wa
-                - 2.0 * wa * (bnx * ddx + bny * ddy)
-                + nx * (sbx * wb * wb - sax * wa * wa)
-                + ny * (sby * wb * wb - say * wa * wa)
-            )
-        row += 2
-    if rp[lay[LY_DRIVER]] >= 0:
-        out[row] = driver_acceleration(t, rp, lay[LY_DRIVER])
+def constraint_jacobian(y, rp, ip, lay, out):
+    """Φ_q (rows × 3 nb) into ``out`` (:func:`constraint_terms` without γ)."""
+    constraint_terms(0.0, y, rp, ip, lay, out, y, False)
 
 
 def cholesky_solve(a, b, m):
@@ -386,8 +364,7 @@ def constrained_accelerations(t, y, rp, ip, lay, f, phi_q, schur, lam):
     n = lay[LY_N]
     o_mass = lay[LY_MASS]
     rows = constraint_rows(rp, lay)
-    constraint_jacobian(y, rp, ip, lay, phi_q)
-    constraint_acceleration_rhs(t, y, rp, ip, lay, lam)
+    constraint_terms(t, y, rp, ip, lay, phi_q, lam, True)
     for r in range(rows):
         for p in range(rows):
             schur[r, p] = 0.0

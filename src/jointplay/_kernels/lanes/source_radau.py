@@ -203,6 +203,15 @@ def cdiv(ar, ai, br, bi):
 
 
 # --- LU with partial pivoting (every compiled integrator's) -----------------------------------
+def swap_rows(a, k, p, m):
+    """Interchange rows ``k`` and ``p`` of the leading ``m`` columns of ``a`` (none if equal)."""
+    if p != k:
+        for j in range(m):
+            tmp = a[k, j]
+            a[k, j] = a[p, j]
+            a[p, j] = tmp
+
+
 def lu_real(a, piv, m):
     """LU of the leading m × m block of ``a`` in place, P·A = L·U as LAPACK's ``?getrf``
     (the same pivots, not the same round-off), row interchanges into ``piv`` (row k was
@@ -217,11 +226,7 @@ def lu_real(a, piv, m):
                 amax = v
                 p = i
         piv[k] = p
-        if p != k:
-            for j in range(m):
-                tmp = a[k, j]
-                a[k, j] = a[p, j]
-                a[p, j] = tmp
+        swap_rows(a, k, p, m)
         pivot = a[k, k]
         if pivot != 0:
             for i in range(k + 1, m):
@@ -244,14 +249,8 @@ def lu_complex(re, im, piv, m):
                 amax = v
                 p = i
         piv[k] = p
-        if p != k:
-            for j in range(m):
-                tmp = re[k, j]
-                re[k, j] = re[p, j]
-                re[p, j] = tmp
-                tmp = im[k, j]
-                im[k, j] = im[p, j]
-                im[p, j] = tmp
+        swap_rows(re, k, p, m)
+        swap_rows(im, k, p, m)
         pr = re[k, k]
         pi = im[k, k]
         if pr != 0.0 or pi != 0.0:
@@ -376,6 +375,27 @@ def side_of(side, a, b, rax, ray, rbx, rby, wa, wb):
     return a, -1.0, rax, ray, wa
 
 
+def body_column(jac, rp, o_mass, n, side, body, k, a, b, fx, fy, dfx, dfy, rax, ray, rbx, rby):
+    """Add to ``jac`` the column of coordinate ``k`` (x, y, φ, ẋ, ẏ, ω) of ``body``, side
+    ``side`` of a clearance joint (:func:`side_of`), for a force (``fx``, ``fy``) on the
+    journal's body b at its arm r_b and its opposite on the bearing's body a at r_a whose
+    derivative along that coordinate is (``dfx``, ``dfy``) (:func:`force_column`; the arm of
+    the body itself turns with φ: ∂r = ẑ×r). Returns the column's index."""
+    column = 3 * body + k if k < 3 else n + 3 * body + k - 3
+    drbx = 0.0
+    drby = 0.0
+    drax = 0.0
+    dray = 0.0
+    if k == 2 and side == 0:
+        drbx, drby = -rby, rbx
+    elif k == 2:
+        drax, dray = -ray, rax
+    force_column(
+        jac, rp, o_mass, column, a, b, fx, fy, dfx, dfy, rax, ray, drax, dray, rbx, rby, drbx, drby
+    )
+    return column
+
+
 def film_jacobian(jac, film, rp, o_mass, n, a, b, rax, ray, rbx, rby, wa, wb, edx, edy):
     """Add one clearance joint's film damping to ``jac`` (:func:`jacobian_clear`'s rows and
     columns): f = −c_e ė on the journal's
@@ -388,31 +408,10 @@ def film_jacobian(jac, film, rp, o_mass, n, a, b, rax, ray, rbx, rby, wa, wb, ed
         if body < 0:
             continue
         for k in range(2, 6):  # φ, ẋ, ẏ, ω of this body (ė does not depend on x, y)
-            dvx = 0.0
-            dvy = 0.0
-            if k == 2:
-                dvx, dvy = -sign * w * rx, -sign * w * ry
-            elif k == 3:
-                dvx = sign
-            elif k == 4:
-                dvy = sign
-            else:
-                dvx, dvy = -sign * ry, sign * rx
-            dfx = -film * dvx
-            dfy = -film * dvy
-            column = 3 * body + k if k < 3 else n + 3 * body + k - 3
-            # ∂r of this body's own arm (φ only): ẑ×r
-            drbx = 0.0
-            drby = 0.0
-            drax = 0.0
-            dray = 0.0
-            if k == 2 and side == 0:
-                drbx, drby = -rby, rbx
-            elif k == 2:
-                drax, dray = -ray, rax
-            force_column(
-                jac, rp, o_mass, column, a, b, fx, fy, dfx, dfy,
-                rax, ray, drax, dray, rbx, rby, drbx, drby,
+            _, _, dvx, dvy = coordinate_direction(k, sign, rx, ry, w)
+            column = body_column(
+                jac, rp, o_mass, n, side, body, k, a, b, fx, fy, -film * dvx, -film * dvy,
+                rax, ray, rbx, rby,
             )  # fmt: skip
             jac[n + 1, column] += 2.0 * film * (edx * dvx + edy * dvy)
 
@@ -482,19 +481,9 @@ def reynolds_jacobian(jac, form, coef, clearance, roughness, rp, o_mass, n, a, b
             dw = 1.0 if k_col == 5 else 0.0
             dfx = fx_ex * de0 + fx_ey * de1 + fx_vx * dv0 + fx_vy * dv1 + fx_w * dw
             dfy = fy_ex * de0 + fy_ey * de1 + fy_vx * dv0 + fy_vy * dv1 + fy_w * dw
-            column = 3 * body + k_col if k_col < 3 else n + 3 * body + k_col - 3
-            drbx = 0.0
-            drby = 0.0
-            drax = 0.0
-            dray = 0.0
-            if k_col == 2 and side == 0:
-                drbx, drby = -rby, rbx
-            elif k_col == 2:
-                drax, dray = -ray, rax
-            force_column(
-                jac, rp, o_mass, column, a, b, fx, fy, dfx, dfy,
-                rax, ray, drax, dray, rbx, rby, drbx, drby,
-            )  # fmt: skip
+            column = body_column(
+                jac, rp, o_mass, n, side, body, k_col, a, b, fx, fy, dfx, dfy, rax, ray, rbx, rby
+            )
             jac[n + 1, column] -= dfx * edx + dfy * edy + fx * dv0 + fy * dv1
 
 
