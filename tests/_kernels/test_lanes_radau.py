@@ -43,6 +43,10 @@ from jointplay.dynamics.simulate import Start, initial_state
 from jointplay.dynamics.system import build_system
 from jointplay.model.mechanism import Mechanism
 
+# The GPU's implicit lane checked on the CPU: its compilation here serves only these tests and
+# the CUDA simulator's (~60 CPU-s on a cold cache): the slow tier, which CI runs
+pytestmark = pytest.mark.slow
+
 JOINTS = ("O2", "A", "B", "O4")
 FIELDS = ("peaks", "stats", "status", "t_reached", "n_steps", "n_rejected", "n_rhs")
 #: Parameters of the laws that need more than a stiffness and a restitution (as
