@@ -74,6 +74,9 @@ def test_the_running_tail_widens_the_outputs_only_when_given() -> None:
     assert output_widths(lay, wide) == (n_q + 1, n_stats + 5 * nc + 1 + 2 * bins * nc)
 
 
+# compiles all four explicit drivers (~60 CPU-s on a cold cache, most of them no other
+# default-tier test needs): the slow tier
+@pytest.mark.slow
 def test_the_explicit_drivers_run_their_own_compilation_of_the_lane() -> None:
     # the explicit drivers, one source over both compilations of the lane: the running ones
     # run source.RUNNING's lane (the wear rates closed at the window's end), the plain ones
