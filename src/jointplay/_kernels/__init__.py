@@ -65,6 +65,11 @@ def sources_digest(root: Path | None = None) -> str:
     return digest.hexdigest()
 
 
+def _user_wide_cache() -> Path:
+    """Numba's user-wide cache folder (its ``AppDirs("numba").user_cache_dir`` on Linux)."""
+    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "numba"
+
+
 def _numba_folder(root: Path, source_folder: Path) -> Path:
     """The cache folder Numba's user-wide and user-provided locators give the sources of
     ``source_folder`` under ``root`` (``numba.core.caching``'s ``get_suitable_cache_subpath``:
@@ -116,7 +121,7 @@ def kernel_cache_folders() -> list[tuple[Path, bool]]:
     for kernels cached there before."""
     here = Path(__file__).parent
     sources = [here, *(path for path in sorted(here.iterdir()) if (path / "__init__.py").is_file())]
-    user_wide = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "numba"
+    user_wide = _user_wide_cache()
     provided = os.environ.get("NUMBA_CACHE_DIR")
     folders = []
     for source in sources:
@@ -136,7 +141,7 @@ def cache_folders() -> list[Path]:
     if custom:
         return [Path(custom)]
     here = Path(__file__).parent
-    return [here / "__pycache__", here / "lanes" / "__pycache__", Path.home() / ".cache" / "numba"]
+    return [here / "__pycache__", here / "lanes" / "__pycache__", _user_wide_cache()]
 
 
 def compiled_cache_present(modules: Sequence[str] = BATCH_LANES) -> bool:
