@@ -179,7 +179,13 @@ def _attempt_on_dask(
 
 
 def _stop_workers(pool_executor: cf.ProcessPoolExecutor) -> None:
-    """Terminate the pool's workers so an interrupted run returns at once."""
+    """Terminate the pool's workers so an interrupted run returns at once.
+
+    The queued futures are left to the pool (its ``shutdown(cancel_futures=True)`` cancels
+    them in its manager thread): one cancelled from this thread before the workers end stays
+    in the pool's pending items, and CPython 3.11's manager thread, marking them broken
+    (``terminate_broken``), raised ``InvalidStateError`` on it and died before ending the other
+    workers, so the command hung at exit waiting for them."""
     terminate = getattr(pool_executor, "terminate_workers", None)  # Python >= 3.14
     if terminate is not None:
         terminate()
@@ -329,16 +335,14 @@ class Processes(Executor):
             return
         workers = _pool.pool(lanes.slots)  # kept from batch to batch: started and loaded once
         work = lanes.work
-        futures: dict[cf.Future[Any], int] = {}
         try:
-            futures = {
+            futures: dict[cf.Future[Any], int] = {
                 workers.submit(work.task, work.shared, c): k for k, c in enumerate(lanes.chunks)
             }
             for future in cf.as_completed(futures):
                 lanes.done(futures[future], future.result())
         except BaseException:
-            for future in futures:
-                future.cancel()
+            # no future cancelled from here: _stop_workers' note
             _pool.close_pool(terminate=True)
             raise
 
@@ -358,9 +362,8 @@ class Processes(Executor):
             initializer=_init_worker,
             initargs=(shared,),
         )
-        futures: list[cf.Future[tuple[int, tuple[bool, Any]]]] = []
         try:
-            futures = [
+            futures: list[cf.Future[tuple[int, tuple[bool, Any]]]] = [
                 started.submit(_attempt_in_worker, function, index, item)
                 for index, item in enumerate(items)
             ]
@@ -369,8 +372,6 @@ class Processes(Executor):
                 sink.store(index, outcome)
                 sink.advance(index)
         except BaseException:
-            for future in futures:
-                future.cancel()
             _stop_workers(started)
             raise
         finally:
