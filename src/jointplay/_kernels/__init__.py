@@ -113,18 +113,22 @@ def drop_stale_caches(folders: Sequence[tuple[Path, bool]], digest: str) -> list
     return cleared
 
 
+def _source_folders() -> list[Path]:
+    """This package's folder and its sub-packages' (each may hold cached kernels)."""
+    here = Path(__file__).parent
+    return [here, *(path for path in sorted(here.iterdir()) if (path / "__init__.py").is_file())]
+
+
 def kernel_cache_folders() -> list[tuple[Path, bool]]:
     """Every folder that may hold this package's cached kernels, each with whether Numba
     writes there first (:func:`drop_stale_caches`): the folders of ``NUMBA_CACHE_DIR`` when it
     is set, else ``__pycache__`` beside each source folder where that can be written, else the
     user-wide cache's folder (Numba's locators, in their order); the others are checked too,
     for kernels cached there before."""
-    here = Path(__file__).parent
-    sources = [here, *(path for path in sorted(here.iterdir()) if (path / "__init__.py").is_file())]
     user_wide = _user_wide_cache()
     provided = os.environ.get("NUMBA_CACHE_DIR")
     folders = []
-    for source in sources:
+    for source in _source_folders():
         in_tree = not provided and os.access(source, os.W_OK)
         if provided:
             folders.append((_numba_folder(Path(provided), source), True))
@@ -135,20 +139,19 @@ def kernel_cache_folders() -> list[tuple[Path, bool]]:
 
 def cache_folders() -> list[Path]:
     """Where Numba keeps the kernels' cache: ``NUMBA_CACHE_DIR`` when set, else
-    ``__pycache__`` beside the sources (this package's and ``lanes``'), or the user-wide cache
-    where that is read-only."""
+    ``__pycache__`` beside the sources (this package's and its sub-packages'), or the user-wide
+    cache where that is read-only."""
     custom = os.environ.get("NUMBA_CACHE_DIR")
     if custom:
         return [Path(custom)]
-    here = Path(__file__).parent
-    return [here / "__pycache__", here / "lanes" / "__pycache__", _user_wide_cache()]
+    return [*(folder / "__pycache__" for folder in _source_folders()), _user_wide_cache()]
 
 
 def compiled_cache_present(modules: Sequence[str] = BATCH_LANES) -> bool:
     """Whether every kernel module of ``modules`` (:func:`single_engine`,
     :data:`BATCH_LANES`) has a cache index for this Python
-    (``<module>.<function>-<line>.py<XY>.nbi``). A cache made before the kernels were
-    edited still counts: Numba then recompiles what changed, which this cannot see."""
+    (``<module>.<function>-<line>.py<XY>.nbi``). A cache made from other kernel sources
+    does not count: importing this package has dropped it (:func:`drop_stale_caches`)."""
     tag = f"py{sys.version_info.major}{sys.version_info.minor}"
     folders = [folder for folder in cache_folders() if folder.is_dir()]
     return all(
