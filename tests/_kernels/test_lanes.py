@@ -15,7 +15,7 @@ import numpy as np
 
 from jointplay._kernels import batch as kb
 from jointplay._kernels import eom, radau
-from jointplay._kernels.lanes import build, cpu, source
+from jointplay._kernels.lanes import build, cpu, source, source_radau
 from jointplay.contact.friction import AdamsFriction, AmbrosioFriction, FrictionLaw
 from jointplay.contact.laws import ContactLaw, get_law
 from jointplay.dynamics.clearance import ClearanceJoint
@@ -85,4 +85,13 @@ def test_a_mechanism_with_ideal_joints_is_not_all_clear(paper_fourbar: Mechanism
 
 
 def test_the_cpu_lane_is_the_sources_compilation() -> None:
-    assert cpu.explicit_lane.py_func.__code__ is source.explicit_lane.__code__
+    # both lanes are the one loop of the source, each with its method's steps bound to it
+    assert cpu.explicit_lane.py_func.__code__ is source.lane.__code__
+    assert cpu.implicit_lane.py_func.__code__ is source.lane.__code__
+    explicit, implicit = (
+        cpu.explicit_lane.py_func.__globals__,
+        cpu.implicit_lane.py_func.__globals__,
+    )
+    assert explicit["step_attempt"].py_func.__code__ is source.dopri_attempt.__code__
+    assert implicit["step_attempt"].py_func.__code__ is source_radau.radau_attempt.__code__
+    assert (explicit["LAND_SETTLE"], implicit["LAND_SETTLE"]) == (True, False)

@@ -151,7 +151,10 @@ def _assert_same(new: dict[str, Any], old: kb.BatchKernelOutput) -> None:
 
 
 def test_the_cpu_implicit_lane_is_the_sources_compilation() -> None:
-    assert cpu.implicit_lane.py_func.__code__ is source_radau.implicit_lane.__code__
+    assert cpu.implicit_lane.py_func.__code__ is source.lane.__code__
+    assert cpu.implicit_lane.py_func.__globals__["step_attempt"].py_func.__code__ is (
+        source_radau.radau_attempt.__code__
+    )
 
 
 @pytest.mark.parametrize(

@@ -36,7 +36,8 @@ Outputs per lane, over the window [t_settle, t_end]:
 
 **"explicit"** — Dormand–Prince 5(4) (Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.5,
 Table 5.2: the DOPRI5 tableau, FSAL), propagating the 5th-order solution; the lane is
-:func:`jointplay._kernels.lanes.source.explicit_lane`, written once for the CPU (compiled by
+the lanes' one loop :func:`jointplay._kernels.lanes.source.lane` with DOPRI5's steps
+(``dopri_*``), written once for the CPU (compiled by
 :mod:`jointplay._kernels.lanes.cpu`) and NVIDIA GPUs (:mod:`jointplay._kernels.lanes.cuda`):
 
 - error ``err_i = h Σ_j E_j k_j,i``, norm ``sqrt(mean_i (err_i / sc_i)²)`` over the first

@@ -7,7 +7,7 @@ The engines:
 - ``"single"``: the single engine (:func:`jointplay.dynamics.simulate.simulate`, Radau IIA,
   RODAS4 or DOPRI5), on the CPU backends; the only one that keeps each sample's trajectory;
 - ``"lanes-explicit"``: the explicit lanes of the single source (DOPRI5,
-  :func:`jointplay._kernels.lanes.source.explicit_lane`), on the CPU and ``cuda`` backends;
+  :func:`jointplay._kernels.lanes.source.lane` with DOPRI5's steps), on the CPU and ``cuda`` backends;
 - ``"batch-implicit"``: the CPU backends' implicit lanes (the single engine's Radau IIA and
   hooks, one lane at a time: :func:`jointplay._kernels.batch.run_batch`);
 - ``"lanes-implicit"``: the implicit lanes of the single source (Radau IIA,

@@ -32,6 +32,15 @@ __all__ = [
     "lanes_refusal", "model_width", "output_widths", "running_layout",
 ]  # fmt: skip
 
+#: A lane method's steps, the names the loop calls (``step_<name>``: ``source.lane``'s
+#: docstring); a method defines them as ``<prefix>_<name>``.
+STEPS = ("start", "begin", "land", "attempt", "retry", "refresh", "accept", "dense")
+#: The lanes, each the loop compiled with a method's steps and constants (its record: the
+#: prefix of its steps, ``steps``, and the loop's constants).
+LANES = {"explicit_lane": source.DOPRI_LANE, "implicit_lane": source_radau.RADAU_LANE}
+#: The loop's functions (``source``'s), compiled once per lane with its method's names.
+LOOP = ("lane",)
+
 #: The source's functions, compiled for every target.
 FUNCTIONS = (
     "step3", "power", "normal_force", "friction_force", "driver_acceleration", "driver_angle",
@@ -52,7 +61,7 @@ FUNCTIONS = (
     "running_on", "running_base", "running_stats", "reference_speed", "speed_deviation",
     "spread_weight", "spread_wear", "body_angle", "midpoint_angle", "running_point",
     "start_running", "close_running", "start_outputs",
-    "explicit_lane",
+    *(f"dopri_{step}" for step in STEPS),
     *(
         "pmin", "pmax", "cdiv", "swap_rows", "lu_real", "lu_complex", "lu_solve_real",
         "lu_solve_complex",
@@ -64,8 +73,7 @@ FUNCTIONS = (
         "stage_norm", "rms", "mat3", "predict", "initial_step", "newton_start", "stage_point",
         "newton_iteration", "collocation", "error_estimate", "error_again", "polynomial",
         "touching",
-        "interpolation_rule", "hermite",
-        "implicit_lane",
+        "interpolation_rule", "hermite", *(f"radau_{step}" for step in STEPS),
     ),
 )  # fmt: skip
 #: Those of :data:`FUNCTIONS` that :mod:`jointplay._kernels.lanes.source_radau` holds (the
@@ -89,6 +97,7 @@ def build(
     own: Mapping[str, Callable[..., Any]] | None = None,
     decorate_own: Callable[[Callable[..., Any]], Any] | None = None,
     tag: str = "",
+    decorate_steps: Callable[[Callable[..., Any]], Any] | None = None,
 ) -> dict[str, Any]:
     """Every function of :data:`FUNCTIONS`, compiled with ``decorate``, in a namespace of its
     own (returned: name → compiled function, with the source's constants beside them).
@@ -107,6 +116,8 @@ def build(
         tag: appended to each compiled copy's qualified name, so that a target whose hooks
             differ from another's never shares Numba's on-disk cache entries with it (the
             cache keys a function by its name and code, not by the functions it calls).
+        decorate_steps: the decorator of each lane's own copies of its method's steps and
+            of the loop's helpers (default ``decorate``): the CPU inlines them into the loop.
     """
     namespace: dict[str, Any] = {
         name: value
@@ -130,16 +141,34 @@ def build(
         for name in FUNCTIONS
         if name in only
     ]
+    suffix = f"_{tag}" if tag else ""
     mine = [(name, original, decorate_own or decorate) for name, original in (own or {}).items()]
     for name, original, decorator in [*((n, f, decorate) for n, f in functions), *mine]:
-        copy = types.FunctionType(
-            original.__code__, namespace, name, original.__defaults__, original.__closure__
-        )
-        copy.__module__ = original.__module__
-        copy.__qualname__ = original.__qualname__ + (f"_{tag}" if tag else "")
-        copy.__doc__ = original.__doc__
-        namespace[name] = decorator(copy)
+        namespace[name] = decorator(_copy(original, namespace, original.__qualname__ + suffix))
+    for name, method in LANES.items():  # the loop, once per lane, with its method's steps
+        steps = tuple(f"{method['steps']}_{step}" for step in STEPS)
+        if all(step in namespace for step in steps):
+            bound = {**namespace, **{k: v for k, v in method.items() if k.isupper()}}
+            for function, alias in [*zip(steps, STEPS, strict=True), *((f, "") for f in LOOP)]:
+                original = getattr(source_radau if function in IMPLICIT_FUNCTIONS else source,
+                                   function)  # fmt: skip
+                use = decorate if function == "lane" else (decorate_steps or decorate)
+                copy = use(_copy(original, bound, f"{function}_{name}{suffix}"))
+                bound[f"step_{alias}" if alias else function] = copy
+            namespace[name] = bound["lane"]
     return namespace
+
+
+def _copy(original: Callable[..., Any], namespace: dict[str, Any], qualname: str) -> Any:
+    """``original`` with ``namespace`` as its globals, under ``qualname`` (Numba's cache key)."""
+    copy = types.FunctionType(
+        original.__code__, namespace, original.__name__, original.__defaults__,
+        original.__closure__,
+    )  # fmt: skip
+    copy.__module__ = original.__module__
+    copy.__qualname__ = qualname
+    copy.__doc__ = original.__doc__
+    return copy
 
 
 def closed(
@@ -149,10 +178,15 @@ def closed(
     the functions' code; ``own``: the target's own functions, followed too): the ``only`` of
     a target that compiles part of the source."""
     mine = dict(own or {})
+    for name, method in LANES.items():  # a lane: its method's steps and what the loop calls
+        if name in names:
+            names = (*names, *LOOP, *(f"{method['steps']}_{step}" for step in STEPS))
     wanted = set(names)
     todo = list(names)
     while todo:
         name = todo.pop()
+        if name in LANES:
+            continue
         function = mine.get(name) or getattr(
             source_radau if name in IMPLICIT_FUNCTIONS else source, name
         )

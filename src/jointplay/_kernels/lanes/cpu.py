@@ -1,8 +1,9 @@
 """The lane source compiled for the CPU, and the batch drivers over lanes.
 
-:data:`explicit_lane` is :func:`jointplay._kernels.lanes.source.explicit_lane` compiled by
+:data:`explicit_lane` and :data:`implicit_lane` are the lanes' one loop
+(:func:`jointplay._kernels.lanes.source.lane`) with DOPRI5's and Radau IIA's steps, compiled by
 ``numba.njit(cache=True, error_model="numpy")`` (so a division by zero gives inf/NaN, as in
-the rest of the kernels); the drivers allocate each lane's work arrays and run the lanes
+the rest of the kernels), the steps inlined into the loop; the drivers allocate each lane's work arrays and run the lanes
 serially or on Numba's threads (``prange``). Lanes are independent: a lane's result does not
 depend on the other lanes or on the thread that runs it.
 """
@@ -18,7 +19,11 @@ import numpy as np
 from jointplay._kernels.lanes.build import build, closed
 from jointplay._kernels.lanes.projection import N_WORK, project_lapack
 from jointplay._kernels.lanes.source import LY_N, LY_NC, LY_NIDEAL, LY_SIZE
+from jointplay._kernels.lanes.source_radau import N_RADAU_SCALARS
 
+#: The lanes' steps and the loop's helpers are inlined into the loop (Numba's IR inlining):
+#: called as functions, they made an explicit lane 7-14 % dearer (64 conventional lanes).
+_INLINE = numba.njit(cache=True, error_model="numpy", inline="always")
 #: Every function of the source, compiled for the CPU, by name; the projection hook is the
 #: single engine's (:func:`~jointplay._kernels.lanes.projection.project_lapack`, LAPACK's
 #: solve), so that the lanes keep its bits.
@@ -26,8 +31,9 @@ compiled = build(
     numba.njit(cache=True, error_model="numpy"),
     hooks={"project": project_lapack},
     extras={"np": np},
+    decorate_steps=_INLINE,
 )
-#: The explicit lane, compiled for the CPU.
+#: The explicit lane (the loop with DOPRI5's steps), compiled for the CPU.
 explicit_lane = compiled["explicit_lane"]
 #: The explicit lane with the running reductions (``source.RUNNING``: a separate compilation,
 #: so that :data:`explicit_lane` has none of their code), run when the lanes' ``rpar`` carry
@@ -38,9 +44,10 @@ compiled_running = build(
     extras={"np": np, "RUNNING": True},
     only=closed(("explicit_lane",)),
     tag="running",
+    decorate_steps=_INLINE,
 )
 explicit_lane_running = compiled_running["explicit_lane"]
-#: The implicit lane (:mod:`jointplay._kernels.lanes.source_radau`), compiled for the CPU.
+#: The implicit lane (the loop with :mod:`jointplay._kernels.lanes.source_radau`'s steps).
 implicit_lane = compiled["implicit_lane"]
 
 __all__ = [
@@ -59,16 +66,39 @@ __all__ = [
 
 @numba.njit(cache=True, error_model="numpy")
 def _work(lay, n_q):
-    """The work arrays both lanes take (their contract: the source's ``explicit_lane`` and
-    ``implicit_lane``): ``mask``, the quantities at two ends (2, Q), the refinement's
-    ``samples``, the penetrations (2, nc), the contact records (3, 7 nc), the constrained
-    right-hand side's ``phi_q``, ``schur``, ``lam`` and the projection's ``scratch``."""
+    """The loop's work arrays (``source.lane``'s contract): ``mask``, ``vec`` (9, S), the
+    quantities at two ends (2, Q), the refinement's ``samples``, the penetrations (2, nc),
+    the contact records (3, 7 nc), the constrained right-hand side's ``phi_q``, ``schur``,
+    ``lam`` and the projection's ``scratch``."""
     nc = max(lay[LY_NC], 1)
     rows = 2 * lay[LY_NIDEAL] + 1
     return (
-        np.empty(n_q, dtype=np.int64), np.empty((2, n_q)), np.empty((9, n_q)),
-        np.empty((2, nc)), np.empty((3, 7 * nc)), np.empty((rows, lay[LY_N])),
-        np.empty((rows, rows)), np.empty(rows), np.zeros(N_WORK),
+        np.empty(n_q, dtype=np.int64), np.empty((9, lay[LY_SIZE])), np.empty((2, n_q)),
+        np.empty((9, n_q)), np.empty((2, nc)), np.empty((3, 7 * nc)),
+        np.empty((rows, lay[LY_N])), np.empty((rows, rows)), np.empty(rows), np.zeros(N_WORK),
+    )  # fmt: skip
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _dopri_work(lay):
+    """DOPRI5's ``ws`` (``source.DOPRI_STATE``)."""
+    return np.zeros((9, lay[LY_SIZE]))
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _radau_work(lay):
+    """Radau IIA's ``ws`` (``source_radau.radau_start``'s docstring)."""
+    size = lay[LY_SIZE]
+    n = lay[LY_N]
+    v = np.empty((8, size))
+    small = np.empty((3, n))
+    stages = np.empty((5, 3, size))
+    mats = np.empty((3, n, n))
+    pivots = np.empty((2, n), dtype=np.int64)
+    return (
+        np.zeros(N_RADAU_SCALARS), v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7],
+        small[0], small[1], small[2], stages[0], stages[1], stages[2], stages[3], stages[4],
+        np.empty((size - n, 2 * n)), mats[0], pivots[0], mats[1], mats[2], pivots[1],
     )  # fmt: skip
 
 
@@ -76,16 +106,13 @@ def _one(
     ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
     peaks, stats, status, t_reached, counts, lane,
 ):  # fmt: skip
-    """Lane ``lane`` of the explicit method (:func:`_explicit_drivers`' ``explicit_lane``)."""
-    size = y0.shape[1]
-    mask, q, samples, pen, records, phi_q, schur, lam, scratch = _work(lay, peaks.shape[1])
-    k = np.empty((7, size))
-    work = np.empty((6, size))
-    code, t = explicit_lane(
+    """Lane ``lane`` (:func:`_drivers`' ``method_lane`` with ``method_work``)."""
+    mask, vec, q, samples, pen, records, phi_q, schur, lam, scratch = _work(lay, peaks.shape[1])
+    code, t = method_lane(  # type: ignore[name-defined]  # noqa: F821 (the drivers' namespace)
         ipar, rpar[lane], lay, y0[lane], t_settle[lane], t_end[lane], max_step[lane], rtol,
-        atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask, k,
-        work[0], work[1], work[2], work[3], work[4], work[5], q[0], q[1], samples, pen[0],
-        records[0], records[1], records[2], phi_q, schur, lam, scratch,
+        atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask, vec, q,
+        samples, pen, records, phi_q, schur, lam, scratch,
+        method_work(lay),  # type: ignore[name-defined]  # noqa: F821
     )  # fmt: skip
     status[lane] = code
     t_reached[lane] = t
@@ -116,12 +143,14 @@ def _lanes_parallel(
         )  # fmt: skip
 
 
-def _explicit_drivers(lane: Any, tag: str) -> tuple[Any, Any]:
+def _drivers(lane: Any, work: Any, tag: str) -> tuple[Any, Any]:
     """The serial and the threaded drivers of :func:`_lanes` and :func:`_lanes_parallel` over
-    the compiled explicit lane ``lane``: the functions compiled in a namespace of their own
-    (as :func:`~jointplay._kernels.lanes.build.build` does), ``tag`` keeping their cache
-    entries apart, so that each pair links its own lane and no other."""
-    namespace = {"np": np, "numba": numba, "_work": _work, "explicit_lane": lane}
+    the compiled lane ``lane`` with its method's work arrays ``work``: the functions compiled
+    in a namespace of their own (as :func:`~jointplay._kernels.lanes.build.build` does),
+    ``tag`` keeping their cache entries apart, so that each pair links its own lane and no
+    other."""
+    namespace = {"np": np, "numba": numba, "_work": _work, "method_lane": lane,
+                 "method_work": work}  # fmt: skip
     for function, parallel in ((_one, False), (_lanes, False), (_lanes_parallel, True)):
         copy = types.FunctionType(function.__code__, namespace, function.__name__)
         copy.__module__ = function.__module__
@@ -134,10 +163,10 @@ def _explicit_drivers(lane: Any, tag: str) -> tuple[Any, Any]:
 
 
 #: Every lane of the explicit method, serially and on Numba's threads.
-explicit_lanes, explicit_lanes_parallel = _explicit_drivers(explicit_lane, "")
+explicit_lanes, explicit_lanes_parallel = _drivers(explicit_lane, _dopri_work, "")
 #: The same with the running reductions (:data:`explicit_lane_running`).
-explicit_lanes_running, explicit_lanes_running_parallel = _explicit_drivers(
-    explicit_lane_running, "_running"
+explicit_lanes_running, explicit_lanes_running_parallel = _drivers(
+    explicit_lane_running, _dopri_work, "_running"
 )
 #: The explicit drivers by ``(running, parallel)``.
 EXPLICIT_DRIVERS = {
@@ -146,58 +175,6 @@ EXPLICIT_DRIVERS = {
     (True, False): explicit_lanes_running,
     (True, True): explicit_lanes_running_parallel,
 }
-
-
-@numba.njit(cache=True, error_model="numpy")
-def _one_implicit(
-    ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-    peaks, stats, status, t_reached, counts, lane,
-):  # fmt: skip
-    size = lay[LY_SIZE]
-    n = lay[LY_N]
-    mask, q, samples, pen, records, phi_q, schur, lam, scratch = _work(lay, peaks.shape[1])
-    vec = np.empty((16, size))
-    small = np.empty((3, n))
-    stages = np.empty((5, 3, size))
-    jac = np.empty((size - n, 2 * n))
-    mats = np.empty((3, n, n))
-    pivots = np.empty((2, n), dtype=np.int64)
-    code, t = implicit_lane(
-        ipar, rpar[lane], lay, y0[lane], t_settle[lane], t_end[lane], max_step[lane], rtol,
-        atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask,
-        vec[0], vec[1], vec[2], vec[3], vec[4], vec[5], vec[6], vec[7], vec[8], vec[9],
-        vec[10], vec[11], vec[12], vec[13], vec[14], vec[15], small[0], small[1], small[2],
-        stages[0], stages[1], stages[2], stages[3], stages[4], jac, mats[0], pivots[0],
-        mats[1], mats[2], pivots[1], q[0], q[1], samples, pen[0], pen[1],
-        records[0], records[1], records[2], phi_q, schur, lam, scratch,
-    )  # fmt: skip
-    status[lane] = code
-    t_reached[lane] = t
-
-
-@numba.njit(cache=True, error_model="numpy")
-def implicit_lanes(
-    ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-    peaks, stats, status, t_reached, counts,
-):  # fmt: skip
-    """Every lane of the implicit method on the single source, one after the other
-    (arguments and outputs: :func:`explicit_lanes`; not in the sustained-contact mode:
-    :func:`jointplay._kernels.lanes.build.lanes_refusal`)."""
-    for lane in range(y0.shape[0]):
-        _one_implicit(
-            ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-            peaks, stats, status, t_reached, counts, lane,
-        )  # fmt: skip
-
-
-@numba.njit(cache=True, error_model="numpy", parallel=True)
-def implicit_lanes_parallel(
-    ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-    peaks, stats, status, t_reached, counts,
-):  # fmt: skip
-    """:func:`implicit_lanes` on Numba's threads (``prange`` over lanes)."""
-    for lane in numba.prange(y0.shape[0]):
-        _one_implicit(
-            ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-            peaks, stats, status, t_reached, counts, lane,
-        )  # fmt: skip
+#: Every lane of the implicit method on the single source, serially and on Numba's threads
+#: (not in the sustained-contact mode: :func:`jointplay._kernels.lanes.build.lanes_refusal`).
+implicit_lanes, implicit_lanes_parallel = _drivers(implicit_lane, _radau_work, "_implicit")

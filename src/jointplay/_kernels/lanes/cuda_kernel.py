@@ -2,7 +2,8 @@
 :mod:`jointplay._kernels.lanes.cuda` only, once it has checked that numba-cuda and a GPU, or
 the simulator, are there).
 
-Each thread runs :func:`jointplay._kernels.lanes.source.explicit_lane` for its lane with
+Each thread runs the lanes' loop (:func:`jointplay._kernels.lanes.source.lane`) with the
+explicit or the implicit method's steps for its lane, with
 every work array in its own local memory (``cuda.local.array``, sizes fixed at compile time:
 ``MAX_*`` of :mod:`jointplay._kernels.lanes.limits`), and writes its peaks, statistics, status,
 time reached and counters into the output arrays' rows; nothing is shared between threads.
@@ -37,6 +38,7 @@ from jointplay._kernels.lanes.limits import (
     MAX_STATE,
     simulated,
 )
+from jointplay._kernels.lanes.source_radau import N_RADAU_SCALARS
 
 
 def _volatile_byte() -> Any:
@@ -94,8 +96,15 @@ _GPU = build(
     },
 )
 _explicit_lane = _GPU["explicit_lane"]
+_implicit_lane = _GPU["implicit_lane"]
 _RECORD = 7 * MAX_CLEAR
 _SAMPLES = 9
+#: The loop's vectors (``source.lane``: three states, two f, the refinement's and the window
+#: opening's state and f) and Radau IIA's (``source_radau.radau_start``).
+_VECTORS = 9
+_RADAU_VECTORS = 8
+#: Columns of the Jacobian block the Newton systems read: positions and velocities.
+_JAC_COLUMNS = 2 * MAX_COORDS
 
 
 @cuda.jit(cache=True)
@@ -103,44 +112,29 @@ def explicit_kernel(
     ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
     peaks, stats, status, t_reached, counts,
 ):  # fmt: skip
-    """Lane ``cuda.grid(1)`` of the explicit method (arguments and outputs:
+    """Lane ``cuda.grid(1)`` of the explicit method, DOPRI5 (arguments and outputs:
     :func:`jointplay._kernels.lanes.cpu.explicit_lanes`)."""
     lane: int = cuda.grid(1)  # type: ignore[call-arg]
     if lane >= y0.shape[0]:
         return
     mask = cuda.local.array(MAX_Q, np.int64)
-    k = cuda.local.array((7, MAX_STATE), np.float64)
-    y = cuda.local.array(MAX_STATE, np.float64)
-    y_new = cuda.local.array(MAX_STATE, np.float64)
-    ys = cuda.local.array(MAX_STATE, np.float64)
-    y_mid = cuda.local.array(MAX_STATE, np.float64)
-    f = cuda.local.array(MAX_STATE, np.float64)
-    f_mid = cuda.local.array(MAX_STATE, np.float64)
-    qa = cuda.local.array(MAX_Q, np.float64)
-    qb = cuda.local.array(MAX_Q, np.float64)
+    vec = cuda.local.array((_VECTORS, MAX_STATE), np.float64)
+    q = cuda.local.array((2, MAX_Q), np.float64)
     samples = cuda.local.array((_SAMPLES, MAX_Q), np.float64)
-    pen = cuda.local.array(MAX_CLEAR, np.float64)
-    record = cuda.local.array(_RECORD, np.float64)
-    record_new = cuda.local.array(_RECORD, np.float64)
-    record_mid = cuda.local.array(_RECORD, np.float64)
+    pen = cuda.local.array((2, MAX_CLEAR), np.float64)
+    records = cuda.local.array((3, _RECORD), np.float64)
     phi_q = cuda.local.array((MAX_ROWS, MAX_STATE), np.float64)
     schur = cuda.local.array((MAX_ROWS, MAX_ROWS), np.float64)
     lam = cuda.local.array(MAX_ROWS, np.float64)
     scratch = cuda.local.array(3, np.float64)
+    work = cuda.local.array((9, MAX_STATE), np.float64)  # source.DOPRI_STATE
     code, t = _explicit_lane(
         ipar, rpar[lane], lay, y0[lane], t_settle[lane], t_end[lane], max_step[lane], rtol,
-        atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask, k, y, y_new,
-        ys, y_mid, f, f_mid, qa, qb, samples, pen, record, record_new, record_mid, phi_q,
-        schur, lam, scratch,
+        atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask, vec, q,
+        samples, pen, records, phi_q, schur, lam, scratch, work,
     )  # fmt: skip
     status[lane] = code
     t_reached[lane] = t
-
-
-_implicit_lane = _GPU["implicit_lane"]
-_VECTORS = 16
-#: Columns of the Jacobian block the Newton systems read: positions and velocities.
-_JAC_COLUMNS = 2 * MAX_COORDS
 
 
 @cuda.jit(cache=True)
@@ -148,46 +142,38 @@ def implicit_kernel(
     ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
     peaks, stats, status, t_reached, counts,
 ):  # fmt: skip
-    """Lane ``cuda.grid(1)`` of the implicit method, Radau IIA
-    (:func:`jointplay._kernels.lanes.source_radau.implicit_lane`; arguments and outputs:
+    """Lane ``cuda.grid(1)`` of the implicit method, Radau IIA (arguments and outputs:
     :func:`jointplay._kernels.lanes.cpu.implicit_lanes`): its Newton matrices and their LU
     factors (MAX_COORDS²) in the thread's local memory, like every other work array."""
     lane: int = cuda.grid(1)  # type: ignore[call-arg]
     if lane >= y0.shape[0]:
         return
     mask = cuda.local.array(MAX_Q, np.int64)
-    v = cuda.local.array((_VECTORS, MAX_STATE), np.float64)
-    small = cuda.local.array((3, MAX_COORDS), np.float64)
-    z = cuda.local.array((3, MAX_STATE), np.float64)
-    w = cuda.local.array((3, MAX_STATE), np.float64)
-    fst = cuda.local.array((3, MAX_STATE), np.float64)
-    dw = cuda.local.array((3, MAX_STATE), np.float64)
-    cq = cuda.local.array((3, MAX_STATE), np.float64)
-    jac = cuda.local.array((MAX_STATE, _JAC_COLUMNS), np.float64)
-    a_re = cuda.local.array((MAX_COORDS, MAX_COORDS), np.float64)
-    c_re = cuda.local.array((MAX_COORDS, MAX_COORDS), np.float64)
-    c_im = cuda.local.array((MAX_COORDS, MAX_COORDS), np.float64)
-    piv_re = cuda.local.array(MAX_COORDS, np.int64)
-    piv_c = cuda.local.array(MAX_COORDS, np.int64)
-    qa = cuda.local.array(MAX_Q, np.float64)
-    qb = cuda.local.array(MAX_Q, np.float64)
+    vec = cuda.local.array((_VECTORS, MAX_STATE), np.float64)
+    q = cuda.local.array((2, MAX_Q), np.float64)
     samples = cuda.local.array((_SAMPLES, MAX_Q), np.float64)
-    pen = cuda.local.array(MAX_CLEAR, np.float64)
-    pen_open = cuda.local.array(MAX_CLEAR, np.float64)
-    record = cuda.local.array(_RECORD, np.float64)
-    record_new = cuda.local.array(_RECORD, np.float64)
-    record_mid = cuda.local.array(_RECORD, np.float64)
+    pen = cuda.local.array((2, MAX_CLEAR), np.float64)
+    records = cuda.local.array((3, _RECORD), np.float64)
     phi_q = cuda.local.array((MAX_ROWS, MAX_STATE), np.float64)
     schur = cuda.local.array((MAX_ROWS, MAX_ROWS), np.float64)
     lam = cuda.local.array(MAX_ROWS, np.float64)
     scratch = cuda.local.array(3, np.float64)
+    scalars = cuda.local.array(N_RADAU_SCALARS, np.float64)
+    v = cuda.local.array((_RADAU_VECTORS, MAX_STATE), np.float64)
+    small = cuda.local.array((3, MAX_COORDS), np.float64)
+    stages = cuda.local.array((5, 3, MAX_STATE), np.float64)
+    jac = cuda.local.array((MAX_STATE, _JAC_COLUMNS), np.float64)
+    mats = cuda.local.array((3, MAX_COORDS, MAX_COORDS), np.float64)
+    pivots = cuda.local.array((2, MAX_COORDS), np.int64)
+    work = (
+        scalars, v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], small[0], small[1], small[2],
+        stages[0], stages[1], stages[2], stages[3], stages[4], jac, mats[0], pivots[0],
+        mats[1], mats[2], pivots[1],
+    )  # fmt: skip
     code, t = _implicit_lane(
         ipar, rpar[lane], lay, y0[lane], t_settle[lane], t_end[lane], max_step[lane], rtol,
-        atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask,
-        v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9], v[10], v[11], v[12],
-        v[13], v[14], v[15], small[0], small[1], small[2], z, w, fst, dw, cq, jac, a_re, piv_re,
-        c_re, c_im, piv_c, qa, qb, samples, pen, pen_open, record, record_new, record_mid,
-        phi_q, schur, lam, scratch,
+        atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask, vec, q,
+        samples, pen, records, phi_q, schur, lam, scratch, work,
     )  # fmt: skip
     status[lane] = code
     t_reached[lane] = t

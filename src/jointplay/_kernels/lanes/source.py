@@ -1,9 +1,9 @@
-"""The equations of motion, written once for every engine, and the explicit batch lane: one
-source for two compilers (Numba's CPU ``njit`` and numba-cuda's ``cuda.jit(device=True)``).
+"""The equations of motion, written once for every engine, the lanes' one loop and DOPRI5's
+steps in it: one source for two compilers (Numba's CPU ``njit`` and numba-cuda's ``cuda.jit(device=True)``).
 
 This is the only place where the right-hand side, the contact and friction laws, the film,
 the clearance joints' kinematics, the constraint equations, the quantities and the contact
-memory are written (the closed-form Jacobian and the implicit lane:
+memory are written (the closed-form Jacobian and Radau IIA's steps:
 :mod:`~jointplay._kernels.lanes.source_radau`). The single engine is their CPU compilation with
 its own hooks (:mod:`jointplay._kernels.shared`, behind :mod:`jointplay._kernels.eom`'s
 integrator hooks), the batch lanes their CPU compilation (:mod:`jointplay._kernels.lanes.cpu`),
@@ -22,10 +22,12 @@ offsets and sizes (:func:`jointplay._kernels.lanes.build.lane_layout`, ``LY_*`` 
 last entries of ``ipar``). The state layout and the clearance joint's kinematics and forces
 are :mod:`jointplay._kernels.eom`'s module docstring's (Flores et al. 2008); the ideal joints
 and the driver are constraints (Nikravesh 1988) — no matrix when every joint is clear, the
-driver then the only constraint. The lane is the explicit lane of the batch contract
-(:mod:`jointplay._kernels.batch`'s module docstring: DOPRI5 of Hairer, Nørsett & Wanner,
-*Solving ODEs I*, §II.5, Table 5.2, step control, contact-onset control, contact memory, the
-peak rule, the statistics and the statuses). The hooks a target replaces are :func:`project`
+driver then the only constraint. :func:`lane` is the one loop of the batch lanes (the
+contract: :mod:`jointplay._kernels.batch`'s module docstring: step control, contact-onset
+control, contact memory, the peak rule, the statistics and the statuses), every method a set
+of steps that :mod:`jointplay._kernels.lanes.build` binds to it: DOPRI5 of Hairer, Nørsett &
+Wanner, *Solving ODEs I*, §II.5, Table 5.2 here (``dopri_*``, the explicit lane), Radau IIA
+in :mod:`~jointplay._kernels.lanes.source_radau` (``radau_*``, the implicit lane). The hooks a target replaces are :func:`project`
 (the projection onto the ideal constraints) and :func:`locked_accelerations` (the
 sustained-contact mode, the single engine's only).
 
@@ -1317,7 +1319,7 @@ RUN_PREVIOUS = 4
 #: target's namespace (:func:`jointplay._kernels.lanes.build.build`'s ``extras``), so that a
 #: compilation without them has none of their code. Measured: their mere presence (never run)
 #: made the explicit lane 12 % dearer (64 conventional lanes, one thread, CPU time 0.478 s
-#: against 0.425 s), as the regimes' calls did (:func:`explicit_lane`'s docstring). The CPU
+#: against 0.425 s), as the regimes' calls did (:func:`lane`'s docstring). The CPU
 #: compiles the explicit lane twice (:mod:`jointplay._kernels.lanes.cpu`), the CUDA kernels
 #: with them.
 RUNNING = False
@@ -1531,37 +1533,69 @@ def start_outputs(ip, rp, lay, mask, peaks, stats, counts):
         start_running(rp, lay, stats)
 
 
-def explicit_lane(
+def lane(
     ip, rp, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-    peaks, stats, counts, mask, k, y, y_new, ys, y_mid, f, f_mid, qa, qb, samples, pen,
-    record, record_new, record_mid, phi_q, schur, lam, scratch,
+    peaks, stats, counts, mask, vec, q, samples, pen, records, phi_q, schur, lam, scratch, ws,
 ):  # fmt: skip
-    """One lane of the explicit method (the contract: :mod:`jointplay._kernels.batch`);
-    fills ``peaks`` (P), ``stats`` (M) and ``counts`` (steps, rejections, rhs evaluations).
+    """One lane of the batch contract (:mod:`jointplay._kernels.batch`), for every method:
+    the one loop of the lanes. It owns the step budget, the interrupt, the smallest step, the
+    contact-onset retry, the hooks after a step (contact memory, projection), finiteness, the
+    running responses and the window's peaks and statistics; a method brings its steps, bound
+    by :func:`jointplay._kernels.lanes.build.build` to the names the loop calls (a lane of
+    ``explicit_lane`` binds ``step_attempt`` to :func:`dopri_attempt`, of ``implicit_lane`` to
+    ``source_radau.radau_attempt``, …) with its constants: ``LAND_SETTLE`` (its steps land
+    on the window's start, else the window opens inside the step that crosses it, at the
+    method's interpolant), ``REGIMES`` (the time-in-regime statistics: their calls alone
+    made a dry explicit step 15-17 % dearer, so a method that runs no film compiles without
+    them) and ``RTOL_FLOOR``. The steps' contract (every method takes the same arguments):
 
-    Work arrays (the caller's, any contents): ``mask`` (P, int), ``k`` (7, S), ``y``,
-    ``y_new``, ``ys``, ``y_mid``, ``f``, ``f_mid`` (S), ``qa``, ``qb`` (P), ``samples``
-    (9, P), ``pen`` (nc), ``record``, ``record_new``, ``record_mid`` (7 nc), ``phi_q``
-    (rows × 3 nb), ``schur`` (rows × rows), ``lam`` (rows), ``scratch`` (3: the target's
-    :func:`project`'s).
+    - ``step_start(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mid,
+      record_mid, phi_q, schur, lam, counts) -> h``: the method's state at the first point
+      (``f`` and ``pen`` evaluated) and its first step's size;
+    - ``step_begin(ws, t, y, h, max_step, min_step, rtol, atol, size) -> h``: a step from
+      ``(t, y)`` proposed ``h`` long: the size of its first try;
+    - ``step_land(t, h, target) -> (t_new, h)``: the try's end, cut to land on ``target``;
+    - ``step_attempt(ws, t, y, f, h, t_new, y_new, t_old, y_old, rtol, atol, rp, ip, lay,
+      record_new, qb, pen, f_mid, record_mid, phi_q, schur, lam, counts) -> (passed, h)``:
+      the try (rejections counted): ``y_new`` and the end's contact records ``record_new``,
+      or the size to retry with;
+    - ``step_retry(ws)``: the onset control shortened the step that passed;
+    - ``step_refresh(ws, t_new, y_new, f_new, changed, rp, ip, lay, record, qb, pen, phi_q,
+      schur, lam, counts) -> evaluated``: f, the records and the quantities at the accepted
+      end after the hooks (``False``: the attempt's own, FSAL: the loop swaps the records);
+    - ``step_accept(ws, t_new, y_new, f_new, h, changed, atol, rp, ip, lay, pen, f_mid,
+      record_mid, phi_q, schur, lam, counts) -> h``: the accepted step into the method's
+      state; the next step's proposed size;
+    - ``step_dense(ws, t_old, y_old, t, y, f, t_new, y_new, f_new, h, tau, theta, out, lay)``:
+      the method's interpolant at ``tau`` = t + θh into ``out``.
 
-    The time-in-regime slots of ``stats`` stay NaN (:func:`start_outputs`): these lanes run no
-    film (the capability table refuses film damping), so no joint is lubricated. Not calling
-    the regimes' functions here is measured: their calls alone made a dry explicit step
-    15-17 % dearer (64 lanes of the conventional set, one thread: 1.43 s against 1.23 s).
+    Work arrays (the caller's, any contents): ``mask`` (P, int); ``vec`` (9, S): three states
+    (the step's start, end and the one before), two f, the refinement's and the window
+    opening's state and f; ``q`` (2, P) the quantities at a step's two ends; ``samples``
+    (9, P); ``pen`` (2, nc); ``records`` (3, 7 nc); ``phi_q`` (rows × 3 nb), ``schur``
+    (rows × rows), ``lam`` (rows), ``scratch``: the target's :func:`project`'s; ``ws``: the
+    method's work (a tuple its steps read). Not in the sustained-contact mode (the
+    capability table refuses it).
 
     Returns:
-        ``(status, t_reached)``: a ``STATUS_*`` code and the time reached, s.
+        ``(status, t_reached)``: a ``STATUS_*`` code and the last accepted time, s.
     """
     n = lay[LY_N]
     nb = n // 3
     nc = lay[LY_NC]
-    n_active = 2 * n
     size = lay[LY_SIZE]
     n_q = lay[LY_NQ]
     start_outputs(ip, rp, lay, mask, peaks, stats, counts)
-
     t = 0.0
+    if interrupt_pending(interrupt):
+        return STATUS_INTERRUPTED, t
+    rtol = max(rtol, RTOL_FLOOR)
+    y, y_new, y_old, f, f_new = vec[0], vec[1], vec[2], vec[3], vec[4]
+    y_mid, f_mid, y_open, f_open = vec[5], vec[6], vec[7], vec[8]
+    qa, qb = q[0], q[1]
+    pen_open = pen[1]
+    pen = pen[0]
+    record, record_new, record_mid = records[0], records[1], records[2]
     for i in range(size):
         y[i] = y0[i]
     rhs_and_quantities(t, y, rp, ip, lay, f, record, qa, pen, phi_q, schur, lam)
@@ -1575,7 +1609,11 @@ def explicit_lane(
     in_window = t_settle <= 0.0
     if in_window:
         open_window(qa, pen, peaks, stats, nb, n_q, nc)
-    h = max_step / 10.0
+        if REGIMES:
+            open_regimes(rp, lay, pen, stats, nb, nc)
+    h_next = step_start(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mid,
+                        record_mid, phi_q, schur, lam, counts)  # fmt: skip
+    t_old = t
     status = STATUS_RUNNING
     while status == STATUS_RUNNING:
         if t >= t_end:
@@ -1587,118 +1625,235 @@ def explicit_lane(
         if interrupt_pending(interrupt):
             status = STATUS_INTERRUPTED
             break
-        target = t_settle if t < t_settle else t_end
+        target = t_settle if (LAND_SETTLE and t < t_settle) else t_end
         min_step = 10.0 * abs(math.nextafter(t, math.inf) - t)
-        h = min(h, max_step)
-        had_rejection = False
+        h_try = step_begin(ws, t, y, h_next, max_step, min_step, rtol, atol, size)
         n_check = 0
-        err = 0.0
         t_new = t
+        h = h_try
         while True:
-            if h < min_step:
+            if h_try < min_step:
                 status = STATUS_STEP_TOO_SMALL
                 break
-            t_new = t + h
-            if t_new >= target:
-                t_new = target
-                h = target - t
-            for i in range(size):
-                k[0, i] = f[i]
-            for i in range(size):
-                ys[i] = y[i] + h * (A21 * k[0, i])
-            rhs(t + C2 * h, ys, rp, ip, lay, k[1], record_mid, False, phi_q, schur, lam)
-            for i in range(size):
-                ys[i] = y[i] + h * (A31 * k[0, i] + A32 * k[1, i])
-            rhs(t + C3 * h, ys, rp, ip, lay, k[2], record_mid, False, phi_q, schur, lam)
-            for i in range(size):
-                ys[i] = y[i] + h * (A41 * k[0, i] + A42 * k[1, i] + A43 * k[2, i])
-            rhs(t + C4 * h, ys, rp, ip, lay, k[3], record_mid, False, phi_q, schur, lam)
-            for i in range(size):
-                ys[i] = y[i] + h * (A51 * k[0, i] + A52 * k[1, i] + A53 * k[2, i] + A54 * k[3, i])
-            rhs(t + C5 * h, ys, rp, ip, lay, k[4], record_mid, False, phi_q, schur, lam)
-            for i in range(size):
-                ys[i] = y[i] + h * (
-                    A61 * k[0, i] + A62 * k[1, i] + A63 * k[2, i] + A64 * k[3, i]
-                    + A65 * k[4, i]
-                )  # fmt: skip
-            rhs(t + h, ys, rp, ip, lay, k[5], record_mid, False, phi_q, schur, lam)
-            for i in range(size):
-                y_new[i] = y[i] + h * (
-                    B1 * k[0, i] + B3 * k[2, i] + B4 * k[3, i] + B5 * k[4, i] + B6 * k[5, i]
-                )
-            # the last stage also gives the contact records and the quantities at the step's end
-            rhs_and_quantities(
-                t_new, y_new, rp, ip, lay, k[6], record_new, qb, pen, phi_q, schur, lam
-            )
-            counts[K_RHS] += 6
-            total = 0.0
-            for i in range(n_active):
-                e = h * (
-                    E1 * k[0, i] + E3 * k[2, i] + E4 * k[3, i] + E5 * k[4, i] + E6 * k[5, i]
-                    + E7 * k[6, i]
-                )  # fmt: skip
-                scale = atol[i] + rtol * max(abs(y[i]), abs(y_new[i]))
-                total += (e / scale) ** 2
-            err = math.sqrt(total / n_active)
-            if err > 1.0:
-                h *= max(MIN_FACTOR, SAFETY * err**-0.2)
-                had_rejection = True
-                counts[K_REJECTED] += 1
+            t_new, h = step_land(t, h_try, target)
+            passed, h_try = step_attempt(
+                ws, t, y, f, h, t_new, y_new, t_old, y_old, rtol, atol, rp, ip, lay, record_new, qb,
+                pen, f_mid, record_mid, phi_q, schur, lam, counts,
+            )  # fmt: skip
+            if not passed:
                 continue
+            # the contact-onset control (eom.step_check) on the two ends' records
             theta = onset_check(record, record_new, rp, lay)
-            h_try = h * theta
-            if theta < 1.0 and min_step <= h_try < h and n_check < MAX_CHECK_REJECTIONS:
-                h = h_try
+            shorter = h * theta
+            if theta < 1.0 and min_step <= shorter < h and n_check < MAX_CHECK_REJECTIONS:
+                h_try = shorter
+                step_retry(ws)
                 n_check += 1
                 counts[K_REJECTED] += 1
                 continue
             break
         if status != STATUS_RUNNING:
             break
-        factor = MAX_FACTOR if err == 0.0 else min(MAX_FACTOR, max(MIN_FACTOR, SAFETY * err**-0.2))
-        if had_rejection:
-            factor = min(factor, 1.0)
+        # eom.after_step: the contact memory from the two ends' records, then the projection
         changed = contact_memory(y_new, rp, lay, record_new, record)
         changed = project(t_new, y_new, rp, ip, lay, scratch, phi_q, schur, lam) or changed
-        if changed:
-            rhs_and_quantities(t_new, y_new, rp, ip, lay, f, record, qb, pen, phi_q, schur, lam)
-            counts[K_RHS] += 1
-        else:
-            for i in range(size):
-                f[i] = k[6, i]
+        if not step_refresh(ws, t_new, y_new, f_new, changed, rp, ip, lay, record, qb, pen,
+                            phi_q, schur, lam, counts):  # fmt: skip
             record, record_new = record_new, record  # the end's records become the start's
-        if not (all_finite(y_new, size) and all_finite(f, size)):
+        if not (all_finite(y_new, size) and all_finite(f_new, size)):
             status = STATUS_NON_FINITE
             break
         if running:
             speed_deviation(y_new, rp, lay, qb)
             running_point(t_new, h, t_settle, y_new, rp, ip, lay, f_mid, record_mid, stats)
-        if in_window:
-            accumulate(qa, qb, pen, h, peaks, stats, nb, n_q, nc)
+        h_next = step_accept(ws, t_new, y_new, f_new, h, changed, atol, rp, ip, lay, pen,
+                             f_mid, record_mid, phi_q, schur, lam, counts)  # fmt: skip
+        # the peaks and statistics of this step (batch's module docstring)
+        t_a = t
+        h_window = h
+        add = in_window
+        if not in_window and t_new == t_settle:  # the window opens at this step's end
+            in_window = True
+            for p in range(n_q):
+                qa[p] = qb[p]
+            open_window(qa, pen, peaks, stats, nb, n_q, nc)
+            if REGIMES:
+                open_regimes(rp, lay, pen, stats, nb, nc)
+        elif not in_window and t_new > t_settle:  # … inside this step: its part from there
+            in_window = True
+            add = True
+            step_dense(ws, t_old, y_old, t, y, f, t_new, y_new, f_new, h, t_settle,
+                       (t_settle - t) / h, y_open, lay)  # fmt: skip
+            quantities(t_settle, y_open, rp, ip, lay, f_open, record_mid, qa, pen_open, phi_q,
+                       schur, lam)  # fmt: skip
+            if running:
+                speed_deviation(y_open, rp, lay, qa)
+            open_window(qa, pen_open, peaks, stats, nb, n_q, nc)
+            if REGIMES:
+                open_regimes(rp, lay, pen_open, stats, nb, nc)
+            t_a = t_settle
+            h_window = t_new - t_settle
+        if add:
+            accumulate(qa, qb, pen, h_window, peaks, stats, nb, n_q, nc)
+            if REGIMES:
+                accumulate_regimes(rp, lay, pen, h_window, stats, nb, nc)
             every = wants_refinement(qa, qb, peaks, mask, n_q - 1 if running else n_q)
             if every or running:  # the deviation alone is refined on every step (its own rule)
                 first = refine_start(qa, qb, samples, every, n_q)
                 for r in range(N_REFINE):
                     theta = (r + 1) / 8.0
-                    dense(y, k, h, theta, y_mid, size)
+                    tau = t_a + theta * h_window
+                    step_dense(ws, t_old, y_old, t, y, f, t_new, y_new, f_new, h, tau, theta,
+                               y_mid, lay)  # fmt: skip
                     if every:
-                        quantities(t + theta * h, y_mid, rp, ip, lay, f_mid, record_mid,
-                                   samples[r + 1], pen, phi_q, schur, lam)  # fmt: skip
+                        quantities(tau, y_mid, rp, ip, lay, f_mid, record_mid, samples[r + 1],
+                                   pen_open, phi_q, schur, lam)  # fmt: skip
                     if running:
                         speed_deviation(y_mid, rp, lay, samples[r + 1])
                 refine_peaks(samples, peaks, first, n_q)
             qa, qb = qb, qa
-        elif t_new == t_settle:
-            in_window = True
-            for p in range(n_q):
-                qa[p] = qb[p]
-            open_window(qa, pen, peaks, stats, nb, n_q, nc)
+        t_old = t
         t = t_new
-        y, y_new = y_new, y
+        y_old, y, y_new = y, y_new, y_old
+        f, f_new = f_new, f
         counts[K_STEPS] += 1
-        h = h * factor
     if status == STATUS_SUCCESS:
         close_window(stats, nb, t_end - t_settle)
+        if REGIMES:
+            close_regimes(stats, nb, nc, t_end - t_settle)
         if running:
             close_running(rp, lay, stats, t_end - t_settle)
     return status, t
+
+
+# --- DOPRI5's steps in the lane (the explicit method; the loop: lane) ------------------------
+#: DOPRI5's ``ws``, one array (9, S): the stages k_1..k_7 (rows 0-6), a stage's state (row
+#: 7) and its scalars (row 8): the error norm of the try that passed, whether a try of this
+#: step was rejected by the error test.
+DOPRI_STATE, DOPRI_SCALARS = 7, 8
+DOPRI_ERROR, DOPRI_REJECTED = 0, 1
+#: The explicit lane's method: its steps' prefix and the loop's constants (:func:`lane`).
+DOPRI_LANE = {"steps": "dopri", "LAND_SETTLE": True, "REGIMES": False, "RTOL_FLOOR": 0.0}
+
+
+def dopri_start(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mid, record_mid,
+                phi_q, schur, lam, counts):  # fmt: skip
+    """The first step: a tenth of the largest."""
+    return max_step / 10.0
+
+
+def dopri_begin(ws, t, y, h, max_step, min_step, rtol, atol, size):
+    """A step's first try: at most the largest step."""
+    ws[DOPRI_SCALARS, DOPRI_REJECTED] = 0.0
+    return min(h, max_step)
+
+
+def dopri_land(t, h, target):
+    """The try's end, cut to land on ``target`` (the window's start, then its end)."""
+    t_new = t + h
+    if t_new >= target:
+        return target, target - t
+    return t_new, h
+
+
+def dopri_attempt(ws, t, y, f, h, t_new, y_new, t_old, y_old, rtol, atol, rp, ip, lay, record_new,
+                  qb, pen, f_mid, record_mid, phi_q, schur, lam, counts):  # fmt: skip
+    """A try of DOPRI5 (the batch contract's "explicit"): the stages, the 5th-order solution
+    and the error test on the first 2 n components; the last stage also records the end's
+    contacts and quantities."""
+    k = ws
+    ys = ws[DOPRI_STATE]
+    size = lay[LY_SIZE]
+    n_active = 2 * lay[LY_N]
+    for i in range(size):
+        k[0, i] = f[i]
+    for i in range(size):
+        ys[i] = y[i] + h * (A21 * k[0, i])
+    rhs(t + C2 * h, ys, rp, ip, lay, k[1], record_mid, False, phi_q, schur, lam)
+    for i in range(size):
+        ys[i] = y[i] + h * (A31 * k[0, i] + A32 * k[1, i])
+    rhs(t + C3 * h, ys, rp, ip, lay, k[2], record_mid, False, phi_q, schur, lam)
+    for i in range(size):
+        ys[i] = y[i] + h * (A41 * k[0, i] + A42 * k[1, i] + A43 * k[2, i])
+    rhs(t + C4 * h, ys, rp, ip, lay, k[3], record_mid, False, phi_q, schur, lam)
+    for i in range(size):
+        ys[i] = y[i] + h * (A51 * k[0, i] + A52 * k[1, i] + A53 * k[2, i] + A54 * k[3, i])
+    rhs(t + C5 * h, ys, rp, ip, lay, k[4], record_mid, False, phi_q, schur, lam)
+    for i in range(size):
+        ys[i] = y[i] + h * (
+            A61 * k[0, i] + A62 * k[1, i] + A63 * k[2, i] + A64 * k[3, i] + A65 * k[4, i]
+        )
+    rhs(t + h, ys, rp, ip, lay, k[5], record_mid, False, phi_q, schur, lam)
+    for i in range(size):
+        y_new[i] = y[i] + h * (
+            B1 * k[0, i] + B3 * k[2, i] + B4 * k[3, i] + B5 * k[4, i] + B6 * k[5, i]
+        )
+    # the last stage also gives the contact records and the quantities at the step's end
+    rhs_and_quantities(t_new, y_new, rp, ip, lay, k[6], record_new, qb, pen, phi_q, schur, lam)
+    counts[K_RHS] += 6
+    total = 0.0
+    for i in range(n_active):
+        e = h * (
+            E1 * k[0, i] + E3 * k[2, i] + E4 * k[3, i] + E5 * k[4, i] + E6 * k[5, i]
+            + E7 * k[6, i]
+        )  # fmt: skip
+        scale = atol[i] + rtol * max(abs(y[i]), abs(y_new[i]))
+        total += (e / scale) ** 2
+    err = math.sqrt(total / n_active)
+    if err > 1.0:
+        ws[DOPRI_SCALARS, DOPRI_REJECTED] = 1.0
+        counts[K_REJECTED] += 1
+        return False, h * max(MIN_FACTOR, SAFETY * err**-0.2)
+    ws[DOPRI_SCALARS, DOPRI_ERROR] = err
+    return True, h
+
+
+def dopri_retry(ws):
+    """Nothing of DOPRI5's state depends on the step's size."""
+    return
+
+
+def dopri_refresh(ws, t_new, y_new, f_new, changed, rp, ip, lay, record, qb, pen, phi_q, schur,
+                  lam, counts):  # fmt: skip
+    """f at the accepted end: the last stage's (FSAL) unless the hooks changed the state."""
+    if changed:
+        rhs_and_quantities(t_new, y_new, rp, ip, lay, f_new, record, qb, pen, phi_q, schur, lam)
+        counts[K_RHS] += 1
+        return True
+    for i in range(lay[LY_SIZE]):
+        f_new[i] = ws[6, i]
+    return False
+
+
+def dopri_accept(ws, t_new, y_new, f_new, h, changed, atol, rp, ip, lay, pen, f_mid,
+                 record_mid, phi_q, schur, lam, counts):  # fmt: skip
+    """The next step's size: ``h·min(10, max(0.2, 0.9·err^(−1/5)))``, at most ``h`` after a
+    rejection."""
+    err = ws[DOPRI_SCALARS, DOPRI_ERROR]
+    factor = MAX_FACTOR if err == 0.0 else min(MAX_FACTOR, max(MIN_FACTOR, SAFETY * err**-0.2))
+    if ws[DOPRI_SCALARS, DOPRI_REJECTED] > 0.0:
+        factor = min(factor, 1.0)
+    return h * factor
+
+
+def dopri_dense(ws, t_old, y_old, t, y, f, t_new, y_new, f_new, h, tau, theta, out, lay):
+    """DOPRI5's free interpolant (:func:`dense`) at t + θh."""
+    dense(y, ws, h, theta, out, lay[LY_SIZE])
+
+
+# The names the loop calls for its method: build.py binds each lane's own (a method's record,
+# DOPRI_LANE or source_radau.RADAU_LANE, and its steps); these, the explicit lane's, only let
+# a reader and the linters find them.
+LAND_SETTLE, REGIMES, RTOL_FLOOR = True, False, 0.0
+step_start, step_begin, step_land, step_attempt = (
+    dopri_start,
+    dopri_begin,
+    dopri_land,
+    dopri_attempt,
+)
+step_retry, step_refresh, step_accept, step_dense = (
+    dopri_retry,
+    dopri_refresh,
+    dopri_accept,
+    dopri_dense,
+)

@@ -1,4 +1,5 @@
-"""The implicit batch lane (Radau IIA, order 5), written once for two compilers (Numba's CPU
+"""Radau IIA (order 5): its numerics and its steps in the lanes' one loop (the implicit batch
+lane, :func:`jointplay._kernels.lanes.source.lane` with ``radau_*``), written once for two compilers (Numba's CPU
 ``njit`` and numba-cuda's ``cuda.jit(device=True)``), in the subset of
 :mod:`jointplay._kernels.lanes.source` (its module docstring: scalars and caller-provided
 arrays, no allocation, ``math`` only); :mod:`jointplay._kernels.lanes.build` compiles these
@@ -38,10 +39,11 @@ sustained-contact mode (locked joints) is not: the GPU's
 drivers, used by tests only, expect their callers to.
 
 Where the production lane records every step and reduces the trajectory afterwards
-(:func:`jointplay._kernels.batch._trajectory_reduce`), this lane reduces each accepted step
+(:func:`jointplay._kernels.batch._trajectory_reduce`), the loop reduces each accepted step
 as it is taken (a GPU thread cannot keep its trajectory), with the same interpolant
-(:func:`hermite`, on the step and the step end before it) and the same peak rule; the
-window opens at ``t_settle`` inside the step that crosses it, as there.
+(:func:`hermite`, on the step and the step end before it: :func:`radau_dense`) and the same
+peak rule; the window opens at ``t_settle`` inside the step that crosses it, as there
+(``RADAU_LANE``: Radau does not land on it).
 
 References:
     .. [HW96] E. Hairer, G. Wanner, *Solving Ordinary Differential Equations II*, 2nd ed.,
@@ -92,52 +94,22 @@ from jointplay._kernels.lanes.source import (
     LY_N,
     LY_NC,
     LY_NIDEAL,
-    LY_NQ,
     LY_PFRIC,
     LY_PLAW,
     LY_SIZE,
-    MAX_CHECK_REJECTIONS,
     N_GEOM,
-    N_REFINE,
-    RUNNING,
-    STATUS_INTERRUPTED,
-    STATUS_NON_FINITE,
-    STATUS_RUNNING,
-    STATUS_STEP_TOO_SMALL,
-    STATUS_SUCCESS,
-    STATUS_TOO_MANY_STEPS,
-    accumulate,
-    accumulate_regimes,
-    all_finite,
     any_film,
-    close_regimes,
-    close_running,
-    close_window,
     contact_clearance,
     contact_forces,
-    contact_memory,
     driver_acceleration,
     film_share,
     friction_force,
-    interrupt_pending,
     joint_kinematics,
     normal_force,
-    onset_check,
-    open_regimes,
-    open_window,
-    project,
-    quantities,
-    refine_peaks,
-    refine_start,
     reynolds_force,
     reynolds_matrix,
     rhs,
     rhs_and_quantities,
-    running_on,
-    running_point,
-    speed_deviation,
-    start_outputs,
-    wants_refinement,
 )
 
 # --- method constants (jointplay._kernels.radau, verbatim from SciPy; a test keeps them equal)
@@ -1062,258 +1034,189 @@ def hermite(tp, yp, t0, y0, f0, t1, y1, f1, n, size, tau, out, rule):
         out[i] = y0[i]
 
 
-def implicit_lane(
-    ip, rp, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-    peaks, stats, counts, mask, ya, yb, yc, fa, fb, y_open, f_open, y_mid, f_mid, ytmp,
-    scale, escale, xr, xcr, xci, jfactor, wk, wkr, wki, z, w, fst, dw, cq, jac, a_re, piv_re, c_re,
-    c_im, piv_c, qa, qb, samples, pen, pen_open, record, record_new, record_mid,
-    phi_q, schur, lam, scratch,
-):  # fmt: skip
-    """One lane of the implicit method (the contract: :mod:`jointplay._kernels.batch`; the
-    algorithm: this module's docstring); fills ``peaks`` (P), ``stats`` (M) and ``counts``
-    (steps, rejections of all three kinds, evaluations of f as Radau counts them).
+# --- Radau IIA's steps in the lane (the implicit method; the loop: source.lane) --------------
+#: Radau IIA's slots in its scalars (``ws[0]``): the step size proposed before this step and
+#: the one before it (SciPy's ``h_abs``, ``h_abs_old``; NaN: None), the last step's error
+#: norm (``error_norm_old``), this step's controller's ``h_abs_old`` and ``error_norm_old``
+#: (NaN after a clamp of the step size), the Newton tolerance, flags (the Jacobian is at the
+#: current point, the factors are valid, the last step's polynomial starts Newton, a try of
+#: this step failed the error test, any try of it failed), the passing try's Newton
+#: iterations, rate, error norm and safety factor, the interpolant's touching bits at the
+#: last two step ends, its rule for this step, and whether a joint has film damping.
+R_H_STATE, R_H_OLD_STATE, R_ERR_OLD_STATE, R_H_OLD, R_ERR_OLD, R_NEWTON_TOL = range(6)
+R_CURRENT_JAC, R_LU_VALID, R_HAS_SOL, R_REJECTED, R_FAILED = range(6, 11)
+R_N_ITER, R_RATE, R_ERROR, R_SAFETY, R_BITS_OLD, R_BITS, R_RULE, R_FILM = range(11, 19)
+N_RADAU_SCALARS = 19
+#: The implicit lane's method: its steps' prefix and the loop's constants (``source.lane``).
+RADAU_LANE = {"steps": "radau", "LAND_SETTLE": False, "REGIMES": True, "RTOL_FLOOR": 100.0 * EPS}
 
-    Work arrays (the caller's, any contents): ``mask`` (P, int); ``ya``, ``yb``, ``yc``,
-    ``fa``, ``fb``, ``y_open``, ``f_open``, ``y_mid``, ``f_mid``, ``ytmp``, ``scale``,
-    ``escale``, ``xr``, ``xcr``, ``xci``, ``jfactor`` (S); ``wk``, ``wkr``, ``wki`` (n = 3 nb); ``z``,
-    ``w``, ``fst``, ``dw``, ``cq`` (3, S); ``jac`` (S − n, 2n); ``a_re``, ``c_re``, ``c_im``
-    (n, n); ``piv_re``, ``piv_c`` (n, int); ``qa``, ``qb`` (P); ``samples`` (9, P); ``pen``,
-    ``pen_open`` (nc); ``record``, ``record_new``, ``record_mid`` (7 nc); ``phi_q``,
-    ``schur``, ``lam``, ``scratch``: the target's :func:`project`'s (and the constrained
-    right-hand side's). Not in the sustained-contact mode (the module docstring).
 
-    Returns:
-        ``(status, t_reached)``: a ``STATUS_*`` code and the last accepted time, s.
-    """
-    n = lay[LY_N]
-    nb = n // 3
-    nc = lay[LY_NC]
-    size = lay[LY_SIZE]
-    n_q = lay[LY_NQ]
-    film = any_film(rp, lay)  # the interpolant's rule (hermite)
-    running = RUNNING and running_on(lay)
-    start_outputs(ip, rp, lay, mask, peaks, stats, counts)
-    t = 0.0
-    if interrupt_pending(interrupt):
-        return STATUS_INTERRUPTED, t
-    rtol = max(rtol, 100.0 * EPS)
-    y = ya
-    y_new = yb
-    y_old = yc
-    f = fa
-    f_new = fb
-    for i in range(size):
-        y[i] = y0[i]
-    if t_end == 0.0:
-        return STATUS_SUCCESS, t
-    rhs_and_quantities(t, y, rp, ip, lay, f, record, qa, pen, phi_q, schur, lam)
+def radau_start(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mid, record_mid,
+                phi_q, schur, lam, counts):  # fmt: skip
+    """Radau IIA's state at the first point: SciPy's initial step (one evaluation of f), the
+    Newton tolerance and the Jacobian. ``ws``: the scalars (N_RADAU_SCALARS); ``ytmp``,
+    ``scale``, ``escale``, ``xr``, ``xcr``, ``xci``, ``jfactor``, ``ze`` (S); ``wk``,
+    ``wkr``, ``wki`` (n = 3 nb); ``z``, ``w``, ``fst``, ``dw``, ``cq`` (3, S); ``jac``
+    (S − n, 2n); ``a_re``, ``piv_re``, ``c_re``, ``c_im``, ``piv_c`` (n, n; n, int)."""
+    (ms, ytmp, scale, _, xr, xcr, _, jfactor, _, _, _, _, _, _, _, _, _, jac, _, _, _, _,
+     _) = ws  # fmt: skip
+    bits = touching(pen, lay[LY_NC])
+    ms[R_BITS_OLD] = bits
+    ms[R_BITS] = bits
+    ms[R_FILM] = 1.0 if any_film(rp, lay) else 0.0
+    h = initial_step(t, y, t_end, max_step, f, rtol, atol, rp, ip, lay, ytmp, f_mid, scale,
+                     record_mid, phi_q, schur, lam)  # fmt: skip
     counts[K_RHS] += 1
-    if not (all_finite(y, size) and all_finite(f, size)):
-        return STATUS_NON_FINITE, t
-    if running:
-        running_point(t, 0.0, t_settle, y, rp, ip, lay, f_mid, record_mid, stats)
-    bits_old = touching(pen, nc)  # the joints touching at t_old and t (bits_new: t_new)
-    bits = bits_old
-    h_abs_state = initial_step(t, y, t_end, max_step, f, rtol, atol, rp, ip, lay, ytmp,
-                               f_mid, scale, record_mid, phi_q, schur, lam)  # fmt: skip
-    counts[K_RHS] += 1
-    h_abs_old_state = math.nan
-    error_norm_old_state = math.nan
-    newton_tol = max(10.0 * EPS / rtol, min(0.03, rtol**0.5))
-    for j in range(size):
+    ms[R_H_OLD_STATE] = math.nan
+    ms[R_ERR_OLD_STATE] = math.nan
+    ms[R_NEWTON_TOL] = max(10.0 * EPS / rtol, min(0.03, rtol**0.5))
+    for j in range(lay[LY_SIZE]):
         jfactor[j] = EPS**0.5
     lane_jacobian(t, y, f, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid, xr, xcr, record_mid,
                   phi_q, schur, lam)  # fmt: skip
-    current_jac = True
-    lu_valid = False
-    has_sol = False
-    t_old = t
-    in_window = False
-    t_a = t
-    status = STATUS_RUNNING
-    while status == STATUS_RUNNING:
-        if counts[K_STEPS] >= max_steps:
-            status = STATUS_TOO_MANY_STEPS
-            break
-        if interrupt_pending(interrupt):
-            status = STATUS_INTERRUPTED
-            break
-        min_step = 10.0 * abs(math.nextafter(t, math.inf) - t)
-        if h_abs_state > max_step:
-            h_abs = max_step
-            h_abs_old = math.nan
-            error_norm_old = math.nan
-        elif h_abs_state < min_step:
-            h_abs = min_step
-            h_abs_old = math.nan
-            error_norm_old = math.nan
-        else:
-            h_abs = h_abs_state
-            h_abs_old = h_abs_old_state
-            error_norm_old = error_norm_old_state
-        for j in range(size):
-            scale[j] = atol[j] + abs(y[j]) * rtol
-        rejected = False
-        failed = False
-        step_accepted = False
-        n_check = 0
-        t_new = t
-        n_iter = 0
-        rate = math.nan
-        error_norm = 0.0
-        safety = 0.0
-        h = h_abs
-        while not step_accepted:
-            if h_abs < min_step:
-                status = STATUS_STEP_TOO_SMALL
+    ms[R_CURRENT_JAC] = 1.0
+    ms[R_LU_VALID] = 0.0
+    ms[R_HAS_SOL] = 0.0
+    return h
+
+
+def radau_begin(ws, t, y, h, max_step, min_step, rtol, atol, size):
+    """A step's first try: SciPy's clamp of the proposed size (once, not its retries, which
+    then run the one-step controller), the Newton scale."""
+    ms, scale = ws[0], ws[2]
+    ms[R_H_STATE] = h
+    if h > max_step or h < min_step:
+        h = max_step if h > max_step else min_step
+        ms[R_H_OLD] = math.nan
+        ms[R_ERR_OLD] = math.nan
+    else:
+        ms[R_H_OLD] = ms[R_H_OLD_STATE]
+        ms[R_ERR_OLD] = ms[R_ERR_OLD_STATE]
+    for j in range(size):
+        scale[j] = atol[j] + abs(y[j]) * rtol
+    ms[R_REJECTED] = 0.0
+    ms[R_FAILED] = 0.0
+    return h
+
+
+def radau_land(t, h, target):
+    """The try's end, cut to land on ``target``; the step is the difference (SciPy's)."""
+    t_new = t + h
+    if t_new - target > 0:
+        t_new = target
+    return t_new, t_new - t
+
+
+def radau_attempt(ws, t, y, f, h, t_new, y_new, t_old, y_old, rtol, atol, rp, ip, lay,
+                  record_new, qb, pen, f_mid, record_mid, phi_q, schur, lam, counts):  # fmt: skip
+    """A try of Radau IIA: the simplified Newton iteration (the Jacobian refreshed once if it
+    fails with an old one; else half the step), the embedded error estimate (re-estimated
+    after a rejection) and its test; the end's contact records for the onset control."""
+    (ms, ytmp, scale, escale, xr, xcr, xci, jfactor, ze, wk, wkr, wki, z, w, fst, dw, cq, jac,
+     a_re, piv_re, c_re, c_im, piv_c) = ws  # fmt: skip
+    n = lay[LY_N]
+    size = lay[LY_SIZE]
+    converged = False
+    n_iter = 0
+    rate = math.nan
+    while not converged:
+        if not ms[R_LU_VALID] > 0.0:
+            factor_newton(jac, h, a_re, piv_re, c_re, c_im, piv_c, n, n)
+            ms[R_LU_VALID] = 1.0
+        converged, n_iter, rate, nfev = collocation(
+            t, y, h, ms[R_HAS_SOL] > 0.0, cq, t_old, y_old, scale, ms[R_NEWTON_TOL], rp, ip,
+            lay, jac, a_re, piv_re, c_re, c_im, piv_c, w, z, fst, dw, ytmp, xr, xcr, xci, wk,
+            wkr, wki, record_mid, phi_q, schur, lam,
+        )  # fmt: skip
+        counts[K_RHS] += nfev
+        if not converged:
+            if ms[R_CURRENT_JAC] > 0.0:
                 break
-            h = h_abs
-            t_new = t + h
-            if t_new - t_end > 0:
-                t_new = t_end
-            h = t_new - t
-            h_abs = abs(h)
-            converged = False
-            while not converged:
-                if not lu_valid:
-                    factor_newton(jac, h, a_re, piv_re, c_re, c_im, piv_c, n, n)
-                    lu_valid = True
-                converged, n_iter, rate, nfev = collocation(
-                    t, y, h, has_sol, cq, t_old, y_old, scale, newton_tol, rp, ip, lay, jac,
-                    a_re, piv_re, c_re, c_im, piv_c, w, z, fst, dw, ytmp, xr, xcr, xci, wk,
-                    wkr, wki, record_mid, phi_q, schur, lam,
-                )  # fmt: skip
-                counts[K_RHS] += nfev
-                if not converged:
-                    if current_jac:
-                        break
-                    lane_jacobian(t, y, f, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid, xr,
-                                  xcr, record_mid, phi_q, schur, lam)  # fmt: skip
-                    current_jac = True
-                    lu_valid = False
-            if not converged:
-                h_abs *= 0.5
-                lu_valid = False
-                failed = True
-                counts[K_REJECTED] += 1
-                continue
-            for j in range(size):
-                y_new[j] = y[j] + z[2, j]
-            error_norm = error_estimate(z, f, h, y, y_new, atol, rtol, f_open, xr, wk, escale,
-                                        jac, a_re, piv_re, n, n, size)  # fmt: skip
-            safety = 0.9 * (2 * NEWTON_MAXITER + 1) / (2 * NEWTON_MAXITER + n_iter)
-            if rejected and error_norm > 1:
-                for j in range(size):
-                    ytmp[j] = y[j] + xr[j]
-                rhs(t, ytmp, rp, ip, lay, f_mid, record_mid, False, phi_q, schur, lam)
-                counts[K_RHS] += 1
-                error_norm = error_again(f_mid, f_open, h, xr, wk, escale, jac, a_re, piv_re,
-                                         n, n, size)  # fmt: skip
-            if error_norm > 1:
-                factor = predict(h_abs, h_abs_old, error_norm, error_norm_old)
-                h_abs *= pmax(R_MIN_FACTOR, safety * factor)
-                lu_valid = False
-                rejected = True
-                failed = True
-                counts[K_REJECTED] += 1
-                continue
-            # the contact-onset control (eom.step_check) on the two ends' penetrations
-            contact_forces(y_new, rp, ip, lay, f_mid, record_new, True)
-            theta = onset_check(record, record_new, rp, lay)
-            h_try = h_abs * theta
-            if theta < 1.0 and min_step <= h_try < h_abs and n_check < MAX_CHECK_REJECTIONS:
-                h_abs = h_try
-                lu_valid = False
-                n_check += 1
-                counts[K_REJECTED] += 1
-                continue
-            step_accepted = True
-        if status != STATUS_RUNNING:
-            break
-        recompute_jac = n_iter > 2 and rate > 1e-3
-        factor = predict(h_abs, h_abs_old, error_norm, error_norm_old)
-        factor = pmin(R_MAX_FACTOR, safety * factor)
-        if failed:
-            factor = pmin(factor, 1.0)  # RADAU5: IF (REJECT) HNEW = MIN(HNEW, H)
-        if not recompute_jac and factor < 1.2:
-            factor = 1.0
-        else:
-            lu_valid = False
-        # eom.after_step: the contact memory from the two ends' records, then the projection
-        changed = contact_memory(y_new, rp, lay, record_new, record)
-        changed = project(t_new, y_new, rp, ip, lay, scratch, phi_q, schur, lam) or changed
-        rhs_and_quantities(t_new, y_new, rp, ip, lay, f_new, record, qb, pen, phi_q, schur, lam)
+            lane_jacobian(t, y, f, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid, xr, xcr,
+                          record_mid, phi_q, schur, lam)  # fmt: skip
+            ms[R_CURRENT_JAC] = 1.0
+            ms[R_LU_VALID] = 0.0
+    if not converged:
+        ms[R_LU_VALID] = 0.0
+        ms[R_FAILED] = 1.0
+        counts[K_REJECTED] += 1
+        return False, h * 0.5
+    for j in range(size):
+        y_new[j] = y[j] + z[2, j]
+    error_norm = error_estimate(z, f, h, y, y_new, atol, rtol, ze, xr, wk, escale, jac, a_re,
+                                piv_re, n, n, size)  # fmt: skip
+    safety = 0.9 * (2 * NEWTON_MAXITER + 1) / (2 * NEWTON_MAXITER + n_iter)
+    if ms[R_REJECTED] > 0.0 and error_norm > 1:
+        for j in range(size):
+            ytmp[j] = y[j] + xr[j]
+        rhs(t, ytmp, rp, ip, lay, f_mid, record_mid, False, phi_q, schur, lam)
         counts[K_RHS] += 1
-        if not (all_finite(y_new, size) and all_finite(f_new, size)):
-            status = STATUS_NON_FINITE
-            break
-        if running:
-            speed_deviation(y_new, rp, lay, qb)
-            running_point(t_new, t_new - t, t_settle, y_new, rp, ip, lay, f_mid, record_mid,
-                          stats)  # fmt: skip
-        if recompute_jac:
-            lane_jacobian(t_new, y_new, f_new, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid,
-                          xr, xcr, record_mid, phi_q, schur, lam)  # fmt: skip
-            current_jac = True
-        else:
-            current_jac = False
-        h_abs_old_state = h_abs_state
-        error_norm_old_state = error_norm
-        h_abs_state = h_abs * factor
-        # the peaks and statistics of this step (batch._trajectory_reduce, streamed)
-        bits_new = touching(pen, nc)
-        rule = interpolation_rule(film, counts[K_STEPS] >= 1, bits_old, bits, bits_new)
-        if not in_window and t_new > t_settle:
-            in_window = True
-            if t < t_settle:  # the window opens inside this step
-                hermite(t_old, y_old, t, y, f, t_new, y_new, f_new, n, size, t_settle, y_open,
-                        rule)  # fmt: skip
-                t_a = t_settle
-                quantities(t_a, y_open, rp, ip, lay, f_open, record_mid, qa, pen_open,
-                           phi_q, schur, lam)  # fmt: skip
-                if running:
-                    speed_deviation(y_open, rp, lay, qa)
-            else:
-                t_a = t
-                quantities(t_a, y, rp, ip, lay, f_open, record_mid, qa, pen_open,
-                           phi_q, schur, lam)  # fmt: skip
-                if running:
-                    speed_deviation(y, rp, lay, qa)
-            open_window(qa, pen_open, peaks, stats, nb, n_q, nc)
-            open_regimes(rp, lay, pen_open, stats, nb, nc)
-        if in_window:
-            accumulate(qa, qb, pen, t_new - t_a, peaks, stats, nb, n_q, nc)
-            accumulate_regimes(rp, lay, pen, t_new - t_a, stats, nb, nc)
-            every = wants_refinement(qa, qb, peaks, mask, n_q - 1 if running else n_q)
-            if every or running:  # the deviation alone is refined on every step (its own rule)
-                hw = t_new - t_a
-                first = refine_start(qa, qb, samples, every, n_q)
-                for r in range(N_REFINE):
-                    tau = t_a + ((r + 1) / 8.0) * hw
-                    hermite(t_old, y_old, t, y, f, t_new, y_new, f_new, n, size, tau, y_mid,
-                            rule)  # fmt: skip
-                    if every:
-                        quantities(tau, y_mid, rp, ip, lay, f_mid, record_mid, samples[r + 1],
-                                   pen_open, phi_q, schur, lam)  # fmt: skip
-                    if running:
-                        speed_deviation(y_mid, rp, lay, samples[r + 1])
-                refine_peaks(samples, peaks, first, n_q)
-            qa, qb = qb, qa
-        t_a = t_new
-        polynomial(z, cq, size)  # the next Newton start
-        has_sol = not changed
-        bits_old = bits
-        bits = bits_new
-        t_old = t
-        t = t_new
-        y_old, y, y_new = y, y_new, y_old
-        f, f_new = f_new, f
-        counts[K_STEPS] += 1
-        if t - t_end >= 0:
-            status = STATUS_SUCCESS
-    if status == STATUS_SUCCESS:
-        close_window(stats, nb, t_end - t_settle)
-        close_regimes(stats, nb, nc, t_end - t_settle)
-        if running:
-            close_running(rp, lay, stats, t_end - t_settle)
-    return status, t
+        error_norm = error_again(f_mid, ze, h, xr, wk, escale, jac, a_re, piv_re, n, n, size)
+    if error_norm > 1:
+        factor = predict(h, ms[R_H_OLD], error_norm, ms[R_ERR_OLD])
+        ms[R_LU_VALID] = 0.0
+        ms[R_REJECTED] = 1.0
+        ms[R_FAILED] = 1.0
+        counts[K_REJECTED] += 1
+        return False, h * pmax(R_MIN_FACTOR, safety * factor)
+    contact_forces(y_new, rp, ip, lay, f_mid, record_new, True)
+    ms[R_N_ITER] = n_iter
+    ms[R_RATE] = rate
+    ms[R_ERROR] = error_norm
+    ms[R_SAFETY] = safety
+    return True, h
+
+
+def radau_retry(ws):
+    """The factors are of the old step size."""
+    ws[0][R_LU_VALID] = 0.0
+
+
+def radau_refresh(ws, t_new, y_new, f_new, changed, rp, ip, lay, record, qb, pen, phi_q, schur,
+                  lam, counts):  # fmt: skip
+    """f, the records and the quantities at the accepted end (Radau has no last stage to
+    reuse)."""
+    rhs_and_quantities(t_new, y_new, rp, ip, lay, f_new, record, qb, pen, phi_q, schur, lam)
+    counts[K_RHS] += 1
+    return True
+
+
+def radau_accept(ws, t_new, y_new, f_new, h, changed, atol, rp, ip, lay, pen, f_mid,
+                 record_mid, phi_q, schur, lam, counts):  # fmt: skip
+    """The next step's size (the predictive controller; RADAU5's hold after a failure and
+    its band where the size is kept), the Jacobian at the new point when Newton converged
+    slowly, the next Newton start and the interpolant's rule for this step."""
+    (ms, ytmp, _, _, xr, xcr, _, jfactor, _, _, _, _, z, _, _, _, cq, jac, _, _, _, _,
+     _) = ws  # fmt: skip
+    error_norm = ms[R_ERROR]
+    recompute_jac = ms[R_N_ITER] > 2 and ms[R_RATE] > 1e-3
+    factor = predict(h, ms[R_H_OLD], error_norm, ms[R_ERR_OLD])
+    factor = pmin(R_MAX_FACTOR, ms[R_SAFETY] * factor)
+    if ms[R_FAILED] > 0.0:
+        factor = pmin(factor, 1.0)  # RADAU5: IF (REJECT) HNEW = MIN(HNEW, H)
+    if not recompute_jac and factor < 1.2:
+        factor = 1.0
+    else:
+        ms[R_LU_VALID] = 0.0
+    if recompute_jac:
+        lane_jacobian(t_new, y_new, f_new, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid, xr,
+                      xcr, record_mid, phi_q, schur, lam)  # fmt: skip
+        ms[R_CURRENT_JAC] = 1.0
+    else:
+        ms[R_CURRENT_JAC] = 0.0
+    ms[R_H_OLD_STATE] = ms[R_H_STATE]
+    ms[R_ERR_OLD_STATE] = error_norm
+    bits_new = touching(pen, lay[LY_NC])
+    ms[R_RULE] = interpolation_rule(ms[R_FILM] > 0.0, counts[K_STEPS] >= 1, int(ms[R_BITS_OLD]),
+                                    int(ms[R_BITS]), bits_new)  # fmt: skip
+    ms[R_BITS_OLD] = ms[R_BITS]
+    ms[R_BITS] = bits_new
+    polynomial(z, cq, lay[LY_SIZE])  # the next Newton start
+    ms[R_HAS_SOL] = 0.0 if changed else 1.0
+    return h * factor
+
+
+def radau_dense(ws, t_old, y_old, t, y, f, t_new, y_new, f_new, h, tau, theta, out, lay):
+    """The interpolant between steps (:func:`hermite`, with this step's rule)."""
+    hermite(t_old, y_old, t, y, f, t_new, y_new, f_new, lay[LY_N], lay[LY_SIZE], tau, out,
+            int(ws[0][R_RULE]))  # fmt: skip
