@@ -15,6 +15,8 @@ from typing import Any
 
 import numba
 import numpy as np
+from numba.extending import intrinsic
+from numba.np.arrayobj import make_array, populate_array
 
 from jointplay._kernels.lanes.build import build, closed
 from jointplay._kernels.lanes.projection import N_WORK, project_lapack
@@ -64,6 +66,26 @@ __all__ = [
 ]
 
 
+def _borrowed(typingctx: Any, array: Any) -> Any:
+    """``borrowed(array)``: ``array`` without its memory-info pointer: a view the lane borrows for the length of
+    the call. Numba counts the references of every array it passes or assigns (an atomic
+    increment and decrement each time); on a borrowed array the count is a null check. The
+    lane passes its work arrays to its steps and equations dozens of times a step: counted,
+    they made an explicit lane 5-10 % dearer once its steps were functions of their own."""
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        source = make_array(signature.args[0])(context, builder, value=args[0])
+        view = make_array(signature.return_type)(context, builder)
+        populate_array(view, data=source.data, shape=source.shape, strides=source.strides,
+                       itemsize=source.itemsize, meminfo=None)  # fmt: skip
+        return view._getvalue()
+
+    return array(array), codegen
+
+
+borrowed: Any = intrinsic(_borrowed)
+
+
 @numba.njit(cache=True, error_model="numpy")
 def _work(lay, n_q):
     """The loop's work arrays (``source.lane``'s contract): ``mask``, ``vec`` (9, S), the
@@ -86,6 +108,11 @@ def _dopri_work(lay):
 
 
 @numba.njit(cache=True, error_model="numpy")
+def _dopri_borrowed(ws):
+    return borrowed(ws)
+
+
+@numba.njit(cache=True, error_model="numpy")
 def _radau_work(lay):
     """Radau IIA's ``ws`` (``source_radau.radau_start``'s docstring)."""
     size = lay[LY_SIZE]
@@ -102,17 +129,31 @@ def _radau_work(lay):
     )  # fmt: skip
 
 
+@numba.njit(cache=True, error_model="numpy")
+def _radau_borrowed(ws):
+    b = borrowed
+    return (
+        b(ws[0]), b(ws[1]), b(ws[2]), b(ws[3]), b(ws[4]), b(ws[5]), b(ws[6]), b(ws[7]),
+        b(ws[8]), b(ws[9]), b(ws[10]), b(ws[11]), b(ws[12]), b(ws[13]), b(ws[14]), b(ws[15]),
+        b(ws[16]), b(ws[17]), b(ws[18]), b(ws[19]), b(ws[20]), b(ws[21]), b(ws[22]),
+    )  # fmt: skip
+
+
 def _one(
     ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
     peaks, stats, status, t_reached, counts, lane,
 ):  # fmt: skip
-    """Lane ``lane`` (:func:`_drivers`' ``method_lane`` with ``method_work``)."""
+    """Lane ``lane`` (:func:`_drivers`' ``method_lane`` with ``method_work`` and
+    ``method_borrowed``), every array borrowed (:func:`borrowed`: alive here until it returns)."""
     mask, vec, q, samples, pen, records, phi_q, schur, lam, scratch = _work(lay, peaks.shape[1])
-    code, t = method_lane(  # type: ignore[name-defined]  # noqa: F821 (the drivers' namespace)
-        ipar, rpar[lane], lay, y0[lane], t_settle[lane], t_end[lane], max_step[lane], rtol,
-        atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask, vec, q,
-        samples, pen, records, phi_q, schur, lam, scratch,
-        method_work(lay),  # type: ignore[name-defined]  # noqa: F821
+    ws = method_work(lay)  # type: ignore[name-defined]  # noqa: F821 (the drivers' namespace)
+    b = borrowed
+    code, t = method_lane(  # type: ignore[name-defined]  # noqa: F821
+        b(ipar), b(rpar[lane]), b(lay), b(y0[lane]), t_settle[lane], t_end[lane],
+        max_step[lane], rtol, b(atol), max_steps, b(interrupt), b(peaks[lane]),
+        b(stats[lane]), b(counts[lane]), b(mask), b(vec), b(q), b(samples), b(pen),
+        b(records), b(phi_q), b(schur), b(lam), b(scratch),
+        method_borrowed(ws),  # type: ignore[name-defined]  # noqa: F821
     )  # fmt: skip
     status[lane] = code
     t_reached[lane] = t
@@ -143,14 +184,14 @@ def _lanes_parallel(
         )  # fmt: skip
 
 
-def _drivers(lane: Any, work: Any, tag: str) -> tuple[Any, Any]:
+def _drivers(lane: Any, work: Any, borrow: Any, tag: str) -> tuple[Any, Any]:
     """The serial and the threaded drivers of :func:`_lanes` and :func:`_lanes_parallel` over
     the compiled lane ``lane`` with its method's work arrays ``work``: the functions compiled
     in a namespace of their own (as :func:`~jointplay._kernels.lanes.build.build` does),
     ``tag`` keeping their cache entries apart, so that each pair links its own lane and no
     other."""
-    namespace = {"np": np, "numba": numba, "_work": _work, "method_lane": lane,
-                 "method_work": work}  # fmt: skip
+    namespace = {"np": np, "numba": numba, "_work": _work, "borrowed": borrowed,
+                 "method_lane": lane, "method_work": work, "method_borrowed": borrow}  # fmt: skip
     for function, parallel in ((_one, False), (_lanes, False), (_lanes_parallel, True)):
         copy = types.FunctionType(function.__code__, namespace, function.__name__)
         copy.__module__ = function.__module__
@@ -163,10 +204,10 @@ def _drivers(lane: Any, work: Any, tag: str) -> tuple[Any, Any]:
 
 
 #: Every lane of the explicit method, serially and on Numba's threads.
-explicit_lanes, explicit_lanes_parallel = _drivers(explicit_lane, _dopri_work, "")
+explicit_lanes, explicit_lanes_parallel = _drivers(explicit_lane, _dopri_work, _dopri_borrowed, "")
 #: The same with the running reductions (:data:`explicit_lane_running`).
 explicit_lanes_running, explicit_lanes_running_parallel = _drivers(
-    explicit_lane_running, _dopri_work, "_running"
+    explicit_lane_running, _dopri_work, _dopri_borrowed, "_running"
 )
 #: The explicit drivers by ``(running, parallel)``.
 EXPLICIT_DRIVERS = {
@@ -177,4 +218,6 @@ EXPLICIT_DRIVERS = {
 }
 #: Every lane of the implicit method on the single source, serially and on Numba's threads
 #: (not in the sustained-contact mode: :func:`jointplay._kernels.lanes.build.lanes_refusal`).
-implicit_lanes, implicit_lanes_parallel = _drivers(implicit_lane, _radau_work, "_implicit")
+implicit_lanes, implicit_lanes_parallel = _drivers(
+    implicit_lane, _radau_work, _radau_borrowed, "_implicit"
+)

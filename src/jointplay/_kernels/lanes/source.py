@@ -1679,7 +1679,7 @@ def lane(
             open_window(qa, pen, peaks, stats, nb, n_q, nc)
             if REGIMES:
                 open_regimes(rp, lay, pen, stats, nb, nc)
-        elif not in_window and t_new > t_settle:  # … inside this step: its part from there
+        elif not (LAND_SETTLE or in_window) and t_new > t_settle:  # … inside it: from there
             in_window = True
             add = True
             step_dense(ws, t_old, y_old, t, y, f, t_new, y_new, f_new, h, t_settle,
