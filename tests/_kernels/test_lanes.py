@@ -95,3 +95,41 @@ def test_the_cpu_lane_is_the_sources_compilation() -> None:
     assert explicit["step_attempt"].py_func.__code__ is source.dopri_attempt.__code__
     assert implicit["step_attempt"].py_func.__code__ is source_radau.radau_attempt.__code__
     assert (explicit["LAND_SETTLE"], implicit["LAND_SETTLE"]) == (True, False)
+
+
+def test_a_borrowed_array_stays_valid_while_its_owner_is_used_after() -> None:
+    # the CPU lanes get their arrays borrowed (no reference counts): Numba frees a variable
+    # after its last use, so the owner must be used after the borrowing call; a large array
+    # is returned to the system when freed, so reading it after that would crash
+    import numba
+
+    @numba.njit
+    def read_after_allocating() -> float:
+        owner = np.ones(200_000)
+        view = cpu.borrowed(owner)
+        other = np.zeros(200_000)
+        total = view[0] + view[-1] + other[0]
+        cpu._alive(owner)
+        return total
+
+    assert read_after_allocating() == 2.0
+
+
+def test_the_lane_driver_keeps_every_work_array_alive_until_the_lane_returns() -> None:
+    import ast
+    import inspect
+
+    body = ast.parse(inspect.getsource(cpu._one).lstrip()).body[0].body
+    owners = set()
+    for statement in body:
+        if isinstance(statement, ast.Assign):
+            for target in statement.targets:
+                names = target.elts if isinstance(target, ast.Tuple) else [target]
+                owners |= {name.id for name in names if isinstance(name, ast.Name)}
+    calls = [n.func.id for s in body for n in ast.walk(s) if isinstance(n, ast.Call)
+             and isinstance(n.func, ast.Name)]  # fmt: skip
+    assert calls.index("_alive") > calls.index("method_lane")
+    alive = next(n for s in body for n in ast.walk(s)
+                 if isinstance(n, ast.Call) and getattr(n.func, "id", "") == "_alive")  # fmt: skip
+    kept = {arg.id for arg in alive.args}
+    assert owners - {"b", "code", "t"} <= kept, owners - kept

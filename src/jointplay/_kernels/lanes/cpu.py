@@ -67,11 +67,13 @@ __all__ = [
 
 
 def _borrowed(typingctx: Any, array: Any) -> Any:
-    """``borrowed(array)``: ``array`` without its memory-info pointer: a view the lane borrows for the length of
-    the call. Numba counts the references of every array it passes or assigns (an atomic
-    increment and decrement each time); on a borrowed array the count is a null check. The
-    lane passes its work arrays to its steps and equations dozens of times a step: counted,
-    they made an explicit lane 5-10 % dearer once its steps were functions of their own."""
+    """``borrowed(array)``: ``array`` without its memory-info pointer, a view the lane borrows
+    for the length of the call. Numba counts the references of every array it passes or
+    assigns (an atomic increment and decrement each time); on a borrowed array the count is a
+    null check. The lane passes its work arrays to its steps and equations dozens of times a
+    step: counted, they made an explicit lane 5-13 % dearer once its steps were functions of
+    their own. The owner must outlive the borrowing: Numba frees a variable after its last
+    use, so the caller uses every owner after the call (:func:`_alive`)."""
 
     def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
         source = make_array(signature.args[0])(context, builder, value=args[0])
@@ -84,6 +86,12 @@ def _borrowed(typingctx: Any, array: Any) -> Any:
 
 
 borrowed: Any = intrinsic(_borrowed)
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _alive(*owners):
+    """Nothing: a use of ``owners`` after the call that borrowed them."""
+    return
 
 
 @numba.njit(cache=True, error_model="numpy")
@@ -144,7 +152,8 @@ def _one(
     peaks, stats, status, t_reached, counts, lane,
 ):  # fmt: skip
     """Lane ``lane`` (:func:`_drivers`' ``method_lane`` with ``method_work`` and
-    ``method_borrowed``), every array borrowed (:func:`borrowed`: alive here until it returns)."""
+    ``method_borrowed``), every array borrowed (:func:`borrowed`): the caller's, and the work
+    arrays allocated here and kept alive until the lane returns."""
     mask, vec, q, samples, pen, records, phi_q, schur, lam, scratch = _work(lay, peaks.shape[1])
     ws = method_work(lay)  # type: ignore[name-defined]  # noqa: F821 (the drivers' namespace)
     b = borrowed
@@ -155,6 +164,9 @@ def _one(
         b(records), b(phi_q), b(schur), b(lam), b(scratch),
         method_borrowed(ws),  # type: ignore[name-defined]  # noqa: F821
     )  # fmt: skip
+    # the owners of the borrowed work arrays: alive until here (Numba frees a variable after
+    # its last use, which would otherwise be the borrowing, before the lane runs)
+    _alive(mask, vec, q, samples, pen, records, phi_q, schur, lam, scratch, ws)
     status[lane] = code
     t_reached[lane] = t
 
@@ -191,7 +203,8 @@ def _drivers(lane: Any, work: Any, borrow: Any, tag: str) -> tuple[Any, Any]:
     ``tag`` keeping their cache entries apart, so that each pair links its own lane and no
     other."""
     namespace = {"np": np, "numba": numba, "_work": _work, "borrowed": borrowed,
-                 "method_lane": lane, "method_work": work, "method_borrowed": borrow}  # fmt: skip
+                 "_alive": _alive, "method_lane": lane, "method_work": work,
+                 "method_borrowed": borrow}  # fmt: skip
     for function, parallel in ((_one, False), (_lanes, False), (_lanes_parallel, True)):
         copy = types.FunctionType(function.__code__, namespace, function.__name__)
         copy.__module__ = function.__module__
