@@ -60,10 +60,14 @@ the lanes' one loop :func:`jointplay._kernels.lanes.source.lane` with DOPRI5's s
   evaluated again only if it changed the state (FSAL otherwise); a non-finite state or f ends
   the lane with ``STATUS_NON_FINITE``.
 
-**"implicit"** — the Radau IIA kernel of :mod:`jointplay._kernels.radau`, one lane at a time,
-with exactly the settings of :func:`jointplay.dynamics.simulate.simulate`; its accepted steps
-are then reduced by :func:`_trajectory_reduce` (compiled), the interpolant being the single
-engine's (:data:`lanes_hermite`: cubic Hermite of q with q̇ and of q̇ with q̈; with film damping
+**"implicit"** — the lanes' loop with Radau IIA's steps
+(:mod:`jointplay._kernels.lanes.source_radau`, compiled by :mod:`jointplay._kernels.lanes.cpu`:
+``IMPLICIT_DRIVERS``), which takes the single engine's steps with exactly the settings of
+:func:`jointplay.dynamics.simulate.simulate` and reduces each accepted step as it is taken
+(the same bits as the path below, measured). With the sustained-contact mode (the lanes'
+loop does not run it): the Radau IIA kernel of :mod:`jointplay._kernels.radau`, one lane at
+a time; its accepted steps then reduced by :func:`_trajectory_reduce` (compiled), the
+interpolant being the single engine's (:data:`lanes_hermite`: cubic Hermite of q with q̇ and of q̇ with q̈; with film damping
 the quintic through q and q̇ at three step ends, or next to a contact's start or end q̇ the
 derivative of q's cubic).
 
@@ -98,9 +102,11 @@ from jointplay._kernels.common import (
     interrupt_pending,
 )
 from jointplay._kernels.ids import (
+    G_CAPTURE,
     K_REJECTED,
     K_RHS,
     K_STEPS,
+    N_GEOM,
     STATUS_INTERRUPTED,
     STATUS_SUCCESS,
 )
@@ -116,6 +122,7 @@ from jointplay._kernels.lanes.contract import (  # noqa: F401 (re-exported: the 
     lane_inputs,
     lane_outputs,
 )
+from jointplay._kernels.lanes.source import LY_GEOM, LY_NC
 from jointplay._kernels.radau import radau_integrate
 
 # the peak rule's pieces, compiled from the lane source (shared with the explicit lanes)
@@ -355,6 +362,15 @@ def _read_only_copy(array: npt.NDArray[_Scalar]) -> npt.NDArray[_Scalar]:
 _NO_INTERRUPT = np.zeros(1, dtype=np.uint8)
 
 
+def _sustained(ipar: npt.NDArray[np.int64], rpar: npt.NDArray[np.float64]) -> bool:
+    """Whether a lane has the sustained-contact mode (a joint's capture speed > 0), which the
+    lanes' loop does not run (it changes the constraint set between steps)."""
+    lay = lane_build.lane_layout(ipar)
+    start = int(lay[LY_GEOM])
+    geom = rpar[:, start : start + N_GEOM * int(lay[LY_NC])]
+    return bool(np.any(geom[:, G_CAPTURE::N_GEOM] > 0.0))
+
+
 def run_batch(
     ipar: npt.ArrayLike,
     rpar: npt.ArrayLike,
@@ -412,7 +428,13 @@ def run_batch(
                 float(rtol), atol_a, int(max_steps), flags,
                 peaks, stats, status, t_reached, counts,
             )  # fmt: skip
-        else:
+        elif not _sustained(ipar_a, rpar_a):  # the lanes' loop with Radau's steps
+            lane_cpu.IMPLICIT_DRIVERS[n_peaks > nq_model, parallel](
+                ipar_a, rpar_a, lay, y0_a, settle_a, end_a, step_a,
+                float(rtol), atol_a, int(max_steps), flags,
+                peaks, stats, status, t_reached, counts,
+            )  # fmt: skip
+        else:  # the sustained-contact mode: the single engine's Radau IIA and hooks
             _implicit_lanes(
                 ipar_a, rpar_a, y0_a, settle_a, end_a, step_a, float(rtol), atol_a,
                 int(max_steps), flags,

@@ -44,16 +44,18 @@ compiled_running = build(
     numba.njit(cache=True, error_model="numpy"),
     hooks={"project": project_lapack},
     extras={"np": np, "RUNNING": True},
-    only=closed(("explicit_lane",)),
+    only=closed(("explicit_lane", "implicit_lane")),
     tag="running",
     decorate_steps=_INLINE,
 )
 explicit_lane_running = compiled_running["explicit_lane"]
+implicit_lane_running = compiled_running["implicit_lane"]
 #: The implicit lane (the loop with :mod:`jointplay._kernels.lanes.source_radau`'s steps).
 implicit_lane = compiled["implicit_lane"]
 
 __all__ = [
     "EXPLICIT_DRIVERS",
+    "IMPLICIT_DRIVERS",
     "compiled",
     "explicit_lane",
     "explicit_lanes",
@@ -234,3 +236,13 @@ EXPLICIT_DRIVERS = {
 implicit_lanes, implicit_lanes_parallel = _drivers(
     implicit_lane, _radau_work, _radau_borrowed, "_implicit"
 )
+implicit_lanes_running, implicit_lanes_running_parallel = _drivers(
+    implicit_lane_running, _radau_work, _radau_borrowed, "_implicit_running"
+)
+#: The implicit drivers by ``(running, parallel)``.
+IMPLICIT_DRIVERS = {
+    (False, False): implicit_lanes,
+    (False, True): implicit_lanes_parallel,
+    (True, False): implicit_lanes_running,
+    (True, True): implicit_lanes_running_parallel,
+}
