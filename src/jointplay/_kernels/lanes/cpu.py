@@ -218,31 +218,35 @@ def _drivers(lane: Any, work: Any, borrow: Any, tag: str) -> tuple[Any, Any]:
     return namespace["_lanes"], namespace["_lanes_parallel"]
 
 
-#: Every lane of the explicit method, serially and on Numba's threads.
-explicit_lanes, explicit_lanes_parallel = _drivers(explicit_lane, _dopri_work, _dopri_borrowed, "")
-#: The same with the running reductions (:data:`explicit_lane_running`).
-explicit_lanes_running, explicit_lanes_running_parallel = _drivers(
-    explicit_lane_running, _dopri_work, _dopri_borrowed, "_running"
-)
+def _driver_table(lane: Any, running: Any, work: Any, borrow: Any, tag: str) -> dict[Any, Any]:
+    """A method's drivers by ``(running, parallel)``: over ``lane`` and over ``running``, its
+    compilation with the running reductions."""
+    serial, threaded = _drivers(lane, work, borrow, tag)
+    serial_running, threaded_running = _drivers(running, work, borrow, f"{tag}_running")
+    return {
+        (False, False): serial, (False, True): threaded,
+        (True, False): serial_running, (True, True): threaded_running,
+    }  # fmt: skip
+
+
 #: The explicit drivers by ``(running, parallel)``.
-EXPLICIT_DRIVERS = {
-    (False, False): explicit_lanes,
-    (False, True): explicit_lanes_parallel,
-    (True, False): explicit_lanes_running,
-    (True, True): explicit_lanes_running_parallel,
-}
-#: Every lane of the implicit method on the single source, serially and on Numba's threads
-#: (not in the sustained-contact mode: :func:`jointplay._kernels.lanes.build.lanes_refusal`).
-implicit_lanes, implicit_lanes_parallel = _drivers(
-    implicit_lane, _radau_work, _radau_borrowed, "_implicit"
+EXPLICIT_DRIVERS = _driver_table(
+    explicit_lane, explicit_lane_running, _dopri_work, _dopri_borrowed, ""
 )
-implicit_lanes_running, implicit_lanes_running_parallel = _drivers(
-    implicit_lane_running, _radau_work, _radau_borrowed, "_implicit_running"
+#: The implicit drivers by ``(running, parallel)`` (not in the sustained-contact mode:
+#: :func:`jointplay._kernels.lanes.build.lanes_refusal`).
+IMPLICIT_DRIVERS = _driver_table(
+    implicit_lane, implicit_lane_running, _radau_work, _radau_borrowed, "_implicit"
 )
-#: The implicit drivers by ``(running, parallel)``.
-IMPLICIT_DRIVERS = {
-    (False, False): implicit_lanes,
-    (False, True): implicit_lanes_parallel,
-    (True, False): implicit_lanes_running,
-    (True, True): implicit_lanes_running_parallel,
-}
+#: Every lane of each method, serially and on Numba's threads (and with the running
+#: reductions).
+explicit_lanes, explicit_lanes_parallel = (
+    EXPLICIT_DRIVERS[False, False],
+    EXPLICIT_DRIVERS[False, True],
+)
+explicit_lanes_running = EXPLICIT_DRIVERS[True, False]
+explicit_lanes_running_parallel = EXPLICIT_DRIVERS[True, True]
+implicit_lanes, implicit_lanes_parallel = (
+    IMPLICIT_DRIVERS[False, False],
+    IMPLICIT_DRIVERS[False, True],
+)
