@@ -14,8 +14,9 @@ at a glance. The cases are those of ``bench_clearance.py`` (the paper's three IF
 rest, with the paper methods' integrators and with Radau), ``bench_default_contact.py`` (the
 lubricated default from the steady start, and the same dry), ``bench_sustained_contact.py``
 (the sustained-contact mode), one joint clear beside ideal joints (the constrained
-equations), and ``bench_batch.py``'s small batches on both lane methods. ``--quick`` keeps
-the cases that take under a second each warm.
+equations), and ``bench_batch.py``'s small batches on both lane methods (and the implicit
+one in the sustained-contact mode). ``--quick`` keeps the cases that take under a second
+each warm.
 """
 
 from __future__ import annotations
@@ -105,6 +106,13 @@ def cases(quick: bool) -> list[Callable[[], str]]:
             method="explicit",
         ),
         lambda: batch("batch default implicit", default, 8, settle=1, method="implicit"),
+        lambda: batch(
+            "batch sustained contact implicit",
+            ContactModel(sustained_contact=True).joints(mechanism, JOINTS),
+            4,
+            settle=1,
+            method="implicit",
+        ),
     ]
     if not quick:
         out.append(lambda: batch("batch spherical implicit", ifm["spherical"], 8,

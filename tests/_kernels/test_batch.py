@@ -24,6 +24,7 @@ from _tolerances import contract_rtol
 from jointplay._kernels import batch as kb
 from jointplay._kernels import eom, ids
 from jointplay._kernels.lanes import source as lane_source
+from jointplay._kernels.lanes.cpu import compiled as lane_compiled
 from jointplay._kernels.lanes.source_radau import RULE_CUBIC_DERIVATIVE, RULE_QUINTIC, RULE_RATES
 from jointplay.dynamics.clearance import ClearanceJoint
 from jointplay.dynamics.setup import DEFAULT_IMPACT, ContactModel
@@ -209,7 +210,7 @@ def test_the_parabolic_refinement_finds_a_parabolas_vertex() -> None:
     theta = np.concatenate([[0.0], kb.REFINE_POINTS, [1.0]])
     samples = (5.0 - (theta - 0.4) ** 2)[:, None]
     peaks = np.array([0.0])
-    kb.lanes_refine_peaks(samples, peaks, 0, peaks.shape[0])
+    lane_compiled["refine_peaks"](samples, peaks, 0, peaks.shape[0])
     assert peaks[0] == pytest.approx(5.0, rel=1e-15)
 
 
@@ -226,11 +227,11 @@ def test_the_refinement_takes_every_quantity_or_the_last_alone(every: bool) -> N
     qa = np.array([8.75, last[0]])
     qb = np.array([8.75, last[-1]])
     peaks = np.zeros(2)
-    first = kb.lanes_refine_start(qa, qb, samples, every, 2)
+    first = lane_compiled["refine_start"](qa, qb, samples, every, 2)
     assert first == (0 if every else 1)
     assert samples[[0, -1], 1].tolist() == [last[0], last[-1]]
     assert np.isnan(samples[[0, -1], 0]).all() != every
-    kb.lanes_refine_peaks(samples, peaks, first, 2)
+    lane_compiled["refine_peaks"](samples, peaks, first, 2)
     assert peaks[1] == pytest.approx(5.0, rel=1e-15)
     assert peaks[0] == (pytest.approx(9.0, rel=1e-15) if every else 0.0)
 
@@ -239,7 +240,7 @@ def test_the_refinement_takes_every_quantity_or_the_last_alone(every: bool) -> N
 def test_the_implicit_lanes_interpolate_as_the_single_engine(
     paper_fourbar: Mechanism, film: float
 ) -> None:
-    """``lanes_hermite`` with its rule (the implicit lanes' interpolant) is the
+    """The lane source's ``hermite`` with its rule (the implicit lanes' interpolant) is the
     single engine's ``_interpolate``: q̇ the Hermite of q̇ with q̈ without the film; with it
     the quintic through q and q̇ at three step ends in steps away from a contact's start or
     end, and the derivative of q's cubic in the others and the first (``smooth_steps``: here
@@ -254,7 +255,7 @@ def test_the_implicit_lanes_interpolate_as_the_single_engine(
     qdd = rng.standard_normal((t.size, n))
     touching = np.zeros((t.size, len(JOINTS)), dtype=bool)
     touching[3:, 1] = True
-    bits = [kb.lanes_touching(np.where(row, 1e-7, -1e-7), len(JOINTS)) for row in touching]
+    bits = [lane_compiled["touching"](np.where(row, 1e-7, -1e-7), len(JOINTS)) for row in touching]
     f = np.zeros_like(y)  # the lane source takes q̈ in f[n:2n]
     f[:, n : 2 * n] = qdd
     samples = np.sort(rng.uniform(t[0], t[-1], 60))
@@ -264,9 +265,9 @@ def test_the_implicit_lanes_interpolate_as_the_single_engine(
     for k, tau in enumerate(samples):
         i = min(int(np.searchsorted(t, tau, side="right")) - 1, t.size - 2)
         b = max(i - 1, 0)
-        rule = kb.lanes_interpolation_rule(film > 0, i >= 1, bits[b], bits[i], bits[i + 1])
+        rule = lane_compiled["interpolation_rule"](film > 0, i >= 1, bits[b], bits[i], bits[i + 1])
         rules.add(rule)
-        kb.lanes_hermite(t[b], y[b], t[i], y[i], f[i], t[i + 1], y[i + 1], f[i + 1], n, y.shape[1],
+        lane_compiled["hermite"](t[b], y[b], t[i], y[i], f[i], t[i + 1], y[i + 1], f[i + 1], n, y.shape[1],
                          tau, got, rule)  # fmt: skip
         np.testing.assert_allclose(got, expected[k], rtol=1e-13, atol=1e-13)
     expected_rules = {RULE_QUINTIC, RULE_CUBIC_DERIVATIVE} if film > 0 else {RULE_RATES}

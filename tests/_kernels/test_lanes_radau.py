@@ -1,27 +1,25 @@
 """The implicit lane on the single source (:mod:`jointplay._kernels.lanes.source_radau`),
-compiled for the CPU (:mod:`jointplay._kernels.lanes.cpu`), against the production implicit
-lanes (:func:`jointplay._kernels.batch.run_batch` with ``method="implicit"``: the Radau
-kernel of :mod:`jointplay._kernels.radau` recording every step, then
-``_trajectory_reduce``).
+compiled for the CPU (:mod:`jointplay._kernels.lanes.cpu`: what ``run_batch(method=
+"implicit")`` runs), against the single engine: the Radau kernel of
+:mod:`jointplay._kernels.radau` with :mod:`eom`'s hooks and the batch engine's settings,
+recording every step (:func:`_single_engine`).
 
 The lane reproduces that algorithm operation for operation (complex numbers as pairs of
-floats, the same LU, the hooks and the peak rule streamed per step), so the bound is the one
-for two implementations of one algorithm taking the same steps: equal statuses and counters
-(steps, rejections, evaluations of f), peaks and statistics to ``SAME_ALGORITHM_RTOL``
-(``tests/_tolerances.py``). Measured: **equal bits**, every field, on the paper four-bar with
-the conventional contact (``DEFAULT_IMPACT``) and with the stiff physical default
-(``ContactModel(film_damping=0)``: dry joints), 0.3 of a revolution, a lane from t = 0 and a perturbed one
-whose window opens inside a step; every contact and friction law; and mechanisms with ideal
-joints (the Jacobian then differenced as SciPy's ``num_jac``, the projection
-:func:`projection.project_lapack`'s).
-
-Film damping (``ContactModel(film_damping=c_e)``): the lane's film force, power, Jacobian
-terms and reported joint force are :mod:`eom`'s arithmetic; between steps the interpolant
-is :func:`source_radau.hermite`'s (with the film on, the three-point quintic or, next to a
-contact's start or end, the positions' cubic derivative), which the production lanes
-compile too. Measured: equal bits in every field; the steps,
-rejections, evaluations and the statistics of a window opening at an accepted step do not
-depend on the interpolant.
+floats, the same LU, the same hooks), so the two take the same steps: equal statuses,
+counters (steps, rejections, evaluations of f) and times reached, bit for bit. What the lane
+reduces as it goes is checked against the recorded steps: for a window opening at an
+accepted step, the mean and RMS of ω (trapezoids over the steps) and the deepest
+penetrations to ``SAME_ALGORITHM_RTOL`` (``tests/_tolerances.py``: the same sums, in
+another order); the peaks at least the largest |value| at the recorded step ends in the
+window (the peak rule refines between steps, where an impact's force may peak far above
+both ends: how close the refined peaks come to the continuous solution's is
+``tests/_kernels/test_batch.py``'s, against :func:`~jointplay.dynamics.simulate.simulate`'s
+converged peaks). Cases: the paper four-bar with the conventional contact (``DEFAULT_IMPACT``) and
+with the stiff physical default (``ContactModel(film_damping=0)``: dry joints), 0.3 of a
+revolution, a lane from t = 0 and a perturbed one whose window opens inside a step; every
+contact and friction law; mechanisms with ideal joints (the Jacobian then differenced as
+SciPy's ``num_jac``, the projection :func:`projection.project_lapack`'s); film damping; the
+sustained-contact mode (the CPU's hooks, :mod:`jointplay._kernels.sustained`).
 """
 
 from __future__ import annotations
@@ -105,13 +103,70 @@ def _problem(
     }  # fmt: skip
 
 
-def _production(p: dict[str, Any], **kw: Any) -> kb.BatchKernelOutput:
+def _single_engine(p: dict[str, Any], **kw: Any) -> dict[str, Any]:
+    """Each lane through the single engine (:func:`radau.radau_integrate` with :mod:`eom`'s
+    hooks, the batch engine's settings): its status, time reached and counters, and from its
+    recorded steps in the window the largest |Q| at the step ends (``ends``:
+    ``eom.batch_quantities``), the window's statistics when it opens at a recorded step, and
+    whether a joint was ever locked (the sustained-contact mode)."""
     args = {**p, **kw}
-    return kb.run_batch(
-        args["ipar"], args["rpar"], args["y0"], args["t_settle"], args["t_end"],
-        args["max_step"], args["rtol"], args["atol"], args["max_steps"], "implicit",
-        parallel=False, interrupt=args.get("interrupt"),
-    )  # fmt: skip
+    ipar = _read_only(args["ipar"])
+    n = int(ipar[eom.L_MASS])
+    nc = int(ipar[eom.L_CLEAR_JOINT])
+    nb, nj, _, _ = kb.layout(ipar)
+    interrupt = args.get("interrupt")
+    lanes = args["y0"].shape[0]
+    out: dict[str, Any] = {
+        "status": np.zeros(lanes, dtype=np.int64), "t_reached": np.zeros(lanes),
+        "n_steps": np.zeros(lanes, dtype=np.int64), "n_rejected": np.zeros(lanes, dtype=np.int64),
+        "n_rhs": np.zeros(lanes, dtype=np.int64), "ends": np.full((lanes, 2 * nb + nj + 1), np.nan),
+        "stats": np.full((lanes, 2 * nb + nc), np.nan), "locked": np.zeros(lanes, dtype=bool),
+    }  # fmt: skip
+    for lane in range(lanes):
+        rpar = _read_only(args["rpar"][lane])
+        y0 = np.array(args["y0"][lane])
+        if interrupt is not None and interrupt[0]:
+            out["status"][lane] = ids.STATUS_INTERRUPTED
+            continue
+        work = eom.new_workspace(nc)
+        eom.start_workspace(y0, (rpar, ipar, work))
+        code, ts, ys, counters = radau.radau_integrate(
+            eom.state_rhs, eom.step_check, eom.after_step, 0.0, y0, float(args["t_end"][lane]),
+            (rpar, ipar, work), args["rtol"], args["atol"], float(args["max_step"][lane]), 0.0,
+            args["max_steps"], n_second=n, n_active=2 * n, hold_after_failure=True,
+            jac=eom.jacobian_state, interrupt=interrupt,
+        )  # fmt: skip
+        out["status"][lane] = code
+        out["t_reached"][lane] = ts[-1]
+        out["n_steps"][lane] = counters[3]
+        out["n_rejected"][lane] = counters[4] + counters[5] + counters[6]
+        out["n_rhs"][lane] = counters[0]
+        out["locked"][lane] = bool((ys[:, 2 * n + 2 :] < 0.0).any())
+        if code != ids.STATUS_SUCCESS:
+            continue
+        settle = float(args["t_settle"][lane])
+        window = np.flatnonzero(ts >= settle)
+        q = np.empty((window.size, 2 * nb + nj + 1))
+        pen = np.empty((window.size, nc))
+        for row, i in enumerate(window):
+            eom.batch_quantities(ts[i], np.array(ys[i]), rpar, ipar, q[row], pen[row])
+        out["ends"][lane] = np.abs(q).max(axis=0)
+        if ts[window[0]] == settle:  # the window opens at a recorded step
+            h = np.diff(ts[window])
+            w = q[:, :nb]
+            span = ts[-1] - settle
+            out["stats"][lane, :nb] = np.sum(0.5 * h[:, None] * (w[:-1] + w[1:]), axis=0) / span
+            out["stats"][lane, nb : 2 * nb] = np.sqrt(
+                np.sum(0.5 * h[:, None] * (w[:-1] ** 2 + w[1:] ** 2), axis=0) / span
+            )
+            out["stats"][lane, 2 * nb :] = pen.max(axis=0)
+    return out
+
+
+def _read_only(array: np.ndarray) -> np.ndarray:
+    array = np.array(array)
+    array.flags.writeable = False
+    return array
 
 
 def _single_source(p: dict[str, Any], parallel: bool = False, **kw: Any) -> dict[str, Any]:
@@ -141,13 +196,20 @@ def _single_source(p: dict[str, Any], parallel: bool = False, **kw: Any) -> dict
     return out
 
 
-def _assert_same(new: dict[str, Any], old: kb.BatchKernelOutput) -> None:
-    for name in ("status", "n_steps", "n_rejected", "n_rhs"):
-        np.testing.assert_array_equal(new[name], getattr(old, name), err_msg=name)
-    for name in ("peaks", "stats", "t_reached"):
-        np.testing.assert_allclose(
-            new[name], getattr(old, name), rtol=SAME_ALGORITHM_RTOL, atol=0.0, err_msg=name
-        )
+def _assert_same(new: dict[str, Any], old: dict[str, Any]) -> None:
+    """The lane (``new``) took the single engine's (``old``) steps; its reductions agree with
+    the recorded steps (module docstring)."""
+    for name in ("status", "n_steps", "n_rejected", "n_rhs", "t_reached"):
+        np.testing.assert_array_equal(new[name], old[name], err_msg=name)
+    done = old["status"] == ids.STATUS_SUCCESS
+    ends = old["ends"][done]
+    peaks = new["peaks"][done]
+    assert (peaks >= ends * (1.0 - 1e-13)).all(), "a peak below a step end's value"
+    opened = ~np.isnan(old["stats"][:, 0])
+    width = old["stats"].shape[1]
+    np.testing.assert_allclose(
+        new["stats"][opened, :width], old["stats"][opened], rtol=SAME_ALGORITHM_RTOL, atol=1e-15
+    )
 
 
 def test_the_cpu_implicit_lane_is_the_sources_compilation() -> None:
@@ -172,16 +234,16 @@ def test_the_single_engines_radau_step_is_the_sources(name: str) -> None:
 
 
 @pytest.mark.parametrize("contact", ["impact", "physical"])
-def test_the_single_source_implicit_lane_is_the_production_lane(
+def test_the_implicit_lane_takes_the_single_engines_steps(
     paper_fourbar: Mechanism, contact: str
 ) -> None:
     p = _problem(paper_fourbar, contact)
-    old = _production(p)
+    old = _single_engine(p)
     new = _single_source(p)
-    assert list(old.status) == [
+    assert list(old["status"]) == [
         ids.STATUS_SUCCESS, ids.STATUS_SUCCESS, ids.STATUS_NON_FINITE,
     ]  # fmt: skip
-    assert (old.n_steps[:2] > 500).all() and (old.n_rejected[:2] > 50).all()  # contact work
+    assert (old["n_steps"][:2] > 500).all() and (old["n_rejected"][:2] > 50).all()
     _assert_same(new, old)
     assert np.isnan(new["peaks"][2]).all() and np.isnan(new["stats"][2]).all()
 
@@ -194,21 +256,21 @@ def test_the_implicit_lanes_on_threads_are_the_serial_ones(paper_fourbar: Mechan
         np.testing.assert_array_equal(threads[name], one[name], err_msg=name)
 
 
-def test_too_many_steps_and_interrupts_end_the_lanes_as_in_production(
+def test_too_many_steps_and_interrupts_end_the_lanes_as_the_single_engine(
     paper_fourbar: Mechanism,
 ) -> None:
     p = _problem(paper_fourbar, "impact", revolutions=0.05)
     few = _single_source(p, max_steps=40)
-    _assert_same(few, _production(p, max_steps=40))
+    _assert_same(few, _single_engine(p, max_steps=40))
     assert list(few["status"][:2]) == [ids.STATUS_TOO_MANY_STEPS] * 2
     flags = np.array([2], dtype=np.uint8)  # SIGINT
     stopped = _single_source(p, interrupt=flags)
     assert (stopped["status"] == ids.STATUS_INTERRUPTED).all()
     assert (stopped["n_steps"] == 0).all() and np.isnan(stopped["peaks"]).all()
-    # the production's serial loop ends every lane too: it used to stop at its first
-    # interrupted lane and leave the others STATUS_RUNNING, which the batch engine could not
-    # read ("1 is not a valid IntegrationStatus"): the block failed and the study went on
-    _assert_same(stopped, _production(p, interrupt=flags))
+    # every lane ends (a loop over lanes once stopped at its first interrupted lane and left
+    # the others STATUS_RUNNING, which the batch engine could not read: "1 is not a valid
+    # IntegrationStatus"; the block failed and the study went on)
+    assert (stopped["status"] != ids.STATUS_RUNNING).all()
 
 
 @pytest.mark.parametrize("film", [0.0, 1e5])
@@ -259,7 +321,7 @@ def test_what_the_lanes_do_not_cover_is_named(paper_fourbar: Mechanism) -> None:
 @pytest.mark.parametrize(
     "case", ["fourbar-A", "fourbar-AB-physical", "fourbar-AB-dry", "slider-crank-physical"]
 )
-def test_with_ideal_joints_the_differenced_jacobian_gives_the_production_lanes_results(
+def test_with_ideal_joints_the_differenced_jacobian_gives_the_single_engines_steps(
     paper_fourbar: Mechanism, slider_crank: Mechanism, case: str
 ) -> None:
     """Ideal joints left (the driver and the ideal joints' constraints, projection after
@@ -294,13 +356,13 @@ def test_with_ideal_joints_the_differenced_jacobian_gives_the_production_lanes_r
         ),
         "max_steps": 200_000,
     }  # fmt: skip
-    old = _production(p)
-    assert (old.status == ids.STATUS_SUCCESS).all() and (old.n_steps > 100).all()
+    old = _single_engine(p)
+    assert (old["status"] == ids.STATUS_SUCCESS).all() and (old["n_steps"] > 100).all()
     _assert_same(_single_source(p), old)
 
 
 @pytest.mark.parametrize("group", range(3))
-def test_every_contact_and_friction_law_gives_the_production_lanes_results(
+def test_every_contact_and_friction_law_gives_the_single_engines_steps(
     paper_fourbar: Mechanism, group: int
 ) -> None:
     """Every contact law (four per mechanism, one per joint) with the three friction choices
@@ -325,8 +387,8 @@ def test_every_contact_and_friction_law_gives_the_production_lanes_results(
         "atol": np.concatenate([np.full(n, 1e-10), np.full(n, 1e-6), np.full(2, 1e-6), np.ones(4)]),
         "max_steps": 200_000,
     }  # fmt: skip
-    old = _production(p)
-    assert (old.status == ids.STATUS_SUCCESS).all() and (old.n_steps > 50).all()
+    old = _single_engine(p)
+    assert (old["status"] == ids.STATUS_SUCCESS).all() and (old["n_steps"] > 50).all()
     _assert_same(_single_source(p), old)
 
 
@@ -370,33 +432,48 @@ def _film_problem(mechanism: Mechanism, case: str) -> dict[str, Any]:
 
 
 @pytest.mark.parametrize("case", FILM_CASES)
-def test_with_film_damping_the_implicit_lane_takes_the_production_lanes_steps(
+def test_with_film_damping_the_implicit_lane_takes_the_single_engines_steps(
     paper_fourbar: Mechanism, case: str
 ) -> None:
     """The film's force, power and Jacobian terms are the single engine's arithmetic: the same
-    statuses, steps, rejections and evaluations of f as the production implicit lanes, the
-    same time reached, and, for the lane whose window opens at its first step (t = 0), the
-    same statistics (built from the accepted steps' ends only), bit for bit. What does not
-    depend on the interpolant between steps (measured, 0.3 of a revolution: 706/666,
-    156/178 and 3 582/4 665 steps; the last 187/268 since the film's Jacobian beside
-    ideal joints takes fixed steps, ``jacobian_fixed``)."""
+    statuses, steps, rejections and evaluations of f, the same time reached (measured, 0.3
+    of a revolution: 706/666, 156/178 and 187/268 steps, the last with the film's Jacobian
+    beside ideal joints by fixed steps, ``jacobian_fixed``); the statistics and peaks as the
+    module docstring says (the peaks located between steps on the single engine's
+    interpolant, its rule chosen step by step from the joints' contacts)."""
     p = _film_problem(paper_fourbar, case)
-    old = _production(p)
-    new = _single_source(p)
-    assert (old.status == ids.STATUS_SUCCESS).all() and (old.n_steps > 100).all()
-    for name in ("status", "n_steps", "n_rejected", "n_rhs", "t_reached"):
-        np.testing.assert_array_equal(new[name], getattr(old, name), err_msg=name)
-    np.testing.assert_array_equal(new["stats"][0], old.stats[0])
-
-
-@pytest.mark.parametrize("case", FILM_CASES)
-def test_with_film_damping_the_single_source_implicit_lane_is_the_production_lane(
-    paper_fourbar: Mechanism, case: str
-) -> None:
-    """Every field, the peaks too (located between steps on the same interpolant, its rule
-    chosen step by step from the joints' contacts), and the window opening inside a step.
-    Measured: equal bits."""
-    p = _film_problem(paper_fourbar, case)
-    old = _production(p)
-    assert (old.status == ids.STATUS_SUCCESS).all() and (old.n_steps > 100).all()
+    old = _single_engine(p)
+    assert (old["status"] == ids.STATUS_SUCCESS).all() and (old["n_steps"] > 100).all()
     _assert_same(_single_source(p), old)
+
+
+@pytest.mark.parametrize("capture", [None, "1 mm/s"])
+def test_in_the_sustained_contact_mode_the_implicit_lane_takes_the_single_engines_steps(
+    paper_fourbar: Mechanism, capture: str | None
+) -> None:
+    """Locked joints (the CPU's hooks: the accelerations with the locked joints as
+    constraints, the release control, capture and release with the projection onto the
+    locked joints, the Jacobian differenced while a joint is locked): the single engine's
+    steps, at the default capture speed (0.1 mm/s) and at 1 mm/s (the mode's joints are dry),
+    0.3 of a revolution (measured: 2 571/2 257 and 1 685/2 087 steps)."""
+    model = ContactModel(
+        sustained_contact=True, **({} if capture is None else {"capture_speed": capture})
+    )
+    system = build_system(paper_fourbar, model.joints(paper_fourbar, JOINTS, clearance=21e-6))
+    rpar, ipar = eom.pack(system.model)
+    y0 = initial_state(system, Start("steady"))
+    n = system.n_coordinates
+    period = paper_fourbar.driver.period
+    ys = np.tile(y0, (2, 1))
+    ys[1, n : 2 * n] *= 1.01
+    settle = np.array([0.0, 0.1 * period])
+    p = {
+        "ipar": ipar, "rpar": np.tile(rpar, (2, 1)), "y0": ys, "t_settle": settle,
+        "t_end": settle + 0.3 * period, "max_step": np.full(2, period / 360.0), "rtol": 1e-6,
+        "atol": np.concatenate([np.full(n, 1e-10), np.full(n, 1e-6), np.full(2, 1e-6), np.ones(4)]),
+        "max_steps": 200_000,
+    }  # fmt: skip
+    old = _single_engine(p)
+    assert (old["status"] == ids.STATUS_SUCCESS).all()
+    _assert_same(_single_source(p), old)
+    assert old["locked"].any()  # the mode engaged: a joint locked at a recorded step

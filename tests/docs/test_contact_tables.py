@@ -46,7 +46,7 @@ def test_a_drifted_number_fails_the_check(tables: ModuleType) -> None:
     """One unit of the last digit too many in a deterministic table (a mantissa's digit
     counted with its exponent), or 30 % on a dry
     statistic, and the check names the table and the numbers (the runs of the test above,
-    reused)."""
+    reused); an interval's end unbounded in the page and bounded as computed is no drift."""
     text = tables.DOC.read_text(encoding="utf-8")
     assert tables.check(text, ["film-damping", "dry-statistics"]) == []
     drift = _bump(text, "film-damping", "| 1e4 | ", 1.01)
@@ -57,7 +57,13 @@ def test_a_drifted_number_fails_the_check(tables: ModuleType) -> None:
     assert tables.check(drift, ["liu-stiffness"]) == [
         "liu-stiffness: 1.55e+11 in the page, 1.48e+11 computed"
     ]
+    unbounded = re.sub(r"(\| F_O2 \(N\) \|[^|]*\|[^,]*, )[\d.]+\]", r"\1—]", text, count=1)
+    assert unbounded != text and tables.check(unbounded, ["dry-statistics"]) == []
     drift = _bump(text, "dry-statistics", "| F_B (N) | ", 1.3)
     found = tables.check(drift, ["dry-statistics"])
     assert found and all(line.startswith("dry-statistics: ") for line in found)
-    assert tables.regenerate(drift, ["dry-statistics"]) == text
+    # regenerated, the drift is gone (the machine's own numbers: a chaotic statistic's digits
+    # move with the round-off of the machine that computes them, within the check's tolerance)
+    assert tables.regenerate(drift, ["dry-statistics"]) == tables.regenerate(
+        text, ["dry-statistics"]
+    )

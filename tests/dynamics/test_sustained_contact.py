@@ -128,7 +128,7 @@ def test_joints_are_captured_and_released_at_a_vanishing_normal_force(
     eom.evaluate(result.t[where], np.array(result.y[where]), *eom.pack(model), contacts)
     assert np.all(contacts[:, 0] > 0.0)
     np.testing.assert_allclose(np.abs(contacts[:, 1]), 0.1 * contacts[:, 0], rtol=1e-12)
-    assert np.max(np.abs(contacts[:, 2])) <= model.settings[eom.S_PROJ_TOL]
+    assert np.max(np.abs(contacts[:, 2])) <= model.settings[ids.S_PROJ_TOL]
 
 
 def test_the_contact_model_carries_the_mode_to_the_kernels(paper_fourbar: Mechanism) -> None:

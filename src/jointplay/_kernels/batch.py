@@ -14,7 +14,8 @@ Outputs per lane, over the window [t_settle, t_end]:
 
 - ``peaks`` (P = 2 nb + nj + 1), QUANTITY ORDER: ω_b of every body (rad/s), α_b (rad/s²), the
   force transmitted by every joint (N), the motor torque (N·m) — largest |value|, as
-  :func:`jointplay._kernels.eom.batch_quantities` defines them;
+  :func:`jointplay._kernels.eom.batch_quantities` defines them (the lane source's
+  ``rhs_and_quantities``);
 - ``stats`` (M = 2 nb + 4 nc), STATS ORDER: time-mean of ω_b, RMS of ω_b (trapezoidal rule
   over the accepted steps, rad/s), largest penetration δ = |e| − c of every clearance joint at
   the accepted steps (m; negative: never touched), then per clearance joint the fractions of
@@ -63,13 +64,11 @@ the lanes' one loop :func:`jointplay._kernels.lanes.source.lane` with DOPRI5's s
 **"implicit"** — the lanes' loop with Radau IIA's steps
 (:mod:`jointplay._kernels.lanes.source_radau`, compiled by :mod:`jointplay._kernels.lanes.cpu`:
 ``IMPLICIT_DRIVERS``), which takes the single engine's steps with exactly the settings of
-:func:`jointplay.dynamics.simulate.simulate` and reduces each accepted step as it is taken
-(the same bits as the path below, measured). With the sustained-contact mode (the lanes'
-loop does not run it): the Radau IIA kernel of :mod:`jointplay._kernels.radau`, one lane at
-a time; its accepted steps then reduced by :func:`_trajectory_reduce` (compiled), the
-interpolant being the single engine's (:data:`lanes_hermite`: cubic Hermite of q with q̇ and of q̇ with q̈; with film damping
-the quintic through q and q̇ at three step ends, or next to a contact's start or end q̇ the
-derivative of q's cubic).
+:func:`jointplay.dynamics.simulate.simulate` (the sustained-contact mode included: its hooks
+are the single engine's, :mod:`jointplay._kernels.sustained`) and reduces each accepted step
+as it is taken, the interpolant being the single engine's (the lane source's ``hermite``:
+cubic Hermite of q with q̇ and of q̇ with q̈; with film damping the quintic through q and q̇
+at three step ends, or next to a contact's start or end q̇ the derivative of q's cubic).
 
 **Peak rule** (both methods; the JAX backend applies the same one). Let ``Q_a``, ``Q_b`` be the
 quantities at the two ends of an accepted step inside the window (``Q_b`` after
@@ -78,7 +77,7 @@ quantities at the two ends of an accepted step inside the window (``Q_b`` after
 driven body and of bodies held by an ideal prismatic joint to the ground),
 ``max(|Q_a,p|, |Q_b,p|) >= (1 − REFINE_MARGIN)·peak_p > 0``. A refined step evaluates the
 method's interpolant at the seven ``REFINE_POINTS`` θ = 1/8, 2/8, …, 7/8 (DOPRI5: SciPy's
-free 4th-order dense output ``P`` below; Radau: :data:`lanes_hermite`), the quantities at those
+free 4th-order dense output ``P`` below; Radau: the Hermite interpolant above), the quantities at those
 states, and for every quantity takes ``s_0..s_8 = |Q|`` at θ = 0, 1/8, …, 7/8, 1: with ``m``
 the first index of the largest, ``0 < m < 8`` and ``c = s_{m−1} − 2 s_m + s_{m+1} < 0``, the
 vertex of the parabola through the three points, ``s_m − (s_{m−1} − s_{m+1})² / (8 c)``
@@ -93,23 +92,10 @@ from __future__ import annotations
 
 from typing import TypeVar
 
-import numba
 import numpy as np
 import numpy.typing as npt
 
 from jointplay._kernels import eom
-from jointplay._kernels.common import (
-    interrupt_pending,
-)
-from jointplay._kernels.ids import (
-    G_CAPTURE,
-    K_REJECTED,
-    K_RHS,
-    K_STEPS,
-    N_GEOM,
-    STATUS_INTERRUPTED,
-    STATUS_SUCCESS,
-)
 from jointplay._kernels.integrators import lane_methods
 from jointplay._kernels.lanes import build as lane_build
 from jointplay._kernels.lanes import cpu as lane_cpu
@@ -122,26 +108,6 @@ from jointplay._kernels.lanes.contract import (  # noqa: F401 (re-exported: the 
     lane_inputs,
     lane_outputs,
 )
-from jointplay._kernels.lanes.source import LY_GEOM, LY_NC
-from jointplay._kernels.radau import radau_integrate
-
-# the peak rule's pieces, compiled from the lane source (shared with the explicit lanes)
-lanes_triggers = lane_cpu.compiled["triggers"]
-lanes_any_film = lane_cpu.compiled["any_film"]
-lanes_wants_refinement = lane_cpu.compiled["wants_refinement"]
-lanes_refine_peaks = lane_cpu.compiled["refine_peaks"]
-lanes_refine_start = lane_cpu.compiled["refine_start"]
-lanes_open_window = lane_cpu.compiled["open_window"]
-lanes_accumulate = lane_cpu.compiled["accumulate"]
-lanes_close_window = lane_cpu.compiled["close_window"]
-lanes_open_regimes = lane_cpu.compiled["open_regimes"]
-lanes_accumulate_regimes = lane_cpu.compiled["accumulate_regimes"]
-lanes_close_regimes = lane_cpu.compiled["close_regimes"]
-lanes_running_on = lane_cpu.compiled["running_on"]
-lanes_speed_deviation = lane_cpu.compiled["speed_deviation"]
-lanes_running_point = lane_cpu.compiled["running_point"]
-lanes_start_running = lane_cpu.compiled["start_running"]
-lanes_close_running = lane_cpu.compiled["close_running"]
 
 __all__ = [
     "METHODS",
@@ -156,182 +122,12 @@ __all__ = [
 METHODS = lane_methods("lanes-explicit", "batch-implicit")
 
 
-jit = numba.njit(cache=True, error_model="numpy")
-
-
 def layout(ipar: npt.NDArray[np.int64]) -> tuple[int, int, int, int]:
     """``(nb, nj, nc, n_state)`` of the model packed in ``ipar``."""
     n = int(ipar[eom.L_MASS])
     nj = int(ipar[eom.L_ACTIVE])
     nc = int(ipar[eom.L_CLEAR_JOINT])
     return n // 3, nj, nc, 2 * n + 2 + nc
-
-
-# --- implicit: Radau IIA per lane, then a compiled reduction of its steps -------------------------
-#: The single engine's interpolant between steps (``simulate._interpolate``), from the lane
-#: source (:func:`jointplay._kernels.lanes.source_radau.hermite`, its rules ``RULE_*``).
-lanes_hermite = lane_cpu.compiled["hermite"]
-lanes_touching = lane_cpu.compiled["touching"]
-lanes_interpolation_rule = lane_cpu.compiled["interpolation_rule"]
-
-
-@jit
-def _step_state(film, ts, ys, fs, bits, i, tau, n, out):  # fmt: skip
-    """The interpolated state at ``tau`` inside the recorded step ``i − 1`` → ``i`` (``fs``:
-    q̈ at the steps in ``[n:2n]``), by the rule that step takes (``interpolation_rule``)."""
-    before = max(i - 2, 0)
-    rule = lanes_interpolation_rule(film, i >= 2, bits[before], bits[i - 1], bits[i])
-    lanes_hermite(ts[before], ys[before], ts[i - 1], ys[i - 1], fs[i - 1], ts[i], ys[i], fs[i],
-                  n, ys.shape[1], tau, out, rule)  # fmt: skip
-
-
-@jit
-def _trajectory_reduce(ipar, rpar, lay, ts, ys, t_settle, t_end, peaks, stats):
-    """Peaks and statistics over [t_settle, t_end] of a recorded trajectory (Radau's steps).
-
-    The window opens at ``t_settle`` (interpolated inside its step when it falls there);
-    every later step is reduced with the peak rule of the module docstring, the single
-    engine's interpolant (:data:`lanes_hermite`) standing in for the method's dense output,
-    always on the recorded step (the window's first too). With the running responses
-    (``lay``'s one more quantity: ``running_on``) the output speed's deviation joins the
-    quantities and every recorded step from ``t_settle`` on the wear profiles.
-    """
-    model = eom.unpack(rpar, ipar)
-    n = model.mass.shape[0]
-    nb = n // 3
-    nc = model.clear_joint.shape[0]
-    n_q = peaks.shape[0]
-    mask = np.empty(n_q, dtype=np.int64)
-    lanes_triggers(ipar, rpar, lay, mask)
-    qa = np.empty(n_q)
-    qb = np.empty(n_q)
-    n_points = len(REFINE_POINTS)
-    samples = np.empty((n_points + 2, n_q))
-    pen = np.empty(model.clear_joint.shape[0])
-    y_mid = np.empty(ys.shape[1])
-    film = lanes_any_film(rpar, lay)
-    running = lanes_running_on(lay)
-    m = ts.shape[0]
-    fs = np.zeros((m, ys.shape[1]))  # q̈ in [n:2n], as the lane source's interpolant takes it
-    bits = np.empty(m, dtype=np.int64)
-    for i in range(m):
-        fs[i, n : 2 * n] = eom.batch_quantities(ts[i], ys[i], rpar, ipar, qb, pen)
-        bits[i] = lanes_touching(pen, nc)
-    first = 0
-    while first < m - 1 and ts[first + 1] <= t_settle:
-        first += 1
-    t_a = ts[first]
-    y_a = ys[first].copy()
-    if t_a < t_settle and first < m - 1:  # the window opens inside this step
-        _step_state(film, ts, ys, fs, bits, first + 1, t_settle, n, y_a)
-        t_a = t_settle
-    eom.batch_quantities(t_a, y_a, rpar, ipar, qa, pen)
-    if running:
-        lanes_speed_deviation(y_a, rpar, lay, qa)
-        f_run = np.empty(ys.shape[1])
-        record_run = np.empty(7 * max(nc, 1))
-        lanes_start_running(rpar, lay, stats)
-        for i in range(m):
-            h = ts[i] - ts[i - 1] if i > 0 else 0.0
-            lanes_running_point(ts[i], h, t_settle, ys[i], rpar, ipar, lay, f_run, record_run,
-                                stats)  # fmt: skip
-    lanes_open_window(qa, pen, peaks, stats, nb, n_q, nc)
-    lanes_open_regimes(rpar, lay, pen, stats, nb, nc)
-    for i in range(first + 1, m):
-        t_b = ts[i]
-        eom.batch_quantities(t_b, ys[i], rpar, ipar, qb, pen)
-        if running:
-            lanes_speed_deviation(ys[i], rpar, lay, qb)
-        lanes_accumulate(qa, qb, pen, t_b - t_a, peaks, stats, nb, n_q, nc)
-        lanes_accumulate_regimes(rpar, lay, pen, t_b - t_a, stats, nb, nc)
-        every = lanes_wants_refinement(qa, qb, peaks, mask, n_q - 1 if running else n_q)
-        if every or running:  # the deviation alone is refined on every step (its own rule)
-            h = t_b - t_a
-            start = lanes_refine_start(qa, qb, samples, every, n_q)
-            for r in range(n_points):
-                tau = t_a + REFINE_POINTS[r] * h
-                _step_state(film, ts, ys, fs, bits, i, tau, n, y_mid)
-                if every:
-                    eom.batch_quantities(tau, y_mid, rpar, ipar, samples[r + 1], pen)
-                if running:
-                    lanes_speed_deviation(y_mid, rpar, lay, samples[r + 1])
-            lanes_refine_peaks(samples, peaks, start, n_q)
-        qa, qb = qb, qa
-        t_a = t_b
-    lanes_close_window(stats, nb, t_end - t_settle)
-    lanes_close_regimes(stats, nb, nc, t_end - t_settle)
-    if running:
-        lanes_close_running(rpar, lay, stats, t_end - t_settle)
-
-
-def _implicit_lanes(
-    ipar, rpar, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt, out,
-    threads=1,
-):  # fmt: skip
-    """Radau IIA per lane (:func:`jointplay._kernels.radau.radau_integrate`, the single
-    engine's settings), each lane's steps reduced in compiled code; on ``threads`` threads
-    (the compiled driver releases the GIL; each lane writes only its own rows)."""
-    lanes = range(y0.shape[0])
-    if threads > 1 and len(lanes) > 1:
-        from concurrent.futures import ThreadPoolExecutor
-
-        def one(lane: int) -> None:
-            _implicit_lane(
-                ipar, rpar, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-                out, lane,
-            )  # fmt: skip
-
-        with ThreadPoolExecutor(max_workers=min(threads, len(lanes))) as pool:
-            list(pool.map(one, lanes))
-        return
-    for lane in lanes:  # after an interrupt each lane left ends at once, STATUS_INTERRUPTED
-        _implicit_lane(
-            ipar, rpar, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt, out, lane
-        )
-
-
-def _implicit_lane(
-    ipar, rpar, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt, out, lane
-):  # fmt: skip
-    """Lane ``lane`` of :func:`_implicit_lanes`; returns its status."""
-    peaks, stats, status, t_reached, counts = out
-    n = int(ipar[eom.L_MASS])
-    if interrupt_pending(interrupt):
-        status[lane] = STATUS_INTERRUPTED
-        return STATUS_INTERRUPTED
-    args = (rpar[lane], ipar, eom.new_workspace(int(ipar[eom.L_CLEAR_JOINT])))
-    eom.start_workspace(y0[lane], args)
-    code, ts, ys, counters = radau_integrate(
-        eom.state_rhs,
-        eom.step_check,
-        eom.after_step,
-        0.0,
-        y0[lane],
-        float(t_end[lane]),
-        args,
-        rtol,
-        atol,
-        float(max_step[lane]),
-        0.0,
-        max_steps,
-        n_second=n,
-        n_active=2 * n,
-        hold_after_failure=True,
-        jac=eom.jacobian_state,
-        interrupt=interrupt,
-    )
-    status[lane] = code
-    t_reached[lane] = ts[-1]
-    counts[lane, K_STEPS] = counters[3]
-    counts[lane, K_REJECTED] = counters[4] + counters[5] + counters[6]
-    counts[lane, K_RHS] = counters[0]
-    if code == STATUS_SUCCESS:
-        _trajectory_reduce(
-            ipar, rpar[lane], lane_build.running_layout(ipar, rpar), ts, ys, t_settle[lane],
-            t_end[lane],
-            peaks[lane], stats[lane],
-        )  # fmt: skip
-    return code
 
 
 def run_chunk(
@@ -362,15 +158,6 @@ def _read_only_copy(array: npt.NDArray[_Scalar]) -> npt.NDArray[_Scalar]:
 _NO_INTERRUPT = np.zeros(1, dtype=np.uint8)
 
 
-def _sustained(ipar: npt.NDArray[np.int64], rpar: npt.NDArray[np.float64]) -> bool:
-    """Whether a lane has the sustained-contact mode (a joint's capture speed > 0), which the
-    lanes' loop does not run (it changes the constraint set between steps)."""
-    lay = lane_build.lane_layout(ipar)
-    start = int(lay[LY_GEOM])
-    geom = rpar[:, start : start + N_GEOM * int(lay[LY_NC])]
-    return bool(np.any(geom[:, G_CAPTURE::N_GEOM] > 0.0))
-
-
 def run_batch(
     ipar: npt.ArrayLike,
     rpar: npt.ArrayLike,
@@ -397,9 +184,7 @@ def run_batch(
         rtol: relative tolerance; atol: (S,) absolute tolerances.
         max_steps: most accepted steps per lane.
         method: ``"explicit"`` (Dormand–Prince 5(4)) or ``"implicit"`` (Radau IIA).
-        parallel: threads over lanes (explicit: ``numba.prange``; implicit: a thread pool
-            of Numba's thread count, the compiled Radau driver releasing the GIL);
-            ``False``: one thread.
+        parallel: threads over lanes (``numba.prange``); ``False``: one thread.
         interrupt: uint8 flags that stop every lane with ``STATUS_INTERRUPTED`` once they hold
             SIGINT or SIGTERM (:func:`jointplay._kernels.common.interrupt_pending`).
 
@@ -428,17 +213,10 @@ def run_batch(
                 float(rtol), atol_a, int(max_steps), flags,
                 peaks, stats, status, t_reached, counts,
             )  # fmt: skip
-        elif not _sustained(ipar_a, rpar_a):  # the lanes' loop with Radau's steps
+        else:  # the lanes' loop with Radau's steps
             lane_cpu.IMPLICIT_DRIVERS[n_peaks > nq_model, parallel](
                 ipar_a, rpar_a, lay, y0_a, settle_a, end_a, step_a,
                 float(rtol), atol_a, int(max_steps), flags,
                 peaks, stats, status, t_reached, counts,
-            )  # fmt: skip
-        else:  # the sustained-contact mode: the single engine's Radau IIA and hooks
-            _implicit_lanes(
-                ipar_a, rpar_a, y0_a, settle_a, end_a, step_a, float(rtol), atol_a,
-                int(max_steps), flags,
-                (peaks, stats, status, t_reached, counts),
-                threads=numba.get_num_threads() if parallel else 1,
             )  # fmt: skip
     return finished(peaks, stats, status, t_reached, counts)

@@ -9,8 +9,8 @@ The engines:
 - ``"lanes-explicit"``: the explicit lanes of the single source (DOPRI5,
   :func:`jointplay._kernels.lanes.source.lane` with DOPRI5's steps), on the CPU and ``cuda`` backends;
 - ``"batch-implicit"``: the CPU backends' implicit lanes (:func:`jointplay._kernels.batch.run_batch`:
-  the lanes' loop with Radau IIA's steps, the same code as ``"lanes-implicit"``; with the
-  sustained-contact mode, the single engine's Radau IIA and hooks, one lane at a time);
+  the lanes' loop with Radau IIA's steps, the same source as ``"lanes-implicit"``, compiled
+  for the CPU with the single engine's hooks, which add the sustained-contact mode);
 - ``"lanes-implicit"``: the implicit lanes of the single source (Radau IIA,
   :mod:`jointplay._kernels.lanes.source_radau`), the ``cuda`` backend's implicit method;
 - ``"jax"``: the ``gpu`` backend's lanes (:mod:`jointplay._kernels.jax_batch`, DOPRI5 and

@@ -6,12 +6,11 @@ the contact memory and the closed-form Jacobian — are written once, in
 engine by :mod:`jointplay._kernels.shared`. This module packs the model, gives the integrators
 (:mod:`jointplay._kernels.radau`, ``rodas``, ``dopri``) their four hooks with one explicit
 signature each (so that the integrators' cores are cached on disk) — :func:`state_rhs`,
-:func:`jacobian_state`, :func:`step_check`, :func:`after_step` — and adds what only the single
-engine does: the sustained-contact mode's switches (capture and release of locked joints,
-:func:`switch_contacts`, :func:`release_check`; the accelerations with locked joints are
-:mod:`jointplay._kernels.sustained`'s), the projection onto the ideal constraints with
-LAPACK's solve (:func:`project`, also the CPU lanes' hook) and the recorded trajectory's
-diagnostics.
+:func:`jacobian_state`, :func:`step_check`, :func:`after_step` — and the recorded
+trajectory's diagnostics. The hooks' pieces are the CPU lanes' too: the projection with
+LAPACK's solve (:mod:`jointplay._kernels.lanes.projection`) and the sustained-contact mode
+(the accelerations with locked joints, the release control, capture and release:
+:mod:`jointplay._kernels.sustained`).
 
 The model is an :class:`EomModel`: a named tuple of flat arrays that
 :mod:`jointplay.dynamics.system` builds once, read-only. The hooks take
@@ -65,20 +64,14 @@ import numpy as np
 from numba import njit, typeof, types
 
 from jointplay._kernels.ids import (
-    G_CAPTURE,
     LOCKED,
-    N_GEOM,
     N_WORK,
-    S_CAPTURE_MAX,
+    RELEASE_TOL,
     S_ONSET_TOL,
-    S_PROJ_TOL,
     W_HAS_PREVIOUS,
-    W_MAX_VIOLATION,
-    W_PROJECTIONS,
 )
 from jointplay._kernels.lanes.build import lane_layout
 from jointplay._kernels.lanes.source import (
-    LY_DRIVER,
     LY_N,
     LY_NC,
     LY_NIDEAL,
@@ -93,12 +86,12 @@ from jointplay._kernels.shared import apart, compiled, pick
 _rhs, _any_film, _locked, _constraint_rows, _penetration_and_rate, _contact_memory = pick(
     compiled, "rhs any_film locked constraint_rows penetration_and_rate contact_memory"
 )
-_onset_fraction, _jacobian_clear, _project, _driver_speed, _locked_row = pick(
-    compiled, "onset_fraction jacobian_clear project driver_speed locked_row"
-)
+_onset_fraction, _jacobian_clear, _project = pick(compiled, "onset_fraction jacobian_clear project")
 # impact_rate: δ̇ (m/s) at δ = 0 between a step's ends, linear in δ (the source's).
-_constraint_residual, _constraint_jacobian, impact_rate = pick(
-    compiled, "constraint_residual constraint_jacobian impact_rate"
+_constraint_residual, impact_rate = pick(compiled, "constraint_residual impact_rate")
+# the sustained-contact mode's hooks (jointplay._kernels.sustained: the CPU lanes' too)
+_sustained_on, _release_fraction, _switch_contacts = pick(
+    compiled, "sustained_on release_fraction switch_contacts"
 )
 _rhs_apart, _rhs_and_quantities, _film_components, _jacobian_fixed = pick(
     apart, "rhs rhs_and_quantities film_components jacobian_fixed"
@@ -106,6 +99,7 @@ _rhs_apart, _rhs_and_quantities, _film_components, _jacobian_fixed = pick(
 
 __all__ = [
     "LOCKED",
+    "RELEASE_TOL",
     "EomModel",
     "after_step",
     "batch_quantities",
@@ -415,172 +409,6 @@ def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: n
     return True
 
 
-# --- sustained contact: capture and release (the accelerations: jointplay._kernels.sustained)
-
-#: Tolerance of the release control: a step whose end has a locked joint's F_N below
-#: −RELEASE_TOL · max(F_N at its start, 1 N) is retried, shortened to the sign change.
-RELEASE_TOL = 1e-3
-
-
-@njit(cache=True)
-def release_check(
-    t_old: float, y_old: np.ndarray, t_new: float, y_new: np.ndarray, rpar: np.ndarray,
-    ipar: np.ndarray,
-) -> float:  # fmt: skip
-    """The step's fraction that ends where the first locked joint's multiplier F_N turns
-    tensile (secant between the step's ends, aiming at −RELEASE_TOL/2 · max(F_N, 1 N)); 1 if
-    none turns tensile beyond the tolerance. As :func:`_onset_retry` for an onset."""
-    lay = lay_of(ipar)
-    nc = lay[LY_NC]
-    n = lay[LY_N]
-    old = np.zeros((nc, 7))
-    new = np.zeros((nc, 7))
-    evaluate(t_old, y_old, rpar, ipar, old)
-    evaluate(t_new, y_new, rpar, ipar, new)
-    theta = 1.0
-    for c in range(nc):
-        if not y_new[2 * n + 2 + c] < 0.0:
-            continue
-        f_old, f_new = old[c, 0], new[c, 0]
-        tolerance = RELEASE_TOL * max(f_old, 1.0)
-        if f_old > 0.0 and f_new < -tolerance:
-            theta = min(theta, (f_old + 0.5 * tolerance) / (f_old - f_new))
-    return theta
-
-
-@njit(cache=True)
-def _energy(y: np.ndarray, model: EomModel) -> float:
-    """KE + V_gravity at ``y``, J (V = −Σ Q_gravity,i q_i: gravity is constant)."""
-    n = model.mass.shape[0]
-    e = 0.0
-    for i in range(n):
-        e += 0.5 * model.mass[i] * y[n + i] * y[n + i] - model.gravity[i] * y[i]
-    return e
-
-
-@njit(cache=True)
-def project_locked(
-    t: float, y: np.ndarray, rpar: np.ndarray, ipar: np.ndarray, work: np.ndarray,
-    drift: bool = True,
-) -> bool:  # fmt: skip
-    """Mass-weighted projection of q onto Φ = 0 and |e| = c of every locked joint, and of q̇
-    onto Φ_q q̇ = ν, G_c q̇ = 0 (as :func:`project`, with the rows of the mode's
-    ``locked_row``); the mechanical energy it removes (KE + V before minus after, J) is added
-    to W_contact, so that the energy balance still closes. ``drift``: the violation is drift,
-    recorded in the workspace as the largest violation (``False`` at a capture, where it is
-    the penetration the capture removes). Returns: the positions moved by more than the
-    projection tolerance."""
-    model = unpack(rpar, ipar)
-    lay = lay_of(ipar)
-    n = lay[LY_N]
-    nc = lay[LY_NC]
-    q = y[:n]
-    qd = y[n : 2 * n]
-    tolerance = rpar[lay[LY_SETTINGS] + S_PROJ_TOL]
-    before = _energy(y, model)
-    rows = _constraint_rows(rpar, lay)
-    m = 0
-    for c in range(nc):
-        if y[2 * n + 2 + c] < 0.0:
-            m += 1
-    k = rows + m
-    a = np.zeros((k, n))
-    h = np.empty(n)
-    value = np.empty(k)
-    inv_mass = 1.0 / model.mass
-    moved = False
-    for iteration in range(4):
-        _constraint_jacobian(y, rpar, ipar, lay, a)  # rows 0 … rows − 1
-        _constraint_residual(t, y, rpar, ipar, lay, value)
-        r = rows
-        for c in range(nc):
-            if y[2 * n + 2 + c] < 0.0:
-                value[r] = _locked_row(y, rpar, ipar, lay, c, a[r], h)[1]
-                r += 1
-        violation = np.max(np.abs(value))
-        if iteration == 0:
-            if drift:
-                work[W_MAX_VIOLATION] = max(work[W_MAX_VIOLATION], violation)
-            moved = violation > tolerance
-        if violation <= 1e-3 * tolerance or iteration == 3:
-            break
-        weighted = a * inv_mass
-        q -= inv_mass * (a.T @ np.linalg.solve(weighted @ a.T, value))
-    rate = np.zeros(k)
-    nu = _velocity_rhs(t, rpar, lay, rows)
-    for r in range(k):
-        s = -nu[r] if r < rows else 0.0
-        for i in range(n):
-            s += a[r, i] * qd[i]
-        rate[r] = s
-    weighted = a * inv_mass
-    qd -= inv_mass * (a.T @ np.linalg.solve(weighted @ a.T, rate))
-    y[2 * n + 1] += before - _energy(y, model)
-    work[W_PROJECTIONS] += 1.0
-    return moved
-
-
-@njit(cache=True)
-def switch_contacts(
-    t: float, y: np.ndarray, rpar: np.ndarray, ipar: np.ndarray, work: np.ndarray,
-    before: np.ndarray,
-) -> bool:  # fmt: skip
-    """The sustained-contact mode's switches after an accepted step (mode on only).
-
-    Release: a locked joint whose multiplier F_N is negative (tensile) at ``y`` becomes a
-    free compliant joint (v0 = 0). Capture: a compliant contact in progress (v0 > 0, δ > 0)
-    whose normal relative speed |δ̇| is below its capture speed (``geom`` column
-    ``G_CAPTURE``) at both ends of the step (``before``: δ and δ̇ at its start, 7 per joint
-    as the contact records hold them) becomes locked (v0 = :data:`LOCKED`). Both ends: the
-    turning point of an impact (δ̇ = 0 at the deepest penetration) passes within a step, so
-    it is not captured, and its rebound is kept; a pressed pin whose radial oscillation has a
-    speed amplitude of a few capture speeds is. The joints locked before the step are
-    projected onto |e| = c with δ̇ = 0 (:func:`project_locked`, drift) before the capture
-    test, and again after a capture (removing the captured pin's small penetration and
-    normal speed). Returns: a joint switched or the positions moved beyond the tolerance.
-    """
-    lay = lay_of(ipar)
-    n = lay[LY_N]
-    nc = lay[LY_NC]
-    geom = unpack(rpar, ipar).geom
-    changed = False
-    if _locked(y, rpar, lay):
-        record = np.zeros((nc, 7))
-        evaluate(t, y, rpar, ipar, record)
-        for c in range(nc):
-            if y[2 * n + 2 + c] < 0.0 and record[c, 0] < 0.0:
-                y[2 * n + 2 + c] = 0.0
-                changed = True
-    if _locked(y, rpar, lay) and project_locked(t, y, rpar, ipar, work):
-        changed = True
-    memory = y[2 * n + 2 :].copy()
-    captured = False
-    for c in range(nc):
-        capture = geom[N_GEOM * c + G_CAPTURE]
-        if not (y[2 * n + 2 + c] > 0.0 and capture > 0.0):
-            continue
-        delta, delta_dot = _penetration_and_rate(y, rpar, ipar, lay, c)
-        slow = abs(delta_dot) < capture
-        slow = slow and before[7 * c + 2] > 0.0 and abs(before[7 * c + 3]) < capture
-        if delta > 0.0 and slow:
-            y[2 * n + 2 + c] = LOCKED
-            captured = True
-    if captured:  # a joint whose multiplier would be tensile at once is left compliant
-        record = np.zeros((nc, 7))
-        evaluate(t, y, rpar, ipar, record)
-        captured_one = False
-        for c in range(nc):
-            if y[2 * n + 2 + c] < 0.0 and memory[c] > 0.0:
-                if record[c, 0] < 0.0:
-                    y[2 * n + 2 + c] = memory[c]
-                else:
-                    captured_one = True
-        if captured_one:
-            project_locked(t, y, rpar, ipar, work, False)
-            changed = True
-    return changed
-
-
 @njit(cache=True, inline="always")
 def _onset_retry(
     y_old: np.ndarray, y_new: np.ndarray, rpar: np.ndarray, ipar: np.ndarray, work: np.ndarray
@@ -628,28 +456,21 @@ def step_check(
     """Contact-onset control: a step that enters contact deeper than the onset tolerance is
     retried, shortened by the secant estimate of the crossing (Flores & Ambrósio 2010); in
     the sustained-contact mode, likewise a step at whose end a locked joint's normal force
-    has turned tensile beyond the release tolerance (:func:`release_check`).
+    has turned tensile beyond the release tolerance (the source's ``release_fraction``:
+    :func:`jointplay._kernels.sustained.sustained_release_fraction`).
 
     Endpoint checks suffice: the free region |e| <= c is convex, so a pin cannot pass into and
     back out of the wall along a (locally straight) step without ending in contact.
     """
     rpar, ipar = args[0], args[1]
+    lay = lay_of(ipar)
     theta = _onset_retry(y_old, y_new, rpar, ipar, args[2])
-    if _locked(y_new, rpar, lay_of(ipar)):  # the locked set is constant over a step
-        theta = min(theta, release_check(t_old, y_old, t_new, y_new, rpar, ipar))
+    if _locked(y_new, rpar, lay):  # the locked set is constant over a step
+        theta = min(theta, _release_fraction(t_old, y_old, t_new, y_new, rpar, ipar, lay))
     return theta
 
 
 # --- after a step: contact memory, the mode's switches, projection --------------------------
-
-
-@njit(cache=True, inline="always")
-def _velocity_rhs(t: float, rpar: np.ndarray, lay: np.ndarray, rows: int) -> np.ndarray:
-    """ν = −Φ_t (rows): zero for joints, the prescribed crank speed for the driver row."""
-    nu = np.zeros(rows)
-    if rpar[lay[LY_DRIVER]] >= 0:
-        nu[rows - 1] = _driver_speed(t, rpar, lay[LY_DRIVER])
-    return nu
 
 
 @njit(cache=True, inline="always")
@@ -684,13 +505,6 @@ def start_workspace(y: np.ndarray, args: EomArgs) -> None:
     _remember(_records(y, args[0], args[1]), args[2])
 
 
-@njit(cache=True, inline="always")
-def _sustained_mode(rpar: np.ndarray, lay: np.ndarray) -> bool:
-    """Whether some clearance joint has the sustained-contact mode (the settings' largest
-    capture speed > 0: one comparison)."""
-    return rpar[lay[LY_SETTINGS] + S_CAPTURE_MAX] > 0.0
-
-
 after_step_signature = types.boolean(types.float64, types.float64[::1], ARGS_TYPE)
 
 
@@ -699,8 +513,9 @@ def after_step(t: float, y: np.ndarray, args: EomArgs) -> bool:
     """Update each joint's contact-event memory v0 (the source's ``contact_memory``: a new
     event stores max(δ̇ at δ = 0, v_mark), an ended one 0; the step's start from the
     workspace, else from its end), capture and release joints in the sustained-contact mode
-    (:func:`switch_contacts`) and project onto the ideal (and locked) constraints; record the
-    largest violation and the projections in the workspace (``args[2]``)."""
+    (:func:`jointplay._kernels.sustained.sustained_switch_contacts`) and project onto the ideal (and
+    locked) constraints; record the largest violation and the projections in the workspace
+    (``args[2]``), and δ, δ̇ of every joint at the state the next step starts from."""
     rpar, ipar, work = args
     lay = lay_of(ipar)
     nc = lay[LY_NC]
@@ -711,8 +526,11 @@ def after_step(t: float, y: np.ndarray, args: EomArgs) -> bool:
             before[7 * c + 2] = work[N_WORK + 2 * c]
             before[7 * c + 3] = work[N_WORK + 2 * c + 1]
     changed = _contact_memory(y, rpar, lay, record, before)
-    if _sustained_mode(rpar, lay) and switch_contacts(t, y, rpar, ipar, work, before):
-        changed = True
+    if _sustained_on(rpar, lay):
+        if _switch_contacts(t, y, rpar, ipar, lay, work, before):
+            changed = True
+        # the records of the state the next step starts from: the switches' projection onto
+        # the locked joints moves q even when it stays below the tolerance (not "changed")
         record = _records(y, rpar, ipar)
     empty = y[:0].reshape((0, 0))
     if _project(t, y, rpar, ipar, lay, work, empty, empty, y[:0]):

@@ -83,6 +83,10 @@ LAMBDA_BOUNDARY = 1.0
 #: The v0 slot of a clearance joint in sustained contact (locked onto |e| = c); any negative
 #: value reads as locked.
 LOCKED = -1.0
+#: Tolerance of the sustained-contact mode's release control: a step whose end has a locked
+#: joint's F_N below −RELEASE_TOL · max(F_N at its start, 1 N) is retried, shortened to the
+#: sign change.
+RELEASE_TOL = 1e-3
 
 # --- integration statuses and counters ---------------------------------------------------------
 #: Statuses an integration ends with (``STATUS_RUNNING`` while it goes on).

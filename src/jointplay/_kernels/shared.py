@@ -7,9 +7,10 @@ the CUDA kernel from its own compilation, and the single engine (:mod:`jointplay
 :mod:`~jointplay._kernels.constraints`, :mod:`~jointplay._kernels.contact`,
 :mod:`~jointplay._kernels.common`) from here: the right-hand side, the contact forces and laws,
 the film, the quantities, the contact memory and the closed-form Jacobian are the source's.
-The single engine adds one capability the lanes lack, the sustained-contact mode: its
-accelerations with locked joints (:mod:`jointplay._kernels.sustained`) fill the source's
-``locked_accelerations`` hook and are compiled into the same namespace.
+The sustained-contact mode, which the GPU lanes lack, is the CPU's own
+(:mod:`jointplay._kernels.sustained`): its functions fill the source's hooks
+(``locked_accelerations``, ``release_fraction``, ``switch_contacts``) and are compiled into
+the same namespace, as the CPU lanes compile them.
 
 Compiled by :func:`jointplay._kernels.lanes.build.build` with the single engine's flags
 (``error_model="numpy"``: a division by zero gives inf/NaN, the kernels never raise) and
@@ -18,7 +19,7 @@ an array costs ~100 ns of reference counting, several times per right-hand side;
 6–12 % of ``bench_clearance.py``'s times without it). Numba's on-disk cache does not follow
 inlined functions: after editing the lane source, clear the caches (the README's
 ``find src -name "*.nb[ic]" -delete``). The copies are tagged ``_single``, so their cache
-entries are never the lanes' (whose ``locked_accelerations`` is the source's default).
+entries are never the lanes' (which inline other functions).
 """
 
 from __future__ import annotations
@@ -43,18 +44,15 @@ __all__ = ["APART", "SHARED", "apart", "compiled", "pick"]
 #: π-film is now the default, so this is one compiled call per joint and right-hand side on
 #: the default's hot path: a trade of first compilation against run time not yet measured.
 _OWN: dict[str, Callable[..., Any]] = {
-    "sustained_accelerations": sustained.sustained_accelerations,
-    "locked_row": sustained.locked_row,
+    **sustained.OWN,
     "reynolds_force": source.reynolds_force,
     "reynolds_matrix": source.reynolds_matrix,
 }
 
-#: The single engine's versions of the source's hooks: the sustained-contact mode's
-#: accelerations, and the projection with LAPACK's solve (the CPU lanes' too).
-_HOOKS: dict[str, Callable[..., Any]] = {
-    "locked_accelerations": sustained.sustained_locked_accelerations,
-    "project": project_lapack,
-}
+#: The single engine's versions of the source's hooks (the CPU lanes' too): the
+#: sustained-contact mode's (accelerations, release control, switches) and the projection
+#: with LAPACK's solve.
+_HOOKS: dict[str, Callable[..., Any]] = {**sustained.HOOKS, "project": project_lapack}
 
 #: The functions the single engine calls, and every source function they call.
 SHARED = closed(
@@ -79,6 +77,9 @@ SHARED = closed(
         "interrupt_pending",
         "constraint_residual",
         "project",
+        "sustained_on",
+        "release_fraction",
+        "switch_contacts",
     ),
     {**_OWN, **_HOOKS},
 )

@@ -1,25 +1,40 @@
-"""The sustained-contact mode's accelerations: a locked clearance joint is the bilateral
-constraint |e| = c, its normal force a multiplier.
+"""The sustained-contact mode: a locked clearance joint is the bilateral constraint |e| = c, its
+normal force a multiplier; its accelerations, its release control and its switches (capture,
+release) after a step.
 
-The single engine's own functions, written like the lane source
+The CPU's own functions, written like the lane source
 (:mod:`jointplay._kernels.lanes.source`: the packed model ``rp``, ``ip`` read through ``lay``;
-the source's functions called by name) and compiled into the same namespace by
-:mod:`jointplay._kernels.shared` (:func:`jointplay._kernels.lanes.build.build`'s ``own``), so
-that the right-hand side, the contact forces and the laws they use are the source's. They run
-on the CPU only (they allocate: the mode's linear system changes size with the locked set),
-which is why the lanes refuse the mode (:mod:`jointplay._kernels.capabilities`). A joint is
-locked when its v0 slot is negative (:data:`jointplay._kernels.ids.LOCKED`); the switches
-(capture, release) are :func:`jointplay._kernels.eom.switch_contacts`'.
+the source's functions called by name) and compiled into the same namespace by both CPU
+targets, the single engine (:mod:`jointplay._kernels.shared`) and the CPU lanes
+(:mod:`jointplay._kernels.lanes.cpu`), with :func:`jointplay._kernels.lanes.build.build`'s
+``own`` (:data:`OWN`) and ``hooks`` (:data:`HOOKS`: they fill the source's
+``locked_accelerations``, ``release_fraction`` and ``switch_contacts``), so that the
+right-hand side, the contact forces and the laws they use are the source's and both engines
+take the same steps. They run on the CPU only (they allocate, and the projection calls
+LAPACK: the mode's linear system changes size with the locked set), which is why the GPU
+lanes refuse the mode (:mod:`jointplay._kernels.capabilities`). A joint is locked when its
+v0 slot is negative (:data:`jointplay._kernels.ids.LOCKED`).
 
 Units are SI (m, rad, s, kg, N).
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any
+
 import numpy as np
 
 # Resolved in the namespace build.py makes (the source's functions and constants); imported
 # here so that a reader and the linters find them.
+from jointplay._kernels.ids import (
+    G_CAPTURE,
+    LOCKED,
+    RELEASE_TOL,
+    S_PROJ_TOL,
+    W_MAX_VIOLATION,
+    W_PROJECTIONS,
+)
 from jointplay._kernels.lanes.source import (
     FRICTION_NONE,
     G_CLEARANCE,
@@ -29,20 +44,33 @@ from jointplay._kernels.lanes.source import (
     LY_FRIC_ID,
     LY_FRIC_P,
     LY_GEOM,
+    LY_GRAVITY,
     LY_MASS,
     LY_N,
     LY_NC,
     LY_PFRIC,
+    LY_SETTINGS,
+    LY_SIZE,
     N_GEOM,
+    constraint_jacobian,
+    constraint_residual,
     constraint_rows,
     constraint_terms,
+    driver_speed,
     friction_force,
     joint_kinematics,
+    locked,
+    penetration_and_rate,
     push,
+    rhs,
 )
 from jointplay._kernels.lanes.source_radau import lu_real, lu_solve_real
 
-__all__ = ["locked_row", "sustained_accelerations", "sustained_locked_accelerations"]
+__all__ = [
+    "HOOKS", "OWN", "contact_records", "locked_row", "mechanical_energy", "project_locked",
+    "sustained_accelerations", "sustained_locked_accelerations", "sustained_release_fraction",
+    "sustained_switch_contacts",
+]  # fmt: skip
 
 
 def locked_row(y, rp, ip, lay, c, g_row, h_col):
@@ -105,7 +133,7 @@ def sustained_accelerations(t, y, rp, ip, lay, f, record, recording, lam):
 
     solved by LU with partial pivoting (A M⁻¹ B is not symmetric with friction). The
     normal force of a locked joint is its multiplier F_N (tensile if < 0: the joint is
-    released after the step, :func:`jointplay._kernels.eom.release_check`), its friction
+    released after the step, :func:`sustained_release_fraction`), its friction
     F_T = μ(v_T) F_N.
 
     Args:
@@ -189,3 +217,179 @@ def sustained_locked_accelerations(t, y, rp, ip, lay, f, record, recording, lam)
     """The single engine's ``locked_accelerations`` hook in the source's ``rhs``:
     :func:`sustained_accelerations` (compiled apart, not inlined into every caller)."""
     return sustained_accelerations(t, y, rp, ip, lay, f, record, recording, lam)
+
+
+def contact_records(t, y, rp, ip, lay, record):
+    """Every joint's contact record at ``(t, y)`` into ``record`` (7 per joint: F_N, F_T, δ,
+    δ̇, v_T, e_x, e_y; a locked joint's F_N its multiplier), by the source's ``rhs``."""
+    n = lay[LY_N]
+    rows = constraint_rows(rp, lay)
+    f = np.empty(lay[LY_SIZE])
+    rhs(t, y, rp, ip, lay, f, record, True, np.empty((rows, n)), np.empty((rows, rows)),
+        np.zeros(rows))  # fmt: skip
+
+
+def sustained_release_fraction(t_old, y_old, t_new, y_new, rp, ip, lay):
+    """The step's fraction that ends where the first locked joint's multiplier F_N turns
+    tensile (secant between the step's ends, aiming at −RELEASE_TOL/2 · max(F_N, 1 N)); 1 if
+    none turns tensile beyond the tolerance (the source's ``release_fraction`` hook; as the
+    onset control for an onset)."""
+    n = lay[LY_N]
+    nc = lay[LY_NC]
+    old = np.zeros(7 * nc)
+    new = np.zeros(7 * nc)
+    contact_records(t_old, y_old, rp, ip, lay, old)
+    contact_records(t_new, y_new, rp, ip, lay, new)
+    theta = 1.0
+    for c in range(nc):
+        if not y_new[2 * n + 2 + c] < 0.0:
+            continue
+        f_old, f_new = old[7 * c], new[7 * c]
+        tolerance = RELEASE_TOL * max(f_old, 1.0)
+        if f_old > 0.0 and f_new < -tolerance:
+            theta = min(theta, (f_old + 0.5 * tolerance) / (f_old - f_new))
+    return theta
+
+
+def mechanical_energy(y, rp, lay):
+    """KE + V_gravity at ``y``, J (V = −Σ Q_gravity,i q_i: gravity is constant)."""
+    n = lay[LY_N]
+    o_mass = lay[LY_MASS]
+    o_gravity = lay[LY_GRAVITY]
+    e = 0.0
+    for i in range(n):
+        e += 0.5 * rp[o_mass + i] * y[n + i] * y[n + i] - rp[o_gravity + i] * y[i]
+    return e
+
+
+def project_locked(t, y, rp, ip, lay, work, drift):
+    """Mass-weighted projection of q onto Φ = 0 and |e| = c of every locked joint, and of q̇
+    onto Φ_q q̇ = ν, G_c q̇ = 0 (as the ``project`` hook, with the rows of :func:`locked_row`);
+    the mechanical energy it removes (KE + V before minus after, J) is added to W_contact, so
+    that the energy balance still closes. ``drift``: the violation is drift, recorded in
+    ``work`` as the largest violation (``False`` at a capture, where it is the penetration
+    the capture removes). Returns: the positions moved by more than the projection
+    tolerance."""
+    n = lay[LY_N]
+    nc = lay[LY_NC]
+    o_mass = lay[LY_MASS]
+    q = y[:n]
+    qd = y[n : 2 * n]
+    tolerance = rp[lay[LY_SETTINGS] + S_PROJ_TOL]
+    before = mechanical_energy(y, rp, lay)
+    rows = constraint_rows(rp, lay)
+    m = 0
+    for c in range(nc):
+        if y[2 * n + 2 + c] < 0.0:
+            m += 1
+    k = rows + m
+    a = np.zeros((k, n))
+    h = np.empty(n)
+    value = np.empty(k)
+    inv_mass = 1.0 / rp[o_mass : o_mass + n]
+    moved = False
+    for iteration in range(4):
+        constraint_jacobian(y, rp, ip, lay, a)  # rows 0 … rows − 1
+        constraint_residual(t, y, rp, ip, lay, value)
+        r = rows
+        for c in range(nc):
+            if y[2 * n + 2 + c] < 0.0:
+                value[r] = locked_row(y, rp, ip, lay, c, a[r], h)[1]
+                r += 1
+        violation = np.max(np.abs(value))
+        if iteration == 0:
+            if drift:
+                work[W_MAX_VIOLATION] = max(work[W_MAX_VIOLATION], violation)
+            moved = violation > tolerance
+        if violation <= 1e-3 * tolerance or iteration == 3:
+            break
+        weighted = a * inv_mass
+        q -= inv_mass * (a.T @ np.linalg.solve(weighted @ a.T, value))
+    rate = np.zeros(k)
+    nu = np.zeros(rows)  # ν = −Φ_t: zero for joints, the crank speed for the driver's row
+    if rp[lay[LY_DRIVER]] >= 0:
+        nu[rows - 1] = driver_speed(t, rp, lay[LY_DRIVER])
+    for r in range(k):
+        s = -nu[r] if r < rows else 0.0
+        for i in range(n):
+            s += a[r, i] * qd[i]
+        rate[r] = s
+    weighted = a * inv_mass
+    qd -= inv_mass * (a.T @ np.linalg.solve(weighted @ a.T, rate))
+    y[2 * n + 1] += before - mechanical_energy(y, rp, lay)
+    work[W_PROJECTIONS] += 1.0
+    return moved
+
+
+def sustained_switch_contacts(t, y, rp, ip, lay, work, before):
+    """The sustained-contact mode's switches after an accepted step (the source's
+    ``switch_contacts`` hook, called with the mode on only).
+
+    Release: a locked joint whose multiplier F_N is negative (tensile) at ``y`` becomes a
+    free compliant joint (v0 = 0). Capture: a compliant contact in progress (v0 > 0, δ > 0)
+    whose normal relative speed |δ̇| is below its capture speed (``geom`` column
+    ``G_CAPTURE``) at both ends of the step (``before``: the contact records at its start,
+    7 per joint) becomes locked (v0 = :data:`LOCKED`). Both ends: the turning point of an
+    impact (δ̇ = 0 at the deepest penetration) passes within a step, so it is not captured,
+    and its rebound is kept; a pressed pin whose radial oscillation has a speed amplitude of
+    a few capture speeds is. The joints locked before the step are projected onto |e| = c
+    with δ̇ = 0 (:func:`project_locked`, drift) before the capture test, and again after a
+    capture (removing the captured pin's small penetration and normal speed). Returns: a
+    joint switched or the positions moved beyond the tolerance.
+    """
+    n = lay[LY_N]
+    nc = lay[LY_NC]
+    o_geom = lay[LY_GEOM]
+    changed = False
+    if locked(y, rp, lay):
+        record = np.zeros(7 * nc)
+        contact_records(t, y, rp, ip, lay, record)
+        for c in range(nc):
+            if y[2 * n + 2 + c] < 0.0 and record[7 * c] < 0.0:
+                y[2 * n + 2 + c] = 0.0
+                changed = True
+    if locked(y, rp, lay) and project_locked(t, y, rp, ip, lay, work, True):
+        changed = True
+    memory = y[2 * n + 2 :].copy()
+    captured = False
+    for c in range(nc):
+        capture = rp[o_geom + N_GEOM * c + G_CAPTURE]
+        if not (y[2 * n + 2 + c] > 0.0 and capture > 0.0):
+            continue
+        delta, delta_dot = penetration_and_rate(y, rp, ip, lay, c)
+        slow = abs(delta_dot) < capture
+        slow = slow and before[7 * c + 2] > 0.0 and abs(before[7 * c + 3]) < capture
+        if delta > 0.0 and slow:
+            y[2 * n + 2 + c] = LOCKED
+            captured = True
+    if captured:  # a joint whose multiplier would be tensile at once is left compliant
+        record = np.zeros(7 * nc)
+        contact_records(t, y, rp, ip, lay, record)
+        captured_one = False
+        for c in range(nc):
+            if y[2 * n + 2 + c] < 0.0 and memory[c] > 0.0:
+                if record[7 * c] < 0.0:
+                    y[2 * n + 2 + c] = memory[c]
+                else:
+                    captured_one = True
+        if captured_one:
+            project_locked(t, y, rp, ip, lay, work, False)
+            changed = True
+    return changed
+
+
+#: The mode's functions each CPU target compiles apart, not inlined (they allocate and run
+#: only while a joint is locked, or with the mode on after a step).
+OWN: dict[str, Callable[..., Any]] = {
+    "sustained_accelerations": sustained_accelerations,
+    "locked_row": locked_row,
+    "contact_records": contact_records,
+    "mechanical_energy": mechanical_energy,
+    "project_locked": project_locked,
+}
+#: The source's hooks the CPU targets fill with the mode's functions.
+HOOKS: dict[str, Callable[..., Any]] = {
+    "locked_accelerations": sustained_locked_accelerations,
+    "release_fraction": sustained_release_fraction,
+    "switch_contacts": sustained_switch_contacts,
+}

@@ -26,7 +26,7 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from jointplay._kernels import constraints as ck
-from jointplay._kernels import eom
+from jointplay._kernels import eom, ids
 from jointplay._kernels.integrators import INTEGRATORS
 from jointplay.dynamics.clearance import ClearanceJoint
 from jointplay.dynamics.cycles import DEFAULT_SETTLE, analysed_revolutions, settle_revolutions
@@ -1003,8 +1003,8 @@ def _solver_stats(
         "max_penetration_per_joint_m": max_pen,
         "energy_residual": residual / scale,
         "energy_residual_J": residual,
-        "max_constraint_violation": float(work[eom.W_MAX_VIOLATION]),
-        "projections": int(work[eom.W_PROJECTIONS]),
+        "max_constraint_violation": float(work[ids.W_MAX_VIOLATION]),
+        "projections": int(work[ids.W_PROJECTIONS]),
         "wall_s": wall,
     }
     if system.sustained_mode:

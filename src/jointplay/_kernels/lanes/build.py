@@ -51,9 +51,9 @@ FUNCTIONS = (
     "contact_clearance", "penetration_and_rate",
     "film_share", "reynolds_matrix", "reynolds_components", "reynolds_force", "reynolds_local",
     "contact_forces",
-    "any_film", "film_components", "locked", "locked_accelerations", "rhs",
+    "any_film", "film_components", "sustained_on", "locked", "locked_accelerations", "rhs",
     "rhs_and_quantities", "quantities", "onset_fraction",
-    "onset_check", "impact_rate", "contact_memory", "project_driver", "constraint_residual",
+    "onset_check", "release_fraction", "switch_contacts", "impact_rate", "contact_memory", "project_driver", "constraint_residual",
     "max_abs", "schur_solve", "project_constraints", "project",
     "all_finite", "interrupt_pending", "dense", "triggers", "wants_refinement",
     "refine_start", "refine_one", "refine_peaks", "open_window", "accumulate", "close_window",
@@ -267,10 +267,10 @@ def all_clear(ipar: npt.NDArray[np.int64]) -> bool:
 def lanes_refusal(
     ipar: npt.NDArray[np.int64], rpar: npt.NDArray[np.float64], method: str
 ) -> str | None:
-    """Why the lanes of the single source of ``method`` (``"explicit"`` or ``"implicit"``)
-    cannot run these lanes, or ``None`` (:func:`jointplay._kernels.capabilities.refusal` of
-    what they need): they cover every mechanism outside the contact options of :mod:`eom`
-    they do not implement: the sustained-contact mode (neither method), film damping (the
+    """Why the GPU lanes of ``method`` (``"explicit"`` or ``"implicit"``) cannot run these
+    lanes, or ``None`` (:func:`jointplay._kernels.capabilities.refusal` of what they need):
+    they cover every mechanism outside the contact options of :mod:`eom` they do not
+    implement: the sustained-contact mode (neither method: its hooks are the CPU's), film damping (the
     implicit method only: at a c_e of the order of 1e5 N·s/m the film's time constant m/c_e
     is microseconds, and an explicit method's steps with it)."""
     lay = lane_layout(ipar)

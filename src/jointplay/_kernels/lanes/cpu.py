@@ -18,6 +18,7 @@ import numpy as np
 from numba.extending import intrinsic
 from numba.np.arrayobj import make_array, populate_array
 
+from jointplay._kernels import sustained
 from jointplay._kernels.lanes.build import build, closed
 from jointplay._kernels.lanes.projection import N_WORK, project_lapack
 from jointplay._kernels.lanes.source import LY_N, LY_NC, LY_NIDEAL, LY_SIZE
@@ -26,25 +27,25 @@ from jointplay._kernels.lanes.source_radau import N_RADAU_SCALARS
 #: The lanes' steps and the loop's helpers are inlined into the loop (Numba's IR inlining):
 #: called as functions, they made an explicit lane 7-14 % dearer (64 conventional lanes).
 _INLINE = numba.njit(cache=True, error_model="numpy", inline="always")
-#: Every function of the source, compiled for the CPU, by name; the projection hook is the
-#: single engine's (:func:`~jointplay._kernels.lanes.projection.project_lapack`, LAPACK's
-#: solve), so that the lanes keep its bits.
-compiled = build(
-    numba.njit(cache=True, error_model="numpy"),
-    hooks={"project": project_lapack},
-    extras={"np": np},
-    decorate_steps=_INLINE,
-)
+_PLAIN = numba.njit(cache=True, error_model="numpy")
+#: The single engine's hooks: the projection with LAPACK's solve
+#: (:func:`~jointplay._kernels.lanes.projection.project_lapack`) and the sustained-contact
+#: mode's (:mod:`jointplay._kernels.sustained`, with its own functions), so that the lanes
+#: keep its bits.
+_HOOKS = {"project": project_lapack, **sustained.HOOKS}
+#: Every function of the source, compiled for the CPU, by name.
+compiled = build(_PLAIN, hooks=_HOOKS, extras={"np": np}, own=sustained.OWN, decorate_steps=_INLINE)
 #: The explicit lane (the loop with DOPRI5's steps), compiled for the CPU.
 explicit_lane = compiled["explicit_lane"]
 #: The explicit lane with the running reductions (``source.RUNNING``: a separate compilation,
 #: so that :data:`explicit_lane` has none of their code), run when the lanes' ``rpar`` carry
 #: the running tail (:func:`jointplay._kernels.lanes.build.running_layout`).
 compiled_running = build(
-    numba.njit(cache=True, error_model="numpy"),
-    hooks={"project": project_lapack},
+    _PLAIN,
+    hooks=_HOOKS,
     extras={"np": np, "RUNNING": True},
-    only=closed(("explicit_lane", "implicit_lane")),
+    only=closed(("explicit_lane", "implicit_lane"), {**sustained.OWN, **sustained.HOOKS}),
+    own=sustained.OWN,
     tag="running",
     decorate_steps=_INLINE,
 )
@@ -233,8 +234,7 @@ def _driver_table(lane: Any, running: Any, work: Any, borrow: Any, tag: str) -> 
 EXPLICIT_DRIVERS = _driver_table(
     explicit_lane, explicit_lane_running, _dopri_work, _dopri_borrowed, ""
 )
-#: The implicit drivers by ``(running, parallel)`` (not in the sustained-contact mode:
-#: :func:`jointplay._kernels.lanes.build.lanes_refusal`).
+#: The implicit drivers by ``(running, parallel)``.
 IMPLICIT_DRIVERS = _driver_table(
     implicit_lane, implicit_lane_running, _radau_work, _radau_borrowed, "_implicit"
 )

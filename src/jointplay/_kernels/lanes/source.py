@@ -754,7 +754,7 @@ def locked(y, rp, lay):
     """Whether some clearance joint is locked onto its bearing's wall at ``y`` (its v0 slot
     negative, :data:`LOCKED`: the sustained-contact mode); ``False`` in one comparison with
     the mode off (the settings' ``S_CAPTURE_MAX``, the largest capture speed, is 0)."""
-    if not rp[lay[LY_SETTINGS] + S_CAPTURE_MAX] > 0.0:
+    if not sustained_on(rp, lay):
         return False
     base = 2 * lay[LY_N] + 2
     for c in range(lay[LY_NC]):  # noqa: SIM110 (the subset both compilers take: no any())
@@ -765,10 +765,11 @@ def locked(y, rp, lay):
 
 def locked_accelerations(t, y, rp, ip, lay, f, record, recording, lam):
     """The hook of the sustained-contact mode: q̈ with the locked joints as constraints,
-    (motor torque, N·m; the locked contacts' power, W). The single engine's is
-    :func:`jointplay._kernels.sustained.locked_accelerations`; the lanes do not run the mode
-    (:mod:`jointplay._kernels.capabilities` refuses it before a lane starts), so this default
-    is never reached, and a lane that reached it would end non-finite, not wrong."""
+    (motor torque, N·m; the locked contacts' power, W). The CPU's (the single engine's and
+    the CPU lanes') is :func:`jointplay._kernels.sustained.sustained_locked_accelerations`;
+    the GPU lanes do not run the mode (:mod:`jointplay._kernels.capabilities` refuses it
+    before a lane starts), so this default is never reached, and a lane that reached it
+    would end non-finite, not wrong."""
     return math.nan, math.nan
 
 
@@ -862,15 +863,39 @@ def onset_fraction(old, new, tolerance):
     return 1.0
 
 
-def onset_check(old, new, rp, lay):
+def onset_check(y, old, new, rp, lay):
     """Contact-onset control from the two ends' records (Flores &
-    Ambrósio 2010): the smallest fraction of the step to retry, 1 for none."""
+    Ambrósio 2010): the smallest fraction of the step to retry, 1 for none; a joint locked
+    at the step's start ``y`` (the sustained-contact mode) is not entering contact."""
     tolerance = rp[lay[LY_SETTINGS] + S_ONSET_TOL]
+    base = 2 * lay[LY_N] + 2
     theta = 1.0
     for c in range(lay[LY_NC]):
-        if old[7 * c + 2] <= 0.0:
+        if old[7 * c + 2] <= 0.0 and not y[base + c] < 0.0:
             theta = min(theta, onset_fraction(old[7 * c + 2], new[7 * c + 2], tolerance))
     return theta
+
+
+def release_fraction(t, y, t_new, y_new, rp, ip, lay):
+    """The hook of the sustained-contact mode's release control: the step's fraction that ends
+    where a locked joint's normal force turns tensile, 1 for none. The CPU's is
+    :func:`jointplay._kernels.sustained.sustained_release_fraction`; the GPU lanes do not run the mode
+    (the capability table refuses it), so this default is never reached."""
+    return 1.0
+
+
+def switch_contacts(t, y, rp, ip, lay, work, before):
+    """The hook of the sustained-contact mode's capture and release after an accepted step;
+    returns whether it changed the state. The CPU's is
+    :func:`jointplay._kernels.sustained.sustained_switch_contacts`; the GPU lanes do not run the mode,
+    so this default is never reached."""
+    return False
+
+
+def sustained_on(rp, lay):
+    """Whether some clearance joint has the sustained-contact mode (the settings' largest
+    capture speed > 0: one comparison)."""
+    return rp[lay[LY_SETTINGS] + S_CAPTURE_MAX] > 0.0
 
 
 def impact_rate(delta_0, rate_0, delta_1, rate_1):
@@ -1574,8 +1599,10 @@ def lane(
     opening's state and f; ``q`` (2, P) the quantities at a step's two ends; ``samples``
     (9, P); ``pen`` (2, nc); ``records`` (3, 7 nc); ``phi_q`` (rows × 3 nb), ``schur``
     (rows × rows), ``lam`` (rows), ``scratch``: the target's :func:`project`'s; ``ws``: the
-    method's work (a tuple its steps read). Not in the sustained-contact mode (the
-    capability table refuses it).
+    method's work (a tuple its steps read). The sustained-contact mode's hooks
+    (``release_fraction``, ``switch_contacts``, ``locked_accelerations``) are the CPU's
+    (:mod:`jointplay._kernels.sustained`); the GPU lanes refuse the mode (the capability
+    table).
 
     Returns:
         ``(status, t_reached)``: a ``STATUS_*`` code and the last accepted time, s.
@@ -1642,8 +1669,11 @@ def lane(
             )  # fmt: skip
             if not passed:
                 continue
-            # the contact-onset control (eom.step_check) on the two ends' records
-            theta = onset_check(record, record_new, rp, lay)
+            # the contact-onset control (eom.step_check) on the two ends' records; in the
+            # sustained-contact mode, the release control (the locked set is the step's)
+            theta = onset_check(y, record, record_new, rp, lay)
+            if locked(y_new, rp, lay):
+                theta = min(theta, release_fraction(t, y, t_new, y_new, rp, ip, lay))
             shorter = h * theta
             if theta < 1.0 and min_step <= shorter < h and n_check < MAX_CHECK_REJECTIONS:
                 h_try = shorter
@@ -1654,8 +1684,11 @@ def lane(
             break
         if status != STATUS_RUNNING:
             break
-        # eom.after_step: the contact memory from the two ends' records, then the projection
+        # eom.after_step: the contact memory from the two ends' records, the sustained-contact
+        # mode's capture and release, then the projection
         changed = contact_memory(y_new, rp, lay, record_new, record)
+        if sustained_on(rp, lay) and switch_contacts(t_new, y_new, rp, ip, lay, scratch, record):
+            changed = True
         changed = project(t_new, y_new, rp, ip, lay, scratch, phi_q, schur, lam) or changed
         if not step_refresh(ws, t_new, y_new, f_new, changed, rp, ip, lay, record, qb, pen,
                             phi_q, schur, lam, counts):  # fmt: skip

@@ -7,8 +7,8 @@ functions into the same namespace as that module's, so that they call its equati
 (:func:`rhs`, :func:`rhs_and_quantities`, :func:`contact_forces`, :func:`project`, …) by name.
 
 The algorithm is the single engine's loop (:func:`jointplay._kernels.driver.drive`) with
-Radau's steps (:data:`jointplay._kernels.radau.STEPS`) and the options the batch
-engine passes it (:func:`jointplay._kernels.batch._implicit_lane`): SciPy's Radau IIA
+Radau's steps (:data:`jointplay._kernels.radau.STEPS`) and the options
+:func:`jointplay.dynamics.simulate.simulate` passes it: SciPy's Radau IIA
 ([HW96] §IV.8: simplified Newton on the eigen-decomposed systems, one real and one complex,
 started from the last step's collocation polynomial; the embedded error estimate,
 re-estimated after a rejection; the predictive controller; SciPy's initial step), positions
@@ -24,26 +24,25 @@ quotient, :func:`cdiv`), the simplified Newton iteration in pieces (:func:`newto
 :func:`stage_point`, :func:`newton_iteration`), the error estimate and the controller's
 factor. The single engine's Radau IIA (:mod:`jointplay._kernels.radau`) and RODAS4 run the
 CPU compilation of the same functions (:data:`jointplay._kernels.lanes.cpu.compiled`) in the
-one loop, so that this lane takes the production lane's steps by construction.
+one loop, so that this lane takes the single engine's steps by construction.
 
-The Jacobian is the closed form of :func:`eom.jacobian_state` (:func:`jacobian_clear`) when
-every joint is clear (the paper's mechanisms: the driver the only constraint), fixed-step
-differences (:func:`jacobian_fixed`) with ideal joints and
+The Jacobian is :func:`eom.jacobian_state`'s (:func:`lane_jacobian`): the closed form
+(:func:`jacobian_clear`) when every joint is clear (the paper's mechanisms: the driver the
+only constraint), fixed-step differences (:func:`jacobian_fixed`) with ideal joints and
 film damping, else SciPy's finite differences as the Radau kernel takes them
 (:func:`jacobian_differences`). Film
 damping (each joint's ``G_FILM``) is handled: its force and power in :func:`contact_forces`, its terms in
 the closed-form Jacobian (:func:`film_jacobian`), its part of the reported joint force
 (:func:`film_components`), and the interpolant's rule between steps (:func:`hermite`). The
-sustained-contact mode (locked joints) is not: the GPU's
-``run_batch`` refuses it (:func:`jointplay._kernels.lanes.build.lanes_refusal`); the CPU's
-drivers, used by tests only, expect their callers to.
+sustained-contact mode (locked joints) runs on the CPU, whose compilation fills the loop's
+hooks with :mod:`jointplay._kernels.sustained`; the GPU's ``run_batch`` refuses it
+(:func:`jointplay._kernels.lanes.build.lanes_refusal`).
 
-Where the production lane records every step and reduces the trajectory afterwards
-(:func:`jointplay._kernels.batch._trajectory_reduce`), the loop reduces each accepted step
-as it is taken (a GPU thread cannot keep its trajectory), with the same interpolant
-(:func:`hermite`, on the step and the step end before it: :func:`radau_dense`) and the same
-peak rule; the window opens at ``t_settle`` inside the step that crosses it, as there
-(``RADAU_LANE``: Radau does not land on it).
+Where the single engine records every step, the loop reduces each accepted step as it is
+taken (a GPU thread cannot keep its trajectory), with the single engine's interpolant
+(:func:`hermite`, on the step and the step end before it: :func:`radau_dense`) and the peak
+rule of :mod:`jointplay._kernels.batch`; the window opens at ``t_settle`` inside the step
+that crosses it (``RADAU_LANE``: Radau does not land on it).
 
 References:
     .. [HW96] E. Hairer, G. Wanner, *Solving Ordinary Differential Equations II*, 2nd ed.,
@@ -105,6 +104,7 @@ from jointplay._kernels.lanes.source import (
     film_share,
     friction_force,
     joint_kinematics,
+    locked,
     normal_force,
     reynolds_force,
     reynolds_matrix,
@@ -644,17 +644,18 @@ def jacobian_fixed(t, y, f, rp, ip, lay, jac, ytmp, f_col, record, phi_q, schur,
 
 def lane_jacobian(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, diff, diff_new,
                   record, phi_q, schur, lam):  # fmt: skip
-    """The Radau kernel's Jacobian as the batch engine asks for it: the closed form of
-    :func:`eom.jacobian_state` (:func:`jacobian_clear`) when every joint is clear, fixed-step
-    differences (:func:`jacobian_fixed`) with ideal joints and film damping, else SciPy's
+    """The Radau kernel's Jacobian as the single engine takes it (:func:`eom.jacobian_state`):
+    the closed form (:func:`jacobian_clear`) when every joint is clear, fixed-step
+    differences (:func:`jacobian_fixed`) with ideal joints and film damping, else — ideal
+    joints without film, or a joint locked (the sustained-contact mode) — SciPy's
     differences (:func:`jacobian_differences`)."""
-    if lay[LY_NIDEAL] == 0:
-        jacobian_clear(t, y, rp, ip, lay, jac, f_col, record)
-    elif any_film(rp, lay):
-        jacobian_fixed(t, y, f, rp, ip, lay, jac, ytmp, f_col, record, phi_q, schur, lam)
-    else:
+    if locked(y, rp, lay) or (lay[LY_NIDEAL] > 0 and not any_film(rp, lay)):
         jacobian_differences(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, diff,
                              diff_new, record, phi_q, schur, lam)  # fmt: skip
+    elif lay[LY_NIDEAL] == 0:
+        jacobian_clear(t, y, rp, ip, lay, jac, f_col, record)
+    else:
+        jacobian_fixed(t, y, f, rp, ip, lay, jac, ytmp, f_col, record, phi_q, schur, lam)
 
 
 # --- the Newton systems (jointplay._kernels.radau) --------------------------------------------
