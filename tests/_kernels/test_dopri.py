@@ -30,6 +30,7 @@ from _ode_problems import (
     van_der_pol,
 )
 from jointplay._kernels import dopri, ids
+from jointplay._kernels.lanes import cpu, source
 
 #: Global error against an exact or reference solution, in units of ``atol + rtol·|y|``:
 #: the error estimate is the embedded order-4 solution's, the solution propagated is of order
@@ -39,6 +40,14 @@ GLOBAL_ERROR_UNITS = 10.0
 
 def run(fun: Any, t_span: tuple[float, float], y0: Any, p: Any, **options: Any) -> Any:
     return run_kernel(fun, t_span, y0, p, integrator=dopri.dopri_integrate, **options)
+
+
+@pytest.mark.parametrize("name", ["dopri_stage", "dopri_error"])
+def test_the_single_engines_dopri_step_is_the_sources(name: str) -> None:
+    """DOPRI5's stage states and error norm: the lane source's CPU compilation, the explicit
+    lanes' own functions (one copy of the tableau's arithmetic for every engine)."""
+    assert getattr(dopri, name) is cpu.compiled[name]
+    assert cpu.compiled[name].py_func.__code__ is getattr(source, name).__code__
 
 
 def test_fixed_step_order_is_five() -> None:

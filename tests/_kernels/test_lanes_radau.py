@@ -222,7 +222,7 @@ def test_the_cpu_implicit_lane_is_the_sources_compilation() -> None:
 @pytest.mark.parametrize(
     "name",
     ["factor_newton", "newton_start", "newton_iteration", "error_estimate",
-     "error_again", "polynomial", "predict"],
+     "error_again", "polynomial", "predict", "next_factor"],
 )  # fmt: skip
 def test_the_single_engines_radau_step_is_the_sources(name: str) -> None:
     """One Radau IIA step: the single engine's (and RODAS4's Newton matrix, LU and solve) is

@@ -1,7 +1,9 @@
 """Compiled variable-step DOPRI5: the explicit Dormand–Prince 5(4) pair for non-stiff ODEs.
 
 The method of Dormand & Prince [DP80]_ as tabulated in [HNW93]_ §II.5, Table 5.2 (the
-coefficients are the batch engine's explicit lane's, :mod:`jointplay._kernels.lanes.source`):
+coefficients, the stages' states and the error norm are the lane source's,
+:mod:`jointplay._kernels.lanes.source`'s ``dopri_stage`` and ``dopri_error``, in their CPU
+compilation: the batch engine's explicit lane computes them with the same functions):
 seven stages, six evaluations of ``f`` per step (the last stage is ``f`` at the new point,
 reused as the next step's first), order 5 propagated, the embedded order-4 solution for
 the error estimate. No Jacobian, no linear algebra.
@@ -51,84 +53,39 @@ import numpy.typing as npt
 from jointplay._kernels.common import all_finite, jit, py_max, py_min
 from jointplay._kernels.driver import Steps, no_retry, run_core, step_jit
 from jointplay._kernels.ids import NFEV, NREJ_ERROR
-from jointplay._kernels.lanes.source import (
-    A21,
-    A31,
-    A32,
-    A41,
-    A42,
-    A43,
-    A51,
-    A52,
-    A53,
-    A54,
-    A61,
-    A62,
-    A63,
-    A64,
-    A65,
-    B1,
-    B3,
-    B4,
-    B5,
-    B6,
-    C2,
-    C3,
-    C4,
-    C5,
-    E1,
-    E3,
-    E4,
-    E5,
-    E6,
-    E7,
-    MAX_FACTOR,
-    MIN_FACTOR,
-    SAFETY,
-)  # fmt: skip
+from jointplay._kernels.lanes.cpu import compiled
+from jointplay._kernels.lanes.source import C2, C3, C4, C5, MAX_FACTOR, MIN_FACTOR, SAFETY
 
 __all__ = ["STEPS", "dopri_integrate"]
+
+# The step's numerics: the lane source's CPU compilation, the CPU lanes' (as radau.py's).
+dopri_stage = compiled["dopri_stage"]
+dopri_error = compiled["dopri_error"]
 
 
 @jit
 def _step(fun, args, t, y, h, k, stage, y_new, atol, rtol):
     """One DOPRI5 step of size ``h`` from ``(t, y)`` with ``k[0] = f(t, y)``: the stages
-    ``k[1..6]`` (``k[6]`` = f at the new point), ``y_new``. Returns the RMS error norm in
-    units of ``atol + rtol·max(|y|, |y_new|)`` (NaN when a stage is not finite)."""
+    ``k[1..6]`` (``k[6]`` = f at the new point), ``y_new`` (the lane source's
+    ``dopri_stage``). Returns the RMS error norm in units of ``atol + rtol·max(|y|,
+    |y_new|)`` over every component (``dopri_error``; NaN when a stage is not finite)."""
     n = y.shape[0]
-    for j in range(n):
-        stage[j] = y[j] + h * (A21 * k[0, j])
+    dopri_stage(k, y, h, 1, stage, n)
     k[1, :] = fun(t + C2 * h, stage, args)
-    for j in range(n):
-        stage[j] = y[j] + h * (A31 * k[0, j] + A32 * k[1, j])
+    dopri_stage(k, y, h, 2, stage, n)
     k[2, :] = fun(t + C3 * h, stage, args)
-    for j in range(n):
-        stage[j] = y[j] + h * (A41 * k[0, j] + A42 * k[1, j] + A43 * k[2, j])
+    dopri_stage(k, y, h, 3, stage, n)
     k[3, :] = fun(t + C4 * h, stage, args)
-    for j in range(n):
-        stage[j] = y[j] + h * (A51 * k[0, j] + A52 * k[1, j] + A53 * k[2, j] + A54 * k[3, j])
+    dopri_stage(k, y, h, 4, stage, n)
     k[4, :] = fun(t + C5 * h, stage, args)
-    for j in range(n):
-        stage[j] = y[j] + h * (
-            A61 * k[0, j] + A62 * k[1, j] + A63 * k[2, j] + A64 * k[3, j] + A65 * k[4, j]
-        )
+    dopri_stage(k, y, h, 5, stage, n)
     k[5, :] = fun(t + h, stage, args)
-    for j in range(n):
-        y_new[j] = y[j] + h * (
-            B1 * k[0, j] + B3 * k[2, j] + B4 * k[3, j] + B5 * k[4, j] + B6 * k[5, j]
-        )
+    dopri_stage(k, y, h, 6, y_new, n)
     k[6, :] = fun(t + h, y_new, args)
-    total = 0.0
-    for j in range(n):
-        e = h * (
-            E1 * k[0, j] + E3 * k[2, j] + E4 * k[3, j] + E5 * k[4, j] + E6 * k[5, j]
-            + E7 * k[6, j]
-        )  # fmt: skip
-        scale = atol[j] + rtol * py_max(abs(y[j]), abs(y_new[j]))
-        total += (e / scale) ** 2
+    error_norm = dopri_error(k, h, y, y_new, atol, rtol, n)
     if not (all_finite(y_new, y_new.shape[0]) and all_finite(k[6], k[6].shape[0])):
         return math.nan
-    return math.sqrt(total / n)
+    return error_norm
 
 
 _ERROR = 0  # the slot of the error norm of the try that passed, in the state's scalars

@@ -107,7 +107,6 @@ from jointplay._kernels.driver import (
 from jointplay._kernels.ids import EPS, NFEV, NJEV, NLU, NREJ_ERROR, NREJ_NEWTON
 from jointplay._kernels.lanes.cpu import compiled
 from jointplay._kernels.lanes.source_radau import NEWTON_MAXITER, RC1, RC2, RC3
-from jointplay._kernels.lanes.source_radau import R_MAX_FACTOR as MAX_FACTOR
 from jointplay._kernels.lanes.source_radau import R_MIN_FACTOR as MIN_FACTOR
 
 __all__ = [
@@ -129,6 +128,7 @@ error_estimate = compiled["error_estimate"]
 error_again = compiled["error_again"]
 polynomial = compiled["polynomial"]
 predict = compiled["predict"]
+next_factor = compiled["next_factor"]
 pmin = compiled["pmin"]
 pmax = compiled["pmax"]
 
@@ -357,13 +357,10 @@ def _radau_accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed,
     error_norm = sc[_ERROR]
     recompute_jac = sc[_N_ITER] > 2 and sc[_RATE] > 1e-3
 
-    factor = predict(h_abs, sc[_H_OLD_STEP], error_norm, sc[_ERR_OLD_STEP])
-    factor = pmin(MAX_FACTOR, sc[_SAFETY] * factor)
-    if problem.hold_after_failure and failed:
-        factor = pmin(factor, 1.0)  # RADAU5: IF (REJECT) HNEW = MIN(HNEW, H)
-    if not recompute_jac and factor < 1.2:
-        factor = 1.0
-    else:
+    factor, kept = next_factor(h_abs, sc[_H_OLD_STEP], error_norm, sc[_ERR_OLD_STEP],
+                               sc[_SAFETY], problem.hold_after_failure and failed,
+                               recompute_jac)  # fmt: skip
+    if not kept:
         sc[_LU_VALID] = 0.0
 
     if recompute_jac:

@@ -1143,6 +1143,48 @@ N_REFINE = 7
 MAX_CHECK_REJECTIONS = 64
 
 
+def dopri_stage(k, y, h, stage, out, size):
+    """DOPRI5's state (Table 5.2) where its stage ``stage + 1`` is evaluated (``stage`` = 1 …
+    5: y + h Σ_j a_{stage+1, j} k_j, at t + c_{stage+1} h), or with ``stage`` = 6 the
+    5th-order solution y + h Σ_j b_j k_j, into ``out``: every engine's DOPRI5 step."""
+    if stage == 1:
+        for i in range(size):
+            out[i] = y[i] + h * (A21 * k[0, i])
+    elif stage == 2:
+        for i in range(size):
+            out[i] = y[i] + h * (A31 * k[0, i] + A32 * k[1, i])
+    elif stage == 3:
+        for i in range(size):
+            out[i] = y[i] + h * (A41 * k[0, i] + A42 * k[1, i] + A43 * k[2, i])
+    elif stage == 4:
+        for i in range(size):
+            out[i] = y[i] + h * (A51 * k[0, i] + A52 * k[1, i] + A53 * k[2, i] + A54 * k[3, i])
+    elif stage == 5:
+        for i in range(size):
+            out[i] = y[i] + h * (
+                A61 * k[0, i] + A62 * k[1, i] + A63 * k[2, i] + A64 * k[3, i] + A65 * k[4, i]
+            )
+    else:
+        for i in range(size):
+            out[i] = y[i] + h * (
+                B1 * k[0, i] + B3 * k[2, i] + B4 * k[3, i] + B5 * k[4, i] + B6 * k[5, i]
+            )
+
+
+def dopri_error(k, h, y, y_new, atol, rtol, m):
+    """DOPRI5's error norm: the RMS over the first ``m`` components of h Σ_j e_j k_j in units
+    of atol + rtol·max(|y|, |y_new|)."""
+    total = 0.0
+    for i in range(m):
+        e = h * (
+            E1 * k[0, i] + E3 * k[2, i] + E4 * k[3, i] + E5 * k[4, i] + E6 * k[5, i]
+            + E7 * k[6, i]
+        )  # fmt: skip
+        scale = atol[i] + rtol * max(abs(y[i]), abs(y_new[i]))
+        total += (e / scale) ** 2
+    return math.sqrt(total / m)
+
+
 def dense(y, k, h, theta, out, size):
     """DOPRI5's free interpolant at t + θh (SciPy's RK45 dense output) into ``out``."""
     t1 = theta
@@ -1797,42 +1839,23 @@ def dopri_attempt(ws, t, y, f, h, t_new, y_new, t_old, y_old, rtol, atol, rp, ip
     k = ws
     ys = ws[DOPRI_STATE]
     size = lay[LY_SIZE]
-    n_active = 2 * lay[LY_N]
     for i in range(size):
         k[0, i] = f[i]
-    for i in range(size):
-        ys[i] = y[i] + h * (A21 * k[0, i])
+    dopri_stage(k, y, h, 1, ys, size)
     rhs(t + C2 * h, ys, rp, ip, lay, k[1], record_mid, False, phi_q, schur, lam)
-    for i in range(size):
-        ys[i] = y[i] + h * (A31 * k[0, i] + A32 * k[1, i])
+    dopri_stage(k, y, h, 2, ys, size)
     rhs(t + C3 * h, ys, rp, ip, lay, k[2], record_mid, False, phi_q, schur, lam)
-    for i in range(size):
-        ys[i] = y[i] + h * (A41 * k[0, i] + A42 * k[1, i] + A43 * k[2, i])
+    dopri_stage(k, y, h, 3, ys, size)
     rhs(t + C4 * h, ys, rp, ip, lay, k[3], record_mid, False, phi_q, schur, lam)
-    for i in range(size):
-        ys[i] = y[i] + h * (A51 * k[0, i] + A52 * k[1, i] + A53 * k[2, i] + A54 * k[3, i])
+    dopri_stage(k, y, h, 4, ys, size)
     rhs(t + C5 * h, ys, rp, ip, lay, k[4], record_mid, False, phi_q, schur, lam)
-    for i in range(size):
-        ys[i] = y[i] + h * (
-            A61 * k[0, i] + A62 * k[1, i] + A63 * k[2, i] + A64 * k[3, i] + A65 * k[4, i]
-        )
+    dopri_stage(k, y, h, 5, ys, size)
     rhs(t + h, ys, rp, ip, lay, k[5], record_mid, False, phi_q, schur, lam)
-    for i in range(size):
-        y_new[i] = y[i] + h * (
-            B1 * k[0, i] + B3 * k[2, i] + B4 * k[3, i] + B5 * k[4, i] + B6 * k[5, i]
-        )
+    dopri_stage(k, y, h, 6, y_new, size)
     # the last stage also gives the contact records and the quantities at the step's end
     rhs_and_quantities(t_new, y_new, rp, ip, lay, k[6], record_new, qb, pen, phi_q, schur, lam)
     counts[K_RHS] += 6
-    total = 0.0
-    for i in range(n_active):
-        e = h * (
-            E1 * k[0, i] + E3 * k[2, i] + E4 * k[3, i] + E5 * k[4, i] + E6 * k[5, i]
-            + E7 * k[6, i]
-        )  # fmt: skip
-        scale = atol[i] + rtol * max(abs(y[i]), abs(y_new[i]))
-        total += (e / scale) ** 2
-    err = math.sqrt(total / n_active)
+    err = dopri_error(k, h, y, y_new, atol, rtol, 2 * lay[LY_N])
     if err > 1.0:
         ws[DOPRI_SCALARS, DOPRI_REJECTED] = 1.0
         counts[K_REJECTED] += 1

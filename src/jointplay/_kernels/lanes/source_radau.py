@@ -791,6 +791,22 @@ def predict(h_abs, h_abs_old, error_norm, error_norm_old):
     return pmin(1.0, multiplier) * error_norm**-0.25
 
 
+def next_factor(h, h_old, error_norm, error_norm_old, safety, hold, recompute_jac):
+    """The factor of the next step's size after an accepted one: the predictive controller
+    ([HW96] (8.25), :func:`predict`) times the Newton safety factor, at most R_MAX_FACTOR,
+    at most 1 after a failed try when ``hold`` (RADAU5: IF (REJECT) HNEW = MIN(HNEW, H)),
+    and exactly 1 when it would grow less than 1.2 and the Jacobian is not recomputed
+    (``recompute_jac``). Returns ``(factor, kept)``: kept, the step size and with it the LU
+    factors of the Newton matrices."""
+    factor = predict(h, h_old, error_norm, error_norm_old)
+    factor = pmin(R_MAX_FACTOR, safety * factor)
+    if hold:
+        factor = pmin(factor, 1.0)
+    if not recompute_jac and factor < 1.2:
+        return 1.0, True
+    return factor, False
+
+
 def initial_step(t0, y0, t_bound, max_step, f0, rtol, atol, rp, ip, lay, y1, f1, scale,
                  record, phi_q, schur, lam):  # fmt: skip
     """SciPy's ``select_initial_step`` for order 3 (:func:`common.select_initial_step`);
@@ -1191,13 +1207,9 @@ def radau_accept(ws, t_new, y_new, f_new, h, changed, atol, rp, ip, lay, pen, f_
      _) = ws  # fmt: skip
     error_norm = ms[R_ERROR]
     recompute_jac = ms[R_N_ITER] > 2 and ms[R_RATE] > 1e-3
-    factor = predict(h, ms[R_H_OLD], error_norm, ms[R_ERR_OLD])
-    factor = pmin(R_MAX_FACTOR, ms[R_SAFETY] * factor)
-    if ms[R_FAILED] > 0.0:
-        factor = pmin(factor, 1.0)  # RADAU5: IF (REJECT) HNEW = MIN(HNEW, H)
-    if not recompute_jac and factor < 1.2:
-        factor = 1.0
-    else:
+    factor, kept = next_factor(h, ms[R_H_OLD], error_norm, ms[R_ERR_OLD], ms[R_SAFETY],
+                               ms[R_FAILED] > 0.0, recompute_jac)  # fmt: skip
+    if not kept:
         ms[R_LU_VALID] = 0.0
     if recompute_jac:
         lane_jacobian(t_new, y_new, f_new, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid, xr,
