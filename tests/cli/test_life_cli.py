@@ -110,14 +110,22 @@ def test_bad_input_is_one_line_exit_2_and_writes_nothing(
 README = Path(__file__).resolve().parents[2] / "README.md"
 
 
+#: How far the README's dry population-life figures may lie from a run's: their rounding and
+#: the machine (dry wear runs chaotically): an AMD EPYC's shape 18.9 [12.3–26.7] and 9.7
+#: simulations per life, an Intel Xeon's (AVX-512) 18.2 [11.7–26.0] and 9.8, the largest
+#: gap 4.6 % (the shape's lower bound).
+MACHINE_SPREAD = 0.06
+
+
 @pytest.mark.slow
 def test_the_readmes_population_life_says_what_the_run_gives(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ):
     """The README's population-life command at its full size (10 mechanisms, ~38 CPU-s): its
     first-screen answer — B10, its interval, the failing share —, the Weibull line (shape and
-    scale with their intervals) and the simulations per life are the run's, within the
-    rounding of the figures (3 %)."""
+    scale with their intervals) and the simulations per life are the run's, within
+    :data:`MACHINE_SPREAD` (the figures' rounding and the machine's round-off in a dry,
+    chaotic run: the README gives both machines' figures)."""
     import re
     import shlex
 
@@ -134,20 +142,22 @@ def test_the_readmes_population_life_says_what_the_run_gives(
         r"B10 = ([\d.]+) h \[([\d.]+)–([\d.]+) h\].* in (\d+) % of the (\d+) failures", promised
     ).groups()  # type: ignore[union-attr]
     fit = summary["weibull"]
-    assert fit["B10_h"] == pytest.approx(float(b10), rel=0.03)
-    assert fit["B10_interval_h"] == pytest.approx([float(low), float(high)], rel=0.03)
+    assert fit["B10_h"] == pytest.approx(float(b10), rel=MACHINE_SPREAD)
+    assert fit["B10_interval_h"] == pytest.approx([float(low), float(high)], rel=MACHINE_SPREAD)
     assert summary["failures"] == int(failures)
     assert 100 * max(summary["failing_share"].values()) == pytest.approx(int(share), abs=5)
     weibull = next(line for line in lines if line.startswith("# Weibull "))
     shape, shape_low, shape_high, scale, scale_low, scale_high = re.search(
         r"shape ([\d.]+) \[([\d.]+)–([\d.]+)\], scale ([\d.]+) h \[([\d.]+)–([\d.]+) h\]", weibull
     ).groups()  # type: ignore[union-attr]
-    assert fit["shape"] == pytest.approx(float(shape), rel=0.03)
-    assert fit["shape_interval"] == pytest.approx([float(shape_low), float(shape_high)], rel=0.03)
-    assert fit["scale_h"] == pytest.approx(float(scale), rel=0.03)
-    assert fit["scale_interval_h"] == pytest.approx([float(scale_low), float(scale_high)], rel=0.03)
+    assert fit["shape"] == pytest.approx(float(shape), rel=MACHINE_SPREAD)
+    shape_interval = [float(shape_low), float(shape_high)]
+    assert fit["shape_interval"] == pytest.approx(shape_interval, rel=MACHINE_SPREAD)
+    assert fit["scale_h"] == pytest.approx(float(scale), rel=MACHINE_SPREAD)
+    scale_interval = [float(scale_low), float(scale_high)]
+    assert fit["scale_interval_h"] == pytest.approx(scale_interval, rel=MACHINE_SPREAD)
     mechanisms, per_life = re.search(
         r"\((\d+) mechanisms, ([\d.]+) simulations per life", text
     ).groups()  # type: ignore[union-attr]
     assert summary["mechanisms"] == int(mechanisms) and f"--samples {mechanisms} " in command
-    assert summary["simulations_per_life"] == pytest.approx(float(per_life), abs=0.05)
+    assert summary["simulations_per_life"] == pytest.approx(float(per_life), abs=0.15)

@@ -42,18 +42,32 @@ DRY = {
 
 @pytest.mark.slow
 def test_a_dry_study_is_judged_on_the_statistics_it_reports(paper_fourbar: Mechanism) -> None:
-    """Measured (seed 1): 14 of the 16 samples run again moved beyond 0.1 of a spread, up to
-    184 % (alpha3_peak; F_O2_peak's mean over the 16 moved -3.1 N within ±4.4 N), all in
-    irregular motion. Before the statistics rule the same study warned
-    ``peaks-not-converged`` with the verdict "not usable as it stands"."""
+    """Measured (seed 1, an AMD EPYC): 14 of the 16 samples run again moved beyond 0.1 of a
+    spread, up to 184 % (alpha3_peak; F_O2_peak's mean over the 16 moved -3.1 N within
+    ±4.4 N), all in irregular motion. Before the statistics rule the same study warned
+    ``peaks-not-converged`` with the verdict "not usable as it stands".
+
+    Which samples run irregularly follows the machine's round-off (dry motion is chaotic): on
+    an Intel Xeon with AVX-512 the same study's first 8 samples run again all moved, 7 of them
+    irregularly, and one periodic sample that moved keeps the per-sample rule — then the
+    study is not usable as it stands, and says why. Both outcomes are checked for what the
+    rule owes them; that dry samples run irregularly, for all but one at the most."""
     study = tolerance_study(paper_fourbar, backend=LOCAL, **DRY)
     check = study.convergence
     assert check is not None
     # the per-sample peaks did not converge: today's rule fails on them
     assert check.share > CONVERGENCE_LIMIT
+    assert check.moved > 0 and check.irregular >= check.moved - 1
+    if check.irregular < check.moved:  # a periodic sample moved: the per-sample rule holds
+        assert check.rule == "per-sample" and not check.usable
+        assert check.finding is not None
+        assert check.finding.diagnostic.code == "peaks-not-converged"
+        assert "does not run irregularly, so each sample is held to the limit" in (
+            check.finding.diagnostic.message
+        )
+        return
     # ... every sample that moved runs irregularly, so the statistics judged the study
     assert check.rule == "statistics"
-    assert check.moved > 0 and check.irregular == check.moved
     assert check.samples == CONVERGENCE_STATISTIC_SAMPLES
     assert check.finding is None and check.usable
     assert check.verdict.startswith("usable for its statistics")
