@@ -103,6 +103,28 @@ def _problem(
     }  # fmt: skip
 
 
+def _two_lanes(mechanism: Mechanism, joints: list[ClearanceJoint]) -> dict[str, Any]:
+    """Two lanes of ``mechanism`` with ``joints``: the steady start analysed from t = 0, and a
+    perturbed one (velocities 1 % up) whose window opens at 0.1 of a revolution (inside a
+    step); 0.3 of a revolution analysed."""
+    system = build_system(mechanism, joints)
+    rpar, ipar = eom.pack(system.model)
+    y0 = initial_state(system, Start("steady"))
+    n = system.n_coordinates
+    period = mechanism.driver.period
+    ys = np.tile(y0, (2, 1))
+    ys[1, n : 2 * n] *= 1.01
+    settle = np.array([0.0, 0.1 * period])
+    return {
+        "ipar": ipar, "rpar": np.tile(rpar, (2, 1)), "y0": ys, "t_settle": settle,
+        "t_end": settle + 0.3 * period, "max_step": np.full(2, period / 360.0), "rtol": 1e-6,
+        "atol": np.concatenate(
+            [np.full(n, 1e-10), np.full(n, 1e-6), np.full(2, 1e-6), np.ones(len(joints))]
+        ),
+        "max_steps": 200_000,
+    }  # fmt: skip
+
+
 def _single_engine(p: dict[str, Any], **kw: Any) -> dict[str, Any]:
     """Each lane through the single engine (:func:`radau.radau_integrate` with :mod:`eom`'s
     hooks, the batch engine's settings): its status, time reached and counters, and from its
@@ -339,23 +361,8 @@ def test_with_ideal_joints_the_differenced_jacobian_gives_the_single_engines_ste
         joints = ContactModel(film_damping=0).joints(mechanism, ["A", "B"])
     else:
         joints = ContactModel().joints(mechanism)
-    system = build_system(mechanism, joints)
-    rpar, ipar = eom.pack(system.model)
-    assert not build.all_clear(ipar)
-    y0 = initial_state(system, Start("steady"))
-    n = system.n_coordinates
-    period = mechanism.driver.period
-    ys = np.tile(y0, (2, 1))
-    ys[1, n : 2 * n] *= 1.01
-    settle = np.array([0.0, 0.1 * period])
-    p = {
-        "ipar": ipar, "rpar": np.tile(rpar, (2, 1)), "y0": ys, "t_settle": settle,
-        "t_end": settle + 0.3 * period, "max_step": np.full(2, period / 360.0), "rtol": 1e-6,
-        "atol": np.concatenate(
-            [np.full(n, 1e-10), np.full(n, 1e-6), np.full(2, 1e-6), np.ones(len(joints))]
-        ),
-        "max_steps": 200_000,
-    }  # fmt: skip
+    p = _two_lanes(mechanism, joints)
+    assert not build.all_clear(p["ipar"])
     old = _single_engine(p)
     assert (old["status"] == ids.STATUS_SUCCESS).all() and (old["n_steps"] > 100).all()
     _assert_same(_single_source(p), old)
@@ -402,9 +409,7 @@ FILM_CASES = {
 
 
 def _film_problem(mechanism: Mechanism, case: str) -> dict[str, Any]:
-    """Two lanes of the physical default with film damping (:data:`FILM_CASES`): the steady
-    start analysed from t = 0, and a perturbed one whose window opens at 0.1 of a revolution
-    (inside a step); 0.3 of a revolution analysed."""
+    """:func:`_two_lanes` of the physical default with film damping (:data:`FILM_CASES`)."""
     film, names, clearances = FILM_CASES[case]
     joints = [
         joint.with_clearance(clearance)
@@ -412,23 +417,9 @@ def _film_problem(mechanism: Mechanism, case: str) -> dict[str, Any]:
             ContactModel(film_damping=film).joints(mechanism, list(names)), clearances, strict=True
         )
     ]
-    system = build_system(mechanism, joints)
-    rpar, ipar = eom.pack(system.model)
-    assert np.all(rpar[_joint_slots(ipar, ids.G_FILM)] == film)
-    y0 = initial_state(system, Start("steady"))
-    n = system.n_coordinates
-    period = mechanism.driver.period
-    ys = np.tile(y0, (2, 1))
-    ys[1, n : 2 * n] *= 1.01
-    settle = np.array([0.0, 0.1 * period])
-    return {
-        "ipar": ipar, "rpar": np.tile(rpar, (2, 1)), "y0": ys, "t_settle": settle,
-        "t_end": settle + 0.3 * period, "max_step": np.full(2, period / 360.0), "rtol": 1e-6,
-        "atol": np.concatenate(
-            [np.full(n, 1e-10), np.full(n, 1e-6), np.full(2, 1e-6), np.ones(len(joints))]
-        ),
-        "max_steps": 200_000,
-    }  # fmt: skip
+    p = _two_lanes(mechanism, joints)
+    assert np.all(p["rpar"][0, _joint_slots(p["ipar"], ids.G_FILM)] == film)
+    return p
 
 
 @pytest.mark.parametrize("case", FILM_CASES)
@@ -459,20 +450,7 @@ def test_in_the_sustained_contact_mode_the_implicit_lane_takes_the_single_engine
     model = ContactModel(
         sustained_contact=True, **({} if capture is None else {"capture_speed": capture})
     )
-    system = build_system(paper_fourbar, model.joints(paper_fourbar, JOINTS, clearance=21e-6))
-    rpar, ipar = eom.pack(system.model)
-    y0 = initial_state(system, Start("steady"))
-    n = system.n_coordinates
-    period = paper_fourbar.driver.period
-    ys = np.tile(y0, (2, 1))
-    ys[1, n : 2 * n] *= 1.01
-    settle = np.array([0.0, 0.1 * period])
-    p = {
-        "ipar": ipar, "rpar": np.tile(rpar, (2, 1)), "y0": ys, "t_settle": settle,
-        "t_end": settle + 0.3 * period, "max_step": np.full(2, period / 360.0), "rtol": 1e-6,
-        "atol": np.concatenate([np.full(n, 1e-10), np.full(n, 1e-6), np.full(2, 1e-6), np.ones(4)]),
-        "max_steps": 200_000,
-    }  # fmt: skip
+    p = _two_lanes(paper_fourbar, model.joints(paper_fourbar, JOINTS, clearance=21e-6))
     old = _single_engine(p)
     assert (old["status"] == ids.STATUS_SUCCESS).all()
     _assert_same(_single_source(p), old)

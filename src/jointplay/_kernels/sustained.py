@@ -67,7 +67,7 @@ from jointplay._kernels.lanes.source import (
 from jointplay._kernels.lanes.source_radau import lu_real, lu_solve_real
 
 __all__ = [
-    "HOOKS", "OWN", "contact_records", "locked_row", "mechanical_energy", "project_locked",
+    "HOOKS", "OWN", "contact_records", "locked_count", "locked_row", "mechanical_energy", "project_locked",
     "sustained_accelerations", "sustained_locked_accelerations", "sustained_release_fraction",
     "sustained_switch_contacts",
 ]  # fmt: skip
@@ -123,6 +123,16 @@ def locked_row(y, rp, ip, lay, c, g_row, h_col):
     return gamma, length - rp[o_geom + N_GEOM * c + G_CLEARANCE], delta_dot, v_t, mu
 
 
+def locked_count(y, lay):
+    """How many clearance joints are locked at ``y`` (their v0 slot negative)."""
+    n = lay[LY_N]
+    m = 0
+    for c in range(lay[LY_NC]):
+        if y[2 * n + 2 + c] < 0.0:
+            m += 1
+    return m
+
+
 def sustained_accelerations(t, y, rp, ip, lay, f, record, recording, lam):
     """The accelerations with the locked clearance joints as constraints.
 
@@ -153,10 +163,7 @@ def sustained_accelerations(t, y, rp, ip, lay, f, record, recording, lam):
     phi_q = np.zeros((rows, n))
     gamma = np.zeros(rows)
     constraint_terms(t, y, rp, ip, lay, phi_q, gamma, True)
-    m = 0
-    for c in range(nc):
-        if y[2 * n + 2 + c] < 0.0:
-            m += 1
+    m = locked_count(y, lay)
     k = rows + m
     rows_a = np.zeros((k, n))
     cols_b = np.zeros((k, n))  # B transposed
@@ -278,10 +285,7 @@ def project_locked(t, y, rp, ip, lay, work, drift):
     tolerance = rp[lay[LY_SETTINGS] + S_PROJ_TOL]
     before = mechanical_energy(y, rp, lay)
     rows = constraint_rows(rp, lay)
-    m = 0
-    for c in range(nc):
-        if y[2 * n + 2 + c] < 0.0:
-            m += 1
+    m = locked_count(y, lay)
     k = rows + m
     a = np.zeros((k, n))
     h = np.empty(n)
@@ -381,6 +385,7 @@ def sustained_switch_contacts(t, y, rp, ip, lay, work, before):
 #: The mode's functions each CPU target compiles apart, not inlined (they allocate and run
 #: only while a joint is locked, or with the mode on after a step).
 OWN: dict[str, Callable[..., Any]] = {
+    "locked_count": locked_count,
     "sustained_accelerations": sustained_accelerations,
     "locked_row": locked_row,
     "contact_records": contact_records,
