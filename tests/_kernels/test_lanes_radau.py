@@ -103,10 +103,12 @@ def _problem(
     }  # fmt: skip
 
 
-def _two_lanes(mechanism: Mechanism, joints: list[ClearanceJoint]) -> dict[str, Any]:
+def _two_lanes(
+    mechanism: Mechanism, joints: list[ClearanceJoint], opens: float = 0.1, end: float | None = None
+) -> dict[str, Any]:
     """Two lanes of ``mechanism`` with ``joints``: the steady start analysed from t = 0, and a
-    perturbed one (velocities 1 % up) whose window opens at 0.1 of a revolution (inside a
-    step); 0.3 of a revolution analysed."""
+    perturbed one (velocities 1 % up) whose window opens at ``opens`` of a revolution (inside
+    a step); 0.3 of a revolution analysed, or both lanes to ``end`` of a revolution."""
     system = build_system(mechanism, joints)
     rpar, ipar = eom.pack(system.model)
     y0 = initial_state(system, Start("steady"))
@@ -114,10 +116,11 @@ def _two_lanes(mechanism: Mechanism, joints: list[ClearanceJoint]) -> dict[str, 
     period = mechanism.driver.period
     ys = np.tile(y0, (2, 1))
     ys[1, n : 2 * n] *= 1.01
-    settle = np.array([0.0, 0.1 * period])
+    settle = np.array([0.0, opens * period])
+    t_end = settle + 0.3 * period if end is None else np.full(2, end * period)
     return {
         "ipar": ipar, "rpar": np.tile(rpar, (2, 1)), "y0": ys, "t_settle": settle,
-        "t_end": settle + 0.3 * period, "max_step": np.full(2, period / 360.0), "rtol": 1e-6,
+        "t_end": t_end, "max_step": np.full(2, period / 360.0), "rtol": 1e-6,
         "atol": np.concatenate(
             [np.full(n, 1e-10), np.full(n, 1e-6), np.full(2, 1e-6), np.ones(len(joints))]
         ),
@@ -380,20 +383,7 @@ def test_every_contact_and_friction_law_gives_the_single_engines_steps(
         ClearanceJoint(j, 2e-5, 5e-3, _law(name), FRICTIONS[(k + group) % len(FRICTIONS)])
         for k, (j, name) in enumerate(zip(JOINTS, names, strict=True))
     ]
-    system = build_system(paper_fourbar, joints)
-    rpar, ipar = eom.pack(system.model)
-    y0 = initial_state(system, Start("steady"))
-    n = system.n_coordinates
-    period = paper_fourbar.driver.period
-    ys = np.tile(y0, (2, 1))
-    ys[1, n : 2 * n] *= 1.01
-    p = {
-        "ipar": ipar, "rpar": np.tile(rpar, (2, 1)), "y0": ys,
-        "t_settle": np.array([0.0, 0.03 * period]), "t_end": np.full(2, 0.1 * period),
-        "max_step": np.full(2, period / 360.0), "rtol": 1e-6,
-        "atol": np.concatenate([np.full(n, 1e-10), np.full(n, 1e-6), np.full(2, 1e-6), np.ones(4)]),
-        "max_steps": 200_000,
-    }  # fmt: skip
+    p = _two_lanes(paper_fourbar, joints, opens=0.03, end=0.1)
     old = _single_engine(p)
     assert (old["status"] == ids.STATUS_SUCCESS).all() and (old["n_steps"] > 50).all()
     _assert_same(_single_source(p), old)

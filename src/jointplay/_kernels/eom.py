@@ -527,11 +527,12 @@ def after_step(t: float, y: np.ndarray, args: EomArgs) -> bool:
             before[7 * c + 3] = work[N_WORK + 2 * c + 1]
     changed = _contact_memory(y, rpar, lay, record, before)
     if _sustained_on(rpar, lay):
-        if _switch_contacts(t, y, rpar, ipar, lay, work, before):
-            changed = True
+        switched = _switch_contacts(t, y, rpar, ipar, lay, work, before)
         # the records of the state the next step starts from: the switches' projection onto
-        # the locked joints moves q even when it stays below the tolerance (not "changed")
-        record = _records(y, rpar, ipar)
+        # the locked joints moves q even when it stays below the tolerance (not "switched")
+        if switched or _locked(y, rpar, lay):
+            record = _records(y, rpar, ipar)
+        changed = changed or switched
     empty = y[:0].reshape((0, 0))
     if _project(t, y, rpar, ipar, lay, work, empty, empty, y[:0]):
         changed = True
