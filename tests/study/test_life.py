@@ -387,3 +387,28 @@ def test_fixed_steps_give_the_same_lives_without_the_rejected_tries():
     saved = controlled.lives.resimulations - fixed.lives.resimulations
     assert saved[walked].min() >= 1
     assert fixed.settings["min_step_s"] == 2 * HOUR
+
+
+def test_a_quantile_beyond_the_hours_reads_as_a_bound_not_as_words():
+    """The order-statistic B10 of 20 lives of which one failed lies beyond the hours: the
+    line says "> 6 h" with the interval's ends, never "> the hours"; with too few samples
+    to bound it at all, it says so instead of printing [0–∞ h]."""
+    from jointplay.study.life_result import quantile_text
+    from jointplay.study.weibull import empirical_quantile
+
+    hours = 6 * 3600.0
+    lives = np.full(20, hours)
+    censored = np.ones(20, dtype=bool)
+    lives[0], censored[0] = 2.5 * 3600.0, False
+    q = empirical_quantile(lives, censored, 0.10)
+    assert math.isinf(q.value)  # the 2nd of 20 lives outlived the hours
+    text = quantile_text(q, hours)
+    assert text.startswith("> 6 h [")
+    assert "the hours" not in text
+    few = empirical_quantile(lives[:3], censored[:3], 0.10)
+    assert few.low == 0.0 and math.isinf(few.high)
+    assert f"not bounded by {100 * few.level:g} % order statistics" in quantile_text(few, hours)
+    finite = empirical_quantile(np.arange(1, 101) * 360.0, np.zeros(100, bool), 0.5)
+    assert quantile_text(finite, hours) == (
+        f"{finite.value / 3600:.3g} h [{finite.low / 3600:.3g}–{finite.high / 3600:.3g} h]"
+    )

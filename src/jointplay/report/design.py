@@ -305,7 +305,7 @@ def life_quantile_lines(result: DesignResult) -> list[str]:
     (:func:`life_scheme`): its verdict on the interval it was decided on, how many samples
     failed before the hours, the order-statistic B_p with its exact interval, and the
     requirement that ended most lives."""
-    from jointplay.study.life_result import _quantile_text
+    from jointplay.study.life_result import quantile_text
     from jointplay.study.weibull import INTERVAL_LEVEL, empirical_quantile
 
     row = life_scheme(result)
@@ -328,7 +328,7 @@ def life_quantile_lines(result: DesignResult) -> list[str]:
         if population is not None:
             q = empirical_quantile(population.lives.life, population.lives.censored, r.quantile)
             text += (
-                f"; B{100 * r.quantile:g} = {_quantile_text(q)} (order statistic, "
+                f"; B{100 * r.quantile:g} = {quantile_text(q, population.lives.hours)} (order statistic, "
                 f"{100 * INTERVAL_LEVEL:g} %)"
             )
             shares = population.shares

@@ -26,7 +26,7 @@ from jointplay.study.weibull import (
     fit_weibull,
 )
 
-__all__ = ["QUANTILES", "SIMULATION_FAILED", "LifeResult", "Lives", "hours_text"]
+__all__ = ["QUANTILES", "SIMULATION_FAILED", "LifeResult", "Lives", "hours_text", "quantile_text"]
 
 FloatArray = NDArray[np.float64]
 
@@ -188,7 +188,7 @@ class LifeResult:
         if fit is None:
             b10 = self.quantiles["B10"]
             return (
-                f"B10 = {_quantile_text(b10)} (order statistic, too few failures for a "
+                f"B10 = {quantile_text(b10, self.lives.hours)} (order statistic, too few failures for a "
                 f"Weibull fit); {tail}"
             )
         low, high = self.b10_interval or (math.nan, math.nan)
@@ -213,7 +213,9 @@ class LifeResult:
                 f"{hours_text(e_high)}]"
                 + (f" ({self.at_start} lives of 0 h left out)" if self.at_start else "")
             )
-        parts = [f"{name} {_quantile_text(q)}" for name, q in self.quantiles.items()]
+        parts = [
+            f"{name} {quantile_text(q, self.lives.hours)}" for name, q in self.quantiles.items()
+        ]
         out.append(
             f"empirical ({100 * INTERVAL_LEVEL:g} % order-statistic intervals): " + "; ".join(parts)
         )
@@ -326,9 +328,15 @@ def _or_zeros(values: Any, n: int) -> Any:
     return np.zeros(n) if values is None else np.asarray(values)
 
 
-def _quantile_text(q: EmpiricalQuantile) -> str:
+def quantile_text(q: EmpiricalQuantile, hours: float) -> str:
+    """``B10``'s words: ``"4.2 h [3.1–5.0 h]"``; a quantile the lives censored at ``hours``
+    (s) leave beyond them, ``"> 6 h [5.1–∞ h]"``; an interval the samples cannot bound at
+    all says so rather than print ``[0–∞ h]``."""
+
     def end(v: float) -> str:
         return hours_text(v).removesuffix(" h") if math.isfinite(v) else "∞"
 
-    value = hours_text(q.value) if math.isfinite(q.value) else "> the hours"
+    value = hours_text(q.value) if math.isfinite(q.value) else f"> {hours_text(hours)}"
+    if q.low <= 0.0 and not math.isfinite(q.high):
+        return f"{value} [not bounded by {100 * q.level:g} % order statistics from these samples]"
     return f"{value} [{end(q.low)}–{end(q.high)} h]"
