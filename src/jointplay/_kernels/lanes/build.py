@@ -41,44 +41,25 @@ LANES = {"explicit_lane": source.DOPRI_LANE, "implicit_lane": source_radau.RADAU
 #: The loop's functions (``source``'s), compiled once per lane with its method's names.
 LOOP = ("lane",)
 
-#: The source's functions, compiled for every target.
-FUNCTIONS = (
-    "step3", "power", "normal_force", "friction_force", "driver_acceleration", "driver_angle",
-    "driver_speed", "rot", "point_global", "ideal_joint", "revolute_arm", "constraint_rows",
-    "constraint_terms", "constraint_jacobian", "cholesky_solve", "constrained_accelerations",
-    "push",
-    "eccentricity_rate", "rotation_of", "rotations", "arm_rotated", "arm", "joint_kinematics",
-    "contact_clearance", "penetration_and_rate",
-    "film_share", "reynolds_matrix", "reynolds_components", "reynolds_force", "reynolds_local",
-    "contact_forces",
-    "any_film", "film_components", "sustained_on", "locked", "locked_accelerations", "rhs",
-    "rhs_and_quantities", "quantities", "onset_fraction",
-    "onset_check", "release_fraction", "switch_contacts", "impact_rate", "contact_memory", "project_driver", "constraint_residual",
-    "max_abs", "schur_solve", "project_constraints", "project",
-    "all_finite", "interrupt_pending", "dense", "dopri_stage", "dopri_error", "triggers", "wants_refinement",
-    "refine_start", "refine_one", "refine_peaks", "open_window", "accumulate", "close_window",
-    "regime_gap", "open_regimes", "accumulate_regimes", "close_regimes",
-    "running_on", "running_base", "running_stats", "reference_speed", "speed_deviation",
-    "spread_weight", "spread_wear", "body_angle", "midpoint_angle", "running_point",
-    "start_running", "close_running", "start_outputs",
-    *(f"dopri_{step}" for step in STEPS),
-    *(
-        "pmin", "pmax", "cdiv", "swap_rows", "lu_real", "lu_complex", "lu_solve_real",
-        "lu_solve_complex",
-        "law_slopes", "force_column", "coordinate_direction", "side_of", "body_column",
-        "film_jacobian", "reynolds_position_slope",
-        "reynolds_jacobian", "jacobian_clear",
-        "column_difference", "jacobian_differences", "jacobian_fixed",
-        "lane_jacobian", "newton_matrix", "factor_newton", "solve_real", "solve_complex",
-        "stage_norm", "rms", "mat3", "predict", "next_factor", "initial_step", "newton_start", "stage_point",
-        "newton_iteration", "collocation", "error_estimate", "error_again", "polynomial",
-        "touching",
-        "interpolation_rule", "hermite", *(f"radau_{step}" for step in STEPS),
-    ),
-)  # fmt: skip
+
+def _defined(module: types.ModuleType) -> tuple[str, ...]:
+    """The functions ``module`` defines (not those it imports or aliases), in its order."""
+    return tuple(
+        name
+        for name, value in vars(module).items()
+        if isinstance(value, types.FunctionType)
+        and value.__module__ == module.__name__
+        and value.__name__ == name
+        and name not in LOOP
+    )
+
+
 #: Those of :data:`FUNCTIONS` that :mod:`jointplay._kernels.lanes.source_radau` holds (the
 #: implicit lane); the others are :mod:`jointplay._kernels.lanes.source`'s.
-IMPLICIT_FUNCTIONS = FUNCTIONS[FUNCTIONS.index("pmin") :]
+IMPLICIT_FUNCTIONS = _defined(source_radau)
+#: The source's functions, compiled for every target: every function the two source modules
+#: define, the loop aside (compiled once per lane, with its method's steps).
+FUNCTIONS = (*_defined(source), *IMPLICIT_FUNCTIONS)
 
 #: ``eom.EomModel`` field order of the ``ipar`` header (lengths), as :func:`eom.pack` writes it.
 _HEADER = (
