@@ -23,8 +23,8 @@ pin joints, or one per named joint — and an ISO 2768-1 class for the link leng
    ``contact_pressure`` (:class:`~jointplay.tolerance.responses.PeakResponses`) and, when a
    requirement needs them (``rocker_speed_error``, ``wear_rate``, ``life``:
    :func:`trajectory_requirements`), the running responses computed in its lanes
-   (:class:`~jointplay.tolerance.responses.RunningResponses`; one single-engine simulation
-   per sample only in the sustained-contact mode); the engines agree on forces within 1e-3,
+   (:class:`~jointplay.tolerance.responses.RunningResponses`, the sustained-contact mode's
+   on the CPU backends' implicit lanes); the engines agree on forces within 1e-3,
    on ω peaks within their integration errors (docs/design.md);
 3. per scheme (:mod:`jointplay.tolerance.confidence`): every response's mean, std and value
    at the confidence level (a distribution-free order-statistic bound, or a named

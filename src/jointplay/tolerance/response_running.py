@@ -1,8 +1,9 @@
 """The running response model: :class:`RunningResponses`, the dynamic peaks plus each
 sample's running responses (rocker-speed error, joint force, contact pressure, wear rate),
 computed by the batch engine's lanes as reductions
-(:mod:`jointplay.dynamics.batch_running`); the single engine only where a setting needs it
-(the sustained-contact mode). :mod:`jointplay.tolerance.responses` describes the models.
+(:mod:`jointplay.dynamics.batch_running`), the sustained-contact mode included (on the
+implicit lanes); the single engine on request (``engine="single"``).
+:mod:`jointplay.tolerance.responses` describes the models.
 """
 
 from __future__ import annotations
@@ -56,9 +57,9 @@ class RunningResponses:
 
     A block of samples runs on the batch engine (:meth:`DynamicResponses.evaluate`'s
     lanes on ``backend``), the running responses computed in the lanes as reductions
-    (:mod:`jointplay.dynamics.batch_running`); the single engine (one simulation per sample)
-    only with the sustained-contact mode, whose locked contact force the lanes' contact
-    record does not carry (docs/performance.md).
+    (:mod:`jointplay.dynamics.batch_running`), a locked joint's contact force in the
+    sustained-contact mode its multiplier as on the single engine; the single engine (one
+    simulation per sample) on request.
 
     Attributes:
         base: the tolerance study's dynamic model (inputs, contact law, start, settle).
@@ -70,9 +71,9 @@ class RunningResponses:
             requirements may mix kinematic and dynamic responses.
         chunk_size: samples per block (0: the base model's block on the batch engine, one
             sample per task on the single engine).
-        engine: ``"auto"`` (the batch engine unless the sustained-contact mode needs the
-            single engine), ``"batch"`` or ``"single"`` (one single-engine simulation per
-            sample: the path before the lanes had the running responses; benchmarks).
+        engine: ``"auto"`` or ``"batch"`` (the batch engine) or ``"single"`` (one
+            single-engine simulation per sample: the path before the lanes had the running
+            responses; the comparisons and benchmarks).
         backend: where a block's lanes run (default the base model's; ``None`` on the
             single engine, whose samples the study's executor spreads one task each).
     """
@@ -106,14 +107,7 @@ class RunningResponses:
     def on_batch(self) -> bool:
         """Whether a block runs on the batch engine (else one single-engine simulation per
         sample)."""
-        if self.engine == "auto":
-            return not self.base.capture_speed > 0.0
-        if self.engine == "batch" and self.base.capture_speed > 0.0:
-            raise ConfigError(
-                "RunningResponses: the sustained-contact mode runs on the single engine "
-                "(engine='single' or 'auto')"
-            )
-        return self.engine == "batch"
+        return self.engine != "single"
 
     @property
     def kinematic_names(self) -> tuple[str, ...]:
@@ -303,22 +297,23 @@ class RunningResponses:
 
 def check_running_backend(base: DynamicResponses, backend: Backend | None, what: str) -> None:
     """Refuse, in one line, a ``backend`` whose engine cannot give ``base``'s running
-    responses: the batch lanes compute them (every CPU backend and the CUDA lanes); the
-    sustained-contact mode needs each sample's trajectory, i.e. the single engine
-    (:attr:`RunningResponses.engine`). ``what`` names the requirements concerned.
+    responses: the batch lanes compute them (every CPU backend and the CUDA lanes), the
+    sustained-contact mode's on the CPU backends' implicit lanes only. ``what`` names the
+    requirements concerned.
 
     Raises:
-        ConfigError: the backend's engine lacks them (e.g. ``gpu``, the JAX kernel).
+        ConfigError: the backend's engine lacks them (e.g. ``gpu``, the JAX kernel; ``cuda``
+            with the sustained-contact mode).
     """
     from jointplay._kernels.capabilities import engine_of, refusal
 
     if backend is None:
         return
-    single = base.capture_speed > 0.0
+    sustained = base.capture_speed > 0.0
     refused = refusal(
-        engine_of(backend.kind, "single" if single else "auto"),
-        ["trajectories" if single else "running_responses"],
-        named=lambda _: what,
+        engine_of(backend.kind, "implicit" if sustained else "auto"),
+        ["running_responses", *(["sustained_contact"] if sustained else [])],
+        named=lambda need: what if need == "running_responses" else "the sustained-contact mode",
     )
     if refused:
         raise ConfigError(f"backend {backend.kind}: {refused}")

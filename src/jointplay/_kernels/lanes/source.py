@@ -1491,20 +1491,24 @@ def midpoint_angle(a0, a1):
     return m - math.floor(m / two_pi) * two_pi
 
 
-def running_point(t_new, h, t_settle, y, rp, ip, lay, f, record, stats):
+def running_point(t_new, h, t_settle, y, rp, ip, lay, f, record, stats, phi_q, schur, lam):
     """Add the accepted point ``y`` at ``t_new`` (the step before it ``h`` s long) to the
     Archard wear profiles (:func:`jointplay.dynamics.wear.cycle_wear`'s trapezoidal rule on
     the integrator's steps, from the first step at or after ``t_settle``): F_N of the contact
-    law (under a Reynolds film the asperities' only), v_T, and the contact normal's direction
-    in the bearing's and the journal's body, from :func:`contact_forces` (``f``, ``record``:
-    work arrays)."""
+    law (under a Reynolds film the asperities' only; a locked joint's, in the
+    sustained-contact mode, its multiplier: :func:`rhs` records it), v_T, and the contact
+    normal's direction in the bearing's and the journal's body, from :func:`contact_forces`
+    (``f``, ``record``, ``phi_q``, ``schur``, ``lam``: work arrays)."""
     nc = lay[LY_NC]
     s = running_stats(lay)
     flag = s + 5 * nc
     started = stats[flag] > 0.0
     if not started and t_new < t_settle - 1e-12:
         return
-    contact_forces(y, rp, ip, lay, f, record, True)
+    if locked(y, rp, lay):
+        rhs(t_new, y, rp, ip, lay, f, record, True, phi_q, schur, lam)
+    else:
+        contact_forces(y, rp, ip, lay, f, record, True)
     r = running_base(lay)
     npts = int(rp[r + RUN_POINTS])
     bins = int(rp[r + RUN_BINS])
@@ -1674,7 +1678,8 @@ def lane(
     running = RUNNING and running_on(lay)
     if running:
         speed_deviation(y, rp, lay, qa)
-        running_point(t, 0.0, t_settle, y, rp, ip, lay, f_mid, record_mid, stats)
+        running_point(t, 0.0, t_settle, y, rp, ip, lay, f_mid, record_mid, stats, phi_q,
+                      schur, lam)  # fmt: skip
     in_window = t_settle <= 0.0
     if in_window:
         open_window(qa, pen, peaks, stats, nb, n_q, nc)
@@ -1740,7 +1745,8 @@ def lane(
             break
         if running:
             speed_deviation(y_new, rp, lay, qb)
-            running_point(t_new, h, t_settle, y_new, rp, ip, lay, f_mid, record_mid, stats)
+            running_point(t_new, h, t_settle, y_new, rp, ip, lay, f_mid, record_mid, stats,
+                          phi_q, schur, lam)  # fmt: skip
         h_next = step_accept(ws, t_new, y_new, f_new, h, changed, atol, rp, ip, lay, pen,
                              f_mid, record_mid, phi_q, schur, lam, counts)  # fmt: skip
         # the peaks and statistics of this step (batch's module docstring)
