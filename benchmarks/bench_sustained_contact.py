@@ -21,6 +21,14 @@ revolution's peaks.
 backend), settle 2 + 1: samples per second with the mode off (``auto`` and ``implicit``)
 and on (``implicit``, the only method the mode runs on).
 
+``running``: the tolerance study's running responses (``RunningResponses``: peaks, speed
+error, wear rates) of ``--samples`` samples of the paper's four-bar with the dry
+conventional set and the mode on (capture 1 mm/s), settle 0 + 1 revolution from the steady
+start: milliseconds per sample on the batch engine's implicit lanes (local backend, every
+core; serial, one core) against one single-engine simulation per sample (``engine="single"``,
+the path before, one core), best of ``--rounds`` after a warm-up; the largest relative
+difference of the wear rates.
+
 ``modes``: at states of the analysed revolution where all four pins are locked (mode on;
 Jacobian by central differences) or all four in compliant contact (mode off; the
 closed-form Jacobian), the largest eigenvalues of ∂(q̇, q̈)/∂(q, q̇) (Hz, decay rate): the
@@ -235,9 +243,51 @@ def batch(samples: int, rounds: int) -> None:
         )
 
 
+def running(samples: int, rounds: int) -> None:
+    import dataclasses
+
+    from jointplay.tolerance.analysis import build_model
+    from jointplay.tolerance.sampling import sample
+    from jointplay.tolerance.spec import ToleranceSpec
+
+    mechanism = load_preset("paper-fourbar")
+    spec = ToleranceSpec.from_mechanism(mechanism)
+    model, spec = build_model(
+        mechanism, spec, "running", settle=0, revolutions=1, contact="ifm-conventional"
+    )
+    model = dataclasses.replace(model, base=dataclasses.replace(model.base, capture_speed=1e-3))
+    x = sample(spec, samples, 7).values
+    from jointplay.execution.backends import Backend
+
+    engines = {
+        "batch (local: every core)": model,
+        "batch (serial: one core)": dataclasses.replace(model, backend=Backend("serial")),
+        "single (one core)": dataclasses.replace(model, engine="single"),
+    }
+    for engine in engines.values():  # compile
+        engine.evaluate(x[:1])
+    print(f"== running: {samples} samples, mode on, settle 0 + 1 revolution ({load()})")
+    best = dict.fromkeys(engines, np.inf)
+    values = {}
+    for _ in range(rounds):
+        for name, engine in engines.items():
+            start = time.perf_counter()
+            values[name] = engine.evaluate(x)
+            best[name] = min(best[name], time.perf_counter() - start)
+    wear = [k for k, n in enumerate(model.response_names) if n.startswith("wear_rate")]
+    a, b = (
+        values["batch (local: every core)"].values[:, wear],
+        values["single (one core)"].values[:, wear],
+    )
+    for name, seconds in best.items():
+        print(f"{name:26s}: {seconds / samples * 1e3:7.1f} ms per sample ({seconds:.2f} s)")
+    print(f"wear rates: largest relative difference {np.max(np.abs(a - b) / np.abs(b)):.1e}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--part", choices=("timing", "scatter", "convergence", "modes", "batch"))
+    parts = ("timing", "scatter", "convergence", "modes", "batch", "running")
+    parser.add_argument("--part", choices=parts)
     parser.add_argument("--samples", type=int, default=16)
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--revolutions", type=int, default=10)
@@ -255,6 +305,8 @@ def main() -> None:
         scatter(options.revolutions)
     if options.part in (None, "batch"):
         batch(options.samples, options.rounds)
+    if options.part in (None, "running"):
+        running(options.samples, options.rounds)
     print(f"({time.perf_counter() - started:.0f} s)")
 
 
