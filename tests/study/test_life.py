@@ -410,5 +410,5 @@ def test_a_quantile_beyond_the_hours_reads_as_a_bound_not_as_words():
     assert f"not bounded by {100 * few.level:g} % order statistics" in quantile_text(few, hours)
     finite = empirical_quantile(np.arange(1, 101) * 360.0, np.zeros(100, bool), 0.5)
     assert quantile_text(finite, hours) == (
-        f"{finite.value / 3600:.3g} h [{finite.low / 3600:.3g}–{finite.high / 3600:.3g} h]"
+        f"= {finite.value / 3600:.3g} h [{finite.low / 3600:.3g}–{finite.high / 3600:.3g} h]"
     )

@@ -328,7 +328,7 @@ def life_quantile_lines(result: DesignResult) -> list[str]:
         if population is not None:
             q = empirical_quantile(population.lives.life, population.lives.censored, r.quantile)
             text += (
-                f"; B{100 * r.quantile:g} = {quantile_text(q, population.lives.hours)} (order statistic, "
+                f"; B{100 * r.quantile:g} {quantile_text(q, population.lives.hours)} (order statistic, "
                 f"{100 * INTERVAL_LEVEL:g} %)"
             )
             shares = population.shares

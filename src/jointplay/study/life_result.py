@@ -188,7 +188,7 @@ class LifeResult:
         if fit is None:
             b10 = self.quantiles["B10"]
             return (
-                f"B10 = {quantile_text(b10, self.lives.hours)} (order statistic, too few failures for a "
+                f"B10 {quantile_text(b10, self.lives.hours)} (order statistic, too few failures for a "
                 f"Weibull fit); {tail}"
             )
         low, high = self.b10_interval or (math.nan, math.nan)
@@ -329,14 +329,14 @@ def _or_zeros(values: Any, n: int) -> Any:
 
 
 def quantile_text(q: EmpiricalQuantile, hours: float) -> str:
-    """``B10``'s words: ``"4.2 h [3.1–5.0 h]"``; a quantile the lives censored at ``hours``
-    (s) leave beyond them, ``"> 6 h [5.1–∞ h]"``; an interval the samples cannot bound at
-    all says so rather than print ``[0–∞ h]``."""
+    """A quantile's words after its name: ``"= 4.2 h [3.1–5.0 h]"``; one that the lives
+    censored at ``hours`` (s) leave beyond them, ``"> 6 h [5.1–∞ h]"``; an interval the
+    samples cannot bound at all says so rather than print ``[0–∞ h]``."""
 
     def end(v: float) -> str:
         return hours_text(v).removesuffix(" h") if math.isfinite(v) else "∞"
 
-    value = hours_text(q.value) if math.isfinite(q.value) else f"> {hours_text(hours)}"
+    value = f"= {hours_text(q.value)}" if math.isfinite(q.value) else f"> {hours_text(hours)}"
     if q.low <= 0.0 and not math.isfinite(q.high):
         return f"{value} [not bounded by {100 * q.level:g} % order statistics from these samples]"
     return f"{value} [{end(q.low)}–{end(q.high)} h]"
