@@ -246,6 +246,7 @@ def batch(samples: int, rounds: int) -> None:
 def running(samples: int, rounds: int) -> None:
     import dataclasses
 
+    from jointplay.execution.backends import Backend
     from jointplay.tolerance.analysis import build_model
     from jointplay.tolerance.sampling import sample
     from jointplay.tolerance.spec import ToleranceSpec
@@ -257,12 +258,11 @@ def running(samples: int, rounds: int) -> None:
     )
     model = dataclasses.replace(model, base=dataclasses.replace(model.base, capture_speed=1e-3))
     x = sample(spec, samples, 7).values
-    from jointplay.execution.backends import Backend
-
+    batch, single = "batch (local: every core)", "single (one core)"
     engines = {
-        "batch (local: every core)": model,
+        batch: model,
         "batch (serial: one core)": dataclasses.replace(model, backend=Backend("serial")),
-        "single (one core)": dataclasses.replace(model, engine="single"),
+        single: dataclasses.replace(model, engine="single"),
     }
     for engine in engines.values():  # compile
         engine.evaluate(x[:1])
@@ -275,10 +275,7 @@ def running(samples: int, rounds: int) -> None:
             values[name] = engine.evaluate(x)
             best[name] = min(best[name], time.perf_counter() - start)
     wear = [k for k, n in enumerate(model.response_names) if n.startswith("wear_rate")]
-    a, b = (
-        values["batch (local: every core)"].values[:, wear],
-        values["single (one core)"].values[:, wear],
-    )
+    a, b = values[batch].values[:, wear], values[single].values[:, wear]
     for name, seconds in best.items():
         print(f"{name:26s}: {seconds / samples * 1e3:7.1f} ms per sample ({seconds:.2f} s)")
     print(f"wear rates: largest relative difference {np.max(np.abs(a - b) / np.abs(b)):.1e}")
