@@ -46,15 +46,16 @@ def test_the_table_says_what_the_engines_do() -> None:
     """The rows as the engines' documentation states them: only the single engine keeps
     trajectories; sustained contact on the single engine and the CPU's implicit lanes only;
     film damping also on the cuda backend's implicit lanes, not on the explicit lanes nor on
-    JAX; a Reynolds film on the CPU's implicit engines only; every engine ideal joints and
+    JAX; a Reynolds film on the implicit engines (CPU and cuda), not on the explicit lanes nor on JAX; every engine ideal joints and
     every law family."""
     assert [k for k, e in ENGINES.items() if e.trajectories] == ["single"]
     assert {k for k, e in ENGINES.items() if e.sustained_contact} == {"single", "batch-implicit"}
     assert {k for k, e in ENGINES.items() if e.film_damping} == {
         "single", "batch-implicit", "lanes-implicit"
     }  # fmt: skip
-    # the Reynolds film (issue 39): the CPU's implicit engines; not yet run on a device
-    assert {k for k, e in ENGINES.items() if e.film_model} == {"single", "batch-implicit"}
+    assert {k for k, e in ENGINES.items() if e.film_model} == {
+        "single", "batch-implicit", "lanes-implicit"
+    }  # fmt: skip
     assert all(e.ideal_joints and e.laws == LAW_FORMS for e in ENGINES.values())
     assert ENGINES["single"].integrators == ("radau", "rodas4", "dopri5")
 

@@ -343,6 +343,27 @@ def test_the_simulated_gpu_implicit_lanes_with_film_damping_are_the_cpu_lanes(
         )
 
 
+def test_the_simulated_gpu_implicit_lanes_with_a_reynolds_film_are_the_cpu_lanes(
+    paper_fourbar: Mechanism, tmp_path: Path
+) -> None:
+    """The implicit kernel with the physical default contact, the Reynolds film (the
+    short-bearing film force, its film-to-contact transition, the lubrication regimes'
+    statistics), 0.05 of a revolution from the steady start, the window opening inside a
+    step: the same steps, rejections and evaluations as the CPU compilation, peaks and
+    statistics (regime fractions included) to round-off."""
+    from jointplay.dynamics.setup import ContactModel
+
+    joints = ContactModel().joints(paper_fourbar)
+    assert joints[0].film_model != "linear" and joints[0].film_damping > 0  # a Reynolds film
+    gpu, cpu_out = _implicit_on_both(paper_fourbar, joints, 0.05, tmp_path)
+    assert cpu_out["counts"][0, 0] > 20
+    assert np.isfinite(cpu_out["stats"][0]).all()  # the regimes of a lubricated joint
+    for name in ("peaks", "stats"):
+        np.testing.assert_allclose(
+            gpu[name][0], cpu_out[name][0], rtol=SAME_ALGORITHM_RTOL, atol=0.0, err_msg=name
+        )
+
+
 def test_the_simulated_gpu_implicit_lanes_with_ideal_joints_agree_with_the_cpu_lanes(
     paper_fourbar: Mechanism, tmp_path: Path
 ) -> None:

@@ -504,16 +504,16 @@ def test_the_batch_engine_runs_the_reynolds_film_as_the_single_engine() -> None:
         assert peak < 80.0
 
 
-def test_a_study_on_the_cuda_backend_refuses_the_reynolds_film() -> None:
-    """The dynamic responses of a study refuse a Reynolds film on the cuda backend before any
-    lane starts (the linear film runs there), naming it."""
+def test_a_study_takes_the_reynolds_film_where_its_engine_has_it() -> None:
+    """The dynamic responses of a study run a Reynolds film on the cuda backend's implicit
+    lanes (the same source as the CPU's, checked on the simulator in test_lanes_cuda.py) and
+    refuse it on the gpu backend (JAX) before any lane starts, naming it."""
     from jointplay.execution.backends import Backend
     from jointplay.tolerance.response_dynamic import DynamicResponses, contact_parts
 
     mechanism = load_preset("paper-fourbar")
-    cuda = {"journal_radius": {"O2": 5e-3}, "backend": Backend("cuda"), "method": "implicit"}
-    linear = contact_parts(mechanism, ContactModel(film_model="linear"))
-    DynamicResponses(mechanism, ("clearance_O2",), **cuda, **linear)
     reynolds = contact_parts(mechanism, ContactModel(film_model="short-bearing-pi"))
+    where = {"journal_radius": {"O2": 5e-3}, "method": "implicit"}
+    DynamicResponses(mechanism, ("clearance_O2",), backend=Backend("cuda"), **where, **reynolds)
     with pytest.raises(SettingError, match="Reynolds film"):
-        DynamicResponses(mechanism, ("clearance_O2",), **cuda, **reynolds)
+        DynamicResponses(mechanism, ("clearance_O2",), backend=Backend("gpu"), **where, **reynolds)

@@ -119,8 +119,7 @@ ENGINES = {
     "lanes-implicit": Engine(
         "the single source's implicit lanes (the cuda backend's)",
         "the implicit method on the cuda backend",
-        # the Reynolds film: compiled from the same source, but not yet run on a device
-        film_damping=True, film_model=False, sustained_contact=False,
+        film_damping=True, film_model=True, sustained_contact=False,
         ideal_joints=True, trajectories=False,
         integrators=integrators_of("lanes-implicit"),
     ),
