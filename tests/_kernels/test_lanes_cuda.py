@@ -256,6 +256,18 @@ def test_without_a_gpu_the_backend_says_what_is_missing(paper_fourbar: Mechanism
         lanes_cuda.run_batch(*args, 1e-6, p["atol"], 200_000, "explicit")
 
 
+def test_numba_cuda_gets_back_the_numpy_alias_it_compiles_against(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """numba-cuda 0.30.4 overloads ``np.row_stack`` when it compiles its first kernel, and
+    NumPy 2.5 removed that alias of ``np.vstack``: on the H200 machine (NumPy 2.5.2) every
+    launch failed with AttributeError until the backend gave it back."""
+    alias = "row_stack"
+    monkeypatch.delattr(np, alias, raising=False)  # as NumPy 2.5
+    lanes_cuda.available()
+    assert getattr(np, alias) is np.vstack
+
+
 def _implicit_on_both(
     mechanism: Mechanism, joints: list[ClearanceJoint], revolutions: float, tmp_path: Path
 ) -> tuple[Any, dict[str, np.ndarray]]:

@@ -79,6 +79,12 @@ METHODS = lane_methods("lanes-explicit", "lanes-implicit")
 
 def _cuda() -> Any:
     """numba-cuda's ``cuda`` module, with a GPU (or the simulator) behind it."""
+    # numba-cuda <= 0.30.4 overloads np.row_stack, an alias of np.vstack that NumPy 2.5
+    # removed, when it compiles its first kernel (AttributeError; seen on an H200 machine with
+    # NumPy 2.5.2): give it the alias back
+    alias = "row_stack"
+    if not hasattr(np, alias):
+        setattr(np, alias, np.vstack)
     try:
         from numba import cuda
     except ImportError as exc:  # the optional extra is not installed
