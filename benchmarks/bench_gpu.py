@@ -19,15 +19,15 @@ Each timed run is a whole :func:`~jointplay.dynamics.batch.simulate_batch` (or
 is marked ``first``: it includes the kernel's compilation or its load from the disk caches
 (numba-cuda's ``cache=True``; JAX's persistent cache, ``JOINTPLAY_JAX_CACHE``). Run a part
 twice, once with empty caches (``NUMBA_CACHE_DIR``, ``JOINTPLAY_JAX_CACHE`` fresh folders)
-and once with the caches the first run left, to get "cold" and "later process" figures;
-``benchmarks/run_gpu_device.sh`` does that on a lent GPU machine. ``--chunks`` runs every size
+and once with the caches the first run left, to get "cold" and "later process" figures.
+``benchmarks/run_gpu_device.sh`` runs the parts in priority order on a lent GPU machine. ``--chunks`` runs every size
 with each chunk size, lanes per launch (0: the executors' default, interrupt-sized chunks of
 ``execution/executors.py``; a large one: one launch, the throughput a user gets by giving
 ``chunk_size``).
 
 ``--save-lanes K --save FILE.npz`` keeps the first K samples' inputs and results of the
-last run (``FILE-cuda.npz``, ``FILE-gpu.npz``); ``--compare FILE.npz`` (on any machine, no GPU) runs the CPU lanes (backend
-``local``) on those samples and prints the agreement: the largest relative difference of
+last run (``FILE-cuda.npz``, ``FILE-gpu.npz``); ``--compare FILE-cuda.npz`` (on any machine,
+no GPU) runs the CPU lanes (backend ``local``) on those samples and prints the agreement: the largest relative difference of
 every peak and mean speed over the lanes, the lanes whose step counts are equal, and each
 response's mean and standard deviation over the K lanes on both.
 
@@ -142,8 +142,8 @@ def batch_runs(args: argparse.Namespace, backend: str, emit: Any) -> None:
                                   (result.counters, "count_")):  # fmt: skip
                 arrays |= {prefix + c: frame[c].to_numpy()[:keep] for c in frame.columns}
             arrays["status"] = result.status[:keep]
-            np.savez(saved_path(args.save, backend), part=args.part, backend=backend, method=result.method,
-                     revolutions=args.revolutions, **arrays)  # fmt: skip
+            np.savez(saved_path(args.save, backend), part=args.part, backend=backend,
+                     method=result.method, revolutions=args.revolutions, **arrays)  # fmt: skip
 
 
 def design_runs(args: argparse.Namespace, backend: str, emit: Any) -> None:
