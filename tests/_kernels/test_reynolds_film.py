@@ -448,16 +448,17 @@ def test_the_film_model_is_declared_and_checked() -> None:
 
 def test_engines_without_the_reynolds_film_refuse_it() -> None:
     """The JAX backend and the explicit lanes refuse a Reynolds film by name (they would run
-    the linear damper's equations, or none); the implicit engines run it."""
+    the linear damper's equations, or none); the implicit engines (the cuda backend's lanes
+    too) run it."""
     assert refusal("jax", ["film_damping", "film_model"]) is not None
     assert "Reynolds film" in str(refusal("jax", ["film_model"]))
-    assert refusal("single", ["film_damping", "film_model"]) is None
-    assert refusal("batch-implicit", ["film_damping", "film_model"]) is None
-    assert refusal("lanes-implicit", ["film_model"]) is not None  # not yet run on a device
+    for engine in ("single", "batch-implicit", "lanes-implicit"):
+        assert refusal(engine, ["film_damping", "film_model"]) is None
     system = _spinner_system("short-bearing-pi")
     rpar, ipar = eom.pack(system.model)
     message = lanes_refusal(ipar, rpar, "explicit")
     assert message is not None and "Reynolds film" in message
+    assert lanes_refusal(ipar, rpar, "implicit") is None
     linear = build_system(
         _spinner(), [ClearanceJoint("O", CLEARANCE, RADIUS, _law(), film_damping=1e3)]
     )
