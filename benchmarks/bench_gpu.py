@@ -247,6 +247,12 @@ def lane_runs(args: argparse.Namespace, emit: Any) -> None:
         emit(kernel_resources())
 
 
+def relative(theirs: Any, ours: Any) -> Any:
+    """|theirs − ours| / |ours| elementwise (0 where both are NaN: a column no lane fills)."""
+    rel = np.abs(theirs - ours) / np.maximum(np.abs(ours), 1e-300)
+    return np.where(np.isnan(ours) & np.isnan(theirs), 0.0, rel)
+
+
 def compare_lanes(path: Path, inputs: Path, emit: Any) -> None:
     """The CPU lanes (:func:`jointplay._kernels.batch.run_batch`) on the lanes saved by
     ``--part lanes`` against the GPU's outputs there: equal steps, peak and statistic
@@ -267,8 +273,7 @@ def compare_lanes(path: Path, inputs: Path, emit: Any) -> None:
     }
     for name in ("peaks", "stats"):
         ours, theirs = cpu._asdict()[name][both], gpu[name][both]
-        rel = np.abs(theirs - ours) / np.maximum(np.abs(ours), 1e-300)
-        rel = np.where(np.isnan(ours) & np.isnan(theirs), 0.0, rel)
+        rel = relative(theirs, ours)
         row[name] = {
             "max_rel_per_column": np.nanmax(rel, axis=0).tolist(),
             "lanes_over_1e-3_per_column": np.sum(rel > 1e-3, axis=0).tolist(),
@@ -323,7 +328,7 @@ def compare(path: Path, emit: Any) -> None:
     columns += [("stat_", cpu.statistics, c) for c in cpu.statistics.columns if "_mean" in c]
     for prefix, frame, column in columns:
         ours, theirs = frame[column].to_numpy()[both], saved[prefix + column][both]
-        rel = np.abs(theirs - ours) / np.maximum(np.abs(ours), 1e-300)
+        rel = relative(theirs, ours)
         row[column] = {
             "max_rel": float(np.max(rel)), "median_rel": float(np.median(rel)),
             "lanes_over_1e-3": int(np.sum(rel > 1e-3)),

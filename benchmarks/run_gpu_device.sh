@@ -31,14 +31,8 @@ for name in ("numpy", "scipy", "pandas", "numba", "llvmlite", "numba-cuda", "jax
     except m.PackageNotFoundError:
         print(name, "missing")
 EOF
-cuda_check='from numba import cuda; import importlib.metadata as m
-assert cuda.is_available(), "numba.cuda.is_available() is False"
+python3 -c 'from numba import cuda; import importlib.metadata as m
 print("numba-cuda", m.version("numba-cuda"), "sees", cuda.get_current_device().name)'
-if ! python3 -c "$cuda_check" && ls .whl-alt/*.whl >/dev/null 2>&1; then
-    echo "the machine's numba-cuda fails: numba-cuda from .whl-alt"  # our pinned version
-    python3 -m pip install -q --no-index --no-deps --no-compile --no-cache-dir --upgrade \
-        --target /tmp/site .whl-alt/*.whl && python3 -c "$cuda_check"
-fi
 rows="$OUT/rows.jsonl"
 bench() {  # bench LIMIT_S ARGS...: one process of bench_gpu.py, if LIMIT_S is left
     local limit=$1; shift

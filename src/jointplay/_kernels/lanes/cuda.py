@@ -139,8 +139,8 @@ def run_batch(
         ipar, rpar, y0, t_settle, t_end, max_step, rtol, atol, max_steps: as
             :func:`jointplay._kernels.batch.run_batch` (s, SI units).
         method: ``"explicit"`` (Dormand–Prince 5(4)) or ``"implicit"`` (Radau IIA,
-            :mod:`~jointplay._kernels.lanes.source_radau`: film damping too; not the
-            sustained-contact mode).
+            :mod:`~jointplay._kernels.lanes.source_radau`: film damping and the Reynolds
+            film too; not the sustained-contact mode).
         chunk_size: unused (one launch runs every lane given); accepted for the executor's
             device interface.
         timings: if given, receives ``compile_s`` (numba-cuda's compilation or cache load,
