@@ -1,15 +1,18 @@
-"""Compile some of :mod:`jointplay._kernels.eom`'s explicit-signature kernels into Numba's
-on-disk cache, and only those: ``python tests/_precompile.py NAME,NAME`` (names of
-:data:`KERNELS`; ``--list``: the kernels held, compiling none).
+"""Compile the kernels a test run compiles first into Numba's on-disk cache, split in groups:
+``python tests/_precompile.py NAME,NAME`` (names of :data:`KERNELS`; ``--list``: the names,
+compiling none).
 
-Importing ``eom`` compiles its explicit-signature kernels (``@njit(signature)``, :data:`KERNELS`)
-one after the other, ~120-150 CPU-s from a cold cache. Under pytest-xdist every worker imports it
-while collecting, so from a cold cache (a fresh clone) each worker compiled all of them at the
-same time. ``tests/conftest.py`` runs this script twice instead, before the workers start,
-on :data:`GROUPS` (disjoint): each process leaves the other group's kernels lazy (its
-``numba.njit`` drops their signatures), compiles its own with the same signature, which
-Numba's cache then holds for the workers' import. Run from the controller only; a failure
-here is ignored (the workers compile as they did, and a compile error is theirs to report).
+Two kinds: the kernels that importing ``eom`` compiles (``@njit(signature)``: the lane source's
+right-hand side compiled apart, ~12 CPU-s) and the single engine's traced lanes
+(``traced:<integrator>``, :data:`jointplay._kernels.lanes.cpu.traced`, compiled on first use:
+each inlines the whole lane source, the largest compilations of a test run). Under
+pytest-xdist every worker would compile them at the same time from a cold cache (a fresh
+clone); ``tests/conftest.py`` runs this script on :data:`GROUPS` (disjoint) instead, one
+process each, before the workers start: each process leaves the other group's eager kernels
+lazy (its ``numba.njit`` drops their signatures) and compiles its own — a traced lane by one
+short integration of the paper four-bar — which Numba's cache then holds for the workers. Run
+from the controller only; a failure here is ignored (the workers compile as they did, and a
+compile error is theirs to report).
 """
 
 from __future__ import annotations
@@ -18,26 +21,39 @@ import sys
 from collections.abc import Callable
 from typing import Any
 
-#: The explicit-signature kernels that importing ``eom`` compiles (its own four, and the lane
-#: source's right-hand side compiled apart, which :mod:`jointplay._kernels.shared` builds for
-#: it), each with the stem of its cache index file (``<stem>-<line>.pyXY.nbi``).
+#: Each kernel with the stem of its cache index file (``<stem>-<line>.pyXY.nbi``): the
+#: explicit-signature one that importing ``eom`` compiles (:mod:`jointplay._kernels.shared`
+#: builds it for it) and each integrator's traced lane.
 KERNELS = {
-    "jointplay._kernels.eom.after_step": "eom.after_step",
-    "jointplay._kernels.eom.step_check": "eom.step_check",
-    "jointplay._kernels.eom.state_rhs": "eom.state_rhs",
-    "jointplay._kernels.eom.jacobian_state": "eom.jacobian_state",
     "jointplay._kernels.lanes.source.rhs": "source.rhs_apart",
+    "traced:radau": "cpu._traced_radau",
+    "traced:rodas4": "cpu._traced_rodas4",
+    "traced:dopri5": "cpu._traced_dopri5",
 }
-#: Two disjoint groups of about equal compile time (measured from a cold cache, CPU-s, each
-#: with the callees it compiles first: after_step 55, step_check 5, the source's rhs apart
-#: ~12; jacobian_state 41-51, state_rhs 21-24).
-GROUPS = tuple(
-    tuple(f"jointplay._kernels.{name}" for name in group)
-    for group in (
-        ("eom.after_step", "eom.step_check", "lanes.source.rhs"),
-        ("eom.jacobian_state", "eom.state_rhs"),
-    )
+#: Two disjoint groups of about equal compile time (the implicit lane is the largest).
+GROUPS = (
+    ("jointplay._kernels.lanes.source.rhs", "traced:radau"),
+    ("traced:rodas4", "traced:dopri5"),
 )
+
+
+def _warm(integrator: str) -> None:
+    """One short integration by ``integrator``'s traced lane, typed as ``simulate`` calls it."""
+    import numpy as np
+
+    from jointplay.dynamics.integrate import integrate_mechanism
+    from jointplay.dynamics.setup import ContactModel
+    from jointplay.dynamics.simulate import Start, initial_state
+    from jointplay.dynamics.system import build_system
+    from jointplay.io.config import load_preset
+
+    mechanism = load_preset("paper-fourbar")
+    system = build_system(mechanism, ContactModel().joints(mechanism), ramp_time=0.05)
+    y0 = initial_state(system, Start("rest"))
+    integrate_mechanism(
+        system.kernel_args(), 1e-4, y0, method=integrator, rtol=1e-6,
+        atol=np.full(y0.shape[0], 1e-6), max_step=1e-4, max_steps=5, throw=False,
+    )  # fmt: skip
 
 
 def main(names: list[str]) -> None:
@@ -63,10 +79,15 @@ def main(names: list[str]) -> None:
         import jointplay._kernels.eom  # noqa: F401  (its eager kernels, held lazy)
     finally:
         numba.njit = original
+    from jointplay._kernels.lanes.cpu import traced
+
     if names == ["--list"]:
-        print(*sorted(held), sep="\n")
+        print(*sorted([*held, *(f"traced:{name}" for name in traced)]), sep="\n")
         return
     for name in names:
+        if name.startswith("traced:"):
+            _warm(name.removeprefix("traced:"))
+            continue
         dispatcher, signature = held[name]  # a KeyError: eom changed, this does nothing
         dispatcher.compile(signature)
 

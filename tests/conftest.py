@@ -200,9 +200,10 @@ def _precompile(groups: list[tuple[str, ...]], timeout: float) -> list[int | Non
 
 def pytest_sessionstart(session: pytest.Session) -> None:
     """On pytest-xdist's controller, with two workers or more and a cold Numba cache: compile
-    ``eom``'s explicit-signature kernels once, split between two processes, before the workers
-    start (pytest-xdist starts them in its own, later ``pytest_sessionstart``), instead of
-    every worker compiling all of them while it collects (docs/performance.md, "# Tests").
+    the kernels a test run compiles first (``tests/_precompile.py``: what importing ``eom``
+    compiles, and the single engine's traced lanes) once, split between two processes, before
+    the workers start (pytest-xdist starts them in its own, later ``pytest_sessionstart``),
+    instead of every worker compiling all of them (docs/performance.md, "# Tests").
     Nothing with ``-n 0``, on a worker, or with a warm cache; whatever goes wrong here, the
     workers compile as before."""
     config = session.config

@@ -1,6 +1,6 @@
 """``tests/_precompile.py``, which ``tests/conftest.py`` runs on pytest-xdist's controller when
 Numba's cache is cold: its two groups must hold every kernel that importing ``eom`` compiles
-(one left out is compiled by every worker again), each once."""
+and every traced lane (one left out is compiled by every worker again), each once."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ from _precompile import GROUPS, KERNELS
 SCRIPT = Path(__file__).with_name("_precompile.py")
 
 
-def test_the_groups_are_disjoint_and_hold_every_eagerly_compiled_kernel(tmp_path: Path) -> None:
+def test_the_groups_are_disjoint_and_hold_every_first_compiled_kernel(tmp_path: Path) -> None:
     held = subprocess.run(
         [sys.executable, str(SCRIPT), "--list"],
         env={**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)},

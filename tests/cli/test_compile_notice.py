@@ -85,7 +85,8 @@ def _cached_modules(folder: Path, modules: tuple[str, ...]) -> None:
 
 #: Commands and the kernel modules of a cache warm for the single engine only (Radau, RODAS4
 #: and DOPRI5, as ``simulate`` and ``paper`` fill it), and whether each must say it compiles.
-ENGINE_ONLY = ("common", "constraints", "contact", "linalg", "eom", "radau", "rodas", "dopri")
+ENGINE_ONLY = ("common", "constraints", "contact", "eom", "cpu._traced_radau",
+               "cpu._traced_rodas4", "cpu._traced_dopri5")  # fmt: skip
 
 
 @pytest.mark.parametrize(
@@ -115,15 +116,15 @@ def test_the_notice_asks_about_the_kernels_the_command_runs(
 def test_a_cache_without_the_integrator_run_is_not_warm(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """``simulate --integrator dopri5`` compiles DOPRI5's kernels: a cache of Radau's only
-    is not enough."""
+    """``simulate --integrator dopri5`` compiles DOPRI5's traced lane: a cache of Radau's
+    only is not enough."""
     from jointplay._kernels import compiled_cache_present, single_engine
 
     monkeypatch.setattr(jointplay._kernels, "cache_folders", lambda: [tmp_path])
-    _cached_modules(tmp_path, ("eom", "radau"))
+    _cached_modules(tmp_path, ("eom", "cpu._traced_radau"))
     assert compiled_cache_present(single_engine())
     assert compiled_cache_present(single_engine("radau"))
     assert not compiled_cache_present(single_engine("dopri5"))
     assert not compiled_cache_present(single_engine("radau", "rodas4"))
-    _cached_modules(tmp_path, ("dopri",))
+    _cached_modules(tmp_path, ("cpu._traced_dopri5",))
     assert compiled_cache_present(single_engine("dopri5"))

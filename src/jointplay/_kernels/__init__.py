@@ -2,8 +2,8 @@
 
 Numba compiles each kernel on first use and keeps the machine code in an on-disk cache
 (``cache=True``): the first dynamic run after an install or an upgrade spends one to two
-minutes compiling (2-core machine; the single engine inlines the lane source into each of its
-hooks), later runs load the cache in about a second.
+minutes compiling (2-core machine; each lane inlines the whole lane source), later runs load
+the cache in about a second.
 :func:`compiled_cache_present` tells the command line which of the two is about to happen,
 so that it can say so; it reads only file names (no Numba import). Each command asks about the
 kernels it runs: the single engine's (:func:`single_engine`, ``simulate``, ``paper``, ...)
@@ -28,26 +28,21 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-from jointplay._kernels.integrators import INTEGRATORS
-
 #: The kernel modules the batch engine's lanes compile first (their index files name them):
 #: ``lanes/source.py`` with the equations of motion and Radau's step control.
 BATCH_LANES = ("radau", "eom", "source")
 #: Kept for callers of the name: the batch lanes' modules.
 FIRST_COMPILED = BATCH_LANES
-#: The module of each integrator of the single engine (:mod:`jointplay.dynamics.integrate`).
-INTEGRATOR_MODULES = {
-    name: integrator.module for name, integrator in INTEGRATORS.items() if integrator.module
-}
 
 
 def single_engine(*integrators: str | None) -> tuple[str, ...]:
-    """The kernel modules one simulation of the single engine
+    """The kernels one simulation of the single engine
     (:func:`jointplay.dynamics.simulate.simulate`) compiles with each of ``integrators``
-    (``None``: the default, Radau): the equations of motion, Radau's module (its step
-    callbacks serve every integrator) and each integrator's own."""
-    chosen = [INTEGRATOR_MODULES.get(name or "radau", "radau") for name in integrators or (None,)]
-    return tuple(dict.fromkeys(("eom", "radau", *chosen)))
+    (``None``: the default, Radau), by the stems of their cache files: the equations' cold
+    callers (``eom``: the diagnostics) and each integrator's traced lane
+    (:data:`jointplay._kernels.lanes.cpu.traced`)."""
+    chosen = [f"cpu._traced_{name or 'radau'}" for name in integrators or (None,)]
+    return tuple(dict.fromkeys(("eom", *chosen)))
 
 
 #: The stamp beside a cache folder's kernels: the digest of the sources they were compiled from.
@@ -150,12 +145,12 @@ def cache_folders() -> list[Path]:
 def compiled_cache_present(modules: Sequence[str] = BATCH_LANES) -> bool:
     """Whether every kernel module of ``modules`` (:func:`single_engine`,
     :data:`BATCH_LANES`) has a cache index for this Python
-    (``<module>.<function>-<line>.py<XY>.nbi``). A cache made from other kernel sources
+    (``<module>.<function>-<line>.py<XY>.nbi``; a module may name its function too). A cache made from other kernel sources
     does not count: importing this package has dropped it (:func:`drop_stale_caches`)."""
     tag = f"py{sys.version_info.major}{sys.version_info.minor}"
     folders = [folder for folder in cache_folders() if folder.is_dir()]
     return all(
-        any(next(folder.rglob(f"{module}.*.{tag}.nbi"), None) for folder in folders)
+        any(next(folder.rglob(f"{module}[.-]*.{tag}.nbi"), None) for folder in folders)
         for module in modules
     )
 

@@ -1,16 +1,19 @@
-"""The single engine's equations of motion: the lane source's, behind the integrator's hooks.
+"""The single engine's model, its cold callers and the generic loop's hooks over the lane source.
 
 The equations — right-hand side, contact and friction forces, film damping, the quantities,
 the contact memory and the closed-form Jacobian — are written once, in
-:mod:`jointplay._kernels.lanes.source` (and ``source_radau``), and compiled for the single
-engine by :mod:`jointplay._kernels.shared`. This module packs the model, gives the integrators
-(:mod:`jointplay._kernels.radau`, ``rodas``, ``dopri``) their four hooks with one explicit
-signature each (so that the integrators' cores are cached on disk) — :func:`state_rhs`,
-:func:`jacobian_state`, :func:`step_check`, :func:`after_step` — and the recorded
-trajectory's diagnostics. The hooks' pieces are the CPU lanes' too: the projection with
-LAPACK's solve (:mod:`jointplay._kernels.lanes.projection`) and the sustained-contact mode
-(the accelerations with locked joints, the release control, capture and release:
-:mod:`jointplay._kernels.sustained`).
+:mod:`jointplay._kernels.lanes.source` (and ``source_radau``), and the single engine
+integrates them by the lanes' own loop with its trajectory recorded
+(:data:`jointplay._kernels.lanes.cpu.traced`, through
+:func:`jointplay.dynamics.integrate.integrate_mechanism`). This module packs the model
+(:func:`pack`), evaluates the recorded states (:func:`evaluate`, :func:`diagnostics`,
+:func:`film_forces`) and keeps the same equations behind the generic loop's four hooks
+(:mod:`jointplay._kernels.driver`, ``integrate()``'s ``fun``, ``step_check``, ``after_step``,
+``jac``): :func:`state_rhs`, :func:`step_check`, :func:`after_step`, :func:`jacobian_state`,
+compiled on first use (the single engine ran by them before; tests/_kernels/test_traced_lanes.py
+holds the two equal, bit for bit). The hooks' pieces are the CPU lanes' too: the projection
+with LAPACK's solve (:mod:`jointplay._kernels.lanes.projection`) and the sustained-contact
+mode (:mod:`jointplay._kernels.sustained`).
 
 The model is an :class:`EomModel`: a named tuple of flat arrays that
 :mod:`jointplay.dynamics.system` builds once, read-only. The hooks take
@@ -61,7 +64,7 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit, typeof, types
+from numba import njit
 
 from jointplay._kernels.ids import (
     LOCKED,
@@ -249,16 +252,8 @@ def unpack(rpar: np.ndarray, ipar: np.ndarray) -> EomModel:
     )  # fmt: skip
 
 
-#: Numba type of the kernels' ``args``: ``(rpar, ipar, workspace)``, the first two
+#: ``args`` as the kernels' annotations spell it: ``(rpar, ipar, workspace)``, the first two
 #: read-only (:func:`pack`), the workspace writable (:func:`new_workspace`).
-ARGS_TYPE = typeof(
-    (
-        _readonly(np.zeros(1)),
-        _readonly(np.zeros(1, dtype=np.int64)),
-        new_workspace(),
-    )
-)
-#: ``args`` as the kernels' annotations spell it.
 EomArgs = tuple[np.ndarray, np.ndarray, np.ndarray]
 
 
@@ -273,10 +268,7 @@ def _constraint_work(y: np.ndarray, rpar: np.ndarray, lay: np.ndarray):
     return y[:0].reshape((0, 0)), y[:0].reshape((0, 0)), y[:0]
 
 
-rhs_signature = types.float64[::1](types.float64, types.float64[::1], ARGS_TYPE)
-
-
-@njit(rhs_signature, cache=True)
+@njit(cache=True)
 def state_rhs(t: float, y: np.ndarray, args: EomArgs) -> np.ndarray:
     """ẏ for the state layout of the module docstring (the source's ``rhs``); allocates ẏ and
     nothing else when every joint is clear (the paper's case)."""
@@ -351,16 +343,7 @@ def film_forces(y: np.ndarray, rpar: np.ndarray, ipar: np.ndarray, contacts: np.
     return out
 
 
-jacobian_signature = types.boolean(
-    types.float64,
-    types.float64[::1],
-    types.float64[::1],
-    ARGS_TYPE,
-    types.float64[:, ::1],
-)
-
-
-@njit(jacobian_signature, cache=True)
+@njit(cache=True)
 def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: np.ndarray) -> bool:
     """∂ẏ/∂y in closed form when every joint is clear and none is locked (the source's
     ``jacobian_clear``, whose docstring derives it); by forward differences with fixed steps
@@ -436,16 +419,7 @@ def _onset_retry(
     return theta
 
 
-step_check_signature = types.float64(
-    types.float64,
-    types.float64[::1],
-    types.float64,
-    types.float64[::1],
-    ARGS_TYPE,
-)
-
-
-@njit(step_check_signature, cache=True)
+@njit(cache=True)
 def step_check(
     t_old: float,
     y_old: np.ndarray,
@@ -505,10 +479,7 @@ def start_workspace(y: np.ndarray, args: EomArgs) -> None:
     _remember(_records(y, args[0], args[1]), args[2])
 
 
-after_step_signature = types.boolean(types.float64, types.float64[::1], ARGS_TYPE)
-
-
-@njit(after_step_signature, cache=True)
+@njit(cache=True)
 def after_step(t: float, y: np.ndarray, args: EomArgs) -> bool:
     """Update each joint's contact-event memory v0 (the source's ``contact_memory``: a new
     event stores max(δ̇ at δ = 0, v_mark), an ended one 0; the step's start from the

@@ -108,6 +108,12 @@ COUNTER_NAMES = (
 NFEV, NJEV, NLU, NSTEPS, NREJ_ERROR, NREJ_NEWTON, NREJ_CHECK = range(7)
 #: Counters per batch lane: accepted steps, rejected steps, right-hand side evaluations.
 K_STEPS, K_REJECTED, K_RHS = 0, 1, 2
+#: A traced lane's (the single engine's, ``source.RECORD``) further counters: Jacobians, LU
+#: factorisations (two per Newton matrix: real and complex), the rejections by a Newton
+#: iteration that did not converge and by the contact-onset control (those by the error test
+#: are the rest of ``K_REJECTED``).
+K_JAC, K_LU, K_REJ_NEWTON, K_REJ_CHECK = 3, 4, 5, 6
+N_TRACE_COUNTS = 7
 
 # --- numerical constants of the step and Jacobian rules ----------------------------------------
 EPS = sys.float_info.epsilon

@@ -54,7 +54,7 @@ from jointplay.execution.interrupts import interrupts_watched as _interrupts_wat
 if TYPE_CHECKING:
     import pandas as pd
 
-__all__ = ["METHODS", "IntegrationResult", "IntegrationStatus", "integrate"]
+__all__ = ["METHODS", "IntegrationResult", "IntegrationStatus", "integrate", "integrate_mechanism"]
 
 #: The integration methods by name, their records: Radau IIA (order 5), RODAS4 (order 4) and
 #: DOPRI5 (order 5, explicit), each run by the one loop (:mod:`jointplay._kernels.driver`).
@@ -275,15 +275,82 @@ def integrate(
             autonomous=bool(autonomous),
             interrupt=flags,
         )
+    counts = dict(zip(ids.COUNTER_NAMES, (int(c) for c in counters), strict=True))
+    return _result(status_code, t, y, counts, t0, t_bound, rtol, max_steps, throw)
+
+
+def integrate_mechanism(
+    args: tuple[npt.NDArray[np.float64], npt.NDArray[np.int64], npt.NDArray[np.float64]],
+    t_end: float,
+    y0: npt.NDArray[np.float64],
+    *,
+    method: str,
+    rtol: float,
+    atol: npt.NDArray[np.float64],
+    max_step: float,
+    max_steps: int,
+    throw: bool = True,
+) -> tuple[IntegrationResult, npt.NDArray[np.float64]]:
+    """A mechanism's equations of motion (:mod:`jointplay._kernels.eom`'s model and state)
+    from t = 0 to ``t_end`` by the batch lanes' loop and steps with the trajectory recorded
+    (:data:`jointplay._kernels.lanes.cpu.traced`): the steps of :func:`integrate` with
+    ``eom``'s hooks (``n_second`` the coordinates, the work integrals and the impact-velocity
+    memory passive, RADAU5's hold after failures), from the one loop of every engine.
+
+    Args:
+        args: the model packed (``eom.pack``'s ``rpar``, ``ipar``) and a workspace.
+        t_end: the interval's end, s.
+        method: an integrator's name (:data:`METHODS`).
+        rtol, atol, max_step, max_steps, throw: as :func:`integrate`'s (checked by the
+            caller).
+
+    Returns:
+        The result, and the projection's statistics (``ids.W_*``).
+    """
+    from jointplay._kernels.eom import lay_of
+    from jointplay._kernels.lanes import cpu
+
+    rpar, ipar = args[0], args[1]
+    with _interrupts_watched() as flags:  # None off the main thread: nothing to watch
+        code, t, y, counters, work = cpu.traced[method](
+            ipar, rpar, lay_of(ipar), np.ascontiguousarray(y0, dtype=np.float64), float(t_end),
+            float(max_step), float(rtol), np.ascontiguousarray(atol, dtype=np.float64),
+            int(max_steps), np.zeros(1, dtype=np.uint8) if flags is None else flags,
+        )  # fmt: skip
+    rejected = {"n_rejected_newton": int(counters[ids.K_REJ_NEWTON]),
+                "n_rejected_check": int(counters[ids.K_REJ_CHECK])}  # fmt: skip
+    counts = {
+        "nfev": int(counters[ids.K_RHS]),
+        "njev": int(counters[ids.K_JAC]),
+        "nlu": int(counters[ids.K_LU]),
+        "n_steps": int(counters[ids.K_STEPS]),
+        "n_rejected_error": int(counters[ids.K_REJECTED]) - sum(rejected.values()),
+        **rejected,
+    }
+    return _result(code, t, y, counts, 0.0, t_end, rtol, max_steps, throw), work
+
+
+def _result(
+    status_code: int,
+    t: npt.NDArray[np.float64],
+    y: npt.NDArray[np.float64],
+    counts: dict[str, int],
+    t0: float,
+    t_bound: float,
+    rtol: float,
+    max_steps: int,
+    throw: bool,
+) -> IntegrationResult:
+    """The result of a run of the loop, ``counts`` by :data:`ids.COUNTER_NAMES`; an interrupt
+    raises ``KeyboardInterrupt``, a failure :class:`IntegrationError` when ``throw``."""
     status = IntegrationStatus(status_code)
     if status is IntegrationStatus.INTERRUPTED:
         raise KeyboardInterrupt(status.summary)
-    message = _message(status, t, t0, t_bound, rtol, max_steps, initial=bool(counters[0] == 1))
+    message = _message(status, t, t0, t_bound, rtol, max_steps, initial=counts["nfev"] == 1)
     if throw and status is not IntegrationStatus.SUCCESS:
         raise IntegrationError(message)
     t.flags.writeable = False
     y.flags.writeable = False
-    counts = dict(zip(ids.COUNTER_NAMES, (int(c) for c in counters), strict=True))
     return IntegrationResult(
         t=t,
         y=y,

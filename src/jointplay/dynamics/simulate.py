@@ -32,7 +32,11 @@ from jointplay.dynamics.clearance import ClearanceJoint
 from jointplay.dynamics.cycles import DEFAULT_SETTLE, analysed_revolutions, settle_revolutions
 from jointplay.dynamics.diagnostics import Diagnostic
 from jointplay.dynamics.integrate import METHODS as INTEGRATION_METHODS
-from jointplay.dynamics.integrate import IntegrationResult, IntegrationStatus, integrate
+from jointplay.dynamics.integrate import (
+    IntegrationResult,
+    IntegrationStatus,
+    integrate_mechanism,
+)
 from jointplay.dynamics.nominal import nominal_analysis
 from jointplay.dynamics.regimes import asperity_play
 from jointplay.dynamics.running import PEAK_KEYS, RunningBehaviour, characterise
@@ -634,27 +638,13 @@ def simulate(
     )
     t_end = (int(settle) + revolutions) * period
     args = system.kernel_args()
-    eom.start_workspace(np.ascontiguousarray(y0, dtype=float), args)
     wall = time.perf_counter()
-    run = integrate(
-        eom.state_rhs,
-        (0.0, t_end),
-        y0,
-        args=args,
-        rtol=scale * solver.rtol,
-        atol=atol,
-        max_step=solver.max_step if solver.max_step is not None else period / 360.0,
-        max_steps=solver.max_steps,
-        step_check=eom.step_check,
-        after_step=eom.after_step,
-        n_second=n,  # q̇ = d/dt q: Newton systems on the n accelerations only
-        n_active=2 * n,  # work integrals and impact-velocity memory do not feed back
-        hold_after_failure=True,  # RADAU5's step control after Newton failures at contacts
-        jac=eom.jacobian_state,  # closed form when every joint is clear, else differences
-        throw=False,
-        method=solver.integrator or "radau",
-        autonomous=not start.ramp_time > 0,  # t enters only through the driver's ramp
-    )
+    integrator = solver.integrator or "radau"
+    max_step = solver.max_step if solver.max_step is not None else period / 360.0
+    run, work = integrate_mechanism(
+        args, t_end, y0, method=integrator, rtol=scale * solver.rtol, atol=atol,
+        max_step=max_step, max_steps=solver.max_steps, throw=False,
+    )  # fmt: skip
     wall = time.perf_counter() - wall
     message = _message(run, t_end, solver)
     if throw and not run.success:
@@ -683,9 +673,7 @@ def simulate(
         status=run.status,
         message=message,
         nominal_peaks=nominal_peaks,
-        solver_stats=_solver_stats(
-            system, run, columns, args[2], wall, solver.integrator or "radau"
-        ),
+        solver_stats=_solver_stats(system, run, columns, work, wall, integrator),
         revolutions=revolutions,
         settle=int(settle),
         sample_deg=sample_deg,

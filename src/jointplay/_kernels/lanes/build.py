@@ -1,8 +1,10 @@
 """Compile the lane source (:mod:`jointplay._kernels.lanes.source`) for one target.
 
-The single-source pattern: the source modules (:mod:`~jointplay._kernels.lanes.source`, and
-:mod:`~jointplay._kernels.lanes.source_radau` for the implicit lane) hold plain Python functions written in the
-subset both Numba targets compile (scalars and caller-provided arrays, no allocation).
+The single-source pattern: the source modules (:data:`SOURCES`:
+:mod:`~jointplay._kernels.lanes.source`, the equations, the loop and DOPRI5's steps;
+:mod:`~jointplay._kernels.lanes.source_radau`, Radau IIA's; :mod:`~jointplay._kernels.lanes.source_rodas`,
+RODAS4's) hold plain Python functions written in the subset both Numba targets compile
+(scalars and caller-provided arrays, no allocation).
 :func:`build` makes a fresh namespace for a target — the source's constants and ``math`` —
 and compiles every function of :data:`FUNCTIONS` into it with the target's decorator
 (``numba.njit(cache=True, error_model="numpy")`` for the CPU,
@@ -25,11 +27,11 @@ import numpy.typing as npt
 
 from jointplay._kernels import ids
 from jointplay._kernels.capabilities import refusal
-from jointplay._kernels.lanes import source, source_radau
+from jointplay._kernels.lanes import source, source_radau, source_rodas
 
 __all__ = [
-    "FUNCTIONS", "IMPLICIT_FUNCTIONS", "all_clear", "build", "closed", "lane_layout",
-    "lanes_refusal", "model_width", "output_widths", "running_layout",
+    "FUNCTIONS", "HOME", "SOURCES", "all_clear", "build", "closed", "lane_layout",
+    "lanes_refusal", "model_width", "output_widths", "rebound", "running_layout",
 ]  # fmt: skip
 
 #: A lane method's steps, the names the loop calls (``step_<name>``: ``source.lane``'s
@@ -37,7 +39,14 @@ __all__ = [
 STEPS = ("start", "begin", "land", "attempt", "retry", "refresh", "accept", "dense")
 #: The lanes, each the loop compiled with a method's steps and constants (its record: the
 #: prefix of its steps, ``steps``, and the loop's constants).
-LANES = {"explicit_lane": source.DOPRI_LANE, "implicit_lane": source_radau.RADAU_LANE}
+LANES = {
+    "explicit_lane": source.DOPRI_LANE,
+    "implicit_lane": source_radau.RADAU_LANE,
+    "rodas_lane": source_rodas.RODAS_LANE,
+}
+#: The source modules: the equations and the loop (``source``), and each further method's
+#: steps in a module of its own.
+SOURCES = (source, source_radau, source_rodas)
 #: The loop's functions (``source``'s), compiled once per lane with its method's names.
 LOOP = ("lane",)
 
@@ -54,12 +63,11 @@ def _defined(module: types.ModuleType) -> tuple[str, ...]:
     )
 
 
-#: Those of :data:`FUNCTIONS` that :mod:`jointplay._kernels.lanes.source_radau` holds (the
-#: implicit lane); the others are :mod:`jointplay._kernels.lanes.source`'s.
-IMPLICIT_FUNCTIONS = _defined(source_radau)
-#: The source's functions, compiled for every target: every function the two source modules
+#: Each function of the source by name: the module that defines it (:data:`SOURCES`).
+HOME = {name: module for module in SOURCES for name in _defined(module)}
+#: The source's functions, compiled for every target: every function the source modules
 #: define, the loop aside (compiled once per lane, with its method's steps).
-FUNCTIONS = (*_defined(source), *IMPLICIT_FUNCTIONS)
+FUNCTIONS = tuple(HOME)
 
 #: ``eom.EomModel`` field order of the ``ipar`` header (lengths), as :func:`eom.pack` writes it.
 _HEADER = (
@@ -102,7 +110,7 @@ def build(
     """
     namespace: dict[str, Any] = {
         name: value
-        for module in (ids, source, source_radau)
+        for module in (ids, *SOURCES)
         for name, value in vars(module).items()
         if name.isupper()
     }
@@ -117,7 +125,7 @@ def build(
     functions = [
         (
             name,
-            chosen.get(name, getattr(source_radau if name in IMPLICIT_FUNCTIONS else source, name)),
+            chosen.get(name, getattr(HOME[name], name)),
         )
         for name in FUNCTIONS
         if name in only
@@ -125,23 +133,23 @@ def build(
     suffix = f"_{tag}" if tag else ""
     mine = [(name, original, decorate_own or decorate) for name, original in (own or {}).items()]
     for name, original, decorator in [*((n, f, decorate) for n, f in functions), *mine]:
-        namespace[name] = decorator(_copy(original, namespace, original.__qualname__ + suffix))
+        namespace[name] = decorator(rebound(original, namespace, original.__qualname__ + suffix))
     for name, method in LANES.items():  # the loop, once per lane, with its method's steps
         steps = tuple(f"{method['steps']}_{step}" for step in STEPS)
         if all(step in namespace for step in steps):
             bound = {**namespace, **{k: v for k, v in method.items() if k.isupper()}}
             for function, alias in [*zip(steps, STEPS, strict=True), *((f, "") for f in LOOP)]:
-                original = getattr(source_radau if function in IMPLICIT_FUNCTIONS else source,
-                                   function)  # fmt: skip
+                original = getattr(HOME.get(function, source), function)
                 use = decorate if function == "lane" else (decorate_steps or decorate)
-                copy = use(_copy(original, bound, f"{function}_{name}{suffix}"))
+                copy = use(rebound(original, bound, f"{function}_{name}{suffix}"))
                 bound[f"step_{alias}" if alias else function] = copy
             namespace[name] = bound["lane"]
     return namespace
 
 
-def _copy(original: Callable[..., Any], namespace: dict[str, Any], qualname: str) -> Any:
-    """``original`` with ``namespace`` as its globals, under ``qualname`` (Numba's cache key)."""
+def rebound(original: Callable[..., Any], namespace: dict[str, Any], qualname: str) -> Any:
+    """``original`` with ``namespace`` as its globals, under ``qualname`` (Numba's cache key):
+    how a target binds the names a function calls."""
     copy = types.FunctionType(
         original.__code__, namespace, original.__name__, original.__defaults__,
         original.__closure__,
@@ -168,9 +176,7 @@ def closed(
         name = todo.pop()
         if name in LANES:
             continue
-        function = mine.get(name) or getattr(
-            source_radau if name in IMPLICIT_FUNCTIONS else source, name
-        )
+        function = mine.get(name) or getattr(HOME.get(name, source), name)
         for called in function.__code__.co_names:
             if (called in FUNCTIONS or called in mine) and called not in wanted:
                 wanted.add(called)

@@ -10,7 +10,6 @@ depend on the other lanes or on the thread that runs it.
 
 from __future__ import annotations
 
-import types
 from typing import Any
 
 import numba
@@ -19,10 +18,12 @@ from numba.extending import intrinsic
 from numba.np.arrayobj import make_array, populate_array
 
 from jointplay._kernels import sustained
-from jointplay._kernels.lanes.build import build, closed
+from jointplay._kernels.ids import N_TRACE_COUNTS
+from jointplay._kernels.lanes.build import build, closed, rebound
 from jointplay._kernels.lanes.projection import N_WORK, project_lapack
-from jointplay._kernels.lanes.source import LY_N, LY_NC, LY_NIDEAL, LY_SIZE
+from jointplay._kernels.lanes.source import LY_N, LY_NC, LY_NIDEAL, LY_NQ, LY_SIZE
 from jointplay._kernels.lanes.source_radau import N_RADAU_SCALARS
+from jointplay._kernels.lanes.source_rodas import N_RODAS_SCALARS
 
 #: The lanes' steps and the loop's helpers are inlined into the loop (Numba's IR inlining):
 #: called as functions, they made an explicit lane 7-14 % dearer (64 conventional lanes).
@@ -53,6 +54,19 @@ explicit_lane_running = compiled_running["explicit_lane"]
 implicit_lane_running = compiled_running["implicit_lane"]
 #: The implicit lane (the loop with :mod:`jointplay._kernels.lanes.source_radau`'s steps).
 implicit_lane = compiled["implicit_lane"]
+#: The lanes that record their trajectory and every counter (``source.RECORD``): the single
+#: engine's integrations (:data:`traced`), the batch lanes' loop and steps.
+compiled_traced = build(
+    _PLAIN,
+    hooks=_HOOKS,
+    extras={"np": np, "RECORD": True},
+    only=closed(
+        ("explicit_lane", "implicit_lane", "rodas_lane"), {**sustained.OWN, **sustained.HOOKS}
+    ),
+    own=sustained.OWN,
+    tag="traced",
+    decorate_steps=_INLINE,
+)
 
 __all__ = [
     "EXPLICIT_DRIVERS",
@@ -66,6 +80,7 @@ __all__ = [
     "implicit_lane",
     "implicit_lanes",
     "implicit_lanes_parallel",
+    "traced",
 ]
 
 
@@ -141,6 +156,19 @@ def _radau_work(lay):
 
 
 @numba.njit(cache=True, error_model="numpy")
+def _rodas_work(lay):
+    """RODAS4's ``ws`` (``source_rodas.rodas_start``'s docstring)."""
+    size = lay[LY_SIZE]
+    n = lay[LY_N]
+    v = np.empty((8, size))
+    return (
+        np.zeros(N_RODAS_SCALARS), np.empty((size - n, 2 * n)), v[0], v[1], np.empty((6, size)),
+        v[2], v[3], v[4], v[5], v[6], v[7], np.empty(n), np.empty((n, n)),
+        np.empty(n, dtype=np.int64),
+    )  # fmt: skip
+
+
+@numba.njit(cache=True, error_model="numpy")
 def _radau_borrowed(ws):
     b = borrowed
     return (
@@ -148,6 +176,19 @@ def _radau_borrowed(ws):
         b(ws[8]), b(ws[9]), b(ws[10]), b(ws[11]), b(ws[12]), b(ws[13]), b(ws[14]), b(ws[15]),
         b(ws[16]), b(ws[17]), b(ws[18]), b(ws[19]), b(ws[20]), b(ws[21]), b(ws[22]),
     )  # fmt: skip
+
+
+def _traced(ipar, rpar, lay, y0, t_end, max_step, rtol, atol, max_steps, interrupt):
+    """One integration by the traced lane ``method_lane`` with ``method_work`` (:func:`traced`)."""
+    mask, vec, q, samples, pen, records, phi_q, schur, lam, scratch = _work(lay, lay[LY_NQ])
+    counts = np.zeros(N_TRACE_COUNTS, dtype=np.int64)
+    code, _, times, states = method_lane(  # type: ignore[name-defined]  # noqa: F821
+        ipar, rpar, lay, y0, t_end, t_end, max_step, rtol, atol, max_steps, interrupt,
+        np.empty(lay[LY_NQ]), np.empty(2 * (lay[LY_N] // 3) + 4 * lay[LY_NC]), counts, mask,
+        vec, q, samples, pen, records, phi_q, schur, lam, scratch,
+        method_work(lay),  # type: ignore[name-defined]  # noqa: F821
+    )  # fmt: skip
+    return code, times.copy(), states.copy(), counts, scratch
 
 
 def _one(
@@ -209,13 +250,9 @@ def _drivers(lane: Any, work: Any, borrow: Any, tag: str) -> tuple[Any, Any]:
                  "_alive": _alive, "method_lane": lane, "method_work": work,
                  "method_borrowed": borrow}  # fmt: skip
     for function, parallel in ((_one, False), (_lanes, False), (_lanes_parallel, True)):
-        copy = types.FunctionType(function.__code__, namespace, function.__name__)
-        copy.__module__ = function.__module__
-        copy.__qualname__ = function.__qualname__ + tag
-        copy.__doc__ = function.__doc__
         namespace[function.__name__] = numba.njit(
             cache=True, error_model="numpy", parallel=parallel
-        )(copy)
+        )(rebound(function, namespace, function.__qualname__ + tag))
     return namespace["_lanes"], namespace["_lanes_parallel"]
 
 
@@ -229,6 +266,32 @@ def _driver_table(lane: Any, running: Any, work: Any, borrow: Any, tag: str) -> 
         (True, False): serial_running, (True, True): threaded_running,
     }  # fmt: skip
 
+
+#: The single engine's integration by each integrator (its name), a lane that records:
+#: ``traced[name](ipar, rpar, lay, y0, t_end, max_step, rtol, atol, max_steps, interrupt) ->
+#: (status, times, states, counts, work)`` — from t = 0 to ``t_end``, no window; every
+#: accepted step's end (the first row the start), the counters (``K_*``, ``N_TRACE_COUNTS``)
+#: and the projection's statistics (``W_*``).
+_TRACED_NAMES = {"np": np, "_work": _work, "N_TRACE_COUNTS": N_TRACE_COUNTS, "LY_N": LY_N,
+                 "LY_NC": LY_NC, "LY_NQ": LY_NQ}  # fmt: skip
+traced = {
+    name: numba.njit(cache=True, error_model="numpy", nogil=True)(
+        rebound(
+            _traced,
+            {
+                **_TRACED_NAMES,
+                "method_lane": compiled_traced[lane],
+                "method_work": work,
+            },
+            f"_traced_{name}",
+        )
+    )
+    for name, lane, work in (
+        ("dopri5", "explicit_lane", _dopri_work),
+        ("radau", "implicit_lane", _radau_work),
+        ("rodas4", "rodas_lane", _rodas_work),
+    )
+}
 
 #: The explicit drivers by ``(running, parallel)``.
 EXPLICIT_DRIVERS = _driver_table(

@@ -11,7 +11,9 @@ the CUDA kernel their device compilation (:mod:`jointplay._kernels.lanes.cuda_ke
 
 Every function here is plain Python in the subset that both targets compile: scalars and
 caller-provided arrays in, scalars (or small tuples of scalars) out; no allocation, no slicing
-into new arrays, no NumPy calls but indexing, ``math`` for the elementary functions. Calls
+into new arrays, no NumPy calls but indexing, ``math`` for the elementary functions — but for
+the trajectory of the CPU's traced lane (:data:`RECORD`, :func:`trace_start`), which no other
+target compiles. Calls
 between the functions are resolved by name when :mod:`jointplay._kernels.lanes.build`
 compiles the whole set for one target (each target gets its own namespace), so the same
 source serves every target. Nothing here is decorated and nothing here is called from Python.
@@ -37,6 +39,8 @@ Units are SI throughout (m, rad, s, kg, N).
 from __future__ import annotations
 
 import math
+
+import numpy as np  # the traced lane's trajectory alone (RECORD: the CPU's)
 
 # The shared ids, slots, statuses and counters (one home: jointplay._kernels.ids; build.py
 # puts the source's upper-case globals, these included, into every target's namespace).
@@ -72,6 +76,7 @@ from jointplay._kernels.ids import (
     IMPACT_D_MAX,
     IMPACT_EXPONENT,
     IMPACT_STIFFNESS,
+    K_REJ_CHECK,
     K_REJECTED,
     K_RHS,
     K_STEPS,
@@ -1390,6 +1395,12 @@ RUN_PREVIOUS = 4
 #: compiles the explicit lane twice (:mod:`jointplay._kernels.lanes.cpu`), the CUDA kernels
 #: with them.
 RUNNING = False
+#: Whether a compilation of the loop records the trajectory (every accepted step's end, the
+#: single engine's result: :func:`trace_add`) and keeps the counters of ``N_TRACE_COUNTS``;
+#: a constant of the target's namespace as :data:`RUNNING` (the CPU's traced lane,
+#: :mod:`jointplay._kernels.lanes.cpu`), so that no other compilation has its code — the
+#: trace allocates, which the GPU cannot.
+RECORD = False
 
 
 def running_on(lay):
@@ -1589,6 +1600,34 @@ def close_running(rp, lay, stats, span):
         stats[s + c] = (depth_b + depth_j) / span
 
 
+def trace_start(t, y, size):
+    """The trajectory's arrays (times, states; room for 64 rows), row 0 ``(t, y)``: the CPU's
+    traced lane only (:data:`RECORD`)."""
+    times = np.empty(64)
+    states = np.empty((64, size))
+    times[0] = t
+    for i in range(size):
+        states[0, i] = y[i]
+    return times, states
+
+
+def trace_add(times, states, m, t, y, size):
+    """Row ``m`` of the trajectory ``(t, y)``, the arrays doubled first when full; returns
+    them."""
+    if m == times.shape[0]:
+        grown_times = np.empty(2 * m)
+        grown_states = np.empty((2 * m, size))
+        for r in range(m):
+            grown_times[r] = times[r]
+            for i in range(size):
+                grown_states[r, i] = states[r, i]
+        times, states = grown_times, grown_states
+    times[m] = t
+    for i in range(size):
+        states[m, i] = y[i]
+    return times, states
+
+
 def start_outputs(ip, rp, lay, mask, peaks, stats, counts):
     """A lane's outputs before its first step: the triggering quantities in ``mask``
     (:func:`triggers`), peaks and statistics NaN (a lane that fails leaves them so), counters
@@ -1598,7 +1637,7 @@ def start_outputs(ip, rp, lay, mask, peaks, stats, counts):
         peaks[p] = math.nan
     for m in range(2 * (lay[LY_N] // 3) + 4 * lay[LY_NC]):  # + the regimes' 3 nc
         stats[m] = math.nan
-    for m in range(3):
+    for m in range(counts.shape[0]):
         counts[m] = 0
     if running_on(lay):
         start_running(rp, lay, stats)
@@ -1660,8 +1699,14 @@ def lane(
     n_q = lay[LY_NQ]
     start_outputs(ip, rp, lay, mask, peaks, stats, counts)
     t = 0.0
+    if RECORD:
+        times, states = trace_start(t, y0, size)
+        m = 1
     if interrupt_pending(interrupt):
-        return STATUS_INTERRUPTED, t
+        if RECORD:
+            return STATUS_INTERRUPTED, t, times[:m], states[:m]
+        else:
+            return STATUS_INTERRUPTED, t
     rtol = max(rtol, RTOL_FLOOR)
     y, y_new, y_old, f, f_new = vec[0], vec[1], vec[2], vec[3], vec[4]
     y_mid, f_mid, y_open, f_open = vec[5], vec[6], vec[7], vec[8]
@@ -1674,7 +1719,10 @@ def lane(
     rhs_and_quantities(t, y, rp, ip, lay, f, record, qa, pen, phi_q, schur, lam)
     counts[K_RHS] += 1
     if not (all_finite(y, size) and all_finite(f, size)):
-        return STATUS_NON_FINITE, t
+        if RECORD:
+            return STATUS_NON_FINITE, t, times[:m], states[:m]
+        else:
+            return STATUS_NON_FINITE, t
     running = RUNNING and running_on(lay)
     if running:
         speed_deviation(y, rp, lay, qa)
@@ -1727,6 +1775,8 @@ def lane(
                 step_retry(ws)
                 n_check += 1
                 counts[K_REJECTED] += 1
+                if RECORD:
+                    counts[K_REJ_CHECK] += 1
                 continue
             break
         if status != STATUS_RUNNING:
@@ -1740,6 +1790,11 @@ def lane(
         if not step_refresh(ws, t_new, y_new, f_new, changed, rp, ip, lay, record, qb, pen,
                             phi_q, schur, lam, counts):  # fmt: skip
             record, record_new = record_new, record  # the end's records become the start's
+            if locked(y_new, rp, lay):  # the mode's projection moved q: δ, δ̇ afresh
+                for c in range(nc):
+                    record[7 * c + 2], record[7 * c + 3] = penetration_and_rate(
+                        y_new, rp, ip, lay, c
+                    )
         if not (all_finite(y_new, size) and all_finite(f_new, size)):
             status = STATUS_NON_FINITE
             break
@@ -1793,6 +1848,9 @@ def lane(
                         speed_deviation(y_mid, rp, lay, samples[r + 1])
                 refine_peaks(samples, peaks, first, n_q)
             qa, qb = qb, qa
+        if RECORD:
+            times, states = trace_add(times, states, m, t_new, y_new, size)
+            m += 1
         t_old = t
         t = t_new
         y_old, y, y_new = y, y_new, y_old
@@ -1804,7 +1862,46 @@ def lane(
             close_regimes(stats, nb, nc, t_end - t_settle)
         if running:
             close_running(rp, lay, stats, t_end - t_settle)
-    return status, t
+    if RECORD:
+        return status, t, times[:m], states[:m]
+    else:
+        return status, t
+
+
+def rms(x, scale, size):
+    """SciPy's norm(x / scale): the RMS of x_j / scale_j."""
+    s = 0.0
+    for j in range(size):
+        v = x[j] / scale[j]
+        s += v * v
+    return math.sqrt(s) / math.sqrt(size)
+
+
+def initial_step(t0, y0, t_bound, max_step, f0, rtol, atol, rp, ip, lay, y1, f1, scale,
+                 record, phi_q, schur, lam):  # fmt: skip
+    """SciPy's ``select_initial_step`` for order 3 (:func:`common.select_initial_step`),
+    every method's first step; one evaluation of f (``y1``, ``f1``, ``scale``: work)."""
+    size = lay[LY_SIZE]
+    interval_length = abs(t_bound - t0)
+    if interval_length == 0.0:
+        return 0.0
+    for j in range(size):
+        scale[j] = atol[j] + abs(y0[j]) * rtol
+    d0 = rms(y0, scale, size)
+    d1 = rms(f0, scale, size)
+    h0 = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
+    h0 = min(h0, interval_length)
+    for j in range(size):
+        y1[j] = y0[j] + h0 * 1.0 * f0[j]
+    rhs(t0 + h0 * 1.0, y1, rp, ip, lay, f1, record, False, phi_q, schur, lam)
+    for j in range(size):
+        y1[j] = f1[j] - f0[j]
+    d2 = rms(y1, scale, size) / h0
+    if d1 <= 1e-15 and d2 <= 1e-15:
+        h1 = max(1e-6, h0 * 1e-3)
+    else:
+        h1 = (0.01 / max(d1, d2)) ** (1.0 / (3 + 1))
+    return min(100.0 * h0, h1, interval_length, max_step)
 
 
 # --- DOPRI5's steps in the lane (the explicit method; the loop: lane) ------------------------
@@ -1819,8 +1916,14 @@ DOPRI_LANE = {"steps": "dopri", "LAND_SETTLE": True, "REGIMES": False, "RTOL_FLO
 
 def dopri_start(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mid, record_mid,
                 phi_q, schur, lam, counts):  # fmt: skip
-    """The first step: a tenth of the largest."""
-    return max_step / 10.0
+    """The first step: a tenth of the largest (the batch lanes'); the traced lane's (the
+    single engine's), SciPy's choice (:func:`initial_step`)."""
+    if RECORD:
+        counts[K_RHS] += 1
+        return initial_step(t, y, t_end, max_step, f, rtol, atol, rp, ip, lay, ws[DOPRI_STATE],
+                            f_mid, ws[0], record_mid, phi_q, schur, lam)  # fmt: skip
+    else:
+        return max_step / 10.0
 
 
 def dopri_begin(ws, t, y, h, max_step, min_step, rtol, atol, size):
@@ -1830,18 +1933,23 @@ def dopri_begin(ws, t, y, h, max_step, min_step, rtol, atol, size):
 
 
 def dopri_land(t, h, target):
-    """The try's end, cut to land on ``target`` (the window's start, then its end)."""
+    """The try's end, cut to land on ``target`` (the window's start, then its end); the
+    traced lane's step is the difference of its ends, as the single engine's was."""
     t_new = t + h
     if t_new >= target:
         return target, target - t
-    return t_new, h
+    if RECORD:
+        return t_new, t_new - t
+    else:
+        return t_new, h
 
 
 def dopri_attempt(ws, t, y, f, h, t_new, y_new, t_old, y_old, rtol, atol, rp, ip, lay, record_new,
                   qb, pen, f_mid, record_mid, phi_q, schur, lam, counts):  # fmt: skip
     """A try of DOPRI5 (the batch contract's "explicit"): the stages, the 5th-order solution
-    and the error test on the first 2 n components; the last stage also records the end's
-    contacts and quantities."""
+    and the error test on the first 2 n components (the traced lane's, the single engine's:
+    on every component, and a non-finite stage fails the try); the last stage also records
+    the end's contacts and quantities."""
     k = ws
     ys = ws[DOPRI_STATE]
     size = lay[LY_SIZE]
@@ -1861,11 +1969,21 @@ def dopri_attempt(ws, t, y, f, h, t_new, y_new, t_old, y_old, rtol, atol, rp, ip
     # the last stage also gives the contact records and the quantities at the step's end
     rhs_and_quantities(t_new, y_new, rp, ip, lay, k[6], record_new, qb, pen, phi_q, schur, lam)
     counts[K_RHS] += 6
-    err = dopri_error(k, h, y, y_new, atol, rtol, 2 * lay[LY_N])
-    if err > 1.0:
-        ws[DOPRI_SCALARS, DOPRI_REJECTED] = 1.0
-        counts[K_REJECTED] += 1
-        return False, h * max(MIN_FACTOR, SAFETY * err**-0.2)
+    if RECORD:
+        err = dopri_error(k, h, y, y_new, atol, rtol, size)
+        if not (all_finite(y_new, size) and all_finite(k[6], size)):
+            err = math.nan
+        if not err <= 1.0:  # NaN fails too
+            ws[DOPRI_SCALARS, DOPRI_REJECTED] = 1.0
+            counts[K_REJECTED] += 1
+            shrink = SAFETY * err**-0.2 if math.isfinite(err) else MIN_FACTOR
+            return False, h * max(MIN_FACTOR, min(1.0, shrink))
+    else:
+        err = dopri_error(k, h, y, y_new, atol, rtol, 2 * lay[LY_N])
+        if err > 1.0:
+            ws[DOPRI_SCALARS, DOPRI_REJECTED] = 1.0
+            counts[K_REJECTED] += 1
+            return False, h * max(MIN_FACTOR, SAFETY * err**-0.2)
     ws[DOPRI_SCALARS, DOPRI_ERROR] = err
     return True, h
 

@@ -61,6 +61,9 @@ from jointplay._kernels.ids import (
     EPS,
     G_FILM,
     G_FILM_MODEL,
+    K_JAC,
+    K_LU,
+    K_REJ_NEWTON,
     LAW_STEP,
     NUM_JAC_DIFF_BIG,
     NUM_JAC_DIFF_REJECT,
@@ -97,12 +100,14 @@ from jointplay._kernels.lanes.source import (
     LY_PLAW,
     LY_SIZE,
     N_GEOM,
+    RECORD,
     any_film,
     contact_clearance,
     contact_forces,
     driver_acceleration,
     film_share,
     friction_force,
+    initial_step,
     joint_kinematics,
     locked,
     normal_force,
@@ -110,6 +115,7 @@ from jointplay._kernels.lanes.source import (
     reynolds_matrix,
     rhs,
     rhs_and_quantities,
+    rms,
 )
 
 # --- method constants (jointplay._kernels.radau, verbatim from SciPy; a test keeps them equal)
@@ -761,15 +767,6 @@ def stage_norm(x, scale, size):
     return math.sqrt(s) / math.sqrt(3 * size)
 
 
-def rms(x, scale, size):
-    """SciPy's norm(x / scale): the RMS of x_j / scale_j."""
-    s = 0.0
-    for j in range(size):
-        v = x[j] / scale[j]
-        s += v * v
-    return math.sqrt(s) / math.sqrt(size)
-
-
 def mat3(m, z, out, size):
     """``out = m @ z`` for m (9, row-major) and (3, S) stages."""
     for i in range(3):
@@ -805,33 +802,6 @@ def next_factor(h, h_old, error_norm, error_norm_old, safety, hold, recompute_ja
     if not recompute_jac and factor < 1.2:
         return 1.0, True
     return factor, False
-
-
-def initial_step(t0, y0, t_bound, max_step, f0, rtol, atol, rp, ip, lay, y1, f1, scale,
-                 record, phi_q, schur, lam):  # fmt: skip
-    """SciPy's ``select_initial_step`` for order 3 (:func:`common.select_initial_step`);
-    one evaluation of f (``y1``, ``f1``, ``scale``: work)."""
-    size = lay[LY_SIZE]
-    interval_length = abs(t_bound - t0)
-    if interval_length == 0.0:
-        return 0.0
-    for j in range(size):
-        scale[j] = atol[j] + abs(y0[j]) * rtol
-    d0 = rms(y0, scale, size)
-    d1 = rms(f0, scale, size)
-    h0 = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
-    h0 = min(h0, interval_length)
-    for j in range(size):
-        y1[j] = y0[j] + h0 * 1.0 * f0[j]
-    rhs(t0 + h0 * 1.0, y1, rp, ip, lay, f1, record, False, phi_q, schur, lam)
-    for j in range(size):
-        y1[j] = f1[j] - f0[j]
-    d2 = rms(y1, scale, size) / h0
-    if d1 <= 1e-15 and d2 <= 1e-15:
-        h1 = max(1e-6, h0 * 1e-3)
-    else:
-        h1 = (0.01 / max(d1, d2)) ** (1.0 / (3 + 1))
-    return min(100.0 * h0, h1, interval_length, max_step)
 
 
 # --- the collocation system (SciPy's solve_collocation_system, in pieces) ---------------------
@@ -1091,6 +1061,8 @@ def radau_start(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mi
         jfactor[j] = EPS**0.5
     lane_jacobian(t, y, f, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid, xr, xcr, record_mid,
                   phi_q, schur, lam)  # fmt: skip
+    if RECORD:
+        counts[K_JAC] += 1
     ms[R_CURRENT_JAC] = 1.0
     ms[R_LU_VALID] = 0.0
     ms[R_HAS_SOL] = 0.0
@@ -1140,6 +1112,8 @@ def radau_attempt(ws, t, y, f, h, t_new, y_new, t_old, y_old, rtol, atol, rp, ip
         if not ms[R_LU_VALID] > 0.0:
             factor_newton(jac, h, a_re, piv_re, c_re, c_im, piv_c, n, n)
             ms[R_LU_VALID] = 1.0
+            if RECORD:
+                counts[K_LU] += 2
         converged, n_iter, rate, nfev = collocation(
             t, y, h, ms[R_HAS_SOL] > 0.0, cq, t_old, y_old, scale, ms[R_NEWTON_TOL], rp, ip,
             lay, jac, a_re, piv_re, c_re, c_im, piv_c, w, z, fst, dw, ytmp, xr, xcr, xci, wk,
@@ -1151,12 +1125,16 @@ def radau_attempt(ws, t, y, f, h, t_new, y_new, t_old, y_old, rtol, atol, rp, ip
                 break
             lane_jacobian(t, y, f, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid, xr, xcr,
                           record_mid, phi_q, schur, lam)  # fmt: skip
+            if RECORD:
+                counts[K_JAC] += 1
             ms[R_CURRENT_JAC] = 1.0
             ms[R_LU_VALID] = 0.0
     if not converged:
         ms[R_LU_VALID] = 0.0
         ms[R_FAILED] = 1.0
         counts[K_REJECTED] += 1
+        if RECORD:
+            counts[K_REJ_NEWTON] += 1
         return False, h * 0.5
     for j in range(size):
         y_new[j] = y[j] + z[2, j]
@@ -1214,6 +1192,8 @@ def radau_accept(ws, t_new, y_new, f_new, h, changed, atol, rp, ip, lay, pen, f_
     if recompute_jac:
         lane_jacobian(t_new, y_new, f_new, atol, jfactor, rp, ip, lay, jac, ytmp, f_mid, xr,
                       xcr, record_mid, phi_q, schur, lam)  # fmt: skip
+        if RECORD:
+            counts[K_JAC] += 1
         ms[R_CURRENT_JAC] = 1.0
     else:
         ms[R_CURRENT_JAC] = 0.0
