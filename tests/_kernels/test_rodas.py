@@ -82,10 +82,10 @@ def test_stages_are_consistent() -> None:
         k = np.empty((6, 2))
         stage, x, work = np.empty(2), np.empty(2), np.empty(2)
         lu, piv = np.empty((2, 2)), np.empty(2, dtype=np.int64)
-        rodas._factor(jac, 1.0 / (h * rodas.GAMMA), 0, 2, lu, piv)
+        rodas._factor(jac, 1.0 / (h * rodas.RODAS_GAMMA), 0, 2, lu, piv)
         nfev, finite = rodas._stages(
             constant_field, (np.zeros(1),), 0.0, np.zeros(2), f, np.zeros(2), h, jac, lu,
-            piv, 0, 2, k, stage, x, work, np.empty(6),
+            piv, 0, 2, k, stage, x, work,
         )  # fmt: skip
         assert finite and nfev == 5
         np.testing.assert_allclose(stage + k[5], h * f, rtol=1e-14)

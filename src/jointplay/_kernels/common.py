@@ -61,8 +61,9 @@ def py_max(a, b):
     return b if b > a else a
 
 
-#: SciPy's ``norm(x / scale)`` of ``x[:size]`` (the lane source's ``rms``).
-_rms = _lanes["rms"]
+#: SciPy's initial step, its two halves (the lane source's, :func:`select_initial_step`).
+_initial_trial = _lanes["initial_trial"]
+_initial_choice = _lanes["initial_choice"]
 #: ``all_finite(x, size)``: whether ``x[:size]`` is all finite (the lane source's).
 all_finite = _shared["all_finite"]
 #: ``interrupt_pending(flags)``: whether ``flags`` (uint8, the signal numbers received so far,
@@ -184,35 +185,21 @@ def num_jac(fun, args, t, y, f, threshold, factor, n_active):
 # ---------------------------------------------------------------------------------------
 @jit
 def select_initial_step(fun, args, t0, y0, t_bound, max_step, f0, direction, rtol, atol):
-    """SciPy's ``select_initial_step`` for an error estimator of order 3.
-
-    From Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.4.
+    """SciPy's ``select_initial_step`` for an error estimator of order 3 (the lane source's
+    ``initial_trial`` and ``initial_choice`` around ``fun``).
 
     Returns:
         ``(h_abs, nfev)``.
     """
-    order = 3
     n = y0.shape[0]
     interval_length = abs(t_bound - t0)
     if interval_length == 0.0:
         return 0.0, 0
     scale = np.empty(n)
-    for j in range(n):
-        scale[j] = atol[j] + abs(y0[j]) * rtol
-    d0 = _rms(y0, scale, n)
-    d1 = _rms(f0, scale, n)
-    h0 = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
-    h0 = min(h0, interval_length)
+    h0, d1 = _initial_trial(y0, f0, rtol, atol, scale, interval_length, n)
     y1 = np.empty(n)
     for j in range(n):
         y1[j] = y0[j] + h0 * direction * f0[j]
     f1 = fun(t0 + h0 * direction, y1, args)
     df = np.empty(n)
-    for j in range(n):
-        df[j] = f1[j] - f0[j]
-    d2 = _rms(df, scale, n) / h0
-    if d1 <= 1e-15 and d2 <= 1e-15:
-        h1 = max(1e-6, h0 * 1e-3)
-    else:
-        h1 = (0.01 / max(d1, d2)) ** (1.0 / (order + 1))
-    return min(100.0 * h0, h1, interval_length, max_step), 1
+    return _initial_choice(f0, f1, df, scale, d1, h0, interval_length, max_step, n), 1

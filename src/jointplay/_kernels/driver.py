@@ -85,6 +85,7 @@ from jointplay._kernels.ids import (
     STATUS_SUCCESS,
     STATUS_TOO_MANY_STEPS,
 )
+from jointplay._kernels.lanes.cpu import compiled as _lanes
 
 __all__ = [
     "MAX_CHECK_REJECTIONS",
@@ -104,8 +105,6 @@ __all__ = [
 
 #: Consecutive ``step_check`` rejections of one step after which the step is accepted.
 MAX_CHECK_REJECTIONS = 64
-
-_INITIAL_CAPACITY = 64
 
 #: The decorator of a method's per-step functions (``begin``, ``attempt``, ``retry``,
 #: ``refresh``, ``accept``): compiled and cached as :data:`~jointplay._kernels.common.jit`,
@@ -178,24 +177,11 @@ def evaluate_f(state, problem, t_new, y_new, f, changed, counters):
     counters[NFEV] += 1
 
 
-@jit
-def _record(ts, ys, m, t, y):
-    """Store ``(t, y)`` as row ``m``, doubling the arrays first when they are full."""
-    cap = ts.shape[0]
-    n = ys.shape[1]
-    if m == cap:
-        ts2 = np.empty(2 * cap)
-        ys2 = np.empty((2 * cap, n))
-        for i in range(cap):
-            ts2[i] = ts[i]
-            for j in range(n):
-                ys2[i, j] = ys[i, j]
-        ts = ts2
-        ys = ys2
-    ts[m] = t
-    for j in range(n):
-        ys[m, j] = y[j]
-    return ts, ys
+#: Store ``(t, y)`` as row ``m`` of the record, doubling its arrays first when they are full
+#: (the lane source's ``trace_add``, the traced lanes' record); its first row
+#: (``trace_start``).
+_record = _lanes["trace_add"]
+_record_start = _lanes["trace_start"]
 
 
 @jit
@@ -212,14 +198,12 @@ def driver_start(fun, args, t0, y0, t_bound, max_step, first_step, direction, rt
     """
     n = y0.shape[0]
     counters = np.zeros(7, dtype=np.int64)
-    ts = np.empty(_INITIAL_CAPACITY)
-    ys = np.empty((_INITIAL_CAPACITY, n))
-    ts, ys = _record(ts, ys, 0, t0, y0)
+    ts, ys = _record_start(t0, y0, n)
     m = 1
     f = np.zeros(n)
     if n == 0 or t0 == t_bound:
         if n == 0 and t0 != t_bound:  # SciPy: an empty system jumps to t_bound.
-            ts, ys = _record(ts, ys, m, t_bound, y0)
+            ts, ys = _record(ts, ys, m, t_bound, y0, n)
             m += 1
         return STATUS_SUCCESS, counters, ts, ys, m, f, 0.0
     f = copy_vector(fun(t0, y0, args))
@@ -342,7 +326,7 @@ def drive(fun, step_check, after_step, jac_fun, t0, y0, t_bound, args, rtol, ato
         t = t_new
         y, y_new = y_new, y
         counters[NSTEPS] += 1
-        ts, ys = _record(ts, ys, m, t, y)
+        ts, ys = _record(ts, ys, m, t, y, n)
         m += 1
         if direction * (t - t_bound) >= 0:
             status = STATUS_SUCCESS

@@ -1,15 +1,10 @@
-"""Compiled variable-step RODAS4: a linearly implicit (Rosenbrock) method for stiff ODEs.
-
-RODAS4 of Hairer & Wanner [HW96]_ §IV.7 (the coefficients of Hairer's ``rodas.f``, its
-first method): six stages, order 4 with an embedded order-3 solution, stiffly accurate and
-L-stable. Per step: the Jacobian ``J`` at the step's start (the user's closed form where
-``jac`` gives one, else SciPy's ``num_jac`` started afresh from its initial step at every
-call: a Rosenbrock method needs the Jacobian itself, and ``num_jac``'s steps, adapted from
-call to call, can grow across a kink of ``f``), ``∂f/∂t`` by one forward difference (as
-``rodas.f``; none when the caller declares ``fun`` autonomous), **one** LU of
-``1/(γh)·I − J`` (reduced to the velocities as Radau's Newton matrices are,
-:func:`jointplay._kernels.radau.reduced_newton_matrix`), five evaluations of ``f`` and
-six solves. There is no Newton iteration, hence no Newton failure.
+"""Compiled variable-step RODAS4 for the generic loop (:func:`jointplay.integrate`): a linearly
+implicit (Rosenbrock) method for stiff ODEs, the method of
+:mod:`jointplay._kernels.lanes.source_rodas` (its tableau, stages, error norm and step
+control, compiled for the CPU) around a user's ``fun`` and ``jac``: the Jacobian at the step's
+start (the user's closed form where ``jac`` gives one, else SciPy's ``num_jac`` started
+afresh from its initial step at every call) and ``∂f/∂t`` by one forward difference (none
+when the caller declares ``fun`` autonomous).
 
 Why the contact simulator has it beside Radau IIA (issue 22, docs/performance.md, "From
 rest: a Rosenbrock method for the paper's ECS sets"): on the paper's IFM ECS contact sets,
@@ -39,11 +34,6 @@ arguments, hooks, statuses and counters; ``n_rejected_newton`` stays 0):
   growth right after a rejection (``rodas.f`` always holds);
 * a non-finite stage is a rejection with ``h/5``; a non-finite state or ``f`` after a step
   ends the integration with status −3.
-
-References:
-    .. [HW96] E. Hairer, G. Wanner, *Solving Ordinary Differential Equations II: Stiff and
-       Differential-Algebraic Problems*, 2nd ed., Springer, 1996, §IV.7 (Table 7.2 and
-       Hairer's ``rodas.f``, ``ROCOEF`` method 1).
 """
 
 from __future__ import annotations
@@ -58,48 +48,26 @@ from jointplay._kernels.common import jit, num_jac, py_max, py_min
 from jointplay._kernels.driver import Steps, evaluate_f, no_retry, run_core, step_jit
 from jointplay._kernels.ids import EPS, NFEV, NJEV, NLU, NREJ_ERROR
 from jointplay._kernels.lanes.cpu import compiled
+from jointplay._kernels.lanes.source_rodas import (
+    RODAS_GAMMA,
+    RODAS_MIN_FACTOR,
+    RODAS_NODES,
+    RODAS_SAFETY,
+)
 
 __all__ = ["STEPS", "rodas_integrate"]
 
-# ---------------------------------------------------------------------------------------
-# Method constants: Hairer's rodas.f, ROCOEF method 1 ([HW96] §IV.7, Table 7.2).
-# ---------------------------------------------------------------------------------------
-GAMMA = 0.25
-#: a_ij: stage s is evaluated at y + Σ_i A[s, i] k_i (stage 6 adds k_5 to stage 5's point).
-A = np.zeros((6, 6))
-A[1, 0] = 1.544
-A[2, :2] = (0.9466785280815826, 0.2557011698983284)
-A[3, :3] = (3.314825187068521, 2.896124015972201, 0.9986419139977817)
-A[4, :4] = (1.221224509226641, 6.019134481288629, 12.53708332932087, -0.6878860361058950)
-A[5, :4] = A[4, :4]
-A[5, 4] = 1.0
-#: C_ij / h couple the earlier stages into stage s's right-hand side.
-CC = np.zeros((6, 6))
-CC[1, 0] = -5.6688
-CC[2, :2] = (-2.430093356833875, -0.2063599157091915)
-CC[3, :3] = (-0.1073529058151375, -9.594562251023355, -20.47028614809616)
-CC[4, :4] = (7.496443313967647, -10.24680431464352, -33.99990352819905, 11.70890893206160)
-CC[5, :5] = (
-    8.083246795921522,
-    -7.981132988064893,
-    -31.52159432874371,
-    16.31930543123136,
-    -6.058818238834054,
-)
-#: Nodes c_s and the coefficients d_s = γ_s of the ∂f/∂t term.
-NODES = np.array([0.0, 0.386, 0.21, 0.63, 1.0, 1.0])
-D = np.array([0.25, -0.1043, 0.1035, -0.0362, 0.0, 0.0])
-
-SAFETY = 0.9
-MIN_FACTOR = 0.2  # shortest step factor
-MAX_FACTOR = 5.0  # longest step factor
-
-
-# Radau's reduced real Newton matrix, its LU and solve: the lane source's
-# (:mod:`jointplay._kernels.lanes.source_radau`), compiled for the CPU.
+# The tableau, the stages' arithmetic, the error norm and the step control are the lane
+# source's (:mod:`jointplay._kernels.lanes.source_rodas`, the single engine's RODAS4),
+# compiled for the CPU; so are Radau's reduced real Newton matrix, its LU and solve
+# (:mod:`jointplay._kernels.lanes.source_radau`).
 newton_matrix = compiled["newton_matrix"]
 lu_real = compiled["lu_real"]
 solve_real = compiled["solve_real"]
+_stage = compiled["rodas_stage"]
+_right_side = compiled["rodas_right_side"]
+_error = compiled["rodas_error"]
+_growth = compiled["rodas_growth"]
 
 
 @jit
@@ -112,37 +80,20 @@ def _factor(jac, alpha, n_second, n_active, lu, piv):
 
 
 @jit
-def _stages(
-    fun, args, t, y, f, ft, h, jac, lu, piv, n_second, n_active, k, stage, x, work, coupling
-):
+def _stages(fun, args, t, y, f, ft, h, jac, lu, piv, n_second, n_active, k, stage, x, work):
     """The six stages of one step from ``(t, y)``; ``stage + k[5]`` is the new state and
-    ``k[5]`` its error estimate; ``coupling`` (6) is scratch for a stage's C_si / h, divided
-    once, not once per component. Returns the number of evaluations and whether every stage
+    ``k[5]`` its error estimate. Returns the number of evaluations and whether every stage
     was finite."""
     n = y.shape[0]
-    alpha = 1.0 / (h * GAMMA)
+    alpha = 1.0 / (h * RODAS_GAMMA)
     nfev = 0
     for s in range(6):
-        if s == 0:
-            fs = f
-        else:
-            for j in range(n):
-                acc = y[j]
-                for i in range(s):
-                    acc += A[s, i] * k[i, j]
-                stage[j] = acc
-            fs = fun(t + NODES[s] * h, stage, args)
+        fs = f
+        if s > 0:
+            _stage(k, y, s, stage, n)
+            fs = fun(t + RODAS_NODES[s] * h, stage, args)
             nfev += 1
-        finite = True
-        for i in range(s):
-            coupling[i] = CC[s, i] / h
-        for j in range(n):
-            acc = fs[j] + D[s] * h * ft[j]
-            for i in range(s):
-                acc += coupling[i] * k[i, j]
-            x[j] = acc
-            finite = finite and math.isfinite(acc)
-        if not finite:
+        if not _right_side(fs, ft, k, s, h, x, n):
             return nfev, False
         solve_real(lu, piv, jac[n_second:], alpha, x, work, n_second, n_active - n_second, n)
         for j in range(n):
@@ -159,17 +110,16 @@ _N_SCALARS = 3
 
 @jit
 def _rodas_start(problem, t0, y0, f0, counters):
-    """The state: ``(sc, jac, jac_factor, ft, k, stage, x, work, coupling, lu, piv)``, the
-    scalars (slots ``_H_ACCEPTED`` …), the Jacobian (n, n) and ``num_jac``'s factors,
-    ``∂f/∂t`` (n,), the stages (6, n), scratch, the reduced LU (nk, nk) and its pivots."""
+    """The state: ``(sc, jac, jac_factor, ft, k, stage, x, work, lu, piv)``, the scalars
+    (slots ``_H_ACCEPTED`` …), the Jacobian (n, n) and ``num_jac``'s factors, ``∂f/∂t`` (n,),
+    the stages (6, n), scratch, the reduced LU (nk, nk) and its pivots."""
     n = y0.shape[0]
     nk = problem.n_active - problem.n_second
     sc = np.zeros(_N_SCALARS)
     sc[_ERROR_ACCEPTED] = 1.0
     return (
         sc, np.empty((n, n)), np.full(n, EPS**0.5), np.empty(n), np.empty((6, n)),
-        np.empty(n), np.empty(n), np.empty(nk), np.empty(6), np.empty((nk, nk)),
-        np.empty(nk, dtype=np.int64),
+        np.empty(n), np.empty(n), np.empty(nk), np.empty((nk, nk)), np.empty(nk, dtype=np.int64),
     )  # fmt: skip
 
 
@@ -205,29 +155,22 @@ def _rodas_attempt(state, problem, t, y, f, h, y_new, counters):
     ``h_abs·max(1/5, min(1, 0.9·err^(−1/4)))`` (``h/5`` for a non-finite stage), counted
     in ``NREJ_ERROR``."""
     sc, jac = state[0], state[1]
-    ft, k, stage, x, work, coupling, lu, piv = state[3:]
-    atol, rtol = problem.atol, problem.rtol
-    n = y.shape[0]
+    ft, k, stage, x, work, lu, piv = state[3:]
     h_abs = abs(h)
-    _factor(jac, 1.0 / (h * GAMMA), problem.n_second, problem.n_active, lu, piv)
+    _factor(jac, 1.0 / (h * RODAS_GAMMA), problem.n_second, problem.n_active, lu, piv)
     counters[NLU] += 1
     nfev, finite = _stages(
         problem.fun, problem.args, t, y, f, ft, h, jac, lu, piv, problem.n_second,
-        problem.n_active, k, stage, x, work, coupling,
+        problem.n_active, k, stage, x, work,
     )  # fmt: skip
     counters[NFEV] += nfev
     error_norm = 0.0
     if finite:
-        total = 0.0
-        for j in range(n):
-            y_new[j] = stage[j] + k[5, j]
-            scaled = k[5, j] / (atol[j] + py_max(abs(y[j]), abs(y_new[j])) * rtol)
-            total += scaled * scaled
-        error_norm = math.sqrt(total) / math.sqrt(n)  # the source's rms arithmetic
+        error_norm = _error(k, stage, y, y_new, problem.atol, problem.rtol, y.shape[0])
     if not (finite and error_norm <= 1.0):  # NaN fails too
-        shrink = SAFETY * error_norm**-0.25 if finite else 0.2
+        shrink = RODAS_SAFETY * error_norm**-0.25 if finite else RODAS_MIN_FACTOR
         counters[NREJ_ERROR] += 1
-        return False, h_abs * py_max(MIN_FACTOR, py_min(1.0, shrink))
+        return False, h_abs * py_max(RODAS_MIN_FACTOR, py_min(1.0, shrink))
     sc[_ERROR] = error_norm
     return True, h_abs
 
@@ -236,20 +179,15 @@ def _rodas_attempt(state, problem, t, y, f, h, y_new, counters):
 def _rodas_accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed, counters):
     """The next step's size after an accepted one: ``0.9·err^(−1/4)``, after an accepted
     step also at most Gustafsson's ``0.9·(h/h_prev)·(err_prev/err²)^(1/4)``, within
-    ``[MIN_FACTOR, MAX_FACTOR]``, not larger after a failed try with
+    [1/5, 5], not larger after a failed try with
     ``hold_after_failure`` (``after_step``'s discontinuity changes nothing: every step
     starts afresh from ``(t, y)``)."""
     sc = state[0]
     error_norm = sc[_ERROR]
-    grow = MAX_FACTOR if error_norm == 0.0 else SAFETY * error_norm**-0.25
-    if sc[_H_ACCEPTED] > 0.0 and error_norm > 0.0:  # Gustafsson's predictive controller
-        gus = SAFETY * (h_abs / sc[_H_ACCEPTED]) * (sc[_ERROR_ACCEPTED] / error_norm**2) ** 0.25
-        grow = py_min(grow, gus)
-    grow = py_max(MIN_FACTOR, py_min(MAX_FACTOR, grow))
+    grow = _growth(h_abs, sc[_H_ACCEPTED], sc[_ERROR_ACCEPTED], error_norm,
+                   problem.hold_after_failure and failed)  # fmt: skip
     sc[_H_ACCEPTED] = h_abs
     sc[_ERROR_ACCEPTED] = py_max(1e-2, error_norm)
-    if problem.hold_after_failure and failed:
-        grow = py_min(grow, 1.0)
     return h_abs * grow
 
 

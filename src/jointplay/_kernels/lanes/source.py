@@ -1877,31 +1877,44 @@ def rms(x, scale, size):
     return math.sqrt(s) / math.sqrt(size)
 
 
-def initial_step(t0, y0, t_bound, max_step, f0, rtol, atol, rp, ip, lay, y1, f1, scale,
-                 record, phi_q, schur, lam):  # fmt: skip
-    """SciPy's ``select_initial_step`` for order 3 (:func:`common.select_initial_step`),
-    every method's first step; one evaluation of f (``y1``, ``f1``, ``scale``: work)."""
-    size = lay[LY_SIZE]
-    interval_length = abs(t_bound - t0)
-    if interval_length == 0.0:
-        return 0.0
+def initial_trial(y0, f0, rtol, atol, scale, interval_length, size):
+    """SciPy's ``select_initial_step`` for order 3 (Hairer, Nørsett & Wanner, *Solving ODEs
+    I*, §II.4), its first half: the error scale into ``scale``, the norm ``d1`` of f0 and the
+    trial step ``h0``; returns ``(h0, d1)``."""
     for j in range(size):
         scale[j] = atol[j] + abs(y0[j]) * rtol
     d0 = rms(y0, scale, size)
     d1 = rms(f0, scale, size)
     h0 = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
-    h0 = min(h0, interval_length)
+    return min(h0, interval_length), d1
+
+
+def initial_choice(f0, f1, diff, scale, d1, h0, interval_length, max_step, size):
+    """Its second half, from ``f1``, f at the trial point ``y0 + h0 f0`` (``diff``: work):
+    the first step."""
     for j in range(size):
-        y1[j] = y0[j] + h0 * 1.0 * f0[j]
-    rhs(t0 + h0 * 1.0, y1, rp, ip, lay, f1, record, False, phi_q, schur, lam)
-    for j in range(size):
-        y1[j] = f1[j] - f0[j]
-    d2 = rms(y1, scale, size) / h0
+        diff[j] = f1[j] - f0[j]
+    d2 = rms(diff, scale, size) / h0
     if d1 <= 1e-15 and d2 <= 1e-15:
         h1 = max(1e-6, h0 * 1e-3)
     else:
         h1 = (0.01 / max(d1, d2)) ** (1.0 / (3 + 1))
     return min(100.0 * h0, h1, interval_length, max_step)
+
+
+def initial_step(t0, y0, t_bound, max_step, f0, rtol, atol, rp, ip, lay, y1, f1, scale,
+                 record, phi_q, schur, lam):  # fmt: skip
+    """Every method's first step (:func:`initial_trial`, :func:`initial_choice`); one
+    evaluation of f (``y1``, ``f1``, ``scale``: work)."""
+    size = lay[LY_SIZE]
+    interval_length = abs(t_bound - t0)
+    if interval_length == 0.0:
+        return 0.0
+    h0, d1 = initial_trial(y0, f0, rtol, atol, scale, interval_length, size)
+    for j in range(size):
+        y1[j] = y0[j] + h0 * 1.0 * f0[j]
+    rhs(t0 + h0 * 1.0, y1, rp, ip, lay, f1, record, False, phi_q, schur, lam)
+    return initial_choice(f0, f1, y1, scale, d1, h0, interval_length, max_step, size)
 
 
 # --- DOPRI5's steps in the lane (the explicit method; the loop: lane) ------------------------

@@ -92,6 +92,54 @@ N_RODAS_SCALARS = 5
 RODAS_LANE = {"steps": "rodas", "LAND_SETTLE": False, "REGIMES": True, "RTOL_FLOOR": 100.0 * EPS}
 
 
+def rodas_stage(k, y, s, stage, size):
+    """Stage ``s``'s point ``y + Σ_i a_si k_i`` into ``stage``."""
+    for j in range(size):
+        acc = y[j]
+        for i in range(s):
+            acc += RODAS_A[s][i] * k[i, j]
+        stage[j] = acc
+
+
+def rodas_right_side(fs, ft, k, s, h, x, size):
+    """Stage ``s``'s right-hand side ``f_s + d_s h ∂f/∂t + Σ_i (c_si / h) k_i`` into ``x``;
+    whether it is finite."""
+    finite = True
+    for j in range(size):
+        acc = fs[j] + RODAS_D[s] * h * ft[j]
+        for i in range(s):
+            acc += (RODAS_C[s][i] / h) * k[i, j]
+        x[j] = acc
+        finite = finite and math.isfinite(acc)
+    return finite
+
+
+def rodas_error(k, stage, y, y_new, atol, rtol, size):
+    """The new state ``stage + k₆`` into ``y_new`` and the error norm of ``k₆``: the RMS of
+    ``k₆ / (atol + rtol·max(|y|, |y_new|))`` (the source's ``rms`` arithmetic)."""
+    total = 0.0
+    for j in range(size):
+        y_new[j] = stage[j] + k[5, j]
+        scaled = k[5, j] / (atol[j] + max(abs(y[j]), abs(y_new[j])) * rtol)
+        total += scaled * scaled
+    return math.sqrt(total) / math.sqrt(size)
+
+
+def rodas_growth(h, h_accepted, error_accepted, error_norm, hold):
+    """The next step's factor after an accepted one: ``0.9·err^(−1/4)``, after an accepted
+    step (``h_accepted`` > 0) also at most Gustafsson's
+    ``0.9·(h/h_prev)·(err_prev/err²)^(1/4)``, within [1/5, 5], at most 1 with ``hold`` (a try
+    of this step failed)."""
+    grow = RODAS_MAX_FACTOR if error_norm == 0.0 else RODAS_SAFETY * error_norm**-0.25
+    if h_accepted > 0.0 and error_norm > 0.0:  # Gustafsson's predictive controller
+        gus = RODAS_SAFETY * (h / h_accepted) * (error_accepted / error_norm**2) ** 0.25
+        grow = min(grow, gus)
+    grow = max(RODAS_MIN_FACTOR, min(RODAS_MAX_FACTOR, grow))
+    if hold:
+        grow = min(grow, 1.0)
+    return grow
+
+
 def rodas_start(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mid, record_mid,
                 phi_q, schur, lam, counts):  # fmt: skip
     """RODAS4's state at the first point: SciPy's initial step (one evaluation of f).
@@ -162,37 +210,18 @@ def rodas_attempt(ws, t, y, f, h, t_new, y_new, t_old, y_old, rtol, atol, rp, ip
         counts[K_LU] += 1
     finite = True
     for s in range(6):
-        if s == 0:
-            for j in range(size):
-                f_mid[j] = f[j]
-        else:
-            for j in range(size):
-                acc = y[j]
-                for i in range(s):
-                    acc += RODAS_A[s][i] * k[i, j]
-                stage[j] = acc
+        if s > 0:
+            rodas_stage(k, y, s, stage, size)
             rhs(t + RODAS_NODES[s] * h, stage, rp, ip, lay, f_mid, record_mid, False, phi_q,
                 schur, lam)  # fmt: skip
             counts[K_RHS] += 1
-        for j in range(size):
-            acc = f_mid[j] + RODAS_D[s] * h * ft[j]
-            for i in range(s):
-                acc += (RODAS_C[s][i] / h) * k[i, j]
-            x[j] = acc
-            finite = finite and math.isfinite(acc)
+        finite = rodas_right_side(f_mid if s > 0 else f, ft, k, s, h, x, size)
         if not finite:
             break
         solve_real(lu, piv, jac, alpha, x, work, n, n, size)
         for j in range(size):
             k[s, j] = x[j]
-    error_norm = 0.0
-    if finite:
-        total = 0.0
-        for j in range(size):
-            y_new[j] = stage[j] + k[5, j]
-            scaled = k[5, j] / (atol[j] + max(abs(y[j]), abs(y_new[j])) * rtol)
-            total += scaled * scaled
-        error_norm = math.sqrt(total) / math.sqrt(size)  # the source's rms arithmetic
+    error_norm = rodas_error(k, stage, y, y_new, atol, rtol, size) if finite else 0.0
     if not (finite and error_norm <= 1.0):  # NaN fails too
         shrink = RODAS_SAFETY * error_norm**-0.25 if finite else RODAS_MIN_FACTOR
         ms[RO_FAILED] = 1.0
@@ -223,17 +252,10 @@ def rodas_accept(ws, t_new, y_new, f_new, h, changed, atol, rp, ip, lay, pen, f_
     a failed try (a discontinuity changes nothing: every step starts afresh)."""
     ms = ws[0]
     error_norm = ms[RO_ERROR]
-    grow = RODAS_MAX_FACTOR if error_norm == 0.0 else RODAS_SAFETY * error_norm**-0.25
-    if ms[RO_H_ACCEPTED] > 0.0 and error_norm > 0.0:  # Gustafsson's predictive controller
-        gus = (
-            RODAS_SAFETY * (h / ms[RO_H_ACCEPTED]) * (ms[RO_ERROR_ACCEPTED] / error_norm**2) ** 0.25
-        )
-        grow = min(grow, gus)
-    grow = max(RODAS_MIN_FACTOR, min(RODAS_MAX_FACTOR, grow))
+    grow = rodas_growth(h, ms[RO_H_ACCEPTED], ms[RO_ERROR_ACCEPTED], error_norm,
+                        ms[RO_FAILED] > 0.0)  # fmt: skip
     ms[RO_H_ACCEPTED] = h
     ms[RO_ERROR_ACCEPTED] = max(1e-2, error_norm)
-    if ms[RO_FAILED] > 0.0:
-        grow = min(grow, 1.0)
     return h * grow
 
 
