@@ -2,9 +2,10 @@
 wherever an integrator is named, listed or chosen.
 
 A record says what an integrator is (its order, whether it is explicit), how the engines run
-it (the fraction of the tolerances, the engines that have it) and where the single engine's
-steps are (its kernel module, whose ``STEPS`` the one loop of
-:mod:`jointplay._kernels.driver` runs). The batch engines' two methods, ``"explicit"`` and
+it (the fraction of the tolerances, the engines that have it) and where the generic loop's
+steps are (its kernel module, whose ``STEPS`` :mod:`jointplay._kernels.driver` runs for
+:func:`jointplay.integrate`; the engines run each integrator's lane steps,
+:mod:`jointplay._kernels.lanes.build`'s ``LANES``). The batch engines' two methods, ``"explicit"`` and
 ``"implicit"``, are the integrators their lanes have, named by :attr:`Integrator.lane_method`
 (:func:`lane_methods`). Plain Python: nothing is imported, nothing compiled (the command line
 and the JAX backend read it without Numba).
@@ -31,8 +32,8 @@ class Integrator:
             :data:`jointplay.dynamics.simulate.EXPLICIT_TOLERANCE_SCALE`).
         engines: the engines that have it (keys of
             :data:`jointplay._kernels.capabilities.ENGINES`).
-        module: the single engine's kernel module, under :mod:`jointplay._kernels`, holding its
-            ``STEPS`` (``None``: not in the single engine).
+        module: the generic loop's kernel module, under :mod:`jointplay._kernels`, holding its
+            ``STEPS`` (``None``: not in :func:`jointplay.integrate`).
     """
 
     name: str

@@ -57,7 +57,8 @@ if TYPE_CHECKING:
 __all__ = ["METHODS", "IntegrationResult", "IntegrationStatus", "integrate", "integrate_mechanism"]
 
 #: The integration methods by name, their records: Radau IIA (order 5), RODAS4 (order 4) and
-#: DOPRI5 (order 5, explicit), each run by the one loop (:mod:`jointplay._kernels.driver`).
+#: DOPRI5 (order 5, explicit), each run by the generic loop (:mod:`jointplay._kernels.driver`)
+#: for :func:`integrate`, and by the lanes' loop for a mechanism (:func:`integrate_mechanism`).
 METHODS: dict[str, Integrator] = {
     name: integrator for name, integrator in INTEGRATORS.items() if "single" in integrator.engines
 }
