@@ -1690,7 +1690,9 @@ def lane(
     table).
 
     Returns:
-        ``(status, t_reached)``: a ``STATUS_*`` code and the last accepted time, s.
+        ``(status, t_reached)``: a ``STATUS_*`` code and the last accepted time, s; compiled
+        with :data:`RECORD` (the single engine's traced lane), also the trajectory
+        ``(times, states)``: the start and every accepted step's end, after the hooks.
     """
     n = lay[LY_N]
     nb = n // 3
