@@ -38,6 +38,12 @@ python3 -c 'from numba import cuda; import importlib.metadata as m
 print("numba-cuda", m.version("numba-cuda"), "sees", cuda.get_current_device().name)'
 rows="$OUT/rows.jsonl"
 mode=${1:-first}
+cpu_kernels() {  # cpu_kernels TITLE: what importing eom compiles, in the background (cpu_pid)
+    echo "=== $(date -u +%T) $1"
+    timeout 240 python3 -c "import time; t = time.perf_counter(); import jointplay._kernels.eom
+print(f'CPU kernels (import jointplay._kernels.eom) compiled in {time.perf_counter() - t:.1f} s')" &
+    cpu_pid=$!
+}
 bench() {  # bench LIMIT_S ARGS...: one process of bench_gpu.py, if LIMIT_S is left
     local limit=$1; shift
     local left=$(( end - $(date +%s) ))
@@ -51,10 +57,7 @@ if [[ $mode == first ]]; then
 #    for every backend, once per install) and the numba-cuda kernels on the inputs of
 #    .gpu/lanes.npz (bench_gpu.py --write-lanes: they need none of the CPU kernels): each
 #    kernel's cold compilation, then one launch per size
-echo "=== $(date -u +%T) CPU kernels beside the lanes"
-timeout 240 python3 -c "import time; t = time.perf_counter(); import jointplay._kernels.eom
-print(f'CPU kernels (import jointplay._kernels.eom) compiled in {time.perf_counter() - t:.1f} s')" &
-cpu_pid=$!
+cpu_kernels "CPU kernels beside the lanes"
 timeout 200 python3 benchmarks/bench_gpu.py --json "$rows" --part lanes --inputs .gpu/lanes.npz \
     --problems conventional --samples 100000 1000000 --budget 60 --save-lanes 4000 \
     --save "$OUT/lanes.npz"
@@ -77,10 +80,7 @@ else
 # every process is timed from its start; the log's timestamps say what ran beside what.
 # a. the CPU kernels (JAX's simulate_batch needs them), beside the two cuda kernels' cold
 #    compilations (CPU-bound NVVM; 16 cores); then each cuda kernel again in a later process
-echo "=== $(date -u +%T) CPU kernels, explicit and implicit cuda kernels side by side"
-timeout 240 python3 -c "import time; t = time.perf_counter(); import jointplay._kernels.eom
-print(f'CPU kernels (import jointplay._kernels.eom) compiled in {time.perf_counter() - t:.1f} s')" &
-cpu_pid=$!
+cpu_kernels "CPU kernels, explicit and implicit cuda kernels side by side"
 timeout 380 python3 benchmarks/bench_gpu.py --json "$rows" --part lanes --inputs .gpu/lanes.npz \
     --problems physical --samples 10000 100000 --budget 60 --save-lanes 2000 \
     --save "$OUT/lanes.npz" > "$OUT/implicit.txt" 2>&1 &
