@@ -89,6 +89,7 @@ from jointplay._kernels.lanes.cpu import compiled as _lanes
 
 __all__ = [
     "MAX_CHECK_REJECTIONS",
+    "NO_INTERRUPT",
     "Problem",
     "Steps",
     "accept_every_step",
@@ -339,7 +340,9 @@ def drive(fun, step_check, after_step, jac_fun, t0, y0, t_bound, args, rtol, ato
 # ---------------------------------------------------------------------------------------
 _ARRAY = numba.types.float64[::1]
 _compile_lock = threading.Lock()
-_NO_INTERRUPT = np.zeros(1, dtype=np.uint8)  # flags that never hold a signal
+#: Flags that never hold a signal: what a loop is given when nothing watches (off the main
+#: thread, :func:`jointplay.execution.interrupts.interrupts_watched` yields ``None``).
+NO_INTERRUPT = np.zeros(1, dtype=np.uint8)
 _entries: dict[str, Any] = {}
 _specialisations: dict[Any, Any] = {}
 
@@ -472,6 +475,6 @@ def run_core(
         n_active,
         bool(hold_after_failure),
         bool(autonomous),
-        _NO_INTERRUPT if interrupt is None else interrupt,
+        NO_INTERRUPT if interrupt is None else interrupt,
     )
     return int(status), t_out, y_out, counters

@@ -312,11 +312,11 @@ def integrate_mechanism(
     from jointplay._kernels.lanes import cpu
 
     rpar, ipar = args[0], args[1]
-    with _interrupts_watched() as flags:  # None off the main thread: nothing to watch
+    with _interrupts_watched() as flags:
         code, t, y, counters, work = cpu.traced[method](
             ipar, rpar, lay_of(ipar), np.ascontiguousarray(y0, dtype=np.float64), float(t_end),
             float(max_step), float(rtol), np.ascontiguousarray(atol, dtype=np.float64),
-            int(max_steps), np.zeros(1, dtype=np.uint8) if flags is None else flags,
+            int(max_steps), _driver.NO_INTERRUPT if flags is None else flags,
         )  # fmt: skip
     rejected = {"n_rejected_newton": int(counters[ids.K_REJ_NEWTON]),
                 "n_rejected_check": int(counters[ids.K_REJ_CHECK])}  # fmt: skip
