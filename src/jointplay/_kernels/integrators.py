@@ -4,18 +4,22 @@ wherever an integrator is named, listed or chosen.
 A record says what an integrator is (its order, whether it is explicit), how the engines run
 it (the fraction of the tolerances, the engines that have it) and where the generic loop's
 steps are (its kernel module, whose ``STEPS`` :mod:`jointplay._kernels.driver` runs for
-:func:`jointplay.integrate`; the engines run each integrator's lane steps,
-:mod:`jointplay._kernels.lanes.build`'s ``LANES``). The batch engines' two methods, ``"explicit"`` and
-``"implicit"``, are the integrators their lanes have, named by :attr:`Integrator.lane_method`
-(:func:`lane_methods`). Plain Python: nothing is imported, nothing compiled (the command line
-and the JAX backend read it without Numba).
+:func:`jointplay.integrate`). Each record is declared once, in the lane source module that
+holds the integrator's steps (its ``LANE["integrator"]``: :data:`jointplay._kernels.lanes.SOURCES`),
+beside the lane's name and work allocator that :mod:`jointplay._kernels.lanes.build` and
+:mod:`jointplay._kernels.lanes.cpu` read: a new integrator is one file. The batch engines' two
+methods, ``"explicit"`` and ``"implicit"``, are the integrators their lanes have, named by
+:attr:`Integrator.lane_method` (:func:`lane_methods`). Nothing compiled, no Numba imported
+(the command line and the JAX backend read it without Numba).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["INTEGRATORS", "Integrator", "integrators_of", "lane_methods"]
+from jointplay._kernels.lanes import SOURCES
+
+__all__ = ["DEFAULT", "INTEGRATORS", "Integrator", "integrators_of", "lane_methods"]
 
 
 @dataclass(frozen=True)
@@ -50,24 +54,18 @@ class Integrator:
         return "explicit" if self.explicit else "implicit"
 
 
-#: Every integrator by name; the first is the default.
+#: The default integrator.
+DEFAULT = "radau"
+#: Every integrator by name, from the lane source modules' records (``LANE["integrator"]``:
+#: :data:`jointplay._kernels.lanes.SOURCES`): the default first, then the implicit ones,
+#: then the explicit ones, each in the modules' order.
 INTEGRATORS: dict[str, Integrator] = {
     integrator.name: integrator
-    for integrator in (
-        Integrator(
-            "radau", "Radau IIA (order 5)", order=5, explicit=False, tolerance_scale=1.0,
-            engines=("single", "batch-implicit", "lanes-implicit", "jax"), module="radau",
-        ),
-        Integrator(
-            "rodas4", "RODAS4 (order 4, linearly implicit)", order=4, explicit=False,
-            tolerance_scale=1.0, engines=("single",), module="rodas",
-        ),
-        Integrator(
-            "dopri5", "DOPRI5 (order 5, explicit)", order=5, explicit=True, tolerance_scale=0.2,
-            engines=("single", "lanes-explicit", "jax"), module="dopri",
-        ),
+    for integrator in sorted(
+        (Integrator(**module.LANE["integrator"]) for module in SOURCES if hasattr(module, "LANE")),
+        key=lambda integrator: (integrator.name != DEFAULT, integrator.explicit),
     )
-}  # fmt: skip
+}
 
 
 def integrators_of(engine: str) -> tuple[str, ...]:

@@ -62,6 +62,8 @@ __all__ = ["METHODS", "IntegrationResult", "IntegrationStatus", "integrate", "in
 METHODS: dict[str, Integrator] = {
     name: integrator for name, integrator in INTEGRATORS.items() if "single" in integrator.engines
 }
+#: Those the generic loop has, for :func:`integrate` (a record's ``module``: its steps there).
+_GENERIC = {name: integrator for name, integrator in METHODS.items() if integrator.module}
 
 _EPS = float(np.finfo(np.float64).eps)
 _SMALLEST_RTOL = 100.0 * _EPS
@@ -234,9 +236,9 @@ def integrate(
         ConfigError: An argument is malformed or out of range (the message names it).
         IntegrationError: The integration failed and ``throw`` is true.
     """
-    if method not in METHODS:
+    if method not in _GENERIC:
         raise ConfigError(
-            f"unknown integration method {method!r}; choose one of {', '.join(METHODS)}"
+            f"unknown integration method {method!r}; choose one of {', '.join(_GENERIC)}"
         )
     t0, t_bound = _check_span(t_span)
     y0_array = _check_state(y0)
@@ -253,7 +255,7 @@ def integrate(
     _check_functions(fun, step_check, after_step, jac, t0, y0_array, args)
 
     with _interrupts_watched() as flags:
-        kernel = str(METHODS[method].module)
+        kernel = str(_GENERIC[method].module)
         status_code, t, y, counters = _driver.run_core(
             kernel,
             _driver.steps_of(kernel),

@@ -27,6 +27,7 @@ from numpy.typing import NDArray
 
 from jointplay._kernels import constraints as ck
 from jointplay._kernels import eom, ids
+from jointplay._kernels.integrators import DEFAULT as DEFAULT_INTEGRATOR
 from jointplay._kernels.integrators import INTEGRATORS
 from jointplay.dynamics.clearance import ClearanceJoint
 from jointplay.dynamics.cycles import DEFAULT_SETTLE, analysed_revolutions, settle_revolutions
@@ -627,7 +628,8 @@ def simulate(
     y0 = initial_state(system, start)
     n = system.n_coordinates
     # the explicit method at a fifth of the tolerances, as close to the exact solution as Radau
-    scale = INTEGRATORS[solver.integrator or "radau"].tolerance_scale
+    integrator = solver.integrator or DEFAULT_INTEGRATOR
+    scale = INTEGRATORS[integrator].tolerance_scale
     atol = np.concatenate(
         [
             np.full(n, solver.atol_position),
@@ -639,7 +641,6 @@ def simulate(
     t_end = (int(settle) + revolutions) * period
     args = system.kernel_args()
     wall = time.perf_counter()
-    integrator = solver.integrator or "radau"
     max_step = solver.max_step if solver.max_step is not None else period / 360.0
     run, work = integrate_mechanism(
         args, t_end, y0, method=integrator, rtol=scale * solver.rtol, atol=atol,

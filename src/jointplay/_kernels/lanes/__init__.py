@@ -15,4 +15,30 @@
   the sizes of its per-thread arrays and whether the simulator runs (read by both);
 - :mod:`~jointplay._kernels.lanes.contract`: :class:`BatchKernelOutput`, what every batch
   kernel returns (the CPU engine, the CUDA lanes and the JAX backend).
+
+Each integrator of the lanes is one source module, found here by its name (``source*``):
+:data:`SOURCES`. A module whose ``LANE`` record names an integrator is one for every engine
+that compiles the source: the record says what the integrator is
+(:data:`jointplay._kernels.integrators.INTEGRATORS` reads it), the lane's name, its steps'
+prefix and its work allocator (:mod:`~jointplay._kernels.lanes.build` and
+:mod:`~jointplay._kernels.lanes.cpu` read them); nothing else names it. NumPy only: the
+command line and the JAX backend read the records without Numba.
 """
+
+from __future__ import annotations
+
+import importlib
+import pkgutil
+import types
+
+
+def _sources() -> tuple[types.ModuleType, ...]:
+    """The lane source's modules, ``source`` first (the equations and the loop), then the
+    others by name."""
+    names = sorted(m.name for m in pkgutil.iter_modules(__path__) if m.name.startswith("source"))
+    return tuple(importlib.import_module(f"{__name__}.{name}") for name in names)
+
+
+#: The lane source's modules: the equations and the loop (``source``, with DOPRI5's steps),
+#: then each further integrator's steps in a module of its own.
+SOURCES = _sources()

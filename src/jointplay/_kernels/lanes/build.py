@@ -1,9 +1,9 @@
 """Compile the lane source (:mod:`jointplay._kernels.lanes.source`) for one target.
 
-The single-source pattern: the source modules (:data:`SOURCES`:
+The single-source pattern: the source modules (:data:`jointplay._kernels.lanes.SOURCES`:
 :mod:`~jointplay._kernels.lanes.source`, the equations, the loop and DOPRI5's steps;
 :mod:`~jointplay._kernels.lanes.source_radau`, Radau IIA's; :mod:`~jointplay._kernels.lanes.source_rodas`,
-RODAS4's) hold plain Python functions written in the subset both Numba targets compile
+RODAS4's; each integrator's lane declared by its module's ``LANE`` record) hold plain Python functions written in the subset both Numba targets compile
 (scalars and caller-provided arrays, no allocation).
 :func:`build` makes a fresh namespace for a target — the source's constants and ``math`` —
 and compiles every function of :data:`FUNCTIONS` into it with the target's decorator
@@ -27,26 +27,20 @@ import numpy.typing as npt
 
 from jointplay._kernels import ids
 from jointplay._kernels.capabilities import refusal
-from jointplay._kernels.lanes import source, source_radau, source_rodas
+from jointplay._kernels.lanes import SOURCES, source
 
 __all__ = [
-    "FUNCTIONS", "HOME", "SOURCES", "all_clear", "build", "closed", "lane_layout",
+    "FUNCTIONS", "HOME", "LANES", "all_clear", "build", "closed", "lane_layout",
     "lanes_refusal", "model_width", "output_widths", "rebound", "running_layout",
 ]  # fmt: skip
 
 #: A lane method's steps, the names the loop calls (``step_<name>``: ``source.lane``'s
 #: docstring); a method defines them as ``<prefix>_<name>``.
 STEPS = ("start", "begin", "land", "attempt", "retry", "refresh", "accept", "dense")
-#: The lanes, each the loop compiled with a method's steps and constants (its record: the
-#: prefix of its steps, ``steps``, and the loop's constants).
-LANES = {
-    "explicit_lane": source.DOPRI_LANE,
-    "implicit_lane": source_radau.RADAU_LANE,
-    "rodas_lane": source_rodas.RODAS_LANE,
-}
-#: The source modules: the equations and the loop (``source``), and each further method's
-#: steps in a module of its own.
-SOURCES = (source, source_radau, source_rodas)
+#: The lanes by name, each the loop compiled with an integrator's steps and constants: its
+#: source module's ``LANE`` record (the prefix of its steps, ``steps``; its work allocator,
+#: ``work``; the loop's constants, in capitals).
+LANES = {module.LANE["lane"]: module.LANE for module in SOURCES if hasattr(module, "LANE")}
 #: The loop's functions (``source``'s), compiled once per lane with its method's names.
 LOOP = ("lane",)
 

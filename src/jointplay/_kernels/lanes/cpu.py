@@ -14,16 +14,15 @@ from typing import Any
 
 import numba
 import numpy as np
+from numba.core import cgutils, types
 from numba.extending import intrinsic
 from numba.np.arrayobj import make_array, populate_array
 
 from jointplay._kernels import sustained
 from jointplay._kernels.ids import N_TRACE_COUNTS
-from jointplay._kernels.lanes.build import build, closed, rebound
+from jointplay._kernels.lanes.build import LANES, build, closed, rebound
 from jointplay._kernels.lanes.projection import N_WORK, project_lapack
 from jointplay._kernels.lanes.source import LY_N, LY_NC, LY_NIDEAL, LY_NQ, LY_SIZE
-from jointplay._kernels.lanes.source_radau import N_RADAU_SCALARS
-from jointplay._kernels.lanes.source_rodas import N_RODAS_SCALARS
 
 #: The lanes' steps and the loop's helpers are inlined into the loop (Numba's IR inlining):
 #: called as functions, they made an explicit lane 7-14 % dearer (64 conventional lanes).
@@ -60,9 +59,7 @@ compiled_traced = build(
     _PLAIN,
     hooks=_HOOKS,
     extras={"np": np, "RECORD": True},
-    only=closed(
-        ("explicit_lane", "implicit_lane", "rodas_lane"), {**sustained.OWN, **sustained.HOOKS}
-    ),
+    only=closed(tuple(LANES), {**sustained.OWN, **sustained.HOOKS}),
     own=sustained.OWN,
     tag="traced",
     decorate_steps=_INLINE,
@@ -84,23 +81,33 @@ __all__ = [
 ]
 
 
-def _borrowed(typingctx: Any, array: Any) -> Any:
-    """``borrowed(array)``: ``array`` without its memory-info pointer, a view the lane borrows
-    for the length of the call. Numba counts the references of every array it passes or
-    assigns (an atomic increment and decrement each time); on a borrowed array the count is a
-    null check. The lane passes its work arrays to its steps and equations dozens of times a
-    step: counted, they made an explicit lane 5-13 % dearer once its steps were functions of
-    their own. The owner must outlive the borrowing: Numba frees a variable after its last
-    use, so the caller uses every owner after the call (:func:`_alive`)."""
+def _borrowed(typingctx: Any, value: Any) -> Any:
+    """``borrowed(value)``: the array ``value`` (or each array of the tuple ``value``: a
+    method's work) without its memory-info pointer, a view the lane borrows for the length of
+    the call. Numba counts the references of every array it passes or assigns (an atomic
+    increment and decrement each time); on a borrowed array the count is a null check. The
+    lane passes its work arrays to its steps and equations dozens of times a step: counted,
+    they made an explicit lane 5-13 % dearer once its steps were functions of their own. The
+    owner must outlive the borrowing: Numba frees a variable after its last use, so the caller
+    uses every owner after the call (:func:`_alive`)."""
+
+    def view(context: Any, builder: Any, kind: Any, array: Any) -> Any:
+        source = make_array(kind)(context, builder, value=array)
+        out = make_array(kind)(context, builder)
+        populate_array(out, data=source.data, shape=source.shape, strides=source.strides,
+                       itemsize=source.itemsize, meminfo=None)  # fmt: skip
+        return out._getvalue()
 
     def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
-        source = make_array(signature.args[0])(context, builder, value=args[0])
-        view = make_array(signature.return_type)(context, builder)
-        populate_array(view, data=source.data, shape=source.shape, strides=source.strides,
-                       itemsize=source.itemsize, meminfo=None)  # fmt: skip
-        return view._getvalue()
+        kind = signature.args[0]
+        if not isinstance(kind, types.BaseTuple):
+            return view(context, builder, kind, args[0])
+        members: Any = kind  # a tuple type iterates over its members' types
+        items = cgutils.unpack_tuple(builder, args[0], len(members))
+        views = [view(context, builder, t, v) for t, v in zip(members, items, strict=True)]
+        return context.make_tuple(builder, kind, views)
 
-    return array(array), codegen
+    return value(value), codegen
 
 
 borrowed: Any = intrinsic(_borrowed)
@@ -127,59 +134,8 @@ def _work(lay, n_q):
     )  # fmt: skip
 
 
-@numba.njit(cache=True, error_model="numpy")
-def _dopri_work(lay):
-    """DOPRI5's ``ws`` (``source.DOPRI_STATE``)."""
-    return np.zeros((9, lay[LY_SIZE]))
-
-
-@numba.njit(cache=True, error_model="numpy")
-def _dopri_borrowed(ws):
-    return borrowed(ws)
-
-
-@numba.njit(cache=True, error_model="numpy")
-def _radau_work(lay):
-    """Radau IIA's ``ws`` (``source_radau.radau_start``'s docstring)."""
-    size = lay[LY_SIZE]
-    n = lay[LY_N]
-    v = np.empty((8, size))
-    small = np.empty((3, n))
-    stages = np.empty((5, 3, size))
-    mats = np.empty((3, n, n))
-    pivots = np.empty((2, n), dtype=np.int64)
-    return (
-        np.zeros(N_RADAU_SCALARS), v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7],
-        small[0], small[1], small[2], stages[0], stages[1], stages[2], stages[3], stages[4],
-        np.empty((size - n, 2 * n)), mats[0], pivots[0], mats[1], mats[2], pivots[1],
-    )  # fmt: skip
-
-
-@numba.njit(cache=True, error_model="numpy")
-def _rodas_work(lay):
-    """RODAS4's ``ws`` (``source_rodas.rodas_start``'s docstring)."""
-    size = lay[LY_SIZE]
-    n = lay[LY_N]
-    v = np.empty((8, size))
-    return (
-        np.zeros(N_RODAS_SCALARS), np.empty((size - n, 2 * n)), v[0], v[1], np.empty((6, size)),
-        v[2], v[3], v[4], v[5], v[6], v[7], np.empty(n), np.empty((n, n)),
-        np.empty(n, dtype=np.int64),
-    )  # fmt: skip
-
-
-@numba.njit(cache=True, error_model="numpy")
-def _radau_borrowed(ws):
-    b = borrowed
-    return (
-        b(ws[0]), b(ws[1]), b(ws[2]), b(ws[3]), b(ws[4]), b(ws[5]), b(ws[6]), b(ws[7]),
-        b(ws[8]), b(ws[9]), b(ws[10]), b(ws[11]), b(ws[12]), b(ws[13]), b(ws[14]), b(ws[15]),
-        b(ws[16]), b(ws[17]), b(ws[18]), b(ws[19]), b(ws[20]), b(ws[21]), b(ws[22]),
-    )  # fmt: skip
-
-
 def _traced(ipar, rpar, lay, y0, t_end, max_step, rtol, atol, max_steps, interrupt):
-    """One integration by the traced lane ``method_lane`` with ``method_work`` (:func:`traced`)."""
+    """One integration by the traced lane ``method_lane`` with ``method_work`` (:data:`traced`)."""
     mask, vec, q, samples, pen, records, phi_q, schur, lam, scratch = _work(lay, lay[LY_NQ])
     counts = np.zeros(N_TRACE_COUNTS, dtype=np.int64)
     code, _, times, states = method_lane(  # type: ignore[name-defined]  # noqa: F821
@@ -195,9 +151,9 @@ def _one(
     ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
     peaks, stats, status, t_reached, counts, lane,
 ):  # fmt: skip
-    """Lane ``lane`` (:func:`_drivers`' ``method_lane`` with ``method_work`` and
-    ``method_borrowed``), every array borrowed (:func:`borrowed`): the caller's, and the work
-    arrays allocated here and kept alive until the lane returns."""
+    """Lane ``lane`` (:func:`_drivers`' ``method_lane`` with ``method_work``), every array
+    borrowed (:func:`borrowed`): the caller's, and the work arrays allocated here and kept
+    alive until the lane returns."""
     mask, vec, q, samples, pen, records, phi_q, schur, lam, scratch = _work(lay, peaks.shape[1])
     ws = method_work(lay)  # type: ignore[name-defined]  # noqa: F821 (the drivers' namespace)
     b = borrowed
@@ -206,7 +162,7 @@ def _one(
         max_step[lane], rtol, b(atol), max_steps, b(interrupt), b(peaks[lane]),
         b(stats[lane]), b(counts[lane]), b(mask), b(vec), b(q), b(samples), b(pen),
         b(records), b(phi_q), b(schur), b(lam), b(scratch),
-        method_borrowed(ws),  # type: ignore[name-defined]  # noqa: F821
+        b(ws),
     )  # fmt: skip
     # the owners of the borrowed work arrays: alive until here (Numba frees a variable after
     # its last use, which would otherwise be the borrowing, before the lane runs)
@@ -240,15 +196,14 @@ def _lanes_parallel(
         )  # fmt: skip
 
 
-def _drivers(lane: Any, work: Any, borrow: Any, tag: str) -> tuple[Any, Any]:
+def _drivers(lane: Any, work: Any, tag: str) -> tuple[Any, Any]:
     """The serial and the threaded drivers of :func:`_lanes` and :func:`_lanes_parallel` over
     the compiled lane ``lane`` with its method's work arrays ``work``: the functions compiled
     in a namespace of their own (as :func:`~jointplay._kernels.lanes.build.build` does),
     ``tag`` keeping their cache entries apart, so that each pair links its own lane and no
     other."""
     namespace = {"np": np, "numba": numba, "_work": _work, "borrowed": borrowed,
-                 "_alive": _alive, "method_lane": lane, "method_work": work,
-                 "method_borrowed": borrow}  # fmt: skip
+                 "_alive": _alive, "method_lane": lane, "method_work": work}  # fmt: skip
     for function, parallel in ((_one, False), (_lanes, False), (_lanes_parallel, True)):
         namespace[function.__name__] = numba.njit(
             cache=True, error_model="numpy", parallel=parallel
@@ -256,11 +211,12 @@ def _drivers(lane: Any, work: Any, borrow: Any, tag: str) -> tuple[Any, Any]:
     return namespace["_lanes"], namespace["_lanes_parallel"]
 
 
-def _driver_table(lane: Any, running: Any, work: Any, borrow: Any, tag: str) -> dict[Any, Any]:
-    """A method's drivers by ``(running, parallel)``: over ``lane`` and over ``running``, its
-    compilation with the running reductions."""
-    serial, threaded = _drivers(lane, work, borrow, tag)
-    serial_running, threaded_running = _drivers(running, work, borrow, f"{tag}_running")
+def _driver_table(name: str, tag: str) -> dict[Any, Any]:
+    """The drivers of lane ``name`` by ``(running, parallel)``: over the lane and over its
+    compilation with the running reductions, with the work allocator of its record."""
+    work = compiled[LANES[name]["work"]]
+    serial, threaded = _drivers(compiled[name], work, tag)
+    serial_running, threaded_running = _drivers(compiled_running[name], work, f"{tag}_running")
     return {
         (False, False): serial, (False, True): threaded,
         (True, False): serial_running, (True, True): threaded_running,
@@ -275,32 +231,24 @@ def _driver_table(lane: Any, running: Any, work: Any, borrow: Any, tag: str) -> 
 _TRACED_NAMES = {"np": np, "_work": _work, "N_TRACE_COUNTS": N_TRACE_COUNTS, "LY_N": LY_N,
                  "LY_NC": LY_NC, "LY_NQ": LY_NQ}  # fmt: skip
 traced = {
-    name: numba.njit(cache=True, error_model="numpy", nogil=True)(
+    record["integrator"]["name"]: numba.njit(cache=True, error_model="numpy", nogil=True)(
         rebound(
             _traced,
             {
                 **_TRACED_NAMES,
                 "method_lane": compiled_traced[lane],
-                "method_work": work,
+                "method_work": compiled[record["work"]],
             },
-            f"_traced_{name}",
+            f"_traced_{record['integrator']['name']}",
         )
     )
-    for name, lane, work in (
-        ("dopri5", "explicit_lane", _dopri_work),
-        ("radau", "implicit_lane", _radau_work),
-        ("rodas4", "rodas_lane", _rodas_work),
-    )
+    for lane, record in LANES.items()
 }
 
 #: The explicit drivers by ``(running, parallel)``.
-EXPLICIT_DRIVERS = _driver_table(
-    explicit_lane, explicit_lane_running, _dopri_work, _dopri_borrowed, ""
-)
+EXPLICIT_DRIVERS = _driver_table("explicit_lane", "")
 #: The implicit drivers by ``(running, parallel)``.
-IMPLICIT_DRIVERS = _driver_table(
-    implicit_lane, implicit_lane_running, _radau_work, _radau_borrowed, "_implicit"
-)
+IMPLICIT_DRIVERS = _driver_table("implicit_lane", "_implicit")
 #: Every lane of each method, serially and on Numba's threads (and with the running
 #: reductions).
 explicit_lanes, explicit_lanes_parallel = (

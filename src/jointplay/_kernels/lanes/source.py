@@ -40,7 +40,7 @@ from __future__ import annotations
 
 import math
 
-import numpy as np  # the traced lane's trajectory alone (RECORD: the CPU's)
+import numpy as np  # the traced lane's trajectory and the work allocators: the CPU's
 
 # The shared ids, slots, statuses and counters (one home: jointplay._kernels.ids; build.py
 # puts the source's upper-case globals, these included, into every target's namespace).
@@ -1925,8 +1925,23 @@ def initial_step(t0, y0, t_bound, max_step, f0, rtol, atol, rp, ip, lay, y1, f1,
 #: step was rejected by the error test.
 DOPRI_STATE, DOPRI_SCALARS = 7, 8
 DOPRI_ERROR, DOPRI_REJECTED = 0, 1
-#: The explicit lane's method: its steps' prefix and the loop's constants (:func:`lane`).
-DOPRI_LANE = {"steps": "dopri", "LAND_SETTLE": True, "REGIMES": False, "RTOL_FLOOR": 0.0}
+#: DOPRI5's lane record (the one place it is declared; :data:`jointplay._kernels.lanes.SOURCES`
+#: finds it): the integrator (:class:`jointplay._kernels.integrators.Integrator`'s fields), the
+#: lane's name, its steps' prefix, its work allocator and the loop's constants (:func:`lane`).
+LANE = {
+    "integrator": {
+        "name": "dopri5", "title": "DOPRI5 (order 5, explicit)", "order": 5, "explicit": True,
+        "tolerance_scale": 0.2, "engines": ("single", "lanes-explicit", "jax"), "module": "dopri",
+    },
+    "lane": "explicit_lane", "steps": "dopri", "work": "dopri_work",
+    "LAND_SETTLE": True, "REGIMES": False, "RTOL_FLOOR": 0.0,
+}  # fmt: skip
+
+
+def dopri_work(lay):
+    """DOPRI5's ``ws`` (``DOPRI_STATE``), zeros; it allocates: the CPU's (a GPU thread's are
+    its kernel's local arrays)."""
+    return np.zeros((9, lay[LY_SIZE]))
 
 
 def dopri_start(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mid, record_mid,
@@ -2036,8 +2051,8 @@ def dopri_dense(ws, t_old, y_old, t, y, f, t_new, y_new, f_new, h, tau, theta, o
     dense(y, ws, h, theta, out, lay[LY_SIZE])
 
 
-# The names the loop calls for its method: build.py binds each lane's own (a method's record,
-# DOPRI_LANE or source_radau.RADAU_LANE, and its steps); these, the explicit lane's, only let
+# The names the loop calls for its method: build.py binds each lane's own (its source module's
+# LANE record, and its steps); these, the explicit lane's, only let
 # a reader and the linters find them.
 LAND_SETTLE, REGIMES, RTOL_FLOOR = True, False, 0.0
 step_start, step_begin, step_land, step_attempt = (

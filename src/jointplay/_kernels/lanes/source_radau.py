@@ -42,7 +42,7 @@ Where the single engine records every step, the loop reduces each accepted step 
 taken (a GPU thread cannot keep its trajectory), with the single engine's interpolant
 (:func:`hermite`, on the step and the step end before it: :func:`radau_dense`) and the peak
 rule of :mod:`jointplay._kernels.batch`; the window opens at ``t_settle`` inside the step
-that crosses it (``RADAU_LANE``: Radau does not land on it).
+that crosses it (``LANE``: Radau does not land on it).
 
 References:
     .. [HW96] E. Hairer, G. Wanner, *Solving Ordinary Differential Equations II*, 2nd ed.,
@@ -52,6 +52,8 @@ References:
 from __future__ import annotations
 
 import math
+
+import numpy as np  # the work allocator: the CPU's
 
 # These names are resolved in the namespace build.py makes (the source's functions and
 # constants); imported here only so that a reader (and the linters) can find them.
@@ -1034,8 +1036,32 @@ R_H_STATE, R_H_OLD_STATE, R_ERR_OLD_STATE, R_H_OLD, R_ERR_OLD, R_NEWTON_TOL = ra
 R_CURRENT_JAC, R_LU_VALID, R_HAS_SOL, R_REJECTED, R_FAILED = range(6, 11)
 R_N_ITER, R_RATE, R_ERROR, R_SAFETY, R_BITS_OLD, R_BITS, R_RULE, R_FILM = range(11, 19)
 N_RADAU_SCALARS = 19
-#: The implicit lane's method: its steps' prefix and the loop's constants (``source.lane``).
-RADAU_LANE = {"steps": "radau", "LAND_SETTLE": False, "REGIMES": True, "RTOL_FLOOR": 100.0 * EPS}
+#: Radau IIA's lane record (``source.LANE`` says what each entry is).
+LANE = {
+    "integrator": {
+        "name": "radau", "title": "Radau IIA (order 5)", "order": 5, "explicit": False,
+        "tolerance_scale": 1.0, "engines": ("single", "batch-implicit", "lanes-implicit", "jax"),
+        "module": "radau",
+    },
+    "lane": "implicit_lane", "steps": "radau", "work": "radau_work",
+    "LAND_SETTLE": False, "REGIMES": True, "RTOL_FLOOR": 100.0 * EPS,
+}  # fmt: skip
+
+
+def radau_work(lay):
+    """Radau IIA's ``ws`` (:func:`radau_start`'s docstring); it allocates: the CPU's."""
+    size = lay[LY_SIZE]
+    n = lay[LY_N]
+    v = np.empty((8, size))
+    small = np.empty((3, n))
+    stages = np.empty((5, 3, size))
+    mats = np.empty((3, n, n))
+    pivots = np.empty((2, n), dtype=np.int64)
+    return (
+        np.zeros(N_RADAU_SCALARS), v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7],
+        small[0], small[1], small[2], stages[0], stages[1], stages[2], stages[3], stages[4],
+        np.empty((size - n, 2 * n)), mats[0], pivots[0], mats[1], mats[2], pivots[1],
+    )  # fmt: skip
 
 
 def radau_start(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mid, record_mid,

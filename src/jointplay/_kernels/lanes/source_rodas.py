@@ -21,9 +21,10 @@ that factor, with no growth right after a rejection; a non-finite stage is a rej
 ``h/5``. The error norm is taken over every component of the state.
 
 This module is one integrator for every engine that compiles the lane source: its tableau
-and its steps (``rodas_*``, the loop's contract), found by
-:mod:`jointplay._kernels.lanes.build` (its method record :data:`RODAS_LANE`). Written in the
-lane source's subset (no allocation; the tableau in tuples).
+and its steps (``rodas_*``, the loop's contract), its record
+:data:`LANE` (the integrator, the lane, the work allocator), found by
+:data:`jointplay._kernels.lanes.SOURCES`: nothing else names it. Written in the lane source's
+subset (no allocation but the CPU's work allocator; the tableau in tuples).
 
 References:
     .. [HW96] E. Hairer, G. Wanner, *Solving Ordinary Differential Equations II: Stiff and
@@ -34,6 +35,8 @@ References:
 from __future__ import annotations
 
 import math
+
+import numpy as np  # the work allocator: the CPU's
 
 # Names the build's namespace binds for every target (the shared ids and the other source
 # modules' constants and functions); imported here only so that a reader can find them.
@@ -88,8 +91,27 @@ RODAS_SAFETY, RODAS_MIN_FACTOR, RODAS_MAX_FACTOR = 0.9, 0.2, 5.0
 #: of this step failed, whether the linearisation is of an earlier point.
 RO_H_ACCEPTED, RO_ERROR_ACCEPTED, RO_ERROR, RO_FAILED, RO_STALE = range(5)
 N_RODAS_SCALARS = 5
-#: The method's record: its steps' prefix and the loop's constants (``source.lane``).
-RODAS_LANE = {"steps": "rodas", "LAND_SETTLE": False, "REGIMES": True, "RTOL_FLOOR": 100.0 * EPS}
+#: RODAS4's lane record (``source.LANE`` says what each entry is).
+LANE = {
+    "integrator": {
+        "name": "rodas4", "title": "RODAS4 (order 4, linearly implicit)", "order": 4,
+        "explicit": False, "tolerance_scale": 1.0, "engines": ("single",), "module": "rodas",
+    },
+    "lane": "rodas_lane", "steps": "rodas", "work": "rodas_work",
+    "LAND_SETTLE": False, "REGIMES": True, "RTOL_FLOOR": 100.0 * EPS,
+}  # fmt: skip
+
+
+def rodas_work(lay):
+    """RODAS4's ``ws`` (:func:`rodas_start`'s docstring); it allocates: the CPU's."""
+    size = lay[LY_SIZE]
+    n = lay[LY_N]
+    v = np.empty((8, size))
+    return (
+        np.zeros(N_RODAS_SCALARS), np.empty((size - n, 2 * n)), v[0], v[1], np.empty((6, size)),
+        v[2], v[3], v[4], v[5], v[6], v[7], np.empty(n), np.empty((n, n)),
+        np.empty(n, dtype=np.int64),
+    )  # fmt: skip
 
 
 def rodas_stage(k, y, s, stage, size):

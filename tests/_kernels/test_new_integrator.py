@@ -1,0 +1,154 @@
+"""A new integrator is one file (issue 38): a lane source module with its steps, its work
+allocator and its ``LANE`` record. The tables that name integrators — the records
+(``INTEGRATORS``), the lanes (``build.LANES``), the single engine's traced lanes
+(``cpu.traced``), the capability table, ``SolverOptions``' choices — are read from the
+modules, so dropping the file into ``jointplay/_kernels/lanes/`` is the whole change.
+
+The test's integrator is DOPRI5 again under another name (its steps call DOPRI5's): what it
+shows is the wiring, and that the new lane is a lane like the others, the same bits as
+DOPRI5's.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from jointplay._kernels import integrators
+from jointplay._kernels.lanes import SOURCES, build
+
+#: The new integrator's module, as a user would write it (its steps forward to DOPRI5's).
+NEW_MODULE = '''
+"""DOPRI5 under another name: a new integrator in one file."""
+from jointplay._kernels.lanes.source import LANE as _DOPRI5
+
+LANE = {
+    **_DOPRI5,
+    "integrator": {**_DOPRI5["integrator"], "name": "dopri5_copy", "engines": ("single",),
+                   "module": None},
+    "lane": "copy_lane", "steps": "copy", "work": "copy_work",
+}
+
+
+def copy_work(lay):
+    return dopri_work(lay)
+
+
+def copy_start(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mid, record_mid,
+               phi_q, schur, lam, counts):
+    return dopri_start(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mid,
+                       record_mid, phi_q, schur, lam, counts)
+
+
+def copy_begin(ws, t, y, h, max_step, min_step, rtol, atol, size):
+    return dopri_begin(ws, t, y, h, max_step, min_step, rtol, atol, size)
+
+
+def copy_land(t, h, target):
+    return dopri_land(t, h, target)
+
+
+def copy_attempt(ws, t, y, f, h, t_new, y_new, t_old, y_old, rtol, atol, rp, ip, lay,
+                 record_new, qb, pen, f_mid, record_mid, phi_q, schur, lam, counts):
+    return dopri_attempt(ws, t, y, f, h, t_new, y_new, t_old, y_old, rtol, atol, rp, ip, lay,
+                         record_new, qb, pen, f_mid, record_mid, phi_q, schur, lam, counts)
+
+
+def copy_retry(ws):
+    return dopri_retry(ws)
+
+
+def copy_refresh(ws, t_new, y_new, f_new, changed, rp, ip, lay, record, qb, pen, phi_q, schur,
+                 lam, counts):
+    return dopri_refresh(ws, t_new, y_new, f_new, changed, rp, ip, lay, record, qb, pen, phi_q,
+                         schur, lam, counts)
+
+
+def copy_accept(ws, t_new, y_new, f_new, h, changed, atol, rp, ip, lay, pen, f_mid,
+                record_mid, phi_q, schur, lam, counts):
+    return dopri_accept(ws, t_new, y_new, f_new, h, changed, atol, rp, ip, lay, pen, f_mid,
+                        record_mid, phi_q, schur, lam, counts)
+
+
+def copy_dense(ws, t_old, y_old, t, y, f, t_new, y_new, f_new, h, tau, theta, out, lay):
+    return dopri_dense(ws, t_old, y_old, t, y, f, t_new, y_new, f_new, h, tau, theta, out, lay)
+'''
+
+#: Run in a fresh interpreter whose ``jointplay._kernels.lanes`` also searches the folder of
+#: the new module (as if it had been saved beside the others).
+SCRIPT = """
+import importlib.util, json, sys
+spec = importlib.util.find_spec("jointplay._kernels.lanes")
+spec.submodule_search_locations.append(sys.argv[1])
+package = importlib.util.module_from_spec(spec)
+sys.modules[spec.name] = package
+spec.loader.exec_module(package)
+
+import numpy as np
+from jointplay import load_preset
+from jointplay._kernels.capabilities import ENGINES
+from jointplay._kernels.integrators import INTEGRATORS
+from jointplay._kernels.lanes import build, cpu
+from jointplay.dynamics.setup import ContactModel
+from jointplay.dynamics.simulate import SolverOptions, Start, simulate
+
+mechanism = load_preset("paper-fourbar")
+joints = ContactModel(film_damping=0).joints(mechanism, ["A", "B"])
+runs = {
+    name: simulate(mechanism, joints, revolutions=0.05, start=Start("steady"),
+                   solver=SolverOptions(integrator=name))
+    for name in ("dopri5", "dopri5_copy")
+}
+a, b = runs["dopri5"], runs["dopri5_copy"]
+from jointplay import integrate  # the generic loop: only those with its steps (module)
+from jointplay.errors import ConfigError
+try:
+    integrate(None, (0.0, 1.0), [1.0], method="dopri5_copy")
+    refused = ""
+except ConfigError as error:
+    refused = str(error)
+print(json.dumps({
+    "integrators": list(INTEGRATORS),
+    "lanes": list(build.LANES),
+    "traced": sorted(cpu.traced),
+    "single": list(ENGINES["single"].integrators),
+    "same_bits": bool(np.array_equal(a.t, b.t) and np.array_equal(a.y, b.y)),
+    "steps": int(a.t.size),
+    "stats": b.solver_stats["integrator"],
+    "generic_refused": refused,
+}))
+"""
+
+
+def test_every_table_is_read_from_the_lane_modules() -> None:
+    """Nothing lists the integrators by hand: each record, lane and work allocator is its
+    module's, and each module with a record is one integrator."""
+    records = [module.LANE for module in SOURCES if hasattr(module, "LANE")]
+    assert sorted(r["integrator"]["name"] for r in records) == sorted(integrators.INTEGRATORS)
+    assert {r["lane"]: r for r in records} == build.LANES
+    for record in records:
+        assert record["work"] in build.FUNCTIONS  # allocated by a function of the source
+    assert next(iter(integrators.INTEGRATORS)) == integrators.DEFAULT
+
+
+@pytest.mark.slow
+def test_a_new_integrator_is_one_file(tmp_path: Path) -> None:
+    (tmp_path / "source_zz_copy.py").write_text(textwrap.dedent(NEW_MODULE))
+    run = subprocess.run(
+        [sys.executable, "-c", SCRIPT, str(tmp_path)],
+        capture_output=True, text=True, timeout=900, check=False,
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr[-3000:]
+    seen = json.loads(run.stdout.strip().splitlines()[-1])
+    assert seen["integrators"] == ["radau", "rodas4", "dopri5", "dopri5_copy"]
+    assert seen["lanes"] == ["explicit_lane", "implicit_lane", "rodas_lane", "copy_lane"]
+    assert seen["traced"] == ["dopri5", "dopri5_copy", "radau", "rodas4"]
+    assert "dopri5_copy" in seen["single"]
+    assert seen["stats"] == "dopri5_copy"
+    assert seen["steps"] > 20 and seen["same_bits"]
+    assert "choose one of radau, rodas4, dopri5" in seen["generic_refused"]
