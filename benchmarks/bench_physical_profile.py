@@ -7,8 +7,8 @@ from the steady start. Two parts:
 ``profile`` (settle 2 + 1 revolution, default tolerances): the integrator's counters, the
 accepted steps per revolution, per number of joints in contact, and per 10° of crank in the
 analysed revolution with their median step, and the cost per revolution of each piece of
-work (evaluations, Jacobians, LU pairs, the two hooks) from micro-timings of the compiled
-functions at a state in contact, against the measured time.
+work (evaluations, Jacobians, LU pairs, the loop's work around each step) from
+micro-timings of the compiled functions at a state in contact, against the measured time.
 
 ``convergence`` (three revolutions from the steady start, no settling): the peak contact
 force of each joint and the peak |ω3| in each revolution, for a list of tolerances (rtol,
@@ -33,6 +33,7 @@ from bench_dry_profile import (  # the script's folder
     _time_jacobian,
     _time_lu,
     _time_rhs,
+    hook_arguments,
 )
 from numpy.typing import NDArray
 
@@ -78,8 +79,6 @@ def micro_us(result: SimulationResult, h: float) -> dict[str, float]:
     args = result.system.kernel_args()
     i = len(result.t) // 2
     y, t = np.array(result.y[i]), float(result.t[i])
-    y2, t2 = np.array(result.y[i + 1]), float(result.t[i + 1])
-    eom.start_workspace(y, args)
     f = eom.state_rhs(t, y, args).copy()
     out = np.empty((y.size, y.size))
     n = result.system.n_coordinates
@@ -91,7 +90,7 @@ def micro_us(result: SimulationResult, h: float) -> dict[str, float]:
         "rhs": (_time_rhs, (t, y, args)),
         "jacobian": (_time_jacobian, (t, y, f, args, out)),
         "LU pair": (_time_lu, (out[n:], h, *lu, n, n)),
-        "hooks": (_time_hooks, (t, y, t2, y2.copy(), args)),
+        "hooks": (_time_hooks, hook_arguments(result, i)),
     }
     timings = {}
     for name, (function, arguments) in calls.items():

@@ -23,6 +23,7 @@ import numpy as np
 import numpy.typing as npt
 import pytest
 
+import _generic_hooks as hooks
 from _states import perturbed_states
 from jointplay._kernels import eom
 from jointplay.contact.friction import AmbrosioFriction
@@ -80,11 +81,11 @@ def test_a_free_pin_decays_exponentially_with_the_film() -> None:
     tau = MASS / FILM
     t_end = 3 * tau
     args = system.kernel_args()
-    eom.start_workspace(y0, args)
+    hooks.start_workspace(y0, args)
     run = integrate(
         eom.state_rhs, (0.0, t_end), y0, args=args, rtol=1e-10,
         atol=np.concatenate([np.full(2 * n, 1e-14), np.full(system.n_state - 2 * n, 1.0)]),
-        step_check=eom.step_check, after_step=eom.after_step, n_second=n, n_active=2 * n,
+        step_check=hooks.step_check, after_step=hooks.after_step, n_second=n, n_active=2 * n,
         jac=eom.jacobian_state,
     )  # fmt: skip
     decay = np.exp(-run.t / tau)

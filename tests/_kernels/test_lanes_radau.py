@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 import pytest
 
+import _generic_hooks as hooks
 from _tolerances import SAME_ALGORITHM_RTOL
 from jointplay._kernels import batch as kb
 from jointplay._kernels import eom, ids, radau, rodas
@@ -154,9 +155,9 @@ def _single_engine(p: dict[str, Any], **kw: Any) -> dict[str, Any]:
             out["status"][lane] = ids.STATUS_INTERRUPTED
             continue
         work = eom.new_workspace(nc)
-        eom.start_workspace(y0, (rpar, ipar, work))
+        hooks.start_workspace(y0, (rpar, ipar, work))
         code, ts, ys, counters = radau.radau_integrate(
-            eom.state_rhs, eom.step_check, eom.after_step, 0.0, y0, float(args["t_end"][lane]),
+            eom.state_rhs, hooks.step_check, hooks.after_step, 0.0, y0, float(args["t_end"][lane]),
             (rpar, ipar, work), args["rtol"], args["atol"], float(args["max_step"][lane]), 0.0,
             args["max_steps"], n_second=n, n_active=2 * n, hold_after_failure=True,
             jac=eom.jacobian_state, interrupt=interrupt,

@@ -2,10 +2,11 @@
 
 ``simulate`` integrates through :data:`jointplay._kernels.lanes.cpu.traced` (one loop for every
 engine, each integrator its steps in the lane source). The reference is what it ran before:
-the generic loop of :mod:`jointplay._kernels.driver` with :mod:`jointplay._kernels.eom`'s hooks
-(the state's right-hand side, the contact-onset check, the contact memory and projection, the
-Jacobian) — the same equations, a loop and step functions written apart. The two give the same
-bits: every accepted step's time and state, and every counter.
+the generic loop of :mod:`jointplay._kernels.driver` with the contact hooks it ran with
+(``eom.state_rhs``, the contact-onset check and the contact memory and projection of
+``tests/_generic_hooks.py``, ``eom.jacobian_state``) — the same equations, a loop and step
+functions written apart. The two give the same bits: every accepted step's time and state,
+and every counter.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from typing import Any
 import numpy as np
 import pytest
 
+import _generic_hooks as hooks
 from jointplay._kernels import eom, ids
 from jointplay.contact.laws import get_law
 from jointplay.dynamics.clearance import ClearanceJoint
@@ -44,7 +46,7 @@ def _joints(mechanism: Mechanism, case: str) -> list[ClearanceJoint]:
 
 
 def _both(mechanism: Mechanism, case: str, integrator: str, start: Start) -> tuple[Any, Any]:
-    """One short integration by the traced lane and by the driver with eom's hooks, as
+    """One short integration by the traced lane and by the driver with the old hooks, as
     ``simulate`` sets them up."""
     system = build_system(mechanism, _joints(mechanism, case), ramp_time=start.ramp_time)
     y0 = initial_state(system, start)
@@ -57,10 +59,10 @@ def _both(mechanism: Mechanism, case: str, integrator: str, start: Start) -> tup
                "max_steps": 20_000}  # fmt: skip
     args = system.kernel_args()
     traced, _ = integrate_mechanism(args, t_end, y0, method=integrator, throw=False, **options)
-    eom.start_workspace(np.ascontiguousarray(y0, dtype=float), args)
+    hooks.start_workspace(np.ascontiguousarray(y0, dtype=float), args)
     reference = integrate(
-        eom.state_rhs, (0.0, t_end), y0, args=args, step_check=eom.step_check,
-        after_step=eom.after_step, n_second=n, n_active=2 * n, hold_after_failure=True,
+        eom.state_rhs, (0.0, t_end), y0, args=args, step_check=hooks.step_check,
+        after_step=hooks.after_step, n_second=n, n_active=2 * n, hold_after_failure=True,
         jac=eom.jacobian_state, throw=False, method=integrator,
         autonomous=not start.ramp_time > 0, **options,
     )  # fmt: skip
@@ -95,10 +97,10 @@ def test_a_failing_integration_ends_as_the_drivers(paper_fourbar: Mechanism) -> 
     atol = np.full(2 * n + 2 + 4, 1e-6)
     traced, _ = integrate_mechanism(args, 0.05, y0, method="radau", rtol=1e-6, atol=atol,
                                     max_step=1e-3, max_steps=7, throw=False)  # fmt: skip
-    eom.start_workspace(np.ascontiguousarray(y0, dtype=float), args)
+    hooks.start_workspace(np.ascontiguousarray(y0, dtype=float), args)
     reference = integrate(
         eom.state_rhs, (0.0, 0.05), y0, args=args, rtol=1e-6, atol=atol, max_step=1e-3,
-        max_steps=7, step_check=eom.step_check, after_step=eom.after_step, n_second=n,
+        max_steps=7, step_check=hooks.step_check, after_step=hooks.after_step, n_second=n,
         n_active=2 * n, hold_after_failure=True, jac=eom.jacobian_state, throw=False,
     )  # fmt: skip
     assert traced.status.value == ids.STATUS_TOO_MANY_STEPS == reference.status.value

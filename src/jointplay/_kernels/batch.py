@@ -52,12 +52,12 @@ the lanes' one loop :func:`jointplay._kernels.lanes.source.lane` with DOPRI5's s
 - the last stage's evaluation, at the step's end, also records every joint's contact
   (penetration, its rate, forces) and the quantities of the peak rule
   (the lane source's ``rhs_and_quantities``);
-- after the error test, the contact-onset check of the Radau kernel's ``step_check``, on those
-  records (the lane source's ``onset_check``), may retry the step shorter
+- after the error test, the contact-onset check on those records (the lane source's
+  ``onset_check``), may retry the step shorter
   (``MAX_CHECK_REJECTIONS``); each retry counts as a rejection but does not cap the next
   step's growth;
-- after acceptance, the Radau kernel's ``after_step`` (contact memory v0 from the records,
-  then the projection onto the ideal constraints); f, the records and the quantities are
+- after acceptance, the contact memory v0 from the records, then the projection onto the
+  ideal constraints; f, the records and the quantities are
   evaluated again only if it changed the state (FSAL otherwise); a non-finite state or f ends
   the lane with ``STATUS_NON_FINITE``.
 
@@ -71,8 +71,8 @@ cubic Hermite of q with q̇ and of q̇ with q̈; with film damping the quintic t
 at three step ends, or next to a contact's start or end q̇ the derivative of q's cubic).
 
 **Peak rule** (both methods; the JAX backend applies the same one). Let ``Q_a``, ``Q_b`` be the
-quantities at the two ends of an accepted step inside the window (``Q_b`` after
-``after_step``), ``peak`` the running largest |value| including ``|Q_b|``. The step is
+quantities at the two ends of an accepted step inside the window (``Q_b`` after the
+contact memory and the projection), ``peak`` the running largest |value| including ``|Q_b|``. The step is
 *refined* when, for any quantity p that may trigger (every quantity except ω and α of the
 driven body and of bodies held by an ideal prismatic joint to the ground),
 ``max(|Q_a,p|, |Q_b,p|) >= (1 − REFINE_MARGIN)·peak_p > 0``. A refined step evaluates the

@@ -1,4 +1,4 @@
-"""The single engine's model, its cold callers and the generic loop's hooks over the lane source.
+"""The single engine's model and its cold callers over the lane source.
 
 The equations — right-hand side, contact and friction forces, film damping, the quantities,
 the contact memory and the closed-form Jacobian — are written once, in
@@ -7,20 +7,16 @@ integrates them by the lanes' own loop with its trajectory recorded
 (:data:`jointplay._kernels.lanes.cpu.traced`, through
 :func:`jointplay.dynamics.integrate.integrate_mechanism`). This module packs the model
 (:func:`pack`), evaluates the recorded states (:func:`evaluate`, :func:`diagnostics`,
-:func:`film_forces`) and keeps the same equations behind the generic loop's four hooks
-(:mod:`jointplay._kernels.driver`, ``integrate()``'s ``fun``, ``step_check``, ``after_step``,
-``jac``): :func:`state_rhs`, :func:`step_check`, :func:`after_step`, :func:`jacobian_state`,
-compiled on first use (the single engine ran by them before; tests/_kernels/test_traced_lanes.py
-holds the two equal, bit for bit). The hooks' pieces are the CPU lanes' too: the projection
-with LAPACK's solve (:mod:`jointplay._kernels.lanes.projection`) and the sustained-contact
-mode (:mod:`jointplay._kernels.sustained`).
+:func:`film_forces`, :func:`batch_quantities`) and gives the state's right-hand side and its
+Jacobian as functions of ``(t, y, args)`` (:func:`state_rhs`, :func:`jacobian_state`: the
+generic ``jointplay.integrate``'s ``fun`` and ``jac``, compiled on first use), which the
+tests and benchmarks evaluate the model with.
 
 The model is an :class:`EomModel`: a named tuple of flat arrays that
-:mod:`jointplay.dynamics.system` builds once, read-only. The hooks take
+:mod:`jointplay.dynamics.system` builds once, read-only. :func:`state_rhs` and :func:`jacobian_state` take
 ``args = (rpar, ipar, workspace)``: the model packed into two read-only buffers
 (:func:`pack`: the floats, and the field lengths, the integers and the source's layout
-``lay``) and a workspace new for every integration, where :func:`after_step` keeps its
-statistics (``W_*``). State vector::
+``lay``) and a workspace (:func:`new_workspace`). State vector::
 
     y = [q (3 nb), q̇ (3 nb), W_motor, W_contact, v0 (n_clear)]
 
@@ -29,9 +25,10 @@ statistics (``W_*``). State vector::
 - W_contact = ∫ Σ (F_N δ̇ + F_T v_T) dt, the work absorbed by the clearance contacts (J) —
   so KE + V_gravity − W_motor + W_contact is constant (energy balance);
 - v0: penetration rate at the start of the current contact event of each clearance joint
-  (m/s, 0 while free); it has zero time derivative and is set by :func:`after_step`: after
-  the step in which the contact begins, at δ̇ interpolated to the instant δ = 0 between the
-  step's ends (linear in δ), so that it does not depend on where the step happened to end.
+  (m/s, 0 while free); it has zero time derivative and is set after each accepted step (the
+  source's ``contact_memory``): after the step in which the contact begins, at δ̇
+  interpolated to the instant δ = 0 between the step's ends (linear in δ), so that it does
+  not depend on where the step happened to end.
   In the sustained-contact mode (a joint's ``geom`` column ``G_CAPTURE`` > 0) a negative v0
   (:data:`LOCKED`) marks a joint locked onto its bearing's wall: |e| = c is then a
   constraint whose multiplier is the normal force; with the mode off (the default) no slot is
@@ -41,9 +38,9 @@ Ideal joints and the driver are constraints Φ(q, t) = 0 (see :mod:`constraints`
 diagonal mass matrix M the accelerations follow from the Schur complement
 (Φ_q M⁻¹ Φ_qᵀ) λ = Φ_q M⁻¹ Q − γ, q̈ = M⁻¹ (Q − Φ_qᵀ λ), and the motor torque is −λ_driver.
 Position and velocity drift is removed after every accepted step by mass-weighted projection
-(Hairer, Lubich & Wanner, *Geometric Numerical Integration*, §IV.4). The integrator is told
-that q̇ = d/dt q (``n_second``) and that W_motor, W_contact and v0 do not feed back
-(``n_active``), see :func:`jointplay._kernels.radau.radau_integrate`.
+(Hairer, Lubich & Wanner, *Geometric Numerical Integration*, §IV.4). The integrators use
+that q̇ = d/dt q and that W_motor, W_contact and v0 do not feed back (the lanes' Newton
+systems are on the velocities alone).
 
 Clearance joint (Flores et al., *Kinematics and Dynamics of Multibody Systems with Imperfect
 Joints*, 2008; docs/contact-laws.md §5): bearing on body a, journal on body b,
@@ -54,7 +51,8 @@ at Q_J = r_J + R_J n; its opposite acts on the bearing at Q_B = r_B + R_B n. Fil
 −c_e ė on the journal at its centre and +c_e ė on the bearing at its centre, in contact or
 not; its power c_e |ė|² is added to W_contact.
 
-The source's functions are inlined into the hooks (``inline="always"``, :mod:`shared`): after
+The source's functions are inlined into :func:`state_rhs` and :func:`jacobian_state`
+(``inline="always"``, :mod:`shared`): after
 editing the source, delete the on-disk caches (the README's ``find src -name "*.nb[ic]"
 -delete``): Numba does not follow that dependency.
 """
@@ -70,8 +68,6 @@ from jointplay._kernels.ids import (
     LOCKED,
     N_WORK,
     RELEASE_TOL,
-    S_ONSET_TOL,
-    W_HAS_PREVIOUS,
 )
 from jointplay._kernels.lanes.build import lane_layout
 from jointplay._kernels.lanes.source import (
@@ -79,23 +75,17 @@ from jointplay._kernels.lanes.source import (
     LY_NC,
     LY_NIDEAL,
     LY_NJ,
-    LY_SETTINGS,
     N_LAY,
 )
 from jointplay._kernels.shared import apart, compiled, pick
 
-# The lane source, compiled for the single engine (jointplay._kernels.shared): inlined into
-# the hooks; the cold callers' copies (``apart``) are compiled once and called.
-_rhs, _any_film, _locked, _constraint_rows, _penetration_and_rate, _contact_memory = pick(
-    compiled, "rhs any_film locked constraint_rows penetration_and_rate contact_memory"
+# The lane source, compiled for the CPU (jointplay._kernels.shared): inlined into state_rhs
+# and jacobian_state; the cold callers' copies (``apart``) are compiled once and called.
+_rhs, _any_film, _locked, _constraint_rows, _jacobian_clear = pick(
+    compiled, "rhs any_film locked constraint_rows jacobian_clear"
 )
-_onset_fraction, _jacobian_clear, _project = pick(compiled, "onset_fraction jacobian_clear project")
 # impact_rate: δ̇ (m/s) at δ = 0 between a step's ends, linear in δ (the source's).
 _constraint_residual, impact_rate = pick(compiled, "constraint_residual impact_rate")
-# the sustained-contact mode's hooks (jointplay._kernels.sustained: the CPU lanes' too)
-_sustained_on, _release_fraction, _switch_contacts = pick(
-    compiled, "sustained_on release_fraction switch_contacts"
-)
 _rhs_apart, _rhs_and_quantities, _film_components, _jacobian_fixed = pick(
     apart, "rhs rhs_and_quantities film_components jacobian_fixed"
 )
@@ -104,7 +94,6 @@ __all__ = [
     "LOCKED",
     "RELEASE_TOL",
     "EomModel",
-    "after_step",
     "batch_quantities",
     "diagnostics",
     "evaluate",
@@ -112,9 +101,7 @@ __all__ = [
     "jacobian_state",
     "new_workspace",
     "pack",
-    "start_workspace",
     "state_rhs",
-    "step_check",
     "unpack",
 ]  # fmt: skip
 
@@ -194,7 +181,7 @@ def pack(model: EomModel) -> tuple[np.ndarray, np.ndarray]:
 
     ``rpar``: the float fields; ``ipar``: the field lengths, the integer fields, then the lane
     source's layout ``lay`` (:func:`jointplay._kernels.lanes.build.lane_layout`, the last
-    ``N_LAY`` entries), so that the single engine's hooks read the model as the source does.
+    ``N_LAY`` entries), so that the kernels read the model as the source does.
     A first-class function call costs in proportion to the number of arrays it is given, so
     the integrator passes the model as two arrays rather than as 13.
     """
@@ -390,126 +377,6 @@ def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: n
             phi_q, schur, lam,
         )  # fmt: skip
     return True
-
-
-@njit(cache=True, inline="always")
-def _onset_retry(
-    y_old: np.ndarray, y_new: np.ndarray, rpar: np.ndarray, ipar: np.ndarray, work: np.ndarray
-) -> float:
-    """Contact-onset control: the smallest fraction of the step to retry (1: none), from δ at
-    the step's start — the one the workspace ``work`` keeps from the last accepted step's end
-    (:func:`_remember`: the same arithmetic, so the same bits) when it holds one, else
-    computed from ``y_old`` — and δ at its end for the joints free at its start (the source's
-    ``onset_fraction``: secant to half the onset tolerance; Flores & Ambrósio 2010)."""
-    lay = lay_of(ipar)
-    n = lay[LY_N]
-    nc = lay[LY_NC]
-    tolerance = rpar[lay[LY_SETTINGS] + S_ONSET_TOL]
-    remembered = work.shape[0] >= N_WORK + 2 * nc and work[W_HAS_PREVIOUS] > 0.0
-    theta = 1.0
-    for c in range(nc):
-        if remembered:
-            old = work[N_WORK + 2 * c]
-        else:
-            old = _penetration_and_rate(y_old, rpar, ipar, lay, c)[0]
-        if old > 0.0 or y_old[2 * n + 2 + c] < 0.0:  # in contact, or locked
-            continue
-        new = _penetration_and_rate(y_new, rpar, ipar, lay, c)[0]
-        theta = min(theta, _onset_fraction(old, new, tolerance))
-    return theta
-
-
-@njit(cache=True)
-def step_check(
-    t_old: float,
-    y_old: np.ndarray,
-    t_new: float,
-    y_new: np.ndarray,
-    args: EomArgs,
-) -> float:
-    """Contact-onset control: a step that enters contact deeper than the onset tolerance is
-    retried, shortened by the secant estimate of the crossing (Flores & Ambrósio 2010); in
-    the sustained-contact mode, likewise a step at whose end a locked joint's normal force
-    has turned tensile beyond the release tolerance (the source's ``release_fraction``:
-    :func:`jointplay._kernels.sustained.sustained_release_fraction`).
-
-    Endpoint checks suffice: the free region |e| <= c is convex, so a pin cannot pass into and
-    back out of the wall along a (locally straight) step without ending in contact.
-    """
-    rpar, ipar = args[0], args[1]
-    lay = lay_of(ipar)
-    theta = _onset_retry(y_old, y_new, rpar, ipar, args[2])
-    if _locked(y_new, rpar, lay):  # the locked set is constant over a step
-        theta = min(theta, _release_fraction(t_old, y_old, t_new, y_new, rpar, ipar, lay))
-    return theta
-
-
-# --- after a step: contact memory, the mode's switches, projection --------------------------
-
-
-@njit(cache=True, inline="always")
-def _records(y: np.ndarray, rpar: np.ndarray, ipar: np.ndarray) -> np.ndarray:
-    """δ and δ̇ of every clearance joint at ``y``, in the contact records' layout (7 per
-    joint; the other entries are not set)."""
-    lay = lay_of(ipar)
-    nc = lay[LY_NC]
-    record = np.empty(7 * nc)
-    for c in range(nc):
-        record[7 * c + 2], record[7 * c + 3] = _penetration_and_rate(y, rpar, ipar, lay, c)
-    return record
-
-
-@njit(cache=True, inline="always")
-def _remember(record: np.ndarray, work: np.ndarray) -> None:
-    """Keep δ and δ̇ of every joint (``record``, 7 per joint) in the workspace, if it has room,
-    as the start of the next step."""
-    nc = record.shape[0] // 7
-    if work.shape[0] < N_WORK + 2 * nc:
-        return
-    work[W_HAS_PREVIOUS] = 1.0
-    for c in range(nc):
-        work[N_WORK + 2 * c] = record[7 * c + 2]
-        work[N_WORK + 2 * c + 1] = record[7 * c + 3]
-
-
-@njit(cache=True)
-def start_workspace(y: np.ndarray, args: EomArgs) -> None:
-    """Record the initial state ``y`` in the workspace (``args[2]``) as the start of the first
-    step, for :func:`after_step`'s contact memory."""
-    _remember(_records(y, args[0], args[1]), args[2])
-
-
-@njit(cache=True)
-def after_step(t: float, y: np.ndarray, args: EomArgs) -> bool:
-    """Update each joint's contact-event memory v0 (the source's ``contact_memory``: a new
-    event stores max(δ̇ at δ = 0, v_mark), an ended one 0; the step's start from the
-    workspace, else from its end), capture and release joints in the sustained-contact mode
-    (:func:`jointplay._kernels.sustained.sustained_switch_contacts`) and project onto the ideal (and
-    locked) constraints; record the largest violation and the projections in the workspace
-    (``args[2]``), and δ, δ̇ of every joint at the state the next step starts from."""
-    rpar, ipar, work = args
-    lay = lay_of(ipar)
-    nc = lay[LY_NC]
-    record = _records(y, rpar, ipar)
-    before = record.copy()  # unknown start: δ > 0 at both ends, so v0 = δ̇ at the end
-    if work.shape[0] >= N_WORK + 2 * nc and work[W_HAS_PREVIOUS] > 0.0:
-        for c in range(nc):
-            before[7 * c + 2] = work[N_WORK + 2 * c]
-            before[7 * c + 3] = work[N_WORK + 2 * c + 1]
-    changed = _contact_memory(y, rpar, lay, record, before)
-    if _sustained_on(rpar, lay):
-        switched = _switch_contacts(t, y, rpar, ipar, lay, work, before)
-        # the records of the state the next step starts from: the switches' projection onto
-        # the locked joints moves q even when it stays below the tolerance (not "switched")
-        if switched or _locked(y, rpar, lay):
-            record = _records(y, rpar, ipar)
-        changed = changed or switched
-    empty = y[:0].reshape((0, 0))
-    if _project(t, y, rpar, ipar, lay, work, empty, empty, y[:0]):
-        changed = True
-        record = _records(y, rpar, ipar)
-    _remember(record, work)
-    return changed
 
 
 @njit(cache=True)

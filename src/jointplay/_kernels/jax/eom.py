@@ -18,9 +18,10 @@ Per lane (module docstring of :mod:`jointplay._kernels.eom` for the physics):
   body, the force of every joint, the motor torque; the QUANTITY ORDER of the batch
   contract, as :func:`jointplay.dynamics.simulate._columns` computes them) and the
   penetration δ of every clearance joint;
-- :meth:`JaxModel.step_check` is :func:`jointplay._kernels.eom.step_check` (contact onset);
-- :meth:`JaxModel.after_step` is :func:`jointplay._kernels.eom.after_step` (contact memory v0
-  and mass-weighted projection onto the ideal constraints; its statistics are not kept).
+- :meth:`JaxModel.step_check` is the lane source's contact-onset control (``onset_check``);
+- :meth:`JaxModel.after_step` is what the lanes' loop does after an accepted step (the
+  source's ``contact_memory``, then its mass-weighted ``project`` onto the ideal constraints;
+  the projection's statistics are not kept).
 
 Every normal-force law id (IMPACT, Hertz, Kelvin–Voigt, the Hunt–Crossley family 3–11) and
 friction id (none, Ambrósio, ADAMS) of :mod:`jointplay._kernels.contact` is ported; an unknown
@@ -636,7 +637,7 @@ class JaxModel:
         return out["ydot"], jnp.stack([v + 0.0 * t for v in values]), penetration
 
     def step_check(self, y_old: Any, y_new: Any, p: Any) -> Scalar:
-        """Contact-onset step factor θ (eom.step_check): 1 accepts, < 1 shortens the step."""
+        """Contact-onset step factor θ (the source's onset_check): 1 accepts, < 1 shortens the step."""
         n = self.n
         tolerance = self._setting(p, ids.S_ONSET_TOL)
         theta = jnp.ones_like(tolerance)
@@ -649,7 +650,7 @@ class JaxModel:
         return theta
 
     def after_step(self, t: Scalar, y: Any, p: Any, y_old: Any) -> Any:
-        """The state after an accepted step from ``y_old`` to ``y`` (eom.after_step): each
+        """The state after an accepted step from ``y_old`` to ``y`` (the lanes'): each
         clearance joint's contact memory v0 set at the start of a contact event (max(δ̇ at
         δ = 0, v_mark), eom.impact_rate) and cleared at its end; then, when max |Φ| exceeds
         the projection tolerance, q projected (up to three Newton steps) and q̇ projected,

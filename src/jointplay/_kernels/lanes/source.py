@@ -1766,7 +1766,7 @@ def lane(
             )  # fmt: skip
             if not passed:
                 continue
-            # the contact-onset control (eom.step_check) on the two ends' records; in the
+            # the contact-onset control on the two ends' records; in the
             # sustained-contact mode, the release control (the locked set is the step's)
             theta = onset_check(y, record, record_new, rp, lay)
             if locked(y_new, rp, lay):
@@ -1783,7 +1783,7 @@ def lane(
             break
         if status != STATUS_RUNNING:
             break
-        # eom.after_step: the contact memory from the two ends' records, the sustained-contact
+        # after the step: the contact memory from the two ends' records, the sustained-contact
         # mode's capture and release, then the projection
         changed = contact_memory(y_new, rp, lay, record_new, record)
         if sustained_on(rp, lay) and switch_contacts(t_new, y_new, rp, ip, lay, scratch, record):
