@@ -28,9 +28,14 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-#: The kernel modules the batch engine's lanes compile first (their index files name them):
-#: ``lanes/source.py`` with the equations of motion and Radau's step control.
-BATCH_LANES = ("radau", "eom", "source")
+#: The cached kernel that says the batch engine's lanes are compiled (its index file's stem):
+#: the drivers' ``_alive``, which every batch driver calls (either method, serial or on
+#: threads) and nothing else does. The lanes' other kernels share their modules' names with
+#: the single engine's (``source``, ``source_radau``: the traced lanes), so a cache warm for
+#: ``simulate`` alone holds them too. (It named ``radau`` and ``eom``, which no batch run
+#: compiles: every warm ``tolerance`` and ``design`` run said it was compiling.) A cache of
+#: one method's drivers passes for the other's, which then compiles without the notice.
+BATCH_LANES = ("cpu._alive",)
 #: Kept for callers of the name: the batch lanes' modules.
 FIRST_COMPILED = BATCH_LANES
 
