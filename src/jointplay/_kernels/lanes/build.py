@@ -2,9 +2,11 @@
 
 The single-source pattern: the source modules (:data:`jointplay._kernels.lanes.SOURCES`:
 :mod:`~jointplay._kernels.lanes.source`, the equations, the loop and DOPRI5's steps;
-:mod:`~jointplay._kernels.lanes.source_radau`, Radau IIA's; :mod:`~jointplay._kernels.lanes.source_rodas`,
-RODAS4's; each integrator's lane declared by its module's ``LANE`` record) hold plain Python functions written in the subset both Numba targets compile
-(scalars and caller-provided arrays, no allocation).
+:mod:`~jointplay._kernels.lanes.source_radau`, Radau IIA's;
+:mod:`~jointplay._kernels.lanes.source_rodas`, RODAS4's; each integrator's lane declared by
+its module's ``LANE`` record) hold plain Python functions written in the subset both Numba
+targets compile (scalars and caller-provided arrays, no allocation but the CPU's work
+allocators).
 :func:`build` makes a fresh namespace for a target — the source's constants and ``math`` —
 and compiles every function of :data:`FUNCTIONS` into it with the target's decorator
 (``numba.njit(cache=True, error_model="numpy")`` for the CPU,

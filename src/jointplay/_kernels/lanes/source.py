@@ -12,8 +12,9 @@ the CUDA kernel their device compilation (:mod:`jointplay._kernels.lanes.cuda_ke
 Every function here is plain Python in the subset that both targets compile: scalars and
 caller-provided arrays in, scalars (or small tuples of scalars) out; no allocation, no slicing
 into new arrays, no NumPy calls but indexing, ``math`` for the elementary functions — but for
-the trajectory of the CPU's traced lane (:data:`RECORD`, :func:`trace_start`), which no other
-target compiles. Calls
+the trajectory of the CPU's traced lane (:data:`RECORD`, :func:`trace_start`) and each
+integrator's work allocator (``LANE["work"]``: :func:`dopri_work`), which no other target
+compiles (a GPU thread's work arrays are its kernel's). Calls
 between the functions are resolved by name when :mod:`jointplay._kernels.lanes.build`
 compiles the whole set for one target (each target gets its own namespace), so the same
 source serves every target. Nothing here is decorated and nothing here is called from Python.
