@@ -150,8 +150,9 @@ def cache_folders() -> list[Path]:
 def compiled_cache_present(modules: Sequence[str] = BATCH_LANES) -> bool:
     """Whether every kernel module of ``modules`` (:func:`single_engine`,
     :data:`BATCH_LANES`) has a cache index for this Python
-    (``<module>.<function>-<line>.py<XY>.nbi``; a module may name its function too). A cache made from other kernel sources
-    does not count: importing this package has dropped it (:func:`drop_stale_caches`)."""
+    (``<module>.<function>-<line>.py<XY>.nbi``; a module may name its function too). A cache
+    made from other kernel sources does not count: importing this package has dropped it
+    (:func:`drop_stale_caches`)."""
     tag = f"py{sys.version_info.major}{sys.version_info.minor}"
     folders = [folder for folder in cache_folders() if folder.is_dir()]
     return all(

@@ -72,7 +72,8 @@ at three step ends, or next to a contact's start or end q̇ the derivative of q'
 
 **Peak rule** (both methods; the JAX backend applies the same one). Let ``Q_a``, ``Q_b`` be the
 quantities at the two ends of an accepted step inside the window (``Q_b`` after the
-contact memory and the projection), ``peak`` the running largest |value| including ``|Q_b|``. The step is
+contact memory and the projection), ``peak`` the running largest |value| including
+``|Q_b|``. The step is
 *refined* when, for any quantity p that may trigger (every quantity except ω and α of the
 driven body and of bodies held by an ideal prismatic joint to the ground),
 ``max(|Q_a,p|, |Q_b,p|) >= (1 − REFINE_MARGIN)·peak_p > 0``. A refined step evaluates the

@@ -13,8 +13,8 @@ generic ``jointplay.integrate``'s ``fun`` and ``jac``, compiled on first use), w
 tests and benchmarks evaluate the model with.
 
 The model is an :class:`EomModel`: a named tuple of flat arrays that
-:mod:`jointplay.dynamics.system` builds once, read-only. :func:`state_rhs` and :func:`jacobian_state` take
-``args = (rpar, ipar, workspace)``: the model packed into two read-only buffers
+:mod:`jointplay.dynamics.system` builds once, read-only. :func:`state_rhs` and
+:func:`jacobian_state` take ``args = (rpar, ipar, workspace)``: the model packed into two read-only buffers
 (:func:`pack`: the floats, and the field lengths, the integers and the source's layout
 ``lay``) and a workspace (:func:`new_workspace`). State vector::
 

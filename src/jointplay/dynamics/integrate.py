@@ -296,12 +296,13 @@ def integrate_mechanism(
 ) -> tuple[IntegrationResult, npt.NDArray[np.float64]]:
     """A mechanism's equations of motion (:mod:`jointplay._kernels.eom`'s model and state)
     from t = 0 to ``t_end`` by the batch lanes' loop and steps with the trajectory recorded
-    (:data:`jointplay._kernels.lanes.cpu.traced`): the steps of :func:`integrate` with
-    ``eom``'s hooks (``n_second`` the coordinates, the work integrals and the impact-velocity
-    memory passive, RADAU5's hold after failures), from the one loop of every engine.
+    (:data:`jointplay._kernels.lanes.cpu.traced`), the one loop of every engine: the
+    coordinates' rates are their velocities, the work integrals and the impact-velocity memory
+    passive, RADAU5's hold after failures.
 
     Args:
-        args: the model packed (``eom.pack``'s ``rpar``, ``ipar``) and a workspace.
+        args: :meth:`~jointplay.dynamics.system.System.kernel_args`: the model packed
+            (``eom.pack``'s ``rpar``, ``ipar``); its workspace is not read.
         t_end: the interval's end, s.
         method: an integrator's name (:data:`METHODS`).
         rtol, atol, max_step, max_steps, throw: as :func:`integrate`'s (checked by the

@@ -637,7 +637,8 @@ class JaxModel:
         return out["ydot"], jnp.stack([v + 0.0 * t for v in values]), penetration
 
     def step_check(self, y_old: Any, y_new: Any, p: Any) -> Scalar:
-        """Contact-onset step factor θ (the source's onset_check): 1 accepts, < 1 shortens the step."""
+        """Contact-onset step factor θ (the source's ``onset_check``): 1 accepts, < 1
+        shortens the step."""
         n = self.n
         tolerance = self._setting(p, ids.S_ONSET_TOL)
         theta = jnp.ones_like(tolerance)

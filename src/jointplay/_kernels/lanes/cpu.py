@@ -49,8 +49,6 @@ compiled_running = build(
     tag="running",
     decorate_steps=_INLINE,
 )
-explicit_lane_running = compiled_running["explicit_lane"]
-implicit_lane_running = compiled_running["implicit_lane"]
 #: The implicit lane (the loop with :mod:`jointplay._kernels.lanes.source_radau`'s steps).
 implicit_lane = compiled["implicit_lane"]
 #: The lanes that record their trajectory and every counter (``source.RECORD``): the single

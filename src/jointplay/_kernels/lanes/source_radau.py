@@ -15,8 +15,8 @@ re-estimated after a rejection; the predictive controller; SciPy's initial step)
 eliminated from the Newton systems (``n_second = n``, RADAU5's ``M1``: n × n matrices), the
 work integrals and the contact memory passive (``n_active = 2n``), RADAU5's growth limit
 after a failure (``hold_after_failure``), and the loop's contact hooks: the contact-onset
-control and, after each accepted step, the contact memory v0 and the projection. The step's numerics are written once, here, for any
-second-order structure (``m2`` positions, ``nk`` kept components, the rest passive): the
+control and, after each accepted step, the contact memory v0 and the projection. The step's
+numerics are written once, here, for any second-order structure (``m2`` positions, ``nk`` kept components, the rest passive): the
 reduced Newton matrices and their LU with partial pivoting (LAPACK's pivots, largest
 ``|re| + |im|``), complex numbers as pairs of floats (Numba's complex product and CPython's
 quotient, :func:`cdiv`), the simplified Newton iteration in pieces (:func:`newton_start`,
