@@ -286,8 +286,8 @@ def kernel_resources() -> dict[str, Any]:
     from jointplay._kernels.lanes import cuda_kernel
 
     row: dict[str, Any] = {"kernel_resources": True}
-    for name in ("explicit_kernel", "implicit_kernel"):
-        kernel = getattr(cuda_kernel, name)
+    for method, kernel in cuda_kernel.KERNELS.items():
+        name = f"{method}_kernel"
         try:
             row[name] = {
                 "registers": list(kernel.get_regs_per_thread().values()),

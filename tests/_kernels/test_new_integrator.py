@@ -1,5 +1,6 @@
 """A new integrator is one file (issue 38): a lane source module with its steps, its work
-allocator and its ``LANE`` record. The tables that name integrators — the records
+(the CPU's allocator, and the shapes, dtypes and ``arrays`` the GPU kernel allocates by) and
+its ``LANE`` record. The tables that name integrators — the records
 (``INTEGRATORS``), the lanes (``build.LANES``), the single engine's traced lanes
 (``cpu.traced``), the capability table, ``SolverOptions``' choices — are read from the
 modules, so dropping the file into ``jointplay/_kernels/lanes/`` is the whole change.
@@ -17,10 +18,15 @@ import sys
 import textwrap
 from pathlib import Path
 
+import numpy as np
 import pytest
 
-from jointplay._kernels import integrators
-from jointplay._kernels.lanes import SOURCES, build
+from jointplay._kernels import eom, integrators
+from jointplay._kernels.lanes import SOURCES, build, cpu
+from jointplay._kernels.lanes.limits import MAX_COORDS, MAX_STATE, MAX_WORK_ARRAYS
+from jointplay.dynamics.setup import ContactModel
+from jointplay.dynamics.system import build_system
+from jointplay.model.mechanism import Mechanism
 
 #: The new integrator's module, as a user would write it (its steps forward to DOPRI5's).
 NEW_MODULE = '''
@@ -134,6 +140,30 @@ def test_every_table_is_read_from_the_lane_modules() -> None:
     for record in records:
         assert record["work"] in build.FUNCTIONS  # allocated by a function of the source
     assert next(iter(integrators.INTEGRATORS)) == integrators.DEFAULT
+
+
+@pytest.mark.parametrize("engine", ["lanes-explicit", "lanes-implicit"])
+def test_the_gpu_kernel_makes_each_methods_work_from_its_record(
+    engine: str, paper_fourbar: Mechanism
+) -> None:
+    """The cuda kernel of a batch method has only its integrator's record to allocate the
+    method's work (``cuda_kernel._kernel``): the shapes at the GPU's limits, the dtypes, and
+    the module's ``arrays``. Those give a ``ws`` of the same members as the CPU's allocator,
+    each member of the same kind and at least as large as the paper four-bar's."""
+    record = build.LANES[build.lane_for(engine)]
+    shapes = getattr(build.HOME[record["shapes"]], record["shapes"])(MAX_STATE, MAX_COORDS)
+    assert len(shapes) == len(record["dtypes"]) <= MAX_WORK_ARRAYS
+    arrays = [np.empty(shape, dtype) for shape, dtype in zip(shapes, record["dtypes"], strict=True)]
+    on_gpu = getattr(build.HOME[record["arrays"]], record["arrays"])(*arrays)  # plain Python
+    system = build_system(paper_fourbar, ContactModel().joints(paper_fourbar, ["A", "B"]))
+    on_cpu = cpu.compiled[record["work"]](build.lane_layout(eom.pack(system.model)[1]))
+    on_gpu, on_cpu = (w if isinstance(w, tuple) else (w,) for w in (on_gpu, on_cpu))
+    assert len(on_gpu) == len(on_cpu)
+    for gpu_member, cpu_member in zip(on_gpu, on_cpu, strict=True):
+        assert (gpu_member.ndim, gpu_member.dtype) == (cpu_member.ndim, cpu_member.dtype)
+        assert all(g >= c for g, c in zip(gpu_member.shape, cpu_member.shape, strict=True))
+    engines = ("lanes-explicit", "batch-implicit", "lanes-implicit")
+    assert [build.lane_for(e) for e in engines] == ["explicit_lane", *["implicit_lane"] * 2]
 
 
 @pytest.mark.slow

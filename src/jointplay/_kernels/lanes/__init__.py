@@ -20,8 +20,10 @@ Each integrator of the lanes is one source module, found here by its name (``sou
 :data:`SOURCES`. A module whose ``LANE`` record names an integrator is one for every engine
 that compiles the source: the record says what the integrator is
 (:data:`jointplay._kernels.integrators.INTEGRATORS` reads it), the lane's name, its steps'
-prefix and its work allocator (:mod:`~jointplay._kernels.lanes.build` and
-:mod:`~jointplay._kernels.lanes.cpu` read them); nothing else names it. NumPy only: the
+prefix and its work: the CPU's allocator, and the shapes and dtypes of its arrays, which the
+GPU kernel allocates (:mod:`~jointplay._kernels.lanes.build`, :mod:`~jointplay._kernels.lanes.cpu`
+and :mod:`~jointplay._kernels.lanes.cuda_kernel` read them); nothing else names it. A batch
+method runs one integrator per engine (:func:`~jointplay._kernels.lanes.build.lane_for`). NumPy only: the
 command line and the JAX backend read the records without Numba.
 """
 

@@ -32,7 +32,7 @@ from jointplay._kernels.capabilities import refusal
 from jointplay._kernels.lanes import SOURCES, source
 
 __all__ = [
-    "FUNCTIONS", "HOME", "LANES", "all_clear", "build", "closed", "lane_layout",
+    "FUNCTIONS", "HOME", "LANES", "all_clear", "build", "closed", "lane_for", "lane_layout",
     "lanes_refusal", "model_width", "output_widths", "rebound", "running_layout",
 ]  # fmt: skip
 
@@ -45,6 +45,16 @@ STEPS = ("start", "begin", "land", "attempt", "retry", "refresh", "accept", "den
 LANES = {module.LANE["lane"]: module.LANE for module in SOURCES if hasattr(module, "LANE")}
 #: The loop's functions (``source``'s), compiled once per lane with its method's names.
 LOOP = ("lane",)
+
+
+def lane_for(engine: str) -> str:
+    """The lane that ``engine`` runs (a batch engine, ``"lanes-explicit"``, … of
+    :data:`jointplay._kernels.capabilities.ENGINES`): the one whose integrator's record names
+    the engine."""
+    lanes = [lane for lane, record in LANES.items() if engine in record["integrator"]["engines"]]
+    if len(lanes) != 1:
+        raise ValueError(f"{engine} runs one integrator's lane, the records give it {lanes}")
+    return lanes[0]
 
 
 def _defined(module: types.ModuleType) -> tuple[str, ...]:

@@ -20,7 +20,7 @@ from numba.np.arrayobj import make_array, populate_array
 
 from jointplay._kernels import sustained
 from jointplay._kernels.ids import N_TRACE_COUNTS
-from jointplay._kernels.lanes.build import LANES, build, closed, rebound
+from jointplay._kernels.lanes.build import LANES, build, closed, lane_for, rebound
 from jointplay._kernels.lanes.projection import N_WORK, project_lapack
 from jointplay._kernels.lanes.source import LY_N, LY_NC, LY_NIDEAL, LY_NQ, LY_SIZE
 
@@ -244,9 +244,9 @@ traced = {
 }
 
 #: The explicit drivers by ``(running, parallel)``.
-EXPLICIT_DRIVERS = _driver_table("explicit_lane", "")
+EXPLICIT_DRIVERS = _driver_table(lane_for("lanes-explicit"), "")
 #: The implicit drivers by ``(running, parallel)``.
-IMPLICIT_DRIVERS = _driver_table("implicit_lane", "_implicit")
+IMPLICIT_DRIVERS = _driver_table(lane_for("batch-implicit"), "_implicit")
 #: Every lane of each method, serially and on Numba's threads (and with the running
 #: reductions).
 explicit_lanes, explicit_lanes_parallel = (

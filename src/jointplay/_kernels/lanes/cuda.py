@@ -44,7 +44,14 @@ import numpy.typing as npt
 
 from jointplay._kernels.integrators import lane_methods
 from jointplay._kernels.lanes import source
-from jointplay._kernels.lanes.build import lanes_refusal, output_widths, running_layout
+from jointplay._kernels.lanes.build import (
+    HOME,
+    LANES,
+    lane_for,
+    lanes_refusal,
+    output_widths,
+    running_layout,
+)
 from jointplay._kernels.lanes.contract import (
     BatchKernelOutput,
     finished,
@@ -166,15 +173,13 @@ def run_batch(
         ("state size", size, MAX_STATE), ("quantities", n_q, MAX_Q),
         ("clearance joints", nc, MAX_CLEAR), ("constraint rows", rows, MAX_ROWS),
     ]  # fmt: skip
-    if method == "implicit":
-        limits.append(("coordinates (the Newton matrices' order)", int(lay[source.LY_N]),
-                       MAX_COORDS))  # fmt: skip
     for name, value, limit in limits:
         if value > limit:
             raise ConfigError(
                 f"the cuda batch backend's lanes hold at most {limit} {name}, this mechanism "
                 f"has {value} (raise it in jointplay._kernels.lanes.limits)"
             )
+    _check_work(method, size, int(lay[source.LY_N]))
     y0_a, settle_a, end_a, step_a, atol_a = lane_inputs(
         y0, t_settle, t_end, max_step, atol, rpar_a, size, ConfigError
     )
@@ -188,9 +193,9 @@ def run_batch(
     if lanes:
         cuda = _cuda()
         clock = time.perf_counter()
-        from jointplay._kernels.lanes.cuda_kernel import explicit_kernel, implicit_kernel
+        from jointplay._kernels.lanes.cuda_kernel import KERNELS
 
-        kernel = explicit_kernel if method == "explicit" else implicit_kernel
+        kernel = KERNELS[method]
 
         compile_s = time.perf_counter() - clock
         clock = time.perf_counter()
@@ -207,6 +212,22 @@ def run_batch(
     if timings is not None:
         timings.update(compile_s=compile_s, run_s=run_s, lanes=float(lanes))
     return finished(peaks, stats, status, t_reached, counts)
+
+
+def _check_work(method: str, size: int, n: int) -> None:
+    """Raise a :class:`ConfigError` unless the work arrays of ``method``'s integrator for a
+    state of ``size`` and ``n`` coordinates fit those its kernel allocates (its record's
+    shapes at ``MAX_STATE`` and ``MAX_COORDS``: Radau IIA's Newton matrices are n × n)."""
+    record = LANES[lane_for(f"lanes-{method}")]
+    shapes = getattr(HOME[record["shapes"]], record["shapes"])
+    for need, have in zip(shapes(size, n), shapes(MAX_STATE, MAX_COORDS), strict=True):
+        if any(a > b for a, b in zip(need, have, strict=True)):
+            raise ConfigError(
+                f"the cuda batch backend's {method} lanes hold at most {MAX_COORDS} coordinates "
+                f"and a state of {MAX_STATE} in the work arrays of "
+                f"{record['integrator']['title']}, this mechanism has {n} coordinates and a "
+                f"state of {size} (raise them in jointplay._kernels.lanes.limits)"
+            )
 
 
 @contextmanager

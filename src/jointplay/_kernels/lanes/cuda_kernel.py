@@ -7,8 +7,11 @@ explicit or the implicit method's steps for its lane, with
 every work array in its own local memory (``cuda.local.array``, sizes fixed at compile time:
 ``MAX_*`` of :mod:`jointplay._kernels.lanes.limits`), and writes its peaks, statistics, status,
 time reached and counters into the output arrays' rows; nothing is shared between threads.
-The kernel is cached on disk by numba-cuda (``cache=True``, beside this file's
-``__pycache__``).
+One kernel is written (:func:`lane_kernel`); each method's (:data:`KERNELS`) is a copy of it
+bound to the method's lane and to the work its integrator's record declares (the shapes of
+its arrays at the limits, their dtypes, the function that makes its ``ws`` of them), so a
+new integrator brings its GPU kernel with its lane source module. The kernels are cached on
+disk by numba-cuda (``cache=True``, beside this file's ``__pycache__``).
 
 The interrupt flags (:func:`_interrupt_pending`) are host memory that the host writes while
 the kernel runs, so every step reads them with ``ld.volatile.global.u8`` (inline PTX marked
@@ -29,16 +32,16 @@ from typing import Any
 import numpy as np
 from numba import cuda
 
-from jointplay._kernels.lanes.build import build
+from jointplay._kernels.lanes.build import HOME, LANES, build, lane_for, rebound
 from jointplay._kernels.lanes.limits import (
     MAX_CLEAR,
     MAX_COORDS,
     MAX_Q,
     MAX_ROWS,
     MAX_STATE,
+    MAX_WORK_ARRAYS,
     simulated,
 )
-from jointplay._kernels.lanes.source_radau import N_RADAU_SCALARS
 
 
 def _volatile_byte() -> Any:
@@ -95,25 +98,33 @@ _GPU = build(
         "RUNNING": True,  # the running reductions when a lane's rpar carries their tail
     },
 )
-_explicit_lane = _GPU["explicit_lane"]
-_implicit_lane = _GPU["implicit_lane"]
 _RECORD = 7 * MAX_CLEAR
 _SAMPLES = 9
 #: The loop's vectors (``source.lane``: three states, two f, the refinement's and the window
-#: opening's state and f) and Radau IIA's (``source_radau.radau_start``).
+#: opening's state and f).
 _VECTORS = 9
-_RADAU_VECTORS = 8
-#: Columns of the Jacobian block the Newton systems read: positions and velocities.
-_JAC_COLUMNS = 2 * MAX_COORDS
+#: What an unused slot allocates (nothing reads it: the compiler drops it).
+_UNUSED = ((1,), "float64")
+# The globals that each method's copy of :func:`lane_kernel` binds (:func:`_kernel`): its lane,
+# the function that makes its ``ws``, the number of its arrays and the slots' shapes and
+# dtypes. Placeholders here: ``lane_kernel`` itself is never compiled.
+METHOD_LANE: Any = None
+METHOD_ARRAYS: Any = None
+N_ARRAYS = 0
+SHAPE_0 = SHAPE_1 = SHAPE_2 = SHAPE_3 = SHAPE_4 = SHAPE_5 = SHAPE_6 = SHAPE_7 = _UNUSED[0]
+DTYPE_0 = DTYPE_1 = DTYPE_2 = DTYPE_3 = DTYPE_4 = DTYPE_5 = DTYPE_6 = DTYPE_7 = np.float64
 
 
-@cuda.jit(cache=True)
-def explicit_kernel(
+def lane_kernel(
     ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
     peaks, stats, status, t_reached, counts,
 ):  # fmt: skip
-    """Lane ``cuda.grid(1)`` of the explicit method, DOPRI5 (arguments and outputs:
-    :func:`jointplay._kernels.lanes.cpu.explicit_lanes`)."""
+    """Lane ``cuda.grid(1)`` of a method (arguments and outputs: those of the CPU's drivers,
+    :func:`jointplay._kernels.lanes.cpu.explicit_lanes`): the loop's work arrays and the
+    method's, each in the thread's local memory, the method's as its record declares them
+    (``SHAPE_k``, ``DTYPE_k``: its ``shapes`` at the limits and ``dtypes``, the first
+    ``N_ARRAYS`` slots), made its ``ws`` by its ``arrays`` (``METHOD_ARRAYS``), and its lane
+    (``METHOD_LANE``): the globals of each method's copy (:func:`_kernel`)."""
     lane: int = cuda.grid(1)  # type: ignore[call-arg]
     if lane >= y0.shape[0]:
         return
@@ -127,8 +138,14 @@ def explicit_kernel(
     schur = cuda.local.array((MAX_ROWS, MAX_ROWS), np.float64)
     lam = cuda.local.array(MAX_ROWS, np.float64)
     scratch = cuda.local.array(3, np.float64)
-    work = cuda.local.array((9, MAX_STATE), np.float64)  # source.DOPRI_STATE
-    code, t = _explicit_lane(
+    arrays = (
+        cuda.local.array(SHAPE_0, DTYPE_0), cuda.local.array(SHAPE_1, DTYPE_1),
+        cuda.local.array(SHAPE_2, DTYPE_2), cuda.local.array(SHAPE_3, DTYPE_3),
+        cuda.local.array(SHAPE_4, DTYPE_4), cuda.local.array(SHAPE_5, DTYPE_5),
+        cuda.local.array(SHAPE_6, DTYPE_6), cuda.local.array(SHAPE_7, DTYPE_7),
+    )  # fmt: skip
+    work = METHOD_ARRAYS(*arrays[:N_ARRAYS])
+    code, t = METHOD_LANE(
         ipar, rpar[lane], lay, y0[lane], t_settle[lane], t_end[lane], max_step[lane], rtol,
         atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask, vec, q,
         samples, pen, records, phi_q, schur, lam, scratch, work,
@@ -137,43 +154,25 @@ def explicit_kernel(
     t_reached[lane] = t
 
 
-@cuda.jit(cache=True)
-def implicit_kernel(
-    ipar, rpar, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
-    peaks, stats, status, t_reached, counts,
-):  # fmt: skip
-    """Lane ``cuda.grid(1)`` of the implicit method, Radau IIA (arguments and outputs:
-    :func:`jointplay._kernels.lanes.cpu.implicit_lanes`): its Newton matrices and their LU
-    factors (MAX_COORDS²) in the thread's local memory, like every other work array."""
-    lane: int = cuda.grid(1)  # type: ignore[call-arg]
-    if lane >= y0.shape[0]:
-        return
-    mask = cuda.local.array(MAX_Q, np.int64)
-    vec = cuda.local.array((_VECTORS, MAX_STATE), np.float64)
-    q = cuda.local.array((2, MAX_Q), np.float64)
-    samples = cuda.local.array((_SAMPLES, MAX_Q), np.float64)
-    pen = cuda.local.array((2, MAX_CLEAR), np.float64)
-    records = cuda.local.array((3, _RECORD), np.float64)
-    phi_q = cuda.local.array((MAX_ROWS, MAX_STATE), np.float64)
-    schur = cuda.local.array((MAX_ROWS, MAX_ROWS), np.float64)
-    lam = cuda.local.array(MAX_ROWS, np.float64)
-    scratch = cuda.local.array(3, np.float64)
-    scalars = cuda.local.array(N_RADAU_SCALARS, np.float64)
-    v = cuda.local.array((_RADAU_VECTORS, MAX_STATE), np.float64)
-    small = cuda.local.array((3, MAX_COORDS), np.float64)
-    stages = cuda.local.array((5, 3, MAX_STATE), np.float64)
-    jac = cuda.local.array((MAX_STATE, _JAC_COLUMNS), np.float64)
-    mats = cuda.local.array((3, MAX_COORDS, MAX_COORDS), np.float64)
-    pivots = cuda.local.array((2, MAX_COORDS), np.int64)
-    work = (
-        scalars, v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], small[0], small[1], small[2],
-        stages[0], stages[1], stages[2], stages[3], stages[4], jac, mats[0], pivots[0],
-        mats[1], mats[2], pivots[1],
-    )  # fmt: skip
-    code, t = _implicit_lane(
-        ipar, rpar[lane], lay, y0[lane], t_settle[lane], t_end[lane], max_step[lane], rtol,
-        atol, max_steps, interrupt, peaks[lane], stats[lane], counts[lane], mask, vec, q,
-        samples, pen, records, phi_q, schur, lam, scratch, work,
-    )  # fmt: skip
-    status[lane] = code
-    t_reached[lane] = t
+def _kernel(lane: str) -> Any:
+    """The kernel of lane ``lane``: a copy of :func:`lane_kernel` named ``<lane>_kernel`` (its
+    cache files' name) whose globals are the lane's compiled loop and its record's work."""
+    record = LANES[lane]
+    shapes = getattr(HOME[record["shapes"]], record["shapes"])(MAX_STATE, MAX_COORDS)
+    if len(shapes) > MAX_WORK_ARRAYS:
+        raise ValueError(
+            f"{lane}: {len(shapes)} work arrays, the GPU kernel has {MAX_WORK_ARRAYS} slots"
+        )
+    slots = [*zip(shapes, record["dtypes"], strict=True)]
+    slots += [_UNUSED] * (MAX_WORK_ARRAYS - len(slots))
+    method = {"METHOD_LANE": _GPU[lane], "METHOD_ARRAYS": _GPU[record["arrays"]],
+              "N_ARRAYS": len(shapes)}  # fmt: skip
+    for k, (shape, dtype) in enumerate(slots):
+        method[f"SHAPE_{k}"], method[f"DTYPE_{k}"] = tuple(shape), getattr(np, dtype)
+    return cuda.jit(cache=True)(rebound(lane_kernel, {**globals(), **method}, f"{lane}_kernel"))
+
+
+#: The kernel of each batch method on the GPU, by method: the lane of the integrator that the
+#: cuda backend's lanes have for it (its record's engines: ``"lanes-explicit"``,
+#: ``"lanes-implicit"``).
+KERNELS = {method: _kernel(lane_for(f"lanes-{method}")) for method in ("explicit", "implicit")}

@@ -22,6 +22,8 @@ MAX_ROWS = 9
 #: Largest number of coordinates 3 nb: the implicit lane's Newton matrices are that square
 #: (the positions eliminated, RADAU5's M1): a four-bar's 9, a mechanism of four moving bodies.
 MAX_COORDS = 12
+#: Most work arrays an integrator's record may declare (its ``shapes``): the kernel's slots.
+MAX_WORK_ARRAYS = 8
 
 
 def simulated() -> bool:

@@ -1928,21 +1928,38 @@ DOPRI_STATE, DOPRI_SCALARS = 7, 8
 DOPRI_ERROR, DOPRI_REJECTED = 0, 1
 #: DOPRI5's lane record (the one place it is declared; :data:`jointplay._kernels.lanes.SOURCES`
 #: finds it): the integrator (:class:`jointplay._kernels.integrators.Integrator`'s fields), the
-#: lane's name, its steps' prefix, its work allocator and the loop's constants (:func:`lane`).
+#: lane's name, its steps' prefix, its work: the CPU's allocator (``work``), the shapes of its
+#: arrays (``shapes``, a function of the state's size S and the coordinates n), their dtypes
+#: and the function that makes the method's ``ws`` of them (``arrays``; a GPU thread's arrays
+#: are its kernel's local arrays, :mod:`jointplay._kernels.lanes.cuda_kernel`), and the loop's
+#: constants (:func:`lane`).
 LANE = {
     "integrator": {
         "name": "dopri5", "title": "DOPRI5 (order 5, explicit)", "order": 5, "explicit": True,
         "tolerance_scale": 0.2, "engines": ("single", "lanes-explicit", "jax"), "module": "dopri",
     },
     "lane": "explicit_lane", "steps": "dopri", "work": "dopri_work",
+    "shapes": "dopri_shapes", "arrays": "dopri_arrays", "dtypes": ("float64",),
     "LAND_SETTLE": True, "REGIMES": False, "RTOL_FLOOR": 0.0,
 }  # fmt: skip
 
 
+def dopri_shapes(size, n):
+    """The shapes of DOPRI5's work arrays: the stages, a stage's state and the scalars (9, S)."""
+    return ((9, size),)
+
+
+def dopri_arrays(k):
+    """DOPRI5's ``ws`` (``DOPRI_STATE``) of its array: ``k``, zeroed."""
+    for i in range(k.shape[0]):
+        for j in range(k.shape[1]):
+            k[i, j] = 0.0
+    return k
+
+
 def dopri_work(lay):
-    """DOPRI5's ``ws`` (``DOPRI_STATE``), zeros; it allocates: the CPU's (a GPU thread's are
-    its kernel's local arrays)."""
-    return np.zeros((9, lay[LY_SIZE]))
+    """DOPRI5's ``ws``; it allocates: the CPU's."""
+    return dopri_arrays(np.empty(dopri_shapes(lay[LY_SIZE], lay[LY_N])[0]))
 
 
 def dopri_start(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mid, record_mid,

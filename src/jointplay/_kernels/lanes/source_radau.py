@@ -1043,24 +1043,36 @@ LANE = {
         "module": "radau",
     },
     "lane": "implicit_lane", "steps": "radau", "work": "radau_work",
+    "shapes": "radau_shapes", "arrays": "radau_arrays",
+    "dtypes": ("float64",) * 6 + ("int64",),
     "LAND_SETTLE": False, "REGIMES": True, "RTOL_FLOOR": 100.0 * EPS,
 }  # fmt: skip
 
 
-def radau_work(lay):
-    """Radau IIA's ``ws`` (:func:`radau_start`'s docstring); it allocates: the CPU's."""
-    size = lay[LY_SIZE]
-    n = lay[LY_N]
-    v = np.empty((8, size))
-    small = np.empty((3, n))
-    stages = np.empty((5, 3, size))
-    mats = np.empty((3, n, n))
-    pivots = np.empty((2, n), dtype=np.int64)
+def radau_shapes(size, n):
+    """The shapes of Radau IIA's work arrays (:func:`radau_arrays`' arguments) for a state of
+    ``size`` and ``n`` coordinates."""
+    return ((N_RADAU_SCALARS,), (8, size), (3, n), (5, 3, size), (size - n, 2 * n), (3, n, n),
+            (2, n))  # fmt: skip
+
+
+def radau_arrays(scalars, v, small, stages, jac, mats, pivots):
+    """Radau IIA's ``ws`` (:func:`radau_start`'s docstring) of its arrays, the scalars
+    zeroed."""
+    for j in range(scalars.shape[0]):
+        scalars[j] = 0.0
     return (
-        np.zeros(N_RADAU_SCALARS), v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7],
+        scalars, v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7],
         small[0], small[1], small[2], stages[0], stages[1], stages[2], stages[3], stages[4],
-        np.empty((size - n, 2 * n)), mats[0], pivots[0], mats[1], mats[2], pivots[1],
+        jac, mats[0], pivots[0], mats[1], mats[2], pivots[1],
     )  # fmt: skip
+
+
+def radau_work(lay):
+    """Radau IIA's ``ws``; it allocates: the CPU's."""
+    s = radau_shapes(lay[LY_SIZE], lay[LY_N])
+    return radau_arrays(np.empty(s[0]), np.empty(s[1]), np.empty(s[2]), np.empty(s[3]),
+                        np.empty(s[4]), np.empty(s[5]), np.empty(s[6], dtype=np.int64))  # fmt: skip
 
 
 def radau_start(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mid, record_mid,
