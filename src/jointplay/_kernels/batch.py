@@ -206,18 +206,10 @@ def run_batch(
     n_peaks, n_stats = lane_build.output_widths(lay, rpar_a)
     peaks, stats, status, t_reached, counts = lane_outputs(lanes, n_peaks, n_stats)
     flags = _NO_INTERRUPT if interrupt is None else interrupt
-    if lanes:
-        if method == "explicit":  # the lane of the single source (jointplay._kernels.lanes)
-            # the running reductions (n_peaks > nq_model): their own compilation of the lane
-            lane_cpu.EXPLICIT_DRIVERS[n_peaks > nq_model, parallel](
-                ipar_a, rpar_a, lay, y0_a, settle_a, end_a, step_a,
-                float(rtol), atol_a, int(max_steps), flags,
-                peaks, stats, status, t_reached, counts,
-            )  # fmt: skip
-        else:  # the lanes' loop with Radau's steps
-            lane_cpu.IMPLICIT_DRIVERS[n_peaks > nq_model, parallel](
-                ipar_a, rpar_a, lay, y0_a, settle_a, end_a, step_a,
-                float(rtol), atol_a, int(max_steps), flags,
-                peaks, stats, status, t_reached, counts,
-            )  # fmt: skip
+    if lanes:  # the running reductions (n_peaks > nq_model): their own compilation of the lane
+        lane_cpu.DRIVERS[method][n_peaks > nq_model, parallel](
+            ipar_a, rpar_a, lay, y0_a, settle_a, end_a, step_a,
+            float(rtol), atol_a, int(max_steps), flags,
+            peaks, stats, status, t_reached, counts,
+        )  # fmt: skip
     return finished(peaks, stats, status, t_reached, counts)

@@ -243,10 +243,14 @@ traced = {
     for lane, record in LANES.items()
 }
 
-#: The explicit drivers by ``(running, parallel)``.
-EXPLICIT_DRIVERS = _driver_table(lane_for("lanes-explicit"), "")
-#: The implicit drivers by ``(running, parallel)``.
-IMPLICIT_DRIVERS = _driver_table(lane_for("batch-implicit"), "_implicit")
+#: The batch drivers of each method by ``(running, parallel)``, over the lane of the integrator
+#: that the CPU's batch engine has for it (its record names ``"lanes-explicit"`` or
+#: ``"batch-implicit"``).
+DRIVERS = {
+    "explicit": _driver_table(lane_for("lanes-explicit"), ""),
+    "implicit": _driver_table(lane_for("batch-implicit"), "_implicit"),
+}
+EXPLICIT_DRIVERS, IMPLICIT_DRIVERS = DRIVERS["explicit"], DRIVERS["implicit"]
 #: Every lane of each method, serially and on Numba's threads (and with the running
 #: reductions).
 explicit_lanes, explicit_lanes_parallel = (
