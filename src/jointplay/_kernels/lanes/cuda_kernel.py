@@ -158,6 +158,8 @@ def _kernel(lane: str) -> Any:
     """The kernel of lane ``lane``: a copy of :func:`lane_kernel` named ``<lane>_kernel`` (its
     cache files' name) whose globals are the lane's compiled loop and its record's work."""
     record = LANES[lane]
+    if not {"shapes", "arrays", "dtypes"} <= set(record):
+        raise ValueError(f"{lane}: its record gives no shapes, arrays and dtypes of its work")
     shapes = getattr(HOME[record["shapes"]], record["shapes"])(MAX_STATE, MAX_COORDS)
     if len(shapes) > MAX_WORK_ARRAYS:
         raise ValueError(
