@@ -399,6 +399,23 @@ def test_the_simulated_gpu_implicit_lanes_with_ideal_joints_agree_with_the_cpu_l
                                atol=PENETRATION_ATOL)  # fmt: skip
 
 
+def test_a_lane_without_work_shapes_gets_no_gpu_kernel() -> None:
+    """The kernel allocates a method's work by its record: a record without the shapes (RODAS4's:
+    it has no GPU engine) is refused by name when its kernel is built (on the simulator)."""
+    script = (
+        "from jointplay._kernels.lanes import cuda_kernel\n"
+        "try:\n    cuda_kernel._kernel('rodas_lane')\n"
+        "except ValueError as error:\n    print(error)\n"
+    )
+    env = {**os.environ, "NUMBA_ENABLE_CUDASIM": "1"}
+    run = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True,
+                         check=True, timeout=SIMULATOR_TIMEOUT_S)  # fmt: skip
+    assert (
+        run.stdout.strip()
+        == "rodas_lane: its record gives no shapes, arrays and dtypes of its work"
+    )
+
+
 def test_what_the_gpu_lanes_do_not_cover_yet_is_a_clear_error(paper_fourbar: Mechanism):
     p = _problem(paper_fourbar)
     args = [p[k] for k in ("ipar", "rpar", "y0", "t_settle", "t_end", "max_step")]

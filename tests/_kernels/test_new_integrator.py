@@ -151,10 +151,10 @@ def test_the_gpu_kernel_makes_each_methods_work_from_its_record(
     the module's ``arrays``. Those give a ``ws`` of the same members as the CPU's allocator,
     each member of the same kind and at least as large as the paper four-bar's."""
     record = build.LANES[build.lane_for(engine)]
-    shapes = getattr(build.HOME[record["shapes"]], record["shapes"])(MAX_STATE, MAX_COORDS)
+    shapes = build.source_function(record["shapes"])(MAX_STATE, MAX_COORDS)
     assert len(shapes) == len(record["dtypes"]) <= MAX_WORK_ARRAYS
     arrays = [np.empty(shape, dtype) for shape, dtype in zip(shapes, record["dtypes"], strict=True)]
-    on_gpu = getattr(build.HOME[record["arrays"]], record["arrays"])(*arrays)  # plain Python
+    on_gpu = build.source_function(record["arrays"])(*arrays)  # plain Python
     system = build_system(paper_fourbar, ContactModel().joints(paper_fourbar, ["A", "B"]))
     on_cpu = cpu.compiled[record["work"]](build.lane_layout(eom.pack(system.model)[1]))
     on_gpu, on_cpu = (w if isinstance(w, tuple) else (w,) for w in (on_gpu, on_cpu))
@@ -164,6 +164,16 @@ def test_the_gpu_kernel_makes_each_methods_work_from_its_record(
         assert all(g >= c for g, c in zip(gpu_member.shape, cpu_member.shape, strict=True))
     engines = ("lanes-explicit", "batch-implicit", "lanes-implicit")
     assert [build.lane_for(e) for e in engines] == ["explicit_lane", *["implicit_lane"] * 2]
+
+
+def test_a_batch_engine_runs_one_integrators_lane(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Two records claiming one batch engine, or none, is an error that names the lanes."""
+    dopri5 = build.LANES["explicit_lane"]
+    monkeypatch.setitem(build.LANES, "copy_lane", dopri5)
+    with pytest.raises(ValueError, match=r"lanes-explicit .*\['explicit_lane', 'copy_lane'\]"):
+        build.lane_for("lanes-explicit")
+    with pytest.raises(ValueError, match=r"no-such-engine .*\[\]"):
+        build.lane_for("no-such-engine")
 
 
 @pytest.mark.slow

@@ -15,7 +15,7 @@ from jointplay._kernels.capabilities import refusal
 from jointplay._kernels.lanes import source
 from jointplay._kernels.lanes.build import output_widths, running_layout
 from jointplay._kernels.lanes.contract import lane_outputs
-from jointplay._kernels.lanes.cpu import EXPLICIT_DRIVERS, compiled
+from jointplay._kernels.lanes.cpu import DRIVERS, compiled
 from jointplay.dynamics.wear import OutputSpeedReference, _spread
 from jointplay.model.mechanism import Mechanism
 
@@ -97,7 +97,7 @@ def test_the_explicit_drivers_run_their_own_compilation_of_the_lane() -> None:
     lay = running_layout(problem.ipar, rpar)
     width = output_widths(lay, rpar)
     rates = slice(int(source.running_stats(lay)), int(source.running_stats(lay)) + nc)
-    for (running, _), drivers in EXPLICIT_DRIVERS.items():
+    for (running, _), drivers in DRIVERS["explicit"].items():
         peaks, stats, status, t_reached, counts = lane_outputs(2, *width)
         drivers(
             problem.ipar, rpar, lay, problem.y0, problem.t_settle, problem.t_end,

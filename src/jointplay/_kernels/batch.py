@@ -63,7 +63,7 @@ the lanes' one loop :func:`jointplay._kernels.lanes.source.lane` with DOPRI5's s
 
 **"implicit"** — the lanes' loop with Radau IIA's steps
 (:mod:`jointplay._kernels.lanes.source_radau`, compiled by :mod:`jointplay._kernels.lanes.cpu`:
-``IMPLICIT_DRIVERS``), which takes the single engine's steps with exactly the settings of
+``DRIVERS["implicit"]``), which takes the single engine's steps with exactly the settings of
 :func:`jointplay.dynamics.simulate.simulate` (the sustained-contact mode included: its hooks
 are the single engine's, :mod:`jointplay._kernels.sustained`) and reduces each accepted step
 as it is taken, the interpolant being the single engine's (the lane source's ``hermite``:

@@ -34,6 +34,7 @@ from jointplay._kernels.lanes import SOURCES, source
 __all__ = [
     "FUNCTIONS", "HOME", "LANES", "all_clear", "build", "closed", "lane_for", "lane_layout",
     "lanes_refusal", "model_width", "output_widths", "rebound", "running_layout",
+    "source_function",
 ]  # fmt: skip
 
 #: A lane method's steps, the names the loop calls (``step_<name>``: ``source.lane``'s
@@ -45,6 +46,13 @@ STEPS = ("start", "begin", "land", "attempt", "retry", "refresh", "accept", "den
 LANES = {module.LANE["lane"]: module.LANE for module in SOURCES if hasattr(module, "LANE")}
 #: The loop's functions (``source``'s), compiled once per lane with its method's names.
 LOOP = ("lane",)
+
+
+def source_function(name: str) -> Callable[..., Any]:
+    """The lane source's function ``name`` as its module defines it (not compiled): one of
+    :data:`FUNCTIONS`, or the loop's."""
+    function: Callable[..., Any] = getattr(HOME.get(name, source), name)
+    return function
 
 
 def lane_for(engine: str) -> str:
@@ -131,7 +139,7 @@ def build(
     functions = [
         (
             name,
-            chosen.get(name, getattr(HOME[name], name)),
+            chosen.get(name, source_function(name)),
         )
         for name in FUNCTIONS
         if name in only
@@ -145,7 +153,7 @@ def build(
         if all(step in namespace for step in steps):
             bound = {**namespace, **{k: v for k, v in method.items() if k.isupper()}}
             for function, alias in [*zip(steps, STEPS, strict=True), *((f, "") for f in LOOP)]:
-                original = getattr(HOME.get(function, source), function)
+                original = source_function(function)
                 use = decorate if function == "lane" else (decorate_steps or decorate)
                 copy = use(rebound(original, bound, f"{function}_{name}{suffix}"))
                 bound[f"step_{alias}" if alias else function] = copy
@@ -182,7 +190,7 @@ def closed(
         name = todo.pop()
         if name in LANES:
             continue
-        function = mine.get(name) or getattr(HOME.get(name, source), name)
+        function = mine.get(name) or source_function(name)
         for called in function.__code__.co_names:
             if (called in FUNCTIONS or called in mine) and called not in wanted:
                 wanted.add(called)

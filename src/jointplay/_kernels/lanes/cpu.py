@@ -64,8 +64,7 @@ compiled_traced = build(
 )
 
 __all__ = [
-    "EXPLICIT_DRIVERS",
-    "IMPLICIT_DRIVERS",
+    "DRIVERS",
     "compiled",
     "explicit_lane",
     "explicit_lanes",
@@ -250,16 +249,15 @@ DRIVERS = {
     "explicit": _driver_table(lane_for("lanes-explicit"), ""),
     "implicit": _driver_table(lane_for("batch-implicit"), "_implicit"),
 }
-EXPLICIT_DRIVERS, IMPLICIT_DRIVERS = DRIVERS["explicit"], DRIVERS["implicit"]
 #: Every lane of each method, serially and on Numba's threads (and with the running
 #: reductions).
 explicit_lanes, explicit_lanes_parallel = (
-    EXPLICIT_DRIVERS[False, False],
-    EXPLICIT_DRIVERS[False, True],
+    DRIVERS["explicit"][False, False],
+    DRIVERS["explicit"][False, True],
 )
-explicit_lanes_running = EXPLICIT_DRIVERS[True, False]
-explicit_lanes_running_parallel = EXPLICIT_DRIVERS[True, True]
+explicit_lanes_running = DRIVERS["explicit"][True, False]
+explicit_lanes_running_parallel = DRIVERS["explicit"][True, True]
 implicit_lanes, implicit_lanes_parallel = (
-    IMPLICIT_DRIVERS[False, False],
-    IMPLICIT_DRIVERS[False, True],
+    DRIVERS["implicit"][False, False],
+    DRIVERS["implicit"][False, True],
 )

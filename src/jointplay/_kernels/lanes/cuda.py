@@ -45,12 +45,12 @@ import numpy.typing as npt
 from jointplay._kernels.integrators import lane_methods
 from jointplay._kernels.lanes import source
 from jointplay._kernels.lanes.build import (
-    HOME,
     LANES,
     lane_for,
     lanes_refusal,
     output_widths,
     running_layout,
+    source_function,
 )
 from jointplay._kernels.lanes.contract import (
     BatchKernelOutput,
@@ -219,7 +219,7 @@ def _check_work(method: str, size: int, n: int) -> None:
     state of ``size`` and ``n`` coordinates fit those its kernel allocates (its record's
     shapes at ``MAX_STATE`` and ``MAX_COORDS``: Radau IIA's Newton matrices are n × n)."""
     record = LANES[lane_for(f"lanes-{method}")]
-    shapes = getattr(HOME[record["shapes"]], record["shapes"])
+    shapes = source_function(record["shapes"])
     for need, have in zip(shapes(size, n), shapes(MAX_STATE, MAX_COORDS), strict=True):
         if any(a > b for a, b in zip(need, have, strict=True)):
             raise ConfigError(

@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 from numba import cuda
 
-from jointplay._kernels.lanes.build import HOME, LANES, build, lane_for, rebound
+from jointplay._kernels.lanes.build import LANES, build, lane_for, rebound, source_function
 from jointplay._kernels.lanes.limits import (
     MAX_CLEAR,
     MAX_COORDS,
@@ -160,7 +160,7 @@ def _kernel(lane: str) -> Any:
     record = LANES[lane]
     if not {"shapes", "arrays", "dtypes"} <= set(record):
         raise ValueError(f"{lane}: its record gives no shapes, arrays and dtypes of its work")
-    shapes = getattr(HOME[record["shapes"]], record["shapes"])(MAX_STATE, MAX_COORDS)
+    shapes = source_function(record["shapes"])(MAX_STATE, MAX_COORDS)
     if len(shapes) > MAX_WORK_ARRAYS:
         raise ValueError(
             f"{lane}: {len(shapes)} work arrays, the GPU kernel has {MAX_WORK_ARRAYS} slots"
