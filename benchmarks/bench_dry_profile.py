@@ -88,7 +88,7 @@ def _time_hooks(t: float, y: Any, t2: float, y2: Any, rpar: Any, ipar: Any, lay:
     s = 0.0
     empty = y[:0].reshape((0, 0))
     for _ in range(calls):
-        s += _onset_check(y, old, new, rpar, lay)
+        s += _onset_check(t, y, t2, y2, old, new, rpar, lay)
         _contact_memory(y2, rpar, lay, new, old)
         _project(t2, y2, rpar, ipar, lay, scratch, empty, empty, y[:0])
     return s

@@ -51,8 +51,8 @@ def copy_start(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mid
                        record_mid, phi_q, schur, lam, counts)
 
 
-def copy_begin(ws, t, y, h, max_step, min_step, rtol, atol, size):
-    return dopri_begin(ws, t, y, h, max_step, min_step, rtol, atol, size)
+def copy_begin(ws, t, y, f, h, max_step, min_step, rtol, atol, size):
+    return dopri_begin(ws, t, y, f, h, max_step, min_step, rtol, atol, size)
 
 
 def copy_land(t, h, target):

@@ -869,10 +869,11 @@ def onset_fraction(old, new, tolerance):
     return 1.0
 
 
-def onset_check(y, old, new, rp, lay):
-    """Contact-onset control from the two ends' records (Flores &
-    Ambrósio 2010): the smallest fraction of the step to retry, 1 for none; a joint locked
-    at the step's start ``y`` (the sustained-contact mode) is not entering contact."""
+def onset_check(t, y, t_new, y_new, old, new, rp, lay):
+    """Contact-onset control of the step ``(t, y) → (t_new, y_new)`` from its two ends'
+    records (Flores & Ambrósio 2010): the smallest fraction of the step to retry, 1 for none;
+    a joint locked at the step's start ``y`` (the sustained-contact mode) is not entering
+    contact."""
     tolerance = rp[lay[LY_SETTINGS] + S_ONSET_TOL]
     base = 2 * lay[LY_N] + 2
     theta = 1.0
@@ -1644,6 +1645,11 @@ def start_outputs(ip, rp, lay, mask, peaks, stats, counts):
         start_running(rp, lay, stats)
 
 
+def start_time(rp):
+    """The time a lane starts at: 0 (a lane's times run from its start, s)."""
+    return 0.0
+
+
 def lane(
     ip, rp, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
     peaks, stats, counts, mask, vec, q, samples, pen, records, phi_q, schur, lam, scratch, ws,
@@ -1663,8 +1669,8 @@ def lane(
     - ``step_start(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mid,
       record_mid, phi_q, schur, lam, counts) -> h``: the method's state at the first point
       (``f`` and ``pen`` evaluated) and its first step's size;
-    - ``step_begin(ws, t, y, h, max_step, min_step, rtol, atol, size) -> h``: a step from
-      ``(t, y)`` proposed ``h`` long: the size of its first try;
+    - ``step_begin(ws, t, y, f, h, max_step, min_step, rtol, atol, size) -> h``: a step from
+      ``(t, y)`` (``f`` there) proposed ``h`` long: the size of its first try;
     - ``step_land(t, h, target) -> (t_new, h)``: the try's end, cut to land on ``target``;
     - ``step_attempt(ws, t, y, f, h, t_new, y_new, t_old, y_old, rtol, atol, rp, ip, lay,
       record_new, qb, pen, f_mid, record_mid, phi_q, schur, lam, counts) -> (passed, h)``:
@@ -1701,7 +1707,7 @@ def lane(
     size = lay[LY_SIZE]
     n_q = lay[LY_NQ]
     start_outputs(ip, rp, lay, mask, peaks, stats, counts)
-    t = 0.0
+    t = start_time(rp)
     if RECORD:
         times, states = trace_start(t, y0, size)
         m = 1
@@ -1752,7 +1758,7 @@ def lane(
             break
         target = t_settle if (LAND_SETTLE and t < t_settle) else t_end
         min_step = 10.0 * abs(math.nextafter(t, math.inf) - t)
-        h_try = step_begin(ws, t, y, h_next, max_step, min_step, rtol, atol, size)
+        h_try = step_begin(ws, t, y, f, h_next, max_step, min_step, rtol, atol, size)
         n_check = 0
         t_new = t
         h = h_try
@@ -1769,7 +1775,7 @@ def lane(
                 continue
             # the contact-onset control on the two ends' records; in the
             # sustained-contact mode, the release control (the locked set is the step's)
-            theta = onset_check(y, record, record_new, rp, lay)
+            theta = onset_check(t, y, t_new, y_new, record, record_new, rp, lay)
             if locked(y_new, rp, lay):
                 theta = min(theta, release_fraction(t, y, t_new, y_new, rp, ip, lay))
             shorter = h * theta
@@ -1974,7 +1980,7 @@ def dopri_start(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mi
         return max_step / 10.0
 
 
-def dopri_begin(ws, t, y, h, max_step, min_step, rtol, atol, size):
+def dopri_begin(ws, t, y, f, h, max_step, min_step, rtol, atol, size):
     """A step's first try: at most the largest step."""
     ws[DOPRI_SCALARS, DOPRI_REJECTED] = 0.0
     return min(h, max_step)

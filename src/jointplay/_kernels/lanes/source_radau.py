@@ -1106,7 +1106,7 @@ def radau_start(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mi
     return h
 
 
-def radau_begin(ws, t, y, h, max_step, min_step, rtol, atol, size):
+def radau_begin(ws, t, y, f, h, max_step, min_step, rtol, atol, size):
     """A step's first try: SciPy's clamp of the proposed size (once, not its retries, which
     then run the one-step controller), the Newton scale."""
     ms, scale = ws[0], ws[2]

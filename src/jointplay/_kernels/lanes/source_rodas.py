@@ -176,7 +176,7 @@ def rodas_start(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mi
                         record_mid, phi_q, schur, lam)  # fmt: skip
 
 
-def rodas_begin(ws, t, y, h, max_step, min_step, rtol, atol, size):
+def rodas_begin(ws, t, y, f, h, max_step, min_step, rtol, atol, size):
     """A step's first try: at most the largest step (rodas.f's HMAX); the linearisation is
     due at the step's start (the first try makes it, :func:`rodas_linearise`)."""
     ms = ws[0]
