@@ -1,6 +1,7 @@
-"""The single engine's one integrator loop (:mod:`jointplay._kernels.driver`, issue 38).
+"""The generic integrate on the one integrator loop (:mod:`jointplay._kernels.driver`, issue 38).
 
-Radau IIA, RODAS4 and DOPRI5 run through the same loop code, each bringing only its step
+Radau IIA, RODAS4 and DOPRI5 run through the lanes' loop (``lanes.source.lane``, every
+engine's), each bringing only its step
 functions; and a new method is one file: the toy Heun–Euler pair below (order 2 with an
 embedded Euler step, Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.4) is five functions
 and a :class:`~jointplay._kernels.driver.Steps`, and gets the loop's budget, hooks, onset
@@ -16,6 +17,7 @@ import numpy as np
 
 from _ode_problems import CONTACT_PARAMETERS, decay, land_on_contact, mass_on_floor, run_kernel
 from jointplay._kernels import dopri, driver, ids, radau, rodas
+from jointplay._kernels.lanes.source import lane
 
 
 # ---------------------------------------------------------------------------------------
@@ -76,8 +78,8 @@ def heun_integrate(*args, **kwargs):
 # Tests.
 # ---------------------------------------------------------------------------------------
 def test_every_method_runs_through_the_one_loop() -> None:
-    """Each method's compiled entry is the loop's code with the method's steps as globals:
-    one loop, not one per method."""
+    """Each method's compiled entry is the entry's code with the method's steps as globals,
+    and its loop the lanes' (every engine's): one loop, not one per method or engine."""
     kernels = {"radau": radau.radau_integrate, "rodas": rodas.rodas_integrate}
     kernels |= {"dopri": dopri.dopri_integrate, "test_heun": heun_integrate}
     for integrate in kernels.values():
@@ -88,6 +90,7 @@ def test_every_method_runs_through_the_one_loop() -> None:
     assert set(kernels) <= set(cores)
     for name in kernels:
         assert cores[name].py_func.__code__ is driver.drive.__code__
+        assert cores[name].py_func.__globals__["LANE"].py_func.__code__ is lane.__code__
         assert cores[name].py_func.__globals__["ATTEMPT"].py_func.__module__ != driver.__name__
     steps = {radau.STEPS.attempt, rodas.STEPS.attempt, dopri.STEPS.attempt, HEUN.attempt}
     assert len(steps) == 4  # the same loop, four different steps

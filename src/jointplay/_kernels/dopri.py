@@ -146,7 +146,7 @@ def _dopri_accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed,
     return h_abs * grow
 
 
-#: DOPRI5's steps for the loop (:func:`jointplay._kernels.driver.drive`).
+#: DOPRI5's steps for the generic loop (:mod:`jointplay._kernels.driver`: the lanes' loop).
 STEPS = Steps(_dopri_start, _dopri_begin, _dopri_attempt, no_retry, _dopri_refresh, _dopri_accept)
 
 

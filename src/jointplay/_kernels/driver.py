@@ -1,16 +1,28 @@
-"""The one integrator loop of the single engine: budget, interrupt, step tries, onset retry,
-hooks, finiteness and recording, for every method (Radau IIA, RODAS4, DOPRI5).
+"""The generic ``jointplay.integrate`` on the one integrator loop: a user's ODE, its hooks and
+a method's steps run by the lanes' loop (:func:`jointplay._kernels.lanes.source.lane`).
 
-The shape is SciPy's ``solve_ivp`` loop around an ``OdeSolver._step_impl`` (and diffrax's
-``_integrate.py``): :func:`drive` owns what every variable-step method does around its step,
-and a method brings only its step, as compiled functions bundled in :class:`Steps`:
+The loop of every engine is the lane source's: it owns the step budget, the interrupt, the
+tries and their landing on ``t_bound``, the onset retry (``step_check``), the hooks after a
+step (``after_step``), finiteness and the record. This module binds it to a user's problem:
+
+- **adapters** (:data:`ADAPTERS`) take the place of the lane source's functions that read a
+  mechanism: the onset check calls the user's ``step_check``, the projection its
+  ``after_step``, the start's evaluation is :func:`driver_start`'s; the contact memory, the
+  sustained-contact mode, the window's quantities and the running responses do nothing (the
+  window never opens: ``t_settle`` is infinite). ``rp`` is the :class:`Problem`: the user's
+  functions as first-class function values, its ``args`` and options.
+- **time**: the loop runs forwards from :func:`start_time`; its time is ``direction·t``, so
+  that an integration backwards is the same loop (a sign, exact: the steps see the user's
+  time and the signed step).
+- **steps**: a method brings its step as compiled functions bundled in :class:`Steps`, which
+  :data:`_GENERIC_STEPS` puts in the lanes' step contract:
 
 ``start(problem, t0, y0, f0, counters) -> state``
     The method's arrays and scalars (a tuple it alone reads), made once, at ``(t0, y0)``.
 ``begin(state, problem, t, y, f, h_abs, min_step, counters) -> (h_abs, h_cap)``
     Prepares a step from ``(t, y)`` (RODAS4: the Jacobian and ``∂f/∂t``) and returns the size
-    of its first try and the cap that :func:`drive` puts on every try (the methods after
-    Hairer's codes cap at ``max_step``; Radau, as SciPy, clamps once, here, and not its retries).
+    of its first try and the cap on every try (the methods after Hairer's codes cap at
+    ``max_step``; Radau, as SciPy, clamps once, here, and not its retries).
 ``attempt(state, problem, t, y, f, h, y_new, counters) -> (passed, h_abs)``
     Tries the signed step ``h``: writes the new state into ``y_new`` and returns whether it
     passed the method's own tests (error test, Newton convergence); if not, the size to retry
@@ -25,27 +37,21 @@ and a method brings only its step, as compiled functions bundled in :class:`Step
     Takes the accepted step into the method's state and returns the next step's size
     (``failed``: a try of this step had failed the method's tests).
 
-A new integrator is therefore one file: its tableau and these functions. Between
-``attempt`` and ``accept`` the loop alone asks ``step_check`` (contact onset: the step is
-retried shorter) and calls ``after_step``; a non-finite state or ``f`` after a step ends the
-integration with status −3.
-
-``problem`` (:class:`Problem`) holds the user's functions and options, the same for every
-method. Statuses, counters and the hooks' contract are
-:func:`jointplay._kernels.radau.radau_integrate`'s.
+Statuses, counters and the hooks' contract are
+:func:`jointplay._kernels.radau.radau_integrate`'s; the results are those of the loop this
+module had until 2026-11-30 (its own copy of the same control), to the bit.
 
 Compilation: the methods' functions reach the loop as compile-time constants, not as
 values. Numba keys a dispatcher passed as an argument (or held in a closure or a tuple) by the
 object's address, which a new process never finds again in the on-disk cache; a call to a
-global function it caches. So each method gets its own copy of :func:`drive`: the same code
-under the name ``<name>_core``, whose globals ``START`` … ``ACCEPT`` are the method's
-:class:`Steps` (:func:`_core`). That copy is compiled for explicit signatures, one per type of
-``args`` (:func:`kernel_signatures`), and cached on disk as ``driver.<name>_core-<line>.py3X.nbi``;
+global function it caches. So each method gets its own copy of the loop and of
+:func:`drive`, the entry (``<name>_core``), whose globals are the method's :class:`Steps`
+(:func:`_core`). The entry is compiled for explicit signatures, one per type of ``args``
+(:func:`kernel_signatures`), and cached on disk as ``driver.<name>_core-<line>.py3X.nbi``;
 the user's jitted functions reach it as first-class function values
 (``numba.types.FunctionType``), converted at the call (so :func:`run_core` is called from
-Python, not from compiled code). Numba's cache does not follow the functions a compiled
-function calls: after editing a method's file, clear the caches (the README's
-``find src -name "*.nb[ic]" -delete``), as after editing :mod:`jointplay._kernels.common`.
+Python, not from compiled code). An edit of a kernel source clears the caches
+(:func:`jointplay._kernels.drop_stale_caches`).
 
 References:
     .. [HW96] E. Hairer, G. Wanner, *Solving Ordinary Differential Equations II: Stiff and
@@ -58,34 +64,29 @@ from __future__ import annotations
 
 import importlib
 import threading
-import types
+from collections.abc import Callable
 from typing import Any, NamedTuple
 
 import numba
 import numpy as np
 import numpy.typing as npt
 
-from jointplay._kernels.common import (
-    all_finite,
-    copy_vector,
-    interrupt_pending,
-    jit,
-    py_min,
-    select_initial_step,
-)
+from jointplay._kernels.common import all_finite, copy_vector, jit, py_min, select_initial_step
 from jointplay._kernels.ids import (
     EPS,
+    K_REJ_CHECK,
+    K_STEPS,
+    N_TRACE_COUNTS,
     NFEV,
     NREJ_CHECK,
     NSTEPS,
-    STATUS_INTERRUPTED,
     STATUS_NON_FINITE,
     STATUS_RUNNING,
-    STATUS_STEP_TOO_SMALL,
     STATUS_SUCCESS,
-    STATUS_TOO_MANY_STEPS,
 )
+from jointplay._kernels.lanes import build
 from jointplay._kernels.lanes.cpu import compiled as _lanes
+from jointplay._kernels.lanes.source import LY_SIZE, MAX_CHECK_REJECTIONS, N_LAY
 
 __all__ = [
     "MAX_CHECK_REJECTIONS",
@@ -103,9 +104,6 @@ __all__ = [
     "step_jit",
     "steps_of",
 ]
-
-#: Consecutive ``step_check`` rejections of one step after which the step is accepted.
-MAX_CHECK_REJECTIONS = 64
 
 #: The decorator of a method's per-step functions (``begin``, ``attempt``, ``retry``,
 #: ``refresh``, ``accept``): compiled and cached as :data:`~jointplay._kernels.common.jit`,
@@ -128,6 +126,10 @@ class Problem(NamedTuple):
     n_active: int  # components [n_active, n) are passive
     hold_after_failure: bool  # no growth right after a failed try
     autonomous: bool  # f does not depend on t
+    step_check: Any  # step_check(t, y, t_new, y_new, args) -> θ (the onset retry)
+    after_step: Any  # after_step(t, y, args) -> changed
+    t0: float  # the start
+    f0: Any  # f(t0, y0), (n,)
 
 
 class Steps(NamedTuple):
@@ -220,51 +222,180 @@ def driver_start(fun, args, t0, y0, t_bound, max_step, first_step, direction, rt
     return STATUS_RUNNING, counters, ts, ys, m, f, h_abs
 
 
-@numba.njit(cache=True, error_model="numpy", inline="always")  # in the loop
-def onset_retry(step_check, args, t, y, t_new, y_new, h_abs, min_step, n_check):
-    """``step_check``'s verdict on a step that passed the method's tests: the shorter step
-    to retry it with (it asks for ``h·θ``, ``θ < 1``, not below ``min_step``, and this step
-    has been retried fewer than ``MAX_CHECK_REJECTIONS`` times), else 0 (accept)."""
-    theta = step_check(t, y, t_new, y_new, args)
-    h_try = h_abs * theta
-    if theta < 1.0 and min_step <= h_try < h_abs and n_check < MAX_CHECK_REJECTIONS:
-        return h_try
-    return 0.0
+# ---------------------------------------------------------------------------------------
+# The loop: the lanes' (source.lane), with adapters for a user's problem.
+# ---------------------------------------------------------------------------------------
+# The lane source's functions that the loop calls and that read a mechanism (its ``rp``),
+# in the generic problem's terms: ``rp`` is the :class:`Problem`; lane time is ``direction·t``
+# (so that the loop, which runs forwards, integrates backwards too: exact, a sign).
+def start_time(rp):
+    """The lane time of ``t0``."""
+    return rp.direction * rp.t0
 
 
-# ---------------------------------------------------------------------------------------
-# The loop.
-# ---------------------------------------------------------------------------------------
-# The method's functions, bound in each method's copy of the loop (:func:`_core`); ``None``
-# here, as :func:`drive` itself is never compiled. They are globals, not an argument: Numba
-# caches a call to a global function, not a function held as a value (a dispatcher's address).
+def start_outputs(ip, rp, lay, mask, peaks, stats, counts):
+    """No peaks: the counters zero."""
+    for m in range(counts.shape[0]):
+        counts[m] = 0
+
+
+def rhs_and_quantities(t, y, rp, ip, lay, f, record, qty, pen, phi_q, schur, lam):
+    """f at the start: :func:`driver_start`'s evaluation (counted there)."""
+    for j in range(f.shape[0]):
+        f[j] = rp.f0[j]
+
+
+def onset_check(t, y, t_new, y_new, old, new, rp, lay):
+    """The user's ``step_check`` on the step, in its time."""
+    return rp.step_check(rp.direction * t, y, rp.direction * t_new, y_new, rp.args)
+
+
+def project(t, y, rp, ip, lay, scratch, phi_q, schur, lam):
+    """The user's ``after_step`` at the accepted end, in its time."""
+    return rp.after_step(rp.direction * t, y, rp.args)
+
+
+def no_contact(*unused):
+    """A contact or running hook of the mechanism's loop: nothing for a user's problem."""
+    return None
+
+
+def no_flag(*unused):
+    """A contact hook's question (locked joints, sustained contact, contact memory): no."""
+    return False
+
+
+def release_fraction(t, y, t_new, y_new, rp, ip, lay):
+    """No locked joint to release: the whole step."""
+    return 1.0
+
+
+def penetration_and_rate(y, rp, ip, lay, c):
+    """No contact."""
+    return 0.0, 0.0
+
+
+#: The adapters by the lane source's names (:func:`jointplay._kernels.lanes.build.build`'s
+#: ``hooks``).
+ADAPTERS: dict[str, Callable[..., Any]] = {
+    "start_time": start_time, "start_outputs": start_outputs,
+    "rhs_and_quantities": rhs_and_quantities, "onset_check": onset_check, "project": project,
+    "release_fraction": release_fraction, "penetration_and_rate": penetration_and_rate,
+    **dict.fromkeys(("locked", "contact_memory", "sustained_on", "switch_contacts",
+                     "running_on"), no_flag),
+    **dict.fromkeys(("quantities", "speed_deviation", "running_point", "open_regimes",
+                     "accumulate_regimes", "close_running"), no_contact),
+}  # fmt: skip
+
+# The method's functions (:class:`Steps`), bound in each method's copy of the steps below
+# (:func:`_core`); ``None`` here, as those are never compiled as written.
 START: Any = None
 BEGIN: Any = None
 ATTEMPT: Any = None
 RETRY: Any = None
 REFRESH: Any = None
 ACCEPT: Any = None
+#: Slots of the loop's scalars in the steps' work (``ws[2]``): the first step's size, the cap
+#: on every try (:class:`Steps`' ``begin``), whether a try of this step failed the method's
+#: tests, the step's start (in the user's time).
+G_FIRST, G_CAP, G_FAILED, G_T = range(4)
+
+
+# A method's :class:`Steps` in the lanes' step contract (``source.lane``'s docstring): ``ws``
+# is ``(state, problem, scalars, counters, y_start)``; the loop's times are lane times.
+def generic_start(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mid,
+                  record_mid, phi_q, schur, lam, counts):  # fmt: skip
+    """The first step's size (:func:`driver_start`'s)."""
+    return ws[2][G_FIRST]
+
+
+def generic_begin(ws, t, y, f, h, max_step, min_step, rtol, atol, size):
+    """The method's ``begin``; the first try at most its cap."""
+    state, problem, sc, counters, y_start = ws
+    sc[G_T] = problem.direction * t
+    sc[G_FAILED] = 0.0
+    for j in range(size):
+        y_start[j] = y[j]
+    h_abs, cap = BEGIN(state, problem, sc[G_T], y, f, h, min_step, counters)
+    sc[G_CAP] = cap
+    return py_min(h_abs, cap)
+
+
+def generic_land(t, h, target):
+    """The try's end, cut to land on ``target``; the step is the difference (SciPy's)."""
+    t_new = t + h
+    if t_new - target > 0:
+        t_new = target
+    return t_new, t_new - t
+
+
+def generic_attempt(ws, t, y, f, h, t_new, y_new, t_old, y_old, rtol, atol, rp, ip, lay,
+                    record_new, qb, pen, f_mid, record_mid, phi_q, schur, lam, counts):  # fmt: skip
+    """The method's ``attempt`` of the signed step; a retry at most the cap."""
+    state, problem, sc, counters, _ = ws
+    passed, h_abs = ATTEMPT(state, problem, sc[G_T], y, f, problem.direction * h, y_new,
+                            counters)  # fmt: skip
+    if not passed:
+        sc[G_FAILED] = 1.0
+        return False, py_min(h_abs, sc[G_CAP])
+    return True, h
+
+
+def generic_retry(ws):
+    """The method's ``retry``."""
+    RETRY(ws[0])
+
+
+def generic_refresh(ws, t_new, y_new, f_new, changed, rp, ip, lay, record, qb, pen, phi_q,
+                    schur, lam, counts):  # fmt: skip
+    """The method's ``refresh``: f at the accepted end."""
+    REFRESH(ws[0], ws[1], ws[1].direction * t_new, y_new, f_new, changed, ws[3])
+    return True
+
+
+def generic_accept(ws, t_new, y_new, f_new, h, changed, atol, rp, ip, lay, pen, f_mid,
+                   record_mid, phi_q, schur, lam, counts):  # fmt: skip
+    """The method's ``accept``: the next step's size."""
+    state, problem, sc, counters, y_start = ws
+    return ACCEPT(state, problem, sc[G_T], y_start, problem.direction * t_new, y_new, f_new, h,
+                  sc[G_FAILED] > 0.0, changed, counters)  # fmt: skip
+
+
+def generic_dense(ws, t_old, y_old, t, y, f, t_new, y_new, f_new, h, tau, theta, out, lay):
+    """No interpolant: the loop's window never opens for a user's problem."""
+    return None
+
+
+#: The steps in the loop's order (``build.STEPS``).
+_GENERIC_STEPS: tuple[Callable[..., Any], ...] = (
+    generic_start, generic_begin, generic_land, generic_attempt, generic_retry, generic_refresh,
+    generic_accept, generic_dense,
+)  # fmt: skip
+#: The loop's constants for a user's problem: no landing on a window that never opens, no
+#: regimes, SciPy's floor on rtol, the trajectory recorded.
+_LOOP_CONSTANTS = {"LAND_SETTLE": False, "REGIMES": False, "RTOL_FLOOR": 100.0 * EPS,
+                   "RECORD": True, "RUNNING": False}  # fmt: skip
+LANE: Any = None  # the loop with the method's steps, bound in each method's entry
 
 
 def drive(fun, step_check, after_step, jac_fun, t0, y0, t_bound, args, rtol, atol,
           max_step, first_step, max_steps, n_second, n_active, hold_after_failure, autonomous,
           interrupt):  # fmt: skip
-    """Integrate ``y' = fun(t, y, args)`` from ``t0`` to ``t_bound`` with the method whose
-    :class:`Steps` are this copy's globals ``START`` … ``ACCEPT`` (:func:`_core`); the
-    arguments and the results are :func:`jointplay._kernels.radau.radau_integrate`'s (times
-    in the units of ``t0``).
+    """Integrate ``y' = fun(t, y, args)`` from ``t0`` to ``t_bound`` by the lanes' loop
+    (``source.lane``) with the method whose :class:`Steps` are this copy's ``LANE``'s
+    (:func:`_core`); the arguments and the results are
+    :func:`jointplay._kernels.radau.radau_integrate`'s (times in the units of ``t0``).
 
-    Per step: the step budget ``max_steps`` and the interrupt flags; the method's
-    ``begin``; tries of size ``h`` (cut to end on ``t_bound``) until one passes the
-    method's ``attempt`` and ``step_check`` does not shorten it, a step below
-    ``min_step = 10·spacing(t)`` (SciPy's) ending the integration with status −1; then
-    ``after_step``, ``f`` at the new point (the method's ``refresh``), the finiteness of
-    both, the method's ``accept`` (the next step's size) and the record.
+    Before the loop: :func:`driver_start` (``f(t0, y0)``, the first step) and the method's
+    ``start``. The loop owns the step budget ``max_steps``, the interrupt flags, the tries
+    (cut to end on ``t_bound``) until one passes the method's ``attempt`` and ``step_check``
+    does not shorten it, a step below ``min_step = 10·spacing(t)`` (SciPy's) ending the
+    integration with status −1, ``after_step`` (its hook ``project``), ``f`` at the new point
+    (the method's ``refresh``), the finiteness of both, the method's ``accept`` and the record.
     """
     n = y0.shape[0]
     rtol = max(rtol, 100.0 * EPS)
     direction = 1.0 if t_bound >= t0 else -1.0
-    t = t0
     y = y0.copy()
     status, counters, ts, ys, m, f, h_abs = driver_start(
         fun, args, t0, y, t_bound, max_step, first_step, direction, rtol, atol
@@ -272,67 +403,24 @@ def drive(fun, step_check, after_step, jac_fun, t0, y0, t_bound, args, rtol, ato
     if status != STATUS_RUNNING:
         return status, ts[:m].copy(), ys[:m].copy(), counters
     problem = Problem(fun, jac_fun, args, rtol, atol, max_step, direction, n_second, n_active,
-                      hold_after_failure, autonomous)  # fmt: skip
-    state = START(problem, t, y, f, counters)
-    y_new = np.empty(n)
-
-    while status == STATUS_RUNNING:
-        if counters[NSTEPS] >= max_steps:
-            status = STATUS_TOO_MANY_STEPS
-            break
-        if interrupt_pending(interrupt):  # Ctrl-C or SIGTERM: stop with a status, not raise
-            status = STATUS_INTERRUPTED
-            break
-
-        min_step = 10.0 * abs(np.nextafter(t, direction * np.inf) - t)
-        h_abs, h_cap = BEGIN(state, problem, t, y, f, h_abs, min_step, counters)
-        failed = False  # a try failed the method's tests (RADAU5's REJECT)
-        n_check = 0
-        t_new = t
-        while True:
-            h_abs = py_min(h_abs, h_cap)
-            if h_abs < min_step:
-                status = STATUS_STEP_TOO_SMALL
-                break
-            t_new = t + h_abs * direction
-            if direction * (t_new - t_bound) > 0:
-                t_new = t_bound
-            h = t_new - t
-            h_abs = abs(h)
-
-            passed, h_retry = ATTEMPT(state, problem, t, y, f, h, y_new, counters)
-            if not passed:
-                h_abs = h_retry
-                failed = True
-                continue
-
-            h_try = onset_retry(step_check, args, t, y, t_new, y_new, h_abs, min_step, n_check)
-            if h_try > 0.0:  # land a step on contact onset
-                h_abs = h_try
-                n_check += 1
-                counters[NREJ_CHECK] += 1
-                RETRY(state)
-                continue
-            break
-        if status != STATUS_RUNNING:
-            break
-
-        # Hook: projection / contact memory; then f at the (possibly modified) state.
-        changed = after_step(t_new, y_new, args)
-        REFRESH(state, problem, t_new, y_new, f, changed, counters)
-        if not (all_finite(y_new, n) and all_finite(f, n)):
-            status = STATUS_NON_FINITE
-            break
-        h_abs = ACCEPT(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed, counters)
-        t = t_new
-        y, y_new = y_new, y
-        counters[NSTEPS] += 1
-        ts, ys = _record(ts, ys, m, t, y, n)
-        m += 1
-        if direction * (t - t_bound) >= 0:
-            status = STATUS_SUCCESS
-
-    return status, ts[:m].copy(), ys[:m].copy(), counters
+                      hold_after_failure, autonomous, step_check, after_step, t0, f)  # fmt: skip
+    scalars = np.zeros(4)
+    scalars[G_FIRST] = h_abs
+    ws = (START(problem, t0, y, f, counters), problem, scalars, counters, np.empty(n))
+    lay = np.zeros(N_LAY, dtype=np.int64)
+    lay[LY_SIZE] = n
+    counts = np.zeros(N_TRACE_COUNTS, dtype=np.int64)
+    one = np.zeros(1)
+    t_end = direction * t_bound
+    status, _, times, states = LANE(
+        np.zeros(1, dtype=np.int64), problem, lay, y, np.inf, t_end, max_step, rtol, atol,
+        max_steps, interrupt, one, one, counts, np.zeros(1, dtype=np.int64), np.empty((9, n)),
+        np.zeros((2, 1)), np.zeros((9, 1)), np.zeros((2, 1)), np.zeros((3, 1)),
+        np.zeros((1, 1)), np.zeros((1, 1)), one, one, ws,
+    )  # fmt: skip
+    counters[NSTEPS] = counts[K_STEPS]
+    counters[NREJ_CHECK] = counts[K_REJ_CHECK]
+    return status, direction * times, states.copy(), counters
 
 
 # ---------------------------------------------------------------------------------------
@@ -385,15 +473,35 @@ def _core_signature(args_type: Any) -> tuple[Any, ...]:
 
 def _core(name: str, steps: Steps) -> Any:
     """Method ``name``'s entry: a copy of :func:`drive` named ``<name>_core`` (its cache
-    files' name) whose globals ``START`` … ``ACCEPT`` are ``steps``'s functions."""
+    files' name) whose ``LANE`` is the lanes' loop with ``steps`` in the lanes' contract
+    (:data:`_GENERIC_STEPS` bound to ``steps``' functions, inlined) and the adapters
+    (:data:`ADAPTERS`) for the mechanism's hooks."""
     entry = _entries.get(name)
     if entry is None:
         method = {field.upper(): function for field, function in steps._asdict().items()}
-        entry = types.FunctionType(drive.__code__, {**drive.__globals__, **method}, f"{name}_core")
-        entry.__qualname__ = f"{name}_core"
+        bound = {**_namespace(), **_LOOP_CONSTANTS, **method}
+        for alias, function in zip(build.STEPS, _GENERIC_STEPS, strict=True):
+            bound[f"step_{alias}"] = step_jit(
+                build.rebound(function, {**globals(), **method}, f"{function.__name__}_{name}")
+            )
+        lane = jit(build.rebound(build.source_function("lane"), bound, f"lane_{name}"))
+        entry = build.rebound(drive, {**drive.__globals__, **method, "LANE": lane}, f"{name}_core")
         entry.__doc__ = f"The loop (:func:`drive`) with {name}'s steps."
         _entries[name] = entry
     return entry
+
+
+def _namespace() -> dict[str, Any]:
+    """The lane source compiled for a user's problem (once): the functions the loop calls,
+    the mechanism's hooks replaced by :data:`ADAPTERS`."""
+    if "" not in _entries:
+        direct = [name for name in build.source_function("lane").__code__.co_names
+                  if name in build.FUNCTIONS]  # fmt: skip
+        only = {*build.closed(tuple(n for n in direct if n not in ADAPTERS)), *ADAPTERS}
+        _entries[""] = build.build(jit, hooks=ADAPTERS, extras={"np": np},
+                                   only=tuple(only), tag="generic")  # fmt: skip
+    namespace: dict[str, Any] = _entries[""]
+    return namespace
 
 
 def _specialised_core(args_type: Any, name: str, steps: Steps) -> Any:

@@ -69,9 +69,10 @@ Layout: the step's numerics are written once, in the lane source
 (:mod:`jointplay._kernels.lanes.source_radau`: the method's constants, the reduced Newton
 matrices and their LU with partial pivoting, complex numbers as pairs of floats, the
 simplified Newton iteration, the error estimate, the controller's factor), in the subset that
-Numba's CPU and CUDA targets both compile; the batch lanes run them in their own loop, and
-this module in the single engine's (:func:`jointplay._kernels.driver.drive`), with the CPU
-lanes' compilation of them (:data:`jointplay._kernels.lanes.cpu.compiled`): here are only
+Numba's CPU and CUDA targets both compile; the lanes' steps and this module's run them in the
+one loop (:func:`jointplay._kernels.lanes.source.lane`, this module's through
+:mod:`jointplay._kernels.driver`), with the CPU lanes' compilation of them
+(:data:`jointplay._kernels.lanes.cpu.compiled`): here are only
 the method's state, its Newton loop over ``fun`` and its steps ``_radau_start`` …
 ``_radau_accept``.
 :mod:`jointplay._kernels.common` holds the initial step and SciPy's finite-difference
@@ -380,7 +381,7 @@ def _radau_accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed,
     return h_abs * factor
 
 
-#: Radau IIA's steps for the loop (:func:`jointplay._kernels.driver.drive`).
+#: Radau IIA's steps for the generic loop (:mod:`jointplay._kernels.driver`: the lanes' loop).
 STEPS = Steps(_radau_start, _radau_begin, _radau_attempt, _radau_retry, evaluate_f, _radau_accept)
 
 

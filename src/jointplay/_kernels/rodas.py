@@ -191,7 +191,7 @@ def _rodas_accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed,
     return h_abs * grow
 
 
-#: RODAS4's steps for the loop (:func:`jointplay._kernels.driver.drive`).
+#: RODAS4's steps for the generic loop (:mod:`jointplay._kernels.driver`: the lanes' loop).
 STEPS = Steps(_rodas_start, _rodas_begin, _rodas_attempt, no_retry, evaluate_f, _rodas_accept)
 
 

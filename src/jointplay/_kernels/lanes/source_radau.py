@@ -6,8 +6,8 @@ arrays, no allocation, ``math`` only); :mod:`jointplay._kernels.lanes.build` com
 functions into the same namespace as that module's, so that they call its equations
 (:func:`rhs`, :func:`rhs_and_quantities`, :func:`contact_forces`, :func:`project`, …) by name.
 
-The algorithm is the single engine's loop (:func:`jointplay._kernels.driver.drive`) with
-Radau's steps (:data:`jointplay._kernels.radau.STEPS`) and the options
+The algorithm is the generic integrate's Radau IIA (:data:`jointplay._kernels.radau.STEPS`)
+with the options
 :func:`jointplay.dynamics.simulate.simulate` passes it: SciPy's Radau IIA
 ([HW96] §IV.8: simplified Newton on the eigen-decomposed systems, one real and one complex,
 started from the last step's collocation polynomial; the embedded error estimate,
