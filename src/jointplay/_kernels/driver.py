@@ -228,29 +228,29 @@ def driver_start(fun, args, t0, y0, t_bound, max_step, first_step, direction, rt
 # The lane source's functions that the loop calls and that read a mechanism (its ``rp``),
 # in the generic problem's terms: ``rp`` is the :class:`Problem`; lane time is ``direction·t``
 # (so that the loop, which runs forwards, integrates backwards too: exact, a sign).
-def start_time(rp):
+def problem_start_time(rp):
     """The lane time of ``t0``."""
     return rp.direction * rp.t0
 
 
-def start_outputs(ip, rp, lay, mask, peaks, stats, counts):
+def problem_outputs(ip, rp, lay, mask, peaks, stats, counts):
     """No peaks: the counters zero."""
     for m in range(counts.shape[0]):
         counts[m] = 0
 
 
-def rhs_and_quantities(t, y, rp, ip, lay, f, record, qty, pen, phi_q, schur, lam):
+def problem_start_f(t, y, rp, ip, lay, f, record, qty, pen, phi_q, schur, lam):
     """f at the start: :func:`driver_start`'s evaluation (counted there)."""
     for j in range(f.shape[0]):
         f[j] = rp.f0[j]
 
 
-def onset_check(t, y, t_new, y_new, old, new, rp, lay):
+def problem_step_check(t, y, t_new, y_new, old, new, rp, lay):
     """The user's ``step_check`` on the step, in its time."""
     return rp.step_check(rp.direction * t, y, rp.direction * t_new, y_new, rp.args)
 
 
-def project(t, y, rp, ip, lay, scratch, phi_q, schur, lam):
+def problem_after_step(t, y, rp, ip, lay, scratch, phi_q, schur, lam):
     """The user's ``after_step`` at the accepted end, in its time."""
     return rp.after_step(rp.direction * t, y, rp.args)
 
@@ -265,12 +265,12 @@ def no_flag(*unused):
     return False
 
 
-def release_fraction(t, y, t_new, y_new, rp, ip, lay):
+def no_release(t, y, t_new, y_new, rp, ip, lay):
     """No locked joint to release: the whole step."""
     return 1.0
 
 
-def penetration_and_rate(y, rp, ip, lay, c):
+def no_penetration(y, rp, ip, lay, c):
     """No contact."""
     return 0.0, 0.0
 
@@ -278,9 +278,10 @@ def penetration_and_rate(y, rp, ip, lay, c):
 #: The adapters by the lane source's names (:func:`jointplay._kernels.lanes.build.build`'s
 #: ``hooks``).
 ADAPTERS: dict[str, Callable[..., Any]] = {
-    "start_time": start_time, "start_outputs": start_outputs,
-    "rhs_and_quantities": rhs_and_quantities, "onset_check": onset_check, "project": project,
-    "release_fraction": release_fraction, "penetration_and_rate": penetration_and_rate,
+    "start_time": problem_start_time, "start_outputs": problem_outputs,
+    "rhs_and_quantities": problem_start_f, "onset_check": problem_step_check,
+    "project": problem_after_step, "release_fraction": no_release,
+    "penetration_and_rate": no_penetration,
     **dict.fromkeys(("locked", "contact_memory", "sustained_on", "switch_contacts",
                      "running_on"), no_flag),
     **dict.fromkeys(("quantities", "speed_deviation", "running_point", "open_regimes",
