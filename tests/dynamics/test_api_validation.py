@@ -12,12 +12,10 @@ import numpy as np
 import pytest
 
 from jointplay._kernels import radau
-from jointplay._kernels.common import (
-    interrupt_pending,
-)
 from jointplay._kernels.ids import (
     STATUS_INTERRUPTED,
 )
+from jointplay._kernels.lanes.cpu import compiled
 from jointplay.contact.laws import get_law
 from jointplay.dynamics.clearance import ClearanceJoint
 from jointplay.dynamics.integrate import IntegrationStatus, integrate
@@ -26,6 +24,8 @@ from jointplay.dynamics.simulate import SolverOptions, Start, simulate
 from jointplay.errors import ConfigError, SettingError
 from jointplay.io.config import load_config, load_preset
 
+#: The loop's interrupt test (the lane source's, compiled for the CPU).
+interrupt_pending = compiled["interrupt_pending"]
 LAW = get_law("hertz", stiffness=1e10, exponent=1.5)
 
 

@@ -187,7 +187,7 @@ def run_batch(
         method: ``"explicit"`` (Dormand–Prince 5(4)) or ``"implicit"`` (Radau IIA).
         parallel: threads over lanes (``numba.prange``); ``False``: one thread.
         interrupt: uint8 flags that stop every lane with ``STATUS_INTERRUPTED`` once they hold
-            SIGINT or SIGTERM (:func:`jointplay._kernels.common.interrupt_pending`).
+            SIGINT or SIGTERM (:func:`jointplay._kernels.lanes.source.interrupt_pending`).
 
     Returns:
         :class:`BatchKernelOutput`; a lane that did not succeed has NaN peaks and statistics.

@@ -33,7 +33,6 @@ from jointplay._kernels.shared import compiled as _shared
 __all__ = [
     "all_finite",
     "copy_vector",
-    "interrupt_pending",
     "jit",
     "num_jac",
     "py_max",
@@ -66,12 +65,6 @@ _initial_trial = _lanes["initial_trial"]
 _initial_choice = _lanes["initial_choice"]
 #: ``all_finite(x, size)``: whether ``x[:size]`` is all finite (the lane source's).
 all_finite = _shared["all_finite"]
-#: ``interrupt_pending(flags)``: whether ``flags`` (uint8, the signal numbers received so far,
-#: then zeros) holds SIGINT or SIGTERM. ``flags`` is memory that Python's C-level signal
-#: handler writes (see :func:`jointplay.dynamics.integrate.integrate`); read between steps, it
-#: lets a compiled integration stop on Ctrl-C with a status instead of raising (the lane
-#: source's).
-interrupt_pending = _shared["interrupt_pending"]
 
 
 @jit

@@ -11,7 +11,7 @@ step (``after_step``), finiteness and the record. This module binds it to a user
   sustained-contact mode, the window's quantities and the running responses do nothing (the
   window never opens: ``t_settle`` is infinite). ``rp`` is the :class:`Problem`: the user's
   functions as first-class function values, its ``args`` and options.
-- **time**: the loop runs forwards from :func:`start_time`; its time is ``direction·t``, so
+- **time**: the loop runs forwards from :func:`problem_start_time`; its time is ``direction·t``, so
   that an integration backwards is the same loop (a sign, exact: the steps see the user's
   time and the signed step).
 - **steps**: a method brings its step as compiled functions bundled in :class:`Steps`, which

@@ -443,7 +443,7 @@ def radau_integrate(
             exactly 0 then). Radau IIA and DOPRI5 need no ``∂f/∂t``. ``False`` (default):
             RODAS4 differences.
         interrupt: uint8 C-contiguous flags read before every step (see
-            :func:`jointplay._kernels.common.interrupt_pending`): once they hold SIGINT or
+            :func:`jointplay._kernels.lanes.source.interrupt_pending`): once they hold SIGINT or
             SIGTERM the integration stops with status ``-4``. ``None`` (default): never.
 
     Returns:

@@ -74,7 +74,6 @@ SHARED = closed(
         "driver_acceleration",
         "cholesky_solve",
         "all_finite",
-        "interrupt_pending",
         "constraint_residual",
         "project",
         "sustained_on",
