@@ -87,6 +87,7 @@ from jointplay._kernels.ids import (
 from jointplay._kernels.lanes import build
 from jointplay._kernels.lanes.cpu import compiled as _lanes
 from jointplay._kernels.lanes.source import LY_SIZE, MAX_CHECK_REJECTIONS, N_LAY
+from jointplay._kernels.lanes.source_radau import radau_land
 
 __all__ = [
     "MAX_CHECK_REJECTIONS",
@@ -322,14 +323,6 @@ def generic_begin(ws, t, y, f, h, max_step, min_step, rtol, atol, size):
     return py_min(h_abs, cap)
 
 
-def generic_land(t, h, target):
-    """The try's end, cut to land on ``target``; the step is the difference (SciPy's)."""
-    t_new = t + h
-    if t_new - target > 0:
-        t_new = target
-    return t_new, t_new - t
-
-
 def generic_attempt(ws, t, y, f, h, t_new, y_new, t_old, y_old, rtol, atol, rp, ip, lay,
                     record_new, qb, pen, f_mid, record_mid, phi_q, schur, lam, counts):  # fmt: skip
     """The method's ``attempt`` of the signed step; a retry at most the cap."""
@@ -367,9 +360,10 @@ def generic_dense(ws, t_old, y_old, t, y, f, t_new, y_new, f_new, h, tau, theta,
     return None
 
 
-#: The steps in the loop's order (``build.STEPS``).
+#: The steps in the loop's order (``build.STEPS``); the landing is Radau IIA's lane's (SciPy's:
+#: the step is the difference of its ends).
 _GENERIC_STEPS: tuple[Callable[..., Any], ...] = (
-    generic_start, generic_begin, generic_land, generic_attempt, generic_retry, generic_refresh,
+    generic_start, generic_begin, radau_land, generic_attempt, generic_retry, generic_refresh,
     generic_accept, generic_dense,
 )  # fmt: skip
 #: The loop's constants for a user's problem: no landing on a window that never opens, no
