@@ -1655,7 +1655,9 @@ def lane(
     peaks, stats, counts, mask, vec, q, samples, pen, records, phi_q, schur, lam, scratch, ws,
 ):  # fmt: skip
     """One lane of the batch contract (:mod:`jointplay._kernels.batch`), for every method:
-    the one loop of the lanes. It owns the step budget, the interrupt, the smallest step, the
+    the one loop of every engine (and of the generic ``jointplay.integrate``, whose adapters
+    take the place of the mechanism's hooks, :mod:`jointplay._kernels.driver`; a lane starts
+    at ``start_time(rp)``, 0 for a mechanism). It owns the step budget, the interrupt, the smallest step, the
     contact-onset retry, the hooks after a step (contact memory, projection), finiteness, the
     running responses and the window's peaks and statistics; a method brings its steps, bound
     by :func:`jointplay._kernels.lanes.build.build` to the names the loop calls (a lane of
