@@ -485,6 +485,33 @@ def test_an_interrupt_while_the_batch_result_is_put_together_keeps_every_lane(
     _same(stopped.value.result, expected)
 
 
+def test_an_interrupt_as_the_lanes_outputs_are_merged_keeps_every_lane(
+    paper_fourbar: Mechanism, reference, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Ctrl-C just after the lanes ended, while their chunks' outputs are put in lane order
+    (this stretch raised the interrupt bare and lost every finished lane): the result comes
+    back with the interrupt."""
+    import os
+    import signal
+
+    import jointplay.dynamics.batch as batch
+    from jointplay.dynamics.batch import BatchInterrupted
+
+    samples, expected = reference
+    merged = batch._merged
+
+    def merging(*args, **kwargs):
+        os.kill(os.getpid(), signal.SIGINT)
+        return merged(*args, **kwargs)
+
+    monkeypatch.setattr(batch, "_merged", merging)
+    with pytest.raises(KeyboardInterrupt) as stopped:
+        simulate_batch(paper_fourbar, _joints(), samples, backend="local", settle=0)
+    assert isinstance(stopped.value, BatchInterrupted), "the finished lanes were lost"
+    assert stopped.value.result.ok.all()
+    _same(stopped.value.result, expected)
+
+
 def _nothing():
     from contextlib import nullcontext
 

@@ -74,7 +74,7 @@ from jointplay.execution import progress as _progress
 from jointplay.execution.backends import BACKENDS, Backend, backend_kind
 from jointplay.execution.dask import ClusterLost
 from jointplay.execution.executors import Executor, Lanes, LaneWork, executor
-from jointplay.execution.interrupts import interrupts_noted
+from jointplay.execution.interrupts import close_gates, interrupts_gated
 from jointplay.model.columns import rotating_links
 from jointplay.model.mechanism import Mechanism
 
@@ -342,9 +342,12 @@ def _dispatch(
                 advance(len(parts[k]))
 
             runner.run_lanes(Lanes(_lane_work(problem, method), items(), threads, chunk, done))
+        close_gates()  # the lanes ended: from here an interrupt is noted (interrupts_gated)
     except KeyboardInterrupt:  # the finished chunks are kept; the others are marked below
+        close_gates()
         interrupted = True
     except ClusterLost as error:
+        close_gates()
         lost = f"ClusterLost: {error}"
     merged = _merged(problem, parts, outputs)
     if interrupted or lost or np.any(merged.status == ids.STATUS_INTERRUPTED):
@@ -520,14 +523,14 @@ def simulate_batch(
     n = len(samples)
     lanes = np.flatnonzero(problem.ok)
     interrupted, lost = False, ""
-    try:
-        output, used_workers, chunk = _dispatch(problem, lanes, chosen, runner, progress)
-    except _PartialDispatch as partial:
-        output, used_workers, chunk, lost = partial.args
-        interrupted = not lost
-    # the lanes ran: an interrupt while their result is put together is noted, and the
-    # result goes with it (BatchInterrupted) instead of being lost
-    with interrupts_noted() as noted:
+    # an interrupt after the lanes (the gate closed as they end) is noted, and the result goes
+    # with it (BatchInterrupted) instead of being lost
+    with interrupts_gated() as gate:
+        try:
+            output, used_workers, chunk = _dispatch(problem, lanes, chosen, runner, progress)
+        except _PartialDispatch as partial:
+            output, used_workers, chunk, lost = partial.args
+            interrupted = not lost
         peak_names, stat_names = _names(mechanism, system, running)
         peaks = np.full((n, len(peak_names)), np.nan)
         stats = np.full((n, len(stat_names)), np.nan)
@@ -584,7 +587,7 @@ def simulate_batch(
             build_time=build_time,
             wall_time=time.perf_counter() - wall,
         )
-    if interrupted or noted:
+    if interrupted or gate.noted:
         raise BatchInterrupted(result)
     return result
 

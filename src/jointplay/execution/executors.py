@@ -32,7 +32,7 @@ from jointplay.errors import ConfigError, PartialInterrupt, caused_by_interrupt
 from jointplay.execution import dask as _dask
 from jointplay.execution import pool as _pool
 from jointplay.execution.backends import Backend, BackendKind
-from jointplay.execution.interrupts import interrupts_watched
+from jointplay.execution.interrupts import interrupts_gated, interrupts_watched
 
 __all__ = [
     "CHUNK_BUDGET_S",
@@ -293,11 +293,17 @@ class Local(Executor):
         self, function: Callable[[Any, Any], Any], shared: Any, items: list[Any], sink: TaskSink
     ) -> None:
         for index, item in enumerate(items):
-            try:
-                sink.store(index, attempt(function, shared, item))
-            except PartialInterrupt as stopped:  # keep what the item finished
-                sink.keep_partial(index, stopped.partial)
-                raise
+            # an interrupt after the item's lanes (a batch model's block) waits until the
+            # item is kept (interrupts_gated)
+            with interrupts_gated() as gate:
+                try:
+                    outcome = attempt(function, shared, item)
+                except PartialInterrupt as stopped:  # keep what the item finished
+                    sink.keep_partial(index, stopped.partial)
+                    raise
+                sink.store(index, outcome)
+            if gate.noted:
+                raise KeyboardInterrupt(f"signal {gate.noted[0]}")
             sink.advance(index)
 
 

@@ -1,6 +1,9 @@
 """Interrupts in compiled loops (flags that the C-level signal handler writes), and interrupts
 noted while finished work is being put together.
 
+:func:`interrupts_gated` lets SIGINT and SIGTERM act as usual until the work it surrounds has
+finished its compiled part (:func:`close_gates`, where a batch's lanes end), then only notes
+them until that work is kept: no instant is left in between where an interrupt loses it.
 :func:`interrupts_noted` holds SIGINT and SIGTERM back while finished work is put together
 (a block's results after its lanes ran): the caller sees that one came and returns the work
 as interrupted instead of losing it. :func:`interrupts_watched` lends a compiled loop (the Radau kernel, the batch kernels) a
@@ -18,11 +21,12 @@ import tempfile
 import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["interrupts_noted", "interrupts_watched"]
+__all__ = ["close_gates", "interrupts_gated", "interrupts_noted", "interrupts_watched"]
 
 
 class _InterruptFlags:
@@ -116,3 +120,60 @@ def interrupts_noted() -> Iterator[list[int]]:
     finally:
         for s, handler in previous.items():
             signal.signal(s, handler)
+
+
+class Gate:
+    """What :func:`interrupts_gated` yields: ``closed`` once :func:`close_gates` ran, and the
+    signals ``noted`` from then on."""
+
+    def __init__(self) -> None:
+        self.closed = False
+        self.noted: list[int] = []
+
+
+_open_gates: list[Gate] = []
+
+
+@contextmanager
+def interrupts_gated() -> Iterator[Gate]:
+    """SIGINT and SIGTERM act as before (their handlers are called) until :func:`close_gates`;
+    from then until the context ends they are only noted in the yielded :class:`Gate`, and the
+    caller acts on them once it has kept the finished work.
+
+    For a block of work whose compiled part (a batch's lanes) is followed by Python code that
+    puts its result together: closing the gate is one assignment in the code that ran the
+    lanes, so a signal either interrupts the lanes (which keep what finished) or is noted;
+    none lands in between, where the finished lanes would be lost. Contexts inside it
+    (:func:`interrupts_watched`, :func:`interrupts_noted`) replace the handlers for their own
+    stretch and put the gate's back. Only in the main thread and for signals with a Python
+    handler; elsewhere the gate never notes anything.
+    """
+    gate = Gate()
+    if threading.current_thread() is not threading.main_thread():
+        yield gate
+        return
+    handlers = {s: h for s in (signal.SIGINT, signal.SIGTERM) if callable(h := signal.getsignal(s))}
+
+    def gated(number: int, frame: Any) -> Any:
+        if gate.closed:
+            gate.noted.append(number)
+            return None
+        return handlers[signal.Signals(number)](number, frame)
+
+    for s in handlers:
+        signal.signal(s, gated)
+    _open_gates.append(gate)
+    try:
+        yield gate
+    finally:
+        _open_gates.remove(gate)
+        for s, handler in handlers.items():
+            signal.signal(s, handler)
+
+
+def close_gates() -> None:
+    """From now on every open :func:`interrupts_gated` notes SIGINT and SIGTERM instead of
+    acting on them (nothing if none is open). Call it as the last statement of the ``try``
+    around the compiled work and first in its ``except KeyboardInterrupt``."""
+    for gate in _open_gates:
+        gate.closed = True
