@@ -102,6 +102,7 @@ from jointplay._kernels.lanes import build as lane_build
 from jointplay._kernels.lanes import cpu as lane_cpu
 from jointplay._kernels.lanes.contract import (  # noqa: F401 (re-exported: the peak rule's)
     DENSE,
+    NO_INTERRUPT,
     REFINE_MARGIN,
     REFINE_POINTS,
     BatchKernelOutput,
@@ -156,9 +157,6 @@ def _read_only_copy(array: npt.NDArray[_Scalar]) -> npt.NDArray[_Scalar]:
     return array
 
 
-_NO_INTERRUPT = np.zeros(1, dtype=np.uint8)
-
-
 def run_batch(
     ipar: npt.ArrayLike,
     rpar: npt.ArrayLike,
@@ -205,7 +203,7 @@ def run_batch(
     lay = lane_build.running_layout(ipar_a, rpar_a)
     n_peaks, n_stats = lane_build.output_widths(lay, rpar_a)
     peaks, stats, status, t_reached, counts = lane_outputs(lanes, n_peaks, n_stats)
-    flags = _NO_INTERRUPT if interrupt is None else interrupt
+    flags = NO_INTERRUPT if interrupt is None else interrupt
     if lanes:  # the running reductions (n_peaks > nq_model): their own compilation of the lane
         lane_cpu.DRIVERS[method][n_peaks > nq_model, parallel](
             ipar_a, rpar_a, lay, y0_a, settle_a, end_a, step_a,

@@ -85,6 +85,7 @@ from jointplay._kernels.ids import (
     STATUS_SUCCESS,
 )
 from jointplay._kernels.lanes import build
+from jointplay._kernels.lanes.contract import NO_INTERRUPT
 from jointplay._kernels.lanes.cpu import compiled as _lanes
 from jointplay._kernels.lanes.source import LY_SIZE, MAX_CHECK_REJECTIONS, N_LAY
 from jointplay._kernels.lanes.source_radau import radau_land
@@ -283,8 +284,7 @@ ADAPTERS: dict[str, Callable[..., Any]] = {
     "rhs_and_quantities": problem_start_f, "onset_check": problem_step_check,
     "project": problem_after_step, "release_fraction": no_release,
     "penetration_and_rate": no_penetration,
-    **dict.fromkeys(("locked", "contact_memory", "sustained_on", "switch_contacts",
-                     "running_on"), no_flag),
+    **dict.fromkeys(("locked", "contact_memory", "sustained_on", "switch_contacts"), no_flag),
     **dict.fromkeys(("quantities", "speed_deviation", "running_point", "open_regimes",
                      "accumulate_regimes", "close_running"), no_contact),
 }  # fmt: skip
@@ -367,9 +367,10 @@ _GENERIC_STEPS: tuple[Callable[..., Any], ...] = (
     generic_accept, generic_dense,
 )  # fmt: skip
 #: The loop's constants for a user's problem: no landing on a window that never opens, no
-#: regimes, SciPy's floor on rtol, the trajectory recorded.
+#: regimes, SciPy's floor on rtol, the trajectory recorded (no running responses: the
+#: source's default).
 _LOOP_CONSTANTS = {"LAND_SETTLE": False, "REGIMES": False, "RTOL_FLOOR": 100.0 * EPS,
-                   "RECORD": True, "RUNNING": False}  # fmt: skip
+                   "RECORD": True}  # fmt: skip
 LANE: Any = None  # the loop with the method's steps, bound in each method's entry
 
 
@@ -423,9 +424,6 @@ def drive(fun, step_check, after_step, jac_fun, t0, y0, t_bound, args, rtol, ato
 # ---------------------------------------------------------------------------------------
 _ARRAY = numba.types.float64[::1]
 _compile_lock = threading.Lock()
-#: Flags that never hold a signal: what a loop is given when nothing watches (off the main
-#: thread, :func:`jointplay.execution.interrupts.interrupts_watched` yields ``None``).
-NO_INTERRUPT = np.zeros(1, dtype=np.uint8)
 _entries: dict[str, Any] = {}
 _specialisations: dict[Any, Any] = {}
 

@@ -30,6 +30,11 @@ REFINE_POINTS = np.arange(1, source.N_REFINE + 1) / 8.0
 DENSE = np.reshape(np.array(source.DENSE), (7, 4))
 
 
+#: Interrupt flags that never hold a signal: what a loop is given when nothing watches (off
+#: the main thread, :func:`jointplay.execution.interrupts.interrupts_watched` yields ``None``).
+NO_INTERRUPT = np.zeros(1, dtype=np.uint8)
+
+
 class BatchKernelOutput(NamedTuple):
     """What a batch kernel's ``run_batch`` returns, per lane (the orders and units: the
     module docstring of :mod:`jointplay._kernels.batch`)."""
