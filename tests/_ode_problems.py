@@ -6,6 +6,7 @@ cache) once. Exact, published or reference solutions are named where a problem i
 
 from __future__ import annotations
 
+import functools
 from typing import Any, NamedTuple
 
 import numba
@@ -13,7 +14,7 @@ import numpy as np
 import numpy.typing as npt
 from scipy.integrate import solve_ivp
 
-from jointplay._kernels import ids
+from jointplay._kernels import driver, ids
 from jointplay._kernels import radau as radau_kernel
 
 
@@ -222,6 +223,11 @@ class Run(NamedTuple):
     t: npt.NDArray[np.float64]
     y: npt.NDArray[np.float64]
     counts: dict[str, int]
+
+
+#: DOPRI5 on the generic loop at the kernels' common interface (``radau_integrate``'s): the
+#: lanes' own steps (``driver.steps_of``).
+dopri_integrate = functools.partial(driver.run_core, "dopri", driver.steps_of("dopri"))
 
 
 def run_kernel(

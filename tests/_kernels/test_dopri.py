@@ -20,6 +20,7 @@ import pytest
 from _ode_problems import (
     CONTACT_PARAMETERS,
     decay,
+    dopri_integrate,
     flag_contact_change,
     harmonic,
     land_on_contact,
@@ -29,8 +30,8 @@ from _ode_problems import (
     tolerance_units,
     van_der_pol,
 )
-from jointplay._kernels import dopri, ids
-from jointplay._kernels.lanes import cpu, source
+from jointplay._kernels import driver, ids
+from jointplay._kernels.lanes import build, source
 
 #: Global error against an exact or reference solution, in units of ``atol + rtol·|y|``:
 #: the error estimate is the embedded order-4 solution's, the solution propagated is of order
@@ -39,15 +40,17 @@ GLOBAL_ERROR_UNITS = 10.0
 
 
 def run(fun: Any, t_span: tuple[float, float], y0: Any, p: Any, **options: Any) -> Any:
-    return run_kernel(fun, t_span, y0, p, integrator=dopri.dopri_integrate, **options)
+    return run_kernel(fun, t_span, y0, p, integrator=dopri_integrate, **options)
 
 
-@pytest.mark.parametrize("name", ["dopri_stage", "dopri_error"])
-def test_the_single_engines_dopri_step_is_the_sources(name: str) -> None:
-    """DOPRI5's stage states and error norm: the lane source's CPU compilation, the explicit
-    lanes' own functions (one copy of the tableau's arithmetic for every engine)."""
-    assert getattr(dopri, name) is cpu.compiled[name]
-    assert cpu.compiled[name].py_func.__code__ is getattr(source, name).__code__
+def test_the_generic_dopri5_runs_the_lanes_own_steps() -> None:
+    """DOPRI5 in ``jointplay.integrate`` is the explicit lanes' steps (one copy of the
+    tableau's arithmetic for every engine): every step of its loop but the first step's size
+    (``driver_start``'s) is the lane source's."""
+    loop = driver._core("dopri", driver.steps_of("dopri")).__globals__["LANE"].py_func
+    for alias in build.STEPS[1:]:
+        step = loop.__globals__[f"step_{alias}"].py_func
+        assert step.__code__ is getattr(source, f"dopri_{alias}").__code__
 
 
 def test_fixed_step_order_is_five() -> None:

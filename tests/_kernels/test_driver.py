@@ -15,9 +15,17 @@ import math
 import numba
 import numpy as np
 
-from _ode_problems import CONTACT_PARAMETERS, decay, land_on_contact, mass_on_floor, run_kernel
-from jointplay._kernels import dopri, driver, ids, radau, rodas
-from jointplay._kernels.lanes.source import lane
+from _ode_problems import (
+    CONTACT_PARAMETERS,
+    decay,
+    dopri_integrate,
+    land_on_contact,
+    mass_on_floor,
+    run_kernel,
+)
+from jointplay._kernels import driver, ids, radau, rodas
+from jointplay._kernels.lanes import build
+from jointplay._kernels.lanes.source import dopri_attempt, lane
 
 
 # ---------------------------------------------------------------------------------------
@@ -79,21 +87,29 @@ def heun_integrate(*args, **kwargs):
 # ---------------------------------------------------------------------------------------
 def test_every_method_runs_through_the_one_loop() -> None:
     """Each method's compiled entry is the entry's code with the method's steps as globals,
-    and its loop the lanes' (every engine's): one loop, not one per method or engine."""
+    and its loop the lanes' (every engine's): one loop, not one per method or engine. DOPRI5
+    runs the lanes' own steps (its loop's attempt is the source's)."""
     kernels = {"radau": radau.radau_integrate, "rodas": rodas.rodas_integrate}
-    kernels |= {"dopri": dopri.dopri_integrate, "test_heun": heun_integrate}
+    kernels |= {"dopri": dopri_integrate, "test_heun": heun_integrate}
     for integrate in kernels.values():
         result = run_kernel(decay, (0.0, 1.0), [1.0], [1.0], rtol=1e-6, atol=1e-9,
                             integrator=integrate)  # fmt: skip
         assert result.status == ids.STATUS_SUCCESS
     cores = {key[0]: core for key, core in driver._specialisations.items()}
     assert set(kernels) <= set(cores)
+    attempts = set()
     for name in kernels:
         assert cores[name].py_func.__code__ is driver.drive.__code__
-        assert cores[name].py_func.__globals__["LANE"].py_func.__code__ is lane.__code__
-        assert cores[name].py_func.__globals__["ATTEMPT"].py_func.__module__ != driver.__name__
-    steps = {radau.STEPS.attempt, rodas.STEPS.attempt, dopri.STEPS.attempt, HEUN.attempt}
-    assert len(steps) == 4  # the same loop, four different steps
+        loop = cores[name].py_func.__globals__["LANE"].py_func
+        assert loop.__code__ is lane.__code__
+        if name == "dopri":
+            assert loop.__globals__["step_attempt"].py_func.__code__ is dopri_attempt.__code__
+            attempts.add(dopri_attempt.__code__)
+        else:
+            attempt = cores[name].py_func.__globals__["ATTEMPT"].py_func
+            assert attempt.__module__ != driver.__name__
+            attempts.add(attempt.__code__)
+    assert len(attempts) == 4  # the same loop, four different steps
 
 
 def test_a_new_method_is_its_steps_only() -> None:
@@ -120,7 +136,7 @@ def test_a_new_method_is_its_steps_only() -> None:
 
 def test_the_budget_is_the_loops() -> None:
     """``max_steps`` ends every method, the toy one too, with the same status."""
-    for integrate in (radau.radau_integrate, dopri.dopri_integrate, heun_integrate):
+    for integrate in (radau.radau_integrate, dopri_integrate, heun_integrate):
         result = run_kernel(decay, (0.0, 10.0), [1.0], [1.0], rtol=1e-10, atol=1e-12,
                             max_steps=3, integrator=integrate)  # fmt: skip
         assert result.status == ids.STATUS_TOO_MANY_STEPS
@@ -137,8 +153,9 @@ def test_the_records_are_the_engines_integrators() -> None:
     from jointplay.dynamics.integrate import METHODS
 
     assert list(METHODS) == list(ENGINES["single"].integrators) == ["radau", "rodas4", "dopri5"]
-    for integrator in METHODS.values():
-        assert isinstance(driver.steps_of(str(integrator.module)), driver.Steps)
+    for integrator in METHODS.values():  # a kernel module's Steps, or the lanes' own steps
+        steps = driver.steps_of(str(integrator.module))
+        assert isinstance(steps, driver.Steps) or steps in build.LANES.values()
     assert lane_methods("lanes-explicit", "batch-implicit") == batch.METHODS
     assert batch.METHODS == ("explicit", "implicit")
     assert [i.name for i in INTEGRATORS.values() if i.explicit] == ["dopri5"]

@@ -14,6 +14,7 @@ from _ode_problems import (
     bounce,
     cartesian_pendulum,
     decay,
+    dopri_integrate,
     free_fall,
     land_on_ground,
     nan_rhs,
@@ -24,12 +25,12 @@ from _ode_problems import (
     square,
     van_der_pol,
 )
-from jointplay._kernels import dopri, ids, radau, rodas
+from jointplay._kernels import ids, radau, rodas
 
 INTEGRATORS = {
     "radau": radau.radau_integrate,
     "rodas4": rodas.rodas_integrate,
-    "dopri5": dopri.dopri_integrate,
+    "dopri5": dopri_integrate,
 }
 
 

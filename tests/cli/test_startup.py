@@ -260,7 +260,6 @@ NOT_FOR_ONE_RUN = (
     "jointplay._kernels.batch",
     "jointplay._kernels.jax_batch",
     "jointplay._kernels.lanes.cuda",
-    "jointplay._kernels.dopri",
     "jointplay._kernels.rodas",
     "jointplay._kernels.workers",
     "numba.cuda",

@@ -14,8 +14,12 @@ step (``after_step``), finiteness and the record. This module binds it to a user
 - **time**: the loop runs forwards from :func:`problem_start_time`; its time is ``direction·t``, so
   that an integration backwards is the same loop (a sign, exact: the steps see the user's
   time and the signed step).
-- **steps**: a method brings its step as compiled functions bundled in :class:`Steps`, which
-  :data:`_GENERIC_STEPS` puts in the lanes' step contract:
+- **steps**: DOPRI5 runs the lanes' own steps (``source.dopri_*``, in lane time: the
+  adapter ``rhs`` is ``direction·fun(direction·t, y)``; the first step is
+  :func:`driver_start`'s), its record's ``module`` naming their prefix (:func:`steps_of`).
+  Radau IIA and RODAS4 still bring their steps as compiled functions bundled in
+  :class:`Steps` (``radau.py``, ``rodas.py``), which :data:`_GENERIC_STEPS` puts in the
+  lanes' step contract:
 
 ``start(problem, t0, y0, f0, counters) -> state``
     The method's arrays and scalars (a tuple it alone reads), made once, at ``(t0, y0)``.
@@ -63,6 +67,7 @@ References:
 from __future__ import annotations
 
 import importlib
+import importlib.util
 import threading
 from collections.abc import Callable
 from typing import Any, NamedTuple
@@ -75,10 +80,13 @@ from jointplay._kernels.common import all_finite, copy_vector, jit, py_min, sele
 from jointplay._kernels.ids import (
     EPS,
     K_REJ_CHECK,
+    K_REJECTED,
+    K_RHS,
     K_STEPS,
     N_TRACE_COUNTS,
     NFEV,
     NREJ_CHECK,
+    NREJ_ERROR,
     NSTEPS,
     STATUS_NON_FINITE,
     STATUS_RUNNING,
@@ -131,7 +139,8 @@ class Problem(NamedTuple):
     step_check: Any  # step_check(t, y, t_new, y_new, args) -> θ (the onset retry)
     after_step: Any  # after_step(t, y, args) -> changed
     t0: float  # the start
-    f0: Any  # f(t0, y0), (n,)
+    f0: Any  # f(t0, y0), (n,), as the loop holds it (its steps' time: see _core)
+    h0: float  # the first step's size
 
 
 class Steps(NamedTuple):
@@ -247,6 +256,26 @@ def problem_start_f(t, y, rp, ip, lay, f, record, qty, pen, phi_q, schur, lam):
         f[j] = rp.f0[j]
 
 
+def problem_rhs(t, y, rp, ip, lay, f, record, recording, phi_q, schur, lam):
+    """The user's ``fun`` in lane time (the lanes' steps): ``direction·fun(direction·t, y)``."""
+    value = rp.fun(rp.direction * t, y, rp.args)
+    for j in range(f.shape[0]):
+        f[j] = rp.direction * value[j]
+
+
+def problem_rhs_and_quantities(t, y, rp, ip, lay, f, record, qty, pen, phi_q, schur, lam):
+    """:func:`problem_rhs` (no quantities: the window never opens)."""
+    value = rp.fun(rp.direction * t, y, rp.args)
+    for j in range(f.shape[0]):
+        f[j] = rp.direction * value[j]
+
+
+def problem_first_step(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mid,
+                       record_mid, phi_q, schur, lam, counts):  # fmt: skip
+    """The first step's size (:func:`driver_start`'s): every method's ``step_start``."""
+    return rp.h0
+
+
 def problem_step_check(t, y, t_new, y_new, old, new, rp, lay):
     """The user's ``step_check`` on the step, in its time."""
     return rp.step_check(rp.direction * t, y, rp.direction * t_new, y_new, rp.args)
@@ -281,7 +310,8 @@ def no_penetration(y, rp, ip, lay, c):
 #: ``hooks``).
 ADAPTERS: dict[str, Callable[..., Any]] = {
     "start_time": problem_start_time, "start_outputs": problem_outputs,
-    "rhs_and_quantities": problem_start_f, "onset_check": problem_step_check,
+    "start_rhs": problem_start_f, "rhs": problem_rhs,
+    "rhs_and_quantities": problem_rhs_and_quantities, "onset_check": problem_step_check,
     "project": problem_after_step, "release_fraction": no_release,
     "penetration_and_rate": no_penetration,
     **dict.fromkeys(("locked", "contact_memory", "sustained_on", "switch_contacts"), no_flag),
@@ -297,18 +327,23 @@ ATTEMPT: Any = None
 RETRY: Any = None
 REFRESH: Any = None
 ACCEPT: Any = None
-#: Slots of the loop's scalars in the steps' work (``ws[2]``): the first step's size, the cap
-#: on every try (:class:`Steps`' ``begin``), whether a try of this step failed the method's
-#: tests, the step's start (in the user's time).
-G_FIRST, G_CAP, G_FAILED, G_T = range(4)
+#: Slots of the loop's scalars in the steps' work (``ws[2]``): the cap on every try
+#: (:class:`Steps`' ``begin``), whether a try of this step failed the method's tests, the
+#: step's start (in the user's time).
+G_CAP, G_FAILED, G_T = range(3)
 
 
 # A method's :class:`Steps` in the lanes' step contract (``source.lane``'s docstring): ``ws``
 # is ``(state, problem, scalars, counters, y_start)``; the loop's times are lane times.
-def generic_start(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mid,
-                  record_mid, phi_q, schur, lam, counts):  # fmt: skip
-    """The first step's size (:func:`driver_start`'s)."""
-    return ws[2][G_FIRST]
+def generic_work(problem, t0, y0, f0, counters, lay):
+    """The steps' ``ws``: the method's ``start`` and the wrappers' own."""
+    return (START(problem, t0, y0, f0, counters), problem, np.zeros(3), counters,
+            np.empty(y0.shape[0]))  # fmt: skip
+
+
+def lane_work(problem, t0, y0, f0, counters, lay):
+    """The lanes' own steps' ``ws``: their work allocator's."""
+    return STEP_WORK(lay)
 
 
 def generic_begin(ws, t, y, f, h, max_step, min_step, rtol, atol, size):
@@ -363,7 +398,7 @@ def generic_dense(ws, t_old, y_old, t, y, f, t_new, y_new, f_new, h, tau, theta,
 #: The steps in the loop's order (``build.STEPS``); the landing is Radau IIA's lane's (SciPy's:
 #: the step is the difference of its ends).
 _GENERIC_STEPS: tuple[Callable[..., Any], ...] = (
-    generic_start, generic_begin, radau_land, generic_attempt, generic_retry, generic_refresh,
+    problem_first_step, generic_begin, radau_land, generic_attempt, generic_retry, generic_refresh,
     generic_accept, generic_dense,
 )  # fmt: skip
 #: The loop's constants for a user's problem: no landing on a window that never opens, no
@@ -372,6 +407,10 @@ _GENERIC_STEPS: tuple[Callable[..., Any], ...] = (
 _LOOP_CONSTANTS = {"LAND_SETTLE": False, "REGIMES": False, "RTOL_FLOOR": 100.0 * EPS,
                    "RECORD": True}  # fmt: skip
 LANE: Any = None  # the loop with the method's steps, bound in each method's entry
+WORK: Any = None  # the steps' work: generic_work or lane_work, bound in each method's entry
+STEP_WORK: Any = None  # the lanes' own steps' work allocator, bound in lane_work's copy
+#: Whether the method's steps are the lanes' own, in lane time (bound in each entry).
+ON_LANE_STEPS = False
 
 
 def drive(fun, step_check, after_step, jac_fun, t0, y0, t_bound, args, rtol, atol,
@@ -398,13 +437,14 @@ def drive(fun, step_check, after_step, jac_fun, t0, y0, t_bound, args, rtol, ato
     )
     if status != STATUS_RUNNING:
         return status, ts[:m].copy(), ys[:m].copy(), counters
+    # the loop's f is in its steps' time: the user's for Steps, lane time for the lanes' own
+    f_loop = direction * f if ON_LANE_STEPS else f
     problem = Problem(fun, jac_fun, args, rtol, atol, max_step, direction, n_second, n_active,
-                      hold_after_failure, autonomous, step_check, after_step, t0, f)  # fmt: skip
-    scalars = np.zeros(4)
-    scalars[G_FIRST] = h_abs
-    ws = (START(problem, t0, y, f, counters), problem, scalars, counters, np.empty(n))
+                      hold_after_failure, autonomous, step_check, after_step, t0, f_loop,
+                      h_abs)  # fmt: skip
     lay = np.zeros(N_LAY, dtype=np.int64)
     lay[LY_SIZE] = n
+    ws = WORK(problem, t0, y, f, counters, lay)
     counts = np.zeros(N_TRACE_COUNTS, dtype=np.int64)
     one = np.zeros(1)
     t_end = direction * t_bound
@@ -416,6 +456,10 @@ def drive(fun, step_check, after_step, jac_fun, t0, y0, t_bound, args, rtol, ato
     )  # fmt: skip
     counters[NSTEPS] = counts[K_STEPS]
     counters[NREJ_CHECK] = counts[K_REJ_CHECK]
+    # the lanes' own steps count in the loop's counters (Steps count their own: these add 0);
+    # the start's evaluation is driver_start's
+    counters[NFEV] += counts[K_RHS] - 1
+    counters[NREJ_ERROR] += counts[K_REJECTED] - counts[K_REJ_CHECK]
     return status, direction * times, states.copy(), counters
 
 
@@ -464,19 +508,33 @@ def _core_signature(args_type: Any) -> tuple[Any, ...]:
     )  # fmt: skip
 
 
-def _core(name: str, steps: Steps) -> Any:
+def _core(name: str, steps: Steps | dict[str, Any]) -> Any:
     """Method ``name``'s entry: a copy of :func:`drive` named ``<name>_core`` (its cache
     files' name) whose ``LANE`` is the lanes' loop with ``steps`` in the lanes' contract
     (:data:`_GENERIC_STEPS` bound to ``steps``' functions, inlined) and the adapters
     (:data:`ADAPTERS`) for the mechanism's hooks."""
     entry = _entries.get(name)
     if entry is None:
-        method = {field.upper(): function for field, function in steps._asdict().items()}
-        bound = {**_namespace(), **_LOOP_CONSTANTS, **method}
-        for alias, function in zip(build.STEPS, _GENERIC_STEPS, strict=True):
-            bound[f"step_{alias}"] = step_jit(
-                build.rebound(function, {**globals(), **method}, f"{function.__name__}_{name}")
-            )
+        bound = {**_namespace(), **_LOOP_CONSTANTS}
+        if isinstance(steps, Steps):
+            method = {field.upper(): function for field, function in steps._asdict().items()}
+            bound.update(method)
+            for alias, function in zip(build.STEPS, _GENERIC_STEPS, strict=True):
+                bound[f"step_{alias}"] = step_jit(
+                    build.rebound(function, {**globals(), **method}, f"{function.__name__}_{name}")
+                )
+            method["WORK"] = jit(build.rebound(generic_work, {**globals(), **method},
+                                               f"generic_work_{name}"))  # fmt: skip
+        else:  # a lane record: the lanes' own steps, in lane time, the start driver_start's
+            for alias in build.STEPS:
+                function = (problem_first_step if alias == "start"
+                            else build.source_function(f"{steps['steps']}_{alias}"))  # fmt: skip
+                bound[f"step_{alias}"] = step_jit(
+                    build.rebound(function, bound, f"{function.__name__}_{name}_generic")
+                )
+            own = {**globals(), "STEP_WORK": bound[steps["work"]]}
+            method = {"WORK": jit(build.rebound(lane_work, own, f"lane_work_{name}")),
+                      "ON_LANE_STEPS": True}  # fmt: skip
         lane = jit(build.rebound(build.source_function("lane"), bound, f"lane_{name}"))
         entry = build.rebound(drive, {**drive.__globals__, **method, "LANE": lane}, f"{name}_core")
         entry.__doc__ = f"The loop (:func:`drive`) with {name}'s steps."
@@ -490,6 +548,8 @@ def _namespace() -> dict[str, Any]:
     if "" not in _entries:
         direct = [name for name in build.source_function("lane").__code__.co_names
                   if name in build.FUNCTIONS]  # fmt: skip
+        for record in _lane_records():  # and the lanes' own steps that the generic runs
+            direct += [f"{record['steps']}_{step}" for step in build.STEPS] + [record["work"]]
         only = {*build.closed(tuple(n for n in direct if n not in ADAPTERS)), *ADAPTERS}
         _entries[""] = build.build(jit, hooks=ADAPTERS, extras={"np": np},
                                    only=tuple(only), tag="generic")  # fmt: skip
@@ -497,7 +557,7 @@ def _namespace() -> dict[str, Any]:
     return namespace
 
 
-def _specialised_core(args_type: Any, name: str, steps: Steps) -> Any:
+def _specialised_core(args_type: Any, name: str, steps: Steps | dict[str, Any]) -> Any:
     """Method ``name``'s entry compiled, or loaded from Numba's on-disk cache, for this
     type of ``args``.
 
@@ -519,16 +579,34 @@ def _specialised_core(args_type: Any, name: str, steps: Steps) -> Any:
     return core
 
 
-def steps_of(module: str) -> Steps:
-    """The :class:`Steps` of the method in :mod:`jointplay._kernels` module ``module`` (an
-    :attr:`~jointplay._kernels.integrators.Integrator.module`)."""
-    steps: Steps = importlib.import_module(f"jointplay._kernels.{module}").STEPS
-    return steps
+def steps_of(module: str) -> Steps | dict[str, Any]:
+    """The steps of an :attr:`~jointplay._kernels.integrators.Integrator.module`: the
+    :class:`Steps` of that :mod:`jointplay._kernels` module (Radau IIA, RODAS4), or, where no
+    such module is and the lane source holds the method's steps under that prefix (DOPRI5),
+    the lane's record (``build.LANES``): the loop runs the lanes' own steps."""
+    if importlib.util.find_spec(f"jointplay._kernels.{module}") is not None:
+        steps: Steps = importlib.import_module(f"jointplay._kernels.{module}").STEPS
+        return steps
+    for record in _lane_records():
+        if record["steps"] == module:
+            return record
+    raise ValueError(f"no integrator's steps are called {module!r}")
+
+
+def _lane_records() -> list[dict[str, Any]]:
+    """The lane records whose steps the generic integrate runs: the integrators in it
+    (``module`` set) that no kernel module of their own holds :class:`Steps` for."""
+    return [
+        record
+        for record in build.LANES.values()
+        if record["integrator"]["module"] is not None
+        and importlib.util.find_spec(f"jointplay._kernels.{record['integrator']['module']}") is None
+    ]
 
 
 def run_core(
     name: str,
-    steps: Steps,
+    steps: Steps | dict[str, Any],
     fun: Any,
     step_check: Any,
     after_step: Any,

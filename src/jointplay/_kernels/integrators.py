@@ -37,7 +37,9 @@ class Integrator:
         engines: the engines that have it (keys of
             :data:`jointplay._kernels.capabilities.ENGINES`).
         module: the generic loop's kernel module, under :mod:`jointplay._kernels`, holding its
-            ``STEPS`` (``None``: not in :func:`jointplay.integrate`).
+            ``STEPS``, or, with no such module, the prefix of the lanes' own steps that the
+            generic loop runs (``"dopri"``; :func:`jointplay._kernels.driver.steps_of`);
+            ``None``: not in :func:`jointplay.integrate`.
     """
 
     name: str

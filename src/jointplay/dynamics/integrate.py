@@ -19,7 +19,8 @@ Hairer & Wanner §IV.7) with the same hooks and results: one LU per step and no 
 iteration, faster where the simplified Newton iteration of Radau keeps failing (contact
 whose damping dominates, see :mod:`jointplay._kernels.rodas`); ``method="dopri5"`` is the
 explicit Dormand–Prince 5(4) pair with the same hooks, for equations that are not stiff at
-the accuracy step (:mod:`jointplay._kernels.dopri`). Time is in seconds when the
+the accuracy step (the explicit lanes' own steps: :mod:`jointplay._kernels.lanes.source`'s
+``dopri_*``). Time is in seconds when the
 dynamics engine calls this; the integrator itself is unit-agnostic.
 
 Example:

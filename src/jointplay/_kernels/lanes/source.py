@@ -860,6 +860,12 @@ def quantities(t, y, rp, ip, lay, f, record, qty, pen, phi_q, schur, lam):
     rhs_and_quantities(t, y, rp, ip, lay, f, record, qty, pen, phi_q, schur, lam)
 
 
+def start_rhs(t, y, rp, ip, lay, f, record, qty, pen, phi_q, schur, lam):
+    """:func:`rhs_and_quantities` at a lane's start (a hook: the generic integrate has f
+    there already)."""
+    rhs_and_quantities(t, y, rp, ip, lay, f, record, qty, pen, phi_q, schur, lam)
+
+
 # --- the hooks after a step (jointplay._kernels.eom) ---------------------------------------
 def onset_fraction(old, new, tolerance):
     """The step's fraction ending at half the onset tolerance (secant) for a joint free at the
@@ -1727,7 +1733,7 @@ def lane(
     record, record_new, record_mid = records[0], records[1], records[2]
     for i in range(size):
         y[i] = y0[i]
-    rhs_and_quantities(t, y, rp, ip, lay, f, record, qa, pen, phi_q, schur, lam)
+    start_rhs(t, y, rp, ip, lay, f, record, qa, pen, phi_q, schur, lam)
     counts[K_RHS] += 1
     if not (all_finite(y, size) and all_finite(f, size)):
         if RECORD:
