@@ -523,8 +523,8 @@ def _core(name: str, steps: Steps | dict[str, Any]) -> Any:
                 bound[f"step_{alias}"] = step_jit(
                     build.rebound(function, {**globals(), **method}, f"{function.__name__}_{name}")
                 )
-            method["WORK"] = jit(build.rebound(generic_work, {**globals(), **method},
-                                               f"generic_work_{name}"))  # fmt: skip
+            method["WORK"] = step_jit(build.rebound(generic_work, {**globals(), **method},
+                                                    f"generic_work_{name}"))  # fmt: skip
         else:  # a lane record: the lanes' own steps, in lane time, the start driver_start's
             for alias in build.STEPS:
                 function = (problem_first_step if alias == "start"
@@ -533,7 +533,7 @@ def _core(name: str, steps: Steps | dict[str, Any]) -> Any:
                     build.rebound(function, bound, f"{function.__name__}_{name}_generic")
                 )
             own = {**globals(), "STEP_WORK": bound[steps["work"]]}
-            method = {"WORK": jit(build.rebound(lane_work, own, f"lane_work_{name}")),
+            method = {"WORK": step_jit(build.rebound(lane_work, own, f"lane_work_{name}")),
                       "ON_LANE_STEPS": True}  # fmt: skip
         lane = jit(build.rebound(build.source_function("lane"), bound, f"lane_{name}"))
         entry = build.rebound(drive, {**drive.__globals__, **method, "LANE": lane}, f"{name}_core")
