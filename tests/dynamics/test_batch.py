@@ -459,11 +459,14 @@ def test_an_interrupt_on_the_gpu_backend_keeps_the_finished_chunks(
     )  # fmt: skip
 
 
+@pytest.mark.parametrize("stage", ["_merged", "_names"], ids=["outputs-merged", "tables-built"])
 def test_an_interrupt_while_the_batch_result_is_put_together_keeps_every_lane(
-    paper_fourbar: Mechanism, reference, monkeypatch: pytest.MonkeyPatch
+    paper_fourbar: Mechanism, reference, monkeypatch: pytest.MonkeyPatch, stage: str
 ) -> None:
-    """Ctrl-C after every lane ran, while the engine builds the result's tables: the result
-    comes back with the interrupt (BatchInterrupted, every lane ok), not lost with it."""
+    """Ctrl-C after every lane ran, just as the chunks' outputs are put in lane order (that
+    stretch raised the interrupt bare and lost every finished lane) or while the engine builds
+    the result's tables: the result comes back with the interrupt (BatchInterrupted, every
+    lane ok), not lost with it."""
     import os
     import signal
 
@@ -471,40 +474,13 @@ def test_an_interrupt_while_the_batch_result_is_put_together_keeps_every_lane(
     from jointplay.dynamics.batch import BatchInterrupted
 
     samples, expected = reference
-    names = batch._names
+    original = getattr(batch, stage)
 
-    def tables(*args, **kwargs):
+    def interrupted(*args, **kwargs):
         os.kill(os.getpid(), signal.SIGINT)
-        return names(*args, **kwargs)
+        return original(*args, **kwargs)
 
-    monkeypatch.setattr(batch, "_names", tables)
-    with pytest.raises(KeyboardInterrupt) as stopped:
-        simulate_batch(paper_fourbar, _joints(), samples, backend="local", settle=0)
-    assert isinstance(stopped.value, BatchInterrupted), "the finished lanes were lost"
-    assert stopped.value.result.ok.all()
-    _same(stopped.value.result, expected)
-
-
-def test_an_interrupt_as_the_lanes_outputs_are_merged_keeps_every_lane(
-    paper_fourbar: Mechanism, reference, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    """Ctrl-C just after the lanes ended, while their chunks' outputs are put in lane order
-    (this stretch raised the interrupt bare and lost every finished lane): the result comes
-    back with the interrupt."""
-    import os
-    import signal
-
-    import jointplay.dynamics.batch as batch
-    from jointplay.dynamics.batch import BatchInterrupted
-
-    samples, expected = reference
-    merged = batch._merged
-
-    def merging(*args, **kwargs):
-        os.kill(os.getpid(), signal.SIGINT)
-        return merged(*args, **kwargs)
-
-    monkeypatch.setattr(batch, "_merged", merging)
+    monkeypatch.setattr(batch, stage, interrupted)
     with pytest.raises(KeyboardInterrupt) as stopped:
         simulate_batch(paper_fourbar, _joints(), samples, backend="local", settle=0)
     assert isinstance(stopped.value, BatchInterrupted), "the finished lanes were lost"
