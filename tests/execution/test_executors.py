@@ -264,3 +264,22 @@ def test_an_interrupt_after_a_tasks_lanes_waits_until_the_task_is_kept(closing: 
     assert run.interrupted
     assert list(run.status) == ([OK] if closing else [NOT_RUN]) + [NOT_RUN, NOT_RUN]
     assert run.results == ((0,) if closing else (None,)) + (None, None)
+
+
+def test_a_gate_opened_inside_a_closed_one_lets_an_interrupt_act() -> None:
+    """A second batch in the same task (its own gate, open) is interrupted at once, though
+    the task's gate closed when the first batch's lanes ended; its gate closed, it notes."""
+    import os
+    import signal
+
+    from jointplay.execution.interrupts import close_gates, interrupts_gated
+
+    with interrupts_gated() as task:
+        close_gates()  # the first batch's lanes ended
+        with interrupts_gated() as second, pytest.raises(KeyboardInterrupt):
+            os.kill(os.getpid(), signal.SIGINT)  # during the second batch's lanes
+        assert not second.noted and not task.noted
+        with interrupts_gated() as third:
+            close_gates()
+            os.kill(os.getpid(), signal.SIGINT)
+        assert third.noted == [signal.SIGINT] and not task.noted

@@ -124,11 +124,12 @@ def interrupts_noted() -> Iterator[list[int]]:
 
 class Gate:
     """What :func:`interrupts_gated` yields: ``closed`` once :func:`close_gates` ran, and the
-    signals ``noted`` from then on."""
+    signals ``noted`` from then on; ``forward``: the handlers an open gate calls."""
 
     def __init__(self) -> None:
         self.closed = False
         self.noted: list[int] = []
+        self.forward: dict[signal.Signals, Any] = {}
 
 
 _open_gates: list[Gate] = []
@@ -153,12 +154,16 @@ def interrupts_gated() -> Iterator[Gate]:
         yield gate
         return
     handlers = {s: h for s in (signal.SIGINT, signal.SIGTERM) if callable(h := signal.getsignal(s))}
+    # an open gate inside another (a second batch in the same task) acts as the handlers
+    # outside every gate, not as the outer gate, which may be closed already
+    outer = _open_gates[0].forward if _open_gates else {}
+    gate.forward = {s: outer.get(s, h) for s, h in handlers.items()}
 
     def gated(number: int, frame: Any) -> Any:
         if gate.closed:
             gate.noted.append(number)
             return None
-        return handlers[signal.Signals(number)](number, frame)
+        return gate.forward[signal.Signals(number)](number, frame)
 
     for s in handlers:
         signal.signal(s, gated)
