@@ -66,6 +66,7 @@ References:
 
 from __future__ import annotations
 
+import functools
 import importlib
 import importlib.util
 import threading
@@ -579,6 +580,7 @@ def _specialised_core(args_type: Any, name: str, steps: Steps | dict[str, Any]) 
     return core
 
 
+@functools.cache  # called by every integrate: the module search once
 def steps_of(module: str) -> Steps | dict[str, Any]:
     """The steps of an :attr:`~jointplay._kernels.integrators.Integrator.module`: the
     :class:`Steps` of that :mod:`jointplay._kernels` module (Radau IIA, RODAS4), or, where no
@@ -593,15 +595,16 @@ def steps_of(module: str) -> Steps | dict[str, Any]:
     raise ValueError(f"no integrator's steps are called {module!r}")
 
 
-def _lane_records() -> list[dict[str, Any]]:
+@functools.cache
+def _lane_records() -> tuple[dict[str, Any], ...]:
     """The lane records whose steps the generic integrate runs: the integrators in it
     (``module`` set) that no kernel module of their own holds :class:`Steps` for."""
-    return [
+    return tuple(
         record
         for record in build.LANES.values()
         if record["integrator"]["module"] is not None
         and importlib.util.find_spec(f"jointplay._kernels.{record['integrator']['module']}") is None
-    ]
+    )
 
 
 def run_core(
