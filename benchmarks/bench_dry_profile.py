@@ -22,7 +22,7 @@ from typing import Any
 import numba
 import numpy as np
 
-from jointplay._kernels import eom, radau
+from jointplay._kernels import eom
 from jointplay._kernels.ids import N_WORK
 from jointplay._kernels.lanes.cpu import compiled as lane
 from jointplay.dynamics.setup import ContactModel
@@ -31,8 +31,9 @@ from jointplay.io.config import load_preset
 
 JOINTS = ("O2", "A", "B", "O4")
 MICRO_CALLS = 20_000
-_onset_check, _contact_memory, _project = (
-    lane[n] for n in ("onset_check", "contact_memory", "project")
+_onset_check, _contact_memory, _project, _factor_newton, _newton_iteration = (
+    lane[n]
+    for n in ("onset_check", "contact_memory", "project", "factor_newton", "newton_iteration")
 )
 PERIOD = 60.0 / 200.0  # s per crank revolution at 200 rpm
 
@@ -61,7 +62,7 @@ def _time_jacobian(t: float, y: Any, f: Any, args: Any, out: Any, calls: int) ->
 def _time_lu(jac: Any, h: float, a_re: Any, piv_re: Any, c_re: Any, c_im: Any, piv_c: Any,
              m2: int, nk: int, calls: int) -> None:  # fmt: skip
     for _ in range(calls):
-        radau.factor_newton(jac, h, a_re, piv_re, c_re, c_im, piv_c, m2, nk)
+        _factor_newton(jac, h, a_re, piv_re, c_re, c_im, piv_c, m2, nk)
 
 
 @numba.njit
@@ -73,7 +74,7 @@ def _time_newton(fst: Any, h: float, w: Any, z: Any, dw: Any, scale: Any, jac: A
     s = 0.0
     for _ in range(calls):
         w[:] = 0.0
-        s += radau.newton_iteration(
+        s += _newton_iteration(
             fst, h, w, z, dw, scale, 1e-3, 0, 0.0, np.nan, jac, a_re, piv_re, c_re, c_im, piv_c,
             xr, xcr, xci, wk, wkr, wki, m2, nk, fst.shape[1],
         )[2]  # fmt: skip
@@ -121,7 +122,7 @@ def micro_us(result: SimulationResult, h: float) -> dict[str, float]:
     nk = m2  # the velocities: the passive components are not factored
     lu = (np.empty((nk, nk)), np.zeros(nk, np.int64), np.empty((nk, nk)), np.empty((nk, nk)),
           np.zeros(nk, np.int64))  # fmt: skip
-    radau.factor_newton(out[m2:], h, *lu, m2, nk)
+    _factor_newton(out[m2:], h, *lu, m2, nk)
     stages = np.tile(f, (3, 1))
     scale = 1e-10 + 1e-6 * np.abs(y)
     vectors = (np.empty(y.size), np.empty(y.size), np.empty(y.size))

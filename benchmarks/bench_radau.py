@@ -2,7 +2,7 @@
 
 Run with ``python benchmarks/bench_radau.py [--repeat N]``. Each problem is solved by
 
-* the kernel (:func:`jointplay._kernels.radau.radau_integrate`) with a Numba-jitted
+* the kernel (:func:`jointplay._kernels.driver.run_core`'s Radau IIA) with a Numba-jitted
   right-hand side, after one warm-up call that compiles it (or loads it from the cache);
 * SciPy's Radau with the same right-hand side written in NumPy, as a user of SciPy would.
 
@@ -23,8 +23,7 @@ import numba
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from jointplay._kernels import ids
-from jointplay._kernels import radau as kernel
+from jointplay._kernels import driver, ids
 
 # ---------------------------------------------------------------------------------------
 # Problems: a jitted right-hand side for the kernel, a NumPy one for SciPy.
@@ -127,10 +126,11 @@ def bench(problem: Problem, repeat: int) -> list[tuple[str, int, int, int, float
     atol = np.full(problem.y0.shape[0], problem.atol)
 
     def run_kernel() -> Any:
-        return kernel.radau_integrate(
+        return driver.run_core(
+            "radau",
             problem.jit_rhs,
-            kernel.accept_every_step,
-            kernel.no_after_step,
+            driver.accept_every_step,
+            driver.no_after_step,
             problem.t_span[0],
             problem.y0,
             problem.t_span[1],

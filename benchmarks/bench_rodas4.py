@@ -11,7 +11,7 @@ fits' 21 µm, at several rtol (default atol), against a Radau reference at rtol 
 
 Both run through :func:`~jointplay.dynamics.simulate.simulate`
 (``SolverOptions(integrator=...)``); RODAS4 is the production kernel
-:mod:`jointplay._kernels.rodas` (this script first held a prototype of it). On the paper's
+:mod:`jointplay._kernels.lanes.source_rodas` (this script first held a prototype of it). On the paper's
 ECS contact sets, where RODAS4 is the faster, see ``benchmarks/bench_clearance.py``.
 
 Run ``python benchmarks/bench_rodas4.py`` (about a minute).

@@ -15,7 +15,6 @@ import numpy.typing as npt
 from scipy.integrate import solve_ivp
 
 from jointplay._kernels import driver, ids
-from jointplay._kernels import radau as radau_kernel
 
 
 # ---------------------------------------------------------------------------------------
@@ -225,9 +224,11 @@ class Run(NamedTuple):
     counts: dict[str, int]
 
 
-#: DOPRI5 on the generic loop at the kernels' common interface (``radau_integrate``'s): the
-#: lanes' own steps (``driver.steps_of``).
-dopri_integrate = functools.partial(driver.run_core, "dopri", driver.steps_of("dopri"))
+#: The three methods on the generic loop, at the kernels' common interface
+#: (:func:`jointplay._kernels.driver.run_core`'s): the lanes' own steps.
+radau_integrate = functools.partial(driver.run_core, "radau")
+rodas_integrate = functools.partial(driver.run_core, "rodas")
+dopri_integrate = functools.partial(driver.run_core, "dopri")
 
 
 def run_kernel(
@@ -238,12 +239,12 @@ def run_kernel(
     *,
     rtol: float,
     atol: Any,
-    step_check: Any = radau_kernel.accept_every_step,
-    after_step: Any = radau_kernel.no_after_step,
+    step_check: Any = driver.accept_every_step,
+    after_step: Any = driver.no_after_step,
     max_step: float = np.inf,
     first_step: float = 0.0,
     max_steps: int = 100_000,
-    integrator: Any = radau_kernel.radau_integrate,
+    integrator: Any = radau_integrate,
     **structure: Any,
 ) -> Run:
     """Run ``integrator`` (the kernels' common interface) on a test problem."""

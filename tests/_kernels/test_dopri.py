@@ -45,10 +45,9 @@ def run(fun: Any, t_span: tuple[float, float], y0: Any, p: Any, **options: Any) 
 
 def test_the_generic_dopri5_runs_the_lanes_own_steps() -> None:
     """DOPRI5 in ``jointplay.integrate`` is the explicit lanes' steps (one copy of the
-    tableau's arithmetic for every engine): every step of its loop but the first step's size
-    (``driver_start``'s) is the lane source's."""
-    loop = driver._core("dopri", driver.steps_of("dopri")).__globals__["LANE"].py_func
-    for alias in build.STEPS[1:]:
+    tableau's arithmetic for every engine): every step of its loop is the lane source's."""
+    loop = driver._core("dopri").__globals__["LANE"].py_func
+    for alias in build.STEPS:
         step = loop.__globals__[f"step_{alias}"].py_func
         assert step.__code__ is getattr(source, f"dopri_{alias}").__code__
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from jointplay._kernels import batch as kb
-from jointplay._kernels import eom, radau
+from jointplay._kernels import driver, eom
 from jointplay._kernels.lanes import build, cpu, source, source_radau
 from jointplay.contact.friction import AdamsFriction, AmbrosioFriction, FrictionLaw
 from jointplay.contact.laws import ContactLaw, get_law
@@ -49,7 +49,7 @@ def _system(mechanism: Mechanism, laws: list[str], shift: int) -> System:
 
 
 def test_the_sources_method_constants_are_the_kernels() -> None:
-    assert source.MAX_CHECK_REJECTIONS == radau.MAX_CHECK_REJECTIONS
+    assert source.MAX_CHECK_REJECTIONS == driver.MAX_CHECK_REJECTIONS
     assert source.REFINE_MARGIN == kb.REFINE_MARGIN
     np.testing.assert_array_equal(np.arange(1, source.N_REFINE + 1) / 8.0, kb.REFINE_POINTS)
     np.testing.assert_array_equal(np.reshape(source.DENSE, (7, 4)), kb.DENSE)

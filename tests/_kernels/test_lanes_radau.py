@@ -1,11 +1,12 @@
 """The implicit lane on the single source (:mod:`jointplay._kernels.lanes.source_radau`),
 compiled for the CPU (:mod:`jointplay._kernels.lanes.cpu`: what ``run_batch(method=
 "implicit")`` runs), against the single engine: the Radau kernel of
-:mod:`jointplay._kernels.radau` with :mod:`eom`'s hooks and the batch engine's settings,
-recording every step (:func:`_single_engine`).
+the generic loop's (:func:`jointplay._kernels.driver.run_core`) with :mod:`eom`'s right-hand
+side, Jacobian and hooks and the batch engine's settings, recording every step
+(:func:`_single_engine`).
 
-The lane reproduces that algorithm operation for operation (complex numbers as pairs of
-floats, the same LU, the same hooks), so the two take the same steps: equal statuses,
+Both run the lane source's Radau IIA steps in the one loop, the lane on the source's
+equations, the generic loop on :mod:`eom`'s (the same arithmetic), so the two take the same steps: equal statuses,
 counters (steps, rejections, evaluations of f) and times reached, bit for bit. What the lane
 reduces as it goes is checked against the recorded steps: for a window opening at an
 accepted step, the mean and RMS of ω (trapezoids over the steps) and the deepest
@@ -32,7 +33,7 @@ import pytest
 import _generic_hooks as hooks
 from _tolerances import SAME_ALGORITHM_RTOL
 from jointplay._kernels import batch as kb
-from jointplay._kernels import eom, ids, radau, rodas
+from jointplay._kernels import driver, eom, ids
 from jointplay._kernels.lanes import build, cpu, source, source_radau
 from jointplay.contact.friction import AdamsFriction, AmbrosioFriction, FrictionLaw
 from jointplay.contact.laws import CONTACT_LAWS, ContactLaw, get_law
@@ -130,7 +131,7 @@ def _two_lanes(
 
 
 def _single_engine(p: dict[str, Any], **kw: Any) -> dict[str, Any]:
-    """Each lane through the single engine (:func:`radau.radau_integrate` with :mod:`eom`'s
+    """Each lane through the generic loop (:func:`driver.run_core`'s Radau IIA with :mod:`eom`'s
     hooks, the batch engine's settings): its status, time reached and counters, and from its
     recorded steps in the window the largest |Q| at the step ends (``ends``:
     ``eom.batch_quantities``), the window's statistics when it opens at a recorded step, and
@@ -156,8 +157,8 @@ def _single_engine(p: dict[str, Any], **kw: Any) -> dict[str, Any]:
             continue
         work = eom.new_workspace(nc)
         hooks.start_workspace(y0, (rpar, ipar, work))
-        code, ts, ys, counters = radau.radau_integrate(
-            eom.state_rhs, hooks.step_check, hooks.after_step, 0.0, y0, float(args["t_end"][lane]),
+        code, ts, ys, counters = driver.run_core(
+            "radau", eom.state_rhs, hooks.step_check, hooks.after_step, 0.0, y0, float(args["t_end"][lane]),
             (rpar, ipar, work), args["rtol"], args["atol"], float(args["max_step"][lane]), 0.0,
             args["max_steps"], n_second=n, n_active=2 * n, hold_after_failure=True,
             jac=eom.jacobian_state, interrupt=interrupt,
@@ -243,20 +244,6 @@ def test_the_cpu_implicit_lane_is_the_sources_compilation() -> None:
     assert cpu.implicit_lane.py_func.__globals__["step_attempt"].py_func.__code__ is (
         source_radau.radau_attempt.__code__
     )
-
-
-@pytest.mark.parametrize(
-    "name",
-    ["factor_newton", "newton_start", "newton_iteration", "error_estimate",
-     "error_again", "polynomial", "predict", "next_factor"],
-)  # fmt: skip
-def test_the_single_engines_radau_step_is_the_sources(name: str) -> None:
-    """One Radau IIA step: the single engine's (and RODAS4's Newton matrix, LU and solve) is
-    the lane source's CPU compilation, the CPU lanes' own functions."""
-    assert getattr(radau, name) is cpu.compiled[name]
-    assert cpu.compiled[name].py_func.__code__ is getattr(source_radau, name).__code__
-    for shared in ("newton_matrix", "lu_real", "solve_real"):
-        assert getattr(rodas, shared) is cpu.compiled[shared]
 
 
 @pytest.mark.parametrize("contact", ["impact", "physical"])

@@ -27,6 +27,7 @@ from _ode_problems import (
     land_on_contact,
     mass_on_floor,
     robertson,
+    rodas_integrate,
     run_kernel,
     run_scipy,
     tolerance_units,
@@ -34,7 +35,9 @@ from _ode_problems import (
     two_masses_jacobian,
     van_der_pol,
 )
-from jointplay._kernels import ids, rodas
+from jointplay._kernels import ids
+from jointplay._kernels.lanes.cpu import compiled as lanes
+from jointplay._kernels.lanes.source_rodas import RODAS_GAMMA
 
 # ---------------------------------------------------------------------------------------
 # Named tolerances.
@@ -55,7 +58,7 @@ CONTACT_LOCATED_UNITS = 50.0
 #: units; the Radau kernel's bound for this regime.
 CONTACT_UNLOCATED_UNITS = 200.0
 
-ROD = rodas.rodas_integrate
+ROD = rodas_integrate
 
 
 def run(fun: Any, t_span: tuple[float, float], y0: Any, p: Any, **options: Any) -> Any:
@@ -82,19 +85,17 @@ def test_stages_are_consistent() -> None:
         k = np.empty((6, 2))
         stage, x, work = np.empty(2), np.empty(2), np.empty(2)
         lu, piv = np.empty((2, 2)), np.empty(2, dtype=np.int64)
-        rodas._factor(jac, 1.0 / (h * rodas.RODAS_GAMMA), 0, 2, lu, piv)
-        nfev, finite = rodas._stages(
-            constant_field, (np.zeros(1),), 0.0, np.zeros(2), f, np.zeros(2), h, jac, lu,
-            piv, 0, 2, k, stage, x, work,
-        )  # fmt: skip
-        assert finite and nfev == 5
+        alpha = 1.0 / (h * RODAS_GAMMA)
+        lanes["newton_matrix"](jac, alpha, lu, 0, 2)
+        lanes["lu_real"](lu, piv, 2)
+        for s in range(6):  # rodas_attempt's stages, f the same at every stage point
+            if s > 0:
+                lanes["rodas_stage"](k, np.zeros(2), s, stage, 2)
+            assert lanes["rodas_right_side"](f, np.zeros(2), k, s, h, x, 2)
+            lanes["solve_real"](lu, piv, jac, alpha, x, work, 0, 2, 2)
+            k[s] = x
         np.testing.assert_allclose(stage + k[5], h * f, rtol=1e-14)
         np.testing.assert_allclose(k[5], 0.0, atol=1e-14 * h)  # the error estimate: none
-
-
-@numba.njit(cache=True)
-def constant_field(t, y, args):
-    return np.array([2.0, -3.0])
 
 
 def test_fixed_step_order_is_four() -> None:

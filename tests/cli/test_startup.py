@@ -250,7 +250,7 @@ def test_a_bad_option_imports_no_pydantic(tmp_path: Path) -> None:
 #: What a default ``simulate --no-plots`` (one run of the single engine) must not import:
 #: the plotting stack and the report; SciPy's statistics and integrators (its optimizers
 #: are: the restitution law's χ is found with ``brentq``); the batch engine's lanes, its
-#: process, Dask and JAX back ends, and the integrators it does not run.
+#: process, Dask and JAX back ends.
 NOT_FOR_ONE_RUN = (
     "matplotlib",
     "PIL",
@@ -260,7 +260,6 @@ NOT_FOR_ONE_RUN = (
     "jointplay._kernels.batch",
     "jointplay._kernels.jax_batch",
     "jointplay._kernels.lanes.cuda",
-    "jointplay._kernels.rodas",
     "jointplay._kernels.workers",
     "numba.cuda",
     "dask",

@@ -11,7 +11,7 @@ import numba
 import numpy as np
 import pytest
 
-from jointplay._kernels import radau
+from jointplay._kernels import driver
 from jointplay._kernels.ids import (
     STATUS_INTERRUPTED,
 )
@@ -161,8 +161,8 @@ def test_interrupt_flags_name_the_signals() -> None:
 def test_a_pending_interrupt_stops_the_kernel_with_a_status() -> None:
     flags = np.zeros(8, dtype=np.uint8)
     flags[0] = int(signal.SIGTERM)
-    status, t, _, counters = radau.radau_integrate(
-        _decay, radau.accept_every_step, radau.no_after_step, 0.0, np.ones(1), 1.0,
+    status, t, _, counters = driver.run_core(
+        "radau", _decay, driver.accept_every_step, driver.no_after_step, 0.0, np.ones(1), 1.0,
         (np.zeros(1),), 1e-6, np.full(1, 1e-9), np.inf, 0.0, 1000, interrupt=flags,
     )  # fmt: skip
     assert status == STATUS_INTERRUPTED == IntegrationStatus.INTERRUPTED

@@ -31,7 +31,7 @@ Outputs per lane, over the window [t_settle, t_end]:
   of the radial clearance (m/s), then the lanes' working slots (the last point per joint, a
   flag, the bearing's and the journal's worn amounts per bin: the lane source's
   ``running_stats``); without the tail the lanes compute and return nothing more;
-- ``status`` (:mod:`jointplay._kernels.common` ``STATUS_*``), ``t_reached``, ``n_steps``,
+- ``status`` (:mod:`jointplay._kernels.ids` ``STATUS_*``), ``t_reached``, ``n_steps``,
   ``n_rejected``, ``n_rhs`` (right-hand-side evaluations; the quantity evaluations of the
   peak search are not counted).
 

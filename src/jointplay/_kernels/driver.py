@@ -1,55 +1,38 @@
 """The generic ``jointplay.integrate`` on the one integrator loop: a user's ODE, its hooks and
-a method's steps run by the lanes' loop (:func:`jointplay._kernels.lanes.source.lane`).
+an integrator's own steps run by the lanes' loop (:func:`jointplay._kernels.lanes.source.lane`).
 
 The loop of every engine is the lane source's: it owns the step budget, the interrupt, the
 tries and their landing on ``t_bound``, the onset retry (``step_check``), the hooks after a
-step (``after_step``), finiteness and the record. This module binds it to a user's problem:
+step (``after_step``), finiteness and the record. The steps are every engine's too: each
+integrator's ``<prefix>_*`` of the lane source (:mod:`~jointplay._kernels.lanes.source`'s
+``dopri_*``, :mod:`~jointplay._kernels.lanes.source_radau`'s ``radau_*``,
+:mod:`~jointplay._kernels.lanes.source_rodas`'s ``rodas_*``; the prefix is its record's
+``module``, :func:`steps_of`). This module binds them to a user's problem:
 
 - **adapters** (:data:`ADAPTERS`) take the place of the lane source's functions that read a
-  mechanism: the onset check calls the user's ``step_check``, the projection its
-  ``after_step``, the start's evaluation is :func:`driver_start`'s; the contact memory, the
-  sustained-contact mode, the window's quantities and the running responses do nothing (the
-  window never opens: ``t_settle`` is infinite). ``rp`` is the :class:`Problem`: the user's
-  functions as first-class function values, its ``args`` and options.
-- **time**: the loop runs forwards from :func:`problem_start_time`; its time is ``direction·t``, so
-  that an integration backwards is the same loop (a sign, exact: the steps see the user's
-  time and the signed step).
-- **steps**: DOPRI5 runs the lanes' own steps (``source.dopri_*``, in lane time: the
-  adapter ``rhs`` is ``direction·fun(direction·t, y)``; the first step is
-  :func:`driver_start`'s), its record's ``module`` naming their prefix (:func:`steps_of`).
-  Radau IIA and RODAS4 still bring their steps as compiled functions bundled in
-  :class:`Steps` (``radau.py``, ``rodas.py``), which :data:`_GENERIC_STEPS` puts in the
-  lanes' step contract:
+  mechanism: the right-hand side is the user's ``fun``, the Jacobian the user's ``jac`` or
+  the source's differences of ``fun`` (:func:`problem_jacobian`), the onset check calls the
+  user's ``step_check``, the projection its ``after_step``, the start's evaluation and first
+  step are :func:`driver_start`'s, the growth limit after a failure and the dependence on t
+  are the user's options; the contact forces, the contact memory, the sustained-contact
+  mode, the window's quantities and the running responses do nothing (the window never
+  opens: ``t_settle`` is infinite). ``rp`` is the :class:`Problem`: the user's functions as
+  first-class function values, its ``args`` and options.
+- **structure**: ``lay`` holds the state's size and the implicit methods' structure
+  (``LY_SECOND`` = ``n_second``, ``LY_KEPT`` = ``n_active − n_second``), which a mechanism
+  sets to its n and n.
+- **time**: the loop runs forwards from :func:`problem_start_time`; its time is ``direction·t``
+  and its f ``direction·fun(direction·t, y)``, so that an integration backwards is the same
+  loop (signs, exact: negation commutes with IEEE rounding, so every step, Newton iterate and
+  error norm is the user-time method's to the bit; the differences step in the direction of
+  the user's f, as SciPy's).
 
-``start(problem, t0, y0, f0, counters) -> state``
-    The method's arrays and scalars (a tuple it alone reads), made once, at ``(t0, y0)``.
-``begin(state, problem, t, y, f, h_abs, min_step, counters) -> (h_abs, h_cap)``
-    Prepares a step from ``(t, y)`` (RODAS4: the Jacobian and ``∂f/∂t``) and returns the size
-    of its first try and the cap on every try (the methods after Hairer's codes cap at
-    ``max_step``; Radau, as SciPy, clamps once, here, and not its retries).
-``attempt(state, problem, t, y, f, h, y_new, counters) -> (passed, h_abs)``
-    Tries the signed step ``h``: writes the new state into ``y_new`` and returns whether it
-    passed the method's own tests (error test, Newton convergence); if not, the size to retry
-    with, the rejection counted under its cause.
-``retry(state)``
-    ``step_check`` shortened the step that passed (Radau IIA: its factors are of the old
-    size); :func:`no_retry` for a method that keeps nothing that depends on the step size.
-``refresh(state, problem, t_new, y_new, f, changed, counters)``
-    Writes ``f(t_new, y_new)`` into ``f`` after ``after_step`` (``changed``: it declared a
-    discontinuity); :func:`evaluate_f` for a method without a last stage to reuse.
-``accept(state, problem, t, y, t_new, y_new, f, h_abs, failed, changed, counters) -> h_abs``
-    Takes the accepted step into the method's state and returns the next step's size
-    (``failed``: a try of this step had failed the method's tests).
+Statuses, counters and the hooks' contract are :func:`run_core`'s.
 
-Statuses, counters and the hooks' contract are
-:func:`jointplay._kernels.radau.radau_integrate`'s; the results are those of the loop this
-module had until 2026-11-30 (its own copy of the same control), to the bit.
-
-Compilation: the methods' functions reach the loop as compile-time constants, not as
-values. Numba keys a dispatcher passed as an argument (or held in a closure or a tuple) by the
-object's address, which a new process never finds again in the on-disk cache; a call to a
-global function it caches. So each method gets its own copy of the loop and of
-:func:`drive`, the entry (``<name>_core``), whose globals are the method's :class:`Steps`
+Compilation: Numba keys a dispatcher passed as an argument (or held in a closure or a tuple)
+by the object's address, which a new process never finds again in the on-disk cache; a call to
+a global function it caches. So each method gets its own copy of the loop and of
+:func:`drive`, the entry (``<name>_core``), whose globals are the method's steps
 (:func:`_core`). The entry is compiled for explicit signatures, one per type of ``args``
 (:func:`kernel_signatures`), and cached on disk as ``driver.<name>_core-<line>.py3X.nbi``;
 the user's jitted functions reach it as first-class function values
@@ -59,16 +42,14 @@ Python, not from compiled code). An edit of a kernel source clears the caches
 
 References:
     .. [HW96] E. Hairer, G. Wanner, *Solving Ordinary Differential Equations II: Stiff and
-       Differential-Algebraic Problems*, 2nd ed., Springer, 1996, §IV.8.
+       Differential-Algebraic Problems*, 2nd ed., Springer, 1996, §IV.7–8.
     .. [SciPy] P. Virtanen et al., "SciPy 1.0", *Nature Methods* 17, 261–272 (2020);
-       ``scipy/integrate/_ivp/ivp.py`` and ``base.py``.
+       ``scipy/integrate/_ivp/ivp.py``, ``base.py``, ``radau.py`` and ``common.py``.
 """
 
 from __future__ import annotations
 
 import functools
-import importlib
-import importlib.util
 import threading
 from collections.abc import Callable
 from typing import Any, NamedTuple
@@ -77,17 +58,22 @@ import numba
 import numpy as np
 import numpy.typing as npt
 
-from jointplay._kernels.common import all_finite, copy_vector, jit, py_min, select_initial_step
 from jointplay._kernels.ids import (
     EPS,
+    K_JAC,
+    K_LU,
     K_REJ_CHECK,
+    K_REJ_NEWTON,
     K_REJECTED,
     K_RHS,
     K_STEPS,
     N_TRACE_COUNTS,
     NFEV,
+    NJEV,
+    NLU,
     NREJ_CHECK,
     NREJ_ERROR,
+    NREJ_NEWTON,
     NSTEPS,
     STATUS_NON_FINITE,
     STATUS_RUNNING,
@@ -96,63 +82,52 @@ from jointplay._kernels.ids import (
 from jointplay._kernels.lanes import build
 from jointplay._kernels.lanes.contract import NO_INTERRUPT
 from jointplay._kernels.lanes.cpu import compiled as _lanes
-from jointplay._kernels.lanes.source import LY_SIZE, MAX_CHECK_REJECTIONS, N_LAY
-from jointplay._kernels.lanes.source_radau import radau_land
+from jointplay._kernels.lanes.source import (
+    LY_KEPT,
+    LY_SECOND,
+    LY_SIZE,
+    MAX_CHECK_REJECTIONS,
+    N_LAY,
+)
+from jointplay._kernels.lanes.source_radau import jacobian_differences  # the adapter's callee
+from jointplay._kernels.shared import compiled as _shared
 
 __all__ = [
     "MAX_CHECK_REJECTIONS",
     "NO_INTERRUPT",
     "Problem",
-    "Steps",
     "accept_every_step",
     "drive",
-    "evaluate_f",
     "finite_differences",
     "kernel_signatures",
     "no_after_step",
-    "no_retry",
     "run_core",
     "step_jit",
     "steps_of",
 ]
 
-#: The decorator of a method's per-step functions (``begin``, ``attempt``, ``retry``,
-#: ``refresh``, ``accept``): compiled and cached as :data:`~jointplay._kernels.common.jit`,
-#: and inlined into the loop (Numba's IR inlining), as that code was inline in each method's
-#: own driver before there was one loop.
+# error_model="numpy": a division by zero gives inf/NaN (as in SciPy) instead of raising.
+jit = numba.njit(cache=True, error_model="numpy")
+#: The decorator of a method's steps in the generic loop: compiled and cached as
+#: :data:`jit`, and inlined into the loop (Numba's IR inlining),
+#: as the CPU lanes inline theirs.
 step_jit = numba.njit(cache=True, error_model="numpy", inline="always")
 
 
 class Problem(NamedTuple):
-    """What every method's step reads of the problem (built by :func:`drive`)."""
+    """What the adapters read of the problem (``rp``; built by :func:`drive`)."""
 
     fun: Any  # f(t, y, args) -> float64[:]
     jac: Any  # jac(t, y, f, args, out) -> bool (False: difference f)
     args: Any  # the user's tuple of arrays
-    rtol: float  # relative tolerance, at least 100·eps
-    atol: Any  # absolute tolerances, (n,)
-    max_step: float  # largest step size, s
     direction: float  # +1 forwards in t, −1 backwards
-    n_second: int  # positions with x' = v (see radau_integrate)
-    n_active: int  # components [n_active, n) are passive
     hold_after_failure: bool  # no growth right after a failed try
     autonomous: bool  # f does not depend on t
     step_check: Any  # step_check(t, y, t_new, y_new, args) -> θ (the onset retry)
     after_step: Any  # after_step(t, y, args) -> changed
     t0: float  # the start
-    f0: Any  # f(t0, y0), (n,), as the loop holds it (its steps' time: see _core)
+    f0: Any  # f(t0, y0) in lane time, (n,)
     h0: float  # the first step's size
-
-
-class Steps(NamedTuple):
-    """A method's compiled step functions (module docstring): what :func:`drive` calls."""
-
-    start: Any
-    begin: Any
-    attempt: Any
-    retry: Any
-    refresh: Any
-    accept: Any
 
 
 # ---------------------------------------------------------------------------------------
@@ -176,27 +151,45 @@ def finite_differences(t, y, f, args, out):
     return False
 
 
-# ---------------------------------------------------------------------------------------
-# Pieces of the loop that a method may reuse.
-# ---------------------------------------------------------------------------------------
-@step_jit
-def no_retry(state):
-    """``retry`` of a method that keeps nothing that depends on the step size."""
-    return None
-
-
-@step_jit
-def evaluate_f(state, problem, t_new, y_new, f, changed, counters):
-    """``refresh`` of a method without a last stage to reuse: ``f = fun(t_new, y_new)``."""
-    f[:] = problem.fun(t_new, y_new, problem.args)
-    counters[NFEV] += 1
-
-
 #: Store ``(t, y)`` as row ``m`` of the record, doubling its arrays first when they are full
 #: (the lane source's ``trace_add``, the traced lanes' record); its first row
 #: (``trace_start``).
 _record = _lanes["trace_add"]
 _record_start = _lanes["trace_start"]
+#: ``all_finite(x, size)``: whether ``x[:size]`` is all finite (the lane source's); SciPy's
+#: initial step, its two halves (the lane source's, :func:`select_initial_step`).
+all_finite = _shared["all_finite"]
+_initial_trial = _lanes["initial_trial"]
+_initial_choice = _lanes["initial_choice"]
+
+
+@jit
+def copy_vector(x):
+    """``x`` as a new C-contiguous float64 array (``fun`` may return any layout)."""
+    n = x.shape[0]
+    out = np.empty(n)
+    for j in range(n):
+        out[j] = x[j]
+    return out
+
+
+@jit
+def select_initial_step(fun, args, t0, y0, t_bound, max_step, f0, direction, rtol, atol):
+    """SciPy's ``select_initial_step`` for an error estimator of order 3 (Hairer, Nørsett &
+    Wanner, *Solving ODEs I*, §II.4; the lane source's ``initial_trial`` and
+    ``initial_choice`` around ``fun``). Returns ``(h_abs, nfev)``."""
+    n = y0.shape[0]
+    interval_length = abs(t_bound - t0)
+    if interval_length == 0.0:
+        return 0.0, 0
+    scale = np.empty(n)
+    h0, d1 = _initial_trial(y0, f0, rtol, atol, scale, interval_length, n)
+    y1 = np.empty(n)
+    for j in range(n):
+        y1[j] = y0[j] + h0 * direction * f0[j]
+    f1 = fun(t0 + h0 * direction, y1, args)
+    df = np.empty(n)
+    return _initial_choice(f0, f1, df, scale, d1, h0, interval_length, max_step, n), 1
 
 
 @jit
@@ -271,10 +264,41 @@ def problem_rhs_and_quantities(t, y, rp, ip, lay, f, record, qty, pen, phi_q, sc
         f[j] = rp.direction * value[j]
 
 
-def problem_first_step(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mid,
-                       record_mid, phi_q, schur, lam, counts):  # fmt: skip
-    """The first step's size (:func:`driver_start`'s): every method's ``step_start``."""
+def problem_initial_step(t0, y0, t_bound, max_step, f0, rtol, atol, rp, ip, lay, y1, f1, scale,
+                         record, phi_q, schur, lam):  # fmt: skip
+    """The first step's size: :func:`driver_start`'s (the user's ``first_step``, else SciPy's
+    choice, made there)."""
     return rp.h0
+
+
+def problem_jacobian(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, diff, diff_new,
+                     record, phi_q, schur, lam):  # fmt: skip
+    """∂f/∂y in lane time (``direction·J``), rows ``m2 …`` and the kept columns into ``jac``
+    (``source_radau.lane_jacobian``'s layout): the user's ``jac`` where it gives one, else
+    SciPy's differences of ``fun`` (``source_radau.jacobian_differences``, stepping in the
+    direction of the user's f)."""
+    size = lay[LY_SIZE]
+    m2 = lay[LY_SECOND]
+    for j in range(size):
+        diff[j] = rp.direction * f[j]  # the user's f
+    full = np.empty((size, size))
+    if rp.jac(rp.direction * t, y, diff, rp.args, full):
+        for i in range(m2, size):
+            for j in range(m2 + lay[LY_KEPT]):
+                jac[i - m2, j] = rp.direction * full[i, j]
+    else:
+        jacobian_differences(t, y, f, atol, factor, rp.direction, rp, ip, lay, jac, ytmp, f_col,
+                             diff, diff_new, record, phi_q, schur, lam)  # fmt: skip
+
+
+def problem_hold(rp):
+    """The user's ``hold_after_failure``."""
+    return rp.hold_after_failure
+
+
+def problem_time_enters(rp, lay):
+    """Unless the user declared ``fun`` autonomous."""
+    return not rp.autonomous
 
 
 def problem_step_check(t, y, t_new, y_new, old, new, rp, lay):
@@ -312,122 +336,42 @@ def no_penetration(y, rp, ip, lay, c):
 ADAPTERS: dict[str, Callable[..., Any]] = {
     "start_time": problem_start_time, "start_outputs": problem_outputs,
     "start_rhs": problem_start_f, "rhs": problem_rhs,
-    "rhs_and_quantities": problem_rhs_and_quantities, "onset_check": problem_step_check,
+    "rhs_and_quantities": problem_rhs_and_quantities, "initial_step": problem_initial_step,
+    "lane_jacobian": problem_jacobian, "hold_after_failure": problem_hold,
+    "time_enters": problem_time_enters, "onset_check": problem_step_check,
     "project": problem_after_step, "release_fraction": no_release,
     "penetration_and_rate": no_penetration,
-    **dict.fromkeys(("locked", "contact_memory", "sustained_on", "switch_contacts"), no_flag),
-    **dict.fromkeys(("quantities", "speed_deviation", "running_point", "open_regimes",
-                     "accumulate_regimes", "close_running"), no_contact),
+    **dict.fromkeys(("locked", "contact_memory", "sustained_on", "switch_contacts", "any_film"),
+                    no_flag),
+    **dict.fromkeys(("contact_forces", "quantities", "speed_deviation", "running_point",
+                     "open_regimes", "accumulate_regimes", "close_window", "close_running"),
+                    no_contact),
 }  # fmt: skip
 
-# The method's functions (:class:`Steps`), bound in each method's copy of the steps below
-# (:func:`_core`); ``None`` here, as those are never compiled as written.
-START: Any = None
-BEGIN: Any = None
-ATTEMPT: Any = None
-RETRY: Any = None
-REFRESH: Any = None
-ACCEPT: Any = None
-#: Slots of the loop's scalars in the steps' work (``ws[2]``): the cap on every try
-#: (:class:`Steps`' ``begin``), whether a try of this step failed the method's tests, the
-#: step's start (in the user's time).
-G_CAP, G_FAILED, G_T = range(3)
-
-
-# A method's :class:`Steps` in the lanes' step contract (``source.lane``'s docstring): ``ws``
-# is ``(state, problem, scalars, counters, y_start)``; the loop's times are lane times.
-def generic_work(problem, t0, y0, f0, counters, lay):
-    """The steps' ``ws``: the method's ``start`` and the wrappers' own."""
-    return (START(problem, t0, y0, f0, counters), problem, np.zeros(3), counters,
-            np.empty(y0.shape[0]))  # fmt: skip
-
-
-def lane_work(problem, t0, y0, f0, counters, lay):
-    """The lanes' own steps' ``ws``: their work allocator's."""
-    return STEP_WORK(lay)
-
-
-def generic_begin(ws, t, y, f, h, max_step, min_step, rtol, atol, size):
-    """The method's ``begin``; the first try at most its cap."""
-    state, problem, sc, counters, y_start = ws
-    sc[G_T] = problem.direction * t
-    sc[G_FAILED] = 0.0
-    for j in range(size):
-        y_start[j] = y[j]
-    h_abs, cap = BEGIN(state, problem, sc[G_T], y, f, h, min_step, counters)
-    sc[G_CAP] = cap
-    return py_min(h_abs, cap)
-
-
-def generic_attempt(ws, t, y, f, h, t_new, y_new, t_old, y_old, rtol, atol, rp, ip, lay,
-                    record_new, qb, pen, f_mid, record_mid, phi_q, schur, lam, counts):  # fmt: skip
-    """The method's ``attempt`` of the signed step; a retry at most the cap."""
-    state, problem, sc, counters, _ = ws
-    passed, h_abs = ATTEMPT(state, problem, sc[G_T], y, f, problem.direction * h, y_new,
-                            counters)  # fmt: skip
-    if not passed:
-        sc[G_FAILED] = 1.0
-        return False, py_min(h_abs, sc[G_CAP])
-    return True, h
-
-
-def generic_retry(ws):
-    """The method's ``retry``."""
-    RETRY(ws[0])
-
-
-def generic_refresh(ws, t_new, y_new, f_new, changed, rp, ip, lay, record, qb, pen, phi_q,
-                    schur, lam, counts):  # fmt: skip
-    """The method's ``refresh``: f at the accepted end."""
-    REFRESH(ws[0], ws[1], ws[1].direction * t_new, y_new, f_new, changed, ws[3])
-    return True
-
-
-def generic_accept(ws, t_new, y_new, f_new, h, changed, atol, rp, ip, lay, pen, f_mid,
-                   record_mid, phi_q, schur, lam, counts):  # fmt: skip
-    """The method's ``accept``: the next step's size."""
-    state, problem, sc, counters, y_start = ws
-    return ACCEPT(state, problem, sc[G_T], y_start, problem.direction * t_new, y_new, f_new, h,
-                  sc[G_FAILED] > 0.0, changed, counters)  # fmt: skip
-
-
-def generic_dense(ws, t_old, y_old, t, y, f, t_new, y_new, f_new, h, tau, theta, out, lay):
-    """No interpolant: the loop's window never opens for a user's problem."""
-    return None
-
-
-#: The steps in the loop's order (``build.STEPS``); the landing is Radau IIA's lane's (SciPy's:
-#: the step is the difference of its ends).
-_GENERIC_STEPS: tuple[Callable[..., Any], ...] = (
-    problem_first_step, generic_begin, radau_land, generic_attempt, generic_retry, generic_refresh,
-    generic_accept, generic_dense,
-)  # fmt: skip
 #: The loop's constants for a user's problem: no landing on a window that never opens, no
 #: regimes, SciPy's floor on rtol, the trajectory recorded (no running responses: the
 #: source's default).
 _LOOP_CONSTANTS = {"LAND_SETTLE": False, "REGIMES": False, "RTOL_FLOOR": 100.0 * EPS,
                    "RECORD": True}  # fmt: skip
 LANE: Any = None  # the loop with the method's steps, bound in each method's entry
-WORK: Any = None  # the steps' work: generic_work or lane_work, bound in each method's entry
-STEP_WORK: Any = None  # the lanes' own steps' work allocator, bound in lane_work's copy
-#: Whether the method's steps are the lanes' own, in lane time (bound in each entry).
-ON_LANE_STEPS = False
+WORK: Any = None  # the method's work allocator, bound in each method's entry
 
 
 def drive(fun, step_check, after_step, jac_fun, t0, y0, t_bound, args, rtol, atol,
           max_step, first_step, max_steps, n_second, n_active, hold_after_failure, autonomous,
           interrupt):  # fmt: skip
     """Integrate ``y' = fun(t, y, args)`` from ``t0`` to ``t_bound`` by the lanes' loop
-    (``source.lane``) with the method whose :class:`Steps` are this copy's ``LANE``'s
-    (:func:`_core`); the arguments and the results are
-    :func:`jointplay._kernels.radau.radau_integrate`'s (times in the units of ``t0``).
+    (``source.lane``) with the method whose steps are this copy's ``LANE``'s (:func:`_core`);
+    the arguments and the results are :func:`run_core`'s (times in the units of ``t0``).
 
-    Before the loop: :func:`driver_start` (``f(t0, y0)``, the first step) and the method's
-    ``start``. The loop owns the step budget ``max_steps``, the interrupt flags, the tries
-    (cut to end on ``t_bound``) until one passes the method's ``attempt`` and ``step_check``
-    does not shorten it, a step below ``min_step = 10·spacing(t)`` (SciPy's) ending the
-    integration with status −1, ``after_step`` (its hook ``project``), ``f`` at the new point
-    (the method's ``refresh``), the finiteness of both, the method's ``accept`` and the record.
+    Before the loop: :func:`driver_start` (``f(t0, y0)``, the first step). The loop owns the
+    step budget ``max_steps``, the interrupt flags, the tries (cut to end on ``t_bound``)
+    until one passes the method's ``attempt`` and ``step_check`` does not shorten it, a step
+    below ``min_step = 10·spacing(t)`` (SciPy's) ending the integration with status −1,
+    ``after_step`` (its hook ``project``), ``f`` at the new point (the method's ``refresh``),
+    the finiteness of both, the method's ``accept`` and the record. The lane's counters
+    become the user's: its evaluations of f less the two :func:`driver_start` made (f(t0) and
+    the initial step's), its rejections by cause.
     """
     n = y0.shape[0]
     rtol = max(rtol, 100.0 * EPS)
@@ -438,29 +382,27 @@ def drive(fun, step_check, after_step, jac_fun, t0, y0, t_bound, args, rtol, ato
     )
     if status != STATUS_RUNNING:
         return status, ts[:m].copy(), ys[:m].copy(), counters
-    # the loop's f is in its steps' time: the user's for Steps, lane time for the lanes' own
-    f_loop = direction * f if ON_LANE_STEPS else f
-    problem = Problem(fun, jac_fun, args, rtol, atol, max_step, direction, n_second, n_active,
-                      hold_after_failure, autonomous, step_check, after_step, t0, f_loop,
-                      h_abs)  # fmt: skip
+    problem = Problem(fun, jac_fun, args, direction, hold_after_failure, autonomous, step_check,
+                      after_step, t0, direction * f, h_abs)  # fmt: skip
     lay = np.zeros(N_LAY, dtype=np.int64)
     lay[LY_SIZE] = n
-    ws = WORK(problem, t0, y, f, counters, lay)
+    lay[LY_SECOND] = n_second
+    lay[LY_KEPT] = n_active - n_second
     counts = np.zeros(N_TRACE_COUNTS, dtype=np.int64)
     one = np.zeros(1)
-    t_end = direction * t_bound
     status, _, times, states = LANE(
-        np.zeros(1, dtype=np.int64), problem, lay, y, np.inf, t_end, max_step, rtol, atol,
-        max_steps, interrupt, one, one, counts, np.zeros(1, dtype=np.int64), np.empty((9, n)),
-        np.zeros((2, 1)), np.zeros((9, 1)), np.zeros((2, 1)), np.zeros((3, 1)),
-        np.zeros((1, 1)), np.zeros((1, 1)), one, one, ws,
+        np.zeros(1, dtype=np.int64), problem, lay, y, np.inf, direction * t_bound, max_step,
+        rtol, atol, max_steps, interrupt, one, one, counts, np.zeros(1, dtype=np.int64),
+        np.empty((9, n)), np.zeros((2, 1)), np.zeros((9, 1)), np.zeros((2, 1)),
+        np.zeros((3, 1)), np.zeros((1, 1)), np.zeros((1, 1)), one, one, WORK(lay),
     )  # fmt: skip
+    counters[NFEV] += counts[K_RHS] - 2
+    counters[NJEV] = counts[K_JAC]
+    counters[NLU] = counts[K_LU]
     counters[NSTEPS] = counts[K_STEPS]
+    counters[NREJ_ERROR] = counts[K_REJECTED] - counts[K_REJ_CHECK] - counts[K_REJ_NEWTON]
+    counters[NREJ_NEWTON] = counts[K_REJ_NEWTON]
     counters[NREJ_CHECK] = counts[K_REJ_CHECK]
-    # the lanes' own steps count in the loop's counters (Steps count their own: these add 0);
-    # the start's evaluation is driver_start's
-    counters[NFEV] += counts[K_RHS] - 1
-    counters[NREJ_ERROR] += counts[K_REJECTED] - counts[K_REJ_CHECK]
     return status, direction * times, states.copy(), counters
 
 
@@ -509,56 +451,47 @@ def _core_signature(args_type: Any) -> tuple[Any, ...]:
     )  # fmt: skip
 
 
-def _core(name: str, steps: Steps | dict[str, Any]) -> Any:
+def _core(name: str) -> Any:
     """Method ``name``'s entry: a copy of :func:`drive` named ``<name>_core`` (its cache
-    files' name) whose ``LANE`` is the lanes' loop with ``steps`` in the lanes' contract
-    (:data:`_GENERIC_STEPS` bound to ``steps``' functions, inlined) and the adapters
-    (:data:`ADAPTERS`) for the mechanism's hooks."""
+    files' name) whose ``LANE`` is the lanes' loop with the method's own steps (its lane
+    record's, :func:`steps_of`; inlined) and the adapters (:data:`ADAPTERS`) for the
+    mechanism's hooks, and whose ``WORK`` is the record's work allocator."""
     entry = _entries.get(name)
     if entry is None:
+        record = steps_of(name)
         bound = {**_namespace(), **_LOOP_CONSTANTS}
-        if isinstance(steps, Steps):
-            method = {field.upper(): function for field, function in steps._asdict().items()}
-            bound.update(method)
-            for alias, function in zip(build.STEPS, _GENERIC_STEPS, strict=True):
-                bound[f"step_{alias}"] = step_jit(
-                    build.rebound(function, {**globals(), **method}, f"{function.__name__}_{name}")
-                )
-            method["WORK"] = step_jit(build.rebound(generic_work, {**globals(), **method},
-                                                    f"generic_work_{name}"))  # fmt: skip
-        else:  # a lane record: the lanes' own steps, in lane time, the start driver_start's
-            for alias in build.STEPS:
-                function = (problem_first_step if alias == "start"
-                            else build.source_function(f"{steps['steps']}_{alias}"))  # fmt: skip
-                bound[f"step_{alias}"] = step_jit(
-                    build.rebound(function, bound, f"{function.__name__}_{name}_generic")
-                )
-            own = {**globals(), "STEP_WORK": bound[steps["work"]]}
-            method = {"WORK": step_jit(build.rebound(lane_work, own, f"lane_work_{name}")),
-                      "ON_LANE_STEPS": True}  # fmt: skip
-        lane = jit(build.rebound(build.source_function("lane"), bound, f"lane_{name}"))
-        entry = build.rebound(drive, {**drive.__globals__, **method, "LANE": lane}, f"{name}_core")
+        for alias in build.STEPS:
+            function = build.source_function(f"{record['steps']}_{alias}")
+            bound[f"step_{alias}"] = step_jit(
+                build.rebound(function, bound, f"{function.__name__}_{name}_generic")
+            )
+        work = build.source_function(record["work"])
+        method = {
+            "LANE": jit(build.rebound(build.source_function("lane"), bound, f"lane_{name}")),
+            "WORK": step_jit(build.rebound(work, bound, f"{work.__name__}_{name}_generic")),
+        }
+        entry = build.rebound(drive, {**drive.__globals__, **method}, f"{name}_core")
         entry.__doc__ = f"The loop (:func:`drive`) with {name}'s steps."
         _entries[name] = entry
     return entry
 
 
 def _namespace() -> dict[str, Any]:
-    """The lane source compiled for a user's problem (once): the functions the loop calls,
-    the mechanism's hooks replaced by :data:`ADAPTERS`."""
+    """The lane source compiled for a user's problem (once): the functions the loop and the
+    methods' steps call, the mechanism's hooks replaced by :data:`ADAPTERS`."""
     if "" not in _entries:
         direct = [name for name in build.source_function("lane").__code__.co_names
                   if name in build.FUNCTIONS]  # fmt: skip
-        for record in _lane_records():  # and the lanes' own steps that the generic runs
+        for record in _lane_records():
             direct += [f"{record['steps']}_{step}" for step in build.STEPS] + [record["work"]]
-        only = {*build.closed(tuple(n for n in direct if n not in ADAPTERS)), *ADAPTERS}
-        _entries[""] = build.build(jit, hooks=ADAPTERS, extras={"np": np},
+        only = {*build.closed(tuple(direct), own=ADAPTERS), *ADAPTERS}
+        _entries[""] = build.build(jit, hooks=ADAPTERS, extras={"np": np, "RECORD": True},
                                    only=tuple(only), tag="generic")  # fmt: skip
     namespace: dict[str, Any] = _entries[""]
     return namespace
 
 
-def _specialised_core(args_type: Any, name: str, steps: Steps | dict[str, Any]) -> Any:
+def _specialised_core(args_type: Any, name: str) -> Any:
     """Method ``name``'s entry compiled, or loaded from Numba's on-disk cache, for this
     type of ``args``.
 
@@ -575,20 +508,15 @@ def _specialised_core(args_type: Any, name: str, steps: Steps | dict[str, Any]) 
             if core is None:
                 core = numba.njit(
                     [_core_signature(args_type)], cache=True, error_model="numpy", nogil=True
-                )(_core(name, steps))  # nogil: the batch engine runs implicit lanes on threads
+                )(_core(name))  # nogil: the batch engine runs implicit lanes on threads
                 _specialisations[key] = core
     return core
 
 
-@functools.cache  # called by every integrate: the module search once
-def steps_of(module: str) -> Steps | dict[str, Any]:
-    """The steps of an :attr:`~jointplay._kernels.integrators.Integrator.module`: the
-    :class:`Steps` of that :mod:`jointplay._kernels` module (Radau IIA, RODAS4), or, where no
-    such module is and the lane source holds the method's steps under that prefix (DOPRI5),
-    the lane's record (``build.LANES``): the loop runs the lanes' own steps."""
-    if importlib.util.find_spec(f"jointplay._kernels.{module}") is not None:
-        steps: Steps = importlib.import_module(f"jointplay._kernels.{module}").STEPS
-        return steps
+@functools.cache
+def steps_of(module: str) -> dict[str, Any]:
+    """The lane record (``build.LANES``) whose steps' prefix is ``module``, an
+    :attr:`~jointplay._kernels.integrators.Integrator.module`: the steps the loop runs."""
     for record in _lane_records():
         if record["steps"] == module:
             return record
@@ -597,19 +525,15 @@ def steps_of(module: str) -> Steps | dict[str, Any]:
 
 @functools.cache
 def _lane_records() -> tuple[dict[str, Any], ...]:
-    """The lane records whose steps the generic integrate runs: the integrators in it
-    (``module`` set) that no kernel module of their own holds :class:`Steps` for."""
+    """The lane records whose steps the generic integrate runs (their integrator's
+    ``module`` set)."""
     return tuple(
-        record
-        for record in build.LANES.values()
-        if record["integrator"]["module"] is not None
-        and importlib.util.find_spec(f"jointplay._kernels.{record['integrator']['module']}") is None
+        record for record in build.LANES.values() if record["integrator"]["module"] is not None
     )
 
 
 def run_core(
     name: str,
-    steps: Steps | dict[str, Any],
     fun: Any,
     step_check: Any,
     after_step: Any,
@@ -629,16 +553,87 @@ def run_core(
     autonomous: bool = False,
     interrupt: npt.NDArray[np.uint8] | None = None,
 ) -> tuple[int, npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.int64]]:
-    """Run the loop with method ``name``'s ``steps``: coerce the scalars and arrays to the
-    compiled types and call its entry's specialisation for ``numba.typeof(args)``. The
-    arguments after ``steps`` are :func:`jointplay._kernels.radau.radau_integrate`'s."""
-    core = _specialised_core(numba.typeof(args), name, steps)
+    """Integrate ``y' = fun(t, y, args)`` from ``t0`` to ``t_bound`` with the method whose
+    steps' prefix is ``name`` (``"radau"``, ``"rodas"``, ``"dopri"``: an
+    :attr:`~jointplay._kernels.integrators.Integrator.module`): coerce the scalars and arrays
+    to the compiled types and call its entry's specialisation for ``numba.typeof(args)``. The
+    integration itself never raises: failures are returned as a status.
+
+    With the options off, Radau IIA is SciPy's ``solve_ivp(method="Radau")`` (its constants
+    and decisions; the same steps, up to round-off, on a smooth problem: own LU and
+    loop-ordered sums; a non-finite state or f after a step ends with status −3 where SciPy
+    carries NaN on; an empty interval returns without evaluating f); RODAS4 is Hairer's
+    ``rodas.f`` (its first method, with its predictive controller; the Jacobian afresh at
+    every step's start); DOPRI5 is Hairer's ``dopri5`` (the steps the lanes take).
+
+    Args:
+        name: the method's steps (above).
+        fun: Numba-jitted right-hand side ``fun(t, y, args) -> float64[:]`` (a new array).
+        step_check: Numba-jitted ``step_check(t_old, y_old, t_new, y_new, args) -> float``,
+            called on every step that passed the method's tests: ``1.0`` accepts; ``θ`` in
+            (0, 1) retries it from ``t_old`` with ``h·θ`` (to land a step on contact onset;
+            counted in ``n_rejected_check``). A retry shorter than ``10·spacing(t)``, not
+            shorter at all, or the ``MAX_CHECK_REJECTIONS + 1``-th of one step is not made:
+            the step is accepted. :func:`accept_every_step` for none.
+        after_step: Numba-jitted ``after_step(t, y, args) -> bool``, called on each accepted
+            step; may modify ``y`` and ``args`` in place (projection, contact memory);
+            ``True`` declares a discontinuity (Radau IIA: the next Newton iteration starts
+            from zero, the Jacobian is kept but marked stale). ``f`` is always re-evaluated
+            after it. :func:`no_after_step` for none.
+        t0: Initial time.
+        y0: Initial state, shape (n,); not modified.
+        t_bound: Final time (may be below ``t0`` to integrate backwards).
+        args: Tuple of NumPy arrays passed untouched to the user's functions.
+        rtol: Relative tolerance (raised to ``100·eps`` if smaller, as SciPy does).
+        atol: Absolute tolerances, shape (n,), each ``>= 0``.
+        max_step: Largest step size (``np.inf`` for none).
+        first_step: First step size; ``0.0`` chooses it as SciPy's
+            ``select_initial_step`` does.
+        max_steps: Largest number of accepted steps.
+        n_second: Declares a second-order structure: ``fun(t, y)[:m] == y[m:2m]`` exactly
+            for ``m = n_second`` (positions, then their velocities). The implicit methods'
+            linear systems are then solved on the ``n_active − m`` other active components
+            only ([HW96] §IV.8, RADAU5's ``M1``): ``dx = h/γ (b_x + dv)``. ``0``: none.
+        n_active: Components ``[n_active, n)`` are passive: ``fun`` does not depend on them
+            (work integrals), or they are constant in the ODE (memory that only
+            ``after_step`` changes). Their Jacobian columns are neither computed nor used
+            and their increments follow from the active ones. ``None``: ``n``.
+        hold_after_failure: After a step that was accepted only once a try had failed, do
+            not let the next step grow (RADAU5's ``IF (REJECT) HNEW = MIN(HNEW, H)``; every
+            mechanism's run). ``False``: SciPy's controller, which on a piecewise-smooth f
+            may retry, again and again, a step at which Newton just failed.
+        jac: Numba-jitted ``jac(t, y, f, args, out) -> bool`` writing ``∂fun/∂y`` into
+            ``out`` (n, n) and returning ``True``, or ``False`` to let the kernel difference
+            ``fun`` as SciPy's ``num_jac`` does. ``None``: always difference. Counted in
+            ``njev`` either way; the differences' evaluations are not in ``nfev`` (SciPy's).
+        autonomous: ``fun`` does not depend on ``t``: RODAS4 then leaves out its difference
+            of ``fun`` in ``t`` at every step's start (the same result to the bit).
+        interrupt: uint8 C-contiguous flags read before every step
+            (:func:`jointplay._kernels.lanes.source.interrupt_pending`): once they hold
+            SIGINT or SIGTERM the integration stops with status ``-4``. ``None``: never.
+
+    Returns:
+        ``(status, t_out, y_out, counters)``: status ``0`` reached ``t_bound``, ``-1`` the
+        step size fell below ``10·spacing(t)``, ``-2`` more than ``max_steps`` steps were
+        needed, ``-3`` a non-finite value appeared in the state or in ``f``, ``-4`` an
+        interrupt arrived; ``t_out`` (m,) and ``y_out`` (m, n) hold the initial point and
+        every accepted step (after ``after_step``); ``counters`` (int64, 7) as named in
+        ``ids.COUNTER_NAMES``.
+
+    Raises:
+        TypeError: From Numba, when a function does not compile to the signature that
+            :func:`kernel_signatures` gives (:func:`jointplay.integrate` checks this first
+            and says what to fix).
+        ValueError: ``n_second`` and ``n_active`` do not satisfy
+            ``0 <= 2·n_second <= n_active <= n``.
+    """
     n = np.shape(y0)[0]
     n_active = n if n_active is None else int(n_active)
     if not 0 <= 2 * n_second <= n_active <= n:
         raise ValueError(
             f"need 0 <= 2·n_second <= n_active <= n = {n}, got {n_second} and {n_active}"
         )
+    core = _specialised_core(numba.typeof(args), name)
     status, t_out, y_out, counters = core(
         fun,
         step_check,

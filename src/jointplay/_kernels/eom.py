@@ -349,7 +349,7 @@ def jacobian_state(t: float, y: np.ndarray, f: np.ndarray, args: EomArgs, out: n
     The rows of q̇ are the identity (∂q̇/∂q̇ = I: the fixed differences give exactly that);
     the impact-velocity columns are left zero: those components are constant in the ODE, so
     the integrator never uses their columns (``n_active`` in
-    :func:`jointplay._kernels.radau.radau_integrate`).
+    :func:`jointplay._kernels.driver.run_core`).
 
     Args:
         f: ẏ at (t, y).

@@ -3,7 +3,7 @@ their packed parameter layouts, the packed model's slots, integration statuses, 
 the numerical constants of the step and Jacobian rules.
 
 Plain Python, no Numba: the single engine (:mod:`jointplay._kernels.eom`,
-:mod:`~jointplay._kernels.contact`, :mod:`~jointplay._kernels.common`), the lane source
+:mod:`~jointplay._kernels.contact`, :mod:`~jointplay._kernels.driver`), the lane source
 (:mod:`jointplay._kernels.lanes.source`, compiled for the CPU and CUDA by
 :mod:`jointplay._kernels.lanes.build`, which reads the source's upper-case globals, so these
 names reach every target) and the JAX dialect import them from here; nothing copies them.

@@ -2,9 +2,9 @@
 wherever an integrator is named, listed or chosen.
 
 A record says what an integrator is (its order, whether it is explicit), how the engines run
-it (the fraction of the tolerances, the engines that have it) and where the generic loop's
-steps are (its kernel module, whose ``STEPS`` :mod:`jointplay._kernels.driver` runs for
-:func:`jointplay.integrate`). Each record is declared once, in the lane source module that
+it (the fraction of the tolerances, the engines that have it) and whether
+:func:`jointplay.integrate` has it (the prefix of its steps, which
+:mod:`jointplay._kernels.driver` runs). Each record is declared once, in the lane source module that
 holds the integrator's steps (its ``LANE["integrator"]``: :data:`jointplay._kernels.lanes.SOURCES`),
 beside the lane's name and work allocator that :mod:`jointplay._kernels.lanes.build` and
 :mod:`jointplay._kernels.lanes.cpu` read: a new integrator is one file. The batch engines' two
@@ -36,9 +36,8 @@ class Integrator:
             :data:`jointplay.dynamics.simulate.EXPLICIT_TOLERANCE_SCALE`).
         engines: the engines that have it (keys of
             :data:`jointplay._kernels.capabilities.ENGINES`).
-        module: the generic loop's kernel module, under :mod:`jointplay._kernels`, holding its
-            ``STEPS``, or, with no such module, the prefix of the lanes' own steps that the
-            generic loop runs (``"dopri"``; :func:`jointplay._kernels.driver.steps_of`);
+        module: the prefix of its steps in the lane source that the generic loop runs
+            (``"radau"``, ``"rodas"``, ``"dopri"``; :func:`jointplay._kernels.driver.steps_of`);
             ``None``: not in :func:`jointplay.integrate`.
     """
 

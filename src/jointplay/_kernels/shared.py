@@ -5,7 +5,7 @@ The equations are written once, in :mod:`jointplay._kernels.lanes.source` (and
 CUDA targets both compile; the batch lanes take them from :mod:`jointplay._kernels.lanes.cpu`,
 the CUDA kernel from its own compilation, and the single engine (:mod:`jointplay._kernels.eom`,
 :mod:`~jointplay._kernels.constraints`, :mod:`~jointplay._kernels.contact`,
-:mod:`~jointplay._kernels.common`) from here: the right-hand side, the contact forces and laws,
+:mod:`~jointplay._kernels.driver`) from here: the right-hand side, the contact forces and laws,
 the film, the quantities, the contact memory and the closed-form Jacobian are the source's.
 The sustained-contact mode, which the GPU lanes lack, is the CPU's own
 (:mod:`jointplay._kernels.sustained`): its functions fill the source's hooks

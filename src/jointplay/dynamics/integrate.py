@@ -17,10 +17,10 @@ and ``after_step`` (project the state, update contact memory). See the kernel mo
 the algorithm. ``method="rodas4"`` is a linearly implicit method (Rosenbrock, order 4,
 Hairer & Wanner §IV.7) with the same hooks and results: one LU per step and no Newton
 iteration, faster where the simplified Newton iteration of Radau keeps failing (contact
-whose damping dominates, see :mod:`jointplay._kernels.rodas`); ``method="dopri5"`` is the
-explicit Dormand–Prince 5(4) pair with the same hooks, for equations that are not stiff at
-the accuracy step (the explicit lanes' own steps: :mod:`jointplay._kernels.lanes.source`'s
-``dopri_*``). Time is in seconds when the
+whose damping dominates, see :mod:`jointplay._kernels.lanes.source_rodas`); ``method="dopri5"``
+is the explicit Dormand–Prince 5(4) pair with the same hooks, for equations that are not stiff
+at the accuracy step. Each runs the lanes' own steps in the lanes' loop, every engine's
+(:mod:`jointplay._kernels.driver`). Time is in seconds when the
 dynamics engine calls this; the integrator itself is unit-agnostic.
 
 Example:
@@ -259,7 +259,6 @@ def integrate(
         kernel = str(_GENERIC[method].module)
         status_code, t, y, counters = _driver.run_core(
             kernel,
-            _driver.steps_of(kernel),
             fun,
             step_check,
             after_step,

@@ -22,7 +22,7 @@ largest penetrations live in the loop carry.
   ``min_step`` stops the lane (``STATUS_STEP_TOO_SMALL``); a rejected step is retried with
   ``h·max(0.2, 0.9·err^(−1/5))``; an accepted one proposes ``h·clamp(0.9·err^(−1/5), 0.2,
   10)`` (10 when err = 0), at most h when the step had an error rejection.
-- Implicit: Radau IIA 5 as :mod:`jointplay._kernels.radau` (SciPy's algorithm: a fresh step is
+- Implicit: Radau IIA 5 as :mod:`jointplay._kernels.lanes.source_radau` (SciPy's algorithm: a fresh step is
   clamped to [min_step, max_step] and a retried one below min_step stops the lane; simplified
   Newton on the eigen-transformed real and complex systems, at most 6 iterations, the step
   halved when it fails; the embedded error estimate, re-estimated after a rejection; the

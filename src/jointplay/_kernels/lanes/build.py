@@ -223,6 +223,7 @@ def lane_layout(ipar: npt.NDArray[np.int64]) -> npt.NDArray[np.int64]:
     lay[source.LY_PFRIC] = lengths["fric_p"] // max(nc, 1)
     lay[source.LY_NIDEAL] = int(np.sum(active))
     lay[source.LY_SIZE] = 2 * n + 2 + nc
+    lay[source.LY_SECOND] = lay[source.LY_KEPT] = n
     lay[source.LY_NQ] = 2 * (n // 3) + nj + 1
     return lay
 

@@ -220,7 +220,9 @@ def _check_work(method: str, size: int, n: int) -> None:
     shapes at ``MAX_STATE`` and ``MAX_COORDS``: Radau IIA's Newton matrices are n × n)."""
     record = LANES[lane_for(f"lanes-{method}")]
     shapes = source_function(record["shapes"])
-    for need, have in zip(shapes(size, n), shapes(MAX_STATE, MAX_COORDS), strict=True):
+    for need, have in zip(
+        shapes(size, n, n), shapes(MAX_STATE, MAX_COORDS, MAX_COORDS), strict=True
+    ):
         if any(a > b for a, b in zip(need, have, strict=True)):
             raise ConfigError(
                 f"the cuda batch backend's {method} lanes hold at most {MAX_COORDS} coordinates "

@@ -160,7 +160,7 @@ def _kernel(lane: str) -> Any:
     record = LANES[lane]
     if not {"shapes", "arrays", "dtypes"} <= set(record):
         raise ValueError(f"{lane}: its record gives no shapes, arrays and dtypes of its work")
-    shapes = source_function(record["shapes"])(MAX_STATE, MAX_COORDS)
+    shapes = source_function(record["shapes"])(MAX_STATE, MAX_COORDS, MAX_COORDS)
     if len(shapes) > MAX_WORK_ARRAYS:
         raise ValueError(
             f"{lane}: {len(shapes)} work arrays, the GPU kernel has {MAX_WORK_ARRAYS} slots"

@@ -110,7 +110,11 @@ LY_JOINT_INT, LY_ACTIVE, LY_CLEAR, LY_LAW_ID, LY_FRIC_ID = range(8, 13)
 #: 3 nb, joints, clearance joints, law and friction parameter widths, ideal joints, state size,
 #: quantities.
 LY_N, LY_NJ, LY_NC, LY_PLAW, LY_PFRIC, LY_NIDEAL, LY_SIZE, LY_NQ = range(13, 21)
-N_LAY = 21
+#: The implicit methods' structure of the state (``source_radau``'s Newton systems): the
+#: positions with x' = v that they eliminate (m2), then the components kept in their systems
+#: (nk: the velocities and the other active ones); the rest passive. A mechanism's: n and n.
+LY_SECOND, LY_KEPT = 21, 22
+N_LAY = 23
 
 
 # --- contact laws (jointplay._kernels.contact; docs/contact-laws.md) -------------------------
@@ -215,6 +219,12 @@ def driver_acceleration(t, rp, o):
         return 0.0
     u = t / ramp
     return omega / ramp * 30.0 * u * u * (1.0 - u) ** 2
+
+
+def time_enters(rp, lay):
+    """Whether t enters the right-hand side (RODAS4 differences it in t): only through the
+    driver's speed ramp."""
+    return rp[lay[LY_DRIVER] + 3] > 0.0
 
 
 # --- ideal joints and the driver (jointplay._kernels.constraints; Nikravesh 1988, ch. 4-5) -----
@@ -1107,7 +1117,7 @@ def all_finite(x, size):
 
 
 def interrupt_pending(flags):
-    """Whether ``flags`` holds SIGINT or SIGTERM (:func:`jointplay._kernels.common.interrupt_pending`)."""
+    """Whether ``flags`` holds SIGINT or SIGTERM."""
     for j in range(flags.shape[0]):
         code = flags[j]
         if code == 0:
@@ -1152,7 +1162,7 @@ SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0
 #: The peak rule (:mod:`jointplay._kernels.batch`): refinement margin, interior points θ = r/8.
 REFINE_MARGIN = 0.01
 N_REFINE = 7
-#: Contact-onset retries of one step (:data:`jointplay._kernels.radau.MAX_CHECK_REJECTIONS`).
+#: Contact-onset retries of one step (:func:`jointplay._kernels.driver.run_core`'s ``step_check``).
 MAX_CHECK_REJECTIONS = 64
 
 
@@ -1656,6 +1666,13 @@ def start_time(rp):
     return 0.0
 
 
+def hold_after_failure(rp):
+    """Whether the implicit methods' next step may not grow after a step that a failed try
+    preceded (RADAU5's ``IF (REJECT) HNEW = MIN(HNEW, H)``, rodas.f's): always, for a
+    mechanism (its right-hand side is only piecewise smooth)."""
+    return True
+
+
 def lane(
     ip, rp, lay, y0, t_settle, t_end, max_step, rtol, atol, max_steps, interrupt,
     peaks, stats, counts, mask, vec, q, samples, pen, records, phi_q, schur, lam, scratch, ws,
@@ -1943,7 +1960,8 @@ DOPRI_ERROR, DOPRI_REJECTED = 0, 1
 #: DOPRI5's lane record (the one place it is declared; :data:`jointplay._kernels.lanes.SOURCES`
 #: finds it): the integrator (:class:`jointplay._kernels.integrators.Integrator`'s fields), the
 #: lane's name, its steps' prefix, its work: the CPU's allocator (``work``), the shapes of its
-#: arrays (``shapes``, a function of the state's size S and the coordinates n), their dtypes
+#: arrays (``shapes``, a function of the state's size S and its structure m2, nk: ``LY_SECOND``,
+#: ``LY_KEPT``), their dtypes
 #: and the function that makes the method's ``ws`` of them (``arrays``; a GPU thread's arrays
 #: are its kernel's local arrays, :mod:`jointplay._kernels.lanes.cuda_kernel`), and the loop's
 #: constants (:func:`lane`).
@@ -1958,7 +1976,7 @@ LANE = {
 }  # fmt: skip
 
 
-def dopri_shapes(size, n):
+def dopri_shapes(size, m2, nk):
     """The shapes of DOPRI5's work arrays: the stages, a stage's state and the scalars (9, S)."""
     return ((9, size),)
 
@@ -1973,7 +1991,7 @@ def dopri_arrays(k):
 
 def dopri_work(lay):
     """DOPRI5's ``ws``; it allocates: the CPU's."""
-    return dopri_arrays(np.empty(dopri_shapes(lay[LY_SIZE], lay[LY_N])[0]))
+    return dopri_arrays(np.empty(dopri_shapes(lay[LY_SIZE], lay[LY_SECOND], lay[LY_KEPT])[0]))
 
 
 def dopri_start(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mid, record_mid,

@@ -6,24 +6,25 @@ arrays, no allocation, ``math`` only); :mod:`jointplay._kernels.lanes.build` com
 functions into the same namespace as that module's, so that they call its equations
 (:func:`rhs`, :func:`rhs_and_quantities`, :func:`contact_forces`, :func:`project`, …) by name.
 
-The algorithm is the generic integrate's Radau IIA (:data:`jointplay._kernels.radau.STEPS`)
-with the options
-:func:`jointplay.dynamics.simulate.simulate` passes it: SciPy's Radau IIA
-([HW96] §IV.8: simplified Newton on the eigen-decomposed systems, one real and one complex,
-started from the last step's collocation polynomial; the embedded error estimate,
-re-estimated after a rejection; the predictive controller; SciPy's initial step), positions
-eliminated from the Newton systems (``n_second = n``, RADAU5's ``M1``: n × n matrices), the
-work integrals and the contact memory passive (``n_active = 2n``), RADAU5's growth limit
-after a failure (``hold_after_failure``), and the loop's contact hooks: the contact-onset
-control and, after each accepted step, the contact memory v0 and the projection. The step's
-numerics are written once, here, for any second-order structure (``m2`` positions, ``nk`` kept components, the rest passive): the
+The algorithm is SciPy's Radau IIA ([HW96] §IV.8: simplified Newton on the eigen-decomposed
+systems, one real and one complex, started from the last step's collocation polynomial; the
+embedded error estimate, re-estimated after a rejection; the predictive controller; SciPy's
+initial step), the steps :func:`jointplay.integrate` runs too (in the same loop:
+:mod:`jointplay._kernels.driver`), with the options that
+:func:`jointplay.dynamics.simulate.simulate` runs it with: positions eliminated from the
+Newton systems (``LY_SECOND`` = n, RADAU5's ``M1``: n × n matrices), the work integrals and
+the contact memory passive (``LY_KEPT`` = n), RADAU5's growth limit after a failure
+(``hold_after_failure``), and the loop's contact hooks: the contact-onset control and, after
+each accepted step, the contact memory v0 and the projection. The step's numerics are
+written once, here, for any second-order structure (``m2`` positions, ``nk`` kept
+components, the rest passive): the
 reduced Newton matrices and their LU with partial pivoting (LAPACK's pivots, largest
 ``|re| + |im|``), complex numbers as pairs of floats (Numba's complex product and CPython's
 quotient, :func:`cdiv`), the simplified Newton iteration in pieces (:func:`newton_start`,
 :func:`stage_point`, :func:`newton_iteration`), the error estimate and the controller's
-factor. The single engine's Radau IIA (:mod:`jointplay._kernels.radau`) and RODAS4 run the
-CPU compilation of the same functions (:data:`jointplay._kernels.lanes.cpu.compiled`) in the
-one loop, so that this lane takes the single engine's steps by construction.
+factor. The single engine, the batch lanes and the generic ``jointplay.integrate`` run these
+steps in the one loop (the generic with its user's f and Jacobian in place of the
+mechanism's: :data:`jointplay._kernels.driver.ADAPTERS`).
 
 The Jacobian is :func:`eom.jacobian_state`'s (:func:`lane_jacobian`): the closed form
 (:func:`jacobian_clear`) when every joint is clear (the paper's mechanisms: the driver the
@@ -91,6 +92,7 @@ from jointplay._kernels.lanes.source import (
     LY_FRIC_P,
     LY_GEOM,
     LY_GRAVITY,
+    LY_KEPT,
     LY_LAW_ID,
     LY_LAW_P,
     LY_MASS,
@@ -99,6 +101,7 @@ from jointplay._kernels.lanes.source import (
     LY_NIDEAL,
     LY_PFRIC,
     LY_PLAW,
+    LY_SECOND,
     LY_SIZE,
     N_GEOM,
     RECORD,
@@ -108,6 +111,7 @@ from jointplay._kernels.lanes.source import (
     driver_acceleration,
     film_share,
     friction_force,
+    hold_after_failure,
     initial_step,
     joint_kinematics,
     locked,
@@ -119,7 +123,7 @@ from jointplay._kernels.lanes.source import (
     rms,
 )
 
-# --- method constants (jointplay._kernels.radau, verbatim from SciPy; a test keeps them equal)
+# --- method constants (verbatim from SciPy's radau.py; a test keeps them equal) ---------------
 S6 = 6.0**0.5
 RC1, RC2, RC3 = (4.0 - S6) / 10.0, (4.0 + S6) / 10.0, 1.0
 RE1, RE2, RE3 = (-13.0 - 7.0 * S6) / 3.0, (-13.0 + 7.0 * S6) / 3.0, -1.0 / 3.0
@@ -152,12 +156,12 @@ R_MIN_FACTOR, R_MAX_FACTOR = 0.2, 10.0
 
 
 def pmin(a, b):
-    """Python's ``min(a, b)`` (:func:`common.py_min`: ``min(1, nan) == 1``, as in SciPy)."""
+    """Python's ``min(a, b)``: ``a`` unless ``b < a`` (``min(1, nan) == 1``, as in SciPy)."""
     return b if b < a else a
 
 
 def pmax(a, b):
-    """Python's ``max(a, b)`` (:func:`common.py_max`)."""
+    """Python's ``max(a, b)``: ``a`` unless ``b > a``."""
     return b if b > a else a
 
 
@@ -570,7 +574,7 @@ def jacobian_clear(t, y, rp, ip, lay, jac, force, record):
 
 def column_difference(f, f_col, diff, size):
     """``diff = f_col − f``; returns its largest |entry| (the first) and the scale of that
-    entry, max(|f|, |f_col|) there (:func:`common._column_difference`)."""
+    entry, max(|f|, |f_col|) there (SciPy's ``num_jac``)."""
     for i in range(size):
         diff[i] = f_col[i] - f[i]
     imax = 0
@@ -583,20 +587,23 @@ def column_difference(f, f_col, diff, size):
     return vmax, max(abs(f[imax]), abs(f_col[imax]))
 
 
-def jacobian_differences(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, diff,
+def jacobian_differences(t, y, f, atol, factor, sign, rp, ip, lay, jac, ytmp, f_col, diff,
                          diff_new, record, phi_q, schur, lam):  # fmt: skip
-    """The columns 0 … 2n − 1 of ∂ẏ/∂y by SciPy's ``num_jac`` (:func:`common.num_jac`: forward
-    differences with adaptive relative steps ``factor`` (S, kept from call to call), a column
-    drowned in round-off retried with a 10x step), rows n … S − 1 into ``jac`` as
-    :func:`jacobian_clear` writes them: the Jacobian of a mechanism with ideal joints, as
-    the Radau kernel differences it there. ``ytmp``, ``f_col``, ``diff``, ``diff_new`` (S):
-    work. Its evaluations of f are not counted (as SciPy's ``njev``)."""
-    n = lay[LY_N]
+    """The columns 0 … m2 + nk − 1 (``LY_SECOND``, ``LY_KEPT``: the passive ones left out) of
+    ∂f/∂y by SciPy's ``num_jac`` (dense branch: forward differences with adaptive relative
+    steps ``factor`` (S, kept from call to call), each in the direction of ``sign·f``, SciPy's
+    f (``sign``: −1 in a lane that runs its user's time backwards); a column drowned in
+    round-off retried with a 10x step; a factor capped at ``NUM_JAC_MAX_FACTOR``, where
+    SciPy's grows until the Jacobian is NaN), rows m2 … S − 1 into ``jac`` as
+    :func:`jacobian_clear` writes them: the Jacobian of a mechanism with ideal joints, or of
+    a user's problem without one. ``ytmp``, ``f_col``, ``diff``, ``diff_new`` (S): work. Its
+    evaluations of f are not counted (as SciPy's ``njev``)."""
+    m2 = lay[LY_SECOND]
     size = lay[LY_SIZE]
     for i in range(size):
         ytmp[i] = y[i]
-    for j in range(2 * n):
-        f_sign = 1.0 if f[j] >= 0 else -1.0
+    for j in range(m2 + lay[LY_KEPT]):
+        f_sign = 1.0 if sign * f[j] >= 0 else -1.0
         y_scale = f_sign * max(atol[j], abs(y[j]))
         h = (y[j] + factor[j] * y_scale) - y[j]
         while h == 0:
@@ -622,8 +629,8 @@ def jacobian_differences(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, d
                     diff[i] = diff_new[i]
                 scale = scale_new
                 max_diff = max_diff_new
-        for i in range(n, size):
-            jac[i - n, j] = diff[i] / h
+        for i in range(m2, size):
+            jac[i - m2, j] = diff[i] / h
         if max_diff < NUM_JAC_DIFF_SMALL * scale:
             factor[j] *= NUM_JAC_FACTOR_INCREASE
         elif max_diff > NUM_JAC_DIFF_BIG * scale:
@@ -657,7 +664,7 @@ def lane_jacobian(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, diff, di
     joints without film, or a joint locked (the sustained-contact mode) — SciPy's
     differences (:func:`jacobian_differences`)."""
     if locked(y, rp, lay) or (lay[LY_NIDEAL] > 0 and not any_film(rp, lay)):
-        jacobian_differences(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, diff,
+        jacobian_differences(t, y, f, atol, factor, 1.0, rp, ip, lay, jac, ytmp, f_col, diff,
                              diff_new, record, phi_q, schur, lam)  # fmt: skip
     elif lay[LY_NIDEAL] == 0:
         jacobian_clear(t, y, rp, ip, lay, jac, f_col, record)
@@ -665,7 +672,7 @@ def lane_jacobian(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, diff, di
         jacobian_fixed(t, y, f, rp, ip, lay, jac, ytmp, f_col, record, phi_q, schur, lam)
 
 
-# --- the Newton systems (jointplay._kernels.radau) --------------------------------------------
+# --- the Newton systems ------------------------------------------------------------------------
 # Written for any second-order structure: ``m2`` positions (x' = v, RADAU5's M1 option),
 # ``nk`` kept components after them (velocities first, then the other active ones), passive
 # components from ``m2 + nk`` to ``size``; ``jac`` holds the rows from ``m2`` on of ∂f/∂y
@@ -889,7 +896,6 @@ def collocation(t, y, h, has_sol, cq, t_old, y_old, scale, tol, rp, ip, lay, jac
     """The lane's simplified Newton iteration of the collocation system (SciPy's
     ``solve_collocation_system``) on :func:`rhs`. Returns ``(converged, iterations, rate,
     evaluations of f)``; the stage increments Z in ``z``."""
-    n = lay[LY_N]
     size = lay[LY_SIZE]
     newton_start(t, y, h, has_sol, cq, t_old, y_old, z, w, size)
     converged = False
@@ -902,7 +908,7 @@ def collocation(t, y, h, has_sol, cq, t_old, y_old, scale, tol, rp, ip, lay, jac
             rhs(t_i, ytmp, rp, ip, lay, fst[i], record, False, phi_q, schur, lam)
         done, converged, dw_norm, rate = newton_iteration(
             fst, h, w, z, dw, scale, tol, k, dw_norm, rate, jac, a_re, piv_re, c_re, c_im,
-            piv_c, xr, xcr, xci, wk, wkr, wki, n, n, size,
+            piv_c, xr, xcr, xci, wk, wkr, wki, lay[LY_SECOND], lay[LY_KEPT], size,
         )  # fmt: skip
         if done:
             break
@@ -1049,11 +1055,11 @@ LANE = {
 }  # fmt: skip
 
 
-def radau_shapes(size, n):
+def radau_shapes(size, m2, nk):
     """The shapes of Radau IIA's work arrays (:func:`radau_arrays`' arguments) for a state of
-    ``size`` and ``n`` coordinates."""
-    return ((N_RADAU_SCALARS,), (8, size), (3, n), (5, 3, size), (size - n, 2 * n), (3, n, n),
-            (2, n))  # fmt: skip
+    ``size``, ``m2`` positions and ``nk`` kept components (``LY_SECOND``, ``LY_KEPT``)."""
+    return ((N_RADAU_SCALARS,), (8, size), (3, nk), (5, 3, size), (size - m2, m2 + nk),
+            (3, nk, nk), (2, nk))  # fmt: skip
 
 
 def radau_arrays(scalars, v, small, stages, jac, mats, pivots):
@@ -1070,7 +1076,7 @@ def radau_arrays(scalars, v, small, stages, jac, mats, pivots):
 
 def radau_work(lay):
     """Radau IIA's ``ws``; it allocates: the CPU's."""
-    s = radau_shapes(lay[LY_SIZE], lay[LY_N])
+    s = radau_shapes(lay[LY_SIZE], lay[LY_SECOND], lay[LY_KEPT])
     return radau_arrays(np.empty(s[0]), np.empty(s[1]), np.empty(s[2]), np.empty(s[3]),
                         np.empty(s[4]), np.empty(s[5]), np.empty(s[6], dtype=np.int64))  # fmt: skip
 
@@ -1080,8 +1086,9 @@ def radau_start(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mi
     """Radau IIA's state at the first point: SciPy's initial step (one evaluation of f), the
     Newton tolerance and the Jacobian. ``ws``: the scalars (N_RADAU_SCALARS); ``ytmp``,
     ``scale``, ``escale``, ``xr``, ``xcr``, ``xci``, ``jfactor``, ``ze`` (S); ``wk``,
-    ``wkr``, ``wki`` (n = 3 nb); ``z``, ``w``, ``fst``, ``dw``, ``cq`` (3, S); ``jac``
-    (S − n, 2n); ``a_re``, ``piv_re``, ``c_re``, ``c_im``, ``piv_c`` (n, n; n, int)."""
+    ``wkr``, ``wki`` (nk); ``z``, ``w``, ``fst``, ``dw``, ``cq`` (3, S); ``jac``
+    (S − m2, m2 + nk); ``a_re``, ``piv_re``, ``c_re``, ``c_im``, ``piv_c`` (nk, nk; nk, int)
+    (m2, nk: ``LY_SECOND``, ``LY_KEPT``; a mechanism's n and n, n = 3 nb)."""
     (ms, ytmp, scale, _, xr, xcr, _, jfactor, _, _, _, _, _, _, _, _, _, jac, _, _, _, _,
      _) = ws  # fmt: skip
     bits = touching(pen, lay[LY_NC])
@@ -1140,14 +1147,15 @@ def radau_attempt(ws, t, y, f, h, t_new, y_new, t_old, y_old, rtol, atol, rp, ip
     after a rejection) and its test; the end's contact records for the onset control."""
     (ms, ytmp, scale, escale, xr, xcr, xci, jfactor, ze, wk, wkr, wki, z, w, fst, dw, cq, jac,
      a_re, piv_re, c_re, c_im, piv_c) = ws  # fmt: skip
-    n = lay[LY_N]
+    m2 = lay[LY_SECOND]
+    nk = lay[LY_KEPT]
     size = lay[LY_SIZE]
     converged = False
     n_iter = 0
     rate = math.nan
     while not converged:
         if not ms[R_LU_VALID] > 0.0:
-            factor_newton(jac, h, a_re, piv_re, c_re, c_im, piv_c, n, n)
+            factor_newton(jac, h, a_re, piv_re, c_re, c_im, piv_c, m2, nk)
             ms[R_LU_VALID] = 1.0
             if RECORD:
                 counts[K_LU] += 2
@@ -1176,14 +1184,14 @@ def radau_attempt(ws, t, y, f, h, t_new, y_new, t_old, y_old, rtol, atol, rp, ip
     for j in range(size):
         y_new[j] = y[j] + z[2, j]
     error_norm = error_estimate(z, f, h, y, y_new, atol, rtol, ze, xr, wk, escale, jac, a_re,
-                                piv_re, n, n, size)  # fmt: skip
+                                piv_re, m2, nk, size)  # fmt: skip
     safety = 0.9 * (2 * NEWTON_MAXITER + 1) / (2 * NEWTON_MAXITER + n_iter)
     if ms[R_REJECTED] > 0.0 and error_norm > 1:
         for j in range(size):
             ytmp[j] = y[j] + xr[j]
         rhs(t, ytmp, rp, ip, lay, f_mid, record_mid, False, phi_q, schur, lam)
         counts[K_RHS] += 1
-        error_norm = error_again(f_mid, ze, h, xr, wk, escale, jac, a_re, piv_re, n, n, size)
+        error_norm = error_again(f_mid, ze, h, xr, wk, escale, jac, a_re, piv_re, m2, nk, size)
     if error_norm > 1:
         factor = predict(h, ms[R_H_OLD], error_norm, ms[R_ERR_OLD])
         ms[R_LU_VALID] = 0.0
@@ -1223,7 +1231,8 @@ def radau_accept(ws, t_new, y_new, f_new, h, changed, atol, rp, ip, lay, pen, f_
     error_norm = ms[R_ERROR]
     recompute_jac = ms[R_N_ITER] > 2 and ms[R_RATE] > 1e-3
     factor, kept = next_factor(h, ms[R_H_OLD], error_norm, ms[R_ERR_OLD], ms[R_SAFETY],
-                               ms[R_FAILED] > 0.0, recompute_jac)  # fmt: skip
+                               ms[R_FAILED] > 0.0 and hold_after_failure(rp),
+                               recompute_jac)  # fmt: skip
     if not kept:
         ms[R_LU_VALID] = 0.0
     if recompute_jac:
