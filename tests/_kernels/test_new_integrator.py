@@ -151,7 +151,7 @@ def test_the_gpu_kernel_makes_each_methods_work_from_its_record(
     the module's ``arrays``. Those give a ``ws`` of the same members as the CPU's allocator,
     each member of the same kind and at least as large as the paper four-bar's."""
     record = build.LANES[build.lane_for(engine)]
-    shapes = build.source_function(record["shapes"])(MAX_STATE, MAX_COORDS)
+    shapes = build.source_function(record["shapes"])(MAX_STATE, MAX_COORDS, MAX_COORDS)
     assert len(shapes) == len(record["dtypes"]) <= MAX_WORK_ARRAYS
     arrays = [np.empty(shape, dtype) for shape, dtype in zip(shapes, record["dtypes"], strict=True)]
     on_gpu = build.source_function(record["arrays"])(*arrays)  # plain Python
