@@ -10,14 +10,13 @@ integrator's ``<prefix>_*`` of the lane source (:mod:`~jointplay._kernels.lanes.
 ``module``, :func:`steps_of`). This module binds them to a user's problem:
 
 - **adapters** (:data:`ADAPTERS`) take the place of the lane source's functions that read a
-  mechanism: the right-hand side is the user's ``fun``, the Jacobian the user's ``jac`` or
-  the source's differences of ``fun`` (:func:`problem_jacobian`), the onset check calls the
-  user's ``step_check``, the projection its ``after_step``, the start's evaluation and first
-  step are :func:`driver_start`'s, the growth limit after a failure and the dependence on t
-  are the user's options; the contact forces, the contact memory, the sustained-contact
-  mode, the window's quantities and the running responses do nothing (the window never
-  opens: ``t_settle`` is infinite). ``rp`` is the :class:`Problem`: the user's functions as
-  first-class function values, its ``args`` and options.
+  mechanism: the right-hand side is the user's ``fun``, the Jacobian the user's ``jac`` or the
+  source's differences of ``fun`` (:func:`problem_jacobian`), the onset check calls the user's
+  ``step_check``, the projection its ``after_step``; the first step, the growth limit after a
+  failure and the dependence on t are the user's options; the contact forces, the contact
+  memory, the sustained-contact mode, the window's quantities and the running responses do
+  nothing (the window never opens: ``t_settle`` is infinite). ``rp`` is the :class:`Problem`:
+  the user's functions as first-class function values, its ``args`` and options.
 - **structure**: ``lay`` holds the state's size and the implicit methods' structure
   (``LY_SECOND`` = ``n_second``, ``LY_KEPT`` = ``n_active − n_second``), which a mechanism
   sets to its n and n.
@@ -59,6 +58,7 @@ import numpy as np
 import numpy.typing as npt
 
 from jointplay._kernels.ids import (
+    COUNTER_NAMES,
     EPS,
     K_JAC,
     K_LU,
@@ -75,22 +75,19 @@ from jointplay._kernels.ids import (
     NREJ_ERROR,
     NREJ_NEWTON,
     NSTEPS,
-    STATUS_NON_FINITE,
-    STATUS_RUNNING,
     STATUS_SUCCESS,
 )
 from jointplay._kernels.lanes import build
 from jointplay._kernels.lanes.contract import NO_INTERRUPT
-from jointplay._kernels.lanes.cpu import compiled as _lanes
 from jointplay._kernels.lanes.source import (
     LY_KEPT,
     LY_SECOND,
     LY_SIZE,
     MAX_CHECK_REJECTIONS,
     N_LAY,
+    rhs,  # resolved in the namespace: problem_rhs
 )
-from jointplay._kernels.lanes.source_radau import jacobian_differences  # the adapter's callee
-from jointplay._kernels.shared import compiled as _shared
+from jointplay._kernels.lanes.source_radau import jacobian_differences  # an adapter's callee
 
 __all__ = [
     "MAX_CHECK_REJECTIONS",
@@ -112,6 +109,7 @@ jit = numba.njit(cache=True, error_model="numpy")
 #: :data:`jit`, and inlined into the loop (Numba's IR inlining),
 #: as the CPU lanes inline theirs.
 step_jit = numba.njit(cache=True, error_model="numpy", inline="always")
+_N_COUNTERS = len(COUNTER_NAMES)
 
 
 class Problem(NamedTuple):
@@ -126,8 +124,7 @@ class Problem(NamedTuple):
     step_check: Any  # step_check(t, y, t_new, y_new, args) -> θ (the onset retry)
     after_step: Any  # after_step(t, y, args) -> changed
     t0: float  # the start
-    f0: Any  # f(t0, y0) in lane time, (n,)
-    h0: float  # the first step's size
+    first_step: float  # the first step's size (0: SciPy's choice)
 
 
 # ---------------------------------------------------------------------------------------
@@ -151,82 +148,6 @@ def finite_differences(t, y, f, args, out):
     return False
 
 
-#: Store ``(t, y)`` as row ``m`` of the record, doubling its arrays first when they are full
-#: (the lane source's ``trace_add``, the traced lanes' record); its first row
-#: (``trace_start``).
-_record = _lanes["trace_add"]
-_record_start = _lanes["trace_start"]
-#: ``all_finite(x, size)``: whether ``x[:size]`` is all finite (the lane source's); SciPy's
-#: initial step, its two halves (the lane source's, :func:`select_initial_step`).
-all_finite = _shared["all_finite"]
-_initial_trial = _lanes["initial_trial"]
-_initial_choice = _lanes["initial_choice"]
-
-
-@jit
-def copy_vector(x):
-    """``x`` as a new C-contiguous float64 array (``fun`` may return any layout)."""
-    n = x.shape[0]
-    out = np.empty(n)
-    for j in range(n):
-        out[j] = x[j]
-    return out
-
-
-@jit
-def select_initial_step(fun, args, t0, y0, t_bound, max_step, f0, direction, rtol, atol):
-    """SciPy's ``select_initial_step`` for an error estimator of order 3 (Hairer, Nørsett &
-    Wanner, *Solving ODEs I*, §II.4; the lane source's ``initial_trial`` and
-    ``initial_choice`` around ``fun``). Returns ``(h_abs, nfev)``."""
-    n = y0.shape[0]
-    interval_length = abs(t_bound - t0)
-    if interval_length == 0.0:
-        return 0.0, 0
-    scale = np.empty(n)
-    h0, d1 = _initial_trial(y0, f0, rtol, atol, scale, interval_length, n)
-    y1 = np.empty(n)
-    for j in range(n):
-        y1[j] = y0[j] + h0 * direction * f0[j]
-    f1 = fun(t0 + h0 * direction, y1, args)
-    df = np.empty(n)
-    return _initial_choice(f0, f1, df, scale, d1, h0, interval_length, max_step, n), 1
-
-
-@jit
-def driver_start(fun, args, t0, y0, t_bound, max_step, first_step, direction, rtol, atol):
-    """What the loop does before the first step: record ``(t0, y0)``; an empty interval or
-    system ends at once (SciPy: an empty system jumps to ``t_bound``); ``f(t0, y0)``, a
-    non-finite one ends with status −3; the first step, ``first_step`` or SciPy's choice
-    (Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.4).
-
-    Returns:
-        ``(status, counters, ts, ys, m, f, h_abs)``: ``STATUS_RUNNING`` to go on, else the
-        final status of an integration that ends here; the recording arrays and their
-        length ``m``.
-    """
-    n = y0.shape[0]
-    counters = np.zeros(7, dtype=np.int64)
-    ts, ys = _record_start(t0, y0, n)
-    m = 1
-    f = np.zeros(n)
-    if n == 0 or t0 == t_bound:
-        if n == 0 and t0 != t_bound:  # SciPy: an empty system jumps to t_bound.
-            ts, ys = _record(ts, ys, m, t_bound, y0, n)
-            m += 1
-        return STATUS_SUCCESS, counters, ts, ys, m, f, 0.0
-    f = copy_vector(fun(t0, y0, args))
-    counters[NFEV] += 1
-    if not (all_finite(y0, y0.shape[0]) and all_finite(f, f.shape[0])):
-        return STATUS_NON_FINITE, counters, ts, ys, m, f, 0.0
-    h_abs = first_step
-    if not first_step > 0:
-        h_abs, nfev_initial = select_initial_step(
-            fun, args, t0, y0, t_bound, max_step, f, direction, rtol, atol
-        )
-        counters[NFEV] += nfev_initial
-    return STATUS_RUNNING, counters, ts, ys, m, f, h_abs
-
-
 # ---------------------------------------------------------------------------------------
 # The loop: the lanes' (source.lane), with adapters for a user's problem.
 # ---------------------------------------------------------------------------------------
@@ -244,12 +165,6 @@ def problem_outputs(ip, rp, lay, mask, peaks, stats, counts):
         counts[m] = 0
 
 
-def problem_start_f(t, y, rp, ip, lay, f, record, qty, pen, phi_q, schur, lam):
-    """f at the start: :func:`driver_start`'s evaluation (counted there)."""
-    for j in range(f.shape[0]):
-        f[j] = rp.f0[j]
-
-
 def problem_rhs(t, y, rp, ip, lay, f, record, recording, phi_q, schur, lam):
     """The user's ``fun`` in lane time (the lanes' steps): ``direction·fun(direction·t, y)``."""
     value = rp.fun(rp.direction * t, y, rp.args)
@@ -258,17 +173,8 @@ def problem_rhs(t, y, rp, ip, lay, f, record, recording, phi_q, schur, lam):
 
 
 def problem_rhs_and_quantities(t, y, rp, ip, lay, f, record, qty, pen, phi_q, schur, lam):
-    """:func:`problem_rhs` (no quantities: the window never opens)."""
-    value = rp.fun(rp.direction * t, y, rp.args)
-    for j in range(f.shape[0]):
-        f[j] = rp.direction * value[j]
-
-
-def problem_initial_step(t0, y0, t_bound, max_step, f0, rtol, atol, rp, ip, lay, y1, f1, scale,
-                         record, phi_q, schur, lam):  # fmt: skip
-    """The first step's size: :func:`driver_start`'s (the user's ``first_step``, else SciPy's
-    choice, made there)."""
-    return rp.h0
+    """:func:`problem_rhs` (the namespace's ``rhs``; no quantities: the window never opens)."""
+    rhs(t, y, rp, ip, lay, f, record, False, phi_q, schur, lam)
 
 
 def problem_jacobian(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, diff, diff_new,
@@ -289,6 +195,11 @@ def problem_jacobian(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, diff,
     else:
         jacobian_differences(t, y, f, atol, factor, rp.direction, rp, ip, lay, jac, ytmp, f_col,
                              diff, diff_new, record, phi_q, schur, lam)  # fmt: skip
+
+
+def problem_first_step(rp):
+    """The user's ``first_step`` (0: SciPy's choice, the source's ``initial_step``)."""
+    return rp.first_step
 
 
 def problem_hold(rp):
@@ -335,8 +246,8 @@ def no_penetration(y, rp, ip, lay, c):
 #: ``hooks``).
 ADAPTERS: dict[str, Callable[..., Any]] = {
     "start_time": problem_start_time, "start_outputs": problem_outputs,
-    "start_rhs": problem_start_f, "rhs": problem_rhs,
-    "rhs_and_quantities": problem_rhs_and_quantities, "initial_step": problem_initial_step,
+    "rhs": problem_rhs, "rhs_and_quantities": problem_rhs_and_quantities,
+    "first_step": problem_first_step,
     "lane_jacobian": problem_jacobian, "hold_after_failure": problem_hold,
     "time_enters": problem_time_enters, "onset_check": problem_step_check,
     "project": problem_after_step, "release_fraction": no_release,
@@ -364,26 +275,18 @@ def drive(fun, step_check, after_step, jac_fun, t0, y0, t_bound, args, rtol, ato
     (``source.lane``) with the method whose steps are this copy's ``LANE``'s (:func:`_core`);
     the arguments and the results are :func:`run_core`'s (times in the units of ``t0``).
 
-    Before the loop: :func:`driver_start` (``f(t0, y0)``, the first step). The loop owns the
-    step budget ``max_steps``, the interrupt flags, the tries (cut to end on ``t_bound``)
-    until one passes the method's ``attempt`` and ``step_check`` does not shorten it, a step
-    below ``min_step = 10·spacing(t)`` (SciPy's) ending the integration with status −1,
-    ``after_step`` (its hook ``project``), ``f`` at the new point (the method's ``refresh``),
-    the finiteness of both, the method's ``accept`` and the record. The lane's counters
-    become the user's: its evaluations of f less the two :func:`driver_start` made (f(t0) and
-    the initial step's), its rejections by cause.
+    The loop owns everything: ``f(t0, y0)`` and its finiteness, the first step (the method's
+    start: ``first_step``, else SciPy's choice), the step budget ``max_steps``, the interrupt
+    flags, the tries (cut to end on ``t_bound``) until one passes the method's ``attempt``
+    and ``step_check`` does not shorten it, a step below ``min_step = 10·spacing(t)``
+    (SciPy's) ending the integration with status −1, ``after_step`` (its hook ``project``),
+    ``f`` at the new point (the method's ``refresh``), the finiteness of both, the method's
+    ``accept`` and the record. Its counters become the user's.
     """
     n = y0.shape[0]
-    rtol = max(rtol, 100.0 * EPS)
     direction = 1.0 if t_bound >= t0 else -1.0
-    y = y0.copy()
-    status, counters, ts, ys, m, f, h_abs = driver_start(
-        fun, args, t0, y, t_bound, max_step, first_step, direction, rtol, atol
-    )
-    if status != STATUS_RUNNING:
-        return status, ts[:m].copy(), ys[:m].copy(), counters
     problem = Problem(fun, jac_fun, args, direction, hold_after_failure, autonomous, step_check,
-                      after_step, t0, direction * f, h_abs)  # fmt: skip
+                      after_step, t0, first_step)  # fmt: skip
     lay = np.zeros(N_LAY, dtype=np.int64)
     lay[LY_SIZE] = n
     lay[LY_SECOND] = n_second
@@ -391,12 +294,13 @@ def drive(fun, step_check, after_step, jac_fun, t0, y0, t_bound, args, rtol, ato
     counts = np.zeros(N_TRACE_COUNTS, dtype=np.int64)
     one = np.zeros(1)
     status, _, times, states = LANE(
-        np.zeros(1, dtype=np.int64), problem, lay, y, np.inf, direction * t_bound, max_step,
+        np.zeros(1, dtype=np.int64), problem, lay, y0, np.inf, direction * t_bound, max_step,
         rtol, atol, max_steps, interrupt, one, one, counts, np.zeros(1, dtype=np.int64),
         np.empty((9, n)), np.zeros((2, 1)), np.zeros((9, 1)), np.zeros((2, 1)),
         np.zeros((3, 1)), np.zeros((1, 1)), np.zeros((1, 1)), one, one, WORK(lay),
     )  # fmt: skip
-    counters[NFEV] += counts[K_RHS] - 2
+    counters = np.zeros(_N_COUNTERS, dtype=np.int64)
+    counters[NFEV] = counts[K_RHS]
     counters[NJEV] = counts[K_JAC]
     counters[NLU] = counts[K_LU]
     counters[NSTEPS] = counts[K_STEPS]
@@ -633,6 +537,10 @@ def run_core(
         raise ValueError(
             f"need 0 <= 2·n_second <= n_active <= n = {n}, got {n_second} and {n_active}"
         )
+    y0 = np.array(y0, dtype=np.float64, order="C")
+    if n == 0 or t0 == t_bound:  # SciPy: at once, no evaluation of f; an empty system jumps
+        t_out = np.array([t0] if t0 == t_bound else [t0, t_bound], dtype=np.float64)
+        return STATUS_SUCCESS, t_out, np.tile(y0, (t_out.size, 1)), np.zeros(_N_COUNTERS, np.int64)
     core = _specialised_core(numba.typeof(args), name)
     status, t_out, y_out, counters = core(
         fun,
@@ -640,7 +548,7 @@ def run_core(
         after_step,
         finite_differences if jac is None else jac,
         float(t0),
-        np.array(y0, dtype=np.float64, order="C"),
+        y0,
         float(t_bound),
         args,
         float(rtol),

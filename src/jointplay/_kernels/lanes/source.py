@@ -870,12 +870,6 @@ def quantities(t, y, rp, ip, lay, f, record, qty, pen, phi_q, schur, lam):
     rhs_and_quantities(t, y, rp, ip, lay, f, record, qty, pen, phi_q, schur, lam)
 
 
-def start_rhs(t, y, rp, ip, lay, f, record, qty, pen, phi_q, schur, lam):
-    """:func:`rhs_and_quantities` at a lane's start (a hook: the generic integrate has f
-    there already)."""
-    rhs_and_quantities(t, y, rp, ip, lay, f, record, qty, pen, phi_q, schur, lam)
-
-
 # --- the hooks after a step (jointplay._kernels.eom) ---------------------------------------
 def onset_fraction(old, new, tolerance):
     """The step's fraction ending at half the onset tolerance (secant) for a joint free at the
@@ -1666,6 +1660,11 @@ def start_time(rp):
     return 0.0
 
 
+def first_step(rp):
+    """The first step's size asked for (0: none, SciPy's choice; a mechanism's), s."""
+    return 0.0
+
+
 def hold_after_failure(rp):
     """Whether the implicit methods' next step may not grow after a step that a failed try
     preceded (RADAU5's ``IF (REJECT) HNEW = MIN(HNEW, H)``, rodas.f's): always, for a
@@ -1750,7 +1749,7 @@ def lane(
     record, record_new, record_mid = records[0], records[1], records[2]
     for i in range(size):
         y[i] = y0[i]
-    start_rhs(t, y, rp, ip, lay, f, record, qa, pen, phi_q, schur, lam)
+    rhs_and_quantities(t, y, rp, ip, lay, f, record, qa, pen, phi_q, schur, lam)
     counts[K_RHS] += 1
     if not (all_finite(y, size) and all_finite(f, size)):
         if RECORD:
@@ -1937,9 +1936,13 @@ def initial_choice(f0, f1, diff, scale, d1, h0, interval_length, max_step, size)
 
 
 def initial_step(t0, y0, t_bound, max_step, f0, rtol, atol, rp, ip, lay, y1, f1, scale,
-                 record, phi_q, schur, lam):  # fmt: skip
-    """Every method's first step (:func:`initial_trial`, :func:`initial_choice`); one
-    evaluation of f (``y1``, ``f1``, ``scale``: work)."""
+                 record, phi_q, schur, lam, counts):  # fmt: skip
+    """Every method's first step: the one asked for (:func:`first_step`), else SciPy's
+    choice (:func:`initial_trial`, :func:`initial_choice`), one evaluation of f, counted
+    (``y1``, ``f1``, ``scale``: work)."""
+    asked = first_step(rp)
+    if asked > 0.0:
+        return asked
     size = lay[LY_SIZE]
     interval_length = abs(t_bound - t0)
     if interval_length == 0.0:
@@ -1948,6 +1951,7 @@ def initial_step(t0, y0, t_bound, max_step, f0, rtol, atol, rp, ip, lay, y1, f1,
     for j in range(size):
         y1[j] = y0[j] + h0 * 1.0 * f0[j]
     rhs(t0 + h0 * 1.0, y1, rp, ip, lay, f1, record, False, phi_q, schur, lam)
+    counts[K_RHS] += 1
     return initial_choice(f0, f1, y1, scale, d1, h0, interval_length, max_step, size)
 
 
@@ -1999,9 +2003,8 @@ def dopri_start(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mi
     """The first step: a tenth of the largest (the batch lanes'); the traced lane's (the
     single engine's), SciPy's choice (:func:`initial_step`)."""
     if RECORD:
-        counts[K_RHS] += 1
         return initial_step(t, y, t_end, max_step, f, rtol, atol, rp, ip, lay, ws[DOPRI_STATE],
-                            f_mid, ws[0], record_mid, phi_q, schur, lam)  # fmt: skip
+                            f_mid, ws[0], record_mid, phi_q, schur, lam, counts)  # fmt: skip
     else:
         return max_step / 10.0
 

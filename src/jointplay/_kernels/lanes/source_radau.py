@@ -1096,8 +1096,7 @@ def radau_start(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mi
     ms[R_BITS] = bits
     ms[R_FILM] = 1.0 if any_film(rp, lay) else 0.0
     h = initial_step(t, y, t_end, max_step, f, rtol, atol, rp, ip, lay, ytmp, f_mid, scale,
-                     record_mid, phi_q, schur, lam)  # fmt: skip
-    counts[K_RHS] += 1
+                     record_mid, phi_q, schur, lam, counts)  # fmt: skip
     ms[R_H_OLD_STATE] = math.nan
     ms[R_ERR_OLD_STATE] = math.nan
     ms[R_NEWTON_TOL] = max(10.0 * EPS / rtol, min(0.03, rtol**0.5))

@@ -187,9 +187,8 @@ def rodas_start(ws, t, y, f, t_end, max_step, rtol, atol, rp, ip, lay, pen, f_mi
     ms, stage, x = ws[0], ws[5], ws[6]
     ms[RO_H_ACCEPTED] = 0.0
     ms[RO_ERROR_ACCEPTED] = 1.0
-    counts[K_RHS] += 1
     return initial_step(t, y, t_end, max_step, f, rtol, atol, rp, ip, lay, stage, f_mid, x,
-                        record_mid, phi_q, schur, lam)  # fmt: skip
+                        record_mid, phi_q, schur, lam, counts)  # fmt: skip
 
 
 def rodas_begin(ws, t, y, f, h, max_step, min_step, rtol, atol, size):
