@@ -1961,14 +1961,14 @@ def initial_step(t0, y0, t_bound, max_step, f0, rtol, atol, rp, ip, lay, y1, f1,
 #: step was rejected by the error test.
 DOPRI_STATE, DOPRI_SCALARS = 7, 8
 DOPRI_ERROR, DOPRI_REJECTED = 0, 1
-#: DOPRI5's lane record (the one place it is declared; :data:`jointplay._kernels.lanes.SOURCES`
-#: finds it): the integrator (:class:`jointplay._kernels.integrators.Integrator`'s fields), the
-#: lane's name, its steps' prefix, its work: the CPU's allocator (``work``), the shapes of its
-#: arrays (``shapes``, a function of the state's size S and its structure m2, nk: ``LY_SECOND``,
-#: ``LY_KEPT``), their dtypes
-#: and the function that makes the method's ``ws`` of them (``arrays``; a GPU thread's arrays
-#: are its kernel's local arrays, :mod:`jointplay._kernels.lanes.cuda_kernel`), and the loop's
-#: constants (:func:`lane`).
+#: DOPRI5's lane record (the one place it is declared;
+#: :data:`jointplay._kernels.lanes.SOURCES` finds it): the integrator
+#: (:class:`jointplay._kernels.integrators.Integrator`'s fields), the lane's name, its steps'
+#: prefix, its work: the CPU's allocator (``work``), the shapes of its arrays (``shapes``, a
+#: function of the state's size S and its structure m2, nk: ``LY_SECOND``, ``LY_KEPT``), their
+#: dtypes and the function that makes the method's ``ws`` of them (``arrays``; a GPU thread's
+#: arrays are its kernel's local arrays, :mod:`jointplay._kernels.lanes.cuda_kernel`), and the
+#: loop's constants (:func:`lane`).
 LANE = {
     "integrator": {
         "name": "dopri5", "title": "DOPRI5 (order 5, explicit)", "order": 5, "explicit": True,

@@ -12,19 +12,18 @@ embedded error estimate, re-estimated after a rejection; the predictive controll
 initial step), the steps :func:`jointplay.integrate` runs too (in the same loop:
 :mod:`jointplay._kernels.driver`), with the options that
 :func:`jointplay.dynamics.simulate.simulate` runs it with: positions eliminated from the
-Newton systems (``LY_SECOND`` = n, RADAU5's ``M1``: n × n matrices), the work integrals and
-the contact memory passive (``LY_KEPT`` = n), RADAU5's growth limit after a failure
-(``hold_after_failure``), and the loop's contact hooks: the contact-onset control and, after
-each accepted step, the contact memory v0 and the projection. The step's numerics are
-written once, here, for any second-order structure (``m2`` positions, ``nk`` kept
-components, the rest passive): the
-reduced Newton matrices and their LU with partial pivoting (LAPACK's pivots, largest
-``|re| + |im|``), complex numbers as pairs of floats (Numba's complex product and CPython's
-quotient, :func:`cdiv`), the simplified Newton iteration in pieces (:func:`newton_start`,
-:func:`stage_point`, :func:`newton_iteration`), the error estimate and the controller's
-factor. The single engine, the batch lanes and the generic ``jointplay.integrate`` run these
-steps in the one loop (the generic with its user's f and Jacobian in place of the
-mechanism's: :data:`jointplay._kernels.driver.ADAPTERS`).
+Newton systems (``LY_SECOND`` = n, RADAU5's ``M1``: n × n matrices, the velocities kept:
+``LY_KEPT`` = n), the work integrals and the contact memory passive, RADAU5's growth limit
+after a failure (``hold_after_failure``), and the loop's contact hooks: the contact-onset
+control and, after each accepted step, the contact memory v0 and the projection. The step's
+numerics are written once, here, for any second-order structure (``m2`` positions, ``nk`` kept
+components, the rest passive): the reduced Newton matrices and their LU with partial pivoting
+(LAPACK's pivots, largest ``|re| + |im|``), complex numbers as pairs of floats (Numba's
+complex product and CPython's quotient, :func:`cdiv`), the simplified Newton iteration in
+pieces (:func:`newton_start`, :func:`stage_point`, :func:`newton_iteration`), the error
+estimate and the controller's factor. The single engine, the batch lanes and the generic
+``jointplay.integrate`` run these steps in the one loop (the generic with its user's f and
+Jacobian in place of the mechanism's: :data:`jointplay._kernels.driver.ADAPTERS`).
 
 The Jacobian is :func:`eom.jacobian_state`'s (:func:`lane_jacobian`): the closed form
 (:func:`jacobian_clear`) when every joint is clear (the paper's mechanisms: the driver the
