@@ -13,8 +13,9 @@ of dropping them).
 The method is SciPy's ``solve_ivp(method="Radau")`` (Radau IIA of order 5; Hairer &
 Wanner, *Solving ODEs II*, §IV.8) compiled with Numba, plus two hooks for contact
 simulation: ``step_check`` (retry a step with a shorter one, to land on contact onset)
-and ``after_step`` (project the state, update contact memory). See the kernel module for
-the algorithm. ``method="rodas4"`` is a linearly implicit method (Rosenbrock, order 4,
+and ``after_step`` (project the state, update contact memory). The algorithm:
+:mod:`jointplay._kernels.lanes.source_radau`; the hooks' contract:
+:func:`jointplay._kernels.driver.run_core`. ``method="rodas4"`` is a linearly implicit method (Rosenbrock, order 4,
 Hairer & Wanner §IV.7) with the same hooks and results: one LU per step and no Newton
 iteration, faster where the simplified Newton iteration of Radau keeps failing (contact
 whose damping dominates, see :mod:`jointplay._kernels.lanes.source_rodas`); ``method="dopri5"``
