@@ -152,6 +152,14 @@ def test_empty_interval_records_only_the_initial_point(integrator: Any) -> None:
     assert result.t.tolist() == [2.0] and result.y.tolist() == [[1.0]]
 
 
+def test_an_empty_system_jumps_to_the_end(integrator: Any) -> None:
+    """SciPy's: no component, no step; the record is the start and ``t_bound``."""
+    result = run_kernel(decay, (0.0, 3.0), [], [1.0], rtol=1e-6, atol=1e-9, integrator=integrator)
+    assert result.status == ids.STATUS_SUCCESS
+    assert result.t.tolist() == [0.0, 3.0] and result.y.shape == (2, 0)
+    assert sum(result.counts.values()) == 0
+
+
 def test_an_interrupt_stops_with_a_status(integrator: Any) -> None:
     """The C-level signal handler's bytes, read before every step."""
     flags = np.zeros(4, dtype=np.uint8)
