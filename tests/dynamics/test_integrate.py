@@ -139,6 +139,16 @@ def test_non_finite_initial_derivative_is_reported() -> None:
         integrate(log_of_state, (0.0, 1.0), [-1.0], args=P)
 
 
+@pytest.mark.parametrize("method", ["radau", "rodas4", "dopri5"])
+def test_a_failure_names_the_method_that_failed(method: str) -> None:
+    """The message names the method the user chose; only the explicit one is told to try an
+    implicit method."""
+    result = integrate(square, (0.0, 2.0), [1.0], args=P, throw=False, method=method)
+    assert result.status is IntegrationStatus.STEP_TOO_SMALL
+    assert result.message.startswith(f"The {method} integration failed")
+    assert ("method='radau'" in result.message) == (method == "dopri5")
+
+
 def test_failure_as_data_without_raising() -> None:
     result = integrate(square, (0.0, 2.0), [1.0], args=P, throw=False)
     assert not result.success

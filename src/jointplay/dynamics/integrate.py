@@ -184,8 +184,8 @@ def integrate(
     method: str = "radau",
     autonomous: bool = False,
 ) -> IntegrationResult:
-    """Integrate ``y' = fun(t, y, args)`` over ``t_span`` with compiled Radau IIA (order 5)
-    or RODAS4.
+    """Integrate ``y' = fun(t, y, args)`` over ``t_span`` with compiled Radau IIA (order 5),
+    RODAS4 or DOPRI5.
 
     Args:
         fun: Numba-jitted right-hand side ``fun(t, y, args) -> float64[:]`` returning a
@@ -280,7 +280,7 @@ def integrate(
             interrupt=flags,
         )
     counts = dict(zip(ids.COUNTER_NAMES, (int(c) for c in counters), strict=True))
-    return _result(status_code, t, y, counts, t0, t_bound, rtol, max_steps, throw)
+    return _result(status_code, t, y, counts, t0, t_bound, rtol, max_steps, throw, method)
 
 
 def integrate_mechanism(
@@ -332,7 +332,7 @@ def integrate_mechanism(
         "n_rejected_error": int(counters[ids.K_REJECTED]) - sum(rejected.values()),
         **rejected,
     }
-    return _result(code, t, y, counts, 0.0, t_end, rtol, max_steps, throw), work
+    return _result(code, t, y, counts, 0.0, t_end, rtol, max_steps, throw, method), work
 
 
 def _result(
@@ -345,13 +345,17 @@ def _result(
     rtol: float,
     max_steps: int,
     throw: bool,
+    method: str,
 ) -> IntegrationResult:
-    """The result of a run of the loop, ``counts`` by :data:`ids.COUNTER_NAMES`; an interrupt
-    raises ``KeyboardInterrupt``, a failure :class:`IntegrationError` when ``throw``."""
+    """The result of a run of the loop by ``method`` (a :data:`METHODS` name), ``counts`` by
+    :data:`ids.COUNTER_NAMES`; an interrupt raises ``KeyboardInterrupt``, a failure
+    :class:`IntegrationError` when ``throw``."""
     status = IntegrationStatus(status_code)
     if status is IntegrationStatus.INTERRUPTED:
         raise KeyboardInterrupt(status.summary)
-    message = _message(status, t, t0, t_bound, rtol, max_steps, initial=counts["nfev"] == 1)
+    message = _message(
+        status, t, t0, t_bound, rtol, max_steps, METHODS[method], initial=counts["nfev"] == 1
+    )
     if throw and status is not IntegrationStatus.SUCCESS:
         raise IntegrationError(message)
     t.flags.writeable = False
@@ -381,35 +385,40 @@ def _message(
     t_bound: float,
     rtol: float,
     max_steps: int,
+    integrator: Integrator,
     *,
     initial: bool,
 ) -> str:
-    """The message for a status, with the time it stopped at and what to change.
+    """The message for a status, naming the method, with the time it stopped at and what to
+    change.
 
     ``initial`` tells that only the initial ``fun`` evaluation was made.
     """
     t_last = float(t[-1])
+    failed = f"The {integrator.name} integration failed"
+    # A method stable only below a step size shrinks its step to that size where f is stiff.
+    stiff = ", or choose method='radau'" if integrator.explicit else ""
     if status is IntegrationStatus.SUCCESS:
         return f"{status.summary} (t = {t_bound:.9g}) in {t.shape[0] - 1} steps"
     if status is IntegrationStatus.STEP_TOO_SMALL:
         direction = math.copysign(math.inf, t_bound - t0)
         min_step = 10.0 * abs(math.nextafter(t_last, direction) - t_last)
         return (
-            f"Radau integration failed: {status.summary} ({min_step:.3g}) at t = {t_last:.9g}:"
-            f" the solution is too stiff or not smooth there for rtol = {rtol:g}. Loosen"
-            " rtol/atol; look for a discontinuity of fun near that time (land a step on it"
+            f"{failed}: {status.summary} ({min_step:.3g}) at t = {t_last:.9g}: the"
+            f" solution is too stiff or not smooth there for rtol = {rtol:g}. Loosen"
+            f" rtol/atol{stiff}; look for a discontinuity of fun near that time (land a step on it"
             " with step_check, or smooth the contact law), or for a finite-time blow-up."
         )
     if status is IntegrationStatus.TOO_MANY_STEPS:
         return (
-            f"Radau integration failed: {status.summary} (max_steps = {max_steps}); it"
-            f" stopped at t = {t_last:.9g} of [{t0:.9g}, {t_bound:.9g}]. Raise max_steps,"
-            " loosen rtol/atol or shorten t_span; if the steps became tiny, look for"
+            f"{failed}: {status.summary} (max_steps = {max_steps}); it stopped at"
+            f" t = {t_last:.9g} of [{t0:.9g}, {t_bound:.9g}]. Raise max_steps, loosen"
+            f" rtol/atol{stiff} or shorten t_span; if the steps became tiny, look for"
             " chattering contact or a step_check that keeps shortening steps."
         )
     where = "the initial state" if initial else f"the step after t = {t_last:.9g}"
     return (
-        f"Radau integration failed: {status.summary} in the state or in fun at {where}."
+        f"{failed}: {status.summary} in the state or in fun at {where}."
         " Check fun for a division by zero, a negative base under a fractional power or an"
         " overflow at that state, and check what after_step writes into y."
     )
