@@ -283,3 +283,29 @@ def test_a_gate_opened_inside_a_closed_one_lets_an_interrupt_act() -> None:
             close_gates()
             os.kill(os.getpid(), signal.SIGINT)
         assert third.noted == [signal.SIGINT] and not task.noted
+
+
+def test_an_interrupt_while_a_chunk_is_kept_stops_the_run_once_it_is_kept() -> None:
+    """Ctrl-C while the ``processes`` backend hands a finished chunk to ``done`` (the Python
+    that keeps it): the chunk is kept, then the run stops; the chunks the workers had finished
+    by then are kept too, each with its own output. Before, the signal raised inside
+    ``done`` and the finished chunk was lost."""
+    import operator
+    import os
+    import signal
+
+    from jointplay.execution.executors import Lanes, LaneWork, Processes
+
+    got: dict[int, int] = {}
+
+    def done(k: int, output: int) -> None:
+        if not got:
+            os.kill(os.getpid(), signal.SIGINT)
+        got[k] = output
+
+    work = LaneWork(operator.mul, 2, print, bool)  # a chunk c's output: 2·c
+    chunks = [10, 11, 12, 13]
+    with pytest.raises(KeyboardInterrupt):
+        Processes(Backend("processes", workers=2)).run_lanes(Lanes(work, chunks, 2, 1, done))
+    assert got, "the chunk being kept was lost"
+    assert all(output == 2 * chunks[k] for k, output in got.items())

@@ -32,7 +32,7 @@ from jointplay.errors import ConfigError, PartialInterrupt, caused_by_interrupt
 from jointplay.execution import dask as _dask
 from jointplay.execution import pool as _pool
 from jointplay.execution.backends import Backend, BackendKind
-from jointplay.execution.interrupts import interrupts_gated, interrupts_watched
+from jointplay.execution.interrupts import interrupts_gated, interrupts_noted, interrupts_watched
 
 __all__ = [
     "CHUNK_BUDGET_S",
@@ -194,6 +194,41 @@ def _stop_workers(pool_executor: cf.ProcessPoolExecutor) -> None:
         process.terminate()
 
 
+def _store_outcome(sink: TaskSink, index: int, outcome: tuple[bool, Any]) -> None:
+    """Item ``index``'s outcome into ``sink``, and the item counted done."""
+    sink.store(index, outcome)
+    sink.advance(index)
+
+
+def _kept(keep: Callable[..., None], *args: Any) -> None:
+    """``keep(*args)`` with SIGINT and SIGTERM noted meanwhile, and raised once it returns: a
+    finished result is kept whole or not at all."""
+    with interrupts_noted() as noted:
+        keep(*args)
+    if noted:
+        raise KeyboardInterrupt(f"signal {noted[0]}")
+
+
+def _keep_as_completed(
+    futures: dict[cf.Future[Any], int], keep: Callable[[cf.Future[Any], int], None]
+) -> None:
+    """``keep(future, k)`` for every future as it completes, none lost to an interrupt.
+
+    SIGINT and SIGTERM arriving while a result is kept are noted and raised once it is kept;
+    one arriving while waiting raises at once, after keeping what the workers had finished
+    by then (a chunk done but not yet received would otherwise be lost with the pool)."""
+    pending = dict(futures)
+    try:
+        for future in cf.as_completed(futures):
+            _kept(keep, future, pending.pop(future))
+    except KeyboardInterrupt:
+        with interrupts_noted():
+            for future in [f for f in pending if f.done() and not f.cancelled()]:
+                if future.exception() is None:
+                    keep(future, pending.pop(future))
+        raise
+
+
 # --- the executors ---------------------------------------------------------------------------------
 
 
@@ -345,8 +380,7 @@ class Processes(Executor):
             futures: dict[cf.Future[Any], int] = {
                 workers.submit(work.task, work.shared, c): k for k, c in enumerate(lanes.chunks)
             }
-            for future in cf.as_completed(futures):
-                lanes.done(futures[future], future.result())
+            _keep_as_completed(futures, lambda future, k: lanes.done(k, future.result()))
         except BaseException:
             # no future cancelled from here: _stop_workers' note
             _pool.close_pool(terminate=True)
@@ -369,14 +403,13 @@ class Processes(Executor):
             initargs=(shared,),
         )
         try:
-            futures: list[cf.Future[tuple[int, tuple[bool, Any]]]] = [
-                started.submit(_attempt_in_worker, function, index, item)
+            futures = {
+                started.submit(_attempt_in_worker, function, index, item): index
                 for index, item in enumerate(items)
-            ]
-            for future in cf.as_completed(futures):
-                index, outcome = future.result()
-                sink.store(index, outcome)
-                sink.advance(index)
+            }
+            _keep_as_completed(
+                futures, lambda future, index: _store_outcome(sink, index, future.result()[1])
+            )
         except BaseException:
             _stop_workers(started)
             raise
@@ -416,7 +449,8 @@ class Dask(Executor):
                         f"({type(future.exception()).__name__}: {future.exception()}); its "
                         "workers died running it"
                     )
-                lanes.done(futures[future], _dask.result(future, self.address, client))
+                output = _dask.result(future, self.address, client)  # may wait: interruptible
+                _kept(lanes.done, futures[future], output)
         except BaseException:
             if futures:
                 client.cancel(list(futures))
@@ -445,8 +479,7 @@ class Dask(Executor):
                         outcome: tuple[bool, Any] = (False, f"{type(error).__name__}: {error}")
                     else:
                         index, outcome = _dask.result(future, self.address, client)
-                    sink.store(index, outcome)
-                    sink.advance(index)
+                    _kept(_store_outcome, sink, index, outcome)
             except _dask.ClusterLost as lost:  # the items that finished are kept; the others failed
                 for future in futures:
                     if not future.done():
