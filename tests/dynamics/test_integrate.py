@@ -51,6 +51,23 @@ def wrong_length(t, y, args):
 
 
 @numba.njit(cache=True)
+def oscillator(t, y, args):
+    """y'' = −p y as a first-order system (its Jacobian has two zero entries)."""
+    return np.array([y[1], -args[0][0] * y[0]])
+
+
+@numba.njit(cache=True)
+def oscillator_jacobian_sparse(t, y, f, args, out):
+    """The two non-zero entries only; ``args[0][1]`` drops to 0 if ``out`` ever arrives
+    holding anything but zeros."""
+    if np.any(out != 0.0):
+        args[0][1] = 0.0
+    out[0, 1] = 1.0
+    out[1, 0] = -args[0][0]
+    return True
+
+
+@numba.njit(cache=True)
 def two_arguments(t, y):
     """Lacks the args parameter."""
     return -y
@@ -117,6 +134,18 @@ def test_hooks_are_called_and_may_update_args() -> None:
     checked = integrate(van_der_pol, (0.0, 1.0), [2.0, 0.0], args=(limit,), step_check=cap_step)
     assert checked.n_rejected_check > 0
     assert np.all(np.diff(checked.t) <= 0.05 + 1e-12)
+
+
+@pytest.mark.parametrize("method", ["radau", "rodas4"])
+def test_a_jacobian_writes_only_its_non_zero_entries(method: str) -> None:
+    """``out`` arrives zeroed at every call (RODAS4 asks at every step), so a ``jac`` that
+    writes only its non-zero entries is exact."""
+    p = np.array([4.0, 1.0])
+    exact = integrate(oscillator, (0.0, 3.0), [1.0, 0.0], args=(p,), rtol=1e-8, atol=1e-10,
+                      jac=oscillator_jacobian_sparse, method=method)  # fmt: skip
+    assert p[1] == 1.0, "out held the previous call's entries"
+    assert exact.njev > (1 if method == "rodas4" else 0)
+    np.testing.assert_allclose(exact.y[-1], [math.cos(6.0), -2.0 * math.sin(6.0)], atol=1e-6)
 
 
 # ---------------------------------------------------------------------------------------

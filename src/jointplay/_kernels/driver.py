@@ -125,6 +125,7 @@ class Problem(NamedTuple):
     after_step: Any  # after_step(t, y, args) -> changed
     t0: float  # the start
     first_step: float  # the first step's size (0: SciPy's choice)
+    jac_out: Any  # (n, n): where the user's jac writes ∂f/∂y
 
 
 # ---------------------------------------------------------------------------------------
@@ -187,11 +188,11 @@ def problem_jacobian(t, y, f, atol, factor, rp, ip, lay, jac, ytmp, f_col, diff,
     m2 = lay[LY_SECOND]
     for j in range(size):
         diff[j] = rp.direction * f[j]  # the user's f
-    full = np.empty((size, size))
-    if rp.jac(rp.direction * t, y, diff, rp.args, full):
+    rp.jac_out[:, :] = 0.0  # the user's jac may write only its non-zero entries
+    if rp.jac(rp.direction * t, y, diff, rp.args, rp.jac_out):
         for i in range(m2, size):
             for j in range(m2 + lay[LY_KEPT]):
-                jac[i - m2, j] = rp.direction * full[i, j]
+                jac[i - m2, j] = rp.direction * rp.jac_out[i, j]
     else:
         jacobian_differences(t, y, f, atol, factor, rp.direction, rp, ip, lay, jac, ytmp, f_col,
                              diff, diff_new, record, phi_q, schur, lam)  # fmt: skip
@@ -286,7 +287,7 @@ def drive(fun, step_check, after_step, jac_fun, t0, y0, t_bound, args, rtol, ato
     n = y0.shape[0]
     direction = 1.0 if t_bound >= t0 else -1.0
     problem = Problem(fun, jac_fun, args, direction, hold_after_failure, autonomous, step_check,
-                      after_step, t0, first_step)  # fmt: skip
+                      after_step, t0, first_step, np.empty((n, n)))  # fmt: skip
     lay = np.zeros(N_LAY, dtype=np.int64)
     lay[LY_SIZE] = n
     lay[LY_SECOND] = n_second
@@ -463,58 +464,12 @@ def run_core(
     to the compiled types and call its entry's specialisation for ``numba.typeof(args)``. The
     integration itself never raises: failures are returned as a status.
 
-    With the options off, Radau IIA is SciPy's ``solve_ivp(method="Radau")`` (its constants
-    and decisions; the same steps, up to round-off, on a smooth problem: own LU and
-    loop-ordered sums; a non-finite state or f after a step ends with status −3 where SciPy
-    carries NaN on; an empty interval returns without evaluating f); RODAS4 is Hairer's
-    ``rodas.f`` (its first method, with its predictive controller; the Jacobian afresh at
-    every step's start); DOPRI5 is Hairer's ``dopri5`` (the steps the lanes take).
-
-    Args:
-        name: the method's steps (above).
-        fun: Numba-jitted right-hand side ``fun(t, y, args) -> float64[:]`` (a new array).
-        step_check: Numba-jitted ``step_check(t_old, y_old, t_new, y_new, args) -> float``,
-            called on every step that passed the method's tests: ``1.0`` accepts; ``θ`` in
-            (0, 1) retries it from ``t_old`` with ``h·θ`` (to land a step on contact onset;
-            counted in ``n_rejected_check``). A retry shorter than ``10·spacing(t)``, not
-            shorter at all, or the ``MAX_CHECK_REJECTIONS + 1``-th of one step is not made:
-            the step is accepted. :func:`accept_every_step` for none.
-        after_step: Numba-jitted ``after_step(t, y, args) -> bool``, called on each accepted
-            step; may modify ``y`` and ``args`` in place (projection, contact memory);
-            ``True`` declares a discontinuity (Radau IIA: the next Newton iteration starts
-            from zero, the Jacobian is kept but marked stale). ``f`` is always re-evaluated
-            after it. :func:`no_after_step` for none.
-        t0: Initial time.
-        y0: Initial state, shape (n,); not modified.
-        t_bound: Final time (may be below ``t0`` to integrate backwards).
-        args: Tuple of NumPy arrays passed untouched to the user's functions.
-        rtol: Relative tolerance (raised to ``100·eps`` if smaller, as SciPy does).
-        atol: Absolute tolerances, shape (n,), each ``>= 0``.
-        max_step: Largest step size (``np.inf`` for none).
-        first_step: First step size; ``0.0`` chooses it as SciPy's
-            ``select_initial_step`` does.
-        max_steps: Largest number of accepted steps.
-        n_second: Declares a second-order structure: ``fun(t, y)[:m] == y[m:2m]`` exactly
-            for ``m = n_second`` (positions, then their velocities). The implicit methods'
-            linear systems are then solved on the ``n_active − m`` other active components
-            only ([HW96] §IV.8, RADAU5's ``M1``): ``dx = h/γ (b_x + dv)``. ``0``: none.
-        n_active: Components ``[n_active, n)`` are passive: ``fun`` does not depend on them
-            (work integrals), or they are constant in the ODE (memory that only
-            ``after_step`` changes). Their Jacobian columns are neither computed nor used
-            and their increments follow from the active ones. ``None``: ``n``.
-        hold_after_failure: After a step that was accepted only once a try had failed, do
-            not let the next step grow (RADAU5's ``IF (REJECT) HNEW = MIN(HNEW, H)``; every
-            mechanism's run). ``False``: SciPy's controller, which on a piecewise-smooth f
-            may retry, again and again, a step at which Newton just failed.
-        jac: Numba-jitted ``jac(t, y, f, args, out) -> bool`` writing ``∂fun/∂y`` into
-            ``out`` (n, n) and returning ``True``, or ``False`` to let the kernel difference
-            ``fun`` as SciPy's ``num_jac`` does. ``None``: always difference. Counted in
-            ``njev`` either way; the differences' evaluations are not in ``nfev`` (SciPy's).
-        autonomous: ``fun`` does not depend on ``t``: RODAS4 then leaves out its difference
-            of ``fun`` in ``t`` at every step's start (the same result to the bit).
-        interrupt: uint8 C-contiguous flags read before every step
-            (:func:`jointplay._kernels.lanes.source.interrupt_pending`): once they hold
-            SIGINT or SIGTERM the integration stops with status ``-4``. ``None``: never.
+    The arguments and their contract are :func:`jointplay.integrate`'s (which checks them and
+    names what to fix), with the defaults filled in: ``step_check``, ``after_step`` jitted
+    functions (:func:`accept_every_step`, :func:`no_after_step` for none), ``atol`` an array
+    (n,), ``first_step`` ``0.0`` for SciPy's choice, ``rtol`` raised to ``100·eps`` (SciPy's
+    floor), ``interrupt`` the uint8 flags read before every step
+    (:func:`jointplay._kernels.lanes.source.interrupt_pending`; ``None``: never).
 
     Returns:
         ``(status, t_out, y_out, counters)``: status ``0`` reached ``t_bound``, ``-1`` the

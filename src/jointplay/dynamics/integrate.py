@@ -187,11 +187,18 @@ def integrate(
     """Integrate ``y' = fun(t, y, args)`` over ``t_span`` with compiled Radau IIA (order 5),
     RODAS4 or DOPRI5.
 
+    With the options off, Radau IIA is SciPy's ``solve_ivp(method="Radau")`` (its constants
+    and decisions; the same steps, up to round-off, on a smooth problem: its own LU and
+    loop-ordered sums; a non-finite state or f after a step ends with ``NON_FINITE`` where
+    SciPy carries NaN on); RODAS4 is Hairer's ``rodas.f`` (its first method, with its
+    predictive step control; the Jacobian afresh at every step's start); DOPRI5 is Hairer's
+    ``dopri5``. An empty interval returns at once, without evaluating ``fun``.
+
     Args:
         fun: Numba-jitted right-hand side ``fun(t, y, args) -> float64[:]`` returning a
             new array of the shape of ``y``.
         t_span: ``(t0, t_bound)``; ``t_bound < t0`` integrates backwards.
-        y0: Initial state, shape (n,), finite.
+        y0: Initial state, shape (n,), finite; not modified.
         args: Tuple of NumPy arrays, or of (named) tuples of them, handed untouched to
             ``fun`` and the hooks (which may modify the arrays in place, e.g. for contact
             memory or statistics).
@@ -199,28 +206,39 @@ def integrate(
         atol: Absolute tolerance, a scalar or one per state component, ``>= 0``.
         max_step: Largest step size, ``> 0`` (``inf`` for no limit).
         first_step: First step size in ``(0, |t_bound − t0|]``; ``None`` lets the
-            integrator choose (as SciPy does).
+            integrator choose (as SciPy's ``select_initial_step`` does).
         max_steps: Largest number of accepted steps, ``>= 1``.
         step_check: Optional Numba-jitted ``step_check(t_old, y_old, t_new, y_new, args)
-            -> float``: ``1.0`` accepts a step that passed the error test, ``θ`` in
-            (0, 1) retries it with the step multiplied by ``θ`` (for example to land a
-            step on contact onset).
+            -> float``, called on every step that passed the method's tests: ``1.0``
+            accepts it, ``θ`` in (0, 1) retries it from ``t_old`` with the step multiplied
+            by ``θ`` (for example to land a step on contact onset; counted in
+            ``n_rejected_check``). A retry shorter than ``10·spacing(t)``, not shorter at
+            all, or the 65th of one step is not made: the step is accepted.
         after_step: Optional Numba-jitted ``after_step(t, y, args) -> bool`` called on
             each accepted step; it may modify ``y`` in place (projection onto
             constraints) and the arrays in ``args``, and returns ``True`` when the state
-            or the right-hand side changed discontinuously.
-        n_second: Second-order structure: ``fun(t, y)[:m] == y[m:2m]`` for
-            ``m = n_second`` (positions, then their velocities); the Newton systems are
-            then solved on the other active components only. ``0``: none.
-        n_active: Components from ``n_active`` on are passive (``fun`` does not depend on
-            them, or they are constant in the ODE); ``None``: all are active. Needs
-            ``0 <= 2·n_second <= n_active <= n``.
+            or the right-hand side changed discontinuously (Radau IIA's next Newton
+            iteration then starts from zero, its Jacobian kept but marked stale).
+            ``fun`` is evaluated afresh after it either way.
+        n_second: Second-order structure: ``fun(t, y)[:m] == y[m:2m]`` exactly for
+            ``m = n_second`` (positions, then their velocities); the implicit methods'
+            linear systems are then solved on the other active components only
+            (Hairer & Wanner §IV.8, RADAU5's ``M1``: ``dx = h/γ (b_x + dv)``). ``0``: none.
+        n_active: Components from ``n_active`` on are passive: ``fun`` does not depend on
+            them, or they are constant in the ODE (memory that only ``after_step``
+            changes); their Jacobian columns are neither computed nor used. ``None``: all
+            are active. Needs ``0 <= 2·n_second <= n_active <= n``.
         hold_after_failure: After a step accepted only once its error test or Newton
-            iteration had failed, do not let the next step grow (Hairer's RADAU5); ``False``:
-            SciPy's controller.
+            iteration had failed, do not let the next step grow (Hairer's RADAU5,
+            ``IF (REJECT) HNEW = MIN(HNEW, H)``; every mechanism's run); ``False``: SciPy's
+            controller, which on a piecewise-smooth ``fun`` may retry, again and again, a
+            step at which Newton just failed.
         jac: Optional Numba-jitted ``jac(t, y, f, args, out) -> bool`` writing ``∂fun/∂y``
-            into ``out`` (n, n) and returning ``True``, or returning ``False`` to have the
-            kernel difference ``fun``. ``None``: always difference.
+            into ``out`` (n, n; zeroed before each call, so only the non-zero entries need
+            writing) and returning ``True``, or returning ``False`` to have the kernel
+            difference ``fun`` (as SciPy's ``num_jac`` does). ``None``: always
+            difference. Counted in ``njev`` either way; the differences' evaluations of
+            ``fun`` are not in ``nfev`` (as in SciPy).
         throw: Raise :class:`~jointplay.errors.IntegrationError` when the integration
             fails (default); with ``False``, return the partial result with its status.
         method: ``"radau"`` (Radau IIA, order 5; default), ``"rodas4"`` (RODAS4, order
@@ -232,11 +250,13 @@ def integrate(
             being exactly zero); the other methods need none.
 
     Returns:
-        The recorded steps, the status and the counters.
+        The initial point and every accepted step (after ``after_step``), the status
+        (:class:`IntegrationStatus`) and the counters.
 
     Raises:
         ConfigError: An argument is malformed or out of range (the message names it).
         IntegrationError: The integration failed and ``throw`` is true.
+        KeyboardInterrupt: SIGINT or SIGTERM arrived (checked before every step).
     """
     if method not in _GENERIC:
         raise ConfigError(
