@@ -279,17 +279,6 @@ def test_a_system_is_immutable_and_each_run_has_its_own_workspace(
     np.testing.assert_array_equal(system.kernel_args()[2], 0.0)
 
 
-def test_packed_model_unpacks_to_the_same_named_fields(fourbar_with_gravity: Mechanism) -> None:
-    """pack/unpack are inverses: every field comes back by name, bit for bit."""
-    friction = _frictions()["ambrosio"]
-    system = _system(fourbar_with_gravity, FOURBAR_JOINTS, _laws()["impact"], friction)
-    rpar, ipar, _ = system.kernel_args()
-    unpacked = eom.unpack(rpar, ipar)
-    for name in eom.EomModel._fields:
-        np.testing.assert_array_equal(getattr(unpacked, name), getattr(system.model, name))
-        assert getattr(unpacked, name).dtype == getattr(system.model, name).dtype, name
-
-
 def test_the_contact_memory_is_the_rate_at_the_instant_of_contact(
     fourbar_with_gravity: Mechanism,
 ) -> None:

@@ -373,8 +373,9 @@ def test_unknown_law_is_refused() -> None:
     system = _system(_fourbar(), ("A",), [_law("impact")])
     rpar, ipar = eom.pack(system.model)
     ipar = ipar.copy()
-    law_slot = eom.HEADER + sum(
-        int(ipar[i]) for i in (eom.L_JOINT_INT, eom.L_ACTIVE, eom.L_CLEAR_JOINT)
+    length = dict(zip(ids.MODEL_FIELDS, ipar, strict=False))
+    law_slot = len(ids.MODEL_FIELDS) + sum(
+        int(length[name]) for name in ("joint_int", "active", "clear_joint")
     )
     ipar[law_slot] = 99
     with pytest.raises(ConfigError, match="normal-force law id 99 runs on no engine"):
@@ -385,7 +386,8 @@ def test_lanes_must_share_the_driven_body() -> None:
     system = _system(_fourbar(), ("A",), [_law("impact")])
     rpar, ipar = eom.pack(system.model)
     rows = np.tile(rpar, (2, 1))
-    driver = sum(int(ipar[i]) for i in (eom.L_MASS, eom.L_GRAVITY, eom.L_JOINT_F))
+    length = dict(zip(ids.MODEL_FIELDS, ipar, strict=False))
+    driver = sum(int(length[name]) for name in ("mass", "gravity", "joint_f"))
     rows[1, driver] = -1.0
     with pytest.raises(ConfigError, match="same body"):
         read_layout(ipar, rows)

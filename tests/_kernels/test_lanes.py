@@ -2,7 +2,7 @@
 
 * The source's copies of the kernels' constants equal their homes (law and friction ids,
   settings columns, statuses, the DOPRI5 tableau and dense output, the peak rule's margin and
-  the onset retries), and its layout finds every field where :func:`eom.unpack` does.
+  the onset retries), and its layout finds every field that :func:`eom.pack` wrote.
 * The CPU's explicit lanes are the source's compilation. (Before the old explicit lane of
   :mod:`jointplay._kernels.batch` was deleted, the source's gave its bits, field by field:
   every law id and friction law all-clear, a late window, a failing lane, ideal joints left
@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from jointplay._kernels import batch as kb
-from jointplay._kernels import driver, eom
+from jointplay._kernels import driver, eom, ids
 from jointplay._kernels.lanes import build, cpu, source, source_radau
 from jointplay.contact.friction import AdamsFriction, AmbrosioFriction, FrictionLaw
 from jointplay.contact.laws import ContactLaw, get_law
@@ -55,10 +55,14 @@ def test_the_sources_method_constants_are_the_kernels() -> None:
     np.testing.assert_array_equal(np.reshape(source.DENSE, (7, 4)), kb.DENSE)
 
 
-def test_the_layout_finds_every_field_where_unpack_does(paper_fourbar: Mechanism) -> None:
+def test_the_layout_finds_every_field_that_pack_wrote(paper_fourbar: Mechanism) -> None:
+    """Bit for bit, each field where ``lay`` says; the packed fields are ``ids``' (one home:
+    :class:`eom.EomModel`'s, each a float or an integer field)."""
+    assert eom.EomModel._fields == ids.MODEL_FIELDS
+    assert sorted(ids.FLOAT_FIELDS + ids.INT_FIELDS) == sorted(ids.MODEL_FIELDS)
     system = _system(paper_fourbar, ["impact", "hertz", "flores", "lee-wang"], 1)
     rpar, ipar = eom.pack(system.model)
-    model = eom.unpack(rpar, ipar)
+    model = system.model
     lay = build.lane_layout(ipar)
     floats = {"mass": source.LY_MASS, "gravity": source.LY_GRAVITY, "joint_f": source.LY_JOINT_F,
               "driver": source.LY_DRIVER, "geom": source.LY_GEOM, "law_p": source.LY_LAW_P,

@@ -433,11 +433,11 @@ def test_what_the_gpu_lanes_do_not_cover_yet_is_a_clear_error(paper_fourbar: Mec
         lanes_cuda.run_batch(p["ipar"], damped, *args[2:], 1e-6, p["atol"], 200_000, "explicit")
     with pytest.raises(ConfigError, match="at most 8 clearance joints"):
         ipar = p["ipar"].copy()
-        ipar[eom.L_CLEAR_JOINT] = 9
+        ipar[ids.MODEL_FIELDS.index("clear_joint")] = 9
         lanes_cuda.run_batch(ipar, *args[1:], 1e-6, p["atol"], 200_000, "explicit")
     with pytest.raises(ConfigError, match="at most 12 coordinates"):  # the Newton matrices
         ipar = p["ipar"].copy()
-        ipar[eom.L_MASS] = 15  # five bodies
+        ipar[ids.MODEL_FIELDS.index("mass")] = 15  # five bodies
         lanes_cuda.run_batch(ipar, *args[1:], 1e-6, p["atol"], 200_000, "implicit")
 
 

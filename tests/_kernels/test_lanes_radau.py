@@ -138,8 +138,8 @@ def _single_engine(p: dict[str, Any], **kw: Any) -> dict[str, Any]:
     whether a joint was ever locked (the sustained-contact mode)."""
     args = {**p, **kw}
     ipar = _read_only(args["ipar"])
-    n = int(ipar[eom.L_MASS])
-    nc = int(ipar[eom.L_CLEAR_JOINT])
+    n = int(ipar[ids.MODEL_FIELDS.index("mass")])
+    nc = int(ipar[ids.MODEL_FIELDS.index("clear_joint")])
     nb, nj, _, _ = kb.layout(ipar)
     interrupt = args.get("interrupt")
     lanes = args["y0"].shape[0]

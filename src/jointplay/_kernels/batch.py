@@ -96,7 +96,7 @@ from typing import TypeVar
 import numpy as np
 import numpy.typing as npt
 
-from jointplay._kernels import eom
+from jointplay._kernels import ids
 from jointplay._kernels.integrators import lane_methods
 from jointplay._kernels.lanes import build as lane_build
 from jointplay._kernels.lanes import cpu as lane_cpu
@@ -126,9 +126,8 @@ METHODS = lane_methods("lanes-explicit", "batch-implicit")
 
 def layout(ipar: npt.NDArray[np.int64]) -> tuple[int, int, int, int]:
     """``(nb, nj, nc, n_state)`` of the model packed in ``ipar``."""
-    n = int(ipar[eom.L_MASS])
-    nj = int(ipar[eom.L_ACTIVE])
-    nc = int(ipar[eom.L_CLEAR_JOINT])
+    length = dict(zip(ids.MODEL_FIELDS, (int(k) for k in ipar), strict=False))
+    n, nj, nc = length["mass"], length["active"], length["clear_joint"]
     return n // 3, nj, nc, 2 * n + 2 + nc
 
 

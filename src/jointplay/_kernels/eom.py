@@ -65,18 +65,15 @@ import numpy as np
 from numba import njit
 
 from jointplay._kernels.ids import (
+    FLOAT_FIELDS,
+    INT_FIELDS,
     LOCKED,
+    MODEL_FIELDS,
     N_WORK,
     RELEASE_TOL,
 )
 from jointplay._kernels.lanes.build import lane_layout
-from jointplay._kernels.lanes.source import (
-    LY_N,
-    LY_NC,
-    LY_NIDEAL,
-    LY_NJ,
-    N_LAY,
-)
+from jointplay._kernels.lanes.source import LY_ACTIVE, LY_N, LY_NC, LY_NIDEAL, LY_NJ, N_LAY
 from jointplay._kernels.shared import apart, compiled, pick
 
 # The lane source, compiled for the CPU (jointplay._kernels.shared): inlined into state_rhs
@@ -102,7 +99,6 @@ __all__ = [
     "new_workspace",
     "pack",
     "state_rhs",
-    "unpack",
 ]  # fmt: skip
 
 
@@ -153,23 +149,6 @@ class EomModel(NamedTuple):
     settings: np.ndarray
 
 
-#: The workspace of one integration (:func:`new_workspace`; slots ``W_*``: :mod:`ids`).
-#: :class:`EomModel`'s fields by dtype, in the order they are packed.
-_FLOAT_FIELDS = ("mass", "gravity", "joint_f", "driver", "geom", "law_p", "fric_p", "settings")
-_INT_FIELDS = ("joint_int", "active", "clear_joint", "law_id", "fric_id")
-#: Position of each field's length in the ``ipar`` header (the header is
-#: ``EomModel._fields``' lengths, in that order).
-_L = {name: i for i, name in enumerate(EomModel._fields)}
-L_MASS, L_GRAVITY, L_JOINT_INT, L_JOINT_F, L_ACTIVE, L_DRIVER = (
-    _L["mass"], _L["gravity"], _L["joint_int"], _L["joint_f"], _L["active"], _L["driver"],
-)  # fmt: skip
-L_CLEAR_JOINT, L_GEOM, L_LAW_ID, L_LAW_P, L_FRIC_ID, L_FRIC_P, L_SETTINGS = (
-    _L["clear_joint"], _L["geom"], _L["law_id"], _L["law_p"], _L["fric_id"], _L["fric_p"],
-    _L["settings"],
-)  # fmt: skip
-HEADER = len(EomModel._fields)
-
-
 def new_workspace(n_clear: int = 0) -> np.ndarray:
     """An empty workspace for one integration of a model with ``n_clear`` clearance joints:
     ``N_WORK + 2 n_clear`` zeros (see ``W_*``)."""
@@ -177,18 +156,19 @@ def new_workspace(n_clear: int = 0) -> np.ndarray:
 
 
 def pack(model: EomModel) -> tuple[np.ndarray, np.ndarray]:
-    """``model`` as the two read-only buffers the compiled kernels take (:func:`unpack`).
+    """``model`` as the two read-only buffers the compiled kernels take.
 
-    ``rpar``: the float fields; ``ipar``: the field lengths, the integer fields, then the lane
-    source's layout ``lay`` (:func:`jointplay._kernels.lanes.build.lane_layout`, the last
-    ``N_LAY`` entries), so that the kernels read the model as the source does.
+    ``rpar``: the float fields; ``ipar``: the field lengths (in :class:`EomModel`'s order,
+    ``ids.MODEL_FIELDS``), the integer fields, then the lane source's layout ``lay``
+    (:func:`jointplay._kernels.lanes.build.lane_layout`, the last ``N_LAY`` entries), so that
+    the kernels read the model as the source does.
     A first-class function call costs in proportion to the number of arrays it is given, so
     the integrator passes the model as two arrays rather than as 13.
     """
-    lengths = np.array([len(getattr(model, name)) for name in EomModel._fields], dtype=np.int64)
-    ipar = np.concatenate([lengths, *(getattr(model, name) for name in _INT_FIELDS)])
+    lengths = np.array([len(getattr(model, name)) for name in MODEL_FIELDS], dtype=np.int64)
+    ipar = np.concatenate([lengths, *(getattr(model, name) for name in INT_FIELDS)])
     ipar = np.concatenate([ipar, lane_layout(ipar.astype(np.int64))])
-    rpar = np.concatenate([getattr(model, name) for name in _FLOAT_FIELDS])
+    rpar = np.concatenate([getattr(model, name) for name in FLOAT_FIELDS])
     return _readonly(rpar.astype(np.float64)), _readonly(ipar.astype(np.int64))
 
 
@@ -201,42 +181,6 @@ def _readonly(array: np.ndarray) -> np.ndarray:
 def lay_of(ipar: np.ndarray) -> np.ndarray:
     """The source's ``lay`` of a model packed by :func:`pack` (a view: its last entries)."""
     return ipar[ipar.shape[0] - N_LAY :]
-
-
-@njit(cache=True, inline="always")
-def unpack(rpar: np.ndarray, ipar: np.ndarray) -> EomModel:
-    """The :class:`EomModel` packed by :func:`pack`, as views (no copies)."""
-    o = HEADER
-    joint_int = ipar[o : o + ipar[L_JOINT_INT]]
-    o += ipar[L_JOINT_INT]
-    active = ipar[o : o + ipar[L_ACTIVE]]
-    o += ipar[L_ACTIVE]
-    clear_joint = ipar[o : o + ipar[L_CLEAR_JOINT]]
-    o += ipar[L_CLEAR_JOINT]
-    law_id = ipar[o : o + ipar[L_LAW_ID]]
-    o += ipar[L_LAW_ID]
-    fric_id = ipar[o : o + ipar[L_FRIC_ID]]
-    r = 0
-    mass = rpar[r : r + ipar[L_MASS]]
-    r += ipar[L_MASS]
-    gravity = rpar[r : r + ipar[L_GRAVITY]]
-    r += ipar[L_GRAVITY]
-    joint_f = rpar[r : r + ipar[L_JOINT_F]]
-    r += ipar[L_JOINT_F]
-    driver = rpar[r : r + ipar[L_DRIVER]]
-    r += ipar[L_DRIVER]
-    geom = rpar[r : r + ipar[L_GEOM]]
-    r += ipar[L_GEOM]
-    law_p = rpar[r : r + ipar[L_LAW_P]]
-    r += ipar[L_LAW_P]
-    fric_p = rpar[r : r + ipar[L_FRIC_P]]
-    r += ipar[L_FRIC_P]
-    settings = rpar[r : r + ipar[L_SETTINGS]]
-    return EomModel(
-        mass=mass, gravity=gravity, joint_int=joint_int, joint_f=joint_f, active=active,
-        driver=driver, clear_joint=clear_joint, geom=geom, law_id=law_id, law_p=law_p,
-        fric_id=fric_id, fric_p=fric_p, settings=settings,
-    )  # fmt: skip
 
 
 #: ``args`` as the kernels' annotations spell it: ``(rpar, ipar, workspace)``, the first two
@@ -388,7 +332,6 @@ def diagnostics(t: np.ndarray, y: np.ndarray, rpar: np.ndarray, ipar: np.ndarray
     n = lay[LY_N]
     nc = lay[LY_NC]
     nj = lay[LY_NJ]
-    active = unpack(rpar, ipar).active
     rows = _constraint_rows(rpar, lay)
     count = t.shape[0]
     qdd = np.empty((count, n))
@@ -402,7 +345,7 @@ def diagnostics(t: np.ndarray, y: np.ndarray, rpar: np.ndarray, ipar: np.ndarray
         qdd[i], torque[i], _, lam = evaluate(t[i], yi, rpar, ipar, contacts[i])
         row = 0
         for j in range(nj):
-            if active[j] == 1:
+            if ipar[lay[LY_ACTIVE] + j] == 1:
                 reactions[i, j, 0] = lam[row]
                 reactions[i, j, 1] = lam[row + 1]
                 row += 2

@@ -48,6 +48,15 @@ AMBROSIO_MU, AMBROSIO_V0, AMBROSIO_V1, AMBROSIO_SIZE = 0, 1, 2, 3
 ADAMS_MU_STATIC, ADAMS_MU_DYNAMIC, ADAMS_V_STATIC, ADAMS_V_DYNAMIC, ADAMS_SIZE = 0, 1, 2, 3, 4
 
 # --- the packed model (jointplay._kernels.eom.EomModel) ----------------------------------------
+#: The packed model's fields in ``EomModel``'s order: the order of the field lengths that open
+#: ``ipar`` (:func:`jointplay._kernels.eom.pack`); then the float fields in their order in
+#: ``rpar``, the integer fields in theirs in ``ipar``.
+MODEL_FIELDS = (
+    "mass", "gravity", "joint_int", "joint_f", "active", "driver", "clear_joint", "geom",
+    "law_id", "law_p", "fric_id", "fric_p", "settings",
+)  # fmt: skip
+FLOAT_FIELDS = ("mass", "gravity", "joint_f", "driver", "geom", "law_p", "fric_p", "settings")
+INT_FIELDS = ("joint_int", "active", "clear_joint", "law_id", "fric_id")
 #: Slots of the ``settings`` block: the contact-onset tolerance (m), the projection tolerance
 #: (m or rad), the entry rate that marks a contact event entered at a rate <= 0 (m/s), and the
 #: largest capture speed of the joints (m/s; 0: the sustained-contact mode off at every joint),

@@ -326,10 +326,10 @@ def build_batch(
 def _offset(ipar: NDArray[np.int64], name: str) -> int:
     """Start of the float field ``name`` in ``rpar`` (:func:`jointplay._kernels.eom.pack`)."""
     offset = 0
-    for item in eom._FLOAT_FIELDS:
+    for item in ids.FLOAT_FIELDS:
         if item == name:
             return offset
-        offset += int(ipar[eom.EomModel._fields.index(item)])
+        offset += int(ipar[ids.MODEL_FIELDS.index(item)])
     raise KeyError(name)
 
 
@@ -627,7 +627,7 @@ def _build_vectorised(
         "fric_p": np.tile(system0.model.fric_p, (n, 1)),
         "settings": settings,
     }
-    rpar = np.concatenate([fields[name] for name in eom._FLOAT_FIELDS], axis=1)
+    rpar = np.concatenate([fields[name] for name in ids.FLOAT_FIELDS], axis=1)
     assert rpar.shape[1] == rpar0.shape[0]
     y0 = _initial_states(system0, kind, g, omega, joint_f, mass_vector, driver, start)
     return rpar, y0, ok, errors

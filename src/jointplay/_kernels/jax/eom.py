@@ -40,7 +40,7 @@ from typing import Any
 import jax.numpy as jnp
 import numpy as np
 
-from jointplay._kernels import eom, ids
+from jointplay._kernels import ids
 from jointplay._kernels.capabilities import refusal
 from jointplay._kernels.lanes.source import N_LAY
 from jointplay.errors import ConfigError
@@ -133,17 +133,17 @@ def read_layout(ipar: np.ndarray, rpar: np.ndarray) -> Layout:
     """
     ipar = np.asarray(ipar, dtype=np.int64)
     rpar = np.atleast_2d(np.asarray(rpar, dtype=np.float64))
-    if ipar.ndim != 1 or ipar.shape[0] < eom.HEADER:
+    if ipar.ndim != 1 or ipar.shape[0] < len(ids.MODEL_FIELDS):
         raise ConfigError(f"ipar must be a packed model (eom.pack), got shape {ipar.shape}")
-    lengths = {name: int(ipar[i]) for i, name in enumerate(eom.EomModel._fields)}
+    lengths = {name: int(ipar[i]) for i, name in enumerate(ids.MODEL_FIELDS)}
     ints: dict[str, np.ndarray] = {}
-    o = eom.HEADER
-    for name in ("joint_int", "active", "clear_joint", "law_id", "fric_id"):  # eom._INT_FIELDS
+    o = len(ids.MODEL_FIELDS)
+    for name in ids.INT_FIELDS:
         ints[name] = ipar[o : o + lengths[name]]
         o += lengths[name]
     offsets = []
     r = 0
-    for name in ("mass", "gravity", "joint_f", "driver", "geom", "law_p", "fric_p", "settings"):
+    for name in ids.FLOAT_FIELDS:
         offsets.append((name, r))
         r += lengths[name]
     o += N_LAY  # the lane source's layout closes ipar (eom.pack)

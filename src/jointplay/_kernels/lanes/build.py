@@ -83,14 +83,6 @@ HOME = {name: module for module in SOURCES for name in _defined(module)}
 #: define, the loop aside (compiled once per lane, with its method's steps).
 FUNCTIONS = tuple(HOME)
 
-#: ``eom.EomModel`` field order of the ``ipar`` header (lengths), as :func:`eom.pack` writes it.
-_HEADER = (
-    "mass", "gravity", "joint_int", "joint_f", "active", "driver", "clear_joint", "geom",
-    "law_id", "law_p", "fric_id", "fric_p", "settings",
-)  # fmt: skip
-_FLOATS = ("mass", "gravity", "joint_f", "driver", "geom", "law_p", "fric_p", "settings")
-_INTS = ("joint_int", "active", "clear_joint", "law_id", "fric_id")
-
 
 def build(
     decorate: Callable[[Callable[..., Any]], Any],
@@ -201,15 +193,16 @@ def closed(
 def lane_layout(ipar: npt.NDArray[np.int64]) -> npt.NDArray[np.int64]:
     """The ``lay`` array of the source (``LY_*``): where each field of the packed model starts
     in ``rpar`` (floats) or ``ipar`` (integers), and the model's sizes."""
-    lengths = {name: int(ipar[i]) for i, name in enumerate(_HEADER)}
+    lengths = {name: int(ipar[i]) for i, name in enumerate(ids.MODEL_FIELDS)}
     lay = np.zeros(source.N_LAY, dtype=np.int64)
     offset = 0
-    for name, slot in zip(_FLOATS, range(source.LY_MASS, source.LY_SETTINGS + 1), strict=True):
+    floats = range(source.LY_MASS, source.LY_SETTINGS + 1)
+    for name, slot in zip(ids.FLOAT_FIELDS, floats, strict=True):
         lay[slot] = offset
         offset += lengths[name]
-    offset = len(_HEADER)
+    offset = len(ids.MODEL_FIELDS)
     ints = range(source.LY_JOINT_INT, source.LY_FRIC_ID + 1)
-    for name, slot in zip(_INTS, ints, strict=True):
+    for name, slot in zip(ids.INT_FIELDS, ints, strict=True):
         lay[slot] = offset
         offset += lengths[name]
     n = lengths["mass"]
