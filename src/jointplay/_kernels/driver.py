@@ -7,7 +7,7 @@ step (``after_step``), finiteness and the record. The steps are every engine's t
 integrator's ``<prefix>_*`` of the lane source (:mod:`~jointplay._kernels.lanes.source`'s
 ``dopri_*``, :mod:`~jointplay._kernels.lanes.source_radau`'s ``radau_*``,
 :mod:`~jointplay._kernels.lanes.source_rodas`'s ``rodas_*``; the prefix is its record's
-``module``, :func:`steps_of`). This module binds them to a user's problem:
+``steps``, :func:`steps_of`). This module binds them to a user's problem:
 
 - **adapters** (:data:`ADAPTERS`) take the place of the lane source's functions that read a
   mechanism: the right-hand side is the user's ``fun``, the Jacobian the user's ``jac`` or the
@@ -387,7 +387,7 @@ def _namespace() -> dict[str, Any]:
     if "" not in _entries:
         direct = [name for name in build.source_function("lane").__code__.co_names
                   if name in build.FUNCTIONS]  # fmt: skip
-        for record in _lane_records():
+        for record in build.LANES.values():
             direct += [f"{record['steps']}_{step}" for step in build.STEPS] + [record["work"]]
         only = {*build.closed(tuple(direct), own=ADAPTERS), *ADAPTERS}
         _entries[""] = build.build(jit, hooks=ADAPTERS, extras={"np": np, "RECORD": True},
@@ -419,22 +419,13 @@ def _specialised_core(args_type: Any, name: str) -> Any:
 
 
 @functools.cache
-def steps_of(module: str) -> dict[str, Any]:
-    """The lane record (``build.LANES``) whose steps' prefix is ``module``, an
-    :attr:`~jointplay._kernels.integrators.Integrator.module`: the steps the loop runs."""
-    for record in _lane_records():
-        if record["steps"] == module:
+def steps_of(prefix: str) -> dict[str, Any]:
+    """The lane record (``build.LANES``) whose steps' prefix is ``prefix``, an
+    :attr:`~jointplay._kernels.integrators.Integrator.steps`: the steps the loop runs."""
+    for record in build.LANES.values():
+        if record["steps"] == prefix:
             return record
-    raise ValueError(f"no integrator's steps are called {module!r}")
-
-
-@functools.cache
-def _lane_records() -> tuple[dict[str, Any], ...]:
-    """The lane records whose steps the generic integrate runs (their integrator's
-    ``module`` set)."""
-    return tuple(
-        record for record in build.LANES.values() if record["integrator"]["module"] is not None
-    )
+    raise ValueError(f"no integrator's steps are called {prefix!r}")
 
 
 def run_core(
@@ -460,7 +451,7 @@ def run_core(
 ) -> tuple[int, npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.int64]]:
     """Integrate ``y' = fun(t, y, args)`` from ``t0`` to ``t_bound`` with the method whose
     steps' prefix is ``name`` (``"radau"``, ``"rodas"``, ``"dopri"``: an
-    :attr:`~jointplay._kernels.integrators.Integrator.module`): coerce the scalars and arrays
+    :attr:`~jointplay._kernels.integrators.Integrator.steps`): coerce the scalars and arrays
     to the compiled types and call its entry's specialisation for ``numba.typeof(args)``. The
     integration itself never raises: failures are returned as a status.
 

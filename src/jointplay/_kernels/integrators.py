@@ -2,15 +2,16 @@
 wherever an integrator is named, listed or chosen.
 
 A record says what an integrator is (its order, whether it is explicit), how the engines run
-it (the fraction of the tolerances, the engines that have it) and whether
-:func:`jointplay.integrate` has it (the prefix of its steps, which
-:mod:`jointplay._kernels.driver` runs). Each record is declared once, in the lane source module that
-holds the integrator's steps (its ``LANE["integrator"]``: :data:`jointplay._kernels.lanes.SOURCES`),
-beside the lane's name and work allocator that :mod:`jointplay._kernels.lanes.build` and
-:mod:`jointplay._kernels.lanes.cpu` read: a new integrator is one file. The batch engines' two
-methods, ``"explicit"`` and ``"implicit"``, are the integrators their lanes have, named by
-:attr:`Integrator.lane_method` (:func:`lane_methods`). Nothing compiled, no Numba imported
-(the command line and the JAX backend read it without Numba).
+it (the fraction of the tolerances, the engines that have it) and where its steps are (their
+prefix in the lane source, run by the lanes and by :func:`jointplay.integrate`'s loop,
+:mod:`jointplay._kernels.driver`). Each record is declared once, in the lane source module
+that holds the integrator's steps (its ``LANE["integrator"]``, the prefix its ``LANE["steps"]``:
+:data:`jointplay._kernels.lanes.SOURCES`), beside the lane's name and work allocator that
+:mod:`jointplay._kernels.lanes.build` and :mod:`jointplay._kernels.lanes.cpu` read: a new
+integrator is one file. The batch engines' two methods, ``"explicit"`` and ``"implicit"``,
+are the integrators their lanes have, named by :attr:`Integrator.lane_method`
+(:func:`lane_methods`). Nothing compiled, no Numba imported (the command line and the JAX
+backend read it without Numba).
 """
 
 from __future__ import annotations
@@ -36,9 +37,8 @@ class Integrator:
             :data:`jointplay.dynamics.simulate.EXPLICIT_TOLERANCE_SCALE`).
         engines: the engines that have it (keys of
             :data:`jointplay._kernels.capabilities.ENGINES`).
-        module: the prefix of its steps in the lane source that the generic loop runs
-            (``"radau"``, ``"rodas"``, ``"dopri"``; :func:`jointplay._kernels.driver.steps_of`);
-            ``None``: not in :func:`jointplay.integrate`.
+        steps: the prefix of its steps in the lane source (``"radau"``, ``"rodas"``,
+            ``"dopri"``: its ``LANE`` record's ``steps``; :func:`jointplay._kernels.driver.steps_of`).
     """
 
     name: str
@@ -47,7 +47,7 @@ class Integrator:
     explicit: bool
     tolerance_scale: float
     engines: tuple[str, ...]
-    module: str | None
+    steps: str
 
     @property
     def lane_method(self) -> str:
@@ -63,7 +63,11 @@ DEFAULT = "radau"
 INTEGRATORS: dict[str, Integrator] = {
     integrator.name: integrator
     for integrator in sorted(
-        (Integrator(**module.LANE["integrator"]) for module in SOURCES if hasattr(module, "LANE")),
+        (
+            Integrator(**module.LANE["integrator"], steps=module.LANE["steps"])
+            for module in SOURCES
+            if hasattr(module, "LANE")
+        ),
         key=lambda integrator: (integrator.name != DEFAULT, integrator.explicit),
     )
 }

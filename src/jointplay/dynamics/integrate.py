@@ -64,8 +64,6 @@ __all__ = ["METHODS", "IntegrationResult", "IntegrationStatus", "integrate", "in
 METHODS: dict[str, Integrator] = {
     name: integrator for name, integrator in INTEGRATORS.items() if "single" in integrator.engines
 }
-#: Those the generic loop has, for :func:`integrate` (a record's ``module``: its steps there).
-_GENERIC = {name: integrator for name, integrator in METHODS.items() if integrator.module}
 
 _EPS = float(np.finfo(np.float64).eps)
 _SMALLEST_RTOL = 100.0 * _EPS
@@ -258,9 +256,9 @@ def integrate(
         IntegrationError: The integration failed and ``throw`` is true.
         KeyboardInterrupt: SIGINT or SIGTERM arrived (checked before every step).
     """
-    if method not in _GENERIC:
+    if method not in METHODS:
         raise ConfigError(
-            f"unknown integration method {method!r}; choose one of {', '.join(_GENERIC)}"
+            f"unknown integration method {method!r}; choose one of {', '.join(METHODS)}"
         )
     t0, t_bound = _check_span(t_span)
     y0_array = _check_state(y0)
@@ -277,9 +275,8 @@ def integrate(
     _check_functions(fun, step_check, after_step, jac, t0, y0_array, args)
 
     with _interrupts_watched() as flags:
-        kernel = str(_GENERIC[method].module)
         status_code, t, y, counters = _driver.run_core(
-            kernel,
+            METHODS[method].steps,
             fun,
             step_check,
             after_step,

@@ -1972,7 +1972,7 @@ DOPRI_ERROR, DOPRI_REJECTED = 0, 1
 LANE = {
     "integrator": {
         "name": "dopri5", "title": "DOPRI5 (order 5, explicit)", "order": 5, "explicit": True,
-        "tolerance_scale": 0.2, "engines": ("single", "lanes-explicit", "jax"), "module": "dopri",
+        "tolerance_scale": 0.2, "engines": ("single", "lanes-explicit", "jax"),
     },
     "lane": "explicit_lane", "steps": "dopri", "work": "dopri_work",
     "shapes": "dopri_shapes", "arrays": "dopri_arrays", "dtypes": ("float64",),

@@ -1045,7 +1045,6 @@ LANE = {
     "integrator": {
         "name": "radau", "title": "Radau IIA (order 5)", "order": 5, "explicit": False,
         "tolerance_scale": 1.0, "engines": ("single", "batch-implicit", "lanes-implicit", "jax"),
-        "module": "radau",
     },
     "lane": "implicit_lane", "steps": "radau", "work": "radau_work",
     "shapes": "radau_shapes", "arrays": "radau_arrays",

@@ -109,7 +109,7 @@ N_RODAS_SCALARS = 5
 LANE = {
     "integrator": {
         "name": "rodas4", "title": "RODAS4 (order 4, linearly implicit)", "order": 4,
-        "explicit": False, "tolerance_scale": 1.0, "engines": ("single",), "module": "rodas",
+        "explicit": False, "tolerance_scale": 1.0, "engines": ("single",),
     },
     "lane": "rodas_lane", "steps": "rodas", "work": "rodas_work",
     "LAND_SETTLE": False, "REGIMES": True, "RTOL_FLOOR": 100.0 * EPS,
