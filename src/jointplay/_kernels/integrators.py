@@ -38,7 +38,8 @@ class Integrator:
         engines: the engines that have it (keys of
             :data:`jointplay._kernels.capabilities.ENGINES`).
         steps: the prefix of its steps in the lane source (``"radau"``, ``"rodas"``,
-            ``"dopri"``: its ``LANE`` record's ``steps``; :func:`jointplay._kernels.driver.steps_of`).
+            ``"dopri"``): its ``LANE`` record's ``steps``
+            (:func:`jointplay._kernels.driver.steps_of`).
     """
 
     name: str
