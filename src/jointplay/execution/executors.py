@@ -166,10 +166,8 @@ def attempt(function: Callable[[Any, Any], Any], shared: Any, item: Any) -> tupl
         return False, f"{type(exc).__name__}: {exc}"
 
 
-def _attempt_in_worker(
-    function: Callable[[Any, Any], Any], index: int, item: Any
-) -> tuple[int, tuple[bool, Any]]:
-    return index, attempt(function, _WORKER_SHARED, item)
+def _attempt_in_worker(function: Callable[[Any, Any], Any], item: Any) -> tuple[bool, Any]:
+    return attempt(function, _WORKER_SHARED, item)
 
 
 def _attempt_on_dask(
@@ -404,11 +402,11 @@ class Processes(Executor):
         )
         try:
             futures = {
-                started.submit(_attempt_in_worker, function, index, item): index
+                started.submit(_attempt_in_worker, function, item): index
                 for index, item in enumerate(items)
             }
             _keep_as_completed(
-                futures, lambda future, index: _store_outcome(sink, index, future.result()[1])
+                futures, lambda future, index: _store_outcome(sink, index, future.result())
             )
         except BaseException:
             _stop_workers(started)
